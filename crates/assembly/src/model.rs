@@ -1,0 +1,206 @@
+//! The validated assembly in SI units: what the physics layer builds from.
+//!
+//! Every value here has been checked: lengths are positive and finite, axes are unit
+//! vectors, references are indices that exist, and the joints form a forest.
+
+/// Millimetres per metre.
+pub const MM_PER_M: f64 = 1000.0;
+
+/// Default density when no material gives one, in kg/m³.
+pub const DEFAULT_DENSITY: f64 = 1000.0;
+/// Default friction coefficient.
+pub const DEFAULT_FRICTION: f64 = 0.5;
+/// Default restitution coefficient.
+pub const DEFAULT_RESTITUTION: f64 = 0.0;
+
+/// A primitive shape in metres, in the part's local frame (see [`crate::Primitive`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Shape {
+    /// Box spanning `[0,x]×[0,y]×[0,z]`; `size` holds the edge lengths.
+    Cuboid {
+        /// Edge lengths in m.
+        size: [f64; 3],
+    },
+    /// Cylinder along local Z, centred on it, spanning `z ∈ [0,height]`.
+    Cylinder {
+        /// Radius in m.
+        radius: f64,
+        /// Height in m.
+        height: f64,
+    },
+    /// Sphere centred at the origin.
+    Sphere {
+        /// Radius in m.
+        radius: f64,
+    },
+}
+
+impl Shape {
+    /// Volume in m³.
+    pub fn volume(&self) -> f64 {
+        match *self {
+            Shape::Cuboid { size } => size[0] * size[1] * size[2],
+            Shape::Cylinder { radius, height } => std::f64::consts::PI * radius * radius * height,
+            Shape::Sphere { radius } => 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3),
+        }
+    }
+
+    /// The centroid in the part's local frame, in m.
+    pub fn centroid(&self) -> [f64; 3] {
+        match *self {
+            Shape::Cuboid { size } => [size[0] / 2.0, size[1] / 2.0, size[2] / 2.0],
+            Shape::Cylinder { height, .. } => [0.0, 0.0, height / 2.0],
+            Shape::Sphere { .. } => [0.0, 0.0, 0.0],
+        }
+    }
+
+    /// The smallest extent of the shape (an edge, a diameter or a height), in m.
+    pub fn min_extent(&self) -> f64 {
+        match *self {
+            Shape::Cuboid { size } => size[0].min(size[1]).min(size[2]),
+            Shape::Cylinder { radius, height } => (2.0 * radius).min(height),
+            Shape::Sphere { radius } => 2.0 * radius,
+        }
+    }
+}
+
+/// Surface and bulk properties of an instance.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Material {
+    /// kg/m³.
+    pub density: f64,
+    /// Coulomb friction coefficient.
+    pub friction: f64,
+    /// Restitution in [0, 1].
+    pub restitution: f64,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Material {
+            density: DEFAULT_DENSITY,
+            friction: DEFAULT_FRICTION,
+            restitution: DEFAULT_RESTITUTION,
+        }
+    }
+}
+
+/// A placed body.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Instance {
+    /// The instance id.
+    pub name: String,
+    /// Geometry in the instance's local frame.
+    pub shape: Shape,
+    /// Material of the body.
+    pub material: Material,
+    /// Translation of the local frame, in m.
+    pub position: [f64; 3],
+    /// Rotation of the local frame as Euler angles in radians, applied X, then Y, then Z
+    /// (extrinsic, i.e. `R = Rz · Ry · Rx`).
+    pub rotation: [f64; 3],
+    /// Whether the instance is fixed to the world (only the first one is).
+    pub grounded: bool,
+}
+
+/// The kind of a validated joint, with its DOF count.
+pub use crate::document::JointType;
+
+impl JointType {
+    /// Number of degrees of freedom the joint leaves free.
+    pub fn dof(self) -> usize {
+        match self {
+            JointType::Revolute | JointType::Prismatic => 1,
+            JointType::Cylindrical => 2,
+            JointType::Ball => 3,
+            JointType::Fixed => 0,
+        }
+    }
+
+    /// The lowercase name used in documents.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            JointType::Revolute => "revolute",
+            JointType::Prismatic => "prismatic",
+            JointType::Cylindrical => "cylindrical",
+            JointType::Ball => "ball",
+            JointType::Fixed => "fixed",
+        }
+    }
+
+    /// Whether `min`/`max` limits are meaningful for this joint type.
+    pub fn supports_limits(self) -> bool {
+        matches!(self, JointType::Revolute | JointType::Prismatic)
+    }
+}
+
+/// A validated joint, in SI units.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Joint {
+    /// Joint name (the document's `name`, or the child's name).
+    pub name: String,
+    /// Joint kind.
+    pub kind: JointType,
+    /// Index of the parent in [`Assembly::instances`].
+    pub parent: usize,
+    /// Index of the child in [`Assembly::instances`].
+    pub child: usize,
+    /// Joint origin in world m, in the initial configuration.
+    pub anchor: [f64; 3],
+    /// Unit axis in world coordinates.
+    pub axis: [f64; 3],
+    /// Hard limits in rad (revolute) or m (prismatic).
+    pub limits: Option<[f64; 2]>,
+    /// Viscous damping per DOF, in N·m·s/rad or N·s/m.
+    pub damping: f64,
+    /// Clamp on the effort of every action mode, in N·m or N.
+    pub max_effort: Option<f64>,
+}
+
+/// The kind of one degree of freedom, which fixes its units.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DofKind {
+    /// Rotation: observed in degrees, actuated in N·m.
+    Angular,
+    /// Translation: observed in mm, actuated in N.
+    Linear,
+}
+
+impl Joint {
+    /// The kinds of this joint's DOFs, in observation order.
+    pub fn dof_kinds(&self) -> &'static [DofKind] {
+        match self.kind {
+            JointType::Revolute => &[DofKind::Angular],
+            JointType::Prismatic => &[DofKind::Linear],
+            JointType::Cylindrical => &[DofKind::Linear, DofKind::Angular],
+            JointType::Ball => &[DofKind::Angular, DofKind::Angular, DofKind::Angular],
+            JointType::Fixed => &[],
+        }
+    }
+}
+
+/// A validated assembly: instances, then joints in document order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Assembly {
+    /// Bodies, in document order. The first is grounded.
+    pub instances: Vec<Instance>,
+    /// Joints, in document order.
+    pub joints: Vec<Joint>,
+}
+
+impl Assembly {
+    /// Index of the instance with this name.
+    pub fn instance_index(&self, name: &str) -> Option<usize> {
+        self.instances.iter().position(|i| i.name == name)
+    }
+
+    /// Total degrees of freedom over all joints.
+    pub fn total_dof(&self) -> usize {
+        self.joints.iter().map(|j| j.kind.dof()).sum()
+    }
+
+    /// Number of joints that have at least one DOF.
+    pub fn num_movable_joints(&self) -> usize {
+        self.joints.iter().filter(|j| j.kind.dof() > 0).count()
+    }
+}

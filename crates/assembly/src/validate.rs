@@ -1,0 +1,479 @@
+//! Semantic validation: a parsed [`Document`] becomes an SI [`Assembly`], or every
+//! problem found is reported with its JSON path.
+
+use std::collections::{BTreeMap, HashMap};
+
+use crate::document::{Document, InstanceDef, JointDef, MaterialDef, PartDef, Primitive, Vec3};
+use crate::error::{AssemblyError, Issue, Result};
+use crate::model::{Assembly, Instance, Joint, JointType, Material, Shape, MM_PER_M};
+
+/// Validates a parsed document and converts it to SI units.
+///
+/// All problems are collected, so a user can fix a document in one round trip.
+pub fn validate(doc: &Document) -> Result<Assembly> {
+    let mut v = Validator::default();
+    let materials = v.materials(&doc.materials);
+    let parts = v.parts(&doc.parts, &materials);
+    let instances = v.instances(&doc.assembly.instances, &parts, &materials);
+    let joints = v.joints(&doc.assembly.joints, &doc.assembly.instances);
+    if v.issues.is_empty() {
+        Ok(Assembly { instances, joints })
+    } else {
+        Err(AssemblyError::Invalid { issues: v.issues })
+    }
+}
+
+#[derive(Default)]
+struct Validator {
+    issues: Vec<Issue>,
+}
+
+/// A part after checking: its shape in metres and its own material, if any.
+struct CheckedPart {
+    shape: Option<Shape>,
+    material: Option<Material>,
+}
+
+impl Validator {
+    fn push(&mut self, path: impl Into<String>, message: impl Into<String>) {
+        self.issues.push(Issue::new(path, message));
+    }
+
+    fn finite(&mut self, path: &str, value: f64) -> bool {
+        if value.is_finite() {
+            true
+        } else {
+            self.push(path, format!("expected a finite number, got {value}"));
+            false
+        }
+    }
+
+    fn positive_length(&mut self, path: &str, mm: f64) -> f64 {
+        if !(mm.is_finite() && mm > 0.0) {
+            self.push(path, format!("expected a positive length in mm, got {mm}"));
+        }
+        mm / MM_PER_M
+    }
+
+    fn vec3(&mut self, path: &str, v: Vec3) -> [f64; 3] {
+        for (name, c) in [("x", v.x), ("y", v.y), ("z", v.z)] {
+            self.finite(&format!("{path}.{name}"), c);
+        }
+        v.to_array()
+    }
+
+    fn materials(&mut self, defs: &BTreeMap<String, MaterialDef>) -> HashMap<String, Material> {
+        let mut out = HashMap::new();
+        for (name, def) in defs {
+            let path = format!("materials.{name}");
+            let default = Material::default();
+            let density = def.density.unwrap_or(default.density);
+            if !(density.is_finite() && density > 0.0) {
+                self.push(
+                    format!("{path}.density"),
+                    format!("expected a positive density in kg/m³, got {density}"),
+                );
+            }
+            let friction = def.friction.unwrap_or(default.friction);
+            if !(friction.is_finite() && friction >= 0.0) {
+                self.push(
+                    format!("{path}.friction"),
+                    format!("expected a friction coefficient >= 0, got {friction}"),
+                );
+            }
+            let restitution = def.restitution.unwrap_or(default.restitution);
+            if !(restitution.is_finite() && (0.0..=1.0).contains(&restitution)) {
+                self.push(
+                    format!("{path}.restitution"),
+                    format!("expected a restitution in [0, 1], got {restitution}"),
+                );
+            }
+            out.insert(
+                name.clone(),
+                Material {
+                    density,
+                    friction,
+                    restitution,
+                },
+            );
+        }
+        out
+    }
+
+    fn material_ref(
+        &mut self,
+        path: &str,
+        name: &Option<String>,
+        materials: &HashMap<String, Material>,
+    ) -> Option<Material> {
+        let name = name.as_ref()?;
+        let found = materials.get(name).copied();
+        if found.is_none() {
+            let mut known: Vec<&str> = materials.keys().map(String::as_str).collect();
+            known.sort_unstable();
+            self.push(
+                path,
+                format!("unknown material {name:?} (known: {})", list(&known)),
+            );
+        }
+        found
+    }
+
+    fn parts(
+        &mut self,
+        defs: &[PartDef],
+        materials: &HashMap<String, Material>,
+    ) -> HashMap<String, CheckedPart> {
+        let mut out = HashMap::new();
+        for (i, part) in defs.iter().enumerate() {
+            let path = format!("parts[{i}]");
+            let shape = self.shape(&format!("{path}.primitive"), &part.primitive);
+            let material = self.material_ref(&format!("{path}.material"), &part.material, materials);
+            if out.contains_key(&part.name) {
+                self.push(
+                    format!("{path}.name"),
+                    format!("duplicate part name {:?}: part names must be unique", part.name),
+                );
+                continue;
+            }
+            out.insert(part.name.clone(), CheckedPart { shape, material });
+        }
+        out
+    }
+
+    fn shape(&mut self, path: &str, primitive: &Primitive) -> Option<Shape> {
+        let before = self.issues.len();
+        let shape = match *primitive {
+            Primitive::Cube { size } => Shape::Cuboid {
+                size: [
+                    self.positive_length(&format!("{path}.size.x"), size.x),
+                    self.positive_length(&format!("{path}.size.y"), size.y),
+                    self.positive_length(&format!("{path}.size.z"), size.z),
+                ],
+            },
+            Primitive::Cylinder { radius, height } => Shape::Cylinder {
+                radius: self.positive_length(&format!("{path}.radius"), radius),
+                height: self.positive_length(&format!("{path}.height"), height),
+            },
+            Primitive::Sphere { radius } => Shape::Sphere {
+                radius: self.positive_length(&format!("{path}.radius"), radius),
+            },
+        };
+        (self.issues.len() == before).then_some(shape)
+    }
+
+    fn instances(
+        &mut self,
+        defs: &[InstanceDef],
+        parts: &HashMap<String, CheckedPart>,
+        materials: &HashMap<String, Material>,
+    ) -> Vec<Instance> {
+        if defs.is_empty() {
+            self.push(
+                "assembly.instances",
+                "expected at least one instance (the first one is grounded)",
+            );
+        }
+        let mut seen: HashMap<&str, usize> = HashMap::new();
+        let mut out = Vec::with_capacity(defs.len());
+        for (i, inst) in defs.iter().enumerate() {
+            let path = format!("assembly.instances[{i}]");
+            if inst.name.is_empty() {
+                self.push(format!("{path}.name"), "expected a non-empty instance name");
+            }
+            if let Some(first) = seen.insert(inst.name.as_str(), i) {
+                self.push(
+                    format!("{path}.name"),
+                    format!(
+                        "duplicate instance name {:?} (also assembly.instances[{first}]): instance names must be unique",
+                        inst.name
+                    ),
+                );
+            }
+            let position = inst
+                .position
+                .map(|p| self.vec3(&format!("{path}.position"), p))
+                .unwrap_or_default();
+            let rotation = inst
+                .rotation
+                .map(|r| self.vec3(&format!("{path}.rotation"), r))
+                .unwrap_or_default();
+            let own_material =
+                self.material_ref(&format!("{path}.material"), &inst.material, materials);
+            let Some(part) = parts.get(&inst.part) else {
+                let mut known: Vec<&str> = parts.keys().map(String::as_str).collect();
+                known.sort_unstable();
+                self.push(
+                    format!("{path}.part"),
+                    format!("unknown part {:?} (known: {})", inst.part, list(&known)),
+                );
+                continue;
+            };
+            let Some(shape) = part.shape else { continue };
+            out.push(Instance {
+                name: inst.name.clone(),
+                shape,
+                material: own_material.or(part.material).unwrap_or_default(),
+                position: position.map(|c| c / MM_PER_M),
+                rotation: rotation.map(f64::to_radians),
+                grounded: i == 0,
+            });
+        }
+        out
+    }
+
+    fn joints(&mut self, defs: &[JointDef], instances: &[InstanceDef]) -> Vec<Joint> {
+        // Look names up in the document's instances, so that one bad instance does not
+        // turn every joint that names it into a second, misleading error.
+        let mut index: HashMap<&str, usize> = HashMap::new();
+        for (i, inst) in instances.iter().enumerate() {
+            index.entry(inst.name.as_str()).or_insert(i);
+        }
+        let mut parent_of: HashMap<usize, usize> = HashMap::new();
+        let mut names: HashMap<String, usize> = HashMap::new();
+        let mut forest = UnionFind::new(instances.len());
+        let mut out = Vec::with_capacity(defs.len());
+
+        for (j, def) in defs.iter().enumerate() {
+            let path = format!("assembly.joints[{j}]");
+            let before = self.issues.len();
+            let parent = self.instance_ref(&format!("{path}.parent"), &def.parent, &index);
+            let child = self.instance_ref(&format!("{path}.child"), &def.child, &index);
+            let name = def.name.clone().unwrap_or_else(|| def.child.clone());
+            if let Some(first) = names.insert(name.clone(), j) {
+                self.push(
+                    format!("{path}.name"),
+                    format!(
+                        "duplicate joint name {name:?} (also assembly.joints[{first}]); give one of them a \"name\""
+                    ),
+                );
+            }
+
+            let anchor = match def.anchor {
+                Some(a) => self.vec3(&format!("{path}.anchor"), a).map(|c| c / MM_PER_M),
+                None if def.kind == JointType::Fixed => [0.0; 3],
+                None => {
+                    self.push(format!("{path}.anchor"), "missing field `anchor` (world mm)");
+                    [0.0; 3]
+                }
+            };
+            let axis = self.axis(&path, def);
+            let limits = self.limits(&path, def);
+            let damping = self.non_negative(&format!("{path}.damping"), def.damping, "damping");
+            let max_effort = def.max_effort.map(|e| {
+                if !(e.is_finite() && e > 0.0) {
+                    self.push(
+                        format!("{path}.max_effort"),
+                        format!("expected a positive effort in N·m or N, got {e}"),
+                    );
+                }
+                e
+            });
+
+            if let (Some(p), Some(c)) = (parent, child) {
+                self.topology(&path, def, p, c, &mut parent_of, &mut forest, instances);
+            }
+            if self.issues.len() == before {
+                if let (Some(parent), Some(child)) = (parent, child) {
+                    out.push(Joint {
+                        name,
+                        kind: def.kind,
+                        parent,
+                        child,
+                        anchor,
+                        axis,
+                        limits,
+                        damping: damping.unwrap_or(0.0),
+                        max_effort,
+                    });
+                }
+            }
+        }
+        out
+    }
+
+    fn instance_ref(&mut self, path: &str, name: &str, index: &HashMap<&str, usize>) -> Option<usize> {
+        let found = index.get(name).copied();
+        if found.is_none() {
+            let mut known: Vec<&str> = index.keys().copied().collect();
+            known.sort_unstable();
+            self.push(path, format!("unknown instance {name:?} (known: {})", list(&known)));
+        }
+        found
+    }
+
+    fn axis(&mut self, path: &str, def: &JointDef) -> [f64; 3] {
+        let needs_axis = matches!(
+            def.kind,
+            JointType::Revolute | JointType::Prismatic | JointType::Cylindrical
+        );
+        let Some(axis) = def.axis else {
+            if needs_axis {
+                self.push(
+                    format!("{path}.axis"),
+                    format!("missing field `axis`: a {} joint needs an axis", def.kind.as_str()),
+                );
+            }
+            return [1.0, 0.0, 0.0];
+        };
+        let a = axis.to_array();
+        let norm = a.iter().map(|c| c * c).sum::<f64>().sqrt();
+        if !norm.is_finite() || norm < 1e-9 {
+            self.push(
+                format!("{path}.axis"),
+                format!(
+                    "expected a non-zero finite direction, got {{x: {}, y: {}, z: {}}}",
+                    axis.x, axis.y, axis.z
+                ),
+            );
+            return [1.0, 0.0, 0.0];
+        }
+        a.map(|c| c / norm)
+    }
+
+    fn limits(&mut self, path: &str, def: &JointDef) -> Option<[f64; 2]> {
+        if def.min.is_none() && def.max.is_none() {
+            return None;
+        }
+        if !def.kind.supports_limits() {
+            let field = if def.min.is_some() { "min" } else { "max" };
+            self.push(
+                format!("{path}.{field}"),
+                format!(
+                    "a {} joint has no limits; min/max apply to revolute and prismatic joints only",
+                    def.kind.as_str()
+                ),
+            );
+            return None;
+        }
+        let (to_si, unit) = match def.kind {
+            JointType::Prismatic => (1.0 / MM_PER_M, "mm"),
+            _ => (1f64.to_radians(), "deg"),
+        };
+        let mut bound = |field: &str, value: Option<f64>, default: f64| match value {
+            Some(v) if v.is_finite() => v,
+            Some(v) => {
+                self.push(
+                    format!("{path}.{field}"),
+                    format!("expected a finite limit in {unit}, got {v}"),
+                );
+                default
+            }
+            None => default,
+        };
+        let min = bound("min", def.min, f64::NEG_INFINITY);
+        let max = bound("max", def.max, f64::INFINITY);
+        if min > max {
+            self.push(
+                format!("{path}.min"),
+                format!("expected min <= max, got min {min} > max {max} ({unit})"),
+            );
+        }
+        Some([min * to_si, max * to_si])
+    }
+
+    fn non_negative(&mut self, path: &str, value: Option<f64>, what: &str) -> Option<f64> {
+        let v = value?;
+        if !(v.is_finite() && v >= 0.0) {
+            self.push(path, format!("expected a {what} >= 0, got {v}"));
+        }
+        Some(v)
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn topology(
+        &mut self,
+        path: &str,
+        def: &JointDef,
+        parent: usize,
+        child: usize,
+        parent_of: &mut HashMap<usize, usize>,
+        forest: &mut UnionFind,
+        instances: &[InstanceDef],
+    ) {
+        if parent == child {
+            self.push(
+                format!("{path}.child"),
+                format!(
+                    "joint connects instance {:?} to itself; parent and child must differ",
+                    def.child
+                ),
+            );
+            return;
+        }
+        if child == 0 {
+            self.push(
+                format!("{path}.child"),
+                format!(
+                    "instance {:?} is grounded (the first instance) and cannot be a joint child; swap parent and child",
+                    def.child
+                ),
+            );
+            return;
+        }
+        if let Some(&existing) = parent_of.get(&child) {
+            self.push(
+                format!("{path}.child"),
+                format!(
+                    "instance {:?} already has parent {:?}; a child can have only one parent",
+                    def.child, instances[existing].name
+                ),
+            );
+            return;
+        }
+        if !forest.union(parent, child) {
+            self.push(
+                path,
+                format!(
+                    "joint {:?} -> {:?} closes a kinematic loop; loops are not supported",
+                    def.parent, def.child
+                ),
+            );
+            return;
+        }
+        parent_of.insert(child, parent);
+    }
+}
+
+fn list(names: &[&str]) -> String {
+    if names.is_empty() {
+        "none".to_string()
+    } else {
+        names
+            .iter()
+            .map(|n| format!("{n:?}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
+/// Disjoint sets over instance indices, to find kinematic loops.
+struct UnionFind {
+    parent: Vec<usize>,
+}
+
+impl UnionFind {
+    fn new(n: usize) -> Self {
+        UnionFind {
+            parent: (0..n).collect(),
+        }
+    }
+
+    fn find(&mut self, mut x: usize) -> usize {
+        while self.parent[x] != x {
+            self.parent[x] = self.parent[self.parent[x]];
+            x = self.parent[x];
+        }
+        x
+    }
+
+    /// Joins the sets of `a` and `b`; false when they were already one set (a loop).
+    fn union(&mut self, a: usize, b: usize) -> bool {
+        let (ra, rb) = (self.find(a), self.find(b));
+        if ra == rb {
+            return false;
+        }
+        self.parent[rb] = ra;
+        true
+    }
+}
