@@ -26,19 +26,38 @@ pub use validate::validate;
 /// Parses and validates a document from JSON text.
 pub fn parse(json: &str) -> Result<Assembly> {
     let de = &mut serde_json::Deserializer::from_str(json);
-    let doc: Document = serde_path_to_error::deserialize(de).map_err(|err| {
+    let doc: Document = serde_path_to_error::deserialize(&mut *de).map_err(|err| {
         let path = err.path().to_string();
-        let inner = err.into_inner();
-        let (path, message) = if inner.is_syntax() || inner.is_eof() || path == "." {
-            ("document".to_string(), format!("expected a JSON document: {inner}"))
-        } else {
-            (path, inner.to_string())
-        };
-        AssemblyError::Malformed {
-            issue: Issue::new(path, message),
-        }
+        malformed(&path, err.into_inner())
     })?;
+    // Reject trailing characters after the document, e.g. `{...} x`.
+    de.end().map_err(|err| malformed(".", err))?;
     validate(&doc)
+}
+
+/// Turns a serde error into an issue: JSON syntax errors are reported on the whole
+/// `document` (with the field they were met in, if any); shape errors on their field.
+fn malformed(path: &str, inner: serde_json::Error) -> AssemblyError {
+    let at_root = path == ".";
+    let (path, message) = if inner.is_syntax() || inner.is_eof() {
+        // The path serde reached, when it names a field (not `.` or an unknown `?`).
+        let near = if at_root || path.contains('?') {
+            String::new()
+        } else {
+            format!(" (in {path})")
+        };
+        (
+            "document".to_string(),
+            format!("expected a JSON document: {inner}{near}"),
+        )
+    } else if at_root {
+        ("document".to_string(), inner.to_string())
+    } else {
+        (path.to_string(), inner.to_string())
+    };
+    AssemblyError::Malformed {
+        issue: Issue::new(path, message),
+    }
 }
 
 /// Parses and validates a document already held as a JSON value.

@@ -1,6 +1,7 @@
 //! Semantic validation: a parsed [`Document`] becomes an SI [`Assembly`], or every
 //! problem found is reported with its JSON path.
 
+use std::collections::hash_map::Entry;
 use std::collections::{BTreeMap, HashMap};
 
 use crate::document::{Document, InstanceDef, JointDef, MaterialDef, PartDef, Primitive, Vec3};
@@ -125,17 +126,25 @@ impl Validator {
         materials: &HashMap<String, Material>,
     ) -> HashMap<String, CheckedPart> {
         let mut out = HashMap::new();
+        let mut first_index: HashMap<&str, usize> = HashMap::new();
         for (i, part) in defs.iter().enumerate() {
             let path = format!("parts[{i}]");
-            let shape = self.shape(&format!("{path}.primitive"), &part.primitive);
-            let material = self.material_ref(&format!("{path}.material"), &part.material, materials);
-            if out.contains_key(&part.name) {
+            if let Some(first) = first_index.get(part.name.as_str()) {
                 self.push(
                     format!("{path}.name"),
-                    format!("duplicate part name {:?}: part names must be unique", part.name),
+                    format!(
+                        "duplicate part name {:?} (also parts[{first}]): part names must be unique",
+                        part.name
+                    ),
                 );
+            }
+            let shape = self.shape(&format!("{path}.primitive"), &part.primitive);
+            let material =
+                self.material_ref(&format!("{path}.material"), &part.material, materials);
+            if first_index.contains_key(part.name.as_str()) {
                 continue;
             }
+            first_index.insert(part.name.as_str(), i);
             out.insert(part.name.clone(), CheckedPart { shape, material });
         }
         out
@@ -178,17 +187,31 @@ impl Validator {
         let mut out = Vec::with_capacity(defs.len());
         for (i, inst) in defs.iter().enumerate() {
             let path = format!("assembly.instances[{i}]");
+            // Fields are checked in the order the documents write them.
+            let part = parts.get(&inst.part);
+            if part.is_none() {
+                let mut known: Vec<&str> = parts.keys().map(String::as_str).collect();
+                known.sort_unstable();
+                self.push(
+                    format!("{path}.part"),
+                    format!("unknown part {:?} (known: {})", inst.part, list(&known)),
+                );
+            }
             if inst.name.is_empty() {
                 self.push(format!("{path}.name"), "expected a non-empty instance name");
             }
-            if let Some(first) = seen.insert(inst.name.as_str(), i) {
-                self.push(
+            match seen.entry(inst.name.as_str()) {
+                Entry::Occupied(first) => self.push(
                     format!("{path}.name"),
                     format!(
-                        "duplicate instance name {:?} (also assembly.instances[{first}]): instance names must be unique",
-                        inst.name
+                        "duplicate instance name {:?} (also assembly.instances[{}]): instance names must be unique",
+                        inst.name,
+                        first.get()
                     ),
-                );
+                ),
+                Entry::Vacant(slot) => {
+                    slot.insert(i);
+                }
             }
             let position = inst
                 .position
@@ -200,20 +223,24 @@ impl Validator {
                 .unwrap_or_default();
             let own_material =
                 self.material_ref(&format!("{path}.material"), &inst.material, materials);
-            let Some(part) = parts.get(&inst.part) else {
-                let mut known: Vec<&str> = parts.keys().map(String::as_str).collect();
-                known.sort_unstable();
-                self.push(
-                    format!("{path}.part"),
-                    format!("unknown part {:?} (known: {})", inst.part, list(&known)),
-                );
-                continue;
-            };
+            let Some(part) = part else { continue };
             let Some(shape) = part.shape else { continue };
+            let material = own_material.or(part.material).unwrap_or_default();
+            // Sizes and densities are each finite and positive, but their product can
+            // still overflow (or underflow) f64; the physics layer needs a real mass.
+            let mass = shape.volume() * material.density;
+            if !(mass.is_finite() && mass > 0.0) {
+                self.push(
+                    path.clone(),
+                    format!(
+                        "expected a finite, positive mass (volume × density), got {mass} kg; check the part's size and the material's density"
+                    ),
+                );
+            }
             out.push(Instance {
                 name: inst.name.clone(),
                 shape,
-                material: own_material.or(part.material).unwrap_or_default(),
+                material,
                 position: position.map(|c| c / MM_PER_M),
                 rotation: rotation.map(f64::to_radians),
                 grounded: i == 0,
@@ -240,34 +267,49 @@ impl Validator {
             let parent = self.instance_ref(&format!("{path}.parent"), &def.parent, &index);
             let child = self.instance_ref(&format!("{path}.child"), &def.child, &index);
             let name = def.name.clone().unwrap_or_else(|| def.child.clone());
-            if let Some(first) = names.insert(name.clone(), j) {
-                self.push(
+            match names.entry(name.clone()) {
+                // A defaulted name clashes with a joint of the same child: that is a
+                // child with two parents, which `topology` reports on `child`.
+                Entry::Occupied(first)
+                    if def.name.is_none() && defs[*first.get()].child == def.child => {}
+                Entry::Occupied(first) => self.push(
                     format!("{path}.name"),
                     format!(
-                        "duplicate joint name {name:?} (also assembly.joints[{first}]); give one of them a \"name\""
+                        "duplicate joint name {name:?} (also assembly.joints[{}]); give one of them a \"name\"",
+                        first.get()
                     ),
-                );
+                ),
+                Entry::Vacant(slot) => {
+                    slot.insert(j);
+                }
             }
 
             let anchor = match def.anchor {
-                Some(a) => self.vec3(&format!("{path}.anchor"), a).map(|c| c / MM_PER_M),
+                Some(a) => self
+                    .vec3(&format!("{path}.anchor"), a)
+                    .map(|c| c / MM_PER_M),
                 None if def.kind == JointType::Fixed => [0.0; 3],
                 None => {
-                    self.push(format!("{path}.anchor"), "missing field `anchor` (world mm)");
+                    self.push(
+                        format!("{path}.anchor"),
+                        format!(
+                            "missing field `anchor`: a {} joint needs an anchor (world mm)",
+                            def.kind.as_str()
+                        ),
+                    );
                     [0.0; 3]
                 }
             };
             let axis = self.axis(&path, def);
             let limits = self.limits(&path, def);
             let damping = self.non_negative(&format!("{path}.damping"), def.damping, "damping");
-            let max_effort = def.max_effort.map(|e| {
+            let max_effort = def.max_effort.inspect(|&e| {
                 if !(e.is_finite() && e > 0.0) {
                     self.push(
                         format!("{path}.max_effort"),
                         format!("expected a positive effort in N·m or N, got {e}"),
                     );
                 }
-                e
             });
 
             if let (Some(p), Some(c)) = (parent, child) {
@@ -292,12 +334,20 @@ impl Validator {
         out
     }
 
-    fn instance_ref(&mut self, path: &str, name: &str, index: &HashMap<&str, usize>) -> Option<usize> {
+    fn instance_ref(
+        &mut self,
+        path: &str,
+        name: &str,
+        index: &HashMap<&str, usize>,
+    ) -> Option<usize> {
         let found = index.get(name).copied();
         if found.is_none() {
             let mut known: Vec<&str> = index.keys().copied().collect();
             known.sort_unstable();
-            self.push(path, format!("unknown instance {name:?} (known: {})", list(&known)));
+            self.push(
+                path,
+                format!("unknown instance {name:?} (known: {})", list(&known)),
+            );
         }
         found
     }
@@ -311,14 +361,21 @@ impl Validator {
             if needs_axis {
                 self.push(
                     format!("{path}.axis"),
-                    format!("missing field `axis`: a {} joint needs an axis", def.kind.as_str()),
+                    format!(
+                        "missing field `axis`: a {} joint needs an axis",
+                        def.kind.as_str()
+                    ),
                 );
             }
             return [1.0, 0.0, 0.0];
         };
+        // Scale by the largest component first, so that huge but finite components
+        // do not overflow the norm.
         let a = axis.to_array();
+        let scale = a.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+        let a = a.map(|c| c / scale);
         let norm = a.iter().map(|c| c * c).sum::<f64>().sqrt();
-        if !norm.is_finite() || norm < 1e-9 {
+        if !(scale.is_finite() && scale > 1e-9 && norm.is_finite()) {
             self.push(
                 format!("{path}.axis"),
                 format!(

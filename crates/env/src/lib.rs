@@ -1,1 +1,24 @@
-//! placeholder
+//! Gym-style robot environments over a gymfleet physics world.
+//!
+//! This crate owns the episode semantics of PRODUCT.md §2: [`RobotEnv`] with
+//! `reset`/`step`/`observe`, action validation ([`ActionType`], length, finiteness),
+//! the flat observation layout (joint positions, joint velocities, then one
+//! `[x, y, z, qw, qx, qy, qz]` per end effector), time (`dt` as `substeps` substeps),
+//! truncation at `max_steps`, and termination when the physics diverges.
+//!
+//! It leaves parsing to `gymfleet-assembly`, simulation to `gymfleet-physics`, and
+//! parallelism to `gymfleet-batch`. It knows nothing of networks or serialisation.
+
+mod action;
+mod config;
+mod env;
+mod error;
+mod observation;
+
+pub use action::ActionType;
+pub use config::{EnvConfig, EnvSpec, DEFAULT_DT, DEFAULT_MAX_STEPS, DEFAULT_SUBSTEPS};
+pub use env::{RobotEnv, StepFlags, StepResult, Termination};
+pub use error::{EnvError, Result};
+pub use gymfleet_assembly::{AssemblyError, DofKind, JointType};
+pub use gymfleet_physics::{JointDof, PdGains};
+pub use observation::{Observation, POSE_LEN};

@@ -1,1 +1,23 @@
-//! placeholder
+//! A Rapier world built from a validated [`gymfleet_assembly::Assembly`].
+//!
+//! This crate owns everything between a document and the rigid-body solver: one body per
+//! instance with its exact primitive collider and mass from volume × density, the joint
+//! tree as a reduced-coordinate multibody rooted at the grounded instance, actuation
+//! (real torques and forces, force-based PD motors for position and velocity targets),
+//! measured joint state readout in user units, and an exact reset from a snapshot.
+//!
+//! It knows nothing of episodes, rewards or observation layout (that is `gymfleet-env`),
+//! and nothing of threads, networks or serialisation.
+//!
+//! Units at this crate's boundary are the user's: degrees and millimetres for joint
+//! state and targets, N·m and N for efforts, millimetres for poses. Inside, all is SI.
+
+mod actuation;
+mod build;
+mod error;
+mod readout;
+mod world;
+
+pub use actuation::{ActionMode, PdGains, DEFAULT_PD_FREQUENCY_HZ};
+pub use error::{PhysicsError, Result};
+pub use world::{JointDof, RobotWorld, WorldOptions};

@@ -1,0 +1,401 @@
+//! Semantic errors: each is reported once, with the JSON path of the offending field
+//! and what was expected; several independent errors are all reported, in order.
+
+mod common;
+
+use common::{assert_issue, base_doc, blocks_doc, err, revolute};
+use serde_json::{json, Value};
+
+/// `blocks_doc(names)` with the given joints.
+fn jointed(names: &[&str], joints: Vec<Value>) -> Value {
+    let mut doc = blocks_doc(names);
+    doc["assembly"]["joints"] = Value::Array(joints);
+    doc
+}
+
+/// The base document with one field of its only joint set.
+fn with_joint_field(field: &str, value: Value) -> Value {
+    let mut doc = base_doc();
+    doc["assembly"]["joints"][0][field] = value;
+    doc
+}
+
+/// The base document with its only joint of another type.
+fn with_joint_type(kind: &str) -> Value {
+    with_joint_field("type", json!(kind))
+}
+
+#[test]
+fn unknown_part() {
+    let mut doc = base_doc();
+    doc["assembly"]["instances"][1]["part"] = json!("Forarm");
+    assert_issue(
+        doc,
+        r#"assembly.instances[1].part: unknown part "Forarm" (known: "Arm", "Base")"#,
+    );
+}
+
+#[test]
+fn unknown_joint_child() {
+    let names = ["base", "upper", "forearm"];
+    let doc = jointed(
+        &names,
+        vec![revolute("base", "upper"), revolute("upper", "forarm")],
+    );
+    assert_issue(
+        doc,
+        r#"assembly.joints[1].child: unknown instance "forarm" (known: "base", "forearm", "upper")"#,
+    );
+}
+
+#[test]
+fn unknown_joint_parent() {
+    let names = ["base", "upper", "forearm"];
+    let doc = jointed(
+        &names,
+        vec![revolute("base", "upper"), revolute("uper", "forearm")],
+    );
+    assert_issue(
+        doc,
+        r#"assembly.joints[1].parent: unknown instance "uper" (known: "base", "forearm", "upper")"#,
+    );
+}
+
+#[test]
+fn duplicate_part_names() {
+    let mut doc = base_doc();
+    doc["parts"][1]["name"] = json!("Base");
+    doc["assembly"]["instances"][1]["part"] = json!("Base");
+    assert_issue(
+        doc,
+        r#"parts[1].name: duplicate part name "Base" (also parts[0]): part names must be unique"#,
+    );
+}
+
+#[test]
+fn duplicate_instance_names_point_at_the_first() {
+    assert_issue(
+        blocks_doc(&["a", "b", "a"]),
+        r#"assembly.instances[2].name: duplicate instance name "a" (also assembly.instances[0]): instance names must be unique"#,
+    );
+    let e = err(blocks_doc(&["a", "a", "a"]));
+    let also: Vec<bool> = e
+        .issues()
+        .iter()
+        .map(|i| i.message.contains("(also assembly.instances[0])"))
+        .collect();
+    assert_eq!(also, [true, true], "{e}");
+}
+
+#[test]
+fn empty_instance_name() {
+    assert_issue(
+        blocks_doc(&[""]),
+        "assembly.instances[0].name: expected a non-empty instance name",
+    );
+}
+
+#[test]
+fn duplicate_joint_names() {
+    let named = |parent, child| {
+        let mut j = revolute(parent, child);
+        j["name"] = json!("hinge");
+        j
+    };
+    let doc = jointed(&["g", "a", "b"], vec![named("g", "a"), named("a", "b")]);
+    assert_issue(
+        doc,
+        r#"assembly.joints[1].name: duplicate joint name "hinge" (also assembly.joints[0]); give one of them a "name""#,
+    );
+    // An explicit name may clash with another joint's default (its child's name).
+    let mut second = revolute("a", "b");
+    second["name"] = json!("a");
+    let doc = jointed(&["g", "a", "b"], vec![revolute("g", "a"), second]);
+    assert_issue(
+        doc,
+        r#"assembly.joints[1].name: duplicate joint name "a" (also assembly.joints[0]); give one of them a "name""#,
+    );
+}
+
+#[test]
+fn zero_axis() {
+    assert_issue(
+        with_joint_field("axis", json!({ "x": 0, "y": 0, "z": 0 })),
+        "assembly.joints[0].axis: expected a non-zero finite direction, got {x: 0, y: 0, z: 0}",
+    );
+}
+
+#[test]
+fn missing_axis() {
+    for kind in ["revolute", "prismatic", "cylindrical"] {
+        let mut doc = with_joint_type(kind);
+        doc["assembly"]["joints"][0]
+            .as_object_mut()
+            .unwrap()
+            .remove("axis");
+        assert_issue(
+            doc,
+            &format!("assembly.joints[0].axis: missing field `axis`: a {kind} joint needs an axis"),
+        );
+    }
+}
+
+#[test]
+fn missing_anchor() {
+    for kind in ["revolute", "ball"] {
+        let mut doc = with_joint_type(kind);
+        doc["assembly"]["joints"][0]
+            .as_object_mut()
+            .unwrap()
+            .remove("anchor");
+        assert_issue(
+            doc,
+            &format!("assembly.joints[0].anchor: missing field `anchor`: a {kind} joint needs an anchor (world mm)"),
+        );
+    }
+}
+
+#[test]
+fn min_above_max() {
+    let mut doc = with_joint_field("min", json!(10));
+    doc["assembly"]["joints"][0]["max"] = json!(-10);
+    assert_issue(
+        doc.clone(),
+        "assembly.joints[0].min: expected min <= max, got min 10 > max -10 (deg)",
+    );
+    doc["assembly"]["joints"][0]["type"] = json!("prismatic");
+    assert_issue(
+        doc,
+        "assembly.joints[0].min: expected min <= max, got min 10 > max -10 (mm)",
+    );
+}
+
+#[test]
+fn non_positive_sizes() {
+    let cases = [
+        (
+            json!({ "type": "cube", "size": { "x": -1, "y": 4, "z": 40 } }),
+            "size.x",
+            "-1",
+        ),
+        (
+            json!({ "type": "cube", "size": { "x": 4, "y": 0, "z": 40 } }),
+            "size.y",
+            "0",
+        ),
+        (
+            json!({ "type": "cylinder", "radius": 0, "height": 40 }),
+            "radius",
+            "0",
+        ),
+        (
+            json!({ "type": "cylinder", "radius": 2, "height": -40 }),
+            "height",
+            "-40",
+        ),
+        (json!({ "type": "sphere", "radius": 0 }), "radius", "0"),
+        (
+            json!({ "type": "sphere", "radius": -3.5 }),
+            "radius",
+            "-3.5",
+        ),
+    ];
+    for (primitive, field, got) in cases {
+        let mut doc = base_doc();
+        doc["parts"][1]["primitive"] = primitive;
+        assert_issue(
+            doc,
+            &format!("parts[1].primitive.{field}: expected a positive length in mm, got {got}"),
+        );
+    }
+}
+
+#[test]
+fn child_with_two_parents() {
+    let doc = jointed(
+        &["g", "a", "b"],
+        vec![revolute("g", "a"), revolute("b", "a")],
+    );
+    assert_issue(
+        doc,
+        r#"assembly.joints[1].child: instance "a" already has parent "g"; a child can have only one parent"#,
+    );
+}
+
+#[test]
+fn kinematic_loop() {
+    let joints = vec![revolute("a", "b"), revolute("b", "c"), revolute("c", "a")];
+    assert_issue(
+        jointed(&["g", "a", "b", "c"], joints),
+        r#"assembly.joints[2]: joint "c" -> "a" closes a kinematic loop; loops are not supported"#,
+    );
+}
+
+#[test]
+fn joint_to_itself() {
+    let mut doc = with_joint_field("parent", json!("arm"));
+    doc["assembly"]["joints"][0]["child"] = json!("arm");
+    assert_issue(
+        doc,
+        r#"assembly.joints[0].child: joint connects instance "arm" to itself; parent and child must differ"#,
+    );
+}
+
+#[test]
+fn grounded_instance_as_child() {
+    let mut doc = with_joint_field("parent", json!("arm"));
+    doc["assembly"]["joints"][0]["child"] = json!("base");
+    assert_issue(
+        doc,
+        r#"assembly.joints[0].child: instance "base" is grounded (the first instance) and cannot be a joint child; swap parent and child"#,
+    );
+}
+
+#[test]
+fn empty_assembly() {
+    let mut doc = base_doc();
+    doc["assembly"] = json!({ "instances": [], "joints": [] });
+    assert_issue(
+        doc,
+        "assembly.instances: expected at least one instance (the first one is grounded)",
+    );
+}
+
+#[test]
+fn limits_on_a_joint_without_limits() {
+    for (kind, field) in [("ball", "min"), ("cylindrical", "max"), ("fixed", "min")] {
+        let mut doc = with_joint_type(kind);
+        doc["assembly"]["joints"][0][field] = json!(5);
+        if kind == "fixed" {
+            doc["assembly"]["joints"][0]["max"] = json!(10);
+        }
+        assert_issue(
+            doc,
+            &format!("assembly.joints[0].{field}: a {kind} joint has no limits; min/max apply to revolute and prismatic joints only"),
+        );
+    }
+}
+
+#[test]
+fn unknown_material_on_part() {
+    let mut doc = base_doc();
+    doc["parts"][1]["material"] = json!("steel");
+    assert_issue(
+        doc,
+        r#"parts[1].material: unknown material "steel" (known: none)"#,
+    );
+}
+
+#[test]
+fn unknown_material_on_instance() {
+    let mut doc = base_doc();
+    doc["materials"] = json!({ "aluminium": {}, "steel": { "density": 7850 } });
+    doc["assembly"]["instances"][1]["material"] = json!("steal");
+    assert_issue(
+        doc,
+        r#"assembly.instances[1].material: unknown material "steal" (known: "aluminium", "steel")"#,
+    );
+}
+
+#[test]
+fn bad_material_values() {
+    let cases = [
+        (
+            "density",
+            json!(-1),
+            "expected a positive density in kg/m³, got -1",
+        ),
+        (
+            "density",
+            json!(0),
+            "expected a positive density in kg/m³, got 0",
+        ),
+        (
+            "friction",
+            json!(-0.1),
+            "expected a friction coefficient >= 0, got -0.1",
+        ),
+        (
+            "restitution",
+            json!(1.5),
+            "expected a restitution in [0, 1], got 1.5",
+        ),
+        (
+            "restitution",
+            json!(-0.5),
+            "expected a restitution in [0, 1], got -0.5",
+        ),
+    ];
+    for (field, value, message) in cases {
+        let mut doc = base_doc();
+        doc["materials"] = json!({ "bad": { field: value } });
+        assert_issue(doc, &format!("materials.bad.{field}: {message}"));
+    }
+}
+
+#[test]
+fn negative_damping() {
+    assert_issue(
+        with_joint_field("damping", json!(-0.5)),
+        "assembly.joints[0].damping: expected a damping >= 0, got -0.5",
+    );
+}
+
+#[test]
+fn non_positive_max_effort() {
+    for effort in [0, -2] {
+        assert_issue(
+            with_joint_field("max_effort", json!(effort)),
+            &format!("assembly.joints[0].max_effort: expected a positive effort in N·m or N, got {effort}"),
+        );
+    }
+}
+
+#[test]
+fn mass_overflow_is_an_error() {
+    let mut doc = base_doc();
+    doc["parts"][0]["primitive"]["size"] = json!({ "x": 1e200, "y": 1e200, "z": 5 });
+    assert_issue(
+        doc,
+        "assembly.instances[0]: expected a finite, positive mass (volume × density), got inf kg; check the part's size and the material's density",
+    );
+}
+
+#[test]
+fn huge_finite_axis_is_normalised() {
+    let doc = with_joint_field("axis", json!({ "x": 0, "y": 1e300, "z": 1e300 }));
+    let axis = common::ok(doc).joints[0].axis;
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    assert!(
+        (axis[1] - h).abs() < 1e-12 && (axis[2] - h).abs() < 1e-12,
+        "{axis:?}"
+    );
+}
+
+#[test]
+fn all_independent_errors_are_reported_in_document_order() {
+    let mut doc = base_doc();
+    doc["parts"][0]["primitive"]["size"]["z"] = json!(0);
+    doc["assembly"]["instances"][1]["material"] = json!("steel");
+    doc["assembly"]["joints"][0]["axis"] = json!({ "x": 0, "y": 0, "z": 0 });
+    doc["assembly"]["joints"][0]["damping"] = json!(-1);
+    let ghost = revolute("arm", "ghost");
+    doc["assembly"]["joints"]
+        .as_array_mut()
+        .unwrap()
+        .push(ghost);
+
+    let expected = [
+        "parts[0].primitive.size.z: expected a positive length in mm, got 0",
+        r#"assembly.instances[1].material: unknown material "steel" (known: none)"#,
+        "assembly.joints[0].axis: expected a non-zero finite direction, got {x: 0, y: 0, z: 0}",
+        "assembly.joints[0].damping: expected a damping >= 0, got -1",
+        r#"assembly.joints[1].child: unknown instance "ghost" (known: "arm", "base")"#,
+    ];
+    let e = err(doc);
+    assert_eq!(e.issues().len(), expected.len(), "{e}");
+    let got: Vec<String> = e.issues().iter().map(ToString::to_string).collect();
+    assert_eq!(got, expected);
+    assert_eq!(e.to_string(), expected.join("; "));
+    assert_eq!(e.path(), "parts[0].primitive.size.z");
+}

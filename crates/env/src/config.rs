@@ -1,0 +1,130 @@
+//! Environment configuration and the metadata an agent needs to drive it.
+
+use gymfleet_physics::{JointDof, PdGains};
+
+use crate::error::{EnvError, Result};
+use crate::observation::POSE_LEN;
+
+/// Default step length: 1/240 s.
+pub const DEFAULT_DT: f64 = 1.0 / 240.0;
+/// Default substeps per step.
+pub const DEFAULT_SUBSTEPS: u32 = 4;
+/// Default episode length in steps.
+pub const DEFAULT_MAX_STEPS: u32 = 1000;
+
+/// Longest accepted step, in seconds.
+const MAX_DT: f64 = 1.0;
+/// Most substeps accepted per step.
+const MAX_SUBSTEPS: u32 = 1000;
+
+/// How to build an environment from a document.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EnvConfig {
+    /// Instance names whose poses are observed.
+    pub end_effector_ids: Vec<String>,
+    /// Seconds per step.
+    pub dt: f64,
+    /// Physics substeps per step.
+    pub substeps: u32,
+    /// Steps until `truncated`.
+    pub max_steps: u32,
+    /// Seed of the episode random stream (used by `reset` when given none).
+    pub seed: u64,
+    /// PD gain overrides for position and velocity targets.
+    pub pd_gains: Option<PdGains>,
+}
+
+impl Default for EnvConfig {
+    fn default() -> Self {
+        EnvConfig {
+            end_effector_ids: Vec::new(),
+            dt: DEFAULT_DT,
+            substeps: DEFAULT_SUBSTEPS,
+            max_steps: DEFAULT_MAX_STEPS,
+            seed: 0,
+            pd_gains: None,
+        }
+    }
+}
+
+impl EnvConfig {
+    /// A default configuration observing these end effectors.
+    pub fn with_end_effectors<S: Into<String>>(ids: impl IntoIterator<Item = S>) -> Self {
+        EnvConfig {
+            end_effector_ids: ids.into_iter().map(Into::into).collect(),
+            ..EnvConfig::default()
+        }
+    }
+
+    pub(crate) fn validate(&self) -> Result<()> {
+        if !(self.dt.is_finite() && self.dt > 0.0 && self.dt <= MAX_DT) {
+            return Err(EnvError::BadConfig {
+                field: "dt",
+                reason: format!("expected a step length in (0, {MAX_DT}] s, got {}", self.dt),
+            });
+        }
+        if !(1..=MAX_SUBSTEPS).contains(&self.substeps) {
+            return Err(EnvError::BadConfig {
+                field: "substeps",
+                reason: format!(
+                    "expected 1 to {MAX_SUBSTEPS} substeps, got {}",
+                    self.substeps
+                ),
+            });
+        }
+        if self.max_steps == 0 {
+            return Err(EnvError::BadConfig {
+                field: "max_steps",
+                reason: "expected at least 1 step, got 0".to_string(),
+            });
+        }
+        Ok(())
+    }
+}
+
+/// What an agent needs to know about an environment.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EnvSpec {
+    /// Joints with at least one DOF.
+    pub num_joints: usize,
+    /// Total DOF: values per action.
+    pub action_dim: usize,
+    /// `2·DOF + 7·end effectors`.
+    pub observation_dim: usize,
+    /// Observed instances, in order.
+    pub end_effector_ids: Vec<String>,
+    /// Names of the joints with at least one DOF, in document order.
+    pub joint_names: Vec<String>,
+    /// Every DOF, in action and observation order, with its units, limits and gains.
+    pub dofs: Vec<JointDof>,
+    /// Seconds per step.
+    pub dt: f64,
+    /// Physics substeps per step.
+    pub substeps: u32,
+    /// Steps until `truncated`.
+    pub max_steps: u32,
+}
+
+impl EnvSpec {
+    pub(crate) fn new(config: &EnvConfig, dofs: &[JointDof]) -> Self {
+        let mut joint_names: Vec<String> = Vec::new();
+        let mut last = None;
+        for dof in dofs {
+            if last != Some(dof.joint) {
+                joint_names.push(dof.joint_name.clone());
+                last = Some(dof.joint);
+            }
+        }
+        EnvSpec {
+            num_joints: joint_names.len(),
+            action_dim: dofs.len(),
+            observation_dim: 2 * dofs.len() + POSE_LEN * config.end_effector_ids.len(),
+            end_effector_ids: config.end_effector_ids.clone(),
+            joint_names,
+            dofs: dofs.to_vec(),
+            dt: config.dt,
+            substeps: config.substeps,
+            max_steps: config.max_steps,
+        }
+    }
+}

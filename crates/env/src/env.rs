@@ -1,0 +1,233 @@
+//! [`RobotEnv`]: one episode-driven robot.
+
+use gymfleet_assembly::Assembly;
+use gymfleet_physics::{RobotWorld, WorldOptions};
+
+use crate::action::{self, ActionType};
+use crate::config::{EnvConfig, EnvSpec};
+use crate::error::{EnvError, Result};
+use crate::observation::{Observation, POSE_LEN};
+
+/// Why an episode terminated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Termination {
+    /// The simulation produced a non-finite or absurd state. The observation returned
+    /// with it is the last finite one; the env must be reset.
+    PhysicsDiverged,
+}
+
+impl Termination {
+    /// A short machine-readable reason.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Termination::PhysicsDiverged => "physics_diverged",
+        }
+    }
+}
+
+/// The flags of one step, without the observation (written in place by
+/// [`RobotEnv::step_into`]).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct StepFlags {
+    /// Always 0.0: rewards are the trainer's to compute.
+    pub reward: f32,
+    /// The episode ended for a task or physics reason.
+    pub terminated: bool,
+    /// The episode reached `max_steps`.
+    pub truncated: bool,
+    /// Why it terminated, if it did.
+    pub termination: Option<Termination>,
+}
+
+impl StepFlags {
+    /// `terminated || truncated`.
+    pub fn done(&self) -> bool {
+        self.terminated || self.truncated
+    }
+}
+
+/// The result of one step, structured.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepResult {
+    /// The observation after the step.
+    pub observation: Observation,
+    /// Flags and reward.
+    pub flags: StepFlags,
+}
+
+/// A robot environment: reset, step, observe.
+///
+/// Cloning gives an independent environment in the same state, without re-parsing.
+#[derive(Clone)]
+pub struct RobotEnv {
+    world: RobotWorld,
+    spec: EnvSpec,
+    /// Instance index of each end effector.
+    end_effectors: Vec<usize>,
+    elapsed: u32,
+    seed: u64,
+    /// The last finite observation, returned if the physics diverges.
+    last_obs: Vec<f32>,
+    diverged: bool,
+}
+
+/// Any observed value beyond this magnitude (mm, deg, deg/s) counts as divergence.
+const DIVERGENCE_LIMIT: f32 = 1.0e9;
+
+impl RobotEnv {
+    /// Builds an environment from a validated assembly.
+    pub fn new(assembly: &Assembly, config: EnvConfig) -> Result<Self> {
+        config.validate()?;
+        let end_effectors = config
+            .end_effector_ids
+            .iter()
+            .enumerate()
+            .map(|(index, id)| {
+                assembly
+                    .instance_index(id)
+                    .ok_or_else(|| EnvError::UnknownEndEffector {
+                        index,
+                        id: id.clone(),
+                        known: assembly
+                            .instances
+                            .iter()
+                            .map(|i| format!("{:?}", i.name))
+                            .collect::<Vec<_>>()
+                            .join(", "),
+                    })
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let options = WorldOptions {
+            substep_dt: config.dt / f64::from(config.substeps),
+            gains: config.pd_gains.clone(),
+        };
+        let world = RobotWorld::new(assembly, &options)?;
+        let spec = EnvSpec::new(&config, world.dofs());
+        let mut env = RobotEnv {
+            world,
+            end_effectors,
+            elapsed: 0,
+            seed: config.seed,
+            last_obs: vec![0.0; spec.observation_dim],
+            spec,
+            diverged: false,
+        };
+        env.reset(None);
+        Ok(env)
+    }
+
+    /// Parses, validates and builds in one go.
+    pub fn from_json(document: &str, config: EnvConfig) -> Result<Self> {
+        let assembly = gymfleet_assembly::parse(document)?;
+        Self::new(&assembly, config)
+    }
+
+    /// The environment's metadata.
+    pub fn spec(&self) -> &EnvSpec {
+        &self.spec
+    }
+
+    /// Steps taken since the last reset.
+    pub fn elapsed_steps(&self) -> u32 {
+        self.elapsed
+    }
+
+    /// The seed of the current episode.
+    pub fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    /// Restores the initial state exactly (zero velocities) and returns the first
+    /// observation. `seed` replaces the episode seed when given.
+    pub fn reset(&mut self, seed: Option<u64>) -> Observation {
+        let mut flat = vec![0.0; self.spec.observation_dim];
+        self.reset_into(seed, &mut flat);
+        Observation::from_flat(&flat, self.spec.action_dim)
+    }
+
+    /// [`RobotEnv::reset`], writing the flat observation into `out`
+    /// (`observation_dim` floats).
+    pub fn reset_into(&mut self, seed: Option<u64>, out: &mut [f32]) {
+        if let Some(seed) = seed {
+            self.seed = seed;
+        }
+        self.world.reset();
+        self.elapsed = 0;
+        self.diverged = false;
+        self.observe_into(out);
+        self.last_obs.copy_from_slice(out);
+    }
+
+    /// Validates and applies an action for one step of `dt` seconds.
+    pub fn step(&mut self, action_type: ActionType, values: &[f32]) -> Result<StepResult> {
+        let mut flat = vec![0.0; self.spec.observation_dim];
+        let flags = self.step_into(action_type, values, &mut flat)?;
+        Ok(StepResult {
+            observation: Observation::from_flat(&flat, self.spec.action_dim),
+            flags,
+        })
+    }
+
+    /// [`RobotEnv::step`], writing the flat observation into `out`
+    /// (`observation_dim` floats). Allocation-free.
+    pub fn step_into(
+        &mut self,
+        action_type: ActionType,
+        values: &[f32],
+        out: &mut [f32],
+    ) -> Result<StepFlags> {
+        action::validate(values, self.spec.action_dim)?;
+        if self.diverged {
+            return Err(EnvError::NeedsReset);
+        }
+        self.world.set_command(action_type.mode(), values);
+        self.world.step(self.spec.substeps);
+        self.elapsed = self.elapsed.saturating_add(1);
+        let truncated = self.elapsed >= self.spec.max_steps;
+
+        self.observe_into(out);
+        let healthy = self.world.is_finite()
+            && out
+                .iter()
+                .all(|v| v.is_finite() && v.abs() < DIVERGENCE_LIMIT);
+        if !healthy {
+            self.diverged = true;
+            out.copy_from_slice(&self.last_obs);
+            return Ok(StepFlags {
+                reward: 0.0,
+                terminated: true,
+                truncated,
+                termination: Some(Termination::PhysicsDiverged),
+            });
+        }
+        self.last_obs.copy_from_slice(out);
+        Ok(StepFlags {
+            reward: 0.0,
+            terminated: false,
+            truncated,
+            termination: None,
+        })
+    }
+
+    /// The current observation, without stepping.
+    pub fn observe(&self) -> Observation {
+        let mut flat = vec![0.0; self.spec.observation_dim];
+        self.observe_into(&mut flat);
+        Observation::from_flat(&flat, self.spec.action_dim)
+    }
+
+    /// [`RobotEnv::observe`], writing the flat observation into `out`.
+    pub fn observe_into(&self, out: &mut [f32]) {
+        if self.diverged {
+            out.copy_from_slice(&self.last_obs);
+            return;
+        }
+        let dof = self.spec.action_dim;
+        let (positions, rest) = out.split_at_mut(dof);
+        let (velocities, poses) = rest.split_at_mut(dof);
+        self.world.joint_state(positions, velocities);
+        for (pose, &instance) in poses.chunks_exact_mut(POSE_LEN).zip(&self.end_effectors) {
+            pose.copy_from_slice(&self.world.body_pose(instance));
+        }
+    }
+}

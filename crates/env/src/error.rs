@@ -1,0 +1,61 @@
+//! Errors of environment creation and stepping.
+
+use gymfleet_assembly::AssemblyError;
+use gymfleet_physics::PhysicsError;
+
+/// Why an environment could not be created or stepped.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum EnvError {
+    /// The document is malformed or inconsistent.
+    #[error(transparent)]
+    Document(#[from] AssemblyError),
+    /// The physics options (such as PD gains) are unusable.
+    #[error(transparent)]
+    Physics(#[from] PhysicsError),
+    /// An end-effector id names no instance.
+    #[error("end_effector_ids[{index}]: unknown instance {id:?} (known: {known})")]
+    UnknownEndEffector {
+        /// Position in `end_effector_ids`.
+        index: usize,
+        /// The id given.
+        id: String,
+        /// The instance names, comma-separated.
+        known: String,
+    },
+    /// A configuration value is out of range.
+    #[error("{field}: {reason}")]
+    BadConfig {
+        /// The option's name, e.g. `dt`.
+        field: &'static str,
+        /// What was expected and what was given.
+        reason: String,
+    },
+    /// The action has the wrong number of values.
+    #[error("values: expected {expected} action values (one per DOF), got {got}")]
+    ActionLength {
+        /// The env's `action_dim`.
+        expected: usize,
+        /// How many were given.
+        got: usize,
+    },
+    /// An action value is NaN or infinite.
+    #[error("values[{index}]: expected a finite number, got {value}")]
+    NonFiniteAction {
+        /// Position of the bad value.
+        index: usize,
+        /// The bad value.
+        value: f32,
+    },
+    /// The action type string is not one of the known ones.
+    #[error("action_type: expected one of \"torque\", \"position\", \"velocity\", got {got:?}")]
+    UnknownActionType {
+        /// What was given.
+        got: String,
+    },
+    /// The physics diverged earlier in this episode; only `reset` is possible.
+    #[error("the simulation diverged (non-finite state) and was terminated; call reset before stepping again")]
+    NeedsReset,
+}
+
+/// Result alias for this crate.
+pub type Result<T, E = EnvError> = std::result::Result<T, E>;

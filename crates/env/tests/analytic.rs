@@ -1,0 +1,323 @@
+//! Physics against analytic results: pendulum period, energy conservation, free fall,
+//! F = m·a on a prismatic joint, PD settling, and hard limits.
+
+mod common;
+
+use common::*;
+use gymfleet_env::{ActionType, EnvConfig};
+use serde_json::json;
+
+/// Times (s) at which `samples` crosses zero upwards, linearly interpolated.
+fn upward_zero_crossings(samples: &[f64], dt: f64) -> Vec<f64> {
+    samples
+        .windows(2)
+        .enumerate()
+        .filter(|(_, w)| w[0] < 0.0 && w[1] >= 0.0)
+        .map(|(i, w)| (i as f64 + w[0] / (w[0] - w[1])) * dt)
+        .collect()
+}
+
+#[test]
+fn small_angle_compound_pendulum_period_is_within_one_percent() {
+    let mut env = env(&hanging_pendulum(json!({})), &["arm"]);
+    let dt = env.spec().dt;
+    let (m, i_pivot, d) = arm_mass_and_pivot_inertia();
+    let analytic = 2.0 * std::f64::consts::PI * (i_pivot / (m * G * d)).sqrt();
+
+    // A short push from rest: about a 2.5° amplitude.
+    step(&mut env, ActionType::Torque, &[8e-5]);
+    let mut angles = Vec::new();
+    let steps = (12.0 * analytic / dt) as usize;
+    for _ in 0..steps {
+        angles.push(f64::from(step(&mut env, ActionType::Torque, &[0.0])[0]));
+    }
+    let amplitude = angles.iter().fold(0.0f64, |a, &b| a.max(b.abs()));
+    assert!(
+        (1.0..5.0).contains(&amplitude),
+        "amplitude {amplitude}° is not small"
+    );
+
+    let crossings = upward_zero_crossings(&angles, dt);
+    assert!(
+        crossings.len() >= 10,
+        "only {} periods seen",
+        crossings.len()
+    );
+    let measured = (crossings[crossings.len() - 1] - crossings[0]) / (crossings.len() - 1) as f64;
+    let error = (measured - analytic).abs() / analytic;
+    assert!(
+        error < 0.01,
+        "period {measured:.5} s vs analytic {analytic:.5} s ({:.3} % off)",
+        error * 100.0
+    );
+}
+
+/// Energy of the hanging arm above its rest state, from a measured observation:
+/// `½·I·θ̇² + m·g·d·(1 − cos θ)`.
+fn pendulum_energy(obs: &[f32]) -> f64 {
+    let (m, i_pivot, d) = arm_mass_and_pivot_inertia();
+    let theta = f64::from(obs[0]).to_radians();
+    let omega = f64::from(obs[1]).to_radians();
+    0.5 * i_pivot * omega * omega + m * G * d * (1.0 - theta.cos())
+}
+
+#[test]
+fn undamped_pendulum_energy_drifts_less_than_one_percent_over_ten_periods() {
+    let mut env = env(&hanging_pendulum(json!({})), &["arm"]);
+    let (m, i_pivot, d) = arm_mass_and_pivot_inertia();
+    let period = 2.0 * std::f64::consts::PI * (i_pivot / (m * G * d)).sqrt();
+
+    // Kick to a large swing (about 40°), then let go.
+    let start = pendulum_energy(&step(&mut env, ActionType::Torque, &[1.2e-3]));
+    let steps = (10.0 * period / env.spec().dt) as usize;
+    let mut peak_angle = 0.0f32;
+    let mut worst = 0.0f64;
+    for _ in 0..steps {
+        let obs = step(&mut env, ActionType::Torque, &[0.0]);
+        peak_angle = peak_angle.max(obs[0].abs());
+        worst = worst.max((pendulum_energy(&obs) - start).abs() / start);
+    }
+    assert!(peak_angle > 20.0, "swing too small to test: {peak_angle}°");
+    assert!(worst < 0.01, "energy drifted by {:.3} %", worst * 100.0);
+}
+
+#[test]
+fn joint_damping_from_the_document_dissipates_energy() {
+    let mut env = env(&hanging_pendulum(json!({"damping": 1e-6})), &["arm"]);
+    let start = pendulum_energy(&step(&mut env, ActionType::Torque, &[1.2e-3]));
+    let mut obs = Vec::new();
+    for _ in 0..500 {
+        obs = step(&mut env, ActionType::Torque, &[0.0]);
+    }
+    let end = pendulum_energy(&obs);
+    assert!(end < 0.5 * start, "damped energy {end} vs start {start}");
+}
+
+#[test]
+fn the_end_effector_pose_follows_the_measured_joint_angle() {
+    let mut env = env(&hanging_pendulum(json!({})), &["arm"]);
+    step(&mut env, ActionType::Torque, &[1.2e-3]);
+    for _ in 0..37 {
+        let obs = step(&mut env, ActionType::Torque, &[0.0]);
+        let theta = f64::from(obs[0]).to_radians();
+        // The centre of mass hangs 20 mm below the pivot at (10, 10, 0).
+        let (x, z) = (10.0 - 20.0 * theta.sin(), -20.0 * theta.cos());
+        assert!((f64::from(obs[2]) - x).abs() < 1e-3, "x {} vs {x}", obs[2]);
+        assert!((f64::from(obs[4]) - z).abs() < 1e-3, "z {} vs {z}", obs[4]);
+        // The orientation is a rotation by θ about +Y.
+        let (qw, qy) = ((theta / 2.0).cos(), (theta / 2.0).sin());
+        assert!((f64::from(obs[5]) - qw).abs() < 1e-4 && (f64::from(obs[7]) - qy).abs() < 1e-4);
+    }
+}
+
+#[test]
+fn an_unjointed_body_falls_as_half_g_t_squared() {
+    let doc = json!({
+        "parts": [
+            {"name": "Floor", "primitive": {"type": "cube", "size": {"x": 10, "y": 10, "z": 1}}},
+            {"name": "Ball", "primitive": {"type": "sphere", "radius": 5}}
+        ],
+        "assembly": {"instances": [
+            {"part": "Floor", "name": "floor"},
+            {"part": "Ball", "name": "ball", "position": {"x": 500, "y": 0, "z": 2000}}
+        ]}
+    });
+    let mut env = env(&doc, &["ball"]);
+    let z0 = f64::from(env.observe().end_effector_poses[0][2]);
+    let dt = env.spec().dt;
+    let h = dt / f64::from(env.spec().substeps);
+    let steps = 120;
+    let mut obs = Vec::new();
+    for _ in 0..steps {
+        obs = step(&mut env, ActionType::Torque, &[]);
+    }
+    let t = steps as f64 * dt;
+    let drop_mm = z0 - f64::from(obs[2]);
+    let analytic_mm = 0.5 * G * t * t * 1000.0;
+    // Semi-implicit Euler falls an extra ½·g·h·t; allow that and f32 rounding, no more.
+    let bound = 0.5 * G * h * t * 1000.0 + 0.05;
+    assert!(
+        (drop_mm - analytic_mm).abs() <= bound,
+        "fell {drop_mm:.3} mm, analytic {analytic_mm:.3} mm (bound {bound:.3})"
+    );
+    assert!((f64::from(obs[0]) - 500.0).abs() < 1e-3, "drifted sideways");
+}
+
+#[test]
+fn prismatic_displacement_under_a_known_force_matches_f_equals_m_a() {
+    // A 10×10×10 mm block sliding along +X on a grounded base: m = 1e-3 kg.
+    let doc = json!({
+        "parts": [
+            {"name": "Base", "primitive": {"type": "cube", "size": {"x": 100, "y": 20, "z": 5}}},
+            {"name": "Block", "primitive": {"type": "cube", "size": {"x": 10, "y": 10, "z": 10}}}
+        ],
+        "assembly": {
+            "instances": [
+                {"part": "Base", "name": "base"},
+                {"part": "Block", "name": "block", "position": {"x": 0, "y": 5, "z": 5}}
+            ],
+            "joints": [{"type": "prismatic", "parent": "base", "child": "block",
+                        "anchor": {"x": 5, "y": 10, "z": 10}, "axis": {"x": 1, "y": 0, "z": 0}}]
+        }
+    });
+    let mut env = env(&doc, &["block"]);
+    let (force, mass) = (0.01, 1e-3);
+    let dt = env.spec().dt;
+    let h = dt / f64::from(env.spec().substeps);
+    let steps = 60;
+    let mut obs = Vec::new();
+    for _ in 0..steps {
+        obs = step(&mut env, ActionType::Torque, &[force as f32]);
+    }
+    let t = steps as f64 * dt;
+    let a = force / mass;
+    let analytic_mm = 0.5 * a * t * t * 1000.0;
+    let bound = 0.5 * a * h * t * 1000.0 + 0.05;
+    let x = f64::from(obs[0]);
+    assert!(
+        (x - analytic_mm).abs() <= bound,
+        "moved {x:.3} mm, analytic {analytic_mm:.3} mm"
+    );
+    let v = f64::from(obs[1]);
+    let analytic_v = a * t * 1000.0;
+    assert!(
+        (v - analytic_v).abs() / analytic_v < 1e-3,
+        "velocity {v} vs {analytic_v} mm/s"
+    );
+    // The end effector moved by the same amount as the joint says.
+    assert!((f64::from(obs[2]) - (5.0 + x)).abs() < 1e-2);
+}
+
+/// A horizontal arm turning about a vertical axis: gravity exerts no torque on it.
+fn turntable(joint_extra: serde_json::Value) -> serde_json::Value {
+    let mut joint = json!({"type": "revolute", "parent": "base", "child": "arm",
+                           "anchor": {"x": 0, "y": 0, "z": 5}, "axis": {"x": 0, "y": 0, "z": 1}});
+    merge(&mut joint, joint_extra);
+    json!({
+        "parts": [
+            {"name": "Base", "primitive": {"type": "cylinder", "radius": 10, "height": 5}},
+            {"name": "Arm", "primitive": {"type": "cube", "size": {"x": 40, "y": 4, "z": 4}}}
+        ],
+        "assembly": {
+            "instances": [
+                {"part": "Base", "name": "base"},
+                {"part": "Arm", "name": "arm", "position": {"x": -2, "y": -2, "z": 5}}
+            ],
+            "joints": [joint]
+        }
+    })
+}
+
+#[test]
+fn a_position_target_settles_within_one_percent_without_overshoot() {
+    let mut env = env(&turntable(json!({})), &["arm"]);
+    let target = 30.0f32;
+    let mut peak = 0.0f32;
+    let mut settled_at = None;
+    for i in 0..400 {
+        let obs = step(&mut env, ActionType::Position, &[target]);
+        peak = peak.max(obs[0]);
+        let within = (obs[0] - target).abs() <= 0.01 * target;
+        match (within, settled_at) {
+            (true, None) => settled_at = Some(i),
+            (false, Some(_)) => settled_at = None,
+            _ => {}
+        }
+    }
+    // Default gains are critically damped at 20 Hz: settled in well under 0.5 s.
+    let settled_at = settled_at.expect("never settled within 1 %");
+    assert!(
+        (settled_at as f64) * env.spec().dt < 0.5,
+        "settled after {settled_at} steps"
+    );
+    assert!(
+        peak <= target * 1.01,
+        "overshoot to {peak}° for a {target}° target"
+    );
+}
+
+#[test]
+fn a_velocity_target_is_tracked() {
+    let mut env = env(&turntable(json!({})), &["arm"]);
+    let mut obs = Vec::new();
+    for _ in 0..100 {
+        obs = step(&mut env, ActionType::Velocity, &[90.0]);
+    }
+    assert!((obs[1] - 90.0).abs() < 0.9, "velocity {} deg/s", obs[1]);
+}
+
+#[test]
+fn revolute_limits_hold_under_a_large_torque_in_every_mode() {
+    let doc = turntable(json!({"min": -30, "max": 45}));
+    for (action_type, value) in [
+        (ActionType::Torque, 1.0f32),
+        (ActionType::Torque, -1.0),
+        (ActionType::Position, 170.0),
+        (ActionType::Velocity, -5000.0),
+    ] {
+        let mut env = env(&doc, &["arm"]);
+        let mut reached = 0.0f32;
+        for _ in 0..300 {
+            let obs = step(&mut env, action_type, &[value]);
+            assert!(
+                (-30.05..=45.05).contains(&obs[0]),
+                "{action_type} {value}: joint at {}° beyond [-30, 45]",
+                obs[0]
+            );
+            reached = if value > 0.0 {
+                reached.max(obs[0])
+            } else {
+                reached.min(obs[0])
+            };
+        }
+        let stop = if value > 0.0 { 45.0 } else { -30.0 };
+        assert!(
+            (reached - stop).abs() < 0.5,
+            "{action_type}: reached {reached}°, stop {stop}°"
+        );
+    }
+}
+
+#[test]
+fn max_effort_clamps_every_mode() {
+    let clamped = turntable(json!({"max_effort": 1e-4}));
+    let mut a = env(&clamped, &["arm"]);
+    let mut b = env(&turntable(json!({})), &["arm"]);
+    for _ in 0..20 {
+        let oa = step(&mut a, ActionType::Torque, &[5.0]);
+        let ob = step(&mut b, ActionType::Torque, &[1e-4]);
+        assert_eq!(oa, ob, "a clamped 5 N·m must equal 1e-4 N·m exactly");
+    }
+    // A position target far away accelerates no faster than max_effort allows.
+    let mut c = env(&clamped, &["arm"]);
+    let mut d = env(&turntable(json!({})), &["arm"]);
+    let (oc, od) = (
+        step(&mut c, ActionType::Position, &[90.0]),
+        step(&mut d, ActionType::Position, &[90.0]),
+    );
+    assert!(oc[1] < od[1], "clamped {} vs free {} deg/s", oc[1], od[1]);
+    assert!(oc[1] > 0.0);
+}
+
+#[test]
+fn gain_overrides_change_the_response() {
+    let soft = EnvConfig {
+        pd_gains: Some(gymfleet_env::PdGains {
+            kp: vec![1e-5],
+            kd: vec![1e-7],
+        }),
+        ..EnvConfig::with_end_effectors(["arm"])
+    };
+    let mut a = env_with(&turntable(json!({})), soft);
+    let mut b = env(&turntable(json!({})), &["arm"]);
+    let (oa, ob) = (
+        step(&mut a, ActionType::Position, &[30.0]),
+        step(&mut b, ActionType::Position, &[30.0]),
+    );
+    assert!(
+        oa[0] < ob[0],
+        "soft gains moved {}°, default {}°",
+        oa[0],
+        ob[0]
+    );
+}

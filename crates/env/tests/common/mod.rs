@@ -1,0 +1,64 @@
+//! Documents and helpers shared by the physics tests.
+#![allow(dead_code)]
+
+use gymfleet_env::{ActionType, EnvConfig, RobotEnv};
+use serde_json::{json, Value};
+
+pub const PENDULUM: &str = include_str!("../../../../models/pendulum.json");
+pub const ARM2: &str = include_str!("../../../../models/arm2.json");
+
+pub const G: f64 = 9.81;
+
+/// A grounded base and one 4×4×40 mm arm hanging straight down from a revolute joint
+/// about +Y at its top centre (10, 10, 0).
+pub fn hanging_pendulum(joint_extra: Value) -> Value {
+    let mut joint = json!({
+        "type": "revolute", "parent": "base", "child": "arm",
+        "anchor": {"x": 10, "y": 10, "z": 0}, "axis": {"x": 0, "y": 1, "z": 0}
+    });
+    merge(&mut joint, joint_extra);
+    json!({
+        "parts": [
+            {"name": "Base", "primitive": {"type": "cube", "size": {"x": 20, "y": 20, "z": 5}}},
+            {"name": "Arm", "primitive": {"type": "cube", "size": {"x": 4, "y": 4, "z": 40}}}
+        ],
+        "assembly": {
+            "instances": [
+                {"part": "Base", "name": "base"},
+                {"part": "Arm", "name": "arm", "position": {"x": 8, "y": 8, "z": -40}}
+            ],
+            "joints": [joint]
+        }
+    })
+}
+
+/// Merges the fields of `extra` (an object) into `target`.
+pub fn merge(target: &mut Value, extra: Value) {
+    if let (Some(t), Value::Object(e)) = (target.as_object_mut(), extra) {
+        t.extend(e);
+    }
+}
+
+pub fn env(doc: &Value, ee: &[&str]) -> RobotEnv {
+    env_with(doc, EnvConfig::with_end_effectors(ee.iter().copied()))
+}
+
+pub fn env_with(doc: &Value, config: EnvConfig) -> RobotEnv {
+    RobotEnv::from_json(&doc.to_string(), config).expect("valid test document")
+}
+
+pub fn step(env: &mut RobotEnv, action_type: ActionType, values: &[f32]) -> Vec<f32> {
+    let result = env.step(action_type, values).expect("valid action");
+    assert!(!result.flags.terminated, "unexpected termination");
+    result.observation.to_flat()
+}
+
+/// Mass (kg) and inertia about the pivot (kg·m²) of the 4×4×40 mm arm at 1000 kg/m³,
+/// rotating about Y through the centre of one 4×4 end face.
+pub fn arm_mass_and_pivot_inertia() -> (f64, f64, f64) {
+    let (a, c) = (0.004, 0.040);
+    let m = 1000.0 * a * a * c;
+    let d = c / 2.0;
+    let i_pivot = m * (a * a + c * c) / 12.0 + m * d * d;
+    (m, i_pivot, d)
+}

@@ -1,0 +1,295 @@
+//! Actuation: real torques and forces, and force-based PD motors for targets.
+//!
+//! - **Torque** mode applies the effort equal and opposite on the joint's two bodies
+//!   (a couple for rotations, a collinear force pair at the child's anchor for
+//!   translations), so momentum is conserved and the sign is kept.
+//! - **Position** and **velocity** modes use Rapier's force-based joint motors, which are
+//!   integrated implicitly and clamped by `max_effort`. Ball joints, whose Rapier motors
+//!   work on non-geometric coordinates, get an explicit PD torque in the joint frame.
+//! - Limits are solver constraints and hold in every mode.
+//!
+//! Default gains: for each DOF the apparent inertia `I = 1 / diag(M⁻¹)` at the initial
+//! configuration (MuJoCo's `dof_invweight0`, from Rapier's `dof_inverse_inertia`), then
+//! `kp = I·ω²` and `kd = 2·I·ω` (critical damping) with `ω = 2π·20 Hz`. Velocity targets
+//! use `kd` alone. Explicit ball PD caps `ω` at `0.2 / substep_dt` for stability.
+
+use gymfleet_assembly::{DofKind, JointType};
+use rapier3d::prelude::*;
+
+use crate::error::{PhysicsError, Result};
+use crate::world::{JointDof, JointSlot, RobotWorld};
+
+/// Natural frequency of the default PD gains, in Hz.
+pub const DEFAULT_PD_FREQUENCY_HZ: f64 = 20.0;
+
+/// How the values of an action are interpreted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ActionMode {
+    /// Efforts in N·m (angular DOF) or N (linear DOF).
+    #[default]
+    Torque,
+    /// Targets in deg or mm, reached through PD motors.
+    Position,
+    /// Targets in deg/s or mm/s.
+    Velocity,
+}
+
+/// PD gain overrides, one entry per DOF, in SI: `kp` in N·m/rad or N/m, `kd` in
+/// N·m·s/rad or N·s/m.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct PdGains {
+    /// Proportional gains (empty = defaults).
+    pub kp: Vec<f64>,
+    /// Derivative gains (empty = defaults).
+    pub kd: Vec<f64>,
+}
+
+/// Gains resolved per DOF, defaults filled in.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct ResolvedGains {
+    /// The explicit PD frequency cap for ball joints (rad/s).
+    pub(crate) ball_omega_cap: f64,
+}
+
+/// The held action.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Command {
+    pub(crate) mode: ActionMode,
+    pub(crate) values: Vec<f32>,
+}
+
+/// Fills `kp`/`kd` of each DOF from overrides or from the apparent inertias.
+pub(crate) fn resolve_gains(
+    dofs: &mut [JointDof],
+    inertia: &[f64],
+    overrides: Option<&PdGains>,
+) -> Result<()> {
+    let omega = 2.0 * std::f64::consts::PI * DEFAULT_PD_FREQUENCY_HZ;
+    for (dof, &i_eff) in dofs.iter_mut().zip(inertia) {
+        dof.kp = i_eff * omega * omega;
+        dof.kd = 2.0 * i_eff * omega;
+    }
+    let Some(gains) = overrides else {
+        return Ok(());
+    };
+    for (field, values) in [("pd_gains.kp", &gains.kp), ("pd_gains.kd", &gains.kd)] {
+        if values.is_empty() {
+            continue;
+        }
+        if values.len() != dofs.len() {
+            return Err(PhysicsError::BadGains {
+                field,
+                reason: format!(
+                    "expected {} values (one per DOF), got {}",
+                    dofs.len(),
+                    values.len()
+                ),
+            });
+        }
+        if let Some((i, v)) = values
+            .iter()
+            .enumerate()
+            .find(|(_, v)| !(v.is_finite() && **v >= 0.0))
+        {
+            return Err(PhysicsError::BadGains {
+                field,
+                reason: format!("expected finite gains >= 0, got {v} at index {i}"),
+            });
+        }
+    }
+    for (i, dof) in dofs.iter_mut().enumerate() {
+        if let Some(&kp) = gains.kp.get(i) {
+            dof.kp = kp;
+        }
+        if let Some(&kd) = gains.kd.get(i) {
+            dof.kd = kd;
+        }
+    }
+    Ok(())
+}
+
+/// The Rapier axis of each DOF of a joint whose Rapier motors are used.
+fn motor_axes(kind: JointType) -> &'static [JointAxis] {
+    match kind {
+        JointType::Revolute => &[JointAxis::AngX],
+        JointType::Prismatic => &[JointAxis::LinX],
+        JointType::Cylindrical => &[JointAxis::LinX, JointAxis::AngX],
+        JointType::Ball | JointType::Fixed => &[],
+    }
+}
+
+/// A value in user units (deg, mm) to SI (rad, m).
+pub(crate) fn to_si(kind: DofKind, value: f64) -> f64 {
+    match kind {
+        DofKind::Angular => value.to_radians(),
+        DofKind::Linear => value / 1000.0,
+    }
+}
+
+fn clamp_effort(value: f64, max_effort: Option<f64>) -> f64 {
+    match max_effort {
+        Some(m) => value.clamp(-m, m),
+        None => value,
+    }
+}
+
+impl RobotWorld {
+    /// Writes the held command into the Rapier motors of every non-ball joint.
+    pub(crate) fn configure_motors(&mut self) {
+        let mode = self.command.mode;
+        for slot in &self.joints {
+            let axes = motor_axes(slot.kind);
+            if axes.is_empty() {
+                continue;
+            }
+            let Some(mb) = self.live.multibody_joints.get_multibody_mut(slot.multibody) else {
+                continue;
+            };
+            let Some(link) = mb.link_mut(slot.link) else {
+                continue;
+            };
+            let data = &mut link.joint.data;
+            for (k, &axis) in axes.iter().enumerate() {
+                let dof = &self.dofs[slot.first_dof + k];
+                let value = f64::from(self.command.values[slot.first_dof + k]);
+                let mask = JointAxesMask::from(axis);
+                match mode {
+                    ActionMode::Torque => data.motor_axes.remove(mask),
+                    ActionMode::Position => {
+                        // A target beyond a hard stop would only make the motor fight
+                        // the limit constraint; aim at the stop instead.
+                        let value = match dof.limits {
+                            Some([min, max]) => value.clamp(min, max),
+                            None => value,
+                        };
+                        let _ = data
+                            .set_motor(
+                                axis,
+                                to_si(dof.kind, value) as Real,
+                                0.0,
+                                dof.kp as Real,
+                                dof.kd as Real,
+                            )
+                            .set_motor_model(axis, MotorModel::ForceBased)
+                            .set_motor_max_force(
+                                axis,
+                                dof.max_effort.map_or(Real::MAX, |m| m as Real),
+                            );
+                    }
+                    ActionMode::Velocity => {
+                        let _ = data
+                            .set_motor(
+                                axis,
+                                0.0,
+                                to_si(dof.kind, value) as Real,
+                                0.0,
+                                dof.kd as Real,
+                            )
+                            .set_motor_model(axis, MotorModel::ForceBased)
+                            .set_motor_max_force(
+                                axis,
+                                dof.max_effort.map_or(Real::MAX, |m| m as Real),
+                            );
+                    }
+                }
+            }
+        }
+    }
+
+    /// Applies this substep's explicit efforts: torque-mode efforts on every joint, and
+    /// the explicit PD of ball joints in target modes. Recomputed every substep because
+    /// the joint axes move with the parent body.
+    pub(crate) fn apply_efforts(&mut self) {
+        for &h in &self.bodies {
+            let rb = &mut self.live.bodies[h];
+            rb.reset_forces(false);
+            rb.reset_torques(false);
+        }
+        let mode = self.command.mode;
+        for slot in &self.joints {
+            let (parent, child, first) = (slot.parent, slot.child, slot.first_dof);
+            let frame = self.joint_frame_world(slot);
+            match (slot.kind, mode) {
+                (JointType::Fixed, _) => {}
+                (JointType::Ball, _) => {
+                    let torque = self.ball_torque(slot, frame);
+                    apply_couple(&mut self.live.bodies, parent, child, torque);
+                }
+                (kind, ActionMode::Torque) => {
+                    let axis = frame.rotation * Vector::X;
+                    for k in 0..kind.dof() {
+                        let dof = &self.dofs[first + k];
+                        let value = f64::from(self.command.values[first + k]);
+                        let effort = clamp_effort(value, dof.max_effort) as Real;
+                        if effort == 0.0 {
+                            continue;
+                        }
+                        let bodies = &mut self.live.bodies;
+                        match dof.kind {
+                            DofKind::Angular => apply_couple(bodies, parent, child, axis * effort),
+                            DofKind::Linear => {
+                                let point = *bodies[child].position() * slot.frame2.translation;
+                                bodies[child].add_force_at_point(axis * effort, point, true);
+                                bodies[parent].add_force_at_point(-axis * effort, point, true);
+                            }
+                        }
+                    }
+                }
+                _ => {} // Rapier's motors do the work.
+            }
+        }
+    }
+
+    /// The world-frame torque a ball joint applies to its child this substep.
+    fn ball_torque(&self, slot: &JointSlot, frame: Pose) -> Vector {
+        let first = slot.first_dof;
+        let values = &self.command.values;
+        let dofs = &self.dofs[first..first + 3];
+        let v = |k: usize| f64::from(values[first + k]);
+        let local = match self.command.mode {
+            ActionMode::Torque => [v(0), v(1), v(2)],
+            mode => {
+                let (rotvec, angvel) = self.ball_state(slot);
+                let omega_cap = self.gains.ball_omega_cap;
+                let mut out = [0.0; 3];
+                for k in 0..3 {
+                    // Cap the gains so the explicit PD stays stable at this substep.
+                    let omega_default = (dofs[k].kp / dofs[k].kd.max(f64::MIN_POSITIVE)) * 2.0;
+                    let scale = if omega_default > omega_cap {
+                        omega_cap / omega_default
+                    } else {
+                        1.0
+                    };
+                    let (kp, kd) = (dofs[k].kp * scale * scale, dofs[k].kd * scale);
+                    out[k] = match mode {
+                        ActionMode::Position => {
+                            kp * (v(k).to_radians() - rotvec[k]) - kd * angvel[k]
+                        }
+                        _ => kd * (v(k).to_radians() - angvel[k]),
+                    };
+                }
+                out
+            }
+        };
+        let local = Vector::new(
+            clamp_effort(local[0], dofs[0].max_effort) as Real,
+            clamp_effort(local[1], dofs[1].max_effort) as Real,
+            clamp_effort(local[2], dofs[2].max_effort) as Real,
+        );
+        frame.rotation * local
+    }
+}
+
+/// A pure couple: `torque` on the child, its opposite on the parent.
+fn apply_couple(
+    bodies: &mut RigidBodySet,
+    parent: RigidBodyHandle,
+    child: RigidBodyHandle,
+    torque: Vector,
+) {
+    if torque == Vector::ZERO {
+        return;
+    }
+    bodies[child].add_torque(torque, true);
+    bodies[parent].add_torque(-torque, true);
+}

@@ -1,0 +1,279 @@
+//! Building a [`RobotWorld`] from an [`Assembly`]: bodies, colliders, the multibody tree.
+
+use gymfleet_assembly::{Assembly, DofKind, Instance, Joint, JointType, Shape};
+use rapier3d::prelude::*;
+
+use crate::actuation::{resolve_gains, Command, ResolvedGains};
+use crate::error::{PhysicsError, Result};
+use crate::world::{
+    length_unit, JointDof, JointSlot, PipelineCell, RobotWorld, Sets, WorldOptions,
+};
+
+/// Standard gravity, along −Z.
+const GRAVITY: f32 = 9.81;
+
+impl RobotWorld {
+    /// Builds the world: one body per instance (the first fixed, the others dynamic),
+    /// exact primitive colliders, and every joint as a link of a reduced-coordinate
+    /// multibody. Joint damping is exactly the document's (Rapier's default is removed).
+    pub fn new(assembly: &Assembly, options: &WorldOptions) -> Result<Self> {
+        let dt = options.substep_dt;
+        if !(dt.is_finite() && dt > 0.0 && dt <= 1.0) {
+            return Err(PhysicsError::BadOption {
+                field: "substep_dt",
+                reason: format!("expected a substep length in (0, 1] s, got {dt}"),
+            });
+        }
+        let mut sets = Sets {
+            islands: IslandManager::new(),
+            broad_phase: BroadPhaseBvh::new(),
+            narrow_phase: NarrowPhase::new(),
+            bodies: RigidBodySet::new(),
+            colliders: ColliderSet::new(),
+            impulse_joints: ImpulseJointSet::new(),
+            multibody_joints: MultibodyJointSet::new(),
+            soft_bodies: SoftBodySet::new(),
+            ccd: CCDSolver::new(),
+        };
+
+        let bodies: Vec<RigidBodyHandle> = assembly
+            .instances
+            .iter()
+            .map(|inst| insert_body(&mut sets, inst))
+            .collect();
+
+        // Parents before children, so each insertion appends one link to a tree.
+        let mut order: Vec<usize> = (0..assembly.joints.len()).collect();
+        let depth = depths(assembly);
+        order.sort_by_key(|&j| depth[assembly.joints[j].child]);
+        let mut frames = vec![(Pose::IDENTITY, Pose::IDENTITY); assembly.joints.len()];
+        for &j in &order {
+            let joint = &assembly.joints[j];
+            let (parent, child) = (bodies[joint.parent], bodies[joint.child]);
+            let (f1, f2) = joint_frames(&sets.bodies, parent, child, joint);
+            frames[j] = (f1, f2);
+            let data = generic_joint(joint, f1, f2);
+            sets.multibody_joints
+                .insert(parent, child, data, true)
+                .ok_or_else(|| PhysicsError::BadOption {
+                    field: "assembly.joints",
+                    reason: format!(
+                        "joint {:?} could not be added to the multibody tree",
+                        joint.name
+                    ),
+                })?;
+        }
+
+        // Look the links up only once the tree is complete: insertion may renumber.
+        let mut joints = Vec::with_capacity(assembly.joints.len());
+        let mut dofs = Vec::with_capacity(assembly.total_dof());
+        let mut inertia = Vec::with_capacity(assembly.total_dof());
+        let mut inverse_inertias = std::collections::HashMap::new();
+        for (j, joint) in assembly.joints.iter().enumerate() {
+            let child = bodies[joint.child];
+            let link_id = *sets
+                .multibody_joints
+                .rigid_body_link(child)
+                .ok_or_else(|| PhysicsError::BadOption {
+                    field: "assembly.joints",
+                    reason: format!("joint {:?} has no multibody link", joint.name),
+                })?;
+            let mb = sets
+                .multibody_joints
+                .get_multibody_mut(link_id.multibody)
+                .expect("a link's multibody exists");
+            let inv = inverse_inertias
+                .entry(link_id.multibody)
+                .or_insert_with(|| {
+                    mb.set_self_contacts_enabled(true);
+                    // Rapier gives angular DOFs a default damping of 0.1: remove it, so
+                    // that a free pendulum keeps its energy unless the document says not.
+                    mb.damping_mut().fill(0.0);
+                    mb.dof_inverse_inertia(&sets.bodies)
+                })
+                .clone();
+            let assembly_id = mb.link(link_id.id).expect("link exists").assembly_id();
+            for k in 0..joint.kind.dof() {
+                mb.damping_mut()[assembly_id + k] = joint.damping as Real;
+                let inv_i = f64::from(inv[assembly_id + k]);
+                inertia.push(if inv_i > 0.0 { 1.0 / inv_i } else { 0.0 });
+            }
+            joints.push(JointSlot {
+                kind: joint.kind,
+                parent: bodies[joint.parent],
+                child,
+                multibody: link_id.multibody,
+                link: link_id.id,
+                frame1: frames[j].0,
+                frame2: frames[j].1,
+                first_dof: dofs.len(),
+            });
+            dofs.extend(joint_dofs(j, joint));
+        }
+        resolve_gains(&mut dofs, &inertia, options.gains.as_ref())?;
+
+        let mut params = IntegrationParameters {
+            dt: dt as Real,
+            length_unit: length_unit(assembly),
+            ..IntegrationParameters::default()
+        };
+        // Rapier caps body speed at 400 length units per second; with millimetre parts
+        // that is a hidden brake. Keep only an absolute, physically meaningless cap.
+        params.normalized_max_linear_velocity = 1.0e4 / params.length_unit;
+
+        let n_dofs = dofs.len();
+        let mut world = RobotWorld {
+            initial: sets.clone(),
+            live: sets,
+            pipeline_params: params,
+            gravity: Vector::new(0.0, 0.0, -GRAVITY),
+            bodies,
+            joints,
+            dofs,
+            gains: ResolvedGains {
+                ball_omega_cap: 0.2 / dt,
+            },
+            command: Command {
+                values: vec![0.0; n_dofs],
+                ..Command::default()
+            },
+            pipeline: PipelineCell(PhysicsPipeline::new()),
+        };
+        world.reset();
+        Ok(world)
+    }
+}
+
+fn instance_pose(inst: &Instance) -> Pose {
+    let [x, y, z] = inst.position.map(|c| c as Real);
+    let [rx, ry, rz] = inst.rotation.map(|c| c as Real);
+    // X, then Y, then Z about fixed axes: R = Rz · Ry · Rx.
+    let rotation = Rotation::from_rotation_z(rz)
+        * Rotation::from_rotation_y(ry)
+        * Rotation::from_rotation_x(rx);
+    Pose::from_parts(Vector::new(x, y, z), rotation)
+}
+
+fn insert_body(sets: &mut Sets, inst: &Instance) -> RigidBodyHandle {
+    let builder = if inst.grounded {
+        RigidBodyBuilder::fixed()
+    } else {
+        RigidBodyBuilder::dynamic().can_sleep(false)
+    };
+    let handle = sets
+        .bodies
+        .insert(builder.pose(instance_pose(inst)).build());
+    let collider = collider(&inst.shape)
+        .density(inst.material.density as Real)
+        .friction(inst.material.friction as Real)
+        .restitution(inst.material.restitution as Real)
+        .build();
+    sets.colliders
+        .insert_with_parent(collider, handle, &mut sets.bodies);
+    handle
+}
+
+/// The exact primitive, placed in the part's frame (cube corner and cylinder base at
+/// the origin; Rapier's cylinder runs along Y, ours along Z).
+fn collider(shape: &Shape) -> ColliderBuilder {
+    match *shape {
+        Shape::Cuboid { size } => {
+            let half = size.map(|c| (c / 2.0) as Real);
+            ColliderBuilder::cuboid(half[0], half[1], half[2])
+                .translation(Vector::new(half[0], half[1], half[2]))
+        }
+        Shape::Cylinder { radius, height } => {
+            let half_height = (height / 2.0) as Real;
+            ColliderBuilder::cylinder(half_height, radius as Real).position(Pose::from_parts(
+                Vector::new(0.0, 0.0, half_height),
+                Rotation::from_rotation_x(std::f32::consts::FRAC_PI_2),
+            ))
+        }
+        Shape::Sphere { radius } => ColliderBuilder::ball(radius as Real),
+    }
+}
+
+/// Depth of each instance in the joint forest (roots are 0).
+fn depths(assembly: &Assembly) -> Vec<usize> {
+    let mut parent = vec![None; assembly.instances.len()];
+    for joint in &assembly.joints {
+        parent[joint.child] = Some(joint.parent);
+    }
+    (0..assembly.instances.len())
+        .map(|mut i| {
+            let mut d = 0;
+            while let Some(p) = parent[i] {
+                d += 1;
+                i = p;
+                if d > parent.len() {
+                    break; // Validation rules out loops; never spin regardless.
+                }
+            }
+            d
+        })
+        .collect()
+}
+
+/// The joint frame (origin at the anchor, X along the axis) in each body's local frame.
+fn joint_frames(
+    bodies: &RigidBodySet,
+    parent: RigidBodyHandle,
+    child: RigidBodyHandle,
+    joint: &Joint,
+) -> (Pose, Pose) {
+    let [ax, ay, az] = joint.axis.map(|c| c as Real);
+    let [px, py, pz] = joint.anchor.map(|c| c as Real);
+    let rotation = Rotation::from_rotation_arc(Vector::X, Vector::new(ax, ay, az).normalize());
+    let world = Pose::from_parts(Vector::new(px, py, pz), rotation);
+    let f1 = bodies[parent].position().inverse() * world;
+    let f2 = bodies[child].position().inverse() * world;
+    (f1, f2)
+}
+
+fn generic_joint(joint: &Joint, f1: Pose, f2: Pose) -> GenericJoint {
+    let locked = match joint.kind {
+        JointType::Revolute => JointAxesMask::LOCKED_REVOLUTE_AXES,
+        JointType::Prismatic => JointAxesMask::LOCKED_PRISMATIC_AXES,
+        JointType::Cylindrical => {
+            JointAxesMask::LIN_Y
+                | JointAxesMask::LIN_Z
+                | JointAxesMask::ANG_Y
+                | JointAxesMask::ANG_Z
+        }
+        JointType::Ball => JointAxesMask::LOCKED_SPHERICAL_AXES,
+        JointType::Fixed => JointAxesMask::LOCKED_FIXED_AXES,
+    };
+    let mut builder = GenericJointBuilder::new(locked)
+        .local_frame1(f1)
+        .local_frame2(f2)
+        .contacts_enabled(false);
+    if let Some([min, max]) = joint.limits {
+        let axis = match joint.kind {
+            JointType::Prismatic => JointAxis::LinX,
+            _ => JointAxis::AngX,
+        };
+        builder = builder.limits(axis, [min as Real, max as Real]);
+    }
+    builder.build()
+}
+
+fn joint_dofs(j: usize, joint: &Joint) -> impl Iterator<Item = JointDof> + '_ {
+    let user_limits = joint.limits.map(|[min, max]| match joint.kind {
+        JointType::Prismatic => [min * 1000.0, max * 1000.0],
+        _ => [min.to_degrees(), max.to_degrees()],
+    });
+    joint.dof_kinds().iter().map(move |&kind| JointDof {
+        joint: j,
+        joint_name: joint.name.clone(),
+        joint_type: joint.kind,
+        kind,
+        limits: if kind == DofKind::Linear || joint.kind == JointType::Revolute {
+            user_limits
+        } else {
+            None
+        },
+        max_effort: joint.max_effort,
+        kp: 0.0,
+        kd: 0.0,
+    })
+}

@@ -1,0 +1,90 @@
+//! Measured state in user units: joint positions and velocities per DOF, body poses.
+//!
+//! Everything here is read from the simulated bodies and the multibody's generalized
+//! coordinates; motor targets are never reported.
+
+use crate::world::{JointSlot, RobotWorld};
+use gymfleet_assembly::JointType;
+
+const MM: f64 = 1000.0;
+
+impl RobotWorld {
+    /// Writes the measured position (deg or mm; a rotation vector in deg for ball joints)
+    /// and velocity (deg/s or mm/s) of every DOF, in document joint order.
+    pub fn joint_state(&self, positions: &mut [f32], velocities: &mut [f32]) {
+        for slot in &self.joints {
+            let first = slot.first_dof;
+            let n = slot.kind.dof();
+            if n == 0 {
+                continue;
+            }
+            let (pos, vel) = (
+                &mut positions[first..first + n],
+                &mut velocities[first..first + n],
+            );
+            if slot.kind == JointType::Ball {
+                let (rv, w) = self.ball_state(slot);
+                for k in 0..3 {
+                    pos[k] = rv[k].to_degrees() as f32;
+                    vel[k] = w[k].to_degrees() as f32;
+                }
+                continue;
+            }
+            let Some(mb) = self.live.multibody_joints.get_multibody(slot.multibody) else {
+                continue;
+            };
+            let Some(link) = mb.link(slot.link) else {
+                continue;
+            };
+            let coords = link.joint().coords();
+            let gen_vel = mb.joint_velocity(link);
+            let lin = f64::from(coords[0]) * MM;
+            let ang = f64::from(coords[3]).to_degrees();
+            match slot.kind {
+                JointType::Revolute => {
+                    pos[0] = ang as f32;
+                    vel[0] = f64::from(gen_vel[0]).to_degrees() as f32;
+                }
+                JointType::Prismatic => {
+                    pos[0] = lin as f32;
+                    vel[0] = (f64::from(gen_vel[0]) * MM) as f32;
+                }
+                JointType::Cylindrical => {
+                    pos[0] = lin as f32;
+                    pos[1] = ang as f32;
+                    vel[0] = (f64::from(gen_vel[0]) * MM) as f32;
+                    vel[1] = f64::from(gen_vel[1]).to_degrees() as f32;
+                }
+                JointType::Ball | JointType::Fixed => {}
+            }
+        }
+    }
+
+    /// The pose of an instance's centre of mass: `[x, y, z]` in world mm and the world
+    /// orientation as `[qw, qx, qy, qz]`.
+    pub fn body_pose(&self, instance: usize) -> [f32; 7] {
+        let rb = &self.live.bodies[self.bodies[instance]];
+        let c = rb.center_of_mass();
+        let q = rb.rotation();
+        let mm = MM as f32;
+        [c.x * mm, c.y * mm, c.z * mm, q.w, q.x, q.y, q.z]
+    }
+
+    /// A ball joint's rotation vector (rad) and relative angular velocity (rad/s), both
+    /// in the joint frame on the parent side, read from the multibody's generalized
+    /// coordinates (the rigid bodies' own velocities lag by one substep).
+    pub(crate) fn ball_state(&self, slot: &JointSlot) -> ([f64; 3], [f64; 3]) {
+        let Some(mb) = self.live.multibody_joints.get_multibody(slot.multibody) else {
+            return ([0.0; 3], [0.0; 3]);
+        };
+        let Some(link) = mb.link(slot.link) else {
+            return ([0.0; 3], [0.0; 3]);
+        };
+        let rv = link.joint().joint_rot().normalize().to_scaled_axis();
+        let w = mb.joint_velocity(link);
+        (
+            [f64::from(rv.x), f64::from(rv.y), f64::from(rv.z)],
+            [f64::from(w[0]), f64::from(w[1]), f64::from(w[2])],
+        )
+    }
+}

@@ -1,0 +1,187 @@
+//! [`RobotWorld`]: the live Rapier state of one robot, its snapshot, and stepping.
+
+use gymfleet_assembly::{DofKind, JointType};
+use rapier3d::prelude::*;
+
+use crate::actuation::{ActionMode, Command, ResolvedGains};
+
+/// Options for building a world that are not part of the document.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WorldOptions {
+    /// Length of one physics substep, in seconds.
+    pub substep_dt: f64,
+    /// PD gain overrides; `None` derives stable defaults from each DOF's inertia.
+    pub gains: Option<crate::PdGains>,
+}
+
+impl Default for WorldOptions {
+    fn default() -> Self {
+        WorldOptions {
+            substep_dt: 1.0 / 960.0,
+            gains: None,
+        }
+    }
+}
+
+/// One degree of freedom, in observation and action order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct JointDof {
+    /// Index of the owning joint in document order.
+    pub joint: usize,
+    /// The owning joint's name.
+    pub joint_name: String,
+    /// The owning joint's type.
+    pub joint_type: JointType,
+    /// Angular (deg, N·m) or linear (mm, N).
+    pub kind: DofKind,
+    /// Hard limits in deg or mm, if any.
+    pub limits: Option<[f64; 2]>,
+    /// Effort clamp in N·m or N, if any.
+    pub max_effort: Option<f64>,
+    /// Proportional gain used by position targets, in N·m/rad or N/m.
+    pub kp: f64,
+    /// Derivative gain used by position and velocity targets, in N·m·s/rad or N·s/m.
+    pub kd: f64,
+}
+
+/// Everything Rapier mutates while stepping: cloned wholesale to snapshot and reset.
+#[derive(Clone)]
+pub(crate) struct Sets {
+    pub(crate) islands: IslandManager,
+    pub(crate) broad_phase: BroadPhaseBvh,
+    pub(crate) narrow_phase: NarrowPhase,
+    pub(crate) bodies: RigidBodySet,
+    pub(crate) colliders: ColliderSet,
+    pub(crate) impulse_joints: ImpulseJointSet,
+    pub(crate) multibody_joints: MultibodyJointSet,
+    pub(crate) soft_bodies: SoftBodySet,
+    pub(crate) ccd: CCDSolver,
+}
+
+/// A document joint as placed in the multibody.
+#[derive(Debug, Clone)]
+pub(crate) struct JointSlot {
+    pub(crate) kind: JointType,
+    pub(crate) parent: RigidBodyHandle,
+    pub(crate) child: RigidBodyHandle,
+    /// Which multibody and which link of it the child is.
+    pub(crate) multibody: MultibodyIndex,
+    pub(crate) link: usize,
+    /// The joint frame in the parent's and the child's local frames (X is the axis).
+    pub(crate) frame1: Pose,
+    pub(crate) frame2: Pose,
+    /// Index of the joint's first DOF in [`RobotWorld::dofs`].
+    pub(crate) first_dof: usize,
+}
+
+/// The physics of one robot: a Rapier world built from an assembly.
+///
+/// `Clone` gives an independent copy (for batches), sharing nothing.
+#[derive(Clone)]
+pub struct RobotWorld {
+    pub(crate) live: Sets,
+    pub(crate) initial: Sets,
+    pub(crate) pipeline_params: IntegrationParameters,
+    pub(crate) gravity: Vector,
+    /// One body per instance, in document order.
+    pub(crate) bodies: Vec<RigidBodyHandle>,
+    pub(crate) joints: Vec<JointSlot>,
+    pub(crate) dofs: Vec<JointDof>,
+    pub(crate) gains: ResolvedGains,
+    pub(crate) command: Command,
+    pub(crate) pipeline: PipelineCell,
+}
+
+/// The solver pipeline holds only scratch buffers, so a clone starts a fresh one.
+pub(crate) struct PipelineCell(pub(crate) PhysicsPipeline);
+
+impl Clone for PipelineCell {
+    fn clone(&self) -> Self {
+        PipelineCell(PhysicsPipeline::new())
+    }
+}
+
+impl RobotWorld {
+    /// The degrees of freedom, in document joint order.
+    pub fn dofs(&self) -> &[JointDof] {
+        &self.dofs
+    }
+
+    /// Number of instances (bodies).
+    pub fn num_bodies(&self) -> usize {
+        self.bodies.len()
+    }
+
+    /// The substep length in seconds.
+    pub fn substep_dt(&self) -> f64 {
+        f64::from(self.pipeline_params.dt)
+    }
+
+    /// Sets the command held until the next call: efforts in N·m/N, or targets in
+    /// deg/mm (position) or deg/s, mm/s (velocity). `values` has one entry per DOF.
+    ///
+    /// The caller validates length and finiteness; this only clamps and converts.
+    pub fn set_command(&mut self, mode: ActionMode, values: &[f32]) {
+        debug_assert_eq!(values.len(), self.dofs.len());
+        self.command.mode = mode;
+        self.command.values.clear();
+        self.command.values.extend_from_slice(values);
+        self.configure_motors();
+    }
+
+    /// Advances the world by `substeps` substeps, holding the current command.
+    pub fn step(&mut self, substeps: u32) {
+        for _ in 0..substeps {
+            self.apply_efforts();
+            let s = &mut self.live;
+            self.pipeline.0.step(
+                self.gravity,
+                &self.pipeline_params,
+                &mut s.islands,
+                &mut s.broad_phase,
+                &mut s.narrow_phase,
+                &mut s.bodies,
+                &mut s.colliders,
+                &mut s.impulse_joints,
+                &mut s.multibody_joints,
+                &mut s.soft_bodies,
+                &mut s.ccd,
+                &(),
+                &(),
+            );
+        }
+    }
+
+    /// Restores the initial state exactly: poses, velocities, contacts and solver caches.
+    /// The command is reset to zero torque.
+    pub fn reset(&mut self) {
+        self.live.clone_from(&self.initial);
+        self.command.mode = ActionMode::Torque;
+        self.command.values.iter_mut().for_each(|v| *v = 0.0);
+        self.configure_motors();
+    }
+
+    pub(crate) fn joint_frame_world(&self, slot: &JointSlot) -> Pose {
+        let parent = &self.live.bodies[slot.parent];
+        *parent.position() * slot.frame1
+    }
+
+    /// Whether every body pose and velocity is finite.
+    pub fn is_finite(&self) -> bool {
+        self.bodies.iter().all(|&h| {
+            let rb = &self.live.bodies[h];
+            rb.position().is_finite() && rb.linvel().is_finite() && rb.angvel().is_finite()
+        })
+    }
+}
+
+/// The characteristic length used for Rapier's tolerances: the smallest extent of
+/// any part, so that a 4 mm part gets micrometre-scale slop rather than 5 mm.
+pub(crate) fn length_unit(assembly: &gymfleet_assembly::Assembly) -> f32 {
+    let smallest = assembly
+        .instances
+        .iter()
+        .map(|i| i.shape.min_extent())
+        .fold(f64::INFINITY, f64::min);
+    smallest.clamp(1e-4, 1.0) as f32
+}

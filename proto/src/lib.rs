@@ -1,0 +1,66 @@
+//! The gymfleet wire contract. This crate owns `proto/gymfleet/v1/*.proto`
+//! and the Rust generated from it: the `gymfleet.v1` messages, the
+//! `Simulator` client and server stubs (tonic + prost), and the encoded
+//! `FileDescriptorSet` that the server hands to gRPC reflection. It holds no
+//! logic: converting between these types and the domain types, and mapping
+//! errors to `tonic::Status`, is left to `server/` and `client/`.
+
+/// Generated code for the `gymfleet.v1` package: messages, enums, and the
+/// `simulator_client` / `simulator_server` modules.
+#[allow(missing_docs, unreachable_pub, clippy::all, clippy::pedantic)]
+pub mod v1 {
+    tonic::include_proto!("gymfleet.v1");
+}
+
+/// The encoded `google.protobuf.FileDescriptorSet` of every gymfleet proto
+/// file (with source info, so comments reach reflection clients), for
+/// `tonic_reflection::server::Builder::register_encoded_file_descriptor_set`.
+pub const FILE_DESCRIPTOR_SET: &[u8] = tonic::include_file_descriptor_set!("gymfleet_descriptor");
+
+#[cfg(test)]
+mod tests {
+    use prost::Message as _;
+
+    use super::*;
+
+    #[test]
+    fn descriptor_set_declares_the_simulator_service() {
+        let fds = prost_types::FileDescriptorSet::decode(FILE_DESCRIPTOR_SET)
+            .expect("FILE_DESCRIPTOR_SET decodes");
+        let file = fds
+            .file
+            .iter()
+            .find(|f| f.package() == "gymfleet.v1")
+            .expect("gymfleet.v1 file present");
+        let service = file
+            .service
+            .iter()
+            .find(|s| s.name() == "Simulator")
+            .expect("Simulator service present");
+        let methods: Vec<&str> = service.method.iter().map(|m| m.name()).collect();
+        assert_eq!(
+            methods,
+            [
+                "CreateEnv",
+                "Reset",
+                "Step",
+                "Observe",
+                "Close",
+                "CreateBatch",
+                "ResetBatch",
+                "StepBatch",
+                "ObserveBatch",
+                "CloseBatch",
+                "StreamBatch",
+                "GetServerInfo",
+            ]
+        );
+        let stream = &service.method[10];
+        assert!(stream.client_streaming() && stream.server_streaming());
+    }
+
+    #[test]
+    fn generated_server_uses_the_contract_service_name() {
+        assert_eq!(v1::simulator_server::SERVICE_NAME, "gymfleet.v1.Simulator");
+    }
+}
