@@ -49,6 +49,8 @@ pub struct PdGains {
 pub(crate) struct ResolvedGains {
     /// The explicit PD frequency cap for ball joints (rad/s).
     pub(crate) ball_omega_cap: f64,
+    /// Whether the user gave gains; ball joints then use them per axis.
+    pub(crate) overridden: bool,
 }
 
 /// The held action.
@@ -63,14 +65,14 @@ pub(crate) fn resolve_gains(
     dofs: &mut [JointDof],
     inertia: &[f64],
     overrides: Option<&PdGains>,
-) -> Result<()> {
+) -> Result<bool> {
     let omega = 2.0 * std::f64::consts::PI * DEFAULT_PD_FREQUENCY_HZ;
     for (dof, &i_eff) in dofs.iter_mut().zip(inertia) {
         dof.kp = i_eff * omega * omega;
         dof.kd = 2.0 * i_eff * omega;
     }
     let Some(gains) = overrides else {
-        return Ok(());
+        return Ok(false);
     };
     for (field, values) in [("pd_gains.kp", &gains.kp), ("pd_gains.kd", &gains.kd)] {
         if values.is_empty() {
@@ -105,7 +107,7 @@ pub(crate) fn resolve_gains(
             dof.kd = kd;
         }
     }
-    Ok(())
+    Ok(!(gains.kp.is_empty() && gains.kd.is_empty()))
 }
 
 /// The Rapier axis of each DOF of a joint whose Rapier motors are used.
@@ -249,26 +251,33 @@ impl RobotWorld {
         let local = match self.command.mode {
             ActionMode::Torque => [v(0), v(1), v(2)],
             mode => {
-                let (rotvec, angvel) = self.ball_state(slot);
-                let omega_cap = self.gains.ball_omega_cap;
-                let mut out = [0.0; 3];
-                for k in 0..3 {
-                    // Cap the gains so the explicit PD stays stable at this substep.
-                    let omega_default = (dofs[k].kp / dofs[k].kd.max(f64::MIN_POSITIVE)) * 2.0;
-                    let scale = if omega_default > omega_cap {
-                        omega_cap / omega_default
-                    } else {
-                        1.0
-                    };
-                    let (kp, kd) = (dofs[k].kp * scale * scale, dofs[k].kd * scale);
-                    out[k] = match mode {
-                        ActionMode::Position => {
-                            kp * (v(k).to_radians() - rotvec[k]) - kd * angvel[k]
+                let (rotation, angvel) = self.ball_state(slot);
+                let error = match mode {
+                    ActionMode::Position => {
+                        let target = Rotation::from_scaled_axis(Vector::new(
+                            v(0).to_radians() as Real,
+                            v(1).to_radians() as Real,
+                            v(2).to_radians() as Real,
+                        ));
+                        // The rotation still to go, in the parent-side joint frame.
+                        let mut error = target * rotation.inverse();
+                        if error.w < 0.0 {
+                            error = -error;
                         }
-                        _ => kd * (v(k).to_radians() - angvel[k]),
-                    };
+                        let e = error.to_scaled_axis();
+                        [f64::from(e.x), f64::from(e.y), f64::from(e.z)]
+                    }
+                    _ => [0.0; 3],
+                };
+                let velocity_error = match mode {
+                    ActionMode::Velocity => [0, 1, 2].map(|k| v(k).to_radians() - angvel[k]),
+                    _ => angvel.map(|w| -w),
+                };
+                if self.gains.overridden {
+                    [0, 1, 2].map(|k| dofs[k].kp * error[k] + dofs[k].kd * velocity_error[k])
+                } else {
+                    self.ball_default_pd(slot, frame, error, velocity_error)
                 }
-                out
             }
         };
         let local = Vector::new(
@@ -277,6 +286,45 @@ impl RobotWorld {
             clamp_effort(local[2], dofs[2].max_effort) as Real,
         );
         frame.rotation * local
+    }
+}
+
+impl RobotWorld {
+    /// The default ball PD: a desired angular acceleration `ω²·e + 2ω·ė` shaped by the
+    /// child's inertia tensor about the anchor, so every direction is critically damped
+    /// at the same `ω` whatever the link's shape (per-axis gains would couple through
+    /// the products of inertia and go unstable on a slender link).
+    fn ball_default_pd(
+        &self,
+        slot: &JointSlot,
+        frame: Pose,
+        error: [f64; 3],
+        velocity_error: [f64; 3],
+    ) -> [f64; 3] {
+        let omega =
+            (2.0 * std::f64::consts::PI * DEFAULT_PD_FREQUENCY_HZ).min(self.gains.ball_omega_cap);
+        let child = &self.live.bodies[slot.child];
+        let mprops = &child.mass_properties().local_mprops;
+        let rot = Matrix::from_quat(child.position().rotation);
+        let mut inertia = rot * mprops.reconstruct_inertia_matrix() * rot.transpose();
+        let r = child.center_of_mass() - frame.translation;
+        let m = mprops.mass();
+        inertia += (Matrix::IDENTITY * r.length_squared()
+            - Matrix::from_cols(r * r.x, r * r.y, r * r.z))
+            * m;
+        let to_joint = Matrix::from_quat(frame.rotation);
+        let inertia = to_joint.transpose() * inertia * to_joint;
+        let accel = Vector::new(
+            (omega * omega * error[0] + 2.0 * omega * velocity_error[0]) as Real,
+            (omega * omega * error[1] + 2.0 * omega * velocity_error[1]) as Real,
+            (omega * omega * error[2] + 2.0 * omega * velocity_error[2]) as Real,
+        );
+        let torque = inertia * accel;
+        [
+            f64::from(torque.x),
+            f64::from(torque.y),
+            f64::from(torque.z),
+        ]
     }
 }
 

@@ -110,7 +110,7 @@ impl RobotWorld {
             });
             dofs.extend(joint_dofs(j, joint));
         }
-        resolve_gains(&mut dofs, &inertia, options.gains.as_ref())?;
+        let overridden = resolve_gains(&mut dofs, &inertia, options.gains.as_ref())?;
 
         let mut params = IntegrationParameters {
             dt: dt as Real,
@@ -132,6 +132,7 @@ impl RobotWorld {
             dofs,
             gains: ResolvedGains {
                 ball_omega_cap: 0.2 / dt,
+                overridden,
             },
             command: Command {
                 values: vec![0.0; n_dofs],

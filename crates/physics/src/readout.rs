@@ -3,6 +3,8 @@
 //! Everything here is read from the simulated bodies and the multibody's generalized
 //! coordinates; motor targets are never reported.
 
+use rapier3d::math::Rotation;
+
 use crate::world::{JointSlot, RobotWorld};
 use gymfleet_assembly::JointType;
 
@@ -23,7 +25,9 @@ impl RobotWorld {
                 &mut velocities[first..first + n],
             );
             if slot.kind == JointType::Ball {
-                let (rv, w) = self.ball_state(slot);
+                let (rotation, w) = self.ball_state(slot);
+                let rv = rotation.to_scaled_axis();
+                let rv = [f64::from(rv.x), f64::from(rv.y), f64::from(rv.z)];
                 for k in 0..3 {
                     pos[k] = rv[k].to_degrees() as f32;
                     vel[k] = w[k].to_degrees() as f32;
@@ -70,20 +74,22 @@ impl RobotWorld {
         [c.x * mm, c.y * mm, c.z * mm, q.w, q.x, q.y, q.z]
     }
 
-    /// A ball joint's rotation vector (rad) and relative angular velocity (rad/s), both
-    /// in the joint frame on the parent side, read from the multibody's generalized
-    /// coordinates (the rigid bodies' own velocities lag by one substep).
-    pub(crate) fn ball_state(&self, slot: &JointSlot) -> ([f64; 3], [f64; 3]) {
-        let Some(mb) = self.live.multibody_joints.get_multibody(slot.multibody) else {
-            return ([0.0; 3], [0.0; 3]);
+    /// A ball joint's rotation (child joint frame relative to the parent's) and relative
+    /// angular velocity (rad/s) in the parent-side joint frame, read from the multibody's
+    /// generalized coordinates (the rigid bodies' own velocities lag by one substep).
+    pub(crate) fn ball_state(&self, slot: &JointSlot) -> (Rotation, [f64; 3]) {
+        let Some(link) = self
+            .live
+            .multibody_joints
+            .get_multibody(slot.multibody)
+            .and_then(|mb| Some((mb, mb.link(slot.link)?)))
+        else {
+            return (Rotation::IDENTITY, [0.0; 3]);
         };
-        let Some(link) = mb.link(slot.link) else {
-            return ([0.0; 3], [0.0; 3]);
-        };
-        let rv = link.joint().joint_rot().normalize().to_scaled_axis();
+        let (mb, link) = link;
         let w = mb.joint_velocity(link);
         (
-            [f64::from(rv.x), f64::from(rv.y), f64::from(rv.z)],
+            link.joint().joint_rot().normalize(),
             [f64::from(w[0]), f64::from(w[1]), f64::from(w[2])],
         )
     }

@@ -1,5 +1,5 @@
 //! Documents and helpers shared by the physics tests.
-#![allow(dead_code)]
+#![allow(dead_code, unreachable_pub)]
 
 use gymfleet_env::{ActionType, EnvConfig, RobotEnv};
 use serde_json::{json, Value};
