@@ -321,3 +321,41 @@ fn gain_overrides_change_the_response() {
         ob[0]
     );
 }
+
+#[test]
+fn jointed_pairs_do_not_collide_and_everything_else_does() {
+    // The arm starts 3 mm deep inside the base it is jointed to: no contact pushes it.
+    // A 4 mm cube dropped from 20 mm lands on the base and rests on its top face.
+    let doc = json!({
+        "parts": [
+            {"name": "Base", "primitive": {"type": "cube", "size": {"x": 60, "y": 60, "z": 5}}},
+            {"name": "Arm", "primitive": {"type": "cube", "size": {"x": 40, "y": 4, "z": 4}}},
+            {"name": "Pebble", "primitive": {"type": "cube", "size": {"x": 4, "y": 4, "z": 4}}}
+        ],
+        "assembly": {
+            "instances": [
+                {"part": "Base", "name": "base"},
+                {"part": "Arm", "name": "arm", "position": {"x": 10, "y": 10, "z": 2}},
+                {"part": "Pebble", "name": "pebble", "position": {"x": 40, "y": 40, "z": 20}}
+            ],
+            "joints": [{"type": "revolute", "parent": "base", "child": "arm",
+                        "anchor": {"x": 12, "y": 12, "z": 2}, "axis": {"x": 0, "y": 0, "z": 1}}]
+        }
+    });
+    let mut env = env(&doc, &["arm", "pebble"]);
+    let mut obs = Vec::new();
+    for _ in 0..240 {
+        obs = step(&mut env, ActionType::Torque, &[0.0]);
+    }
+    assert_eq!(obs[0], 0.0, "the jointed arm was pushed by its own base");
+    assert_eq!(obs[1], 0.0);
+    // Pebble: centre 2 mm above the base's top face at z = 5, at rest, upright.
+    let pebble = &obs[9..16];
+    assert!(
+        (pebble[2] - 7.0).abs() < 0.05,
+        "pebble rests at z = {}",
+        pebble[2]
+    );
+    assert!((pebble[0] - 42.0).abs() < 0.05 && (pebble[1] - 42.0).abs() < 0.05);
+    assert!((pebble[3] - 1.0).abs() < 1e-3, "pebble tipped: {pebble:?}");
+}
