@@ -1,0 +1,360 @@
+//! [`Batch`]: a handle on one server-side batch, and the typed views of its replies,
+//! [`BatchStep`] and [`BatchObservations`], which own the decoded vectors and hand out
+//! per-env slices without copying.
+
+use gymfleet_proto::v1 as pb;
+
+use crate::client::Client;
+use crate::error::{ClientError, Result};
+use crate::stream::BatchStream;
+use crate::types::{ActionType, BatchInfo};
+
+/// Requests a [`BatchStream`] keeps in flight by default.
+pub const DEFAULT_STREAM_WINDOW: usize = 4;
+
+/// A batch of identical environments on the server, stepped together.
+///
+/// ```no_run
+/// use gymfleet_client::{ActionType, BatchOptions, Client};
+///
+/// # async fn demo() -> gymfleet_client::Result<()> {
+/// let client = Client::connect("http://127.0.0.1:50051").await?;
+/// let document = std::fs::read_to_string("models/arm2.json").expect("model");
+/// let batch = client
+///     .create_batch(BatchOptions::new(document, 16).end_effectors(["forearm"]))
+///     .await?;
+/// let actions = vec![0.5_f32; batch.info().n_envs * batch.info().action_dim];
+/// let step = batch.step(ActionType::Torque, &actions).await?;
+/// let first_env: &[f32] = step.obs(0);
+/// assert_eq!(first_env.len(), batch.info().observation_dim);
+/// batch.close().await?;
+/// # Ok(())
+/// # }
+/// ```
+#[derive(Debug, Clone)]
+pub struct Batch {
+    client: Client,
+    info: BatchInfo,
+}
+
+impl Batch {
+    pub(crate) fn new(client: Client, info: BatchInfo) -> Self {
+        Batch { client, info }
+    }
+
+    /// What the server said about the batch when it was created.
+    pub fn info(&self) -> &BatchInfo {
+        &self.info
+    }
+
+    /// Its id, `"batch_<n>"`.
+    pub fn id(&self) -> &str {
+        &self.info.batch_id
+    }
+
+    fn batch_ref(&self) -> pb::BatchRef {
+        pb::BatchRef {
+            batch_id: self.info.batch_id.clone(),
+        }
+    }
+
+    pub(crate) fn step_request(
+        &self,
+        action_type: ActionType,
+        actions: &[f32],
+    ) -> pb::StepBatchRequest {
+        pb::StepBatchRequest {
+            batch_id: self.info.batch_id.clone(),
+            action_type: pb::ActionType::from(action_type) as i32,
+            actions: actions.to_vec(),
+        }
+    }
+
+    /// Steps every env once. `actions` holds `n_envs × action_dim` values, row-major.
+    pub async fn step(&self, action_type: ActionType, actions: &[f32]) -> Result<BatchStep> {
+        let request = self.step_request(action_type, actions);
+        let result = self.client.rpc().step_batch(request).await?;
+        BatchStep::new(result.into_inner(), &self.info)
+    }
+
+    /// Resets every env; with `seed`, env `i` is reseeded with `seed + i` first.
+    pub async fn reset(&self, seed: Option<u64>) -> Result<BatchObservations> {
+        self.reset_with_offset(seed, 0).await
+    }
+
+    /// [`Batch::reset`] with env `i` reseeded with `seed + seed_offset + i`.
+    pub async fn reset_with_offset(
+        &self,
+        seed: Option<u64>,
+        seed_offset: u64,
+    ) -> Result<BatchObservations> {
+        let request = pb::ResetBatchRequest {
+            batch_id: self.info.batch_id.clone(),
+            seed,
+            seed_offset,
+        };
+        let observation = self.client.rpc().reset_batch(request).await?;
+        BatchObservations::new(observation.into_inner(), &self.info)
+    }
+
+    /// The current observation of every env, without stepping.
+    pub async fn observe(&self) -> Result<BatchObservations> {
+        let observation = self.client.rpc().observe_batch(self.batch_ref()).await?;
+        BatchObservations::new(observation.into_inner(), &self.info)
+    }
+
+    /// Frees the batch on the server. Later calls on it are
+    /// [`crate::ClientError::NotFound`].
+    pub async fn close(&self) -> Result<()> {
+        self.client.rpc().close_batch(self.batch_ref()).await?;
+        Ok(())
+    }
+
+    /// Opens a `StreamBatch` stream that keeps up to [`DEFAULT_STREAM_WINDOW`] steps in
+    /// flight.
+    pub async fn stream(&self) -> Result<BatchStream> {
+        self.stream_with_window(DEFAULT_STREAM_WINDOW).await
+    }
+
+    /// Opens a `StreamBatch` stream that keeps up to `window` steps (at least 1) in flight.
+    pub async fn stream_with_window(&self, window: usize) -> Result<BatchStream> {
+        BatchStream::open(self.client.clone(), self.clone(), window).await
+    }
+}
+
+fn check_len(what: &str, got: usize, expected: usize) -> Result<()> {
+    if got == expected {
+        Ok(())
+    } else {
+        Err(ClientError::protocol(format!(
+            "batch reply: expected {expected} {what}, got {got}"
+        )))
+    }
+}
+
+/// The result of one batch step, as received: the decoded vectors, with per-env views.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BatchStep {
+    result: pb::BatchStepResult,
+    n_envs: usize,
+    observation_dim: usize,
+}
+
+impl BatchStep {
+    /// Checks the reply's shapes against the batch, so the views below cannot fail.
+    pub(crate) fn new(result: pb::BatchStepResult, info: &BatchInfo) -> Result<Self> {
+        let (n, dim) = (info.n_envs, info.observation_dim);
+        check_len("observation values", result.observations.len(), n * dim)?;
+        check_len("rewards", result.rewards.len(), n)?;
+        check_len("terminated flags", result.terminated.len(), n)?;
+        check_len("truncated flags", result.truncated.len(), n)?;
+        check_len(
+            "final observation values",
+            result.final_observations.len(),
+            result.final_env_indices.len() * dim,
+        )?;
+        if result.final_env_indices.iter().any(|&i| i as usize >= n)
+            || !result.final_env_indices.is_sorted_by(|a, b| a < b)
+        {
+            return Err(ClientError::protocol(
+                "batch reply: final_env_indices are out of range or not ascending",
+            ));
+        }
+        Ok(BatchStep {
+            result,
+            n_envs: n,
+            observation_dim: dim,
+        })
+    }
+
+    /// Batch steps applied since the batch was created, this one included.
+    pub fn step_index(&self) -> u64 {
+        self.result.step_index
+    }
+
+    /// Number of envs (rows).
+    pub fn n_envs(&self) -> usize {
+        self.n_envs
+    }
+
+    /// Values per env observation.
+    pub fn observation_dim(&self) -> usize {
+        self.observation_dim
+    }
+
+    /// All observations, `n_envs × observation_dim`, row-major.
+    pub fn observations(&self) -> &[f32] {
+        &self.result.observations
+    }
+
+    /// Env `env`'s observation row.
+    ///
+    /// # Panics
+    ///
+    /// If `env >= n_envs()`, like slice indexing.
+    pub fn obs(&self, env: usize) -> &[f32] {
+        let d = self.observation_dim;
+        &self.result.observations[env * d..(env + 1) * d]
+    }
+
+    /// One reward per env.
+    pub fn rewards(&self) -> &[f32] {
+        &self.result.rewards
+    }
+
+    /// One flag per env: ended for a task or physics reason.
+    pub fn terminated(&self) -> &[bool] {
+        &self.result.terminated
+    }
+
+    /// One flag per env: reached `max_steps`.
+    pub fn truncated(&self) -> &[bool] {
+        &self.result.truncated
+    }
+
+    /// Same-step autoreset: the envs that finished and were reset in this step, ascending.
+    pub fn final_env_indices(&self) -> &[u32] {
+        &self.result.final_env_indices
+    }
+
+    /// Same-step autoreset: the last observation of env `env`'s finished episode, if it
+    /// finished in this step.
+    pub fn final_observation(&self, env: usize) -> Option<&[f32]> {
+        let env = u32::try_from(env).ok()?;
+        let row = self.result.final_env_indices.binary_search(&env).ok()?;
+        let d = self.observation_dim;
+        Some(&self.result.final_observations[row * d..(row + 1) * d])
+    }
+
+    /// Why env `env` terminated in this step, if it did for a reason.
+    pub fn termination_reason(&self, env: usize) -> Option<&str> {
+        let env = u32::try_from(env).ok()?;
+        self.result
+            .termination_reasons
+            .get(&env)
+            .map(String::as_str)
+    }
+
+    /// Takes the observations out, `n_envs × observation_dim`, without copying.
+    pub fn into_observations(self) -> Vec<f32> {
+        self.result.observations
+    }
+}
+
+/// The observations of every env of a batch (from reset or observe).
+#[derive(Debug, Clone, PartialEq)]
+pub struct BatchObservations {
+    observations: Vec<f32>,
+    n_envs: usize,
+    observation_dim: usize,
+}
+
+impl BatchObservations {
+    pub(crate) fn new(reply: pb::BatchObservation, info: &BatchInfo) -> Result<Self> {
+        let (n, dim) = (info.n_envs, info.observation_dim);
+        check_len("envs", reply.n_envs as usize, n)?;
+        check_len(
+            "values per observation",
+            reply.observation_dim as usize,
+            dim,
+        )?;
+        check_len("observation values", reply.observations.len(), n * dim)?;
+        Ok(BatchObservations {
+            observations: reply.observations,
+            n_envs: n,
+            observation_dim: dim,
+        })
+    }
+
+    /// Number of envs (rows).
+    pub fn n_envs(&self) -> usize {
+        self.n_envs
+    }
+
+    /// Values per env observation.
+    pub fn observation_dim(&self) -> usize {
+        self.observation_dim
+    }
+
+    /// All observations, `n_envs × observation_dim`, row-major.
+    pub fn observations(&self) -> &[f32] {
+        &self.observations
+    }
+
+    /// Env `env`'s observation row.
+    ///
+    /// # Panics
+    ///
+    /// If `env >= n_envs()`, like slice indexing.
+    pub fn obs(&self, env: usize) -> &[f32] {
+        let d = self.observation_dim;
+        &self.observations[env * d..(env + 1) * d]
+    }
+
+    /// Takes the observations out without copying.
+    pub fn into_observations(self) -> Vec<f32> {
+        self.observations
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn info(n_envs: usize, observation_dim: usize) -> BatchInfo {
+        BatchInfo {
+            batch_id: "batch_1".into(),
+            n_envs,
+            observation_dim,
+            ..BatchInfo::default()
+        }
+    }
+
+    fn reply(n: usize, dim: usize) -> pb::BatchStepResult {
+        pb::BatchStepResult {
+            batch_id: "batch_1".into(),
+            step_index: 1,
+            observations: (0..n * dim).map(|v| v as f32).collect(),
+            rewards: vec![0.0; n],
+            terminated: vec![false; n],
+            truncated: vec![true; n],
+            final_env_indices: vec![1],
+            final_observations: vec![-1.0; dim],
+            termination_reasons: [(0, "physics_diverged".to_string())].into(),
+        }
+    }
+
+    #[test]
+    fn views_slice_the_owned_vectors() {
+        let step = BatchStep::new(reply(3, 2), &info(3, 2)).unwrap();
+        assert_eq!(step.obs(0), [0.0, 1.0]);
+        assert_eq!(step.obs(2), [4.0, 5.0]);
+        assert_eq!(step.final_observation(1), Some(&[-1.0, -1.0][..]));
+        assert_eq!(step.final_observation(0), None);
+        assert_eq!(step.termination_reason(0), Some("physics_diverged"));
+        assert_eq!(step.termination_reason(1), None);
+        assert_eq!(step.truncated(), [true; 3]);
+        assert_eq!(step.into_observations().len(), 6);
+    }
+
+    #[test]
+    fn replies_of_the_wrong_shape_are_protocol_errors() {
+        let mut short = reply(3, 2);
+        short.observations.pop();
+        assert!(matches!(
+            BatchStep::new(short, &info(3, 2)),
+            Err(ClientError::Protocol { .. })
+        ));
+        let mut bad_final = reply(3, 2);
+        bad_final.final_env_indices = vec![3];
+        assert!(BatchStep::new(bad_final, &info(3, 2)).is_err());
+        let obs = pb::BatchObservation {
+            batch_id: "batch_1".into(),
+            n_envs: 2,
+            observation_dim: 2,
+            observations: vec![0.0; 4],
+        };
+        assert!(BatchObservations::new(obs.clone(), &info(2, 2)).is_ok());
+        assert!(BatchObservations::new(obs, &info(3, 2)).is_err());
+    }
+}

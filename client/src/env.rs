@@ -1,0 +1,74 @@
+//! [`Env`]: a handle on one server-side environment.
+
+use gymfleet_proto::v1 as pb;
+
+use crate::client::Client;
+use crate::error::Result;
+use crate::types::{ActionType, EnvInfo, Observation, StepResult};
+
+/// One environment on the server. Calls on one env are serialised by the server.
+///
+/// The env lives until [`Env::close`], or until the server reclaims it after its idle
+/// TTL. Dropping the handle does not close it.
+#[derive(Debug, Clone)]
+pub struct Env {
+    client: Client,
+    info: EnvInfo,
+}
+
+impl Env {
+    pub(crate) fn new(client: Client, info: EnvInfo) -> Self {
+        Env { client, info }
+    }
+
+    /// What the server said about the env when it was created.
+    pub fn info(&self) -> &EnvInfo {
+        &self.info
+    }
+
+    /// Its id, `"sim_<n>"`.
+    pub fn id(&self) -> &str {
+        &self.info.env_id
+    }
+
+    fn env_ref(&self) -> pb::EnvRef {
+        pb::EnvRef {
+            env_id: self.info.env_id.clone(),
+        }
+    }
+
+    /// Restores the initial state and returns the first observation; `seed` reseeds the
+    /// env's generator first.
+    pub async fn reset(&self, seed: Option<u64>) -> Result<Observation> {
+        let request = pb::ResetRequest {
+            env_id: self.info.env_id.clone(),
+            seed,
+        };
+        let observation = self.client.rpc().reset(request).await?;
+        observation.into_inner().try_into()
+    }
+
+    /// Applies `values` (one per DOF, `info().action_dim` of them) for one step.
+    pub async fn step(&self, action_type: ActionType, values: &[f32]) -> Result<StepResult> {
+        let request = pb::StepRequest {
+            env_id: self.info.env_id.clone(),
+            action_type: pb::ActionType::from(action_type) as i32,
+            values: values.to_vec(),
+        };
+        let result = self.client.rpc().step(request).await?;
+        result.into_inner().try_into()
+    }
+
+    /// The current observation, without stepping.
+    pub async fn observe(&self) -> Result<Observation> {
+        let observation = self.client.rpc().observe(self.env_ref()).await?;
+        observation.into_inner().try_into()
+    }
+
+    /// Frees the env on the server. Later calls on it (from any handle) are
+    /// [`crate::ClientError::NotFound`].
+    pub async fn close(&self) -> Result<()> {
+        self.client.rpc().close(self.env_ref()).await?;
+        Ok(())
+    }
+}

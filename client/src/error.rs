@@ -1,0 +1,142 @@
+//! [`ClientError`]: what a call can fail with, by gRPC status class.
+
+use tonic::{Code, Status};
+
+/// Why a client call failed. Server errors carry the server's message, which names the
+/// offending field (with its JSON path for documents) or id.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ClientError {
+    /// The server could not be reached, or the address is malformed.
+    #[error("cannot connect to {addr}: {reason}")]
+    Connect {
+        /// The address as given.
+        addr: String,
+        /// Why.
+        reason: String,
+    },
+    /// NOT_FOUND: the env or batch id is unknown, closed, or was reclaimed after idling.
+    #[error("not found: {message}")]
+    NotFound {
+        /// The server's message, naming the id.
+        message: String,
+    },
+    /// INVALID_ARGUMENT (or OUT_OF_RANGE): a bad document, configuration or action.
+    #[error("invalid argument: {message}")]
+    InvalidArgument {
+        /// The server's message, with the field's path and what was expected.
+        message: String,
+    },
+    /// FAILED_PRECONDITION: the call is not possible in the current state, e.g. stepping
+    /// an env whose physics diverged before resetting it.
+    #[error("failed precondition: {message}")]
+    FailedPrecondition {
+        /// The server's message.
+        message: String,
+    },
+    /// RESOURCE_EXHAUSTED: a server limit was hit; the message says which and how to
+    /// raise it.
+    #[error("resource exhausted: {message}")]
+    ResourceExhausted {
+        /// The server's message.
+        message: String,
+    },
+    /// UNAVAILABLE, CANCELLED, DEADLINE_EXCEEDED or ABORTED: the server is gone, shutting
+    /// down, or the call was cut short. Retrying may help.
+    #[error("unavailable: {message}")]
+    Unavailable {
+        /// The transport's or server's message.
+        message: String,
+    },
+    /// INTERNAL, UNKNOWN or DATA_LOSS: a server bug.
+    #[error("internal server error: {message}")]
+    Internal {
+        /// The server's message.
+        message: String,
+    },
+    /// The server answered something this client does not understand: an unexpected
+    /// status code, or a reply of the wrong shape.
+    #[error("protocol error: {message}")]
+    Protocol {
+        /// What was wrong.
+        message: String,
+    },
+}
+
+impl ClientError {
+    /// The message carried by the error (the server's, for server errors).
+    pub fn message(&self) -> &str {
+        match self {
+            ClientError::Connect { reason, .. } => reason,
+            ClientError::NotFound { message }
+            | ClientError::InvalidArgument { message }
+            | ClientError::FailedPrecondition { message }
+            | ClientError::ResourceExhausted { message }
+            | ClientError::Unavailable { message }
+            | ClientError::Internal { message }
+            | ClientError::Protocol { message } => message,
+        }
+    }
+
+    pub(crate) fn protocol(message: impl Into<String>) -> Self {
+        ClientError::Protocol {
+            message: message.into(),
+        }
+    }
+}
+
+impl From<Status> for ClientError {
+    fn from(status: Status) -> Self {
+        let message = status.message().to_string();
+        match status.code() {
+            Code::NotFound => ClientError::NotFound { message },
+            Code::InvalidArgument => ClientError::InvalidArgument { message },
+            Code::FailedPrecondition => ClientError::FailedPrecondition { message },
+            // tonic reports an over-size message as OUT_OF_RANGE.
+            Code::ResourceExhausted | Code::OutOfRange => {
+                ClientError::ResourceExhausted { message }
+            }
+            Code::Unavailable | Code::Cancelled | Code::DeadlineExceeded | Code::Aborted => {
+                ClientError::Unavailable { message }
+            }
+            Code::Internal | Code::Unknown | Code::DataLoss => ClientError::Internal { message },
+            code @ (Code::Ok
+            | Code::AlreadyExists
+            | Code::PermissionDenied
+            | Code::Unimplemented
+            | Code::Unauthenticated) => ClientError::Protocol {
+                message: format!("unexpected status {code:?}: {message}"),
+            },
+        }
+    }
+}
+
+/// Result alias for this crate.
+pub type Result<T, E = ClientError> = std::result::Result<T, E>;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn status_codes_map_to_variants_with_the_message() {
+        let cases = [
+            (Code::NotFound, "NotFound"),
+            (Code::InvalidArgument, "InvalidArgument"),
+            (Code::OutOfRange, "ResourceExhausted"),
+            (Code::ResourceExhausted, "ResourceExhausted"),
+            (Code::FailedPrecondition, "FailedPrecondition"),
+            (Code::Unavailable, "Unavailable"),
+            (Code::Cancelled, "Unavailable"),
+            (Code::Internal, "Internal"),
+            (Code::Unimplemented, "Protocol"),
+        ];
+        for (code, variant) in cases {
+            let err = ClientError::from(Status::new(code, "sim_3 says hi"));
+            assert!(
+                format!("{err:?}").starts_with(variant),
+                "{code:?} -> {err:?}"
+            );
+            assert!(err.message().contains("sim_3 says hi"));
+        }
+    }
+}

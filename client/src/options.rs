@@ -1,0 +1,218 @@
+//! Builders for `CreateEnv` and `CreateBatch`: [`EnvOptions`] and [`BatchOptions`].
+
+use gymfleet_proto::v1 as pb;
+
+use crate::types::Autoreset;
+
+/// Controller gain overrides, per DOF, in SI units (N·m/rad, N·m·s/rad, N/m, N·s/m).
+/// Each list is empty (the server's defaults) or `action_dim` long.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct PdGains {
+    /// Proportional gains.
+    pub kp: Vec<f64>,
+    /// Derivative gains.
+    pub kd: Vec<f64>,
+}
+
+/// How to create one environment. Unset options take the server's defaults
+/// (`dt` 1/240 s, 4 substeps, 1000 steps, seed 0, stable PD gains).
+///
+/// ```
+/// use gymfleet_client::EnvOptions;
+///
+/// let options = EnvOptions::new(r#"{"parts": [], "assembly": {"instances": []}}"#)
+///     .end_effectors(["arm"])
+///     .dt(1.0 / 120.0)
+///     .substeps(8)
+///     .max_steps(500)
+///     .seed(7);
+/// assert_eq!(options.end_effector_ids(), ["arm"]);
+/// ```
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct EnvOptions {
+    document_json: String,
+    end_effector_ids: Vec<String>,
+    dt: Option<f64>,
+    substeps: Option<u32>,
+    max_steps: Option<u32>,
+    seed: Option<u64>,
+    pd_gains: Option<PdGains>,
+}
+
+impl EnvOptions {
+    /// Options for the assembly document `document_json` (JSON text).
+    pub fn new(document_json: impl Into<String>) -> Self {
+        EnvOptions {
+            document_json: document_json.into(),
+            ..EnvOptions::default()
+        }
+    }
+
+    /// The instances whose poses are observed, in observation order.
+    pub fn end_effectors<S: Into<String>>(mut self, ids: impl IntoIterator<Item = S>) -> Self {
+        self.end_effector_ids = ids.into_iter().map(Into::into).collect();
+        self
+    }
+
+    /// Seconds per env step.
+    pub fn dt(mut self, dt: f64) -> Self {
+        self.dt = Some(dt);
+        self
+    }
+
+    /// Physics substeps per env step.
+    pub fn substeps(mut self, substeps: u32) -> Self {
+        self.substeps = Some(substeps);
+        self
+    }
+
+    /// Episode length in steps.
+    pub fn max_steps(mut self, max_steps: u32) -> Self {
+        self.max_steps = Some(max_steps);
+        self
+    }
+
+    /// Seed of the env's random generator.
+    pub fn seed(mut self, seed: u64) -> Self {
+        self.seed = Some(seed);
+        self
+    }
+
+    /// Controller gain overrides.
+    pub fn pd_gains(mut self, gains: PdGains) -> Self {
+        self.pd_gains = Some(gains);
+        self
+    }
+
+    /// The document.
+    pub fn document_json(&self) -> &str {
+        &self.document_json
+    }
+
+    /// The observed end effectors.
+    pub fn end_effector_ids(&self) -> &[String] {
+        &self.end_effector_ids
+    }
+
+    pub(crate) fn into_request(self) -> pb::CreateEnvRequest {
+        pb::CreateEnvRequest {
+            document_json: self.document_json,
+            end_effector_ids: self.end_effector_ids,
+            // 0 asks for the server's default.
+            dt: self.dt.unwrap_or(0.0),
+            substeps: self.substeps.unwrap_or(0),
+            max_steps: self.max_steps.unwrap_or(0),
+            seed: self.seed,
+            pd_gains: self.pd_gains.map(|g| pb::PdGains { kp: g.kp, kd: g.kd }),
+            reset_noise: None,
+        }
+    }
+}
+
+/// How to create a batch of `n_envs` identical environments.
+///
+/// ```
+/// use gymfleet_client::{Autoreset, BatchOptions};
+///
+/// let options = BatchOptions::new(r#"{"parts": [], "assembly": {"instances": []}}"#, 16)
+///     .end_effectors(["forearm"])
+///     .autoreset(Autoreset::SameStep)
+///     .seed(1)
+///     .seed_offset(32);
+/// assert_eq!(options.n_envs(), 16);
+/// ```
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct BatchOptions {
+    env: EnvOptions,
+    n_envs: usize,
+    autoreset: Autoreset,
+    seed_offset: u64,
+}
+
+impl BatchOptions {
+    /// A batch of `n_envs` envs of the document `document_json`.
+    pub fn new(document_json: impl Into<String>, n_envs: usize) -> Self {
+        Self::from_env(EnvOptions::new(document_json), n_envs)
+    }
+
+    /// A batch of `n_envs` envs configured as `env`.
+    pub fn from_env(env: EnvOptions, n_envs: usize) -> Self {
+        BatchOptions {
+            env,
+            n_envs,
+            autoreset: Autoreset::Disabled,
+            seed_offset: 0,
+        }
+    }
+
+    /// See [`EnvOptions::end_effectors`].
+    pub fn end_effectors<S: Into<String>>(mut self, ids: impl IntoIterator<Item = S>) -> Self {
+        self.env = self.env.end_effectors(ids);
+        self
+    }
+
+    /// See [`EnvOptions::dt`].
+    pub fn dt(mut self, dt: f64) -> Self {
+        self.env = self.env.dt(dt);
+        self
+    }
+
+    /// See [`EnvOptions::substeps`].
+    pub fn substeps(mut self, substeps: u32) -> Self {
+        self.env = self.env.substeps(substeps);
+        self
+    }
+
+    /// See [`EnvOptions::max_steps`].
+    pub fn max_steps(mut self, max_steps: u32) -> Self {
+        self.env = self.env.max_steps(max_steps);
+        self
+    }
+
+    /// Base seed: env `i` is seeded with `seed + seed_offset + i`.
+    pub fn seed(mut self, seed: u64) -> Self {
+        self.env = self.env.seed(seed);
+        self
+    }
+
+    /// See [`EnvOptions::pd_gains`].
+    pub fn pd_gains(mut self, gains: PdGains) -> Self {
+        self.env = self.env.pd_gains(gains);
+        self
+    }
+
+    /// What happens to finished envs.
+    pub fn autoreset(mut self, autoreset: Autoreset) -> Self {
+        self.autoreset = autoreset;
+        self
+    }
+
+    /// Added to every env's seed index, for one logical batch sharded across servers.
+    pub fn seed_offset(mut self, seed_offset: u64) -> Self {
+        self.seed_offset = seed_offset;
+        self
+    }
+
+    /// The number of envs.
+    pub fn n_envs(&self) -> usize {
+        self.n_envs
+    }
+
+    pub(crate) fn into_request(self) -> pb::CreateBatchRequest {
+        let env = self.env.into_request();
+        pb::CreateBatchRequest {
+            document_json: env.document_json,
+            end_effector_ids: env.end_effector_ids,
+            dt: env.dt,
+            substeps: env.substeps,
+            max_steps: env.max_steps,
+            seed: env.seed,
+            pd_gains: env.pd_gains,
+            reset_noise: None,
+            // Over u32::MAX envs: saturate, and let the server's limit refuse it.
+            n_envs: u32::try_from(self.n_envs).unwrap_or(u32::MAX),
+            autoreset: pb::Autoreset::from(self.autoreset) as i32,
+            seed_offset: self.seed_offset,
+        }
+    }
+}

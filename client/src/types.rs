@@ -1,0 +1,376 @@
+//! Client-side mirrors of the domain types (`ActionType`, `Autoreset`, `Observation`, ...)
+//! and their conversions from the wire. The client does not link the physics, so these
+//! are its own small types, named as in the domain.
+
+use gymfleet_proto::v1 as pb;
+
+use crate::error::{ClientError, Result};
+
+/// Floats per end-effector pose: `[x, y, z, qw, qx, qy, qz]`.
+pub const POSE_LEN: usize = 7;
+
+/// How a step's action values are interpreted (one value per DOF, in DOF order).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ActionType {
+    /// Efforts: N·m for rotational DOFs, N for linear ones.
+    Torque,
+    /// Position targets: deg or mm, tracked by a PD controller.
+    Position,
+    /// Velocity targets: deg/s or mm/s.
+    Velocity,
+}
+
+impl From<ActionType> for pb::ActionType {
+    fn from(a: ActionType) -> Self {
+        match a {
+            ActionType::Torque => pb::ActionType::Torque,
+            ActionType::Position => pb::ActionType::Position,
+            ActionType::Velocity => pb::ActionType::Velocity,
+        }
+    }
+}
+
+/// What a batch does with an environment whose episode ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Autoreset {
+    /// Nothing; the client calls `reset`. The default.
+    #[default]
+    Disabled,
+    /// Reset within the step that ended the episode; the final observation is returned
+    /// beside it ([`crate::BatchStep::final_observation`]).
+    SameStep,
+    /// Gymnasium's default: reset on the next step, whose action is ignored.
+    NextStep,
+}
+
+impl From<Autoreset> for pb::Autoreset {
+    fn from(a: Autoreset) -> Self {
+        match a {
+            Autoreset::Disabled => pb::Autoreset::Disabled,
+            Autoreset::SameStep => pb::Autoreset::SameStep,
+            Autoreset::NextStep => pb::Autoreset::NextStep,
+        }
+    }
+}
+
+impl TryFrom<i32> for Autoreset {
+    type Error = ClientError;
+
+    fn try_from(raw: i32) -> Result<Self> {
+        match pb::Autoreset::try_from(raw) {
+            Ok(pb::Autoreset::Disabled) => Ok(Autoreset::Disabled),
+            Ok(pb::Autoreset::SameStep) => Ok(Autoreset::SameStep),
+            Ok(pb::Autoreset::NextStep) => Ok(Autoreset::NextStep),
+            Err(_) => Err(ClientError::protocol(format!(
+                "unknown autoreset value {raw}"
+            ))),
+        }
+    }
+}
+
+/// One environment's observation: measured joint state and end-effector poses.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Observation {
+    /// Joint positions per DOF, deg or mm.
+    pub joint_positions: Vec<f32>,
+    /// Joint velocities per DOF, deg/s or mm/s.
+    pub joint_velocities: Vec<f32>,
+    /// One `[x, y, z, qw, qx, qy, qz]` per end effector: centre of mass in world mm,
+    /// then the world orientation.
+    pub end_effector_poses: Vec<[f32; POSE_LEN]>,
+}
+
+impl Observation {
+    /// The flat layout of batches: positions, velocities, then the poses.
+    pub fn to_flat(&self) -> Vec<f32> {
+        let mut out = Vec::with_capacity(
+            self.joint_positions.len() * 2 + self.end_effector_poses.len() * POSE_LEN,
+        );
+        out.extend_from_slice(&self.joint_positions);
+        out.extend_from_slice(&self.joint_velocities);
+        for pose in &self.end_effector_poses {
+            out.extend_from_slice(pose);
+        }
+        out
+    }
+}
+
+impl TryFrom<pb::Observation> for Observation {
+    type Error = ClientError;
+
+    fn try_from(o: pb::Observation) -> Result<Self> {
+        if !o.end_effector_poses.len().is_multiple_of(POSE_LEN) {
+            return Err(ClientError::protocol(format!(
+                "observation: {} pose values is not a multiple of {POSE_LEN}",
+                o.end_effector_poses.len()
+            )));
+        }
+        let end_effector_poses = o
+            .end_effector_poses
+            .chunks_exact(POSE_LEN)
+            .map(|c| {
+                let mut pose = [0.0; POSE_LEN];
+                pose.copy_from_slice(c);
+                pose
+            })
+            .collect();
+        Ok(Observation {
+            joint_positions: o.joint_positions,
+            joint_velocities: o.joint_velocities,
+            end_effector_poses,
+        })
+    }
+}
+
+/// The outcome of one single-env step.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct StepResult {
+    /// The observation after the step.
+    pub observation: Observation,
+    /// The step's reward (0 unless the env defines a task).
+    pub reward: f32,
+    /// The episode ended for a task or physics reason.
+    pub terminated: bool,
+    /// The episode reached `max_steps`.
+    pub truncated: bool,
+    /// `terminated || truncated`.
+    pub done: bool,
+    /// Why the episode terminated, e.g. `physics_diverged`.
+    pub termination_reason: Option<String>,
+    /// Steps taken in the current episode, this one included.
+    pub episode_step: u32,
+}
+
+impl TryFrom<pb::StepResult> for StepResult {
+    type Error = ClientError;
+
+    fn try_from(r: pb::StepResult) -> Result<Self> {
+        let observation = r
+            .observation
+            .ok_or_else(|| ClientError::protocol("step result without an observation"))?;
+        Ok(StepResult {
+            observation: observation.try_into()?,
+            reward: r.reward,
+            terminated: r.terminated,
+            truncated: r.truncated,
+            done: r.done,
+            termination_reason: r.termination_reason,
+            episode_step: r.episode_step,
+        })
+    }
+}
+
+/// The limits of one DOF.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct DofLimit {
+    /// `"deg"` or `"mm"`.
+    pub unit: String,
+    /// Lower hard stop, if any.
+    pub min: Option<f64>,
+    /// Upper hard stop, if any.
+    pub max: Option<f64>,
+}
+
+/// One non-fixed joint, in document order.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct JointInfo {
+    /// The joint's name.
+    pub name: String,
+    /// `"revolute"`, `"prismatic"`, `"cylindrical"` or `"ball"`.
+    pub joint_type: String,
+    /// DOFs it contributes.
+    pub dof: usize,
+    /// One per DOF.
+    pub limits: Vec<DofLimit>,
+    /// Parent instance name.
+    pub parent: String,
+    /// Child instance name.
+    pub child: String,
+}
+
+impl From<pb::JointInfo> for JointInfo {
+    fn from(j: pb::JointInfo) -> Self {
+        JointInfo {
+            name: j.name,
+            joint_type: j.r#type,
+            dof: j.dof as usize,
+            limits: j
+                .limits
+                .into_iter()
+                .map(|l| DofLimit {
+                    unit: l.unit,
+                    min: l.min,
+                    max: l.max,
+                })
+                .collect(),
+            parent: j.parent,
+            child: j.child,
+        }
+    }
+}
+
+/// Describes a created environment.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct EnvInfo {
+    /// `"sim_<n>"`.
+    pub env_id: String,
+    /// Non-fixed joints.
+    pub num_joints: usize,
+    /// Values per action (total DOF).
+    pub action_dim: usize,
+    /// `2·action_dim + 7·end effectors`.
+    pub observation_dim: usize,
+    /// Observed end effectors, in order.
+    pub end_effector_ids: Vec<String>,
+    /// Seconds per step.
+    pub dt: f64,
+    /// Physics substeps per step.
+    pub substeps: u32,
+    /// Episode length in steps.
+    pub max_steps: u32,
+    /// The non-fixed joints, in document order.
+    pub joints: Vec<JointInfo>,
+}
+
+impl From<pb::EnvInfo> for EnvInfo {
+    fn from(i: pb::EnvInfo) -> Self {
+        EnvInfo {
+            env_id: i.env_id,
+            num_joints: i.num_joints as usize,
+            action_dim: i.action_dim as usize,
+            observation_dim: i.observation_dim as usize,
+            end_effector_ids: i.end_effector_ids,
+            dt: i.dt,
+            substeps: i.substeps,
+            max_steps: i.max_steps,
+            joints: i.joints.into_iter().map(Into::into).collect(),
+        }
+    }
+}
+
+/// Describes a created batch; every env of it has this shape.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct BatchInfo {
+    /// `"batch_<n>"`.
+    pub batch_id: String,
+    /// Number of environments.
+    pub n_envs: usize,
+    /// Values per env action.
+    pub action_dim: usize,
+    /// Values per env observation.
+    pub observation_dim: usize,
+    /// Non-fixed joints per env.
+    pub num_joints: usize,
+    /// Observed end effectors, in order.
+    pub end_effector_ids: Vec<String>,
+    /// Seconds per step.
+    pub dt: f64,
+    /// Physics substeps per step.
+    pub substeps: u32,
+    /// Episode length in steps.
+    pub max_steps: u32,
+    /// What happens to finished envs.
+    pub autoreset: Autoreset,
+    /// The non-fixed joints, in document order.
+    pub joints: Vec<JointInfo>,
+}
+
+impl TryFrom<pb::BatchInfo> for BatchInfo {
+    type Error = ClientError;
+
+    fn try_from(i: pb::BatchInfo) -> Result<Self> {
+        Ok(BatchInfo {
+            autoreset: Autoreset::try_from(i.autoreset)?,
+            batch_id: i.batch_id,
+            n_envs: i.n_envs as usize,
+            action_dim: i.action_dim as usize,
+            observation_dim: i.observation_dim as usize,
+            num_joints: i.num_joints as usize,
+            end_effector_ids: i.end_effector_ids,
+            dt: i.dt,
+            substeps: i.substeps,
+            max_steps: i.max_steps,
+            joints: i.joints.into_iter().map(Into::into).collect(),
+        })
+    }
+}
+
+/// The limits a server enforces; 0 means no limit.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct ServerLimits {
+    /// Most environments held at once.
+    pub max_envs: u64,
+    /// Most environments in one batch.
+    pub max_batch_size: u64,
+    /// Largest accepted document, bytes.
+    pub max_document_bytes: u64,
+    /// Largest gRPC message, bytes.
+    pub max_message_bytes: u64,
+    /// Idle time after which envs and batches are closed, s (0: never).
+    pub idle_ttl_seconds: u64,
+}
+
+/// Describes a server.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct ServerInfo {
+    /// The server's version.
+    pub version: String,
+    /// Worker threads in its simulation pool.
+    pub threads: u32,
+    /// Single environments open.
+    pub envs: u64,
+    /// Batches open.
+    pub batches: u64,
+    /// Environments held in open batches.
+    pub batch_envs: u64,
+    /// Its limits.
+    pub limits: ServerLimits,
+}
+
+impl From<pb::ServerInfo> for ServerInfo {
+    fn from(i: pb::ServerInfo) -> Self {
+        let l = i.limits.unwrap_or_default();
+        ServerInfo {
+            version: i.version,
+            threads: i.threads,
+            envs: i.envs,
+            batches: i.batches,
+            batch_envs: i.batch_envs,
+            limits: ServerLimits {
+                max_envs: l.max_envs,
+                max_batch_size: l.max_batch_size,
+                max_document_bytes: l.max_document_bytes,
+                max_message_bytes: l.max_message_bytes,
+                idle_ttl_seconds: l.idle_ttl_seconds,
+            },
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn observations_unpack_poses() {
+        let o = Observation::try_from(pb::Observation {
+            joint_positions: vec![1.0],
+            joint_velocities: vec![2.0],
+            end_effector_poses: vec![10.0, 10.0, 25.0, 1.0, 0.0, 0.0, 0.0],
+        })
+        .unwrap();
+        assert_eq!(
+            o.end_effector_poses,
+            [[10.0, 10.0, 25.0, 1.0, 0.0, 0.0, 0.0]]
+        );
+        assert_eq!(o.to_flat().len(), 9);
+        let bad = pb::Observation {
+            end_effector_poses: vec![0.0; 8],
+            ..Default::default()
+        };
+        assert!(matches!(
+            Observation::try_from(bad),
+            Err(ClientError::Protocol { .. })
+        ));
+    }
+}

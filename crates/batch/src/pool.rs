@@ -1,0 +1,256 @@
+//! [`StepPool`]: an explicit rayon pool plus the fair chunk queue that every batch on
+//! it shares.
+//!
+//! A step of a batch is a *task* of a fixed number of *chunks*. The task goes to the
+//! back of one queue per pool. Whoever drains the queue (a pool thread, or a caller
+//! waiting for its own task) takes the front task, claims its next chunk, and puts the
+//! task back at the end of the queue if it has chunks left. So tasks take turns chunk by
+//! chunk: a one-chunk task submitted behind a thousand-chunk one waits for about one
+//! chunk per draining thread, not for the whole big task.
+
+use std::collections::VecDeque;
+use std::fmt;
+use std::num::NonZeroUsize;
+use std::panic::{self, AssertUnwindSafe};
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
+use std::thread::{self, Thread};
+
+use crate::error::{BatchError, Result};
+
+/// A pool of step threads shared by many batches, scheduled fairly across them.
+///
+/// Cloning gives another handle to the same pool. The threads stop once the last
+/// handle is dropped and their queued work is done.
+#[derive(Clone)]
+pub struct StepPool {
+    inner: Arc<PoolInner>,
+}
+
+struct PoolInner {
+    pool: rayon::ThreadPool,
+    queue: Arc<FairQueue>,
+}
+
+impl StepPool {
+    /// Starts `threads` threads named `gymfleet-step-N`; 0 means one per available core.
+    pub fn new(threads: usize) -> Result<Self> {
+        let threads = if threads == 0 {
+            thread::available_parallelism().map_or(1, NonZeroUsize::get)
+        } else {
+            threads
+        };
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .thread_name(|i| format!("gymfleet-step-{i}"))
+            // The default hook has already printed the panic; without a handler a
+            // panic in a `spawn`ed closure would abort the whole process.
+            .panic_handler(|_| {})
+            .build()
+            .map_err(|e| BatchError::Pool {
+                reason: format!("cannot start {threads} step threads: {e}"),
+            })?;
+        Ok(StepPool {
+            inner: Arc::new(PoolInner {
+                pool,
+                queue: Arc::new(FairQueue::default()),
+            }),
+        })
+    }
+
+    /// The number of threads in the pool.
+    pub fn threads(&self) -> usize {
+        self.inner.pool.current_num_threads()
+    }
+
+    /// Runs `f` on a pool thread (e.g. a whole batch step, whose result `f` hands back
+    /// through a channel). Never blocks the caller. A panic in `f` is printed by the
+    /// panic hook and otherwise ignored: `f`'s captures are dropped, so a channel
+    /// sender in them tells the receiver.
+    pub fn spawn<F: FnOnce() + Send + 'static>(&self, f: F) {
+        self.inner.pool.spawn(f);
+    }
+
+    /// Runs `f` on a pool thread and returns its result, blocking the caller. A step
+    /// called this way is worked on by the pool's threads only; called directly from a
+    /// thread outside the pool, the caller runs chunks too, one thread more than
+    /// [`StepPool::threads`]. From a thread of this pool, `f` runs in place.
+    pub fn install<R: Send, F: FnOnce() -> R + Send>(&self, f: F) -> R {
+        self.inner.pool.install(f)
+    }
+
+    /// How many chunks (of any batch) have been run on this pool so far. A progress
+    /// counter for metrics and tests.
+    pub fn chunks_run(&self) -> u64 {
+        self.inner.queue.chunks_run.load(Ordering::Relaxed)
+    }
+
+    /// Runs `work(0..n_chunks)`, each index once, on the pool and on the calling thread,
+    /// and returns when all are done. Chunks of concurrent calls are interleaved fairly.
+    ///
+    /// Deadlock-free from any thread, pool threads included: the caller runs chunks
+    /// itself while some of its own are unclaimed, and blocks only once every one of
+    /// them is running somewhere, and running chunks never wait on anything.
+    pub(crate) fn run_chunked<W>(&self, n_chunks: usize, work: W) -> Result<(), ChunkPanic>
+    where
+        W: Fn(usize) + Send + Sync + 'static,
+    {
+        if n_chunks == 0 {
+            return Ok(());
+        }
+        let task = Arc::new(Task {
+            work,
+            n_chunks,
+            next: AtomicUsize::new(0),
+            remaining: AtomicUsize::new(n_chunks),
+            panic: Mutex::new(None),
+            waiter: thread::current(),
+        });
+        let queue = &self.inner.queue;
+        queue
+            .lock()
+            .push_back(Arc::clone(&task) as Arc<dyn QueuedTask>);
+        for _ in 0..self.threads().min(n_chunks) {
+            let queue = Arc::clone(queue);
+            self.inner.pool.spawn(move || while queue.run_one() {});
+        }
+        while task.remaining.load(Ordering::Acquire) != 0 {
+            // Help while chunks of ours are unclaimed (taking turns with other tasks);
+            // once all are claimed, wait for the threads running them.
+            if task.next.load(Ordering::Acquire) >= n_chunks || !queue.run_one() {
+                thread::park();
+            }
+        }
+        let panic = task
+            .panic
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .take();
+        panic.map_or(Ok(()), Err)
+    }
+}
+
+impl fmt::Debug for StepPool {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("StepPool")
+            .field("threads", &self.threads())
+            .field("chunks_run", &self.chunks_run())
+            .finish()
+    }
+}
+
+/// A chunk that panicked.
+#[derive(Debug)]
+pub(crate) struct ChunkPanic {
+    /// Its index.
+    pub(crate) chunk: usize,
+    /// The panic message, when it was a string.
+    pub(crate) message: String,
+}
+
+/// The round-robin queue of tasks with unclaimed chunks.
+#[derive(Default)]
+struct FairQueue {
+    tasks: Mutex<VecDeque<Arc<dyn QueuedTask>>>,
+    chunks_run: AtomicU64,
+}
+
+impl FairQueue {
+    fn lock(&self) -> MutexGuard<'_, VecDeque<Arc<dyn QueuedTask>>> {
+        // Nothing panics while holding the lock; recover rather than cascade if it did.
+        self.tasks.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// Claims and runs one chunk of the front task; false if the queue was empty.
+    fn run_one(&self) -> bool {
+        let (task, index) = {
+            let mut tasks = self.lock();
+            let Some(task) = tasks.pop_front() else {
+                return false;
+            };
+            let (index, more) = task.claim();
+            if more {
+                tasks.push_back(Arc::clone(&task));
+            }
+            (task, index)
+        };
+        task.run(index, &self.chunks_run);
+        true
+    }
+}
+
+/// A task as the queue sees it.
+trait QueuedTask: Send + Sync {
+    /// Claims the next chunk: its index, and whether unclaimed chunks remain.
+    /// Only called under the queue lock, on a task with an unclaimed chunk.
+    fn claim(&self) -> (usize, bool);
+    /// Runs a claimed chunk and records its completion: first in `chunks_run`, then
+    /// towards the task's, so a finished task's chunks are all counted.
+    fn run(&self, index: usize, chunks_run: &AtomicU64);
+}
+
+struct Task<W> {
+    work: W,
+    n_chunks: usize,
+    /// The next unclaimed chunk.
+    next: AtomicUsize,
+    /// Chunks not yet finished.
+    remaining: AtomicUsize,
+    /// The first chunk that panicked.
+    panic: Mutex<Option<ChunkPanic>>,
+    /// The thread blocked in `run_chunked`.
+    waiter: Thread,
+}
+
+impl<W: Fn(usize) + Send + Sync> QueuedTask for Task<W> {
+    fn claim(&self) -> (usize, bool) {
+        let index = self.next.fetch_add(1, Ordering::AcqRel);
+        (index, index + 1 < self.n_chunks)
+    }
+
+    fn run(&self, index: usize, chunks_run: &AtomicU64) {
+        if let Err(payload) = panic::catch_unwind(AssertUnwindSafe(|| (self.work)(index))) {
+            let message = payload
+                .downcast_ref::<&str>()
+                .map(|s| (*s).to_string())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "(non-string panic payload)".to_string());
+            let mut first = self.panic.lock().unwrap_or_else(PoisonError::into_inner);
+            if first.as_ref().is_none_or(|p| index < p.chunk) {
+                *first = Some(ChunkPanic {
+                    chunk: index,
+                    message,
+                });
+            }
+        }
+        chunks_run.fetch_add(1, Ordering::Relaxed);
+        if self.remaining.fetch_sub(1, Ordering::AcqRel) == 1 {
+            self.waiter.unpark();
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_panicking_chunk_is_reported_and_the_others_still_run() {
+        let pool = StepPool::new(2).unwrap();
+        let ran = Arc::new(AtomicUsize::new(0));
+        let counter = Arc::clone(&ran);
+        let result = pool.run_chunked(6, move |i| {
+            counter.fetch_add(1, Ordering::SeqCst);
+            if i == 4 || i == 2 {
+                panic!("chunk {i} exploded");
+            }
+        });
+        let panic = result.unwrap_err();
+        assert_eq!(panic.chunk, 2);
+        assert_eq!(panic.message, "chunk 2 exploded");
+        assert_eq!(ran.load(Ordering::SeqCst), 6);
+        // The pool still works.
+        assert!(pool.run_chunked(3, |_| {}).is_ok());
+        assert_eq!(pool.chunks_run(), 9);
+    }
+}

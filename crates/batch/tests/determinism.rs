@@ -1,0 +1,126 @@
+//! Results do not depend on the thread count or the chunking, and a batch is exactly
+//! its envs stepped one by one.
+
+mod common;
+
+use common::*;
+use gymfleet_batch::{Autoreset, BatchStepOutput, EnvBatch, StepPool};
+use gymfleet_env::RobotEnv;
+
+const N_ENVS: usize = 10;
+const STEPS: usize = 24;
+
+/// Resets with a seed, then steps `STEPS` times; every output, as bits.
+fn run(
+    threads: usize,
+    chunk_size: usize,
+    autoreset: Autoreset,
+) -> Vec<impl PartialEq + std::fmt::Debug> {
+    let pool = StepPool::new(threads).unwrap();
+    let mut batch = EnvBatch::with_chunk_size(&arm2(7), N_ENVS, autoreset, chunk_size).unwrap();
+    let mut obs = Vec::new();
+    batch.reset(&pool, Some(42), 0, &mut obs);
+    let mut out = BatchStepOutput::default();
+    let mut trace = Vec::new();
+    for t in 0..STEPS {
+        let (action_type, values) = actions(t, N_ENVS, 2);
+        batch.step(&pool, action_type, &values, &mut out).unwrap();
+        trace.push(output_bits(&out));
+    }
+    trace
+}
+
+#[test]
+fn results_are_identical_for_any_thread_count_and_chunk_size() {
+    for autoreset in [
+        Autoreset::Disabled,
+        Autoreset::SameStep,
+        Autoreset::NextStep,
+    ] {
+        let reference = run(1, 1, autoreset);
+        for threads in [1, 2, 4] {
+            for chunk_size in [1, 3, 64] {
+                assert!(
+                    run(threads, chunk_size, autoreset) == reference,
+                    "{autoreset:?}: {threads} threads, chunk size {chunk_size} differ from 1 thread, chunk size 1"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn a_batch_equals_its_envs_stepped_one_by_one() {
+    let pool = StepPool::new(2).unwrap();
+    let template = arm2(1000);
+    let mut batch = EnvBatch::with_chunk_size(&template, N_ENVS, Autoreset::Disabled, 3).unwrap();
+    let mut envs: Vec<RobotEnv> = (0..N_ENVS).map(|_| template.clone()).collect();
+    let dim = template.spec().observation_dim;
+    assert_eq!(dim, 11);
+
+    let mut batch_obs = Vec::new();
+    batch.reset(&pool, Some(7), 100, &mut batch_obs);
+    let mut expected = vec![0.0; N_ENVS * dim];
+    for (i, (env, row)) in envs
+        .iter_mut()
+        .zip(expected.chunks_exact_mut(dim))
+        .enumerate()
+    {
+        env.reset_into(Some(107 + i as u64), row);
+    }
+    assert_eq!(bits(&batch_obs), bits(&expected));
+
+    let mut out = BatchStepOutput::default();
+    for t in 0..60 {
+        let (action_type, values) = actions(t, N_ENVS, 2);
+        batch.step(&pool, action_type, &values, &mut out).unwrap();
+        for (i, env) in envs.iter_mut().enumerate() {
+            let row = &mut expected[i * dim..(i + 1) * dim];
+            let flags = env
+                .step_into(action_type, &values[2 * i..2 * i + 2], row)
+                .unwrap();
+            assert_eq!(out.rewards[i], flags.reward);
+            assert_eq!(out.terminated[i], flags.terminated);
+            assert_eq!(out.truncated[i], flags.truncated);
+        }
+        assert_eq!(bits(&out.observations), bits(&expected), "step {t}");
+        assert!(out.termination_reasons.is_empty());
+    }
+    // The arm moved: the comparison above is not between two resting states.
+    assert_ne!(bits(&out.observations[..2]), bits(&[0.0, 0.0]));
+
+    let mut observed = Vec::new();
+    batch.observe(&mut observed);
+    assert_eq!(bits(&observed), bits(&expected));
+}
+
+#[test]
+fn reset_seeds_are_seed_plus_offset_plus_index_wrapping() {
+    let pool = StepPool::new(1).unwrap();
+    let template = arm2(1000);
+    let mut batch = EnvBatch::with_chunk_size(&template, 3, Autoreset::Disabled, 2).unwrap();
+    assert_eq!(batch.seeds(), [template.seed(); 3]);
+    let mut obs = Vec::new();
+    batch.reset(&pool, Some(u64::MAX - 1), 1, &mut obs);
+    assert_eq!(batch.seeds(), [u64::MAX, 0, 1]);
+    assert_eq!(obs.len(), 3 * 11);
+    // Without a seed, every env keeps its own.
+    batch.reset(&pool, None, 5, &mut obs);
+    assert_eq!(batch.seeds(), [u64::MAX, 0, 1]);
+    let mut first = vec![0.0; 11];
+    template.clone().reset_into(None, &mut first);
+    assert_eq!(bits(&obs[..11]), bits(&first));
+}
+
+#[test]
+fn the_default_chunk_rule_gives_four_chunks_per_thread_up_to_sixteen_envs() {
+    use gymfleet_batch::default_chunk_size;
+    assert_eq!(default_chunk_size(1, 8), 1);
+    assert_eq!(default_chunk_size(16, 2), 2);
+    assert_eq!(default_chunk_size(100, 2), 13);
+    assert_eq!(default_chunk_size(256, 2), 16);
+    assert_eq!(default_chunk_size(100_000, 64), 16);
+    assert_eq!(default_chunk_size(10, 0), 3);
+    let batch = EnvBatch::with_chunk_size(&arm2(10), 5, Autoreset::Disabled, 64).unwrap();
+    assert_eq!(batch.chunk_size(), 5);
+}

@@ -1,0 +1,126 @@
+//! The command line ([`Cli`], clap derive; every flag also reads a `GYMFLEET_*`
+//! variable) and logging setup.
+
+use std::net::SocketAddr;
+use std::time::Duration;
+
+use clap::{Parser, ValueEnum};
+use tracing_subscriber::EnvFilter;
+
+use crate::config::{
+    ServerConfig, DEFAULT_MAX_BATCH_SIZE, DEFAULT_MAX_DOCUMENT_BYTES, DEFAULT_MAX_ENVS,
+    DEFAULT_MAX_MESSAGE_BYTES,
+};
+
+/// How log lines are written (to stderr).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum LogFormat {
+    /// Human-readable lines.
+    Text,
+    /// One JSON object per line.
+    Json,
+}
+
+/// gymfleet-server: CAD robot assemblies as physics-simulated Gym environments, over gRPC.
+///
+/// Logging verbosity follows `RUST_LOG` (default `info`).
+#[derive(Debug, Clone, Parser)]
+#[command(name = "gymfleet-server", version, about)]
+pub struct Cli {
+    /// Address to listen on.
+    #[arg(long, env = "GYMFLEET_LISTEN", default_value = "127.0.0.1:50051")]
+    pub listen: SocketAddr,
+    /// Simulation worker threads; 0 = one per core.
+    #[arg(long, env = "GYMFLEET_THREADS", default_value_t = 0)]
+    pub threads: usize,
+    /// Most environments held at once (single envs plus batch members); 0 = no limit.
+    #[arg(long, env = "GYMFLEET_MAX_ENVS", default_value_t = DEFAULT_MAX_ENVS)]
+    pub max_envs: usize,
+    /// Most environments in one batch; 0 = no limit.
+    #[arg(long, env = "GYMFLEET_MAX_BATCH_SIZE", default_value_t = DEFAULT_MAX_BATCH_SIZE)]
+    pub max_batch_size: usize,
+    /// Largest accepted assembly document, bytes; 0 = no limit.
+    #[arg(long, env = "GYMFLEET_MAX_DOCUMENT_BYTES", default_value_t = DEFAULT_MAX_DOCUMENT_BYTES)]
+    pub max_document_bytes: usize,
+    /// Largest gRPC message decoded or encoded, bytes; 0 = tonic's 4 MiB default.
+    #[arg(long, env = "GYMFLEET_MAX_MESSAGE_BYTES", default_value_t = DEFAULT_MAX_MESSAGE_BYTES)]
+    pub max_message_bytes: usize,
+    /// Close envs and batches untouched for this many seconds; 0 = never.
+    #[arg(long, env = "GYMFLEET_IDLE_TTL_SECS", default_value_t = 600)]
+    pub idle_ttl_secs: u64,
+    /// Log format.
+    #[arg(long, env = "GYMFLEET_LOG_FORMAT", value_enum, default_value_t = LogFormat::Text)]
+    pub log_format: LogFormat,
+}
+
+impl Cli {
+    /// The server configuration these flags describe.
+    pub fn server_config(&self) -> ServerConfig {
+        ServerConfig {
+            threads: self.threads,
+            max_envs: self.max_envs,
+            max_batch_size: self.max_batch_size,
+            max_document_bytes: self.max_document_bytes,
+            max_message_bytes: self.max_message_bytes,
+            idle_ttl: Duration::from_secs(self.idle_ttl_secs),
+            ..ServerConfig::default()
+        }
+    }
+}
+
+/// Installs the global `tracing` subscriber: stderr, `RUST_LOG` filter (default `info`).
+pub fn init_tracing(format: LogFormat) {
+    let filter = EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new("info"));
+    let builder = tracing_subscriber::fmt()
+        .with_env_filter(filter)
+        .with_writer(std::io::stderr);
+    match format {
+        LogFormat::Text => builder.init(),
+        LogFormat::Json => builder.json().init(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flags_have_documented_defaults() {
+        let cli = Cli::try_parse_from(["gymfleet-server"]).expect("defaults parse");
+        assert_eq!(cli.listen, "127.0.0.1:50051".parse::<SocketAddr>().unwrap());
+        let config = cli.server_config();
+        assert_eq!(config.threads, 0);
+        assert_eq!(config.max_message_bytes, DEFAULT_MAX_MESSAGE_BYTES);
+        assert_eq!(config.idle_ttl, Duration::from_secs(600));
+        assert_eq!(cli.log_format, LogFormat::Text);
+    }
+
+    #[test]
+    fn flags_parse() {
+        let cli = Cli::try_parse_from([
+            "gymfleet-server",
+            "--listen",
+            "0.0.0.0:7000",
+            "--threads",
+            "2",
+            "--max-batch-size",
+            "10",
+            "--idle-ttl-secs",
+            "0",
+            "--log-format",
+            "json",
+        ])
+        .expect("flags parse");
+        let config = cli.server_config();
+        assert_eq!(config.threads, 2);
+        assert_eq!(config.max_batch_size, 10);
+        assert_eq!(config.idle_ttl(), None);
+        assert_eq!(cli.log_format, LogFormat::Json);
+    }
+
+    #[test]
+    fn command_is_well_formed() {
+        use clap::CommandFactory;
+        Cli::command().debug_assert();
+    }
+}

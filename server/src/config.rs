@@ -1,0 +1,69 @@
+//! [`ServerConfig`]: the limits and knobs of one server, independent of how they were
+//! given (the CLI in `cli.rs`, or a test building one by hand).
+
+use std::time::Duration;
+
+/// Default largest gRPC message, decoded or encoded: 64 MiB (tonic's own default is 4 MiB).
+pub const DEFAULT_MAX_MESSAGE_BYTES: usize = 64 * 1024 * 1024;
+/// Default largest `document_json`: 8 MiB.
+pub const DEFAULT_MAX_DOCUMENT_BYTES: usize = 8 * 1024 * 1024;
+/// Default most environments held at once, single envs and batch members together.
+pub const DEFAULT_MAX_ENVS: usize = 65_536;
+/// Default most environments in one batch.
+pub const DEFAULT_MAX_BATCH_SIZE: usize = 16_384;
+/// Default idle time after which an untouched env or batch is closed: 10 minutes.
+pub const DEFAULT_IDLE_TTL: Duration = Duration::from_secs(600);
+
+/// How a server runs. Every limit of 0 means "no limit", as in `ServerLimits` on the wire.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ServerConfig {
+    /// Worker threads of the simulation pool; 0 = one per core.
+    pub threads: usize,
+    /// Most environments held at once (single envs plus batch members); 0 = no limit.
+    pub max_envs: usize,
+    /// Most environments in one batch; 0 = no limit.
+    pub max_batch_size: usize,
+    /// Largest accepted `document_json`, in bytes; 0 = no limit (beyond the message size).
+    pub max_document_bytes: usize,
+    /// Largest gRPC message decoded or encoded, in bytes. 0 keeps tonic's 4 MiB default.
+    pub max_message_bytes: usize,
+    /// Envs and batches untouched for this long are closed. `Duration::ZERO` disables it.
+    pub idle_ttl: Duration,
+    /// How often the idle sweeper looks; `None` = a quarter of `idle_ttl`, at least 1 s
+    /// and at most 60 s. Tests set it short.
+    pub sweep_interval: Option<Duration>,
+    /// Fault injection for the panic-containment test, never set in production and not
+    /// exposed on the CLI: a `Step` or `StepBatch` whose first action value is exactly
+    /// this number panics inside its pool job instead of stepping.
+    #[doc(hidden)]
+    pub panic_on_action: Option<f32>,
+}
+
+impl Default for ServerConfig {
+    fn default() -> Self {
+        ServerConfig {
+            threads: 0,
+            max_envs: DEFAULT_MAX_ENVS,
+            max_batch_size: DEFAULT_MAX_BATCH_SIZE,
+            max_document_bytes: DEFAULT_MAX_DOCUMENT_BYTES,
+            max_message_bytes: DEFAULT_MAX_MESSAGE_BYTES,
+            idle_ttl: DEFAULT_IDLE_TTL,
+            sweep_interval: None,
+            panic_on_action: None,
+        }
+    }
+}
+
+impl ServerConfig {
+    /// The idle TTL, if reclaiming is enabled.
+    pub fn idle_ttl(&self) -> Option<Duration> {
+        (!self.idle_ttl.is_zero()).then_some(self.idle_ttl)
+    }
+
+    /// How often the idle sweeper runs.
+    pub fn sweep_interval(&self) -> Duration {
+        self.sweep_interval.unwrap_or_else(|| {
+            (self.idle_ttl / 4).clamp(Duration::from_secs(1), Duration::from_secs(60))
+        })
+    }
+}

@@ -1,0 +1,425 @@
+//! The edge between the wire and the domain: `TryFrom` proto requests into domain
+//! requests (validating what the domain cannot see, such as unset enums), and domain
+//! results into proto replies. Proto types go no further than this module and
+//! `service.rs`.
+
+use gymfleet_batch::{Autoreset, BatchStepOutput};
+use gymfleet_env::{ActionType, DofKind, EnvConfig, EnvSpec, PdGains};
+use gymfleet_proto::v1 as pb;
+
+use crate::error::{Result, ServerError};
+
+/// A validated `CreateEnvRequest`: the document and the domain configuration.
+#[derive(Debug, Clone)]
+pub(crate) struct EnvRequest {
+    pub(crate) document: String,
+    pub(crate) config: EnvConfig,
+}
+
+/// A validated `CreateBatchRequest`.
+#[derive(Debug, Clone)]
+pub(crate) struct BatchRequest {
+    pub(crate) env: EnvRequest,
+    /// The caller's seed, if given (the batch reseeds its envs from it).
+    pub(crate) seed: Option<u64>,
+    pub(crate) n_envs: usize,
+    pub(crate) autoreset: Autoreset,
+    pub(crate) seed_offset: u64,
+}
+
+/// A validated action: type and values.
+#[derive(Debug, Clone)]
+pub(crate) struct Action {
+    pub(crate) action_type: ActionType,
+    pub(crate) values: Vec<f32>,
+}
+
+/// A validated `StepRequest`.
+#[derive(Debug, Clone)]
+pub(crate) struct EnvStep {
+    pub(crate) env_id: String,
+    pub(crate) action: Action,
+}
+
+/// A validated `StepBatchRequest`.
+#[derive(Debug, Clone)]
+pub(crate) struct BatchStep {
+    pub(crate) batch_id: String,
+    pub(crate) action: Action,
+}
+
+/// The parent and child instance names of each non-fixed joint, in document order.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct JointLinks(pub(crate) Vec<(String, String)>);
+
+fn action_type(raw: i32) -> Result<ActionType> {
+    let expected = "expected ACTION_TYPE_TORQUE, ACTION_TYPE_POSITION or ACTION_TYPE_VELOCITY";
+    match pb::ActionType::try_from(raw) {
+        Ok(pb::ActionType::Torque) => Ok(ActionType::Torque),
+        Ok(pb::ActionType::Position) => Ok(ActionType::Position),
+        Ok(pb::ActionType::Velocity) => Ok(ActionType::Velocity),
+        Ok(pb::ActionType::Unspecified) => Err(ServerError::InvalidArgument {
+            field: "action_type",
+            reason: format!("{expected}, got ACTION_TYPE_UNSPECIFIED (the field was not set)"),
+        }),
+        Err(_) => Err(ServerError::InvalidArgument {
+            field: "action_type",
+            reason: format!("{expected}, got unknown value {raw}"),
+        }),
+    }
+}
+
+fn autoreset(raw: i32) -> Result<Autoreset> {
+    match pb::Autoreset::try_from(raw) {
+        Ok(pb::Autoreset::Disabled) => Ok(Autoreset::Disabled),
+        Ok(pb::Autoreset::SameStep) => Ok(Autoreset::SameStep),
+        Ok(pb::Autoreset::NextStep) => Ok(Autoreset::NextStep),
+        Err(_) => Err(ServerError::InvalidArgument {
+            field: "autoreset",
+            reason: format!(
+                "expected AUTORESET_DISABLED, AUTORESET_SAME_STEP or AUTORESET_NEXT_STEP, got \
+                 unknown value {raw}"
+            ),
+        }),
+    }
+}
+
+/// The shared fields of `CreateEnvRequest` and `CreateBatchRequest`.
+#[allow(clippy::too_many_arguments)]
+fn env_request(
+    document: String,
+    end_effector_ids: Vec<String>,
+    dt: f64,
+    substeps: u32,
+    max_steps: u32,
+    seed: Option<u64>,
+    pd_gains: Option<pb::PdGains>,
+    reset_noise: Option<f64>,
+) -> Result<EnvRequest> {
+    if let Some(noise) = reset_noise.filter(|n| *n != 0.0) {
+        return Err(ServerError::InvalidArgument {
+            field: "reset_noise",
+            reason: format!("not supported by this server yet; leave it unset or 0, got {noise}"),
+        });
+    }
+    let defaults = EnvConfig::default();
+    let pd_gains = pd_gains
+        .filter(|g| !(g.kp.is_empty() && g.kd.is_empty()))
+        .map(|g| PdGains { kp: g.kp, kd: g.kd });
+    Ok(EnvRequest {
+        document,
+        config: EnvConfig {
+            end_effector_ids,
+            // 0 means "the default"; anything else (negative, NaN) is the env's to reject.
+            dt: if dt == 0.0 { defaults.dt } else { dt },
+            substeps: if substeps == 0 {
+                defaults.substeps
+            } else {
+                substeps
+            },
+            max_steps: if max_steps == 0 {
+                defaults.max_steps
+            } else {
+                max_steps
+            },
+            seed: seed.unwrap_or(0),
+            pd_gains,
+        },
+    })
+}
+
+impl TryFrom<pb::CreateEnvRequest> for EnvRequest {
+    type Error = ServerError;
+
+    fn try_from(r: pb::CreateEnvRequest) -> Result<Self> {
+        env_request(
+            r.document_json,
+            r.end_effector_ids,
+            r.dt,
+            r.substeps,
+            r.max_steps,
+            r.seed,
+            r.pd_gains,
+            r.reset_noise,
+        )
+    }
+}
+
+impl TryFrom<pb::CreateBatchRequest> for BatchRequest {
+    type Error = ServerError;
+
+    fn try_from(r: pb::CreateBatchRequest) -> Result<Self> {
+        if r.n_envs == 0 {
+            return Err(ServerError::InvalidArgument {
+                field: "n_envs",
+                reason: "expected at least 1 environment, got 0".to_string(),
+            });
+        }
+        let autoreset = autoreset(r.autoreset)?;
+        Ok(BatchRequest {
+            seed: r.seed,
+            env: env_request(
+                r.document_json,
+                r.end_effector_ids,
+                r.dt,
+                r.substeps,
+                r.max_steps,
+                r.seed,
+                r.pd_gains,
+                r.reset_noise,
+            )?,
+            n_envs: usize::try_from(r.n_envs).unwrap_or(usize::MAX),
+            autoreset,
+            seed_offset: r.seed_offset,
+        })
+    }
+}
+
+impl TryFrom<pb::StepRequest> for EnvStep {
+    type Error = ServerError;
+
+    fn try_from(r: pb::StepRequest) -> Result<Self> {
+        Ok(EnvStep {
+            env_id: r.env_id,
+            action: Action {
+                action_type: action_type(r.action_type)?,
+                values: r.values,
+            },
+        })
+    }
+}
+
+impl TryFrom<pb::StepBatchRequest> for BatchStep {
+    type Error = ServerError;
+
+    fn try_from(r: pb::StepBatchRequest) -> Result<Self> {
+        Ok(BatchStep {
+            batch_id: r.batch_id,
+            action: Action {
+                action_type: action_type(r.action_type)?,
+                values: r.actions,
+            },
+        })
+    }
+}
+
+/// Splits a flat observation of `dof` DOFs into its proto form.
+pub(crate) fn observation(flat: &[f32], dof: usize) -> pb::Observation {
+    let (positions, rest) = flat.split_at(dof.min(flat.len()));
+    let (velocities, poses) = rest.split_at(dof.min(rest.len()));
+    pb::Observation {
+        joint_positions: positions.to_vec(),
+        joint_velocities: velocities.to_vec(),
+        end_effector_poses: poses.to_vec(),
+    }
+}
+
+fn to_u32(n: usize) -> u32 {
+    u32::try_from(n).unwrap_or(u32::MAX)
+}
+
+/// The proto description of each non-fixed joint, from the spec's DOFs.
+pub(crate) fn joints(spec: &EnvSpec, links: &JointLinks) -> Vec<pb::JointInfo> {
+    let mut joints: Vec<pb::JointInfo> = Vec::with_capacity(spec.num_joints);
+    let mut last = None;
+    for dof in &spec.dofs {
+        if last != Some(dof.joint) {
+            last = Some(dof.joint);
+            let (parent, child) = links.0.get(joints.len()).cloned().unwrap_or_default();
+            joints.push(pb::JointInfo {
+                name: dof.joint_name.clone(),
+                r#type: dof.joint_type.as_str().to_string(),
+                dof: 0,
+                limits: Vec::new(),
+                parent,
+                child,
+            });
+        }
+        if let Some(joint) = joints.last_mut() {
+            joint.dof += 1;
+            joint.limits.push(pb::DofLimit {
+                unit: match dof.kind {
+                    DofKind::Angular => "deg",
+                    DofKind::Linear => "mm",
+                }
+                .to_string(),
+                min: dof.limits.map(|l| l[0]),
+                max: dof.limits.map(|l| l[1]),
+            });
+        }
+    }
+    joints
+}
+
+/// The proto `EnvInfo` of a created env.
+pub(crate) fn env_info(env_id: String, spec: &EnvSpec, links: &JointLinks) -> pb::EnvInfo {
+    pb::EnvInfo {
+        env_id,
+        num_joints: to_u32(spec.num_joints),
+        action_dim: to_u32(spec.action_dim),
+        observation_dim: to_u32(spec.observation_dim),
+        end_effector_ids: spec.end_effector_ids.clone(),
+        dt: spec.dt,
+        substeps: spec.substeps,
+        max_steps: spec.max_steps,
+        joints: joints(spec, links),
+    }
+}
+
+/// The proto `BatchInfo` of a created batch.
+pub(crate) fn batch_info(
+    batch_id: String,
+    n_envs: usize,
+    autoreset: Autoreset,
+    spec: &EnvSpec,
+    links: &JointLinks,
+) -> pb::BatchInfo {
+    pb::BatchInfo {
+        batch_id,
+        n_envs: to_u32(n_envs),
+        action_dim: to_u32(spec.action_dim),
+        observation_dim: to_u32(spec.observation_dim),
+        num_joints: to_u32(spec.num_joints),
+        end_effector_ids: spec.end_effector_ids.clone(),
+        dt: spec.dt,
+        substeps: spec.substeps,
+        max_steps: spec.max_steps,
+        autoreset: match autoreset {
+            Autoreset::Disabled => pb::Autoreset::Disabled,
+            Autoreset::SameStep => pb::Autoreset::SameStep,
+            Autoreset::NextStep => pb::Autoreset::NextStep,
+        } as i32,
+        joints: joints(spec, links),
+    }
+}
+
+/// The proto result of a batch step. Copies the output's buffers, which the batch keeps
+/// for its next step.
+pub(crate) fn batch_step_result(
+    batch_id: String,
+    step_index: u64,
+    out: &BatchStepOutput,
+) -> pb::BatchStepResult {
+    pb::BatchStepResult {
+        batch_id,
+        step_index,
+        observations: out.observations.clone(),
+        rewards: out.rewards.clone(),
+        terminated: out.terminated.clone(),
+        truncated: out.truncated.clone(),
+        final_env_indices: out.final_env_indices.clone(),
+        final_observations: out.final_observations.clone(),
+        termination_reasons: out.termination_reasons.clone(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use gymfleet_env::{DEFAULT_DT, DEFAULT_MAX_STEPS, DEFAULT_SUBSTEPS};
+
+    use super::*;
+
+    #[test]
+    fn zero_means_the_default() {
+        let r = EnvRequest::try_from(pb::CreateEnvRequest {
+            document_json: "{}".into(),
+            pd_gains: Some(pb::PdGains::default()),
+            reset_noise: Some(0.0),
+            ..Default::default()
+        })
+        .unwrap();
+        assert_eq!(r.config.dt, DEFAULT_DT);
+        assert_eq!(r.config.substeps, DEFAULT_SUBSTEPS);
+        assert_eq!(r.config.max_steps, DEFAULT_MAX_STEPS);
+        assert_eq!(r.config.seed, 0);
+        assert_eq!(r.config.pd_gains, None, "empty gains are the defaults");
+    }
+
+    #[test]
+    fn given_values_pass_through() {
+        let r = EnvRequest::try_from(pb::CreateEnvRequest {
+            end_effector_ids: vec!["arm".into()],
+            dt: -1.0,
+            substeps: 2,
+            max_steps: 7,
+            seed: Some(9),
+            pd_gains: Some(pb::PdGains {
+                kp: vec![1.0],
+                kd: vec![],
+            }),
+            ..Default::default()
+        })
+        .unwrap();
+        // Range checks are the env's: a negative dt reaches it unchanged.
+        assert_eq!(r.config.dt, -1.0);
+        assert_eq!(
+            (r.config.substeps, r.config.max_steps, r.config.seed),
+            (2, 7, 9)
+        );
+        assert_eq!(r.config.end_effector_ids, ["arm"]);
+        assert_eq!(r.config.pd_gains.unwrap().kp, [1.0]);
+    }
+
+    #[test]
+    fn unsupported_reset_noise_is_rejected() {
+        let err = EnvRequest::try_from(pb::CreateEnvRequest {
+            reset_noise: Some(0.5),
+            ..Default::default()
+        })
+        .unwrap_err();
+        assert!(
+            err.to_string().starts_with("reset_noise: not supported"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn action_types_are_checked() {
+        let step = |action_type| {
+            EnvStep::try_from(pb::StepRequest {
+                env_id: "sim_1".into(),
+                action_type,
+                values: vec![],
+            })
+        };
+        assert_eq!(
+            step(pb::ActionType::Velocity as i32)
+                .unwrap()
+                .action
+                .action_type,
+            ActionType::Velocity
+        );
+        let err = step(0).unwrap_err().to_string();
+        assert!(err.contains("ACTION_TYPE_UNSPECIFIED"), "{err}");
+        let err = step(9).unwrap_err().to_string();
+        assert!(err.contains("unknown value 9"), "{err}");
+    }
+
+    #[test]
+    fn batch_requests_check_size_and_autoreset() {
+        let request = |n_envs, autoreset| pb::CreateBatchRequest {
+            n_envs,
+            autoreset,
+            seed_offset: 4,
+            ..Default::default()
+        };
+        let r = BatchRequest::try_from(request(3, pb::Autoreset::NextStep as i32)).unwrap();
+        assert_eq!(
+            (r.n_envs, r.autoreset, r.seed_offset),
+            (3, Autoreset::NextStep, 4)
+        );
+        assert!(BatchRequest::try_from(request(0, 0)).is_err());
+        assert!(BatchRequest::try_from(request(1, 7)).is_err());
+    }
+
+    #[test]
+    fn observations_split_into_parts() {
+        let o = observation(
+            &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0, 10.0, 11.0],
+            2,
+        );
+        assert_eq!(o.joint_positions, [1.0, 2.0]);
+        assert_eq!(o.joint_velocities, [3.0, 4.0]);
+        assert_eq!(o.end_effector_poses.len(), 7);
+    }
+}

@@ -1,0 +1,282 @@
+//! [`ServerError`], and its one mapping to `tonic::Status`.
+//!
+//! Every domain error reaches the wire through the exhaustive `From` impl at the bottom:
+//! a new variant anywhere (here, in `EnvError` or in `BatchError`) fails to compile until
+//! someone decides its status code.
+
+use std::fmt;
+
+use gymfleet_batch::BatchError;
+use gymfleet_env::EnvError;
+use tonic::{Code, Status};
+
+/// What a server-side id names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EntityKind {
+    /// A single environment, `"sim_<n>"`.
+    Env,
+    /// A batch, `"batch_<n>"`.
+    Batch,
+}
+
+impl fmt::Display for EntityKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            EntityKind::Env => "environment",
+            EntityKind::Batch => "batch",
+        })
+    }
+}
+
+/// Everything that can go wrong in the server.
+#[derive(Debug, thiserror::Error)]
+pub enum ServerError {
+    /// A request field is unusable before it reaches the domain (an unset action type,
+    /// an unknown enum value, a zero batch size).
+    #[error("{field}: {reason}")]
+    InvalidArgument {
+        /// The request field, e.g. `action_type`.
+        field: &'static str,
+        /// What was expected and what was given.
+        reason: String,
+    },
+    /// Building, resetting or stepping an environment failed.
+    #[error(transparent)]
+    Env(#[from] EnvError),
+    /// Building or stepping a batch failed.
+    #[error(transparent)]
+    Batch(#[from] BatchError),
+    /// The id names nothing open.
+    #[error("{kind} {id:?} not found: it was closed, reclaimed after idling, or never existed")]
+    NotFound {
+        /// What kind of id it is.
+        kind: EntityKind,
+        /// The id as given.
+        id: String,
+    },
+    /// Creating would exceed `--max-envs`.
+    #[error(
+        "too many environments: this request needs {requested} more, {held} of the server's \
+         limit of {max} are held; close some, or raise the limit with --max-envs \
+         (GYMFLEET_MAX_ENVS)"
+    )]
+    TooManyEnvs {
+        /// Environments the request would add.
+        requested: usize,
+        /// Environments held when it was refused.
+        held: usize,
+        /// The limit.
+        max: usize,
+    },
+    /// A batch larger than `--max-batch-size`.
+    #[error(
+        "n_envs: {n_envs} exceeds the server's max batch size of {max}; split the batch, or \
+         raise the limit with --max-batch-size (GYMFLEET_MAX_BATCH_SIZE)"
+    )]
+    BatchTooLarge {
+        /// The requested size.
+        n_envs: usize,
+        /// The limit.
+        max: usize,
+    },
+    /// A document larger than `--max-document-bytes`.
+    #[error(
+        "document_json: {bytes} bytes exceeds the server's limit of {max} bytes; raise it \
+         with --max-document-bytes (GYMFLEET_MAX_DOCUMENT_BYTES)"
+    )]
+    DocumentTooLarge {
+        /// The document's size.
+        bytes: usize,
+        /// The limit.
+        max: usize,
+    },
+    /// A pool job panicked: a server bug. The env or batch it ran on, if any, was closed.
+    #[error("{}", panicked_message(operation, id.as_deref(), message))]
+    Panicked {
+        /// The RPC, e.g. `Step`.
+        operation: &'static str,
+        /// The env or batch it ran on (and that was closed), if any.
+        id: Option<String>,
+        /// The panic payload, if it was a string.
+        message: String,
+    },
+    /// A pool job ended without answering (it cannot, short of a panic in the pool).
+    #[error("internal error: {operation} was dropped by the worker pool without an answer")]
+    JobLost {
+        /// The RPC, e.g. `Step`.
+        operation: &'static str,
+    },
+    /// The server is shutting down and takes no new work on this stream.
+    #[error("the server is shutting down")]
+    ShuttingDown,
+    /// Reflection could not be set up (a bad descriptor set: a build bug).
+    #[error("reflection: {0}")]
+    Reflection(#[from] tonic_reflection::server::Error),
+    /// The listener failed (e.g. its address could not be read).
+    #[error("io: {0}")]
+    Io(#[from] std::io::Error),
+    /// The transport failed (binding, serving).
+    #[error("transport: {0}")]
+    Transport(#[from] tonic::transport::Error),
+}
+
+fn panicked_message(operation: &str, id: Option<&str>, message: &str) -> String {
+    match id {
+        Some(id) => format!(
+            "internal error: {operation} on {id} panicked ({message}); {id} was closed because \
+             its state can no longer be trusted; this is a server bug, please report it"
+        ),
+        None => format!(
+            "internal error: {operation} panicked ({message}); nothing was created; this is a \
+             server bug, please report it"
+        ),
+    }
+}
+
+impl ServerError {
+    /// Whether the env or batch this error came from can no longer be trusted: a step
+    /// panicked inside the batch's chunks (the batch crate reports it as an error rather
+    /// than a panic). The server closes such an entry, as it does after a panic.
+    pub(crate) fn poisons_entry(&self) -> bool {
+        matches!(self, ServerError::Batch(BatchError::Pool { .. }))
+    }
+}
+
+/// Result alias for this crate.
+pub type Result<T, E = ServerError> = std::result::Result<T, E>;
+
+/// The status code of an environment error.
+fn env_code(err: &EnvError) -> Code {
+    match err {
+        EnvError::Document(_)
+        | EnvError::Physics(_)
+        | EnvError::UnknownEndEffector { .. }
+        | EnvError::BadConfig { .. }
+        | EnvError::ActionLength { .. }
+        | EnvError::NonFiniteAction { .. }
+        | EnvError::UnknownActionType { .. } => Code::InvalidArgument,
+        EnvError::NeedsReset => Code::FailedPrecondition,
+    }
+}
+
+impl From<ServerError> for Status {
+    fn from(err: ServerError) -> Self {
+        let code = match &err {
+            ServerError::InvalidArgument { .. } => Code::InvalidArgument,
+            ServerError::Env(env) => env_code(env),
+            ServerError::Batch(batch) => match batch {
+                BatchError::NoEnvs
+                | BatchError::ActionLength { .. }
+                | BatchError::NonFiniteAction { .. } => Code::InvalidArgument,
+                BatchError::Env { source, .. } => env_code(source),
+                BatchError::Pool { .. } => Code::Internal,
+            },
+            ServerError::NotFound { .. } => Code::NotFound,
+            ServerError::TooManyEnvs { .. }
+            | ServerError::BatchTooLarge { .. }
+            | ServerError::DocumentTooLarge { .. } => Code::ResourceExhausted,
+            ServerError::Panicked { .. }
+            | ServerError::JobLost { .. }
+            | ServerError::Reflection(_)
+            | ServerError::Io(_)
+            | ServerError::Transport(_) => Code::Internal,
+            ServerError::ShuttingDown => Code::Unavailable,
+        };
+        Status::new(code, err.to_string())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use gymfleet_env::AssemblyError;
+
+    use super::*;
+
+    fn status(err: ServerError) -> Status {
+        Status::from(err)
+    }
+
+    #[test]
+    fn domain_errors_map_to_their_status_codes() {
+        let bad_doc = EnvError::Document(AssemblyError::Invalid { issues: Vec::new() });
+        assert_eq!(status(bad_doc.into()).code(), Code::InvalidArgument);
+        assert_eq!(
+            status(EnvError::NeedsReset.into()).code(),
+            Code::FailedPrecondition
+        );
+        let in_batch = BatchError::Env {
+            env: 3,
+            source: EnvError::ActionLength {
+                expected: 2,
+                got: 1,
+            },
+        };
+        let s = status(in_batch.into());
+        assert_eq!(s.code(), Code::InvalidArgument);
+        assert!(
+            s.message().starts_with("env 3: values: expected 2"),
+            "{}",
+            s.message()
+        );
+        let pool = BatchError::Pool {
+            reason: "boom".into(),
+        };
+        assert_eq!(status(pool.into()).code(), Code::Internal);
+    }
+
+    #[test]
+    fn not_found_names_the_id() {
+        let s = status(ServerError::NotFound {
+            kind: EntityKind::Batch,
+            id: "batch_9".into(),
+        });
+        assert_eq!(s.code(), Code::NotFound);
+        assert!(
+            s.message().starts_with("batch \"batch_9\" not found"),
+            "{}",
+            s.message()
+        );
+    }
+
+    #[test]
+    fn limits_say_how_to_raise_them() {
+        let cases = [
+            (
+                ServerError::TooManyEnvs {
+                    requested: 2,
+                    held: 9,
+                    max: 10,
+                },
+                "--max-envs",
+            ),
+            (
+                ServerError::BatchTooLarge { n_envs: 5, max: 4 },
+                "--max-batch-size",
+            ),
+            (
+                ServerError::DocumentTooLarge { bytes: 5, max: 4 },
+                "--max-document-bytes",
+            ),
+        ];
+        for (err, flag) in cases {
+            let s = status(err);
+            assert_eq!(s.code(), Code::ResourceExhausted);
+            assert!(s.message().contains(flag), "{}", s.message());
+        }
+    }
+
+    #[test]
+    fn panics_are_internal_and_say_what_was_closed() {
+        let s = status(ServerError::Panicked {
+            operation: "Step",
+            id: Some("sim_4".into()),
+            message: "index out of bounds".into(),
+        });
+        assert_eq!(s.code(), Code::Internal);
+        assert!(s
+            .message()
+            .contains("Step on sim_4 panicked (index out of bounds)"));
+        assert!(s.message().contains("sim_4 was closed"));
+        assert_eq!(status(ServerError::ShuttingDown).code(), Code::Unavailable);
+    }
+}

@@ -1,0 +1,33 @@
+//! The gymfleet gRPC server. This crate owns the `gymfleet.v1.Simulator` service and
+//! everything between the wire and the domain: the registry of open environments and
+//! batches (ids `"sim_<n>"` and `"batch_<n>"`, one async lock each), the server's limits,
+//! the hand-off of all CPU work to the `gymfleet-batch` step pool (through a oneshot,
+//! never on tokio worker threads), idle reclaiming, panic containment, health and
+//! reflection, graceful shutdown, and the one mapping of domain errors to
+//! `tonic::Status` ([`ServerError`]).
+//!
+//! It leaves documents to `gymfleet-assembly`, episodes to `gymfleet-env`, parallel
+//! stepping to `gymfleet-batch`, and the wire types to `gymfleet-proto`; proto types are
+//! converted at the edge and never reach those crates.
+//!
+//! Panic policy: a panic inside a pool job (a bug) is caught; the call gets INTERNAL
+//! with the panic message, and the env or batch it ran on is closed (later calls get
+//! NOT_FOUND), because its state may be half-updated. Everyone else keeps being served.
+
+mod cli;
+mod config;
+mod convert;
+mod error;
+mod pool;
+mod registry;
+mod serve;
+mod service;
+mod simulation;
+
+pub use cli::{init_tracing, Cli, LogFormat};
+pub use config::{
+    ServerConfig, DEFAULT_IDLE_TTL, DEFAULT_MAX_BATCH_SIZE, DEFAULT_MAX_DOCUMENT_BYTES,
+    DEFAULT_MAX_ENVS, DEFAULT_MAX_MESSAGE_BYTES,
+};
+pub use error::{EntityKind, Result, ServerError};
+pub use serve::serve;

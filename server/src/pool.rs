@@ -1,0 +1,117 @@
+//! Running CPU work on the simulation pool and getting the answer back on the async side.
+//!
+//! Parsing, building, resetting and stepping never run on tokio worker threads: each is
+//! a job handed to the [`StepPool`], whose answer comes back through a oneshot channel.
+//! Every job runs under `catch_unwind`, so a panic (a bug) becomes an INTERNAL error for
+//! its caller instead of aborting the process. The env or batch a panicking job ran on is
+//! closed: its state may be half-updated, and serving it again could return garbage.
+
+use gymfleet_batch::{BatchError, StepPool};
+use std::any::Any;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use tokio::sync::oneshot;
+
+use crate::error::{Result, ServerError};
+use crate::registry::{Entry, Registry};
+
+/// Runs `job` on the pool and waits for its answer.
+pub(crate) async fn run<R, F>(pool: &StepPool, operation: &'static str, job: F) -> Result<R>
+where
+    R: Send + 'static,
+    F: FnOnce() -> Result<R> + Send + 'static,
+{
+    let (tx, rx) = oneshot::channel();
+    pool.spawn(move || {
+        let answer = catch_unwind(AssertUnwindSafe(job)).map_err(|p| panic_message(p.as_ref()));
+        // The caller may have gone (a cancelled RPC): nobody is left to answer.
+        let _ = tx.send(answer);
+    });
+    match rx.await {
+        Ok(Ok(result)) => result,
+        Ok(Err(message)) => {
+            tracing::error!(operation, %message, "pool job panicked");
+            Err(ServerError::Panicked {
+                operation,
+                id: None,
+                message,
+            })
+        }
+        Err(_) => Err(ServerError::JobLost { operation }),
+    }
+}
+
+/// Locks `entry`, runs `job` on its value on the pool, and waits for the answer. The lock
+/// is held until the job ends, even if the caller goes away meanwhile.
+pub(crate) async fn run_locked<T, R, F>(
+    pool: &StepPool,
+    registry: &Registry<T>,
+    entry: &Entry<T>,
+    operation: &'static str,
+    job: F,
+) -> Result<R>
+where
+    T: Send + 'static,
+    R: Send + 'static,
+    F: FnOnce(&mut T) -> Result<R> + Send + 'static,
+{
+    let mut slot = entry.lock(registry.kind()).await?;
+    let kind = registry.kind();
+    let id = entry.id().to_string();
+    let (tx, rx) = oneshot::channel();
+    pool.spawn(move || {
+        let outcome = catch_unwind(AssertUnwindSafe(|| match slot.as_mut() {
+            Some(held) => job(&mut held.value),
+            None => Err(ServerError::NotFound { kind, id }),
+        }));
+        let answer = match outcome {
+            Ok(Err(err)) if err.poisons_entry() => Err(poison_message(&err)),
+            Ok(result) => Ok(result),
+            Err(payload) => Err(panic_message(payload.as_ref())),
+        };
+        if answer.is_err() {
+            let broken = slot.take();
+            // Dropping a value whose invariants a panic broke may itself panic.
+            let _ = catch_unwind(AssertUnwindSafe(move || drop(broken)));
+        }
+        drop(slot);
+        let _ = tx.send(answer);
+    });
+    let answer = rx.await.map_err(|_| ServerError::JobLost { operation })?;
+    entry.touch();
+    match answer {
+        Ok(result) => result,
+        Err(message) => {
+            registry.remove(entry.id());
+            tracing::error!(operation, id = entry.id(), %message, "pool job panicked; closed it");
+            Err(ServerError::Panicked {
+                operation,
+                id: Some(entry.id().to_string()),
+                message,
+            })
+        }
+    }
+}
+
+/// What went wrong, for an error that poisons its entry. The batch crate's advice to
+/// reset is dropped: the server closes the batch instead.
+fn poison_message(err: &ServerError) -> String {
+    match err {
+        ServerError::Batch(BatchError::Pool { reason }) => reason
+            .split("; reset the batch")
+            .next()
+            .unwrap_or(reason)
+            .to_string(),
+        other => other.to_string(),
+    }
+}
+
+/// The text of a panic payload.
+fn panic_message(payload: &(dyn Any + Send)) -> String {
+    if let Some(s) = payload.downcast_ref::<&str>() {
+        (*s).to_string()
+    } else if let Some(s) = payload.downcast_ref::<String>() {
+        s.clone()
+    } else {
+        "non-string panic payload".to_string()
+    }
+}

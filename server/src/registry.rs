@@ -1,0 +1,330 @@
+//! The open environments and batches: ids, per-entry async locks, idle times, and the
+//! env-count limit.
+//!
+//! Each entry sits behind its own `tokio::sync::Mutex`, so calls on one env serialise
+//! while calls on different envs run in parallel. The mutex holds an `Option`: `None`
+//! means the entry was closed (by `Close`, the idle sweeper, or a panic) while a call was
+//! queued on it, and that call answers NOT_FOUND.
+
+use std::collections::HashMap;
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex, PoisonError};
+use std::time::{Duration, Instant};
+
+use tokio::sync::OwnedMutexGuard;
+
+use crate::error::{EntityKind, Result, ServerError};
+
+/// Counts held environments against `--max-envs`.
+#[derive(Debug)]
+pub(crate) struct EnvCapacity {
+    max: usize,
+    held: AtomicUsize,
+    batch_envs: AtomicUsize,
+}
+
+impl EnvCapacity {
+    pub(crate) fn new(max: usize) -> Arc<Self> {
+        Arc::new(EnvCapacity {
+            max,
+            held: AtomicUsize::new(0),
+            batch_envs: AtomicUsize::new(0),
+        })
+    }
+
+    /// Reserves `n` environments, or refuses with RESOURCE_EXHAUSTED. The reservation is
+    /// released when the returned value is dropped, so a failed creation frees it.
+    pub(crate) fn reserve(self: &Arc<Self>, n: usize, kind: EntityKind) -> Result<Reservation> {
+        let mut held = self.held.load(Ordering::Relaxed);
+        loop {
+            let next = held.saturating_add(n);
+            if self.max != 0 && next > self.max {
+                return Err(ServerError::TooManyEnvs {
+                    requested: n,
+                    held,
+                    max: self.max,
+                });
+            }
+            match self
+                .held
+                .compare_exchange_weak(held, next, Ordering::AcqRel, Ordering::Relaxed)
+            {
+                Ok(_) => break,
+                Err(actual) => held = actual,
+            }
+        }
+        if kind == EntityKind::Batch {
+            self.batch_envs.fetch_add(n, Ordering::Relaxed);
+        }
+        Ok(Reservation {
+            capacity: Arc::clone(self),
+            n,
+            kind,
+        })
+    }
+
+    /// Environments held in batches.
+    pub(crate) fn batch_envs(&self) -> usize {
+        self.batch_envs.load(Ordering::Relaxed)
+    }
+}
+
+/// `n` environments counted against the limit until dropped.
+#[derive(Debug)]
+pub(crate) struct Reservation {
+    capacity: Arc<EnvCapacity>,
+    n: usize,
+    kind: EntityKind,
+}
+
+impl Drop for Reservation {
+    fn drop(&mut self) {
+        self.capacity.held.fetch_sub(self.n, Ordering::AcqRel);
+        if self.kind == EntityKind::Batch {
+            self.capacity
+                .batch_envs
+                .fetch_sub(self.n, Ordering::Relaxed);
+        }
+    }
+}
+
+/// An open value with the capacity it holds.
+#[derive(Debug)]
+pub(crate) struct Held<T> {
+    pub(crate) value: T,
+    _reservation: Reservation,
+}
+
+impl<T> Held<T> {
+    /// Releases the capacity now and returns the value, so that freeing it can happen
+    /// elsewhere without a later create seeing the capacity still held.
+    pub(crate) fn release(self) -> T {
+        let Held {
+            value,
+            _reservation,
+        } = self;
+        drop(_reservation);
+        value
+    }
+}
+
+/// The lock guard of an entry: `None` once closed.
+pub(crate) type Slot<T> = OwnedMutexGuard<Option<Held<T>>>;
+
+/// One open env or batch.
+#[derive(Debug)]
+pub(crate) struct Entry<T> {
+    id: String,
+    slot: Arc<tokio::sync::Mutex<Option<Held<T>>>>,
+    /// Milliseconds since the registry's epoch at the last call.
+    last_used_ms: AtomicU64,
+    epoch: Instant,
+}
+
+impl<T> Entry<T> {
+    pub(crate) fn id(&self) -> &str {
+        &self.id
+    }
+
+    /// Marks the entry as used now.
+    pub(crate) fn touch(&self) {
+        self.last_used_ms
+            .store(millis_since(self.epoch), Ordering::Relaxed);
+    }
+
+    fn idle_for(&self) -> Duration {
+        let last = self.last_used_ms.load(Ordering::Relaxed);
+        Duration::from_millis(millis_since(self.epoch).saturating_sub(last))
+    }
+
+    /// Waits for the entry's lock; NOT_FOUND if it was closed meanwhile.
+    pub(crate) async fn lock(&self, kind: EntityKind) -> Result<Slot<T>> {
+        let guard = Arc::clone(&self.slot).lock_owned().await;
+        if guard.is_none() {
+            return Err(ServerError::NotFound {
+                kind,
+                id: self.id.clone(),
+            });
+        }
+        Ok(guard)
+    }
+}
+
+fn millis_since(epoch: Instant) -> u64 {
+    u64::try_from(epoch.elapsed().as_millis()).unwrap_or(u64::MAX)
+}
+
+/// The open values of one kind, by id.
+#[derive(Debug)]
+pub(crate) struct Registry<T> {
+    kind: EntityKind,
+    prefix: &'static str,
+    next_id: AtomicU64,
+    epoch: Instant,
+    entries: Mutex<HashMap<String, Arc<Entry<T>>>>,
+}
+
+impl<T> Registry<T> {
+    /// A registry whose ids are `"<prefix>_<n>"`, n counting from 1.
+    pub(crate) fn new(kind: EntityKind, prefix: &'static str) -> Self {
+        Registry {
+            kind,
+            prefix,
+            next_id: AtomicU64::new(1),
+            epoch: Instant::now(),
+            entries: Mutex::new(HashMap::new()),
+        }
+    }
+
+    fn map(&self) -> std::sync::MutexGuard<'_, HashMap<String, Arc<Entry<T>>>> {
+        // The map is only ever inserted into and removed from; a panic while it was locked
+        // cannot leave it half-updated, so a poisoned lock is still usable.
+        self.entries.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    pub(crate) fn kind(&self) -> EntityKind {
+        self.kind
+    }
+
+    /// Adds a value and returns its new id.
+    pub(crate) fn insert(&self, value: T, reservation: Reservation) -> String {
+        let id = format!(
+            "{}_{}",
+            self.prefix,
+            self.next_id.fetch_add(1, Ordering::Relaxed)
+        );
+        let entry = Arc::new(Entry {
+            id: id.clone(),
+            slot: Arc::new(tokio::sync::Mutex::new(Some(Held {
+                value,
+                _reservation: reservation,
+            }))),
+            last_used_ms: AtomicU64::new(millis_since(self.epoch)),
+            epoch: self.epoch,
+        });
+        self.map().insert(id.clone(), entry);
+        id
+    }
+
+    /// Looks an id up and marks it used; NOT_FOUND names the id.
+    pub(crate) fn get(&self, id: &str) -> Result<Arc<Entry<T>>> {
+        let entry = self
+            .map()
+            .get(id)
+            .cloned()
+            .ok_or_else(|| ServerError::NotFound {
+                kind: self.kind,
+                id: id.to_string(),
+            })?;
+        entry.touch();
+        Ok(entry)
+    }
+
+    /// Forgets an id. Calls already queued on its lock find the slot empty once the
+    /// caller has taken the value out.
+    pub(crate) fn remove(&self, id: &str) {
+        self.map().remove(id);
+    }
+
+    /// Number of open values.
+    pub(crate) fn len(&self) -> usize {
+        self.map().len()
+    }
+
+    /// Takes out every value idle for at least `ttl` and not in use right now, and
+    /// returns them with their ids and idle times (to be dropped off the async runtime).
+    pub(crate) fn take_idle(&self, ttl: Duration) -> Vec<(String, Duration, Held<T>)> {
+        let candidates: Vec<Arc<Entry<T>>> = self
+            .map()
+            .values()
+            .filter(|e| e.idle_for() >= ttl)
+            .cloned()
+            .collect();
+        let mut reclaimed = Vec::new();
+        for entry in candidates {
+            // An entry whose lock is held is in use: not idle.
+            let Ok(mut guard) = Arc::clone(&entry.slot).try_lock_owned() else {
+                continue;
+            };
+            // Re-check under the lock: a call may have looked it up since.
+            let idle = entry.idle_for();
+            if idle < ttl {
+                continue;
+            }
+            if let Some(held) = guard.take() {
+                self.remove(&entry.id);
+                reclaimed.push((entry.id.clone(), idle, held));
+            }
+        }
+        reclaimed
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reservations_count_against_the_limit_until_dropped() {
+        let capacity = EnvCapacity::new(5);
+        let a = capacity.reserve(3, EntityKind::Batch).unwrap();
+        assert_eq!(capacity.batch_envs(), 3);
+        let err = capacity.reserve(3, EntityKind::Env).unwrap_err();
+        assert!(matches!(
+            err,
+            ServerError::TooManyEnvs {
+                requested: 3,
+                held: 3,
+                max: 5
+            }
+        ));
+        let b = capacity.reserve(2, EntityKind::Env).unwrap();
+        drop(a);
+        assert_eq!(capacity.batch_envs(), 0);
+        let _c = capacity.reserve(3, EntityKind::Env).unwrap();
+        drop(b);
+        assert!(EnvCapacity::new(0)
+            .reserve(usize::MAX, EntityKind::Env)
+            .is_ok());
+    }
+
+    #[tokio::test]
+    async fn ids_count_up_and_closed_entries_are_not_found() {
+        let capacity = EnvCapacity::new(0);
+        let registry = Registry::new(EntityKind::Env, "sim");
+        let first = registry.insert(1u8, capacity.reserve(1, EntityKind::Env).unwrap());
+        let second = registry.insert(2u8, capacity.reserve(1, EntityKind::Env).unwrap());
+        assert_eq!((first.as_str(), second.as_str()), ("sim_1", "sim_2"));
+        assert_eq!(registry.len(), 2);
+
+        let entry = registry.get(&first).unwrap();
+        let mut slot = entry.lock(EntityKind::Env).await.unwrap();
+        assert_eq!(slot.as_ref().map(|h| h.value), Some(1));
+        slot.take();
+        registry.remove(&first);
+        drop(slot);
+        assert!(matches!(
+            entry.lock(EntityKind::Env).await,
+            Err(ServerError::NotFound { .. })
+        ));
+        assert!(matches!(
+            registry.get(&first),
+            Err(ServerError::NotFound { .. })
+        ));
+    }
+
+    #[tokio::test]
+    async fn idle_sweep_skips_entries_in_use() {
+        let capacity = EnvCapacity::new(0);
+        let registry = Registry::new(EntityKind::Batch, "batch");
+        let busy = registry.insert((), capacity.reserve(1, EntityKind::Batch).unwrap());
+        let idle = registry.insert((), capacity.reserve(1, EntityKind::Batch).unwrap());
+        let entry = registry.get(&busy).unwrap();
+        let _guard = entry.lock(EntityKind::Batch).await.unwrap();
+        let reclaimed = registry.take_idle(Duration::ZERO);
+        let ids: Vec<&str> = reclaimed.iter().map(|(id, _, _)| id.as_str()).collect();
+        assert_eq!(ids, [idle.as_str()]);
+        assert_eq!(registry.len(), 1);
+        assert!(registry.take_idle(Duration::from_secs(3600)).is_empty());
+    }
+}

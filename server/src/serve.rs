@@ -1,0 +1,124 @@
+//! [`serve`]: wires the pool, the services (simulator, health, reflection), the idle
+//! sweeper and graceful shutdown around one listener.
+
+use std::future::Future;
+use std::sync::Arc;
+use std::time::Duration;
+
+use gymfleet_batch::StepPool;
+use gymfleet_proto::v1::simulator_server::SimulatorServer;
+use tokio::net::TcpListener;
+use tokio::sync::watch;
+use tonic::transport::server::TcpIncoming;
+use tonic::transport::Server;
+
+use crate::config::ServerConfig;
+use crate::error::Result;
+use crate::service::SimulatorService;
+use crate::simulation::Simulation;
+
+/// Serves the simulator on `listener` until `shutdown` completes, then stops accepting
+/// connections, ends open `StreamBatch` streams with UNAVAILABLE, waits for in-flight
+/// calls to finish, and returns.
+///
+/// Also serves `grpc.health.v1.Health` (with `gymfleet.v1.Simulator` SERVING) and gRPC
+/// reflection v1 and v1alpha. Accepted connections get `TCP_NODELAY`.
+///
+/// ```no_run
+/// # async fn demo() -> gymfleet_server::Result<()> {
+/// let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await?;
+/// let (stop, stopped) = tokio::sync::oneshot::channel::<()>();
+/// let server = tokio::spawn(gymfleet_server::serve(
+///     listener,
+///     gymfleet_server::ServerConfig::default(),
+///     async { stopped.await.ok(); },
+/// ));
+/// // ... drive it with gymfleet-client ...
+/// stop.send(()).ok();
+/// server.await.expect("server task")?;
+/// # Ok(())
+/// # }
+/// ```
+pub async fn serve(
+    listener: TcpListener,
+    config: ServerConfig,
+    shutdown: impl Future<Output = ()>,
+) -> Result<()> {
+    let pool = StepPool::new(config.threads)?;
+    let threads = pool.threads();
+    let sim = Arc::new(Simulation::new(config.clone(), pool));
+    let (stop_tx, stop_rx) = watch::channel(false);
+
+    let (health, health_service) = tonic_health::server::health_reporter();
+    health
+        .set_serving::<SimulatorServer<SimulatorService>>()
+        .await;
+    let reflection_v1 = tonic_reflection::server::Builder::configure()
+        .register_encoded_file_descriptor_set(gymfleet_proto::FILE_DESCRIPTOR_SET)
+        .register_encoded_file_descriptor_set(tonic_health::pb::FILE_DESCRIPTOR_SET)
+        .build_v1()?;
+    let reflection_v1alpha = tonic_reflection::server::Builder::configure()
+        .register_encoded_file_descriptor_set(gymfleet_proto::FILE_DESCRIPTOR_SET)
+        .register_encoded_file_descriptor_set(tonic_health::pb::FILE_DESCRIPTOR_SET)
+        .build_v1alpha()?;
+
+    let mut simulator =
+        SimulatorServer::new(SimulatorService::new(Arc::clone(&sim), stop_rx.clone()));
+    if config.max_message_bytes != 0 {
+        simulator = simulator
+            .max_decoding_message_size(config.max_message_bytes)
+            .max_encoding_message_size(config.max_message_bytes);
+    }
+
+    let sweeper = config.idle_ttl().map(|ttl| {
+        tokio::spawn(sweep_idle(
+            Arc::clone(&sim),
+            ttl,
+            config.sweep_interval(),
+            stop_rx.clone(),
+        ))
+    });
+
+    let addr = listener.local_addr()?;
+    tracing::info!(%addr, threads, idle_ttl_secs = config.idle_ttl.as_secs(), "serving gymfleet.v1.Simulator");
+    let incoming = TcpIncoming::from(listener).with_nodelay(Some(true));
+    let signal = async move {
+        shutdown.await;
+        tracing::info!("shutting down: finishing in-flight calls");
+        health
+            .set_not_serving::<SimulatorServer<SimulatorService>>()
+            .await;
+        let _ = stop_tx.send(true);
+    };
+    let served = Server::builder()
+        .add_service(health_service)
+        .add_service(reflection_v1)
+        .add_service(reflection_v1alpha)
+        .add_service(simulator)
+        .serve_with_incoming_shutdown(incoming, signal)
+        .await;
+    if let Some(sweeper) = sweeper {
+        // It watches the same stop signal; it has stopped or stops at its next wake-up.
+        sweeper.abort();
+    }
+    served?;
+    tracing::info!("stopped");
+    Ok(())
+}
+
+/// Every `interval`, closes the envs and batches idle for at least `ttl`.
+async fn sweep_idle(
+    sim: Arc<Simulation>,
+    ttl: Duration,
+    interval: Duration,
+    mut stop: watch::Receiver<bool>,
+) {
+    let mut ticks = tokio::time::interval(interval);
+    ticks.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
+    loop {
+        tokio::select! {
+            _ = stop.wait_for(|stop| *stop) => return,
+            _ = ticks.tick() => sim.reclaim_idle(ttl),
+        }
+    }
+}

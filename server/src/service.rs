@@ -1,0 +1,221 @@
+//! The `gymfleet.v1.Simulator` service: decodes each request at the edge (`TryFrom`),
+//! calls the [`Simulation`], and encodes the answer. Errors become statuses only
+//! through `From<ServerError> for Status`.
+
+use std::sync::Arc;
+
+use gymfleet_proto::v1 as pb;
+use pb::simulator_server::Simulator;
+use tokio::sync::{mpsc, watch};
+use tokio_stream::wrappers::ReceiverStream;
+use tonic::{Request, Response, Status, Streaming};
+
+use crate::convert::{self, BatchRequest, BatchStep, EnvRequest, EnvStep};
+use crate::error::{Result, ServerError};
+use crate::simulation::{Created, Simulation};
+
+/// Results buffered per StreamBatch stream before the server waits for the client.
+const STREAM_BUFFER: usize = 8;
+
+/// The gRPC face of a [`Simulation`].
+pub(crate) struct SimulatorService {
+    sim: Arc<Simulation>,
+    shutdown: watch::Receiver<bool>,
+}
+
+impl SimulatorService {
+    pub(crate) fn new(sim: Arc<Simulation>, shutdown: watch::Receiver<bool>) -> Self {
+        SimulatorService { sim, shutdown }
+    }
+}
+
+fn answer<T>(result: Result<T>) -> Result<Response<T>, Status> {
+    result.map(Response::new).map_err(Status::from)
+}
+
+fn env_info(created: Created) -> pb::EnvInfo {
+    convert::env_info(created.id, &created.spec, &created.links)
+}
+
+fn batch_info(created: Created) -> pb::BatchInfo {
+    let (n_envs, autoreset) = created.batch.unwrap_or_default();
+    convert::batch_info(created.id, n_envs, autoreset, &created.spec, &created.links)
+}
+
+/// Steps one `StreamBatch` request.
+async fn stream_step(
+    sim: &Simulation,
+    request: pb::StepBatchRequest,
+) -> Result<pb::BatchStepResult> {
+    sim.step_batch(BatchStep::try_from(request)?).await
+}
+
+#[tonic::async_trait]
+impl Simulator for SimulatorService {
+    async fn create_env(
+        &self,
+        request: Request<pb::CreateEnvRequest>,
+    ) -> Result<Response<pb::EnvInfo>, Status> {
+        let result = async {
+            let request = EnvRequest::try_from(request.into_inner())?;
+            self.sim.create_env(request).await.map(env_info)
+        };
+        answer(result.await)
+    }
+
+    async fn reset(
+        &self,
+        request: Request<pb::ResetRequest>,
+    ) -> Result<Response<pb::Observation>, Status> {
+        let r = request.into_inner();
+        let result = self.sim.reset_env(&r.env_id, r.seed).await;
+        answer(result.map(|(obs, dof)| convert::observation(&obs, dof)))
+    }
+
+    async fn step(
+        &self,
+        request: Request<pb::StepRequest>,
+    ) -> Result<Response<pb::StepResult>, Status> {
+        let result = async {
+            let step = EnvStep::try_from(request.into_inner())?;
+            let outcome = self.sim.step_env(step).await?;
+            let flags = outcome.flags;
+            Ok(pb::StepResult {
+                observation: Some(convert::observation(&outcome.observation, outcome.dof)),
+                reward: flags.reward,
+                terminated: flags.terminated,
+                truncated: flags.truncated,
+                done: flags.done(),
+                termination_reason: flags.termination.map(|t| t.as_str().to_string()),
+                episode_step: outcome.episode_step,
+            })
+        };
+        answer(result.await)
+    }
+
+    async fn observe(
+        &self,
+        request: Request<pb::EnvRef>,
+    ) -> Result<Response<pb::Observation>, Status> {
+        let r = request.into_inner();
+        let result = self.sim.observe_env(&r.env_id).await;
+        answer(result.map(|(obs, dof)| convert::observation(&obs, dof)))
+    }
+
+    async fn close(
+        &self,
+        request: Request<pb::EnvRef>,
+    ) -> Result<Response<pb::CloseEnvResponse>, Status> {
+        let r = request.into_inner();
+        answer(
+            self.sim
+                .close_env(&r.env_id)
+                .await
+                .map(|()| pb::CloseEnvResponse {}),
+        )
+    }
+
+    async fn create_batch(
+        &self,
+        request: Request<pb::CreateBatchRequest>,
+    ) -> Result<Response<pb::BatchInfo>, Status> {
+        let result = async {
+            let request = BatchRequest::try_from(request.into_inner())?;
+            self.sim.create_batch(request).await.map(batch_info)
+        };
+        answer(result.await)
+    }
+
+    async fn reset_batch(
+        &self,
+        request: Request<pb::ResetBatchRequest>,
+    ) -> Result<Response<pb::BatchObservation>, Status> {
+        let r = request.into_inner();
+        answer(
+            self.sim
+                .reset_batch(&r.batch_id, r.seed, r.seed_offset)
+                .await,
+        )
+    }
+
+    async fn step_batch(
+        &self,
+        request: Request<pb::StepBatchRequest>,
+    ) -> Result<Response<pb::BatchStepResult>, Status> {
+        answer(stream_step(&self.sim, request.into_inner()).await)
+    }
+
+    async fn observe_batch(
+        &self,
+        request: Request<pb::BatchRef>,
+    ) -> Result<Response<pb::BatchObservation>, Status> {
+        let r = request.into_inner();
+        answer(self.sim.observe_batch(&r.batch_id).await)
+    }
+
+    async fn close_batch(
+        &self,
+        request: Request<pb::BatchRef>,
+    ) -> Result<Response<pb::CloseBatchResponse>, Status> {
+        let r = request.into_inner();
+        answer(
+            self.sim
+                .close_batch(&r.batch_id)
+                .await
+                .map(|()| pb::CloseBatchResponse {}),
+        )
+    }
+
+    type StreamBatchStream = ReceiverStream<Result<pb::BatchStepResult, Status>>;
+
+    async fn stream_batch(
+        &self,
+        request: Request<Streaming<pb::StepBatchRequest>>,
+    ) -> Result<Response<Self::StreamBatchStream>, Status> {
+        let mut incoming = request.into_inner();
+        let (tx, rx) = mpsc::channel(STREAM_BUFFER);
+        let sim = Arc::clone(&self.sim);
+        let mut shutdown = self.shutdown.clone();
+        tokio::spawn(async move {
+            loop {
+                // Requests are taken one at a time, so results leave in request order.
+                let stopping = async {
+                    // An error means the server is gone: stop as well.
+                    let _ = shutdown.wait_for(|stop| *stop).await;
+                };
+                let next = tokio::select! {
+                    biased;
+                    () = stopping => None,
+                    next = incoming.message() => Some(next),
+                };
+                let request = match next {
+                    None => {
+                        let _ = tx.send(Err(ServerError::ShuttingDown.into())).await;
+                        return;
+                    }
+                    Some(Ok(Some(request))) => request,
+                    // The client finished its side: end ours.
+                    Some(Ok(None)) => return,
+                    Some(Err(status)) => {
+                        tracing::debug!(%status, "StreamBatch: client stream failed");
+                        return;
+                    }
+                };
+                let result = stream_step(&sim, request).await;
+                let failed = result.is_err();
+                if tx.send(result.map_err(Status::from)).await.is_err() || failed {
+                    // The client went away, or an error ended the stream.
+                    return;
+                }
+            }
+        });
+        Ok(Response::new(ReceiverStream::new(rx)))
+    }
+
+    async fn get_server_info(
+        &self,
+        _request: Request<pb::GetServerInfoRequest>,
+    ) -> Result<Response<pb::ServerInfo>, Status> {
+        Ok(Response::new(self.sim.server_info()))
+    }
+}

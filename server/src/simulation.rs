@@ -1,0 +1,357 @@
+//! [`Simulation`]: the server's state — the pool, the open envs and batches, the limits —
+//! and the domain operations the RPCs call. Everything CPU-bound here runs on the pool.
+
+use std::time::Duration;
+
+use gymfleet_batch::{Autoreset, BatchStepOutput, EnvBatch, StepPool};
+use gymfleet_env::{EnvError, EnvSpec, RobotEnv, StepFlags};
+use gymfleet_proto::v1 as pb;
+
+use crate::config::ServerConfig;
+use crate::convert::{self, Action, BatchRequest, BatchStep, EnvRequest, EnvStep, JointLinks};
+use crate::error::{EntityKind, Result, ServerError};
+use crate::pool;
+use crate::registry::{EnvCapacity, Held, Registry};
+
+/// One open single environment.
+pub(crate) struct OpenEnv {
+    env: RobotEnv,
+}
+
+/// One open batch, with its reusable step output.
+pub(crate) struct OpenBatch {
+    batch: EnvBatch,
+    out: BatchStepOutput,
+    steps: u64,
+}
+
+/// The outcome of a single-env step.
+pub(crate) struct EnvStepOutcome {
+    pub(crate) observation: Vec<f32>,
+    pub(crate) flags: StepFlags,
+    pub(crate) episode_step: u32,
+    pub(crate) dof: usize,
+}
+
+/// A created env or batch: its id and description.
+pub(crate) struct Created {
+    pub(crate) id: String,
+    pub(crate) spec: EnvSpec,
+    pub(crate) links: JointLinks,
+    /// Batches only: the size and autoreset mode.
+    pub(crate) batch: Option<(usize, Autoreset)>,
+}
+
+/// The server's state.
+pub(crate) struct Simulation {
+    config: ServerConfig,
+    pool: StepPool,
+    capacity: std::sync::Arc<EnvCapacity>,
+    envs: Registry<OpenEnv>,
+    batches: Registry<OpenBatch>,
+}
+
+/// Parses and builds one env, and names the bodies of its non-fixed joints.
+fn build_env(request: EnvRequest) -> Result<(RobotEnv, JointLinks)> {
+    let assembly = gymfleet_assembly::parse(&request.document).map_err(EnvError::Document)?;
+    let env = RobotEnv::new(&assembly, request.config)?;
+    let name = |i: usize| {
+        assembly
+            .instances
+            .get(i)
+            .map(|inst| inst.name.clone())
+            .unwrap_or_default()
+    };
+    let links = assembly
+        .joints
+        .iter()
+        .filter(|j| j.kind.dof() > 0)
+        .map(|j| (name(j.parent), name(j.child)))
+        .collect();
+    Ok((env, JointLinks(links)))
+}
+
+impl Simulation {
+    pub(crate) fn new(config: ServerConfig, pool: StepPool) -> Self {
+        Simulation {
+            capacity: EnvCapacity::new(config.max_envs),
+            config,
+            pool,
+            envs: Registry::new(EntityKind::Env, "sim"),
+            batches: Registry::new(EntityKind::Batch, "batch"),
+        }
+    }
+
+    fn check_document(&self, document: &str) -> Result<()> {
+        let max = self.config.max_document_bytes;
+        if max != 0 && document.len() > max {
+            return Err(ServerError::DocumentTooLarge {
+                bytes: document.len(),
+                max,
+            });
+        }
+        Ok(())
+    }
+
+    /// Test-only fault injection (see [`ServerConfig::panic_on_action`]).
+    fn injected_panic(&self, action: &Action) -> bool {
+        self.config
+            .panic_on_action
+            .is_some_and(|v| action.values.first() == Some(&v))
+    }
+
+    pub(crate) async fn create_env(&self, request: EnvRequest) -> Result<Created> {
+        self.check_document(&request.document)?;
+        let reservation = self.capacity.reserve(1, EntityKind::Env)?;
+        let (env, links) = pool::run(&self.pool, "CreateEnv", move || build_env(request)).await?;
+        let spec = env.spec().clone();
+        let id = self.envs.insert(OpenEnv { env }, reservation);
+        tracing::info!(env_id = %id, action_dim = spec.action_dim, "created env");
+        Ok(Created {
+            id,
+            spec,
+            links,
+            batch: None,
+        })
+    }
+
+    pub(crate) async fn reset_env(&self, id: &str, seed: Option<u64>) -> Result<(Vec<f32>, usize)> {
+        let entry = self.envs.get(id)?;
+        pool::run_locked(&self.pool, &self.envs, &entry, "Reset", move |open| {
+            let spec = open.env.spec();
+            let (dim, dof) = (spec.observation_dim, spec.action_dim);
+            let mut obs = vec![0.0; dim];
+            open.env.reset_into(seed, &mut obs);
+            Ok((obs, dof))
+        })
+        .await
+    }
+
+    pub(crate) async fn step_env(&self, step: EnvStep) -> Result<EnvStepOutcome> {
+        let entry = self.envs.get(&step.env_id)?;
+        let inject = self.injected_panic(&step.action);
+        pool::run_locked(&self.pool, &self.envs, &entry, "Step", move |open| {
+            if inject {
+                panic!("injected panic (ServerConfig::panic_on_action)");
+            }
+            let spec = open.env.spec();
+            let (dim, dof) = (spec.observation_dim, spec.action_dim);
+            let mut observation = vec![0.0; dim];
+            let flags = open.env.step_into(
+                step.action.action_type,
+                &step.action.values,
+                &mut observation,
+            )?;
+            Ok(EnvStepOutcome {
+                observation,
+                flags,
+                episode_step: open.env.elapsed_steps(),
+                dof,
+            })
+        })
+        .await
+    }
+
+    pub(crate) async fn observe_env(&self, id: &str) -> Result<(Vec<f32>, usize)> {
+        let entry = self.envs.get(id)?;
+        pool::run_locked(&self.pool, &self.envs, &entry, "Observe", move |open| {
+            let spec = open.env.spec();
+            let (dim, dof) = (spec.observation_dim, spec.action_dim);
+            let mut obs = vec![0.0; dim];
+            open.env.observe_into(&mut obs);
+            Ok((obs, dof))
+        })
+        .await
+    }
+
+    /// Takes a value out of its registry for good, waiting for calls in flight on it.
+    async fn close<T: Send + 'static>(&self, registry: &Registry<T>, id: &str) -> Result<()> {
+        let entry = registry.get(id)?;
+        let mut slot = entry.lock(registry.kind()).await?;
+        let value = slot.take().map(Held::release);
+        registry.remove(id);
+        drop(slot);
+        // The capacity is free as of now; freeing thousands of worlds is CPU work too.
+        self.pool.spawn(move || drop(value));
+        tracing::info!(id, "closed");
+        Ok(())
+    }
+
+    pub(crate) async fn close_env(&self, id: &str) -> Result<()> {
+        self.close(&self.envs, id).await
+    }
+
+    pub(crate) async fn create_batch(&self, request: BatchRequest) -> Result<Created> {
+        let max = self.config.max_batch_size;
+        if max != 0 && request.n_envs > max {
+            return Err(ServerError::BatchTooLarge {
+                n_envs: request.n_envs,
+                max,
+            });
+        }
+        self.check_document(&request.env.document)?;
+        let reservation = self.capacity.reserve(request.n_envs, EntityKind::Batch)?;
+        let pool = self.pool.clone();
+        let (batch, links) = pool::run(&self.pool, "CreateBatch", move || {
+            let BatchRequest {
+                env,
+                seed,
+                n_envs,
+                autoreset,
+                seed_offset,
+            } = request;
+            let (template, links) = build_env(env)?;
+            let mut batch = EnvBatch::new(&template, n_envs, autoreset)?;
+            // Env i is seeded with seed + seed_offset + i; the clones start with the
+            // template's seed, so reseed them (a reset is exact and cheap).
+            let mut scratch = Vec::new();
+            batch.reset(&pool, Some(seed.unwrap_or(0)), seed_offset, &mut scratch);
+            Ok((batch, links))
+        })
+        .await?;
+        let spec = batch.spec().clone();
+        let n_envs = batch.n_envs();
+        let autoreset = batch.autoreset();
+        let open = OpenBatch {
+            batch,
+            out: BatchStepOutput::default(),
+            steps: 0,
+        };
+        let id = self.batches.insert(open, reservation);
+        tracing::info!(batch_id = %id, n_envs, "created batch");
+        Ok(Created {
+            id,
+            spec,
+            links,
+            batch: Some((n_envs, autoreset)),
+        })
+    }
+
+    pub(crate) async fn reset_batch(
+        &self,
+        id: &str,
+        seed: Option<u64>,
+        seed_offset: u64,
+    ) -> Result<pb::BatchObservation> {
+        let entry = self.batches.get(id)?;
+        let pool = self.pool.clone();
+        let batch_id = id.to_string();
+        pool::run_locked(
+            &self.pool,
+            &self.batches,
+            &entry,
+            "ResetBatch",
+            move |open| {
+                let mut observations = Vec::new();
+                open.batch
+                    .reset(&pool, seed, seed_offset, &mut observations);
+                Ok(batch_observation(batch_id, &open.batch, observations))
+            },
+        )
+        .await
+    }
+
+    pub(crate) async fn step_batch(&self, step: BatchStep) -> Result<pb::BatchStepResult> {
+        let entry = self.batches.get(&step.batch_id)?;
+        let inject = self.injected_panic(&step.action);
+        let pool = self.pool.clone();
+        pool::run_locked(
+            &self.pool,
+            &self.batches,
+            &entry,
+            "StepBatch",
+            move |open| {
+                if inject {
+                    panic!("injected panic (ServerConfig::panic_on_action)");
+                }
+                let Action {
+                    action_type,
+                    values,
+                } = step.action;
+                open.batch
+                    .step(&pool, action_type, &values, &mut open.out)?;
+                open.steps += 1;
+                Ok(convert::batch_step_result(
+                    step.batch_id,
+                    open.steps,
+                    &open.out,
+                ))
+            },
+        )
+        .await
+    }
+
+    pub(crate) async fn observe_batch(&self, id: &str) -> Result<pb::BatchObservation> {
+        let entry = self.batches.get(id)?;
+        let batch_id = id.to_string();
+        pool::run_locked(
+            &self.pool,
+            &self.batches,
+            &entry,
+            "ObserveBatch",
+            move |open| {
+                let mut observations = Vec::new();
+                open.batch.observe(&mut observations);
+                Ok(batch_observation(batch_id, &open.batch, observations))
+            },
+        )
+        .await
+    }
+
+    pub(crate) async fn close_batch(&self, id: &str) -> Result<()> {
+        self.close(&self.batches, id).await
+    }
+
+    pub(crate) fn server_info(&self) -> pb::ServerInfo {
+        let c = &self.config;
+        let u64_of = |n: usize| u64::try_from(n).unwrap_or(u64::MAX);
+        pb::ServerInfo {
+            version: env!("CARGO_PKG_VERSION").to_string(),
+            threads: u32::try_from(self.pool.threads()).unwrap_or(u32::MAX),
+            envs: u64_of(self.envs.len()),
+            batches: u64_of(self.batches.len()),
+            batch_envs: u64_of(self.capacity.batch_envs()),
+            limits: Some(pb::ServerLimits {
+                max_envs: u64_of(c.max_envs),
+                max_batch_size: u64_of(c.max_batch_size),
+                max_document_bytes: u64_of(c.max_document_bytes),
+                max_message_bytes: u64_of(c.max_message_bytes),
+                idle_ttl_seconds: c.idle_ttl.as_secs(),
+            }),
+        }
+    }
+
+    /// Closes every env and batch idle for at least `ttl`, and logs each.
+    pub(crate) fn reclaim_idle(&self, ttl: Duration) {
+        let envs = self.envs.take_idle(ttl);
+        let batches = self.batches.take_idle(ttl);
+        for (id, idle, _) in &envs {
+            tracing::info!(env_id = %id, idle_secs = idle.as_secs_f64(), "reclaimed idle env");
+        }
+        for (id, idle, held) in &batches {
+            tracing::info!(
+                batch_id = %id,
+                n_envs = held.value.batch.n_envs(),
+                idle_secs = idle.as_secs_f64(),
+                "reclaimed idle batch"
+            );
+        }
+        if !envs.is_empty() || !batches.is_empty() {
+            let dropped: (Vec<_>, Vec<_>) = (envs, batches);
+            self.pool.spawn(move || drop(dropped));
+        }
+    }
+}
+
+fn batch_observation(
+    batch_id: String,
+    batch: &EnvBatch,
+    observations: Vec<f32>,
+) -> pb::BatchObservation {
+    pb::BatchObservation {
+        batch_id,
+        n_envs: u32::try_from(batch.n_envs()).unwrap_or(u32::MAX),
+        observation_dim: u32::try_from(batch.spec().observation_dim).unwrap_or(u32::MAX),
+        observations,
+    }
+}

@@ -1,0 +1,130 @@
+//! A panic inside a pool job (here injected with the test-only
+//! `ServerConfig::panic_on_action`) must not kill the server: the call gets INTERNAL
+//! with the panic message, the env or batch it ran on is closed, and everyone else is
+//! still served.
+
+use gymfleet_proto::v1 as pb;
+use gymfleet_server::{serve, ServerConfig};
+use pb::simulator_client::SimulatorClient;
+use tonic::Code;
+
+const PENDULUM: &str = include_str!("../../models/pendulum.json");
+const POISON: f32 = 1234.5;
+
+fn create(n: u32) -> pb::CreateBatchRequest {
+    pb::CreateBatchRequest {
+        document_json: PENDULUM.to_string(),
+        end_effector_ids: vec!["arm".into()],
+        n_envs: n,
+        ..Default::default()
+    }
+}
+
+fn step(env_id: &str, value: f32) -> pb::StepRequest {
+    pb::StepRequest {
+        env_id: env_id.to_string(),
+        action_type: pb::ActionType::Torque as i32,
+        values: vec![value],
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_panicking_step_is_contained() {
+    let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let addr = listener.local_addr().unwrap();
+    let (stop, stopped) = tokio::sync::oneshot::channel::<()>();
+    let config = ServerConfig {
+        threads: 2,
+        panic_on_action: Some(POISON),
+        ..ServerConfig::default()
+    };
+    let server = tokio::spawn(serve(listener, config, async {
+        let _ = stopped.await;
+    }));
+    let mut client = SimulatorClient::connect(format!("http://{addr}"))
+        .await
+        .unwrap();
+
+    let create_env = pb::CreateEnvRequest {
+        document_json: PENDULUM.to_string(),
+        end_effector_ids: vec!["arm".into()],
+        ..Default::default()
+    };
+    let victim = client
+        .create_env(create_env.clone())
+        .await
+        .unwrap()
+        .into_inner()
+        .env_id;
+    let bystander = client
+        .create_env(create_env.clone())
+        .await
+        .unwrap()
+        .into_inner()
+        .env_id;
+
+    let status = client.step(step(&victim, POISON)).await.unwrap_err();
+    assert_eq!(status.code(), Code::Internal);
+    let message = status.message();
+    assert!(message.contains("Step on"), "{message}");
+    assert!(message.contains("injected panic"), "{message}");
+    assert!(
+        message.contains(&format!("{victim} was closed")),
+        "{message}"
+    );
+
+    // The entry was removed, not left half-stepped.
+    let status = client
+        .observe(pb::EnvRef {
+            env_id: victim.clone(),
+        })
+        .await
+        .unwrap_err();
+    assert_eq!(status.code(), Code::NotFound);
+
+    // Everyone else is still served, and new work is accepted.
+    let ok = client
+        .step(step(&bystander, 1.0))
+        .await
+        .unwrap()
+        .into_inner();
+    assert_eq!(ok.episode_step, 1);
+    client.create_env(create_env).await.unwrap();
+
+    // The same for a batch.
+    let batch_id = client
+        .create_batch(create(4))
+        .await
+        .unwrap()
+        .into_inner()
+        .batch_id;
+    let status = client
+        .step_batch(pb::StepBatchRequest {
+            batch_id: batch_id.clone(),
+            action_type: pb::ActionType::Torque as i32,
+            actions: vec![POISON, 0.0, 0.0, 0.0],
+        })
+        .await
+        .unwrap_err();
+    assert_eq!(status.code(), Code::Internal);
+    assert!(
+        status.message().contains("StepBatch on"),
+        "{}",
+        status.message()
+    );
+    let status = client
+        .observe_batch(pb::BatchRef { batch_id })
+        .await
+        .unwrap_err();
+    assert_eq!(status.code(), Code::NotFound);
+
+    let info = client
+        .get_server_info(pb::GetServerInfoRequest {})
+        .await
+        .unwrap()
+        .into_inner();
+    assert_eq!((info.envs, info.batches, info.batch_envs), (2, 0, 0));
+
+    stop.send(()).unwrap();
+    server.await.unwrap().unwrap();
+}
