@@ -337,8 +337,10 @@ impl Simulation {
             );
         }
         if !envs.is_empty() || !batches.is_empty() {
-            let dropped: (Vec<_>, Vec<_>) = (envs, batches);
-            self.pool.spawn(move || drop(dropped));
+            // Capacity is free at once; the worlds are freed on the pool.
+            let envs: Vec<_> = envs.into_iter().map(|(_, _, h)| h.release()).collect();
+            let batches: Vec<_> = batches.into_iter().map(|(_, _, h)| h.release()).collect();
+            self.pool.spawn(move || drop((envs, batches)));
         }
     }
 }
