@@ -201,11 +201,11 @@ impl Simulation {
                 seed_offset,
             } = request;
             let (template, links) = build_env(env)?;
-            let mut batch = EnvBatch::new(&template, n_envs, autoreset)?;
+            let mut batch = EnvBatch::for_pool(&template, n_envs, autoreset, &pool)?;
             // Env i is seeded with seed + seed_offset + i; the clones start with the
             // template's seed, so reseed them (a reset is exact and cheap).
             let mut scratch = Vec::new();
-            batch.reset(&pool, Some(seed.unwrap_or(0)), seed_offset, &mut scratch);
+            batch.reset(&pool, Some(seed.unwrap_or(0)), seed_offset, &mut scratch)?;
             Ok((batch, links))
         })
         .await?;
@@ -244,7 +244,7 @@ impl Simulation {
             move |open| {
                 let mut observations = Vec::new();
                 open.batch
-                    .reset(&pool, seed, seed_offset, &mut observations);
+                    .reset(&pool, seed, seed_offset, &mut observations)?;
                 Ok(batch_observation(batch_id, &open.batch, observations))
             },
         )

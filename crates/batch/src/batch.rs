@@ -87,6 +87,18 @@ impl EnvBatch {
         Self::with_chunk_size(template, n_envs, autoreset, 0)
     }
 
+    /// [`EnvBatch::new`] with the chunk size chosen for `pool`'s thread count rather
+    /// than the machine's core count.
+    pub fn for_pool(
+        template: &RobotEnv,
+        n_envs: usize,
+        autoreset: Autoreset,
+        pool: &StepPool,
+    ) -> Result<Self> {
+        let chunk_size = default_chunk_size(n_envs, pool.threads());
+        Self::with_chunk_size(template, n_envs, autoreset, chunk_size)
+    }
+
     /// [`EnvBatch::new`] with `chunk_size` envs per chunk (the last may be shorter);
     /// 0 means the default rule.
     pub fn with_chunk_size(
@@ -160,27 +172,25 @@ impl EnvBatch {
     /// `out` (cleared and resized). Pending [`Autoreset::NextStep`] resets and
     /// diverged envs are cleared.
     ///
-    /// # Panics
-    ///
-    /// If resetting an env panicked on the pool (a bug in the physics), with its message.
+    /// A [`BatchError::Pool`] error means resetting an env panicked on the pool (a bug
+    /// in the physics); `out` is then left empty.
     pub fn reset(
         &mut self,
         pool: &StepPool,
         seed: Option<u64>,
         seed_offset: u64,
         out: &mut Vec<f32>,
-    ) {
+    ) -> Result<()> {
         let op = ChunkOp::Reset {
             seed,
             offset: seed_offset,
         };
-        if let Err(reason) = self.run(pool, op) {
-            panic!("{reason}");
-        }
         out.clear();
+        self.run(pool, op)?;
         for chunk in self.chunks.iter() {
             out.extend_from_slice(&lock(chunk).observations);
         }
+        Ok(())
     }
 
     /// Validates all actions (`n_envs × action_dim` values, row-major per env, all

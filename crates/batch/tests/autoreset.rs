@@ -128,7 +128,7 @@ fn disabled_reports_a_diverged_env_without_failing_the_batch() {
     }
     // A batch reset brings it back.
     let mut obs = Vec::new();
-    batch.reset(&pool, None, 0, &mut obs);
+    batch.reset(&pool, None, 0, &mut obs).unwrap();
     step(&mut batch, &pool, [PUSH; N], &mut out);
     assert_eq!(out.terminated, [false; N]);
     assert!(out.termination_reasons.is_empty());
@@ -176,7 +176,7 @@ fn a_batch_reset_cancels_a_pending_next_step_reset() {
     }
     assert_eq!(out.truncated, [true; N]);
     let mut obs = Vec::new();
-    batch.reset(&pool, None, 0, &mut obs);
+    batch.reset(&pool, None, 0, &mut obs).unwrap();
     assert_eq!(bits(&obs), bits(&lone[0].repeat(N)));
     // This step is a real step, not a second reset.
     step(&mut batch, &pool, [PUSH; N], &mut out);

@@ -19,7 +19,7 @@ fn run(
     let pool = StepPool::new(threads).unwrap();
     let mut batch = EnvBatch::with_chunk_size(&arm2(7), N_ENVS, autoreset, chunk_size).unwrap();
     let mut obs = Vec::new();
-    batch.reset(&pool, Some(42), 0, &mut obs);
+    batch.reset(&pool, Some(42), 0, &mut obs).unwrap();
     let mut out = BatchStepOutput::default();
     let mut trace = Vec::new();
     for t in 0..STEPS {
@@ -59,7 +59,7 @@ fn a_batch_equals_its_envs_stepped_one_by_one() {
     assert_eq!(dim, 11);
 
     let mut batch_obs = Vec::new();
-    batch.reset(&pool, Some(7), 100, &mut batch_obs);
+    batch.reset(&pool, Some(7), 100, &mut batch_obs).unwrap();
     let mut expected = vec![0.0; N_ENVS * dim];
     for (i, (env, row)) in envs
         .iter_mut()
@@ -101,11 +101,11 @@ fn reset_seeds_are_seed_plus_offset_plus_index_wrapping() {
     let mut batch = EnvBatch::with_chunk_size(&template, 3, Autoreset::Disabled, 2).unwrap();
     assert_eq!(batch.seeds(), [template.seed(); 3]);
     let mut obs = Vec::new();
-    batch.reset(&pool, Some(u64::MAX - 1), 1, &mut obs);
+    batch.reset(&pool, Some(u64::MAX - 1), 1, &mut obs).unwrap();
     assert_eq!(batch.seeds(), [u64::MAX, 0, 1]);
     assert_eq!(obs.len(), 3 * 11);
     // Without a seed, every env keeps its own.
-    batch.reset(&pool, None, 5, &mut obs);
+    batch.reset(&pool, None, 5, &mut obs).unwrap();
     assert_eq!(batch.seeds(), [u64::MAX, 0, 1]);
     let mut first = vec![0.0; 11];
     template.clone().reset_into(None, &mut first);
