@@ -115,6 +115,12 @@ impl RobotWorld {
         let mut params = IntegrationParameters {
             dt: dt as Real,
             length_unit: length_unit(assembly),
+            // The env already splits a step into `substeps` pipeline steps, and Rapier
+            // splits each again into `num_solver_iterations` solver substeps (default 4).
+            // 2 halves the cost of a step (arm2: 51.8 → 26.8 µs) and keeps the analytic
+            // bars: undamped pendulum energy drift 0.52 % over 10 periods (0.26 % at 4;
+            // 1.05 % at 1, which also let a revolute limit overshoot by 0.06°).
+            num_solver_iterations: 2,
             ..IntegrationParameters::default()
         };
         // Rapier caps body speed at 400 length units per second; with millimetre parts
