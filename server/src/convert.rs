@@ -96,12 +96,6 @@ fn env_request(
     pd_gains: Option<pb::PdGains>,
     reset_noise: Option<f64>,
 ) -> Result<EnvRequest> {
-    if let Some(noise) = reset_noise.filter(|n| *n != 0.0) {
-        return Err(ServerError::InvalidArgument {
-            field: "reset_noise",
-            reason: format!("not supported by this server yet; leave it unset or 0, got {noise}"),
-        });
-    }
     let defaults = EnvConfig::default();
     let pd_gains = pd_gains
         .filter(|g| !(g.kp.is_empty() && g.kd.is_empty()))
@@ -124,6 +118,7 @@ fn env_request(
             },
             seed: seed.unwrap_or(0),
             pd_gains,
+            reset_noise: reset_noise.unwrap_or(0.0),
         },
     })
 }
@@ -361,16 +356,13 @@ mod tests {
     }
 
     #[test]
-    fn unsupported_reset_noise_is_rejected() {
-        let err = EnvRequest::try_from(pb::CreateEnvRequest {
+    fn reset_noise_reaches_the_env_config() {
+        let r = EnvRequest::try_from(pb::CreateEnvRequest {
             reset_noise: Some(0.5),
             ..Default::default()
         })
-        .unwrap_err();
-        assert!(
-            err.to_string().starts_with("reset_noise: not supported"),
-            "{err}"
-        );
+        .unwrap();
+        assert_eq!(r.config.reset_noise, 0.5);
     }
 
     #[test]

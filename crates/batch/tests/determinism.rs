@@ -17,7 +17,9 @@ fn run(
     autoreset: Autoreset,
 ) -> Vec<impl PartialEq + std::fmt::Debug> {
     let pool = StepPool::new(threads).unwrap();
-    let mut batch = EnvBatch::with_chunk_size(&arm2(7), N_ENVS, autoreset, chunk_size).unwrap();
+    // Seeded reset noise: env i's start must depend on its seed only, not on the chunking.
+    let template = noisy_arm2(7, 5.0);
+    let mut batch = EnvBatch::with_chunk_size(&template, N_ENVS, autoreset, chunk_size).unwrap();
     let mut obs = Vec::new();
     batch.reset(&pool, Some(42), 0, &mut obs).unwrap();
     let mut out = BatchStepOutput::default();
@@ -52,7 +54,7 @@ fn results_are_identical_for_any_thread_count_and_chunk_size() {
 #[test]
 fn a_batch_equals_its_envs_stepped_one_by_one() {
     let pool = StepPool::new(2).unwrap();
-    let template = arm2(1000);
+    let template = noisy_arm2(1000, 5.0);
     let mut batch = EnvBatch::with_chunk_size(&template, N_ENVS, Autoreset::Disabled, 3).unwrap();
     let mut envs: Vec<RobotEnv> = (0..N_ENVS).map(|_| template.clone()).collect();
     let dim = template.spec().observation_dim;

@@ -32,6 +32,10 @@ pub struct EnvConfig {
     pub seed: u64,
     /// PD gain overrides for position and velocity targets.
     pub pd_gains: Option<PdGains>,
+    /// Initial-state noise: at every reset each DOF's position is offset by a value
+    /// drawn uniformly from `[-reset_noise, +reset_noise]` (deg or mm) from the env's
+    /// seeded stream, then clamped into its limits. 0 (the default): reset is exact.
+    pub reset_noise: f64,
 }
 
 impl Default for EnvConfig {
@@ -43,6 +47,7 @@ impl Default for EnvConfig {
             max_steps: DEFAULT_MAX_STEPS,
             seed: 0,
             pd_gains: None,
+            reset_noise: 0.0,
         }
     }
 }
@@ -69,6 +74,15 @@ impl EnvConfig {
                 reason: format!(
                     "expected 1 to {MAX_SUBSTEPS} substeps, got {}",
                     self.substeps
+                ),
+            });
+        }
+        if !(self.reset_noise.is_finite() && self.reset_noise >= 0.0) {
+            return Err(EnvError::BadConfig {
+                field: "reset_noise",
+                reason: format!(
+                    "expected a finite half-width >= 0 (deg or mm), got {}",
+                    self.reset_noise
                 ),
             });
         }

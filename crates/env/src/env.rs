@@ -2,6 +2,8 @@
 
 use gymfleet_assembly::Assembly;
 use gymfleet_physics::{RobotWorld, WorldOptions};
+use rand::rngs::Xoshiro256PlusPlus;
+use rand::{RngExt, SeedableRng};
 
 use crate::action::{self, ActionType};
 use crate::config::{EnvConfig, EnvSpec};
@@ -66,6 +68,11 @@ pub struct RobotEnv {
     end_effectors: Vec<usize>,
     elapsed: u32,
     seed: u64,
+    /// The episode random stream: seeded from `seed`, drawn from by each reset.
+    rng: Xoshiro256PlusPlus,
+    reset_noise: f64,
+    /// Scratch for the per-DOF reset offsets.
+    offsets: Vec<f64>,
     /// The last finite observation, returned if the physics diverges.
     last_obs: Vec<f32>,
     diverged: bool,
@@ -108,6 +115,9 @@ impl RobotEnv {
             end_effectors,
             elapsed: 0,
             seed: config.seed,
+            rng: Xoshiro256PlusPlus::seed_from_u64(config.seed),
+            reset_noise: config.reset_noise,
+            offsets: vec![0.0; spec.action_dim],
             last_obs: vec![0.0; spec.observation_dim],
             spec,
             diverged: false,
@@ -137,8 +147,11 @@ impl RobotEnv {
         self.seed
     }
 
-    /// Restores the initial state exactly (zero velocities) and returns the first
-    /// observation. `seed` replaces the episode seed when given.
+    /// Restores the initial state (zero velocities) and returns the first observation.
+    /// `seed` replaces the episode seed and restarts the random stream when given. With
+    /// [`EnvConfig::reset_noise`] 0 the state is exactly the initial one; otherwise each
+    /// DOF starts at an offset drawn from the stream, so the same seed gives the same
+    /// start.
     pub fn reset(&mut self, seed: Option<u64>) -> Observation {
         let mut flat = vec![0.0; self.spec.observation_dim];
         self.reset_into(seed, &mut flat);
@@ -150,8 +163,17 @@ impl RobotEnv {
     pub fn reset_into(&mut self, seed: Option<u64>, out: &mut [f32]) {
         if let Some(seed) = seed {
             self.seed = seed;
+            self.rng = Xoshiro256PlusPlus::seed_from_u64(seed);
         }
-        self.world.reset();
+        if self.reset_noise > 0.0 {
+            let noise = self.reset_noise;
+            for offset in &mut self.offsets {
+                *offset = self.rng.random_range(-noise..=noise);
+            }
+            self.world.reset_with_offsets(&self.offsets);
+        } else {
+            self.world.reset();
+        }
         self.elapsed = 0;
         self.diverged = false;
         self.observe_into(out);

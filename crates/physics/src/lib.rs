@@ -15,6 +15,7 @@
 mod actuation;
 mod build;
 mod error;
+mod perturb;
 mod readout;
 mod world;
 

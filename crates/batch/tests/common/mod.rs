@@ -16,6 +16,16 @@ pub fn arm2(max_steps: u32) -> RobotEnv {
     RobotEnv::from_json(ARM2, config).expect("arm2 is valid")
 }
 
+/// [`arm2`] whose resets start each joint up to `noise` degrees off its initial angle.
+pub fn noisy_arm2(max_steps: u32, noise: f64) -> RobotEnv {
+    let config = EnvConfig {
+        max_steps,
+        reset_noise: noise,
+        ..EnvConfig::with_end_effectors(["forearm"])
+    };
+    RobotEnv::from_json(ARM2, config).expect("arm2 is valid")
+}
+
 /// The seed pendulum observing "arm": action_dim 1, observation_dim 9.
 pub fn pendulum(max_steps: u32, substeps: u32) -> RobotEnv {
     let config = EnvConfig {

@@ -1,0 +1,62 @@
+//! Starting an episode away from the initial pose: per-DOF position offsets applied to
+//! the multibody's generalized coordinates after a reset.
+
+use rapier3d::prelude::*;
+
+use gymfleet_assembly::DofKind;
+
+use crate::world::RobotWorld;
+
+impl RobotWorld {
+    /// [`RobotWorld::reset`], then offsets every DOF's position by `offsets[k]` (deg or
+    /// mm, in [`RobotWorld::dofs`] order; a rotation vector in deg for ball joints),
+    /// clamped into the DOF's limits. Velocities stay zero. Offsets of zero leave the
+    /// state bit-for-bit as a plain reset does.
+    ///
+    /// # Panics
+    ///
+    /// If `offsets.len()` differs from the number of DOFs.
+    pub fn reset_with_offsets(&mut self, offsets: &[f64]) {
+        assert_eq!(offsets.len(), self.dofs.len(), "one offset per DOF");
+        self.reset();
+        if offsets.iter().all(|&o| o == 0.0) {
+            return;
+        }
+        let mut touched = Vec::new();
+        for slot in &self.joints {
+            let n = slot.kind.dof();
+            if n == 0 {
+                continue;
+            }
+            let Some(mb) = self.live.multibody_joints.get_multibody_mut(slot.multibody) else {
+                continue;
+            };
+            let Some(link) = mb.link(slot.link) else {
+                continue;
+            };
+            let mut disp = vec![0.0 as Real; mb.ndofs()];
+            let first = link.assembly_id();
+            for k in 0..n {
+                let dof = &self.dofs[slot.first_dof + k];
+                let mut offset = offsets[slot.first_dof + k];
+                if let Some([min, max]) = dof.limits {
+                    offset = offset.clamp(min, max);
+                }
+                disp[first + k] = match dof.kind {
+                    DofKind::Angular => offset.to_radians() as Real,
+                    DofKind::Linear => (offset / 1000.0) as Real,
+                };
+            }
+            mb.apply_displacements(&disp);
+            if !touched.contains(&slot.multibody) {
+                touched.push(slot.multibody);
+            }
+        }
+        for index in touched {
+            if let Some(mb) = self.live.multibody_joints.get_multibody_mut(index) {
+                mb.forward_kinematics(&self.live.bodies, false);
+                mb.update_rigid_bodies(&mut self.live.bodies, true);
+            }
+        }
+    }
+}
