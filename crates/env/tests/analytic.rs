@@ -4,7 +4,7 @@
 mod common;
 
 use common::*;
-use gymfleet_env::{ActionType, EnvConfig};
+use gymfleet_env::{ActionType, EnvConfig, RobotEnv};
 use serde_json::json;
 
 /// Times (s) at which `samples` crosses zero upwards, linearly interpolated.
@@ -358,4 +358,21 @@ fn jointed_pairs_do_not_collide_and_everything_else_does() {
     );
     assert!((pebble[0] - 42.0).abs() < 0.05 && (pebble[1] - 42.0).abs() < 0.05);
     assert!((pebble[3] - 1.0).abs() < 1e-3, "pebble tipped: {pebble:?}");
+}
+
+/// Regression: with 2 Rapier solver substeps per pipeline step (tried for speed), the
+/// seed arm's elbow ([-120, 0]°) was driven to -829° and the env diverged within 5
+/// steps of a 0.875 N·m torque, a torque the seed walkthrough's scale invites.
+#[test]
+fn seed_arm_elbow_limit_holds_under_a_large_torque() {
+    let mut env = RobotEnv::from_json(ARM2, EnvConfig::with_end_effectors(["forearm"])).unwrap();
+    for k in 0..240 {
+        let result = env.step(ActionType::Torque, &[0.875, -0.875]).unwrap();
+        assert!(!result.flags.terminated, "diverged at step {k}");
+        let elbow = result.observation.joint_positions[1];
+        assert!(
+            (-121.0..=1.0).contains(&elbow),
+            "step {k}: elbow at {elbow}° beyond [-120, 0]"
+        );
+    }
 }

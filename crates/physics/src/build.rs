@@ -115,12 +115,13 @@ impl RobotWorld {
         let mut params = IntegrationParameters {
             dt: dt as Real,
             length_unit: length_unit(assembly),
-            // The env already splits a step into `substeps` pipeline steps, and Rapier
-            // splits each again into `num_solver_iterations` solver substeps (default 4).
-            // 2 halves the cost of a step (arm2: 51.8 → 26.8 µs) and keeps the analytic
-            // bars: undamped pendulum energy drift 0.52 % over 10 periods (0.26 % at 4;
-            // 1.05 % at 1, which also let a revolute limit overshoot by 0.06°).
-            num_solver_iterations: 2,
+            // Rapier's default of 4 solver substeps per pipeline step is kept on purpose.
+            // 2 halves the cost of a step (arm2: 51.8 → 26.8 µs) and still passes the
+            // analytic bars (energy drift 0.52 % vs 0.26 %), but hard limits stop
+            // holding under large torques: the seed arm's elbow, limited to [-120, 0]°,
+            // went to -829° and diverged within 5 steps at 0.875 N·m, and its shoulder
+            // passed its 90° stop by 23° at 0.5 N·m. At 4 neither happens below 2 N·m.
+            num_solver_iterations: 4,
             ..IntegrationParameters::default()
         };
         // Rapier caps body speed at 400 length units per second; with millimetre parts

@@ -34,7 +34,7 @@ impl RobotWorld {
             let Some(link) = mb.link(slot.link) else {
                 continue;
             };
-            let mut disp = vec![0.0 as Real; mb.ndofs()];
+            let mut disp = vec![0.0; mb.ndofs()];
             let first = link.assembly_id();
             for k in 0..n {
                 let dof = &self.dofs[slot.first_dof + k];
