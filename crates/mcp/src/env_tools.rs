@@ -1,0 +1,121 @@
+//! The single-environment tools of the user guide: `create_robot_env`, `gym_reset`,
+//! `gym_step`, `gym_observe` and `gym_close`. Each checks what it can before calling the
+//! server (ids, action count, finiteness) and answers with the guide's JSON, as structured
+//! content and as text; every failure is a tool error with a message to act on.
+
+use rmcp::handler::server::wrapper::Parameters;
+use rmcp::{tool, tool_router};
+
+use crate::actions;
+use crate::output::{EnvClosed, EnvCreated, ObservationOut, StepOut};
+use crate::params::{CreateEnvParams, EnvRefParams, ResetParams, StepParams};
+use crate::reply::Json;
+use crate::server::GymTools;
+
+#[tool_router(router = env_router, vis = "pub(crate)")]
+impl GymTools {
+    /// Creates one physics environment from an assembly document.
+    #[tool(
+        description = "Create a physics environment from a robot assembly document. Returns \
+        env_id (use it in gym_reset/gym_step/gym_observe/gym_close), num_joints, action_dim \
+        (values per gym_step), observation_dim, end_effector_ids, dt, substeps, max_steps and \
+        the joints in DOF order. Call gym_reset before stepping."
+    )]
+    async fn create_robot_env(
+        &self,
+        Parameters(p): Parameters<CreateEnvParams>,
+    ) -> Result<Json<EnvCreated>, String> {
+        let options = p.into_options()?;
+        let placed = self.fleet.create_env(options).await?;
+        let server = self.fleet.addr(placed.server);
+        tracing::info!(env_id = %placed.id, server, "created env");
+        Ok(Json(EnvCreated::new(
+            placed.id.clone(),
+            placed.handle.info(),
+        )))
+    }
+
+    /// Resets an environment.
+    #[tool(
+        description = "Reset an environment to its initial state (joint positions 0, zero \
+        velocities) and return the first observation: {joint_positions [deg or mm], \
+        joint_velocities [deg/s or mm/s], end_effector_poses [[x, y, z, qw, qx, qy, qz], ...] \
+        in mm}."
+    )]
+    async fn gym_reset(
+        &self,
+        Parameters(p): Parameters<ResetParams>,
+    ) -> Result<Json<ObservationOut>, String> {
+        let placed = self.fleet.env(&p.env_id)?;
+        let observation = placed
+            .handle
+            .reset(p.seed)
+            .await
+            .map_err(|err| self.fleet.env_failed(&placed, &err))?;
+        Ok(Json(ObservationOut::from(&observation)))
+    }
+
+    /// Steps an environment.
+    #[tool(
+        description = "Apply one action for one step (dt seconds) and return {observation, \
+        reward, done, terminated, truncated}. values holds exactly action_dim numbers in \
+        document joint order: torque in N·m (revolute) or N (prismatic); position targets in \
+        degrees or mm; velocity targets in degrees/s or mm/s. When done is true, call \
+        gym_reset."
+    )]
+    async fn gym_step(
+        &self,
+        Parameters(p): Parameters<StepParams>,
+    ) -> Result<Json<StepOut>, String> {
+        let placed = self.fleet.env(&p.env_id)?;
+        let values = actions::env_action(&placed.id, placed.handle.info().action_dim, &p.values)?;
+        let result = placed
+            .handle
+            .step(p.action_type.into(), &values)
+            .await
+            .map_err(|err| self.fleet.env_failed(&placed, &err))?;
+        Ok(Json(StepOut::from(&result)))
+    }
+
+    /// Observes an environment.
+    #[tool(
+        description = "Read an environment's current observation without stepping: \
+        {joint_positions [deg or mm], joint_velocities [deg/s or mm/s], end_effector_poses \
+        [[x, y, z, qw, qx, qy, qz], ...] in mm}."
+    )]
+    async fn gym_observe(
+        &self,
+        Parameters(p): Parameters<EnvRefParams>,
+    ) -> Result<Json<ObservationOut>, String> {
+        let placed = self.fleet.env(&p.env_id)?;
+        let observation = placed
+            .handle
+            .observe()
+            .await
+            .map_err(|err| self.fleet.env_failed(&placed, &err))?;
+        Ok(Json(ObservationOut::from(&observation)))
+    }
+
+    /// Closes an environment.
+    #[tool(
+        description = "Close an environment and free its resources. Its env_id is invalid \
+        afterwards. Always call this when you are done."
+    )]
+    async fn gym_close(
+        &self,
+        Parameters(p): Parameters<EnvRefParams>,
+    ) -> Result<Json<EnvClosed>, String> {
+        let placed = self.fleet.env(&p.env_id)?;
+        placed
+            .handle
+            .close()
+            .await
+            .map_err(|err| self.fleet.env_failed(&placed, &err))?;
+        self.fleet.forget_env(&placed.id);
+        tracing::info!(env_id = %placed.id, "closed env");
+        Ok(Json(EnvClosed {
+            env_id: placed.id,
+            closed: true,
+        }))
+    }
+}

@@ -1,0 +1,78 @@
+//! `gymfleet-mcp`: the MCP adapter of gymfleet. It owns the MCP face of the simulator:
+//! the user guide's tools (`create_robot_env`, `gym_reset`, `gym_step`, `gym_observe`,
+//! `gym_close`, `batch_create_envs`, `batch_step`, `batch_reset`, `batch_close`), their
+//! input and output schemas, client-side checks with agent-readable tool errors, the
+//! adapter's own `sim_<n>` / `batch_<n>` ids, placement across several servers, and the
+//! stdio and streamable-HTTP transports.
+//!
+//! It leaves simulation to gymfleet servers, reached only through `gymfleet-client` over
+//! gRPC: the ones given with `--server`, or one embedded in this process on loopback
+//! (feature `embedded`, on by default). It never links the physics directly.
+
+mod actions;
+mod batch_tools;
+mod cli;
+mod document;
+mod env_tools;
+mod errors;
+mod fleet;
+mod output;
+mod params;
+mod reply;
+mod schema;
+mod server;
+mod servers;
+mod transport;
+
+use std::process::ExitCode;
+use std::sync::Arc;
+use std::time::Duration;
+
+use clap::Parser;
+
+use crate::cli::Cli;
+use crate::fleet::Fleet;
+use crate::servers::Servers;
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    cli::init_tracing(&cli.log);
+    let runtime = match tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()
+    {
+        Ok(runtime) => runtime,
+        Err(err) => {
+            eprintln!("gymfleet-mcp: cannot start the async runtime: {err}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let outcome = runtime.block_on(run(cli));
+    // A blocking stdin read may still be pending; do not wait for it.
+    runtime.shutdown_timeout(Duration::from_secs(1));
+    match outcome {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("gymfleet-mcp: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// Starts the servers, serves MCP until the client leaves or a signal, then closes what
+/// the adapter created and stops an embedded server.
+async fn run(cli: Cli) -> Result<(), String> {
+    if let Some(addr) = cli.http {
+        transport::check_http_addr(addr)?;
+    }
+    let servers = Servers::start(&cli).await?;
+    let fleet = Arc::new(Fleet::new(servers.addrs()));
+    tracing::info!(servers = ?fleet.addrs(), "gymfleet-mcp ready");
+    let served = match cli.http {
+        Some(addr) => transport::serve_http(addr, Arc::clone(&fleet)).await,
+        None => transport::serve_stdio(Arc::clone(&fleet)).await,
+    };
+    fleet.close_all().await;
+    servers.stop().await;
+    served
+}

@@ -1,0 +1,334 @@
+//! The tools' outputs, shaped as in the user guide, with their schemas. Server floats are
+//! `f32`; each is widened through its shortest decimal form ([`clean`]) so that a pose of
+//! `10.042` prints as `10.042`, not `10.041999816894531`.
+
+use gymfleet_client::{
+    Autoreset, BatchInfo, EnvInfo, JointInfo, Observation, StepResult, POSE_LEN,
+};
+use schemars::JsonSchema;
+use serde::Serialize;
+
+/// `x` as the `f64` with the same shortest decimal form.
+pub(crate) fn clean(x: f32) -> f64 {
+    format!("{x}").parse().unwrap_or(f64::from(x))
+}
+
+fn clean_all(xs: &[f32]) -> Vec<f64> {
+    xs.iter().copied().map(clean).collect()
+}
+
+/// One environment's observation.
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+#[schemars(inline)]
+pub(crate) struct ObservationOut {
+    /// Joint positions per DOF in document joint order: degrees (revolute) or mm
+    /// (prismatic); measured, not targets.
+    pub(crate) joint_positions: Vec<f64>,
+    /// Joint velocities per DOF: degrees/s or mm/s.
+    pub(crate) joint_velocities: Vec<f64>,
+    /// One [x, y, z, qw, qx, qy, qz] per end effector, in end_effector_ids order: centre
+    /// of mass in world mm, then the world orientation as a unit quaternion.
+    pub(crate) end_effector_poses: Vec<[f64; POSE_LEN]>,
+}
+
+impl From<&Observation> for ObservationOut {
+    fn from(o: &Observation) -> Self {
+        ObservationOut {
+            joint_positions: clean_all(&o.joint_positions),
+            joint_velocities: clean_all(&o.joint_velocities),
+            end_effector_poses: o
+                .end_effector_poses
+                .iter()
+                .map(|pose| pose.map(clean))
+                .collect(),
+        }
+    }
+}
+
+impl ObservationOut {
+    /// One row of a batch's flat observations: positions, velocities, then the poses.
+    pub(crate) fn from_row(row: &[f32], dof: usize) -> Self {
+        let dof = dof.min(row.len() / 2);
+        let (positions, rest) = row.split_at(dof);
+        let (velocities, poses) = rest.split_at(dof);
+        ObservationOut {
+            joint_positions: clean_all(positions),
+            joint_velocities: clean_all(velocities),
+            end_effector_poses: poses
+                .chunks_exact(POSE_LEN)
+                .map(|c| std::array::from_fn(|i| clean(c[i])))
+                .collect(),
+        }
+    }
+}
+
+/// The limits of one DOF.
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+#[schemars(inline)]
+pub(crate) struct DofLimitOut {
+    /// "deg" or "mm".
+    pub(crate) unit: String,
+    /// Lower hard stop in that unit, or null for none.
+    pub(crate) min: Option<f64>,
+    /// Upper hard stop in that unit, or null for none.
+    pub(crate) max: Option<f64>,
+}
+
+/// One non-fixed joint.
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+#[schemars(inline)]
+pub(crate) struct JointOut {
+    /// The joint's name.
+    pub(crate) name: String,
+    /// "revolute", "prismatic", "cylindrical" or "ball".
+    #[serde(rename = "type")]
+    pub(crate) joint_type: String,
+    /// DOFs (action values) it contributes.
+    pub(crate) dof: usize,
+    /// Parent instance name.
+    pub(crate) parent: String,
+    /// Child instance name.
+    pub(crate) child: String,
+    /// One entry per DOF.
+    pub(crate) limits: Vec<DofLimitOut>,
+}
+
+fn joints(joints: &[JointInfo]) -> Vec<JointOut> {
+    joints
+        .iter()
+        .map(|j| JointOut {
+            name: j.name.clone(),
+            joint_type: j.joint_type.clone(),
+            dof: j.dof,
+            parent: j.parent.clone(),
+            child: j.child.clone(),
+            limits: j
+                .limits
+                .iter()
+                .map(|l| DofLimitOut {
+                    unit: l.unit.clone(),
+                    min: l.min,
+                    max: l.max,
+                })
+                .collect(),
+        })
+        .collect()
+}
+
+/// What `create_robot_env` returns.
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+pub(crate) struct EnvCreated {
+    /// Handle for gym_reset, gym_step, gym_observe and gym_close, e.g. "sim_1".
+    pub(crate) env_id: String,
+    /// Non-fixed joints.
+    pub(crate) num_joints: usize,
+    /// Values per action: the total DOF.
+    pub(crate) action_dim: usize,
+    /// Observation size: 2·action_dim + 7·(number of end effectors).
+    pub(crate) observation_dim: usize,
+    /// Observed end effectors, in observation order.
+    pub(crate) end_effector_ids: Vec<String>,
+    /// Seconds per step.
+    pub(crate) dt: f64,
+    /// Physics substeps per step.
+    pub(crate) substeps: u32,
+    /// Episode length in steps.
+    pub(crate) max_steps: u32,
+    /// The non-fixed joints in document order (the DOF order of actions and observations).
+    pub(crate) joints: Vec<JointOut>,
+}
+
+impl EnvCreated {
+    pub(crate) fn new(env_id: String, info: &EnvInfo) -> Self {
+        EnvCreated {
+            env_id,
+            num_joints: info.num_joints,
+            action_dim: info.action_dim,
+            observation_dim: info.observation_dim,
+            end_effector_ids: info.end_effector_ids.clone(),
+            dt: info.dt,
+            substeps: info.substeps,
+            max_steps: info.max_steps,
+            joints: joints(&info.joints),
+        }
+    }
+}
+
+/// What `gym_step` returns.
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+pub(crate) struct StepOut {
+    /// The observation after the step.
+    pub(crate) observation: ObservationOut,
+    /// The step's reward (0.0: compute your own from the observation).
+    pub(crate) reward: f64,
+    /// terminated || truncated: the episode is over; call gym_reset.
+    pub(crate) done: bool,
+    /// The episode ended for a task or physics reason.
+    pub(crate) terminated: bool,
+    /// The episode reached max_steps.
+    pub(crate) truncated: bool,
+    /// Why it terminated, when it did (e.g. "physics_diverged").
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) termination_reason: Option<String>,
+}
+
+impl From<&StepResult> for StepOut {
+    fn from(r: &StepResult) -> Self {
+        StepOut {
+            observation: ObservationOut::from(&r.observation),
+            reward: clean(r.reward),
+            done: r.done,
+            terminated: r.terminated,
+            truncated: r.truncated,
+            termination_reason: r.termination_reason.clone(),
+        }
+    }
+}
+
+/// What `gym_close` returns.
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+pub(crate) struct EnvClosed {
+    /// The env that was closed; its id is no longer valid.
+    pub(crate) env_id: String,
+    /// Always true.
+    pub(crate) closed: bool,
+}
+
+/// What `batch_create_envs` returns.
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+pub(crate) struct BatchCreated {
+    /// Handle for batch_step, batch_reset and batch_close, e.g. "batch_1".
+    pub(crate) batch_id: String,
+    /// Number of environments.
+    pub(crate) n_envs: usize,
+    /// Values per env action: the total DOF.
+    pub(crate) action_dim: usize,
+    /// Values per env observation: 2·action_dim + 7·(number of end effectors).
+    pub(crate) observation_dim: usize,
+    /// Non-fixed joints per env.
+    pub(crate) num_joints: usize,
+    /// Observed end effectors, in observation order.
+    pub(crate) end_effector_ids: Vec<String>,
+    /// Seconds per step.
+    pub(crate) dt: f64,
+    /// Physics substeps per step.
+    pub(crate) substeps: u32,
+    /// Episode length in steps.
+    pub(crate) max_steps: u32,
+    /// "disabled", "same_step" or "next_step".
+    pub(crate) autoreset: String,
+    /// The non-fixed joints in document order.
+    pub(crate) joints: Vec<JointOut>,
+}
+
+impl BatchCreated {
+    pub(crate) fn new(batch_id: String, info: &BatchInfo) -> Self {
+        let autoreset = match info.autoreset {
+            Autoreset::Disabled => "disabled",
+            Autoreset::SameStep => "same_step",
+            Autoreset::NextStep => "next_step",
+        };
+        BatchCreated {
+            batch_id,
+            n_envs: info.n_envs,
+            action_dim: info.action_dim,
+            observation_dim: info.observation_dim,
+            num_joints: info.num_joints,
+            end_effector_ids: info.end_effector_ids.clone(),
+            dt: info.dt,
+            substeps: info.substeps,
+            max_steps: info.max_steps,
+            autoreset: autoreset.to_string(),
+            joints: joints(&info.joints),
+        }
+    }
+}
+
+/// One env's part of a batch step.
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+#[schemars(inline)]
+pub(crate) struct EnvStepOut {
+    /// The env's index in the batch (0-based; the order of the actions arrays).
+    pub(crate) env_index: usize,
+    /// The env's observation after the step (after its reset, with same_step autoreset).
+    pub(crate) observation: ObservationOut,
+    /// The env's reward.
+    pub(crate) reward: f64,
+    /// terminated || truncated.
+    pub(crate) done: bool,
+    /// The env's episode ended for a task or physics reason.
+    pub(crate) terminated: bool,
+    /// The env's episode reached max_steps.
+    pub(crate) truncated: bool,
+    /// Why it terminated, when it did.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) termination_reason: Option<String>,
+    /// With same_step autoreset, the last observation of the episode that just ended.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) final_observation: Option<ObservationOut>,
+}
+
+/// What `batch_step` returns: results grouped by environment.
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+pub(crate) struct BatchStepOut {
+    /// The batch that was stepped.
+    pub(crate) batch_id: String,
+    /// One entry per env, env 0 first.
+    pub(crate) results: Vec<EnvStepOut>,
+}
+
+/// What `batch_reset` returns.
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+pub(crate) struct BatchObservationsOut {
+    /// The batch that was reset.
+    pub(crate) batch_id: String,
+    /// One observation per env, env 0 first.
+    pub(crate) observations: Vec<ObservationOut>,
+}
+
+/// What `batch_close` returns.
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+pub(crate) struct BatchClosed {
+    /// The batch that was closed; its id is no longer valid.
+    pub(crate) batch_id: String,
+    /// Always true.
+    pub(crate) closed: bool,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn floats_widen_through_their_shortest_form() {
+        assert_eq!(f64::from(10.042_f32), 10.041999816894531);
+        assert_eq!(clean(10.042), 10.042);
+        assert_eq!(clean(-0.001), -0.001);
+        assert_eq!(clean(1e-7), 1e-7);
+        assert_eq!(clean(3.4e38), 3.4e38);
+        let text = serde_json::to_string(&[clean(24.997), clean(0.999)]).unwrap();
+        assert_eq!(text, "[24.997,0.999]");
+    }
+
+    #[test]
+    fn rows_split_into_the_guide_layout() {
+        let row = [0.12, 28.6, 10.042, 10.0, 24.997, 0.999, 0.0, 0.001, 0.0];
+        let obs = ObservationOut::from_row(&row, 1);
+        let text = serde_json::to_string(&obs).unwrap();
+        assert_eq!(
+            text,
+            r#"{"joint_positions":[0.12],"joint_velocities":[28.6],"end_effector_poses":[[10.042,10.0,24.997,0.999,0.0,0.001,0.0]]}"#
+        );
+    }
+}

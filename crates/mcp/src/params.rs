@@ -1,0 +1,263 @@
+//! The tools' inputs: one `Deserialize + JsonSchema` struct per tool, with a description
+//! (units included) on every field, since that schema is all an agent sees. Nested types
+//! are inlined so that clients which do not follow `$ref` still see every description.
+
+use gymfleet_client::{ActionType, Autoreset, BatchOptions, EnvOptions, PdGains};
+use schemars::JsonSchema;
+use serde::Deserialize;
+
+use crate::actions::ActionValue;
+use crate::document::Document;
+
+/// Inputs of `create_robot_env`.
+#[derive(Debug, Deserialize, JsonSchema)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+pub(crate) struct CreateEnvParams {
+    /// The assembly document: a JSON object with `parts` and `assembly` (instances and
+    /// joints), lengths in mm and angles in degrees, or a string containing that JSON.
+    pub(crate) document: Document,
+    /// Instance names (the `name` of entries in `assembly.instances`) whose poses are
+    /// observed, in this order. Each adds 7 values to the observation. Default: none.
+    #[serde(default)]
+    pub(crate) end_effector_ids: Vec<String>,
+    /// Seconds of simulated time per step. Default 1/240 s (about 0.004167 s).
+    pub(crate) dt: Option<f64>,
+    /// Physics substeps per step (each is dt/substeps seconds). Default 4.
+    pub(crate) substeps: Option<u32>,
+    /// Episode length in steps: `truncated` (and `done`) become true at this step.
+    /// Default 1000.
+    pub(crate) max_steps: Option<u32>,
+    /// Seed of the environment's random generator (integer). Default 0.
+    pub(crate) seed: Option<u64>,
+    /// Optional PD gain overrides for `position` and `velocity` actions. Omit to use the
+    /// server's stable defaults.
+    pub(crate) pd_gains: Option<PdGainsParam>,
+}
+
+/// PD gain overrides, per DOF in DOF order, in SI units.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+#[schemars(inline)]
+pub(crate) struct PdGainsParam {
+    /// Proportional gains, one per DOF (action_dim of them) or empty for the defaults:
+    /// N·m/rad for rotational DOFs, N/m for linear ones.
+    #[serde(default)]
+    pub(crate) kp: Vec<f64>,
+    /// Derivative gains, one per DOF (action_dim of them) or empty for the defaults:
+    /// N·m·s/rad for rotational DOFs, N·s/m for linear ones.
+    #[serde(default)]
+    pub(crate) kd: Vec<f64>,
+}
+
+/// Inputs of `gym_reset`.
+#[derive(Debug, Deserialize, JsonSchema)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+pub(crate) struct ResetParams {
+    /// The env_id returned by create_robot_env, e.g. "sim_1".
+    pub(crate) env_id: String,
+    /// Optional new seed (integer) for the environment's random generator, applied before
+    /// the reset.
+    pub(crate) seed: Option<u64>,
+}
+
+/// Inputs of `gym_observe` and `gym_close`.
+#[derive(Debug, Deserialize, JsonSchema)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+pub(crate) struct EnvRefParams {
+    /// The env_id returned by create_robot_env, e.g. "sim_1".
+    pub(crate) env_id: String,
+}
+
+/// How action values are interpreted.
+#[derive(Debug, Clone, Copy, Deserialize, JsonSchema)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+#[serde(rename_all = "lowercase")]
+#[schemars(inline)]
+pub(crate) enum ActionKind {
+    Torque,
+    Position,
+    Velocity,
+}
+
+impl From<ActionKind> for ActionType {
+    fn from(kind: ActionKind) -> Self {
+        match kind {
+            ActionKind::Torque => ActionType::Torque,
+            ActionKind::Position => ActionType::Position,
+            ActionKind::Velocity => ActionType::Velocity,
+        }
+    }
+}
+
+/// Inputs of `gym_step`.
+#[derive(Debug, Deserialize, JsonSchema)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+pub(crate) struct StepParams {
+    /// The env_id returned by create_robot_env, e.g. "sim_1".
+    pub(crate) env_id: String,
+    /// How `values` are read: "torque" = effort in N·m (revolute) or N (prismatic);
+    /// "position" = target angle in degrees or displacement in mm, tracked by a PD
+    /// controller; "velocity" = target speed in degrees/s or mm/s.
+    pub(crate) action_type: ActionKind,
+    /// One finite number per DOF, in document joint order: exactly action_dim values
+    /// (action_dim comes from create_robot_env). Units follow action_type.
+    #[schemars(with = "Vec<f64>")]
+    pub(crate) values: Vec<ActionValue>,
+}
+
+/// What a batch does with an environment whose episode ended.
+#[derive(Debug, Clone, Copy, Default, Deserialize, JsonSchema)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+#[serde(rename_all = "snake_case")]
+#[schemars(inline)]
+pub(crate) enum AutoresetParam {
+    #[default]
+    Disabled,
+    SameStep,
+    NextStep,
+}
+
+impl From<AutoresetParam> for Autoreset {
+    fn from(a: AutoresetParam) -> Self {
+        match a {
+            AutoresetParam::Disabled => Autoreset::Disabled,
+            AutoresetParam::SameStep => Autoreset::SameStep,
+            AutoresetParam::NextStep => Autoreset::NextStep,
+        }
+    }
+}
+
+/// Inputs of `batch_create_envs`.
+#[derive(Debug, Deserialize, JsonSchema)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+pub(crate) struct CreateBatchParams {
+    /// The assembly document shared by every env: a JSON object with `parts` and
+    /// `assembly` (lengths in mm, angles in degrees), or a string containing that JSON.
+    pub(crate) document: Document,
+    /// Number of identical environments in the batch (at least 1).
+    pub(crate) n_envs: u32,
+    /// Instance names whose poses are observed in every env, in this order. Each adds 7
+    /// values to each observation. Default: none.
+    #[serde(default)]
+    pub(crate) end_effector_ids: Vec<String>,
+    /// Seconds of simulated time per step. Default 1/240 s (about 0.004167 s).
+    pub(crate) dt: Option<f64>,
+    /// Physics substeps per step (each is dt/substeps seconds). Default 4.
+    pub(crate) substeps: Option<u32>,
+    /// Episode length in steps: an env's `truncated` becomes true at this step.
+    /// Default 1000.
+    pub(crate) max_steps: Option<u32>,
+    /// Base seed (integer): env i is seeded with seed + i. Default 0.
+    pub(crate) seed: Option<u64>,
+    /// Optional PD gain overrides for `position` and `velocity` actions, shared by every
+    /// env. Omit to use the server's stable defaults.
+    pub(crate) pd_gains: Option<PdGainsParam>,
+    /// What happens to an env whose episode ended: "disabled" (default: call
+    /// batch_reset), "same_step" (reset within the step; its last observation is returned
+    /// as final_observation) or "next_step" (Gymnasium style: reset on the next step,
+    /// whose action for it is ignored).
+    #[serde(default)]
+    pub(crate) autoreset: AutoresetParam,
+}
+
+/// Inputs of `batch_step`.
+#[derive(Debug, Deserialize, JsonSchema)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+pub(crate) struct BatchStepParams {
+    /// The batch_id returned by batch_create_envs, e.g. "batch_1".
+    pub(crate) batch_id: String,
+    /// How actions are read: "torque" = N·m (revolute) or N (prismatic); "position" =
+    /// target in degrees or mm; "velocity" = target in degrees/s or mm/s.
+    pub(crate) action_type: ActionKind,
+    /// One array per environment (n_envs arrays, env 0 first), each with exactly
+    /// action_dim finite numbers in document joint order, e.g. [[0.5, -0.3], [0.1, 0.2]]
+    /// for 2 envs of a 2-DOF arm. Units follow action_type.
+    #[schemars(with = "Vec<Vec<f64>>")]
+    pub(crate) actions: Vec<Vec<ActionValue>>,
+}
+
+/// Inputs of `batch_reset`.
+#[derive(Debug, Deserialize, JsonSchema)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+pub(crate) struct BatchResetParams {
+    /// The batch_id returned by batch_create_envs, e.g. "batch_1".
+    pub(crate) batch_id: String,
+    /// Optional base seed (integer): env i is reseeded with seed + i before the reset.
+    pub(crate) seed: Option<u64>,
+}
+
+/// Inputs of `batch_close`.
+#[derive(Debug, Deserialize, JsonSchema)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+pub(crate) struct BatchRefParams {
+    /// The batch_id returned by batch_create_envs, e.g. "batch_1".
+    pub(crate) batch_id: String,
+}
+
+/// The create options common to single envs and batches.
+struct Common {
+    end_effector_ids: Vec<String>,
+    dt: Option<f64>,
+    substeps: Option<u32>,
+    max_steps: Option<u32>,
+    seed: Option<u64>,
+    pd_gains: Option<PdGainsParam>,
+}
+
+impl Common {
+    /// The client's options for `document`; unset options take the server's defaults.
+    fn into_options(self, document: Document) -> Result<EnvOptions, String> {
+        let mut options =
+            EnvOptions::new(document.into_json_text()?).end_effectors(self.end_effector_ids);
+        if let Some(dt) = self.dt {
+            options = options.dt(dt);
+        }
+        if let Some(substeps) = self.substeps {
+            options = options.substeps(substeps);
+        }
+        if let Some(max_steps) = self.max_steps {
+            options = options.max_steps(max_steps);
+        }
+        if let Some(seed) = self.seed {
+            options = options.seed(seed);
+        }
+        if let Some(gains) = self.pd_gains {
+            options = options.pd_gains(PdGains {
+                kp: gains.kp,
+                kd: gains.kd,
+            });
+        }
+        Ok(options)
+    }
+}
+
+impl CreateEnvParams {
+    /// The client's options, or why the document cannot be sent.
+    pub(crate) fn into_options(self) -> Result<EnvOptions, String> {
+        let common = Common {
+            end_effector_ids: self.end_effector_ids,
+            dt: self.dt,
+            substeps: self.substeps,
+            max_steps: self.max_steps,
+            seed: self.seed,
+            pd_gains: self.pd_gains,
+        };
+        common.into_options(self.document)
+    }
+}
+
+impl CreateBatchParams {
+    /// The client's options, or why the document cannot be sent.
+    pub(crate) fn into_options(self) -> Result<BatchOptions, String> {
+        let common = Common {
+            end_effector_ids: self.end_effector_ids,
+            dt: self.dt,
+            substeps: self.substeps,
+            max_steps: self.max_steps,
+            seed: self.seed,
+            pd_gains: self.pd_gains,
+        };
+        let env = common.into_options(self.document)?;
+        Ok(BatchOptions::from_env(env, self.n_envs as usize).autoreset(self.autoreset.into()))
+    }
+}

@@ -1,0 +1,113 @@
+//! How MCP reaches the tools: stdio (the default; stdout carries JSON-RPC only) or
+//! streamable HTTP on a loopback address at path `/mcp`. Both return when the client
+//! goes away (stdin closed) or on Ctrl-C / SIGTERM.
+
+use std::net::SocketAddr;
+use std::sync::Arc;
+use std::time::Duration;
+
+use rmcp::transport::streamable_http_server::session::local::LocalSessionManager;
+use rmcp::transport::streamable_http_server::tower::StreamableHttpService;
+use rmcp::transport::StreamableHttpServerConfig;
+use rmcp::ServiceExt;
+use tokio::net::TcpListener;
+
+use crate::fleet::Fleet;
+use crate::server::GymTools;
+
+/// How long open HTTP sessions get to wind down after a shutdown signal.
+const HTTP_DRAIN: Duration = Duration::from_secs(3);
+
+/// Completes on Ctrl-C or (on Unix) SIGTERM; never, if neither can be listened for.
+pub(crate) async fn shutdown_signal() {
+    let ctrl_c = async {
+        if tokio::signal::ctrl_c().await.is_err() {
+            std::future::pending::<()>().await;
+        }
+    };
+    #[cfg(unix)]
+    let terminate = async {
+        use tokio::signal::unix::{signal, SignalKind};
+        match signal(SignalKind::terminate()) {
+            Ok(mut term) => {
+                term.recv().await;
+            }
+            Err(_) => std::future::pending::<()>().await,
+        }
+    };
+    #[cfg(not(unix))]
+    let terminate = std::future::pending::<()>();
+    tokio::select! {
+        () = ctrl_c => tracing::info!("interrupted"),
+        () = terminate => tracing::info!("terminated"),
+    }
+}
+
+/// Serves one MCP session on stdin/stdout until stdin closes or a shutdown signal.
+pub(crate) async fn serve_stdio(fleet: Arc<Fleet>) -> Result<(), String> {
+    let service = GymTools::new(fleet)
+        .serve(rmcp::transport::io::stdio_pipes())
+        .await
+        .map_err(|e| format!("MCP over stdio: initialisation failed: {e}"))?;
+    let stop = service.cancellation_token();
+    tokio::select! {
+        quit = service.waiting() => {
+            match quit {
+                Ok(reason) => tracing::info!(?reason, "MCP session over stdio ended"),
+                Err(err) => tracing::warn!("MCP session task failed: {err}"),
+            }
+        }
+        () = shutdown_signal() => stop.cancel(),
+    }
+    Ok(())
+}
+
+/// Refuses an `--http` address off loopback: the HTTP transport has no authentication.
+pub(crate) fn check_http_addr(addr: SocketAddr) -> Result<(), String> {
+    if addr.ip().is_loopback() {
+        Ok(())
+    } else {
+        Err(format!(
+            "--http {addr}: MCP over HTTP is served on loopback only (127.0.0.1 or [::1]), \
+             since it has no authentication"
+        ))
+    }
+}
+
+/// Serves MCP over streamable HTTP at `http://addr/mcp` (loopback only) until a shutdown
+/// signal. Prints the bound URL on stderr, so that port 0 can be used.
+pub(crate) async fn serve_http(addr: SocketAddr, fleet: Arc<Fleet>) -> Result<(), String> {
+    check_http_addr(addr)?;
+    let listener = TcpListener::bind(addr)
+        .await
+        .map_err(|e| format!("--http {addr}: cannot bind: {e}"))?;
+    let bound = listener
+        .local_addr()
+        .map_err(|e| format!("--http {addr}: {e}"))?;
+    let config = StreamableHttpServerConfig::default();
+    let sessions_stop = config.cancellation_token.clone();
+    let service = StreamableHttpService::new(
+        move || Ok(GymTools::new(Arc::clone(&fleet))),
+        Arc::new(LocalSessionManager::default()),
+        config,
+    );
+    let router = axum::Router::new().nest_service("/mcp", service);
+    eprintln!("gymfleet-mcp: listening on http://{bound}/mcp");
+    tracing::info!(%bound, "serving MCP over streamable HTTP at /mcp");
+
+    let stopping = sessions_stop.clone();
+    let serving = axum::serve(listener, router)
+        .with_graceful_shutdown(async move { stopping.cancelled().await });
+    tokio::select! {
+        served = serving => served.map_err(|e| format!("--http {bound}: {e}")),
+        () = async {
+            shutdown_signal().await;
+            sessions_stop.cancel();
+            tokio::time::sleep(HTTP_DRAIN).await;
+        } => {
+            let drain = HTTP_DRAIN.as_secs();
+            tracing::warn!("HTTP sessions still open after {drain} s; stopping anyway");
+            Ok(())
+        }
+    }
+}

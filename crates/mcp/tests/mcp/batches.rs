@@ -1,0 +1,141 @@
+//! Batches over MCP: the guide's 16-env arm batch with one action array per env and
+//! results grouped by env, reset, same-step autoreset, and close.
+
+use serde_json::{json, Value};
+
+use crate::{assert_clean_numbers, doc, floats, Adapter, ARM2};
+
+/// The guide's action shape: one `[shoulder, elbow]` pair per env.
+fn actions(n: usize) -> Value {
+    let rows: Vec<Value> = (0..n)
+        .map(|i| {
+            if i % 2 == 0 {
+                json!([0.5, -0.3])
+            } else {
+                json!([0.1, 0.2])
+            }
+        })
+        .collect();
+    Value::Array(rows)
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn sixteen_env_batch() {
+    let adapter = Adapter::embedded().await;
+    let created = adapter
+        .ok(
+            "batch_create_envs",
+            json!({"document": doc(ARM2), "n_envs": 16, "end_effector_ids": ["forearm"]}),
+        )
+        .await;
+    let guide_fields = json!({
+        "batch_id": "batch_1",
+        "n_envs": 16,
+        "action_dim": 2,
+        "observation_dim": 11,
+        "num_joints": 2
+    });
+    for (key, value) in guide_fields.as_object().expect("object") {
+        assert_eq!(&created[key], value, "{key} in {created}");
+    }
+    assert_eq!(created["autoreset"], "disabled");
+
+    let reset = adapter
+        .ok("batch_reset", json!({"batch_id": "batch_1", "seed": 3}))
+        .await;
+    let observations = reset["observations"].as_array().expect("observations");
+    assert_eq!(observations.len(), 16);
+    for obs in observations {
+        assert_eq!(obs["joint_positions"], json!([0.0, 0.0]));
+        assert_eq!(
+            obs["end_effector_poses"].as_array().expect("poses").len(),
+            1
+        );
+    }
+
+    let mut step = json!(null);
+    for _ in 0..10 {
+        step = adapter
+            .ok(
+                "batch_step",
+                json!({"batch_id": "batch_1", "action_type": "torque", "actions": actions(16)}),
+            )
+            .await;
+    }
+    assert_eq!(step["batch_id"], "batch_1");
+    let results = step["results"].as_array().expect("results grouped by env");
+    assert_eq!(results.len(), 16);
+    for (i, result) in results.iter().enumerate() {
+        assert_eq!(result["env_index"], json!(i));
+        assert_eq!(result["reward"], json!(0.0));
+        assert_eq!(result["done"], json!(false));
+        assert_eq!(result["terminated"], json!(false));
+        assert_eq!(result["truncated"], json!(false));
+        let observation = &result["observation"];
+        assert_eq!(floats(&observation["joint_positions"]).len(), 2);
+        assert_eq!(floats(&observation["joint_velocities"]).len(), 2);
+        assert_eq!(floats(&observation["end_effector_poses"][0]).len(), 7);
+        // Same actions, same physics: every even env matches env 0, every odd env env 1.
+        assert_eq!(observation, &results[i % 2]["observation"], "env {i}");
+    }
+    assert_ne!(results[0]["observation"], results[1]["observation"]);
+    let shoulder = floats(&results[0]["observation"]["joint_positions"])[0];
+    assert!(shoulder > 0.0, "positive shoulder torque: {shoulder}");
+    assert_clean_numbers(&step);
+
+    let closed = adapter
+        .ok("batch_close", json!({"batch_id": "batch_1"}))
+        .await;
+    assert_eq!(closed, json!({"batch_id": "batch_1", "closed": true}));
+    let err = adapter
+        .err(
+            "batch_step",
+            json!({"batch_id": "batch_1", "action_type": "torque", "actions": actions(16)}),
+        )
+        .await;
+    assert_eq!(
+        err,
+        "unknown batch_id \"batch_1\": no open batch has this id (open: none). Create one \
+         with batch_create_envs."
+    );
+    adapter.stop().await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn same_step_autoreset_reports_the_final_observation() {
+    let adapter = Adapter::embedded().await;
+    let created = adapter
+        .ok(
+            "batch_create_envs",
+            json!({
+                "document": doc(ARM2),
+                "n_envs": 2,
+                "end_effector_ids": ["forearm"],
+                "max_steps": 2,
+                "autoreset": "same_step"
+            }),
+        )
+        .await;
+    assert_eq!(created["autoreset"], "same_step");
+    let args = json!({
+        "batch_id": "batch_1",
+        "action_type": "velocity",
+        "actions": [[30, -30], [30, -30]]
+    });
+    let first = adapter.ok("batch_step", args.clone()).await;
+    assert_eq!(first["results"][0]["done"], json!(false));
+    assert!(first["results"][0].get("final_observation").is_none());
+    let second = adapter.ok("batch_step", args).await;
+    for result in second["results"].as_array().expect("results") {
+        assert_eq!(result["truncated"], json!(true), "{result}");
+        assert_eq!(result["done"], json!(true), "{result}");
+        // Reset within the step: the observation is the fresh start, the final one is not.
+        assert_eq!(result["observation"]["joint_positions"], json!([0.0, 0.0]));
+        let last = floats(&result["final_observation"]["joint_positions"]);
+        assert!(last[0] > 0.0, "{result}");
+    }
+    adapter
+        .ok("batch_close", json!({"batch_id": "batch_1"}))
+        .await;
+    adapter.stop().await;
+}
