@@ -45,7 +45,11 @@ async fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     // A batch of 16 two-joint arms: actions are n_envs × action_dim floats, row-major.
     let batch = client
-        .create_batch(BatchOptions::new(ARM2, 16).end_effectors(["forearm"]).seed(7))
+        .create_batch(
+            BatchOptions::new(ARM2, 16)
+                .end_effectors(["forearm"])
+                .seed(7),
+        )
         .await?;
     let (n, dim) = (batch.info().n_envs, batch.info().action_dim);
     batch.reset(Some(7)).await?;
@@ -56,7 +60,10 @@ async fn main() -> Result<(), Box<dyn std::error::Error>> {
         last = Some(batch.step(ActionType::Position, &targets).await?); // deg
     }
     let step = last.expect("stepped");
-    println!("env 0 after 1 s of position control: {:?}", &step.obs(0)[..dim]);
+    println!(
+        "env 0 after 1 s of position control: {:?}",
+        &step.obs(0)[..dim]
+    );
     batch.close().await?;
     Ok(())
 }

@@ -52,6 +52,15 @@ impl Batch {
         &self.info.batch_id
     }
 
+    /// The address of the server the batch lives on, as given to [`Client::connect`].
+    pub fn server(&self) -> &str {
+        self.client.addr()
+    }
+
+    pub(crate) fn client(&self) -> &Client {
+        &self.client
+    }
+
     fn batch_ref(&self) -> pb::BatchRef {
         pb::BatchRef {
             batch_id: self.info.batch_id.clone(),
@@ -75,6 +84,23 @@ impl Batch {
         let request = self.step_request(action_type, actions);
         let result = self.client.rpc().step_batch(request).await?;
         BatchStep::new(result.into_inner(), &self.info)
+    }
+
+    /// [`Batch::step`] with owned actions, returning the checked raw reply (the fleet
+    /// batch merges those of its shards).
+    pub(crate) async fn step_raw(
+        &self,
+        action_type: ActionType,
+        actions: Vec<f32>,
+    ) -> Result<pb::BatchStepResult> {
+        let request = pb::StepBatchRequest {
+            batch_id: self.info.batch_id.clone(),
+            action_type: pb::ActionType::from(action_type) as i32,
+            actions,
+        };
+        let result = self.client.rpc().step_batch(request).await?.into_inner();
+        // Validates the shapes; the fleet merge relies on them.
+        BatchStep::new(result, &self.info).map(BatchStep::into_raw)
     }
 
     /// Resets every env; with `seed`, env `i` is reseeded with `seed + i` first.
@@ -238,6 +264,10 @@ impl BatchStep {
     /// Takes the observations out, `n_envs × observation_dim`, without copying.
     pub fn into_observations(self) -> Vec<f32> {
         self.result.observations
+    }
+
+    pub(crate) fn into_raw(self) -> pb::BatchStepResult {
+        self.result
     }
 }
 

@@ -1,5 +1,7 @@
 //! [`Client`]: one connection to a gymfleet server.
 
+use std::sync::Arc;
+
 use gymfleet_proto::v1 as pb;
 use pb::simulator_client::SimulatorClient;
 use tonic::transport::{Channel, Endpoint};
@@ -34,6 +36,7 @@ pub const DEFAULT_MAX_MESSAGE_BYTES: usize = 64 * 1024 * 1024;
 #[derive(Debug, Clone)]
 pub struct Client {
     inner: SimulatorClient<Channel>,
+    addr: Arc<str>,
 }
 
 impl Client {
@@ -67,7 +70,15 @@ impl Client {
         let inner = SimulatorClient::new(channel)
             .max_decoding_message_size(max_message_bytes)
             .max_encoding_message_size(max_message_bytes);
-        Ok(Client { inner })
+        Ok(Client {
+            inner,
+            addr: addr.into(),
+        })
+    }
+
+    /// The address this client was connected to, as given to [`Client::connect`].
+    pub fn addr(&self) -> &str {
+        &self.addr
     }
 
     pub(crate) fn rpc(&self) -> SimulatorClient<Channel> {

@@ -31,6 +31,12 @@ impl Env {
         &self.info.env_id
     }
 
+    /// The address of the server the env lives on, as given to [`Client::connect`]. An
+    /// env's state lives on that one server only.
+    pub fn server(&self) -> &str {
+        self.client.addr()
+    }
+
     fn env_ref(&self) -> pb::EnvRef {
         pb::EnvRef {
             env_id: self.info.env_id.clone(),

@@ -1,4 +1,7 @@
-//! [`ClientError`]: what a call can fail with, by gRPC status class.
+//! [`ClientError`]: what a call can fail with, by gRPC status class, plus the fleet's
+//! own failures (a lost server, a call that failed on one server of several).
+
+use std::ops::Range;
 
 use tonic::{Code, Status};
 
@@ -60,6 +63,53 @@ pub enum ClientError {
         /// What was wrong.
         message: String,
     },
+    /// A server of a fleet failed (it is unreachable, or no longer knows the shard batch)
+    /// while it held envs of a fleet batch: their state is gone. The other servers are
+    /// unaffected; [`crate::FleetBatch::drop_lost`] lets the caller go on without them.
+    #[error("server {server} failed ({reason}): lost envs {} of fleet batch", format_ranges(.envs))]
+    ServerLost {
+        /// The address of the failed server.
+        server: String,
+        /// The lost envs, as ranges of the fleet batch's original env indices.
+        envs: Vec<Range<usize>>,
+        /// What the call to it failed with.
+        reason: String,
+    },
+    /// A fleet call failed on one server, without losing env state (e.g. while creating a
+    /// fleet batch, or a step the server refused).
+    #[error("server {server}: {error}")]
+    OnServer {
+        /// The address of the server.
+        server: String,
+        /// What the call to it failed with.
+        error: Box<ClientError>,
+    },
+    /// A fleet is misconfigured: no endpoints, a malformed or duplicate endpoint, or no
+    /// server with simulation threads.
+    #[error("fleet: {message}")]
+    Fleet {
+        /// What is wrong.
+        message: String,
+    },
+}
+
+/// `0..16, 48..96`, with a lone env written as its index.
+fn format_ranges(ranges: &[Range<usize>]) -> String {
+    let parts: Vec<String> = ranges
+        .iter()
+        .map(|r| {
+            if r.len() == 1 {
+                r.start.to_string()
+            } else {
+                format!("{}..{}", r.start, r.end)
+            }
+        })
+        .collect();
+    if parts.is_empty() {
+        "none".to_string()
+    } else {
+        parts.join(", ")
+    }
 }
 
 impl ClientError {
@@ -73,7 +123,21 @@ impl ClientError {
             | ClientError::ResourceExhausted { message }
             | ClientError::Unavailable { message }
             | ClientError::Internal { message }
-            | ClientError::Protocol { message } => message,
+            | ClientError::Protocol { message }
+            | ClientError::Fleet { message } => message,
+            ClientError::ServerLost { reason, .. } => reason,
+            ClientError::OnServer { error, .. } => error.message(),
+        }
+    }
+
+    /// The server a fleet error names, if it names one.
+    pub fn server(&self) -> Option<&str> {
+        match self {
+            ClientError::ServerLost { server, .. } | ClientError::OnServer { server, .. } => {
+                Some(server)
+            }
+            ClientError::Connect { addr, .. } => Some(addr),
+            _ => None,
         }
     }
 
@@ -138,5 +202,28 @@ mod tests {
             );
             assert!(err.message().contains("sim_3 says hi"));
         }
+    }
+
+    #[test]
+    fn lost_servers_name_the_server_and_the_env_ranges() {
+        let err = ClientError::ServerLost {
+            server: "127.0.0.1:41234".into(),
+            envs: vec![32..64, 70..71],
+            reason: "unavailable: connection refused".into(),
+        };
+        assert_eq!(
+            err.to_string(),
+            "server 127.0.0.1:41234 failed (unavailable: connection refused): \
+             lost envs 32..64, 70 of fleet batch"
+        );
+        assert_eq!(err.server(), Some("127.0.0.1:41234"));
+        let err = ClientError::OnServer {
+            server: "a:1".into(),
+            error: Box::new(ClientError::InvalidArgument {
+                message: "bad".into(),
+            }),
+        };
+        assert_eq!(err.to_string(), "server a:1: invalid argument: bad");
+        assert_eq!(err.message(), "bad");
     }
 }

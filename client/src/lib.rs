@@ -6,7 +6,14 @@
 //!
 //! It mirrors the domain's names ([`ActionType`], [`Autoreset`], [`Observation`]) with
 //! its own small types and never links the physics: simulation is the server's job.
-//! Fleet sharding across servers is left for later.
+//!
+//! It also owns fleet sharding: a [`Fleet`] holds one connection per server (from a list
+//! or a Kubernetes StatefulSet's per-pod names, [`FleetEndpoints`]) and splits a
+//! [`FleetBatch`] across them in proportion to their simulation threads, stepping the
+//! shards concurrently and returning one result in env order. Requests are never
+//! load-balanced: an env's state lives on one server, and when that server is lost the
+//! client says which envs went with it ([`ClientError::ServerLost`]). Running the fleet
+//! (the image, the manifests) is `deploy/`'s job.
 //!
 //! ```no_run
 //! use gymfleet_client::{ActionType, BatchOptions, Client};
@@ -31,16 +38,23 @@
 
 mod batch;
 mod client;
+mod endpoints;
 mod env;
 mod error;
+mod fleet;
+mod fleet_batch;
 mod options;
+mod placement;
 mod stream;
 mod types;
 
 pub use batch::{Batch, BatchObservations, BatchStep, DEFAULT_STREAM_WINDOW};
 pub use client::{Client, DEFAULT_MAX_MESSAGE_BYTES};
+pub use endpoints::FleetEndpoints;
 pub use env::Env;
 pub use error::{ClientError, Result};
+pub use fleet::Fleet;
+pub use fleet_batch::{FleetBatch, ShardPlacement};
 pub use options::{BatchOptions, EnvOptions, PdGains};
 pub use stream::BatchStream;
 pub use types::{

@@ -198,6 +198,17 @@ impl BatchOptions {
         self.n_envs
     }
 
+    /// The offset added to every env's seed index.
+    pub(crate) fn seed_offset_base(&self) -> u64 {
+        self.seed_offset
+    }
+
+    /// The same options for `n_envs` envs (a fleet shard).
+    pub(crate) fn with_n_envs(mut self, n_envs: usize) -> Self {
+        self.n_envs = n_envs;
+        self
+    }
+
     pub(crate) fn into_request(self) -> pb::CreateBatchRequest {
         let env = self.env.into_request();
         pb::CreateBatchRequest {

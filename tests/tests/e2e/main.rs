@@ -3,6 +3,7 @@
 
 mod batches;
 mod errors;
+mod fleet;
 mod lifecycle;
 mod walkthrough;
 

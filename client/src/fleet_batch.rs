@@ -1,0 +1,511 @@
+//! [`FleetBatch`]: one logical batch sharded across the servers of a [`crate::Fleet`],
+//! stepped as one, with lost servers reported per env and dropped on request.
+
+use std::ops::Range;
+use std::sync::{Mutex, PoisonError};
+
+use gymfleet_proto::v1 as pb;
+
+use crate::batch::{Batch, BatchObservations, BatchStep};
+use crate::error::{ClientError, Result};
+use crate::fleet::{join_all, on_server};
+use crate::types::{ActionType, BatchInfo};
+
+/// Where one shard of a fleet batch lives.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ShardPlacement {
+    /// The server's address.
+    pub server: String,
+    /// The shard's batch id on that server.
+    pub batch_id: String,
+    /// The envs it holds, as original indices of the fleet batch (a contiguous range).
+    pub envs: Range<usize>,
+    /// Why the server was lost, if it was (until [`FleetBatch::drop_lost`] drops it).
+    pub lost: Option<String>,
+}
+
+/// One shard: a batch on one server holding a contiguous range of the fleet's envs.
+#[derive(Debug)]
+pub(crate) struct Shard {
+    batch: Batch,
+    envs: Range<usize>,
+    lost: Mutex<Option<String>>,
+    /// This shard's reply to the step in which another shard's server was lost.
+    interrupted: Mutex<Option<pb::BatchStepResult>>,
+}
+
+impl Shard {
+    pub(crate) fn new(batch: Batch, envs: Range<usize>) -> Self {
+        Shard {
+            batch,
+            envs,
+            lost: Mutex::new(None),
+            interrupted: Mutex::new(None),
+        }
+    }
+
+    fn lost(&self) -> Option<String> {
+        self.lost
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .clone()
+    }
+
+    fn lost_error(&self, reason: String) -> ClientError {
+        ClientError::ServerLost {
+            server: self.batch.server().to_string(),
+            envs: vec![self.envs.clone()],
+            reason,
+        }
+    }
+}
+
+/// One batch of `n_envs` identical envs, sharded across the servers of a
+/// [`crate::Fleet`] and driven as one: [`FleetBatch::step`] splits the actions by shard,
+/// steps every shard concurrently and returns a single [`BatchStep`] with the envs in
+/// their original order, exactly as a one-server [`Batch`] would (final observations
+/// and termination reasons included). With the same seeds and actions, every env's
+/// results are bitwise those of a one-server batch.
+///
+/// Each shard holds a contiguous range of the envs ([`FleetBatch::placement`]). If a
+/// server fails, the call fails with [`ClientError::ServerLost`] naming it and its envs,
+/// and so does every later call until [`FleetBatch::drop_lost`]: after it, the batch is
+/// the survivors, in their original order, and [`FleetBatch::env_indices`] maps each
+/// position to its original index. The survivors did take the step that found the loss;
+/// [`FleetBatch::take_interrupted_step`] gives its result, so no step is missed.
+///
+/// A call that fails on some shard for another reason (e.g. INTERNAL) returns
+/// [`ClientError::OnServer`]; the other shards have done the call, so the shards may be
+/// out of step until the next reset.
+#[derive(Debug)]
+pub struct FleetBatch {
+    shards: Vec<Shard>,
+    info: BatchInfo,
+    env_indices: Vec<usize>,
+    interrupted: Option<BatchStep>,
+}
+
+impl FleetBatch {
+    /// A fleet batch of shards created with the same options, in env order. Fails (giving
+    /// the shards back for closing) if the servers disagree on the env's shape.
+    pub(crate) fn new(shards: Vec<Shard>) -> std::result::Result<Self, (ClientError, Vec<Batch>)> {
+        let first = shards[0].batch.info();
+        let shape = |i: &BatchInfo| (i.action_dim, i.observation_dim, i.num_joints);
+        if let Some(odd) = shards
+            .iter()
+            .find(|s| shape(s.batch.info()) != shape(first))
+        {
+            let err = ClientError::protocol(format!(
+                "fleet batch: server {} reports (action_dim, observation_dim, num_joints) \
+                 {:?}, server {} {:?}",
+                odd.batch.server(),
+                shape(odd.batch.info()),
+                shards[0].batch.server(),
+                shape(first)
+            ));
+            return Err((err, shards.into_iter().map(|s| s.batch).collect()));
+        }
+        let info = first.clone();
+        let mut batch = FleetBatch {
+            shards,
+            info,
+            env_indices: Vec::new(),
+            interrupted: None,
+        };
+        batch.refresh();
+        Ok(batch)
+    }
+
+    /// Recomputes the combined info and the position → index map from the shards.
+    fn refresh(&mut self) {
+        self.env_indices = self.shards.iter().flat_map(|s| s.envs.clone()).collect();
+        self.info.n_envs = self.env_indices.len();
+        let ids: Vec<&str> = self.shards.iter().map(|s| s.batch.id()).collect();
+        self.info.batch_id = ids.join("+");
+    }
+
+    /// The batch as one: `n_envs` is the current number of envs (survivors only, after
+    /// [`FleetBatch::drop_lost`]); `batch_id` is the shards' ids joined with `+`.
+    pub fn info(&self) -> &BatchInfo {
+        &self.info
+    }
+
+    /// The current number of envs.
+    pub fn n_envs(&self) -> usize {
+        self.info.n_envs
+    }
+
+    /// The original index of the env at each position: `0..n` until servers are
+    /// dropped, then the survivors' indices, ascending.
+    pub fn env_indices(&self) -> &[usize] {
+        &self.env_indices
+    }
+
+    /// Which server holds which envs, in env order.
+    pub fn placement(&self) -> Vec<ShardPlacement> {
+        self.shards
+            .iter()
+            .map(|s| ShardPlacement {
+                server: s.batch.server().to_string(),
+                batch_id: s.batch.id().to_string(),
+                envs: s.envs.clone(),
+                lost: s.lost(),
+            })
+            .collect()
+    }
+
+    /// The shard batches, one per server, in env order.
+    pub fn shards(&self) -> impl Iterator<Item = &Batch> {
+        self.shards.iter().map(|s| &s.batch)
+    }
+
+    /// Forgets the shards of lost servers and returns their original env indices,
+    /// ascending (empty if none was lost). The batch then holds the survivors only.
+    ///
+    /// Nothing is sent to a lost server: if it comes back with the shard still open, its
+    /// idle TTL reclaims it.
+    pub fn drop_lost(&mut self) -> Vec<usize> {
+        let (lost, kept): (Vec<Shard>, Vec<Shard>) = std::mem::take(&mut self.shards)
+            .into_iter()
+            .partition(|s| s.lost().is_some());
+        self.shards = kept;
+        self.refresh();
+        // The survivors' replies to the step that found the loss, if they all stepped.
+        let replies: Option<Vec<pb::BatchStepResult>> = self
+            .shards
+            .iter()
+            .map(|s| {
+                s.interrupted
+                    .lock()
+                    .unwrap_or_else(PoisonError::into_inner)
+                    .take()
+            })
+            .collect();
+        self.interrupted = match replies {
+            Some(replies) if !lost.is_empty() && !self.shards.is_empty() => {
+                let lens: Vec<usize> = self.shards.iter().map(|s| s.envs.len()).collect();
+                BatchStep::new(merge_steps(replies, &lens), &self.info).ok()
+            }
+            _ => None,
+        };
+        lost.into_iter().flat_map(|s| s.envs).collect()
+    }
+
+    /// After [`FleetBatch::drop_lost`]: the survivors' result of the step that failed
+    /// with [`ClientError::ServerLost`], in the survivors' order. They took that step
+    /// (their servers did not fail), so a caller going on with them uses this result as
+    /// that step's. `None` if the loss was not found by a step, or once taken.
+    pub fn take_interrupted_step(&mut self) -> Option<BatchStep> {
+        self.interrupted.take()
+    }
+
+    /// Fails with the first lost server's error, if one was lost.
+    fn check_not_lost(&self) -> Result<()> {
+        if self.shards.is_empty() {
+            return Err(ClientError::Fleet {
+                message: "every server of this fleet batch was lost; create a new one".into(),
+            });
+        }
+        match self
+            .shards
+            .iter()
+            .find_map(|s| s.lost().map(|r| s.lost_error(r)))
+        {
+            Some(err) => Err(err),
+            None => Ok(()),
+        }
+    }
+
+    /// A server that fails a call without a clear status (a dropped connection can come
+    /// back as UNKNOWN) is asked for its info: if that fails too, the server is lost.
+    async fn confirm_losses<T>(&self, mut results: Vec<Result<T>>) -> Vec<Result<T>> {
+        for (shard, result) in self.shards.iter().zip(results.iter_mut()) {
+            let Err(err @ ClientError::Internal { .. }) = result else {
+                continue;
+            };
+            let first = err.to_string();
+            if let Err(probe) = shard.batch.client().server_info().await {
+                if is_loss(&probe) {
+                    *result = Err(ClientError::Unavailable {
+                        message: format!("{first}; then {probe}"),
+                    });
+                }
+            }
+        }
+        results
+    }
+
+    /// Sorts the shards' outcomes: marks the lost servers (unreachable, or no longer
+    /// knowing the shard) and returns the first error, a loss first.
+    fn settle<T>(&self, results: Vec<Result<T>>) -> Result<Vec<T>> {
+        self.settle_keeping(results, |_, _| {})
+    }
+
+    /// [`FleetBatch::settle`], handing each shard's value to `keep` if a server was lost.
+    fn settle_keeping<T>(
+        &self,
+        results: Vec<Result<T>>,
+        keep: impl Fn(&Shard, T),
+    ) -> Result<Vec<T>> {
+        let mut values = Vec::with_capacity(results.len());
+        let mut lost = None;
+        let mut other = None;
+        for (shard, result) in self.shards.iter().zip(results) {
+            match result {
+                Ok(value) => values.push((shard, value)),
+                Err(err) if is_loss(&err) => {
+                    let reason = err.to_string();
+                    *shard.lost.lock().unwrap_or_else(PoisonError::into_inner) =
+                        Some(reason.clone());
+                    lost.get_or_insert_with(|| shard.lost_error(reason));
+                }
+                Err(err) => {
+                    other.get_or_insert_with(|| on_server(shard.batch.client(), err));
+                }
+            }
+        }
+        if let Some(err) = lost {
+            for (shard, value) in values {
+                keep(shard, value);
+            }
+            return Err(err);
+        }
+        match other {
+            Some(err) => Err(err),
+            None => Ok(values.into_iter().map(|(_, value)| value).collect()),
+        }
+    }
+
+    /// Steps every env once. `actions` holds `n_envs × action_dim` values, row-major, in
+    /// the current env order. Wrong lengths and non-finite values are refused before any
+    /// server is called, so no shard steps alone.
+    pub async fn step(&self, action_type: ActionType, actions: &[f32]) -> Result<BatchStep> {
+        self.check_not_lost()?;
+        let dim = self.info.action_dim;
+        let expected = self.info.n_envs * dim;
+        if actions.len() != expected {
+            return Err(ClientError::InvalidArgument {
+                message: format!(
+                    "actions: expected {expected} values ({} envs × {dim}), got {}",
+                    self.info.n_envs,
+                    actions.len()
+                ),
+            });
+        }
+        if let Some(k) = actions.iter().position(|a| !a.is_finite()) {
+            return Err(ClientError::InvalidArgument {
+                message: format!(
+                    "actions[{k}] (env {}): expected a finite value, got {}",
+                    self.env_indices[k / dim.max(1)],
+                    actions[k]
+                ),
+            });
+        }
+        let mut position = 0;
+        let stepping = self.shards.iter().map(|shard| {
+            let n = shard.envs.len();
+            let part = actions[position * dim..(position + n) * dim].to_vec();
+            position += n;
+            let batch = shard.batch.clone();
+            async move { batch.step_raw(action_type, part).await }
+        });
+        let results = join_all(stepping.collect::<Vec<_>>()).await;
+        let results = self.confirm_losses(results).await;
+        let replies = self.settle_keeping(results, |shard, reply| {
+            *shard
+                .interrupted
+                .lock()
+                .unwrap_or_else(PoisonError::into_inner) = Some(reply);
+        })?;
+        let lens: Vec<usize> = self.shards.iter().map(|s| s.envs.len()).collect();
+        BatchStep::new(merge_steps(replies, &lens), &self.info)
+    }
+
+    /// Resets every env; with `seed`, the env of original index `i` is reseeded with
+    /// `seed + i` first, as in a one-server batch.
+    pub async fn reset(&self, seed: Option<u64>) -> Result<BatchObservations> {
+        self.reset_with_offset(seed, 0).await
+    }
+
+    /// [`FleetBatch::reset`] with the env of original index `i` reseeded with
+    /// `seed + seed_offset + i`.
+    pub async fn reset_with_offset(
+        &self,
+        seed: Option<u64>,
+        seed_offset: u64,
+    ) -> Result<BatchObservations> {
+        self.check_not_lost()?;
+        let resetting = self.shards.iter().map(|shard| {
+            let batch = shard.batch.clone();
+            let offset = seed_offset.wrapping_add(shard.envs.start as u64);
+            async move { batch.reset_with_offset(seed, offset).await }
+        });
+        let results = join_all(resetting.collect::<Vec<_>>()).await;
+        let results = self.confirm_losses(results).await;
+        let parts = self.settle(results)?;
+        self.combine_observations(parts)
+    }
+
+    /// The current observation of every env, without stepping.
+    pub async fn observe(&self) -> Result<BatchObservations> {
+        self.check_not_lost()?;
+        let observing = self.shards.iter().map(|shard| {
+            let batch = shard.batch.clone();
+            async move { batch.observe().await }
+        });
+        let results = join_all(observing.collect::<Vec<_>>()).await;
+        let results = self.confirm_losses(results).await;
+        let parts = self.settle(results)?;
+        self.combine_observations(parts)
+    }
+
+    fn combine_observations(&self, parts: Vec<BatchObservations>) -> Result<BatchObservations> {
+        let mut observations = Vec::with_capacity(self.info.n_envs * self.info.observation_dim);
+        for part in parts {
+            observations.extend_from_slice(part.observations());
+        }
+        let reply = pb::BatchObservation {
+            batch_id: self.info.batch_id.clone(),
+            n_envs: u32::try_from(self.info.n_envs).unwrap_or(u32::MAX),
+            observation_dim: u32::try_from(self.info.observation_dim).unwrap_or(u32::MAX),
+            observations,
+        };
+        BatchObservations::new(reply, &self.info)
+    }
+
+    /// Closes every shard that is not lost, concurrently. Fails with the first failure,
+    /// naming its server, after trying them all.
+    pub async fn close(&self) -> Result<()> {
+        let closing = self
+            .shards
+            .iter()
+            .filter(|s| s.lost().is_none())
+            .map(|shard| {
+                let batch = shard.batch.clone();
+                async move {
+                    batch
+                        .close()
+                        .await
+                        .map_err(|e| on_server(batch.client(), e))
+                }
+            });
+        join_all(closing.collect::<Vec<_>>())
+            .await
+            .into_iter()
+            .collect::<Result<Vec<()>>>()
+            .map(drop)
+    }
+}
+
+/// Errors that mean the shard's envs are gone: the server is unreachable or going away,
+/// or no longer knows the batch (it restarted, or reclaimed it).
+fn is_loss(err: &ClientError) -> bool {
+    matches!(
+        err,
+        ClientError::Unavailable { .. }
+            | ClientError::NotFound { .. }
+            | ClientError::Connect { .. }
+    )
+}
+
+/// The shards' checked replies (of `lens` envs each) as one reply: rows concatenated in
+/// shard order, per-env indices shifted by the shard's first position. The first reply's
+/// vectors are reused, so a one-shard batch copies nothing.
+fn merge_steps(replies: Vec<pb::BatchStepResult>, lens: &[usize]) -> pb::BatchStepResult {
+    let mut replies = replies.into_iter();
+    let mut merged = replies.next().unwrap_or_default();
+    let mut position = lens.first().copied().unwrap_or(0);
+    for (reply, len) in replies.zip(lens.iter().skip(1)) {
+        let shift = u32::try_from(position).unwrap_or(u32::MAX);
+        merged.observations.extend_from_slice(&reply.observations);
+        merged.rewards.extend_from_slice(&reply.rewards);
+        merged.terminated.extend_from_slice(&reply.terminated);
+        merged.truncated.extend_from_slice(&reply.truncated);
+        merged
+            .final_env_indices
+            .extend(reply.final_env_indices.iter().map(|i| i + shift));
+        merged
+            .final_observations
+            .extend_from_slice(&reply.final_observations);
+        merged.termination_reasons.extend(
+            reply
+                .termination_reasons
+                .into_iter()
+                .map(|(i, reason)| (i + shift, reason)),
+        );
+        position += len;
+    }
+    merged
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn reply(n: usize, dim: usize, base: f32, finished: &[u32]) -> pb::BatchStepResult {
+        pb::BatchStepResult {
+            batch_id: "batch_1".into(),
+            step_index: 3,
+            observations: (0..n * dim).map(|v| base + v as f32).collect(),
+            rewards: vec![base; n],
+            terminated: (0..n).map(|i| i == 0).collect(),
+            truncated: vec![false; n],
+            final_env_indices: finished.to_vec(),
+            final_observations: finished
+                .iter()
+                .flat_map(|&i| vec![-base - i as f32; dim])
+                .collect(),
+            termination_reasons: finished
+                .iter()
+                .map(|&i| (i, format!("reason {base} {i}")))
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn merged_replies_keep_env_order_and_shift_per_env_indices() {
+        let merged = merge_steps(
+            vec![
+                reply(2, 3, 0.0, &[1]),
+                reply(1, 3, 100.0, &[]),
+                reply(3, 3, 200.0, &[0, 2]),
+            ],
+            &[2, 1, 3],
+        );
+        let info = BatchInfo {
+            n_envs: 6,
+            observation_dim: 3,
+            ..BatchInfo::default()
+        };
+        let step = BatchStep::new(merged, &info).expect("a well-formed merged reply");
+        assert_eq!(step.step_index(), 3);
+        assert_eq!(step.obs(0), [0.0, 1.0, 2.0]);
+        assert_eq!(step.obs(2), [100.0, 101.0, 102.0]);
+        assert_eq!(step.obs(5), [206.0, 207.0, 208.0]);
+        assert_eq!(step.rewards(), [0.0, 0.0, 100.0, 200.0, 200.0, 200.0]);
+        assert_eq!(step.terminated(), [true, false, true, true, false, false]);
+        assert_eq!(step.final_env_indices(), [1, 3, 5]);
+        assert_eq!(step.final_observation(1), Some(&[-1.0; 3][..]));
+        assert_eq!(step.final_observation(3), Some(&[-200.0; 3][..]));
+        assert_eq!(step.final_observation(5), Some(&[-202.0; 3][..]));
+        assert_eq!(step.final_observation(4), None);
+        assert_eq!(step.termination_reason(5), Some("reason 200 2"));
+        assert_eq!(step.termination_reason(1), Some("reason 0 1"));
+        assert_eq!(step.termination_reason(2), None);
+    }
+
+    #[test]
+    fn only_lost_servers_and_unknown_batches_count_as_losses() {
+        let message = String::from("x");
+        assert!(is_loss(&ClientError::Unavailable {
+            message: message.clone()
+        }));
+        assert!(is_loss(&ClientError::NotFound {
+            message: message.clone()
+        }));
+        assert!(!is_loss(&ClientError::Internal {
+            message: message.clone()
+        }));
+        assert!(!is_loss(&ClientError::InvalidArgument { message }));
+    }
+}

@@ -1,0 +1,140 @@
+"""Checks what the JSON schemas cannot: that rendered gymfleet manifests keep the
+fleet's invariants. Usage: check_manifests.py RENDERED.yaml [MORE.yaml ...]
+
+- the StatefulSet starts pods in parallel and names a headless Service
+  (clusterIP: None, not publishing unready pods) that selects its pods;
+- every server container probes gRPC health on its gRPC port (readiness and liveness),
+  derives GYMFLEET_THREADS from its CPU limit (or sets it equal), has CPU and memory
+  limits, and runs non-root with a read-only root filesystem and no capabilities;
+- GYMFLEET_LISTEN listens on all interfaces on the probed port;
+- GYMFLEET_MAX_ENVS fits the memory limit at the measured ~55 KB per 2-DOF arm;
+- the grace period covers the drain, and a PodDisruptionBudget allows one pod down.
+
+Exits 1 with one line per broken rule.
+"""
+
+import math
+import sys
+
+import yaml
+
+BYTES_PER_ENV = 55_000  # measured for models/arm2.json; see k8s/base/configmap.yaml
+MIN_GRACE_SECONDS = 30
+GRPC_PORT = 50051
+
+UNITS = {"Ki": 2**10, "Mi": 2**20, "Gi": 2**30, "Ti": 2**40, "k": 10**3, "M": 10**6, "G": 10**9, "T": 10**12}
+
+
+def quantity(text):
+    """A Kubernetes quantity ("3Gi", "1500m", "2") as a number."""
+    text = str(text)
+    if text.endswith("m"):
+        return float(text[:-1]) / 1000
+    for suffix, factor in UNITS.items():
+        if text.endswith(suffix):
+            return float(text[: -len(suffix)]) * factor
+    return float(text)
+
+
+def selects(selector, labels):
+    return all(labels.get(k) == v for k, v in (selector or {}).items())
+
+
+def check(docs):
+    errors = []
+    fail = errors.append
+    by_kind = {}
+    for doc in docs:
+        by_kind.setdefault(doc.get("kind"), []).append(doc)
+    config = {}
+    for cm in by_kind.get("ConfigMap", []):
+        config.update(cm.get("data") or {})
+
+    sets = by_kind.get("StatefulSet", [])
+    if not sets:
+        fail("no StatefulSet rendered")
+    for sts in sets:
+        name = sts["metadata"]["name"]
+        spec = sts["spec"]
+        pod_labels = spec["template"]["metadata"].get("labels", {})
+        if spec.get("podManagementPolicy") != "Parallel":
+            fail(f"statefulset/{name}: podManagementPolicy must be Parallel")
+        services = [s for s in by_kind.get("Service", []) if s["metadata"]["name"] == spec.get("serviceName")]
+        if not services:
+            fail(f"statefulset/{name}: serviceName {spec.get('serviceName')!r} is not a rendered Service")
+        for svc in services:
+            sspec = svc["spec"]
+            if sspec.get("clusterIP") != "None":
+                fail(f"service/{svc['metadata']['name']}: must be headless (clusterIP: None)")
+            if sspec.get("publishNotReadyAddresses", False):
+                fail(f"service/{svc['metadata']['name']}: must not publish unready pods")
+            if not selects(sspec.get("selector"), pod_labels):
+                fail(f"service/{svc['metadata']['name']}: selector does not match statefulset/{name}'s pods")
+        pdbs = [p for p in by_kind.get("PodDisruptionBudget", []) if selects(p["spec"]["selector"].get("matchLabels"), pod_labels)]
+        if not pdbs:
+            fail(f"statefulset/{name}: no PodDisruptionBudget selects its pods")
+        for pdb in pdbs:
+            if pdb["spec"].get("maxUnavailable") != 1:
+                fail(f"poddisruptionbudget/{pdb['metadata']['name']}: maxUnavailable must be 1")
+
+        pod = spec["template"]["spec"]
+        if pod.get("terminationGracePeriodSeconds", 30) < MIN_GRACE_SECONDS:
+            fail(f"statefulset/{name}: terminationGracePeriodSeconds below {MIN_GRACE_SECONDS}")
+        if not (pod.get("securityContext") or {}).get("runAsNonRoot"):
+            fail(f"statefulset/{name}: pod securityContext.runAsNonRoot must be true")
+        for c in pod["containers"]:
+            where = f"statefulset/{name} container {c['name']}"
+            sc = c.get("securityContext") or {}
+            if not sc.get("readOnlyRootFilesystem"):
+                fail(f"{where}: readOnlyRootFilesystem must be true")
+            if sc.get("allowPrivilegeEscalation", True):
+                fail(f"{where}: allowPrivilegeEscalation must be false")
+            if "ALL" not in ((sc.get("capabilities") or {}).get("drop") or []):
+                fail(f"{where}: capabilities must drop ALL")
+            for probe in ("readinessProbe", "livenessProbe"):
+                grpc = (c.get(probe) or {}).get("grpc")
+                if not grpc or grpc.get("port") != GRPC_PORT:
+                    fail(f"{where}: {probe} must be a grpc probe on port {GRPC_PORT}")
+            limits = (c.get("resources") or {}).get("limits") or {}
+            if "cpu" not in limits or "memory" not in limits:
+                fail(f"{where}: cpu and memory limits are required")
+                continue
+            env = {e["name"]: e for e in c.get("env", [])}
+            values = dict(config)
+            values.update({k: e["value"] for k, e in env.items() if "value" in e})
+            threads = env.get("GYMFLEET_THREADS")
+            ref = ((threads or {}).get("valueFrom") or {}).get("resourceFieldRef") or {}
+            cpus = math.ceil(quantity(limits["cpu"]))
+            if ref:
+                if ref.get("resource") != "limits.cpu" or quantity(ref.get("divisor", "1")) != 1:
+                    fail(f"{where}: GYMFLEET_THREADS must come from limits.cpu with divisor 1")
+            elif threads is None or int(values.get("GYMFLEET_THREADS", 0)) != cpus:
+                fail(f"{where}: GYMFLEET_THREADS must equal the CPU limit ({cpus})")
+            if values.get("GYMFLEET_LISTEN") != f"0.0.0.0:{GRPC_PORT}":
+                fail(f"{where}: GYMFLEET_LISTEN must be 0.0.0.0:{GRPC_PORT}")
+            max_envs = int(values.get("GYMFLEET_MAX_ENVS", 0))
+            memory = quantity(limits["memory"])
+            if max_envs == 0 or max_envs * BYTES_PER_ENV > memory * 0.8:
+                fail(
+                    f"{where}: GYMFLEET_MAX_ENVS={max_envs} does not fit {limits['memory']} "
+                    f"at {BYTES_PER_ENV} bytes per env with 20% headroom"
+                )
+    return errors
+
+
+def main(paths):
+    docs = []
+    for path in paths:
+        with open(path, encoding="utf-8") as f:
+            docs.extend(d for d in yaml.safe_load_all(f) if d)
+    errors = check(docs)
+    for error in errors:
+        print(f"ERROR {error}")
+    if errors:
+        return 1
+    print(f"policy: {len(docs)} objects in {', '.join(paths)} keep the fleet's invariants")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

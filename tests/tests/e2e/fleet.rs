@@ -1,0 +1,394 @@
+//! Fleet sharding: three real servers on loopback with 1, 2 and 3 threads driven as one
+//! by `gymfleet_client::Fleet`. Placement follows capacity, results equal a one-server
+//! batch bitwise, a lost server is named with its envs, and the survivors go on.
+
+use gymfleet_client::{
+    ActionType, Autoreset, BatchOptions, BatchStep, ClientError, EnvOptions, Fleet, FleetBatch,
+    FleetEndpoints,
+};
+use gymfleet_e2e::{TestServer, ARM2, PENDULUM};
+use gymfleet_server::ServerConfig;
+
+use crate::{actions, bits};
+
+const N_ENVS: usize = 96;
+const ACTION_DIM: usize = 2;
+
+async fn server_with_threads(threads: usize) -> TestServer {
+    TestServer::start(ServerConfig {
+        threads,
+        ..ServerConfig::default()
+    })
+    .await
+}
+
+/// Servers with 1, 2 and 3 threads.
+async fn three_servers() -> Vec<TestServer> {
+    let mut servers = Vec::new();
+    for threads in 1..=3 {
+        servers.push(server_with_threads(threads).await);
+    }
+    servers
+}
+
+async fn fleet_of(servers: &[TestServer]) -> Fleet {
+    let endpoints = FleetEndpoints::new(servers.iter().map(|s| s.addr().to_string()))
+        .expect("distinct endpoints");
+    Fleet::connect(endpoints).await.expect("connect the fleet")
+}
+
+/// Arms that truncate every 4 steps and reset within the step, so that final
+/// observations and flags cross shard boundaries.
+fn arms(n_envs: usize) -> BatchOptions {
+    BatchOptions::new(ARM2, n_envs)
+        .end_effectors(["forearm"])
+        .seed(11)
+        .seed_offset(3)
+        .max_steps(4)
+        .autoreset(Autoreset::SameStep)
+}
+
+/// Asserts that row `row` of `fleet` is bitwise row `reference_row` of `reference`, with
+/// the same reward, flags, final observation and termination reason.
+#[track_caller]
+fn assert_same_env(fleet: &BatchStep, row: usize, reference: &BatchStep, reference_row: usize) {
+    let what = format!("fleet row {row} vs reference row {reference_row}");
+    assert_eq!(
+        bits(fleet.obs(row)),
+        bits(reference.obs(reference_row)),
+        "{what}"
+    );
+    assert_eq!(
+        fleet.rewards()[row].to_bits(),
+        reference.rewards()[reference_row].to_bits(),
+        "{what}"
+    );
+    assert_eq!(
+        fleet.terminated()[row],
+        reference.terminated()[reference_row],
+        "{what}"
+    );
+    assert_eq!(
+        fleet.truncated()[row],
+        reference.truncated()[reference_row],
+        "{what}"
+    );
+    assert_eq!(
+        fleet.final_observation(row).map(bits),
+        reference.final_observation(reference_row).map(bits),
+        "{what}"
+    );
+    assert_eq!(
+        fleet.termination_reason(row),
+        reference.termination_reason(reference_row),
+        "{what}"
+    );
+}
+
+/// The rows of the envs at `indices` (original indices) of a full-batch action vector.
+fn rows_of(all: &[f32], indices: &[usize]) -> Vec<f32> {
+    indices
+        .iter()
+        .flat_map(|&i| all[i * ACTION_DIM..(i + 1) * ACTION_DIM].iter().copied())
+        .collect()
+}
+
+async fn batch_envs_per_server(servers: &[TestServer]) -> Vec<u64> {
+    let mut held = Vec::new();
+    for server in servers {
+        let info = server.client().await.server_info().await.expect("info");
+        held.push(info.batch_envs);
+    }
+    held
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_fleet_batch_is_split_by_threads_and_steps_like_one_server_bitwise() {
+    let servers = three_servers().await;
+    let reference_server = server_with_threads(2).await;
+    let fleet = fleet_of(&servers).await;
+    assert_eq!(fleet.servers().len(), 3);
+
+    let batch = fleet.create_batch(arms(N_ENVS)).await.expect("fleet batch");
+    let placement = batch.placement();
+    let got: Vec<(String, std::ops::Range<usize>)> = placement
+        .iter()
+        .map(|p| (p.server.clone(), p.envs.clone()))
+        .collect();
+    let want: Vec<(String, std::ops::Range<usize>)> = vec![
+        (servers[0].addr().to_string(), 0..16),
+        (servers[1].addr().to_string(), 16..48),
+        (servers[2].addr().to_string(), 48..96),
+    ];
+    assert_eq!(got, want, "96 envs over 1, 2 and 3 threads");
+    assert!(placement.iter().all(|p| p.lost.is_none()));
+    assert_eq!(batch_envs_per_server(&servers).await, [16, 32, 48]);
+    let info = batch.info().clone();
+    assert_eq!(
+        (info.n_envs, info.action_dim, info.observation_dim),
+        (N_ENVS, ACTION_DIM, 11)
+    );
+    assert_eq!(batch.env_indices(), (0..N_ENVS).collect::<Vec<_>>());
+    for (shard, p) in batch.shards().zip(&placement) {
+        assert_eq!(shard.server(), p.server);
+        assert_eq!(shard.id(), p.batch_id);
+    }
+
+    let reference_client = reference_server.client().await;
+    let reference = reference_client
+        .create_batch(arms(N_ENVS))
+        .await
+        .expect("reference batch");
+
+    let fleet_reset = batch.reset(Some(5)).await.expect("fleet reset");
+    let reference_reset = reference.reset(Some(5)).await.expect("reference reset");
+    assert_eq!(
+        bits(fleet_reset.observations()),
+        bits(reference_reset.observations())
+    );
+
+    let (mut truncations, mut finals) = (0, 0);
+    for k in 0..10u64 {
+        let acts = actions(k, N_ENVS * ACTION_DIM, 0.5);
+        let from_fleet = batch.step(ActionType::Torque, &acts).await.expect("step");
+        let from_one = reference
+            .step(ActionType::Torque, &acts)
+            .await
+            .expect("reference step");
+        assert_eq!(from_fleet.n_envs(), N_ENVS);
+        assert_eq!(from_fleet.step_index(), from_one.step_index());
+        assert_eq!(from_fleet.final_env_indices(), from_one.final_env_indices());
+        for env in 0..N_ENVS {
+            assert_same_env(&from_fleet, env, &from_one, env);
+        }
+        truncations += from_fleet.truncated().iter().filter(|t| **t).count();
+        finals += from_fleet.final_env_indices().len();
+    }
+    assert!(
+        truncations >= N_ENVS && finals >= N_ENVS,
+        "episodes ended and were reset across shards: {truncations} truncations, {finals} final observations"
+    );
+    let observed = batch.observe().await.expect("observe");
+    let reference_observed = reference.observe().await.expect("reference observe");
+    assert_eq!(
+        bits(observed.observations()),
+        bits(reference_observed.observations())
+    );
+
+    // Wrong lengths and non-finite actions are refused before any shard steps.
+    let err = batch.step(ActionType::Torque, &[0.0; 3]).await.unwrap_err();
+    assert!(
+        matches!(err, ClientError::InvalidArgument { .. }),
+        "{err:?}"
+    );
+    let mut bad = vec![0.0; N_ENVS * ACTION_DIM];
+    bad[2 * 50 + 1] = f32::NAN;
+    let err = batch.step(ActionType::Torque, &bad).await.unwrap_err();
+    assert!(err.message().contains("env 50"), "{err}");
+    let after = batch.observe().await.expect("observe");
+    assert_eq!(bits(after.observations()), bits(observed.observations()));
+
+    // Single envs go to the least-loaded server: 16 envs per thread everywhere, so the
+    // first, then the second (17/1 > 32/2).
+    let env = fleet
+        .create_env(EnvOptions::new(PENDULUM).end_effectors(["arm"]))
+        .await
+        .expect("fleet env");
+    assert_eq!(env.server(), servers[0].addr().to_string());
+    let second = fleet
+        .create_env(EnvOptions::new(PENDULUM).end_effectors(["arm"]))
+        .await
+        .expect("second fleet env");
+    assert_eq!(second.server(), servers[1].addr().to_string());
+    let step = env
+        .step(ActionType::Torque, &[1.0])
+        .await
+        .expect("env step");
+    assert!(step.observation.joint_positions[0] > 0.0);
+
+    batch.close().await.expect("close the fleet batch");
+    assert_eq!(batch_envs_per_server(&servers).await, [0, 0, 0]);
+    reference.close().await.expect("close");
+    for server in servers {
+        server.stop().await.expect("clean shutdown");
+    }
+    reference_server.stop().await.expect("clean shutdown");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_lost_server_is_named_with_its_envs_and_the_survivors_step_on() {
+    let mut servers = three_servers().await;
+    let reference_server = server_with_threads(1).await;
+    let fleet = fleet_of(&servers).await;
+    let mut batch = fleet.create_batch(arms(N_ENVS)).await.expect("fleet batch");
+    let mut small = fleet.create_batch(arms(6)).await.expect("second batch");
+    assert_eq!(
+        small
+            .placement()
+            .iter()
+            .map(|p| p.envs.clone())
+            .collect::<Vec<_>>(),
+        [0..1, 1..3, 3..6]
+    );
+    let reference = reference_server
+        .client()
+        .await
+        .create_batch(arms(N_ENVS))
+        .await
+        .expect("reference batch");
+
+    let acts = actions(1, N_ENVS * ACTION_DIM, 0.5);
+    let before = batch.step(ActionType::Torque, &acts).await.expect("step");
+    let reference_before = reference
+        .step(ActionType::Torque, &acts)
+        .await
+        .expect("step");
+    for env in 0..N_ENVS {
+        assert_same_env(&before, env, &reference_before, env);
+    }
+
+    // The middle server goes away mid-run.
+    let lost = servers.remove(1);
+    let lost_addr = lost.addr().to_string();
+    lost.stop().await.expect("clean shutdown");
+
+    let err = batch.step(ActionType::Torque, &acts).await.unwrap_err();
+    match &err {
+        ClientError::ServerLost { server, envs, .. } => {
+            assert_eq!(server, &lost_addr);
+            assert_eq!(envs.len(), 1, "{envs:?}");
+            assert_eq!(envs[0], 16..48);
+        }
+        other => panic!("expected ServerLost, got {other:?}"),
+    }
+    let text = err.to_string();
+    assert!(
+        text.starts_with(&format!("server {lost_addr} failed (")),
+        "{text}"
+    );
+    assert!(text.ends_with("lost envs 16..48 of fleet batch"), "{text}");
+    // Until the caller drops them, every call says so again.
+    let again = batch.observe().await.unwrap_err();
+    assert!(matches!(again, ClientError::ServerLost { .. }), "{again:?}");
+    let lost_shard = &batch.placement()[1];
+    assert_eq!(lost_shard.server, lost_addr);
+    assert!(lost_shard.lost.is_some());
+
+    // Other fleet batches with envs there learn it too; new ones cannot be created.
+    let small_err = small
+        .step(ActionType::Torque, &[0.0; 12])
+        .await
+        .unwrap_err();
+    assert!(
+        matches!(&small_err, ClientError::ServerLost { server, envs, .. }
+            if *server == lost_addr && envs.len() == 1 && envs[0] == (1..3)),
+        "{small_err:?}"
+    );
+    let create_err = fleet.create_batch(arms(8)).await.unwrap_err();
+    assert!(
+        matches!(&create_err, ClientError::OnServer { server, .. } if *server == lost_addr),
+        "{create_err:?}"
+    );
+    assert_eq!(create_err.server(), Some(lost_addr.as_str()));
+
+    // The survivors go on, with their original indices, as on one server. They took
+    // the step that found the loss: its result is kept for them.
+    assert_eq!(batch.drop_lost(), (16..48).collect::<Vec<_>>());
+    let survivors: Vec<usize> = (0..16).chain(48..96).collect();
+    let interrupted = batch
+        .take_interrupted_step()
+        .expect("the survivors' result of the interrupted step");
+    assert!(batch.take_interrupted_step().is_none());
+    let reference_interrupted = reference
+        .step(ActionType::Torque, &acts)
+        .await
+        .expect("reference step");
+    assert_eq!(interrupted.n_envs(), 64);
+    for (row, &env) in survivors.iter().enumerate() {
+        assert_same_env(&interrupted, row, &reference_interrupted, env);
+    }
+    assert_eq!(batch.env_indices(), survivors);
+    assert_eq!(batch.n_envs(), 64);
+    assert_eq!(batch.info().n_envs, 64);
+    assert_eq!(batch.placement().len(), 2);
+    assert!(batch.drop_lost().is_empty());
+    for k in 2..5u64 {
+        let all = actions(k, N_ENVS * ACTION_DIM, 0.5);
+        let from_fleet = batch
+            .step(ActionType::Torque, &rows_of(&all, &survivors))
+            .await
+            .expect("survivors step");
+        let from_one = reference
+            .step(ActionType::Torque, &all)
+            .await
+            .expect("reference step");
+        assert_eq!(from_fleet.n_envs(), 64);
+        for (row, &env) in survivors.iter().enumerate() {
+            assert_same_env(&from_fleet, row, &from_one, env);
+        }
+    }
+    assert_eq!(small.drop_lost(), [1, 2]);
+    let step = small
+        .step(ActionType::Torque, &[0.0; 8])
+        .await
+        .expect("the small batch's survivors step");
+    assert_eq!(step.n_envs(), 4);
+
+    // Single envs avoid the lost server.
+    let env = fleet
+        .create_env(EnvOptions::new(PENDULUM).end_effectors(["arm"]))
+        .await
+        .expect("an env on a live server");
+    assert_ne!(env.server(), lost_addr);
+
+    batch.close().await.expect("close survivors");
+    small.close().await.expect("close survivors");
+    for server in servers {
+        server.stop().await.expect("clean shutdown");
+    }
+    reference_server.stop().await.expect("clean shutdown");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_refused_shard_leaves_no_other_shard_behind() {
+    let open = server_with_threads(1).await;
+    let refusing = TestServer::start(ServerConfig {
+        threads: 1,
+        max_document_bytes: 64,
+        ..ServerConfig::default()
+    })
+    .await;
+    let servers = [open, refusing];
+    let fleet = fleet_of(&servers).await;
+    let err = fleet.create_batch(arms(8)).await.unwrap_err();
+    let refusing_addr = servers[1].addr().to_string();
+    assert!(
+        matches!(&err, ClientError::OnServer { server, .. } if *server == refusing_addr),
+        "{err:?}"
+    );
+    let info = servers[0].client().await.server_info().await.expect("info");
+    assert_eq!(
+        (info.batches, info.batch_envs),
+        (0, 0),
+        "the shard on the open server was closed"
+    );
+
+    // A fleet with an unreachable member does not connect, and says which.
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").expect("bind");
+    let dead = listener.local_addr().expect("addr").to_string();
+    drop(listener);
+    let endpoints =
+        FleetEndpoints::new([servers[0].addr().to_string(), dead.clone()]).expect("endpoints");
+    let err = Fleet::connect(endpoints).await.unwrap_err();
+    assert_eq!(err.server(), Some(dead.as_str()), "{err:?}");
+
+    let [open, refusing] = servers;
+    open.stop().await.expect("clean shutdown");
+    refusing.stop().await.expect("clean shutdown");
+}
+
+/// A `FleetBatch` is usable where the caller holds it mutably across awaits.
+#[allow(dead_code)]
+fn fleet_batches_are_send(batch: FleetBatch) -> impl Send {
+    batch
+}
