@@ -37,6 +37,7 @@ pub struct EnvOptions {
     max_steps: Option<u32>,
     seed: Option<u64>,
     pd_gains: Option<PdGains>,
+    reset_noise: Option<f64>,
 }
 
 impl EnvOptions {
@@ -84,6 +85,14 @@ impl EnvOptions {
         self
     }
 
+    /// Initial-state noise: every reset offsets each DOF's position by a value drawn
+    /// uniformly from `[-half_width, +half_width]` (deg or mm) from the env's seeded
+    /// stream, clamped to its limits. Unset or 0: resets are exact.
+    pub fn reset_noise(mut self, half_width: f64) -> Self {
+        self.reset_noise = Some(half_width);
+        self
+    }
+
     /// The document.
     pub fn document_json(&self) -> &str {
         &self.document_json
@@ -104,7 +113,7 @@ impl EnvOptions {
             max_steps: self.max_steps.unwrap_or(0),
             seed: self.seed,
             pd_gains: self.pd_gains.map(|g| pb::PdGains { kp: g.kp, kd: g.kd }),
-            reset_noise: None,
+            reset_noise: self.reset_noise,
         }
     }
 }
@@ -181,6 +190,12 @@ impl BatchOptions {
         self
     }
 
+    /// See [`EnvOptions::reset_noise`].
+    pub fn reset_noise(mut self, half_width: f64) -> Self {
+        self.env = self.env.reset_noise(half_width);
+        self
+    }
+
     /// What happens to finished envs.
     pub fn autoreset(mut self, autoreset: Autoreset) -> Self {
         self.autoreset = autoreset;
@@ -219,7 +234,7 @@ impl BatchOptions {
             max_steps: env.max_steps,
             seed: env.seed,
             pd_gains: env.pd_gains,
-            reset_noise: None,
+            reset_noise: env.reset_noise,
             // Over u32::MAX envs: saturate, and let the server's limit refuse it.
             n_envs: u32::try_from(self.n_envs).unwrap_or(u32::MAX),
             autoreset: pb::Autoreset::from(self.autoreset) as i32,

@@ -225,3 +225,44 @@ async fn eight_concurrent_clients_on_separate_batches() {
     assert_eq!((info.batches, info.batch_envs), (0, 0), "all closed");
     server.stop().await.expect("clean shutdown");
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn seeded_reset_noise_varies_envs_and_replays_by_seed() {
+    let server = TestServer::start_default().await;
+    let client = server.client().await;
+    let batch = client
+        .create_batch(arm_batch(8).reset_noise(10.0))
+        .await
+        .expect("create a noisy batch");
+    let first = batch
+        .reset(Some(5))
+        .await
+        .expect("reset")
+        .into_observations();
+    let rows: Vec<&[f32]> = first.chunks_exact(11).collect();
+    assert_ne!(bits(&rows[0][..2]), bits(&rows[1][..2]), "envs start apart");
+    for row in &rows {
+        assert!(
+            row[0].abs() <= 10.0 && (-10.0..=0.0).contains(&row[1]),
+            "{row:?}"
+        );
+        assert_eq!(&row[2..4], &[0.0, 0.0], "velocities start at zero");
+    }
+    let again = batch
+        .reset(Some(5))
+        .await
+        .expect("reset")
+        .into_observations();
+    assert_eq!(
+        bits(&first),
+        bits(&again),
+        "the same seed replays the starts"
+    );
+    let other = batch
+        .reset(Some(6))
+        .await
+        .expect("reset")
+        .into_observations();
+    assert_ne!(bits(&first), bits(&other));
+    batch.close().await.expect("close");
+}

@@ -74,6 +74,15 @@ async fn bad_documents_and_configs_are_invalid_arguments_with_paths() {
     assert_invalid(&err, &["dt:", "-1"]);
 
     let err = client
+        .create_env(EnvOptions::new(PENDULUM).reset_noise(-2.0))
+        .await
+        .unwrap_err();
+    assert_eq!(
+        err.message(),
+        "reset_noise: expected a finite half-width >= 0 (deg or mm), got -2"
+    );
+
+    let err = client
         .create_batch(BatchOptions::new(ARM2, 0))
         .await
         .unwrap_err();
