@@ -32,6 +32,11 @@ pub(crate) struct CreateEnvParams {
     /// Optional PD gain overrides for `position` and `velocity` actions. Omit to use the
     /// server's stable defaults.
     pub(crate) pd_gains: Option<PdGainsParam>,
+    /// Optional start-state randomisation: every reset offsets each joint's position by
+    /// a random value in [-reset_noise, +reset_noise] degrees (mm for sliding joints),
+    /// drawn from the seeded generator and kept within the joint's limits. Default 0
+    /// (every reset is the exact initial pose).
+    pub(crate) reset_noise: Option<f64>,
 }
 
 /// PD gain overrides, per DOF in DOF order, in SI units.
@@ -152,6 +157,11 @@ pub(crate) struct CreateBatchParams {
     /// Optional PD gain overrides for `position` and `velocity` actions, shared by every
     /// env. Omit to use the server's stable defaults.
     pub(crate) pd_gains: Option<PdGainsParam>,
+    /// Optional start-state randomisation: every reset offsets each joint's position by
+    /// a random value in [-reset_noise, +reset_noise] degrees (mm for sliding joints),
+    /// drawn from the seeded generator and kept within the joint's limits. Default 0
+    /// (every reset is the exact initial pose).
+    pub(crate) reset_noise: Option<f64>,
     /// What happens to an env whose episode ended: "disabled" (default: call
     /// batch_reset), "same_step" (reset within the step; its last observation is returned
     /// as final_observation) or "next_step" (Gymnasium style: reset on the next step,
@@ -202,6 +212,7 @@ struct Common {
     max_steps: Option<u32>,
     seed: Option<u64>,
     pd_gains: Option<PdGainsParam>,
+    reset_noise: Option<f64>,
 }
 
 impl Common {
@@ -220,6 +231,9 @@ impl Common {
         }
         if let Some(seed) = self.seed {
             options = options.seed(seed);
+        }
+        if let Some(noise) = self.reset_noise {
+            options = options.reset_noise(noise);
         }
         if let Some(gains) = self.pd_gains {
             options = options.pd_gains(PdGains {
@@ -241,6 +255,7 @@ impl CreateEnvParams {
             max_steps: self.max_steps,
             seed: self.seed,
             pd_gains: self.pd_gains,
+            reset_noise: self.reset_noise,
         };
         common.into_options(self.document)
     }
@@ -256,6 +271,7 @@ impl CreateBatchParams {
             max_steps: self.max_steps,
             seed: self.seed,
             pd_gains: self.pd_gains,
+            reset_noise: self.reset_noise,
         };
         let env = common.into_options(self.document)?;
         Ok(BatchOptions::from_env(env, self.n_envs as usize).autoreset(self.autoreset.into()))

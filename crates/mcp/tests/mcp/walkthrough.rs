@@ -188,5 +188,27 @@ async fn two_dof_arm() {
     assert_clean_numbers(&step["observation"]);
 
     adapter.ok("gym_close", json!({"env_id": "sim_1"})).await;
+
+    // reset_noise: seeded random start poses, replayed by the same seed.
+    let noisy = adapter
+        .ok(
+            "create_robot_env",
+            json!({"document": ARM2, "end_effector_ids": ["forearm"], "reset_noise": 10}),
+        )
+        .await;
+    let id = noisy["env_id"].as_str().expect("env id").to_string();
+    let first = adapter
+        .ok("gym_reset", json!({"env_id": id, "seed": 3}))
+        .await;
+    let again = adapter
+        .ok("gym_reset", json!({"env_id": id, "seed": 3}))
+        .await;
+    let start = floats(&first["joint_positions"]);
+    assert_eq!(first, again, "the same seed gives the same start");
+    assert!(start[0] != 0.0 && start[0].abs() <= 10.0, "{start:?}");
+    assert!(
+        (-10.0..=0.0).contains(&start[1]),
+        "elbow within its limits: {start:?}"
+    );
     adapter.stop().await;
 }

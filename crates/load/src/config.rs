@@ -1,0 +1,206 @@
+//! [`LoadConfig`]: a validated load run — where it runs ([`Target`]), what it loads,
+//! how it steps ([`Api`], [`Mode`]), and when it stops ([`StopRule`], [`Warmup`]).
+//! Built from the command line by [`crate::Cli::resolve`], or by hand in tests.
+
+use std::num::NonZeroUsize;
+use std::path::PathBuf;
+
+use serde::Serialize;
+
+use crate::actions::{ActionKind, ActionPlan};
+use crate::model::Model;
+
+/// Where the workload runs.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Target {
+    /// Remote servers; clients are spread over them round-robin.
+    Remote {
+        /// `host:port` or `http://host:port`.
+        servers: Vec<String>,
+    },
+    /// A gymfleet server started in this process on `127.0.0.1:0`.
+    Embedded {
+        /// Its step-pool threads.
+        threads: usize,
+    },
+    /// `gymfleet-batch` stepped directly on a `StepPool`: no server, no network.
+    InProcess {
+        /// The pool's threads.
+        threads: usize,
+    },
+    /// In process first, then remote (the given servers, or an embedded server with
+    /// the same thread count), and the throughput ratio remote / in-process.
+    Compare {
+        /// The in-process pool's (and embedded server's) threads.
+        threads: usize,
+        /// Remote servers; empty means an embedded server.
+        servers: Vec<String>,
+    },
+}
+
+/// Which RPCs carry the steps.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum Api {
+    /// `CreateBatch` + `StepBatch` (or `StreamBatch`): `n_envs` env-steps per call.
+    Batch,
+    /// `CreateEnv` + `Step`: one env-step per call, to measure single-env latency.
+    Env,
+}
+
+/// How batch steps are sent.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum Mode {
+    /// One `StepBatch` call at a time per client.
+    Unary,
+    /// A `StreamBatch` stream per client with up to `window` steps in flight.
+    Stream,
+}
+
+/// When a client stops calling.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StopRule {
+    /// After this many seconds of measurement (after the warmup), for every client.
+    Seconds(f64),
+    /// After this many measured calls per client.
+    Steps(u64),
+}
+
+/// What is excluded from the figures at the start.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Warmup {
+    /// The first seconds of a timed run.
+    Seconds(f64),
+    /// The first calls of each client.
+    Steps(u64),
+}
+
+/// A complete, validated load run.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LoadConfig {
+    /// Where it runs.
+    pub target: Target,
+    /// The document.
+    pub model: Model,
+    /// Observed instances.
+    pub end_effectors: Vec<String>,
+    /// Envs per batch (1 with [`Api::Env`]).
+    pub n_envs: usize,
+    /// Concurrent clients, each with its own connection and batch (or env).
+    pub clients: usize,
+    /// When each client stops.
+    pub stop: StopRule,
+    /// What is left out of the figures.
+    pub warmup: Warmup,
+    /// Batch or single-env RPCs.
+    pub api: Api,
+    /// Unary or streamed batch steps.
+    pub mode: Mode,
+    /// Steps in flight per stream.
+    pub window: usize,
+    /// How action values are read.
+    pub action_type: ActionKind,
+    /// Action amplitude (N·m, deg or deg/s).
+    pub amplitude: f32,
+    /// Physics substeps per step; `None` is the server's default (4).
+    pub substeps: Option<u32>,
+    /// Seconds per step; `None` is the server's default (1/240).
+    pub dt: Option<f64>,
+    /// Episode length; `None` is the server's default (1000). Batches reset finished
+    /// envs within the step (same-step autoreset); single envs are reset when done.
+    pub max_steps: Option<u32>,
+    /// Seed of the envs and of the actions.
+    pub seed: u64,
+    /// Where to write the JSON results.
+    pub json: Option<PathBuf>,
+    /// No progress bar.
+    pub quiet: bool,
+    /// Report this process's peak and current resident memory.
+    pub report_rss: bool,
+}
+
+impl LoadConfig {
+    /// A short run of `model` on an embedded server: 1 client, `steps` measured steps,
+    /// no warmup, unary batch steps of small torques. A base for tests and examples.
+    pub fn new(model: Model, n_envs: usize, steps: u64) -> Self {
+        LoadConfig {
+            target: Target::Embedded { threads: 0 },
+            end_effectors: model.default_end_effectors.clone(),
+            amplitude: model.torque_amplitude,
+            model,
+            n_envs,
+            clients: 1,
+            stop: StopRule::Steps(steps),
+            warmup: Warmup::Steps(0),
+            api: Api::Batch,
+            mode: Mode::Unary,
+            window: gymfleet_client::DEFAULT_STREAM_WINDOW,
+            action_type: ActionKind::Torque,
+            substeps: None,
+            dt: None,
+            max_steps: None,
+            seed: 0,
+            json: None,
+            quiet: true,
+            report_rss: false,
+        }
+    }
+
+    /// The action plan for DOFs with these limits (same for every target).
+    pub fn action_plan(&self, limits: &[Option<(f64, f64)>]) -> ActionPlan {
+        ActionPlan::new(self.action_type, self.amplitude, limits, self.seed)
+    }
+
+    /// The first global env index of client `client`: clients' envs are numbered
+    /// consecutively, so each has its own seeds and actions.
+    pub fn first_env(&self, client: usize) -> u64 {
+        (client * self.n_envs) as u64
+    }
+
+    /// One line describing the run, for the report.
+    pub fn summary(&self) -> String {
+        let api = match (self.api, self.mode) {
+            (Api::Env, _) => "single-env Step".to_string(),
+            (Api::Batch, Mode::Unary) => "unary StepBatch".to_string(),
+            (Api::Batch, Mode::Stream) => format!("StreamBatch window {}", self.window),
+        };
+        let stop = match self.stop {
+            StopRule::Seconds(s) => format!("{s} s"),
+            StopRule::Steps(n) => format!("{n} steps"),
+        };
+        let warmup = match self.warmup {
+            Warmup::Seconds(s) => format!("{s} s"),
+            Warmup::Steps(n) => format!("{n} steps"),
+        };
+        let envs = if self.n_envs == 1 { "env" } else { "envs" };
+        let clients = if self.clients == 1 {
+            "client"
+        } else {
+            "clients"
+        };
+        format!(
+            "model {} · {} {envs} × {} {clients} · {api} · {} ±{} · substeps {} · dt {} · seed {} · {stop} after {warmup} warmup",
+            self.model.name,
+            self.n_envs,
+            self.clients,
+            self.action_type.as_str(),
+            self.amplitude,
+            self.substeps.map_or("default".into(), |s| s.to_string()),
+            self.dt.map_or("default".into(), |s| format!("{s} s")),
+            self.seed,
+        )
+    }
+}
+
+/// Threads for "0 = one per core".
+pub fn threads_or_cores(threads: usize) -> usize {
+    if threads == 0 {
+        std::thread::available_parallelism().map_or(1, NonZeroUsize::get)
+    } else {
+        threads
+    }
+}

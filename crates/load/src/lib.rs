@@ -1,0 +1,129 @@
+//! gymfleet-load: the load-test client of gymfleet. This crate owns the load workload
+//! and its measurement: the command line ([`Cli`] → [`LoadConfig`]), the deterministic
+//! actions ([`ActionPlan`]), the runners — remote, through `gymfleet-client` with unary
+//! `StepBatch`, pipelined `StreamBatch` or single-env `Step` calls from many concurrent
+//! clients spread over one or several servers; and in process, on a local
+//! `gymfleet-batch` `StepPool` — and the report ([`Report`]: env-steps/s, calls/s, per-call
+//! latency percentiles from hdrhistogram, errors; a table and JSON).
+//!
+//! With the default `embedded` feature it also links `gymfleet-server`,
+//! `gymfleet-batch` and `gymfleet-env`: with no `--server` it starts a server in process
+//! on `127.0.0.1:0` ([`EmbeddedServer`]), and `--in-process` / `--compare` step the
+//! batch directly, so the server's overhead is one command. Built without it
+//! (`--no-default-features`) it is a pure network client of `gymfleet-client` that
+//! needs `--server`, and links no physics. Simulation itself is left to the server.
+//!
+//! ```no_run
+//! use clap::Parser;
+//! use gymfleet_load::{render_table, run, Cli};
+//!
+//! let config = Cli::parse_from(["gymfleet-load", "--model", "arm2", "--steps", "100"])
+//!     .resolve()
+//!     .expect("valid flags");
+//! let report = run(&config).expect("run");
+//! print!("{}", render_table(&report));
+//! ```
+
+mod actions;
+mod cli;
+mod config;
+#[cfg(feature = "embedded")]
+mod embedded;
+mod error;
+#[cfg(feature = "embedded")]
+mod in_process;
+mod meter;
+mod model;
+mod progress;
+mod remote;
+mod report;
+mod rss;
+
+pub use actions::{ActionKind, ActionPlan};
+pub use cli::{Cli, DEFAULT_DURATION_SECS, DEFAULT_N_ENVS, DEFAULT_WARMUP_SECS};
+pub use config::{threads_or_cores, Api, LoadConfig, Mode, StopRule, Target, Warmup};
+#[cfg(feature = "embedded")]
+pub use embedded::EmbeddedServer;
+pub use error::{LoadError, Result};
+pub use meter::MAX_CONSECUTIVE_ERRORS;
+pub use model::{Model, ARM2, ARM6, DEFAULT_TORQUE_AMPLITUDE, PENDULUM};
+pub use report::{render_table, to_json, Latency, Report, RunResult};
+pub use rss::Memory;
+
+/// Runs `config` to the end and returns its report; writes the JSON file if
+/// `config.json` is set. Builds its own tokio runtime, so call it from outside one.
+pub fn run(config: &LoadConfig) -> Result<Report> {
+    let memory_baseline = config.report_rss.then(Memory::current).flatten();
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()
+        .map_err(|e| LoadError::setup("tokio runtime", e))?;
+    let mut runs = Vec::new();
+    let mut ratio = None;
+    match &config.target {
+        Target::Remote { servers } => {
+            runs.push(runtime.block_on(remote::run(config, servers, "server"))?);
+        }
+        Target::Embedded { threads } => {
+            runs.push(runtime.block_on(run_embedded(config, *threads))?)
+        }
+        Target::InProcess { threads } => runs.push(run_in_process(config, *threads)?),
+        Target::Compare { threads, servers } => {
+            let local = run_in_process(config, *threads)?;
+            let remote = if servers.is_empty() {
+                runtime.block_on(run_embedded(config, *threads))?
+            } else {
+                runtime.block_on(remote::run(config, servers, "server"))?
+            };
+            if local.env_steps_per_s > 0.0 {
+                ratio = Some(remote.env_steps_per_s / local.env_steps_per_s);
+            }
+            runs.push(local);
+            runs.push(remote);
+        }
+    }
+    let report = Report {
+        config: config.clone(),
+        summary: config.summary(),
+        runs,
+        ratio_remote_to_in_process: ratio,
+        memory_baseline,
+        memory_end: config.report_rss.then(Memory::current).flatten(),
+    };
+    if let Some(path) = &config.json {
+        std::fs::write(path, to_json(&report) + "\n").map_err(|e| LoadError::Output {
+            path: path.clone(),
+            reason: e.to_string(),
+        })?;
+    }
+    Ok(report)
+}
+
+#[cfg(feature = "embedded")]
+async fn run_embedded(config: &LoadConfig, threads: usize) -> Result<RunResult> {
+    let server = EmbeddedServer::start(threads).await?;
+    let result = remote::run(config, &[server.addr().to_string()], "embedded server").await;
+    let stopped = server.stop().await;
+    let result = result?;
+    stopped?;
+    Ok(result)
+}
+
+#[cfg(not(feature = "embedded"))]
+async fn run_embedded(_config: &LoadConfig, _threads: usize) -> Result<RunResult> {
+    Err(LoadError::NotEmbedded {
+        what: "running without --server (an embedded server)",
+    })
+}
+
+#[cfg(feature = "embedded")]
+fn run_in_process(config: &LoadConfig, threads: usize) -> Result<RunResult> {
+    in_process::run(config, threads)
+}
+
+#[cfg(not(feature = "embedded"))]
+fn run_in_process(_config: &LoadConfig, _threads: usize) -> Result<RunResult> {
+    Err(LoadError::NotEmbedded {
+        what: "--in-process",
+    })
+}

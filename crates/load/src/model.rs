@@ -1,0 +1,107 @@
+//! [`Model`]: the robot document a run loads, either one of the three built-in models
+//! (compiled in from `models/`) or a document file, with its end effectors and the
+//! torque scale that moves it without throwing it about.
+
+use std::path::Path;
+
+use serde::Serialize;
+
+use crate::error::{LoadError, Result};
+
+/// The seed's 1-DOF pendulum.
+pub const PENDULUM: &str = include_str!("../../../models/pendulum.json");
+/// The seed's 2-DOF arm.
+pub const ARM2: &str = include_str!("../../../models/arm2.json");
+/// A 6-DOF arm: base yaw, shoulder and elbow pitch, wrist roll, pitch and roll.
+pub const ARM6: &str = include_str!("../../../models/arm6.json");
+
+/// Torque amplitude for documents of unknown mass: suits the seed-sized parts (grams,
+/// centimetres), whose gravity torques are about 1e-4 N·m.
+pub const DEFAULT_TORQUE_AMPLITUDE: f32 = 1e-4;
+
+/// An assembly document to load, and how to drive it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Model {
+    /// `pendulum`, `arm2`, `arm6`, or the file path as given.
+    pub name: String,
+    /// Whether it is one of the built-in models.
+    pub builtin: bool,
+    /// The document (JSON text).
+    #[serde(skip)]
+    pub document: String,
+    /// The instances observed by default: the built-ins' tips, or a file's last instance.
+    pub default_end_effectors: Vec<String>,
+    /// Default torque-action amplitude, N·m: about the model's gravity torques.
+    pub torque_amplitude: f32,
+}
+
+impl Model {
+    /// Resolves `--model`: a built-in name, else a path to a document file.
+    pub fn resolve(name: &str) -> Result<Self> {
+        let builtin = |document: &str, tip: &str, torque: f32| Model {
+            name: name.to_string(),
+            builtin: true,
+            document: document.to_string(),
+            default_end_effectors: vec![tip.to_string()],
+            torque_amplitude: torque,
+        };
+        match name {
+            "pendulum" => return Ok(builtin(PENDULUM, "arm", 1e-4)),
+            "arm2" => return Ok(builtin(ARM2, "forearm", 1e-4)),
+            "arm6" => return Ok(builtin(ARM6, "tool", 2e-2)),
+            _ => {}
+        }
+        let path = Path::new(name);
+        if !path.exists() {
+            return Err(LoadError::UnknownModel {
+                name: name.to_string(),
+            });
+        }
+        let document = std::fs::read_to_string(path).map_err(|e| LoadError::ModelFile {
+            path: path.to_path_buf(),
+            reason: e.to_string(),
+        })?;
+        Ok(Model {
+            name: name.to_string(),
+            builtin: false,
+            default_end_effectors: last_instance(&document).into_iter().collect(),
+            document,
+            torque_amplitude: DEFAULT_TORQUE_AMPLITUDE,
+        })
+    }
+}
+
+/// The name of the document's last instance, if the document is readable JSON with one.
+/// A broken document is left to the server, which reports it with its JSON path.
+fn last_instance(document: &str) -> Option<String> {
+    let value: serde_json::Value = serde_json::from_str(document).ok()?;
+    let instances = value.get("assembly")?.get("instances")?.as_array()?;
+    Some(instances.last()?.get("name")?.as_str()?.to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn builtins_name_their_tips() {
+        assert_eq!(
+            Model::resolve("pendulum").unwrap().default_end_effectors,
+            ["arm"]
+        );
+        assert_eq!(
+            Model::resolve("arm2").unwrap().default_end_effectors,
+            ["forearm"]
+        );
+        let arm6 = Model::resolve("arm6").unwrap();
+        assert_eq!(arm6.default_end_effectors, ["tool"]);
+        assert!(arm6.document.contains("\"tool\""));
+    }
+
+    #[test]
+    fn files_default_to_their_last_instance() {
+        assert_eq!(last_instance(ARM2).as_deref(), Some("forearm"));
+        assert_eq!(last_instance("not json"), None);
+        assert_eq!(last_instance(r#"{"assembly": {"instances": []}}"#), None);
+    }
+}
