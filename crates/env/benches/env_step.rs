@@ -1,19 +1,26 @@
-//! Criterion benchmarks: one env step of the seed models, and reset.
+//! Criterion benchmarks: one env step of the seed models and the 6-DOF arm, the raw
+//! physics step underneath it (the simulator's own limit), and reset.
 #![allow(missing_docs)]
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use gymfleet_env::{ActionType, EnvConfig, RobotEnv};
+use gymfleet_env::{ActionType, EnvConfig, RobotEnv, DEFAULT_DT, DEFAULT_SUBSTEPS};
+use gymfleet_physics::{ActionMode, RobotWorld, WorldOptions};
 
 const PENDULUM: &str = include_str!("../../../models/pendulum.json");
 const ARM2: &str = include_str!("../../../models/arm2.json");
+const ARM6: &str = include_str!("../../../models/arm6.json");
+
+const MODELS: [(&str, &str, &str); 3] = [
+    ("pendulum", PENDULUM, "arm"),
+    ("arm2", ARM2, "forearm"),
+    ("arm6", ARM6, "tool"),
+];
 
 fn bench_env(c: &mut Criterion) {
     let mut group = c.benchmark_group("env");
-    for (name, doc, ee, action) in [
-        ("pendulum", PENDULUM, "arm", vec![0.0f32]),
-        ("arm2", ARM2, "forearm", vec![0.0f32, 0.0]),
-    ] {
+    for (name, doc, ee) in MODELS {
         let mut env = RobotEnv::from_json(doc, EnvConfig::with_end_effectors([ee])).unwrap();
+        let action = vec![0.0f32; env.spec().action_dim];
         let mut obs = vec![0.0; env.spec().observation_dim];
         group.bench_function(format!("step/{name}"), |b| {
             b.iter(|| {
@@ -32,5 +39,32 @@ fn bench_env(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_env);
+/// The same step without the gym layer: set the command, run the substeps. Reset every
+/// 1000 steps, as the env does at its default `max_steps`.
+fn bench_physics(c: &mut Criterion) {
+    let mut group = c.benchmark_group("physics");
+    for (name, doc, _) in MODELS {
+        let assembly = gymfleet_assembly::parse(doc).unwrap();
+        let options = WorldOptions {
+            substep_dt: DEFAULT_DT / f64::from(DEFAULT_SUBSTEPS),
+            gains: None,
+        };
+        let mut world = RobotWorld::new(&assembly, &options).unwrap();
+        let action = vec![0.0f32; world.dofs().len()];
+        let mut steps = 0;
+        group.bench_function(format!("step/{name}"), |b| {
+            b.iter(|| {
+                world.set_command(ActionMode::Torque, &action);
+                world.step(DEFAULT_SUBSTEPS);
+                steps += 1;
+                if steps % 1000 == 0 {
+                    world.reset();
+                }
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench_env, bench_physics);
 criterion_main!(benches);

@@ -136,7 +136,7 @@ impl RobotWorld {
 
         let n_dofs = dofs.len();
         let mut world = RobotWorld {
-            initial: sets.clone(),
+            initial: std::sync::Arc::new(sets.clone()),
             live: sets,
             pipeline_params: params,
             gravity: Vector::new(0.0, 0.0, -GRAVITY),

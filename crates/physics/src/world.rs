@@ -80,7 +80,9 @@ pub(crate) struct JointSlot {
 #[derive(Clone)]
 pub struct RobotWorld {
     pub(crate) live: Sets,
-    pub(crate) initial: Sets,
+    /// The state at creation, shared by every clone of this world (a batch's envs),
+    /// so that each env holds one copy of the Rapier sets, not two.
+    pub(crate) initial: std::sync::Arc<Sets>,
     pub(crate) pipeline_params: IntegrationParameters,
     pub(crate) gravity: Vector,
     /// One body per instance, in document order.
