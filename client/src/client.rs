@@ -113,8 +113,13 @@ fn error_chain(err: &(dyn std::error::Error + 'static)) -> String {
     let mut text = err.to_string();
     let mut source = err.source();
     while let Some(s) = source {
-        text.push_str(": ");
-        text.push_str(&s.to_string());
+        // hyper and tonic often repeat their source's text in their own message
+        // ("tcp connect error: tcp connect error: ..."): add only what is new.
+        let part = s.to_string();
+        if !text.ends_with(&part) {
+            text.push_str(": ");
+            text.push_str(&part);
+        }
         source = s.source();
     }
     text
@@ -134,6 +139,12 @@ mod tests {
         assert!(
             matches!(&err, ClientError::Connect { addr: a, .. } if *a == addr),
             "{err:?}"
+        );
+        let text = err.to_string();
+        assert!(text.contains("refused"), "{text}");
+        assert!(
+            !text.contains("tcp connect error: tcp connect error"),
+            "each cause once: {text}"
         );
         let err = Client::connect("http://[not an address").await.unwrap_err();
         assert!(matches!(err, ClientError::Connect { .. }), "{err:?}");
