@@ -285,3 +285,28 @@ async fn limits_are_resource_exhausted_and_say_how_to_raise_them() {
     assert_eq!((info.envs, info.batches, info.batch_envs), (4, 0, 0));
     server.stop().await.expect("clean shutdown");
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_oversized_message_is_refused_and_the_server_keeps_serving() {
+    let server = TestServer::start(ServerConfig {
+        max_message_bytes: 64 * 1024,
+        max_document_bytes: 0,
+        idle_ttl: Duration::ZERO,
+        ..ServerConfig::default()
+    })
+    .await;
+    let client = server.client().await;
+    let big = format!("{PENDULUM}{}", " ".repeat(100 * 1024));
+    let err = client.create_env(EnvOptions::new(big)).await.unwrap_err();
+    assert_exhausted(&err, &["message length too large"]);
+
+    // The connection and the server are fine: the next call succeeds.
+    let env = client
+        .create_env(EnvOptions::new(PENDULUM))
+        .await
+        .expect("a normal document after the refusal");
+    let info = client.server_info().await.expect("info");
+    assert_eq!(info.envs, 1, "the refused call created nothing");
+    env.close().await.expect("close");
+    server.stop().await.expect("clean shutdown");
+}
