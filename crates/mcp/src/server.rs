@@ -18,7 +18,7 @@ gravity -Z). Single environment: create_robot_env -> env_id, then gym_reset, gym
 action_dim values), gym_observe, and gym_close when done. Many at once: batch_create_envs -> \
 batch_id, then batch_step with one array of action_dim values per env, batch_reset, \
 batch_close. Observations are {joint_positions, joint_velocities, end_effector_poses}, each \
-pose [x, y, z, qw, qx, qy, qz] in mm. reward is 0.0: compute your own from the observation.";
+pose [x, y, z, qw, qx, qy, qz] in mm. reward is 0.0: compute your own from the observation. Scale torques to the parts: masses come from volume x density (default 1000 kg/m^3), so a 40 mm arm weighs under a gram and 1e-4 N·m already swings it; position targets are the easiest way to move a small robot.";
 
 /// The gym tools, served to one MCP session; every session shares one [`Fleet`].
 #[derive(Debug, Clone)]
