@@ -360,22 +360,29 @@ fn jointed_pairs_do_not_collide_and_everything_else_does() {
     assert!((pebble[3] - 1.0).abs() < 1e-3, "pebble tipped: {pebble:?}");
 }
 
-/// Regression: with 2 Rapier solver substeps per pipeline step (tried for speed), the
-/// seed arm's elbow ([-120, 0]°) was driven to -829° and the env diverged within 5
-/// steps of a 0.875 N·m torque, a torque the seed walkthrough's scale invites. That is
-/// about 10⁴ times the links' weight torque: within one step a limit can still give way
-/// transiently (the elbow reaches +25° on step 1), but it must recover, never diverge.
+/// Regression: Rapier's limit constraint engages only once a joint is past its limit,
+/// so a large effort carried the seed arm's elbow ([-120, 0]°) 42° past its stop at
+/// 0.25 N·m and 146° at 0.875 N·m, and with 2 solver substeps the env diverged. The
+/// physics now projects limited DOFs back onto their stops after every substep.
 #[test]
-fn seed_arm_survives_a_large_torque_against_its_limits() {
-    let mut env = RobotEnv::from_json(ARM2, EnvConfig::with_end_effectors(["forearm"])).unwrap();
-    let mut elbow = 0.0;
-    for k in 0..240 {
-        let result = env.step(ActionType::Torque, &[0.875, -0.875]).unwrap();
-        assert!(!result.flags.terminated, "diverged at step {k}");
-        elbow = result.observation.joint_positions[1];
+fn seed_arm_limits_are_hard_stops_under_extreme_torques() {
+    for torque in [0.05f32, 0.25, 0.875, 2.0] {
+        for sign in [1.0f32, -1.0] {
+            let mut env =
+                RobotEnv::from_json(ARM2, EnvConfig::with_end_effectors(["forearm"])).unwrap();
+            let action = [sign * torque, -sign * torque];
+            for k in 0..480 {
+                let result = env.step(ActionType::Torque, &action).unwrap();
+                assert!(!result.flags.terminated, "{action:?}: diverged at step {k}");
+                let [shoulder, elbow] = result.observation.joint_positions[..] else {
+                    unreachable!("two DOFs")
+                };
+                assert!(
+                    (-90.001..=90.001).contains(&shoulder) && (-120.001..=0.001).contains(&elbow),
+                    "{action:?}, step {k}: shoulder {shoulder}° (stops ±90), elbow {elbow}° \
+                     (stops -120..0)"
+                );
+            }
+        }
     }
-    assert!(
-        (-121.0..=-119.0).contains(&elbow),
-        "pushed against its -120° stop, the elbow rests at {elbow}°"
-    );
 }

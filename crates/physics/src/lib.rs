@@ -15,6 +15,7 @@
 mod actuation;
 mod build;
 mod error;
+mod limits;
 mod perturb;
 mod readout;
 mod world;

@@ -151,6 +151,7 @@ impl RobotWorld {
                 &(),
                 &(),
             );
+            self.enforce_limits();
         }
     }
 
