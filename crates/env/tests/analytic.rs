@@ -386,3 +386,40 @@ fn seed_arm_limits_are_hard_stops_under_extreme_torques() {
         }
     }
 }
+
+/// A 1 g block driven along a prismatic joint by 10 N (10⁴ g) into its 20 mm stop: it
+/// must never pass the stop, and it rests there (inelastic stop: velocity 0).
+#[test]
+fn prismatic_stop_holds_a_block_slammed_into_it() {
+    let doc = json!({
+        "parts": [
+            {"name": "Base", "primitive": {"type": "cube", "size": {"x": 100, "y": 20, "z": 5}}},
+            {"name": "Block", "primitive": {"type": "cube", "size": {"x": 10, "y": 10, "z": 10}}}
+        ],
+        "assembly": {
+            "instances": [
+                {"part": "Base", "name": "base"},
+                {"part": "Block", "name": "block", "position": {"x": 0, "y": 5, "z": 5}}
+            ],
+            "joints": [{"type": "prismatic", "parent": "base", "child": "block",
+                        "anchor": {"x": 5, "y": 10, "z": 10}, "axis": {"x": 1, "y": 0, "z": 0},
+                        "min": -5, "max": 20}]
+        }
+    });
+    let mut env = env(&doc, &["block"]);
+    let mut obs = Vec::new();
+    for k in 0..120 {
+        obs = step(&mut env, ActionType::Torque, &[10.0]);
+        assert!(
+            obs[0] <= 20.001,
+            "step {k}: block at {} mm, stop at 20",
+            obs[0]
+        );
+    }
+    assert!(
+        (obs[0] - 20.0).abs() < 1e-3,
+        "rests on its stop: {} mm",
+        obs[0]
+    );
+    assert!(obs[1].abs() < 1e-2, "and is still: {} mm/s", obs[1]);
+}
