@@ -143,10 +143,12 @@ fn an_unjointed_body_falls_as_half_g_t_squared() {
     assert!((f64::from(obs[0]) - 500.0).abs() < 1e-3, "drifted sideways");
 }
 
-#[test]
-fn prismatic_displacement_under_a_known_force_matches_f_equals_m_a() {
-    // A 10×10×10 mm block sliding along +X on a grounded base: m = 1e-3 kg.
-    let doc = json!({
+/// A 10×10×10 mm block (m = 1e-3 kg) sliding along +X on a grounded base.
+fn slider(joint_extra: serde_json::Value) -> serde_json::Value {
+    let mut joint = json!({"type": "prismatic", "parent": "base", "child": "block",
+                           "anchor": {"x": 5, "y": 10, "z": 10}, "axis": {"x": 1, "y": 0, "z": 0}});
+    merge(&mut joint, joint_extra);
+    json!({
         "parts": [
             {"name": "Base", "primitive": {"type": "cube", "size": {"x": 100, "y": 20, "z": 5}}},
             {"name": "Block", "primitive": {"type": "cube", "size": {"x": 10, "y": 10, "z": 10}}}
@@ -156,11 +158,14 @@ fn prismatic_displacement_under_a_known_force_matches_f_equals_m_a() {
                 {"part": "Base", "name": "base"},
                 {"part": "Block", "name": "block", "position": {"x": 0, "y": 5, "z": 5}}
             ],
-            "joints": [{"type": "prismatic", "parent": "base", "child": "block",
-                        "anchor": {"x": 5, "y": 10, "z": 10}, "axis": {"x": 1, "y": 0, "z": 0}}]
+            "joints": [joint]
         }
-    });
-    let mut env = env(&doc, &["block"]);
+    })
+}
+
+#[test]
+fn prismatic_displacement_under_a_known_force_matches_f_equals_m_a() {
+    let mut env = env(&slider(json!({})), &["block"]);
     let (force, mass) = (0.01, 1e-3);
     let dt = env.spec().dt;
     let h = dt / f64::from(env.spec().substeps);
@@ -391,22 +396,7 @@ fn seed_arm_limits_are_hard_stops_under_extreme_torques() {
 /// must never pass the stop, and it rests there (inelastic stop: velocity 0).
 #[test]
 fn prismatic_stop_holds_a_block_slammed_into_it() {
-    let doc = json!({
-        "parts": [
-            {"name": "Base", "primitive": {"type": "cube", "size": {"x": 100, "y": 20, "z": 5}}},
-            {"name": "Block", "primitive": {"type": "cube", "size": {"x": 10, "y": 10, "z": 10}}}
-        ],
-        "assembly": {
-            "instances": [
-                {"part": "Base", "name": "base"},
-                {"part": "Block", "name": "block", "position": {"x": 0, "y": 5, "z": 5}}
-            ],
-            "joints": [{"type": "prismatic", "parent": "base", "child": "block",
-                        "anchor": {"x": 5, "y": 10, "z": 10}, "axis": {"x": 1, "y": 0, "z": 0},
-                        "min": -5, "max": 20}]
-        }
-    });
-    let mut env = env(&doc, &["block"]);
+    let mut env = env(&slider(json!({"min": -5, "max": 20})), &["block"]);
     let mut obs = Vec::new();
     for k in 0..120 {
         obs = step(&mut env, ActionType::Torque, &[10.0]);

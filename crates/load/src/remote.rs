@@ -121,20 +121,10 @@ async fn setup(config: &LoadConfig, c: usize, server: String) -> Result<Session>
     let document = config.model.document.clone();
     let (handle, joints, action_dim) = match config.api {
         Api::Batch => {
-            let mut options = BatchOptions::new(document, config.n_envs)
-                .end_effectors(config.end_effectors.clone())
-                .seed(config.seed)
-                .seed_offset(first_env)
-                .autoreset(Autoreset::SameStep);
-            if let Some(s) = config.substeps {
-                options = options.substeps(s);
-            }
-            if let Some(dt) = config.dt {
-                options = options.dt(dt);
-            }
-            if let Some(m) = config.max_steps {
-                options = options.max_steps(m);
-            }
+            let options =
+                BatchOptions::from_env(env_options(config, document, config.seed), config.n_envs)
+                    .seed_offset(first_env)
+                    .autoreset(Autoreset::SameStep);
             let batch = client
                 .create_batch(options)
                 .await
@@ -149,18 +139,7 @@ async fn setup(config: &LoadConfig, c: usize, server: String) -> Result<Session>
         }
         Api::Env => {
             let seed = config.seed.wrapping_add(first_env);
-            let mut options = EnvOptions::new(document)
-                .end_effectors(config.end_effectors.clone())
-                .seed(seed);
-            if let Some(s) = config.substeps {
-                options = options.substeps(s);
-            }
-            if let Some(dt) = config.dt {
-                options = options.dt(dt);
-            }
-            if let Some(m) = config.max_steps {
-                options = options.max_steps(m);
-            }
+            let options = env_options(config, document, seed);
             let env = client
                 .create_env(options)
                 .await
@@ -179,6 +158,24 @@ async fn setup(config: &LoadConfig, c: usize, server: String) -> Result<Session>
         plan: config.action_plan(&dof_limits(&joints, action_dim)),
         first_env,
     })
+}
+
+/// The env configuration every client uses: the model's end effectors, `seed`, and the
+/// step settings given on the command line (the server's defaults otherwise).
+fn env_options(config: &LoadConfig, document: String, seed: u64) -> EnvOptions {
+    let mut options = EnvOptions::new(document)
+        .end_effectors(config.end_effectors.clone())
+        .seed(seed);
+    if let Some(s) = config.substeps {
+        options = options.substeps(s);
+    }
+    if let Some(dt) = config.dt {
+        options = options.dt(dt);
+    }
+    if let Some(m) = config.max_steps {
+        options = options.max_steps(m);
+    }
+    options
 }
 
 /// Each DOF's `(min, max)` where both are set, in DOF order; all `None` if the joint

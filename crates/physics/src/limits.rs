@@ -10,6 +10,7 @@ use rapier3d::prelude::*;
 
 use gymfleet_assembly::DofKind;
 
+use crate::perturb::to_si;
 use crate::world::RobotWorld;
 
 impl RobotWorld {
@@ -17,6 +18,10 @@ impl RobotWorld {
     pub(crate) fn enforce_limits(&mut self) {
         let mut fixed: Vec<MultibodyIndex> = Vec::new();
         for slot in &self.joints {
+            let dofs = &self.dofs[slot.first_dof..slot.first_dof + slot.kind.dof()];
+            if dofs.iter().all(|d| d.limits.is_none()) {
+                continue;
+            }
             let Some(mb) = self.live.multibody_joints.get_multibody_mut(slot.multibody) else {
                 continue;
             };
@@ -25,20 +30,16 @@ impl RobotWorld {
             };
             let first = link.assembly_id();
             let coords = link.joint().coords();
-            for k in 0..slot.kind.dof() {
-                let dof = &self.dofs[slot.first_dof + k];
+            for (k, dof) in dofs.iter().enumerate() {
                 let Some([min, max]) = dof.limits else {
                     continue;
                 };
                 // The joint's own coordinate, as `readout` reads it: slide, then turn.
-                let (position, min, max) = match dof.kind {
-                    DofKind::Linear => (coords[0], (min / 1000.0) as Real, (max / 1000.0) as Real),
-                    DofKind::Angular => (
-                        coords[3],
-                        min.to_radians() as Real,
-                        max.to_radians() as Real,
-                    ),
+                let position = match dof.kind {
+                    DofKind::Linear => coords[0],
+                    DofKind::Angular => coords[3],
                 };
+                let (min, max) = (to_si(dof.kind, min), to_si(dof.kind, max));
                 let excess = if position > max {
                     position - max
                 } else if position < min {
@@ -56,12 +57,7 @@ impl RobotWorld {
                 }
             }
         }
-        for index in fixed {
-            if let Some(mb) = self.live.multibody_joints.get_multibody_mut(index) {
-                mb.forward_kinematics(&self.live.bodies, false);
-                mb.update_rigid_bodies(&mut self.live.bodies, true);
-            }
-        }
+        self.sync_bodies(&fixed);
     }
 }
 

@@ -42,21 +42,33 @@ impl RobotWorld {
                 if let Some([min, max]) = dof.limits {
                     offset = offset.clamp(min, max);
                 }
-                disp[first + k] = match dof.kind {
-                    DofKind::Angular => offset.to_radians() as Real,
-                    DofKind::Linear => (offset / 1000.0) as Real,
-                };
+                disp[first + k] = to_si(dof.kind, offset);
             }
             mb.apply_displacements(&disp);
             if !touched.contains(&slot.multibody) {
                 touched.push(slot.multibody);
             }
         }
-        for index in touched {
+        self.sync_bodies(&touched);
+    }
+
+    /// After their generalized coordinates were changed outside a step: recomputes the
+    /// links of `multibodies` and moves their rigid bodies (and, at the next step, their
+    /// colliders) with them.
+    pub(crate) fn sync_bodies(&mut self, multibodies: &[MultibodyIndex]) {
+        for &index in multibodies {
             if let Some(mb) = self.live.multibody_joints.get_multibody_mut(index) {
                 mb.forward_kinematics(&self.live.bodies, false);
                 mb.update_rigid_bodies(&mut self.live.bodies, true);
             }
         }
+    }
+}
+
+/// A DOF value in user units (deg or mm) as a generalized coordinate (rad or m).
+pub(crate) fn to_si(kind: DofKind, user: f64) -> Real {
+    match kind {
+        DofKind::Angular => user.to_radians() as Real,
+        DofKind::Linear => (user / 1000.0) as Real,
     }
 }
