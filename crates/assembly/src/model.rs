@@ -151,6 +151,9 @@ pub struct Joint {
     pub axis: [f64; 3],
     /// Hard limits in rad (revolute) or m (prismatic).
     pub limits: Option<[f64; 2]>,
+    /// The same limits as the document wrote them, in deg or mm, so that they can be
+    /// reported without a round trip through SI.
+    pub document_limits: Option<[f64; 2]>,
     /// Viscous damping per DOF, in N·m·s/rad or N·s/m.
     pub damping: f64,
     /// Clamp on the effort of every action mode, in N·m or N.

@@ -301,7 +301,7 @@ impl Validator {
                 }
             };
             let axis = self.axis(&path, def);
-            let limits = self.limits(&path, def);
+            let document_limits = self.limits(&path, def);
             let damping = self.non_negative(&format!("{path}.damping"), def.damping, "damping");
             let max_effort = def.max_effort.inspect(|&e| {
                 if !(e.is_finite() && e > 0.0) {
@@ -324,7 +324,8 @@ impl Validator {
                         child,
                         anchor,
                         axis,
-                        limits,
+                        limits: document_limits.map(|l| l.map(|v| v * limit_to_si(def.kind))),
+                        document_limits,
                         damping: damping.unwrap_or(0.0),
                         max_effort,
                     });
@@ -388,6 +389,7 @@ impl Validator {
         a.map(|c| c / norm)
     }
 
+    /// The joint's `[min, max]` as written (deg or mm; an open side is infinite).
     fn limits(&mut self, path: &str, def: &JointDef) -> Option<[f64; 2]> {
         if def.min.is_none() && def.max.is_none() {
             return None;
@@ -403,9 +405,9 @@ impl Validator {
             );
             return None;
         }
-        let (to_si, unit) = match def.kind {
-            JointType::Prismatic => (1.0 / MM_PER_M, "mm"),
-            _ => (1f64.to_radians(), "deg"),
+        let unit = match def.kind {
+            JointType::Prismatic => "mm",
+            _ => "deg",
         };
         let mut bound = |field: &str, value: Option<f64>, default: f64| match value {
             Some(v) if v.is_finite() => v,
@@ -426,7 +428,7 @@ impl Validator {
                 format!("expected min <= max, got min {min} > max {max} ({unit})"),
             );
         }
-        Some([min * to_si, max * to_si])
+        Some([min, max])
     }
 
     fn non_negative(&mut self, path: &str, value: Option<f64>, what: &str) -> Option<f64> {
@@ -532,5 +534,13 @@ impl UnionFind {
         }
         self.parent[rb] = ra;
         true
+    }
+}
+
+/// The factor from a limit as written (deg, or mm for prismatic joints) to SI.
+fn limit_to_si(kind: JointType) -> f64 {
+    match kind {
+        JointType::Prismatic => 1.0 / MM_PER_M,
+        _ => 1f64.to_radians(),
     }
 }

@@ -126,3 +126,13 @@ fn the_default_chunk_rule_gives_four_chunks_per_thread_up_to_sixteen_envs() {
     let batch = EnvBatch::with_chunk_size(&arm2(10), 5, Autoreset::Disabled, 64).unwrap();
     assert_eq!(batch.chunk_size(), 5);
 }
+
+#[test]
+fn for_pool_chunks_by_the_pools_threads_not_the_machines_cores() {
+    // 24 envs: four chunks per thread is chunks of 6 on one thread, 2 on three.
+    for (threads, chunk) in [(1, 6), (3, 2)] {
+        let pool = StepPool::new(threads).unwrap();
+        let batch = EnvBatch::for_pool(&arm2(10), 24, Autoreset::Disabled, &pool).unwrap();
+        assert_eq!(batch.chunk_size(), chunk, "{threads} threads");
+    }
+}

@@ -48,6 +48,8 @@ fn seed_arm_metadata_and_limits() {
     for (got, want) in limits.iter().zip([[-90.0, 90.0], [-120.0, 0.0]]) {
         assert!((got[0] - want[0]).abs() < 1e-9 && (got[1] - want[1]).abs() < 1e-9);
     }
+    // Exactly as the document wrote them, not -119.99999999999999 from a trip through SI.
+    assert_eq!(limits, [[-90.0, 90.0], [-120.0, 0.0]]);
     // The forearm's centre of mass: x, y centred on the joint axis, z = 35 + 12.5.
     let pose = env.observe().end_effector_poses[0];
     assert!(pose[0].abs() < 1e-4 && pose[1].abs() < 1e-4 && (pose[2] - 47.5).abs() < 1e-4);

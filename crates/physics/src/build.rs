@@ -272,13 +272,8 @@ fn generic_joint(joint: &Joint, f1: Pose, f2: Pose) -> GenericJoint {
 }
 
 fn joint_dofs(j: usize, joint: &Joint) -> impl Iterator<Item = JointDof> + '_ {
-    // Document limits went deg→rad (mm→m) on the way in; round the way back so that a
-    // document's -120° reads -120, not -119.99999999999999.
-    let user = |x: f64| (x * 1e9).round() / 1e9;
-    let user_limits = joint.limits.map(|[min, max]| match joint.kind {
-        JointType::Prismatic => [user(min * 1000.0), user(max * 1000.0)],
-        _ => [user(min.to_degrees()), user(max.to_degrees())],
-    });
+    // As the document wrote them: -120° reads -120, not -119.99999999999999.
+    let user_limits = joint.document_limits;
     joint.dof_kinds().iter().map(move |&kind| JointDof {
         joint: j,
         joint_name: joint.name.clone(),
