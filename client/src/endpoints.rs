@@ -158,6 +158,17 @@ mod tests {
             assert!(matches!(err, ClientError::Fleet { .. }), "{bad}: {err:?}");
         }
         assert!(FleetEndpoints::stateful_set("a", "b", "NS", 1, 1).is_err());
+
+        let message = |err: ClientError| err.message().to_string();
+        assert_eq!(
+            message(FleetEndpoints::stateful_set("gymfleet", "svc", "rl", 0, 1).unwrap_err()),
+            "a StatefulSet fleet needs at least one replica"
+        );
+        assert_eq!(
+            message(FleetEndpoints::stateful_set("a", "b", "NS", 1, 1).unwrap_err()),
+            "namespace name \"NS\": expected a DNS label \
+             (1-63 lowercase letters, digits or '-', starting and ending alphanumeric)"
+        );
     }
 
     #[test]
@@ -179,5 +190,15 @@ mod tests {
         assert!(err.to_string().contains("a:1 is listed twice"), "{err}");
         assert!(FleetEndpoints::new(Vec::<String>::new()).is_err());
         assert!(FleetEndpoints::new([""]).is_err());
+
+        let message = |err: ClientError| err.message().to_string();
+        assert_eq!(
+            message(FleetEndpoints::parse(" , ,").unwrap_err()),
+            "no server endpoints given"
+        );
+        assert_eq!(
+            message(FleetEndpoints::parse("a:1,b c:2").unwrap_err()),
+            "endpoint \"b c:2\": expected host:port or http://host:port"
+        );
     }
 }
