@@ -1248,9 +1248,14 @@ impl RigidBody {
     ) -> Pose {
         let new_vels = self.forces.integrate(dt, &self.vels, &self.mprops);
         // Compute the clamped dt such that the body doesn't travel more than `max_dist`.
+        // gymfleet patch (see `PATCHES.md`): a body whose centre of mass is still (a link
+        // spinning about its own axis) keeps the whole `dt`, where the ratio below gave 0.
         let linvel_norm = new_vels.linvel.length();
-        let clamped_linvel = linvel_norm.min(max_dist * crate::utils::inv(dt));
-        let clamped_dt = dt * clamped_linvel * crate::utils::inv(linvel_norm);
+        let clamped_dt = if linvel_norm * dt > max_dist {
+            max_dist / linvel_norm
+        } else {
+            dt
+        };
         new_vels.integrate(
             clamped_dt,
             &self.pos.position,

@@ -9,12 +9,12 @@ use super::{
 #[cfg(not(feature = "parallel"))]
 use crate::alloc_prelude::*;
 use crate::dynamics::{
-    CoefficientCombineRule, ImpulseJointSet, MultibodyJointSet, RigidBodyDominance, RigidBodySet,
-    RigidBodyType,
+    CoefficientCombineRule, ImpulseJointSet, MultibodyJointSet, RigidBody, RigidBodyDominance,
+    RigidBodySet, RigidBodyType,
 };
 use crate::geometry::{
-    BoundingVolume, ColliderChanges, ColliderSet, ContactData, ContactManifoldData, ContactPair,
-    SolverContact, SolverFlags,
+    Aabb, BoundingVolume, ColliderChanges, ColliderSet, ContactData, ContactManifoldData,
+    ContactPair, SolverContact, SolverFlags,
 };
 use crate::math::{MAX_MANIFOLD_POINTS, Real};
 use crate::pipeline::{
@@ -339,8 +339,25 @@ pub(super) fn process_pair(
             let linvel2 = rb2
                 .map(|rb| rb.linvel().clamp_length_max(soft_ccd_prediction2 * inv_dt))
                 .unwrap_or_default();
+            // gymfleet patch (see `PATCHES.md`): the points of a rotating body move faster than
+            // its centre of mass (the tip of a swinging link twice as fast as its middle), so
+            // the prediction also covers `|ω|·r` for each collider, `r` bounding the distance
+            // from its body's centre of mass to its points.
+            let rotation_speed = |rb: Option<&RigidBody>, aabb: &Aabb, max_dist: Real| {
+                rb.map_or(0.0, |rb| {
+                    let r = (aabb.center() - rb.center_of_mass()).length()
+                        + aabb.half_extents().length();
+                    (rb.angvel().length() * r).min(max_dist * inv_dt)
+                })
+            };
+            let rotation_dist = dt
+                * (rotation_speed(rb1, &aabb1, soft_ccd_prediction1)
+                    + rotation_speed(rb2, &aabb2, soft_ccd_prediction2));
 
-            if !aabb1.intersects(&aabb2) && !aabb1.intersects_moving_aabb(&aabb2, linvel2 - linvel1)
+            if !aabb1.intersects(&aabb2)
+                && !aabb1
+                    .loosened(rotation_dist)
+                    .intersects_moving_aabb(&aabb2, linvel2 - linvel1)
             {
                 if clear_filtered_pair(pair) {
                     outcome = OUTCOME_CLEARED_IN_GRAPH;
@@ -348,7 +365,7 @@ pub(super) fn process_pair(
                 break 'emit_events;
             }
 
-            prediction_distance.max(dt * (linvel1 - linvel2).length())
+            prediction_distance.max(dt * (linvel1 - linvel2).length() + rotation_dist)
                 + contact_skin_sum
                 + soft_body_prediction
         } else {

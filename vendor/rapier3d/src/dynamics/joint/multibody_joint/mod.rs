@@ -1,6 +1,7 @@
 //! MultibodyJoints using the reduced-coordinates formalism or using constraints.
 
 #[cfg(feature = "alloc")]
+pub use self::mass_matrix_lu::MassMatrixLu;
 pub use self::multibody::{Multibody, MultibodyDofCoupling};
 #[cfg(feature = "alloc")]
 pub use self::multibody_ik::InverseKinematicsOption;
@@ -17,6 +18,7 @@ pub use self::unit_multibody_joint::{
 };
 
 #[cfg(feature = "alloc")]
+mod mass_matrix_lu;
 mod multibody;
 mod multibody_joint_handle;
 #[cfg(feature = "alloc")]

@@ -1,4 +1,7 @@
+use super::mass_matrix_lu::MassMatrixLu;
 use super::multibody_link::{MultibodyLink, MultibodyLinkVec};
+#[cfg(feature = "dim3")]
+use super::multibody_workspace::MassColumn;
 use super::multibody_workspace::MultibodyWorkspace;
 use crate::alloc_prelude::*;
 use crate::dynamics::integration_parameters::SpringCoefficients;
@@ -6,17 +9,14 @@ use crate::dynamics::solver::{GenericJointConstraint, WritebackId};
 use crate::dynamics::{
     IntegrationParameters, RigidBodyHandle, RigidBodySet, RigidBodyType, RigidBodyVelocity,
 };
+#[cfg(feature = "dim2")]
+use crate::math::SimdAngVector;
 use crate::math::{
-    ANG_DIM, AngDim, AngVector, DIM, DVector, Dim, Jacobian, Pose, Real, SPATIAL_DIM,
-    SimdAngVector, Vector,
+    ANG_DIM, AngDim, AngVector, DIM, DVector, Dim, Jacobian, Pose, Real, SPATIAL_DIM, Vector,
 };
 use crate::prelude::MultibodyJoint;
-#[cfg(feature = "dim3")]
-use crate::utils::mat_to_na;
 use crate::utils::{AngularInertiaOps, CrossProduct, CrossProductMatrix, IndexMut2, vect_to_na};
-use na::{
-    self, DMatrix, DVectorView, DVectorViewMut, Dyn, LU, OMatrix, SMatrix, SVector, StorageMut,
-};
+use na::{self, DMatrix, DVectorView, DVectorViewMut, Dyn, OMatrix, SMatrix, SVector, StorageMut};
 
 #[cfg(doc)]
 use crate::prelude::{GenericJoint, RigidBody};
@@ -47,19 +47,51 @@ fn concat_rb_mass_matrix(mass: Vector, inertia: Real) -> SMatrix<Real, SPATIAL_D
     result
 }
 
+/// Makes `v` a zero vector of length `n`, reusing its allocation when it already has that
+/// length (gymfleet patch: per-substep buffers live in the multibody's workspace).
+fn resize_zeroed(v: &mut DVector, n: usize) {
+    if v.len() == n {
+        v.fill(0.0);
+    } else {
+        *v = DVector::zeros(n);
+    }
+}
+
+/// The three components at `slice[at..at + 3]` as a vector.
 #[cfg(feature = "dim3")]
-fn concat_rb_mass_matrix(
-    mass: Vector,
-    inertia: na::Matrix3<Real>,
-) -> SMatrix<Real, SPATIAL_DIM, SPATIAL_DIM> {
-    let mut result = SMatrix::<Real, SPATIAL_DIM, SPATIAL_DIM>::zeros();
-    result[(0, 0)] = mass.x;
-    result[(1, 1)] = mass.y;
-    result[(2, 2)] = mass.z;
-    result
-        .fixed_view_mut::<ANG_DIM, ANG_DIM>(DIM, DIM)
-        .copy_from(&inertia);
-    result
+#[inline]
+fn vec3_at(slice: &[Real], at: usize) -> Vector {
+    Vector::new(slice[at], slice[at + 1], slice[at + 2])
+}
+
+#[cfg(feature = "dim3")]
+#[inline]
+fn set_vec3_at(slice: &mut [Real], at: usize, v: Vector) {
+    slice[at] = v.x;
+    slice[at + 1] = v.y;
+    slice[at + 2] = v.z;
+}
+
+/// `J[lin, c] += J[ang, c] × shift` for the first `span` columns of a body jacobian `J`
+/// (what `Jv += [shift×]ᵀ·Jw` computes, column by column).
+#[cfg(feature = "dim3")]
+fn add_angular_cross_to_linear(jacobian: &mut Jacobian<Real>, span: usize, shift: Vector) {
+    let cols = jacobian.as_mut_slice();
+    for col in cols[..span * SPATIAL_DIM].chunks_exact_mut(SPATIAL_DIM) {
+        let w = Vector::new(col[3], col[4], col[5]);
+        let d = w.cross(shift);
+        col[0] += d.x;
+        col[1] += d.y;
+        col[2] += d.z;
+    }
+}
+
+#[cfg(feature = "dim2")]
+fn add_angular_cross_to_linear(jacobian: &mut Jacobian<Real>, span: usize, shift: Vector) {
+    let (mut j_v, j_w) = jacobian.rows_range_pair_mut(0..DIM, DIM..DIM + ANG_DIM);
+    let shift_tr = vect_to_na(shift).gcross_matrix_tr();
+    j_v.columns_mut(0, span)
+        .gemm(1.0, &shift_tr, &j_w.columns(0, span), 1.0);
 }
 
 /// A holonomic coupling between two generalized coordinates of a single
@@ -102,6 +134,10 @@ pub struct Multibody {
     pub(crate) armature: DVector,
     /// Per-DoF dry joint friction (matches MuJoCo’s `frictionloss`).
     pub(crate) frictions: DVector,
+    /// Per-DoF applied generalized forces (matches MuJoCo’s `qfrc_applied`): joint-space
+    /// efforts (N·m on angular DoFs, N on linear DoFs) added to the dynamics at every
+    /// substep until changed.
+    pub(crate) applied_forces: DVector,
     pub(crate) accelerations: DVector,
 
     body_jacobians: Vec<Jacobian<Real>>,
@@ -110,18 +146,21 @@ pub struct Multibody {
     //       move dofs from/to a format that matches the augmented mass.
     // TODO: use sparse matrices?
     augmented_mass: DMatrix<Real>,
-    inv_augmented_mass: LU<Real, Dyn, Dyn>,
+    inv_augmented_mass: MassMatrixLu,
     // The indexing sequence for moving all kinematics degrees of
     // freedoms to the end of the generalized coordinates vector.
     augmented_mass_indices: IndexSequence,
 
     acc_augmented_mass: DMatrix<Real>,
-    acc_inv_augmented_mass: LU<Real, Dyn, Dyn>,
+    acc_inv_augmented_mass: MassMatrixLu,
 
     ndofs: usize,
     pub(crate) root_is_dynamic: bool,
     pub(crate) solver_id: u32,
     self_contacts_enabled: bool,
+    /// Whether joint limits are hard stops: see [`Multibody::set_hard_limits`].
+    hard_limits: bool,
+
     /// Holonomic couplings between two of this multibody's generalized
     /// coordinates (`q2 = coeff·q1 + offset`), e.g. MuJoCo's
     /// `<equality><joint>`. Resolved as velocity constraints each step.
@@ -154,12 +193,13 @@ impl Multibody {
             damping: DVector::zeros(0),
             armature: DVector::zeros(0),
             frictions: DVector::zeros(0),
+            applied_forces: DVector::zeros(0),
             accelerations: DVector::zeros(0),
             body_jacobians: Vec::new(),
             augmented_mass: DMatrix::zeros(0, 0),
-            inv_augmented_mass: LU::new(DMatrix::zeros(0, 0)),
+            inv_augmented_mass: MassMatrixLu::default(),
             acc_augmented_mass: DMatrix::zeros(0, 0),
-            acc_inv_augmented_mass: LU::new(DMatrix::zeros(0, 0)),
+            acc_inv_augmented_mass: MassMatrixLu::default(),
             augmented_mass_indices: IndexSequence::new(),
             ndofs: 0,
             solver_id: 0,
@@ -169,6 +209,7 @@ impl Multibody {
             i_coriolis_dt: Jacobian::zeros(0),
             root_is_dynamic: false,
             self_contacts_enabled,
+            hard_limits: false,
             couplings: Vec::new(),
             // solver_workspace: Some(SolverWorkspace::new()),
         }
@@ -201,7 +242,10 @@ impl Multibody {
                 continue;
             } else if is_new_root {
                 link2mb[i] = result.len();
-                result.push(Multibody::with_self_contacts(self.self_contacts_enabled));
+                let mut mb = Multibody::with_self_contacts(self.self_contacts_enabled);
+                mb.hard_limits = self.hard_limits;
+
+                result.push(mb);
             } else {
                 link2mb[i] = link2mb[link.parent_internal_id]
             }
@@ -240,6 +284,9 @@ impl Multibody {
                 mb.frictions
                     .rows_mut(assembly_id, link_ndofs)
                     .copy_from(&self.frictions.rows(link.assembly_id, link_ndofs));
+                mb.applied_forces
+                    .rows_mut(assembly_id, link_ndofs)
+                    .copy_from(&self.applied_forces.rows(link.assembly_id, link_ndofs));
                 mb.accelerations
                     .rows_mut(assembly_id, link_ndofs)
                     .copy_from(&self.accelerations.rows(link.assembly_id, link_ndofs));
@@ -317,6 +364,9 @@ impl Multibody {
             self.frictions
                 .rows_mut(rhs_copy_shift, rhs_copy_ndofs)
                 .copy_from(&rhs.frictions.rows(rhs_root_ndofs, rhs_copy_ndofs));
+            self.applied_forces
+                .rows_mut(rhs_copy_shift, rhs_copy_ndofs)
+                .copy_from(&rhs.applied_forces.rows(rhs_root_ndofs, rhs_copy_ndofs));
             self.accelerations
                 .rows_mut(rhs_copy_shift, rhs_copy_ndofs)
                 .copy_from(&rhs.accelerations.rows(rhs_root_ndofs, rhs_copy_ndofs));
@@ -344,6 +394,8 @@ impl Multibody {
         );
         // Self-contacts stay disabled for the links of a multibody that had them disabled.
         self.self_contacts_enabled &= rhs.self_contacts_enabled;
+        // Hard limits stay enabled for the links of a multibody that had them enabled.
+        self.hard_limits |= rhs.hard_limits;
     }
 
     /// Whether self-contacts are enabled on this multibody.
@@ -363,7 +415,7 @@ impl Multibody {
     }
 
     /// The inverse augmented mass matrix of this multibody.
-    pub fn inv_augmented_mass(&self) -> &LU<Real, Dyn, Dyn> {
+    pub fn inv_augmented_mass(&self) -> &MassMatrixLu {
         &self.inv_augmented_mass
     }
 
@@ -453,6 +505,45 @@ impl Multibody {
         &mut self.frictions
     }
 
+    /// The per-DoF applied generalized forces of this multibody (MuJoCo's `qfrc_applied`):
+    /// an effort on each degree of freedom, in N·m for angular DoFs and N for linear ones.
+    ///
+    /// A joint-space effort is what a motor at the joint exerts: equal and opposite on the
+    /// joint's two links, always along the joint's current axis. It is part of the dynamics of
+    /// every substep (unlike a force on a rigid-body, whose direction is fixed in world space
+    /// for the whole step), and it persists until changed.
+    #[inline]
+    pub fn applied_forces(&self) -> &DVector {
+        &self.applied_forces
+    }
+
+    /// Mutable per-DoF applied generalized forces of this multibody; see
+    /// [`Multibody::applied_forces`].
+    #[inline]
+    pub fn applied_forces_mut(&mut self) -> &mut DVector {
+        &mut self.applied_forces
+    }
+
+    /// Whether this multibody's joint limits are hard stops; see [`Multibody::set_hard_limits`].
+    #[inline]
+    pub fn hard_limits(&self) -> bool {
+        self.hard_limits
+    }
+
+    /// Makes this multibody's joint limits hard stops (default: `false`).
+    ///
+    /// The limit constraint of a multibody joint only engages once the joint is already past
+    /// its limit, so a joint driven hard can go past it by `velocity × dt` within one substep
+    /// (tens of degrees for a light link under a large effort) before it is pushed back. With
+    /// hard limits, after every substep's position integration each limited DoF found past a
+    /// limit is put back exactly on it, and its outward velocity is removed by an inelastic
+    /// generalized impulse through the mass matrix (which moves the coupled DoFs as the impact
+    /// would).
+    #[inline]
+    pub fn set_hard_limits(&mut self, enabled: bool) {
+        self.hard_limits = enabled;
+    }
+
     pub(crate) fn add_link(
         &mut self,
         parent: Option<usize>, // TODO: should be a RigidBodyHandle?
@@ -520,6 +611,7 @@ impl Multibody {
         self.damping.resize_vertically_mut(len + ndofs, 0.0);
         self.armature.resize_vertically_mut(len + ndofs, 0.0);
         self.frictions.resize_vertically_mut(len + ndofs, 0.0);
+        self.applied_forces.resize_vertically_mut(len + ndofs, 0.0);
         self.accelerations.resize_vertically_mut(len + ndofs, 0.0);
         self.body_jacobians
             .extend((0..num_jacobians).map(|_| Jacobian::zeros(0)));
@@ -538,12 +630,12 @@ impl Multibody {
         // to the explicit term if needed
         let check_implicit_coriolis_divergence = dt * self.velocities.amax() >= 1.0e-3;
         // Generalized forces that derive from positions or external inputs
-        // (gravity, user forces, spring position terms).
-        let mut pos_forces = DVector::zeros(if check_implicit_coriolis_divergence {
-            self.ndofs
-        } else {
-            0
-        });
+        // (gravity, user forces, spring position terms), kept in a reused buffer
+        // (gymfleet patch, see `PATCHES.md`).
+        let mut pos_forces = core::mem::take(&mut self.workspace.pos_forces);
+        if check_implicit_coriolis_divergence {
+            resize_zeroed(&mut pos_forces, self.ndofs);
+        }
 
         // Eqn 42 to 45
         for i in 0..self.links.len() {
@@ -595,26 +687,35 @@ impl Multibody {
                 gyroscopic = 0.0;
             }
 
+            // The body jacobian is zero past the link's span (see `update_body_jacobians`).
+            let span = link.assembly_id + link.joint.ndofs();
+            let body_jacobian = self.body_jacobians[i].columns(0, span);
             let external_forces = Force::new(
                 rb.forces.force - rb_mass * acc.linvel,
                 rb.forces.torque - gyroscopic - rb_inertia * acc.angvel,
             );
-            self.accelerations.gemv_tr(
+            self.accelerations.rows_mut(0, span).gemv_tr(
                 1.0,
-                &self.body_jacobians[i],
+                &body_jacobian,
                 external_forces.as_vector(),
                 1.0,
             );
 
             if check_implicit_coriolis_divergence {
                 let applied_forces = Force::new(rb.forces.force, rb.forces.torque);
-                pos_forces.gemv_tr(
+                pos_forces.rows_mut(0, span).gemv_tr(
                     1.0,
-                    &self.body_jacobians[i],
+                    &body_jacobian,
                     applied_forces.as_vector(),
                     1.0,
                 );
             }
+        }
+
+        // Joint-space efforts (see `Self::applied_forces`).
+        self.accelerations += &self.applied_forces;
+        if check_implicit_coriolis_divergence {
+            pos_forces += &self.applied_forces;
         }
 
         self.accelerations
@@ -645,11 +746,11 @@ impl Multibody {
 
         // Snapshot the full generalized forces: the energy guard may need them
         // for a re-solve with the plain mass matrix.
-        let gen_forces = if check_implicit_coriolis_divergence {
-            self.accelerations.clone()
-        } else {
-            DVector::zeros(0)
-        };
+        let mut gen_forces = core::mem::take(&mut self.workspace.gen_forces);
+        if check_implicit_coriolis_divergence {
+            resize_zeroed(&mut gen_forces, self.ndofs);
+            gen_forces.copy_from(&self.accelerations);
+        }
 
         self.augmented_mass_indices
             .with_rearranged_rows_mut(&mut self.accelerations, |accs| {
@@ -659,6 +760,8 @@ impl Multibody {
         if check_implicit_coriolis_divergence {
             self.free_velocity_energy_guard(dt, &gen_forces, &pos_forces);
         }
+        self.workspace.pos_forces = pos_forces;
+        self.workspace.gen_forces = gen_forces;
     }
 
     // If the semi-implicit coriolis solve introduces more energy than the external
@@ -677,37 +780,43 @@ impl Multibody {
         }
 
         // Move all quantities to the kinematic-reduced ordering of the
-        // factorized matrices (no-op when there is no kinematic dof).
-        let mut v = self.velocities.clone();
-        let mut f = gen_forces.clone();
-        let mut f_pos = pos_forces.clone();
-        self.augmented_mass_indices.rearrange_rows(&mut v, true);
-        self.augmented_mass_indices.rearrange_rows(&mut f, true);
-        self.augmented_mass_indices.rearrange_rows(&mut f_pos, true);
+        // factorized matrices (no-op when there is no kinematic dof), in reused
+        // buffers (gymfleet patch, see `PATCHES.md`).
+        let ws = &mut self.workspace;
+        for (buffer, source) in [
+            (&mut ws.guard_v, &self.velocities),
+            (&mut ws.guard_f, gen_forces),
+            (&mut ws.guard_f_pos, pos_forces),
+            (&mut ws.guard_a, &self.accelerations),
+        ] {
+            resize_zeroed(buffer, self.ndofs);
+            buffer.copy_from(source);
+            self.augmented_mass_indices.rearrange_rows(buffer, true);
+        }
+        resize_zeroed(&mut ws.guard_m_x, self.ndofs);
 
         let m = self.augmented_mass.view((0, 0), (eff_dim, eff_dim));
-        let v = v.rows(0, eff_dim);
-        let f = f.rows(0, eff_dim);
-        let f_pos = f_pos.rows(0, eff_dim);
+        let v = ws.guard_v.rows(0, eff_dim);
+        let f = ws.guard_f.rows(0, eff_dim);
+        let f_pos = ws.guard_f_pos.rows(0, eff_dim);
+        let a = ws.guard_a.rows(0, eff_dim);
+        let mut m_x = ws.guard_m_x.rows_mut(0, eff_dim);
 
-        let energy_delta_minus_work = |accelerations: &DVector| -> Option<Real> {
-            let mut a = accelerations.clone();
-            self.augmented_mass_indices.rearrange_rows(&mut a, true);
-            let a = a.rows(0, eff_dim).into_owned();
-            if !a.iter().all(|x| x.is_finite()) {
-                return None;
-            }
-            let m_a = m * &a;
-            let energy_delta = dt * v.dot(&m_a) + 0.5 * dt * dt * a.dot(&m_a);
+        let excess = if a.iter().all(|x| x.is_finite()) {
+            m_x.gemv(1.0, &m, &a, 0.0);
+            let energy_delta = dt * v.dot(&m_x) + 0.5 * dt * dt * a.dot(&m_x);
             let work = dt * v.dot(&f) + 0.5 * dt * dt * a.dot(&f_pos);
             // Margin: a small fraction of the current kinetic energy to absorb
             // discretization error on healthy steps.
-            let kinetic_energy = 0.5 * v.dot(&(m * v));
+            m_x.gemv(1.0, &m, &v, 0.0);
+            let kinetic_energy = 0.5 * v.dot(&m_x);
             let energy_margin = 1.0e-2 * kinetic_energy + 1.0e-8;
             Some(energy_delta - work - energy_margin)
+        } else {
+            None
         };
 
-        match energy_delta_minus_work(&self.accelerations) {
+        match excess {
             Some(excess) if excess <= 0.0 => (), // Implicit update didn’t introduce too much extra energy.
             _ => {
                 // The implicit solve injected energy (or produced non-finite
@@ -774,23 +883,22 @@ impl Multibody {
                 self.body_jacobians[i] = Jacobian::zeros(self.ndofs);
             }
 
+            // NOTE (gymfleet patch, see `PATCHES.md`): a body jacobian is non-zero only on its
+            //       link's span (the DoFs of the link and of its ancestors, all before it in
+            //       assembly order), so the shifts below only touch those columns.
+            let span = link.assembly_id + link.joint.ndofs();
             let parent_to_world;
 
             if i != 0 {
                 let parent_id = link.parent_internal_id;
                 let parent_link = &self.links[parent_id];
+                let parent_span = parent_link.assembly_id + parent_link.joint.ndofs();
                 parent_to_world = parent_link.local_to_world;
 
                 let (link_j, parent_j) = self.body_jacobians.index_mut_const(i, parent_id);
                 link_j.copy_from(parent_j);
-
-                {
-                    let mut link_j_v = link_j.fixed_rows_mut::<DIM>(0);
-                    let parent_j_w = parent_j.fixed_rows::<ANG_DIM>(DIM);
-
-                    let shift_tr = vect_to_na(link.shift02).gcross_matrix_tr();
-                    link_j_v.gemm(1.0, &shift_tr, &parent_j_w, 1.0);
-                }
+                // Jv += Jw × shift02: the parent's twists, seen at this link's joint.
+                add_angular_cross_to_linear(link_j, parent_span, link.shift02);
             } else {
                 self.body_jacobians[i].fill(0.0);
                 parent_to_world = Pose::IDENTITY;
@@ -806,12 +914,165 @@ impl Multibody {
             );
             link_j_part += link_joint_j;
 
+            // Jv += Jw × shift23: from the joint to the link's centre of mass.
+            add_angular_cross_to_linear(&mut self.body_jacobians[i], span, link.shift23);
+        }
+    }
+
+    /// Adds link `i`'s contributions to the mass matrices (gymfleet patch, see `PATCHES.md`):
+    /// `Jᵀ·diag(m, I)·J` to `augmented_mass`, and the velocity-dependent terms (the derivative of
+    /// the gyroscopic forces and the coriolis terms, made semi-implicit) to
+    /// `acc_augmented_mass`, on the link's span only. The same arithmetic as the generic 2D
+    /// path, written column by column with the structure of each product.
+    #[cfg(feature = "dim3")]
+    fn accumulate_link_mass_3d(&mut self, i: usize, span: usize, dt: Real, bodies: &RigidBodySet) {
+        if span == 0 {
+            // A fixed root (or links welded to it): nothing moves it, it adds nothing.
+            return;
+        }
+        let link = &self.links[i];
+        let rb = &bodies[link.rigid_body];
+        let rb_mass = rb.mprops.effective_mass();
+        let rb_inertia = rb.mprops.effective_angular_inertia().into_matrix();
+        let angvel = rb.vels.angvel;
+
+        /*
+         * Coriolis terms, column by column: `coriolis_v`/`coriolis_w` hold, for each DoF,
+         * the linear/angular part of `JDot + JDot/u·qdot` of this link.
+         */
+        if i != 0 {
+            let parent_id = link.parent_internal_id;
+            let parent_link = &self.links[parent_id];
+            let parent_span = parent_link.assembly_id + parent_link.joint.ndofs();
+            let parent_w = bodies[parent_link.rigid_body].vels.angvel;
+            let parent_j = self.body_jacobians[parent_id].as_slice();
+            let (coriolis_v, parent_coriolis_v) = self.coriolis_v.index_mut2(i, parent_id);
+            let (coriolis_w, parent_coriolis_w) = self.coriolis_w.index_mut2(i, parent_id);
+            let (cv, cw) = (coriolis_v.as_mut_slice(), coriolis_w.as_mut_slice());
+            let (pcv, pcw) = (parent_coriolis_v.as_slice(), parent_coriolis_w.as_slice());
+
+            let shift02 = link.shift02;
+            // JDot (the 2.0 originates from the sum of two identical terms in JDot and
+            // JDot/u * qdot), then JDot/u * qdot.
+            let dvel = angvel.cross(shift02) + 2.0 * link.joint_velocity.linvel;
+            let joint_linvel = link.joint_velocity.linvel;
+            let joint_angvel = link.joint_velocity.angvel;
+            for c in 0..parent_span {
+                let parent_jw = vec3_at(parent_j, c * SPATIAL_DIM + DIM);
+                let parent_cw = vec3_at(pcw, c * DIM);
+                let v = vec3_at(pcv, c * DIM)
+                    + parent_cw.cross(shift02)
+                    + parent_jw.cross(dvel)
+                    + parent_jw.cross(joint_linvel)
+                    + parent_w.cross(parent_jw.cross(shift02));
+                let w = parent_cw - joint_angvel.cross(parent_jw);
+                set_vec3_at(cv, c * DIM, v);
+                set_vec3_at(cw, c * DIM, w);
+            }
+            // Columns of this link's span past its parent's: its own DoFs (and, in a tree,
+            // none of its siblings').
+            cv[parent_span * DIM..span * DIM].fill(0.0);
+            cw[parent_span * DIM..span * DIM].fill(0.0);
+
+            if !link.joint.kinematic {
+                let ndofs = link.joint.ndofs();
+                let mut tmp = SMatrix::<Real, SPATIAL_DIM, SPATIAL_DIM>::zeros();
+                let mut rb_joint_j = tmp.columns_mut(0, ndofs);
+                link.joint.jacobian(
+                    &(parent_link.local_to_world.rotation * link.joint.data.local_frame1.rotation),
+                    &mut rb_joint_j,
+                );
+                for k in 0..ndofs {
+                    let col = rb_joint_j.column(k);
+                    let jv = Vector::new(col[0], col[1], col[2]);
+                    let jw = Vector::new(col[3], col[4], col[5]);
+                    let c = (link.assembly_id + k) * DIM;
+                    set_vec3_at(cv, c, vec3_at(cv, c) + 2.0 * parent_w.cross(jv));
+                    set_vec3_at(cw, c, vec3_at(cw, c) + parent_w.cross(jw));
+                }
+            }
+        } else {
+            self.coriolis_v[i].fill(0.0);
+            self.coriolis_w[i].fill(0.0);
+        }
+
+        let rb_j = self.body_jacobians[i].as_slice();
+        let cv = self.coriolis_v[i].as_mut_slice();
+        let cw = self.coriolis_w[i].as_slice();
+        let shift23 = link.shift23;
+        let dvel23 = angvel.cross(shift23);
+
+        /*
+         * Per-column factors of both matrices:
+         * `M[a, b] += jv_a·(m∘jv_b) + jw_a·(I·jw_b)` and
+         * `X[a, b] += jv_a·(m·dt∘cv_b) + jw_a·(G·dt·jw_b + dt·I·cw_b)`,
+         * with `G` the derivative of the gyroscopic forces.
+         */
+        let gyroscopic_dt =
+            (angvel.gcross_matrix() * rb_inertia - (rb_inertia * angvel).gcross_matrix()) * dt;
+        let mass_dt = rb_mass * dt;
+        let ws = &mut self.workspace;
+        if ws.mass_columns.len() < span {
+            ws.mass_columns.resize(self.ndofs, MassColumn::default());
+            for rows in &mut ws.jacobian_rows {
+                rows.resize(self.ndofs, 0.0);
+            }
+        }
+        for c in 0..span {
+            let jv = vec3_at(rb_j, c * SPATIAL_DIM);
+            let jw = vec3_at(rb_j, c * SPATIAL_DIM + DIM);
+            let w = vec3_at(cw, c * DIM);
+            // [c3 - c2].gcross() * (JDot + JDot/u * qdot), JDot, then JDot/u * qdot.
+            let v = vec3_at(cv, c * DIM)
+                + w.cross(shift23)
+                + jw.cross(dvel23)
+                + angvel.cross(jw.cross(shift23));
+            set_vec3_at(cv, c * DIM, v);
+            for (rows, value) in ws
+                .jacobian_rows
+                .iter_mut()
+                .zip([jv.x, jv.y, jv.z, jw.x, jw.y, jw.z])
             {
-                let link_j = &mut self.body_jacobians[i];
-                let (mut link_j_v, link_j_w) =
-                    link_j.rows_range_pair_mut(0..DIM, DIM..DIM + ANG_DIM);
-                let shift_tr = vect_to_na(link.shift23).gcross_matrix_tr();
-                link_j_v.gemm(1.0, &shift_tr, &link_j_w, 1.0);
+                rows[c] = value;
+            }
+            ws.mass_columns[c] = MassColumn {
+                mass_jv: rb_mass * jv,
+                inertia_jw: rb_inertia * jw,
+                acc_v: mass_dt * v,
+                acc_w: gyroscopic_dt * jw + rb_inertia * (w * dt),
+            };
+        }
+
+        // Column `b` of each product is a sum of the six jacobian rows (kept as contiguous
+        // arrays, so that these loops vectorize) weighted by column `b`'s factors. The mass
+        // matrix is symmetric: only its upper triangle is accumulated here (see
+        // `update_mass_matrix`, which mirrors it).
+        let n = self.ndofs;
+        let mass = self.augmented_mass.as_mut_slice();
+        let acc = self.acc_augmented_mass.as_mut_slice();
+        let [jx, jy, jz, wx, wy, wz] = &ws.jacobian_rows;
+        let (jx, jy, jz) = (&jx[..span], &jy[..span], &jz[..span]);
+        let (wx, wy, wz) = (&wx[..span], &wy[..span], &wz[..span]);
+        for (b, col) in ws.mass_columns[..span].iter().enumerate() {
+            let (av, aw) = (col.acc_v, col.acc_w);
+            let acc_col = &mut acc[b * n..b * n + span];
+            for (a, out) in acc_col.iter_mut().enumerate() {
+                *out += jx[a] * av.x
+                    + jy[a] * av.y
+                    + jz[a] * av.z
+                    + wx[a] * aw.x
+                    + wy[a] * aw.y
+                    + wz[a] * aw.z;
+            }
+            let (mv, iw) = (col.mass_jv, col.inertia_jw);
+            let mass_col = &mut mass[b * n..b * n + b + 1];
+            for (a, out) in mass_col.iter_mut().enumerate() {
+                *out += jx[a] * mv.x
+                    + jy[a] * mv.y
+                    + jz[a] * mv.z
+                    + wx[a] * iw.x
+                    + wy[a] * iw.y
+                    + wz[a] * iw.z;
             }
         }
     }
@@ -843,12 +1104,14 @@ impl Multibody {
 
         let mut curr_assembly_id = 0;
 
+        // NOTE (gymfleet patch, see `PATCHES.md`): the mass matrix is accumulated as
+        //       `M = Σ Jᵢᵀ·diag(mᵢ, Iᵢ)·Jᵢ` over the links, and only on the columns where a
+        //       link's body jacobian can be non-zero: its own DoFs and its ancestors', which
+        //       all come before it in assembly order (its "span"). `acc_augmented_mass` gets
+        //       only the velocity-dependent terms (gyroscopic and coriolis derivatives) here;
+        //       the symmetric part it shares with `augmented_mass` is added once at the end.
         for i in 0..self.links.len() {
             let link = &self.links[i];
-            let rb = &bodies[link.rigid_body];
-            let rb_mass = rb.mprops.effective_mass();
-            let rb_inertia = rb.mprops.effective_angular_inertia().into_matrix();
-            let body_jacobian = &self.body_jacobians[i];
 
             // NOTE: the mass matrix index reordering operates on the assumption that the assembly
             //       ids are traversed in order. This assert is here to ensure the assumption always
@@ -858,6 +1121,7 @@ impl Multibody {
                 "Internal error: contiguity assumption on assembly_id does not hold."
             );
             curr_assembly_id += link.joint.ndofs();
+            let span = curr_assembly_id;
 
             if link.joint.kinematic {
                 for k in link.assembly_id..link.assembly_id + link.joint.ndofs() {
@@ -869,156 +1133,201 @@ impl Multibody {
                 }
             }
 
-            #[allow(unused_mut)] // mut is needed for 3D but not for 2D.
-            let mut augmented_inertia = rb_inertia;
-
             #[cfg(feature = "dim3")]
+            self.accumulate_link_mass_3d(i, span, dt, bodies);
+            #[cfg(feature = "dim2")]
             {
-                // Derivative of gyroscopic forces.
-                let gyroscopic_matrix = rb.vels.angvel.gcross_matrix() * rb_inertia
-                    - (rb_inertia * rb.vels.angvel).gcross_matrix();
-
-                augmented_inertia += gyroscopic_matrix * dt;
-            }
-
-            // TODO: optimize that (knowing the structure of the augmented inertia matrix).
-            // TODO: this could be better optimized in 2D.
-            #[allow(clippy::useless_conversion)] // Needed in 3D, no-op in 2D
-            let rb_mass_matrix_wo_gyro = concat_rb_mass_matrix(rb_mass, rb_inertia.into());
-            #[allow(clippy::useless_conversion)] // Needed in 3D, no-op in 2D
-            let rb_mass_matrix = concat_rb_mass_matrix(rb_mass, augmented_inertia.into());
-            self.augmented_mass
-                .quadform(1.0, &rb_mass_matrix_wo_gyro, body_jacobian, 1.0);
-            self.acc_augmented_mass
-                .quadform(1.0, &rb_mass_matrix, body_jacobian, 1.0);
-
-            /*
-             *
-             * Coriolis matrix.
-             *
-             */
-            let rb_j = &self.body_jacobians[i];
-            let rb_j_w = rb_j.fixed_rows::<ANG_DIM>(DIM);
-
-            let ndofs = link.joint.ndofs();
-
-            if i != 0 {
-                let parent_id = link.parent_internal_id;
-                let parent_link = &self.links[parent_id];
-                let parent_rb = &bodies[parent_link.rigid_body];
-                let parent_j = &self.body_jacobians[parent_id];
-                let parent_j_w = parent_j.fixed_rows::<ANG_DIM>(DIM);
-                let parent_w = SimdAngVector::<Real>::from(parent_rb.vels.angvel).gcross_matrix();
-
-                let (coriolis_v, parent_coriolis_v) = self.coriolis_v.index_mut2(i, parent_id);
-                let (coriolis_w, parent_coriolis_w) = self.coriolis_w.index_mut2(i, parent_id);
-
-                coriolis_v.copy_from(parent_coriolis_v);
-                coriolis_w.copy_from(parent_coriolis_w);
-
-                // [c1 - c0].gcross() * (JDot + JDot/u * qdot)"
-                let shift_cross_tr = vect_to_na(link.shift02).gcross_matrix_tr();
-                coriolis_v.gemm(1.0, &shift_cross_tr, parent_coriolis_w, 1.0);
-
-                // JDot (but the 2.0 originates from the sum of two identical terms in JDot and JDot/u * gdot)
-                let dvel_cross = vect_to_na(
-                    rb.vels.angvel.gcross(link.shift02) + 2.0 * link.joint_velocity.linvel,
-                )
-                .gcross_matrix_tr();
-                coriolis_v.gemm(1.0, &dvel_cross, &parent_j_w, 1.0);
-
-                // JDot/u * qdot
-                coriolis_v.gemm(
-                    1.0,
-                    &vect_to_na(link.joint_velocity.linvel).gcross_matrix_tr(),
-                    &parent_j_w,
-                    1.0,
-                );
-                coriolis_v.gemm(1.0, &(parent_w * shift_cross_tr), &parent_j_w, 1.0);
-
-                #[cfg(feature = "dim3")]
+                let rb = &bodies[link.rigid_body];
+                let rb_mass = rb.mprops.effective_mass();
+                let rb_inertia = rb.mprops.effective_angular_inertia().into_matrix();
+                let body_jacobian = &self.body_jacobians[i];
                 {
-                    let vel_wrt_joint_w = vect_to_na(link.joint_velocity.angvel).gcross_matrix();
-                    coriolis_w.gemm(-1.0, &vel_wrt_joint_w, &parent_j_w, 1.0);
+                    #[allow(clippy::useless_conversion)] // Needed in 3D, no-op in 2D
+                    let rb_mass_matrix = concat_rb_mass_matrix(rb_mass, rb_inertia.into());
+                    self.augmented_mass.view_mut((0, 0), (span, span)).quadform(
+                        1.0,
+                        &rb_mass_matrix,
+                        &body_jacobian.columns(0, span),
+                        1.0,
+                    );
                 }
 
-                // JDot (but the 2.0 originates from the sum of two identical terms in JDot and JDot/u * gdot)
-                if !link.joint.kinematic {
-                    let mut coriolis_v_part = coriolis_v.columns_mut(link.assembly_id, ndofs);
+                /*
+                 *
+                 * Coriolis matrix.
+                 *
+                 */
+                let rb_j = &self.body_jacobians[i];
+                let rb_j_w = rb_j.view((DIM, 0), (ANG_DIM, span));
 
-                    let mut tmp1 = SMatrix::<Real, SPATIAL_DIM, SPATIAL_DIM>::zeros();
-                    let mut rb_joint_j = tmp1.columns_mut(0, ndofs);
-                    link.joint.jacobian(
-                        &(parent_link.local_to_world.rotation
-                            * link.joint.data.local_frame1.rotation),
-                        &mut rb_joint_j,
+                let ndofs = link.joint.ndofs();
+
+                if i != 0 {
+                    let parent_id = link.parent_internal_id;
+                    let parent_link = &self.links[parent_id];
+                    let parent_span = parent_link.assembly_id + parent_link.joint.ndofs();
+                    let parent_rb = &bodies[parent_link.rigid_body];
+                    let parent_j = &self.body_jacobians[parent_id];
+                    let parent_j_w = parent_j.view((DIM, 0), (ANG_DIM, parent_span));
+                    let parent_w =
+                        SimdAngVector::<Real>::from(parent_rb.vels.angvel).gcross_matrix();
+
+                    let (coriolis_v, parent_coriolis_v) = self.coriolis_v.index_mut2(i, parent_id);
+                    let (coriolis_w, parent_coriolis_w) = self.coriolis_w.index_mut2(i, parent_id);
+
+                    // The parent's terms live on its span; this link's span adds its own DoFs
+                    // (and, in a tree, skips its siblings'), so clear the rest of it.
+                    coriolis_v
+                        .columns_mut(0, parent_span)
+                        .copy_from(&parent_coriolis_v.columns(0, parent_span));
+                    coriolis_w
+                        .columns_mut(0, parent_span)
+                        .copy_from(&parent_coriolis_w.columns(0, parent_span));
+                    coriolis_v.columns_range_mut(parent_span..span).fill(0.0);
+                    coriolis_w.columns_range_mut(parent_span..span).fill(0.0);
+                    let mut coriolis_v_p = coriolis_v.columns_mut(0, parent_span);
+                    let mut coriolis_w_p = coriolis_w.columns_mut(0, parent_span);
+
+                    // [c1 - c0].gcross() * (JDot + JDot/u * qdot)"
+                    let shift_cross_tr = vect_to_na(link.shift02).gcross_matrix_tr();
+                    coriolis_v_p.gemm(
+                        1.0,
+                        &shift_cross_tr,
+                        &parent_coriolis_w.columns(0, parent_span),
+                        1.0,
                     );
 
-                    let rb_joint_j_v = rb_joint_j.fixed_rows::<DIM>(0);
-                    coriolis_v_part.gemm(2.0, &parent_w, &rb_joint_j_v, 1.0);
+                    // JDot (but the 2.0 originates from the sum of two identical terms in JDot and JDot/u * gdot)
+                    let dvel_cross = vect_to_na(
+                        rb.vels.angvel.gcross(link.shift02) + 2.0 * link.joint_velocity.linvel,
+                    )
+                    .gcross_matrix_tr();
+                    coriolis_v_p.gemm(1.0, &dvel_cross, &parent_j_w, 1.0);
+
+                    // JDot/u * qdot
+                    coriolis_v_p.gemm(
+                        1.0,
+                        &vect_to_na(link.joint_velocity.linvel).gcross_matrix_tr(),
+                        &parent_j_w,
+                        1.0,
+                    );
+                    coriolis_v_p.gemm(1.0, &(parent_w * shift_cross_tr), &parent_j_w, 1.0);
 
                     #[cfg(feature = "dim3")]
                     {
-                        let rb_joint_j_w = rb_joint_j.fixed_rows::<ANG_DIM>(DIM);
-                        let mut coriolis_w_part = coriolis_w.columns_mut(link.assembly_id, ndofs);
-                        coriolis_w_part.gemm(1.0, &parent_w, &rb_joint_j_w, 1.0);
+                        let vel_wrt_joint_w =
+                            vect_to_na(link.joint_velocity.angvel).gcross_matrix();
+                        coriolis_w_p.gemm(-1.0, &vel_wrt_joint_w, &parent_j_w, 1.0);
                     }
+                    #[cfg(feature = "dim2")]
+                    let _ = &mut coriolis_w_p;
+
+                    // JDot (but the 2.0 originates from the sum of two identical terms in JDot and JDot/u * gdot)
+                    if !link.joint.kinematic {
+                        let mut coriolis_v_part = coriolis_v.columns_mut(link.assembly_id, ndofs);
+
+                        let mut tmp1 = SMatrix::<Real, SPATIAL_DIM, SPATIAL_DIM>::zeros();
+                        let mut rb_joint_j = tmp1.columns_mut(0, ndofs);
+                        link.joint.jacobian(
+                            &(parent_link.local_to_world.rotation
+                                * link.joint.data.local_frame1.rotation),
+                            &mut rb_joint_j,
+                        );
+
+                        let rb_joint_j_v = rb_joint_j.fixed_rows::<DIM>(0);
+                        coriolis_v_part.gemm(2.0, &parent_w, &rb_joint_j_v, 1.0);
+
+                        #[cfg(feature = "dim3")]
+                        {
+                            let rb_joint_j_w = rb_joint_j.fixed_rows::<ANG_DIM>(DIM);
+                            let mut coriolis_w_part =
+                                coriolis_w.columns_mut(link.assembly_id, ndofs);
+                            coriolis_w_part.gemm(1.0, &parent_w, &rb_joint_j_w, 1.0);
+                        }
+                    }
+                } else {
+                    self.coriolis_v[i].fill(0.0);
+                    self.coriolis_w[i].fill(0.0);
                 }
-            } else {
-                self.coriolis_v[i].fill(0.0);
-                self.coriolis_w[i].fill(0.0);
-            }
 
-            let coriolis_v = &mut self.coriolis_v[i];
-            let coriolis_w = &mut self.coriolis_w[i];
-
-            {
-                // [c3 - c2].gcross() * (JDot + JDot/u * qdot)
-                let shift_cross_tr = vect_to_na(link.shift23).gcross_matrix_tr();
-                coriolis_v.gemm(1.0, &shift_cross_tr, coriolis_w, 1.0);
-
-                // JDot
-                let dvel_cross = vect_to_na(rb.vels.angvel.gcross(link.shift23)).gcross_matrix_tr();
-                coriolis_v.gemm(1.0, &dvel_cross, &rb_j_w, 1.0);
-
-                // JDot/u * qdot
-                coriolis_v.gemm(
-                    1.0,
-                    &(SimdAngVector::<Real>::from(rb.vels.angvel).gcross_matrix() * shift_cross_tr),
-                    &rb_j_w,
-                    1.0,
+                let (mut coriolis_v, coriolis_w) = (
+                    self.coriolis_v[i].columns_mut(0, span),
+                    self.coriolis_w[i].columns(0, span),
                 );
-            }
 
-            let coriolis_v = &mut self.coriolis_v[i];
-            let coriolis_w = &mut self.coriolis_w[i];
+                {
+                    // [c3 - c2].gcross() * (JDot + JDot/u * qdot)
+                    let shift_cross_tr = vect_to_na(link.shift23).gcross_matrix_tr();
+                    coriolis_v.gemm(1.0, &shift_cross_tr, &coriolis_w, 1.0);
 
-            /*
-             * Meld with the mass matrix.
-             */
-            {
-                let mut i_coriolis_dt_v = self.i_coriolis_dt.fixed_rows_mut::<DIM>(0);
-                i_coriolis_dt_v.copy_from(coriolis_v);
-                let rb_mass_dt = vect_to_na(rb_mass * dt);
-                i_coriolis_dt_v
-                    .column_iter_mut()
-                    .for_each(|mut c| c.component_mul_assign(&rb_mass_dt));
-            }
+                    // JDot
+                    let dvel_cross =
+                        vect_to_na(rb.vels.angvel.gcross(link.shift23)).gcross_matrix_tr();
+                    coriolis_v.gemm(1.0, &dvel_cross, &rb_j_w, 1.0);
 
-            #[cfg(feature = "dim2")]
-            {
-                let mut i_coriolis_dt_w = self.i_coriolis_dt.fixed_rows_mut::<ANG_DIM>(DIM);
-                // NOTE: this is just an axpy, but on row columns.
-                i_coriolis_dt_w.zip_apply(coriolis_w, |o, x| *o = x * dt * rb_inertia);
-            }
-            #[cfg(feature = "dim3")]
-            {
-                let mut i_coriolis_dt_w = self.i_coriolis_dt.fixed_rows_mut::<ANG_DIM>(DIM);
-                i_coriolis_dt_w.gemm(dt, &mat_to_na(rb_inertia), coriolis_w, 0.0);
-            }
+                    // JDot/u * qdot
+                    coriolis_v.gemm(
+                        1.0,
+                        &(SimdAngVector::<Real>::from(rb.vels.angvel).gcross_matrix()
+                            * shift_cross_tr),
+                        &rb_j_w,
+                        1.0,
+                    );
+                }
 
-            self.acc_augmented_mass
-                .gemm_tr(1.0, rb_j, &self.i_coriolis_dt, 1.0);
+                /*
+                 * Meld with the mass matrix.
+                 */
+                {
+                    let mut i_coriolis_dt_v = self.i_coriolis_dt.fixed_rows_mut::<DIM>(0);
+                    let mut i_coriolis_dt_v = i_coriolis_dt_v.columns_mut(0, span);
+                    i_coriolis_dt_v.copy_from(&coriolis_v);
+                    let rb_mass_dt = vect_to_na(rb_mass * dt);
+                    i_coriolis_dt_v
+                        .column_iter_mut()
+                        .for_each(|mut c| c.component_mul_assign(&rb_mass_dt));
+                }
+
+                #[cfg(feature = "dim2")]
+                {
+                    let mut i_coriolis_dt_w = self.i_coriolis_dt.fixed_rows_mut::<ANG_DIM>(DIM);
+                    // NOTE: this is just an axpy, but on row columns.
+                    i_coriolis_dt_w
+                        .columns_mut(0, span)
+                        .zip_apply(&coriolis_w, |o, x| *o = x * dt * rb_inertia);
+                }
+                #[cfg(feature = "dim3")]
+                {
+                    let mut i_coriolis_dt_w = self.i_coriolis_dt.fixed_rows_mut::<ANG_DIM>(DIM);
+                    i_coriolis_dt_w.columns_mut(0, span).gemm(
+                        dt,
+                        &mat_to_na(rb_inertia),
+                        &coriolis_w,
+                        0.0,
+                    );
+                }
+
+                self.acc_augmented_mass
+                    .view_mut((0, 0), (span, span))
+                    .gemm_tr(
+                        1.0,
+                        &rb_j.columns(0, span),
+                        &self.i_coriolis_dt.columns(0, span),
+                        1.0,
+                    );
+            }
+        }
+
+        // The 3D path accumulates only the upper triangle of the symmetric mass matrix.
+        #[cfg(feature = "dim3")]
+        {
+            let n = self.ndofs;
+            let mass = self.augmented_mass.as_mut_slice();
+            for b in 0..n {
+                for a in 0..b {
+                    mass[b + a * n] = mass[a + b * n];
+                }
+            }
         }
 
         /*
@@ -1031,7 +1340,6 @@ impl Multibody {
          */
         for i in 0..self.ndofs {
             let diag = self.damping[i] * dt + self.armature[i];
-            self.acc_augmented_mass[(i, i)] += diag;
             self.augmented_mass[(i, i)] += diag;
         }
 
@@ -1046,14 +1354,15 @@ impl Multibody {
                 if (locked >> a) & 1 == 0 {
                     let k = self.links[li].joint.spring_stiffness[a];
                     if k != 0.0 {
-                        let d = k * dt2;
-                        self.acc_augmented_mass[(idx, idx)] += d;
-                        self.augmented_mass[(idx, idx)] += d;
+                        self.augmented_mass[(idx, idx)] += k * dt2;
                     }
                     idx += 1;
                 }
             }
         }
+
+        // The part both matrices share.
+        self.acc_augmented_mass += &self.augmented_mass;
 
         let effective_dim = self
             .augmented_mass_indices
@@ -1064,24 +1373,16 @@ impl Multibody {
         self.augmented_mass_indices
             .rearrange_columns(&mut self.acc_augmented_mass, true);
         self.augmented_mass_indices
-            .rearrange_columns(&mut self.augmented_mass, true);
-
-        self.augmented_mass_indices
             .rearrange_rows(&mut self.acc_augmented_mass, true);
+        self.acc_inv_augmented_mass
+            .factorize_leading(&self.acc_augmented_mass, effective_dim);
+        self.augmented_mass_indices
+            .rearrange_columns(&mut self.augmented_mass, true);
         self.augmented_mass_indices
             .rearrange_rows(&mut self.augmented_mass, true);
 
-        // TODO: avoid allocation inside LU at each timestep.
-        self.acc_inv_augmented_mass = LU::new(
-            self.acc_augmented_mass
-                .view((0, 0), (effective_dim, effective_dim))
-                .into_owned(),
-        );
-        self.inv_augmented_mass = LU::new(
-            self.augmented_mass
-                .view((0, 0), (effective_dim, effective_dim))
-                .into_owned(),
-        );
+        self.inv_augmented_mass
+            .factorize_leading(&self.augmented_mass, effective_dim);
     }
 
     /// Per-DoF inverse joint-space inertia `diag(M⁻¹)` at the current configuration, where `M`
@@ -1277,6 +1578,76 @@ impl Multibody {
         }
     }
 
+    /// Hard limits (see [`Multibody::set_hard_limits`]): puts every limited DoF found past a
+    /// limit back exactly on it, and removes its outward velocity by an inelastic generalized
+    /// impulse through the mass matrix factorized for this substep. Kinematic DoFs and the
+    /// coupled angular DoFs of ball-like joints (whose coordinates are not geometric) are left
+    /// to the limit constraint. Returns whether any generalized velocity changed.
+    pub(crate) fn project_hard_limits(&mut self) -> bool {
+        let mut velocity_changed = false;
+        for i in 0..self.links.len() {
+            let joint = &self.links[i].joint;
+            let locked = joint.data.locked_axes.bits();
+            let limited = joint.data.limit_axes.bits() & !locked;
+            if limited == 0 || joint.kinematic {
+                continue;
+            }
+            let num_free_ang = ANG_DIM - ((locked >> DIM).count_ones() as usize);
+            let mut dof = self.links[i].assembly_id;
+            for axis in 0..SPATIAL_DIM {
+                if locked & (1 << axis) != 0 {
+                    continue;
+                }
+                let this_dof = dof;
+                dof += 1;
+                if limited & (1 << axis) == 0 || (axis >= DIM && num_free_ang != 1) {
+                    continue;
+                }
+                let joint = &mut self.links[i].joint;
+                let limits = joint.data.limits[axis];
+                let q = joint.coords[axis];
+                let (bound, outward) = if q > limits.max {
+                    (limits.max, 1.0)
+                } else if q < limits.min {
+                    (limits.min, -1.0)
+                } else {
+                    continue;
+                };
+                joint.set_single_coord(axis, bound);
+                velocity_changed |= self.stop_outward_velocity(this_dof, outward);
+            }
+        }
+        velocity_changed
+    }
+
+    /// If DoF `dof` moves in direction `outward`, applies the generalized impulse along it that
+    /// brings its velocity to zero: `Δv = M⁻¹·e·p` with `p = -v / (M⁻¹)ᵢᵢ`.
+    fn stop_outward_velocity(&mut self, dof: usize, outward: Real) -> bool {
+        let v = self.velocities[dof];
+        if v * outward <= 0.0 {
+            return false;
+        }
+        let response = &mut self.workspace.ndofs_vec;
+        if response.len() != self.ndofs {
+            // The root's joint type (free or fixed) changes the DoF count after `add_link`.
+            *response = DVector::zeros(self.ndofs);
+        }
+        response.fill(0.0);
+        response[dof] = 1.0;
+        let lu = &self.inv_augmented_mass;
+        let mut solved = false;
+        self.augmented_mass_indices
+            .with_rearranged_rows_mut(response, |r| solved = lu.solve_mut(r));
+        let inv_inertia = response[dof];
+        if solved && inv_inertia > 0.0 && inv_inertia.is_finite() {
+            self.velocities.axpy(-v / inv_inertia, response, 1.0);
+        } else {
+            // A singular mass matrix: stop this DoF alone.
+            self.velocities[dof] = 0.0;
+        }
+        true
+    }
+
     /// Apply displacements, in generalized coordinates, to this multibody.
     ///
     /// Note this does **not** updates the link poses, only their generalized coordinates.
@@ -1307,6 +1678,8 @@ impl Multibody {
                     self.damping = self.damping.clone().insert_rows(0, SPATIAL_DIM, 0.0);
                     self.armature = self.armature.clone().insert_rows(0, SPATIAL_DIM, 0.0);
                     self.frictions = self.frictions.clone().insert_rows(0, SPATIAL_DIM, 0.0);
+                    self.applied_forces =
+                        self.applied_forces.clone().insert_rows(0, SPATIAL_DIM, 0.0);
                     self.accelerations =
                         self.accelerations.clone().insert_rows(0, SPATIAL_DIM, 0.0);
 
@@ -1318,6 +1691,7 @@ impl Multibody {
                     assert!(self.damping.len() >= SPATIAL_DIM);
                     assert!(self.armature.len() >= SPATIAL_DIM);
                     assert!(self.frictions.len() >= SPATIAL_DIM);
+                    assert!(self.applied_forces.len() >= SPATIAL_DIM);
                     assert!(self.accelerations.len() >= SPATIAL_DIM);
 
                     let fixed_joint = MultibodyJoint::fixed(root_pose);
@@ -1331,6 +1705,7 @@ impl Multibody {
                         self.damping = DVector::zeros(0);
                         self.armature = DVector::zeros(0);
                         self.frictions = DVector::zeros(0);
+                        self.applied_forces = DVector::zeros(0);
                         self.accelerations = DVector::zeros(0);
                     } else {
                         self.velocities =
@@ -1338,6 +1713,10 @@ impl Multibody {
                         self.damping = self.damping.index((prev_root_ndofs.., 0)).into_owned();
                         self.armature = self.armature.index((prev_root_ndofs.., 0)).into_owned();
                         self.frictions = self.frictions.index((prev_root_ndofs.., 0)).into_owned();
+                        self.applied_forces = self
+                            .applied_forces
+                            .index((prev_root_ndofs.., 0))
+                            .into_owned();
                         self.accelerations = self
                             .accelerations
                             .index((prev_root_ndofs.., 0))

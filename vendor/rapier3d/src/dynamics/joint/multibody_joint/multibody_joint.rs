@@ -177,6 +177,22 @@ impl MultibodyJoint {
         }
     }
 
+    /// Sets the coordinate of one free axis (`0..DIM` linear, `DIM..SPATIAL_DIM` angular) of a
+    /// joint with at most one free angular DoF, keeping [`Self::joint_rot`] consistent.
+    pub(crate) fn set_single_coord(&mut self, axis: usize, value: Real) {
+        self.coords[axis] = value;
+        if axis >= DIM {
+            #[cfg(feature = "dim2")]
+            {
+                self.joint_rot = rotation_from_angle(value);
+            }
+            #[cfg(feature = "dim3")]
+            {
+                self.joint_rot = Rotation::from_axis_angle(Vector::ith(axis - DIM, 1.0), value);
+            }
+        }
+    }
+
     /// Apply a displacement to the multibody_joint.
     pub fn apply_displacement(&mut self, disp: &[Real]) {
         self.integrate(1.0, disp);

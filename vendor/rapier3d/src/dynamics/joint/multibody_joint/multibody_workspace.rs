@@ -1,6 +1,19 @@
 use crate::alloc_prelude::*;
 use crate::dynamics::RigidBodyVelocity;
+#[cfg(feature = "dim3")]
+use crate::math::Vector;
 use crate::math::{DVector, Real};
+
+/// One column (DoF) of a link's contribution to the mass matrices: the products of its
+/// body-jacobian column the mass matrices are built from (gymfleet patch).
+#[cfg(feature = "dim3")]
+#[derive(Copy, Clone, Debug, Default)]
+pub(crate) struct MassColumn {
+    pub mass_jv: Vector,
+    pub inertia_jw: Vector,
+    pub acc_v: Vector,
+    pub acc_w: Vector,
+}
 
 /// A temporary workspace for various updates of the multibody.
 #[cfg_attr(feature = "serde-serialize", derive(Serialize, Deserialize))]
@@ -8,6 +21,22 @@ use crate::math::{DVector, Real};
 pub(crate) struct MultibodyWorkspace {
     pub accs: Vec<RigidBodyVelocity<Real>>,
     pub ndofs_vec: DVector,
+    /// Buffers of `update_acceleration` and its energy guard, reused from one substep to
+    /// the next (gymfleet patch).
+    pub pos_forces: DVector,
+    pub gen_forces: DVector,
+    pub guard_v: DVector,
+    pub guard_f: DVector,
+    pub guard_f_pos: DVector,
+    pub guard_a: DVector,
+    pub guard_m_x: DVector,
+    #[cfg(feature = "dim3")]
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    pub mass_columns: Vec<MassColumn>,
+    /// The six rows of a body jacobian, each contiguous (gymfleet patch).
+    #[cfg(feature = "dim3")]
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    pub jacobian_rows: [Vec<Real>; 6],
 }
 
 impl MultibodyWorkspace {
@@ -16,6 +45,17 @@ impl MultibodyWorkspace {
         MultibodyWorkspace {
             accs: Vec::new(),
             ndofs_vec: DVector::zeros(0),
+            pos_forces: DVector::zeros(0),
+            gen_forces: DVector::zeros(0),
+            guard_v: DVector::zeros(0),
+            guard_f: DVector::zeros(0),
+            guard_f_pos: DVector::zeros(0),
+            guard_a: DVector::zeros(0),
+            guard_m_x: DVector::zeros(0),
+            #[cfg(feature = "dim3")]
+            mass_columns: Vec::new(),
+            #[cfg(feature = "dim3")]
+            jacobian_rows: Default::default(),
         }
     }
 

@@ -25,6 +25,34 @@ pub fn unit_joint_limit_constraint(
     let min_enabled = curr_pos < limits[0];
     let max_enabled = limits[1] < curr_pos;
 
+    if !min_enabled && !max_enabled {
+        // gymfleet patch (see `PATCHES.md`): a limit the joint is within applies no impulse
+        // (its bounds would be `[0, 0]`), so skip the jacobian and the mass-matrix solve and
+        // emit a constraint over no DoF.
+        constraints[*insert_at] = GenericJointConstraint {
+            is_rigid_body1: false,
+            solver_vel1: u32::MAX,
+            ndofs1: 0,
+            j_id1: 0,
+            is_rigid_body2: false,
+            solver_vel2: multibody.solver_id,
+            ndofs2: 0,
+            j_id2: *j_id,
+            joint_id: usize::MAX,
+            impulse: 0.0,
+            impulse_bounds: [0.0, 0.0],
+            inv_lhs: 0.0,
+            rhs: 0.0,
+            rhs_wo_bias: 0.0,
+            cfm_coeff: 0.0,
+            cfm_gain: 0.0,
+            writeback_id: WritebackId::Limit(dof_id),
+        };
+        *insert_at += 1;
+        *j_id += 2 * ndofs;
+        return;
+    }
+
     // Compute per-joint ERP and CFM
     let erp_inv_dt = softness.erp_inv_dt(params.dt);
     let cfm_coeff = softness.cfm_coeff(params.dt);

@@ -139,6 +139,12 @@ impl VelocitySolver {
                 .rows(multibody.solver_id as usize, multibody.ndofs());
             multibody.velocities.copy_from(&solver_vels);
             multibody.integrate(params.dt);
+            if multibody.hard_limits() && multibody.project_hard_limits() {
+                // The stops changed velocities: the solver's copy carries them on.
+                self.generic_solver_vels
+                    .rows_mut(multibody.solver_id as usize, multibody.ndofs())
+                    .copy_from(&multibody.velocities);
+            }
             multibody.forward_kinematics(bodies, false);
             multibody.update_rigid_bodies_internal(bodies, !is_last_substep, true, false);
 
