@@ -9,11 +9,13 @@ use gymfleet_physics::{ActionMode, RobotWorld, WorldOptions};
 const PENDULUM: &str = include_str!("../../../models/pendulum.json");
 const ARM2: &str = include_str!("../../../models/arm2.json");
 const ARM6: &str = include_str!("../../../models/arm6.json");
+const CHAIN20: &str = include_str!("../../../models/chain20.json");
 
-const MODELS: [(&str, &str, &str); 3] = [
+const MODELS: [(&str, &str, &str); 4] = [
     ("pendulum", PENDULUM, "arm"),
     ("arm2", ARM2, "forearm"),
     ("arm6", ARM6, "tool"),
+    ("chain20", CHAIN20, "link20"),
 ];
 
 fn bench_env(c: &mut Criterion) {
@@ -46,7 +48,8 @@ fn bench_physics(c: &mut Criterion) {
     for (name, doc, _) in MODELS {
         let assembly = gymfleet_assembly::parse(doc).unwrap();
         let options = WorldOptions {
-            substep_dt: DEFAULT_DT / f64::from(DEFAULT_SUBSTEPS),
+            dt: DEFAULT_DT,
+            substeps: DEFAULT_SUBSTEPS,
             gains: None,
         };
         let mut world = RobotWorld::new(&assembly, &options).unwrap();
@@ -55,7 +58,7 @@ fn bench_physics(c: &mut Criterion) {
         group.bench_function(format!("step/{name}"), |b| {
             b.iter(|| {
                 world.set_command(ActionMode::Torque, &action);
-                world.step(DEFAULT_SUBSTEPS);
+                world.step();
                 steps += 1;
                 if steps % 1000 == 0 {
                     world.reset();

@@ -7,8 +7,11 @@ use crate::observation::POSE_LEN;
 
 /// Default step length: 1/240 s.
 pub const DEFAULT_DT: f64 = 1.0 / 240.0;
-/// Default substeps per step.
-pub const DEFAULT_SUBSTEPS: u32 = 4;
+/// Default integration substeps per step: the fewest that keep every accuracy bound of
+/// the analytic tests. Each substep is one semi-implicit Euler step of `dt / substeps`
+/// (1/1200 s at the default `dt`); its energy error on an undamped pendulum swinging 40°
+/// is 0.84 % over ten periods (4 substeps: 1.05 %, over the 1 % bound).
+pub const DEFAULT_SUBSTEPS: u32 = 5;
 /// Default episode length in steps.
 pub const DEFAULT_MAX_STEPS: u32 = 1000;
 

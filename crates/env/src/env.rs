@@ -105,7 +105,8 @@ impl RobotEnv {
             })
             .collect::<Result<Vec<_>>>()?;
         let options = WorldOptions {
-            substep_dt: config.dt / f64::from(config.substeps),
+            dt: config.dt,
+            substeps: config.substeps,
             gains: config.pd_gains.clone(),
         };
         let world = RobotWorld::new(assembly, &options)?;
@@ -203,7 +204,7 @@ impl RobotEnv {
             return Err(EnvError::NeedsReset);
         }
         self.world.set_command(action_type.mode(), values);
-        self.world.step(self.spec.substeps);
+        self.world.step();
         self.elapsed = self.elapsed.saturating_add(1);
         let truncated = self.elapsed >= self.spec.max_steps;
 

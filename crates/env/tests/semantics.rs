@@ -20,7 +20,7 @@ fn seed_pendulum_metadata_and_reset_observation() {
         (1, 1, 9)
     );
     assert_eq!(spec.joint_names, ["arm"]);
-    assert_eq!((spec.substeps, spec.max_steps), (4, 1000));
+    assert_eq!((spec.substeps, spec.max_steps), (5, 1000));
     assert!((spec.dt - 1.0 / 240.0).abs() < 1e-12);
     let obs = env.reset(None);
     assert_eq!(obs.joint_positions, [0.0]);

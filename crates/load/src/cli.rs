@@ -83,7 +83,7 @@ pub struct Cli {
     /// models and files, 0.02 for arm6], deg for position [30], deg/s for velocity [45].
     #[arg(long, value_name = "A", env = "GYMFLEET_AMPLITUDE")]
     pub amplitude: Option<f32>,
-    /// Physics substeps per step [default: the server's, 4].
+    /// Integration substeps per step [default: the server's, 5].
     #[arg(long, value_name = "N", env = "GYMFLEET_SUBSTEPS")]
     pub substeps: Option<u32>,
     /// Seconds per step [default: the server's, 1/240].

@@ -106,7 +106,7 @@ pub struct LoadConfig {
     pub action_type: ActionKind,
     /// Action amplitude (N·m, deg or deg/s).
     pub amplitude: f32,
-    /// Physics substeps per step; `None` is the server's default (4).
+    /// Integration substeps per step; `None` is the server's default (5).
     pub substeps: Option<u32>,
     /// Seconds per step; `None` is the server's default (1/240).
     pub dt: Option<f64>,

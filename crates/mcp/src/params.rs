@@ -22,7 +22,7 @@ pub(crate) struct CreateEnvParams {
     pub(crate) end_effector_ids: Vec<String>,
     /// Seconds of simulated time per step. Default 1/240 s (about 0.004167 s).
     pub(crate) dt: Option<f64>,
-    /// Physics substeps per step (each is dt/substeps seconds). Default 4.
+    /// Integration substeps per step (each is dt/substeps seconds). Default 5.
     pub(crate) substeps: Option<u32>,
     /// Episode length in steps: `truncated` (and `done`) become true at this step.
     /// Default 1000.
@@ -147,7 +147,7 @@ pub(crate) struct CreateBatchParams {
     pub(crate) end_effector_ids: Vec<String>,
     /// Seconds of simulated time per step. Default 1/240 s (about 0.004167 s).
     pub(crate) dt: Option<f64>,
-    /// Physics substeps per step (each is dt/substeps seconds). Default 4.
+    /// Integration substeps per step (each is dt/substeps seconds). Default 5.
     pub(crate) substeps: Option<u32>,
     /// Episode length in steps: an env's `truncated` becomes true at this step.
     /// Default 1000.

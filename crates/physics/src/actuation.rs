@@ -1,12 +1,15 @@
 //! Actuation: real torques and forces, and force-based PD motors for targets.
 //!
-//! - **Torque** mode applies the effort equal and opposite on the joint's two bodies
-//!   (a couple for rotations, a collinear force pair at the child's anchor for
-//!   translations), so momentum is conserved and the sign is kept.
+//! - **Torque** mode applies the effort as a joint-space (generalized) force on the DOF:
+//!   what a motor at the joint exerts, equal and opposite on the joint's two bodies, along
+//!   the joint's current axis at every substep, so momentum is conserved and the sign is
+//!   kept.
 //! - **Position** and **velocity** modes use Rapier's force-based joint motors, which are
 //!   integrated implicitly and clamped by `max_effort`. Ball joints, whose Rapier motors
-//!   work on non-geometric coordinates, get an explicit PD torque in the joint frame.
-//! - Limits are solver constraints and hold in every mode.
+//!   work on non-geometric coordinates, get an explicit PD torque in the joint frame,
+//!   recomputed every substep.
+//! - Limits are hard stops in every mode: Rapier puts a DOF found past its limit back on it
+//!   after every substep (the multibody's hard limits, `vendor/rapier3d/PATCHES.md`).
 //!
 //! Default gains: for each DOF the apparent inertia `I = 1 / diag(M⁻¹)` at the initial
 //! configuration (MuJoCo's `dof_invweight0`, from Rapier's `dof_inverse_inertia`), then
@@ -198,52 +201,48 @@ impl RobotWorld {
         }
     }
 
-    /// Applies this substep's explicit efforts: torque-mode efforts on every joint, and
-    /// the explicit PD of ball joints in target modes. Recomputed every substep because
-    /// the joint axes move with the parent body.
+    /// Whether some effort depends on the state within a step (the explicit PD of ball
+    /// joints under targets), so that it must be recomputed every substep.
+    pub(crate) fn has_state_dependent_efforts(&self) -> bool {
+        self.command.mode != ActionMode::Torque && self.has_ball_joints
+    }
+
+    /// Writes the held joint-space efforts into the multibodies: torque-mode efforts on
+    /// every DOF (clamped by `max_effort`), and the explicit PD of ball joints in target
+    /// modes. DOFs driven by Rapier's motors get none.
     pub(crate) fn apply_efforts(&mut self) {
-        for &h in &self.bodies {
-            let rb = &mut self.live.bodies[h];
-            rb.reset_forces(false);
-            rb.reset_torques(false);
-        }
         let mode = self.command.mode;
         for slot in &self.joints {
-            let (parent, child, first) = (slot.parent, slot.child, slot.first_dof);
-            let frame = self.joint_frame_world(slot);
-            match (slot.kind, mode) {
-                (JointType::Fixed, _) => {}
-                (JointType::Ball, _) => {
-                    let torque = self.ball_torque(slot, frame);
-                    apply_couple(&mut self.live.bodies, parent, child, torque);
-                }
-                (kind, ActionMode::Torque) => {
-                    let axis = frame.rotation * Vector::X;
-                    for k in 0..kind.dof() {
-                        let dof = &self.dofs[first + k];
-                        let value = f64::from(self.command.values[first + k]);
-                        let effort = clamp_effort(value, dof.max_effort) as Real;
-                        if effort == 0.0 {
-                            continue;
-                        }
-                        let bodies = &mut self.live.bodies;
-                        match dof.kind {
-                            DofKind::Angular => apply_couple(bodies, parent, child, axis * effort),
-                            DofKind::Linear => {
-                                let point = *bodies[child].position() * slot.frame2.translation;
-                                bodies[child].add_force_at_point(axis * effort, point, true);
-                                bodies[parent].add_force_at_point(-axis * effort, point, true);
-                            }
-                        }
+            let n = slot.kind.dof();
+            let efforts: [Real; 3] = match (slot.kind, mode) {
+                (JointType::Fixed, _) => continue,
+                (JointType::Ball, _) => self.ball_torque(slot),
+                (_, ActionMode::Torque) => {
+                    let mut efforts = [0.0; 3];
+                    for (k, effort) in efforts.iter_mut().enumerate().take(n) {
+                        let dof = &self.dofs[slot.first_dof + k];
+                        let value = f64::from(self.command.values[slot.first_dof + k]);
+                        *effort = clamp_effort(value, dof.max_effort) as Real;
                     }
+                    efforts
                 }
-                _ => {} // Rapier's motors do the work.
-            }
+                _ => [0.0; 3], // Rapier's motors do the work.
+            };
+            let Some(mb) = self.live.multibody_joints.get_multibody_mut(slot.multibody) else {
+                continue;
+            };
+            let Some(first) = mb.link(slot.link).map(|link| link.assembly_id()) else {
+                continue;
+            };
+            mb.applied_forces_mut()
+                .rows_mut(first, n)
+                .copy_from_slice(&efforts[..n]);
         }
     }
 
-    /// The world-frame torque a ball joint applies to its child this substep.
-    fn ball_torque(&self, slot: &JointSlot, frame: Pose) -> Vector {
+    /// The torque a ball joint applies to its child, in the joint frame (the frame of its
+    /// generalized coordinates).
+    fn ball_torque(&self, slot: &JointSlot) -> [Real; 3] {
         let first = slot.first_dof;
         let values = &self.command.values;
         let dofs = &self.dofs[first..first + 3];
@@ -276,16 +275,11 @@ impl RobotWorld {
                 if self.gains.overridden {
                     [0, 1, 2].map(|k| dofs[k].kp * error[k] + dofs[k].kd * velocity_error[k])
                 } else {
-                    self.ball_default_pd(slot, frame, error, velocity_error)
+                    self.ball_default_pd(slot, error, velocity_error)
                 }
             }
         };
-        let local = Vector::new(
-            clamp_effort(local[0], dofs[0].max_effort) as Real,
-            clamp_effort(local[1], dofs[1].max_effort) as Real,
-            clamp_effort(local[2], dofs[2].max_effort) as Real,
-        );
-        frame.rotation * local
+        [0, 1, 2].map(|k| clamp_effort(local[k], dofs[k].max_effort) as Real)
     }
 }
 
@@ -297,10 +291,10 @@ impl RobotWorld {
     fn ball_default_pd(
         &self,
         slot: &JointSlot,
-        frame: Pose,
         error: [f64; 3],
         velocity_error: [f64; 3],
     ) -> [f64; 3] {
+        let frame = self.joint_frame_world(slot);
         let omega =
             (2.0 * std::f64::consts::PI * DEFAULT_PD_FREQUENCY_HZ).min(self.gains.ball_omega_cap);
         let child = &self.live.bodies[slot.child];
@@ -326,18 +320,4 @@ impl RobotWorld {
             f64::from(torque.z),
         ]
     }
-}
-
-/// A pure couple: `torque` on the child, its opposite on the parent.
-fn apply_couple(
-    bodies: &mut RigidBodySet,
-    parent: RigidBodyHandle,
-    child: RigidBodyHandle,
-    torque: Vector,
-) {
-    if torque == Vector::ZERO {
-        return;
-    }
-    bodies[child].add_torque(torque, true);
-    bodies[parent].add_torque(-torque, true);
 }

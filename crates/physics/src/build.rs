@@ -17,13 +17,20 @@ impl RobotWorld {
     /// exact primitive colliders, and every joint as a link of a reduced-coordinate
     /// multibody. Joint damping is exactly the document's (Rapier's default is removed).
     pub fn new(assembly: &Assembly, options: &WorldOptions) -> Result<Self> {
-        let dt = options.substep_dt;
+        let dt = options.dt;
         if !(dt.is_finite() && dt > 0.0 && dt <= 1.0) {
             return Err(PhysicsError::BadOption {
-                field: "substep_dt",
-                reason: format!("expected a substep length in (0, 1] s, got {dt}"),
+                field: "dt",
+                reason: format!("expected a step length in (0, 1] s, got {dt}"),
             });
         }
+        if options.substeps == 0 {
+            return Err(PhysicsError::BadOption {
+                field: "substeps",
+                reason: "expected at least 1 substep, got 0".to_string(),
+            });
+        }
+        let substep_dt = options.substep_dt();
         let mut sets = Sets {
             islands: IslandManager::new(),
             broad_phase: BroadPhaseBvh::new(),
@@ -41,6 +48,15 @@ impl RobotWorld {
             .iter()
             .map(|inst| insert_body(&mut sets, inst))
             .collect();
+        // Collision detection runs once per step, so contacts must be predicted: soft CCD
+        // widens each pair's contact prediction by how far its colliders' points can move in
+        // a step (centre-of-mass speed plus spin times radius, capped at the robot's size).
+        let reach = assembly_reach(&sets.colliders);
+        for &h in &bodies {
+            if sets.bodies[h].is_dynamic() {
+                sets.bodies[h].set_soft_ccd_prediction(reach);
+            }
+        }
 
         // Parents before children, so each insertion appends one link to a tree.
         let mut order: Vec<usize> = (0..assembly.joints.len()).collect();
@@ -86,6 +102,9 @@ impl RobotWorld {
                 .entry(link_id.multibody)
                 .or_insert_with(|| {
                     mb.set_self_contacts_enabled(true);
+                    // Limits are hard stops: a DOF past its limit is put back on it after
+                    // every substep (Rapier's own limit engages only once it is past).
+                    mb.set_hard_limits(true);
                     // Rapier gives angular DOFs a default damping of 0.1: remove it, so
                     // that a free pendulum keeps its energy unless the document says not.
                     mb.damping_mut().fill(0.0);
@@ -105,23 +124,19 @@ impl RobotWorld {
                 multibody: link_id.multibody,
                 link: link_id.id,
                 frame1: frames[j].0,
-                frame2: frames[j].1,
                 first_dof: dofs.len(),
             });
             dofs.extend(joint_dofs(j, joint));
         }
         let overridden = resolve_gains(&mut dofs, &inertia, options.gains.as_ref())?;
 
+        // One step is one pipeline step whose solver substeps are the integration substeps:
+        // collision detection runs once per step (contacts are speculative, so a contact
+        // about to close within the step is still solved at every substep).
         let mut params = IntegrationParameters {
             dt: dt as Real,
             length_unit: length_unit(assembly),
-            // Rapier's default of 4 solver substeps per pipeline step is kept on purpose.
-            // 2 halves the cost of a step (arm2: 51.8 → 26.8 µs) and still passes the
-            // analytic bars (energy drift 0.52 % vs 0.26 %), but before the hard stops of
-            // `limits.rs` existed the seed arm's elbow went to -829° and diverged within 5
-            // steps at 0.875 N·m, and with them it still ends 0.0015° past its stop at
-            // 2 N·m. 4 keeps both margins.
-            num_solver_iterations: 4,
+            num_solver_iterations: options.substeps as usize,
             ..IntegrationParameters::default()
         };
         // Rapier caps body speed at 400 length units per second; with millimetre parts
@@ -134,19 +149,28 @@ impl RobotWorld {
         params.contact_softness.natural_frequency *= stiffen;
         params.static_contact_softness.natural_frequency *= stiffen;
 
+        let substep_params = IntegrationParameters {
+            dt: substep_dt as Real,
+            num_solver_iterations: 1,
+            ..params
+        };
+
         let n_dofs = dofs.len();
         let mut world = RobotWorld {
             initial: std::sync::Arc::new(sets.clone()),
             live: sets,
             pipeline_params: params,
+            substep_params,
+            substeps: options.substeps,
             gravity: Vector::new(0.0, 0.0, -GRAVITY),
             bodies,
             joints,
             dofs,
             gains: ResolvedGains {
-                ball_omega_cap: 0.2 / dt,
+                ball_omega_cap: 0.2 / substep_dt,
                 overridden,
             },
+            has_ball_joints: assembly.joints.iter().any(|j| j.kind == JointType::Ball),
             command: Command {
                 values: vec![0.0; n_dofs],
                 ..Command::default()
@@ -205,6 +229,16 @@ fn collider(shape: &Shape) -> ColliderBuilder {
         }
         Shape::Sphere { radius } => ColliderBuilder::ball(radius as Real),
     }
+}
+
+/// The diagonal of the box that holds every collider at the initial pose, in m.
+fn assembly_reach(colliders: &ColliderSet) -> Real {
+    let mut all: Option<Aabb> = None;
+    for (_, co) in colliders.iter() {
+        let aabb = co.compute_aabb();
+        all = Some(all.map_or(aabb, |a| a.merged(&aabb)));
+    }
+    all.map_or(1.0, |a| (a.maxs - a.mins).length())
 }
 
 /// Depth of each instance in the joint forest (roots are 0).

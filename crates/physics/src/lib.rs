@@ -15,7 +15,6 @@
 mod actuation;
 mod build;
 mod error;
-mod limits;
 mod perturb;
 mod readout;
 mod world;

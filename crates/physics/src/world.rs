@@ -8,16 +8,27 @@ use crate::actuation::{ActionMode, Command, ResolvedGains};
 /// Options for building a world that are not part of the document.
 #[derive(Debug, Clone, PartialEq)]
 pub struct WorldOptions {
-    /// Length of one physics substep, in seconds.
-    pub substep_dt: f64,
+    /// Length of one [`RobotWorld::step`], in seconds.
+    pub dt: f64,
+    /// Integration substeps per step: each is one semi-implicit Euler step of
+    /// `dt / substeps` (one of Rapier's solver substeps).
+    pub substeps: u32,
     /// PD gain overrides; `None` derives stable defaults from each DOF's inertia.
     pub gains: Option<crate::PdGains>,
+}
+
+impl WorldOptions {
+    /// The length of one integration substep, in seconds.
+    pub fn substep_dt(&self) -> f64 {
+        self.dt / f64::from(self.substeps)
+    }
 }
 
 impl Default for WorldOptions {
     fn default() -> Self {
         WorldOptions {
-            substep_dt: 1.0 / 960.0,
+            dt: 1.0 / 240.0,
+            substeps: 5,
             gains: None,
         }
     }
@@ -67,9 +78,8 @@ pub(crate) struct JointSlot {
     /// Which multibody and which link of it the child is.
     pub(crate) multibody: MultibodyIndex,
     pub(crate) link: usize,
-    /// The joint frame in the parent's and the child's local frames (X is the axis).
+    /// The joint frame in the parent's local frame (X is the axis).
     pub(crate) frame1: Pose,
-    pub(crate) frame2: Pose,
     /// Index of the joint's first DOF in [`RobotWorld::dofs`].
     pub(crate) first_dof: usize,
 }
@@ -83,13 +93,20 @@ pub struct RobotWorld {
     /// The state at creation, shared by every clone of this world (a batch's envs),
     /// so that each env holds one copy of the Rapier sets, not two.
     pub(crate) initial: std::sync::Arc<Sets>,
+    /// One step: `dt` integrated as `substeps` of Rapier's solver substeps.
     pub(crate) pipeline_params: IntegrationParameters,
+    /// One substep as a pipeline step of its own, for the explicit ball-joint PD, which must
+    /// be recomputed every substep (see [`RobotWorld::step`]).
+    pub(crate) substep_params: IntegrationParameters,
+    pub(crate) substeps: u32,
     pub(crate) gravity: Vector,
     /// One body per instance, in document order.
     pub(crate) bodies: Vec<RigidBodyHandle>,
     pub(crate) joints: Vec<JointSlot>,
     pub(crate) dofs: Vec<JointDof>,
     pub(crate) gains: ResolvedGains,
+    /// Whether any joint is a ball joint (whose target modes use an explicit PD).
+    pub(crate) has_ball_joints: bool,
     pub(crate) command: Command,
     pub(crate) pipeline: PipelineCell,
 }
@@ -114,9 +131,14 @@ impl RobotWorld {
         self.bodies.len()
     }
 
-    /// The substep length in seconds.
-    pub fn substep_dt(&self) -> f64 {
+    /// The step length in seconds.
+    pub fn dt(&self) -> f64 {
         f64::from(self.pipeline_params.dt)
+    }
+
+    /// Integration substeps per step.
+    pub fn substeps(&self) -> u32 {
+        self.substeps
     }
 
     /// Sets the command held until the next call: efforts in N·m/N, or targets in
@@ -131,28 +153,47 @@ impl RobotWorld {
         self.configure_motors();
     }
 
-    /// Advances the world by `substeps` substeps, holding the current command.
-    pub fn step(&mut self, substeps: u32) {
-        for _ in 0..substeps {
+    /// Advances the world by one step of `dt`, holding the current command.
+    ///
+    /// The step is one Rapier pipeline step (collision detection once, then `substeps`
+    /// solver substeps, each integrating the multibody dynamics with the joint efforts,
+    /// motors, contacts and hard stops). The one exception is an explicit ball-joint PD
+    /// (ball joints under position or velocity targets): it depends on the state, so it is
+    /// recomputed before every substep, and each substep is then a pipeline step of its own.
+    pub fn step(&mut self) {
+        if self.has_state_dependent_efforts() {
+            for _ in 0..self.substeps {
+                self.apply_efforts();
+                self.pipeline_step(true);
+            }
+        } else {
             self.apply_efforts();
-            let s = &mut self.live;
-            self.pipeline.0.step(
-                self.gravity,
-                &self.pipeline_params,
-                &mut s.islands,
-                &mut s.broad_phase,
-                &mut s.narrow_phase,
-                &mut s.bodies,
-                &mut s.colliders,
-                &mut s.impulse_joints,
-                &mut s.multibody_joints,
-                &mut s.soft_bodies,
-                &mut s.ccd,
-                &(),
-                &(),
-            );
-            self.enforce_limits();
+            self.pipeline_step(false);
         }
+    }
+
+    fn pipeline_step(&mut self, one_substep: bool) {
+        let params = if one_substep {
+            &self.substep_params
+        } else {
+            &self.pipeline_params
+        };
+        let s = &mut self.live;
+        self.pipeline.0.step(
+            self.gravity,
+            params,
+            &mut s.islands,
+            &mut s.broad_phase,
+            &mut s.narrow_phase,
+            &mut s.bodies,
+            &mut s.colliders,
+            &mut s.impulse_joints,
+            &mut s.multibody_joints,
+            &mut s.soft_bodies,
+            &mut s.ccd,
+            &(),
+            &(),
+        );
     }
 
     /// Restores the initial state exactly: poses, velocities, contacts and solver caches.

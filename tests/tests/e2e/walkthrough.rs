@@ -23,7 +23,7 @@ async fn pendulum_walkthrough() {
     let n = info.env_id.strip_prefix("sim_").expect("env id is sim_<n>");
     n.parse::<u64>().expect("env id ends in a number");
     assert_eq!(info.end_effector_ids, ["arm"]);
-    assert_eq!((info.substeps, info.max_steps), (4, 1000));
+    assert_eq!((info.substeps, info.max_steps), (5, 1000));
     assert!((info.dt - 1.0 / 240.0).abs() < 1e-12);
     assert_eq!(info.joints.len(), 1);
     assert_eq!(info.joints[0].joint_type, "revolute");

@@ -143,7 +143,7 @@ async fn two_dof_arm() {
     );
     assert_eq!(
         (&created["substeps"], &created["max_steps"]),
-        (&json!(4), &json!(1000))
+        (&json!(5), &json!(1000))
     );
     let limits = &created["joints"][0]["limits"][0];
     assert_eq!(limits, &json!({"unit": "deg", "min": -90.0, "max": 90.0}));

@@ -1,0 +1,177 @@
+//! The gymfleet side of the peer benchmark (`bench/peer/peer_bench.py`): wall-clock
+//! microseconds per env step of one model, single thread, with the same workload
+//! definitions as the MuJoCo side (`bench/peer/mujoco_side.py`).
+//!
+//! ```text
+//! cargo run --release -p gymfleet-env --example peer_step -- \
+//!     --document models/arm6.json --end-effector tool --substeps 5 \
+//!     --variant random --amplitudes 0.000845,0.23,0.0339,2.59e-05,0.00178,4.34e-06
+//! ```
+//!
+//! Variants (torques in N·m, one per DOF, held for one env step):
+//! - `zero`: zero torque from the initial pose;
+//! - `tilt`: zero torque, each DOF offset by U(±`--tilt-deg`) at every reset (`reset_noise`);
+//! - `sine`: `A_j·sin(2π·f_j·t + φ_j)`, `f_j` ∈ U(0.5, 1.5) Hz, `φ_j` ∈ U(0, 2π);
+//! - `random`: U(−A_j, A_j) per env step.
+//!
+//! The env is reset every 1000 env steps, inside the timed loop. Prints one JSON object.
+
+use std::time::Instant;
+
+use gymfleet_env::{ActionType, EnvConfig, RobotEnv};
+use rand::rngs::Xoshiro256PlusPlus;
+use rand::{RngExt, SeedableRng};
+
+const RESET_EVERY: usize = 1000;
+
+struct Args {
+    document: String,
+    end_effector: String,
+    substeps: u32,
+    dt: f64,
+    steps: usize,
+    repeats: usize,
+    variant: String,
+    amplitudes: Vec<f32>,
+    tilt_deg: f64,
+}
+
+fn parse_args() -> Result<Args, String> {
+    let mut args = Args {
+        document: String::new(),
+        end_effector: String::new(),
+        substeps: gymfleet_env::DEFAULT_SUBSTEPS,
+        dt: gymfleet_env::DEFAULT_DT,
+        steps: 4000,
+        repeats: 5,
+        variant: "zero".to_string(),
+        amplitudes: Vec::new(),
+        tilt_deg: 0.01f64.to_degrees(),
+    };
+    let mut it = std::env::args().skip(1);
+    while let Some(flag) = it.next() {
+        let mut value = || it.next().ok_or_else(|| format!("{flag} needs a value"));
+        let bad = |e: &dyn std::fmt::Display| format!("{flag}: {e}");
+        match flag.as_str() {
+            "--document" => args.document = value()?,
+            "--end-effector" => args.end_effector = value()?,
+            "--substeps" => args.substeps = value()?.parse().map_err(|e| bad(&e))?,
+            "--dt" => args.dt = value()?.parse().map_err(|e| bad(&e))?,
+            "--steps" => args.steps = value()?.parse().map_err(|e| bad(&e))?,
+            "--repeats" => args.repeats = value()?.parse().map_err(|e| bad(&e))?,
+            "--variant" => args.variant = value()?,
+            "--tilt-deg" => args.tilt_deg = value()?.parse().map_err(|e| bad(&e))?,
+            "--amplitudes" => {
+                args.amplitudes = value()?
+                    .split(',')
+                    .map(|a| a.trim().parse::<f32>().map_err(|e| bad(&e)))
+                    .collect::<Result<_, _>>()?
+            }
+            other => return Err(format!("unknown flag {other}")),
+        }
+    }
+    if args.document.is_empty() {
+        return Err("--document is required".to_string());
+    }
+    Ok(args)
+}
+
+/// One row of torques per env step.
+fn torque_table(args: &Args, dofs: usize) -> Result<Vec<Vec<f32>>, String> {
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(0);
+    let amp = |j: usize| args.amplitudes.get(j).copied().unwrap_or(0.0);
+    if matches!(args.variant.as_str(), "sine" | "random") && args.amplitudes.len() != dofs {
+        return Err(format!(
+            "--amplitudes: expected {dofs} values, got {}",
+            args.amplitudes.len()
+        ));
+    }
+    Ok(match args.variant.as_str() {
+        "zero" | "tilt" => vec![vec![0.0; dofs]; args.steps],
+        "random" => (0..args.steps)
+            .map(|_| {
+                (0..dofs)
+                    .map(|j| amp(j) * rng.random_range(-1.0f32..1.0))
+                    .collect()
+            })
+            .collect(),
+        "sine" => {
+            let f: Vec<f64> = (0..dofs).map(|_| rng.random_range(0.5..1.5)).collect();
+            let phi: Vec<f64> = (0..dofs)
+                .map(|_| rng.random_range(0.0..std::f64::consts::TAU))
+                .collect();
+            (0..args.steps)
+                .map(|i| {
+                    let t = (i % RESET_EVERY) as f64 * args.dt;
+                    (0..dofs)
+                        .map(|j| amp(j) * (std::f64::consts::TAU * f[j] * t + phi[j]).sin() as f32)
+                        .collect()
+                })
+                .collect()
+        }
+        other => {
+            return Err(format!(
+                "--variant: expected zero, tilt, sine or random, got {other}"
+            ))
+        }
+    })
+}
+
+fn main() {
+    let args = parse_args().unwrap_or_else(|e| {
+        eprintln!("peer_step: {e}");
+        std::process::exit(2);
+    });
+    let document = std::fs::read_to_string(&args.document).unwrap_or_else(|e| {
+        eprintln!("peer_step: {}: {e}", args.document);
+        std::process::exit(2);
+    });
+    let config = EnvConfig {
+        dt: args.dt,
+        substeps: args.substeps,
+        seed: 1,
+        reset_noise: if args.variant == "tilt" {
+            args.tilt_deg
+        } else {
+            0.0
+        },
+        ..EnvConfig::with_end_effectors([args.end_effector.clone()])
+    };
+    let mut env = RobotEnv::from_json(&document, config).unwrap_or_else(|e| {
+        eprintln!("peer_step: {e}");
+        std::process::exit(2);
+    });
+    let dofs = env.spec().action_dim;
+    let table = torque_table(&args, dofs).unwrap_or_else(|e| {
+        eprintln!("peer_step: {e}");
+        std::process::exit(2);
+    });
+    let mut obs = vec![0.0f32; env.spec().observation_dim];
+    let mut diverged = 0usize;
+    let mut run = |rows: &[Vec<f32>]| {
+        let start = Instant::now();
+        for (i, action) in rows.iter().enumerate() {
+            if i % RESET_EVERY == 0 {
+                env.reset_into(None, &mut obs);
+            }
+            let flags = env
+                .step_into(ActionType::Torque, action, &mut obs)
+                .expect("a valid action");
+            if flags.terminated {
+                diverged += 1;
+                env.reset_into(None, &mut obs);
+            }
+        }
+        start.elapsed().as_secs_f64() / rows.len() as f64 * 1e6
+    };
+    run(&table[..table.len().min(200)]); // warm-up
+    let mut us: Vec<f64> = (0..args.repeats).map(|_| run(&table)).collect();
+    let repeats = us.clone();
+    us.sort_by(f64::total_cmp);
+    let median = us[us.len() / 2];
+    println!(
+        "{{\"document\": {:?}, \"variant\": {:?}, \"substeps\": {}, \"dofs\": {dofs}, \
+         \"us_per_env_step\": {median:.3}, \"repeats_us\": {repeats:?}, \"diverged\": {diverged}}}",
+        args.document, args.variant, args.substeps
+    );
+}
