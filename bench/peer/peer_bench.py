@@ -25,6 +25,7 @@ import os
 import statistics
 import subprocess
 import sys
+import tempfile
 
 import mujoco
 
@@ -91,11 +92,13 @@ def per_step(args):
 def throughput(args):
     load = os.path.join(ROOT, "target", "release", "gymfleet-load")
     ours, theirs = [], []
+    report = os.path.join(tempfile.mkdtemp(), "load.json")
     for _ in range(args.rounds):
-        out = subprocess.run([load, "--model", "arm2", "--n-envs", "256", "--threads", "2",
-                              "--duration", str(args.seconds), "--warmup", "1", "--json", "/dev/stdout"],
-                             check=True, capture_output=True, text=True).stdout
-        ours.append(json.loads(out[out.index("{"):])["env_steps_per_sec"])
+        subprocess.run([load, "--model", "arm2", "--n-envs", "256", "--threads", "2",
+                        "--duration", str(args.seconds), "--warmup", "1", "--quiet",
+                        "--json", report], check=True, capture_output=True)
+        with open(report) as f:
+            ours.append(json.load(f)["runs"][0]["env_steps_per_s"])
         theirs.append(mujoco_side.envpool_reacher_steps_per_s(num_envs=64, num_threads=2,
                                                               seconds=args.seconds))
     a, b = statistics.median(ours), statistics.median(theirs)

@@ -40,7 +40,8 @@ pub struct Client {
 }
 
 impl Client {
-    /// Connects to `addr`, given as `"host:port"` or `"http://host:port"`.
+    /// Connects to `addr`, given as `"host:port"`, `"http://host:port"`, or
+    /// `"unix:/path/to/socket"` for a server listening on a Unix-domain socket.
     pub async fn connect(addr: impl Into<String>) -> Result<Self> {
         Self::connect_with_limit(addr, DEFAULT_MAX_MESSAGE_BYTES).await
     }
@@ -51,7 +52,7 @@ impl Client {
         max_message_bytes: usize,
     ) -> Result<Self> {
         let addr = addr.into();
-        let uri = if addr.contains("://") {
+        let uri = if addr.contains("://") || addr.starts_with("unix:") {
             addr.clone()
         } else {
             format!("http://{addr}")

@@ -48,7 +48,7 @@ impl FleetEndpoints {
         for addr in &addrs {
             if addr.is_empty() || addr.contains(|c: char| c.is_whitespace() || c == ',') {
                 return Err(fleet_error(format!(
-                    "endpoint {addr:?}: expected host:port or http://host:port"
+                    "endpoint {addr:?}: expected host:port, http://host:port or unix:/path"
                 )));
             }
             if !seen.insert(addr.as_str()) {
@@ -198,7 +198,7 @@ mod tests {
         );
         assert_eq!(
             message(FleetEndpoints::parse("a:1,b c:2").unwrap_err()),
-            "endpoint \"b c:2\": expected host:port or http://host:port"
+            "endpoint \"b c:2\": expected host:port, http://host:port or unix:/path"
         );
     }
 }

@@ -1,7 +1,6 @@
 //! The command line ([`Cli`], clap derive; every flag also reads a `GYMFLEET_*`
 //! variable) and logging setup.
 
-use std::net::SocketAddr;
 use std::time::Duration;
 
 use clap::{Parser, ValueEnum};
@@ -11,6 +10,7 @@ use crate::config::{
     ServerConfig, DEFAULT_MAX_BATCH_SIZE, DEFAULT_MAX_DOCUMENT_BYTES, DEFAULT_MAX_ENVS,
     DEFAULT_MAX_MESSAGE_BYTES,
 };
+use crate::listen::ListenAddr;
 
 /// How log lines are written (to stderr).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -27,9 +27,9 @@ pub enum LogFormat {
 #[derive(Debug, Clone, Parser)]
 #[command(name = "gymfleet-server", version, about)]
 pub struct Cli {
-    /// Address to listen on.
+    /// Address to listen on: host:port, or unix:/path/to/socket for clients on this host.
     #[arg(long, env = "GYMFLEET_LISTEN", default_value = "127.0.0.1:50051")]
-    pub listen: SocketAddr,
+    pub listen: ListenAddr,
     /// Simulation worker threads; 0 = one per core.
     #[arg(long, env = "GYMFLEET_THREADS", default_value_t = 0)]
     pub threads: usize,
@@ -87,7 +87,7 @@ mod tests {
     #[test]
     fn flags_have_documented_defaults() {
         let cli = Cli::try_parse_from(["gymfleet-server"]).expect("defaults parse");
-        assert_eq!(cli.listen, "127.0.0.1:50051".parse::<SocketAddr>().unwrap());
+        assert_eq!(cli.listen, "127.0.0.1:50051".parse::<ListenAddr>().unwrap());
         let config = cli.server_config();
         assert_eq!(config.threads, 0);
         assert_eq!(config.max_message_bytes, DEFAULT_MAX_MESSAGE_BYTES);

@@ -18,6 +18,7 @@ mod cli;
 mod config;
 mod convert;
 mod error;
+mod listen;
 mod pool;
 mod registry;
 mod serve;
@@ -30,4 +31,5 @@ pub use config::{
     DEFAULT_MAX_ENVS, DEFAULT_MAX_MESSAGE_BYTES,
 };
 pub use error::{EntityKind, Result, ServerError};
+pub use listen::{ListenAddr, Listener, SocketFile};
 pub use serve::serve;

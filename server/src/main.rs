@@ -1,13 +1,13 @@
 //! `gymfleet-server`: parses flags, sets up logging, and serves until SIGTERM or Ctrl-C.
 
 use clap::Parser;
-use gymfleet_server::{init_tracing, serve, Cli};
+use gymfleet_server::{init_tracing, serve, Cli, Listener};
 
 #[tokio::main]
 async fn main() -> std::process::ExitCode {
     let cli = Cli::parse();
     init_tracing(cli.log_format);
-    let listener = match tokio::net::TcpListener::bind(cli.listen).await {
+    let listener = match Listener::bind(&cli.listen).await {
         Ok(listener) => listener,
         Err(err) => {
             tracing::error!(listen = %cli.listen, %err, "cannot listen");

@@ -7,22 +7,23 @@ use std::time::Duration;
 
 use gymfleet_batch::StepPool;
 use gymfleet_proto::v1::simulator_server::SimulatorServer;
-use tokio::net::TcpListener;
 use tokio::sync::watch;
 use tonic::transport::server::TcpIncoming;
 use tonic::transport::Server;
 
 use crate::config::ServerConfig;
 use crate::error::Result;
+use crate::listen::Listener;
 use crate::service::SimulatorService;
 use crate::simulation::Simulation;
 
-/// Serves the simulator on `listener` until `shutdown` completes, then stops accepting
+/// Serves the simulator on `listener` (a `tokio::net::TcpListener`, or any [`Listener`],
+/// e.g. a Unix-domain socket) until `shutdown` completes, then stops accepting
 /// connections, ends open `StreamBatch` streams with UNAVAILABLE, waits for in-flight
 /// calls to finish, and returns.
 ///
 /// Also serves `grpc.health.v1.Health` (with `gymfleet.v1.Simulator` SERVING) and gRPC
-/// reflection v1 and v1alpha. Accepted connections get `TCP_NODELAY`.
+/// reflection v1 and v1alpha. Accepted TCP connections get `TCP_NODELAY`.
 ///
 /// ```no_run
 /// # async fn demo() -> gymfleet_server::Result<()> {
@@ -40,10 +41,11 @@ use crate::simulation::Simulation;
 /// # }
 /// ```
 pub async fn serve(
-    listener: TcpListener,
+    listener: impl Into<Listener>,
     config: ServerConfig,
     shutdown: impl Future<Output = ()>,
 ) -> Result<()> {
+    let listener = listener.into();
     let pool = StepPool::new(config.threads)?;
     let threads = pool.threads();
     let sim = Arc::new(Simulation::new(config.clone(), pool));
@@ -81,7 +83,6 @@ pub async fn serve(
 
     let addr = listener.local_addr()?;
     tracing::info!(%addr, threads, idle_ttl_secs = config.idle_ttl.as_secs(), "serving gymfleet.v1.Simulator");
-    let incoming = TcpIncoming::from(listener).with_nodelay(Some(true));
     let signal = async move {
         shutdown.await;
         tracing::info!("shutting down: finishing in-flight calls");
@@ -90,13 +91,24 @@ pub async fn serve(
             .await;
         let _ = stop_tx.send(true);
     };
-    let served = Server::builder()
+    let router = Server::builder()
         .add_service(health_service)
         .add_service(reflection_v1)
         .add_service(reflection_v1alpha)
-        .add_service(simulator)
-        .serve_with_incoming_shutdown(incoming, signal)
-        .await;
+        .add_service(simulator);
+    let served = match listener {
+        Listener::Tcp(listener) => {
+            let incoming = TcpIncoming::from(listener).with_nodelay(Some(true));
+            router.serve_with_incoming_shutdown(incoming, signal).await
+        }
+        #[cfg(unix)]
+        Listener::Unix(listener, socket_file) => {
+            let incoming = tokio_stream::wrappers::UnixListenerStream::new(listener);
+            let served = router.serve_with_incoming_shutdown(incoming, signal).await;
+            drop(socket_file);
+            served
+        }
+    };
     if let Some(sweeper) = sweeper {
         // It watches the same stop signal; it has stopped or stops at its next wake-up.
         sweeper.abort();

@@ -28,7 +28,7 @@ pub const DEFAULT_N_ENVS: usize = 256;
 #[derive(Debug, Clone, Parser)]
 #[command(name = "gymfleet-load", version, about, allow_negative_numbers = true)]
 pub struct Cli {
-    /// Server address (host:port); repeat or comma-separate for several, over which
+    /// Server address (host:port or unix:/path); repeat or comma-separate for several, over which
     /// the clients are spread round-robin. None: an embedded server.
     #[arg(
         long = "server",
@@ -49,7 +49,7 @@ pub struct Cli {
         value_delimiter = ','
     )]
     pub end_effectors: Vec<String>,
-    /// Envs per batch [default: 256; 1 with --api env].
+    /// Envs per batch [default: 256; 1 with the single-env APIs: env, observe, ping].
     #[arg(long, value_name = "N", env = "GYMFLEET_N_ENVS")]
     pub n_envs: Option<usize>,
     /// Concurrent clients, each with its own connection and batch (or env).
@@ -73,7 +73,8 @@ pub struct Cli {
     /// Steps in flight per stream with --mode stream.
     #[arg(long, value_name = "W", env = "GYMFLEET_WINDOW", default_value_t = gymfleet_client::DEFAULT_STREAM_WINDOW)]
     pub window: usize,
-    /// batch: CreateBatch/StepBatch; env: single-env CreateEnv/Step round trips.
+    /// batch: CreateBatch/StepBatch; env: single-env Step round trips; observe: single-env
+    /// Observe (the pool hand-off without physics); ping: GetServerInfo (the transport alone).
     #[arg(long, value_enum, env = "GYMFLEET_API", default_value_t = Api::Batch)]
     pub api: Api,
     /// How action values are read.
@@ -139,8 +140,19 @@ impl Cli {
         if self.in_process && !self.servers.is_empty() {
             return conflict("--in-process", "--server");
         }
-        if self.api == Api::Env && self.mode == Mode::Stream {
-            return conflict("--mode stream", "--api env");
+        if self.api.single_env() && self.mode == Mode::Stream {
+            return conflict("--mode stream", self.api.flag());
+        }
+        if self.api == Api::Ping && (self.in_process || self.compare) {
+            let flag = if self.in_process {
+                "--in-process"
+            } else {
+                "--compare"
+            };
+            return conflict(
+                flag,
+                "--api ping (a server round trip has no in-process twin)",
+            );
         }
         if self.in_process && self.mode == Mode::Stream {
             return conflict("--mode stream", "--in-process");
@@ -150,15 +162,18 @@ impl Cli {
             (_, Some(0)) => {
                 return Err(LoadError::bad_flag("--n-envs", "must be at least 1, got 0"))
             }
-            (Api::Env, Some(n)) if n != 1 => {
+            (api, Some(n)) if api.single_env() && n != 1 => {
                 return Err(LoadError::bad_flag(
                     "--n-envs",
-                    format!("must be 1 with --api env (one env per client), got {n}"),
+                    format!(
+                        "must be 1 with {} (one env per client), got {n}",
+                        api.flag()
+                    ),
                 ))
             }
             (_, Some(n)) => n,
             (Api::Batch, None) => DEFAULT_N_ENVS,
-            (Api::Env, None) => 1,
+            (_, None) => 1,
         };
         at_least_one("--clients", self.clients as u64)?;
         at_least_one("--window", self.window as u64)?;

@@ -47,6 +47,28 @@ pub enum Api {
     Batch,
     /// `CreateEnv` + `Step`: one env-step per call, to measure single-env latency.
     Env,
+    /// `CreateEnv` + `Observe`: a single-env call that goes through the pool but runs
+    /// no physics, to measure the pool hand-off (Step minus Observe is the physics).
+    Observe,
+    /// `GetServerInfo`: a call answered without the pool, the transport's floor.
+    Ping,
+}
+
+impl Api {
+    /// Whether each client drives one env (rather than a batch).
+    pub fn single_env(self) -> bool {
+        !matches!(self, Api::Batch)
+    }
+
+    /// The flag that selects it, e.g. `--api env`.
+    pub fn flag(self) -> &'static str {
+        match self {
+            Api::Batch => "--api batch",
+            Api::Env => "--api env",
+            Api::Observe => "--api observe",
+            Api::Ping => "--api ping",
+        }
+    }
 }
 
 /// How batch steps are sent.
@@ -88,7 +110,7 @@ pub struct LoadConfig {
     pub model: Model,
     /// Observed instances.
     pub end_effectors: Vec<String>,
-    /// Envs per batch (1 with [`Api::Env`]).
+    /// Envs per batch (1 with the single-env APIs).
     pub n_envs: usize,
     /// Concurrent clients, each with its own connection and batch (or env).
     pub clients: usize,
@@ -165,6 +187,8 @@ impl LoadConfig {
     pub fn summary(&self) -> String {
         let api = match (self.api, self.mode) {
             (Api::Env, _) => "single-env Step".to_string(),
+            (Api::Observe, _) => "single-env Observe".to_string(),
+            (Api::Ping, _) => "GetServerInfo".to_string(),
             (Api::Batch, Mode::Unary) => "unary StepBatch".to_string(),
             (Api::Batch, Mode::Stream) => format!("StreamBatch window {}", self.window),
         };

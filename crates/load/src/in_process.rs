@@ -25,6 +25,9 @@ pub(crate) fn run(config: &LoadConfig, threads: usize) -> Result<RunResult> {
     let label = match config.api {
         Api::Batch => "in-process",
         Api::Env => "in-process env",
+        Api::Observe => "in-process env Observe",
+        // Refused by the command line: a round trip has no in-process twin.
+        Api::Ping => "in-process (nothing)",
     };
     let mut progress = Progress::new(
         config.quiet,
@@ -54,7 +57,7 @@ pub(crate) fn run(config: &LoadConfig, threads: usize) -> Result<RunResult> {
                     .map_err(|e| LoadError::setup(stage("reset the batch"), e))?;
                 Driven::Batch(batch)
             }
-            Api::Env => {
+            Api::Env | Api::Observe | Api::Ping => {
                 let mut env = template.clone();
                 env.reset(Some(config.seed.wrapping_add(first_env)));
                 Driven::Env(Box::new(env))
@@ -73,13 +76,16 @@ pub(crate) fn run(config: &LoadConfig, threads: usize) -> Result<RunResult> {
         config.n_envs as u64,
     );
     let action_type = to_env(config.action_type);
+    let observe_only = config.api == Api::Observe;
     let tallies: Vec<Tally> = std::thread::scope(|s| {
         let handles: Vec<_> = clients
             .iter_mut()
             .map(|client| {
                 let meter = Meter::new(schedule, progress.counter());
                 let (pool, plan) = (&pool, &plan);
-                s.spawn(move || client.drive(pool, plan, action_type, config.seed, meter))
+                s.spawn(move || {
+                    client.drive(pool, plan, action_type, config.seed, observe_only, meter)
+                })
             })
             .collect();
         handles
@@ -146,6 +152,7 @@ impl Client {
         plan: &ActionPlan,
         action_type: ActionType,
         seed: u64,
+        observe_only: bool,
         mut meter: Meter,
     ) -> Tally {
         let first_env = self.first_env;
@@ -164,6 +171,14 @@ impl Client {
                         }
                         Err(e) => meter.failure(e.to_string()),
                     }
+                }
+            }
+            Driven::Env(env) if observe_only => {
+                let mut obs = vec![0.0; env.spec().observation_dim];
+                while meter.next_call().is_some() {
+                    let started = Instant::now();
+                    pool.install(|| env.observe_into(&mut obs));
+                    meter.success(started, 1, 0);
                 }
             }
             Driven::Env(env) => {

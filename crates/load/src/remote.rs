@@ -41,6 +41,8 @@ pub(crate) async fn run(config: &LoadConfig, servers: &[String], kind: &str) -> 
     let config = Arc::new(config.clone());
     let label = match (config.api, config.mode) {
         (Api::Env, _) => "remote env Step".to_string(),
+        (Api::Observe, _) => "remote env Observe".to_string(),
+        (Api::Ping, _) => "remote GetServerInfo".to_string(),
         (Api::Batch, Mode::Unary) => "remote unary".to_string(),
         (Api::Batch, Mode::Stream) => format!("remote stream w{}", config.window),
     };
@@ -137,7 +139,7 @@ async fn setup(config: &LoadConfig, c: usize, server: String) -> Result<Session>
             let (joints, dim) = (info.joints.clone(), info.action_dim);
             (Handle::Batch(batch), joints, dim)
         }
-        Api::Env => {
+        Api::Env | Api::Observe | Api::Ping => {
             let seed = config.seed.wrapping_add(first_env);
             let options = env_options(config, document, seed);
             let env = client
@@ -305,6 +307,29 @@ async fn drive_stream(config: &LoadConfig, session: &Session, batch: &Batch, met
 }
 
 async fn drive_env(config: &LoadConfig, session: &Session, env: &Env, meter: &mut Meter) {
+    match config.api {
+        Api::Observe => {
+            while meter.next_call().is_some() {
+                let started = Instant::now();
+                match env.observe().await {
+                    Ok(_) => meter.success(started, 1, 0),
+                    Err(e) => meter.failure(e.to_string()),
+                }
+            }
+            return;
+        }
+        Api::Ping => {
+            while meter.next_call().is_some() {
+                let started = Instant::now();
+                match session.client.server_info().await {
+                    Ok(_) => meter.success(started, 1, 0),
+                    Err(e) => meter.failure(e.to_string()),
+                }
+            }
+            return;
+        }
+        Api::Env | Api::Batch => {}
+    }
     let action_type = config.action_type.to_client();
     let mut action = vec![0.0; session.plan.action_dim()];
     let seed = config.seed.wrapping_add(session.first_env);

@@ -216,6 +216,24 @@ fn bad_flags_have_exact_messages() {
             &["--in-process", "--mode", "stream"],
             "--mode stream cannot be used with --in-process",
         ),
+        (
+            &["--api", "observe", "--mode", "stream"],
+            "--mode stream cannot be used with --api observe",
+        ),
+        (
+            &["--api", "ping", "--in-process"],
+            "--in-process cannot be used with --api ping (a server round trip has no \
+             in-process twin)",
+        ),
+        (
+            &["--api", "ping", "--compare"],
+            "--compare cannot be used with --api ping (a server round trip has no \
+             in-process twin)",
+        ),
+        (
+            &["--api", "ping", "--n-envs", "2"],
+            "--n-envs must be 1 with --api ping (one env per client), got 2",
+        ),
         (&["--n-envs", "0"], "--n-envs must be at least 1, got 0"),
         (
             &["--api", "env", "--n-envs", "4"],

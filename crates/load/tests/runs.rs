@@ -107,6 +107,27 @@ fn single_env_steps_on_the_embedded_server() {
 }
 
 #[test]
+fn observe_and_ping_measure_the_pool_hop_and_the_transport() {
+    let report = run_flags(&["--api", "observe", "--model", "pendulum", "--steps", "20"]);
+    assert_eq!(report.runs[0].label, "remote env Observe");
+    assert_counts(&report.runs[0], 1, 20, 1);
+    let report = run_flags(&["--api", "ping", "--steps", "20", "--clients", "2"]);
+    assert_eq!(report.runs[0].label, "remote GetServerInfo");
+    assert_counts(&report.runs[0], 1, 20, 2);
+    let report = run_flags(&[
+        "--in-process",
+        "--api",
+        "observe",
+        "--model",
+        "pendulum",
+        "--steps",
+        "20",
+    ]);
+    assert_eq!(report.runs[0].label, "in-process env Observe");
+    assert_counts(&report.runs[0], 1, 20, 1);
+}
+
+#[test]
 fn in_process_batches_and_envs() {
     let report = run_flags(&[
         "--in-process",

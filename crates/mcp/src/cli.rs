@@ -16,8 +16,9 @@ use tracing_subscriber::EnvFilter;
              gym tools, served over stdio (default) or streamable HTTP."
 )]
 pub(crate) struct Cli {
-    /// gymfleet server to use, as HOST:PORT or http://HOST:PORT. Repeat the flag or
-    /// separate addresses with commas for several servers: new envs and batches go to the
+    /// gymfleet server to use, as HOST:PORT, http://HOST:PORT or unix:/path/to/socket.
+    /// Repeat the flag or separate addresses with commas for several servers: new envs
+    /// and batches go to the
     /// server holding the fewest of this adapter's envs. Without it, an embedded server is
     /// started on 127.0.0.1 with a free port.
     #[arg(

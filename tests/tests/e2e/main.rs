@@ -5,6 +5,7 @@ mod batches;
 mod errors;
 mod fleet;
 mod lifecycle;
+mod transport;
 mod walkthrough;
 
 use gymfleet_client::ClientError;
