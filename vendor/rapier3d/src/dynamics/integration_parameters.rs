@@ -325,6 +325,18 @@ pub struct IntegrationParameters {
     /// of each substep instead of restarting from zero (default: `false`). This
     /// noticeably improves convergence of stiff joint assemblies. Multibody joints are unaffected.
     pub warmstart_joints: bool,
+    /// Whether [`PhysicsPipeline::step`](crate::pipeline::PhysicsPipeline::step) runs with
+    /// subnormal floats flushed to zero (default: `false`).
+    ///
+    /// A simulation near rest, or with tiny velocities on some links, produces subnormal
+    /// numbers (below `1.2e-38` in `f32`) in products of small quantities, and each operation
+    /// on one can cost a hundred cycles on x86. With this set, the step sets the processor's
+    /// flush-to-zero and denormals-are-zero modes (x86 MXCSR, aarch64 FPCR) and restores the
+    /// caller's mode when it returns: results then differ from a default-mode run only where a
+    /// subnormal would have appeared, the same way on every thread. Other targets ignore it.
+    /// (gymfleet patch, see `PATCHES.md`.)
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    pub flush_denormals: bool,
     /// The type of friction constraints used in the simulation.
     #[cfg(feature = "dim3")]
     pub friction_model: FrictionModel,
@@ -427,6 +439,7 @@ impl Default for IntegrationParameters {
             normalized_contact_recycle_distance: 0.05,
             friction_in_bias_pass: false,
             warmstart_joints: false,
+            flush_denormals: false,
             length_unit: 1.0,
             #[cfg(feature = "alloc")]
             soft_bodies: Default::default(),

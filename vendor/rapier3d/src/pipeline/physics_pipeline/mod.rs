@@ -242,6 +242,9 @@ impl PhysicsPipeline {
             });
         }
 
+        let _denormals = integration_parameters
+            .flush_denormals
+            .then(DenormalsFlushed::new);
         self.step_inner(
             gravity,
             integration_parameters,
@@ -257,6 +260,72 @@ impl PhysicsPipeline {
             hooks,
             events,
         )
+    }
+}
+
+/// While alive, this thread's floating-point unit flushes subnormal inputs and results to zero
+/// (see [`IntegrationParameters::flush_denormals`]); dropping it restores the previous mode
+/// (gymfleet patch, see `PATCHES.md`).
+struct DenormalsFlushed {
+    #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+    mxcsr: u32,
+    #[cfg(target_arch = "aarch64")]
+    fpcr: u64,
+}
+
+impl DenormalsFlushed {
+    // `_mm_getcsr`/`_mm_setcsr` are deprecated because changing the floating-point mode is
+    // outside what the compiler models: constant-folded code may still produce subnormals.
+    // Here that only means such a value stays subnormal; nothing else depends on the mode.
+    #[allow(deprecated, unsafe_code)]
+    fn new() -> Self {
+        #[cfg(target_arch = "x86_64")]
+        use core::arch::x86_64::{_mm_getcsr, _mm_setcsr};
+        #[cfg(target_arch = "x86")]
+        use core::arch::x86::{_mm_getcsr, _mm_setcsr};
+        #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+        {
+            // Flush-to-zero (bit 15) and denormals-are-zero (bit 6).
+            const FTZ_DAZ: u32 = 0x8040;
+            // SAFETY: only the rounding of subnormals changes; `Drop` restores the mode.
+            let mxcsr = unsafe { _mm_getcsr() };
+            unsafe { _mm_setcsr(mxcsr | FTZ_DAZ) };
+            Self { mxcsr }
+        }
+        #[cfg(target_arch = "aarch64")]
+        {
+            // FZ (bit 24).
+            let fpcr: u64;
+            // SAFETY: as above.
+            unsafe { core::arch::asm!("mrs {}, fpcr", out(reg) fpcr) };
+            unsafe { core::arch::asm!("msr fpcr, {}", in(reg) fpcr | (1 << 24)) };
+            Self { fpcr }
+        }
+        #[cfg(not(any(target_arch = "x86", target_arch = "x86_64", target_arch = "aarch64")))]
+        {
+            Self {}
+        }
+    }
+}
+
+impl Drop for DenormalsFlushed {
+    #[allow(deprecated, unsafe_code)]
+    fn drop(&mut self) {
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: restores the mode read in `new`.
+        unsafe {
+            core::arch::x86_64::_mm_setcsr(self.mxcsr)
+        };
+        #[cfg(target_arch = "x86")]
+        // SAFETY: restores the mode read in `new`.
+        unsafe {
+            core::arch::x86::_mm_setcsr(self.mxcsr)
+        };
+        #[cfg(target_arch = "aarch64")]
+        // SAFETY: restores the mode read in `new`.
+        unsafe {
+            core::arch::asm!("msr fpcr, {}", in(reg) self.fpcr)
+        };
     }
 }
 
@@ -301,5 +370,50 @@ impl PhysicsPipeline {
         self.thread_pool
             .as_ref()
             .map(|pool| pool.current_num_threads())
+    }
+}
+
+#[cfg(all(test, target_arch = "x86_64"))]
+mod flush_denormals_tests {
+    use crate::prelude::*;
+
+    #[allow(deprecated, unsafe_code)]
+    fn mxcsr() -> u32 {
+        // SAFETY: reading the mode has no effect.
+        unsafe { core::arch::x86_64::_mm_getcsr() }
+    }
+
+    /// gymfleet patch: the step flushes subnormals and gives the caller its mode back.
+    #[test]
+    fn a_step_restores_the_floating_point_mode() {
+        let before = mxcsr();
+        let mut bodies = RigidBodySet::new();
+        let mut colliders = ColliderSet::new();
+        let body = bodies.insert(RigidBodyBuilder::dynamic().build());
+        colliders.insert_with_parent(ColliderBuilder::ball(0.1).build(), body, &mut bodies);
+        let params = IntegrationParameters {
+            flush_denormals: true,
+            ..IntegrationParameters::default()
+        };
+        PhysicsPipeline::new().step(
+            Vector::new(0.0, -9.81, 0.0),
+            &params,
+            &mut IslandManager::new(),
+            &mut BroadPhaseBvh::new(),
+            &mut NarrowPhase::new(),
+            &mut bodies,
+            &mut colliders,
+            &mut ImpulseJointSet::new(),
+            &mut MultibodyJointSet::new(),
+            &mut SoftBodySet::new(),
+            &mut CCDSolver::new(),
+            &(),
+            &(),
+        );
+        // The control bits (modes and masks); bits 0-5 are sticky exception flags that
+        // any inexact operation may set.
+        const CONTROL: u32 = !0x3f;
+        assert_eq!(mxcsr() & CONTROL, before & CONTROL);
+        assert!(bodies[body].linvel().y < 0.0, "the step ran");
     }
 }
