@@ -6,11 +6,17 @@ use gymfleet_proto::v1 as pb;
 
 use crate::client::Client;
 use crate::error::{ClientError, Result};
-use crate::stream::BatchStream;
+use crate::options::BatchOptions;
 use crate::types::{ActionType, BatchInfo};
 
-/// Requests a [`BatchStream`] keeps in flight by default.
-pub const DEFAULT_STREAM_WINDOW: usize = 4;
+impl Client {
+    /// Creates a batch of identical environments.
+    pub async fn create_batch(&self, options: BatchOptions) -> Result<Batch> {
+        let info = self.rpc().create_batch(options.into_request()).await?;
+        let info = BatchInfo::try_from(info.into_inner())?;
+        Ok(Batch::new(self.clone(), info))
+    }
+}
 
 /// A batch of identical environments on the server, stepped together.
 ///
@@ -134,17 +140,6 @@ impl Batch {
     pub async fn close(&self) -> Result<()> {
         self.client.rpc().close_batch(self.batch_ref()).await?;
         Ok(())
-    }
-
-    /// Opens a `StreamBatch` stream that keeps up to [`DEFAULT_STREAM_WINDOW`] steps in
-    /// flight.
-    pub async fn stream(&self) -> Result<BatchStream> {
-        self.stream_with_window(DEFAULT_STREAM_WINDOW).await
-    }
-
-    /// Opens a `StreamBatch` stream that keeps up to `window` steps (at least 1) in flight.
-    pub async fn stream_with_window(&self, window: usize) -> Result<BatchStream> {
-        BatchStream::open(self.client.clone(), self.clone(), window).await
     }
 }
 

@@ -6,11 +6,8 @@ use gymfleet_proto::v1 as pb;
 use pb::simulator_client::SimulatorClient;
 use tonic::transport::{Channel, Endpoint};
 
-use crate::batch::Batch;
-use crate::env::Env;
 use crate::error::{ClientError, Result};
-use crate::options::{BatchOptions, EnvOptions};
-use crate::types::{BatchInfo, ServerInfo};
+use crate::types::ServerInfo;
 
 /// Largest message the client decodes or encodes by default: 64 MiB, like the server.
 pub const DEFAULT_MAX_MESSAGE_BYTES: usize = 64 * 1024 * 1024;
@@ -93,19 +90,6 @@ impl Client {
             .get_server_info(pb::GetServerInfoRequest {})
             .await?;
         Ok(info.into_inner().into())
-    }
-
-    /// Creates one environment.
-    pub async fn create_env(&self, options: EnvOptions) -> Result<Env> {
-        let info = self.rpc().create_env(options.into_request()).await?;
-        Ok(Env::new(self.clone(), info.into_inner().into()))
-    }
-
-    /// Creates a batch of identical environments.
-    pub async fn create_batch(&self, options: BatchOptions) -> Result<Batch> {
-        let info = self.rpc().create_batch(options.into_request()).await?;
-        let info = BatchInfo::try_from(info.into_inner())?;
-        Ok(Batch::new(self.clone(), info))
     }
 }
 

@@ -4,7 +4,16 @@ use gymfleet_proto::v1 as pb;
 
 use crate::client::Client;
 use crate::error::Result;
+use crate::options::EnvOptions;
 use crate::types::{ActionType, EnvInfo, Observation, StepResult};
+
+impl Client {
+    /// Creates one environment.
+    pub async fn create_env(&self, options: EnvOptions) -> Result<Env> {
+        let info = self.rpc().create_env(options.into_request()).await?;
+        Ok(Env::new(self.clone(), info.into_inner().into()))
+    }
+}
 
 /// One environment on the server. Calls on one env are serialised by the server.
 ///

@@ -1,14 +1,11 @@
 //! [`Fleet`]: one connection per server of a fleet, and the placement of new envs and
 //! batches on them. A fleet batch's shards live in [`crate::FleetBatch`].
 
-use std::future::Future;
-
-use tokio::task::JoinSet;
-
 use crate::client::{Client, DEFAULT_MAX_MESSAGE_BYTES};
 use crate::endpoints::FleetEndpoints;
 use crate::env::Env;
 use crate::error::{ClientError, Result};
+use crate::fanout::{join_all, on_server};
 use crate::fleet_batch::{FleetBatch, Shard};
 use crate::options::{BatchOptions, EnvOptions};
 use crate::placement::{split_by_capacity, ServerCapacity};
@@ -29,7 +26,7 @@ use crate::types::ServerInfo;
 /// let endpoints = FleetEndpoints::stateful_set("gymfleet", "gymfleet", "default", 3, 50051)?;
 /// let fleet = Fleet::connect(endpoints).await?;
 /// let document = std::fs::read_to_string("models/arm2.json").expect("model");
-/// let batch = fleet
+/// let mut batch = fleet
 ///     .create_batch(BatchOptions::new(document, 96).end_effectors(["forearm"]).seed(7))
 ///     .await?;
 /// for shard in batch.placement() {
@@ -226,47 +223,4 @@ async fn close_quietly(batches: Vec<crate::Batch>) {
             .map(|batch| async move { batch.close().await }),
     )
     .await;
-}
-
-/// `err` as it happened on `client`'s server.
-pub(crate) fn on_server(client: &Client, err: ClientError) -> ClientError {
-    ClientError::OnServer {
-        server: client.addr().to_string(),
-        error: Box::new(err),
-    }
-}
-
-/// Runs the futures concurrently (each as a task, so their encoding and decoding can use
-/// every runtime thread) and returns their outputs in order. A panicking future panics
-/// the caller; tasks still running when the returned future is dropped are aborted.
-pub(crate) async fn join_all<T, F>(futures: impl IntoIterator<Item = F>) -> Vec<Result<T>>
-where
-    F: Future<Output = Result<T>> + Send + 'static,
-    T: Send + 'static,
-{
-    let mut set = JoinSet::new();
-    let mut count = 0;
-    for (i, future) in futures.into_iter().enumerate() {
-        set.spawn(async move { (i, future.await) });
-        count += 1;
-    }
-    let mut outputs: Vec<Option<Result<T>>> = (0..count).map(|_| None).collect();
-    while let Some(joined) = set.join_next().await {
-        match joined {
-            Ok((i, output)) => outputs[i] = Some(output),
-            Err(err) if err.is_panic() => std::panic::resume_unwind(err.into_panic()),
-            // Cancelled: only when the runtime shuts down; the slot reports it below.
-            Err(_) => {}
-        }
-    }
-    outputs
-        .into_iter()
-        .map(|output| {
-            output.unwrap_or_else(|| {
-                Err(ClientError::Unavailable {
-                    message: "the call was cancelled: the runtime is shutting down".to_string(),
-                })
-            })
-        })
-        .collect()
 }

@@ -1,14 +1,12 @@
 //! [`FleetBatch`]: one logical batch sharded across the servers of a [`crate::Fleet`],
 //! stepped as one, with lost servers reported per env and dropped on request.
 
-use std::ops::Range;
-use std::sync::{Mutex, PoisonError};
-
 use gymfleet_proto::v1 as pb;
+use std::ops::Range;
 
 use crate::batch::{Batch, BatchObservations, BatchStep};
 use crate::error::{ClientError, Result};
-use crate::fleet::{join_all, on_server};
+use crate::fanout::{join_all, on_server};
 use crate::types::{ActionType, BatchInfo};
 
 /// Where one shard of a fleet batch lives.
@@ -29,9 +27,9 @@ pub struct ShardPlacement {
 pub(crate) struct Shard {
     batch: Batch,
     envs: Range<usize>,
-    lost: Mutex<Option<String>>,
+    lost: Option<String>,
     /// This shard's reply to the step in which another shard's server was lost.
-    interrupted: Mutex<Option<pb::BatchStepResult>>,
+    interrupted: Option<pb::BatchStepResult>,
 }
 
 impl Shard {
@@ -39,16 +37,9 @@ impl Shard {
         Shard {
             batch,
             envs,
-            lost: Mutex::new(None),
-            interrupted: Mutex::new(None),
+            lost: None,
+            interrupted: None,
         }
-    }
-
-    fn lost(&self) -> Option<String> {
-        self.lost
-            .lock()
-            .unwrap_or_else(PoisonError::into_inner)
-            .clone()
     }
 
     fn lost_error(&self, reason: String) -> ClientError {
@@ -149,7 +140,7 @@ impl FleetBatch {
                 server: s.batch.server().to_string(),
                 batch_id: s.batch.id().to_string(),
                 envs: s.envs.clone(),
-                lost: s.lost(),
+                lost: s.lost.clone(),
             })
             .collect()
     }
@@ -167,19 +158,14 @@ impl FleetBatch {
     pub fn drop_lost(&mut self) -> Vec<usize> {
         let (lost, kept): (Vec<Shard>, Vec<Shard>) = std::mem::take(&mut self.shards)
             .into_iter()
-            .partition(|s| s.lost().is_some());
+            .partition(|s| s.lost.is_some());
         self.shards = kept;
         self.refresh();
         // The survivors' replies to the step that found the loss, if they all stepped.
         let replies: Option<Vec<pb::BatchStepResult>> = self
             .shards
-            .iter()
-            .map(|s| {
-                s.interrupted
-                    .lock()
-                    .unwrap_or_else(PoisonError::into_inner)
-                    .take()
-            })
+            .iter_mut()
+            .map(|s| s.interrupted.take())
             .collect();
         self.interrupted = match replies {
             Some(replies) if !lost.is_empty() && !self.shards.is_empty() => {
@@ -209,7 +195,7 @@ impl FleetBatch {
         match self
             .shards
             .iter()
-            .find_map(|s| s.lost().map(|r| s.lost_error(r)))
+            .find_map(|s| s.lost.clone().map(|r| s.lost_error(r)))
         {
             Some(err) => Err(err),
             None => Ok(()),
@@ -237,26 +223,25 @@ impl FleetBatch {
 
     /// Sorts the shards' outcomes: marks the lost servers (unreachable, or no longer
     /// knowing the shard) and returns the first error, a loss first.
-    fn settle<T>(&self, results: Vec<Result<T>>) -> Result<Vec<T>> {
+    fn settle<T>(&mut self, results: Vec<Result<T>>) -> Result<Vec<T>> {
         self.settle_keeping(results, |_, _| {})
     }
 
     /// [`FleetBatch::settle`], handing each shard's value to `keep` if a server was lost.
     fn settle_keeping<T>(
-        &self,
+        &mut self,
         results: Vec<Result<T>>,
-        keep: impl Fn(&Shard, T),
+        mut keep: impl FnMut(&mut Shard, T),
     ) -> Result<Vec<T>> {
         let mut values = Vec::with_capacity(results.len());
         let mut lost = None;
         let mut other = None;
-        for (shard, result) in self.shards.iter().zip(results) {
+        for (shard, result) in self.shards.iter_mut().zip(results) {
             match result {
                 Ok(value) => values.push((shard, value)),
                 Err(err) if is_loss(&err) => {
                     let reason = err.to_string();
-                    *shard.lost.lock().unwrap_or_else(PoisonError::into_inner) =
-                        Some(reason.clone());
+                    shard.lost = Some(reason.clone());
                     lost.get_or_insert_with(|| shard.lost_error(reason));
                 }
                 Err(err) => {
@@ -279,7 +264,7 @@ impl FleetBatch {
     /// Steps every env once. `actions` holds `n_envs × action_dim` values, row-major, in
     /// the current env order. Wrong lengths and non-finite values are refused before any
     /// server is called, so no shard steps alone.
-    pub async fn step(&self, action_type: ActionType, actions: &[f32]) -> Result<BatchStep> {
+    pub async fn step(&mut self, action_type: ActionType, actions: &[f32]) -> Result<BatchStep> {
         self.check_not_lost()?;
         let dim = self.info.action_dim;
         let expected = self.info.n_envs * dim;
@@ -312,10 +297,7 @@ impl FleetBatch {
         let results = join_all(stepping.collect::<Vec<_>>()).await;
         let results = self.confirm_losses(results).await;
         let replies = self.settle_keeping(results, |shard, reply| {
-            *shard
-                .interrupted
-                .lock()
-                .unwrap_or_else(PoisonError::into_inner) = Some(reply);
+            shard.interrupted = Some(reply);
         })?;
         let lens: Vec<usize> = self.shards.iter().map(|s| s.envs.len()).collect();
         BatchStep::new(merge_steps(replies, &lens), &self.info)
@@ -323,14 +305,14 @@ impl FleetBatch {
 
     /// Resets every env; with `seed`, the env of original index `i` is reseeded with
     /// `seed + i` first, as in a one-server batch.
-    pub async fn reset(&self, seed: Option<u64>) -> Result<BatchObservations> {
+    pub async fn reset(&mut self, seed: Option<u64>) -> Result<BatchObservations> {
         self.reset_with_offset(seed, 0).await
     }
 
     /// [`FleetBatch::reset`] with the env of original index `i` reseeded with
     /// `seed + seed_offset + i`.
     pub async fn reset_with_offset(
-        &self,
+        &mut self,
         seed: Option<u64>,
         seed_offset: u64,
     ) -> Result<BatchObservations> {
@@ -347,7 +329,7 @@ impl FleetBatch {
     }
 
     /// The current observation of every env, without stepping.
-    pub async fn observe(&self) -> Result<BatchObservations> {
+    pub async fn observe(&mut self) -> Result<BatchObservations> {
         self.check_not_lost()?;
         let observing = self.shards.iter().map(|shard| {
             let batch = shard.batch.clone();
@@ -379,7 +361,7 @@ impl FleetBatch {
         let closing = self
             .shards
             .iter()
-            .filter(|s| s.lost().is_none())
+            .filter(|s| s.lost.is_none())
             .map(|shard| {
                 let batch = shard.batch.clone();
                 async move {

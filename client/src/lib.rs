@@ -41,6 +41,7 @@ mod client;
 mod endpoints;
 mod env;
 mod error;
+mod fanout;
 mod fleet;
 mod fleet_batch;
 mod options;
@@ -48,7 +49,7 @@ mod placement;
 mod stream;
 mod types;
 
-pub use batch::{Batch, BatchObservations, BatchStep, DEFAULT_STREAM_WINDOW};
+pub use batch::{Batch, BatchObservations, BatchStep};
 pub use client::{Client, DEFAULT_MAX_MESSAGE_BYTES};
 pub use endpoints::FleetEndpoints;
 pub use env::Env;
@@ -56,7 +57,7 @@ pub use error::{ClientError, Result};
 pub use fleet::Fleet;
 pub use fleet_batch::{FleetBatch, ShardPlacement};
 pub use options::{BatchOptions, EnvOptions, PdGains};
-pub use stream::BatchStream;
+pub use stream::{BatchStream, DEFAULT_STREAM_WINDOW};
 pub use types::{
     ActionType, Autoreset, BatchInfo, DofLimit, EnvInfo, JointInfo, Observation, ServerInfo,
     ServerLimits, StepResult, POSE_LEN,

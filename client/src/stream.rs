@@ -12,6 +12,22 @@ use crate::client::Client;
 use crate::error::{ClientError, Result};
 use crate::types::ActionType;
 
+/// Requests a [`BatchStream`] keeps in flight by default.
+pub const DEFAULT_STREAM_WINDOW: usize = 4;
+
+impl Batch {
+    /// Opens a `StreamBatch` stream that keeps up to [`DEFAULT_STREAM_WINDOW`] steps in
+    /// flight.
+    pub async fn stream(&self) -> Result<BatchStream> {
+        self.stream_with_window(DEFAULT_STREAM_WINDOW).await
+    }
+
+    /// Opens a `StreamBatch` stream that keeps up to `window` steps (at least 1) in flight.
+    pub async fn stream_with_window(&self, window: usize) -> Result<BatchStream> {
+        BatchStream::open(self.client().clone(), self.clone(), window).await
+    }
+}
+
 /// Batch steps over one long-lived bidirectional stream. Requests are answered in the
 /// order they were sent; up to `window` of them are in flight at once, so the network
 /// round trip overlaps with the server's stepping.

@@ -84,8 +84,18 @@ pub fn init_tracing(format: LogFormat) {
 mod tests {
     use super::*;
 
+    /// Clears the `GYMFLEET_*` variables, so that the caller's environment does not change
+    /// the defaults these tests check (no test of this binary sets one).
+    fn scrub_gymfleet_env() {
+        std::env::vars_os()
+            .map(|(key, _)| key)
+            .filter(|key| key.to_string_lossy().starts_with("GYMFLEET_"))
+            .for_each(|key| std::env::remove_var(key));
+    }
+
     #[test]
     fn flags_have_documented_defaults() {
+        scrub_gymfleet_env();
         let cli = Cli::try_parse_from(["gymfleet-server"]).expect("defaults parse");
         assert_eq!(cli.listen, "127.0.0.1:50051".parse::<ListenAddr>().unwrap());
         let config = cli.server_config();
@@ -97,6 +107,7 @@ mod tests {
 
     #[test]
     fn flags_parse() {
+        scrub_gymfleet_env();
         let cli = Cli::try_parse_from([
             "gymfleet-server",
             "--listen",

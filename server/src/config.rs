@@ -3,6 +3,8 @@
 
 use std::time::Duration;
 
+use crate::clock::Clock;
+
 /// Default largest gRPC message, decoded or encoded: 64 MiB (tonic's own default is 4 MiB).
 pub const DEFAULT_MAX_MESSAGE_BYTES: usize = 64 * 1024 * 1024;
 /// Default largest `document_json`: 8 MiB.
@@ -32,10 +34,12 @@ pub struct ServerConfig {
     /// How often the idle sweeper looks; `None` = a quarter of `idle_ttl`, at least 1 s
     /// and at most 60 s. Tests set it short.
     pub sweep_interval: Option<Duration>,
-    /// Fault injection for the panic-containment test, never set in production and not
-    /// exposed on the CLI: a `Step` or `StepBatch` whose first action value is exactly
-    /// this number panics inside its pool job instead of stepping.
-    #[doc(hidden)]
+    /// The clock idle times are measured on: the system's, or one a test moves by hand.
+    pub clock: Clock,
+    /// Fault injection for the panic-containment test (only with the test-only
+    /// `fault-injection` feature): a `Step` or `StepBatch` whose first action value is
+    /// exactly this number panics inside its pool job instead of stepping.
+    #[cfg(feature = "fault-injection")]
     pub panic_on_action: Option<f32>,
 }
 
@@ -49,6 +53,8 @@ impl Default for ServerConfig {
             max_message_bytes: DEFAULT_MAX_MESSAGE_BYTES,
             idle_ttl: DEFAULT_IDLE_TTL,
             sweep_interval: None,
+            clock: Clock::system(),
+            #[cfg(feature = "fault-injection")]
             panic_on_action: None,
         }
     }

@@ -3,54 +3,15 @@
 //! results into proto replies. Proto types go no further than this module and
 //! `service.rs`.
 
-use gymfleet_batch::{Autoreset, BatchStepOutput};
+use gymfleet_batch::Autoreset;
 use gymfleet_env::{ActionType, DofKind, EnvConfig, EnvSpec, PdGains};
 use gymfleet_proto::v1 as pb;
 
+use crate::domain::{
+    Action, BatchObservations, BatchRequest, BatchStep, BatchStepped, EnvRequest, EnvStep,
+    JointLinks, ServerStatus,
+};
 use crate::error::{Result, ServerError};
-
-/// A validated `CreateEnvRequest`: the document and the domain configuration.
-#[derive(Debug, Clone)]
-pub(crate) struct EnvRequest {
-    pub(crate) document: String,
-    pub(crate) config: EnvConfig,
-}
-
-/// A validated `CreateBatchRequest`.
-#[derive(Debug, Clone)]
-pub(crate) struct BatchRequest {
-    pub(crate) env: EnvRequest,
-    /// The caller's seed, if given (the batch reseeds its envs from it).
-    pub(crate) seed: Option<u64>,
-    pub(crate) n_envs: usize,
-    pub(crate) autoreset: Autoreset,
-    pub(crate) seed_offset: u64,
-}
-
-/// A validated action: type and values.
-#[derive(Debug, Clone)]
-pub(crate) struct Action {
-    pub(crate) action_type: ActionType,
-    pub(crate) values: Vec<f32>,
-}
-
-/// A validated `StepRequest`.
-#[derive(Debug, Clone)]
-pub(crate) struct EnvStep {
-    pub(crate) env_id: String,
-    pub(crate) action: Action,
-}
-
-/// A validated `StepBatchRequest`.
-#[derive(Debug, Clone)]
-pub(crate) struct BatchStep {
-    pub(crate) batch_id: String,
-    pub(crate) action: Action,
-}
-
-/// The parent and child instance names of each non-fixed joint, in document order.
-#[derive(Debug, Clone, Default)]
-pub(crate) struct JointLinks(pub(crate) Vec<(String, String)>);
 
 fn action_type(raw: i32) -> Result<ActionType> {
     let expected = "expected ACTION_TYPE_TORQUE, ACTION_TYPE_POSITION or ACTION_TYPE_VELOCITY";
@@ -288,23 +249,53 @@ pub(crate) fn batch_info(
     }
 }
 
-/// The proto result of a batch step. Copies the output's buffers, which the batch keeps
-/// for its next step.
-pub(crate) fn batch_step_result(
-    batch_id: String,
-    step_index: u64,
-    out: &BatchStepOutput,
-) -> pb::BatchStepResult {
+/// The proto result of a batch step.
+pub(crate) fn batch_step_result(stepped: BatchStepped) -> pb::BatchStepResult {
+    let BatchStepped {
+        batch_id,
+        step_index,
+        out,
+    } = stepped;
     pb::BatchStepResult {
         batch_id,
         step_index,
-        observations: out.observations.clone(),
-        rewards: out.rewards.clone(),
-        terminated: out.terminated.clone(),
-        truncated: out.truncated.clone(),
-        final_env_indices: out.final_env_indices.clone(),
-        final_observations: out.final_observations.clone(),
-        termination_reasons: out.termination_reasons.clone(),
+        observations: out.observations,
+        rewards: out.rewards,
+        terminated: out.terminated,
+        truncated: out.truncated,
+        final_env_indices: out.final_env_indices,
+        final_observations: out.final_observations,
+        termination_reasons: out.termination_reasons,
+    }
+}
+
+/// The proto observations of a batch.
+pub(crate) fn batch_observation(batch: BatchObservations) -> pb::BatchObservation {
+    pb::BatchObservation {
+        batch_id: batch.batch_id,
+        n_envs: to_u32(batch.n_envs),
+        observation_dim: to_u32(batch.observation_dim),
+        observations: batch.observations,
+    }
+}
+
+/// The proto `ServerInfo`.
+pub(crate) fn server_info(status: &ServerStatus<'_>) -> pb::ServerInfo {
+    let c = status.config;
+    let u64_of = |n: usize| u64::try_from(n).unwrap_or(u64::MAX);
+    pb::ServerInfo {
+        version: env!("CARGO_PKG_VERSION").to_string(),
+        threads: to_u32(status.threads),
+        envs: u64_of(status.envs),
+        batches: u64_of(status.batches),
+        batch_envs: u64_of(status.batch_envs),
+        limits: Some(pb::ServerLimits {
+            max_envs: u64_of(c.max_envs),
+            max_batch_size: u64_of(c.max_batch_size),
+            max_document_bytes: u64_of(c.max_document_bytes),
+            max_message_bytes: u64_of(c.max_message_bytes),
+            idle_ttl_seconds: c.idle_ttl.as_secs(),
+        }),
     }
 }
 

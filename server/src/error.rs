@@ -112,6 +112,14 @@ pub enum ServerError {
     /// Reflection could not be set up (a bad descriptor set: a build bug).
     #[error("reflection: {0}")]
     Reflection(#[from] tonic_reflection::server::Error),
+    /// The listener could not be bound.
+    #[error("cannot listen on {addr}: {reason}")]
+    Bind {
+        /// The address, `host:port` or `unix:/path`.
+        addr: String,
+        /// The operating system's reason.
+        reason: String,
+    },
     /// The listener failed (e.g. its address could not be read).
     #[error("io: {0}")]
     Io(#[from] std::io::Error),
@@ -138,7 +146,7 @@ impl ServerError {
     /// panicked inside the batch's chunks (the batch crate reports it as an error rather
     /// than a panic). The server closes such an entry, as it does after a panic.
     pub(crate) fn poisons_entry(&self) -> bool {
-        matches!(self, ServerError::Batch(BatchError::Pool { .. }))
+        matches!(self, ServerError::Batch(BatchError::Panicked { .. }))
     }
 }
 
@@ -168,8 +176,9 @@ impl From<ServerError> for Status {
                 BatchError::NoEnvs
                 | BatchError::ActionLength { .. }
                 | BatchError::NonFiniteAction { .. } => Code::InvalidArgument,
+                BatchError::TooManyEnvs { .. } => Code::ResourceExhausted,
                 BatchError::Env { source, .. } => env_code(source),
-                BatchError::Pool { .. } => Code::Internal,
+                BatchError::PoolStart { .. } | BatchError::Panicked { .. } => Code::Internal,
             },
             ServerError::NotFound { .. } => Code::NotFound,
             ServerError::TooManyEnvs { .. }
@@ -178,6 +187,7 @@ impl From<ServerError> for Status {
             ServerError::Panicked { .. }
             | ServerError::JobLost { .. }
             | ServerError::Reflection(_)
+            | ServerError::Bind { .. }
             | ServerError::Io(_)
             | ServerError::Transport(_) => Code::Internal,
             ServerError::ShuttingDown => Code::Unavailable,
@@ -218,8 +228,10 @@ mod tests {
             "{}",
             s.message()
         );
-        let pool = BatchError::Pool {
-            reason: "boom".into(),
+        let pool = BatchError::Panicked {
+            first: 0,
+            last: 3,
+            message: "boom".into(),
         };
         assert_eq!(status(pool.into()).code(), Code::Internal);
     }

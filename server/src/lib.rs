@@ -15,10 +15,13 @@
 //! NOT_FOUND), because its state may be half-updated. Everyone else keeps being served.
 
 mod cli;
+mod clock;
 mod config;
 mod convert;
+mod domain;
 mod error;
 mod listen;
+mod local;
 mod pool;
 mod registry;
 mod serve;
@@ -26,10 +29,12 @@ mod service;
 mod simulation;
 
 pub use cli::{init_tracing, Cli, LogFormat};
+pub use clock::Clock;
 pub use config::{
     ServerConfig, DEFAULT_IDLE_TTL, DEFAULT_MAX_BATCH_SIZE, DEFAULT_MAX_DOCUMENT_BYTES,
     DEFAULT_MAX_ENVS, DEFAULT_MAX_MESSAGE_BYTES,
 };
 pub use error::{EntityKind, Result, ServerError};
 pub use listen::{ListenAddr, Listener, SocketFile};
+pub use local::LocalServer;
 pub use serve::serve;

@@ -6,8 +6,7 @@
 //! its caller instead of aborting the process. The env or batch a panicking job ran on is
 //! closed: its state may be half-updated, and serving it again could return garbage.
 
-use gymfleet_batch::{BatchError, StepPool};
-use std::any::Any;
+use gymfleet_batch::{panic_message, BatchError, StepPool};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use tokio::sync::oneshot;
 
@@ -93,25 +92,14 @@ where
 }
 
 /// What went wrong, for an error that poisons its entry. The batch crate's advice to
-/// reset is dropped: the server closes the batch instead.
+/// reset is left out: the server closes the batch instead.
 fn poison_message(err: &ServerError) -> String {
     match err {
-        ServerError::Batch(BatchError::Pool { reason }) => reason
-            .split("; reset the batch")
-            .next()
-            .unwrap_or(reason)
-            .to_string(),
+        ServerError::Batch(BatchError::Panicked {
+            first,
+            last,
+            message,
+        }) => format!("envs {first}..={last} panicked ({message})"),
         other => other.to_string(),
-    }
-}
-
-/// The text of a panic payload.
-fn panic_message(payload: &(dyn Any + Send)) -> String {
-    if let Some(s) = payload.downcast_ref::<&str>() {
-        (*s).to_string()
-    } else if let Some(s) = payload.downcast_ref::<String>() {
-        s.clone()
-    } else {
-        "non-string panic payload".to_string()
     }
 }

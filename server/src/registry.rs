@@ -9,7 +9,9 @@
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, PoisonError};
-use std::time::{Duration, Instant};
+use std::time::Duration;
+
+use crate::clock::Clock;
 
 use tokio::sync::OwnedMutexGuard;
 
@@ -116,9 +118,9 @@ pub(crate) type Slot<T> = OwnedMutexGuard<Option<Held<T>>>;
 pub(crate) struct Entry<T> {
     id: String,
     slot: Arc<tokio::sync::Mutex<Option<Held<T>>>>,
-    /// Milliseconds since the registry's epoch at the last call.
+    /// Milliseconds on the registry's clock at the last call.
     last_used_ms: AtomicU64,
-    epoch: Instant,
+    clock: Clock,
 }
 
 impl<T> Entry<T> {
@@ -129,12 +131,12 @@ impl<T> Entry<T> {
     /// Marks the entry as used now.
     pub(crate) fn touch(&self) {
         self.last_used_ms
-            .store(millis_since(self.epoch), Ordering::Relaxed);
+            .store(millis(&self.clock), Ordering::Relaxed);
     }
 
     fn idle_for(&self) -> Duration {
         let last = self.last_used_ms.load(Ordering::Relaxed);
-        Duration::from_millis(millis_since(self.epoch).saturating_sub(last))
+        Duration::from_millis(millis(&self.clock).saturating_sub(last))
     }
 
     /// Waits for the entry's lock; NOT_FOUND if it was closed meanwhile.
@@ -150,8 +152,8 @@ impl<T> Entry<T> {
     }
 }
 
-fn millis_since(epoch: Instant) -> u64 {
-    u64::try_from(epoch.elapsed().as_millis()).unwrap_or(u64::MAX)
+fn millis(clock: &Clock) -> u64 {
+    u64::try_from(clock.elapsed().as_millis()).unwrap_or(u64::MAX)
 }
 
 /// The open values of one kind, by id.
@@ -160,18 +162,19 @@ pub(crate) struct Registry<T> {
     kind: EntityKind,
     prefix: &'static str,
     next_id: AtomicU64,
-    epoch: Instant,
+    clock: Clock,
     entries: Mutex<HashMap<String, Arc<Entry<T>>>>,
 }
 
 impl<T> Registry<T> {
-    /// A registry whose ids are `"<prefix>_<n>"`, n counting from 1.
-    pub(crate) fn new(kind: EntityKind, prefix: &'static str) -> Self {
+    /// A registry whose ids are `"<prefix>_<n>"`, n counting from 1, and whose idle times
+    /// are measured on `clock`.
+    pub(crate) fn new(kind: EntityKind, prefix: &'static str, clock: Clock) -> Self {
         Registry {
             kind,
             prefix,
             next_id: AtomicU64::new(1),
-            epoch: Instant::now(),
+            clock,
             entries: Mutex::new(HashMap::new()),
         }
     }
@@ -199,8 +202,8 @@ impl<T> Registry<T> {
                 value,
                 _reservation: reservation,
             }))),
-            last_used_ms: AtomicU64::new(millis_since(self.epoch)),
-            epoch: self.epoch,
+            last_used_ms: AtomicU64::new(millis(&self.clock)),
+            clock: self.clock.clone(),
         });
         self.map().insert(id.clone(), entry);
         id
@@ -291,7 +294,7 @@ mod tests {
     #[tokio::test]
     async fn ids_count_up_and_closed_entries_are_not_found() {
         let capacity = EnvCapacity::new(0);
-        let registry = Registry::new(EntityKind::Env, "sim");
+        let registry = Registry::new(EntityKind::Env, "sim", Clock::manual());
         let first = registry.insert(1u8, capacity.reserve(1, EntityKind::Env).unwrap());
         let second = registry.insert(2u8, capacity.reserve(1, EntityKind::Env).unwrap());
         assert_eq!((first.as_str(), second.as_str()), ("sim_1", "sim_2"));
@@ -316,7 +319,7 @@ mod tests {
     #[tokio::test]
     async fn idle_sweep_skips_entries_in_use() {
         let capacity = EnvCapacity::new(0);
-        let registry = Registry::new(EntityKind::Batch, "batch");
+        let registry = Registry::new(EntityKind::Batch, "batch", Clock::manual());
         let busy = registry.insert((), capacity.reserve(1, EntityKind::Batch).unwrap());
         let idle = registry.insert((), capacity.reserve(1, EntityKind::Batch).unwrap());
         let entry = registry.get(&busy).unwrap();

@@ -10,9 +10,10 @@ use tokio::sync::{mpsc, watch};
 use tokio_stream::wrappers::ReceiverStream;
 use tonic::{Request, Response, Status, Streaming};
 
-use crate::convert::{self, BatchRequest, BatchStep, EnvRequest, EnvStep};
+use crate::convert;
+use crate::domain::{BatchRequest, BatchStep, Created, EnvRequest, EnvStep};
 use crate::error::{Result, ServerError};
-use crate::simulation::{Created, Simulation};
+use crate::simulation::Simulation;
 
 /// Results buffered per StreamBatch stream before the server waits for the client.
 const STREAM_BUFFER: usize = 8;
@@ -42,12 +43,13 @@ fn batch_info(created: Created) -> pb::BatchInfo {
     convert::batch_info(created.id, n_envs, autoreset, &created.spec, &created.links)
 }
 
-/// Steps one `StreamBatch` request.
+/// Steps one `StepBatch` or `StreamBatch` request.
 async fn stream_step(
     sim: &Simulation,
     request: pb::StepBatchRequest,
 ) -> Result<pb::BatchStepResult> {
-    sim.step_batch(BatchStep::try_from(request)?).await
+    let stepped = sim.step_batch(BatchStep::try_from(request)?).await?;
+    Ok(convert::batch_step_result(stepped))
 }
 
 #[tonic::async_trait]
@@ -134,7 +136,8 @@ impl Simulator for SimulatorService {
         answer(
             self.sim
                 .reset_batch(&r.batch_id, r.seed, r.seed_offset)
-                .await,
+                .await
+                .map(convert::batch_observation),
         )
     }
 
@@ -150,7 +153,12 @@ impl Simulator for SimulatorService {
         request: Request<pb::BatchRef>,
     ) -> Result<Response<pb::BatchObservation>, Status> {
         let r = request.into_inner();
-        answer(self.sim.observe_batch(&r.batch_id).await)
+        answer(
+            self.sim
+                .observe_batch(&r.batch_id)
+                .await
+                .map(convert::batch_observation),
+        )
     }
 
     async fn close_batch(
@@ -216,6 +224,6 @@ impl Simulator for SimulatorService {
         &self,
         _request: Request<pb::GetServerInfoRequest>,
     ) -> Result<Response<pb::ServerInfo>, Status> {
-        Ok(Response::new(self.sim.server_info()))
+        Ok(Response::new(convert::server_info(&self.sim.status())))
     }
 }

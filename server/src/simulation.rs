@@ -3,12 +3,14 @@
 
 use std::time::Duration;
 
-use gymfleet_batch::{Autoreset, BatchStepOutput, EnvBatch, StepPool};
-use gymfleet_env::{EnvError, EnvSpec, RobotEnv, StepFlags};
-use gymfleet_proto::v1 as pb;
+use gymfleet_batch::{BatchStepOutput, EnvBatch, StepPool};
+use gymfleet_env::{EnvError, RobotEnv};
 
 use crate::config::ServerConfig;
-use crate::convert::{self, Action, BatchRequest, BatchStep, EnvRequest, EnvStep, JointLinks};
+use crate::domain::{
+    Action, BatchObservations, BatchRequest, BatchStep, BatchStepped, Created, EnvRequest, EnvStep,
+    EnvStepOutcome, JointLinks, ServerStatus,
+};
 use crate::error::{EntityKind, Result, ServerError};
 use crate::pool;
 use crate::registry::{EnvCapacity, Held, Registry};
@@ -23,23 +25,6 @@ pub(crate) struct OpenBatch {
     batch: EnvBatch,
     out: BatchStepOutput,
     steps: u64,
-}
-
-/// The outcome of a single-env step.
-pub(crate) struct EnvStepOutcome {
-    pub(crate) observation: Vec<f32>,
-    pub(crate) flags: StepFlags,
-    pub(crate) episode_step: u32,
-    pub(crate) dof: usize,
-}
-
-/// A created env or batch: its id and description.
-pub(crate) struct Created {
-    pub(crate) id: String,
-    pub(crate) spec: EnvSpec,
-    pub(crate) links: JointLinks,
-    /// Batches only: the size and autoreset mode.
-    pub(crate) batch: Option<(usize, Autoreset)>,
 }
 
 /// The server's state.
@@ -75,10 +60,10 @@ impl Simulation {
     pub(crate) fn new(config: ServerConfig, pool: StepPool) -> Self {
         Simulation {
             capacity: EnvCapacity::new(config.max_envs),
+            envs: Registry::new(EntityKind::Env, "sim", config.clock.clone()),
+            batches: Registry::new(EntityKind::Batch, "batch", config.clock.clone()),
             config,
             pool,
-            envs: Registry::new(EntityKind::Env, "sim"),
-            batches: Registry::new(EntityKind::Batch, "batch"),
         }
     }
 
@@ -93,11 +78,18 @@ impl Simulation {
         Ok(())
     }
 
-    /// Test-only fault injection (see [`ServerConfig::panic_on_action`]).
+    /// Test-only fault injection (`ServerConfig::panic_on_action`, with the
+    /// `fault-injection` feature): whether this action must panic in its pool job.
+    #[cfg(feature = "fault-injection")]
     fn injected_panic(&self, action: &Action) -> bool {
         self.config
             .panic_on_action
             .is_some_and(|v| action.values.first() == Some(&v))
+    }
+
+    #[cfg(not(feature = "fault-injection"))]
+    fn injected_panic(&self, _action: &Action) -> bool {
+        false
     }
 
     pub(crate) async fn create_env(&self, request: EnvRequest) -> Result<Created> {
@@ -232,7 +224,7 @@ impl Simulation {
         id: &str,
         seed: Option<u64>,
         seed_offset: u64,
-    ) -> Result<pb::BatchObservation> {
+    ) -> Result<BatchObservations> {
         let entry = self.batches.get(id)?;
         let pool = self.pool.clone();
         let batch_id = id.to_string();
@@ -251,7 +243,7 @@ impl Simulation {
         .await
     }
 
-    pub(crate) async fn step_batch(&self, step: BatchStep) -> Result<pb::BatchStepResult> {
+    pub(crate) async fn step_batch(&self, step: BatchStep) -> Result<BatchStepped> {
         let entry = self.batches.get(&step.batch_id)?;
         let inject = self.injected_panic(&step.action);
         let pool = self.pool.clone();
@@ -271,17 +263,17 @@ impl Simulation {
                 open.batch
                     .step(&pool, action_type, &values, &mut open.out)?;
                 open.steps += 1;
-                Ok(convert::batch_step_result(
-                    step.batch_id,
-                    open.steps,
-                    &open.out,
-                ))
+                Ok(BatchStepped {
+                    batch_id: step.batch_id,
+                    step_index: open.steps,
+                    out: open.out.clone(),
+                })
             },
         )
         .await
     }
 
-    pub(crate) async fn observe_batch(&self, id: &str) -> Result<pb::BatchObservation> {
+    pub(crate) async fn observe_batch(&self, id: &str) -> Result<BatchObservations> {
         let entry = self.batches.get(id)?;
         let batch_id = id.to_string();
         pool::run_locked(
@@ -302,22 +294,13 @@ impl Simulation {
         self.close(&self.batches, id).await
     }
 
-    pub(crate) fn server_info(&self) -> pb::ServerInfo {
-        let c = &self.config;
-        let u64_of = |n: usize| u64::try_from(n).unwrap_or(u64::MAX);
-        pb::ServerInfo {
-            version: env!("CARGO_PKG_VERSION").to_string(),
-            threads: u32::try_from(self.pool.threads()).unwrap_or(u32::MAX),
-            envs: u64_of(self.envs.len()),
-            batches: u64_of(self.batches.len()),
-            batch_envs: u64_of(self.capacity.batch_envs()),
-            limits: Some(pb::ServerLimits {
-                max_envs: u64_of(c.max_envs),
-                max_batch_size: u64_of(c.max_batch_size),
-                max_document_bytes: u64_of(c.max_document_bytes),
-                max_message_bytes: u64_of(c.max_message_bytes),
-                idle_ttl_seconds: c.idle_ttl.as_secs(),
-            }),
+    pub(crate) fn status(&self) -> ServerStatus<'_> {
+        ServerStatus {
+            threads: self.pool.threads(),
+            envs: self.envs.len(),
+            batches: self.batches.len(),
+            batch_envs: self.capacity.batch_envs(),
+            config: &self.config,
         }
     }
 
@@ -349,11 +332,11 @@ fn batch_observation(
     batch_id: String,
     batch: &EnvBatch,
     observations: Vec<f32>,
-) -> pb::BatchObservation {
-    pb::BatchObservation {
+) -> BatchObservations {
+    BatchObservations {
         batch_id,
-        n_envs: u32::try_from(batch.n_envs()).unwrap_or(u32::MAX),
-        observation_dim: u32::try_from(batch.spec().observation_dim).unwrap_or(u32::MAX),
+        n_envs: batch.n_envs(),
+        observation_dim: batch.spec().observation_dim,
         observations,
     }
 }

@@ -1,10 +1,10 @@
-//! A panic inside a pool job (here injected with the test-only
-//! `ServerConfig::panic_on_action`) must not kill the server: the call gets INTERNAL
+//! A panic inside a pool job (here injected with `ServerConfig::panic_on_action`, from the
+//! test-only `fault-injection` feature) must not kill the server: the call gets INTERNAL
 //! with the panic message, the env or batch it ran on is closed, and everyone else is
 //! still served.
 
 use gymfleet_proto::v1 as pb;
-use gymfleet_server::{serve, ServerConfig};
+use gymfleet_server::{LocalServer, ServerConfig};
 use pb::simulator_client::SimulatorClient;
 use tonic::Code;
 
@@ -30,18 +30,13 @@ fn step(env_id: &str, value: f32) -> pb::StepRequest {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_panicking_step_is_contained() {
-    let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
-    let addr = listener.local_addr().unwrap();
-    let (stop, stopped) = tokio::sync::oneshot::channel::<()>();
     let config = ServerConfig {
         threads: 2,
         panic_on_action: Some(POISON),
         ..ServerConfig::default()
     };
-    let server = tokio::spawn(serve(listener, config, async {
-        let _ = stopped.await;
-    }));
-    let mut client = SimulatorClient::connect(format!("http://{addr}"))
+    let server = LocalServer::start(config).await.unwrap();
+    let mut client = SimulatorClient::connect(format!("http://{}", server.client_addr()))
         .await
         .unwrap();
 
@@ -125,6 +120,5 @@ async fn a_panicking_step_is_contained() {
         .into_inner();
     assert_eq!((info.envs, info.batches, info.batch_envs), (2, 0, 0));
 
-    stop.send(()).unwrap();
-    server.await.unwrap().unwrap();
+    server.stop().await.unwrap();
 }

@@ -111,11 +111,9 @@ impl EnvBatch {
             return Err(BatchError::NoEnvs);
         }
         if u32::try_from(n_envs).is_err() {
-            return Err(BatchError::Pool {
-                reason: format!(
-                    "n_envs: expected at most {} environments per batch, got {n_envs}",
-                    u32::MAX
-                ),
+            return Err(BatchError::TooManyEnvs {
+                n_envs,
+                max: u64::from(u32::MAX),
             });
         }
         let chunk_size = if chunk_size == 0 {
@@ -172,7 +170,7 @@ impl EnvBatch {
     /// `out` (cleared and resized). Pending [`Autoreset::NextStep`] resets and
     /// diverged envs are cleared.
     ///
-    /// A [`BatchError::Pool`] error means resetting an env panicked on the pool (a bug
+    /// A [`BatchError::Panicked`] error means resetting an env panicked on the pool (a bug
     /// in the physics); `out` is then left empty.
     pub fn reset(
         &mut self,
@@ -202,7 +200,7 @@ impl EnvBatch {
     /// is such a caller.
     ///
     /// An [`BatchError::Env`] error names the lowest failing env; every env was
-    /// stepped and `out` is filled regardless. A [`BatchError::Pool`] error means a step
+    /// stepped and `out` is filled regardless. A [`BatchError::Panicked`] error means a step
     /// panicked: reset the batch before using it again.
     pub fn step(
         &mut self,
@@ -307,12 +305,10 @@ impl EnvBatch {
         })
         .map_err(|panic| {
             let first = panic.chunk * self.chunk_size;
-            let last = (first + self.chunk_size).min(self.n_envs) - 1;
-            BatchError::Pool {
-                reason: format!(
-                    "envs {first}..={last} panicked ({}); reset the batch before stepping it again",
-                    panic.message
-                ),
+            BatchError::Panicked {
+                first,
+                last: (first + self.chunk_size).min(self.n_envs) - 1,
+                message: panic.message,
             }
         })
     }

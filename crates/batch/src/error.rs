@@ -46,11 +46,35 @@ pub enum BatchError {
         /// What went wrong.
         source: EnvError,
     },
-    /// The thread pool could not be built, or a step panicked on it.
-    #[error("step pool: {reason}")]
-    Pool {
-        /// What went wrong.
+    /// More environments than a batch can index (`u32`).
+    #[error("n_envs: expected at most {max} environments per batch, got {n_envs}")]
+    TooManyEnvs {
+        /// The requested size.
+        n_envs: usize,
+        /// The largest size.
+        max: u64,
+    },
+    /// The step pool's threads could not be started.
+    #[error("step pool: cannot start {threads} step threads: {reason}")]
+    PoolStart {
+        /// How many threads were asked for.
+        threads: usize,
+        /// The operating system's reason.
         reason: String,
+    },
+    /// Stepping or resetting envs `first..=last` panicked (a bug): their state can no
+    /// longer be trusted until the batch is reset.
+    #[error(
+        "step pool: envs {first}..={last} panicked ({message}); reset the batch before \
+         stepping it again"
+    )]
+    Panicked {
+        /// The first env of the chunk that panicked.
+        first: usize,
+        /// The last env of that chunk.
+        last: usize,
+        /// The panic's message.
+        message: String,
     },
 }
 

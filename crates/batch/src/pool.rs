@@ -47,8 +47,9 @@ impl StepPool {
             // panic in a `spawn`ed closure would abort the whole process.
             .panic_handler(|_| {})
             .build()
-            .map_err(|e| BatchError::Pool {
-                reason: format!("cannot start {threads} step threads: {e}"),
+            .map_err(|e| BatchError::PoolStart {
+                threads,
+                reason: e.to_string(),
             })?;
         Ok(StepPool {
             inner: Arc::new(PoolInner {
@@ -210,11 +211,7 @@ impl<W: Fn(usize) + Send + Sync> QueuedTask for Task<W> {
 
     fn run(&self, index: usize, chunks_run: &AtomicU64) {
         if let Err(payload) = panic::catch_unwind(AssertUnwindSafe(|| (self.work)(index))) {
-            let message = payload
-                .downcast_ref::<&str>()
-                .map(|s| (*s).to_string())
-                .or_else(|| payload.downcast_ref::<String>().cloned())
-                .unwrap_or_else(|| "(non-string panic payload)".to_string());
+            let message = panic_message(payload.as_ref());
             let mut first = self.panic.lock().unwrap_or_else(PoisonError::into_inner);
             if first.as_ref().is_none_or(|p| index < p.chunk) {
                 *first = Some(ChunkPanic {
@@ -230,9 +227,66 @@ impl<W: Fn(usize) + Send + Sync> QueuedTask for Task<W> {
     }
 }
 
+/// The text of a panic's payload (what `panic!` was given), or a placeholder when it is
+/// not a string.
+pub fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+    payload
+        .downcast_ref::<&str>()
+        .map(|s| (*s).to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "(non-string panic payload)".to_string())
+}
+
 #[cfg(test)]
 mod tests {
+    use std::sync::{Arc, Mutex};
+    use std::thread;
+
     use super::*;
+
+    /// A task whose chunks record `(name, index)` when they run.
+    fn recording(
+        name: &'static str,
+        n_chunks: usize,
+        log: &Arc<Mutex<Vec<(&'static str, usize)>>>,
+    ) -> Arc<dyn QueuedTask> {
+        let log = Arc::clone(log);
+        Arc::new(Task {
+            work: move |i| log.lock().unwrap().push((name, i)),
+            n_chunks,
+            next: AtomicUsize::new(0),
+            remaining: AtomicUsize::new(n_chunks),
+            panic: Mutex::new(None),
+            waiter: thread::current(),
+        })
+    }
+
+    /// Tasks take turns chunk by chunk: a one-chunk task queued behind a big one runs
+    /// after one chunk of it, not after all of it, and so does each newcomer.
+    #[test]
+    fn tasks_take_turns_chunk_by_chunk() {
+        let queue = FairQueue::default();
+        let log = Arc::new(Mutex::new(Vec::new()));
+        queue.lock().push_back(recording("big", 5, &log));
+        assert!(queue.run_one());
+        queue.lock().push_back(recording("small", 1, &log));
+        queue.lock().push_back(recording("pair", 2, &log));
+        while queue.run_one() {}
+        assert_eq!(
+            *log.lock().unwrap(),
+            [
+                ("big", 0),
+                ("big", 1),
+                ("small", 0),
+                ("pair", 0),
+                ("big", 2),
+                ("pair", 1),
+                ("big", 3),
+                ("big", 4),
+            ]
+        );
+        assert_eq!(queue.chunks_run.load(Ordering::Relaxed), 8);
+    }
 
     #[test]
     fn a_panicking_chunk_is_reported_and_the_others_still_run() {

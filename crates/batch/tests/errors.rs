@@ -115,11 +115,29 @@ fn env_and_pool_errors_read_well() {
     let source = std::error::Error::source(&err).expect("the env error is the source");
     assert_eq!(source.to_string(), EnvError::NeedsReset.to_string());
 
-    let err = BatchError::Pool {
-        reason: "cannot start 4 step threads: out of memory".to_string(),
+    let err = BatchError::PoolStart {
+        threads: 4,
+        reason: "out of memory".to_string(),
     };
     assert_eq!(
         err.to_string(),
         "step pool: cannot start 4 step threads: out of memory"
+    );
+    let err = BatchError::Panicked {
+        first: 8,
+        last: 15,
+        message: "boom".to_string(),
+    };
+    assert_eq!(
+        err.to_string(),
+        "step pool: envs 8..=15 panicked (boom); reset the batch before stepping it again"
+    );
+    let err = BatchError::TooManyEnvs {
+        n_envs: 1 << 33,
+        max: u64::from(u32::MAX),
+    };
+    assert_eq!(
+        err.to_string(),
+        "n_envs: expected at most 4294967295 environments per batch, got 8589934592"
     );
 }

@@ -318,6 +318,11 @@ mod tests {
     #[cfg(not(feature = "embedded"))]
     #[test]
     fn pure_network_clients_need_a_server() {
+        // The caller's GYMFLEET_* variables must not change what is checked here.
+        std::env::vars_os()
+            .map(|(key, _)| key)
+            .filter(|key| key.to_string_lossy().starts_with("GYMFLEET_"))
+            .for_each(|key| std::env::remove_var(key));
         let resolve = |args: &[&str]| {
             let argv = [&["gymfleet-load"][..], args].concat();
             Cli::try_parse_from(argv).unwrap().resolve()

@@ -102,7 +102,7 @@ pub fn run(config: &LoadConfig) -> Result<Report> {
 #[cfg(feature = "embedded")]
 async fn run_embedded(config: &LoadConfig, threads: usize) -> Result<RunResult> {
     let server = EmbeddedServer::start(threads).await?;
-    let result = remote::run(config, &[server.addr().to_string()], "embedded server").await;
+    let result = remote::run(config, &[server.addr()], "embedded server").await;
     let stopped = server.stop().await;
     let result = result?;
     stopped?;

@@ -10,7 +10,18 @@ use gymfleet_load::{
     DEFAULT_N_ENVS,
 };
 
+/// Clears the `GYMFLEET_*` variables, so that the caller's environment does not change
+/// the defaults these tests check (no test of this binary sets one; `cli_env.rs` does, in
+/// its own binary).
+fn scrub_gymfleet_env() {
+    std::env::vars_os()
+        .map(|(key, _)| key)
+        .filter(|key| key.to_string_lossy().starts_with("GYMFLEET_"))
+        .for_each(|key| std::env::remove_var(key));
+}
+
 fn resolve(args: &[&str]) -> Result<LoadConfig, LoadError> {
+    scrub_gymfleet_env();
     let mut argv = vec!["gymfleet-load"];
     argv.extend_from_slice(args);
     Cli::try_parse_from(argv)

@@ -300,22 +300,17 @@ fn servers_given_with_server_get_clients_round_robin() {
 #[test]
 fn a_server_started_with_the_server_library() {
     let runtime = tokio::runtime::Runtime::new().unwrap();
-    let (addr, stop, task) = runtime.block_on(async {
-        let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
-        let addr = listener.local_addr().unwrap();
-        let (stop, stopped) = tokio::sync::oneshot::channel::<()>();
-        let config = gymfleet_server::ServerConfig {
-            threads: 1,
-            ..Default::default()
-        };
-        let task = tokio::spawn(gymfleet_server::serve(listener, config, async move {
-            let _ = stopped.await;
-        }));
-        (addr, stop, task)
-    });
+    let server = runtime
+        .block_on(gymfleet_server::LocalServer::start(
+            gymfleet_server::ServerConfig {
+                threads: 1,
+                ..Default::default()
+            },
+        ))
+        .unwrap();
     let report = run_flags(&[
         "--server",
-        &addr.to_string(),
+        &server.client_addr(),
         "--mode",
         "stream",
         "--n-envs",
@@ -324,8 +319,7 @@ fn a_server_started_with_the_server_library() {
         "12",
     ]);
     assert_counts(&report.runs[0], 3, 12, 1);
-    stop.send(()).unwrap();
-    runtime.block_on(task).unwrap().unwrap();
+    runtime.block_on(server.stop()).unwrap();
 }
 
 #[test]

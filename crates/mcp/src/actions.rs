@@ -7,6 +7,8 @@ use std::fmt;
 use serde::de::{self, Deserializer, Visitor};
 use serde::Deserialize;
 
+use crate::errors::{McpError, Result};
+
 /// One action value as sent. Numbers are the norm; `"NaN"`, `"inf"` or `null` are
 /// accepted by the parser only so that the check can refuse them by name.
 #[derive(Debug, Clone, PartialEq)]
@@ -19,28 +21,41 @@ pub(crate) enum ActionValue {
     Null,
 }
 
+/// Why an action value is not a finite 32-bit float.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+enum NotFinite {
+    #[error("is null")]
+    Null,
+    #[error("is the string {0:?}, not a number")]
+    Text(String),
+    #[error("is NaN")]
+    NaN,
+    #[error("is infinite ({0})")]
+    Infinite(f64),
+    #[error("= {0:e} is out of range (actions are 32-bit floats, at most about 3.4e38)")]
+    OutOfRange(f64),
+}
+
 impl ActionValue {
     /// The value as the wire's `f32`, or why it is not a finite one.
-    fn to_f32(&self) -> Result<f32, String> {
+    fn to_f32(&self) -> Result<f32, NotFinite> {
         let value = match self {
             ActionValue::Number(v) => *v,
-            ActionValue::Null => return Err("is null".to_string()),
+            ActionValue::Null => return Err(NotFinite::Null),
             ActionValue::Text(text) => match text.trim().parse::<f64>() {
                 Ok(v) if !v.is_finite() => v,
-                _ => return Err(format!("is the string {text:?}, not a number")),
+                _ => return Err(NotFinite::Text(text.clone())),
             },
         };
         if value.is_nan() {
-            return Err("is NaN".to_string());
+            return Err(NotFinite::NaN);
         }
         if value.is_infinite() {
-            return Err(format!("is infinite ({value})"));
+            return Err(NotFinite::Infinite(value));
         }
         let narrowed = value as f32;
         if narrowed.is_infinite() {
-            return Err(format!(
-                "= {value:e} is out of range (actions are 32-bit floats, at most about 3.4e38)"
-            ));
+            return Err(NotFinite::OutOfRange(value));
         }
         Ok(narrowed)
     }
@@ -101,20 +116,20 @@ pub(crate) fn env_action(
     env_id: &str,
     action_dim: usize,
     values: &[ActionValue],
-) -> Result<Vec<f32>, String> {
+) -> Result<Vec<f32>> {
     if values.len() != action_dim {
-        return Err(format!(
+        return Err(McpError::bad_argument(format!(
             "{env_id} expects {} (action_dim), got {}",
             plural(action_dim, "action value"),
             values.len()
-        ));
+        )));
     }
     values
         .iter()
         .enumerate()
         .map(|(i, v)| {
             v.to_f32()
-                .map_err(|why| format!("values[{i}] {why}; {FINITE}"))
+                .map_err(|why| McpError::bad_argument(format!("values[{i}] {why}; {FINITE}")))
         })
         .collect()
 }
@@ -125,31 +140,34 @@ pub(crate) fn batch_actions(
     n_envs: usize,
     action_dim: usize,
     actions: &[Vec<ActionValue>],
-) -> Result<Vec<f32>, String> {
+) -> Result<Vec<f32>> {
     let shape = format!(
         "{batch_id} expects {} of {}",
         plural(n_envs, "array"),
         plural(action_dim, "value")
     );
     if actions.len() != n_envs {
-        return Err(format!(
+        return Err(McpError::bad_argument(format!(
             "{shape} (one array per env, action_dim values each); got {}",
             plural(actions.len(), "array")
-        ));
+        )));
     }
     if let Some((env, row)) = actions
         .iter()
         .enumerate()
         .find(|(_, row)| row.len() != action_dim)
     {
-        return Err(format!("{shape}; array {env} has {}", row.len()));
+        return Err(McpError::bad_argument(format!(
+            "{shape}; array {env} has {}",
+            row.len()
+        )));
     }
     let mut flat = Vec::with_capacity(n_envs * action_dim);
     for (env, row) in actions.iter().enumerate() {
         for (i, v) in row.iter().enumerate() {
-            let value = v
-                .to_f32()
-                .map_err(|why| format!("actions[{env}][{i}] {why}; {FINITE}"))?;
+            let value = v.to_f32().map_err(|why| {
+                McpError::bad_argument(format!("actions[{env}][{i}] {why}; {FINITE}"))
+            })?;
             flat.push(value);
         }
     }
@@ -166,9 +184,13 @@ mod tests {
 
     #[test]
     fn counts_are_expected_vs_got() {
-        let err = env_action("sim_3", 2, &values("[1, 2, 3]")).unwrap_err();
+        let err = env_action("sim_3", 2, &values("[1, 2, 3]"))
+            .unwrap_err()
+            .to_string();
         assert_eq!(err, "sim_3 expects 2 action values (action_dim), got 3");
-        let err = env_action("sim_1", 1, &values("[]")).unwrap_err();
+        let err = env_action("sim_1", 1, &values("[]"))
+            .unwrap_err()
+            .to_string();
         assert_eq!(err, "sim_1 expects 1 action value (action_dim), got 0");
         assert_eq!(
             env_action("sim_1", 2, &values("[0.5, -1]")),
@@ -178,18 +200,28 @@ mod tests {
 
     #[test]
     fn non_finite_values_are_named() {
-        let err = env_action("sim_1", 2, &values(r#"[0, "NaN"]"#)).unwrap_err();
+        let err = env_action("sim_1", 2, &values(r#"[0, "NaN"]"#))
+            .unwrap_err()
+            .to_string();
         assert_eq!(
             err,
             "values[1] is NaN; every action value must be a finite number"
         );
-        let err = env_action("sim_1", 1, &values("[null]")).unwrap_err();
+        let err = env_action("sim_1", 1, &values("[null]"))
+            .unwrap_err()
+            .to_string();
         assert!(err.starts_with("values[0] is null;"), "{err}");
-        let err = env_action("sim_1", 1, &values(r#"["-inf"]"#)).unwrap_err();
+        let err = env_action("sim_1", 1, &values(r#"["-inf"]"#))
+            .unwrap_err()
+            .to_string();
         assert!(err.starts_with("values[0] is infinite (-inf);"), "{err}");
-        let err = env_action("sim_1", 1, &values("[1e39]")).unwrap_err();
+        let err = env_action("sim_1", 1, &values("[1e39]"))
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("out of range"), "{err}");
-        let err = env_action("sim_1", 1, &values(r#"["0.5"]"#)).unwrap_err();
+        let err = env_action("sim_1", 1, &values(r#"["0.5"]"#))
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("the string \"0.5\", not a number"), "{err}");
     }
 
@@ -198,17 +230,23 @@ mod tests {
         let mut rows = vec![values("[0, 0]"); 16];
         assert_eq!(batch_actions("batch_1", 16, 2, &rows).unwrap().len(), 32);
         rows[4] = values("[0, 0, 0]");
-        let err = batch_actions("batch_1", 16, 2, &rows).unwrap_err();
+        let err = batch_actions("batch_1", 16, 2, &rows)
+            .unwrap_err()
+            .to_string();
         assert_eq!(err, "batch_1 expects 16 arrays of 2 values; array 4 has 3");
         rows.truncate(3);
-        let err = batch_actions("batch_1", 16, 2, &rows).unwrap_err();
+        let err = batch_actions("batch_1", 16, 2, &rows)
+            .unwrap_err()
+            .to_string();
         assert_eq!(
             err,
             "batch_1 expects 16 arrays of 2 values (one array per env, action_dim values \
              each); got 3 arrays"
         );
         let rows = vec![values("[0]"), values(r#"["inf"]"#)];
-        let err = batch_actions("batch_2", 2, 1, &rows).unwrap_err();
+        let err = batch_actions("batch_2", 2, 1, &rows)
+            .unwrap_err()
+            .to_string();
         assert!(err.starts_with("actions[1][0] is infinite (inf);"), "{err}");
     }
 }

@@ -5,6 +5,7 @@ use rmcp::handler::server::wrapper::Parameters;
 use rmcp::{tool, tool_router};
 
 use crate::actions;
+use crate::errors::Result;
 use crate::output::{
     BatchClosed, BatchCreated, BatchObservationsOut, BatchStepOut, EnvStepOut, ObservationOut,
 };
@@ -24,7 +25,7 @@ impl GymTools {
     async fn batch_create_envs(
         &self,
         Parameters(p): Parameters<CreateBatchParams>,
-    ) -> Result<Json<BatchCreated>, String> {
+    ) -> Result<Json<BatchCreated>> {
         let n_envs = p.n_envs;
         let options = p.into_options()?;
         let placed = self.fleet.create_batch(options).await?;
@@ -47,7 +48,7 @@ impl GymTools {
     async fn batch_step(
         &self,
         Parameters(p): Parameters<BatchStepParams>,
-    ) -> Result<Json<BatchStepOut>, String> {
+    ) -> Result<Json<BatchStepOut>> {
         let placed = self.fleet.batch(&p.batch_id)?;
         let info = placed.handle.info();
         let flat = actions::batch_actions(&placed.id, info.n_envs, info.action_dim, &p.actions)?;
@@ -90,7 +91,7 @@ impl GymTools {
     async fn batch_reset(
         &self,
         Parameters(p): Parameters<BatchResetParams>,
-    ) -> Result<Json<BatchObservationsOut>, String> {
+    ) -> Result<Json<BatchObservationsOut>> {
         let placed = self.fleet.batch(&p.batch_id)?;
         let observations = placed
             .handle
@@ -115,7 +116,7 @@ impl GymTools {
     async fn batch_close(
         &self,
         Parameters(p): Parameters<BatchRefParams>,
-    ) -> Result<Json<BatchClosed>, String> {
+    ) -> Result<Json<BatchClosed>> {
         let placed = self.fleet.batch(&p.batch_id)?;
         placed
             .handle

@@ -81,8 +81,18 @@ pub(crate) fn init_tracing(filter: &str) {
 mod tests {
     use super::*;
 
+    /// Clears the `GYMFLEET_*` variables, so that the caller's environment does not change
+    /// the defaults these tests check (no test of this binary sets one).
+    fn scrub_gymfleet_env() {
+        std::env::vars_os()
+            .map(|(key, _)| key)
+            .filter(|key| key.to_string_lossy().starts_with("GYMFLEET_"))
+            .for_each(|key| std::env::remove_var(key));
+    }
+
     #[test]
     fn servers_are_repeated_or_comma_separated() {
+        scrub_gymfleet_env();
         let cli = Cli::parse_from([
             "gymfleet-mcp",
             "--server",
@@ -99,6 +109,7 @@ mod tests {
 
     #[test]
     fn http_takes_a_socket_address() {
+        scrub_gymfleet_env();
         let cli = Cli::parse_from(["gymfleet-mcp", "--http", "127.0.0.1:0"]);
         assert_eq!(cli.http, Some("127.0.0.1:0".parse().unwrap()));
         assert!(Cli::try_parse_from(["gymfleet-mcp", "--http", "nope"]).is_err());

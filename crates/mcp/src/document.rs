@@ -8,6 +8,8 @@ use schemars::{json_schema, JsonSchema, Schema, SchemaGenerator};
 use serde::Deserialize;
 use serde_json::Value;
 
+use crate::errors::{McpError, Result};
+
 /// An assembly document as given: an object, or a string containing one.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(transparent)]
@@ -16,15 +18,15 @@ pub(crate) struct Document(Value);
 impl Document {
     /// The JSON text to send to the server. A string is passed through untouched (the
     /// server reports where it fails to parse); other non-objects are refused here.
-    pub(crate) fn into_json_text(self) -> Result<String, String> {
+    pub(crate) fn into_json_text(self) -> Result<String> {
         match self.0 {
             Value::String(text) => Ok(text),
             object @ Value::Object(_) => Ok(object.to_string()),
-            other => Err(format!(
+            other => Err(McpError::bad_argument(format!(
                 "document must be the assembly document as a JSON object (with \"parts\" and \
                  \"assembly\"), or a string containing that JSON; got {}",
                 kind(&other)
-            )),
+            ))),
         }
     }
 }
@@ -61,10 +63,11 @@ impl JsonSchema for Document {
 mod tests {
     use super::*;
 
-    fn doc(value: Value) -> Result<String, String> {
+    fn doc(value: Value) -> std::result::Result<String, String> {
         serde_json::from_value::<Document>(value)
             .unwrap()
             .into_json_text()
+            .map_err(|e| e.to_string())
     }
 
     #[test]

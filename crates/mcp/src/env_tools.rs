@@ -7,6 +7,7 @@ use rmcp::handler::server::wrapper::Parameters;
 use rmcp::{tool, tool_router};
 
 use crate::actions;
+use crate::errors::Result;
 use crate::output::{EnvClosed, EnvCreated, ObservationOut, StepOut};
 use crate::params::{CreateEnvParams, EnvRefParams, ResetParams, StepParams};
 use crate::reply::Json;
@@ -24,7 +25,7 @@ impl GymTools {
     async fn create_robot_env(
         &self,
         Parameters(p): Parameters<CreateEnvParams>,
-    ) -> Result<Json<EnvCreated>, String> {
+    ) -> Result<Json<EnvCreated>> {
         let options = p.into_options()?;
         let placed = self.fleet.create_env(options).await?;
         let server = self.fleet.addr(placed.server);
@@ -45,7 +46,7 @@ impl GymTools {
     async fn gym_reset(
         &self,
         Parameters(p): Parameters<ResetParams>,
-    ) -> Result<Json<ObservationOut>, String> {
+    ) -> Result<Json<ObservationOut>> {
         let placed = self.fleet.env(&p.env_id)?;
         let observation = placed
             .handle
@@ -63,10 +64,7 @@ impl GymTools {
         degrees or mm; velocity targets in degrees/s or mm/s. When done is true, call \
         gym_reset."
     )]
-    async fn gym_step(
-        &self,
-        Parameters(p): Parameters<StepParams>,
-    ) -> Result<Json<StepOut>, String> {
+    async fn gym_step(&self, Parameters(p): Parameters<StepParams>) -> Result<Json<StepOut>> {
         let placed = self.fleet.env(&p.env_id)?;
         let values = actions::env_action(&placed.id, placed.handle.info().action_dim, &p.values)?;
         let result = placed
@@ -86,7 +84,7 @@ impl GymTools {
     async fn gym_observe(
         &self,
         Parameters(p): Parameters<EnvRefParams>,
-    ) -> Result<Json<ObservationOut>, String> {
+    ) -> Result<Json<ObservationOut>> {
         let placed = self.fleet.env(&p.env_id)?;
         let observation = placed
             .handle
@@ -101,10 +99,7 @@ impl GymTools {
         description = "Close an environment and free its resources. Its env_id is invalid \
         afterwards. Always call this when you are done."
     )]
-    async fn gym_close(
-        &self,
-        Parameters(p): Parameters<EnvRefParams>,
-    ) -> Result<Json<EnvClosed>, String> {
+    async fn gym_close(&self, Parameters(p): Parameters<EnvRefParams>) -> Result<Json<EnvClosed>> {
         let placed = self.fleet.env(&p.env_id)?;
         placed
             .handle

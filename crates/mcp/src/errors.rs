@@ -1,14 +1,141 @@
-//! Turns [`ClientError`]s into tool-error messages an agent can act on: which server,
-//! which of the adapter's ids (never the server's own id, which the agent never saw), and
-//! what to do next.
+//! [`McpError`], the adapter's one error type, and how a [`ClientError`] becomes a tool
+//! error an agent can act on: which server, which of the adapter's ids (never the
+//! server's own id, which the agent never saw), and what to do next.
 
 use gymfleet_client::ClientError;
+use rmcp::model::{ContentBlock, IntoContents};
+
+/// Everything that can go wrong in the adapter. A tool returns it as a tool error
+/// (`isError: true`) whose text is the message; at startup, `main` prints it.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub(crate) enum McpError {
+    /// A tool argument is unusable (the document, an option or an action); the message
+    /// names the argument, what was expected and what was given.
+    #[error("{message}")]
+    BadArgument {
+        /// What is wrong.
+        message: String,
+    },
+    /// An id of the other kind: an env's where a batch's is expected, or the reverse.
+    #[error("{}", wrong_kind(id, *expected))]
+    WrongIdKind {
+        /// The id as given.
+        id: String,
+        /// The kind the tool takes.
+        expected: IdKind,
+    },
+    /// An id that names no open env or batch of this adapter.
+    #[error(
+        "unknown {} \"{id}\": no open {} has this id (open: {open}). Create one with {}.",
+        kind.field(),
+        kind.noun(),
+        kind.creator()
+    )]
+    UnknownId {
+        /// The id as given.
+        id: String,
+        /// The kind the tool takes.
+        kind: IdKind,
+        /// The open ids of that kind, listed.
+        open: String,
+    },
+    /// No server could be reached to create on.
+    #[error("{} {SERVER_DOWN_HINT}", failures.join(" "))]
+    NoServerReachable {
+        /// Why each server could not be reached.
+        failures: Vec<String>,
+    },
+    /// A server refused or failed the call; the message has the adapter's ids.
+    #[error("{message}")]
+    Server {
+        /// The server's message, rephrased for the agent.
+        message: String,
+    },
+    /// The adapter could not start or keep serving (a bad flag, a port in use).
+    #[error("{message}")]
+    Startup {
+        /// What failed.
+        message: String,
+    },
+}
+
+impl McpError {
+    /// A [`McpError::BadArgument`].
+    pub(crate) fn bad_argument(message: impl Into<String>) -> Self {
+        McpError::BadArgument {
+            message: message.into(),
+        }
+    }
+
+    /// A [`McpError::Startup`].
+    pub(crate) fn startup(message: impl Into<String>) -> Self {
+        McpError::Startup {
+            message: message.into(),
+        }
+    }
+}
+
+/// A tool error is text content.
+impl IntoContents for McpError {
+    fn into_contents(self) -> Vec<ContentBlock> {
+        vec![ContentBlock::text(self.to_string())]
+    }
+}
+
+/// Result alias for this crate.
+pub(crate) type Result<T, E = McpError> = std::result::Result<T, E>;
+
+/// The two kinds of id the adapter hands out.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum IdKind {
+    /// `sim_<n>`.
+    Env,
+    /// `batch_<n>`.
+    Batch,
+}
+
+impl IdKind {
+    /// The argument's name: `env_id` or `batch_id`.
+    pub(crate) fn field(self) -> &'static str {
+        match self {
+            IdKind::Env => "env_id",
+            IdKind::Batch => "batch_id",
+        }
+    }
+
+    fn noun(self) -> &'static str {
+        match self {
+            IdKind::Env => "environment",
+            IdKind::Batch => "batch",
+        }
+    }
+
+    fn creator(self) -> &'static str {
+        match self {
+            IdKind::Env => "create_robot_env",
+            IdKind::Batch => "batch_create_envs",
+        }
+    }
+}
+
+fn wrong_kind(id: &str, expected: IdKind) -> String {
+    match expected {
+        IdKind::Env => format!(
+            "\"{id}\" is a batch_id, not an env_id: use batch_step, batch_reset and \
+             batch_close for batches"
+        ),
+        IdKind::Batch => format!(
+            "\"{id}\" is an env_id, not a batch_id: use gym_step, gym_reset, gym_observe \
+             and gym_close for single environments"
+        ),
+    }
+}
 
 /// What a failed call was about: one of the adapter's envs or batches.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Subject<'a> {
-    /// `"env_id"` or `"batch_id"`.
-    pub(crate) kind: &'a str,
+    /// An env or a batch.
+    pub(crate) kind: IdKind,
     /// The adapter's id, as the agent knows it.
     pub(crate) id: &'a str,
     /// The id on the server, to be replaced in the server's messages.
@@ -36,28 +163,27 @@ pub(crate) fn unreachable(err: &ClientError, addr: &str) -> Option<String> {
 }
 
 /// A failed call on `subject`.
-pub(crate) fn on_subject(err: &ClientError, subject: Subject<'_>) -> String {
+pub(crate) fn on_subject(err: &ClientError, subject: Subject<'_>) -> McpError {
     let Subject {
         kind,
         id,
         server_id,
         addr,
     } = subject;
-    if let Some(text) = unreachable(err, addr) {
-        return format!("{text} {kind} \"{id}\" lives on that server. {SERVER_DOWN_HINT}");
-    }
-    let creator = if kind == "batch_id" {
-        "batch_create_envs"
+    let field = kind.field();
+    let message = if let Some(text) = unreachable(err, addr) {
+        format!("{text} {field} \"{id}\" lives on that server. {SERVER_DOWN_HINT}")
     } else {
-        "create_robot_env"
+        match err {
+            ClientError::NotFound { .. } => format!(
+                "unknown {field} \"{id}\": the server no longer has it (it was closed, or \
+                 reclaimed after idling). Create a new one with {}.",
+                kind.creator()
+            ),
+            other => rename_id(&other.to_string(), server_id, id),
+        }
     };
-    match err {
-        ClientError::NotFound { .. } => format!(
-            "unknown {kind} \"{id}\": the server no longer has it (it was closed, or reclaimed \
-             after idling). Create a new one with {creator}."
-        ),
-        other => rename_id(&other.to_string(), server_id, id),
-    }
+    McpError::Server { message }
 }
 
 /// `text` with every whole occurrence of the id `from` replaced by `to` (`sim_1` is
@@ -91,7 +217,7 @@ mod tests {
 
     fn subject() -> Subject<'static> {
         Subject {
-            kind: "env_id",
+            kind: IdKind::Env,
             id: "sim_2",
             server_id: "sim_1",
             addr: "127.0.0.1:9",
@@ -109,7 +235,7 @@ mod tests {
             message: "env \"sim_1\" diverged: reset it".into(),
         };
         assert_eq!(
-            on_subject(&err, subject()),
+            on_subject(&err, subject()).to_string(),
             "failed precondition: env \"sim_2\" diverged: reset it"
         );
     }
@@ -119,7 +245,7 @@ mod tests {
         let err = ClientError::NotFound {
             message: "env \"sim_1\" not found".into(),
         };
-        let text = on_subject(&err, subject());
+        let text = on_subject(&err, subject()).to_string();
         assert!(text.starts_with("unknown env_id \"sim_2\": "), "{text}");
         assert!(text.ends_with("with create_robot_env."), "{text}");
     }
@@ -129,7 +255,7 @@ mod tests {
         let err = ClientError::Unavailable {
             message: "connection reset".into(),
         };
-        let text = on_subject(&err, subject());
+        let text = on_subject(&err, subject()).to_string();
         assert!(
             text.starts_with("the gymfleet server at 127.0.0.1:9 is unavailable"),
             "{text}"

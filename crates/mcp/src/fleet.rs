@@ -12,7 +12,7 @@ use gymfleet_client::{Batch, BatchOptions, Client, ClientError, Env, EnvOptions}
 use tokio::sync::OnceCell;
 use tokio::task::JoinSet;
 
-use crate::errors::{self, Subject, SERVER_DOWN_HINT};
+use crate::errors::{self, IdKind, McpError, Result, Subject};
 
 /// Prefix of the adapter's env ids.
 pub(crate) const ENV_PREFIX: &str = "sim_";
@@ -135,7 +135,7 @@ impl Fleet {
 
     /// Creates something on the least-loaded reachable server; unreachable servers are
     /// skipped, any other refusal is final.
-    async fn place<T, F, Fut>(&self, create: F) -> Result<(usize, T), String>
+    async fn place<T, F, Fut>(&self, create: F) -> Result<(usize, T)>
     where
         F: Fn(Client) -> Fut,
         Fut: Future<Output = Result<T, ClientError>>,
@@ -158,15 +158,19 @@ impl Fleet {
                         tracing::warn!(server = self.addr(server), "{text}");
                         failures.push(text);
                     }
-                    None => return Err(err.to_string()),
+                    None => {
+                        return Err(McpError::Server {
+                            message: err.to_string(),
+                        })
+                    }
                 },
             }
         }
-        Err(format!("{} {SERVER_DOWN_HINT}", failures.join(" ")))
+        Err(McpError::NoServerReachable { failures })
     }
 
     /// Creates an env and gives it the next `sim_<n>` id.
-    pub(crate) async fn create_env(&self, options: EnvOptions) -> Result<Placed<Env>, String> {
+    pub(crate) async fn create_env(&self, options: EnvOptions) -> Result<Placed<Env>> {
         let (server, env) = self
             .place(|client| {
                 let options = options.clone();
@@ -187,10 +191,7 @@ impl Fleet {
     }
 
     /// Creates a batch and gives it the next `batch_<n>` id.
-    pub(crate) async fn create_batch(
-        &self,
-        options: BatchOptions,
-    ) -> Result<Placed<Batch>, String> {
+    pub(crate) async fn create_batch(&self, options: BatchOptions) -> Result<Placed<Batch>> {
         let weight = options.n_envs() as u64;
         let (server, batch) = self
             .place(|client| {
@@ -212,41 +213,41 @@ impl Fleet {
     }
 
     /// The env `id`, or a message naming it and the open envs.
-    pub(crate) fn env(&self, id: &str) -> Result<Placed<Env>, String> {
+    pub(crate) fn env(&self, id: &str) -> Result<Placed<Env>> {
         let table = self.table();
         if let Some(placed) = number(id, ENV_PREFIX).and_then(|n| table.envs.get(&n)) {
             return Ok(placed.clone());
         }
         if number(id, BATCH_PREFIX).is_some_and(|n| table.batches.contains_key(&n)) {
-            return Err(format!(
-                "\"{id}\" is a batch_id, not an env_id: use batch_step, batch_reset and \
-                 batch_close for batches"
-            ));
+            return Err(McpError::WrongIdKind {
+                id: id.to_string(),
+                expected: IdKind::Env,
+            });
         }
-        let open = listing(table.envs.values().map(|p| &p.id));
-        Err(format!(
-            "unknown env_id \"{id}\": no open environment has this id (open: {open}). \
-             Create one with create_robot_env."
-        ))
+        Err(McpError::UnknownId {
+            id: id.to_string(),
+            kind: IdKind::Env,
+            open: listing(table.envs.values().map(|p| &p.id)),
+        })
     }
 
     /// The batch `id`, or a message naming it and the open batches.
-    pub(crate) fn batch(&self, id: &str) -> Result<Placed<Batch>, String> {
+    pub(crate) fn batch(&self, id: &str) -> Result<Placed<Batch>> {
         let table = self.table();
         if let Some((placed, _)) = number(id, BATCH_PREFIX).and_then(|n| table.batches.get(&n)) {
             return Ok(placed.clone());
         }
         if number(id, ENV_PREFIX).is_some_and(|n| table.envs.contains_key(&n)) {
-            return Err(format!(
-                "\"{id}\" is an env_id, not a batch_id: use gym_step, gym_reset, gym_observe \
-                 and gym_close for single environments"
-            ));
+            return Err(McpError::WrongIdKind {
+                id: id.to_string(),
+                expected: IdKind::Batch,
+            });
         }
-        let open = listing(table.batches.values().map(|(p, _)| &p.id));
-        Err(format!(
-            "unknown batch_id \"{id}\": no open batch has this id (open: {open}). Create one \
-             with batch_create_envs."
-        ))
+        Err(McpError::UnknownId {
+            id: id.to_string(),
+            kind: IdKind::Batch,
+            open: listing(table.batches.values().map(|(p, _)| &p.id)),
+        })
     }
 
     /// Drops env `id` from the table.
@@ -268,14 +269,14 @@ impl Fleet {
     }
 
     /// The message for a failed call on env `placed`; forgets it if the server lost it.
-    pub(crate) fn env_failed(&self, placed: &Placed<Env>, err: &ClientError) -> String {
+    pub(crate) fn env_failed(&self, placed: &Placed<Env>, err: &ClientError) -> McpError {
         if matches!(err, ClientError::NotFound { .. }) {
             self.forget_env(&placed.id);
         }
         errors::on_subject(
             err,
             Subject {
-                kind: "env_id",
+                kind: IdKind::Env,
                 id: &placed.id,
                 server_id: placed.handle.id(),
                 addr: self.addr(placed.server),
@@ -284,14 +285,14 @@ impl Fleet {
     }
 
     /// The message for a failed call on batch `placed`; forgets it if the server lost it.
-    pub(crate) fn batch_failed(&self, placed: &Placed<Batch>, err: &ClientError) -> String {
+    pub(crate) fn batch_failed(&self, placed: &Placed<Batch>, err: &ClientError) -> McpError {
         if matches!(err, ClientError::NotFound { .. }) {
             self.forget_batch(&placed.id);
         }
         errors::on_subject(
             err,
             Subject {
-                kind: "batch_id",
+                kind: IdKind::Batch,
                 id: &placed.id,
                 server_id: placed.handle.id(),
                 addr: self.addr(placed.server),
@@ -351,14 +352,22 @@ mod tests {
     fn unknown_ids_list_the_open_ones() {
         let fleet = Fleet::new(vec!["127.0.0.1:1".into()]);
         let err = fleet.env("sim_42").unwrap_err();
-        assert_eq!(
+        assert!(matches!(
             err,
+            McpError::UnknownId {
+                kind: IdKind::Env,
+                ..
+            }
+        ));
+        assert_eq!(
+            err.to_string(),
             "unknown env_id \"sim_42\": no open environment has this id (open: none). \
              Create one with create_robot_env."
         );
         assert!(fleet
             .batch("nope")
             .unwrap_err()
+            .to_string()
             .starts_with("unknown batch_id \"nope\""));
         let many: Vec<String> = (1..=12).map(|n| format!("sim_{n}")).collect();
         assert_eq!(

@@ -31,6 +31,7 @@ use std::time::Duration;
 use clap::Parser;
 
 use crate::cli::Cli;
+use crate::errors::McpError;
 use crate::fleet::Fleet;
 use crate::servers::Servers;
 
@@ -61,7 +62,7 @@ fn main() -> ExitCode {
 
 /// Starts the servers, serves MCP until the client leaves or a signal, then closes what
 /// the adapter created and stops an embedded server.
-async fn run(cli: Cli) -> Result<(), String> {
+async fn run(cli: Cli) -> Result<(), McpError> {
     if let Some(addr) = cli.http {
         transport::check_http_addr(addr)?;
     }

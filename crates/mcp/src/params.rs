@@ -8,6 +8,7 @@ use serde::Deserialize;
 
 use crate::actions::ActionValue;
 use crate::document::Document;
+use crate::errors::Result;
 
 /// Inputs of `create_robot_env`.
 #[derive(Debug, Deserialize, JsonSchema)]
@@ -217,7 +218,7 @@ struct Common {
 
 impl Common {
     /// The client's options for `document`; unset options take the server's defaults.
-    fn into_options(self, document: Document) -> Result<EnvOptions, String> {
+    fn into_options(self, document: Document) -> Result<EnvOptions> {
         let mut options =
             EnvOptions::new(document.into_json_text()?).end_effectors(self.end_effector_ids);
         if let Some(dt) = self.dt {
@@ -247,7 +248,7 @@ impl Common {
 
 impl CreateEnvParams {
     /// The client's options, or why the document cannot be sent.
-    pub(crate) fn into_options(self) -> Result<EnvOptions, String> {
+    pub(crate) fn into_options(self) -> Result<EnvOptions> {
         let common = Common {
             end_effector_ids: self.end_effector_ids,
             dt: self.dt,
@@ -263,7 +264,7 @@ impl CreateEnvParams {
 
 impl CreateBatchParams {
     /// The client's options, or why the document cannot be sent.
-    pub(crate) fn into_options(self) -> Result<BatchOptions, String> {
+    pub(crate) fn into_options(self) -> Result<BatchOptions> {
         let common = Common {
             end_effector_ids: self.end_effector_ids,
             dt: self.dt,

@@ -4,6 +4,7 @@
 //! adapter still reaches over loopback gRPC like any other.
 
 use crate::cli::Cli;
+use crate::errors::Result;
 
 /// The servers in use, and the embedded one to stop at the end, if any.
 #[derive(Debug)]
@@ -15,7 +16,7 @@ pub(crate) struct Servers {
 
 impl Servers {
     /// The servers of `cli`: its `--server` addresses, or an embedded server.
-    pub(crate) async fn start(cli: &Cli) -> Result<Self, String> {
+    pub(crate) async fn start(cli: &Cli) -> Result<Self> {
         let addrs = cli.server_addrs();
         if !addrs.is_empty() {
             tracing::info!(servers = ?addrs, "using gymfleet servers");
@@ -29,16 +30,15 @@ impl Servers {
         {
             let server = embedded::EmbeddedServer::start(cli.threads).await?;
             Ok(Servers {
-                addrs: vec![server.addr.to_string()],
+                addrs: vec![server.addr()],
                 embedded: Some(server),
             })
         }
         #[cfg(not(feature = "embedded"))]
-        Err(
+        Err(crate::errors::McpError::startup(
             "no gymfleet server given: pass --server HOST:PORT (or set GYMFLEET_SERVER). \
-             This build has no embedded server (it was built without the `embedded` feature)."
-                .to_string(),
-        )
+             This build has no embedded server (it was built without the `embedded` feature).",
+        ))
     }
 
     /// The server addresses, in the order given.
@@ -57,53 +57,44 @@ impl Servers {
 
 #[cfg(feature = "embedded")]
 mod embedded {
-    use std::net::SocketAddr;
     use std::time::Duration;
 
-    use gymfleet_server::{ServerConfig, ServerError};
-    use tokio::net::TcpListener;
-    use tokio::sync::oneshot;
-    use tokio::task::JoinHandle;
+    use gymfleet_server::{LocalServer, ServerConfig};
 
-    /// A gymfleet server serving on loopback inside this process.
+    /// A gymfleet server serving on loopback inside this process (the server crate's
+    /// `LocalServer`).
     #[derive(Debug)]
     pub(super) struct EmbeddedServer {
-        pub(super) addr: SocketAddr,
-        stop: oneshot::Sender<()>,
-        task: JoinHandle<Result<(), ServerError>>,
+        server: LocalServer,
     }
 
     impl EmbeddedServer {
         /// Binds 127.0.0.1:0 and serves there with `threads` pool threads (0 = one per
         /// core). It never reclaims idle envs: they live as long as this process, which
         /// closes them at exit.
-        pub(super) async fn start(threads: usize) -> Result<Self, String> {
-            let listener = TcpListener::bind("127.0.0.1:0")
-                .await
-                .map_err(|e| format!("embedded server: cannot bind 127.0.0.1:0: {e}"))?;
-            let addr = listener
-                .local_addr()
-                .map_err(|e| format!("embedded server: {e}"))?;
+        pub(super) async fn start(threads: usize) -> crate::errors::Result<Self> {
             let config = ServerConfig {
                 threads,
                 idle_ttl: Duration::ZERO,
                 ..ServerConfig::default()
             };
-            let (stop, stopped) = oneshot::channel::<()>();
-            let task = tokio::spawn(gymfleet_server::serve(listener, config, async {
-                stopped.await.ok();
-            }));
-            tracing::info!(%addr, "started the embedded gymfleet server");
-            Ok(EmbeddedServer { addr, stop, task })
+            let server = LocalServer::start(config)
+                .await
+                .map_err(|e| crate::errors::McpError::startup(format!("embedded server: {e}")))?;
+            tracing::info!(addr = %server.client_addr(), "started the embedded gymfleet server");
+            Ok(EmbeddedServer { server })
+        }
+
+        /// The address clients connect to.
+        pub(super) fn addr(&self) -> String {
+            self.server.client_addr()
         }
 
         /// Stops it and waits for in-flight calls to finish.
         pub(super) async fn stop(self) {
-            let _ = self.stop.send(());
-            match self.task.await {
-                Ok(Ok(())) => tracing::debug!("embedded server stopped"),
-                Ok(Err(err)) => tracing::warn!("embedded server: {err}"),
-                Err(err) => tracing::warn!("embedded server task: {err}"),
+            match self.server.stop().await {
+                Ok(()) => tracing::debug!("embedded server stopped"),
+                Err(err) => tracing::warn!("embedded server: {err}"),
             }
         }
     }

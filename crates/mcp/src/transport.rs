@@ -12,43 +12,19 @@ use rmcp::transport::StreamableHttpServerConfig;
 use rmcp::ServiceExt;
 use tokio::net::TcpListener;
 
+use crate::errors::{McpError, Result};
 use crate::fleet::Fleet;
 use crate::server::GymTools;
 
 /// How long open HTTP sessions get to wind down after a shutdown signal.
 const HTTP_DRAIN: Duration = Duration::from_secs(3);
 
-/// Completes on Ctrl-C or (on Unix) SIGTERM; never, if neither can be listened for.
-pub(crate) async fn shutdown_signal() {
-    let ctrl_c = async {
-        if tokio::signal::ctrl_c().await.is_err() {
-            std::future::pending::<()>().await;
-        }
-    };
-    #[cfg(unix)]
-    let terminate = async {
-        use tokio::signal::unix::{signal, SignalKind};
-        match signal(SignalKind::terminate()) {
-            Ok(mut term) => {
-                term.recv().await;
-            }
-            Err(_) => std::future::pending::<()>().await,
-        }
-    };
-    #[cfg(not(unix))]
-    let terminate = std::future::pending::<()>();
-    tokio::select! {
-        () = ctrl_c => tracing::info!("interrupted"),
-        () = terminate => tracing::info!("terminated"),
-    }
-}
-
 /// Serves one MCP session on stdin/stdout until stdin closes or a shutdown signal.
-pub(crate) async fn serve_stdio(fleet: Arc<Fleet>) -> Result<(), String> {
+pub(crate) async fn serve_stdio(fleet: Arc<Fleet>) -> Result<()> {
     let service = GymTools::new(fleet)
         .serve(rmcp::transport::io::stdio_pipes())
         .await
-        .map_err(|e| format!("MCP over stdio: initialisation failed: {e}"))?;
+        .map_err(|e| McpError::startup(format!("MCP over stdio: initialisation failed: {e}")))?;
     let stop = service.cancellation_token();
     tokio::select! {
         quit = service.waiting() => {
@@ -57,33 +33,36 @@ pub(crate) async fn serve_stdio(fleet: Arc<Fleet>) -> Result<(), String> {
                 Err(err) => tracing::warn!("MCP session task failed: {err}"),
             }
         }
-        () = shutdown_signal() => stop.cancel(),
+        () = tokio_graceful::default_signal() => {
+            tracing::info!("interrupted or terminated");
+            stop.cancel()
+        }
     }
     Ok(())
 }
 
 /// Refuses an `--http` address off loopback: the HTTP transport has no authentication.
-pub(crate) fn check_http_addr(addr: SocketAddr) -> Result<(), String> {
+pub(crate) fn check_http_addr(addr: SocketAddr) -> Result<()> {
     if addr.ip().is_loopback() {
         Ok(())
     } else {
-        Err(format!(
+        Err(McpError::startup(format!(
             "--http {addr}: MCP over HTTP is served on loopback only (127.0.0.1 or [::1]), \
              since it has no authentication"
-        ))
+        )))
     }
 }
 
 /// Serves MCP over streamable HTTP at `http://addr/mcp` (loopback only) until a shutdown
 /// signal. Prints the bound URL on stderr, so that port 0 can be used.
-pub(crate) async fn serve_http(addr: SocketAddr, fleet: Arc<Fleet>) -> Result<(), String> {
+pub(crate) async fn serve_http(addr: SocketAddr, fleet: Arc<Fleet>) -> Result<()> {
     check_http_addr(addr)?;
     let listener = TcpListener::bind(addr)
         .await
-        .map_err(|e| format!("--http {addr}: cannot bind: {e}"))?;
+        .map_err(|e| McpError::startup(format!("--http {addr}: cannot bind: {e}")))?;
     let bound = listener
         .local_addr()
-        .map_err(|e| format!("--http {addr}: {e}"))?;
+        .map_err(|e| McpError::startup(format!("--http {addr}: {e}")))?;
     let config = StreamableHttpServerConfig::default();
     let sessions_stop = config.cancellation_token.clone();
     let service = StreamableHttpService::new(
@@ -99,9 +78,10 @@ pub(crate) async fn serve_http(addr: SocketAddr, fleet: Arc<Fleet>) -> Result<()
     let serving = axum::serve(listener, router)
         .with_graceful_shutdown(async move { stopping.cancelled().await });
     tokio::select! {
-        served = serving => served.map_err(|e| format!("--http {bound}: {e}")),
+        served = serving => served.map_err(|e| McpError::startup(format!("--http {bound}: {e}"))),
         () = async {
-            shutdown_signal().await;
+            tokio_graceful::default_signal().await;
+            tracing::info!("interrupted or terminated");
             sessions_stop.cancel();
             tokio::time::sleep(HTTP_DRAIN).await;
         } => {

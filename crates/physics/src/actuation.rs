@@ -16,52 +16,13 @@
 //! `kp = I·ω²` and `kd = 2·I·ω` (critical damping) with `ω = 2π·20 Hz`. Velocity targets
 //! use `kd` alone. Explicit ball PD caps `ω` at `0.2 / substep_dt` for stability.
 
-use gymfleet_assembly::{DofKind, JointType};
+use gymfleet_assembly::JointType;
 use rapier3d::prelude::*;
 
+use crate::command::{ActionMode, PdGains, DEFAULT_PD_FREQUENCY_HZ};
 use crate::error::{PhysicsError, Result};
+use crate::units::to_si;
 use crate::world::{JointDof, JointSlot, RobotWorld};
-
-/// Natural frequency of the default PD gains, in Hz.
-pub const DEFAULT_PD_FREQUENCY_HZ: f64 = 20.0;
-
-/// How the values of an action are interpreted.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum ActionMode {
-    /// Efforts in N·m (angular DOF) or N (linear DOF).
-    #[default]
-    Torque,
-    /// Targets in deg or mm, reached through PD motors.
-    Position,
-    /// Targets in deg/s or mm/s.
-    Velocity,
-}
-
-/// PD gain overrides, one entry per DOF, in SI: `kp` in N·m/rad or N/m, `kd` in
-/// N·m·s/rad or N·s/m.
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct PdGains {
-    /// Proportional gains (empty = defaults).
-    pub kp: Vec<f64>,
-    /// Derivative gains (empty = defaults).
-    pub kd: Vec<f64>,
-}
-
-/// Gains resolved per DOF, defaults filled in.
-#[derive(Debug, Clone, Default)]
-pub(crate) struct ResolvedGains {
-    /// The explicit PD frequency cap for ball joints (rad/s).
-    pub(crate) ball_omega_cap: f64,
-    /// Whether the user gave gains; ball joints then use them per axis.
-    pub(crate) overridden: bool,
-}
-
-/// The held action.
-#[derive(Debug, Clone, Default)]
-pub(crate) struct Command {
-    pub(crate) mode: ActionMode,
-    pub(crate) values: Vec<f32>,
-}
 
 /// Fills `kp`/`kd` of each DOF from overrides or from the apparent inertias.
 pub(crate) fn resolve_gains(
@@ -120,14 +81,6 @@ fn motor_axes(kind: JointType) -> &'static [JointAxis] {
         JointType::Prismatic => &[JointAxis::LinX],
         JointType::Cylindrical => &[JointAxis::LinX, JointAxis::AngX],
         JointType::Ball | JointType::Fixed => &[],
-    }
-}
-
-/// A value in user units (deg, mm) to SI (rad, m).
-pub(crate) fn to_si(kind: DofKind, value: f64) -> f64 {
-    match kind {
-        DofKind::Angular => value.to_radians(),
-        DofKind::Linear => value / 1000.0,
     }
 }
 

@@ -3,7 +3,8 @@
 use gymfleet_assembly::{Assembly, DofKind, Instance, Joint, JointType, Shape};
 use rapier3d::prelude::*;
 
-use crate::actuation::{resolve_gains, Command, ResolvedGains};
+use crate::actuation::resolve_gains;
+use crate::command::{Command, ResolvedGains};
 use crate::error::{PhysicsError, Result};
 use crate::world::{
     length_unit, JointDof, JointSlot, PipelineCell, RobotWorld, Sets, WorldOptions,

@@ -14,11 +14,13 @@
 
 mod actuation;
 mod build;
+mod command;
 mod error;
 mod perturb;
 mod readout;
+mod units;
 mod world;
 
-pub use actuation::{ActionMode, PdGains, DEFAULT_PD_FREQUENCY_HZ};
+pub use command::{ActionMode, PdGains, DEFAULT_PD_FREQUENCY_HZ};
 pub use error::{PhysicsError, Result};
 pub use world::{JointDof, RobotWorld, WorldOptions};

@@ -3,8 +3,7 @@
 
 use rapier3d::prelude::*;
 
-use gymfleet_assembly::DofKind;
-
+use crate::units::to_si;
 use crate::world::RobotWorld;
 
 impl RobotWorld {
@@ -42,7 +41,7 @@ impl RobotWorld {
                 if let Some([min, max]) = dof.limits {
                     offset = offset.clamp(min, max);
                 }
-                disp[first + k] = to_si(dof.kind, offset);
+                disp[first + k] = to_si(dof.kind, offset) as Real;
             }
             mb.apply_displacements(&disp);
             if !touched.contains(&slot.multibody) {
@@ -62,13 +61,5 @@ impl RobotWorld {
                 mb.update_rigid_bodies(&mut self.live.bodies, true);
             }
         }
-    }
-}
-
-/// A DOF value in user units (deg or mm) as a generalized coordinate (rad or m).
-pub(crate) fn to_si(kind: DofKind, user: f64) -> Real {
-    match kind {
-        DofKind::Angular => user.to_radians() as Real,
-        DofKind::Linear => (user / 1000.0) as Real,
     }
 }

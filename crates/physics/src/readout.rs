@@ -5,10 +5,9 @@
 
 use rapier3d::math::Rotation;
 
+use crate::units::to_mm;
 use crate::world::{JointSlot, RobotWorld};
 use gymfleet_assembly::JointType;
-
-const MM: f64 = 1000.0;
 
 impl RobotWorld {
     /// Writes the measured position (deg or mm; a rotation vector in deg for ball joints)
@@ -42,7 +41,7 @@ impl RobotWorld {
             };
             let coords = link.joint().coords();
             let gen_vel = mb.joint_velocity(link);
-            let lin = f64::from(coords[0]) * MM;
+            let lin = to_mm(f64::from(coords[0]));
             let ang = f64::from(coords[3]).to_degrees();
             match slot.kind {
                 JointType::Revolute => {
@@ -51,12 +50,12 @@ impl RobotWorld {
                 }
                 JointType::Prismatic => {
                     pos[0] = lin as f32;
-                    vel[0] = (f64::from(gen_vel[0]) * MM) as f32;
+                    vel[0] = to_mm(f64::from(gen_vel[0])) as f32;
                 }
                 JointType::Cylindrical => {
                     pos[0] = lin as f32;
                     pos[1] = ang as f32;
-                    vel[0] = (f64::from(gen_vel[0]) * MM) as f32;
+                    vel[0] = to_mm(f64::from(gen_vel[0])) as f32;
                     vel[1] = f64::from(gen_vel[1]).to_degrees() as f32;
                 }
                 JointType::Ball | JointType::Fixed => {}
@@ -70,7 +69,7 @@ impl RobotWorld {
         let rb = &self.live.bodies[self.bodies[instance]];
         let c = rb.center_of_mass();
         let q = rb.rotation();
-        let mm = MM as f32;
+        let mm = to_mm(1.0) as f32;
         [c.x * mm, c.y * mm, c.z * mm, q.w, q.x, q.y, q.z]
     }
 

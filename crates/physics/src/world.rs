@@ -3,7 +3,7 @@
 use gymfleet_assembly::{DofKind, JointType};
 use rapier3d::prelude::*;
 
-use crate::actuation::{ActionMode, Command, ResolvedGains};
+use crate::command::{ActionMode, Command, PdGains, ResolvedGains};
 
 /// Options for building a world that are not part of the document.
 #[derive(Debug, Clone, PartialEq)]
@@ -14,7 +14,7 @@ pub struct WorldOptions {
     /// `dt / substeps` (one of Rapier's solver substeps).
     pub substeps: u32,
     /// PD gain overrides; `None` derives stable defaults from each DOF's inertia.
-    pub gains: Option<crate::PdGains>,
+    pub gains: Option<PdGains>,
 }
 
 impl WorldOptions {

@@ -109,7 +109,7 @@ async fn a_fleet_batch_is_split_by_threads_and_steps_like_one_server_bitwise() {
     let fleet = fleet_of(&servers).await;
     assert_eq!(fleet.servers().len(), 3);
 
-    let batch = fleet.create_batch(arms(N_ENVS)).await.expect("fleet batch");
+    let mut batch = fleet.create_batch(arms(N_ENVS)).await.expect("fleet batch");
     let placement = batch.placement();
     let got: Vec<(String, std::ops::Range<usize>)> = placement
         .iter()

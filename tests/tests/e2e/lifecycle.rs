@@ -5,7 +5,7 @@ use std::time::Duration;
 
 use gymfleet_client::{ActionType, BatchOptions, ClientError, EnvOptions};
 use gymfleet_e2e::{TestServer, ARM2, PENDULUM};
-use gymfleet_server::ServerConfig;
+use gymfleet_server::{Clock, ServerConfig};
 use tokio_stream::StreamExt;
 
 use crate::assert_not_found;
@@ -141,12 +141,36 @@ async fn reflection_v1_and_v1alpha_list_the_simulator() {
     server.stop().await.expect("clean shutdown");
 }
 
+/// How many single envs and batches the server holds.
+async fn held(client: &gymfleet_client::Client) -> (u64, u64, u64) {
+    let info = client.server_info().await.expect("info");
+    (info.envs, info.batches, info.batch_envs)
+}
+
+/// Waits (polling; server info touches nothing) until the server holds `want`; bounded.
+async fn wait_until_held(client: &gymfleet_client::Client, want: (u64, u64, u64)) {
+    for _ in 0..500 {
+        if held(client).await == want {
+            return;
+        }
+        tokio::time::sleep(Duration::from_millis(10)).await;
+    }
+    panic!(
+        "the server still holds {:?}, not {want:?}",
+        held(client).await
+    );
+}
+
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn idle_ttl_reclaims_abandoned_envs_and_batches() {
+    // Idleness is measured on a clock the test moves: nothing depends on how long the
+    // test takes, only on the sweeper running (every 10 ms).
+    let clock = Clock::manual();
     let server = TestServer::start(ServerConfig {
         threads: 2,
-        idle_ttl: Duration::from_secs(1),
-        sweep_interval: Some(Duration::from_millis(50)),
+        idle_ttl: Duration::from_secs(60),
+        sweep_interval: Some(Duration::from_millis(10)),
+        clock: clock.clone(),
         ..ServerConfig::default()
     })
     .await;
@@ -159,24 +183,26 @@ async fn idle_ttl_reclaims_abandoned_envs_and_batches() {
         .create_batch(BatchOptions::new(ARM2, 3))
         .await
         .expect("batch");
+    let kept = client
+        .create_env(EnvOptions::new(PENDULUM))
+        .await
+        .expect("env");
 
-    // Poll (server info touches nothing) until both are gone; bounded at 10 s.
-    let mut reclaimed = false;
-    for _ in 0..200 {
-        let info = client.server_info().await.expect("info");
-        if info.envs == 0 && info.batches == 0 {
-            assert_eq!(info.batch_envs, 0);
-            reclaimed = true;
-            break;
-        }
-        tokio::time::sleep(Duration::from_millis(50)).await;
+    // However long the sweeper runs, nothing is idle before the clock moves.
+    for _ in 0..5 {
+        tokio::time::sleep(Duration::from_millis(20)).await;
+        assert_eq!(held(&client).await, (2, 1, 3));
     }
-    assert!(
-        reclaimed,
-        "the idle env and batch were reclaimed within 10 s"
-    );
+    clock.advance(Duration::from_secs(59));
+    kept.observe().await.expect("a call touches the env");
+    clock.advance(Duration::from_secs(1));
+    // Now `env` and `batch` have been idle 60 s, `kept` only 1 s.
+    wait_until_held(&client, (1, 0, 0)).await;
     assert_not_found(&env.observe().await.unwrap_err(), &[env.id()]);
     assert_not_found(&batch.observe().await.unwrap_err(), &[batch.id()]);
+    kept.observe().await.expect("the touched env is kept");
+    clock.advance(Duration::from_secs(60));
+    wait_until_held(&client, (0, 0, 0)).await;
     server.stop().await.expect("clean shutdown");
 }
 

@@ -21,7 +21,7 @@ async fn tools_over_streamable_http() {
     } else {
         Some(crate::TestServer::start().await)
     };
-    let server_addr = server.as_ref().map(|s| s.addr.to_string());
+    let server_addr = server.as_ref().map(|s| s.addr());
     if let Some(addr) = &server_addr {
         args.extend(["--server", addr.as_str()]);
     }

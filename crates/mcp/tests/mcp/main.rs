@@ -10,7 +10,6 @@ mod remote;
 mod tools;
 mod walkthrough;
 
-use std::net::SocketAddr;
 use std::process::Stdio;
 
 use rmcp::model::{CallToolRequestParams, CallToolResult};
@@ -18,10 +17,7 @@ use rmcp::service::RunningService;
 use rmcp::transport::TokioChildProcess;
 use rmcp::{RoleClient, ServiceExt};
 use serde_json::Value;
-use tokio::net::TcpListener;
 use tokio::process::Command;
-use tokio::sync::oneshot;
-use tokio::task::JoinHandle;
 
 /// The seed's 1-DOF pendulum (end effector `"arm"`).
 const PENDULUM: &str = include_str!("../../../../models/pendulum.json");
@@ -60,7 +56,7 @@ impl Adapter {
             Self::spawn(&["--threads", "1"]).await
         } else {
             let server = TestServer::start().await;
-            let addr = server.addr.to_string();
+            let addr = server.addr();
             let mut adapter = Self::spawn(&["--server", &addr]).await;
             adapter._server = Some(server);
             adapter
@@ -196,46 +192,36 @@ fn assert_close(a: &[f64], b: &[f64], tol: f64) {
 
 /// A gymfleet server started by the test itself, on 127.0.0.1:0.
 struct TestServer {
-    addr: SocketAddr,
-    stop: Option<oneshot::Sender<()>>,
-    task: JoinHandle<gymfleet_server::Result<()>>,
+    server: gymfleet_server::LocalServer,
 }
 
 impl TestServer {
     async fn start() -> TestServer {
-        let listener = TcpListener::bind("127.0.0.1:0").await.expect("bind");
-        let addr = listener.local_addr().expect("bound address");
-        let (stop, stopped) = oneshot::channel::<()>();
         let config = gymfleet_server::ServerConfig {
             threads: 1,
             ..gymfleet_server::ServerConfig::default()
         };
-        let task = tokio::spawn(gymfleet_server::serve(listener, config, async move {
-            let _ = stopped.await;
-        }));
-        TestServer {
-            addr,
-            stop: Some(stop),
-            task,
-        }
+        let server = gymfleet_server::LocalServer::start(config)
+            .await
+            .expect("start a server on 127.0.0.1:0");
+        TestServer { server }
+    }
+
+    /// The address clients connect to.
+    fn addr(&self) -> String {
+        self.server.client_addr()
     }
 
     /// How many single envs and batch envs the server holds.
     async fn held(&self) -> (u64, u64) {
-        let client = gymfleet_client::Client::connect(self.addr.to_string())
+        let client = gymfleet_client::Client::connect(self.addr())
             .await
             .expect("connect to the test server");
         let info = client.server_info().await.expect("server info");
         (info.envs, info.batch_envs)
     }
 
-    async fn stop(mut self) {
-        if let Some(stop) = self.stop.take() {
-            let _ = stop.send(());
-        }
-        (&mut self.task)
-            .await
-            .expect("server task")
-            .expect("clean shutdown");
+    async fn stop(self) {
+        self.server.stop().await.expect("clean shutdown");
     }
 }

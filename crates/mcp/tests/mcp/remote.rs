@@ -9,7 +9,7 @@ use crate::{doc, Adapter, TestServer, ARM2, PENDULUM};
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn envs_live_on_the_given_server_and_are_closed_at_exit() {
     let server = TestServer::start().await;
-    let addr = server.addr.to_string();
+    let addr = server.addr();
     let adapter = Adapter::spawn(&["--server", &addr]).await;
     let created = adapter
         .ok(
@@ -42,7 +42,7 @@ async fn envs_live_on_the_given_server_and_are_closed_at_exit() {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn several_servers_share_new_envs_without_id_clashes() {
     let (a, b) = (TestServer::start().await, TestServer::start().await);
-    let servers = format!("{},{}", a.addr, b.addr);
+    let servers = format!("{},{}", a.addr(), b.addr());
     let adapter = Adapter::spawn(&["--server", &servers]).await;
     let args = json!({"document": doc(PENDULUM), "end_effector_ids": ["arm"]});
     for n in 1..=4 {
@@ -67,7 +67,7 @@ async fn several_servers_share_new_envs_without_id_clashes() {
     assert_eq!((a.held().await, b.held().await), ((1, 0), (1, 0)));
 
     // A server that went away: calls on its envs say where they lived.
-    let (a_addr, b_addr) = (a.addr.to_string(), b.addr.to_string());
+    let (a_addr, b_addr) = (a.addr(), b.addr());
     a.stop().await;
     let mut down = 0;
     for env_id in ["sim_3", "sim_4"] {

@@ -1,0 +1,95 @@
+//! The server's domain values, free of protobuf: the requests `convert.rs` decodes from
+//! the wire and [`crate::simulation::Simulation`] acts on, and the outcomes it returns for
+//! `convert.rs` to encode. Both modules sit above this one.
+
+use gymfleet_batch::{Autoreset, BatchStepOutput};
+use gymfleet_env::{ActionType, EnvConfig, EnvSpec, StepFlags};
+
+use crate::config::ServerConfig;
+
+/// A validated `CreateEnvRequest`: the document and the domain configuration.
+#[derive(Debug, Clone)]
+pub(crate) struct EnvRequest {
+    pub(crate) document: String,
+    pub(crate) config: EnvConfig,
+}
+
+/// A validated `CreateBatchRequest`.
+#[derive(Debug, Clone)]
+pub(crate) struct BatchRequest {
+    pub(crate) env: EnvRequest,
+    /// The caller's seed, if given (the batch reseeds its envs from it).
+    pub(crate) seed: Option<u64>,
+    pub(crate) n_envs: usize,
+    pub(crate) autoreset: Autoreset,
+    pub(crate) seed_offset: u64,
+}
+
+/// A validated action: type and values.
+#[derive(Debug, Clone)]
+pub(crate) struct Action {
+    pub(crate) action_type: ActionType,
+    pub(crate) values: Vec<f32>,
+}
+
+/// A validated `StepRequest`.
+#[derive(Debug, Clone)]
+pub(crate) struct EnvStep {
+    pub(crate) env_id: String,
+    pub(crate) action: Action,
+}
+
+/// A validated `StepBatchRequest`.
+#[derive(Debug, Clone)]
+pub(crate) struct BatchStep {
+    pub(crate) batch_id: String,
+    pub(crate) action: Action,
+}
+
+/// The parent and child instance names of each non-fixed joint, in document order.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct JointLinks(pub(crate) Vec<(String, String)>);
+
+/// The outcome of a single-env step.
+pub(crate) struct EnvStepOutcome {
+    pub(crate) observation: Vec<f32>,
+    pub(crate) flags: StepFlags,
+    pub(crate) episode_step: u32,
+    pub(crate) dof: usize,
+}
+
+/// Every env's observation in a batch, after a reset or an observe.
+pub(crate) struct BatchObservations {
+    pub(crate) batch_id: String,
+    pub(crate) n_envs: usize,
+    pub(crate) observation_dim: usize,
+    /// `n_envs × observation_dim` floats, row-major per env.
+    pub(crate) observations: Vec<f32>,
+}
+
+/// The outcome of one batch step: the batch's step output, copied out of the buffers
+/// the batch keeps for its next step.
+pub(crate) struct BatchStepped {
+    pub(crate) batch_id: String,
+    /// Steps taken by this batch so far, this one included.
+    pub(crate) step_index: u64,
+    pub(crate) out: BatchStepOutput,
+}
+
+/// What the server is and holds, for `GetServerInfo`.
+pub(crate) struct ServerStatus<'a> {
+    pub(crate) threads: usize,
+    pub(crate) envs: usize,
+    pub(crate) batches: usize,
+    pub(crate) batch_envs: usize,
+    pub(crate) config: &'a ServerConfig,
+}
+
+/// A created env or batch: its id and description.
+pub(crate) struct Created {
+    pub(crate) id: String,
+    pub(crate) spec: EnvSpec,
+    pub(crate) links: JointLinks,
+    /// Batches only: the size and autoreset mode.
+    pub(crate) batch: Option<(usize, Autoreset)>,
+}

@@ -1,0 +1,93 @@
+//! [`LocalServer`]: the one way to run a gymfleet server inside another program — the MCP
+//! adapter's and the load client's embedded server, the Python package's, and every test's.
+//! It serves on loopback (`127.0.0.1:0`) or on a Unix-domain socket, and clients reach it
+//! over gRPC like any other server.
+
+use tokio::sync::oneshot;
+use tokio::task::JoinHandle;
+
+use crate::config::ServerConfig;
+use crate::error::{Result, ServerError};
+use crate::listen::{ListenAddr, Listener};
+
+/// A gymfleet server running on a task of the current tokio runtime until
+/// [`LocalServer::stop`] (or until it is dropped, which asks it to stop without waiting).
+///
+/// ```no_run
+/// # async fn demo() -> gymfleet_server::Result<()> {
+/// let server = gymfleet_server::LocalServer::start(gymfleet_server::ServerConfig::default()).await?;
+/// let addr = server.client_addr(); // "127.0.0.1:<port>"
+/// // ... connect gymfleet-client to `addr` ...
+/// server.stop().await?;
+/// # Ok(())
+/// # }
+/// ```
+#[derive(Debug)]
+pub struct LocalServer {
+    addr: ListenAddr,
+    stop: Option<oneshot::Sender<()>>,
+    task: Option<JoinHandle<Result<()>>>,
+}
+
+impl LocalServer {
+    /// Binds `127.0.0.1:0` and serves `config` there. The listener is bound when this
+    /// returns, so clients can connect at once. Must be called within a tokio runtime.
+    pub async fn start(config: ServerConfig) -> Result<LocalServer> {
+        let any_port = ListenAddr::Tcp(std::net::SocketAddr::from(([127, 0, 0, 1], 0)));
+        Self::bind(&any_port, config).await
+    }
+
+    /// Binds `addr` (`127.0.0.1:0` for a free port, or a Unix-domain socket) and serves
+    /// `config` there.
+    pub async fn bind(addr: &ListenAddr, config: ServerConfig) -> Result<LocalServer> {
+        let listener = Listener::bind(addr).await.map_err(|e| ServerError::Bind {
+            addr: addr.to_string(),
+            reason: e.to_string(),
+        })?;
+        let addr = listener.local_addr()?;
+        let (stop, stopped) = oneshot::channel::<()>();
+        let task = tokio::spawn(crate::serve(listener, config, async move {
+            // A dropped sender stops the server too.
+            let _ = stopped.await;
+        }));
+        Ok(LocalServer {
+            addr,
+            stop: Some(stop),
+            task: Some(task),
+        })
+    }
+
+    /// Where it listens.
+    pub fn addr(&self) -> &ListenAddr {
+        &self.addr
+    }
+
+    /// The address a client connects to: `127.0.0.1:<port>` or `unix:/path`.
+    pub fn client_addr(&self) -> String {
+        self.addr.to_string()
+    }
+
+    /// Asks the server to stop, and waits for in-flight calls to finish and `serve` to
+    /// return.
+    pub async fn stop(mut self) -> Result<()> {
+        if let Some(stop) = self.stop.take() {
+            let _ = stop.send(());
+        }
+        match self.task.take() {
+            Some(task) => task.await.map_err(|e| ServerError::Panicked {
+                operation: "serve",
+                id: None,
+                message: e.to_string(),
+            })?,
+            None => Ok(()),
+        }
+    }
+}
+
+impl Drop for LocalServer {
+    fn drop(&mut self) {
+        if let Some(stop) = self.stop.take() {
+            let _ = stop.send(());
+        }
+    }
+}
