@@ -2,7 +2,7 @@
 //!
 //! ```sh
 //! cargo run --release -p gymfleet-server &          # listens on 127.0.0.1:50051
-//! cargo run -p gymfleet-client --example first_session [ADDR]
+//! cargo run --release -p gymfleet-client --example first_session [ADDR]
 //! ```
 
 use gymfleet_client::{ActionType, BatchOptions, Client, EnvOptions};
@@ -19,7 +19,8 @@ async fn main() -> Result<(), Box<dyn std::error::Error>> {
     let server = client.server_info().await?;
     println!("server {} with {} threads", server.version, server.threads);
 
-    // One environment: the seed's pendulum, observed at its tip ("arm").
+    // One environment: the seed's pendulum, which starts upright and falls. The pose of an
+    // end effector is its centre of mass: the arm's middle, not its tip.
     let env = client
         .create_env(EnvOptions::new(PENDULUM).end_effectors(["arm"]))
         .await?;

@@ -1,6 +1,7 @@
 //! The command line ([`Cli`], clap derive; every flag also reads a `GYMFLEET_*`
 //! variable) and logging setup.
 
+use std::io::IsTerminal;
 use std::time::Duration;
 
 use clap::{Parser, ValueEnum};
@@ -71,8 +72,10 @@ impl Cli {
 /// Installs the global `tracing` subscriber: stderr, `RUST_LOG` filter (default `info`).
 pub fn init_tracing(format: LogFormat) {
     let filter = EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new("info"));
+    // Colours only for a person at a terminal: a log file or a collector gets plain text.
     let builder = tracing_subscriber::fmt()
         .with_env_filter(filter)
+        .with_ansi(std::io::stderr().is_terminal())
         .with_writer(std::io::stderr);
     match format {
         LogFormat::Text => builder.init(),

@@ -5,8 +5,15 @@
 use std::sync::Arc;
 
 use rmcp::handler::server::router::tool::ToolRouter;
-use rmcp::model::{Implementation, ServerCapabilities, ServerConfig};
-use rmcp::{tool_handler, ServerHandler};
+use rmcp::model::{
+    CompleteRequestMethod, CompleteRequestParams, CompleteResult, Implementation, JsonObject,
+    ListPromptsRequestMethod, ListPromptsResult, ListResourceTemplatesRequestMethod,
+    ListResourceTemplatesResult, ListResourcesRequestMethod, ListResourcesResult,
+    PaginatedRequestParams, ServerCapabilities, ServerConfig,
+};
+use rmcp::service::RequestContext;
+use rmcp::{tool_handler, ErrorData, RoleServer, ServerHandler};
+use serde_json::Value;
 
 use crate::fleet::Fleet;
 
@@ -30,11 +37,48 @@ pub(crate) struct GymTools {
 impl GymTools {
     /// The tools over `fleet`.
     pub(crate) fn new(fleet: Arc<Fleet>) -> Self {
-        GymTools {
-            fleet,
-            tool_router: Self::env_router() + Self::batch_router(),
+        let mut tool_router = Self::env_router() + Self::batch_router();
+        for route in tool_router.map.values_mut() {
+            let tool = &mut route.attr;
+            tool.input_schema = Arc::new(plain_integers(tool.input_schema.as_ref().clone()));
+            if let Some(output) = &tool.output_schema {
+                tool.output_schema = Some(Arc::new(plain_integers(output.as_ref().clone())));
+            }
+        }
+        GymTools { fleet, tool_router }
+    }
+}
+
+/// `schema` with schemars' non-standard integer formats (`"format": "uint32"`, `"uint"`,
+/// …), which strict MCP clients warn about, replaced by standard `minimum`/`maximum`
+/// bounds on a plain `"type": "integer"`.
+fn plain_integers(mut schema: JsonObject) -> JsonObject {
+    fn walk(value: &mut Value) {
+        match value {
+            Value::Object(map) => {
+                let bounds = match map.get("format").and_then(Value::as_str) {
+                    Some("uint8") => Some((0, Some(u64::from(u8::MAX)))),
+                    Some("uint16") => Some((0, Some(u64::from(u16::MAX)))),
+                    Some("uint32") => Some((0, Some(u64::from(u32::MAX)))),
+                    Some("uint64" | "uint") => Some((0, None)),
+                    _ => None,
+                };
+                if let Some((min, max)) = bounds {
+                    map.remove("format");
+                    let keep_min = map.get("minimum").and_then(Value::as_u64).unwrap_or(min);
+                    map.insert("minimum".into(), Value::from(keep_min.max(min)));
+                    if let Some(max) = max {
+                        map.entry("maximum").or_insert(Value::from(max));
+                    }
+                }
+                map.values_mut().for_each(walk);
+            }
+            Value::Array(items) => items.iter_mut().for_each(walk),
+            _ => {}
         }
     }
+    schema.values_mut().for_each(walk);
+    schema
 }
 
 #[tool_handler(router = self.tool_router)]
@@ -46,5 +90,79 @@ impl ServerHandler for GymTools {
                 env!("CARGO_PKG_VERSION"),
             ))
             .with_instructions(INSTRUCTIONS)
+    }
+
+    // Only tools are declared, so every other capability's methods answer
+    // "method not found", the listings as well as the reads (rmcp's defaults answer the
+    // listings with empty lists but the reads with an error).
+
+    async fn list_resources(
+        &self,
+        _request: Option<PaginatedRequestParams>,
+        _context: RequestContext<RoleServer>,
+    ) -> Result<ListResourcesResult, ErrorData> {
+        Err(ErrorData::method_not_found::<ListResourcesRequestMethod>())
+    }
+
+    async fn list_resource_templates(
+        &self,
+        _request: Option<PaginatedRequestParams>,
+        _context: RequestContext<RoleServer>,
+    ) -> Result<ListResourceTemplatesResult, ErrorData> {
+        Err(ErrorData::method_not_found::<
+            ListResourceTemplatesRequestMethod,
+        >())
+    }
+
+    async fn list_prompts(
+        &self,
+        _request: Option<PaginatedRequestParams>,
+        _context: RequestContext<RoleServer>,
+    ) -> Result<ListPromptsResult, ErrorData> {
+        Err(ErrorData::method_not_found::<ListPromptsRequestMethod>())
+    }
+
+    async fn complete(
+        &self,
+        _request: CompleteRequestParams,
+        _context: RequestContext<RoleServer>,
+    ) -> Result<CompleteResult, ErrorData> {
+        Err(ErrorData::method_not_found::<CompleteRequestMethod>())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn integer_formats_become_bounds() {
+        let schema = serde_json::json!({
+            "type": "object",
+            "properties": {
+                "n_envs": {"type": "integer", "format": "uint32", "minimum": 1},
+                "seed": {"type": ["integer", "null"], "format": "uint64", "minimum": 0},
+                "index": {"type": "integer", "format": "uint"},
+                "dt": {"type": "number", "format": "double"},
+                "nested": {"anyOf": [{"type": "integer", "format": "uint16"}]}
+            }
+        });
+        let Value::Object(schema) = schema else {
+            unreachable!()
+        };
+        let plain = Value::Object(plain_integers(schema));
+        assert_eq!(
+            plain,
+            serde_json::json!({
+                "type": "object",
+                "properties": {
+                    "n_envs": {"type": "integer", "minimum": 1, "maximum": 4294967295u64},
+                    "seed": {"type": ["integer", "null"], "minimum": 0},
+                    "index": {"type": "integer", "minimum": 0},
+                    "dt": {"type": "number", "format": "double"},
+                    "nested": {"anyOf": [{"type": "integer", "minimum": 0, "maximum": 65535}]}
+                }
+            })
+        );
     }
 }

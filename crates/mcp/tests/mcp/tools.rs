@@ -70,7 +70,22 @@ async fn tools_are_listed_with_described_schemas() {
             .as_ref()
             .unwrap_or_else(|| panic!("{name}: no output schema"));
         assert_eq!(output.get("type"), Some(&Value::from("object")), "{name}");
+        let output = Value::Object((**output).clone());
+        for (side, schema) in [("input", &schema), ("output", &output)] {
+            let text = schema.to_string();
+            assert!(
+                !text.contains("\"format\":\"uint") && !text.contains("\"format\":\"int"),
+                "{name}: {side} schema has a non-standard integer format: {text}"
+            );
+        }
     }
+    let n_envs = &tools
+        .iter()
+        .find(|t| t.name == "batch_create_envs")
+        .expect("batch_create_envs")
+        .input_schema["properties"]["n_envs"];
+    assert_eq!(n_envs["type"], "integer");
+    assert_eq!(n_envs["maximum"], u32::MAX);
 
     let required = |name: &str| -> Vec<String> {
         let tool = tools.iter().find(|t| t.name == name).expect("tool");
@@ -120,5 +135,40 @@ async fn tools_are_listed_with_described_schemas() {
         create.input_schema["properties"]["document"]["type"],
         serde_json::json!(["object", "string"])
     );
+    adapter.stop().await;
+}
+
+/// Only tools are declared: the other capabilities' methods answer "method not found"
+/// alike, listings included (an empty listing would promise a capability that a read
+/// then denies).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn undeclared_capabilities_are_method_not_found() {
+    let adapter = Adapter::embedded().await;
+    let capabilities = &adapter.session.peer_info().expect("info").capabilities;
+    assert!(capabilities.tools.is_some());
+    assert!(capabilities.resources.is_none() && capabilities.prompts.is_none());
+    let peer = adapter.session.peer();
+    let not_found = |result: Result<_, rmcp::ServiceError>, method: &str| match result {
+        Err(rmcp::ServiceError::McpError(e)) => {
+            assert_eq!(e.code, rmcp::model::ErrorCode::METHOD_NOT_FOUND, "{method}");
+            assert_eq!(e.message, method);
+        }
+        other => panic!("{method}: expected method not found, got {other:?}"),
+    };
+    not_found(
+        peer.list_resources(None).await.map(|_| ()),
+        "resources/list",
+    );
+    not_found(
+        peer.list_resource_templates(None).await.map(|_| ()),
+        "resources/templates/list",
+    );
+    not_found(
+        peer.read_resource(rmcp::model::ReadResourceRequestParams::new("gymfleet://x"))
+            .await
+            .map(|_| ()),
+        "resources/read",
+    );
+    not_found(peer.list_prompts(None).await.map(|_| ()), "prompts/list");
     adapter.stop().await;
 }
