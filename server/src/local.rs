@@ -1,5 +1,5 @@
 //! [`LocalServer`]: the one way to run a gymfleet server inside another program — the MCP
-//! adapter's and the load client's embedded server, the Python package's, and every test's.
+//! adapter's and the load client's embedded server, and every test's.
 //! It serves on loopback (`127.0.0.1:0`) or on a Unix-domain socket, and clients reach it
 //! over gRPC like any other server.
 
