@@ -120,10 +120,25 @@ impl Batch {
         seed: Option<u64>,
         seed_offset: u64,
     ) -> Result<BatchObservations> {
+        self.reset_envs(seed, seed_offset, &[]).await
+    }
+
+    /// Resets only the envs in `env_indices` (ascending, distinct, each below `n_envs`;
+    /// empty: every env), reseeding env `i` with `seed + seed_offset + i` when `seed` is
+    /// given. Returns every env's observation: the others' current ones, and they keep
+    /// their state. This is how envs that ended under [`crate::Autoreset::Disabled`] are
+    /// reset without touching the rest.
+    pub async fn reset_envs(
+        &self,
+        seed: Option<u64>,
+        seed_offset: u64,
+        env_indices: &[u32],
+    ) -> Result<BatchObservations> {
         let request = pb::ResetBatchRequest {
             batch_id: self.info.batch_id.clone(),
             seed,
             seed_offset,
+            env_indices: env_indices.to_vec(),
         };
         let observation = self.client.rpc().reset_batch(request).await?;
         BatchObservations::new(observation.into_inner(), &self.info)

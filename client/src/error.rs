@@ -43,11 +43,24 @@ pub enum ClientError {
         /// The server's message.
         message: String,
     },
-    /// UNAVAILABLE, CANCELLED, DEADLINE_EXCEEDED or ABORTED: the server is gone, shutting
-    /// down, or the call was cut short. Retrying may help.
+    /// UNAVAILABLE, CANCELLED or ABORTED: the server is gone, shutting down, or the call
+    /// was cut short. Retrying may help.
     #[error("unavailable: {message}")]
     Unavailable {
         /// The transport's or server's message.
+        message: String,
+    },
+    /// DEADLINE_EXCEEDED: no reply within the call's deadline. Whether the server did the
+    /// work is unknown (a batch may have stepped some envs): reset before going on.
+    #[error("deadline exceeded: {message}")]
+    DeadlineExceeded {
+        /// The server's or the caller's message.
+        message: String,
+    },
+    /// UNAUTHENTICATED: the server requires a token and got none, or a bad one.
+    #[error("unauthenticated: {message}")]
+    Unauthenticated {
+        /// The server's message.
         message: String,
     },
     /// INTERNAL, UNKNOWN or DATA_LOSS: a server bug.
@@ -122,6 +135,8 @@ impl ClientError {
             | ClientError::FailedPrecondition { message }
             | ClientError::ResourceExhausted { message }
             | ClientError::Unavailable { message }
+            | ClientError::DeadlineExceeded { message }
+            | ClientError::Unauthenticated { message }
             | ClientError::Internal { message }
             | ClientError::Protocol { message }
             | ClientError::Fleet { message } => message,
@@ -159,15 +174,16 @@ impl From<Status> for ClientError {
             Code::ResourceExhausted | Code::OutOfRange => {
                 ClientError::ResourceExhausted { message }
             }
-            Code::Unavailable | Code::Cancelled | Code::DeadlineExceeded | Code::Aborted => {
+            Code::Unavailable | Code::Cancelled | Code::Aborted => {
                 ClientError::Unavailable { message }
             }
+            Code::DeadlineExceeded => ClientError::DeadlineExceeded { message },
+            Code::Unauthenticated => ClientError::Unauthenticated { message },
             Code::Internal | Code::Unknown | Code::DataLoss => ClientError::Internal { message },
             code @ (Code::Ok
             | Code::AlreadyExists
             | Code::PermissionDenied
-            | Code::Unimplemented
-            | Code::Unauthenticated) => ClientError::Protocol {
+            | Code::Unimplemented) => ClientError::Protocol {
                 message: format!("unexpected status {code:?}: {message}"),
             },
         }
@@ -191,6 +207,8 @@ mod tests {
             (Code::FailedPrecondition, "FailedPrecondition"),
             (Code::Unavailable, "Unavailable"),
             (Code::Cancelled, "Unavailable"),
+            (Code::DeadlineExceeded, "DeadlineExceeded"),
+            (Code::Unauthenticated, "Unauthenticated"),
             (Code::Internal, "Internal"),
             (Code::Unimplemented, "Protocol"),
         ];

@@ -316,11 +316,44 @@ impl FleetBatch {
         seed: Option<u64>,
         seed_offset: u64,
     ) -> Result<BatchObservations> {
+        self.reset_envs(seed, seed_offset, None).await
+    }
+
+    /// Resets only the envs at the positions `env_indices` (ascending, distinct, each
+    /// below [`FleetBatch::n_envs`]; `None`: every env), reseeded as
+    /// [`FleetBatch::reset_with_offset`] would. Returns every env's observation: the
+    /// others' current ones (shards with none to reset are only observed).
+    pub async fn reset_envs(
+        &mut self,
+        seed: Option<u64>,
+        seed_offset: u64,
+        env_indices: Option<&[u32]>,
+    ) -> Result<BatchObservations> {
         self.check_not_lost()?;
+        if let Some(indices) = env_indices {
+            check_positions(indices, self.n_envs())?;
+        }
+        let mut first = 0;
         let resetting = self.shards.iter().map(|shard| {
             let batch = shard.batch.clone();
             let offset = seed_offset.wrapping_add(shard.envs.start as u64);
-            async move { batch.reset_with_offset(seed, offset).await }
+            let len = shard.envs.len();
+            let local: Option<Vec<u32>> = env_indices.map(|indices| {
+                indices
+                    .iter()
+                    .map(|&i| i as usize)
+                    .filter(|i| (first..first + len).contains(i))
+                    .map(|i| (i - first) as u32)
+                    .collect()
+            });
+            first += len;
+            async move {
+                match local {
+                    None => batch.reset_with_offset(seed, offset).await,
+                    Some(local) if local.is_empty() => batch.observe().await,
+                    Some(local) => batch.reset_envs(seed, offset, &local).await,
+                }
+            }
         });
         let results = join_all(resetting.collect::<Vec<_>>()).await;
         let results = self.confirm_losses(results).await;
@@ -379,12 +412,36 @@ impl FleetBatch {
     }
 }
 
+/// Checks a partial reset's positions as a server would, so no shard resets anything
+/// when the list is bad.
+fn check_positions(indices: &[u32], n_envs: usize) -> Result<()> {
+    let mut previous: Option<u32> = None;
+    for (position, &i) in indices.iter().enumerate() {
+        let reason = match previous {
+            _ if i as usize >= n_envs => {
+                format!("env {i} is out of range: the batch has {n_envs} envs")
+            }
+            Some(p) if i <= p => format!("expected ascending, distinct indices, got {i} after {p}"),
+            _ => {
+                previous = Some(i);
+                continue;
+            }
+        };
+        return Err(ClientError::InvalidArgument {
+            message: format!("env_indices[{position}]: {reason}"),
+        });
+    }
+    Ok(())
+}
+
 /// Errors that mean the shard's envs are gone: the server is unreachable or going away,
-/// or no longer knows the batch (it restarted, or reclaimed it).
+/// no longer knows the batch (it restarted, or reclaimed it), or did not answer in time
+/// (the shard's state is then unknown).
 fn is_loss(err: &ClientError) -> bool {
     matches!(
         err,
         ClientError::Unavailable { .. }
+            | ClientError::DeadlineExceeded { .. }
             | ClientError::NotFound { .. }
             | ClientError::Connect { .. }
     )

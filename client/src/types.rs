@@ -186,6 +186,8 @@ pub struct JointInfo {
     pub parent: String,
     /// Child instance name.
     pub child: String,
+    /// The effort clamp of each of its DOFs, N·m or N; `None`: unclamped.
+    pub max_effort: Option<f64>,
 }
 
 impl From<pb::JointInfo> for JointInfo {
@@ -205,6 +207,7 @@ impl From<pb::JointInfo> for JointInfo {
                 .collect(),
             parent: j.parent,
             child: j.child,
+            max_effort: j.max_effort,
         }
     }
 }

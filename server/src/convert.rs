@@ -189,6 +189,7 @@ pub(crate) fn joints(spec: &EnvSpec, links: &JointLinks) -> Vec<pb::JointInfo> {
                 limits: Vec::new(),
                 parent,
                 child,
+                max_effort: dof.max_effort,
             });
         }
         if let Some(joint) = joints.last_mut() {

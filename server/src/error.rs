@@ -175,7 +175,8 @@ impl From<ServerError> for Status {
             ServerError::Batch(batch) => match batch {
                 BatchError::NoEnvs
                 | BatchError::ActionLength { .. }
-                | BatchError::NonFiniteAction { .. } => Code::InvalidArgument,
+                | BatchError::NonFiniteAction { .. }
+                | BatchError::EnvIndices { .. } => Code::InvalidArgument,
                 BatchError::TooManyEnvs { .. } => Code::ResourceExhausted,
                 BatchError::Env { source, .. } => env_code(source),
                 BatchError::PoolStart { .. } | BatchError::Panicked { .. } => Code::Internal,

@@ -135,7 +135,7 @@ impl Simulator for SimulatorService {
         let r = request.into_inner();
         answer(
             self.sim
-                .reset_batch(&r.batch_id, r.seed, r.seed_offset)
+                .reset_batch(&r.batch_id, r.seed, r.seed_offset, r.env_indices)
                 .await
                 .map(convert::batch_observation),
         )

@@ -224,6 +224,7 @@ impl Simulation {
         id: &str,
         seed: Option<u64>,
         seed_offset: u64,
+        env_indices: Vec<u32>,
     ) -> Result<BatchObservations> {
         let entry = self.batches.get(id)?;
         let pool = self.pool.clone();
@@ -235,8 +236,10 @@ impl Simulation {
             "ResetBatch",
             move |open| {
                 let mut observations = Vec::new();
+                // On the wire an empty list means every env.
+                let only = (!env_indices.is_empty()).then_some(&env_indices[..]);
                 open.batch
-                    .reset(&pool, seed, seed_offset, &mut observations)?;
+                    .reset_envs(&pool, seed, seed_offset, only, &mut observations)?;
                 Ok(batch_observation(batch_id, &open.batch, observations))
             },
         )

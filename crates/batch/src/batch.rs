@@ -179,9 +179,40 @@ impl EnvBatch {
         seed_offset: u64,
         out: &mut Vec<f32>,
     ) -> Result<()> {
+        self.reset_envs(pool, seed, seed_offset, None, out)
+    }
+
+    /// [`EnvBatch::reset`] of the envs in `env_indices` only (ascending, distinct, below
+    /// `n_envs`; `None`: every env), each reseeded as `reset` would. `out` still gets every
+    /// env's observation: the others' current ones, and they keep their state (a pending
+    /// [`Autoreset::NextStep`] reset included). A bad list resets nothing.
+    pub fn reset_envs(
+        &mut self,
+        pool: &StepPool,
+        seed: Option<u64>,
+        seed_offset: u64,
+        env_indices: Option<&[u32]>,
+        out: &mut Vec<f32>,
+    ) -> Result<()> {
+        if let Some(indices) = env_indices {
+            self.check_indices(indices)?;
+            for chunk in self.chunks.iter() {
+                let mut chunk = lock(chunk);
+                let first = chunk.first_env;
+                let len = chunk.len();
+                chunk.reset_marks.fill(false);
+                for &i in indices {
+                    let i = i as usize;
+                    if (first..first + len).contains(&i) {
+                        chunk.reset_marks[i - first] = true;
+                    }
+                }
+            }
+        }
         let op = ChunkOp::Reset {
             seed,
             offset: seed_offset,
+            marked: env_indices.is_some(),
         };
         out.clear();
         self.run(pool, op)?;
@@ -272,6 +303,29 @@ impl EnvBatch {
             seeds.extend(lock(chunk).seeds());
         }
         seeds
+    }
+
+    fn check_indices(&self, indices: &[u32]) -> Result<()> {
+        let mut previous = None;
+        for (position, &i) in indices.iter().enumerate() {
+            let reason = match previous {
+                _ if i as usize >= self.n_envs => {
+                    format!(
+                        "env {i} is out of range: the batch has {} envs",
+                        self.n_envs
+                    )
+                }
+                Some(p) if i <= p => {
+                    format!("expected ascending, distinct indices, got {i} after {p}")
+                }
+                _ => {
+                    previous = Some(i);
+                    continue;
+                }
+            };
+            return Err(BatchError::EnvIndices { position, reason });
+        }
+        Ok(())
     }
 
     fn validate(&self, actions: &[f32]) -> Result<()> {

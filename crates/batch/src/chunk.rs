@@ -8,8 +8,13 @@ use crate::Autoreset;
 /// What a chunk does when the scheduler runs it.
 #[derive(Debug, Clone, Copy)]
 pub(crate) enum ChunkOp {
-    /// Reset every env; env `i` gets `seed + offset + i` when a seed is given.
-    Reset { seed: Option<u64>, offset: u64 },
+    /// Reset every env (or, with `marked`, those of [`Chunk::reset_marks`]); env `i`
+    /// gets `seed + offset + i` when a seed is given.
+    Reset {
+        seed: Option<u64>,
+        offset: u64,
+        marked: bool,
+    },
     /// Step every env with the chunk's action rows.
     Step { action_type: ActionType },
 }
@@ -36,6 +41,8 @@ pub(crate) struct Chunk {
     action_dim: usize,
     /// Filled by the caller before a step.
     pub(crate) actions: Vec<f32>,
+    /// Filled by the caller before a partial reset: which envs to reset.
+    pub(crate) reset_marks: Vec<bool>,
     pub(crate) observations: Vec<f32>,
     pub(crate) rewards: Vec<f32>,
     pub(crate) terminated: Vec<bool>,
@@ -60,6 +67,7 @@ impl Chunk {
             obs_dim,
             action_dim,
             actions: vec![0.0; n * action_dim],
+            reset_marks: vec![false; n],
             observations: vec![0.0; n * obs_dim],
             rewards: vec![0.0; n],
             terminated: vec![false; n],
@@ -84,7 +92,11 @@ impl Chunk {
         self.truncated.fill(false);
         self.terminations.fill(None);
         match op {
-            ChunkOp::Reset { seed, offset } => self.reset(seed, offset),
+            ChunkOp::Reset {
+                seed,
+                offset,
+                marked,
+            } => self.reset(seed, offset, marked),
             ChunkOp::Step { action_type } => {
                 for i in 0..self.envs.len() {
                     self.step_env(i, action_type, autoreset);
@@ -93,16 +105,22 @@ impl Chunk {
         }
     }
 
-    fn reset(&mut self, seed: Option<u64>, offset: u64) {
+    /// Resets every env, or only the marked ones (the others' rows get their current
+    /// observation, and they keep their state, a pending next-step reset included).
+    fn reset(&mut self, seed: Option<u64>, offset: u64, marked: bool) {
         let rows = self.observations.chunks_exact_mut(self.obs_dim);
         for (i, (env, row)) in self.envs.iter_mut().zip(rows).enumerate() {
+            if marked && !self.reset_marks[i] {
+                env.observe_into(row);
+                continue;
+            }
             let index = (self.first_env + i) as u64;
             env.reset_into(
                 seed.map(|s| s.wrapping_add(offset).wrapping_add(index)),
                 row,
             );
+            self.states[i] = EnvState::Running;
         }
-        self.states.fill(EnvState::Running);
     }
 
     fn step_env(&mut self, i: usize, action_type: ActionType, autoreset: Autoreset) {

@@ -38,6 +38,15 @@ pub enum BatchError {
         /// Position of the value in the flat action array: `env × action_dim + index`.
         flat_index: usize,
     },
+    /// A list of env indices (for a partial reset) is not ascending, distinct and below
+    /// `n_envs`.
+    #[error("env_indices[{position}]: {reason}")]
+    EnvIndices {
+        /// The offending entry's position in the list.
+        position: usize,
+        /// What was expected and what was given.
+        reason: String,
+    },
     /// One environment failed; the others were stepped.
     #[error("env {env}: {source}")]
     Env {

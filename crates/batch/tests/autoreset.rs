@@ -182,3 +182,63 @@ fn a_batch_reset_cancels_a_pending_next_step_reset() {
     step(&mut batch, &pool, [PUSH; N], &mut out);
     assert_eq!(bits(&out.observations), bits(&lone[1].repeat(N)));
 }
+
+#[test]
+fn a_partial_reset_resets_the_listed_envs_and_leaves_the_others_as_they_are() {
+    let (pool, mut batch, template) = batch(Autoreset::NextStep);
+    let lone = lone_episode(&template, PUSH, 2);
+    let mut out = BatchStepOutput::default();
+    for _ in 0..3 {
+        step(&mut batch, &pool, [PUSH; N], &mut out);
+    }
+    assert_eq!(out.truncated, [true; N]);
+    let ended = out.observations[9..18].to_vec();
+    // Envs 0 and 2 span both chunks (chunk size 2).
+    let mut obs = Vec::new();
+    batch
+        .reset_envs(&pool, None, 0, Some(&[0, 2]), &mut obs)
+        .unwrap();
+    assert_eq!(bits(&obs[..9]), bits(&lone[0]));
+    assert_eq!(
+        bits(&obs[9..18]),
+        bits(&ended),
+        "env 1 keeps its observation"
+    );
+    assert_eq!(bits(&obs[18..]), bits(&lone[0]));
+    // Envs 0 and 2 take a real step; env 1 still has its pending reset.
+    step(&mut batch, &pool, [PUSH; N], &mut out);
+    assert_eq!(row(&out, 0), bits(&lone[1]));
+    assert_eq!(row(&out, 1), bits(&lone[0]));
+    assert_eq!(row(&out, 2), bits(&lone[1]));
+}
+
+#[test]
+fn a_partial_reset_refuses_a_bad_index_list_and_resets_nothing() {
+    let (pool, mut batch, _) = batch(Autoreset::Disabled);
+    let mut out = BatchStepOutput::default();
+    step(&mut batch, &pool, [PUSH; N], &mut out);
+    let before = out.observations.clone();
+    let mut obs = Vec::new();
+    for (indices, message) in [
+        (
+            &[0, 3][..],
+            "env_indices[1]: env 3 is out of range: the batch has 3 envs",
+        ),
+        (
+            &[1, 1][..],
+            "env_indices[1]: expected ascending, distinct indices, got 1 after 1",
+        ),
+        (
+            &[2, 0][..],
+            "env_indices[1]: expected ascending, distinct indices, got 0 after 2",
+        ),
+    ] {
+        let err = batch
+            .reset_envs(&pool, None, 0, Some(indices), &mut obs)
+            .unwrap_err();
+        assert_eq!(err.to_string(), message);
+    }
+    let mut now = Vec::new();
+    batch.observe(&mut now);
+    assert_eq!(bits(&now), bits(&before));
+}

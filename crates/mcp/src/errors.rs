@@ -158,6 +158,9 @@ pub(crate) fn unreachable(err: &ClientError, addr: &str) -> Option<String> {
         ClientError::Unavailable { message } => Some(format!(
             "the gymfleet server at {addr} is unavailable: {message}."
         )),
+        ClientError::DeadlineExceeded { message } => Some(format!(
+            "the gymfleet server at {addr} did not answer in time: {message}."
+        )),
         _ => None,
     }
 }
