@@ -266,3 +266,42 @@ async fn seeded_reset_noise_varies_envs_and_replays_by_seed() {
     assert_ne!(bits(&first), bits(&other));
     batch.close().await.expect("close");
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_partial_reset_reseeds_only_the_listed_envs() {
+    let server = TestServer::start_default().await;
+    let client = server.client().await;
+    let batch = client
+        .create_batch(arm_batch(4).reset_noise(10.0))
+        .await
+        .expect("create a noisy batch");
+    let start = batch
+        .reset(Some(5))
+        .await
+        .expect("reset")
+        .into_observations();
+    batch
+        .step(ActionType::Torque, &actions(4, 8, 1e-4))
+        .await
+        .expect("step");
+    let moved = batch.observe().await.expect("observe").into_observations();
+    let partial = batch
+        .reset_envs(Some(5), 0, &[1, 3])
+        .await
+        .expect("partial reset")
+        .into_observations();
+    for env in 0..4 {
+        let row = |v: &[f32]| bits(&v[env * 11..(env + 1) * 11]);
+        let expected = if env % 2 == 1 { &start } else { &moved };
+        assert_eq!(row(&partial), row(expected), "env {env}");
+    }
+    let err = batch
+        .reset_envs(None, 0, &[2, 4])
+        .await
+        .expect_err("4 is out of range");
+    assert_eq!(
+        err.to_string(),
+        "invalid argument: env_indices[1]: env 4 is out of range: the batch has 4 envs"
+    );
+    batch.close().await.expect("close");
+}

@@ -1,0 +1,160 @@
+"""gymfleet: robot assemblies simulated on a gymfleet server, as gymnasium environments.
+
+>>> import gymfleet
+>>> envs = gymfleet.make_vec("models/arm2.json", 256, end_effector_ids=["forearm"])
+>>> obs, info = envs.reset(seed=42)
+>>> obs, rewards, terminated, truncated, infos = envs.step(envs.action_space.sample() * 0)
+
+``server=None`` (the default) runs a server inside this process; ``"host:port"`` uses a
+running one; ``"a:50051,b:50051"`` shards batches over a fleet.
+"""
+
+from __future__ import annotations
+
+from typing import Any, List, Optional, Union
+
+from gymnasium.vector import AutoresetMode
+
+from . import _core
+from ._common import Document
+from .env import GymfleetEnv
+from .errors import (
+    DeadlineExceeded,
+    FailedPrecondition,
+    GymfleetError,
+    Internal,
+    InvalidArgument,
+    NotFound,
+    ResourceExhausted,
+    ServerLost,
+    Unauthenticated,
+    Unavailable,
+)
+from .registration import register_envs
+from .vector import GymfleetVectorEnv
+
+__version__: str = _core.__version__
+
+#: A gymfleet server run inside this process: ``gymfleet.Server(threads=2)``; its
+#: ``address`` is what ``server=`` takes. A context manager; ``stop()`` ends it.
+Server = _core.Server
+
+__all__ = [
+    "make",
+    "make_vec",
+    "GymfleetEnv",
+    "GymfleetVectorEnv",
+    "Server",
+    "FleetEndpoints",
+    "embedded_server_address",
+    "server_info",
+    "GymfleetError",
+    "InvalidArgument",
+    "NotFound",
+    "ResourceExhausted",
+    "FailedPrecondition",
+    "Unauthenticated",
+    "DeadlineExceeded",
+    "Unavailable",
+    "Internal",
+    "ServerLost",
+]
+
+
+def make(
+    document: Document,
+    *,
+    server: Optional[str] = None,
+    end_effector_ids: Optional[List[str]] = None,
+    dt: Optional[float] = None,
+    substeps: Optional[int] = None,
+    max_steps: Optional[int] = None,
+    seed: Optional[int] = None,
+    reset_noise: Optional[float] = None,
+    action_type: str = "torque",
+    **kwargs: Any,
+) -> GymfleetEnv:
+    """One environment of ``document`` (a dict, JSON text or a path) as a
+    :class:`gymnasium.Env`. Options are the proto's ``CreateEnvRequest`` fields; unset
+    ones take the server's defaults (dt 1/240 s, 5 substeps, 1000 steps, seed 0).
+    Other keywords: ``pd_gains``, ``normalize_actions``, ``timeout`` (seconds per call).
+    """
+    return GymfleetEnv(
+        document,
+        server=server,
+        end_effector_ids=end_effector_ids,
+        dt=dt,
+        substeps=substeps,
+        max_steps=max_steps,
+        seed=seed,
+        reset_noise=reset_noise,
+        action_type=action_type,
+        **kwargs,
+    )
+
+
+def make_vec(
+    document: Document,
+    num_envs: int,
+    *,
+    server: Optional[str] = None,
+    autoreset_mode: Union[AutoresetMode, str] = AutoresetMode.NEXT_STEP,
+    end_effector_ids: Optional[List[str]] = None,
+    dt: Optional[float] = None,
+    substeps: Optional[int] = None,
+    max_steps: Optional[int] = None,
+    seed: Optional[int] = None,
+    reset_noise: Optional[float] = None,
+    action_type: str = "torque",
+    **kwargs: Any,
+) -> GymfleetVectorEnv:
+    """``num_envs`` environments of ``document`` as one :class:`gymnasium.vector.VectorEnv`
+    (one server-side batch; sharded when ``server`` lists several servers). Env ``i`` is
+    seeded with ``seed + i``. Same options as :func:`make`, plus ``autoreset_mode``.
+    """
+    return GymfleetVectorEnv(
+        document,
+        num_envs,
+        server=server,
+        autoreset_mode=autoreset_mode,
+        end_effector_ids=end_effector_ids,
+        dt=dt,
+        substeps=substeps,
+        max_steps=max_steps,
+        seed=seed,
+        reset_noise=reset_noise,
+        action_type=action_type,
+        **kwargs,
+    )
+
+
+def embedded_server_address() -> str:
+    """The address of this process's embedded server (started now if not yet), for
+    sharing it, e.g. with ``server=`` of another env or with gymfleet-load."""
+    return _core.embedded_address()
+
+
+def server_info(server: Optional[str] = None) -> Any:
+    """What a server says about itself: ``version``, ``threads``, open ``envs``,
+    ``batches`` and ``batch_envs``, and its ``limits``. ``server=None``: this process's
+    embedded server; a comma-separated list: a list, one per server."""
+    return _core.server_info(server)
+
+
+class FleetEndpoints:
+    """Fleet address lists for ``server=``."""
+
+    @staticmethod
+    def stateful_set(
+        name: str,
+        service: str,
+        namespace: str = "default",
+        replicas: int = 1,
+        port: int = 50051,
+    ) -> str:
+        """The pods of a Kubernetes StatefulSet behind a headless Service
+        (``NAME-<i>.SERVICE.NAMESPACE.svc.cluster.local:PORT``), comma-separated."""
+        return ",".join(_core.stateful_set(name, service, namespace, replicas, port))
+
+
+register_envs()

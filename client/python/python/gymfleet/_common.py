@@ -1,0 +1,193 @@
+"""What :class:`~gymfleet.GymfleetEnv` and :class:`~gymfleet.GymfleetVectorEnv` share:
+reading a document, checking the creation options, the spaces and the action mapping."""
+
+from __future__ import annotations
+
+import json
+import os
+from typing import Any, Dict, List, Mapping, Optional, Tuple, Union
+
+import numpy as np
+from gymnasium import spaces
+
+from .errors import InvalidArgument, NotFound, Unavailable
+
+#: A document: the parsed JSON (a dict), its text, or the path of a file holding it.
+Document = Union[Mapping[str, Any], str, "os.PathLike[str]"]
+
+#: The creation options, named as the proto's `CreateEnvRequest` fields.
+OPTION_NAMES = (
+    "end_effector_ids",
+    "dt",
+    "substeps",
+    "max_steps",
+    "seed",
+    "reset_noise",
+    "pd_gains",
+)
+
+ACTION_TYPES = ("torque", "position", "velocity")
+
+
+def document_json(document: Document) -> str:
+    """The document's JSON text, from a dict, a JSON string or a path."""
+    if isinstance(document, Mapping):
+        return json.dumps(document)
+    if isinstance(document, os.PathLike):
+        with open(document, encoding="utf-8") as f:
+            return f.read()
+    if isinstance(document, str):
+        if document.lstrip().startswith("{"):
+            return document
+        if os.path.isfile(document):
+            with open(document, encoding="utf-8") as f:
+                return f.read()
+        raise InvalidArgument(
+            f"document: expected a dict, JSON text or the path of a file, got {document[:80]!r} "
+            "(not JSON, and no such file)"
+        )
+    raise TypeError(
+        f"document: expected a dict, a JSON string or a path, got {type(document).__name__}"
+    )
+
+
+def create_options(options: Dict[str, Any]) -> Dict[str, Any]:
+    """The options as the extension takes them (every key present, None when unset)."""
+    unknown = sorted(set(options) - set(OPTION_NAMES))
+    if unknown:
+        raise TypeError(
+            f"unexpected option(s) {', '.join(unknown)}; the options are "
+            f"{', '.join(OPTION_NAMES)}, server, action_type, normalize_actions and timeout"
+        )
+    ids = options.get("end_effector_ids")
+    if isinstance(ids, str):
+        ids = [ids]
+    gains = options.get("pd_gains") or {}
+    if not isinstance(gains, Mapping) or set(gains) - {"kp", "kd"}:
+        raise InvalidArgument(
+            "pd_gains: expected a dict with 'kp' and/or 'kd', each one gain per DOF (SI units)"
+        )
+    return {
+        "end_effector_ids": list(ids or []),
+        "dt": options.get("dt"),
+        "substeps": options.get("substeps"),
+        "max_steps": options.get("max_steps"),
+        "seed": options.get("seed"),
+        "reset_noise": options.get("reset_noise"),
+        "kp": None if gains.get("kp") is None else [float(v) for v in gains["kp"]],
+        "kd": None if gains.get("kd") is None else [float(v) for v in gains["kd"]],
+    }
+
+
+def check_action_type(action_type: str) -> str:
+    if action_type not in ACTION_TYPES:
+        raise InvalidArgument(
+            f'action_type: expected "torque", "position" or "velocity", got {action_type!r}'
+        )
+    return action_type
+
+
+def action_bounds(info: Mapping[str, Any], action_type: str) -> Tuple[np.ndarray, np.ndarray]:
+    """Each DOF's action range: ±max_effort for torque, the joint limits for position,
+    unbounded for velocity (and wherever the document sets no bound)."""
+    low: List[float] = []
+    high: List[float] = []
+    for joint in info["joints"]:
+        for limit in joint["limits"]:
+            lo, hi = -np.inf, np.inf
+            if action_type == "torque" and joint["max_effort"] is not None:
+                lo, hi = -joint["max_effort"], joint["max_effort"]
+            elif action_type == "position":
+                lo = -np.inf if limit["min"] is None else limit["min"]
+                hi = np.inf if limit["max"] is None else limit["max"]
+            low.append(lo)
+            high.append(hi)
+    return np.array(low, dtype=np.float32), np.array(high, dtype=np.float32)
+
+
+def dof_names(info: Mapping[str, Any]) -> List[str]:
+    names = []
+    for joint in info["joints"]:
+        for k in range(joint["dof"]):
+            names.append(joint["name"] if joint["dof"] == 1 else f"{joint['name']}[{k}]")
+    return names
+
+
+class ActionMap:
+    """The action space, and the map from it to what the server takes."""
+
+    def __init__(self, info: Mapping[str, Any], action_type: str, normalize: bool) -> None:
+        self.low, self.high = action_bounds(info, action_type)
+        self.normalize = normalize
+        if normalize:
+            unbounded = [
+                name
+                for name, lo, hi in zip(dof_names(info), self.low, self.high)
+                if not (np.isfinite(lo) and np.isfinite(hi))
+            ]
+            if unbounded:
+                what = "max_effort" if action_type == "torque" else "joint limits"
+                raise InvalidArgument(
+                    f"normalize_actions: every DOF needs a finite {action_type} range, but "
+                    f"{', '.join(unbounded)} has none (set {what} in the document)"
+                )
+            self.space = spaces.Box(-1.0, 1.0, shape=self.low.shape, dtype=np.float32)
+        else:
+            self.space = spaces.Box(self.low, self.high, dtype=np.float32)
+
+    def to_server(self, action: Any) -> np.ndarray:
+        """`action` (any float array-like) as contiguous float32 in the server's units."""
+        values = np.ascontiguousarray(action, dtype=np.float32)
+        if self.normalize:
+            values = np.ascontiguousarray(
+                self.low + (np.clip(values, -1.0, 1.0) + 1.0) * 0.5 * (self.high - self.low),
+                dtype=np.float32,
+            )
+        return values
+
+
+def observation_space(info: Mapping[str, Any]) -> spaces.Box:
+    """Positions, velocities and poses are unbounded, as in gymnasium's MuJoCo envs."""
+    return spaces.Box(-np.inf, np.inf, shape=(info["observation_dim"],), dtype=np.float32)
+
+
+def seed_or_none(seed: Optional[int]) -> Optional[int]:
+    if seed is None:
+        return None
+    if isinstance(seed, (bool,)) or not isinstance(seed, (int, np.integer)):
+        raise TypeError(f"seed: expected an int or None, got {type(seed).__name__}")
+    return int(seed)
+
+
+class HandleOwner:
+    """What both gymnasium classes do with their extension handle: the settable per-call
+    ``timeout``, and closing it once."""
+
+    _handle: Any
+
+    @property
+    def timeout(self) -> Optional[float]:
+        """Seconds each call may take before it fails with ``DeadlineExceeded``
+        (``None``: no limit). Settable, e.g. a long one for creation, then a short one."""
+        return self._handle.timeout
+
+    @timeout.setter
+    def timeout(self, seconds: Optional[float]) -> None:
+        self._handle.timeout = seconds
+
+    def _close_handle(self) -> None:
+        """Frees the server's envs (again: nothing). A server that is gone has nothing
+        left to free, so that is not an error."""
+        handle = getattr(self, "_handle", None)
+        if handle is None:
+            return
+        try:
+            handle.close()
+        except (NotFound, Unavailable):
+            pass
+
+    def __del__(self) -> None:
+        try:
+            self.close()  # type: ignore[attr-defined]
+        except Exception:  # noqa: BLE001 - a finaliser must not raise
+            pass

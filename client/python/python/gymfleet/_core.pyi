@@ -1,0 +1,152 @@
+"""Type stubs of ``gymfleet._core``, the Rust extension module (``client/python/src``).
+
+A thin layer over the Rust client: every call blocks with the GIL released until the
+server answers, and raises the classes of :mod:`gymfleet.errors`. Use the gymnasium
+classes of :mod:`gymfleet` rather than these handles.
+"""
+
+from typing import Any, Dict, List, Optional, Tuple, TypedDict
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+class CreateOptions(TypedDict):
+    """`CreateEnvRequest`'s options; ``None`` takes the server's default."""
+
+    end_effector_ids: List[str]
+    dt: Optional[float]
+    substeps: Optional[int]
+    max_steps: Optional[int]
+    seed: Optional[int]
+    reset_noise: Optional[float]
+    kp: Optional[List[float]]
+    kd: Optional[List[float]]
+
+class EnvHandle:
+    """One env on a server."""
+
+    @staticmethod
+    def create(
+        server: Optional[str],
+        document_json: str,
+        options: CreateOptions,
+        timeout_s: Optional[float] = None,
+    ) -> "EnvHandle":
+        """Creates an env of ``document_json`` on ``server`` (``None``: the embedded
+        server; ``"host:port"``; a comma-separated fleet, where it goes to the least
+        loaded server)."""
+    @property
+    def info(self) -> Dict[str, Any]:
+        """``env_id``, ``server``, ``num_joints``, ``action_dim``, ``observation_dim``,
+        ``end_effector_ids``, ``dt``, ``substeps``, ``max_steps`` and ``joints`` (each
+        with ``name``, ``type``, ``dof``, ``parent``, ``child``, ``max_effort`` and per-DOF
+        ``limits`` of ``unit``, ``min``, ``max``)."""
+    timeout: Optional[float]
+    """Seconds a call may take before it raises ``DeadlineExceeded`` (``None``: none)."""
+    def reset(self, seed_value: Optional[int] = None) -> npt.NDArray[np.float32]:
+        """Resets (reseeding first when a seed is given); the observation."""
+    def step(
+        self, action_type_name: str, action: npt.NDArray[np.float32]
+    ) -> Tuple[npt.NDArray[np.float32], float, bool, bool, Optional[str], int]:
+        """``(observation, reward, terminated, truncated, termination_reason,
+        episode_step)``; ``action`` is 1-D float32, one value per DOF."""
+    def observe(self) -> npt.NDArray[np.float32]:
+        """The current observation, without stepping."""
+    def close(self) -> bool:
+        """Closes the env on its server: ``True`` the first time, ``False`` after."""
+    @property
+    def closed(self) -> bool: ...
+
+class BatchHandle:
+    """A batch of envs on one server, or sharded over a fleet."""
+
+    @staticmethod
+    def create(
+        server: Optional[str],
+        document_json: str,
+        n_envs: int,
+        autoreset: str,
+        options: CreateOptions,
+        timeout_s: Optional[float] = None,
+    ) -> "BatchHandle":
+        """Creates ``n_envs`` envs; ``autoreset`` is ``"disabled"``, ``"same_step"`` or
+        ``"next_step"``. Env ``i`` is seeded with ``seed + i``."""
+    @property
+    def info(self) -> Dict[str, Any]:
+        """As :attr:`EnvHandle.info` with ``batch_id`` and ``n_envs`` instead of
+        ``env_id`` and ``server``, and ``shards``: ``(server, batch_id, start, stop)``
+        per shard."""
+    timeout: Optional[float]
+    def reset(
+        self,
+        seed_value: Optional[int] = None,
+        env_indices: Optional[npt.NDArray[np.uint32]] = None,
+    ) -> npt.NDArray[np.float32]:
+        """Resets every env, or those of ``env_indices`` (ascending); env ``i`` is
+        reseeded with ``seed + i`` when a seed is given. Every env's observation,
+        ``(n_envs, observation_dim)``."""
+    def step(
+        self, action_type_name: str, actions: npt.NDArray[np.float32]
+    ) -> Tuple[
+        npt.NDArray[np.float32],
+        npt.NDArray[np.float32],
+        npt.NDArray[np.bool_],
+        npt.NDArray[np.bool_],
+        npt.NDArray[np.uint32],
+        npt.NDArray[np.float32],
+        Dict[int, str],
+    ]:
+        """Steps every env with ``actions`` ``(n_envs, action_dim)``: observations,
+        rewards, terminated, truncated, the envs reset within the step (same-step
+        autoreset) and their final observations ``(k, observation_dim)``, and the
+        termination reasons by env."""
+    def observe(self) -> npt.NDArray[np.float32]:
+        """Every env's current observation."""
+    def close(self) -> bool:
+        """Closes the batch on its server(s): ``True`` the first time, ``False`` after."""
+    @property
+    def closed(self) -> bool: ...
+
+class Server:
+    """A gymfleet server in this process, on ``127.0.0.1:<free port>``; a context
+    manager."""
+
+    def __init__(
+        self,
+        *,
+        threads: int = 0,
+        max_envs: Optional[int] = None,
+        max_batch_size: Optional[int] = None,
+        idle_ttl: Optional[float] = None,
+    ) -> None:
+        """``threads``: simulation threads (0: one per core); limits default to the
+        server's (``None``); ``idle_ttl`` in seconds (``None`` or 0: never)."""
+    @property
+    def address(self) -> str:
+        """``"127.0.0.1:<port>"``, what ``server=`` takes."""
+    @property
+    def running(self) -> bool: ...
+    def stop(self) -> None:
+        """Stops serving; its envs are gone. Stopping twice is a no-op."""
+    def __enter__(self) -> "Server": ...
+    def __exit__(self, *exc: Any) -> bool: ...
+
+def embedded_address() -> str:
+    """The process's embedded server's address, started on first use."""
+
+def server_info(server: Optional[str] = None) -> Any:
+    """A server's ``version``, ``threads``, ``envs``, ``batches``, ``batch_envs`` and
+    ``limits`` (a list of those for a fleet)."""
+
+def stateful_set(
+    name: str, service: str, namespace: str = "default", replicas: int = 1, port: int = 50051
+) -> List[str]:
+    """The per-pod addresses of a StatefulSet behind a headless Service."""
+
+def seed_model(name: str) -> str:
+    """The JSON of seed model ``pendulum``, ``arm2``, ``arm6`` or ``chain20``."""
+
+def _raise_status(code: int, message: str) -> None:
+    """Raises the exception gRPC status ``code`` with ``message`` becomes (for tests)."""

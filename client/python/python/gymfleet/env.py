@@ -1,0 +1,117 @@
+""":class:`GymfleetEnv`: one server-side environment as a :class:`gymnasium.Env`."""
+
+from __future__ import annotations
+
+from typing import Any, Dict, Optional, Tuple
+
+import gymnasium as gym
+import numpy as np
+from gymnasium.envs.registration import EnvSpec
+
+from . import _core
+from ._common import (
+    ActionMap,
+    HandleOwner,
+    Document,
+    check_action_type,
+    create_options,
+    document_json,
+    observation_space,
+    seed_or_none,
+)
+
+
+class GymfleetEnv(HandleOwner, gym.Env):
+    """A gymfleet environment: the robot of ``document``, simulated on a server.
+
+    Use :func:`gymfleet.make`, which takes the same arguments. The observation is the
+    measured joint positions (deg or mm), joint velocities (deg/s or mm/s) and one
+    ``[x, y, z, qw, qx, qy, qz]`` pose per end effector (mm, world frame), as float32.
+    """
+
+    metadata: Dict[str, Any] = {"render_modes": []}
+
+    def __init__(
+        self,
+        document: Document,
+        *,
+        server: Optional[str] = None,
+        action_type: str = "torque",
+        normalize_actions: bool = False,
+        timeout: Optional[float] = None,
+        render_mode: Optional[str] = None,
+        **options: Any,
+    ) -> None:
+        if render_mode is not None:
+            raise ValueError(f"render_mode: {render_mode!r} is not supported (render_modes: [])")
+        self.render_mode = render_mode
+        self.action_type = check_action_type(action_type)
+        text = document_json(document)
+        self._handle = _core.EnvHandle.create(server, text, create_options(options), timeout)
+        # gymnasium.make sets the spec of registered envs; one made here gets its own, so
+        # `gymnasium.make(env.spec)` (and gymnasium's tools that use it) re-create it.
+        self.spec = EnvSpec(
+            id="gymfleet/Document-v0",
+            entry_point="gymfleet.env:GymfleetEnv",
+            kwargs={
+                "document": text,
+                "server": server,
+                "action_type": action_type,
+                "normalize_actions": normalize_actions,
+                "timeout": timeout,
+                **options,
+            },
+        )
+        self._info: Dict[str, Any] = self._handle.info
+        self._actions = ActionMap(self._info, action_type, normalize_actions)
+        self.action_space = self._actions.space
+        self.observation_space = observation_space(self._info)
+
+    @property
+    def env_id(self) -> str:
+        """The env's id on its server, ``"sim_<n>"``."""
+        return self._info["env_id"]
+
+    @property
+    def server(self) -> str:
+        """The address of the server the env lives on."""
+        return self._info["server"]
+
+    @property
+    def env_info(self) -> Dict[str, Any]:
+        """What the server said about the env: dims, dt, substeps, max_steps, joints
+        (with their limits and ``max_effort``)."""
+        return self._info
+
+    def reset(
+        self, *, seed: Optional[int] = None, options: Optional[Dict[str, Any]] = None
+    ) -> Tuple[np.ndarray, Dict[str, Any]]:
+        """Resets the episode. With ``seed``, the env's generator (``reset_noise``) is
+        reseeded first; without, it continues. ``options`` is not used."""
+        super().reset(seed=seed)
+        obs = self._handle.reset(seed_or_none(seed))
+        return obs, {}
+
+    def step(self, action: Any) -> Tuple[np.ndarray, float, bool, bool, Dict[str, Any]]:
+        """One env step of ``dt`` seconds; ``action`` has one value per DOF."""
+        values = self._actions.to_server(action).reshape(-1)
+        obs, reward, terminated, truncated, reason, episode_step = self._handle.step(
+            self.action_type, values
+        )
+        info: Dict[str, Any] = {"episode_step": episode_step}
+        if reason is not None:
+            info["termination_reason"] = reason
+        return obs, float(reward), terminated, truncated, info
+
+    def observe(self) -> np.ndarray:
+        """The current observation, without stepping."""
+        return self._handle.observe()
+
+    def close(self) -> None:
+        """Frees the env on its server (again: nothing). A server that is gone has
+        nothing left to free, so that is not an error."""
+        self._close_handle()
+        super().close()
+
+    def __repr__(self) -> str:
+        return f"<GymfleetEnv {self._info['env_id']} on {self._info['server']}>"

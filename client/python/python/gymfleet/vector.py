@@ -1,0 +1,199 @@
+""":class:`GymfleetVectorEnv`: a server-side batch as a :class:`gymnasium.vector.VectorEnv`."""
+
+from __future__ import annotations
+
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
+
+import numpy as np
+from gymnasium.vector import AutoresetMode, VectorEnv
+from gymnasium.vector.utils import batch_space
+
+from . import _core
+from ._common import (
+    ActionMap,
+    HandleOwner,
+    Document,
+    check_action_type,
+    create_options,
+    document_json,
+    observation_space,
+)
+
+_MODES = {
+    AutoresetMode.NEXT_STEP: "next_step",
+    AutoresetMode.SAME_STEP: "same_step",
+    AutoresetMode.DISABLED: "disabled",
+}
+
+_U64 = 1 << 64
+
+
+def autoreset_mode(mode: Union[AutoresetMode, str]) -> AutoresetMode:
+    """gymnasium's mode from the enum, its value (``"NextStep"``) or its name
+    (``"NEXT_STEP"``, any case)."""
+    if isinstance(mode, AutoresetMode):
+        return mode
+    if isinstance(mode, str):
+        for m in AutoresetMode:
+            if mode in (m.value, m.name) or mode.upper() == m.name:
+                return m
+    raise ValueError(
+        f"autoreset_mode: expected a gymnasium.vector.AutoresetMode or one of "
+        f"{[m.value for m in AutoresetMode]}, got {mode!r}"
+    )
+
+
+class GymfleetVectorEnv(HandleOwner, VectorEnv):
+    """``num_envs`` gymfleet environments of one document, stepped together as one
+    server-side batch (sharded over a fleet when ``server`` lists several servers).
+
+    Use :func:`gymfleet.make_vec`. Autoreset is done by the server, in gymnasium's three
+    modes: ``NEXT_STEP`` (the default), ``SAME_STEP`` (``infos["final_obs"]`` and
+    ``infos["final_info"]``) and ``DISABLED`` (``reset(options={"reset_mask": mask})``).
+    """
+
+    metadata: Dict[str, Any] = {"render_modes": [], "autoreset_mode": AutoresetMode.NEXT_STEP}
+
+    def __init__(
+        self,
+        document: Document,
+        num_envs: int,
+        *,
+        server: Optional[str] = None,
+        autoreset_mode: Union[AutoresetMode, str] = AutoresetMode.NEXT_STEP,
+        action_type: str = "torque",
+        normalize_actions: bool = False,
+        timeout: Optional[float] = None,
+        render_mode: Optional[str] = None,
+        **options: Any,
+    ) -> None:
+        if render_mode is not None:
+            raise ValueError(f"render_mode: {render_mode!r} is not supported (render_modes: [])")
+        self.render_mode = render_mode
+        mode = globals()["autoreset_mode"](autoreset_mode)
+        self.action_type = check_action_type(action_type)
+        self._handle = _core.BatchHandle.create(
+            server,
+            document_json(document),
+            int(num_envs),
+            _MODES[mode],
+            create_options(options),
+            timeout,
+        )
+        self._info: Dict[str, Any] = self._handle.info
+        self.num_envs = self._info["n_envs"]
+        self.metadata = {**type(self).metadata, "autoreset_mode": mode}
+        self._actions = ActionMap(self._info, action_type, normalize_actions)
+        self.single_action_space = self._actions.space
+        self.single_observation_space = observation_space(self._info)
+        self.action_space = batch_space(self.single_action_space, self.num_envs)
+        self.observation_space = batch_space(self.single_observation_space, self.num_envs)
+        self._action_dim = self._info["action_dim"]
+
+    @property
+    def batch_info(self) -> Dict[str, Any]:
+        """What the server(s) said about the batch; ``shards`` lists ``(server,
+        batch_id, start, stop)`` per shard."""
+        return self._info
+
+    def reset(
+        self,
+        *,
+        seed: Union[int, Sequence[Optional[int]], None] = None,
+        options: Optional[Dict[str, Any]] = None,
+    ) -> Tuple[np.ndarray, Dict[str, Any]]:
+        """Resets every env, or those of ``options["reset_mask"]``. ``seed``: ``None``
+        (generators continue), an int (env ``i`` gets ``seed + i``) or one seed (or
+        ``None``) per env."""
+        mask = None
+        if options is not None and "reset_mask" in options:
+            mask = self._check_mask(options["reset_mask"])
+        if seed is not None and not isinstance(seed, (int, np.integer)):
+            seeds = list(seed)
+            if len(seeds) != self.num_envs:
+                raise ValueError(
+                    f"If seeds are passed as a list the length must match "
+                    f"num_envs={self.num_envs} but got length={len(seeds)}."
+                )
+        if seed is not None:
+            # gymnasium's VectorEnv keeps a generator of its own, seeded the same way.
+            super().reset(seed=int(seed) if isinstance(seed, (int, np.integer)) else None)
+        chosen = np.ones(self.num_envs, dtype=bool) if mask is None else mask
+        if seed is None or isinstance(seed, (int, np.integer)):
+            indices = None if mask is None else np.flatnonzero(mask).astype(np.uint32)
+            obs = self._handle.reset(None if seed is None else int(seed), indices)
+        else:
+            obs = self._reset_per_env_seeds(list(seed), chosen)
+        return obs, {}
+
+    def _reset_per_env_seeds(self, seeds: List[Optional[int]], chosen: np.ndarray) -> np.ndarray:
+        # The server reseeds env i with `seed + i`: envs whose seeds share `seed_i - i`
+        # (mod 2^64) are reset by one call, the unseeded ones by one more.
+        groups: Dict[Optional[int], List[int]] = {}
+        for i, s in enumerate(seeds):
+            if chosen[i]:
+                key = None if s is None else (int(s) - i) % _U64
+                groups.setdefault(key, []).append(i)
+        obs = None
+        for key, envs in groups.items():
+            obs = self._handle.reset(key, np.array(envs, dtype=np.uint32))
+        return obs if obs is not None else self._handle.observe()
+
+    def _check_mask(self, mask: Any) -> np.ndarray:
+        if not isinstance(mask, np.ndarray):
+            raise TypeError(f"`options['reset_mask']` must be a numpy array, got {type(mask)}")
+        if mask.shape != (self.num_envs,):
+            raise ValueError(
+                f"`options['reset_mask']` must have shape `({self.num_envs},)`, got {mask.shape}"
+            )
+        if mask.dtype != np.bool_:
+            raise TypeError(f"`options['reset_mask']` must have `dtype=np.bool_`, got {mask.dtype}")
+        if not np.any(mask):
+            raise ValueError(
+                "`options['reset_mask']` must contain a boolean array with at least one True "
+                f"value, got reset_mask={mask}"
+            )
+        return mask
+
+    def step(
+        self, actions: Any
+    ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
+        """Steps every env once; ``actions`` is ``(num_envs, action_dim)``."""
+        values = self._actions.to_server(actions).reshape(self.num_envs, self._action_dim)
+        obs, rewards, terminated, truncated, final_envs, final_obs, reasons = self._handle.step(
+            self.action_type, values
+        )
+        infos: Dict[str, Any] = {}
+        why: Dict[str, Any] = {}
+        if reasons:
+            reason = np.full(self.num_envs, None, dtype=object)
+            has_reason = np.zeros(self.num_envs, dtype=np.bool_)
+            for env, text in reasons.items():
+                reason[env] = text
+                has_reason[env] = True
+            why = {"termination_reason": reason, "_termination_reason": has_reason}
+        if len(final_envs):
+            # As gymnasium's SyncVectorEnv: the returned row is the reset observation; the
+            # ended episode's last one (and its info: why it ended) are beside it.
+            final = np.full(self.num_envs, None, dtype=object)
+            has_final = np.zeros(self.num_envs, dtype=np.bool_)
+            for row, env in enumerate(final_envs):
+                final[env] = final_obs[row]
+                has_final[env] = True
+            infos["final_obs"], infos["_final_obs"] = final, has_final
+            infos["final_info"], infos["_final_info"] = why, has_final.copy()
+        else:
+            infos.update(why)
+        return obs, rewards, terminated, truncated, infos
+
+    def observe(self) -> np.ndarray:
+        """Every env's current observation, without stepping."""
+        return self._handle.observe()
+
+    def close_extras(self, **kwargs: Any) -> None:
+        """Frees the batch on its server(s). A server that is gone has nothing left to
+        free, so that is not an error."""
+        self._close_handle()
+
+    def __repr__(self) -> str:
+        return f"<GymfleetVectorEnv {self._info['batch_id']} ({self.num_envs} envs)>"

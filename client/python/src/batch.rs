@@ -1,0 +1,307 @@
+//! [`BatchHandle`]: a batch of envs on one server, or sharded over a fleet, for
+//! `gymfleet.GymfleetVectorEnv`. Replies become numpy arrays without per-element
+//! Python objects: observations take over the reply's decoded vector.
+
+use gymfleet_client::{Autoreset, Batch, BatchObservations, BatchStep, FleetBatch, Result};
+use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::env::action_type;
+use crate::info::batch_info;
+use crate::options::{invalid, seed, timeout, CreateOptions};
+use crate::runtime::{wait, Deadline};
+use crate::servers::{resolve, Target};
+
+/// The batch, on one server or sharded.
+enum Shards {
+    One(Batch),
+    Fleet(FleetBatch),
+}
+
+impl Shards {
+    async fn step(
+        &mut self,
+        action_type: gymfleet_client::ActionType,
+        actions: &[f32],
+    ) -> Result<BatchStep> {
+        match self {
+            Shards::One(b) => b.step(action_type, actions).await,
+            Shards::Fleet(f) => f.step(action_type, actions).await,
+        }
+    }
+
+    async fn reset(
+        &mut self,
+        seed: Option<u64>,
+        env_indices: Option<&[u32]>,
+    ) -> Result<BatchObservations> {
+        match (self, env_indices) {
+            (Shards::One(b), None) => b.reset(seed).await,
+            (Shards::One(b), Some(indices)) => b.reset_envs(seed, 0, indices).await,
+            (Shards::Fleet(f), indices) => f.reset_envs(seed, 0, indices).await,
+        }
+    }
+
+    async fn observe(&mut self) -> Result<BatchObservations> {
+        match self {
+            Shards::One(b) => b.observe().await,
+            Shards::Fleet(f) => f.observe().await,
+        }
+    }
+
+    async fn close(&self) -> Result<()> {
+        match self {
+            Shards::One(b) => b.close().await,
+            Shards::Fleet(f) => f.close().await,
+        }
+    }
+}
+
+/// One batch step's results, taken out of the reply before the GIL is taken back.
+struct StepRows {
+    observations: Vec<f32>,
+    rewards: Vec<f32>,
+    terminated: Vec<bool>,
+    truncated: Vec<bool>,
+    final_env_indices: Vec<u32>,
+    final_observations: Vec<f32>,
+    termination_reasons: Vec<(u32, String)>,
+}
+
+impl StepRows {
+    fn new(step: BatchStep) -> Self {
+        let final_env_indices = step.final_env_indices().to_vec();
+        let final_observations = final_env_indices
+            .iter()
+            .flat_map(|&i| {
+                step.final_observation(i as usize)
+                    .unwrap_or_default()
+                    .iter()
+                    .copied()
+            })
+            .collect();
+        let termination_reasons = (0..step.n_envs())
+            .filter_map(|i| {
+                step.termination_reason(i)
+                    .map(|r| (i as u32, r.to_string()))
+            })
+            .collect();
+        StepRows {
+            rewards: step.rewards().to_vec(),
+            terminated: step.terminated().to_vec(),
+            truncated: step.truncated().to_vec(),
+            final_env_indices,
+            final_observations,
+            termination_reasons,
+            observations: step.into_observations(),
+        }
+    }
+}
+
+/// `rows × dim` floats as a 2-D array that owns them.
+fn matrix(py: Python<'_>, values: Vec<f32>, dim: usize) -> PyResult<Bound<'_, PyArray2<f32>>> {
+    let rows = values.len().checked_div(dim).unwrap_or(0);
+    PyArray1::from_vec(py, values).reshape([rows, dim])
+}
+
+/// What `step` returns: observations, rewards, terminated, truncated, the envs reset in
+/// the step (same-step autoreset) with their final observations, and the termination
+/// reasons by env.
+type StepTuple<'py> = (
+    Bound<'py, PyArray2<f32>>,
+    Bound<'py, PyArray1<f32>>,
+    Bound<'py, PyArray1<bool>>,
+    Bound<'py, PyArray1<bool>>,
+    Bound<'py, PyArray1<u32>>,
+    Bound<'py, PyArray2<f32>>,
+    Bound<'py, PyDict>,
+);
+
+/// A batch of identical envs; its calls block (GIL released) until every shard answered.
+#[pyclass(module = "gymfleet._core", frozen)]
+pub(crate) struct BatchHandle {
+    /// An async lock: a call holds it across its network round trip.
+    shards: tokio::sync::Mutex<Shards>,
+    info: gymfleet_client::BatchInfo,
+    /// `(server, batch_id, start, stop)` per shard.
+    placement: Vec<(String, String, usize, usize)>,
+    /// The per-call deadline; settable from Python.
+    timeout: Deadline,
+    closed: std::sync::atomic::AtomicBool,
+}
+
+#[pymethods]
+impl BatchHandle {
+    /// The per-call timeout in seconds (`None`: none).
+    #[getter]
+    fn get_timeout(&self) -> Option<f64> {
+        self.timeout.seconds()
+    }
+
+    #[setter]
+    fn set_timeout(&self, seconds: Option<f64>) -> PyResult<()> {
+        self.timeout.set_seconds(seconds)
+    }
+
+    /// Creates `n_envs` envs of `document_json` on `server` (see `resolve`), with
+    /// `autoreset` one of `"disabled"`, `"same_step"`, `"next_step"`.
+    #[staticmethod]
+    #[pyo3(signature = (server, document_json, n_envs, autoreset, options, timeout_s=None))]
+    fn create(
+        py: Python<'_>,
+        server: Option<&str>,
+        document_json: String,
+        n_envs: i64,
+        autoreset: &str,
+        options: CreateOptions,
+        timeout_s: Option<f64>,
+    ) -> PyResult<Self> {
+        let timeout = timeout(timeout_s)?;
+        let mode = match autoreset {
+            "disabled" => Autoreset::Disabled,
+            "same_step" => Autoreset::SameStep,
+            "next_step" => Autoreset::NextStep,
+            other => {
+                return Err(invalid(format!(
+                    "autoreset: expected \"disabled\", \"same_step\" or \"next_step\", got {:?}",
+                    other.chars().take(64).collect::<String>()
+                )))
+            }
+        };
+        let options = options
+            .batch_options(document_json, n_envs)?
+            .autoreset(mode);
+        let shards = match resolve(py, server)? {
+            Target::One(client) => Shards::One(wait(py, timeout, || async move {
+                client.create_batch(options).await
+            })?),
+            Target::Fleet(fleet) => Shards::Fleet(wait(py, timeout, || async move {
+                fleet.create_batch(options).await
+            })?),
+        };
+        let (info, placement) = match &shards {
+            Shards::One(b) => (
+                b.info().clone(),
+                vec![(
+                    b.server().to_string(),
+                    b.id().to_string(),
+                    0,
+                    b.info().n_envs,
+                )],
+            ),
+            Shards::Fleet(f) => (
+                f.info().clone(),
+                f.placement()
+                    .into_iter()
+                    .map(|p| (p.server, p.batch_id, p.envs.start, p.envs.end))
+                    .collect(),
+            ),
+        };
+        Ok(BatchHandle {
+            shards: tokio::sync::Mutex::new(shards),
+            info,
+            placement,
+            timeout: Deadline::new(timeout),
+            closed: Default::default(),
+        })
+    }
+
+    /// What the server(s) said about the batch; `shards` lists `(server, batch_id, start,
+    /// stop)`.
+    #[getter]
+    fn info<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        batch_info(py, &self.info, self.placement.clone())
+    }
+
+    /// Resets every env, or those in `env_indices` (ascending); env `i` is reseeded with
+    /// `seed + i` first when `seed` is given. Returns every env's observation.
+    #[pyo3(signature = (seed_value=None, env_indices=None))]
+    fn reset<'py>(
+        &self,
+        py: Python<'py>,
+        seed_value: Option<i128>,
+        env_indices: Option<PyReadonlyArray1<'py, u32>>,
+    ) -> PyResult<Bound<'py, PyArray2<f32>>> {
+        let seed = seed_value.map(|s| seed("seed", s)).transpose()?;
+        let indices: Option<Vec<u32>> = env_indices.map(|a| a.as_array().to_vec());
+        let observations = wait(py, self.timeout.get(), || async move {
+            self.shards
+                .lock()
+                .await
+                .reset(seed, indices.as_deref())
+                .await
+        })?;
+        matrix(
+            py,
+            observations.into_observations(),
+            self.info.observation_dim,
+        )
+    }
+
+    /// Steps every env with `actions` (`n_envs × action_dim`).
+    fn step<'py>(
+        &self,
+        py: Python<'py>,
+        action_type_name: &str,
+        actions: PyReadonlyArray2<'py, f32>,
+    ) -> PyResult<StepTuple<'py>> {
+        let action_type = action_type(action_type_name)?;
+        let values: Vec<f32> = match actions.as_slice() {
+            Ok(flat) => flat.to_vec(),
+            Err(_) => actions.as_array().iter().copied().collect(),
+        };
+        let rows = wait(py, self.timeout.get(), || async move {
+            self.shards
+                .lock()
+                .await
+                .step(action_type, &values)
+                .await
+                .map(StepRows::new)
+        })?;
+        let dim = self.info.observation_dim;
+        let reasons = PyDict::new(py);
+        for (env, reason) in rows.termination_reasons {
+            reasons.set_item(env, reason)?;
+        }
+        Ok((
+            matrix(py, rows.observations, dim)?,
+            PyArray1::from_vec(py, rows.rewards),
+            PyArray1::from_vec(py, rows.terminated),
+            PyArray1::from_vec(py, rows.truncated),
+            PyArray1::from_vec(py, rows.final_env_indices),
+            matrix(py, rows.final_observations, dim)?,
+            reasons,
+        ))
+    }
+
+    /// Every env's current observation, without stepping.
+    fn observe<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f32>>> {
+        let observations = wait(py, self.timeout.get(), || async move {
+            self.shards.lock().await.observe().await
+        })?;
+        matrix(
+            py,
+            observations.into_observations(),
+            self.info.observation_dim,
+        )
+    }
+
+    /// Closes the batch on its server(s); `True` the first time, `False` afterwards.
+    fn close(&self, py: Python<'_>) -> PyResult<bool> {
+        use std::sync::atomic::Ordering;
+        if self.closed.swap(true, Ordering::SeqCst) {
+            return Ok(false);
+        }
+        wait(py, self.timeout.get(), || async move {
+            self.shards.lock().await.close().await
+        })?;
+        Ok(true)
+    }
+
+    /// Whether `close` was called.
+    #[getter]
+    fn closed(&self) -> bool {
+        self.closed.load(std::sync::atomic::Ordering::SeqCst)
+    }
+}

@@ -1,0 +1,166 @@
+//! [`EnvHandle`]: one server-side environment, for `gymfleet.GymfleetEnv`.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use gymfleet_client::{ActionType, Env};
+use numpy::{PyArray1, PyReadonlyArray1};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::info::env_info;
+use crate::options::{invalid, seed, timeout, CreateOptions};
+use crate::runtime::{wait, Deadline};
+use crate::servers::{resolve, Target};
+
+/// An action type by its proto name (`"torque"`, `"position"`, `"velocity"`).
+pub(crate) fn action_type(name: &str) -> PyResult<ActionType> {
+    match name {
+        "torque" => Ok(ActionType::Torque),
+        "position" => Ok(ActionType::Position),
+        "velocity" => Ok(ActionType::Velocity),
+        other => Err(invalid(format!(
+            "action_type: expected \"torque\", \"position\" or \"velocity\", got {:?}",
+            other.chars().take(64).collect::<String>()
+        ))),
+    }
+}
+
+/// One env on a server. Its calls block (with the GIL released) until the reply.
+#[pyclass(module = "gymfleet._core", frozen)]
+pub(crate) struct EnvHandle {
+    env: Env,
+    /// The per-call deadline; settable from Python.
+    timeout: Deadline,
+    closed: AtomicBool,
+}
+
+#[pymethods]
+impl EnvHandle {
+    /// The per-call timeout in seconds (`None`: none).
+    #[getter]
+    fn get_timeout(&self) -> Option<f64> {
+        self.timeout.seconds()
+    }
+
+    #[setter]
+    fn set_timeout(&self, seconds: Option<f64>) -> PyResult<()> {
+        self.timeout.set_seconds(seconds)
+    }
+
+    /// Creates an env of `document_json` on `server` (see `resolve`).
+    #[staticmethod]
+    #[pyo3(signature = (server, document_json, options, timeout_s=None))]
+    fn create(
+        py: Python<'_>,
+        server: Option<&str>,
+        document_json: String,
+        options: CreateOptions,
+        timeout_s: Option<f64>,
+    ) -> PyResult<Self> {
+        let timeout = timeout(timeout_s)?;
+        let options = options.env_options(document_json)?;
+        let env = match resolve(py, server)? {
+            Target::One(client) => {
+                wait(
+                    py,
+                    timeout,
+                    || async move { client.create_env(options).await },
+                )?
+            }
+            Target::Fleet(fleet) => {
+                wait(
+                    py,
+                    timeout,
+                    || async move { fleet.create_env(options).await },
+                )?
+            }
+        };
+        Ok(EnvHandle {
+            env,
+            timeout: Deadline::new(timeout),
+            closed: AtomicBool::new(false),
+        })
+    }
+
+    /// What the server said about the env.
+    #[getter]
+    fn info<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        env_info(py, self.env.info(), self.env.server())
+    }
+
+    /// Resets it (reseeded first when `seed` is given); returns the observation.
+    #[pyo3(signature = (seed_value=None))]
+    fn reset<'py>(
+        &self,
+        py: Python<'py>,
+        seed_value: Option<i128>,
+    ) -> PyResult<Bound<'py, PyArray1<f32>>> {
+        let seed = seed_value.map(|s| seed("seed", s)).transpose()?;
+        let env = &self.env;
+        let observation = wait(
+            py,
+            self.timeout.get(),
+            || async move { env.reset(seed).await },
+        )?;
+        Ok(PyArray1::from_vec(py, observation.to_flat()))
+    }
+
+    /// One step: `(observation, reward, terminated, truncated, termination_reason,
+    /// episode_step)`.
+    #[allow(clippy::type_complexity)]
+    fn step<'py>(
+        &self,
+        py: Python<'py>,
+        action_type_name: &str,
+        action: PyReadonlyArray1<'py, f32>,
+    ) -> PyResult<(
+        Bound<'py, PyArray1<f32>>,
+        f32,
+        bool,
+        bool,
+        Option<String>,
+        u32,
+    )> {
+        let action_type = action_type(action_type_name)?;
+        let values = action.as_array().to_vec();
+        let env = &self.env;
+        let r = wait(py, self.timeout.get(), || async move {
+            env.step(action_type, &values).await
+        })?;
+        Ok((
+            PyArray1::from_vec(py, r.observation.to_flat()),
+            r.reward,
+            r.terminated,
+            r.truncated,
+            r.termination_reason,
+            r.episode_step,
+        ))
+    }
+
+    /// The current observation, without stepping.
+    fn observe<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f32>>> {
+        let env = &self.env;
+        let observation = wait(
+            py,
+            self.timeout.get(),
+            || async move { env.observe().await },
+        )?;
+        Ok(PyArray1::from_vec(py, observation.to_flat()))
+    }
+
+    /// Closes the env on its server; `True` the first time, `False` afterwards.
+    fn close(&self, py: Python<'_>) -> PyResult<bool> {
+        if self.closed.swap(true, Ordering::SeqCst) {
+            return Ok(false);
+        }
+        let env = &self.env;
+        wait(py, self.timeout.get(), || async move { env.close().await })?;
+        Ok(true)
+    }
+
+    /// Whether `close` was called.
+    #[getter]
+    fn closed(&self) -> bool {
+        self.closed.load(Ordering::SeqCst)
+    }
+}

@@ -1,0 +1,69 @@
+//! [`to_py_err`]: a [`ClientError`] as the Python exception of its status class. The
+//! classes live in plain Python (`gymfleet/errors.py`), so that each can also subclass
+//! the builtin that fits (`ValueError`, `KeyError`, `TimeoutError`); this module only
+//! picks one and fills it in.
+
+use gymfleet_client::ClientError;
+use pyo3::exceptions::PyRuntimeError;
+use pyo3::prelude::*;
+use pyo3::types::PyList;
+
+/// The name of the `gymfleet.errors` class for `err`.
+fn class_name(err: &ClientError) -> &'static str {
+    match err {
+        ClientError::NotFound { .. } => "NotFound",
+        ClientError::InvalidArgument { .. } | ClientError::Fleet { .. } => "InvalidArgument",
+        ClientError::FailedPrecondition { .. } => "FailedPrecondition",
+        ClientError::ResourceExhausted { .. } => "ResourceExhausted",
+        ClientError::Connect { .. } | ClientError::Unavailable { .. } => "Unavailable",
+        ClientError::DeadlineExceeded { .. } => "DeadlineExceeded",
+        ClientError::Unauthenticated { .. } => "Unauthenticated",
+        ClientError::Internal { .. } | ClientError::Protocol { .. } => "Internal",
+        ClientError::ServerLost { .. } => "ServerLost",
+        ClientError::OnServer { error, .. } => class_name(error),
+    }
+}
+
+/// The exception's text: the server's message, prefixed with what the class does not say
+/// already (which server, for a fleet; what kind of failure, for the two catch-alls).
+fn text(err: &ClientError) -> String {
+    match err {
+        ClientError::Connect { .. }
+        | ClientError::Protocol { .. }
+        | ClientError::ServerLost { .. }
+        | ClientError::OnServer { .. } => err.to_string(),
+        ClientError::Fleet { message } => format!("fleet: {message}"),
+        _ => err.message().to_string(),
+    }
+}
+
+/// `err` as an instance of its `gymfleet.errors` class, with `server` (the server it
+/// names, or `None`) and, for `ServerLost`, `envs` (the lost `(start, stop)` ranges).
+pub(crate) fn to_py_err(err: ClientError) -> PyErr {
+    Python::attach(|py| match build(py, &err) {
+        Ok(exception) => exception,
+        // The package's own module is missing or broken: say so, with the original error.
+        Err(e) => PyRuntimeError::new_err(format!("{err} (and gymfleet.errors failed: {e})")),
+    })
+}
+
+fn build(py: Python<'_>, err: &ClientError) -> PyResult<PyErr> {
+    let module = py.import("gymfleet.errors")?;
+    let class = module.getattr(class_name(err))?;
+    let exception = class.call1((text(err),))?;
+    exception.setattr("server", err.server())?;
+    if let ClientError::ServerLost { envs, .. } = err {
+        let ranges: Vec<(usize, usize)> = envs.iter().map(|r| (r.start, r.end)).collect();
+        exception.setattr("envs", PyList::new(py, ranges)?)?;
+    }
+    Ok(PyErr::from_value(exception))
+}
+
+/// Raises the exception a server status `code` (gRPC's number) with `message` becomes,
+/// through the same mapping as every call: for the tests of statuses no server here can
+/// be made to answer (e.g. `UNAUTHENTICATED` before auth exists, `INTERNAL`).
+#[pyfunction]
+pub(crate) fn _raise_status(code: i32, message: String) -> PyResult<()> {
+    let status = tonic::Status::new(tonic::Code::from(code), message);
+    Err(to_py_err(ClientError::from(status)))
+}

@@ -1,0 +1,109 @@
+//! The handles' descriptions as Python dicts: what `EnvInfo`/`BatchInfo` say, with the
+//! joints' limits and effort clamps from which the package builds its spaces.
+
+use gymfleet_client::{BatchInfo, EnvInfo, JointInfo};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+fn joint<'py>(py: Python<'py>, j: &JointInfo) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("name", &j.name)?;
+    d.set_item("type", &j.joint_type)?;
+    d.set_item("dof", j.dof)?;
+    d.set_item("parent", &j.parent)?;
+    d.set_item("child", &j.child)?;
+    d.set_item("max_effort", j.max_effort)?;
+    let limits = j
+        .limits
+        .iter()
+        .map(|l| {
+            let limit = PyDict::new(py);
+            limit.set_item("unit", &l.unit)?;
+            limit.set_item("min", l.min)?;
+            limit.set_item("max", l.max)?;
+            Ok(limit)
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    d.set_item("limits", PyList::new(py, limits)?)?;
+    Ok(d)
+}
+
+fn joints<'py>(py: Python<'py>, joints: &[JointInfo]) -> PyResult<Bound<'py, PyList>> {
+    let joints = joints
+        .iter()
+        .map(|j| joint(py, j))
+        .collect::<PyResult<Vec<_>>>()?;
+    PyList::new(py, joints)
+}
+
+/// What every env of a batch and a single env share.
+struct Shape<'a> {
+    num_joints: usize,
+    action_dim: usize,
+    observation_dim: usize,
+    end_effector_ids: &'a [String],
+    dt: f64,
+    substeps: u32,
+    max_steps: u32,
+    joints: &'a [JointInfo],
+}
+
+impl Shape<'_> {
+    fn write(&self, py: Python<'_>, d: &Bound<'_, PyDict>) -> PyResult<()> {
+        d.set_item("num_joints", self.num_joints)?;
+        d.set_item("action_dim", self.action_dim)?;
+        d.set_item("observation_dim", self.observation_dim)?;
+        d.set_item("end_effector_ids", self.end_effector_ids)?;
+        d.set_item("dt", self.dt)?;
+        d.set_item("substeps", self.substeps)?;
+        d.set_item("max_steps", self.max_steps)?;
+        d.set_item("joints", joints(py, self.joints)?)
+    }
+}
+
+/// A single env's description.
+pub(crate) fn env_info<'py>(
+    py: Python<'py>,
+    i: &EnvInfo,
+    server: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("env_id", &i.env_id)?;
+    d.set_item("server", server)?;
+    Shape {
+        num_joints: i.num_joints,
+        action_dim: i.action_dim,
+        observation_dim: i.observation_dim,
+        end_effector_ids: &i.end_effector_ids,
+        dt: i.dt,
+        substeps: i.substeps,
+        max_steps: i.max_steps,
+        joints: &i.joints,
+    }
+    .write(py, &d)?;
+    Ok(d)
+}
+
+/// A batch's description; `shards` lists `(server, batch_id, start, stop)` per shard.
+pub(crate) fn batch_info<'py>(
+    py: Python<'py>,
+    i: &BatchInfo,
+    shards: Vec<(String, String, usize, usize)>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("batch_id", &i.batch_id)?;
+    d.set_item("n_envs", i.n_envs)?;
+    Shape {
+        num_joints: i.num_joints,
+        action_dim: i.action_dim,
+        observation_dim: i.observation_dim,
+        end_effector_ids: &i.end_effector_ids,
+        dt: i.dt,
+        substeps: i.substeps,
+        max_steps: i.max_steps,
+        joints: &i.joints,
+    }
+    .write(py, &d)?;
+    d.set_item("shards", PyList::new(py, shards)?)?;
+    Ok(d)
+}

@@ -1,0 +1,103 @@
+//! [`CreateOptions`]: the creation options both handles take, checked at the boundary
+//! (Python ints are unbounded; the wire's are not) and turned into the client's builders.
+
+use std::time::Duration;
+
+use gymfleet_client::{BatchOptions, ClientError, EnvOptions, PdGains};
+use pyo3::prelude::*;
+
+use crate::errors::to_py_err;
+
+/// The options of `CreateEnvRequest` (and so of `CreateBatchRequest`), as Python gave them.
+/// Names are the proto's field names.
+#[derive(Debug, Clone, Default, FromPyObject)]
+#[pyo3(from_item_all)]
+pub(crate) struct CreateOptions {
+    pub(crate) end_effector_ids: Vec<String>,
+    pub(crate) dt: Option<f64>,
+    pub(crate) substeps: Option<i64>,
+    pub(crate) max_steps: Option<i64>,
+    pub(crate) seed: Option<i128>,
+    pub(crate) reset_noise: Option<f64>,
+    pub(crate) kp: Option<Vec<f64>>,
+    pub(crate) kd: Option<Vec<f64>>,
+}
+
+/// An `INVALID_ARGUMENT` raised before anything is sent.
+pub(crate) fn invalid(message: String) -> PyErr {
+    to_py_err(ClientError::InvalidArgument { message })
+}
+
+/// `value` as a `u32` count, or an error naming `field`.
+fn count(field: &str, value: i64) -> PyResult<u32> {
+    u32::try_from(value).map_err(|_| {
+        invalid(format!(
+            "{field}: expected an integer from 0 to {}, got {value}",
+            u32::MAX
+        ))
+    })
+}
+
+/// A seed: any integer from 0 to 2^64 − 1.
+pub(crate) fn seed(field: &str, value: i128) -> PyResult<u64> {
+    u64::try_from(value).map_err(|_| {
+        invalid(format!(
+            "{field}: expected an integer from 0 to {}, got {value}",
+            u64::MAX
+        ))
+    })
+}
+
+/// A per-call timeout in seconds: positive and finite, or `None` for none.
+pub(crate) fn timeout(value: Option<f64>) -> PyResult<Option<Duration>> {
+    match value {
+        None => Ok(None),
+        Some(s) if s.is_finite() && s > 0.0 && s < 1e9 => Ok(Some(Duration::from_secs_f64(s))),
+        Some(s) => Err(invalid(format!(
+            "timeout: expected a positive number of seconds (or None), got {s}"
+        ))),
+    }
+}
+
+impl CreateOptions {
+    /// The client's builder for one env of `document_json`.
+    pub(crate) fn env_options(&self, document_json: String) -> PyResult<EnvOptions> {
+        let mut options =
+            EnvOptions::new(document_json).end_effectors(self.end_effector_ids.clone());
+        if let Some(dt) = self.dt {
+            options = options.dt(dt);
+        }
+        if let Some(substeps) = self.substeps {
+            options = options.substeps(count("substeps", substeps)?);
+        }
+        if let Some(max_steps) = self.max_steps {
+            options = options.max_steps(count("max_steps", max_steps)?);
+        }
+        if let Some(value) = self.seed {
+            options = options.seed(seed("seed", value)?);
+        }
+        if let Some(noise) = self.reset_noise {
+            options = options.reset_noise(noise);
+        }
+        if self.kp.is_some() || self.kd.is_some() {
+            options = options.pd_gains(PdGains {
+                kp: self.kp.clone().unwrap_or_default(),
+                kd: self.kd.clone().unwrap_or_default(),
+            });
+        }
+        Ok(options)
+    }
+
+    /// The client's builder for a batch of `n_envs` envs of `document_json`.
+    pub(crate) fn batch_options(
+        &self,
+        document_json: String,
+        n_envs: i64,
+    ) -> PyResult<BatchOptions> {
+        let n = usize::try_from(n_envs)
+            .ok()
+            .filter(|&n| n >= 1)
+            .ok_or_else(|| invalid(format!("num_envs: expected at least 1, got {n_envs}")))?;
+        Ok(BatchOptions::from_env(self.env_options(document_json)?, n))
+    }
+}

@@ -1,0 +1,245 @@
+//! Where a handle's server is: the process's embedded server (`server=None`), one
+//! address, or a comma-separated fleet ([`resolve`]); the [`Server`] class that runs one
+//! more server in this process; and one cached connection per address.
+//!
+//! Every embedded server is the server crate's [`LocalServer`] on `127.0.0.1:0`, reached
+//! over loopback gRPC like any other: the package has one client implementation.
+
+use std::collections::HashMap;
+use std::sync::{Mutex, OnceLock};
+use std::time::Duration;
+
+use gymfleet_client::{Client, Fleet, FleetEndpoints, ServerInfo};
+use gymfleet_server::{LocalServer, ServerConfig};
+use pyo3::exceptions::PyRuntimeError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::errors::to_py_err;
+use crate::runtime::{runtime, wait};
+
+/// What a handle talks to.
+pub(crate) enum Target {
+    /// One server.
+    One(Client),
+    /// Several; batches are sharded over them.
+    Fleet(Fleet),
+}
+
+/// The connection for `server` (`None`: the embedded server, started on first use; a
+/// comma-separated list: a fleet).
+pub(crate) fn resolve(py: Python<'_>, server: Option<&str>) -> PyResult<Target> {
+    let addr = match server {
+        None => embedded_address(py)?,
+        Some(list) if list.contains(',') => {
+            let endpoints = FleetEndpoints::parse(list).map_err(to_py_err)?;
+            let clients = endpoints
+                .addrs()
+                .iter()
+                .map(|a| client(py, a))
+                .collect::<PyResult<Vec<_>>>()?;
+            return Fleet::from_clients(clients)
+                .map(Target::Fleet)
+                .map_err(to_py_err);
+        }
+        Some(addr) => addr.trim().to_string(),
+    };
+    client(py, &addr).map(Target::One)
+}
+
+/// The cached connection to `addr`, connecting on first use. A connection outlives a
+/// server restart (it reconnects), so one per address is enough.
+fn client(py: Python<'_>, addr: &str) -> PyResult<Client> {
+    static CLIENTS: OnceLock<Mutex<HashMap<String, Client>>> = OnceLock::new();
+    let clients = CLIENTS.get_or_init(Default::default);
+    if let Some(client) = lock(clients).get(addr) {
+        return Ok(client.clone());
+    }
+    let owned = addr.to_string();
+    let client = wait(py, None, || Client::connect(owned))?;
+    lock(clients).insert(addr.to_string(), client.clone());
+    Ok(client)
+}
+
+fn lock<T>(mutex: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    mutex
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
+/// The address of the process's embedded server, started on first use: one pool thread
+/// per core, the server's default limits, no idle TTL (its envs belong to this process,
+/// which frees them when they are closed or garbage-collected). It runs until the
+/// process exits.
+#[pyfunction]
+pub(crate) fn embedded_address(py: Python<'_>) -> PyResult<String> {
+    static EMBEDDED: OnceLock<LocalServer> = OnceLock::new();
+    static STARTING: Mutex<()> = Mutex::new(());
+    if let Some(server) = EMBEDDED.get() {
+        return Ok(server.client_addr());
+    }
+    let started = py.detach(|| {
+        let _one_at_a_time = lock(&STARTING);
+        if let Some(server) = EMBEDDED.get() {
+            return Ok(server.client_addr());
+        }
+        let config = ServerConfig {
+            idle_ttl: Duration::ZERO,
+            ..ServerConfig::default()
+        };
+        let server = runtime().block_on(LocalServer::start(config))?;
+        let addr = server.client_addr();
+        let _ = EMBEDDED.set(server);
+        Ok(addr)
+    });
+    started.map_err(start_error)
+}
+
+fn start_error(e: gymfleet_server::ServerError) -> PyErr {
+    PyRuntimeError::new_err(format!("cannot start the embedded gymfleet server: {e}"))
+}
+
+fn start(py: Python<'_>, config: ServerConfig) -> PyResult<LocalServer> {
+    py.detach(|| runtime().block_on(LocalServer::start(config)))
+        .map_err(start_error)
+}
+
+/// A gymfleet server running inside this process on `127.0.0.1:<free port>`, until
+/// `stop()` (or the end of a `with` block, or the process).
+#[pyclass(module = "gymfleet._core", frozen)]
+pub(crate) struct Server {
+    address: String,
+    server: Mutex<Option<LocalServer>>,
+}
+
+#[pymethods]
+impl Server {
+    #[new]
+    #[pyo3(signature = (*, threads=0, max_envs=None, max_batch_size=None, idle_ttl=None))]
+    fn new(
+        py: Python<'_>,
+        threads: usize,
+        max_envs: Option<usize>,
+        max_batch_size: Option<usize>,
+        idle_ttl: Option<f64>,
+    ) -> PyResult<Self> {
+        let defaults = ServerConfig::default();
+        let idle_ttl = match idle_ttl {
+            None => Duration::ZERO,
+            Some(s) if (0.0..1e9).contains(&s) => Duration::from_secs_f64(s),
+            Some(s) => {
+                return Err(crate::options::invalid(format!(
+                    "idle_ttl: expected a number of seconds >= 0 (0: never), got {s}"
+                )))
+            }
+        };
+        let config = ServerConfig {
+            threads,
+            max_envs: max_envs.unwrap_or(defaults.max_envs),
+            max_batch_size: max_batch_size.unwrap_or(defaults.max_batch_size),
+            idle_ttl,
+            ..defaults
+        };
+        let server = start(py, config)?;
+        Ok(Server {
+            address: server.client_addr(),
+            server: Mutex::new(Some(server)),
+        })
+    }
+
+    /// `"127.0.0.1:<port>"`: what `server=` takes.
+    #[getter]
+    fn address(&self) -> String {
+        self.address.clone()
+    }
+
+    /// Whether it is still serving.
+    #[getter]
+    fn running(&self) -> bool {
+        lock(&self.server).is_some()
+    }
+
+    /// Stops serving: in-flight calls finish, then its envs and batches are gone and
+    /// clients of it get `Unavailable` (a fleet: `ServerLost`). Stopping twice is a no-op.
+    fn stop(&self, py: Python<'_>) -> PyResult<()> {
+        let Some(server) = lock(&self.server).take() else {
+            return Ok(());
+        };
+        py.detach(|| runtime().block_on(server.stop()))
+            .map_err(|e| PyRuntimeError::new_err(format!("gymfleet server {}: {e}", self.address)))
+    }
+
+    fn __enter__(slf: Py<Self>) -> Py<Self> {
+        slf
+    }
+
+    fn __exit__(
+        &self,
+        py: Python<'_>,
+        _exc_type: Option<Bound<'_, PyAny>>,
+        _exc: Option<Bound<'_, PyAny>>,
+        _traceback: Option<Bound<'_, PyAny>>,
+    ) -> PyResult<bool> {
+        self.stop(py)?;
+        Ok(false)
+    }
+
+    fn __repr__(&self) -> String {
+        let state = if self.running() { "running" } else { "stopped" };
+        format!("gymfleet.Server(address='{}', {state})", self.address)
+    }
+}
+
+/// The per-pod addresses of a Kubernetes StatefulSet behind a headless Service,
+/// `NAME-<i>.SERVICE.NAMESPACE.svc.cluster.local:PORT` for `i` in `0..replicas`.
+#[pyfunction]
+#[pyo3(signature = (name, service, namespace="default", replicas=1, port=50051))]
+pub(crate) fn stateful_set(
+    name: &str,
+    service: &str,
+    namespace: &str,
+    replicas: usize,
+    port: u16,
+) -> PyResult<Vec<String>> {
+    FleetEndpoints::stateful_set(name, service, namespace, replicas, port)
+        .map(|e| e.addrs().to_vec())
+        .map_err(to_py_err)
+}
+
+/// What a server says about itself (version, threads, envs and batches open, limits);
+/// for a fleet, a list with one per server.
+#[pyfunction]
+#[pyo3(signature = (server=None))]
+pub(crate) fn server_info(py: Python<'_>, server: Option<&str>) -> PyResult<Py<PyAny>> {
+    match resolve(py, server)? {
+        Target::One(client) => {
+            let info = wait(py, None, || async move { client.server_info().await })?;
+            Ok(info_dict(py, &info)?.into_any().unbind())
+        }
+        Target::Fleet(fleet) => {
+            let infos = wait(py, None, || async move { fleet.server_infos().await })?;
+            let dicts = infos
+                .iter()
+                .map(|i| info_dict(py, i))
+                .collect::<PyResult<Vec<_>>>()?;
+            Ok(pyo3::types::PyList::new(py, dicts)?.into_any().unbind())
+        }
+    }
+}
+
+fn info_dict<'py>(py: Python<'py>, i: &ServerInfo) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("version", &i.version)?;
+    d.set_item("threads", i.threads)?;
+    d.set_item("envs", i.envs)?;
+    d.set_item("batches", i.batches)?;
+    d.set_item("batch_envs", i.batch_envs)?;
+    let limits = PyDict::new(py);
+    limits.set_item("max_envs", i.limits.max_envs)?;
+    limits.set_item("max_batch_size", i.limits.max_batch_size)?;
+    limits.set_item("max_document_bytes", i.limits.max_document_bytes)?;
+    limits.set_item("max_message_bytes", i.limits.max_message_bytes)?;
+    limits.set_item("idle_ttl_seconds", i.limits.idle_ttl_seconds)?;
+    d.set_item("limits", limits)?;
+    Ok(d)
+}

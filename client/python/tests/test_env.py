@@ -1,0 +1,127 @@
+"""`gymfleet.make` and `gymnasium.make`: gymnasium's own checker, spaces, documents,
+closing and garbage collection."""
+
+from __future__ import annotations
+
+import gc
+import json
+import warnings
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from gymnasium.utils.env_checker import check_env
+
+import gymfleet
+from conftest import MODELS
+
+#: What check_env says about gymnasium's own MuJoCo envs too (PRODUCT.md §6.2): infinite
+#: Box bounds (velocities are unbounded; so are torques without `max_effort`), and
+#: un-normalised action ranges.
+EXPECTED_WARNINGS = (
+    "observation space minimum value is -infinity. This is probably too low.",
+    "observation space maximum value is infinity. This is probably too high.",
+    "action space minimum value is -infinity. This is probably too low.",
+    "action space maximum value is infinity. This is probably too high.",
+    "For Box action spaces, we recommend using a symmetric and normalized space",
+)
+
+
+def checked(env: gym.Env) -> list:
+    """check_env's warnings about `env` that are not expected."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        check_env(env)
+    return [str(w.message) for w in caught if not any(e in str(w.message) for e in EXPECTED_WARNINGS)]
+
+
+@pytest.mark.parametrize("env_id", ["gymfleet/Pendulum-v0", "gymfleet/Arm2-v0"])
+def test_registered_seed_envs_pass_gymnasiums_checker(env_id):
+    env = gym.make(env_id)
+    assert checked(env.unwrapped) == []
+    env.close()
+
+
+@pytest.mark.parametrize("name,effector", [("pendulum", "arm"), ("arm2", "forearm")])
+def test_make_of_the_seed_documents_passes_gymnasiums_checker(name, effector):
+    env = gymfleet.make(MODELS / f"{name}.json", end_effector_ids=[effector])
+    assert checked(env) == []
+    env.close()
+
+
+def test_spaces_come_from_the_envs_limits(arm2):
+    arm2["assembly"]["joints"][0]["max_effort"] = 0.002
+    env = gymfleet.make(arm2, end_effector_ids=["forearm"])
+    assert env.observation_space.shape == (2 + 2 + 7,)
+    assert env.observation_space.dtype == np.float32
+    np.testing.assert_array_equal(env.action_space.low, np.float32([-0.002, -np.inf]))
+    np.testing.assert_array_equal(env.action_space.high, np.float32([0.002, np.inf]))
+    assert env.env_info["joints"][0]["max_effort"] == 0.002
+    assert env.env_info["joints"][1]["max_effort"] is None
+    env.close()
+    env = gymfleet.make(arm2, action_type="position")
+    np.testing.assert_array_equal(env.action_space.low, [-90, -120])
+    np.testing.assert_array_equal(env.action_space.high, [90, 0])
+    env.close()
+    env = gymfleet.make(arm2, action_type="velocity")
+    assert np.all(np.isinf(env.action_space.high))
+    env.close()
+
+
+def test_normalize_actions_maps_minus_one_to_one_onto_the_range(arm2):
+    env = gymfleet.make(arm2, action_type="position", normalize_actions=True, substeps=5)
+    assert env.action_space == gym.spaces.Box(-1, 1, (2,), np.float32)
+    raw = gymfleet.make(arm2, action_type="position", substeps=5)
+    env.reset(seed=3)
+    raw.reset(seed=3)
+    for a in ([1.0, -1.0], [0.0, 0.5], [-1.0, 1.0]):
+        # [-1, 1] onto [-90, 90] and [-120, 0]
+        target = [90 * a[0], -60 + 60 * a[1]]
+        assert np.array_equal(env.step(a)[0], raw.step(target)[0])
+    with pytest.raises(gymfleet.InvalidArgument, match="normalize_actions: every DOF needs a finite torque range, but upper, forearm has none"):
+        gymfleet.make(arm2, normalize_actions=True)
+
+
+def test_a_document_is_a_dict_a_json_string_or_a_path(arm2):
+    for document in (arm2, json.dumps(arm2), MODELS / "arm2.json", str(MODELS / "arm2.json")):
+        env = gymfleet.make(document, end_effector_ids=["forearm"])
+        assert env.reset(seed=0)[0].shape == (11,)
+        env.close()
+    with pytest.raises(gymfleet.InvalidArgument, match="document: expected a dict, JSON text or the path of a file, got 'no/such/file.json'"):
+        gymfleet.make("no/such/file.json")
+    with pytest.raises(TypeError, match="unexpected option.*end_effectors"):
+        gymfleet.make(arm2, end_effectors=["forearm"])
+
+
+def test_steps_report_measurements_and_episode_ends(pendulum):
+    env = gymfleet.make(pendulum, end_effector_ids=["arm"], max_steps=3)
+    obs, info = env.reset(seed=0)
+    assert obs.dtype == np.float32 and info == {}
+    for k in range(1, 4):
+        obs, reward, terminated, truncated, info = env.step(np.array([1e-4]))
+        assert (reward, terminated, info["episode_step"]) == (0.0, False, k)
+        assert truncated == (k == 3)
+    assert obs[0] > 0, "a positive torque turns the joint the positive way"
+    env.close()
+
+
+def test_close_frees_the_env_and_is_idempotent(server, arm2):
+    env = gymfleet.make(arm2, server=server.address)
+    assert gymfleet.server_info(server.address)["envs"] == 1
+    env.close()
+    env.close()
+    assert gymfleet.server_info(server.address)["envs"] == 0
+    with gymfleet.make(arm2, server=server.address) as env:
+        env.reset()
+    assert gymfleet.server_info(server.address)["envs"] == 0
+
+
+def test_a_garbage_collected_env_is_freed(server, arm2):
+    env = gymfleet.make(arm2, server=server.address)
+    vec = gymfleet.make_vec(arm2, 8, server=server.address)
+    info = gymfleet.server_info(server.address)
+    assert (info["envs"], info["batches"], info["batch_envs"]) == (1, 1, 8)
+    del env, vec
+    gc.collect()
+    info = gymfleet.server_info(server.address)
+    assert (info["envs"], info["batches"]) == (0, 0)

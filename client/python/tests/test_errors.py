@@ -1,0 +1,113 @@
+"""Every exception class, raised with the server's message, and subclassing the builtin
+that fits."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import gymfleet
+from gymfleet import _core
+
+
+def test_a_bad_document_is_invalid_argument_with_its_json_path(arm2):
+    arm2["assembly"]["joints"][1]["child"] = "forarm"
+    with pytest.raises(gymfleet.InvalidArgument) as caught:
+        gymfleet.make(arm2)
+    assert 'assembly.joints[1].child: unknown instance "forarm"' in str(caught.value)
+    assert isinstance(caught.value, ValueError) and isinstance(caught.value, gymfleet.GymfleetError)
+
+
+def test_bad_options_and_actions_are_invalid_argument(arm2):
+    with pytest.raises(gymfleet.InvalidArgument, match="substeps: expected an integer from 0 to 4294967295, got -1"):
+        gymfleet.make(arm2, substeps=-1)
+    with pytest.raises(gymfleet.InvalidArgument, match="seed: expected an integer from 0 to 18446744073709551615, got -5"):
+        gymfleet.make(arm2, seed=-5)
+    with pytest.raises(gymfleet.InvalidArgument, match="dt"):
+        gymfleet.make(arm2, dt=-1.0)
+    with pytest.raises(gymfleet.InvalidArgument, match='action_type: expected "torque", "position" or "velocity", got \'force\''):
+        gymfleet.make(arm2, action_type="force")
+    env = gymfleet.make(arm2)
+    env.reset()
+    with pytest.raises(gymfleet.InvalidArgument, match=r"values: expected 2 action values \(one per DOF\), got 1"):
+        env.step([0.0])
+    with pytest.raises(gymfleet.InvalidArgument, match="expected a finite number, got NaN"):
+        env.step([0.0, float("nan")])
+    envs = gymfleet.make_vec(arm2, 2)
+    with pytest.raises(gymfleet.InvalidArgument, match="num_envs: expected at least 1, got 0"):
+        gymfleet.make_vec(arm2, 0)
+    with pytest.raises(gymfleet.InvalidArgument, match=r"actions\[3\] \(env 1, value 1\): expected a finite number, got inf"):
+        envs.step(np.array([[0, 0], [0, np.inf]]))
+    with pytest.raises(gymfleet.InvalidArgument, match="timeout: expected a positive number of seconds"):
+        gymfleet.make(arm2, timeout=0)
+
+
+def test_a_closed_env_is_not_found(arm2):
+    env = gymfleet.make(arm2)
+    env_id = env.env_id
+    env._handle.close()
+    with pytest.raises(gymfleet.NotFound) as caught:
+        env.step([0.0, 0.0])
+    assert env_id in str(caught.value)
+    assert isinstance(caught.value, KeyError)
+    assert str(caught.value) == caught.value.args[0], "no KeyError quoting"
+
+
+def test_past_a_server_limit_is_resource_exhausted(arm2):
+    with gymfleet.Server(max_batch_size=8) as server:
+        with pytest.raises(gymfleet.ResourceExhausted, match="8") as caught:
+            gymfleet.make_vec(arm2, 9, server=server.address)
+        assert "batch" in str(caught.value)
+        assert gymfleet.server_info(server.address)["batches"] == 0, "nothing half-created"
+
+
+def test_stepping_a_diverged_env_is_failed_precondition(pendulum):
+    env = gymfleet.make(pendulum)
+    env.reset()
+    _, _, terminated, _, info = env.step([1e12])
+    assert terminated and info["termination_reason"] == "physics_diverged"
+    with pytest.raises(gymfleet.FailedPrecondition, match="reset"):
+        env.step([0.0])
+    env.reset()
+    env.step([0.0])
+
+
+def test_an_unreachable_server_is_unavailable(arm2):
+    with gymfleet.Server() as server:
+        address = server.address
+    with pytest.raises(gymfleet.Unavailable) as caught:
+        gymfleet.make(arm2, server=address)
+    assert address in str(caught.value) and caught.value.server == address
+    assert isinstance(caught.value, ConnectionError)
+
+
+def test_a_call_past_its_timeout_is_deadline_exceeded(arm2):
+    with gymfleet.Server(threads=1) as server:
+        envs = gymfleet.make_vec(arm2, 4096, server=server.address)
+        envs.timeout = 0.001
+        assert envs.timeout == 0.001
+        with pytest.raises(gymfleet.DeadlineExceeded, match="no reply within the timeout of 0.001 s") as caught:
+            envs.step(np.zeros((4096, 2)))
+        assert isinstance(caught.value, TimeoutError)
+
+
+@pytest.mark.parametrize(
+    "code,cls,base",
+    [
+        (3, gymfleet.InvalidArgument, ValueError),
+        (5, gymfleet.NotFound, KeyError),
+        (8, gymfleet.ResourceExhausted, gymfleet.GymfleetError),
+        (9, gymfleet.FailedPrecondition, gymfleet.GymfleetError),
+        (16, gymfleet.Unauthenticated, gymfleet.GymfleetError),
+        (4, gymfleet.DeadlineExceeded, TimeoutError),
+        (14, gymfleet.Unavailable, ConnectionError),
+        (13, gymfleet.Internal, gymfleet.GymfleetError),
+    ],
+)
+def test_each_status_raises_its_class_with_the_servers_message(code, cls, base):
+    # Statuses no server here can be made to answer (UNAUTHENTICATED before auth
+    # exists, INTERNAL) go through the same mapping as every reply.
+    with pytest.raises(cls) as caught:
+        _core._raise_status(code, "sim_7: the server's words")
+    assert str(caught.value) == "sim_7: the server's words"
+    assert isinstance(caught.value, base) and isinstance(caught.value, gymfleet.GymfleetError)
