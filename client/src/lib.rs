@@ -47,6 +47,7 @@ mod fleet_batch;
 mod options;
 mod placement;
 mod stream;
+mod task;
 mod types;
 
 pub use batch::{Batch, BatchObservations, BatchStep};
@@ -58,6 +59,7 @@ pub use fleet::Fleet;
 pub use fleet_batch::{FleetBatch, ShardPlacement};
 pub use options::{BatchOptions, EnvOptions, PdGains};
 pub use stream::{BatchStream, DEFAULT_STREAM_WINDOW};
+pub use task::{ReachTask, Task, TaskKind, TrackTask, UprightTask};
 pub use types::{
     ActionType, Autoreset, BatchInfo, DofLimit, EnvInfo, JointInfo, Observation, ServerInfo,
     ServerLimits, StepResult, POSE_LEN,

@@ -2,6 +2,7 @@
 
 use gymfleet_proto::v1 as pb;
 
+use crate::task::Task;
 use crate::types::Autoreset;
 
 /// Controller gain overrides, per DOF, in SI units (N·m/rad, N·m·s/rad, N/m, N·s/m).
@@ -38,6 +39,7 @@ pub struct EnvOptions {
     seed: Option<u64>,
     pd_gains: Option<PdGains>,
     reset_noise: Option<f64>,
+    task: Option<Task>,
 }
 
 impl EnvOptions {
@@ -93,6 +95,12 @@ impl EnvOptions {
         self
     }
 
+    /// The task: reward, goal and task terminations computed by the server in the step.
+    pub fn task(mut self, task: impl Into<Task>) -> Self {
+        self.task = Some(task.into());
+        self
+    }
+
     /// The document.
     pub fn document_json(&self) -> &str {
         &self.document_json
@@ -114,6 +122,7 @@ impl EnvOptions {
             seed: self.seed,
             pd_gains: self.pd_gains.map(|g| pb::PdGains { kp: g.kp, kd: g.kd }),
             reset_noise: self.reset_noise,
+            task: self.task.map(Into::into),
         }
     }
 }
@@ -196,6 +205,12 @@ impl BatchOptions {
         self
     }
 
+    /// See [`EnvOptions::task`]. A reach target box gives each env its own targets.
+    pub fn task(mut self, task: impl Into<Task>) -> Self {
+        self.env = self.env.task(task);
+        self
+    }
+
     /// What happens to finished envs.
     pub fn autoreset(mut self, autoreset: Autoreset) -> Self {
         self.autoreset = autoreset;
@@ -235,6 +250,7 @@ impl BatchOptions {
             seed: env.seed,
             pd_gains: env.pd_gains,
             reset_noise: env.reset_noise,
+            task: env.task,
             // Over u32::MAX envs: saturate, and let the server's limit refuse it.
             n_envs: u32::try_from(self.n_envs).unwrap_or(u32::MAX),
             autoreset: pb::Autoreset::from(self.autoreset) as i32,

@@ -78,19 +78,24 @@ pub struct Observation {
     /// One `[x, y, z, qw, qx, qy, qz]` per end effector: centre of mass in world mm,
     /// then the world orientation.
     pub end_effector_poses: Vec<[f32; POSE_LEN]>,
+    /// What the task adds: a reach task's target, world mm. Empty without one.
+    pub task_observation: Vec<f32>,
 }
 
 impl Observation {
-    /// The flat layout of batches: positions, velocities, then the poses.
+    /// The flat layout of batches: positions, velocities, the poses, the task's part.
     pub fn to_flat(&self) -> Vec<f32> {
         let mut out = Vec::with_capacity(
-            self.joint_positions.len() * 2 + self.end_effector_poses.len() * POSE_LEN,
+            self.joint_positions.len() * 2
+                + self.end_effector_poses.len() * POSE_LEN
+                + self.task_observation.len(),
         );
         out.extend_from_slice(&self.joint_positions);
         out.extend_from_slice(&self.joint_velocities);
         for pose in &self.end_effector_poses {
             out.extend_from_slice(pose);
         }
+        out.extend_from_slice(&self.task_observation);
         out
     }
 }
@@ -118,6 +123,7 @@ impl TryFrom<pb::Observation> for Observation {
             joint_positions: o.joint_positions,
             joint_velocities: o.joint_velocities,
             end_effector_poses,
+            task_observation: o.task_observation,
         })
     }
 }
@@ -188,6 +194,8 @@ pub struct JointInfo {
     pub child: String,
     /// The effort clamp of each of its DOFs, N·m or N; `None`: unclamped.
     pub max_effort: Option<f64>,
+    /// Whether it is driven; a passive joint's DOFs are observed but take no action.
+    pub actuated: bool,
 }
 
 impl From<pb::JointInfo> for JointInfo {
@@ -208,6 +216,7 @@ impl From<pb::JointInfo> for JointInfo {
             parent: j.parent,
             child: j.child,
             max_effort: j.max_effort,
+            actuated: j.actuated,
         }
     }
 }
@@ -219,9 +228,9 @@ pub struct EnvInfo {
     pub env_id: String,
     /// Non-fixed joints.
     pub num_joints: usize,
-    /// Values per action (total DOF).
+    /// Values per action (the actuated joints' DOFs).
     pub action_dim: usize,
-    /// `2·action_dim + 7·end effectors`.
+    /// `2·DOF + 7·end effectors` + the task's floats.
     pub observation_dim: usize,
     /// Observed end effectors, in order.
     pub end_effector_ids: Vec<String>,
@@ -233,6 +242,37 @@ pub struct EnvInfo {
     pub max_steps: u32,
     /// The non-fixed joints, in document order.
     pub joints: Vec<JointInfo>,
+    /// The observation's segments, `(name, size)` in order.
+    pub observation_layout: Vec<(String, usize)>,
+}
+
+/// The observed DOFs (passive joints' included): the `joint_positions` segment's size.
+fn observed_dofs(layout: &[(String, usize)], action_dim: usize) -> usize {
+    layout
+        .iter()
+        .find(|(name, _)| name == "joint_positions")
+        .map_or(action_dim, |(_, size)| *size)
+}
+
+impl EnvInfo {
+    /// Every DOF's count, passive joints' included (positions per observation).
+    pub fn num_dofs(&self) -> usize {
+        observed_dofs(&self.observation_layout, self.action_dim)
+    }
+}
+
+impl BatchInfo {
+    /// Every DOF's count, passive joints' included (positions per observation row).
+    pub fn num_dofs(&self) -> usize {
+        observed_dofs(&self.observation_layout, self.action_dim)
+    }
+}
+
+fn layout(segments: Vec<pb::ObservationSegment>) -> Vec<(String, usize)> {
+    segments
+        .into_iter()
+        .map(|s| (s.name, s.size as usize))
+        .collect()
 }
 
 impl From<pb::EnvInfo> for EnvInfo {
@@ -247,6 +287,7 @@ impl From<pb::EnvInfo> for EnvInfo {
             substeps: i.substeps,
             max_steps: i.max_steps,
             joints: i.joints.into_iter().map(Into::into).collect(),
+            observation_layout: layout(i.observation_layout),
         }
     }
 }
@@ -276,6 +317,8 @@ pub struct BatchInfo {
     pub autoreset: Autoreset,
     /// The non-fixed joints, in document order.
     pub joints: Vec<JointInfo>,
+    /// Each env's observation row, `(name, size)` segment by segment.
+    pub observation_layout: Vec<(String, usize)>,
 }
 
 impl TryFrom<pb::BatchInfo> for BatchInfo {
@@ -294,6 +337,7 @@ impl TryFrom<pb::BatchInfo> for BatchInfo {
             substeps: i.substeps,
             max_steps: i.max_steps,
             joints: i.joints.into_iter().map(Into::into).collect(),
+            observation_layout: layout(i.observation_layout),
         })
     }
 }
@@ -360,13 +404,15 @@ mod tests {
             joint_positions: vec![1.0],
             joint_velocities: vec![2.0],
             end_effector_poses: vec![10.0, 10.0, 25.0, 1.0, 0.0, 0.0, 0.0],
+            task_observation: vec![20.0, 0.0, 40.0],
         })
         .unwrap();
         assert_eq!(
             o.end_effector_poses,
             [[10.0, 10.0, 25.0, 1.0, 0.0, 0.0, 0.0]]
         );
-        assert_eq!(o.to_flat().len(), 9);
+        assert_eq!(o.task_observation, [20.0, 0.0, 40.0]);
+        assert_eq!(o.to_flat().len(), 12);
         let bad = pb::Observation {
             end_effector_poses: vec![0.0; 8],
             ..Default::default()

@@ -4,12 +4,14 @@
 //! `service.rs`.
 
 use gymfleet_batch::Autoreset;
-use gymfleet_env::{ActionType, DofKind, EnvConfig, EnvSpec, PdGains};
+use gymfleet_env::{
+    ActionType, DofKind, EnvConfig, EnvSpec, PdGains, ReachTarget, TaskKind, TaskSpec,
+};
 use gymfleet_proto::v1 as pb;
 
 use crate::domain::{
     Action, BatchObservations, BatchRequest, BatchStep, BatchStepped, EnvRequest, EnvStep,
-    JointLinks, ServerStatus,
+    JointLinks, ObsSplit, ServerStatus,
 };
 use crate::error::{Result, ServerError};
 
@@ -56,6 +58,7 @@ fn env_request(
     seed: Option<u64>,
     pd_gains: Option<pb::PdGains>,
     reset_noise: Option<f64>,
+    task: Option<pb::Task>,
 ) -> Result<EnvRequest> {
     let defaults = EnvConfig::default();
     let pd_gains = pd_gains
@@ -80,7 +83,58 @@ fn env_request(
             seed: seed.unwrap_or(0),
             pd_gains,
             reset_noise: reset_noise.unwrap_or(0.0),
+            task: task.map(task_spec).transpose()?,
         },
+    })
+}
+
+fn vec3(v: pb::Vec3) -> [f64; 3] {
+    [v.x, v.y, v.z]
+}
+
+/// A proto `Task` as the env's `TaskSpec`; the env checks the values against the robot.
+fn task_spec(t: pb::Task) -> Result<TaskSpec> {
+    use pb::task::Kind;
+    let kind = match t.kind {
+        None => {
+            return Err(ServerError::InvalidArgument {
+                field: "task.kind",
+                reason: "expected one of reach, track, upright".to_string(),
+            })
+        }
+        Some(Kind::Reach(r)) => TaskKind::Reach {
+            end_effector: r.end_effector,
+            point: r.point.map(vec3),
+            target: match (r.target, r.target_box) {
+                (Some(t), None) => ReachTarget::Fixed(vec3(t)),
+                (None, Some(b)) => ReachTarget::Box {
+                    min: vec3(b.min.unwrap_or_default()),
+                    max: vec3(b.max.unwrap_or_default()),
+                },
+                (Some(_), Some(_)) | (None, None) => {
+                    return Err(ServerError::InvalidArgument {
+                        field: "task.reach.target",
+                        reason: "expected exactly one of target and target_box".to_string(),
+                    })
+                }
+            },
+            success_radius: r.success_radius,
+            terminate_on_success: r.terminate_on_success,
+        },
+        Some(Kind::Track(r)) => TaskKind::Track {
+            targets: r.targets,
+            tolerance: r.tolerance,
+            terminate_on_success: r.terminate_on_success,
+        },
+        Some(Kind::Upright(r)) => TaskKind::Upright {
+            instance: r.instance,
+            axis: r.axis.map_or([0.0, 0.0, 1.0], vec3),
+            max_tilt_deg: r.max_tilt_deg,
+        },
+    };
+    Ok(TaskSpec {
+        kind,
+        action_cost: f64::from(t.action_cost),
     })
 }
 
@@ -97,6 +151,7 @@ impl TryFrom<pb::CreateEnvRequest> for EnvRequest {
             r.seed,
             r.pd_gains,
             r.reset_noise,
+            r.task,
         )
     }
 }
@@ -123,6 +178,7 @@ impl TryFrom<pb::CreateBatchRequest> for BatchRequest {
                 r.seed,
                 r.pd_gains,
                 r.reset_noise,
+                r.task,
             )?,
             n_envs: usize::try_from(r.n_envs).unwrap_or(usize::MAX),
             autoreset,
@@ -160,14 +216,26 @@ impl TryFrom<pb::StepBatchRequest> for BatchStep {
 }
 
 /// Splits a flat observation of `dof` DOFs into its proto form.
-pub(crate) fn observation(flat: &[f32], dof: usize) -> pb::Observation {
-    let (positions, rest) = flat.split_at(dof.min(flat.len()));
-    let (velocities, poses) = rest.split_at(dof.min(rest.len()));
+pub(crate) fn observation(flat: &[f32], split: ObsSplit) -> pb::Observation {
+    let (positions, rest) = flat.split_at(split.dof.min(flat.len()));
+    let (velocities, rest) = rest.split_at(split.dof.min(rest.len()));
+    let (poses, task) = rest.split_at(split.poses.min(rest.len()));
     pb::Observation {
         joint_positions: positions.to_vec(),
         joint_velocities: velocities.to_vec(),
         end_effector_poses: poses.to_vec(),
+        task_observation: task.to_vec(),
     }
+}
+
+fn observation_layout(spec: &EnvSpec) -> Vec<pb::ObservationSegment> {
+    spec.observation_layout
+        .iter()
+        .map(|s| pb::ObservationSegment {
+            name: s.name.to_string(),
+            size: to_u32(s.size),
+        })
+        .collect()
 }
 
 fn to_u32(n: usize) -> u32 {
@@ -190,6 +258,7 @@ pub(crate) fn joints(spec: &EnvSpec, links: &JointLinks) -> Vec<pb::JointInfo> {
                 parent,
                 child,
                 max_effort: dof.max_effort,
+                actuated: dof.actuated,
             });
         }
         if let Some(joint) = joints.last_mut() {
@@ -220,6 +289,7 @@ pub(crate) fn env_info(env_id: String, spec: &EnvSpec, links: &JointLinks) -> pb
         substeps: spec.substeps,
         max_steps: spec.max_steps,
         joints: joints(spec, links),
+        observation_layout: observation_layout(spec),
     }
 }
 
@@ -247,6 +317,7 @@ pub(crate) fn batch_info(
             Autoreset::NextStep => pb::Autoreset::NextStep,
         } as i32,
         joints: joints(spec, links),
+        observation_layout: observation_layout(spec),
     }
 }
 
@@ -399,11 +470,14 @@ mod tests {
     #[test]
     fn observations_split_into_parts() {
         let o = observation(
-            &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0, 10.0, 11.0],
-            2,
+            &[
+                1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0, 10.0, 11.0, 20.0, 0.0, 40.0,
+            ],
+            ObsSplit { dof: 2, poses: 7 },
         );
         assert_eq!(o.joint_positions, [1.0, 2.0]);
         assert_eq!(o.joint_velocities, [3.0, 4.0]);
         assert_eq!(o.end_effector_poses.len(), 7);
+        assert_eq!(o.task_observation, [20.0, 0.0, 40.0]);
     }
 }

@@ -3,7 +3,7 @@
 //! `convert.rs` to encode. Both modules sit above this one.
 
 use gymfleet_batch::{Autoreset, BatchStepOutput};
-use gymfleet_env::{ActionType, EnvConfig, EnvSpec, StepFlags};
+use gymfleet_env::{ActionType, EnvConfig, EnvSpec, StepFlags, POSE_LEN};
 
 use crate::config::ServerConfig;
 
@@ -50,12 +50,29 @@ pub(crate) struct BatchStep {
 #[derive(Debug, Clone, Default)]
 pub(crate) struct JointLinks(pub(crate) Vec<(String, String)>);
 
+/// How a single env's flat observation splits into the proto `Observation`'s fields:
+/// `dof` positions, `dof` velocities, `poses` pose floats, then the task's floats.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct ObsSplit {
+    pub(crate) dof: usize,
+    pub(crate) poses: usize,
+}
+
+impl ObsSplit {
+    pub(crate) fn of(spec: &EnvSpec) -> Self {
+        ObsSplit {
+            dof: spec.num_dofs,
+            poses: POSE_LEN * spec.end_effector_ids.len(),
+        }
+    }
+}
+
 /// The outcome of a single-env step.
 pub(crate) struct EnvStepOutcome {
     pub(crate) observation: Vec<f32>,
     pub(crate) flags: StepFlags,
     pub(crate) episode_step: u32,
-    pub(crate) dof: usize,
+    pub(crate) split: ObsSplit,
 }
 
 /// Every env's observation in a batch, after a reset or an observe.

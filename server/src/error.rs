@@ -160,6 +160,7 @@ fn env_code(err: &EnvError) -> Code {
         | EnvError::Physics(_)
         | EnvError::UnknownEndEffector { .. }
         | EnvError::BadConfig { .. }
+        | EnvError::BadTask { .. }
         | EnvError::ActionLength { .. }
         | EnvError::NonFiniteAction { .. }
         | EnvError::UnknownActionType { .. } => Code::InvalidArgument,

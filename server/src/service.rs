@@ -71,7 +71,7 @@ impl Simulator for SimulatorService {
     ) -> Result<Response<pb::Observation>, Status> {
         let r = request.into_inner();
         let result = self.sim.reset_env(&r.env_id, r.seed).await;
-        answer(result.map(|(obs, dof)| convert::observation(&obs, dof)))
+        answer(result.map(|(obs, split)| convert::observation(&obs, split)))
     }
 
     async fn step(
@@ -83,7 +83,7 @@ impl Simulator for SimulatorService {
             let outcome = self.sim.step_env(step).await?;
             let flags = outcome.flags;
             Ok(pb::StepResult {
-                observation: Some(convert::observation(&outcome.observation, outcome.dof)),
+                observation: Some(convert::observation(&outcome.observation, outcome.split)),
                 reward: flags.reward,
                 terminated: flags.terminated,
                 truncated: flags.truncated,
@@ -101,7 +101,7 @@ impl Simulator for SimulatorService {
     ) -> Result<Response<pb::Observation>, Status> {
         let r = request.into_inner();
         let result = self.sim.observe_env(&r.env_id).await;
-        answer(result.map(|(obs, dof)| convert::observation(&obs, dof)))
+        answer(result.map(|(obs, split)| convert::observation(&obs, split)))
     }
 
     async fn close(

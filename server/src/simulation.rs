@@ -9,7 +9,7 @@ use gymfleet_env::{EnvError, RobotEnv};
 use crate::config::ServerConfig;
 use crate::domain::{
     Action, BatchObservations, BatchRequest, BatchStep, BatchStepped, Created, EnvRequest, EnvStep,
-    EnvStepOutcome, JointLinks, ServerStatus,
+    EnvStepOutcome, JointLinks, ObsSplit, ServerStatus,
 };
 use crate::error::{EntityKind, Result, ServerError};
 use crate::pool;
@@ -107,14 +107,18 @@ impl Simulation {
         })
     }
 
-    pub(crate) async fn reset_env(&self, id: &str, seed: Option<u64>) -> Result<(Vec<f32>, usize)> {
+    pub(crate) async fn reset_env(
+        &self,
+        id: &str,
+        seed: Option<u64>,
+    ) -> Result<(Vec<f32>, ObsSplit)> {
         let entry = self.envs.get(id)?;
         pool::run_locked(&self.pool, &self.envs, &entry, "Reset", move |open| {
             let spec = open.env.spec();
-            let (dim, dof) = (spec.observation_dim, spec.action_dim);
+            let (dim, split) = (spec.observation_dim, ObsSplit::of(spec));
             let mut obs = vec![0.0; dim];
             open.env.reset_into(seed, &mut obs);
-            Ok((obs, dof))
+            Ok((obs, split))
         })
         .await
     }
@@ -127,7 +131,7 @@ impl Simulation {
                 panic!("injected panic (ServerConfig::panic_on_action)");
             }
             let spec = open.env.spec();
-            let (dim, dof) = (spec.observation_dim, spec.action_dim);
+            let (dim, split) = (spec.observation_dim, ObsSplit::of(spec));
             let mut observation = vec![0.0; dim];
             let flags = open.env.step_into(
                 step.action.action_type,
@@ -138,20 +142,20 @@ impl Simulation {
                 observation,
                 flags,
                 episode_step: open.env.elapsed_steps(),
-                dof,
+                split,
             })
         })
         .await
     }
 
-    pub(crate) async fn observe_env(&self, id: &str) -> Result<(Vec<f32>, usize)> {
+    pub(crate) async fn observe_env(&self, id: &str) -> Result<(Vec<f32>, ObsSplit)> {
         let entry = self.envs.get(id)?;
         pool::run_locked(&self.pool, &self.envs, &entry, "Observe", move |open| {
             let spec = open.env.spec();
-            let (dim, dof) = (spec.observation_dim, spec.action_dim);
+            let (dim, split) = (spec.observation_dim, ObsSplit::of(spec));
             let mut obs = vec![0.0; dim];
             open.env.observe_into(&mut obs);
-            Ok((obs, dof))
+            Ok((obs, split))
         })
         .await
     }

@@ -13,6 +13,7 @@ fn joint<'py>(py: Python<'py>, j: &JointInfo) -> PyResult<Bound<'py, PyDict>> {
     d.set_item("parent", &j.parent)?;
     d.set_item("child", &j.child)?;
     d.set_item("max_effort", j.max_effort)?;
+    d.set_item("actuated", j.actuated)?;
     let limits = j
         .limits
         .iter()
@@ -46,6 +47,7 @@ struct Shape<'a> {
     substeps: u32,
     max_steps: u32,
     joints: &'a [JointInfo],
+    observation_layout: &'a [(String, usize)],
 }
 
 impl Shape<'_> {
@@ -57,7 +59,8 @@ impl Shape<'_> {
         d.set_item("dt", self.dt)?;
         d.set_item("substeps", self.substeps)?;
         d.set_item("max_steps", self.max_steps)?;
-        d.set_item("joints", joints(py, self.joints)?)
+        d.set_item("joints", joints(py, self.joints)?)?;
+        d.set_item("observation_layout", self.observation_layout.to_vec())
     }
 }
 
@@ -79,6 +82,7 @@ pub(crate) fn env_info<'py>(
         substeps: i.substeps,
         max_steps: i.max_steps,
         joints: &i.joints,
+        observation_layout: &i.observation_layout,
     }
     .write(py, &d)?;
     Ok(d)
@@ -102,6 +106,7 @@ pub(crate) fn batch_info<'py>(
         substeps: i.substeps,
         max_steps: i.max_steps,
         joints: &i.joints,
+        observation_layout: &i.observation_layout,
     }
     .write(py, &d)?;
     d.set_item("shards", PyList::new(py, shards)?)?;

@@ -3,7 +3,10 @@
 
 use std::time::Duration;
 
-use gymfleet_client::{BatchOptions, ClientError, EnvOptions, PdGains};
+use gymfleet_client::{
+    BatchOptions, ClientError, EnvOptions, PdGains, ReachTask, Task, TaskKind, TrackTask,
+    UprightTask,
+};
 use pyo3::prelude::*;
 
 use crate::errors::to_py_err;
@@ -21,6 +24,63 @@ pub(crate) struct CreateOptions {
     pub(crate) reset_noise: Option<f64>,
     pub(crate) kp: Option<Vec<f64>>,
     pub(crate) kd: Option<Vec<f64>>,
+    pub(crate) task: Option<TaskFields>,
+}
+
+/// A task as `gymfleet._common.task_fields` flattens it: the kind, the action cost and
+/// every kind's fields (the others' at their defaults).
+#[derive(Debug, Clone, Default, FromPyObject)]
+#[pyo3(from_item_all)]
+pub(crate) struct TaskFields {
+    kind: String,
+    action_cost: f32,
+    end_effector: Option<String>,
+    point: Option<[f64; 3]>,
+    target: Option<[f64; 3]>,
+    target_min: Option<[f64; 3]>,
+    target_max: Option<[f64; 3]>,
+    success_radius: f64,
+    terminate_on_success: bool,
+    targets: Option<Vec<f64>>,
+    tolerance: f64,
+    instance: Option<String>,
+    axis: Option<[f64; 3]>,
+    max_tilt_deg: f64,
+}
+
+impl TaskFields {
+    fn task(&self) -> PyResult<Task> {
+        let kind = match self.kind.as_str() {
+            "reach" => TaskKind::Reach(ReachTask {
+                end_effector: self.end_effector.clone().unwrap_or_default(),
+                point: self.point,
+                target: self.target,
+                target_box: self.target_min.zip(self.target_max),
+                success_radius: self.success_radius,
+                terminate_on_success: self.terminate_on_success,
+            }),
+            "track" => TaskKind::Track(TrackTask {
+                targets: self.targets.clone().unwrap_or_default(),
+                tolerance: self.tolerance,
+                terminate_on_success: self.terminate_on_success,
+            }),
+            "upright" => TaskKind::Upright(UprightTask {
+                instance: self.instance.clone().unwrap_or_default(),
+                axis: self.axis,
+                max_tilt_deg: self.max_tilt_deg,
+            }),
+            other => {
+                return Err(invalid(format!(
+                    "task: expected one of reach, track, upright, got {:?}",
+                    other.chars().take(64).collect::<String>()
+                )))
+            }
+        };
+        Ok(Task {
+            kind,
+            action_cost: self.action_cost,
+        })
+    }
 }
 
 /// An `INVALID_ARGUMENT` raised before anything is sent.
@@ -78,6 +138,9 @@ impl CreateOptions {
         }
         if let Some(noise) = self.reset_noise {
             options = options.reset_noise(noise);
+        }
+        if let Some(task) = &self.task {
+            options = options.task(task.task()?);
         }
         if self.kp.is_some() || self.kd.is_some() {
             options = options.pd_gains(PdGains {

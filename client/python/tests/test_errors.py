@@ -29,7 +29,7 @@ def test_bad_options_and_actions_are_invalid_argument(arm2):
         gymfleet.make(arm2, action_type="force")
     env = gymfleet.make(arm2)
     env.reset()
-    with pytest.raises(gymfleet.InvalidArgument, match=r"values: expected 2 action values \(one per DOF\), got 1"):
+    with pytest.raises(gymfleet.InvalidArgument, match=r"values: expected 2 action values \(one per actuated DOF\), got 1"):
         env.step([0.0])
     with pytest.raises(gymfleet.InvalidArgument, match="expected a finite number, got NaN"):
         env.step([0.0, float("nan")])

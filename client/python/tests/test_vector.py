@@ -158,3 +158,10 @@ def test_gymnasium_make_vec_builds_one_batch():
     obs, *_ = envs.step(envs.action_space.sample())
     assert obs.shape == (16, 11)
     envs.close()
+
+
+def test_gymnasium_can_import_the_package_itself():
+    # `module:env_id` imports the module before looking the id up.
+    env = gym.make("gymfleet:gymfleet/Pendulum-v0", max_steps=10)
+    assert env.unwrapped.env_info["max_steps"] == 10
+    env.close()

@@ -275,6 +275,10 @@ pub struct JointDef {
     /// *(ext)* Clamp on the torque (N·m) or force (N) of every action mode.
     #[serde(default)]
     pub max_effort: Option<f64>,
+    /// *(ext)* `false`: a passive joint, observed but not driven (it takes no action
+    /// value and has no motor). Default `true`.
+    #[serde(default)]
+    pub actuated: Option<bool>,
 }
 
 /// A 3-vector with named components, as the documents write it.

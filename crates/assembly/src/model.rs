@@ -158,6 +158,9 @@ pub struct Joint {
     pub damping: f64,
     /// Clamp on the effort of every action mode, in N·m or N.
     pub max_effort: Option<f64>,
+    /// Whether the joint is driven: a passive joint's DOFs are observed but take no
+    /// action values.
+    pub actuated: bool,
 }
 
 /// The kind of one degree of freedom, which fixes its units.
@@ -200,6 +203,15 @@ impl Assembly {
     /// Total degrees of freedom over all joints.
     pub fn total_dof(&self) -> usize {
         self.joints.iter().map(|j| j.kind.dof()).sum()
+    }
+
+    /// Degrees of freedom of the actuated joints: values per action.
+    pub fn actuated_dof(&self) -> usize {
+        self.joints
+            .iter()
+            .filter(|j| j.actuated)
+            .map(|j| j.kind.dof())
+            .sum()
     }
 
     /// Number of joints that have at least one DOF.

@@ -311,6 +311,15 @@ impl Validator {
                     );
                 }
             });
+            let actuated = def.actuated.unwrap_or(true);
+            if !actuated && max_effort.is_some() {
+                self.push(
+                    format!("{path}.max_effort"),
+                    "a passive joint (\"actuated\": false) takes no effort to clamp; \
+                     remove max_effort or the actuated flag"
+                        .to_string(),
+                );
+            }
 
             if let (Some(p), Some(c)) = (parent, child) {
                 self.topology(&path, def, p, c, &mut parent_of, &mut forest, instances);
@@ -328,6 +337,7 @@ impl Validator {
                         document_limits,
                         damping: damping.unwrap_or(0.0),
                         max_effort,
+                        actuated,
                     });
                 }
             }

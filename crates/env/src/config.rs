@@ -3,7 +3,8 @@
 use gymfleet_physics::{JointDof, PdGains};
 
 use crate::error::{EnvError, Result};
-use crate::observation::POSE_LEN;
+use crate::observation::{ObservationSegment, POSE_LEN};
+use crate::task::TaskSpec;
 
 /// Default step length: 1/240 s.
 pub const DEFAULT_DT: f64 = 1.0 / 240.0;
@@ -39,6 +40,9 @@ pub struct EnvConfig {
     /// drawn uniformly from `[-reset_noise, +reset_noise]` (deg or mm) from the env's
     /// seeded stream, then clamped into its limits. 0 (the default): reset is exact.
     pub reset_noise: f64,
+    /// The task: reward, goal and termination computed in the step. `None`: reward 0
+    /// and no termination but diverged physics.
+    pub task: Option<TaskSpec>,
 }
 
 impl Default for EnvConfig {
@@ -51,6 +55,7 @@ impl Default for EnvConfig {
             seed: 0,
             pd_gains: None,
             reset_noise: 0.0,
+            task: None,
         }
     }
 }
@@ -104,15 +109,20 @@ impl EnvConfig {
 pub struct EnvSpec {
     /// Joints with at least one DOF.
     pub num_joints: usize,
-    /// Total DOF: values per action.
+    /// Values per action: the DOFs of the actuated joints.
     pub action_dim: usize,
-    /// `2·DOF + 7·end effectors`.
+    /// Every DOF, passive ones included: the positions (and velocities) observed.
+    pub num_dofs: usize,
+    /// `2·DOF + 7·end effectors` + the task's floats.
     pub observation_dim: usize,
+    /// The flat observation's segments, in order; their sizes sum to `observation_dim`.
+    pub observation_layout: Vec<ObservationSegment>,
     /// Observed instances, in order.
     pub end_effector_ids: Vec<String>,
     /// Names of the joints with at least one DOF, in document order.
     pub joint_names: Vec<String>,
-    /// Every DOF, in action and observation order, with its units, limits and gains.
+    /// Every DOF, in observation order (the actuated ones, in the same order, make the
+    /// action), with its units, limits and gains.
     pub dofs: Vec<JointDof>,
     /// Seconds per step.
     pub dt: f64,
@@ -123,7 +133,12 @@ pub struct EnvSpec {
 }
 
 impl EnvSpec {
-    pub(crate) fn new(config: &EnvConfig, dofs: &[JointDof]) -> Self {
+    /// `task`: the name and size of the task's observation segment, if it has one.
+    pub(crate) fn new(
+        config: &EnvConfig,
+        dofs: &[JointDof],
+        task: Option<(&'static str, usize)>,
+    ) -> Self {
         let mut joint_names: Vec<String> = Vec::new();
         let mut last = None;
         for dof in dofs {
@@ -132,10 +147,29 @@ impl EnvSpec {
                 last = Some(dof.joint);
             }
         }
+        let mut observation_layout = vec![
+            ObservationSegment {
+                name: "joint_positions",
+                size: dofs.len(),
+            },
+            ObservationSegment {
+                name: "joint_velocities",
+                size: dofs.len(),
+            },
+            ObservationSegment {
+                name: "end_effector_poses",
+                size: POSE_LEN * config.end_effector_ids.len(),
+            },
+        ];
+        if let Some((name, size)) = task {
+            observation_layout.push(ObservationSegment { name, size });
+        }
         EnvSpec {
             num_joints: joint_names.len(),
-            action_dim: dofs.len(),
-            observation_dim: 2 * dofs.len() + POSE_LEN * config.end_effector_ids.len(),
+            action_dim: dofs.iter().filter(|d| d.actuated).count(),
+            num_dofs: dofs.len(),
+            observation_dim: observation_layout.iter().map(|s| s.size).sum(),
+            observation_layout,
             end_effector_ids: config.end_effector_ids.clone(),
             joint_names,
             dofs: dofs.to_vec(),

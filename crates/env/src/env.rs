@@ -9,6 +9,7 @@ use crate::action::{self, ActionType};
 use crate::config::{EnvConfig, EnvSpec};
 use crate::error::{EnvError, Result};
 use crate::observation::{Observation, POSE_LEN};
+use crate::task::ActiveTask;
 
 /// Why an episode terminated.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -16,13 +17,19 @@ pub enum Termination {
     /// The simulation produced a non-finite or absurd state. The observation returned
     /// with it is the last finite one; the env must be reset.
     PhysicsDiverged,
+    /// The task's goal was reached (reach or track, with `terminate_on_success`).
+    GoalReached,
+    /// An upright task's instance tilted past its bound.
+    Fell,
 }
 
 impl Termination {
-    /// A short machine-readable reason.
+    /// A short machine-readable reason: `physics_diverged`, `goal_reached`, `fell`.
     pub fn as_str(self) -> &'static str {
         match self {
             Termination::PhysicsDiverged => "physics_diverged",
+            Termination::GoalReached => "goal_reached",
+            Termination::Fell => "fell",
         }
     }
 }
@@ -31,7 +38,7 @@ impl Termination {
 /// [`RobotEnv::step_into`]).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct StepFlags {
-    /// Always 0.0: rewards are the trainer's to compute.
+    /// The task's reward for the step (see [`crate::TaskSpec`]); 0.0 without a task.
     pub reward: f32,
     /// The episode ended for a task or physics reason.
     pub terminated: bool,
@@ -76,6 +83,8 @@ pub struct RobotEnv {
     /// The last finite observation, returned if the physics diverges.
     last_obs: Vec<f32>,
     diverged: bool,
+    /// The task, if any.
+    task: Option<ActiveTask>,
 }
 
 /// Any observed value beyond this magnitude (mm, deg, deg/s) counts as divergence.
@@ -110,7 +119,15 @@ impl RobotEnv {
             gains: config.pd_gains.clone(),
         };
         let world = RobotWorld::new(assembly, &options)?;
-        let spec = EnvSpec::new(&config, world.dofs());
+        let task = config
+            .task
+            .as_ref()
+            .map(|t| t.resolve(assembly, world.dofs()))
+            .transpose()?;
+        let segment = task
+            .as_ref()
+            .and_then(|t| t.observation_name().map(|name| (name, t.observation_dim())));
+        let spec = EnvSpec::new(&config, world.dofs(), segment);
         let mut env = RobotEnv {
             world,
             end_effectors,
@@ -118,10 +135,11 @@ impl RobotEnv {
             seed: config.seed,
             rng: Xoshiro256PlusPlus::seed_from_u64(config.seed),
             reset_noise: config.reset_noise,
-            offsets: vec![0.0; spec.action_dim],
+            offsets: vec![0.0; spec.num_dofs],
             last_obs: vec![0.0; spec.observation_dim],
             spec,
             diverged: false,
+            task,
         };
         env.reset(None);
         Ok(env)
@@ -156,7 +174,7 @@ impl RobotEnv {
     pub fn reset(&mut self, seed: Option<u64>) -> Observation {
         let mut flat = vec![0.0; self.spec.observation_dim];
         self.reset_into(seed, &mut flat);
-        Observation::from_flat(&flat, self.spec.action_dim)
+        self.structured(&flat)
     }
 
     /// [`RobotEnv::reset`], writing the flat observation into `out`
@@ -175,6 +193,9 @@ impl RobotEnv {
         } else {
             self.world.reset();
         }
+        if let Some(task) = &mut self.task {
+            task.reset(&mut self.rng);
+        }
         self.elapsed = 0;
         self.diverged = false;
         self.observe_into(out);
@@ -186,7 +207,7 @@ impl RobotEnv {
         let mut flat = vec![0.0; self.spec.observation_dim];
         let flags = self.step_into(action_type, values, &mut flat)?;
         Ok(StepResult {
-            observation: Observation::from_flat(&flat, self.spec.action_dim),
+            observation: self.structured(&flat),
             flags,
         })
     }
@@ -224,19 +245,27 @@ impl RobotEnv {
             });
         }
         self.last_obs.copy_from_slice(out);
+        let (reward, termination) = match &mut self.task {
+            Some(task) => task.evaluate(&self.world, values),
+            None => (0.0, None),
+        };
         Ok(StepFlags {
-            reward: 0.0,
-            terminated: false,
+            reward: reward as f32,
+            terminated: termination.is_some(),
             truncated,
-            termination: None,
+            termination,
         })
+    }
+
+    fn structured(&self, flat: &[f32]) -> Observation {
+        Observation::from_flat(flat, self.spec.num_dofs, self.end_effectors.len())
     }
 
     /// The current observation, without stepping.
     pub fn observe(&self) -> Observation {
         let mut flat = vec![0.0; self.spec.observation_dim];
         self.observe_into(&mut flat);
-        Observation::from_flat(&flat, self.spec.action_dim)
+        self.structured(&flat)
     }
 
     /// [`RobotEnv::observe`], writing the flat observation into `out`.
@@ -245,12 +274,16 @@ impl RobotEnv {
             out.copy_from_slice(&self.last_obs);
             return;
         }
-        let dof = self.spec.action_dim;
+        let dof = self.spec.num_dofs;
         let (positions, rest) = out.split_at_mut(dof);
-        let (velocities, poses) = rest.split_at_mut(dof);
+        let (velocities, rest) = rest.split_at_mut(dof);
+        let (poses, task) = rest.split_at_mut(POSE_LEN * self.end_effectors.len());
         self.world.joint_state(positions, velocities);
         for (pose, &instance) in poses.chunks_exact_mut(POSE_LEN).zip(&self.end_effectors) {
             pose.copy_from_slice(&self.world.body_pose(instance));
+        }
+        if let Some(t) = &self.task {
+            t.observe(task);
         }
     }
 }

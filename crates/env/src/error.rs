@@ -30,8 +30,17 @@ pub enum EnvError {
         /// What was expected and what was given.
         reason: String,
     },
+    /// The task is unusable for this env; `path` starts at `task`, e.g.
+    /// `task.reach.end_effector`.
+    #[error("{path}: {reason}")]
+    BadTask {
+        /// Where in the task.
+        path: String,
+        /// What was expected and what was given.
+        reason: String,
+    },
     /// The action has the wrong number of values.
-    #[error("values: expected {expected} action values (one per DOF), got {got}")]
+    #[error("values: expected {expected} action values (one per actuated DOF), got {got}")]
     ActionLength {
         /// The env's `action_dim`.
         expected: usize,

@@ -4,7 +4,10 @@
 //! `reset`/`step`/`observe`, action validation ([`ActionType`], length, finiteness),
 //! the flat observation layout (joint positions, joint velocities, then one
 //! `[x, y, z, qw, qx, qy, qz]` per end effector), time (`dt` as `substeps` substeps),
-//! truncation at `max_steps`, and termination when the physics diverges.
+//! truncation at `max_steps`, and termination when the physics diverges. Tasks
+//! ([`TaskSpec`]: reach, track, upright, with an action cost) compute the reward and the
+//! task's terminations (`goal_reached`, `fell`) inside the step; a reach task's target is
+//! appended to the observation.
 //!
 //! It leaves parsing to `gymfleet-assembly`, simulation to `gymfleet-physics`, and
 //! parallelism to `gymfleet-batch`. It knows nothing of networks or serialisation.
@@ -14,6 +17,7 @@ mod config;
 mod env;
 mod error;
 mod observation;
+mod task;
 
 pub use action::ActionType;
 pub use config::{EnvConfig, EnvSpec, DEFAULT_DT, DEFAULT_MAX_STEPS, DEFAULT_SUBSTEPS};
@@ -21,4 +25,5 @@ pub use env::{RobotEnv, StepFlags, StepResult, Termination};
 pub use error::{EnvError, Result};
 pub use gymfleet_assembly::{AssemblyError, DofKind, JointType};
 pub use gymfleet_physics::{JointDof, PdGains};
-pub use observation::{Observation, POSE_LEN};
+pub use observation::{Observation, ObservationSegment, POSE_LEN};
+pub use task::{ReachTarget, TaskKind, TaskSpec};

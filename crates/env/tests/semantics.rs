@@ -95,7 +95,7 @@ fn wrong_action_length_is_rejected_with_expected_and_got() {
     );
     assert_eq!(
         err.to_string(),
-        "values: expected 2 action values (one per DOF), got 1"
+        "values: expected 2 action values (one per actuated DOF), got 1"
     );
     // Nothing moved.
     assert_eq!(env.elapsed_steps(), 0);

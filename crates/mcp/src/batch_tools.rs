@@ -57,7 +57,7 @@ impl GymTools {
             .step(p.action_type.into(), &flat)
             .await
             .map_err(|err| self.fleet.batch_failed(&placed, &err))?;
-        let dof = info.action_dim;
+        let dof = info.num_dofs();
         let results = (0..step.n_envs())
             .map(|env| {
                 let terminated = step.terminated()[env];
@@ -98,7 +98,7 @@ impl GymTools {
             .reset(p.seed)
             .await
             .map_err(|err| self.fleet.batch_failed(&placed, &err))?;
-        let dof = placed.handle.info().action_dim;
+        let dof = placed.handle.info().num_dofs();
         let observations = (0..observations.n_envs())
             .map(|env| ObservationOut::from_row(observations.obs(env), dof))
             .collect();

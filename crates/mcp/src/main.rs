@@ -22,6 +22,7 @@ mod reply;
 mod schema;
 mod server;
 mod servers;
+mod task;
 mod transport;
 
 use std::process::ExitCode;

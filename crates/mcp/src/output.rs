@@ -30,6 +30,17 @@ pub(crate) struct ObservationOut {
     /// One [x, y, z, qw, qx, qy, qz] per end effector, in end_effector_ids order: centre
     /// of mass in world mm, then the world orientation as a unit quaternion.
     pub(crate) end_effector_poses: Vec<[f64; POSE_LEN]>,
+    /// With a reach task only: the target [x, y, z] in world mm.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) target: Option<[f64; 3]>,
+}
+
+/// A reach task's target from the task's part of an observation.
+fn target(task: &[f32]) -> Option<[f64; 3]> {
+    match task {
+        [x, y, z] => Some([clean(*x), clean(*y), clean(*z)]),
+        _ => None,
+    }
 }
 
 impl From<&Observation> for ObservationOut {
@@ -42,23 +53,27 @@ impl From<&Observation> for ObservationOut {
                 .iter()
                 .map(|pose| pose.map(clean))
                 .collect(),
+            target: target(&o.task_observation),
         }
     }
 }
 
 impl ObservationOut {
-    /// One row of a batch's flat observations: positions, velocities, then the poses.
+    /// One row of a batch's flat observations: positions, velocities, the poses, then
+    /// the task's part (a reach target's 3 floats, shorter than a pose).
     pub(crate) fn from_row(row: &[f32], dof: usize) -> Self {
         let dof = dof.min(row.len() / 2);
         let (positions, rest) = row.split_at(dof);
         let (velocities, poses) = rest.split_at(dof);
+        let poses = poses.chunks_exact(POSE_LEN);
+        let task = poses.remainder();
         ObservationOut {
             joint_positions: clean_all(positions),
             joint_velocities: clean_all(velocities),
             end_effector_poses: poses
-                .chunks_exact(POSE_LEN)
                 .map(|c| std::array::from_fn(|i| clean(c[i])))
                 .collect(),
+            target: target(task),
         }
     }
 }
@@ -164,7 +179,7 @@ impl EnvCreated {
 pub(crate) struct StepOut {
     /// The observation after the step.
     pub(crate) observation: ObservationOut,
-    /// The step's reward (0.0: compute your own from the observation).
+    /// The step's reward: the task's (see the create tools' task), 0.0 without one.
     pub(crate) reward: f64,
     /// terminated || truncated: the episode is over; call gym_reset.
     pub(crate) done: bool,

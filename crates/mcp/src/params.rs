@@ -9,6 +9,7 @@ use serde::Deserialize;
 use crate::actions::ActionValue;
 use crate::document::Document;
 use crate::errors::Result;
+use crate::task::TaskParam;
 
 /// Inputs of `create_robot_env`.
 #[derive(Debug, Deserialize, JsonSchema)]
@@ -38,6 +39,9 @@ pub(crate) struct CreateEnvParams {
     /// drawn from the seeded generator and kept within the joint's limits. Default 0
     /// (every reset is the exact initial pose).
     pub(crate) reset_noise: Option<f64>,
+    /// Optional task: the server then computes each step's reward and ends episodes
+    /// when the goal is reached or the robot fell. Default: none (reward 0).
+    pub(crate) task: Option<TaskParam>,
 }
 
 /// PD gain overrides, per DOF in DOF order, in SI units.
@@ -45,11 +49,11 @@ pub(crate) struct CreateEnvParams {
 #[schemars(transform = crate::schema::one_line_descriptions)]
 #[schemars(inline)]
 pub(crate) struct PdGainsParam {
-    /// Proportional gains, one per DOF (action_dim of them) or empty for the defaults:
+    /// Proportional gains, one per DOF (every joint's, passive ones included) or empty for the defaults:
     /// N·m/rad for rotational DOFs, N/m for linear ones.
     #[serde(default)]
     pub(crate) kp: Vec<f64>,
-    /// Derivative gains, one per DOF (action_dim of them) or empty for the defaults:
+    /// Derivative gains, one per DOF (every joint's, passive ones included) or empty for the defaults:
     /// N·m·s/rad for rotational DOFs, N·s/m for linear ones.
     #[serde(default)]
     pub(crate) kd: Vec<f64>,
@@ -163,6 +167,9 @@ pub(crate) struct CreateBatchParams {
     /// drawn from the seeded generator and kept within the joint's limits. Default 0
     /// (every reset is the exact initial pose).
     pub(crate) reset_noise: Option<f64>,
+    /// Optional task shared by every env (a reach target_box gives each env its own
+    /// targets). Default: none (reward 0).
+    pub(crate) task: Option<TaskParam>,
     /// What happens to an env whose episode ended: "disabled" (default: call
     /// batch_reset), "same_step" (reset within the step; its last observation is returned
     /// as final_observation) or "next_step" (Gymnasium style: reset on the next step,
@@ -214,6 +221,7 @@ struct Common {
     seed: Option<u64>,
     pd_gains: Option<PdGainsParam>,
     reset_noise: Option<f64>,
+    task: Option<TaskParam>,
 }
 
 impl Common {
@@ -236,6 +244,9 @@ impl Common {
         if let Some(noise) = self.reset_noise {
             options = options.reset_noise(noise);
         }
+        if let Some(task) = self.task {
+            options = options.task(task.into_task()?);
+        }
         if let Some(gains) = self.pd_gains {
             options = options.pd_gains(PdGains {
                 kp: gains.kp,
@@ -257,6 +268,7 @@ impl CreateEnvParams {
             seed: self.seed,
             pd_gains: self.pd_gains,
             reset_noise: self.reset_noise,
+            task: self.task,
         };
         common.into_options(self.document)
     }
@@ -273,6 +285,7 @@ impl CreateBatchParams {
             seed: self.seed,
             pd_gains: self.pd_gains,
             reset_noise: self.reset_noise,
+            task: self.task,
         };
         let env = common.into_options(self.document)?;
         Ok(BatchOptions::from_env(env, self.n_envs as usize).autoreset(self.autoreset.into()))

@@ -112,6 +112,8 @@ impl RobotWorld {
                 let value = f64::from(self.command.values[slot.first_dof + k]);
                 let mask = JointAxesMask::from(axis);
                 match mode {
+                    // A passive DOF never has a motor.
+                    _ if !dof.actuated => data.motor_axes.remove(mask),
                     ActionMode::Torque => data.motor_axes.remove(mask),
                     ActionMode::Position => {
                         // A target beyond a hard stop would only make the motor fight
@@ -199,6 +201,9 @@ impl RobotWorld {
         let first = slot.first_dof;
         let values = &self.command.values;
         let dofs = &self.dofs[first..first + 3];
+        if !dofs[0].actuated {
+            return [0.0; 3];
+        }
         let v = |k: usize| f64::from(values[first + k]);
         let local = match self.command.mode {
             ActionMode::Torque => [v(0), v(1), v(2)],

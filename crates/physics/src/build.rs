@@ -324,6 +324,7 @@ fn joint_dofs(j: usize, joint: &Joint) -> impl Iterator<Item = JointDof> + '_ {
             None
         },
         max_effort: joint.max_effort,
+        actuated: joint.actuated,
         kp: 0.0,
         kd: 0.0,
     })

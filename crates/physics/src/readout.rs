@@ -3,9 +3,9 @@
 //! Everything here is read from the simulated bodies and the multibody's generalized
 //! coordinates; motor targets are never reported.
 
-use rapier3d::math::Rotation;
+use rapier3d::math::{Real, Rotation, Vector};
 
-use crate::units::to_mm;
+use crate::units::{to_m, to_mm};
 use crate::world::{JointSlot, RobotWorld};
 use gymfleet_assembly::JointType;
 
@@ -71,6 +71,29 @@ impl RobotWorld {
         let q = rb.rotation();
         let mm = to_mm(1.0) as f32;
         [c.x * mm, c.y * mm, c.z * mm, q.w, q.x, q.y, q.z]
+    }
+
+    /// An instance's centre of mass, world mm.
+    pub fn center_of_mass(&self, instance: usize) -> [f64; 3] {
+        let c = self.live.bodies[self.bodies[instance]].center_of_mass();
+        [c.x, c.y, c.z].map(|v| to_mm(f64::from(v)))
+    }
+
+    /// A point given in an instance's frame (mm; the frame its document placement
+    /// defines), in world mm.
+    pub fn point_position(&self, instance: usize, local_mm: [f64; 3]) -> [f64; 3] {
+        let pose = self.live.bodies[self.bodies[instance]].position();
+        let local = local_mm.map(|v| to_m(v) as Real);
+        let p = pose.transform_point(Vector::new(local[0], local[1], local[2]));
+        [p.x, p.y, p.z].map(|v| to_mm(f64::from(v)))
+    }
+
+    /// A direction given in an instance's frame, in world coordinates (rotated, not
+    /// rescaled).
+    pub fn direction(&self, instance: usize, local: [f64; 3]) -> [f64; 3] {
+        let q = self.live.bodies[self.bodies[instance]].rotation();
+        let v = *q * Vector::new(local[0] as Real, local[1] as Real, local[2] as Real);
+        [v.x, v.y, v.z].map(f64::from)
     }
 
     /// A ball joint's rotation (child joint frame relative to the parent's) and relative

@@ -11,6 +11,11 @@ pub(crate) fn to_si(kind: DofKind, user: f64) -> f64 {
     }
 }
 
+/// A length in mm, in m.
+pub(crate) fn to_m(millimetres: f64) -> f64 {
+    millimetres / MM_PER_M
+}
+
 /// A length in m, in mm.
 pub(crate) fn to_mm(metres: f64) -> f64 {
     metres * MM_PER_M
@@ -25,5 +30,6 @@ mod tests {
         assert_eq!(to_si(DofKind::Angular, 180.0), std::f64::consts::PI);
         assert_eq!(to_si(DofKind::Linear, 25.0), 0.025);
         assert_eq!(to_mm(0.025), 25.0);
+        assert_eq!(to_m(25.0), 0.025);
     }
 }

@@ -49,6 +49,8 @@ pub struct JointDof {
     pub limits: Option<[f64; 2]>,
     /// Effort clamp in N·m or N, if any.
     pub max_effort: Option<f64>,
+    /// Whether the DOF is driven; a passive one is observed but takes no action value.
+    pub actuated: bool,
     /// Proportional gain used by position targets, in N·m/rad or N/m.
     pub kp: f64,
     /// Derivative gain used by position and velocity targets, in N·m·s/rad or N·s/m.
@@ -142,15 +144,27 @@ impl RobotWorld {
     }
 
     /// Sets the command held until the next call: efforts in N·m/N, or targets in
-    /// deg/mm (position) or deg/s, mm/s (velocity). `values` has one entry per DOF.
+    /// deg/mm (position) or deg/s, mm/s (velocity). `values` has one entry per actuated
+    /// DOF, in DOF order; passive DOFs get no effort and no motor.
     ///
     /// The caller validates length and finiteness; this only clamps and converts.
     pub fn set_command(&mut self, mode: ActionMode, values: &[f32]) {
-        debug_assert_eq!(values.len(), self.dofs.len());
+        debug_assert_eq!(values.len(), self.actuated_dofs());
         self.command.mode = mode;
-        self.command.values.clear();
-        self.command.values.extend_from_slice(values);
+        let mut values = values.iter();
+        for (slot, dof) in self.command.values.iter_mut().zip(&self.dofs) {
+            *slot = if dof.actuated {
+                values.next().copied().unwrap_or(0.0)
+            } else {
+                0.0
+            };
+        }
         self.configure_motors();
+    }
+
+    /// DOFs that take an action value.
+    pub fn actuated_dofs(&self) -> usize {
+        self.dofs.iter().filter(|d| d.actuated).count()
     }
 
     /// Advances the world by one step of `dt`, holding the current command.

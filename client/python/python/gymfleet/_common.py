@@ -24,6 +24,7 @@ OPTION_NAMES = (
     "seed",
     "reset_noise",
     "pd_gains",
+    "task",
 )
 
 ACTION_TYPES = ("torque", "position", "velocity")
@@ -76,7 +77,82 @@ def create_options(options: Dict[str, Any]) -> Dict[str, Any]:
         "reset_noise": options.get("reset_noise"),
         "kp": None if gains.get("kp") is None else [float(v) for v in gains["kp"]],
         "kd": None if gains.get("kd") is None else [float(v) for v in gains["kd"]],
+        "task": None if options.get("task") is None else task_fields(options["task"]),
     }
+
+
+#: Each task kind's fields (the proto's), with their defaults (None: required or unset).
+TASK_FIELDS: Dict[str, Dict[str, Any]] = {
+    "reach": {
+        "end_effector": None,
+        "point": None,
+        "target": None,
+        "target_box": None,
+        "success_radius": 0.0,
+        "terminate_on_success": False,
+    },
+    "track": {"targets": None, "tolerance": 0.0, "terminate_on_success": False},
+    "upright": {"instance": None, "axis": None, "max_tilt_deg": 0.0},
+}
+
+
+def _vec3(path: str, value: Any) -> Optional[List[float]]:
+    if value is None:
+        return None
+    if isinstance(value, Mapping):
+        value = [value.get(k, 0.0) for k in ("x", "y", "z")]
+    try:
+        v = [float(c) for c in value]
+    except (TypeError, ValueError):
+        v = []
+    if len(v) != 3:
+        raise InvalidArgument(f"{path}: expected [x, y, z] (mm) or {{'x', 'y', 'z'}}, got {value!r}")
+    return v
+
+
+def task_fields(task: Mapping[str, Any]) -> Dict[str, Any]:
+    """A task as the proto writes it (``{"reach": {...}, "action_cost": 0.01}``), flattened
+    for the extension: ``kind``, ``action_cost`` and every field of every kind."""
+    if not isinstance(task, Mapping):
+        raise InvalidArgument(f"task: expected a dict like {{'reach': {{...}}}}, got {type(task).__name__}")
+    kinds = [k for k in TASK_FIELDS if k in task]
+    extra = sorted(set(task) - set(TASK_FIELDS) - {"action_cost"})
+    if extra:
+        raise InvalidArgument(f"task: unknown field(s) {', '.join(extra)}; expected one of reach, track, upright, and action_cost")
+    if len(kinds) != 1:
+        raise InvalidArgument(f"task: expected exactly one of reach, track, upright, got {kinds or 'none'}")
+    kind = kinds[0]
+    body = task[kind]
+    if not isinstance(body, Mapping):
+        raise InvalidArgument(f"task.{kind}: expected a dict, got {type(body).__name__}")
+    unknown = sorted(set(body) - set(TASK_FIELDS[kind]))
+    if unknown:
+        raise InvalidArgument(
+            f"task.{kind}: unknown field(s) {', '.join(unknown)}; the fields are "
+            f"{', '.join(TASK_FIELDS[kind])}"
+        )
+    out: Dict[str, Any] = {f: d for fields in TASK_FIELDS.values() for f, d in fields.items()}
+    out.update(body)
+    box = out.pop("target_box")
+    if box is not None:
+        if not isinstance(box, Mapping) or set(box) != {"min", "max"}:
+            raise InvalidArgument(f"task.reach.target_box: expected {{'min': [x, y, z], 'max': [x, y, z]}}, got {box!r}")
+    out["target_min"] = None if box is None else _vec3(f"task.{kind}.target_box.min", box["min"])
+    out["target_max"] = None if box is None else _vec3(f"task.{kind}.target_box.max", box["max"])
+    for f in ("point", "target", "axis"):
+        out[f] = _vec3(f"task.{kind}.{f}", out[f])
+    if out["targets"] is not None:
+        out["targets"] = [float(t) for t in out["targets"]]
+    out["kind"] = kind
+    out["action_cost"] = float(task.get("action_cost", 0.0))
+    for f in ("success_radius", "tolerance", "max_tilt_deg"):
+        out[f] = float(out[f])
+    out["terminate_on_success"] = bool(out["terminate_on_success"])
+    if kind in ("reach",) and not isinstance(out["end_effector"], str):
+        raise InvalidArgument("task.reach.end_effector: expected an instance name")
+    if kind == "upright" and not isinstance(out["instance"], str):
+        raise InvalidArgument("task.upright.instance: expected an instance name")
+    return out
 
 
 def check_action_type(action_type: str) -> str:
@@ -88,11 +164,14 @@ def check_action_type(action_type: str) -> str:
 
 
 def action_bounds(info: Mapping[str, Any], action_type: str) -> Tuple[np.ndarray, np.ndarray]:
-    """Each DOF's action range: ±max_effort for torque, the joint limits for position,
-    unbounded for velocity (and wherever the document sets no bound)."""
+    """Each actuated DOF's action range: ±max_effort for torque, the joint limits for
+    position, unbounded for velocity (and wherever the document sets no bound). Passive
+    joints take no action."""
     low: List[float] = []
     high: List[float] = []
     for joint in info["joints"]:
+        if not joint["actuated"]:
+            continue
         for limit in joint["limits"]:
             lo, hi = -np.inf, np.inf
             if action_type == "torque" and joint["max_effort"] is not None:
@@ -108,6 +187,8 @@ def action_bounds(info: Mapping[str, Any], action_type: str) -> Tuple[np.ndarray
 def dof_names(info: Mapping[str, Any]) -> List[str]:
     names = []
     for joint in info["joints"]:
+        if not joint["actuated"]:
+            continue
         for k in range(joint["dof"]):
             names.append(joint["name"] if joint["dof"] == 1 else f"{joint['name']}[{k}]")
     return names

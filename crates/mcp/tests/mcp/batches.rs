@@ -139,3 +139,66 @@ async fn same_step_autoreset_reports_the_final_observation() {
         .await;
     adapter.stop().await;
 }
+
+/// A task over MCP: the guide's reaching loop (target [20, 0, 40] mm, reward −distance)
+/// as one `task` field, and a batch that ends episodes with `goal_reached`.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn tasks_compute_rewards_and_show_the_target() {
+    let adapter = Adapter::embedded().await;
+    let pendulum = crate::PENDULUM;
+    adapter
+        .ok(
+            "create_robot_env",
+            json!({
+                "document": doc(pendulum),
+                "end_effector_ids": ["arm"],
+                "task": {"reach": {"end_effector": "arm", "target": {"x": 20, "y": 0, "z": 40}}}
+            }),
+        )
+        .await;
+    let step = adapter
+        .ok(
+            "gym_step",
+            json!({"env_id": "sim_1", "action_type": "torque", "values": [0.0]}),
+        )
+        .await;
+    assert_eq!(step["observation"]["target"], json!([20.0, 0.0, 40.0]));
+    let reward = step["reward"].as_f64().expect("reward");
+    assert!((reward + 425f64.sqrt()).abs() < 1e-3, "{reward}");
+
+    adapter
+        .ok(
+            "batch_create_envs",
+            json!({
+                "document": doc(pendulum),
+                "n_envs": 2,
+                "task": {
+                    "reach": {"end_effector": "arm", "target": {"x": 10, "y": 10, "z": 25},
+                              "success_radius": 1, "terminate_on_success": true},
+                    "action_cost": 0.5
+                }
+            }),
+        )
+        .await;
+    let step = adapter
+        .ok(
+            "batch_step",
+            json!({"batch_id": "batch_1", "action_type": "torque", "actions": [[0.0], [0.0]]}),
+        )
+        .await;
+    for result in step["results"].as_array().expect("results") {
+        assert_eq!(result["termination_reason"], "goal_reached");
+        assert_eq!(result["observation"]["target"], json!([10.0, 10.0, 25.0]));
+    }
+    let error = adapter
+        .call(
+            "create_robot_env",
+            json!({"document": doc(pendulum), "task": {"reach": {"end_effector": "arm"}, "upright": {"instance": "arm", "max_tilt_deg": 10}}}),
+        )
+        .await;
+    let text = crate::text_of("create_robot_env", &error);
+    assert!(
+        text.contains("task: give exactly one of \"reach\", \"track\" or \"upright\""),
+        "{text}"
+    );
+}

@@ -1,0 +1,436 @@
+//! Tasks: the reward, the goal and the task's own termination, computed inside the step
+//! from the simulated state (PRODUCT.md §6.1). [`TaskSpec`] is what a request asks for,
+//! in the user's units; [`ActiveTask`] is it resolved against one env (instance indices,
+//! the current target) and evaluated after every step.
+//!
+//! Rewards are in the document's units: a reach reward of −3.2 means the point is 3.2 mm
+//! from the target, a track reward of −4 means the joints are 4 deg (or mm) from theirs.
+//! That keeps rewards, targets, radii and observations in one unit system, and expresses
+//! the seed guide's reaching loop (`reward = −distance` to a target in mm) exactly.
+
+use gymfleet_assembly::Assembly;
+use gymfleet_physics::{JointDof, RobotWorld};
+use rand::rngs::Xoshiro256PlusPlus;
+use rand::RngExt;
+
+use crate::env::Termination;
+use crate::error::{EnvError, Result};
+
+/// Where a reach target comes from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ReachTarget {
+    /// A fixed point, world mm.
+    Fixed([f64; 3]),
+    /// A point drawn uniformly from this box (world mm) at every reset, from the env's
+    /// seeded generator.
+    Box {
+        /// The lower corner.
+        min: [f64; 3],
+        /// The upper corner.
+        max: [f64; 3],
+    },
+}
+
+/// What an env is asked to do.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TaskKind {
+    /// Bring a point of an instance to a target.
+    Reach {
+        /// The instance carrying the point.
+        end_effector: String,
+        /// The point, mm in the instance's frame; `None`: its centre of mass.
+        point: Option<[f64; 3]>,
+        /// The target.
+        target: ReachTarget,
+        /// Within this distance (mm) the goal is reached; 0: never.
+        success_radius: f64,
+        /// End the episode (`goal_reached`) when it is.
+        terminate_on_success: bool,
+    },
+    /// Hold every DOF at its target.
+    Track {
+        /// One target per DOF, deg or mm.
+        targets: Vec<f64>,
+        /// Within this error norm (deg or mm) the goal is reached; 0: never.
+        tolerance: f64,
+        /// End the episode (`goal_reached`) when it is.
+        terminate_on_success: bool,
+    },
+    /// Keep an instance's axis near world +Z.
+    Upright {
+        /// The instance.
+        instance: String,
+        /// The axis in the instance's frame (any length but zero).
+        axis: [f64; 3],
+        /// The episode ends (`fell`) when the axis tilts further than this, deg.
+        max_tilt_deg: f64,
+    },
+}
+
+/// A task and the weight of the action cost.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TaskSpec {
+    /// What to do.
+    pub kind: TaskKind,
+    /// Subtracted from the reward: this weight × Σ a² over the step's action values, in
+    /// the action's own units (N·m, N, deg, mm, deg/s, mm/s). 0: no cost.
+    pub action_cost: f64,
+}
+
+/// A task resolved against one env.
+#[derive(Debug, Clone)]
+pub(crate) struct ActiveTask {
+    kind: Active,
+    action_cost: f64,
+    /// The current reach target, world mm.
+    target: [f64; 3],
+}
+
+#[derive(Debug, Clone)]
+enum Active {
+    Reach {
+        body: usize,
+        point: Option<[f64; 3]>,
+        target: ReachTarget,
+        success_radius: f64,
+        terminate: bool,
+    },
+    Track {
+        targets: Vec<f64>,
+        tolerance: f64,
+        terminate: bool,
+        /// Scratch for the measured positions.
+        positions: Vec<f32>,
+        velocities: Vec<f32>,
+    },
+    Upright {
+        body: usize,
+        axis: [f64; 3],
+        cos_max_tilt: f64,
+    },
+}
+
+/// Largest magnitude accepted for a coordinate, mm (100 km).
+const MAX_MM: f64 = 1e8;
+
+fn bad(path: impl Into<String>, reason: impl Into<String>) -> EnvError {
+    EnvError::BadTask {
+        path: path.into(),
+        reason: reason.into(),
+    }
+}
+
+fn finite_vec(path: &str, v: [f64; 3]) -> Result<()> {
+    for (k, c) in v.iter().enumerate() {
+        if !(c.is_finite() && c.abs() <= MAX_MM) {
+            let axis = ["x", "y", "z"][k];
+            return Err(bad(
+                format!("{path}.{axis}"),
+                format!("expected a finite coordinate within ±{MAX_MM} mm, got {c}"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn non_negative(path: &str, value: f64, unit: &str) -> Result<()> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(())
+    } else {
+        Err(bad(
+            path,
+            format!("expected a finite value >= 0 ({unit}), got {value}"),
+        ))
+    }
+}
+
+fn instance(assembly: &Assembly, path: &str, name: &str) -> Result<usize> {
+    assembly.instance_index(name).ok_or_else(|| {
+        let names: Vec<String> = assembly
+            .instances
+            .iter()
+            .map(|i| format!("{:?}", i.name))
+            .collect();
+        let shown = names.len().min(16);
+        let more = if names.len() > shown {
+            format!(" and {} more", names.len() - shown)
+        } else {
+            String::new()
+        };
+        let name: String = name.chars().take(64).collect();
+        bad(
+            path,
+            format!(
+                "unknown instance {name:?} (known: {}{more})",
+                names[..shown].join(", ")
+            ),
+        )
+    })
+}
+
+impl TaskSpec {
+    /// Checks the task against the env's assembly and DOFs; the errors' paths start at
+    /// `task`.
+    pub(crate) fn resolve(&self, assembly: &Assembly, dofs: &[JointDof]) -> Result<ActiveTask> {
+        if !(self.action_cost.is_finite() && self.action_cost >= 0.0) {
+            return Err(bad(
+                "task.action_cost",
+                format!("expected a finite weight >= 0, got {}", self.action_cost),
+            ));
+        }
+        let kind = match &self.kind {
+            TaskKind::Reach {
+                end_effector,
+                point,
+                target,
+                success_radius,
+                terminate_on_success,
+            } => {
+                let body = instance(assembly, "task.reach.end_effector", end_effector)?;
+                if let Some(p) = point {
+                    finite_vec("task.reach.point", *p)?;
+                }
+                match target {
+                    ReachTarget::Fixed(t) => finite_vec("task.reach.target", *t)?,
+                    ReachTarget::Box { min, max } => {
+                        finite_vec("task.reach.target_box.min", *min)?;
+                        finite_vec("task.reach.target_box.max", *max)?;
+                        for k in 0..3 {
+                            if min[k] > max[k] {
+                                let axis = ["x", "y", "z"][k];
+                                return Err(bad(
+                                    format!("task.reach.target_box.max.{axis}"),
+                                    format!(
+                                        "expected at least min.{axis} = {}, got {}",
+                                        min[k], max[k]
+                                    ),
+                                ));
+                            }
+                        }
+                    }
+                }
+                non_negative("task.reach.success_radius", *success_radius, "mm")?;
+                if *terminate_on_success && *success_radius == 0.0 {
+                    return Err(bad(
+                        "task.reach.terminate_on_success",
+                        "needs a success_radius > 0 (mm)",
+                    ));
+                }
+                Active::Reach {
+                    body,
+                    point: *point,
+                    target: target.clone(),
+                    success_radius: *success_radius,
+                    terminate: *terminate_on_success,
+                }
+            }
+            TaskKind::Track {
+                targets,
+                tolerance,
+                terminate_on_success,
+            } => {
+                if targets.len() != dofs.len() {
+                    return Err(bad(
+                        "task.track.targets",
+                        format!(
+                            "expected one target per DOF ({}), got {}",
+                            dofs.len(),
+                            targets.len()
+                        ),
+                    ));
+                }
+                for (k, (t, dof)) in targets.iter().zip(dofs).enumerate() {
+                    if !(t.is_finite() && t.abs() <= MAX_MM) {
+                        return Err(bad(
+                            format!("task.track.targets[{k}]"),
+                            format!("expected a finite target (deg or mm), got {t}"),
+                        ));
+                    }
+                    if let Some([lo, hi]) = dof.limits {
+                        if *t < lo || *t > hi {
+                            return Err(bad(
+                                format!("task.track.targets[{k}]"),
+                                format!(
+                                    "{t} is outside joint {:?}'s limits [{lo}, {hi}]",
+                                    dof.joint_name
+                                ),
+                            ));
+                        }
+                    }
+                }
+                non_negative("task.track.tolerance", *tolerance, "deg or mm")?;
+                if *terminate_on_success && *tolerance == 0.0 {
+                    return Err(bad(
+                        "task.track.terminate_on_success",
+                        "needs a tolerance > 0",
+                    ));
+                }
+                Active::Track {
+                    targets: targets.clone(),
+                    tolerance: *tolerance,
+                    terminate: *terminate_on_success,
+                    positions: vec![0.0; dofs.len()],
+                    velocities: vec![0.0; dofs.len()],
+                }
+            }
+            TaskKind::Upright {
+                instance: name,
+                axis,
+                max_tilt_deg,
+            } => {
+                let body = instance(assembly, "task.upright.instance", name)?;
+                finite_vec("task.upright.axis", *axis)?;
+                let norm = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
+                if norm == 0.0 {
+                    return Err(bad(
+                        "task.upright.axis",
+                        "expected a direction, got the zero vector",
+                    ));
+                }
+                if !(max_tilt_deg.is_finite() && *max_tilt_deg > 0.0 && *max_tilt_deg < 180.0) {
+                    return Err(bad(
+                        "task.upright.max_tilt_deg",
+                        format!("expected an angle in (0, 180) deg, got {max_tilt_deg}"),
+                    ));
+                }
+                Active::Upright {
+                    body,
+                    axis: axis.map(|c| c / norm),
+                    cos_max_tilt: max_tilt_deg.to_radians().cos(),
+                }
+            }
+        };
+        let target = match &self.kind {
+            TaskKind::Reach {
+                target: ReachTarget::Fixed(t),
+                ..
+            } => *t,
+            _ => [0.0; 3],
+        };
+        Ok(ActiveTask {
+            kind,
+            action_cost: self.action_cost,
+            target,
+        })
+    }
+}
+
+impl ActiveTask {
+    /// Floats the task appends to the observation: the reach target (x, y, z mm).
+    pub(crate) fn observation_dim(&self) -> usize {
+        match self.kind {
+            Active::Reach { .. } => 3,
+            Active::Track { .. } | Active::Upright { .. } => 0,
+        }
+    }
+
+    /// The name of the observation segment the task appends, if any.
+    pub(crate) fn observation_name(&self) -> Option<&'static str> {
+        match self.kind {
+            Active::Reach { .. } => Some("target"),
+            Active::Track { .. } | Active::Upright { .. } => None,
+        }
+    }
+
+    /// A new episode: draws the reach target from its box (after the reset noise).
+    pub(crate) fn reset(&mut self, rng: &mut Xoshiro256PlusPlus) {
+        if let Active::Reach {
+            target: ReachTarget::Box { min, max },
+            ..
+        } = &self.kind
+        {
+            for k in 0..3 {
+                self.target[k] = if min[k] < max[k] {
+                    rng.random_range(min[k]..=max[k])
+                } else {
+                    min[k]
+                };
+            }
+        }
+    }
+
+    /// Writes the task's observation (see [`ActiveTask::observation_dim`]).
+    pub(crate) fn observe(&self, out: &mut [f32]) {
+        if let Active::Reach { .. } = self.kind {
+            for (o, t) in out.iter_mut().zip(self.target) {
+                *o = t as f32;
+            }
+        }
+    }
+
+    /// The step's reward, and the termination the task calls for, from the state after
+    /// the step and the action that led there.
+    pub(crate) fn evaluate(
+        &mut self,
+        world: &RobotWorld,
+        action: &[f32],
+    ) -> (f64, Option<Termination>) {
+        let cost = if self.action_cost > 0.0 {
+            self.action_cost
+                * action
+                    .iter()
+                    .map(|&a| f64::from(a) * f64::from(a))
+                    .sum::<f64>()
+        } else {
+            0.0
+        };
+        let (reward, termination) = match &mut self.kind {
+            Active::Reach {
+                body,
+                point,
+                success_radius,
+                terminate,
+                ..
+            } => {
+                let p = match point {
+                    Some(offset) => world.point_position(*body, *offset),
+                    None => world.center_of_mass(*body),
+                };
+                let d = distance(p, self.target);
+                let reached = *success_radius > 0.0 && d <= *success_radius;
+                (
+                    -d,
+                    (reached && *terminate).then_some(Termination::GoalReached),
+                )
+            }
+            Active::Track {
+                targets,
+                tolerance,
+                terminate,
+                positions,
+                velocities,
+            } => {
+                world.joint_state(positions, velocities);
+                let error = positions
+                    .iter()
+                    .zip(targets.iter())
+                    .map(|(&q, &t)| (f64::from(q) - t).powi(2))
+                    .sum::<f64>()
+                    .sqrt();
+                let reached = *tolerance > 0.0 && error <= *tolerance;
+                (
+                    -error,
+                    (reached && *terminate).then_some(Termination::GoalReached),
+                )
+            }
+            Active::Upright {
+                body,
+                axis,
+                cos_max_tilt,
+            } => {
+                let up = world.direction(*body, *axis);
+                // The tilt is the angle between the axis and world +Z: cos = up.z.
+                if up[2] < *cos_max_tilt {
+                    (0.0, Some(Termination::Fell))
+                } else {
+                    (1.0, None)
+                }
+            }
+        };
+        (reward - cost, termination)
+    }
+}
+
+fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
