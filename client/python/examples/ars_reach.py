@@ -10,7 +10,7 @@ directions, runs each perturbation on a batch of envs, and steps along the direc
 brought the tip closer.
 
     pip install ./client/python
-    python client/python/examples/ars_reach.py            # about a minute on 2 cores
+    python client/python/examples/ars_reach.py            # about 30 s on 2 cores
 
 It prints the success rate (final distance within 5 mm) on 1024 fresh targets before and
 after training. Only the public package is used; nothing here knows the arm's geometry.
@@ -69,12 +69,13 @@ def success_rate(envs, theta: np.ndarray, seed: int, rounds: int) -> float:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--iterations", type=int, default=60)
+    parser.add_argument("--iterations", type=int, default=150)
     parser.add_argument("--directions", type=int, default=16)
     parser.add_argument("--top", type=int, default=8)
     parser.add_argument("--targets", type=int, default=8, help="targets per direction and sign")
-    parser.add_argument("--step-size", type=float, default=4.0)
-    parser.add_argument("--noise", type=float, default=3.0, help="perturbation, deg")
+    parser.add_argument("--step-size", type=float, default=8.0)
+    parser.add_argument("--noise", type=float, default=8.0, help="perturbation at first, deg")
+    parser.add_argument("--final-noise", type=float, default=1.0, help="perturbation at the end, deg")
     parser.add_argument("--server", default=None, help="host:port; default: embedded")
     args = parser.parse_args()
 
@@ -89,12 +90,16 @@ def main() -> None:
     before = success_rate(envs, theta, seed=1_000_000, rounds=4)
     print(f"before: {before:6.1%} of {4 * envs.num_envs} targets within {SUCCESS_MM} mm")
     for it in range(args.iterations):
+        # Anneal: wide steps while far from the targets, fine ones near the end.
+        frac = it / max(1, args.iterations - 1)
+        noise = args.noise + (args.final_noise - args.noise) * frac
+        step_size = args.step_size * noise / args.noise
         deltas = rng.standard_normal((args.directions, 2, 6))
         # Env i < half runs direction i // targets with +noise, env half + i with -noise,
         # on the same target: both halves are seeded `base + i`.
         signs = np.concatenate([np.ones(half), -np.ones(half)])
         per_env = np.tile(np.repeat(deltas, args.targets, axis=0), (2, 1, 1))
-        weights = theta + args.noise * signs[:, None, None] * per_env
+        weights = theta + noise * signs[:, None, None] * per_env
         base = it * half
         seeds = [base + (i % half) for i in range(2 * half)]
         returns = -episode(envs, weights, seeds).astype(np.float64)
@@ -102,9 +107,10 @@ def main() -> None:
         order = np.argsort(-np.maximum(r[0], r[1]))[: args.top]
         sigma = np.concatenate([r[0, order], r[1, order]]).std() + 1e-8
         step = ((r[0, order] - r[1, order])[:, None, None] * deltas[order]).sum(axis=0)
-        theta += args.step_size / (args.top * sigma) * step
-        if it % 10 == 9 or it == args.iterations - 1:
-            print(f"iteration {it + 1:3d}: mean final distance {-returns.mean():6.2f} mm")
+        theta += step_size / (args.top * sigma) * step
+        if it % 25 == 24 or it == args.iterations - 1:
+            print(f"iteration {it + 1:3d}: mean final distance {-returns.mean():6.2f} mm "
+                  f"(perturbed by {noise:.1f} deg)")
     after = success_rate(envs, theta, seed=2_000_000, rounds=4)
     elapsed = time.perf_counter() - start
     steps = (args.iterations * 2 * half + 8 * envs.num_envs) * STEPS

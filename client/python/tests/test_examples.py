@@ -1,0 +1,16 @@
+"""The examples run (briefly): they use only the public package."""
+
+from __future__ import annotations
+
+import runpy
+import sys
+
+from conftest import REPO
+
+
+def test_the_ars_reaching_example_runs(capsys, monkeypatch):
+    script = REPO / "client" / "python" / "examples" / "ars_reach.py"
+    monkeypatch.setattr(sys, "argv", [str(script), "--iterations", "2", "--directions", "4", "--targets", "2"])
+    runpy.run_path(str(script), run_name="__main__")
+    out = capsys.readouterr().out
+    assert "before:" in out and "after:" in out and "2 iterations" in out
