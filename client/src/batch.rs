@@ -150,6 +150,17 @@ impl Batch {
         BatchObservations::new(observation.into_inner(), &self.info)
     }
 
+    /// Env `env_index`'s domain-randomisation factors for its current episode.
+    pub async fn randomization(&self, env_index: usize) -> Result<crate::RandomizationDraws> {
+        let request = pb::RandomizationRequest {
+            batch_id: self.info.batch_id.clone(),
+            env_index: u32::try_from(env_index).unwrap_or(u32::MAX),
+            ..Default::default()
+        };
+        let draws = self.client.rpc().get_randomization(request).await?;
+        Ok(draws.into_inner().into())
+    }
+
     /// Frees the batch on the server. Later calls on it are
     /// [`crate::ClientError::NotFound`].
     pub async fn close(&self) -> Result<()> {

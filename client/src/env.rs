@@ -80,6 +80,18 @@ impl Env {
         observation.into_inner().try_into()
     }
 
+    /// The domain-randomisation factors it drew at its last reset;
+    /// [`crate::ClientError::FailedPrecondition`] if it was created without
+    /// [`crate::EnvOptions::randomize`].
+    pub async fn randomization(&self) -> Result<crate::RandomizationDraws> {
+        let request = pb::RandomizationRequest {
+            env_id: self.info.env_id.clone(),
+            ..Default::default()
+        };
+        let draws = self.client.rpc().get_randomization(request).await?;
+        Ok(draws.into_inner().into())
+    }
+
     /// Frees the env on the server. Later calls on it (from any handle) are
     /// [`crate::ClientError::NotFound`].
     pub async fn close(&self) -> Result<()> {

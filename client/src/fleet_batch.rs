@@ -388,6 +388,22 @@ impl FleetBatch {
         BatchObservations::new(reply, &self.info)
     }
 
+    /// The domain-randomisation factors of the env at position `env` (see
+    /// [`Batch::randomization`]), asked of the shard that holds it.
+    pub async fn randomization(&self, env: usize) -> Result<crate::RandomizationDraws> {
+        let mut first = 0;
+        for shard in &self.shards {
+            let len = shard.envs.len();
+            if env < first + len {
+                return shard.batch.randomization(env - first).await;
+            }
+            first += len;
+        }
+        Err(ClientError::InvalidArgument {
+            message: format!("env_index: {env} is out of range: the batch has {first} envs"),
+        })
+    }
+
     /// Closes every shard that is not lost, concurrently. Fails with the first failure,
     /// naming its server, after trying them all.
     pub async fn close(&self) -> Result<()> {

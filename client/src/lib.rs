@@ -59,7 +59,9 @@ pub use fleet::Fleet;
 pub use fleet_batch::{FleetBatch, ShardPlacement};
 pub use options::{BatchOptions, EnvOptions, PdGains};
 pub use stream::{BatchStream, DEFAULT_STREAM_WINDOW};
-pub use task::{ReachTask, Task, TaskKind, TrackTask, UprightTask};
+pub use task::{
+    Randomization, RandomizationDraws, ReachTask, Task, TaskKind, TrackTask, UprightTask,
+};
 pub use types::{
     ActionType, Autoreset, BatchInfo, DofLimit, EnvInfo, JointInfo, Observation, ServerInfo,
     ServerLimits, StepResult, POSE_LEN,

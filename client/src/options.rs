@@ -2,7 +2,7 @@
 
 use gymfleet_proto::v1 as pb;
 
-use crate::task::Task;
+use crate::task::{Randomization, Task};
 use crate::types::Autoreset;
 
 /// Controller gain overrides, per DOF, in SI units (N·m/rad, N·m·s/rad, N/m, N·s/m).
@@ -40,6 +40,7 @@ pub struct EnvOptions {
     pd_gains: Option<PdGains>,
     reset_noise: Option<f64>,
     task: Option<Task>,
+    randomize: Option<Randomization>,
 }
 
 impl EnvOptions {
@@ -101,6 +102,12 @@ impl EnvOptions {
         self
     }
 
+    /// Domain randomisation: scale factors drawn at every reset.
+    pub fn randomize(mut self, randomization: Randomization) -> Self {
+        self.randomize = Some(randomization);
+        self
+    }
+
     /// The document.
     pub fn document_json(&self) -> &str {
         &self.document_json
@@ -123,6 +130,7 @@ impl EnvOptions {
             pd_gains: self.pd_gains.map(|g| pb::PdGains { kp: g.kp, kd: g.kd }),
             reset_noise: self.reset_noise,
             task: self.task.map(Into::into),
+            randomize: self.randomize.map(Into::into),
         }
     }
 }
@@ -211,6 +219,12 @@ impl BatchOptions {
         self
     }
 
+    /// See [`EnvOptions::randomize`]; each env draws its own factors.
+    pub fn randomize(mut self, randomization: Randomization) -> Self {
+        self.env = self.env.randomize(randomization);
+        self
+    }
+
     /// What happens to finished envs.
     pub fn autoreset(mut self, autoreset: Autoreset) -> Self {
         self.autoreset = autoreset;
@@ -251,6 +265,7 @@ impl BatchOptions {
             pd_gains: env.pd_gains,
             reset_noise: env.reset_noise,
             task: env.task,
+            randomize: env.randomize,
             // Over u32::MAX envs: saturate, and let the server's limit refuse it.
             n_envs: u32::try_from(self.n_envs).unwrap_or(u32::MAX),
             autoreset: pb::Autoreset::from(self.autoreset) as i32,

@@ -1,6 +1,8 @@
 //! [`Task`]: what an env is asked to do (its reward, goal and task terminations,
 //! computed by the server inside the step), as the client builds it for
-//! [`crate::EnvOptions::task`] and [`crate::BatchOptions::task`].
+//! [`crate::EnvOptions::task`] and [`crate::BatchOptions::task`]; and
+//! [`Randomization`], the domain-randomisation ranges beside it, with the
+//! [`RandomizationDraws`] an env reports.
 //!
 //! ```
 //! use gymfleet_client::{ReachTask, Task};
@@ -146,6 +148,59 @@ impl From<Task> for pb::Task {
         pb::Task {
             kind: Some(kind),
             action_cost: t.action_cost,
+        }
+    }
+}
+
+/// Domain randomisation ranges `[min, max]` of scale factors, drawn at every reset by the
+/// env's seeded generator, per instance (mass, friction) and per joint (damping, gains);
+/// `None` leaves that quantity as the document has it.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Randomization {
+    /// Multiplies each instance's mass.
+    pub mass_scale: Option<[f64; 2]>,
+    /// Multiplies each instance's friction.
+    pub friction_scale: Option<[f64; 2]>,
+    /// Multiplies each joint's damping.
+    pub damping_scale: Option<[f64; 2]>,
+    /// Multiplies each joint's PD gains.
+    pub gain_scale: Option<[f64; 2]>,
+}
+
+impl From<Randomization> for pb::Randomization {
+    fn from(r: Randomization) -> Self {
+        let range = |r: Option<[f64; 2]>| r.map(|[min, max]| pb::Range { min, max });
+        pb::Randomization {
+            mass_scale: range(r.mass_scale),
+            friction_scale: range(r.friction_scale),
+            damping_scale: range(r.damping_scale),
+            gain_scale: range(r.gain_scale),
+        }
+    }
+}
+
+/// The factors an env drew at its last reset, in document order.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct RandomizationDraws {
+    /// `(instance, mass factor, friction factor)`.
+    pub instances: Vec<(String, f64, f64)>,
+    /// `(joint, damping factor, gain factor)`, fixed joints included.
+    pub joints: Vec<(String, f64, f64)>,
+}
+
+impl From<pb::RandomizationDraws> for RandomizationDraws {
+    fn from(d: pb::RandomizationDraws) -> Self {
+        RandomizationDraws {
+            instances: d
+                .instances
+                .into_iter()
+                .map(|i| (i.name, i.mass_scale, i.friction_scale))
+                .collect(),
+            joints: d
+                .joints
+                .into_iter()
+                .map(|j| (j.name, j.damping_scale, j.gain_scale))
+                .collect(),
         }
     }
 }

@@ -53,6 +53,7 @@ mod tests {
                 "CloseBatch",
                 "StreamBatch",
                 "GetServerInfo",
+                "GetRandomization",
             ]
         );
         let stream = &service.method[10];

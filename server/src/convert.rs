@@ -5,12 +5,13 @@
 
 use gymfleet_batch::Autoreset;
 use gymfleet_env::{
-    ActionType, DofKind, EnvConfig, EnvSpec, PdGains, ReachTarget, TaskKind, TaskSpec,
+    ActionType, DofKind, DrawReport, EnvConfig, EnvSpec, PdGains, Randomization, ReachTarget,
+    TaskKind, TaskSpec,
 };
 use gymfleet_proto::v1 as pb;
 
 use crate::domain::{
-    Action, BatchObservations, BatchRequest, BatchStep, BatchStepped, EnvRequest, EnvStep,
+    Action, BatchObservations, BatchRequest, BatchStep, BatchStepped, DrawsOf, EnvRequest, EnvStep,
     JointLinks, ObsSplit, ServerStatus,
 };
 use crate::error::{Result, ServerError};
@@ -59,6 +60,7 @@ fn env_request(
     pd_gains: Option<pb::PdGains>,
     reset_noise: Option<f64>,
     task: Option<pb::Task>,
+    randomize: Option<pb::Randomization>,
 ) -> Result<EnvRequest> {
     let defaults = EnvConfig::default();
     let pd_gains = pd_gains
@@ -84,8 +86,41 @@ fn env_request(
             pd_gains,
             reset_noise: reset_noise.unwrap_or(0.0),
             task: task.map(task_spec).transpose()?,
+            randomize: randomize.map(|r| {
+                let range = |r: Option<pb::Range>| r.map(|r| [r.min, r.max]);
+                Randomization {
+                    mass_scale: range(r.mass_scale),
+                    friction_scale: range(r.friction_scale),
+                    damping_scale: range(r.damping_scale),
+                    gain_scale: range(r.gain_scale),
+                }
+            }),
         },
     })
+}
+
+/// An env's draws as the proto's.
+pub(crate) fn randomization_draws(report: DrawReport) -> pb::RandomizationDraws {
+    pb::RandomizationDraws {
+        instances: report
+            .instances
+            .into_iter()
+            .map(|(name, mass_scale, friction_scale)| pb::InstanceDraw {
+                name,
+                mass_scale,
+                friction_scale,
+            })
+            .collect(),
+        joints: report
+            .joints
+            .into_iter()
+            .map(|(name, damping_scale, gain_scale)| pb::JointDraw {
+                name,
+                damping_scale,
+                gain_scale,
+            })
+            .collect(),
+    }
 }
 
 fn vec3(v: pb::Vec3) -> [f64; 3] {
@@ -152,6 +187,7 @@ impl TryFrom<pb::CreateEnvRequest> for EnvRequest {
             r.pd_gains,
             r.reset_noise,
             r.task,
+            r.randomize,
         )
     }
 }
@@ -179,11 +215,27 @@ impl TryFrom<pb::CreateBatchRequest> for BatchRequest {
                 r.pd_gains,
                 r.reset_noise,
                 r.task,
+                r.randomize,
             )?,
             n_envs: usize::try_from(r.n_envs).unwrap_or(usize::MAX),
             autoreset,
             seed_offset: r.seed_offset,
         })
+    }
+}
+
+impl TryFrom<pb::RandomizationRequest> for DrawsOf {
+    type Error = ServerError;
+
+    fn try_from(r: pb::RandomizationRequest) -> Result<Self> {
+        match (r.env_id.is_empty(), r.batch_id.is_empty()) {
+            (false, true) => Ok(DrawsOf::Env(r.env_id)),
+            (true, false) => Ok(DrawsOf::BatchEnv(r.batch_id, r.env_index as usize)),
+            _ => Err(ServerError::InvalidArgument {
+                field: "env_id",
+                reason: "expected exactly one of env_id and batch_id".to_string(),
+            }),
+        }
     }
 }
 

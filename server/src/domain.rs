@@ -110,3 +110,10 @@ pub(crate) struct Created {
     /// Batches only: the size and autoreset mode.
     pub(crate) batch: Option<(usize, Autoreset)>,
 }
+
+/// Whose randomisation factors: an env, or env `index` of a batch.
+#[derive(Debug, Clone)]
+pub(crate) enum DrawsOf {
+    Env(String),
+    BatchEnv(String, usize),
+}

@@ -54,6 +54,20 @@ pub enum ServerError {
         /// The id as given.
         id: String,
     },
+    /// The env was created without `randomize`, so it has no draws to report.
+    #[error("{id:?} was created without randomize: it draws no factors")]
+    NotRandomized {
+        /// The env (or `batch_<n>[i]`).
+        id: String,
+    },
+    /// A batch env index past the batch's end.
+    #[error("env_index: {index} is out of range: the batch has {n_envs} envs")]
+    EnvIndex {
+        /// The index given.
+        index: usize,
+        /// The batch's size.
+        n_envs: usize,
+    },
     /// Creating would exceed `--max-envs`.
     #[error(
         "too many environments: this request needs {requested} more, {held} of the server's \
@@ -183,6 +197,8 @@ impl From<ServerError> for Status {
                 BatchError::PoolStart { .. } | BatchError::Panicked { .. } => Code::Internal,
             },
             ServerError::NotFound { .. } => Code::NotFound,
+            ServerError::NotRandomized { .. } => Code::FailedPrecondition,
+            ServerError::EnvIndex { .. } => Code::InvalidArgument,
             ServerError::TooManyEnvs { .. }
             | ServerError::BatchTooLarge { .. }
             | ServerError::DocumentTooLarge { .. } => Code::ResourceExhausted,

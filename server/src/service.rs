@@ -11,7 +11,7 @@ use tokio_stream::wrappers::ReceiverStream;
 use tonic::{Request, Response, Status, Streaming};
 
 use crate::convert;
-use crate::domain::{BatchRequest, BatchStep, Created, EnvRequest, EnvStep};
+use crate::domain::{BatchRequest, BatchStep, Created, DrawsOf, EnvRequest, EnvStep};
 use crate::error::{Result, ServerError};
 use crate::simulation::Simulation;
 
@@ -146,6 +146,17 @@ impl Simulator for SimulatorService {
         request: Request<pb::StepBatchRequest>,
     ) -> Result<Response<pb::BatchStepResult>, Status> {
         answer(stream_step(&self.sim, request.into_inner()).await)
+    }
+
+    async fn get_randomization(
+        &self,
+        request: Request<pb::RandomizationRequest>,
+    ) -> Result<Response<pb::RandomizationDraws>, Status> {
+        let result = async {
+            let target = DrawsOf::try_from(request.into_inner())?;
+            self.sim.randomization(target).await
+        };
+        answer(result.await.map(convert::randomization_draws))
     }
 
     async fn observe_batch(

@@ -4,12 +4,12 @@
 use std::time::Duration;
 
 use gymfleet_batch::{BatchStepOutput, EnvBatch, StepPool};
-use gymfleet_env::{EnvError, RobotEnv};
+use gymfleet_env::{DrawReport, EnvError, RobotEnv};
 
 use crate::config::ServerConfig;
 use crate::domain::{
-    Action, BatchObservations, BatchRequest, BatchStep, BatchStepped, Created, EnvRequest, EnvStep,
-    EnvStepOutcome, JointLinks, ObsSplit, ServerStatus,
+    Action, BatchObservations, BatchRequest, BatchStep, BatchStepped, Created, DrawsOf, EnvRequest,
+    EnvStep, EnvStepOutcome, JointLinks, ObsSplit, ServerStatus,
 };
 use crate::error::{EntityKind, Result, ServerError};
 use crate::pool;
@@ -295,6 +295,42 @@ impl Simulation {
             },
         )
         .await
+    }
+
+    /// The randomisation factors of an env, or of env `index` of a batch.
+    pub(crate) async fn randomization(&self, target: DrawsOf) -> Result<DrawReport> {
+        match target {
+            DrawsOf::Env(id) => {
+                let entry = self.envs.get(&id)?;
+                pool::run_locked(
+                    &self.pool,
+                    &self.envs,
+                    &entry,
+                    "GetRandomization",
+                    move |open| open.env.draws().ok_or(ServerError::NotRandomized { id }),
+                )
+                .await
+            }
+            DrawsOf::BatchEnv(id, index) => {
+                let entry = self.batches.get(&id)?;
+                pool::run_locked(
+                    &self.pool,
+                    &self.batches,
+                    &entry,
+                    "GetRandomization",
+                    move |open| {
+                        let n_envs = open.batch.n_envs();
+                        if index >= n_envs {
+                            return Err(ServerError::EnvIndex { index, n_envs });
+                        }
+                        open.batch.draws(index).ok_or(ServerError::NotRandomized {
+                            id: format!("{id}[{index}]"),
+                        })
+                    },
+                )
+                .await
+            }
+        }
     }
 
     pub(crate) async fn close_batch(&self, id: &str) -> Result<()> {

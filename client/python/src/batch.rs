@@ -50,6 +50,13 @@ impl Shards {
         }
     }
 
+    async fn randomization(&self, env: usize) -> Result<gymfleet_client::RandomizationDraws> {
+        match self {
+            Shards::One(b) => b.randomization(env).await,
+            Shards::Fleet(f) => f.randomization(env).await,
+        }
+    }
+
     async fn close(&self) -> Result<()> {
         match self {
             Shards::One(b) => b.close().await,
@@ -285,6 +292,18 @@ impl BatchHandle {
             observations.into_observations(),
             self.info.observation_dim,
         )
+    }
+
+    /// Env `env_index`'s domain-randomisation factors drawn at its last reset.
+    fn randomization<'py>(
+        &self,
+        py: Python<'py>,
+        env_index: usize,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let d = wait(py, self.timeout.get(), || async move {
+            self.shards.lock().await.randomization(env_index).await
+        })?;
+        crate::info::draws(py, d)
     }
 
     /// Closes the batch on its server(s); `True` the first time, `False` afterwards.

@@ -148,6 +148,15 @@ impl EnvHandle {
         Ok(PyArray1::from_vec(py, observation.to_flat()))
     }
 
+    /// The domain-randomisation factors drawn at the last reset.
+    fn randomization<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let env = &self.env;
+        let d = wait(py, self.timeout.get(), || async move {
+            env.randomization().await
+        })?;
+        crate::info::draws(py, d)
+    }
+
     /// Closes the env on its server; `True` the first time, `False` afterwards.
     fn close(&self, py: Python<'_>) -> PyResult<bool> {
         if self.closed.swap(true, Ordering::SeqCst) {

@@ -112,3 +112,15 @@ pub(crate) fn batch_info<'py>(
     d.set_item("shards", PyList::new(py, shards)?)?;
     Ok(d)
 }
+
+/// An env's randomisation factors: `{"instances": [(name, mass, friction)], "joints":
+/// [(name, damping, gain)]}`.
+pub(crate) fn draws<'py>(
+    py: Python<'py>,
+    d: gymfleet_client::RandomizationDraws,
+) -> PyResult<Bound<'py, PyDict>> {
+    let out = PyDict::new(py);
+    out.set_item("instances", d.instances)?;
+    out.set_item("joints", d.joints)?;
+    Ok(out)
+}

@@ -4,8 +4,8 @@
 use std::time::Duration;
 
 use gymfleet_client::{
-    BatchOptions, ClientError, EnvOptions, PdGains, ReachTask, Task, TaskKind, TrackTask,
-    UprightTask,
+    BatchOptions, ClientError, EnvOptions, PdGains, Randomization, ReachTask, Task, TaskKind,
+    TrackTask, UprightTask,
 };
 use pyo3::prelude::*;
 
@@ -25,6 +25,17 @@ pub(crate) struct CreateOptions {
     pub(crate) kp: Option<Vec<f64>>,
     pub(crate) kd: Option<Vec<f64>>,
     pub(crate) task: Option<TaskFields>,
+    pub(crate) randomize: Option<RandomizeFields>,
+}
+
+/// Domain-randomisation ranges as `gymfleet._common.randomize_fields` checks them.
+#[derive(Debug, Clone, Default, FromPyObject)]
+#[pyo3(from_item_all)]
+pub(crate) struct RandomizeFields {
+    mass_scale: Option<[f64; 2]>,
+    friction_scale: Option<[f64; 2]>,
+    damping_scale: Option<[f64; 2]>,
+    gain_scale: Option<[f64; 2]>,
 }
 
 /// A task as `gymfleet._common.task_fields` flattens it: the kind, the action cost and
@@ -141,6 +152,14 @@ impl CreateOptions {
         }
         if let Some(task) = &self.task {
             options = options.task(task.task()?);
+        }
+        if let Some(r) = &self.randomize {
+            options = options.randomize(Randomization {
+                mass_scale: r.mass_scale,
+                friction_scale: r.friction_scale,
+                damping_scale: r.damping_scale,
+                gain_scale: r.gain_scale,
+            });
         }
         if self.kp.is_some() || self.kd.is_some() {
             options = options.pd_gains(PdGains {

@@ -62,3 +62,31 @@ def test_bad_tasks_are_invalid_argument_with_their_paths(pendulum):
         gymfleet.make(pendulum, task={"track": {"targets": [0], "tolerence": 1}})
     with pytest.raises(gymfleet.InvalidArgument, match="task.upright.max_tilt_deg: expected an angle in \\(0, 180\\) deg, got 0"):
         gymfleet.make(pendulum, task={"upright": {"instance": "arm"}})
+
+
+def test_randomized_envs_report_their_draws(pendulum, arm2):
+    envs = gymfleet.make_vec(arm2, 3, randomize={"mass_scale": [0.5, 2.0], "damping_scale": {"min": 1, "max": 3}})
+    envs.reset(seed=2)
+    draws = [envs.randomization(i) for i in range(3)]
+    assert [n for n, _, _ in draws[0]["instances"]] == ["base", "upper", "forearm"]
+    assert len({d["instances"][1][1] for d in draws}) == 3, "each env draws its own"
+    assert all(0.5 <= m <= 2.0 and f == 1.0 for d in draws for _, m, f in d["instances"])
+    envs.reset(seed=2)
+    assert [envs.randomization(i) for i in range(3)] == draws, "the same seed, the same draws"
+    envs.close()
+    # A heavier arm turns less under the same torque.
+    turns = []
+    for factor in (1.0, 2.0):
+        env = gymfleet.make(pendulum, randomize={"mass_scale": [factor, factor]})
+        env.reset()
+        turns.append(env.step([1e-4])[0][0])
+        assert env.randomization()["instances"][1] == ("arm", factor, 1.0)
+        env.close()
+    assert turns[1] == pytest.approx(turns[0] / 2, rel=0.01)
+    env = gymfleet.make(pendulum)
+    with pytest.raises(gymfleet.FailedPrecondition, match="was created without randomize"):
+        env.randomization()
+    with pytest.raises(gymfleet.InvalidArgument, match=r"randomize.mass_scale: expected factors 0 < min <= max <= 100, got \[2, 1\]"):
+        gymfleet.make(pendulum, randomize={"mass_scale": [2, 1]})
+    with pytest.raises(gymfleet.InvalidArgument, match="randomize: unknown field.*mass"):
+        gymfleet.make(pendulum, randomize={"mass": [1, 2]})

@@ -285,6 +285,19 @@ impl EnvBatch {
         }
     }
 
+    /// Env `index`'s domain-randomisation factors for its current episode (`None`
+    /// without randomisation, or past the end).
+    pub fn draws(&self, index: usize) -> Option<gymfleet_env::DrawReport> {
+        self.chunks.iter().find_map(|chunk| {
+            let chunk = lock(chunk);
+            let first = chunk.first_env;
+            (first..first + chunk.len())
+                .contains(&index)
+                .then(|| chunk.env(index - first).draws())
+                .flatten()
+        })
+    }
+
     /// The current observation of every env, without stepping: `n_envs ×
     /// observation_dim` floats written into `out` (cleared and resized).
     pub fn observe(&self, out: &mut Vec<f32>) {

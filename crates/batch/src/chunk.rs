@@ -83,6 +83,10 @@ impl Chunk {
         self.envs.len()
     }
 
+    pub(crate) fn env(&self, i: usize) -> &RobotEnv {
+        &self.envs[i]
+    }
+
     pub(crate) fn run(&mut self, op: ChunkOp, autoreset: Autoreset) {
         self.error = None;
         self.final_env_indices.clear();

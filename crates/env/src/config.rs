@@ -43,6 +43,54 @@ pub struct EnvConfig {
     /// The task: reward, goal and termination computed in the step. `None`: reward 0
     /// and no termination but diverged physics.
     pub task: Option<TaskSpec>,
+    /// Domain randomisation: scale factors drawn at every reset. `None`: none.
+    pub randomize: Option<Randomization>,
+}
+
+/// Ranges `[min, max]` of scale factors, each drawn uniformly at every reset from the
+/// env's seeded stream, independently per instance (mass, friction) and per joint
+/// (damping, PD gains). `None`: that quantity is not randomised.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Randomization {
+    /// Multiplies each instance's mass (its density; the inertia follows).
+    pub mass_scale: Option<[f64; 2]>,
+    /// Multiplies each instance's friction coefficient.
+    pub friction_scale: Option<[f64; 2]>,
+    /// Multiplies each joint's damping.
+    pub damping_scale: Option<[f64; 2]>,
+    /// Multiplies each joint's PD gains (default gains first follow the drawn masses).
+    pub gain_scale: Option<[f64; 2]>,
+}
+
+/// Largest accepted scale factor.
+const MAX_SCALE: f64 = 100.0;
+
+impl Randomization {
+    pub(crate) fn validate(&self) -> Result<()> {
+        for (field, range) in [
+            ("randomize.mass_scale", self.mass_scale),
+            ("randomize.friction_scale", self.friction_scale),
+            ("randomize.damping_scale", self.damping_scale),
+            ("randomize.gain_scale", self.gain_scale),
+        ] {
+            if let Some([min, max]) = range {
+                if !(min.is_finite()
+                    && max.is_finite()
+                    && min > 0.0
+                    && min <= max
+                    && max <= MAX_SCALE)
+                {
+                    return Err(EnvError::BadConfig {
+                        field,
+                        reason: format!(
+                            "expected factors 0 < min <= max <= {MAX_SCALE}, got [{min}, {max}]"
+                        ),
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
 }
 
 impl Default for EnvConfig {
@@ -56,6 +104,7 @@ impl Default for EnvConfig {
             pd_gains: None,
             reset_noise: 0.0,
             task: None,
+            randomize: None,
         }
     }
 }
@@ -93,6 +142,9 @@ impl EnvConfig {
                     self.reset_noise
                 ),
             });
+        }
+        if let Some(r) = &self.randomize {
+            r.validate()?;
         }
         if self.max_steps == 0 {
             return Err(EnvError::BadConfig {

@@ -1,12 +1,12 @@
 //! [`RobotEnv`]: one episode-driven robot.
 
 use gymfleet_assembly::Assembly;
-use gymfleet_physics::{RobotWorld, WorldOptions};
+use gymfleet_physics::{Draws, RobotWorld, WorldOptions};
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
 
 use crate::action::{self, ActionType};
-use crate::config::{EnvConfig, EnvSpec};
+use crate::config::{EnvConfig, EnvSpec, Randomization};
 use crate::error::{EnvError, Result};
 use crate::observation::{Observation, POSE_LEN};
 use crate::task::ActiveTask;
@@ -85,6 +85,20 @@ pub struct RobotEnv {
     diverged: bool,
     /// The task, if any.
     task: Option<ActiveTask>,
+    /// Domain randomisation, and this episode's draws.
+    randomize: Option<Randomization>,
+    draws: Option<Draws>,
+    /// Instance and joint names (document order), to report the draws by name.
+    names: std::sync::Arc<(Vec<String>, Vec<String>)>,
+}
+
+/// This episode's randomisation factors, by name.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DrawReport {
+    /// `(instance, mass factor, friction factor)`, in document order.
+    pub instances: Vec<(String, f64, f64)>,
+    /// `(joint, damping factor, gain factor)`, in document order (fixed joints included).
+    pub joints: Vec<(String, f64, f64)>,
 }
 
 /// Any observed value beyond this magnitude (mm, deg, deg/s) counts as divergence.
@@ -140,6 +154,12 @@ impl RobotEnv {
             spec,
             diverged: false,
             task,
+            randomize: config.randomize.clone(),
+            draws: None,
+            names: std::sync::Arc::new((
+                assembly.instances.iter().map(|i| i.name.clone()).collect(),
+                assembly.joints.iter().map(|j| j.name.clone()).collect(),
+            )),
         };
         env.reset(None);
         Ok(env)
@@ -189,9 +209,22 @@ impl RobotEnv {
             for offset in &mut self.offsets {
                 *offset = self.rng.random_range(-noise..=noise);
             }
-            self.world.reset_with_offsets(&self.offsets);
-        } else {
-            self.world.reset();
+        }
+        if let Some(r) = &self.randomize {
+            let draws = draw(
+                &mut self.rng,
+                r,
+                self.world.num_bodies(),
+                self.world.num_joints(),
+            );
+            self.draws = Some(draws);
+        }
+        self.world.reset();
+        if let Some(draws) = &self.draws {
+            self.world.apply_draws(draws);
+        }
+        if self.reset_noise > 0.0 {
+            self.world.offset_dofs(&self.offsets);
         }
         if let Some(task) = &mut self.task {
             task.reset(&mut self.rng);
@@ -257,6 +290,25 @@ impl RobotEnv {
         })
     }
 
+    /// This episode's domain-randomisation factors by name; `None` without
+    /// randomisation.
+    pub fn draws(&self) -> Option<DrawReport> {
+        let draws = self.draws.as_ref()?;
+        let (instances, joints) = &*self.names;
+        Some(DrawReport {
+            instances: instances
+                .iter()
+                .zip(draws.mass.iter().zip(&draws.friction))
+                .map(|(n, (&m, &f))| (n.clone(), m, f))
+                .collect(),
+            joints: joints
+                .iter()
+                .zip(draws.damping.iter().zip(&draws.gain))
+                .map(|(n, (&d, &g))| (n.clone(), d, g))
+                .collect(),
+        })
+    }
+
     fn structured(&self, flat: &[f32]) -> Observation {
         Observation::from_flat(flat, self.spec.num_dofs, self.end_effectors.len())
     }
@@ -285,5 +337,27 @@ impl RobotEnv {
         if let Some(t) = &self.task {
             t.observe(task);
         }
+    }
+}
+
+/// Draws an episode's factors: every instance's mass then friction factor, then every
+/// joint's damping then gain factor, each only if its range is given (else 1).
+fn draw(rng: &mut Xoshiro256PlusPlus, r: &Randomization, instances: usize, joints: usize) -> Draws {
+    let mut factors = |range: Option<[f64; 2]>, n: usize| -> Vec<f64> {
+        match range {
+            Some([min, max]) if min < max => (0..n).map(|_| rng.random_range(min..=max)).collect(),
+            Some([min, _]) => vec![min; n],
+            None => vec![1.0; n],
+        }
+    };
+    let mass = factors(r.mass_scale, instances);
+    let friction = factors(r.friction_scale, instances);
+    let damping = factors(r.damping_scale, joints);
+    let gain = factors(r.gain_scale, joints);
+    Draws {
+        mass,
+        friction,
+        damping,
+        gain,
     }
 }

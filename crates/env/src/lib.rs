@@ -7,7 +7,8 @@
 //! truncation at `max_steps`, and termination when the physics diverges. Tasks
 //! ([`TaskSpec`]: reach, track, upright, with an action cost) compute the reward and the
 //! task's terminations (`goal_reached`, `fell`) inside the step; a reach task's target is
-//! appended to the observation.
+//! appended to the observation. Domain randomisation ([`Randomization`]) draws mass,
+//! friction, damping and gain factors at every reset from the env's seeded stream.
 //!
 //! It leaves parsing to `gymfleet-assembly`, simulation to `gymfleet-physics`, and
 //! parallelism to `gymfleet-batch`. It knows nothing of networks or serialisation.
@@ -20,8 +21,10 @@ mod observation;
 mod task;
 
 pub use action::ActionType;
-pub use config::{EnvConfig, EnvSpec, DEFAULT_DT, DEFAULT_MAX_STEPS, DEFAULT_SUBSTEPS};
-pub use env::{RobotEnv, StepFlags, StepResult, Termination};
+pub use config::{
+    EnvConfig, EnvSpec, Randomization, DEFAULT_DT, DEFAULT_MAX_STEPS, DEFAULT_SUBSTEPS,
+};
+pub use env::{DrawReport, RobotEnv, StepFlags, StepResult, Termination};
 pub use error::{EnvError, Result};
 pub use gymfleet_assembly::{AssemblyError, DofKind, JointType};
 pub use gymfleet_physics::{JointDof, PdGains};

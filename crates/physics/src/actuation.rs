@@ -24,16 +24,21 @@ use crate::error::{PhysicsError, Result};
 use crate::units::to_si;
 use crate::world::{JointDof, JointSlot, RobotWorld};
 
+/// The default gains of a DOF of apparent inertia `i_eff`: critically damped at
+/// [`DEFAULT_PD_FREQUENCY_HZ`].
+pub(crate) fn pd_gains_from_inertia(i_eff: f64) -> (f64, f64) {
+    let omega = 2.0 * std::f64::consts::PI * DEFAULT_PD_FREQUENCY_HZ;
+    (i_eff * omega * omega, 2.0 * i_eff * omega)
+}
+
 /// Fills `kp`/`kd` of each DOF from overrides or from the apparent inertias.
 pub(crate) fn resolve_gains(
     dofs: &mut [JointDof],
     inertia: &[f64],
     overrides: Option<&PdGains>,
 ) -> Result<bool> {
-    let omega = 2.0 * std::f64::consts::PI * DEFAULT_PD_FREQUENCY_HZ;
     for (dof, &i_eff) in dofs.iter_mut().zip(inertia) {
-        dof.kp = i_eff * omega * omega;
-        dof.kd = 2.0 * i_eff * omega;
+        (dof.kp, dof.kd) = pd_gains_from_inertia(i_eff);
     }
     let Some(gains) = overrides else {
         return Ok(false);

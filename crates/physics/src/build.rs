@@ -6,6 +6,7 @@ use rapier3d::prelude::*;
 use crate::actuation::resolve_gains;
 use crate::command::{Command, ResolvedGains};
 use crate::error::{PhysicsError, Result};
+use crate::randomize::BaseValues;
 use crate::world::{
     length_unit, JointDof, JointSlot, PipelineCell, RobotWorld, Sets, WorldOptions,
 };
@@ -161,6 +162,23 @@ impl RobotWorld {
         };
 
         let n_dofs = dofs.len();
+        let base = BaseValues {
+            density: bodies
+                .iter()
+                .map(|&b| first_collider(&sets, b).map_or(0.0, |c| c.density()))
+                .collect(),
+            friction: bodies
+                .iter()
+                .map(|&b| first_collider(&sets, b).map_or(0.0, |c| c.friction()))
+                .collect(),
+            damping: assembly
+                .joints
+                .iter()
+                .flat_map(|j| std::iter::repeat_n(j.damping as Real, j.kind.dof()))
+                .collect(),
+            kp: dofs.iter().map(|d| d.kp).collect(),
+            kd: dofs.iter().map(|d| d.kd).collect(),
+        };
         let mut world = RobotWorld {
             initial: std::sync::Arc::new(sets.clone()),
             live: sets,
@@ -181,10 +199,16 @@ impl RobotWorld {
                 ..Command::default()
             },
             pipeline: PipelineCell(PhysicsPipeline::new()),
+            base,
         };
         world.reset();
         Ok(world)
     }
+}
+
+fn first_collider(sets: &Sets, body: RigidBodyHandle) -> Option<&Collider> {
+    let handle = *sets.bodies.get(body)?.colliders().first()?;
+    sets.colliders.get(handle)
 }
 
 fn instance_pose(inst: &Instance) -> Pose {

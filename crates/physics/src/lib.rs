@@ -17,10 +17,12 @@ mod build;
 mod command;
 mod error;
 mod perturb;
+mod randomize;
 mod readout;
 mod units;
 mod world;
 
 pub use command::{ActionMode, PdGains, DEFAULT_PD_FREQUENCY_HZ};
 pub use error::{PhysicsError, Result};
+pub use randomize::Draws;
 pub use world::{JointDof, RobotWorld, WorldOptions};

@@ -16,8 +16,19 @@ impl RobotWorld {
     ///
     /// If `offsets.len()` differs from the number of DOFs.
     pub fn reset_with_offsets(&mut self, offsets: &[f64]) {
-        assert_eq!(offsets.len(), self.dofs.len(), "one offset per DOF");
         self.reset();
+        self.offset_dofs(offsets);
+    }
+
+    /// Offsets every DOF's position from where it is (see
+    /// [`RobotWorld::reset_with_offsets`]); for a reset whose domain randomisation must
+    /// be applied at the initial pose first.
+    ///
+    /// # Panics
+    ///
+    /// If `offsets.len()` differs from the number of DOFs.
+    pub fn offset_dofs(&mut self, offsets: &[f64]) {
+        assert_eq!(offsets.len(), self.dofs.len(), "one offset per DOF");
         if offsets.iter().all(|&o| o == 0.0) {
             return;
         }

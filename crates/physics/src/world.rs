@@ -111,6 +111,8 @@ pub struct RobotWorld {
     pub(crate) has_ball_joints: bool,
     pub(crate) command: Command,
     pub(crate) pipeline: PipelineCell,
+    /// The document's values that domain randomisation scales.
+    pub(crate) base: crate::randomize::BaseValues,
 }
 
 /// The solver pipeline holds only scratch buffers, so a clone starts a fresh one.
@@ -131,6 +133,11 @@ impl RobotWorld {
     /// Number of instances (bodies).
     pub fn num_bodies(&self) -> usize {
         self.bodies.len()
+    }
+
+    /// Number of joints, fixed ones included (document order).
+    pub fn num_joints(&self) -> usize {
+        self.joints.len()
     }
 
     /// The step length in seconds.

@@ -188,3 +188,69 @@ async fn bad_tasks_are_invalid_argument_with_their_paths() {
     }
     assert_eq!(client.server_info().await.expect("info").envs, 0);
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn randomization_draws_are_readable_and_the_same_however_a_batch_is_sharded() {
+    use gymfleet_client::Randomization;
+    let randomize = Randomization {
+        mass_scale: Some([0.5, 2.0]),
+        gain_scale: Some([0.8, 1.2]),
+        ..Randomization::default()
+    };
+    let options = || {
+        BatchOptions::new(ARM2, 6)
+            .seed(9)
+            .randomize(randomize.clone())
+    };
+    let one = TestServer::start_default().await;
+    let client = one.client().await;
+    let batch = client.create_batch(options()).await.expect("batch");
+    let mut servers = Vec::new();
+    for _ in 0..2 {
+        servers.push(TestServer::start_default().await);
+    }
+    let endpoints =
+        FleetEndpoints::new(servers.iter().map(|s| s.addr().to_string())).expect("endpoints");
+    let fleet = Fleet::connect(endpoints).await.expect("fleet");
+    let mut sharded = fleet.create_batch(options()).await.expect("sharded");
+    batch.reset(Some(1)).await.expect("reset");
+    sharded.reset(Some(1)).await.expect("reset");
+    let mut masses = Vec::new();
+    for env in 0..6 {
+        let a = batch.randomization(env).await.expect("draws");
+        let b = sharded.randomization(env).await.expect("draws");
+        assert_eq!(a, b, "env {env}");
+        let names: Vec<&str> = a.instances.iter().map(|(n, _, _)| n.as_str()).collect();
+        assert_eq!(names, ["base", "upper", "forearm"]);
+        assert!(a
+            .instances
+            .iter()
+            .all(|(_, m, f)| (0.5..=2.0).contains(m) && *f == 1.0));
+        assert!(a
+            .joints
+            .iter()
+            .all(|(_, d, g)| *d == 1.0 && (0.8..=1.2).contains(g)));
+        masses.push(a.instances[1].1);
+    }
+    masses.dedup();
+    assert_eq!(masses.len(), 6, "each env draws its own factors");
+    let acts = actions(1, 12, 1e-4);
+    let x = batch.step(ActionType::Torque, &acts).await.expect("step");
+    let y = sharded.step(ActionType::Torque, &acts).await.expect("step");
+    assert_eq!(bits(x.observations()), bits(y.observations()));
+
+    let err = batch.randomization(6).await.expect_err("past the end");
+    assert_eq!(
+        err.to_string(),
+        "invalid argument: env_index: 6 is out of range: the batch has 6 envs"
+    );
+    let plain = client
+        .create_env(EnvOptions::new(ARM2))
+        .await
+        .expect("plain env");
+    let err = plain.randomization().await.expect_err("no draws");
+    assert_eq!(
+        err.to_string(),
+        "failed precondition: \"sim_1\" was created without randomize: it draws no factors"
+    );
+}

@@ -25,6 +25,7 @@ OPTION_NAMES = (
     "reset_noise",
     "pd_gains",
     "task",
+    "randomize",
 )
 
 ACTION_TYPES = ("torque", "position", "velocity")
@@ -78,7 +79,36 @@ def create_options(options: Dict[str, Any]) -> Dict[str, Any]:
         "kp": None if gains.get("kp") is None else [float(v) for v in gains["kp"]],
         "kd": None if gains.get("kd") is None else [float(v) for v in gains["kd"]],
         "task": None if options.get("task") is None else task_fields(options["task"]),
+        "randomize": None if options.get("randomize") is None else randomize_fields(options["randomize"]),
     }
+
+
+RANDOMIZE_FIELDS = ("mass_scale", "friction_scale", "damping_scale", "gain_scale")
+
+
+def randomize_fields(randomize: Mapping[str, Any]) -> Dict[str, Any]:
+    """``{"mass_scale": [min, max], ...}`` with every field present (None: unset)."""
+    if not isinstance(randomize, Mapping):
+        raise InvalidArgument(f"randomize: expected a dict of [min, max] ranges, got {type(randomize).__name__}")
+    unknown = sorted(set(randomize) - set(RANDOMIZE_FIELDS))
+    if unknown:
+        raise InvalidArgument(
+            f"randomize: unknown field(s) {', '.join(unknown)}; the fields are {', '.join(RANDOMIZE_FIELDS)}"
+        )
+    out: Dict[str, Any] = {}
+    for field in RANDOMIZE_FIELDS:
+        value = randomize.get(field)
+        if value is not None:
+            if isinstance(value, Mapping):
+                value = [value.get("min"), value.get("max")]
+            try:
+                value = [float(v) for v in value]
+            except (TypeError, ValueError):
+                value = []
+            if len(value) != 2:
+                raise InvalidArgument(f"randomize.{field}: expected [min, max] or {{'min', 'max'}}, got {randomize.get(field)!r}")
+        out[field] = value
+    return out
 
 
 #: Each task kind's fields (the proto's), with their defaults (None: required or unset).

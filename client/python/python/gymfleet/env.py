@@ -103,6 +103,12 @@ class GymfleetEnv(HandleOwner, gym.Env):
             info["termination_reason"] = reason
         return obs, float(reward), terminated, truncated, info
 
+    def randomization(self) -> Dict[str, Any]:
+        """The domain-randomisation factors drawn at the last reset:
+        ``{"instances": [(name, mass, friction)], "joints": [(name, damping, gain)]}``.
+        ``FailedPrecondition`` if the env was made without ``randomize``."""
+        return self._handle.randomization()
+
     def observe(self) -> np.ndarray:
         """The current observation, without stepping."""
         return self._handle.observe()

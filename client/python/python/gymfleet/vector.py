@@ -186,6 +186,11 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
             infos.update(why)
         return obs, rewards, terminated, truncated, infos
 
+    def randomization(self, env_index: int) -> Dict[str, Any]:
+        """Env ``env_index``'s domain-randomisation factors drawn at its last reset (see
+        :meth:`GymfleetEnv.randomization`)."""
+        return self._handle.randomization(int(env_index))
+
     def observe(self) -> np.ndarray:
         """Every env's current observation, without stepping."""
         return self._handle.observe()

@@ -1,0 +1,116 @@
+//! Domain randomisation: an episode's scale factors ([`Draws`]) applied to the world
+//! after a reset — each instance's mass (through its density) and friction, each joint's
+//! damping and PD gains. Default gains are recomputed from the drawn masses (at the
+//! initial pose, as when the world was built), so they stay critically damped; explicit
+//! gains are scaled as given. Drawing the factors is the env's job (its seeded stream).
+
+use rapier3d::prelude::*;
+
+use crate::actuation::pd_gains_from_inertia;
+use crate::world::RobotWorld;
+
+/// One episode's scale factors; 1.0 leaves a value as the document has it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Draws {
+    /// Per instance, in document order: multiplies its mass (density).
+    pub mass: Vec<f64>,
+    /// Per instance: multiplies its friction coefficient.
+    pub friction: Vec<f64>,
+    /// Per joint, in document order: multiplies its damping.
+    pub damping: Vec<f64>,
+    /// Per joint: multiplies its PD gains (`kp` and `kd`).
+    pub gain: Vec<f64>,
+}
+
+impl Draws {
+    /// Factors of 1 for a world of `instances` instances and `joints` joints.
+    pub fn identity(instances: usize, joints: usize) -> Self {
+        Draws {
+            mass: vec![1.0; instances],
+            friction: vec![1.0; instances],
+            damping: vec![1.0; joints],
+            gain: vec![1.0; joints],
+        }
+    }
+}
+
+/// The document's values the factors scale, kept from the build.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct BaseValues {
+    /// Per instance: its collider's density and friction.
+    pub(crate) density: Vec<Real>,
+    pub(crate) friction: Vec<Real>,
+    /// Per DOF: the document's damping, and the gains resolved at build.
+    pub(crate) damping: Vec<Real>,
+    pub(crate) kp: Vec<f64>,
+    pub(crate) kd: Vec<f64>,
+}
+
+impl RobotWorld {
+    /// Applies an episode's factors. Call right after [`RobotWorld::reset`] (before any
+    /// start offsets), so that default gains are recomputed at the initial pose.
+    ///
+    /// # Panics
+    ///
+    /// If the draws' lengths do not match the world's instances and joints.
+    pub fn apply_draws(&mut self, draws: &Draws) {
+        assert_eq!(
+            draws.mass.len(),
+            self.bodies.len(),
+            "one mass factor per instance"
+        );
+        assert_eq!(
+            draws.damping.len(),
+            self.joints.len(),
+            "one damping factor per joint"
+        );
+        for (i, &body) in self.bodies.iter().enumerate() {
+            let Some(rb) = self.live.bodies.get(body) else {
+                continue;
+            };
+            for &handle in rb.colliders() {
+                if let Some(collider) = self.live.colliders.get_mut(handle) {
+                    collider.set_density(self.base.density[i] * draws.mass[i] as Real);
+                    collider.set_friction(self.base.friction[i] * draws.friction[i] as Real);
+                }
+            }
+            if let Some(rb) = self.live.bodies.get_mut(body) {
+                rb.recompute_mass_properties_from_colliders(&self.live.colliders);
+            }
+        }
+        let mut inertia = vec![0.0; self.dofs.len()];
+        for (j, slot) in self.joints.iter().enumerate() {
+            let n = slot.kind.dof();
+            let Some(mb) = self.live.multibody_joints.get_multibody_mut(slot.multibody) else {
+                continue;
+            };
+            let Some(first) = mb.link(slot.link).map(|l| l.assembly_id()) else {
+                continue;
+            };
+            for k in 0..n {
+                let dof = slot.first_dof + k;
+                mb.damping_mut()[first + k] = self.base.damping[dof] * draws.damping[j] as Real;
+            }
+            if !self.gains.overridden && n > 0 {
+                let inv = mb.dof_inverse_inertia(&self.live.bodies);
+                for k in 0..n {
+                    let inv_i = f64::from(inv[first + k]);
+                    inertia[slot.first_dof + k] = if inv_i > 0.0 { 1.0 / inv_i } else { 0.0 };
+                }
+            }
+        }
+        for (j, slot) in self.joints.iter().enumerate() {
+            for k in 0..slot.kind.dof() {
+                let d = slot.first_dof + k;
+                let (kp, kd) = if self.gains.overridden {
+                    (self.base.kp[d], self.base.kd[d])
+                } else {
+                    pd_gains_from_inertia(inertia[d])
+                };
+                self.dofs[d].kp = kp * draws.gain[j];
+                self.dofs[d].kd = kd * draws.gain[j];
+            }
+        }
+        self.configure_motors();
+    }
+}
