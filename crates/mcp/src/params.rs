@@ -9,7 +9,7 @@ use serde::Deserialize;
 use crate::actions::ActionValue;
 use crate::document::Document;
 use crate::errors::Result;
-use crate::task::TaskParam;
+use crate::task::{RandomizeParam, TaskParam};
 
 /// Inputs of `create_robot_env`.
 #[derive(Debug, Deserialize, JsonSchema)]
@@ -42,6 +42,9 @@ pub(crate) struct CreateEnvParams {
     /// Optional task: the server then computes each step's reward and ends episodes
     /// when the goal is reached or the robot fell. Default: none (reward 0).
     pub(crate) task: Option<TaskParam>,
+    /// Optional domain randomisation of masses, friction, damping and gains, drawn at
+    /// every reset. Default: none.
+    pub(crate) randomize: Option<RandomizeParam>,
 }
 
 /// PD gain overrides, per DOF in DOF order, in SI units.
@@ -170,6 +173,9 @@ pub(crate) struct CreateBatchParams {
     /// Optional task shared by every env (a reach target_box gives each env its own
     /// targets). Default: none (reward 0).
     pub(crate) task: Option<TaskParam>,
+    /// Optional domain randomisation; each env draws its own factors at every reset.
+    /// Default: none.
+    pub(crate) randomize: Option<RandomizeParam>,
     /// What happens to an env whose episode ended: "disabled" (default: call
     /// batch_reset), "same_step" (reset within the step; its last observation is returned
     /// as final_observation) or "next_step" (Gymnasium style: reset on the next step,
@@ -222,6 +228,7 @@ struct Common {
     pd_gains: Option<PdGainsParam>,
     reset_noise: Option<f64>,
     task: Option<TaskParam>,
+    randomize: Option<RandomizeParam>,
 }
 
 impl Common {
@@ -247,6 +254,9 @@ impl Common {
         if let Some(task) = self.task {
             options = options.task(task.into_task()?);
         }
+        if let Some(randomize) = self.randomize {
+            options = options.randomize(randomize.into());
+        }
         if let Some(gains) = self.pd_gains {
             options = options.pd_gains(PdGains {
                 kp: gains.kp,
@@ -269,6 +279,7 @@ impl CreateEnvParams {
             pd_gains: self.pd_gains,
             reset_noise: self.reset_noise,
             task: self.task,
+            randomize: self.randomize,
         };
         common.into_options(self.document)
     }
@@ -286,6 +297,7 @@ impl CreateBatchParams {
             pd_gains: self.pd_gains,
             reset_noise: self.reset_noise,
             task: self.task,
+            randomize: self.randomize,
         };
         let env = common.into_options(self.document)?;
         Ok(BatchOptions::from_env(env, self.n_envs as usize).autoreset(self.autoreset.into()))

@@ -1,8 +1,8 @@
-//! The `task` argument of the create tools: a reach, track or upright task with its
-//! action cost, as an agent writes it (the proto's field names), turned into the
-//! client's [`Task`].
+//! The `task` and `randomize` arguments of the create tools: a reach, track or upright
+//! task with its action cost, and domain-randomisation ranges, as an agent writes them
+//! (the proto's field names), turned into the client's [`Task`] and [`Randomization`].
 
-use gymfleet_client::{ReachTask, Task, TrackTask, UprightTask};
+use gymfleet_client::{Randomization, ReachTask, Task, TrackTask, UprightTask};
 use schemars::JsonSchema;
 use serde::Deserialize;
 
@@ -145,5 +145,46 @@ impl TaskParam {
             }
         };
         Ok(task.with_action_cost(self.action_cost))
+    }
+}
+
+/// A range of scale factors, 0 < min <= max <= 100.
+#[derive(Debug, Clone, Copy, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+#[schemars(inline)]
+pub(crate) struct RangeParam {
+    /// The smallest factor (greater than 0).
+    min: f64,
+    /// The largest factor (at most 100).
+    max: f64,
+}
+
+/// Domain randomisation: factors drawn at every reset (seeded), independently for each
+/// instance (mass, friction) and each joint (damping, PD gains). Omit a field to leave it.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+#[schemars(inline)]
+pub(crate) struct RandomizeParam {
+    /// Factor range for each instance's mass, e.g. {"min": 0.8, "max": 1.2}.
+    mass_scale: Option<RangeParam>,
+    /// Factor range for each instance's friction coefficient.
+    friction_scale: Option<RangeParam>,
+    /// Factor range for each joint's damping.
+    damping_scale: Option<RangeParam>,
+    /// Factor range for each joint's PD gains (position and velocity actions).
+    gain_scale: Option<RangeParam>,
+}
+
+impl From<RandomizeParam> for Randomization {
+    fn from(r: RandomizeParam) -> Self {
+        let range = |r: Option<RangeParam>| r.map(|r| [r.min, r.max]);
+        Randomization {
+            mass_scale: range(r.mass_scale),
+            friction_scale: range(r.friction_scale),
+            damping_scale: range(r.damping_scale),
+            gain_scale: range(r.gain_scale),
+        }
     }
 }

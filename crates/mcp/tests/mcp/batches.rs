@@ -141,7 +141,8 @@ async fn same_step_autoreset_reports_the_final_observation() {
 }
 
 /// A task over MCP: the guide's reaching loop (target [20, 0, 40] mm, reward −distance)
-/// as one `task` field, and a batch that ends episodes with `goal_reached`.
+/// as one `task` field, a batch that ends episodes with `goal_reached`, and randomised
+/// masses.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn tasks_compute_rewards_and_show_the_target() {
     let adapter = Adapter::embedded().await;
@@ -190,6 +191,28 @@ async fn tasks_compute_rewards_and_show_the_target() {
         assert_eq!(result["termination_reason"], "goal_reached");
         assert_eq!(result["observation"]["target"], json!([10.0, 10.0, 25.0]));
     }
+    // Randomised masses: a 2× heavier arm turns half as far under the same push.
+    let mut turns = Vec::new();
+    for factor in [1.0, 2.0] {
+        let created = adapter
+            .ok(
+                "create_robot_env",
+                json!({
+                    "document": doc(pendulum),
+                    "randomize": {"mass_scale": {"min": factor, "max": factor}}
+                }),
+            )
+            .await;
+        let env_id = created["env_id"].as_str().expect("env_id").to_string();
+        let step = adapter
+            .ok(
+                "gym_step",
+                json!({"env_id": env_id, "action_type": "torque", "values": [1e-4]}),
+            )
+            .await;
+        turns.push(step["observation"]["joint_positions"][0].as_f64().expect("angle"));
+    }
+    assert!((turns[1] / turns[0] - 0.5).abs() < 0.01, "{turns:?}");
     let error = adapter
         .call(
             "create_robot_env",
