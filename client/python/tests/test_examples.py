@@ -14,3 +14,11 @@ def test_the_ars_reaching_example_runs(capsys, monkeypatch):
     runpy.run_path(str(script), run_name="__main__")
     out = capsys.readouterr().out
     assert "before:" in out and "after:" in out and "2 iterations" in out
+
+
+def test_the_ars_cartpole_example_runs(capsys, monkeypatch):
+    script = REPO / "client" / "python" / "examples" / "ars_cartpole.py"
+    monkeypatch.setattr(sys, "argv", [str(script), "--iterations", "1", "--directions", "2", "--episodes", "1", "--top", "1"])
+    runpy.run_path(str(script), run_name="__main__")
+    out = capsys.readouterr().out
+    assert "before:" in out and "after:" in out and "1 iterations" in out

@@ -210,7 +210,11 @@ async fn tasks_compute_rewards_and_show_the_target() {
                 json!({"env_id": env_id, "action_type": "torque", "values": [1e-4]}),
             )
             .await;
-        turns.push(step["observation"]["joint_positions"][0].as_f64().expect("angle"));
+        turns.push(
+            step["observation"]["joint_positions"][0]
+                .as_f64()
+                .expect("angle"),
+        );
     }
     assert!((turns[1] / turns[0] - 0.5).abs() < 0.01, "{turns:?}");
     let error = adapter
