@@ -25,6 +25,9 @@ def test_bad_options_and_actions_are_invalid_argument(arm2):
         gymfleet.make(arm2, seed=-5)
     with pytest.raises(gymfleet.InvalidArgument, match="dt"):
         gymfleet.make(arm2, dt=-1.0)
+    # Regression: this overflowed the draw's width and panicked on the server (INTERNAL).
+    with pytest.raises(gymfleet.InvalidArgument, match=r"reset_noise: expected a half-width of at most 1000000 \(deg or mm\), got 1e308$"):
+        gymfleet.make(arm2, reset_noise=1e308)
     with pytest.raises(gymfleet.InvalidArgument, match='action_type: expected "torque", "position" or "velocity", got \'force\''):
         gymfleet.make(arm2, action_type="force")
     env = gymfleet.make(arm2)

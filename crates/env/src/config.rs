@@ -18,6 +18,9 @@ pub const DEFAULT_MAX_STEPS: u32 = 1000;
 
 /// Longest accepted step, in seconds.
 const MAX_DT: f64 = 1.0;
+/// Widest accepted `reset_noise`, deg or mm: far beyond any joint's range (offsets are
+/// clamped into the limits), and far from where a uniform draw's width overflows.
+const MAX_RESET_NOISE: f64 = 1e6;
 /// Most substeps accepted per step.
 const MAX_SUBSTEPS: u32 = 1000;
 
@@ -139,6 +142,16 @@ impl EnvConfig {
                 field: "reset_noise",
                 reason: format!(
                     "expected a finite half-width >= 0 (deg or mm), got {}",
+                    self.reset_noise
+                ),
+            });
+        }
+        if self.reset_noise > MAX_RESET_NOISE {
+            // Wider ranges overflow the uniform draw (its width must be finite).
+            return Err(EnvError::BadConfig {
+                field: "reset_noise",
+                reason: format!(
+                    "expected a half-width of at most {MAX_RESET_NOISE} (deg or mm), got {:e}",
                     self.reset_noise
                 ),
             });

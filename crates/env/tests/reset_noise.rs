@@ -95,3 +95,28 @@ fn negative_or_non_finite_noise_is_rejected() {
         );
     }
 }
+
+/// Regression: a huge `reset_noise` (1e308) overflowed the uniform draw's width and
+/// panicked inside the pool (the server answered INTERNAL); it is refused instead.
+#[test]
+fn a_huge_noise_is_refused_not_a_panic() {
+    for huge in [1e7, 1e308, f64::MAX] {
+        let config = EnvConfig {
+            reset_noise: huge,
+            ..EnvConfig::with_end_effectors(["arm"])
+        };
+        let err = RobotEnv::from_json(PENDULUM, config).err().unwrap();
+        assert_eq!(
+            err.to_string(),
+            format!(
+                "reset_noise: expected a half-width of at most 1000000 (deg or mm), got {huge:e}"
+            )
+        );
+    }
+    let config = EnvConfig {
+        reset_noise: 1e6,
+        ..EnvConfig::with_end_effectors(["arm"])
+    };
+    let mut env = RobotEnv::from_json(PENDULUM, config).unwrap();
+    assert!(env.reset(Some(3)).joint_positions[0].is_finite());
+}
