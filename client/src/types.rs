@@ -355,6 +355,14 @@ pub struct ServerLimits {
     pub max_message_bytes: u64,
     /// Idle time after which envs and batches are closed, s (0: never).
     pub idle_ttl_seconds: u64,
+    /// Most instances per document.
+    pub max_instances: u64,
+    /// Most joints per document.
+    pub max_joints: u64,
+    /// Most DOFs per document.
+    pub max_dofs: u64,
+    /// Most end effectors per env.
+    pub max_end_effectors: u64,
 }
 
 /// Describes a server.
@@ -389,6 +397,10 @@ impl From<pb::ServerInfo> for ServerInfo {
                 max_document_bytes: l.max_document_bytes,
                 max_message_bytes: l.max_message_bytes,
                 idle_ttl_seconds: l.idle_ttl_seconds,
+                max_instances: l.max_instances,
+                max_joints: l.max_joints,
+                max_dofs: l.max_dofs,
+                max_end_effectors: l.max_end_effectors,
             },
         }
     }

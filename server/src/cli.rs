@@ -8,7 +8,8 @@ use clap::{Parser, ValueEnum};
 use tracing_subscriber::EnvFilter;
 
 use crate::config::{
-    ServerConfig, DEFAULT_MAX_BATCH_SIZE, DEFAULT_MAX_DOCUMENT_BYTES, DEFAULT_MAX_ENVS,
+    ServerConfig, DEFAULT_MAX_BATCH_SIZE, DEFAULT_MAX_DOCUMENT_BYTES, DEFAULT_MAX_DOFS,
+    DEFAULT_MAX_END_EFFECTORS, DEFAULT_MAX_ENVS, DEFAULT_MAX_INSTANCES, DEFAULT_MAX_JOINTS,
     DEFAULT_MAX_MESSAGE_BYTES,
 };
 use crate::listen::ListenAddr;
@@ -46,6 +47,18 @@ pub struct Cli {
     /// Largest gRPC message decoded or encoded, bytes; 0 = tonic's 4 MiB default.
     #[arg(long, env = "GYMFLEET_MAX_MESSAGE_BYTES", default_value_t = DEFAULT_MAX_MESSAGE_BYTES)]
     pub max_message_bytes: usize,
+    /// Most instances (bodies) per document; 0 = no limit.
+    #[arg(long, env = "GYMFLEET_MAX_INSTANCES", default_value_t = DEFAULT_MAX_INSTANCES)]
+    pub max_instances: usize,
+    /// Most joints per document, fixed ones included; 0 = no limit.
+    #[arg(long, env = "GYMFLEET_MAX_JOINTS", default_value_t = DEFAULT_MAX_JOINTS)]
+    pub max_joints: usize,
+    /// Most degrees of freedom per document (a step's cost grows with them); 0 = no limit.
+    #[arg(long, env = "GYMFLEET_MAX_DOFS", default_value_t = DEFAULT_MAX_DOFS)]
+    pub max_dofs: usize,
+    /// Most observed end effectors per env; 0 = no limit.
+    #[arg(long, env = "GYMFLEET_MAX_END_EFFECTORS", default_value_t = DEFAULT_MAX_END_EFFECTORS)]
+    pub max_end_effectors: usize,
     /// Close envs and batches untouched for this many seconds; 0 = never.
     #[arg(long, env = "GYMFLEET_IDLE_TTL_SECS", default_value_t = 600)]
     pub idle_ttl_secs: u64,
@@ -63,6 +76,10 @@ impl Cli {
             max_batch_size: self.max_batch_size,
             max_document_bytes: self.max_document_bytes,
             max_message_bytes: self.max_message_bytes,
+            max_instances: self.max_instances,
+            max_joints: self.max_joints,
+            max_dofs: self.max_dofs,
+            max_end_effectors: self.max_end_effectors,
             idle_ttl: Duration::from_secs(self.idle_ttl_secs),
             ..ServerConfig::default()
         }

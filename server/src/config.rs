@@ -13,6 +13,16 @@ pub const DEFAULT_MAX_DOCUMENT_BYTES: usize = 8 * 1024 * 1024;
 pub const DEFAULT_MAX_ENVS: usize = 65_536;
 /// Default most environments in one batch.
 pub const DEFAULT_MAX_BATCH_SIZE: usize = 16_384;
+/// Default most instances (bodies) per document: far more than a real robot has.
+pub const DEFAULT_MAX_INSTANCES: usize = 512;
+/// Default most joints per document, fixed ones included.
+pub const DEFAULT_MAX_JOINTS: usize = 512;
+/// Default most DOFs per document: a humanoid has ~30–60. A step's cost grows faster
+/// than linearly with the DOFs of a chain (a 20-DOF chain costs ~160 µs a step, a few
+/// hundred cost seconds), so this bounds the work one env step can ask for.
+pub const DEFAULT_MAX_DOFS: usize = 128;
+/// Default most observed end effectors per env.
+pub const DEFAULT_MAX_END_EFFECTORS: usize = 64;
 /// Default idle time after which an untouched env or batch is closed: 10 minutes.
 pub const DEFAULT_IDLE_TTL: Duration = Duration::from_secs(600);
 
@@ -29,6 +39,14 @@ pub struct ServerConfig {
     pub max_document_bytes: usize,
     /// Largest gRPC message decoded or encoded, in bytes. 0 keeps tonic's 4 MiB default.
     pub max_message_bytes: usize,
+    /// Most instances per document; 0 = no limit.
+    pub max_instances: usize,
+    /// Most joints per document (fixed ones included); 0 = no limit.
+    pub max_joints: usize,
+    /// Most DOFs per document; 0 = no limit.
+    pub max_dofs: usize,
+    /// Most end effectors per env; 0 = no limit.
+    pub max_end_effectors: usize,
     /// Envs and batches untouched for this long are closed. `Duration::ZERO` disables it.
     pub idle_ttl: Duration,
     /// How often the idle sweeper looks; `None` = a quarter of `idle_ttl`, at least 1 s
@@ -51,6 +69,10 @@ impl Default for ServerConfig {
             max_batch_size: DEFAULT_MAX_BATCH_SIZE,
             max_document_bytes: DEFAULT_MAX_DOCUMENT_BYTES,
             max_message_bytes: DEFAULT_MAX_MESSAGE_BYTES,
+            max_instances: DEFAULT_MAX_INSTANCES,
+            max_joints: DEFAULT_MAX_JOINTS,
+            max_dofs: DEFAULT_MAX_DOFS,
+            max_end_effectors: DEFAULT_MAX_END_EFFECTORS,
             idle_ttl: DEFAULT_IDLE_TTL,
             sweep_interval: None,
             clock: Clock::system(),

@@ -419,6 +419,10 @@ pub(crate) fn server_info(status: &ServerStatus<'_>) -> pb::ServerInfo {
             max_document_bytes: u64_of(c.max_document_bytes),
             max_message_bytes: u64_of(c.max_message_bytes),
             idle_ttl_seconds: c.idle_ttl.as_secs(),
+            max_instances: u64_of(c.max_instances),
+            max_joints: u64_of(c.max_joints),
+            max_dofs: u64_of(c.max_dofs),
+            max_end_effectors: u64_of(c.max_end_effectors),
         }),
     }
 }

@@ -68,6 +68,37 @@ pub enum ServerError {
         /// The batch's size.
         n_envs: usize,
     },
+    /// A document (or env) larger than a structural limit: refused before anything is
+    /// built.
+    #[error("{what}: {count} exceeds the server's limit of {max}; raise it with {flag} ({var})")]
+    TooComplex {
+        /// What was counted, e.g. `assembly.joints`.
+        what: &'static str,
+        /// How many the request has.
+        count: usize,
+        /// The limit.
+        max: usize,
+        /// The flag that raises it, e.g. `--max-joints`.
+        flag: &'static str,
+        /// Its environment variable.
+        var: &'static str,
+    },
+    /// A batch whose step replies could exceed the message limit.
+    #[error(
+        "n_envs: a step of {n_envs} envs × {observation_dim} observation values can need \
+         {bytes} bytes, over the server's message limit of {max}; use smaller batches, or \
+         raise --max-message-bytes (GYMFLEET_MAX_MESSAGE_BYTES) on the server and the client"
+    )]
+    ReplyTooLarge {
+        /// The largest reply a step could need.
+        bytes: usize,
+        /// The limit.
+        max: usize,
+        /// The batch size.
+        n_envs: usize,
+        /// Values per observation.
+        observation_dim: usize,
+    },
     /// Creating would exceed `--max-envs`.
     #[error(
         "too many environments: this request needs {requested} more, {held} of the server's \
@@ -200,6 +231,8 @@ impl From<ServerError> for Status {
             ServerError::NotRandomized { .. } => Code::FailedPrecondition,
             ServerError::EnvIndex { .. } => Code::InvalidArgument,
             ServerError::TooManyEnvs { .. }
+            | ServerError::TooComplex { .. }
+            | ServerError::ReplyTooLarge { .. }
             | ServerError::BatchTooLarge { .. }
             | ServerError::DocumentTooLarge { .. } => Code::ResourceExhausted,
             ServerError::Panicked { .. }

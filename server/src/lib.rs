@@ -32,7 +32,8 @@ pub use cli::{init_tracing, Cli, LogFormat};
 pub use clock::Clock;
 pub use config::{
     ServerConfig, DEFAULT_IDLE_TTL, DEFAULT_MAX_BATCH_SIZE, DEFAULT_MAX_DOCUMENT_BYTES,
-    DEFAULT_MAX_ENVS, DEFAULT_MAX_MESSAGE_BYTES,
+    DEFAULT_MAX_DOFS, DEFAULT_MAX_END_EFFECTORS, DEFAULT_MAX_ENVS, DEFAULT_MAX_INSTANCES,
+    DEFAULT_MAX_JOINTS, DEFAULT_MAX_MESSAGE_BYTES,
 };
 pub use error::{EntityKind, Result, ServerError};
 pub use listen::{ListenAddr, Listener, SocketFile};

@@ -36,9 +36,61 @@ pub(crate) struct Simulation {
     batches: Registry<OpenBatch>,
 }
 
-/// Parses and builds one env, and names the bodies of its non-fixed joints.
-fn build_env(request: EnvRequest) -> Result<(RobotEnv, JointLinks)> {
+/// Refuses a document or env past a structural limit, before anything is built.
+fn check_structure(
+    config: &ServerConfig,
+    assembly: &gymfleet_assembly::Assembly,
+    end_effectors: usize,
+) -> Result<()> {
+    let checks = [
+        (
+            "assembly.instances",
+            assembly.instances.len(),
+            config.max_instances,
+            "--max-instances",
+            "GYMFLEET_MAX_INSTANCES",
+        ),
+        (
+            "assembly.joints",
+            assembly.joints.len(),
+            config.max_joints,
+            "--max-joints",
+            "GYMFLEET_MAX_JOINTS",
+        ),
+        (
+            "degrees of freedom",
+            assembly.total_dof(),
+            config.max_dofs,
+            "--max-dofs",
+            "GYMFLEET_MAX_DOFS",
+        ),
+        (
+            "end_effector_ids",
+            end_effectors,
+            config.max_end_effectors,
+            "--max-end-effectors",
+            "GYMFLEET_MAX_END_EFFECTORS",
+        ),
+    ];
+    for (what, count, max, flag, var) in checks {
+        if max != 0 && count > max {
+            return Err(ServerError::TooComplex {
+                what,
+                count,
+                max,
+                flag,
+                var,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Parses, checks against the structural limits, and builds one env; names the bodies of
+/// its non-fixed joints.
+fn build_env(request: EnvRequest, config: &ServerConfig) -> Result<(RobotEnv, JointLinks)> {
     let assembly = gymfleet_assembly::parse(&request.document).map_err(EnvError::Document)?;
+    check_structure(config, &assembly, request.config.end_effector_ids.len())?;
     let env = RobotEnv::new(&assembly, request.config)?;
     let name = |i: usize| {
         assembly
@@ -54,6 +106,26 @@ fn build_env(request: EnvRequest) -> Result<(RobotEnv, JointLinks)> {
         .map(|j| (name(j.parent), name(j.child)))
         .collect();
     Ok((env, JointLinks(links)))
+}
+
+/// Refuses a batch whose step reply could exceed the message limit: observations and
+/// same-step final observations (`n_envs × observation_dim` floats each, at most), plus
+/// the per-env rewards and flags.
+fn check_reply_size(config: &ServerConfig, n_envs: usize, observation_dim: usize) -> Result<()> {
+    let max = config.max_message_bytes;
+    let bytes = n_envs
+        .saturating_mul(observation_dim)
+        .saturating_mul(2 * 4)
+        .saturating_add(n_envs.saturating_mul(4 + 4 + 2));
+    if max != 0 && bytes > max {
+        return Err(ServerError::ReplyTooLarge {
+            bytes,
+            max,
+            n_envs,
+            observation_dim,
+        });
+    }
+    Ok(())
 }
 
 impl Simulation {
@@ -95,7 +167,9 @@ impl Simulation {
     pub(crate) async fn create_env(&self, request: EnvRequest) -> Result<Created> {
         self.check_document(&request.document)?;
         let reservation = self.capacity.reserve(1, EntityKind::Env)?;
-        let (env, links) = pool::run(&self.pool, "CreateEnv", move || build_env(request)).await?;
+        let config = self.config.clone();
+        let (env, links) =
+            pool::run(&self.pool, "CreateEnv", move || build_env(request, &config)).await?;
         let spec = env.spec().clone();
         let id = self.envs.insert(OpenEnv { env }, reservation);
         tracing::info!(env_id = %id, action_dim = spec.action_dim, "created env");
@@ -188,6 +262,7 @@ impl Simulation {
         self.check_document(&request.env.document)?;
         let reservation = self.capacity.reserve(request.n_envs, EntityKind::Batch)?;
         let pool = self.pool.clone();
+        let config = self.config.clone();
         let (batch, links) = pool::run(&self.pool, "CreateBatch", move || {
             let BatchRequest {
                 env,
@@ -196,7 +271,8 @@ impl Simulation {
                 autoreset,
                 seed_offset,
             } = request;
-            let (template, links) = build_env(env)?;
+            let (template, links) = build_env(env, &config)?;
+            check_reply_size(&config, n_envs, template.spec().observation_dim)?;
             let mut batch = EnvBatch::for_pool(&template, n_envs, autoreset, &pool)?;
             // Env i is seeded with seed + seed_offset + i; the clones start with the
             // template's seed, so reseed them (a reset is exact and cheap).

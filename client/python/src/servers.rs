@@ -240,6 +240,10 @@ fn info_dict<'py>(py: Python<'py>, i: &ServerInfo) -> PyResult<Bound<'py, PyDict
     limits.set_item("max_document_bytes", i.limits.max_document_bytes)?;
     limits.set_item("max_message_bytes", i.limits.max_message_bytes)?;
     limits.set_item("idle_ttl_seconds", i.limits.idle_ttl_seconds)?;
+    limits.set_item("max_instances", i.limits.max_instances)?;
+    limits.set_item("max_joints", i.limits.max_joints)?;
+    limits.set_item("max_dofs", i.limits.max_dofs)?;
+    limits.set_item("max_end_effectors", i.limits.max_end_effectors)?;
     d.set_item("limits", limits)?;
     Ok(d)
 }

@@ -5,6 +5,7 @@ mod batches;
 mod errors;
 mod fleet;
 mod lifecycle;
+mod structure;
 mod tasks;
 mod transport;
 mod walkthrough;
