@@ -179,6 +179,9 @@ impl From<Status> for ClientError {
             }
             Code::DeadlineExceeded => ClientError::DeadlineExceeded { message },
             Code::Unauthenticated => ClientError::Unauthenticated { message },
+            // A connection the server closed mid-call (it stopped or restarted) surfaces as
+            // UNKNOWN "transport error": the server is gone, not broken.
+            Code::Unknown if is_transport_error(&status) => ClientError::Unavailable { message },
             Code::Internal | Code::Unknown | Code::DataLoss => ClientError::Internal { message },
             code @ (Code::Ok
             | Code::AlreadyExists
@@ -188,6 +191,15 @@ impl From<Status> for ClientError {
             },
         }
     }
+}
+
+/// Whether `status` is tonic's report of a failed connection rather than a server's answer.
+fn is_transport_error(status: &Status) -> bool {
+    use std::error::Error as _;
+    status
+        .source()
+        .is_some_and(|s| s.downcast_ref::<tonic::transport::Error>().is_some())
+        || status.message().starts_with("transport error")
 }
 
 /// Result alias for this crate.
@@ -220,6 +232,16 @@ mod tests {
             );
             assert!(err.message().contains("sim_3 says hi"));
         }
+    }
+
+    #[test]
+    fn a_connection_lost_mid_call_is_unavailable_not_a_server_bug() {
+        // Regression: a server stopped during a call gave "internal server error:
+        // transport error", and the MCP adapter did not say the server may be down.
+        let err = ClientError::from(Status::new(Code::Unknown, "transport error"));
+        assert!(matches!(err, ClientError::Unavailable { .. }), "{err:?}");
+        let err = ClientError::from(Status::new(Code::Unknown, "a panic"));
+        assert!(matches!(err, ClientError::Internal { .. }), "{err:?}");
     }
 
     #[test]
