@@ -278,8 +278,8 @@ impl RobotEnv {
             });
         }
         self.last_obs.copy_from_slice(out);
-        let (reward, termination) = match &mut self.task {
-            Some(task) => task.evaluate(&self.world, values),
+        let (reward, termination) = match &self.task {
+            Some(task) => task.evaluate(&self.world, &out[..self.spec.num_dofs], values),
             None => (0.0, None),
         };
         Ok(StepFlags {

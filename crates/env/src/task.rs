@@ -99,9 +99,6 @@ enum Active {
         targets: Vec<f64>,
         tolerance: f64,
         terminate: bool,
-        /// Scratch for the measured positions.
-        positions: Vec<f32>,
-        velocities: Vec<f32>,
     },
     Upright {
         body: usize,
@@ -269,8 +266,6 @@ impl TaskSpec {
                     targets: targets.clone(),
                     tolerance: *tolerance,
                     terminate: *terminate_on_success,
-                    positions: vec![0.0; dofs.len()],
-                    velocities: vec![0.0; dofs.len()],
                 }
             }
             TaskKind::Upright {
@@ -359,10 +354,12 @@ impl ActiveTask {
     }
 
     /// The step's reward, and the termination the task calls for, from the state after
-    /// the step and the action that led there.
+    /// the step (`positions`: the joint positions the step just observed) and the action
+    /// that led there.
     pub(crate) fn evaluate(
-        &mut self,
+        &self,
         world: &RobotWorld,
+        positions: &[f32],
         action: &[f32],
     ) -> (f64, Option<Termination>) {
         let cost = if self.action_cost > 0.0 {
@@ -374,7 +371,7 @@ impl ActiveTask {
         } else {
             0.0
         };
-        let (reward, termination) = match &mut self.kind {
+        let (reward, termination) = match &self.kind {
             Active::Reach {
                 body,
                 point,
@@ -397,10 +394,7 @@ impl ActiveTask {
                 targets,
                 tolerance,
                 terminate,
-                positions,
-                velocities,
             } => {
-                world.joint_state(positions, velocities);
                 let error = positions
                     .iter()
                     .zip(targets.iter())

@@ -79,6 +79,7 @@ impl RobotWorld {
             }
         }
         let mut inertia = vec![0.0; self.dofs.len()];
+        let mut inverse_inertias: Vec<(MultibodyIndex, DVector)> = Vec::new();
         for (j, slot) in self.joints.iter().enumerate() {
             let n = slot.kind.dof();
             let Some(mb) = self.live.multibody_joints.get_multibody_mut(slot.multibody) else {
@@ -92,7 +93,18 @@ impl RobotWorld {
                 mb.damping_mut()[first + k] = self.base.damping[dof] * draws.damping[j] as Real;
             }
             if !self.gains.overridden && n > 0 {
-                let inv = mb.dof_inverse_inertia(&self.live.bodies);
+                // One factorisation per multibody, shared by all of its joints.
+                let inv = match inverse_inertias
+                    .iter()
+                    .position(|(m, _)| *m == slot.multibody)
+                {
+                    Some(i) => &inverse_inertias[i].1,
+                    None => {
+                        let inv = mb.dof_inverse_inertia(&self.live.bodies);
+                        inverse_inertias.push((slot.multibody, inv));
+                        &inverse_inertias[inverse_inertias.len() - 1].1
+                    }
+                };
                 for k in 0..n {
                     let inv_i = f64::from(inv[first + k]);
                     inertia[slot.first_dof + k] = if inv_i > 0.0 { 1.0 / inv_i } else { 0.0 };
