@@ -1,16 +1,31 @@
 //! [`Client`]: one connection to a gymfleet server.
 
+use std::path::PathBuf;
 use std::sync::Arc;
+use std::time::Duration;
 
 use gymfleet_proto::v1 as pb;
 use pb::simulator_client::SimulatorClient;
-use tonic::transport::{Channel, Endpoint};
+use tonic::metadata::{Ascii, MetadataValue};
+use tonic::service::interceptor::InterceptedService;
+use tonic::service::Interceptor;
+use tonic::transport::{Certificate, Channel, ClientTlsConfig, Endpoint, Identity};
+use tonic::{Request, Status};
 
 use crate::error::{ClientError, Result};
 use crate::types::ServerInfo;
 
 /// Largest message the client decodes or encodes by default: 64 MiB, like the server.
 pub const DEFAULT_MAX_MESSAGE_BYTES: usize = 64 * 1024 * 1024;
+/// Default time to establish a connection: 10 s.
+pub const DEFAULT_CONNECT_TIMEOUT: Duration = Duration::from_secs(10);
+/// Default interval between HTTP/2 keepalive pings: 5 s.
+pub const DEFAULT_KEEPALIVE_INTERVAL: Duration = Duration::from_secs(5);
+/// Default wait for a keepalive ping's answer before the connection counts as dead: 10 s.
+pub const DEFAULT_KEEPALIVE_TIMEOUT: Duration = Duration::from_secs(10);
+
+/// The generated client with this crate's per-call metadata (token, deadline).
+pub(crate) type Rpc = SimulatorClient<InterceptedService<Channel, CallMetadata>>;
 
 /// A connection to a gymfleet server. Cloning is cheap and shares the connection.
 ///
@@ -32,15 +47,310 @@ pub const DEFAULT_MAX_MESSAGE_BYTES: usize = 64 * 1024 * 1024;
 /// ```
 #[derive(Debug, Clone)]
 pub struct Client {
-    inner: SimulatorClient<Channel>,
+    inner: Rpc,
     addr: Arc<str>,
+}
+
+/// Adds the bearer token and the call deadline to every request (shared: cloned with
+/// every call).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct CallMetadata(Arc<CallSettings>);
+
+#[derive(Debug, Default)]
+struct CallSettings {
+    authorization: Option<MetadataValue<Ascii>>,
+    deadline: Option<Duration>,
+}
+
+impl Interceptor for CallMetadata {
+    fn call(&mut self, mut request: Request<()>) -> Result<Request<()>, Status> {
+        if let Some(value) = &self.0.authorization {
+            request
+                .metadata_mut()
+                .insert("authorization", value.clone());
+        }
+        if let Some(deadline) = self.0.deadline {
+            // Sent as `grpc-timeout`: the server stops waiting for a caller that has gone.
+            request.set_timeout(deadline);
+        }
+        Ok(request)
+    }
+}
+
+/// PEM text, given directly or read from a file when connecting.
+#[derive(Clone)]
+enum Pem {
+    Text(Vec<u8>),
+    File(PathBuf),
+}
+
+impl Pem {
+    fn read(&self, what: &str) -> std::result::Result<Vec<u8>, String> {
+        match self {
+            Pem::Text(pem) => Ok(pem.clone()),
+            Pem::File(path) => {
+                std::fs::read(path).map_err(|e| format!("{what} {}: {e}", path.display()))
+            }
+        }
+    }
+}
+
+impl std::fmt::Debug for Pem {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Pem::Text(pem) => write!(f, "Pem({} bytes)", pem.len()),
+            Pem::File(path) => write!(f, "Pem({})", path.display()),
+        }
+    }
+}
+
+/// How to connect: timeouts, keepalive, TLS, token. Made by [`Client::builder`];
+/// `Clone`, so one builder can connect a whole fleet ([`crate::Fleet::connect_with`]).
+///
+/// ```no_run
+/// use std::time::Duration;
+/// use gymfleet_client::Client;
+///
+/// # async fn demo() -> gymfleet_client::Result<()> {
+/// let client = Client::builder("sim.example.org:50051")
+///     .tls_ca_file("ca.pem")
+///     .token("team-a-0123456789abcdef")
+///     .timeout(Duration::from_secs(30))
+///     .connect()
+///     .await?;
+/// # Ok(())
+/// # }
+/// ```
+#[derive(Clone)]
+pub struct ClientBuilder {
+    addr: String,
+    max_message_bytes: usize,
+    connect_timeout: Option<Duration>,
+    timeout: Option<Duration>,
+    keepalive: Option<(Duration, Duration)>,
+    token: Option<String>,
+    tls_ca: Option<Pem>,
+    tls_identity: Option<(Pem, Pem)>,
+    tls_domain: Option<String>,
+    lazy: bool,
+}
+
+impl std::fmt::Debug for ClientBuilder {
+    // The token stays out of logs.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ClientBuilder")
+            .field("addr", &self.addr)
+            .field("max_message_bytes", &self.max_message_bytes)
+            .field("connect_timeout", &self.connect_timeout)
+            .field("timeout", &self.timeout)
+            .field("keepalive", &self.keepalive)
+            .field("token", &self.token.as_ref().map(|_| "(set)"))
+            .field("tls_ca", &self.tls_ca)
+            .field("tls_identity", &self.tls_identity.as_ref().map(|_| "(set)"))
+            .field("tls_domain", &self.tls_domain)
+            .field("lazy", &self.lazy)
+            .finish()
+    }
+}
+
+impl ClientBuilder {
+    fn new(addr: String) -> Self {
+        ClientBuilder {
+            addr,
+            max_message_bytes: DEFAULT_MAX_MESSAGE_BYTES,
+            connect_timeout: Some(DEFAULT_CONNECT_TIMEOUT),
+            timeout: None,
+            keepalive: Some((DEFAULT_KEEPALIVE_INTERVAL, DEFAULT_KEEPALIVE_TIMEOUT)),
+            token: None,
+            tls_ca: None,
+            tls_identity: None,
+            tls_domain: None,
+            lazy: false,
+        }
+    }
+
+    /// The same settings for another address (how a fleet connects each server).
+    pub fn for_addr(&self, addr: impl Into<String>) -> Self {
+        ClientBuilder {
+            addr: addr.into(),
+            ..self.clone()
+        }
+    }
+
+    /// Largest message decoded or encoded (default 64 MiB, like the server's).
+    pub fn max_message_bytes(mut self, bytes: usize) -> Self {
+        self.max_message_bytes = bytes;
+        self
+    }
+
+    /// How long establishing the connection may take (default 10 s); `None` waits for
+    /// the operating system to give up.
+    pub fn connect_timeout(mut self, timeout: Option<Duration>) -> Self {
+        self.connect_timeout = timeout;
+        self
+    }
+
+    /// Every call's deadline (default none): a call without an answer by then fails
+    /// with [`ClientError::DeadlineExceeded`], and the server is told (`grpc-timeout`)
+    /// so it does not start work for a caller that has gone. Mind large batch steps: the
+    /// deadline covers the whole call.
+    pub fn timeout(mut self, timeout: Duration) -> Self {
+        self.timeout = Some(timeout);
+        self
+    }
+
+    /// HTTP/2 keepalive: a ping every `interval`, and a connection whose ping is not
+    /// answered within `timeout` is dead, so calls on a partitioned server fail within
+    /// seconds, however long a legitimate step takes (default 5 s and 10 s). `None`
+    /// turns pings off.
+    pub fn keepalive(mut self, interval_and_timeout: Option<(Duration, Duration)>) -> Self {
+        self.keepalive = interval_and_timeout;
+        self
+    }
+
+    /// Sends `authorization: Bearer <token>` with every call (servers run with
+    /// `--auth-tokens`).
+    pub fn token(mut self, token: impl Into<String>) -> Self {
+        self.token = Some(token.into());
+        self
+    }
+
+    /// Connects with TLS, trusting the CA certificate(s) in this PEM text.
+    pub fn tls_ca_pem(mut self, pem: impl Into<Vec<u8>>) -> Self {
+        self.tls_ca = Some(Pem::Text(pem.into()));
+        self
+    }
+
+    /// Connects with TLS, trusting the CA certificate(s) in this PEM file (read when
+    /// connecting).
+    pub fn tls_ca_file(mut self, path: impl Into<PathBuf>) -> Self {
+        self.tls_ca = Some(Pem::File(path.into()));
+        self
+    }
+
+    /// Presents this client certificate and key (PEM files) to a server that asks for
+    /// one (mutual TLS, `--tls-client-ca`).
+    pub fn tls_identity_files(mut self, cert: impl Into<PathBuf>, key: impl Into<PathBuf>) -> Self {
+        self.tls_identity = Some((Pem::File(cert.into()), Pem::File(key.into())));
+        self
+    }
+
+    /// [`ClientBuilder::tls_identity_files`] from PEM text.
+    pub fn tls_identity_pem(mut self, cert: impl Into<Vec<u8>>, key: impl Into<Vec<u8>>) -> Self {
+        self.tls_identity = Some((Pem::Text(cert.into()), Pem::Text(key.into())));
+        self
+    }
+
+    /// The name the server's certificate must carry, when it differs from the
+    /// address's host (e.g. connecting by IP address).
+    pub fn tls_domain(mut self, name: impl Into<String>) -> Self {
+        self.tls_domain = Some(name.into());
+        self
+    }
+
+    /// Returns at once and connects on the first call (default: connect now, so a
+    /// wrong address fails here).
+    pub fn lazy(mut self, lazy: bool) -> Self {
+        self.lazy = lazy;
+        self
+    }
+
+    fn tls(&self) -> std::result::Result<Option<ClientTlsConfig>, String> {
+        if self.tls_ca.is_none() && self.tls_identity.is_none() && self.tls_domain.is_none() {
+            return Ok(None);
+        }
+        let mut tls = ClientTlsConfig::new();
+        if let Some(ca) = &self.tls_ca {
+            tls = tls.ca_certificate(Certificate::from_pem(ca.read("TLS CA file")?));
+        }
+        if let Some((cert, key)) = &self.tls_identity {
+            tls = tls.identity(Identity::from_pem(
+                cert.read("TLS client certificate")?,
+                key.read("TLS client key")?,
+            ));
+        }
+        if let Some(domain) = &self.tls_domain {
+            tls = tls.domain_name(domain.clone());
+        }
+        Ok(Some(tls))
+    }
+
+    fn endpoint(&self) -> std::result::Result<Endpoint, String> {
+        let tls = self.tls()?;
+        let addr = &self.addr;
+        let uri = if addr.contains("://") || addr.starts_with("unix:") {
+            addr.clone()
+        } else if tls.is_some() {
+            format!("https://{addr}")
+        } else {
+            format!("http://{addr}")
+        };
+        let mut endpoint = Endpoint::from_shared(uri)
+            .map_err(|e| error_chain(&e))?
+            .tcp_nodelay(true);
+        if let Some(timeout) = self.connect_timeout {
+            endpoint = endpoint.connect_timeout(timeout);
+        }
+        if let Some(timeout) = self.timeout {
+            endpoint = endpoint.timeout(timeout);
+        }
+        if let Some((interval, timeout)) = self.keepalive {
+            endpoint = endpoint
+                .http2_keep_alive_interval(interval)
+                .keep_alive_timeout(timeout)
+                .keep_alive_while_idle(true);
+        }
+        if let Some(tls) = tls {
+            endpoint = endpoint.tls_config(tls).map_err(|e| error_chain(&e))?;
+        }
+        Ok(endpoint)
+    }
+
+    /// Connects (or, with [`ClientBuilder::lazy`], prepares to).
+    pub async fn connect(self) -> Result<Client> {
+        let connect_error = |reason: String| ClientError::Connect {
+            addr: self.addr.clone(),
+            reason,
+        };
+        let authorization = match &self.token {
+            Some(token) => Some(
+                format!("Bearer {token}")
+                    .parse::<MetadataValue<Ascii>>()
+                    .map_err(|_| {
+                        connect_error("the token must be printable ASCII without spaces".into())
+                    })?,
+            ),
+            None => None,
+        };
+        let endpoint = self.endpoint().map_err(connect_error)?;
+        let channel = if self.lazy {
+            endpoint.connect_lazy()
+        } else {
+            endpoint
+                .connect()
+                .await
+                .map_err(|e| connect_error(error_chain(&e)))?
+        };
+        let metadata = CallMetadata(Arc::new(CallSettings {
+            authorization,
+            deadline: self.timeout,
+        }));
+        let inner = SimulatorClient::with_interceptor(channel, metadata)
+            .max_decoding_message_size(self.max_message_bytes)
+            .max_encoding_message_size(self.max_message_bytes);
+        Ok(Client {
+            inner,
+            addr: self.addr.into(),
+        })
+    }
 }
 
 impl Client {
     /// Connects to `addr`, given as `"host:port"`, `"http://host:port"`, or
-    /// `"unix:/path/to/socket"` for a server listening on a Unix-domain socket.
+    /// `"unix:/path/to/socket"` for a server listening on a Unix-domain socket, with the
+    /// default settings. [`Client::builder`] sets timeouts, TLS and a token.
     pub async fn connect(addr: impl Into<String>) -> Result<Self> {
-        Self::connect_with_limit(addr, DEFAULT_MAX_MESSAGE_BYTES).await
+        Self::builder(addr).connect().await
     }
 
     /// [`Client::connect`], decoding and encoding messages of up to `max_message_bytes`.
@@ -48,30 +358,17 @@ impl Client {
         addr: impl Into<String>,
         max_message_bytes: usize,
     ) -> Result<Self> {
-        let addr = addr.into();
-        let uri = if addr.contains("://") || addr.starts_with("unix:") {
-            addr.clone()
-        } else {
-            format!("http://{addr}")
-        };
-        let connect_error = |reason: String| ClientError::Connect {
-            addr: addr.clone(),
-            reason,
-        };
-        let endpoint = Endpoint::from_shared(uri)
-            .map_err(|e| connect_error(error_chain(&e)))?
-            .tcp_nodelay(true);
-        let channel = endpoint
+        Self::builder(addr)
+            .max_message_bytes(max_message_bytes)
             .connect()
             .await
-            .map_err(|e| connect_error(error_chain(&e)))?;
-        let inner = SimulatorClient::new(channel)
-            .max_decoding_message_size(max_message_bytes)
-            .max_encoding_message_size(max_message_bytes);
-        Ok(Client {
-            inner,
-            addr: addr.into(),
-        })
+    }
+
+    /// Settings for a connection to `addr` (`host:port`, `http://` or `https://host:port`,
+    /// or `unix:/path`): connect timeout, per-call deadline, keepalive, TLS, token, lazy
+    /// connect.
+    pub fn builder(addr: impl Into<String>) -> ClientBuilder {
+        ClientBuilder::new(addr.into())
     }
 
     /// The address this client was connected to, as given to [`Client::connect`].
@@ -79,7 +376,7 @@ impl Client {
         &self.addr
     }
 
-    pub(crate) fn rpc(&self) -> SimulatorClient<Channel> {
+    pub(crate) fn rpc(&self) -> Rpc {
         self.inner.clone()
     }
 

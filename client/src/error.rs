@@ -6,8 +6,10 @@ use std::ops::Range;
 use tonic::{Code, Status};
 
 /// Why a client call failed. Server errors carry the server's message, which names the
-/// offending field (with its JSON path for documents) or id.
+/// offending field (with its JSON path for documents) or id. [`ClientError::code`] gives
+/// the gRPC status code a server error came with.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum ClientError {
     /// The server could not be reached, or the address is malformed.
     #[error("cannot connect to {addr}: {reason}")]
@@ -42,6 +44,8 @@ pub enum ClientError {
     ResourceExhausted {
         /// The server's message.
         message: String,
+        /// RESOURCE_EXHAUSTED, or OUT_OF_RANGE (how tonic reports an over-size message).
+        code: Code,
     },
     /// UNAVAILABLE, CANCELLED or ABORTED: the server is gone, shutting down, or the call
     /// was cut short. Retrying may help.
@@ -49,6 +53,8 @@ pub enum ClientError {
     Unavailable {
         /// The transport's or server's message.
         message: String,
+        /// UNAVAILABLE, CANCELLED, ABORTED, or UNKNOWN for a connection lost mid-call.
+        code: Code,
     },
     /// DEADLINE_EXCEEDED: no reply within the call's deadline. Whether the server did the
     /// work is unknown (a batch may have stepped some envs): reset before going on.
@@ -68,6 +74,8 @@ pub enum ClientError {
     Internal {
         /// The server's message.
         message: String,
+        /// INTERNAL, UNKNOWN or DATA_LOSS.
+        code: Code,
     },
     /// The server answered something this client does not understand: an unexpected
     /// status code, or a reply of the wrong shape.
@@ -75,6 +83,8 @@ pub enum ClientError {
     Protocol {
         /// What was wrong.
         message: String,
+        /// The unexpected status code; `Code::Ok` for a reply of the wrong shape.
+        code: Code,
     },
     /// A server of a fleet failed (it is unreachable, or no longer knows the shard batch)
     /// while it held envs of a fleet batch: their state is gone. The other servers are
@@ -133,15 +143,37 @@ impl ClientError {
             ClientError::NotFound { message }
             | ClientError::InvalidArgument { message }
             | ClientError::FailedPrecondition { message }
-            | ClientError::ResourceExhausted { message }
-            | ClientError::Unavailable { message }
+            | ClientError::ResourceExhausted { message, .. }
+            | ClientError::Unavailable { message, .. }
             | ClientError::DeadlineExceeded { message }
             | ClientError::Unauthenticated { message }
-            | ClientError::Internal { message }
-            | ClientError::Protocol { message }
+            | ClientError::Internal { message, .. }
+            | ClientError::Protocol { message, .. }
             | ClientError::Fleet { message } => message,
             ClientError::ServerLost { reason, .. } => reason,
             ClientError::OnServer { error, .. } => error.message(),
+        }
+    }
+
+    /// The gRPC status code of a call that failed with one (for a fleet error, the code
+    /// of the server's error); `None` for errors the client found itself (connecting, a
+    /// fleet's configuration, a lost server). A client-side deadline counts as
+    /// DEADLINE_EXCEEDED.
+    pub fn code(&self) -> Option<Code> {
+        match self {
+            ClientError::NotFound { .. } => Some(Code::NotFound),
+            ClientError::InvalidArgument { .. } => Some(Code::InvalidArgument),
+            ClientError::FailedPrecondition { .. } => Some(Code::FailedPrecondition),
+            ClientError::DeadlineExceeded { .. } => Some(Code::DeadlineExceeded),
+            ClientError::Unauthenticated { .. } => Some(Code::Unauthenticated),
+            ClientError::ResourceExhausted { code, .. }
+            | ClientError::Unavailable { code, .. }
+            | ClientError::Internal { code, .. } => Some(*code),
+            ClientError::Protocol { code, .. } => (*code != Code::Ok).then_some(*code),
+            ClientError::OnServer { error, .. } => error.code(),
+            ClientError::Connect { .. }
+            | ClientError::ServerLost { .. }
+            | ClientError::Fleet { .. } => None,
         }
     }
 
@@ -159,6 +191,7 @@ impl ClientError {
     pub(crate) fn protocol(message: impl Into<String>) -> Self {
         ClientError::Protocol {
             message: message.into(),
+            code: Code::Ok,
         }
     }
 }
@@ -171,23 +204,34 @@ impl From<Status> for ClientError {
             Code::InvalidArgument => ClientError::InvalidArgument { message },
             Code::FailedPrecondition => ClientError::FailedPrecondition { message },
             // tonic reports an over-size message as OUT_OF_RANGE.
-            Code::ResourceExhausted | Code::OutOfRange => {
-                ClientError::ResourceExhausted { message }
+            code @ (Code::ResourceExhausted | Code::OutOfRange) => {
+                ClientError::ResourceExhausted { message, code }
             }
-            Code::Unavailable | Code::Cancelled | Code::Aborted => {
-                ClientError::Unavailable { message }
+            // tonic's own deadline (`ClientBuilder::timeout`, or the server's reading of
+            // `grpc-timeout`) ends a call as CANCELLED "Timeout expired".
+            Code::Cancelled if message == "Timeout expired" => ClientError::DeadlineExceeded {
+                message: "no answer within the call's deadline".to_string(),
+            },
+            code @ (Code::Unavailable | Code::Cancelled | Code::Aborted) => {
+                ClientError::Unavailable { message, code }
             }
             Code::DeadlineExceeded => ClientError::DeadlineExceeded { message },
             Code::Unauthenticated => ClientError::Unauthenticated { message },
             // A connection the server closed mid-call (it stopped or restarted) surfaces as
             // UNKNOWN "transport error": the server is gone, not broken.
-            Code::Unknown if is_transport_error(&status) => ClientError::Unavailable { message },
-            Code::Internal | Code::Unknown | Code::DataLoss => ClientError::Internal { message },
+            Code::Unknown if is_transport_error(&status) => ClientError::Unavailable {
+                message,
+                code: Code::Unknown,
+            },
+            code @ (Code::Internal | Code::Unknown | Code::DataLoss) => {
+                ClientError::Internal { message, code }
+            }
             code @ (Code::Ok
             | Code::AlreadyExists
             | Code::PermissionDenied
             | Code::Unimplemented) => ClientError::Protocol {
                 message: format!("unexpected status {code:?}: {message}"),
+                code,
             },
         }
     }
@@ -231,7 +275,14 @@ mod tests {
                 "{code:?} -> {err:?}"
             );
             assert!(err.message().contains("sim_3 says hi"));
+            assert_eq!(err.code(), Some(code), "{err:?} keeps its code");
         }
+        let err = ClientError::from(Status::new(Code::Cancelled, "Timeout expired"));
+        assert!(
+            matches!(err, ClientError::DeadlineExceeded { .. }),
+            "{err:?}"
+        );
+        assert_eq!(err.code(), Some(Code::DeadlineExceeded));
     }
 
     #[test]

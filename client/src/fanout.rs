@@ -45,6 +45,7 @@ where
             output.unwrap_or_else(|| {
                 Err(ClientError::Unavailable {
                     message: "the call was cancelled: the runtime is shutting down".to_string(),
+                    code: tonic::Code::Cancelled,
                 })
             })
         })

@@ -1,7 +1,7 @@
 //! [`Fleet`]: one connection per server of a fleet, and the placement of new envs and
 //! batches on them. A fleet batch's shards live in [`crate::FleetBatch`].
 
-use crate::client::{Client, DEFAULT_MAX_MESSAGE_BYTES};
+use crate::client::{Client, ClientBuilder, DEFAULT_MAX_MESSAGE_BYTES};
 use crate::endpoints::FleetEndpoints;
 use crate::env::Env;
 use crate::error::{ClientError, Result};
@@ -56,10 +56,17 @@ impl Fleet {
         endpoints: FleetEndpoints,
         max_message_bytes: usize,
     ) -> Result<Self> {
+        let settings = Client::builder("").max_message_bytes(max_message_bytes);
+        Self::connect_with(endpoints, &settings).await
+    }
+
+    /// [`Fleet::connect`], connecting every server with `settings` (its token, TLS,
+    /// timeouts and keepalive; its address is replaced by each server's).
+    pub async fn connect_with(endpoints: FleetEndpoints, settings: &ClientBuilder) -> Result<Self> {
         let connecting = endpoints
             .addrs()
             .iter()
-            .map(|addr| Client::connect_with_limit(addr.clone(), max_message_bytes));
+            .map(|addr| settings.for_addr(addr.clone()).connect());
         let servers = join_all(connecting)
             .await
             .into_iter()
@@ -159,6 +166,7 @@ impl Fleet {
         let shares = split_by_capacity(n_envs, &capacities).map_err(|reason| {
             ClientError::ResourceExhausted {
                 message: format!("fleet batch of {n_envs} envs: {reason}"),
+                code: tonic::Code::ResourceExhausted,
             }
         })?;
 

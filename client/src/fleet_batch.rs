@@ -214,6 +214,7 @@ impl FleetBatch {
                 if is_loss(&probe) {
                     *result = Err(ClientError::Unavailable {
                         message: format!("{first}; then {probe}"),
+                        code: tonic::Code::Unavailable,
                     });
                 }
             }
@@ -553,13 +554,15 @@ mod tests {
     fn only_lost_servers_and_unknown_batches_count_as_losses() {
         let message = String::from("x");
         assert!(is_loss(&ClientError::Unavailable {
-            message: message.clone()
+            message: message.clone(),
+            code: tonic::Code::Unavailable,
         }));
         assert!(is_loss(&ClientError::NotFound {
             message: message.clone()
         }));
         assert!(!is_loss(&ClientError::Internal {
-            message: message.clone()
+            message: message.clone(),
+            code: tonic::Code::Internal,
         }));
         assert!(!is_loss(&ClientError::InvalidArgument { message }));
     }

@@ -51,7 +51,10 @@ mod task;
 mod types;
 
 pub use batch::{Batch, BatchObservations, BatchStep};
-pub use client::{Client, DEFAULT_MAX_MESSAGE_BYTES};
+pub use client::{
+    Client, ClientBuilder, DEFAULT_CONNECT_TIMEOUT, DEFAULT_KEEPALIVE_INTERVAL,
+    DEFAULT_KEEPALIVE_TIMEOUT, DEFAULT_MAX_MESSAGE_BYTES,
+};
 pub use endpoints::FleetEndpoints;
 pub use env::Env;
 pub use error::{ClientError, Result};
@@ -62,6 +65,8 @@ pub use stream::{BatchStream, DEFAULT_STREAM_WINDOW};
 pub use task::{
     Randomization, RandomizationDraws, ReachTask, Task, TaskKind, TrackTask, UprightTask,
 };
+/// gRPC status codes, as [`ClientError::code`] returns them.
+pub use tonic::Code;
 pub use types::{
     ActionType, Autoreset, BatchInfo, DofLimit, EnvInfo, JointInfo, Observation, ServerInfo,
     ServerLimits, StepResult, POSE_LEN,

@@ -18,17 +18,18 @@ impl ServerCapacity {
         let to_usize = |v: u64| usize::try_from(v).unwrap_or(usize::MAX);
         let batch_cap =
             (info.limits.max_batch_size != 0).then(|| to_usize(info.limits.max_batch_size));
-        let room = (info.limits.max_envs != 0).then(|| {
-            to_usize(
-                info.limits
-                    .max_envs
-                    .saturating_sub(info.envs.saturating_add(info.batch_envs)),
-            )
-        });
-        let cap = match (batch_cap, room) {
-            (Some(a), Some(b)) => Some(a.min(b)),
-            (a, b) => a.or(b),
-        };
+        // With auth on, `envs` and `batch_envs` are the caller's own: exact for the
+        // tenant quota, a lower bound of the server's load for `max_envs`.
+        let held = info.envs.saturating_add(info.batch_envs);
+        let room = |max: u64| (max != 0).then(|| to_usize(max.saturating_sub(held)));
+        let cap = [
+            batch_cap,
+            room(info.limits.max_envs),
+            room(info.limits.tenant_max_envs),
+        ]
+        .into_iter()
+        .flatten()
+        .min();
         ServerCapacity {
             threads: info.threads,
             cap,
@@ -233,5 +234,8 @@ mod tests {
         assert_eq!(ServerCapacity::from_info(&info).cap, Some(5));
         info.limits.max_envs = 50;
         assert_eq!(ServerCapacity::from_info(&info).cap, Some(0));
+        info.limits.max_envs = 0;
+        info.limits.tenant_max_envs = 93;
+        assert_eq!(ServerCapacity::from_info(&info).cap, Some(3));
     }
 }

@@ -106,6 +106,7 @@ impl BatchStream {
         if self.failed {
             return Err(ClientError::Unavailable {
                 message: "the batch stream has ended after an error; open a new one".into(),
+                code: tonic::Code::Unavailable,
             });
         }
         let request = self.batch.step_request(action_type, actions);
@@ -163,6 +164,7 @@ impl BatchStream {
             self.in_flight = 0;
             return Err(ClientError::Unavailable {
                 message: "the batch stream has ended after an error; open a new one".into(),
+                code: tonic::Code::Unavailable,
             });
         }
         let message = self.responses.message().await;

@@ -363,6 +363,8 @@ pub struct ServerLimits {
     pub max_dofs: u64,
     /// Most end effectors per env.
     pub max_end_effectors: u64,
+    /// Most environments one tenant holds at once.
+    pub tenant_max_envs: u64,
 }
 
 /// Describes a server.
@@ -372,14 +374,19 @@ pub struct ServerInfo {
     pub version: String,
     /// Worker threads in its simulation pool.
     pub threads: u32,
-    /// Single environments open.
+    /// Single environments open (the caller's own, when the server requires tokens).
     pub envs: u64,
-    /// Batches open.
+    /// Batches open (the caller's own, when the server requires tokens).
     pub batches: u64,
-    /// Environments held in open batches.
+    /// Environments held in open batches (the caller's own, when the server requires
+    /// tokens).
     pub batch_envs: u64,
     /// Its limits.
     pub limits: ServerLimits,
+    /// The caller's tenant, from its token; empty when the server requires none.
+    pub tenant: String,
+    /// Whether the server requires a token.
+    pub auth_required: bool,
 }
 
 impl From<pb::ServerInfo> for ServerInfo {
@@ -401,7 +408,10 @@ impl From<pb::ServerInfo> for ServerInfo {
                 max_joints: l.max_joints,
                 max_dofs: l.max_dofs,
                 max_end_effectors: l.max_end_effectors,
+                tenant_max_envs: l.tenant_max_envs,
             },
+            tenant: i.tenant,
+            auth_required: i.auth_required,
         }
     }
 }

@@ -2,13 +2,16 @@
 //! variable) and logging setup.
 
 use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::sync::Arc;
 use std::time::Duration;
 
 use clap::{Parser, ValueEnum};
 use tracing_subscriber::EnvFilter;
 
+use crate::auth::TokenTable;
 use crate::config::{
-    ServerConfig, DEFAULT_MAX_BATCH_SIZE, DEFAULT_MAX_DOCUMENT_BYTES, DEFAULT_MAX_DOFS,
+    ServerConfig, TlsConfig, DEFAULT_MAX_BATCH_SIZE, DEFAULT_MAX_DOCUMENT_BYTES, DEFAULT_MAX_DOFS,
     DEFAULT_MAX_END_EFFECTORS, DEFAULT_MAX_ENVS, DEFAULT_MAX_INSTANCES, DEFAULT_MAX_JOINTS,
     DEFAULT_MAX_MESSAGE_BYTES,
 };
@@ -59,6 +62,38 @@ pub struct Cli {
     /// Most observed end effectors per env; 0 = no limit.
     #[arg(long, env = "GYMFLEET_MAX_END_EFFECTORS", default_value_t = DEFAULT_MAX_END_EFFECTORS)]
     pub max_end_effectors: usize,
+    /// Serve TLS with this certificate chain (PEM); needs --tls-key.
+    #[arg(
+        long,
+        env = "GYMFLEET_TLS_CERT",
+        value_name = "FILE",
+        requires = "tls_key"
+    )]
+    pub tls_cert: Option<PathBuf>,
+    /// The private key (PEM) of --tls-cert.
+    #[arg(
+        long,
+        env = "GYMFLEET_TLS_KEY",
+        value_name = "FILE",
+        requires = "tls_cert"
+    )]
+    pub tls_key: Option<PathBuf>,
+    /// Mutual TLS: accept only clients with a certificate signed by this CA (PEM).
+    #[arg(
+        long,
+        env = "GYMFLEET_TLS_CLIENT_CA",
+        value_name = "FILE",
+        requires = "tls_cert"
+    )]
+    pub tls_client_ca: Option<PathBuf>,
+    /// Require bearer tokens: a file of `TENANT TOKEN` lines (`#` comments). Each tenant
+    /// sees only its own envs and batches. Health checks stay open.
+    #[arg(long, env = "GYMFLEET_AUTH_TOKENS", value_name = "FILE")]
+    pub auth_tokens: Option<PathBuf>,
+    /// Most environments one tenant (or, with auth off, all callers together) holds at
+    /// once; 0 = no limit beyond --max-envs.
+    #[arg(long, env = "GYMFLEET_TENANT_MAX_ENVS", default_value_t = 0)]
+    pub tenant_max_envs: usize,
     /// Close envs and batches untouched for this many seconds; 0 = never.
     #[arg(long, env = "GYMFLEET_IDLE_TTL_SECS", default_value_t = 600)]
     pub idle_ttl_secs: u64,
@@ -68,9 +103,28 @@ pub struct Cli {
 }
 
 impl Cli {
-    /// The server configuration these flags describe.
-    pub fn server_config(&self) -> ServerConfig {
-        ServerConfig {
+    /// The server configuration these flags describe; reads the files they name (an
+    /// error says which flag and file, and what is wrong).
+    pub fn server_config(&self) -> Result<ServerConfig, String> {
+        let read = |flag: &str, path: &PathBuf| {
+            std::fs::read(path).map_err(|e| format!("{flag} {}: {e}", path.display()))
+        };
+        let tls = match (&self.tls_cert, &self.tls_key) {
+            (Some(cert), Some(key)) => Some(TlsConfig {
+                cert_pem: read("--tls-cert", cert)?,
+                key_pem: read("--tls-key", key)?,
+                client_ca_pem: match &self.tls_client_ca {
+                    Some(ca) => Some(read("--tls-client-ca", ca)?),
+                    None => None,
+                },
+            }),
+            _ => None,
+        };
+        let auth_tokens = match &self.auth_tokens {
+            Some(path) => Some(Arc::new(TokenTable::load(path)?)),
+            None => None,
+        };
+        Ok(ServerConfig {
             threads: self.threads,
             max_envs: self.max_envs,
             max_batch_size: self.max_batch_size,
@@ -80,9 +134,12 @@ impl Cli {
             max_joints: self.max_joints,
             max_dofs: self.max_dofs,
             max_end_effectors: self.max_end_effectors,
+            tls,
+            auth_tokens,
+            tenant_max_envs: self.tenant_max_envs,
             idle_ttl: Duration::from_secs(self.idle_ttl_secs),
             ..ServerConfig::default()
-        }
+        })
     }
 }
 
@@ -118,7 +175,7 @@ mod tests {
         scrub_gymfleet_env();
         let cli = Cli::try_parse_from(["gymfleet-server"]).expect("defaults parse");
         assert_eq!(cli.listen, "127.0.0.1:50051".parse::<ListenAddr>().unwrap());
-        let config = cli.server_config();
+        let config = cli.server_config().unwrap();
         assert_eq!(config.threads, 0);
         assert_eq!(config.max_message_bytes, DEFAULT_MAX_MESSAGE_BYTES);
         assert_eq!(config.idle_ttl, Duration::from_secs(600));
@@ -142,7 +199,7 @@ mod tests {
             "json",
         ])
         .expect("flags parse");
-        let config = cli.server_config();
+        let config = cli.server_config().unwrap();
         assert_eq!(config.threads, 2);
         assert_eq!(config.max_batch_size, 10);
         assert_eq!(config.idle_ttl(), None);

@@ -1,8 +1,10 @@
 //! [`ServerConfig`]: the limits and knobs of one server, independent of how they were
 //! given (the CLI in `cli.rs`, or a test building one by hand).
 
+use std::sync::Arc;
 use std::time::Duration;
 
+use crate::auth::TokenTable;
 use crate::clock::Clock;
 
 /// Default largest gRPC message, decoded or encoded: 64 MiB (tonic's own default is 4 MiB).
@@ -26,6 +28,29 @@ pub const DEFAULT_MAX_END_EFFECTORS: usize = 64;
 /// Default idle time after which an untouched env or batch is closed: 10 minutes.
 pub const DEFAULT_IDLE_TTL: Duration = Duration::from_secs(600);
 
+/// The server's TLS certificate chain and key (PEM), and for mutual TLS the CA whose
+/// certificates clients must present.
+#[derive(Clone, PartialEq, Eq)]
+pub struct TlsConfig {
+    /// The certificate chain, PEM.
+    pub cert_pem: Vec<u8>,
+    /// The private key, PEM.
+    pub key_pem: Vec<u8>,
+    /// With mutual TLS: the CA certificate(s) that sign client certificates, PEM.
+    pub client_ca_pem: Option<Vec<u8>>,
+}
+
+impl std::fmt::Debug for TlsConfig {
+    // The key stays out of logs.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("TlsConfig")
+            .field("cert_pem", &format_args!("{} bytes", self.cert_pem.len()))
+            .field("key_pem", &"(hidden)")
+            .field("mutual", &self.client_ca_pem.is_some())
+            .finish()
+    }
+}
+
 /// How a server runs. Every limit of 0 means "no limit", as in `ServerLimits` on the wire.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ServerConfig {
@@ -47,6 +72,13 @@ pub struct ServerConfig {
     pub max_dofs: usize,
     /// Most end effectors per env; 0 = no limit.
     pub max_end_effectors: usize,
+    /// TLS (`--tls-cert`, `--tls-key`, `--tls-client-ca`); `None` = plaintext.
+    pub tls: Option<TlsConfig>,
+    /// Bearer tokens and their tenants (`--auth-tokens`); `None` = auth off, every caller
+    /// is the anonymous tenant.
+    pub auth_tokens: Option<Arc<TokenTable>>,
+    /// Most environments one tenant holds at once; 0 = no limit beyond `max_envs`.
+    pub tenant_max_envs: usize,
     /// Envs and batches untouched for this long are closed. `Duration::ZERO` disables it.
     pub idle_ttl: Duration,
     /// How often the idle sweeper looks; `None` = a quarter of `idle_ttl`, at least 1 s
@@ -73,6 +105,9 @@ impl Default for ServerConfig {
             max_joints: DEFAULT_MAX_JOINTS,
             max_dofs: DEFAULT_MAX_DOFS,
             max_end_effectors: DEFAULT_MAX_END_EFFECTORS,
+            tls: None,
+            auth_tokens: None,
+            tenant_max_envs: 0,
             idle_ttl: DEFAULT_IDLE_TTL,
             sweep_interval: None,
             clock: Clock::system(),

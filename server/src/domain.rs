@@ -96,6 +96,8 @@ pub(crate) struct BatchStepped {
 /// What the server is and holds, for `GetServerInfo`.
 pub(crate) struct ServerStatus<'a> {
     pub(crate) threads: usize,
+    /// The caller.
+    pub(crate) tenant: crate::auth::Tenant,
     pub(crate) envs: usize,
     pub(crate) batches: usize,
     pub(crate) batch_envs: usize,

@@ -10,6 +10,24 @@ use gymfleet_batch::BatchError;
 use gymfleet_env::EnvError;
 use tonic::{Code, Status};
 
+use crate::auth::Tenant;
+
+/// Most characters of a caller's id or name echoed back in an error message.
+const MAX_ECHOED_CHARS: usize = 96;
+
+/// `text` as an error message quotes it: in full when short, otherwise its start and how
+/// long it was, so that no request can make the server build a large message.
+pub(crate) struct Echo<'a>(pub(crate) &'a str);
+
+impl fmt::Display for Echo<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.0.char_indices().nth(MAX_ECHOED_CHARS) {
+            None => write!(f, "{:?}", self.0),
+            Some((end, _)) => write!(f, "{:?}… ({} bytes in all)", &self.0[..end], self.0.len()),
+        }
+    }
+}
+
 /// What a server-side id names.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum EntityKind {
@@ -47,7 +65,10 @@ pub enum ServerError {
     #[error(transparent)]
     Batch(#[from] BatchError),
     /// The id names nothing open.
-    #[error("{kind} {id:?} not found: it was closed, reclaimed after idling, or never existed")]
+    #[error(
+        "{kind} {} not found: it was closed, reclaimed after idling, or never existed",
+        Echo(id)
+    )]
     NotFound {
         /// What kind of id it is.
         kind: EntityKind,
@@ -55,7 +76,7 @@ pub enum ServerError {
         id: String,
     },
     /// The env was created without `randomize`, so it has no draws to report.
-    #[error("{id:?} was created without randomize: it draws no factors")]
+    #[error("{} was created without randomize: it draws no factors", Echo(id))]
     NotRandomized {
         /// The env (or `batch_<n>[i]`).
         id: String,
@@ -113,6 +134,22 @@ pub enum ServerError {
         /// The limit.
         max: usize,
     },
+    /// Creating would exceed the caller's `--tenant-max-envs`.
+    #[error(
+        "too many environments for tenant {tenant}: this request needs {requested} more, \
+         {held} of its quota of {max} are held; close some, or ask the operator to raise \
+         --tenant-max-envs (GYMFLEET_TENANT_MAX_ENVS)"
+    )]
+    TenantQuota {
+        /// The tenant.
+        tenant: Tenant,
+        /// Environments the request would add.
+        requested: usize,
+        /// Environments the tenant held when it was refused.
+        held: usize,
+        /// The quota.
+        max: usize,
+    },
     /// A batch larger than `--max-batch-size`.
     #[error(
         "n_envs: {n_envs} exceeds the server's max batch size of {max}; split the batch, or \
@@ -157,6 +194,9 @@ pub enum ServerError {
     /// Reflection could not be set up (a bad descriptor set: a build bug).
     #[error("reflection: {0}")]
     Reflection(#[from] tonic_reflection::server::Error),
+    /// The TLS certificate, key or client CA is unusable.
+    #[error("TLS: {0}")]
+    Tls(String),
     /// The listener could not be bound.
     #[error("cannot listen on {addr}: {reason}")]
     Bind {
@@ -231,6 +271,7 @@ impl From<ServerError> for Status {
             ServerError::NotRandomized { .. } => Code::FailedPrecondition,
             ServerError::EnvIndex { .. } => Code::InvalidArgument,
             ServerError::TooManyEnvs { .. }
+            | ServerError::TenantQuota { .. }
             | ServerError::TooComplex { .. }
             | ServerError::ReplyTooLarge { .. }
             | ServerError::BatchTooLarge { .. }
@@ -238,6 +279,7 @@ impl From<ServerError> for Status {
             ServerError::Panicked { .. }
             | ServerError::JobLost { .. }
             | ServerError::Reflection(_)
+            | ServerError::Tls(_)
             | ServerError::Bind { .. }
             | ServerError::Io(_)
             | ServerError::Transport(_) => Code::Internal,
@@ -302,6 +344,28 @@ mod tests {
     }
 
     #[test]
+    fn long_ids_are_shortened_in_messages() {
+        let id = "x".repeat(100_000);
+        let s = status(ServerError::NotFound {
+            kind: EntityKind::Env,
+            id: id.clone(),
+        });
+        assert_eq!(
+            s.message(),
+            format!(
+                "environment \"{}\"… (100000 bytes in all) not found: it was closed, \
+                 reclaimed after idling, or never existed",
+                "x".repeat(96)
+            )
+        );
+        // Multi-byte characters are cut on a character boundary.
+        let wide = "é".repeat(200);
+        let shown = Echo(&wide).to_string();
+        assert!(shown.ends_with("… (400 bytes in all)"), "{shown}");
+        assert_eq!(Echo("sim_1").to_string(), "\"sim_1\"");
+    }
+
+    #[test]
     fn limits_say_how_to_raise_them() {
         let cases = [
             (
@@ -315,6 +379,15 @@ mod tests {
             (
                 ServerError::BatchTooLarge { n_envs: 5, max: 4 },
                 "--max-batch-size",
+            ),
+            (
+                ServerError::TenantQuota {
+                    tenant: Tenant::named("team-a"),
+                    requested: 1,
+                    held: 4,
+                    max: 4,
+                },
+                "--tenant-max-envs",
             ),
             (
                 ServerError::DocumentTooLarge { bytes: 5, max: 4 },

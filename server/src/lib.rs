@@ -14,6 +14,7 @@
 //! with the panic message, and the env or batch it ran on is closed (later calls get
 //! NOT_FOUND), because its state may be half-updated. Everyone else keeps being served.
 
+mod auth;
 mod cli;
 mod clock;
 mod config;
@@ -28,10 +29,11 @@ mod serve;
 mod service;
 mod simulation;
 
+pub use auth::{Tenant, TokenTable, MIN_TOKEN_CHARS};
 pub use cli::{init_tracing, Cli, LogFormat};
 pub use clock::Clock;
 pub use config::{
-    ServerConfig, DEFAULT_IDLE_TTL, DEFAULT_MAX_BATCH_SIZE, DEFAULT_MAX_DOCUMENT_BYTES,
+    ServerConfig, TlsConfig, DEFAULT_IDLE_TTL, DEFAULT_MAX_BATCH_SIZE, DEFAULT_MAX_DOCUMENT_BYTES,
     DEFAULT_MAX_DOFS, DEFAULT_MAX_END_EFFECTORS, DEFAULT_MAX_ENVS, DEFAULT_MAX_INSTANCES,
     DEFAULT_MAX_JOINTS, DEFAULT_MAX_MESSAGE_BYTES,
 };

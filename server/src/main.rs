@@ -7,6 +7,13 @@ use gymfleet_server::{init_tracing, serve, Cli, Listener};
 async fn main() -> std::process::ExitCode {
     let cli = Cli::parse();
     init_tracing(cli.log_format);
+    let config = match cli.server_config() {
+        Ok(config) => config,
+        Err(err) => {
+            tracing::error!(%err, "bad configuration");
+            return std::process::ExitCode::FAILURE;
+        }
+    };
     let listener = match Listener::bind(&cli.listen).await {
         Ok(listener) => listener,
         Err(err) => {
@@ -19,7 +26,7 @@ async fn main() -> std::process::ExitCode {
         tokio_graceful::default_signal().await;
         tracing::info!("received Ctrl-C or SIGTERM");
     };
-    match serve(listener, cli.server_config(), shutdown).await {
+    match serve(listener, config, shutdown).await {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(err) => {
             tracing::error!(%err, "server failed");

@@ -5,6 +5,14 @@
 //! Every job runs under `catch_unwind`, so a panic (a bug) becomes an INTERNAL error for
 //! its caller instead of aborting the process. The env or batch a panicking job ran on is
 //! closed: its state may be half-updated, and serving it again could return garbage.
+//!
+//! A job whose caller has gone by the time a thread takes it up (the call's deadline
+//! passed, or its connection closed, so tonic dropped the call) is not run at all.
+//!
+//! Jobs on one env take their turn in the pool's fair queue ([`Lane::Env`]), so a
+//! single env's step waits for about one chunk per thread, not for whole batch steps
+//! queued before it; jobs that run a batch's chunks themselves coordinate from a plain
+//! pool thread ([`Lane::Batch`]).
 
 use gymfleet_batch::{panic_message, BatchError, StepPool};
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -13,14 +21,40 @@ use tokio::sync::oneshot;
 use crate::error::{Result, ServerError};
 use crate::registry::{Entry, Registry};
 
+/// How a job is scheduled on the pool.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Lane {
+    /// Work on one env, which never waits on other pool work: a one-chunk task of the
+    /// fair queue.
+    Env,
+    /// Work that runs a batch's chunks and waits for them: a pool thread of its own.
+    Batch,
+}
+
+fn spawn(pool: &StepPool, lane: Lane, job: impl FnOnce() + Send + 'static) {
+    match lane {
+        Lane::Env => pool.spawn_fair(job),
+        Lane::Batch => pool.spawn(job),
+    }
+}
+
 /// Runs `job` on the pool and waits for its answer.
-pub(crate) async fn run<R, F>(pool: &StepPool, operation: &'static str, job: F) -> Result<R>
+pub(crate) async fn run<R, F>(
+    pool: &StepPool,
+    lane: Lane,
+    operation: &'static str,
+    job: F,
+) -> Result<R>
 where
     R: Send + 'static,
     F: FnOnce() -> Result<R> + Send + 'static,
 {
     let (tx, rx) = oneshot::channel();
-    pool.spawn(move || {
+    spawn(pool, lane, move || {
+        if tx.is_closed() {
+            // The caller has gone: nobody would see the answer.
+            return;
+        }
         let answer = catch_unwind(AssertUnwindSafe(job)).map_err(|p| panic_message(p.as_ref()));
         // The caller may have gone (a cancelled RPC): nobody is left to answer.
         let _ = tx.send(answer);
@@ -43,6 +77,7 @@ where
 /// is held until the job ends, even if the caller goes away meanwhile.
 pub(crate) async fn run_locked<T, R, F>(
     pool: &StepPool,
+    lane: Lane,
     registry: &Registry<T>,
     entry: &Entry<T>,
     operation: &'static str,
@@ -57,7 +92,11 @@ where
     let kind = registry.kind();
     let id = entry.id().to_string();
     let (tx, rx) = oneshot::channel();
-    pool.spawn(move || {
+    spawn(pool, lane, move || {
+        if tx.is_closed() {
+            // The caller has gone: leave the env as it is (the lock goes with `slot`).
+            return;
+        }
         let outcome = catch_unwind(AssertUnwindSafe(|| match slot.as_mut() {
             Some(held) => job(&mut held.value),
             None => Err(ServerError::NotFound { kind, id }),

@@ -1,5 +1,5 @@
-//! The open environments and batches: ids, per-entry async locks, idle times, and the
-//! env-count limit.
+//! The open environments and batches: ids, owners, per-entry async locks, idle times,
+//! and the env-count limits (the server's and each tenant's).
 //!
 //! Each entry sits behind its own `tokio::sync::Mutex`, so calls on one env serialise
 //! while calls on different envs run in parallel. The mutex holds an `Option`: `None`
@@ -11,24 +11,39 @@ use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, PoisonError};
 use std::time::Duration;
 
-use crate::clock::Clock;
-
 use tokio::sync::OwnedMutexGuard;
+
+use crate::auth::Tenant;
+use crate::clock::Clock;
 
 use crate::error::{EntityKind, Result, ServerError};
 
-/// Counts held environments against `--max-envs`.
+/// Counts held environments against `--max-envs` (the server's capacity) or against
+/// `--tenant-max-envs` (one tenant's).
 #[derive(Debug)]
 pub(crate) struct EnvCapacity {
     max: usize,
+    /// `None` for the server's capacity, the tenant for a tenant's quota.
+    tenant: Option<Tenant>,
     held: AtomicUsize,
     batch_envs: AtomicUsize,
 }
 
 impl EnvCapacity {
+    /// The server's capacity.
     pub(crate) fn new(max: usize) -> Arc<Self> {
+        Self::with_owner(max, None)
+    }
+
+    /// A tenant's quota.
+    pub(crate) fn for_tenant(max: usize, tenant: Tenant) -> Arc<Self> {
+        Self::with_owner(max, Some(tenant))
+    }
+
+    fn with_owner(max: usize, tenant: Option<Tenant>) -> Arc<Self> {
         Arc::new(EnvCapacity {
             max,
+            tenant,
             held: AtomicUsize::new(0),
             batch_envs: AtomicUsize::new(0),
         })
@@ -41,10 +56,18 @@ impl EnvCapacity {
         loop {
             let next = held.saturating_add(n);
             if self.max != 0 && next > self.max {
-                return Err(ServerError::TooManyEnvs {
-                    requested: n,
-                    held,
-                    max: self.max,
+                return Err(match &self.tenant {
+                    None => ServerError::TooManyEnvs {
+                        requested: n,
+                        held,
+                        max: self.max,
+                    },
+                    Some(tenant) => ServerError::TenantQuota {
+                        tenant: tenant.clone(),
+                        requested: n,
+                        held,
+                        max: self.max,
+                    },
                 });
             }
             match self
@@ -62,7 +85,26 @@ impl EnvCapacity {
             capacity: Arc::clone(self),
             n,
             kind,
+            also: None,
         })
+    }
+
+    /// Reserves `n` environments here and then in `outer` (the tenant's quota, then the
+    /// server's capacity); both or neither.
+    pub(crate) fn reserve_within(
+        self: &Arc<Self>,
+        outer: &Arc<EnvCapacity>,
+        n: usize,
+        kind: EntityKind,
+    ) -> Result<Reservation> {
+        let mut inner = self.reserve(n, kind)?;
+        inner.also = Some(Box::new(outer.reserve(n, kind)?));
+        Ok(inner)
+    }
+
+    /// Environments held.
+    pub(crate) fn held(&self) -> usize {
+        self.held.load(Ordering::Relaxed)
     }
 
     /// Environments held in batches.
@@ -77,6 +119,8 @@ pub(crate) struct Reservation {
     capacity: Arc<EnvCapacity>,
     n: usize,
     kind: EntityKind,
+    /// The same environments reserved in an enclosing capacity, released together.
+    also: Option<Box<Reservation>>,
 }
 
 impl Drop for Reservation {
@@ -117,6 +161,8 @@ pub(crate) type Slot<T> = OwnedMutexGuard<Option<Held<T>>>;
 #[derive(Debug)]
 pub(crate) struct Entry<T> {
     id: String,
+    /// The tenant that created it: the only one that can see it.
+    owner: Tenant,
     slot: Arc<tokio::sync::Mutex<Option<Held<T>>>>,
     /// Milliseconds on the registry's clock at the last call.
     last_used_ms: AtomicU64,
@@ -189,8 +235,8 @@ impl<T> Registry<T> {
         self.kind
     }
 
-    /// Adds a value and returns its new id.
-    pub(crate) fn insert(&self, value: T, reservation: Reservation) -> String {
+    /// Adds a value owned by `owner` and returns its new id.
+    pub(crate) fn insert(&self, owner: &Tenant, value: T, reservation: Reservation) -> String {
         let id = format!(
             "{}_{}",
             self.prefix,
@@ -198,6 +244,7 @@ impl<T> Registry<T> {
         );
         let entry = Arc::new(Entry {
             id: id.clone(),
+            owner: owner.clone(),
             slot: Arc::new(tokio::sync::Mutex::new(Some(Held {
                 value,
                 _reservation: reservation,
@@ -209,11 +256,13 @@ impl<T> Registry<T> {
         id
     }
 
-    /// Looks an id up and marks it used; NOT_FOUND names the id.
-    pub(crate) fn get(&self, id: &str) -> Result<Arc<Entry<T>>> {
+    /// Looks up an id of `owner`'s and marks it used; NOT_FOUND names the id. Another
+    /// tenant's id is NOT_FOUND too, with the same message as an id that never existed.
+    pub(crate) fn get(&self, owner: &Tenant, id: &str) -> Result<Arc<Entry<T>>> {
         let entry = self
             .map()
             .get(id)
+            .filter(|entry| entry.owner == *owner)
             .cloned()
             .ok_or_else(|| ServerError::NotFound {
                 kind: self.kind,
@@ -232,6 +281,11 @@ impl<T> Registry<T> {
     /// Number of open values.
     pub(crate) fn len(&self) -> usize {
         self.map().len()
+    }
+
+    /// Number of open values owned by `owner`.
+    pub(crate) fn len_of(&self, owner: &Tenant) -> usize {
+        self.map().values().filter(|e| e.owner == *owner).count()
     }
 
     /// Takes out every value idle for at least `ttl` and not in use right now, and
@@ -295,12 +349,13 @@ mod tests {
     async fn ids_count_up_and_closed_entries_are_not_found() {
         let capacity = EnvCapacity::new(0);
         let registry = Registry::new(EntityKind::Env, "sim", Clock::manual());
-        let first = registry.insert(1u8, capacity.reserve(1, EntityKind::Env).unwrap());
-        let second = registry.insert(2u8, capacity.reserve(1, EntityKind::Env).unwrap());
+        let anon = Tenant::anonymous();
+        let first = registry.insert(&anon, 1u8, capacity.reserve(1, EntityKind::Env).unwrap());
+        let second = registry.insert(&anon, 2u8, capacity.reserve(1, EntityKind::Env).unwrap());
         assert_eq!((first.as_str(), second.as_str()), ("sim_1", "sim_2"));
         assert_eq!(registry.len(), 2);
 
-        let entry = registry.get(&first).unwrap();
+        let entry = registry.get(&anon, &first).unwrap();
         let mut slot = entry.lock(EntityKind::Env).await.unwrap();
         assert_eq!(slot.as_ref().map(|h| h.value), Some(1));
         slot.take();
@@ -311,7 +366,7 @@ mod tests {
             Err(ServerError::NotFound { .. })
         ));
         assert!(matches!(
-            registry.get(&first),
+            registry.get(&anon, &first),
             Err(ServerError::NotFound { .. })
         ));
     }
@@ -320,14 +375,58 @@ mod tests {
     async fn idle_sweep_skips_entries_in_use() {
         let capacity = EnvCapacity::new(0);
         let registry = Registry::new(EntityKind::Batch, "batch", Clock::manual());
-        let busy = registry.insert((), capacity.reserve(1, EntityKind::Batch).unwrap());
-        let idle = registry.insert((), capacity.reserve(1, EntityKind::Batch).unwrap());
-        let entry = registry.get(&busy).unwrap();
+        let anon = Tenant::anonymous();
+        let busy = registry.insert(&anon, (), capacity.reserve(1, EntityKind::Batch).unwrap());
+        let idle = registry.insert(&anon, (), capacity.reserve(1, EntityKind::Batch).unwrap());
+        let entry = registry.get(&anon, &busy).unwrap();
         let _guard = entry.lock(EntityKind::Batch).await.unwrap();
         let reclaimed = registry.take_idle(Duration::ZERO);
         let ids: Vec<&str> = reclaimed.iter().map(|(id, _, _)| id.as_str()).collect();
         assert_eq!(ids, [idle.as_str()]);
         assert_eq!(registry.len(), 1);
         assert!(registry.take_idle(Duration::from_secs(3600)).is_empty());
+    }
+
+    #[tokio::test]
+    async fn another_tenants_id_is_not_found_and_quotas_are_per_tenant() {
+        let server = EnvCapacity::new(10);
+        let (a, b) = (Tenant::named("a"), Tenant::named("b"));
+        let (quota_a, quota_b) = (
+            EnvCapacity::for_tenant(4, a.clone()),
+            EnvCapacity::for_tenant(4, b.clone()),
+        );
+        let registry = Registry::new(EntityKind::Env, "sim", Clock::manual());
+        let id = registry.insert(
+            &a,
+            (),
+            quota_a.reserve_within(&server, 3, EntityKind::Env).unwrap(),
+        );
+        assert!(registry.get(&a, &id).is_ok());
+        let mine = registry.get(&b, &id).unwrap_err().to_string();
+        let none = registry.get(&b, "sim_999").unwrap_err().to_string();
+        assert_eq!(mine.replace(&id, "X"), none.replace("sim_999", "X"));
+        assert_eq!((registry.len_of(&a), registry.len_of(&b)), (1, 0));
+
+        let err = quota_a
+            .reserve_within(&server, 2, EntityKind::Env)
+            .unwrap_err();
+        assert!(matches!(
+            err,
+            ServerError::TenantQuota {
+                requested: 2,
+                held: 3,
+                max: 4,
+                ..
+            }
+        ));
+        assert_eq!(server.held(), 3, "a refused quota reserves nothing");
+        // b's quota is its own; the server's capacity is shared.
+        let b_held = quota_b.reserve_within(&server, 4, EntityKind::Env).unwrap();
+        let err = EnvCapacity::for_tenant(0, Tenant::named("c"))
+            .reserve_within(&server, 4, EntityKind::Env)
+            .unwrap_err();
+        assert!(matches!(err, ServerError::TooManyEnvs { held: 7, .. }));
+        drop(b_held);
+        assert_eq!((quota_b.held(), server.held()), (0, 3));
     }
 }

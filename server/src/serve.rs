@@ -8,11 +8,13 @@ use std::time::Duration;
 use gymfleet_batch::StepPool;
 use gymfleet_proto::v1::simulator_server::SimulatorServer;
 use tokio::sync::watch;
+use tonic::service::interceptor::InterceptedService;
 use tonic::transport::server::TcpIncoming;
-use tonic::transport::Server;
+use tonic::transport::{Certificate, Identity, Server, ServerTlsConfig};
 
-use crate::config::ServerConfig;
-use crate::error::Result;
+use crate::auth::Authenticator;
+use crate::config::{ServerConfig, TlsConfig};
+use crate::error::{Result, ServerError};
 use crate::listen::Listener;
 use crate::service::SimulatorService;
 use crate::simulation::Simulation;
@@ -23,7 +25,8 @@ use crate::simulation::Simulation;
 /// calls to finish, and returns.
 ///
 /// Also serves `grpc.health.v1.Health` (with `gymfleet.v1.Simulator` SERVING) and gRPC
-/// reflection v1 and v1alpha. Accepted TCP connections get `TCP_NODELAY`.
+/// reflection v1 and v1alpha. Accepted TCP connections get `TCP_NODELAY`. With
+/// `config.auth_tokens`, every service but health needs a bearer token.
 ///
 /// ```no_run
 /// # async fn demo() -> gymfleet_server::Result<()> {
@@ -82,7 +85,17 @@ pub async fn serve(
     });
 
     let addr = listener.local_addr()?;
-    tracing::info!(%addr, threads, idle_ttl_secs = config.idle_ttl.as_secs(), "serving gymfleet.v1.Simulator");
+    let tenants = config.auth_tokens.as_ref().map_or(0, |t| t.tenants().len());
+    tracing::info!(
+        %addr,
+        tls = config.tls.is_some(),
+        mutual_tls = config.tls.as_ref().is_some_and(|t| t.client_ca_pem.is_some()),
+        threads,
+        idle_ttl_secs = config.idle_ttl.as_secs(),
+        auth = config.auth_tokens.is_some(),
+        tenants,
+        "serving gymfleet.v1.Simulator"
+    );
     let signal = async move {
         shutdown.await;
         tracing::info!("shutting down: finishing in-flight calls");
@@ -91,11 +104,19 @@ pub async fn serve(
             .await;
         let _ = stop_tx.send(true);
     };
-    let router = Server::builder()
+    // Everything but health answers only callers with a token when auth is on.
+    let auth = Authenticator::new(config.auth_tokens.clone());
+    let mut builder = Server::builder();
+    if let Some(tls) = &config.tls {
+        builder = builder
+            .tls_config(server_tls(tls))
+            .map_err(|e| ServerError::Tls(error_chain(&e)))?;
+    }
+    let router = builder
         .add_service(health_service)
-        .add_service(reflection_v1)
-        .add_service(reflection_v1alpha)
-        .add_service(simulator);
+        .add_service(InterceptedService::new(reflection_v1, auth.clone()))
+        .add_service(InterceptedService::new(reflection_v1alpha, auth.clone()))
+        .add_service(InterceptedService::new(simulator, auth.clone()));
     let served = match listener {
         Listener::Tcp(listener) => {
             let incoming = TcpIncoming::from(listener).with_nodelay(Some(true));
@@ -116,6 +137,27 @@ pub async fn serve(
     served?;
     tracing::info!("stopped");
     Ok(())
+}
+
+fn server_tls(tls: &TlsConfig) -> ServerTlsConfig {
+    let identity = Identity::from_pem(&tls.cert_pem, &tls.key_pem);
+    let config = ServerTlsConfig::new().identity(identity);
+    match &tls.client_ca_pem {
+        Some(ca) => config.client_ca_root(Certificate::from_pem(ca)),
+        None => config,
+    }
+}
+
+/// An error and its sources, joined.
+fn error_chain(err: &(dyn std::error::Error + 'static)) -> String {
+    let mut text = err.to_string();
+    let mut source = err.source();
+    while let Some(s) = source {
+        text.push_str(": ");
+        text.push_str(&s.to_string());
+        source = s.source();
+    }
+    text
 }
 
 /// Every `interval`, closes the envs and batches idle for at least `ttl`.

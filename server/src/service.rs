@@ -10,6 +10,7 @@ use tokio::sync::{mpsc, watch};
 use tokio_stream::wrappers::ReceiverStream;
 use tonic::{Request, Response, Status, Streaming};
 
+use crate::auth::{tenant_of, Tenant};
 use crate::convert;
 use crate::domain::{BatchRequest, BatchStep, Created, DrawsOf, EnvRequest, EnvStep};
 use crate::error::{Result, ServerError};
@@ -46,9 +47,12 @@ fn batch_info(created: Created) -> pb::BatchInfo {
 /// Steps one `StepBatch` or `StreamBatch` request.
 async fn stream_step(
     sim: &Simulation,
+    tenant: &Tenant,
     request: pb::StepBatchRequest,
 ) -> Result<pb::BatchStepResult> {
-    let stepped = sim.step_batch(BatchStep::try_from(request)?).await?;
+    let stepped = sim
+        .step_batch(tenant, BatchStep::try_from(request)?)
+        .await?;
     Ok(convert::batch_step_result(stepped))
 }
 
@@ -58,9 +62,10 @@ impl Simulator for SimulatorService {
         &self,
         request: Request<pb::CreateEnvRequest>,
     ) -> Result<Response<pb::EnvInfo>, Status> {
+        let tenant = tenant_of(&request)?;
         let result = async {
             let request = EnvRequest::try_from(request.into_inner())?;
-            self.sim.create_env(request).await.map(env_info)
+            self.sim.create_env(&tenant, request).await.map(env_info)
         };
         answer(result.await)
     }
@@ -69,8 +74,9 @@ impl Simulator for SimulatorService {
         &self,
         request: Request<pb::ResetRequest>,
     ) -> Result<Response<pb::Observation>, Status> {
+        let tenant = tenant_of(&request)?;
         let r = request.into_inner();
-        let result = self.sim.reset_env(&r.env_id, r.seed).await;
+        let result = self.sim.reset_env(&tenant, &r.env_id, r.seed).await;
         answer(result.map(|(obs, split)| convert::observation(&obs, split)))
     }
 
@@ -78,9 +84,10 @@ impl Simulator for SimulatorService {
         &self,
         request: Request<pb::StepRequest>,
     ) -> Result<Response<pb::StepResult>, Status> {
+        let tenant = tenant_of(&request)?;
         let result = async {
             let step = EnvStep::try_from(request.into_inner())?;
-            let outcome = self.sim.step_env(step).await?;
+            let outcome = self.sim.step_env(&tenant, step).await?;
             let flags = outcome.flags;
             Ok(pb::StepResult {
                 observation: Some(convert::observation(&outcome.observation, outcome.split)),
@@ -99,8 +106,9 @@ impl Simulator for SimulatorService {
         &self,
         request: Request<pb::EnvRef>,
     ) -> Result<Response<pb::Observation>, Status> {
+        let tenant = tenant_of(&request)?;
         let r = request.into_inner();
-        let result = self.sim.observe_env(&r.env_id).await;
+        let result = self.sim.observe_env(&tenant, &r.env_id).await;
         answer(result.map(|(obs, split)| convert::observation(&obs, split)))
     }
 
@@ -108,10 +116,11 @@ impl Simulator for SimulatorService {
         &self,
         request: Request<pb::EnvRef>,
     ) -> Result<Response<pb::CloseEnvResponse>, Status> {
+        let tenant = tenant_of(&request)?;
         let r = request.into_inner();
         answer(
             self.sim
-                .close_env(&r.env_id)
+                .close_env(&tenant, &r.env_id)
                 .await
                 .map(|()| pb::CloseEnvResponse {}),
         )
@@ -121,9 +130,13 @@ impl Simulator for SimulatorService {
         &self,
         request: Request<pb::CreateBatchRequest>,
     ) -> Result<Response<pb::BatchInfo>, Status> {
+        let tenant = tenant_of(&request)?;
         let result = async {
             let request = BatchRequest::try_from(request.into_inner())?;
-            self.sim.create_batch(request).await.map(batch_info)
+            self.sim
+                .create_batch(&tenant, request)
+                .await
+                .map(batch_info)
         };
         answer(result.await)
     }
@@ -132,10 +145,11 @@ impl Simulator for SimulatorService {
         &self,
         request: Request<pb::ResetBatchRequest>,
     ) -> Result<Response<pb::BatchObservation>, Status> {
+        let tenant = tenant_of(&request)?;
         let r = request.into_inner();
         answer(
             self.sim
-                .reset_batch(&r.batch_id, r.seed, r.seed_offset, r.env_indices)
+                .reset_batch(&tenant, &r.batch_id, r.seed, r.seed_offset, r.env_indices)
                 .await
                 .map(convert::batch_observation),
         )
@@ -145,16 +159,18 @@ impl Simulator for SimulatorService {
         &self,
         request: Request<pb::StepBatchRequest>,
     ) -> Result<Response<pb::BatchStepResult>, Status> {
-        answer(stream_step(&self.sim, request.into_inner()).await)
+        let tenant = tenant_of(&request)?;
+        answer(stream_step(&self.sim, &tenant, request.into_inner()).await)
     }
 
     async fn get_randomization(
         &self,
         request: Request<pb::RandomizationRequest>,
     ) -> Result<Response<pb::RandomizationDraws>, Status> {
+        let tenant = tenant_of(&request)?;
         let result = async {
             let target = DrawsOf::try_from(request.into_inner())?;
-            self.sim.randomization(target).await
+            self.sim.randomization(&tenant, target).await
         };
         answer(result.await.map(convert::randomization_draws))
     }
@@ -163,10 +179,11 @@ impl Simulator for SimulatorService {
         &self,
         request: Request<pb::BatchRef>,
     ) -> Result<Response<pb::BatchObservation>, Status> {
+        let tenant = tenant_of(&request)?;
         let r = request.into_inner();
         answer(
             self.sim
-                .observe_batch(&r.batch_id)
+                .observe_batch(&tenant, &r.batch_id)
                 .await
                 .map(convert::batch_observation),
         )
@@ -176,10 +193,11 @@ impl Simulator for SimulatorService {
         &self,
         request: Request<pb::BatchRef>,
     ) -> Result<Response<pb::CloseBatchResponse>, Status> {
+        let tenant = tenant_of(&request)?;
         let r = request.into_inner();
         answer(
             self.sim
-                .close_batch(&r.batch_id)
+                .close_batch(&tenant, &r.batch_id)
                 .await
                 .map(|()| pb::CloseBatchResponse {}),
         )
@@ -191,6 +209,7 @@ impl Simulator for SimulatorService {
         &self,
         request: Request<Streaming<pb::StepBatchRequest>>,
     ) -> Result<Response<Self::StreamBatchStream>, Status> {
+        let tenant = tenant_of(&request)?;
         let mut incoming = request.into_inner();
         let (tx, rx) = mpsc::channel(STREAM_BUFFER);
         let sim = Arc::clone(&self.sim);
@@ -220,7 +239,7 @@ impl Simulator for SimulatorService {
                         return;
                     }
                 };
-                let result = stream_step(&sim, request).await;
+                let result = stream_step(&sim, &tenant, request).await;
                 let failed = result.is_err();
                 if tx.send(result.map_err(Status::from)).await.is_err() || failed {
                     // The client went away, or an error ended the stream.
@@ -233,8 +252,11 @@ impl Simulator for SimulatorService {
 
     async fn get_server_info(
         &self,
-        _request: Request<pb::GetServerInfoRequest>,
+        request: Request<pb::GetServerInfoRequest>,
     ) -> Result<Response<pb::ServerInfo>, Status> {
-        Ok(Response::new(convert::server_info(&self.sim.status())))
+        let tenant = tenant_of(&request)?;
+        Ok(Response::new(convert::server_info(
+            &self.sim.status(&tenant),
+        )))
     }
 }

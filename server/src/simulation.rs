@@ -1,19 +1,22 @@
 //! [`Simulation`]: the server's state — the pool, the open envs and batches, the limits —
 //! and the domain operations the RPCs call. Everything CPU-bound here runs on the pool.
 
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex, PoisonError};
 use std::time::Duration;
 
 use gymfleet_batch::{BatchStepOutput, EnvBatch, StepPool};
 use gymfleet_env::{DrawReport, EnvError, RobotEnv};
 
+use crate::auth::Tenant;
 use crate::config::ServerConfig;
 use crate::domain::{
     Action, BatchObservations, BatchRequest, BatchStep, BatchStepped, Created, DrawsOf, EnvRequest,
     EnvStep, EnvStepOutcome, JointLinks, ObsSplit, ServerStatus,
 };
 use crate::error::{EntityKind, Result, ServerError};
-use crate::pool;
-use crate::registry::{EnvCapacity, Held, Registry};
+use crate::pool::{self, Lane};
+use crate::registry::{EnvCapacity, Held, Registry, Reservation};
 
 /// One open single environment.
 pub(crate) struct OpenEnv {
@@ -31,7 +34,10 @@ pub(crate) struct OpenBatch {
 pub(crate) struct Simulation {
     config: ServerConfig,
     pool: StepPool,
-    capacity: std::sync::Arc<EnvCapacity>,
+    capacity: Arc<EnvCapacity>,
+    /// Each tenant's quota, made on its first request (at most one per token-file tenant,
+    /// or the anonymous one).
+    quotas: Mutex<HashMap<Tenant, Arc<EnvCapacity>>>,
     envs: Registry<OpenEnv>,
     batches: Registry<OpenBatch>,
 }
@@ -132,11 +138,26 @@ impl Simulation {
     pub(crate) fn new(config: ServerConfig, pool: StepPool) -> Self {
         Simulation {
             capacity: EnvCapacity::new(config.max_envs),
+            quotas: Mutex::new(HashMap::new()),
             envs: Registry::new(EntityKind::Env, "sim", config.clock.clone()),
             batches: Registry::new(EntityKind::Batch, "batch", config.clock.clone()),
             config,
             pool,
         }
+    }
+
+    /// `tenant`'s quota.
+    fn quota(&self, tenant: &Tenant) -> Arc<EnvCapacity> {
+        let mut quotas = self.quotas.lock().unwrap_or_else(PoisonError::into_inner);
+        let quota = quotas.entry(tenant.clone()).or_insert_with(|| {
+            EnvCapacity::for_tenant(self.config.tenant_max_envs, tenant.clone())
+        });
+        Arc::clone(quota)
+    }
+
+    /// Reserves `n` environments for `tenant`: in its quota and in the server's capacity.
+    fn reserve(&self, tenant: &Tenant, n: usize, kind: EntityKind) -> Result<Reservation> {
+        self.quota(tenant).reserve_within(&self.capacity, n, kind)
     }
 
     fn check_document(&self, document: &str) -> Result<()> {
@@ -164,14 +185,16 @@ impl Simulation {
         false
     }
 
-    pub(crate) async fn create_env(&self, request: EnvRequest) -> Result<Created> {
+    pub(crate) async fn create_env(&self, tenant: &Tenant, request: EnvRequest) -> Result<Created> {
         self.check_document(&request.document)?;
-        let reservation = self.capacity.reserve(1, EntityKind::Env)?;
+        let reservation = self.reserve(tenant, 1, EntityKind::Env)?;
         let config = self.config.clone();
-        let (env, links) =
-            pool::run(&self.pool, "CreateEnv", move || build_env(request, &config)).await?;
+        let (env, links) = pool::run(&self.pool, Lane::Env, "CreateEnv", move || {
+            build_env(request, &config)
+        })
+        .await?;
         let spec = env.spec().clone();
-        let id = self.envs.insert(OpenEnv { env }, reservation);
+        let id = self.envs.insert(tenant, OpenEnv { env }, reservation);
         tracing::info!(env_id = %id, action_dim = spec.action_dim, "created env");
         Ok(Created {
             id,
@@ -183,60 +206,91 @@ impl Simulation {
 
     pub(crate) async fn reset_env(
         &self,
+        tenant: &Tenant,
         id: &str,
         seed: Option<u64>,
     ) -> Result<(Vec<f32>, ObsSplit)> {
-        let entry = self.envs.get(id)?;
-        pool::run_locked(&self.pool, &self.envs, &entry, "Reset", move |open| {
-            let spec = open.env.spec();
-            let (dim, split) = (spec.observation_dim, ObsSplit::of(spec));
-            let mut obs = vec![0.0; dim];
-            open.env.reset_into(seed, &mut obs);
-            Ok((obs, split))
-        })
+        let entry = self.envs.get(tenant, id)?;
+        pool::run_locked(
+            &self.pool,
+            Lane::Env,
+            &self.envs,
+            &entry,
+            "Reset",
+            move |open| {
+                let spec = open.env.spec();
+                let (dim, split) = (spec.observation_dim, ObsSplit::of(spec));
+                let mut obs = vec![0.0; dim];
+                open.env.reset_into(seed, &mut obs);
+                Ok((obs, split))
+            },
+        )
         .await
     }
 
-    pub(crate) async fn step_env(&self, step: EnvStep) -> Result<EnvStepOutcome> {
-        let entry = self.envs.get(&step.env_id)?;
+    pub(crate) async fn step_env(&self, tenant: &Tenant, step: EnvStep) -> Result<EnvStepOutcome> {
+        let entry = self.envs.get(tenant, &step.env_id)?;
         let inject = self.injected_panic(&step.action);
-        pool::run_locked(&self.pool, &self.envs, &entry, "Step", move |open| {
-            if inject {
-                panic!("injected panic (ServerConfig::panic_on_action)");
-            }
-            let spec = open.env.spec();
-            let (dim, split) = (spec.observation_dim, ObsSplit::of(spec));
-            let mut observation = vec![0.0; dim];
-            let flags = open.env.step_into(
-                step.action.action_type,
-                &step.action.values,
-                &mut observation,
-            )?;
-            Ok(EnvStepOutcome {
-                observation,
-                flags,
-                episode_step: open.env.elapsed_steps(),
-                split,
-            })
-        })
+        pool::run_locked(
+            &self.pool,
+            Lane::Env,
+            &self.envs,
+            &entry,
+            "Step",
+            move |open| {
+                if inject {
+                    panic!("injected panic (ServerConfig::panic_on_action)");
+                }
+                let spec = open.env.spec();
+                let (dim, split) = (spec.observation_dim, ObsSplit::of(spec));
+                let mut observation = vec![0.0; dim];
+                let flags = open.env.step_into(
+                    step.action.action_type,
+                    &step.action.values,
+                    &mut observation,
+                )?;
+                Ok(EnvStepOutcome {
+                    observation,
+                    flags,
+                    episode_step: open.env.elapsed_steps(),
+                    split,
+                })
+            },
+        )
         .await
     }
 
-    pub(crate) async fn observe_env(&self, id: &str) -> Result<(Vec<f32>, ObsSplit)> {
-        let entry = self.envs.get(id)?;
-        pool::run_locked(&self.pool, &self.envs, &entry, "Observe", move |open| {
-            let spec = open.env.spec();
-            let (dim, split) = (spec.observation_dim, ObsSplit::of(spec));
-            let mut obs = vec![0.0; dim];
-            open.env.observe_into(&mut obs);
-            Ok((obs, split))
-        })
+    pub(crate) async fn observe_env(
+        &self,
+        tenant: &Tenant,
+        id: &str,
+    ) -> Result<(Vec<f32>, ObsSplit)> {
+        let entry = self.envs.get(tenant, id)?;
+        pool::run_locked(
+            &self.pool,
+            Lane::Env,
+            &self.envs,
+            &entry,
+            "Observe",
+            move |open| {
+                let spec = open.env.spec();
+                let (dim, split) = (spec.observation_dim, ObsSplit::of(spec));
+                let mut obs = vec![0.0; dim];
+                open.env.observe_into(&mut obs);
+                Ok((obs, split))
+            },
+        )
         .await
     }
 
     /// Takes a value out of its registry for good, waiting for calls in flight on it.
-    async fn close<T: Send + 'static>(&self, registry: &Registry<T>, id: &str) -> Result<()> {
-        let entry = registry.get(id)?;
+    async fn close<T: Send + 'static>(
+        &self,
+        registry: &Registry<T>,
+        tenant: &Tenant,
+        id: &str,
+    ) -> Result<()> {
+        let entry = registry.get(tenant, id)?;
         let mut slot = entry.lock(registry.kind()).await?;
         let value = slot.take().map(Held::release);
         registry.remove(id);
@@ -247,11 +301,15 @@ impl Simulation {
         Ok(())
     }
 
-    pub(crate) async fn close_env(&self, id: &str) -> Result<()> {
-        self.close(&self.envs, id).await
+    pub(crate) async fn close_env(&self, tenant: &Tenant, id: &str) -> Result<()> {
+        self.close(&self.envs, tenant, id).await
     }
 
-    pub(crate) async fn create_batch(&self, request: BatchRequest) -> Result<Created> {
+    pub(crate) async fn create_batch(
+        &self,
+        tenant: &Tenant,
+        request: BatchRequest,
+    ) -> Result<Created> {
         let max = self.config.max_batch_size;
         if max != 0 && request.n_envs > max {
             return Err(ServerError::BatchTooLarge {
@@ -260,10 +318,10 @@ impl Simulation {
             });
         }
         self.check_document(&request.env.document)?;
-        let reservation = self.capacity.reserve(request.n_envs, EntityKind::Batch)?;
+        let reservation = self.reserve(tenant, request.n_envs, EntityKind::Batch)?;
         let pool = self.pool.clone();
         let config = self.config.clone();
-        let (batch, links) = pool::run(&self.pool, "CreateBatch", move || {
+        let (batch, links) = pool::run(&self.pool, Lane::Batch, "CreateBatch", move || {
             let BatchRequest {
                 env,
                 seed,
@@ -289,7 +347,7 @@ impl Simulation {
             out: BatchStepOutput::default(),
             steps: 0,
         };
-        let id = self.batches.insert(open, reservation);
+        let id = self.batches.insert(tenant, open, reservation);
         tracing::info!(batch_id = %id, n_envs, "created batch");
         Ok(Created {
             id,
@@ -301,16 +359,18 @@ impl Simulation {
 
     pub(crate) async fn reset_batch(
         &self,
+        tenant: &Tenant,
         id: &str,
         seed: Option<u64>,
         seed_offset: u64,
         env_indices: Vec<u32>,
     ) -> Result<BatchObservations> {
-        let entry = self.batches.get(id)?;
+        let entry = self.batches.get(tenant, id)?;
         let pool = self.pool.clone();
         let batch_id = id.to_string();
         pool::run_locked(
             &self.pool,
+            Lane::Batch,
             &self.batches,
             &entry,
             "ResetBatch",
@@ -326,12 +386,17 @@ impl Simulation {
         .await
     }
 
-    pub(crate) async fn step_batch(&self, step: BatchStep) -> Result<BatchStepped> {
-        let entry = self.batches.get(&step.batch_id)?;
+    pub(crate) async fn step_batch(
+        &self,
+        tenant: &Tenant,
+        step: BatchStep,
+    ) -> Result<BatchStepped> {
+        let entry = self.batches.get(tenant, &step.batch_id)?;
         let inject = self.injected_panic(&step.action);
         let pool = self.pool.clone();
         pool::run_locked(
             &self.pool,
+            Lane::Batch,
             &self.batches,
             &entry,
             "StepBatch",
@@ -356,11 +421,16 @@ impl Simulation {
         .await
     }
 
-    pub(crate) async fn observe_batch(&self, id: &str) -> Result<BatchObservations> {
-        let entry = self.batches.get(id)?;
+    pub(crate) async fn observe_batch(
+        &self,
+        tenant: &Tenant,
+        id: &str,
+    ) -> Result<BatchObservations> {
+        let entry = self.batches.get(tenant, id)?;
         let batch_id = id.to_string();
         pool::run_locked(
             &self.pool,
+            Lane::Batch,
             &self.batches,
             &entry,
             "ObserveBatch",
@@ -374,12 +444,17 @@ impl Simulation {
     }
 
     /// The randomisation factors of an env, or of env `index` of a batch.
-    pub(crate) async fn randomization(&self, target: DrawsOf) -> Result<DrawReport> {
+    pub(crate) async fn randomization(
+        &self,
+        tenant: &Tenant,
+        target: DrawsOf,
+    ) -> Result<DrawReport> {
         match target {
             DrawsOf::Env(id) => {
-                let entry = self.envs.get(&id)?;
+                let entry = self.envs.get(tenant, &id)?;
                 pool::run_locked(
                     &self.pool,
+                    Lane::Env,
                     &self.envs,
                     &entry,
                     "GetRandomization",
@@ -388,9 +463,10 @@ impl Simulation {
                 .await
             }
             DrawsOf::BatchEnv(id, index) => {
-                let entry = self.batches.get(&id)?;
+                let entry = self.batches.get(tenant, &id)?;
                 pool::run_locked(
                     &self.pool,
+                    Lane::Env,
                     &self.batches,
                     &entry,
                     "GetRandomization",
@@ -409,16 +485,19 @@ impl Simulation {
         }
     }
 
-    pub(crate) async fn close_batch(&self, id: &str) -> Result<()> {
-        self.close(&self.batches, id).await
+    pub(crate) async fn close_batch(&self, tenant: &Tenant, id: &str) -> Result<()> {
+        self.close(&self.batches, tenant, id).await
     }
 
-    pub(crate) fn status(&self) -> ServerStatus<'_> {
+    /// The server as `tenant` sees it: its own envs and batches only, unless auth is off
+    /// (then everyone is the anonymous tenant and sees all).
+    pub(crate) fn status(&self, tenant: &Tenant) -> ServerStatus<'_> {
         ServerStatus {
             threads: self.pool.threads(),
-            envs: self.envs.len(),
-            batches: self.batches.len(),
-            batch_envs: self.capacity.batch_envs(),
+            tenant: tenant.clone(),
+            envs: self.envs.len_of(tenant),
+            batches: self.batches.len_of(tenant),
+            batch_envs: self.quota(tenant).batch_envs(),
             config: &self.config,
         }
     }

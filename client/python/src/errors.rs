@@ -21,6 +21,8 @@ fn class_name(err: &ClientError) -> &'static str {
         ClientError::Internal { .. } | ClientError::Protocol { .. } => "Internal",
         ClientError::ServerLost { .. } => "ServerLost",
         ClientError::OnServer { error, .. } => class_name(error),
+        // A variant added later: the catch-all class, until it gets its own.
+        _ => "GymfleetError",
     }
 }
 

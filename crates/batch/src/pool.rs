@@ -72,6 +72,22 @@ impl StepPool {
         self.inner.pool.spawn(f);
     }
 
+    /// Runs `f` on a pool thread as a one-chunk task of the fair queue: it takes its turn
+    /// with the chunks of running batch steps, so it waits for about one chunk per
+    /// thread rather than for whole batch steps queued before it (a single env's step
+    /// beside a tenant's 16k-env batches). `f` must not wait on other pool work (no
+    /// batch steps inside: use [`StepPool::spawn`] for those). A panic in `f` is
+    /// caught and dropped, as with `spawn`.
+    pub fn spawn_fair<F: FnOnce() + Send + 'static>(&self, f: F) {
+        let task = Arc::new(OneOff {
+            job: Mutex::new(Some(f)),
+        });
+        let queue = &self.inner.queue;
+        queue.lock().push_back(task as Arc<dyn QueuedTask>);
+        let queue = Arc::clone(queue);
+        self.inner.pool.spawn(move || while queue.run_one() {});
+    }
+
     /// Runs `f` on a pool thread and returns its result, blocking the caller. A step
     /// called this way is worked on by the pool's threads only; called directly from a
     /// thread outside the pool, the caller runs chunks too, one thread more than
@@ -227,6 +243,29 @@ impl<W: Fn(usize) + Send + Sync> QueuedTask for Task<W> {
     }
 }
 
+/// A job of [`StepPool::spawn_fair`]: one chunk, run once.
+struct OneOff<F> {
+    job: Mutex<Option<F>>,
+}
+
+impl<F: FnOnce() + Send> QueuedTask for OneOff<F> {
+    fn claim(&self) -> (usize, bool) {
+        (0, false)
+    }
+
+    fn run(&self, _index: usize, _chunks_run: &AtomicU64) {
+        let job = self
+            .job
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .take();
+        if let Some(job) = job {
+            // The panic hook has printed it; the job's captures tell its caller.
+            let _ = panic::catch_unwind(AssertUnwindSafe(job));
+        }
+    }
+}
+
 /// The text of a panic's payload (what `panic!` was given), or a placeholder when it is
 /// not a string.
 pub fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
@@ -306,5 +345,41 @@ mod tests {
         // The pool still works.
         assert!(pool.run_chunked(3, |_| {}).is_ok());
         assert_eq!(pool.chunks_run(), 9);
+    }
+
+    /// A one-off job waits for about one chunk per thread behind a running many-chunk
+    /// step, not for the whole step.
+    #[test]
+    fn a_fair_job_overtakes_a_long_step() {
+        let pool = StepPool::new(1).unwrap();
+        let (started_tx, started_rx) = std::sync::mpsc::channel();
+        let (log_tx, log_rx) = std::sync::mpsc::channel::<String>();
+        let step_pool = pool.clone();
+        let step_log = log_tx.clone();
+        let step = thread::spawn(move || {
+            step_pool
+                .run_chunked(200, move |i| {
+                    if i == 0 {
+                        started_tx.send(()).unwrap();
+                    }
+                    thread::sleep(std::time::Duration::from_millis(1));
+                    step_log.send(format!("chunk {i}")).unwrap();
+                })
+                .unwrap();
+        });
+        started_rx.recv().unwrap();
+        let (done_tx, done_rx) = std::sync::mpsc::channel();
+        pool.spawn_fair(move || {
+            log_tx.send("fair".to_string()).unwrap();
+            done_tx.send(()).unwrap();
+        });
+        done_rx.recv().unwrap();
+        step.join().unwrap();
+        let log: Vec<String> = log_rx.try_iter().collect();
+        let at = log.iter().position(|l| l == "fair").unwrap();
+        // Two threads drain (the pool's one and the caller of run_chunked): the job runs
+        // within a few chunks, far before the step's 200 are done.
+        assert!(at < 10, "the fair job ran after {at} chunks: {log:?}");
+        assert_eq!(log.len(), 201);
     }
 }

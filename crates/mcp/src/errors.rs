@@ -155,7 +155,7 @@ pub(crate) fn unreachable(err: &ClientError, addr: &str) -> Option<String> {
         ClientError::Connect { reason, .. } => Some(format!(
             "cannot reach the gymfleet server at {addr}: {reason}."
         )),
-        ClientError::Unavailable { message } => Some(format!(
+        ClientError::Unavailable { message, .. } => Some(format!(
             "the gymfleet server at {addr} is unavailable: {message}."
         )),
         ClientError::DeadlineExceeded { message } => Some(format!(
@@ -257,6 +257,7 @@ mod tests {
     fn unreachable_servers_name_the_address() {
         let err = ClientError::Unavailable {
             message: "connection reset".into(),
+            code: gymfleet_client::Code::Unavailable,
         };
         let text = on_subject(&err, subject()).to_string();
         assert!(

@@ -5,6 +5,7 @@ mod batches;
 mod errors;
 mod fleet;
 mod lifecycle;
+mod security;
 mod structure;
 mod tasks;
 mod transport;

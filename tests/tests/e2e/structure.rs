@@ -36,7 +36,7 @@ fn chain(n: usize) -> String {
 
 fn exhausted(err: ClientError) -> String {
     match err {
-        ClientError::ResourceExhausted { message } => message,
+        ClientError::ResourceExhausted { message, .. } => message,
         other => panic!("expected RESOURCE_EXHAUSTED, got {other:?}"),
     }
 }
