@@ -15,6 +15,8 @@ use std::sync::Arc;
 
 use tonic::{Request, Status};
 
+use crate::simulation::Simulation;
+
 /// Most characters of a tenant name.
 const MAX_TENANT_NAME: usize = 64;
 /// Fewest characters of a token: shorter ones are guessable.
@@ -151,15 +153,21 @@ fn check_tenant_name(name: &str) -> Result<(), String> {
 }
 
 /// The interceptor that authenticates every call of the services it guards.
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub(crate) struct Authenticator {
     tokens: Option<Arc<TokenTable>>,
+    /// Where refusals are counted.
+    sim: Option<Arc<Simulation>>,
 }
 
 impl Authenticator {
     /// Checks tokens against `tokens`; with `None` everyone is the anonymous tenant.
-    pub(crate) fn new(tokens: Option<Arc<TokenTable>>) -> Self {
-        Authenticator { tokens }
+    /// Refusals count in `sim`'s metrics.
+    pub(crate) fn new(tokens: Option<Arc<TokenTable>>, sim: Arc<Simulation>) -> Self {
+        Authenticator {
+            tokens,
+            sim: Some(sim),
+        }
     }
 
     fn authenticate(&self, request: &Request<()>) -> Result<Tenant, Status> {
@@ -186,7 +194,11 @@ impl Authenticator {
 
 impl tonic::service::Interceptor for Authenticator {
     fn call(&mut self, mut request: Request<()>) -> Result<Request<()>, Status> {
-        let tenant = self.authenticate(&request)?;
+        let tenant = self.authenticate(&request).inspect_err(|_| {
+            if let Some(sim) = &self.sim {
+                sim.metrics().reject("unauthenticated");
+            }
+        })?;
         request.extensions_mut().insert(tenant);
         Ok(request)
     }
@@ -274,7 +286,10 @@ mod tests {
 
     #[test]
     fn the_interceptor_admits_known_tokens_only() {
-        let mut auth = Authenticator::new(Some(Arc::new(table())));
+        let mut auth = Authenticator {
+            tokens: Some(Arc::new(table())),
+            sim: None,
+        };
         let tenant = call(&mut auth, Some(&format!("Bearer {TOKEN_B}"))).unwrap();
         assert_eq!(tenant.name(), "team_b");
         for (header, message) in [
@@ -289,7 +304,10 @@ mod tests {
             assert_eq!(status.code(), Code::Unauthenticated);
             assert_eq!(status.message(), message);
         }
-        let mut open = Authenticator::new(None);
+        let mut open = Authenticator {
+            tokens: None,
+            sim: None,
+        };
         assert_eq!(call(&mut open, None).unwrap(), Tenant::anonymous());
         assert_eq!(
             tenant_of(&Request::new(())).unwrap_err().code(),

@@ -86,6 +86,10 @@ pub struct Cli {
         requires = "tls_cert"
     )]
     pub tls_client_ca: Option<PathBuf>,
+    /// Serve Prometheus metrics at http://ADDR/metrics (plain HTTP, no token: keep it
+    /// on a private port), e.g. 0.0.0.0:9090.
+    #[arg(long, env = "GYMFLEET_METRICS_LISTEN", value_name = "ADDR")]
+    pub metrics_listen: Option<std::net::SocketAddr>,
     /// Require bearer tokens: a file of `TENANT TOKEN` lines (`#` comments). Each tenant
     /// sees only its own envs and batches. Health checks stay open.
     #[arg(long, env = "GYMFLEET_AUTH_TOKENS", value_name = "FILE")]
@@ -135,6 +139,7 @@ impl Cli {
             max_dofs: self.max_dofs,
             max_end_effectors: self.max_end_effectors,
             tls,
+            metrics_listen: self.metrics_listen,
             auth_tokens,
             tenant_max_envs: self.tenant_max_envs,
             idle_ttl: Duration::from_secs(self.idle_ttl_secs),

@@ -74,6 +74,8 @@ pub struct ServerConfig {
     pub max_end_effectors: usize,
     /// TLS (`--tls-cert`, `--tls-key`, `--tls-client-ca`); `None` = plaintext.
     pub tls: Option<TlsConfig>,
+    /// Where to serve Prometheus metrics (`GET /metrics`, plain HTTP); `None` = nowhere.
+    pub metrics_listen: Option<std::net::SocketAddr>,
     /// Bearer tokens and their tenants (`--auth-tokens`); `None` = auth off, every caller
     /// is the anonymous tenant.
     pub auth_tokens: Option<Arc<TokenTable>>,
@@ -106,6 +108,7 @@ impl Default for ServerConfig {
             max_dofs: DEFAULT_MAX_DOFS,
             max_end_effectors: DEFAULT_MAX_END_EFFECTORS,
             tls: None,
+            metrics_listen: None,
             auth_tokens: None,
             tenant_max_envs: 0,
             idle_ttl: DEFAULT_IDLE_TTL,

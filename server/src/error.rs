@@ -255,7 +255,14 @@ fn env_code(err: &EnvError) -> Code {
 
 impl From<ServerError> for Status {
     fn from(err: ServerError) -> Self {
-        let code = match &err {
+        Status::new(err.code(), err.to_string())
+    }
+}
+
+impl ServerError {
+    /// The status code this error goes out with.
+    pub(crate) fn code(&self) -> Code {
+        match self {
             ServerError::InvalidArgument { .. } => Code::InvalidArgument,
             ServerError::Env(env) => env_code(env),
             ServerError::Batch(batch) => match batch {
@@ -284,8 +291,7 @@ impl From<ServerError> for Status {
             | ServerError::Io(_)
             | ServerError::Transport(_) => Code::Internal,
             ServerError::ShuttingDown => Code::Unavailable,
-        };
-        Status::new(code, err.to_string())
+        }
     }
 }
 

@@ -23,6 +23,7 @@ mod domain;
 mod error;
 mod listen;
 mod local;
+mod metrics;
 mod pool;
 mod registry;
 mod serve;

@@ -103,6 +103,7 @@ impl EnvCapacity {
     }
 
     /// Environments held.
+    #[cfg(test)]
     pub(crate) fn held(&self) -> usize {
         self.held.load(Ordering::Relaxed)
     }
@@ -278,14 +279,18 @@ impl<T> Registry<T> {
         self.map().remove(id);
     }
 
-    /// Number of open values.
-    pub(crate) fn len(&self) -> usize {
-        self.map().len()
-    }
-
     /// Number of open values owned by `owner`.
     pub(crate) fn len_of(&self, owner: &Tenant) -> usize {
         self.map().values().filter(|e| e.owner == *owner).count()
+    }
+
+    /// Number of open values per owner.
+    pub(crate) fn count_by_owner(&self) -> HashMap<Tenant, usize> {
+        let mut counts = HashMap::new();
+        for entry in self.map().values() {
+            *counts.entry(entry.owner.clone()).or_default() += 1;
+        }
+        counts
     }
 
     /// Takes out every value idle for at least `ttl` and not in use right now, and
@@ -353,7 +358,7 @@ mod tests {
         let first = registry.insert(&anon, 1u8, capacity.reserve(1, EntityKind::Env).unwrap());
         let second = registry.insert(&anon, 2u8, capacity.reserve(1, EntityKind::Env).unwrap());
         assert_eq!((first.as_str(), second.as_str()), ("sim_1", "sim_2"));
-        assert_eq!(registry.len(), 2);
+        assert_eq!(registry.len_of(&anon), 2);
 
         let entry = registry.get(&anon, &first).unwrap();
         let mut slot = entry.lock(EntityKind::Env).await.unwrap();
@@ -383,7 +388,7 @@ mod tests {
         let reclaimed = registry.take_idle(Duration::ZERO);
         let ids: Vec<&str> = reclaimed.iter().map(|(id, _, _)| id.as_str()).collect();
         assert_eq!(ids, [idle.as_str()]);
-        assert_eq!(registry.len(), 1);
+        assert_eq!(registry.len_of(&anon), 1);
         assert!(registry.take_idle(Duration::from_secs(3600)).is_empty());
     }
 

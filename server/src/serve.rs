@@ -75,6 +75,23 @@ pub async fn serve(
             .max_encoding_message_size(config.max_message_bytes);
     }
 
+    let metrics = match config.metrics_listen {
+        Some(addr) => {
+            let listener =
+                tokio::net::TcpListener::bind(addr)
+                    .await
+                    .map_err(|e| ServerError::Bind {
+                        addr: addr.to_string(),
+                        reason: e.to_string(),
+                    })?;
+            tracing::info!(addr = %listener.local_addr()?, "serving metrics at /metrics");
+            Some(tokio::spawn(crate::metrics::serve_metrics(
+                listener,
+                Arc::clone(&sim),
+            )))
+        }
+        None => None,
+    };
     let sweeper = config.idle_ttl().map(|ttl| {
         tokio::spawn(sweep_idle(
             Arc::clone(&sim),
@@ -105,7 +122,7 @@ pub async fn serve(
         let _ = stop_tx.send(true);
     };
     // Everything but health answers only callers with a token when auth is on.
-    let auth = Authenticator::new(config.auth_tokens.clone());
+    let auth = Authenticator::new(config.auth_tokens.clone(), Arc::clone(&sim));
     let mut builder = Server::builder();
     if let Some(tls) = &config.tls {
         builder = builder
@@ -130,6 +147,9 @@ pub async fn serve(
             served
         }
     };
+    if let Some(metrics) = metrics {
+        metrics.abort();
+    }
     if let Some(sweeper) = sweeper {
         // It watches the same stop signal; it has stopped or stops at its next wake-up.
         sweeper.abort();

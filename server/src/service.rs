@@ -3,6 +3,7 @@
 //! through `From<ServerError> for Status`.
 
 use std::sync::Arc;
+use std::time::Instant;
 
 use gymfleet_proto::v1 as pb;
 use pb::simulator_server::Simulator;
@@ -31,8 +32,28 @@ impl SimulatorService {
     }
 }
 
-fn answer<T>(result: Result<T>) -> Result<Response<T>, Status> {
-    result.map(Response::new).map_err(Status::from)
+impl SimulatorService {
+    /// The answer to a call: records its duration and status code, counts a refusal,
+    /// and turns the error into its status.
+    fn finish<T>(
+        &self,
+        method: &'static str,
+        start: Instant,
+        result: Result<T>,
+    ) -> Result<Response<T>, Status> {
+        let metrics = self.sim.metrics();
+        match result {
+            Ok(value) => {
+                metrics.rpc(method, tonic::Code::Ok, start.elapsed());
+                Ok(Response::new(value))
+            }
+            Err(err) => {
+                metrics.rejected(&err);
+                metrics.rpc(method, err.code(), start.elapsed());
+                Err(Status::from(err))
+            }
+        }
+    }
 }
 
 fn env_info(created: Created) -> pb::EnvInfo {
@@ -62,28 +83,35 @@ impl Simulator for SimulatorService {
         &self,
         request: Request<pb::CreateEnvRequest>,
     ) -> Result<Response<pb::EnvInfo>, Status> {
+        let start = Instant::now();
         let tenant = tenant_of(&request)?;
         let result = async {
             let request = EnvRequest::try_from(request.into_inner())?;
             self.sim.create_env(&tenant, request).await.map(env_info)
         };
-        answer(result.await)
+        self.finish("CreateEnv", start, result.await)
     }
 
     async fn reset(
         &self,
         request: Request<pb::ResetRequest>,
     ) -> Result<Response<pb::Observation>, Status> {
+        let start = Instant::now();
         let tenant = tenant_of(&request)?;
         let r = request.into_inner();
         let result = self.sim.reset_env(&tenant, &r.env_id, r.seed).await;
-        answer(result.map(|(obs, split)| convert::observation(&obs, split)))
+        self.finish(
+            "Reset",
+            start,
+            result.map(|(obs, split)| convert::observation(&obs, split)),
+        )
     }
 
     async fn step(
         &self,
         request: Request<pb::StepRequest>,
     ) -> Result<Response<pb::StepResult>, Status> {
+        let start = Instant::now();
         let tenant = tenant_of(&request)?;
         let result = async {
             let step = EnvStep::try_from(request.into_inner())?;
@@ -99,26 +127,34 @@ impl Simulator for SimulatorService {
                 episode_step: outcome.episode_step,
             })
         };
-        answer(result.await)
+        self.finish("Step", start, result.await)
     }
 
     async fn observe(
         &self,
         request: Request<pb::EnvRef>,
     ) -> Result<Response<pb::Observation>, Status> {
+        let start = Instant::now();
         let tenant = tenant_of(&request)?;
         let r = request.into_inner();
         let result = self.sim.observe_env(&tenant, &r.env_id).await;
-        answer(result.map(|(obs, split)| convert::observation(&obs, split)))
+        self.finish(
+            "Observe",
+            start,
+            result.map(|(obs, split)| convert::observation(&obs, split)),
+        )
     }
 
     async fn close(
         &self,
         request: Request<pb::EnvRef>,
     ) -> Result<Response<pb::CloseEnvResponse>, Status> {
+        let start = Instant::now();
         let tenant = tenant_of(&request)?;
         let r = request.into_inner();
-        answer(
+        self.finish(
+            "Close",
+            start,
             self.sim
                 .close_env(&tenant, &r.env_id)
                 .await
@@ -130,6 +166,7 @@ impl Simulator for SimulatorService {
         &self,
         request: Request<pb::CreateBatchRequest>,
     ) -> Result<Response<pb::BatchInfo>, Status> {
+        let start = Instant::now();
         let tenant = tenant_of(&request)?;
         let result = async {
             let request = BatchRequest::try_from(request.into_inner())?;
@@ -138,16 +175,19 @@ impl Simulator for SimulatorService {
                 .await
                 .map(batch_info)
         };
-        answer(result.await)
+        self.finish("CreateBatch", start, result.await)
     }
 
     async fn reset_batch(
         &self,
         request: Request<pb::ResetBatchRequest>,
     ) -> Result<Response<pb::BatchObservation>, Status> {
+        let start = Instant::now();
         let tenant = tenant_of(&request)?;
         let r = request.into_inner();
-        answer(
+        self.finish(
+            "ResetBatch",
+            start,
             self.sim
                 .reset_batch(&tenant, &r.batch_id, r.seed, r.seed_offset, r.env_indices)
                 .await
@@ -159,29 +199,42 @@ impl Simulator for SimulatorService {
         &self,
         request: Request<pb::StepBatchRequest>,
     ) -> Result<Response<pb::BatchStepResult>, Status> {
+        let start = Instant::now();
         let tenant = tenant_of(&request)?;
-        answer(stream_step(&self.sim, &tenant, request.into_inner()).await)
+        self.finish(
+            "StepBatch",
+            start,
+            stream_step(&self.sim, &tenant, request.into_inner()).await,
+        )
     }
 
     async fn get_randomization(
         &self,
         request: Request<pb::RandomizationRequest>,
     ) -> Result<Response<pb::RandomizationDraws>, Status> {
+        let start = Instant::now();
         let tenant = tenant_of(&request)?;
         let result = async {
             let target = DrawsOf::try_from(request.into_inner())?;
             self.sim.randomization(&tenant, target).await
         };
-        answer(result.await.map(convert::randomization_draws))
+        self.finish(
+            "GetRandomization",
+            start,
+            result.await.map(convert::randomization_draws),
+        )
     }
 
     async fn observe_batch(
         &self,
         request: Request<pb::BatchRef>,
     ) -> Result<Response<pb::BatchObservation>, Status> {
+        let start = Instant::now();
         let tenant = tenant_of(&request)?;
         let r = request.into_inner();
-        answer(
+        self.finish(
+            "ObserveBatch",
+            start,
             self.sim
                 .observe_batch(&tenant, &r.batch_id)
                 .await
@@ -193,9 +246,12 @@ impl Simulator for SimulatorService {
         &self,
         request: Request<pb::BatchRef>,
     ) -> Result<Response<pb::CloseBatchResponse>, Status> {
+        let start = Instant::now();
         let tenant = tenant_of(&request)?;
         let r = request.into_inner();
-        answer(
+        self.finish(
+            "CloseBatch",
+            start,
             self.sim
                 .close_batch(&tenant, &r.batch_id)
                 .await
@@ -239,8 +295,17 @@ impl Simulator for SimulatorService {
                         return;
                     }
                 };
+                let start = Instant::now();
                 let result = stream_step(&sim, &tenant, request).await;
                 let failed = result.is_err();
+                let metrics = sim.metrics();
+                let code = result
+                    .as_ref()
+                    .map_or_else(ServerError::code, |_| tonic::Code::Ok);
+                if let Err(err) = &result {
+                    metrics.rejected(err);
+                }
+                metrics.rpc("StreamBatch", code, start.elapsed());
                 if tx.send(result.map_err(Status::from)).await.is_err() || failed {
                     // The client went away, or an error ended the stream.
                     return;

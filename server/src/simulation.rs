@@ -15,6 +15,7 @@ use crate::domain::{
     EnvStep, EnvStepOutcome, JointLinks, ObsSplit, ServerStatus,
 };
 use crate::error::{EntityKind, Result, ServerError};
+use crate::metrics::{Metrics, OpenCounts};
 use crate::pool::{self, Lane};
 use crate::registry::{EnvCapacity, Held, Registry, Reservation};
 
@@ -40,6 +41,7 @@ pub(crate) struct Simulation {
     quotas: Mutex<HashMap<Tenant, Arc<EnvCapacity>>>,
     envs: Registry<OpenEnv>,
     batches: Registry<OpenBatch>,
+    metrics: Metrics,
 }
 
 /// Refuses a document or env past a structural limit, before anything is built.
@@ -139,11 +141,42 @@ impl Simulation {
         Simulation {
             capacity: EnvCapacity::new(config.max_envs),
             quotas: Mutex::new(HashMap::new()),
+            metrics: Metrics::new(),
             envs: Registry::new(EntityKind::Env, "sim", config.clock.clone()),
             batches: Registry::new(EntityKind::Batch, "batch", config.clock.clone()),
             config,
             pool,
         }
+    }
+
+    /// The server's metrics.
+    pub(crate) fn metrics(&self) -> &Metrics {
+        &self.metrics
+    }
+
+    /// How the pool's jobs wait for a thread.
+    pub(crate) fn job_queue(&self) -> gymfleet_batch::JobQueueStats {
+        self.pool.job_queue()
+    }
+
+    /// What each tenant holds now (tenants holding nothing are left out).
+    pub(crate) fn open_by_tenant(&self) -> Vec<(Tenant, OpenCounts)> {
+        let mut counts: HashMap<Tenant, OpenCounts> = HashMap::new();
+        for (tenant, n) in self.envs.count_by_owner() {
+            counts.entry(tenant).or_default().envs = n;
+        }
+        for (tenant, n) in self.batches.count_by_owner() {
+            counts.entry(tenant).or_default().batches = n;
+        }
+        let quotas = self.quotas.lock().unwrap_or_else(PoisonError::into_inner);
+        for (tenant, quota) in quotas.iter() {
+            if let Some(open) = counts.get_mut(tenant) {
+                open.batch_envs = quota.batch_envs();
+            }
+        }
+        let mut counts: Vec<_> = counts.into_iter().collect();
+        counts.sort_by(|a, b| a.0.cmp(&b.0));
+        counts
     }
 
     /// `tenant`'s quota.
@@ -231,7 +264,7 @@ impl Simulation {
     pub(crate) async fn step_env(&self, tenant: &Tenant, step: EnvStep) -> Result<EnvStepOutcome> {
         let entry = self.envs.get(tenant, &step.env_id)?;
         let inject = self.injected_panic(&step.action);
-        pool::run_locked(
+        let outcome = pool::run_locked(
             &self.pool,
             Lane::Env,
             &self.envs,
@@ -257,7 +290,11 @@ impl Simulation {
                 })
             },
         )
-        .await
+        .await;
+        if outcome.is_ok() {
+            self.metrics.env_steps(tenant, 1);
+        }
+        outcome
     }
 
     pub(crate) async fn observe_env(
@@ -394,7 +431,7 @@ impl Simulation {
         let entry = self.batches.get(tenant, &step.batch_id)?;
         let inject = self.injected_panic(&step.action);
         let pool = self.pool.clone();
-        pool::run_locked(
+        let stepped = pool::run_locked(
             &self.pool,
             Lane::Batch,
             &self.batches,
@@ -418,7 +455,11 @@ impl Simulation {
                 })
             },
         )
-        .await
+        .await;
+        if let Ok(stepped) = &stepped {
+            self.metrics.env_steps(tenant, stepped.out.rewards.len());
+        }
+        stepped
     }
 
     pub(crate) async fn observe_batch(

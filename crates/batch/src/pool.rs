@@ -15,6 +15,7 @@ use std::panic::{self, AssertUnwindSafe};
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 use std::thread::{self, Thread};
+use std::time::Instant;
 
 use crate::error::{BatchError, Result};
 
@@ -30,6 +31,48 @@ pub struct StepPool {
 struct PoolInner {
     pool: rayon::ThreadPool,
     queue: Arc<FairQueue>,
+    jobs: Arc<JobStats>,
+}
+
+/// Counts of the jobs given to [`StepPool::spawn`] and [`StepPool::spawn_fair`].
+#[derive(Default)]
+struct JobStats {
+    /// Handed over, not yet started.
+    waiting: AtomicUsize,
+    /// Started so far.
+    started: AtomicU64,
+    /// Nanoseconds the started ones waited for a thread, in all.
+    waited_ns: AtomicU64,
+}
+
+impl JobStats {
+    /// `f`, counted as waiting from now until it starts.
+    fn track<F: FnOnce() + Send + 'static>(
+        self: &Arc<Self>,
+        f: F,
+    ) -> impl FnOnce() + Send + 'static {
+        let stats = Arc::clone(self);
+        let queued = Instant::now();
+        stats.waiting.fetch_add(1, Ordering::Relaxed);
+        move || {
+            let waited = u64::try_from(queued.elapsed().as_nanos()).unwrap_or(u64::MAX);
+            stats.waiting.fetch_sub(1, Ordering::Relaxed);
+            stats.started.fetch_add(1, Ordering::Relaxed);
+            stats.waited_ns.fetch_add(waited, Ordering::Relaxed);
+            f();
+        }
+    }
+}
+
+/// How the pool's jobs have waited for a thread, for metrics.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct JobQueueStats {
+    /// Jobs handed to the pool and not yet started.
+    pub waiting: usize,
+    /// Jobs started so far.
+    pub started: u64,
+    /// Time the started jobs waited for a thread, in all, in nanoseconds.
+    pub waited_ns: u64,
 }
 
 impl StepPool {
@@ -55,6 +98,7 @@ impl StepPool {
             inner: Arc::new(PoolInner {
                 pool,
                 queue: Arc::new(FairQueue::default()),
+                jobs: Arc::new(JobStats::default()),
             }),
         })
     }
@@ -69,7 +113,18 @@ impl StepPool {
     /// panic hook and otherwise ignored: `f`'s captures are dropped, so a channel
     /// sender in them tells the receiver.
     pub fn spawn<F: FnOnce() + Send + 'static>(&self, f: F) {
-        self.inner.pool.spawn(f);
+        self.inner.pool.spawn(self.inner.jobs.track(f));
+    }
+
+    /// How many jobs ([`StepPool::spawn`], [`StepPool::spawn_fair`]) wait for a thread,
+    /// and how long the started ones waited.
+    pub fn job_queue(&self) -> JobQueueStats {
+        let jobs = &self.inner.jobs;
+        JobQueueStats {
+            waiting: jobs.waiting.load(Ordering::Relaxed),
+            started: jobs.started.load(Ordering::Relaxed),
+            waited_ns: jobs.waited_ns.load(Ordering::Relaxed),
+        }
     }
 
     /// Runs `f` on a pool thread as a one-chunk task of the fair queue: it takes its turn
@@ -80,7 +135,7 @@ impl StepPool {
     /// caught and dropped, as with `spawn`.
     pub fn spawn_fair<F: FnOnce() + Send + 'static>(&self, f: F) {
         let task = Arc::new(OneOff {
-            job: Mutex::new(Some(f)),
+            job: Mutex::new(Some(self.inner.jobs.track(f))),
         });
         let queue = &self.inner.queue;
         queue.lock().push_back(task as Arc<dyn QueuedTask>);
@@ -375,6 +430,9 @@ mod tests {
         });
         done_rx.recv().unwrap();
         step.join().unwrap();
+        let jobs = pool.job_queue();
+        assert_eq!((jobs.waiting, jobs.started), (0, 1));
+        assert!(jobs.waited_ns > 0);
         let log: Vec<String> = log_rx.try_iter().collect();
         let at = log.iter().position(|l| l == "fair").unwrap();
         // Two threads drain (the pool's one and the caller of run_chunked): the job runs

@@ -443,3 +443,130 @@ async fn work_for_a_caller_that_has_gone_is_not_started() {
     assert_eq!(step.step_index(), 1, "the abandoned step never ran");
     server.stop().await.expect("clean shutdown");
 }
+
+/// `GET /metrics` over a plain HTTP/1.0 connection: the body.
+async fn scrape(addr: std::net::SocketAddr) -> String {
+    use tokio::io::{AsyncReadExt, AsyncWriteExt};
+    let mut stream = tokio::net::TcpStream::connect(addr).await.expect("metrics");
+    stream
+        .write_all(b"GET /metrics HTTP/1.0\r\nHost: localhost\r\n\r\n")
+        .await
+        .unwrap();
+    let mut reply = String::new();
+    stream.read_to_string(&mut reply).await.unwrap();
+    assert!(reply.starts_with("HTTP/1.0 200"), "{reply}");
+    let body = reply.split_once("\r\n\r\n").expect("headers end").1;
+    body.to_string()
+}
+
+/// The value of the sample `series` (name and labels, exactly as written).
+#[track_caller]
+fn sample(text: &str, series: &str) -> f64 {
+    text.lines()
+        .find_map(|line| line.strip_prefix(series)?.strip_prefix(' '))
+        .unwrap_or_else(|| panic!("no sample {series} in:\n{text}"))
+        .split(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap()
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn metrics_count_steps_open_envs_calls_and_refusals_per_tenant() {
+    let free = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let metrics_addr = free.local_addr().unwrap();
+    drop(free);
+    let server = TestServer::start(ServerConfig {
+        threads: 2,
+        auth_tokens: Some(tokens()),
+        max_batch_size: 8,
+        metrics_listen: Some(metrics_addr),
+        ..ServerConfig::default()
+    })
+    .await;
+    let a = as_tenant(&server, TOKEN_A).await;
+    let b = as_tenant(&server, TOKEN_B).await;
+    let env = a.create_env(EnvOptions::new(PENDULUM)).await.expect("env");
+    env.reset(Some(0)).await.expect("reset");
+    for _ in 0..3 {
+        env.step(ActionType::Torque, &[0.5]).await.expect("step");
+    }
+    let batch = b
+        .create_batch(BatchOptions::new(ARM2, 5))
+        .await
+        .expect("batch");
+    batch.reset(Some(0)).await.expect("reset");
+    batch
+        .step(ActionType::Torque, &[0.0; 10])
+        .await
+        .expect("batch step");
+    let err = b
+        .create_batch(BatchOptions::new(ARM2, 9))
+        .await
+        .unwrap_err();
+    assert_eq!(err.code(), Some(Code::ResourceExhausted));
+    server.client().await.server_info().await.unwrap_err();
+
+    let text = scrape(metrics_addr).await;
+    assert_eq!(
+        sample(&text, "gymfleet_env_steps_total{tenant=\"team-a\"}"),
+        3.0
+    );
+    assert_eq!(
+        sample(&text, "gymfleet_env_steps_total{tenant=\"team-b\"}"),
+        5.0
+    );
+    assert_eq!(sample(&text, "gymfleet_envs_open{tenant=\"team-a\"}"), 1.0);
+    assert_eq!(
+        sample(&text, "gymfleet_batches_open{tenant=\"team-b\"}"),
+        1.0
+    );
+    assert_eq!(
+        sample(&text, "gymfleet_batch_envs_open{tenant=\"team-b\"}"),
+        5.0
+    );
+    assert_eq!(
+        sample(
+            &text,
+            "gymfleet_rpc_duration_seconds_count{method=\"Step\",code=\"OK\"}"
+        ),
+        3.0
+    );
+    assert_eq!(
+        sample(
+            &text,
+            "gymfleet_rpc_duration_seconds_count{method=\"CreateBatch\",code=\"RESOURCE_EXHAUSTED\"}"
+        ),
+        1.0
+    );
+    assert_eq!(
+        sample(
+            &text,
+            "gymfleet_rejected_requests_total{reason=\"max_batch_size\"}"
+        ),
+        1.0
+    );
+    assert_eq!(
+        sample(
+            &text,
+            "gymfleet_rejected_requests_total{reason=\"unauthenticated\"}"
+        ),
+        1.0
+    );
+    assert_eq!(sample(&text, "gymfleet_pool_queue_depth"), 0.0);
+    assert!(sample(&text, "gymfleet_pool_jobs_total") >= 8.0, "{text}");
+    assert!(
+        text.trim_end().ends_with("# EOF"),
+        "OpenMetrics text ends with # EOF"
+    );
+
+    // Closing shows in the gauges: team-a's series goes.
+    env.close().await.expect("close");
+    let text = scrape(metrics_addr).await;
+    assert!(
+        !text.contains("gymfleet_envs_open{tenant=\"team-a\"}"),
+        "{text}"
+    );
+    server.stop().await.expect("clean shutdown");
+}

@@ -1,0 +1,290 @@
+//! [`Metrics`]: what the server counts, and `--metrics-listen`'s `/metrics` endpoint
+//! (Prometheus/OpenMetrics text, encoded by `prometheus-client` from a registry of this
+//! server's own, so several servers in one process never mix their numbers).
+//!
+//! | name | kind | labels |
+//! |---|---|---|
+//! | `gymfleet_env_steps_total` | counter | `tenant` |
+//! | `gymfleet_envs_open`, `gymfleet_batches_open`, `gymfleet_batch_envs_open` | gauge | `tenant` |
+//! | `gymfleet_rpc_duration_seconds` | histogram | `method`, `code` |
+//! | `gymfleet_rejected_requests_total` | counter | `reason` |
+//! | `gymfleet_pool_queue_depth` | gauge | |
+//! | `gymfleet_pool_wait_seconds_total`, `gymfleet_pool_jobs_total` | counter | |
+//!
+//! The anonymous tenant (auth off) is labelled `tenant=""`.
+
+use std::sync::Arc;
+use std::time::Duration;
+
+use prometheus_client::encoding::EncodeLabelSet;
+use prometheus_client::metrics::counter::Counter;
+use prometheus_client::metrics::family::Family;
+use prometheus_client::metrics::gauge::Gauge;
+use prometheus_client::metrics::histogram::{exponential_buckets, Histogram};
+use prometheus_client::registry::Registry;
+use tokio::net::TcpListener;
+use tonic::Code;
+
+use crate::auth::Tenant;
+use crate::error::ServerError;
+use crate::simulation::Simulation;
+
+#[derive(Clone, Debug, Hash, PartialEq, Eq, EncodeLabelSet)]
+struct TenantLabel {
+    tenant: String,
+}
+
+impl TenantLabel {
+    fn of(tenant: &Tenant) -> Self {
+        TenantLabel {
+            tenant: tenant.name().to_string(),
+        }
+    }
+}
+
+#[derive(Clone, Debug, Hash, PartialEq, Eq, EncodeLabelSet)]
+struct RpcLabels {
+    method: &'static str,
+    code: &'static str,
+}
+
+#[derive(Clone, Debug, Hash, PartialEq, Eq, EncodeLabelSet)]
+struct ReasonLabel {
+    reason: &'static str,
+}
+
+type HistogramFamily = Family<RpcLabels, Histogram, fn() -> Histogram>;
+
+fn rpc_histogram() -> Histogram {
+    // 25 µs to ~100 s: a bare round trip up to a 16k-env batch creation.
+    Histogram::new(exponential_buckets(25e-6, 2.0, 22))
+}
+
+/// The server's metrics.
+pub(crate) struct Metrics {
+    registry: Registry,
+    env_steps: Family<TenantLabel, Counter>,
+    envs_open: Family<TenantLabel, Gauge>,
+    batches_open: Family<TenantLabel, Gauge>,
+    batch_envs_open: Family<TenantLabel, Gauge>,
+    rpc_duration: HistogramFamily,
+    rejected: Family<ReasonLabel, Counter>,
+    pool_queue_depth: Gauge,
+    pool_wait: Counter<f64>,
+    pool_jobs: Counter,
+}
+
+impl std::fmt::Debug for Metrics {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Metrics")
+    }
+}
+
+impl Metrics {
+    pub(crate) fn new() -> Self {
+        let mut registry = Registry::default();
+        let env_steps = Family::<TenantLabel, Counter>::default();
+        registry.register(
+            "gymfleet_env_steps",
+            "Environment steps taken (a batch step of n envs counts n)",
+            env_steps.clone(),
+        );
+        let envs_open = Family::<TenantLabel, Gauge>::default();
+        registry.register(
+            "gymfleet_envs_open",
+            "Single environments open",
+            envs_open.clone(),
+        );
+        let batches_open = Family::<TenantLabel, Gauge>::default();
+        registry.register(
+            "gymfleet_batches_open",
+            "Batches open",
+            batches_open.clone(),
+        );
+        let batch_envs_open = Family::<TenantLabel, Gauge>::default();
+        registry.register(
+            "gymfleet_batch_envs_open",
+            "Environments held in open batches",
+            batch_envs_open.clone(),
+        );
+        let rpc_duration: HistogramFamily = Family::new_with_constructor(rpc_histogram);
+        registry.register(
+            "gymfleet_rpc_duration_seconds",
+            "Time from a call's arrival to its answer, by method and status code",
+            rpc_duration.clone(),
+        );
+        let rejected = Family::<ReasonLabel, Counter>::default();
+        registry.register(
+            "gymfleet_rejected_requests",
+            "Calls refused before any work: a limit (named by its flag), no or a bad token, \
+             or an invalid argument",
+            rejected.clone(),
+        );
+        let pool_queue_depth = Gauge::default();
+        registry.register(
+            "gymfleet_pool_queue_depth",
+            "Jobs handed to the simulation pool and waiting for a thread",
+            pool_queue_depth.clone(),
+        );
+        let pool_wait = Counter::<f64>::default();
+        registry.register(
+            "gymfleet_pool_wait_seconds",
+            "Time the started pool jobs waited for a thread, in all (divide by \
+             gymfleet_pool_jobs_total for the mean)",
+            pool_wait.clone(),
+        );
+        let pool_jobs = Counter::default();
+        registry.register("gymfleet_pool_jobs", "Pool jobs started", pool_jobs.clone());
+        Metrics {
+            registry,
+            env_steps,
+            envs_open,
+            batches_open,
+            batch_envs_open,
+            rpc_duration,
+            rejected,
+            pool_queue_depth,
+            pool_wait,
+            pool_jobs,
+        }
+    }
+
+    /// Counts `n` env steps of `tenant`.
+    pub(crate) fn env_steps(&self, tenant: &Tenant, n: usize) {
+        self.env_steps
+            .get_or_create(&TenantLabel::of(tenant))
+            .inc_by(u64::try_from(n).unwrap_or(u64::MAX));
+    }
+
+    /// Records a finished call.
+    pub(crate) fn rpc(&self, method: &'static str, code: Code, took: Duration) {
+        self.rpc_duration
+            .get_or_create(&RpcLabels {
+                method,
+                code: code_name(code),
+            })
+            .observe(took.as_secs_f64());
+    }
+
+    /// Counts a call refused before any work, if `err` is such a refusal.
+    pub(crate) fn rejected(&self, err: &ServerError) {
+        if let Some(reason) = rejection_reason(err) {
+            self.reject(reason);
+        }
+    }
+
+    /// Counts a call refused for `reason`.
+    pub(crate) fn reject(&self, reason: &'static str) {
+        self.rejected.get_or_create(&ReasonLabel { reason }).inc();
+    }
+
+    /// The text of `/metrics`, with the gauges read from `sim` now.
+    pub(crate) fn encode(&self, sim: &Simulation) -> String {
+        let counts = sim.open_by_tenant();
+        for family in [&self.envs_open, &self.batches_open, &self.batch_envs_open] {
+            family.clear();
+        }
+        let as_gauge = |n: usize| i64::try_from(n).unwrap_or(i64::MAX);
+        for (tenant, open) in counts {
+            let label = TenantLabel::of(&tenant);
+            self.envs_open
+                .get_or_create(&label)
+                .set(as_gauge(open.envs));
+            self.batches_open
+                .get_or_create(&label)
+                .set(as_gauge(open.batches));
+            self.batch_envs_open
+                .get_or_create(&label)
+                .set(as_gauge(open.batch_envs));
+        }
+        let jobs = sim.job_queue();
+        self.pool_queue_depth.set(as_gauge(jobs.waiting));
+        // Counters only go up: add what is new since the last scrape.
+        let started = jobs.started.saturating_sub(self.pool_jobs.get());
+        self.pool_jobs.inc_by(started);
+        let waited = Duration::from_nanos(jobs.waited_ns).as_secs_f64() - self.pool_wait.get();
+        if waited > 0.0 {
+            self.pool_wait.inc_by(waited);
+        }
+        let mut text = String::new();
+        // Writing to a String cannot fail.
+        let _ = prometheus_client::encoding::text::encode(&mut text, &self.registry);
+        text
+    }
+}
+
+/// What one tenant holds.
+#[derive(Debug, Default, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct OpenCounts {
+    pub(crate) envs: usize,
+    pub(crate) batches: usize,
+    pub(crate) batch_envs: usize,
+}
+
+fn rejection_reason(err: &ServerError) -> Option<&'static str> {
+    Some(match err {
+        ServerError::TooManyEnvs { .. } => "max_envs",
+        ServerError::TenantQuota { .. } => "tenant_max_envs",
+        ServerError::BatchTooLarge { .. } => "max_batch_size",
+        ServerError::DocumentTooLarge { .. } => "max_document_bytes",
+        ServerError::ReplyTooLarge { .. } => "max_message_bytes",
+        ServerError::TooComplex { flag, .. } => match *flag {
+            "--max-instances" => "max_instances",
+            "--max-joints" => "max_joints",
+            "--max-dofs" => "max_dofs",
+            _ => "max_end_effectors",
+        },
+        _ if err.code() == Code::InvalidArgument => "invalid_argument",
+        _ => return None,
+    })
+}
+
+fn code_name(code: Code) -> &'static str {
+    match code {
+        Code::Ok => "OK",
+        Code::Cancelled => "CANCELLED",
+        Code::Unknown => "UNKNOWN",
+        Code::InvalidArgument => "INVALID_ARGUMENT",
+        Code::DeadlineExceeded => "DEADLINE_EXCEEDED",
+        Code::NotFound => "NOT_FOUND",
+        Code::AlreadyExists => "ALREADY_EXISTS",
+        Code::PermissionDenied => "PERMISSION_DENIED",
+        Code::ResourceExhausted => "RESOURCE_EXHAUSTED",
+        Code::FailedPrecondition => "FAILED_PRECONDITION",
+        Code::Aborted => "ABORTED",
+        Code::OutOfRange => "OUT_OF_RANGE",
+        Code::Unimplemented => "UNIMPLEMENTED",
+        Code::Internal => "INTERNAL",
+        Code::Unavailable => "UNAVAILABLE",
+        Code::DataLoss => "DATA_LOSS",
+        Code::Unauthenticated => "UNAUTHENTICATED",
+    }
+}
+
+/// Serves `GET /metrics` on `listener` until the task is aborted.
+pub(crate) async fn serve_metrics(listener: TcpListener, sim: Arc<Simulation>) {
+    use axum::http::header::CONTENT_TYPE;
+    let app = axum::Router::new().route(
+        "/metrics",
+        axum::routing::get(move || {
+            let sim = Arc::clone(&sim);
+            async move {
+                // Reading the registries is quick, but keep it off the async workers'
+                // hot path all the same.
+                let text = tokio::task::spawn_blocking(move || sim.metrics().encode(&sim))
+                    .await
+                    .unwrap_or_default();
+                (
+                    [(
+                        CONTENT_TYPE,
+                        "application/openmetrics-text; version=1.0.0; charset=utf-8",
+                    )],
+                    text,
+                )
+            }
+        }),
+    );
+    if let Err(err) = axum::serve(listener, app).await {
+        tracing::error!(%err, "metrics endpoint failed");
+    }
+}
