@@ -65,3 +65,97 @@ impl TestServer {
         self.server.stop().await
     }
 }
+
+/// A TCP proxy in front of a server that can be partitioned: until
+/// [`PartitionableProxy::partition`] it forwards bytes both ways; after it, it keeps
+/// every connection open (and accepts new ones) but forwards nothing, as a network
+/// partition looks to a client: no reset, no close, only silence.
+#[derive(Debug)]
+pub struct PartitionableProxy {
+    addr: SocketAddr,
+    partitioned: std::sync::Arc<std::sync::atomic::AtomicBool>,
+    task: tokio::task::JoinHandle<()>,
+}
+
+impl PartitionableProxy {
+    /// Listens on `127.0.0.1:0` and forwards to `target`.
+    pub async fn start(target: SocketAddr) -> PartitionableProxy {
+        use std::sync::atomic::AtomicBool;
+        use std::sync::Arc;
+        let listener = tokio::net::TcpListener::bind("127.0.0.1:0")
+            .await
+            .expect("bind the proxy");
+        let addr = listener.local_addr().expect("proxy address");
+        let partitioned = Arc::new(AtomicBool::new(false));
+        let flag = Arc::clone(&partitioned);
+        let task = tokio::spawn(async move {
+            // Dropped with this task (on the proxy's drop): that aborts every connection.
+            let mut connections = tokio::task::JoinSet::new();
+            while let Ok((client, _)) = listener.accept().await {
+                let flag = Arc::clone(&flag);
+                connections.spawn(async move {
+                    let Ok(server) = tokio::net::TcpStream::connect(target).await else {
+                        return;
+                    };
+                    let (client_rx, client_tx) = client.into_split();
+                    let (server_rx, server_tx) = server.into_split();
+                    let up = forward(client_rx, server_tx, Arc::clone(&flag));
+                    let down = forward(server_rx, client_tx, flag);
+                    tokio::join!(up, down);
+                });
+            }
+        });
+        PartitionableProxy {
+            addr,
+            partitioned,
+            task,
+        }
+    }
+
+    /// The address clients connect to.
+    pub fn addr(&self) -> SocketAddr {
+        self.addr
+    }
+
+    /// From now on nothing gets through, and nothing is closed.
+    pub fn partition(&self) {
+        self.partitioned
+            .store(true, std::sync::atomic::Ordering::SeqCst);
+    }
+}
+
+impl Drop for PartitionableProxy {
+    fn drop(&mut self) {
+        self.task.abort();
+    }
+}
+
+/// Copies `from` to `to` until either closes or the partition starts; then holds both
+/// open, silent, forever.
+async fn forward(
+    mut from: tokio::net::tcp::OwnedReadHalf,
+    mut to: tokio::net::tcp::OwnedWriteHalf,
+    partitioned: std::sync::Arc<std::sync::atomic::AtomicBool>,
+) {
+    use tokio::io::{AsyncReadExt, AsyncWriteExt};
+    let mut buffer = vec![0u8; 64 * 1024];
+    loop {
+        let n = match from.read(&mut buffer).await {
+            Ok(0) | Err(_) => return,
+            Ok(n) => n,
+        };
+        if partitioned.load(std::sync::atomic::Ordering::SeqCst) {
+            break;
+        }
+        if to.write_all(&buffer[..n]).await.is_err() {
+            return;
+        }
+    }
+    // Partitioned: keep the sockets, drop what arrives.
+    loop {
+        match from.read(&mut buffer).await {
+            Ok(0) | Err(_) => std::future::pending::<()>().await,
+            Ok(_) => {}
+        }
+    }
+}

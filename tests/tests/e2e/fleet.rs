@@ -392,3 +392,58 @@ async fn a_refused_shard_leaves_no_other_shard_behind() {
 fn fleet_batches_are_send(batch: FleetBatch) -> impl Send {
     batch
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_partitioned_server_is_reported_lost_within_seconds_not_awaited_forever() {
+    use std::time::{Duration, Instant};
+
+    use gymfleet_client::Client;
+    use gymfleet_e2e::PartitionableProxy;
+
+    let near = server_with_threads(1).await;
+    let far = server_with_threads(1).await;
+    let proxy = PartitionableProxy::start(far.addr()).await;
+    let endpoints =
+        FleetEndpoints::new([near.addr().to_string(), proxy.addr().to_string()]).unwrap();
+    // Without keepalive (`.keepalive(None)`) the step below waits forever.
+    let settings =
+        Client::builder("").keepalive(Some((Duration::from_millis(300), Duration::from_secs(1))));
+    let fleet = Fleet::connect_with(endpoints, &settings)
+        .await
+        .expect("connect the fleet");
+    let mut batch = fleet.create_batch(arms(8)).await.expect("fleet batch");
+    let acts = actions(3, 8 * ACTION_DIM, 0.5);
+    batch.step(ActionType::Torque, &acts).await.expect("step");
+
+    // The far server's network goes silent: no reset, no close.
+    proxy.partition();
+    let started = Instant::now();
+    let err = tokio::time::timeout(
+        Duration::from_secs(20),
+        batch.step(ActionType::Torque, &acts),
+    )
+    .await
+    .expect("the step ends instead of hanging")
+    .unwrap_err();
+    let waited = started.elapsed();
+    match &err {
+        ClientError::ServerLost { server, envs, .. } => {
+            assert_eq!(server, &proxy.addr().to_string());
+            assert_eq!(envs, &[4..8]);
+        }
+        other => panic!("expected ServerLost, got {other:?}"),
+    }
+    assert!(
+        waited < Duration::from_secs(10),
+        "keepalive found the dead peer in {waited:?}"
+    );
+    // The near server's half goes on.
+    assert_eq!(batch.drop_lost(), (4..8).collect::<Vec<_>>());
+    batch
+        .step(ActionType::Torque, &acts[..4 * ACTION_DIM])
+        .await
+        .expect("the survivors step on");
+    near.stop().await.expect("clean shutdown");
+    drop(proxy);
+    far.stop().await.expect("clean shutdown");
+}
