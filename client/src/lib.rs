@@ -36,6 +36,8 @@
 //! # }
 //! ```
 
+#[cfg(feature = "cli")]
+mod args;
 mod batch;
 mod client;
 mod endpoints;
@@ -50,6 +52,8 @@ mod stream;
 mod task;
 mod types;
 
+#[cfg(feature = "cli")]
+pub use args::ConnectArgs;
 pub use batch::{Batch, BatchObservations, BatchStep};
 pub use client::{
     Client, ClientBuilder, DEFAULT_CONNECT_TIMEOUT, DEFAULT_KEEPALIVE_INTERVAL,

@@ -9,7 +9,7 @@ use std::collections::HashMap;
 use std::sync::{Mutex, OnceLock};
 use std::time::Duration;
 
-use gymfleet_client::{Client, Fleet, FleetEndpoints, ServerInfo};
+use gymfleet_client::{Client, ClientBuilder, Fleet, FleetEndpoints, ServerInfo};
 use gymfleet_server::{LocalServer, ServerConfig};
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
@@ -30,7 +30,10 @@ pub(crate) enum Target {
 /// comma-separated list: a fleet).
 pub(crate) fn resolve(py: Python<'_>, server: Option<&str>) -> PyResult<Target> {
     let addr = match server {
-        None => embedded_address(py)?,
+        None => {
+            let addr = embedded_address(py)?;
+            return cached(py, &addr, Client::builder(addr.clone())).map(Target::One);
+        }
         Some(list) if list.contains(',') => {
             let endpoints = FleetEndpoints::parse(list).map_err(to_py_err)?;
             let clients = endpoints
@@ -47,16 +50,55 @@ pub(crate) fn resolve(py: Python<'_>, server: Option<&str>) -> PyResult<Target> 
     client(py, &addr).map(Target::One)
 }
 
-/// The cached connection to `addr`, connecting on first use. A connection outlives a
-/// server restart (it reconnects), so one per address is enough.
+/// The cached connection to the server at `addr`, with the token and TLS settings of
+/// the `GYMFLEET_*` variables the command-line tools read too ([`from_environment`]).
 fn client(py: Python<'_>, addr: &str) -> PyResult<Client> {
+    cached(py, addr, from_environment(addr)?)
+}
+
+/// Connection settings for `addr` from the environment: `GYMFLEET_TOKEN` (bearer
+/// token), `GYMFLEET_TLS_CA` (connect with TLS, trusting this CA file),
+/// `GYMFLEET_TLS_CLIENT_CERT` and `GYMFLEET_TLS_CLIENT_KEY` (mutual TLS),
+/// `GYMFLEET_TLS_DOMAIN` (the name on the server's certificate). Read when an address is
+/// first connected to.
+fn from_environment(addr: &str) -> PyResult<ClientBuilder> {
+    let var = |name: &str| std::env::var(name).ok().filter(|v| !v.is_empty());
+    let mut builder = Client::builder(addr);
+    if let Some(token) = var("GYMFLEET_TOKEN") {
+        builder = builder.token(token);
+    }
+    if let Some(ca) = var("GYMFLEET_TLS_CA") {
+        builder = builder.tls_ca_file(ca);
+    }
+    match (
+        var("GYMFLEET_TLS_CLIENT_CERT"),
+        var("GYMFLEET_TLS_CLIENT_KEY"),
+    ) {
+        (Some(cert), Some(key)) => builder = builder.tls_identity_files(cert, key),
+        (None, None) => {}
+        _ => {
+            return Err(crate::options::invalid(
+                "GYMFLEET_TLS_CLIENT_CERT and GYMFLEET_TLS_CLIENT_KEY go together: set both \
+                 or neither"
+                    .to_string(),
+            ))
+        }
+    }
+    if let Some(domain) = var("GYMFLEET_TLS_DOMAIN") {
+        builder = builder.tls_domain(domain);
+    }
+    Ok(builder)
+}
+
+/// The cached connection to `addr`, connecting with `settings` on first use. A
+/// connection outlives a server restart (it reconnects), so one per address is enough.
+fn cached(py: Python<'_>, addr: &str, settings: ClientBuilder) -> PyResult<Client> {
     static CLIENTS: OnceLock<Mutex<HashMap<String, Client>>> = OnceLock::new();
     let clients = CLIENTS.get_or_init(Default::default);
     if let Some(client) = lock(clients).get(addr) {
         return Ok(client.clone());
     }
-    let owned = addr.to_string();
-    let client = wait(py, None, || Client::connect(owned))?;
+    let client = wait(py, None, || settings.connect())?;
     lock(clients).insert(addr.to_string(), client.clone());
     Ok(client)
 }
@@ -115,13 +157,16 @@ pub(crate) struct Server {
 #[pymethods]
 impl Server {
     #[new]
-    #[pyo3(signature = (*, threads=0, max_envs=None, max_batch_size=None, idle_ttl=None))]
+    #[pyo3(signature = (
+        *, threads=0, max_envs=None, max_batch_size=None, idle_ttl=None, auth_tokens=None
+    ))]
     fn new(
         py: Python<'_>,
         threads: usize,
         max_envs: Option<usize>,
         max_batch_size: Option<usize>,
         idle_ttl: Option<f64>,
+        auth_tokens: Option<std::path::PathBuf>,
     ) -> PyResult<Self> {
         let defaults = ServerConfig::default();
         let idle_ttl = match idle_ttl {
@@ -133,11 +178,18 @@ impl Server {
                 )))
             }
         };
+        let auth_tokens = match auth_tokens {
+            Some(path) => Some(std::sync::Arc::new(
+                gymfleet_server::TokenTable::load(&path).map_err(crate::options::invalid)?,
+            )),
+            None => None,
+        };
         let config = ServerConfig {
             threads,
             max_envs: max_envs.unwrap_or(defaults.max_envs),
             max_batch_size: max_batch_size.unwrap_or(defaults.max_batch_size),
             idle_ttl,
+            auth_tokens,
             ..defaults
         };
         let server = start(py, config)?;
@@ -244,6 +296,9 @@ fn info_dict<'py>(py: Python<'py>, i: &ServerInfo) -> PyResult<Bound<'py, PyDict
     limits.set_item("max_joints", i.limits.max_joints)?;
     limits.set_item("max_dofs", i.limits.max_dofs)?;
     limits.set_item("max_end_effectors", i.limits.max_end_effectors)?;
+    limits.set_item("tenant_max_envs", i.limits.tenant_max_envs)?;
     d.set_item("limits", limits)?;
+    d.set_item("tenant", &i.tenant)?;
+    d.set_item("auth_required", i.auth_required)?;
     Ok(d)
 }

@@ -114,3 +114,26 @@ def test_each_status_raises_its_class_with_the_servers_message(code, cls, base):
         _core._raise_status(code, "sim_7: the server's words")
     assert str(caught.value) == "sim_7: the server's words"
     assert isinstance(caught.value, base) and isinstance(caught.value, gymfleet.GymfleetError)
+
+
+def test_a_server_that_requires_a_token_gets_it_from_gymfleet_token(arm2, tmp_path, monkeypatch):
+    tokens = tmp_path / "tokens"
+    tokens.write_text("# tenant token\npython-team py-token-0123456789abcdef\n")
+    with gymfleet.Server(threads=1, auth_tokens=str(tokens)) as server:
+        # Without GYMFLEET_TOKEN: refused. (The connection is cached per address, so the
+        # variable is set before the first connection to the second address below.)
+        monkeypatch.delenv("GYMFLEET_TOKEN", raising=False)
+        with pytest.raises(gymfleet.Unauthenticated, match="this server requires a token"):
+            gymfleet.make(arm2, server=server.address)
+    with gymfleet.Server(threads=1, auth_tokens=str(tokens)) as server:
+        monkeypatch.setenv("GYMFLEET_TOKEN", "py-token-0123456789abcdef")
+        env = gymfleet.make(arm2, server=server.address)
+        env.reset(seed=0)
+        env.step(np.zeros(2, dtype=np.float32))
+        info = gymfleet.server_info(server.address)
+        assert info["tenant"] == "python-team" and info["envs"] == 1
+        env.close()
+    with pytest.raises(gymfleet.InvalidArgument, match="line 1: expected `TENANT TOKEN`"):
+        bad = tmp_path / "bad"
+        bad.write_text("lonely\n")
+        gymfleet.Server(auth_tokens=str(bad))

@@ -37,6 +37,9 @@ pub struct Cli {
         value_delimiter = ','
     )]
     pub servers: Vec<String>,
+    /// How to reach --server servers that require a token or TLS.
+    #[command(flatten)]
+    pub connect: gymfleet_client::ConnectArgs,
     /// pendulum, arm2, arm6, or the path of an assembly document.
     #[arg(long, env = "GYMFLEET_MODEL", default_value = "arm2")]
     pub model: String,
@@ -276,6 +279,7 @@ impl Cli {
             json: self.json,
             quiet: self.quiet,
             report_rss: self.report_rss,
+            connect: self.connect,
         })
     }
 }

@@ -143,6 +143,9 @@ pub struct LoadConfig {
     pub quiet: bool,
     /// Report this process's peak and current resident memory.
     pub report_rss: bool,
+    /// Token and TLS settings for remote servers (never written to the report).
+    #[serde(skip)]
+    pub connect: gymfleet_client::ConnectArgs,
 }
 
 impl LoadConfig {
@@ -169,6 +172,7 @@ impl LoadConfig {
             json: None,
             quiet: true,
             report_rss: false,
+            connect: gymfleet_client::ConnectArgs::default(),
         }
     }
 

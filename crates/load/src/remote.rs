@@ -116,7 +116,10 @@ pub(crate) async fn run(config: &LoadConfig, servers: &[String], kind: &str) -> 
 /// Connects client `c` to `server`, creates its batch or env and resets it.
 async fn setup(config: &LoadConfig, c: usize, server: String) -> Result<Session> {
     let stage = |what: &str| format!("client {c}: {what} on {server}");
-    let client = Client::connect(server.clone())
+    let client = config
+        .connect
+        .builder(server.clone())
+        .connect()
         .await
         .map_err(|e| LoadError::setup(stage("connect"), e))?;
     let first_env = config.first_env(c);

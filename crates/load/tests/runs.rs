@@ -323,6 +323,42 @@ fn a_server_started_with_the_server_library() {
 }
 
 #[test]
+fn a_server_that_requires_a_token_gets_it_from_token() {
+    let runtime = tokio::runtime::Runtime::new().unwrap();
+    let tokens = gymfleet_server::TokenTable::parse("load load-test-token-0123456789").unwrap();
+    let server = runtime
+        .block_on(gymfleet_server::LocalServer::start(
+            gymfleet_server::ServerConfig {
+                threads: 1,
+                auth_tokens: Some(std::sync::Arc::new(tokens)),
+                ..Default::default()
+            },
+        ))
+        .unwrap();
+    let addr = server.client_addr();
+    let report = run_flags(&[
+        "--server",
+        &addr,
+        "--token",
+        "load-test-token-0123456789",
+        "--n-envs",
+        "2",
+        "--steps",
+        "5",
+    ]);
+    assert_counts(&report.runs[0], 2, 5, 1);
+    let err = run(&config(&["--server", &addr, "--steps", "1"])).unwrap_err();
+    assert!(
+        err.to_string().contains(
+            "unauthenticated: this server requires a token: send `authorization: Bearer \
+             <token>` metadata"
+        ),
+        "{err}"
+    );
+    runtime.block_on(server.stop()).unwrap();
+}
+
+#[test]
 fn timed_runs_count_whole_calls() {
     let report = run_flags(&[
         "--duration",

@@ -5,6 +5,7 @@
 use std::net::SocketAddr;
 
 use clap::Parser;
+use gymfleet_client::ConnectArgs;
 use tracing_subscriber::EnvFilter;
 
 /// `gymfleet-mcp`: the gymfleet gym tools over MCP.
@@ -34,6 +35,22 @@ pub(crate) struct Cli {
     /// `gymfleet-mcp: listening on http://ADDR/mcp`.
     #[arg(long, env = "GYMFLEET_MCP_HTTP", value_name = "ADDR")]
     pub(crate) http: Option<SocketAddr>,
+
+    /// Require `Authorization: Bearer TOKEN` on every HTTP request to /mcp. With a
+    /// token, --http may listen off loopback (the token travels in plain text: put a TLS
+    /// proxy in front).
+    #[arg(
+        long,
+        env = "GYMFLEET_MCP_HTTP_TOKEN",
+        value_name = "TOKEN",
+        hide_env_values = true,
+        requires = "http"
+    )]
+    pub(crate) http_token: Option<String>,
+
+    /// How to reach --server servers that require a token or TLS.
+    #[command(flatten)]
+    pub(crate) connect: ConnectArgs,
 
     /// Log filter, in tracing's EnvFilter syntax (e.g. `info`, `gymfleet_mcp=debug`).
     /// Logs always go to stderr.

@@ -8,7 +8,7 @@ use std::future::Future;
 use std::sync::{Mutex, MutexGuard};
 use std::time::Duration;
 
-use gymfleet_client::{Batch, BatchOptions, Client, ClientError, Env, EnvOptions};
+use gymfleet_client::{Batch, BatchOptions, Client, ClientBuilder, ClientError, Env, EnvOptions};
 use tokio::sync::OnceCell;
 use tokio::task::JoinSet;
 
@@ -39,6 +39,8 @@ pub(crate) struct Placed<T> {
 #[derive(Debug)]
 struct Server {
     addr: String,
+    /// How to connect to it (token, TLS, timeouts).
+    settings: ClientBuilder,
     client: OnceCell<Client>,
 }
 
@@ -83,10 +85,14 @@ fn listing<'a>(ids: impl ExactSizeIterator<Item = &'a String>) -> String {
 
 impl Fleet {
     /// A fleet of the servers at `addrs` (at least one), none connected yet.
-    pub(crate) fn new(addrs: Vec<String>) -> Self {
+    /// `settings` carries the token and TLS settings every connection uses.
+    pub(crate) fn new(addrs: Vec<String>, settings: ClientBuilder) -> Self {
         let servers: Vec<Server> = addrs
             .into_iter()
             .map(|addr| Server {
+                settings: settings
+                    .for_addr(addr.clone())
+                    .connect_timeout(Some(CONNECT_TIMEOUT)),
                 addr,
                 client: OnceCell::new(),
             })
@@ -121,8 +127,7 @@ impl Fleet {
     async fn client(&self, server: usize) -> Result<Client, ClientError> {
         let server = &self.servers[server];
         let connect = || async {
-            match tokio::time::timeout(CONNECT_TIMEOUT, Client::connect(server.addr.clone())).await
-            {
+            match tokio::time::timeout(CONNECT_TIMEOUT, server.settings.clone().connect()).await {
                 Ok(result) => result,
                 Err(_) => Err(ClientError::Connect {
                     addr: server.addr.clone(),
@@ -350,7 +355,7 @@ mod tests {
 
     #[test]
     fn unknown_ids_list_the_open_ones() {
-        let fleet = Fleet::new(vec!["127.0.0.1:1".into()]);
+        let fleet = Fleet::new(vec!["127.0.0.1:1".into()], Client::builder(""));
         let err = fleet.env("sim_42").unwrap_err();
         assert!(matches!(
             err,

@@ -65,13 +65,13 @@ fn main() -> ExitCode {
 /// the adapter created and stops an embedded server.
 async fn run(cli: Cli) -> Result<(), McpError> {
     if let Some(addr) = cli.http {
-        transport::check_http_addr(addr)?;
+        transport::check_http_addr(addr, cli.http_token.is_some())?;
     }
     let servers = Servers::start(&cli).await?;
-    let fleet = Arc::new(Fleet::new(servers.addrs()));
+    let fleet = Arc::new(Fleet::new(servers.addrs(), cli.connect.builder("")));
     tracing::info!(servers = ?fleet.addrs(), "gymfleet-mcp ready");
     let served = match cli.http {
-        Some(addr) => transport::serve_http(addr, Arc::clone(&fleet)).await,
+        Some(addr) => transport::serve_http(addr, cli.http_token.clone(), Arc::clone(&fleet)).await,
         None => transport::serve_stdio(Arc::clone(&fleet)).await,
     };
     fleet.close_all().await;

@@ -41,22 +41,57 @@ pub(crate) async fn serve_stdio(fleet: Arc<Fleet>) -> Result<()> {
     Ok(())
 }
 
-/// Refuses an `--http` address off loopback: the HTTP transport has no authentication.
-pub(crate) fn check_http_addr(addr: SocketAddr) -> Result<()> {
-    if addr.ip().is_loopback() {
+/// Refuses an `--http` address off loopback unless requests need a token
+/// (`--http-token`).
+pub(crate) fn check_http_addr(addr: SocketAddr, has_token: bool) -> Result<()> {
+    if addr.ip().is_loopback() || has_token {
         Ok(())
     } else {
         Err(McpError::startup(format!(
-            "--http {addr}: MCP over HTTP is served on loopback only (127.0.0.1 or [::1]), \
-             since it has no authentication"
+            "--http {addr}: without --http-token, MCP over HTTP is served on loopback only \
+             (127.0.0.1 or [::1])"
         )))
     }
 }
 
+/// Answers 401 to a request without `Authorization: Bearer <token>`.
+async fn require_token(
+    axum::extract::State(token): axum::extract::State<Arc<str>>,
+    request: axum::extract::Request,
+    next: axum::middleware::Next,
+) -> axum::response::Response {
+    use axum::response::IntoResponse;
+    let given = request
+        .headers()
+        .get(axum::http::header::AUTHORIZATION)
+        .and_then(|v| v.to_str().ok())
+        .and_then(|v| v.strip_prefix("Bearer "));
+    if given.is_some_and(|given| constant_time_eq(given.as_bytes(), token.as_bytes())) {
+        next.run(request).await
+    } else {
+        (
+            axum::http::StatusCode::UNAUTHORIZED,
+            [(axum::http::header::WWW_AUTHENTICATE, "Bearer")],
+            "gymfleet-mcp: send `Authorization: Bearer <token>` (the --http-token)\n",
+        )
+            .into_response()
+    }
+}
+
+/// Compares without stopping at the first difference, so timing says nothing about
+/// how much of a guess was right.
+fn constant_time_eq(a: &[u8], b: &[u8]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).fold(0u8, |acc, (x, y)| acc | (x ^ y)) == 0
+}
+
 /// Serves MCP over streamable HTTP at `http://addr/mcp` (loopback only) until a shutdown
 /// signal. Prints the bound URL on stderr, so that port 0 can be used.
-pub(crate) async fn serve_http(addr: SocketAddr, fleet: Arc<Fleet>) -> Result<()> {
-    check_http_addr(addr)?;
+pub(crate) async fn serve_http(
+    addr: SocketAddr,
+    token: Option<String>,
+    fleet: Arc<Fleet>,
+) -> Result<()> {
+    check_http_addr(addr, token.is_some())?;
     let listener = TcpListener::bind(addr)
         .await
         .map_err(|e| McpError::startup(format!("--http {addr}: cannot bind: {e}")))?;
@@ -70,7 +105,13 @@ pub(crate) async fn serve_http(addr: SocketAddr, fleet: Arc<Fleet>) -> Result<()
         Arc::new(LocalSessionManager::default()),
         config,
     );
-    let router = axum::Router::new().nest_service("/mcp", service);
+    let mut router = axum::Router::new().nest_service("/mcp", service);
+    if let Some(token) = token {
+        router = router.layer(axum::middleware::from_fn_with_state(
+            Arc::<str>::from(token),
+            require_token,
+        ));
+    }
     eprintln!("gymfleet-mcp: listening on http://{bound}/mcp");
     tracing::info!(%bound, "serving MCP over streamable HTTP at /mcp");
 

@@ -120,9 +120,11 @@ class Server:
         max_envs: Optional[int] = None,
         max_batch_size: Optional[int] = None,
         idle_ttl: Optional[float] = None,
+        auth_tokens: Optional[str] = None,
     ) -> None:
         """``threads``: simulation threads (0: one per core); limits default to the
-        server's (``None``); ``idle_ttl`` in seconds (``None`` or 0: never)."""
+        server's (``None``); ``idle_ttl`` in seconds (``None`` or 0: never);
+        ``auth_tokens``: a ``TENANT TOKEN`` file, and every call needs a token."""
     @property
     def address(self) -> str:
         """``"127.0.0.1:<port>"``, what ``server=`` takes."""

@@ -197,10 +197,14 @@ struct TestServer {
 
 impl TestServer {
     async fn start() -> TestServer {
-        let config = gymfleet_server::ServerConfig {
+        Self::start_with(gymfleet_server::ServerConfig {
             threads: 1,
             ..gymfleet_server::ServerConfig::default()
-        };
+        })
+        .await
+    }
+
+    async fn start_with(config: gymfleet_server::ServerConfig) -> TestServer {
         let server = gymfleet_server::LocalServer::start(config)
             .await
             .expect("start a server on 127.0.0.1:0");
