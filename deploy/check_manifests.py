@@ -8,7 +8,10 @@ fleet's invariants. Usage: check_manifests.py RENDERED.yaml [MORE.yaml ...]
   limits, and runs non-root with a read-only root filesystem and no capabilities;
 - GYMFLEET_LISTEN listens on all interfaces on the probed port;
 - GYMFLEET_MAX_ENVS fits the memory limit at the measured ~55 KB per 2-DOF arm;
-- the grace period covers the drain, and a PodDisruptionBudget allows one pod down.
+- the grace period covers the drain, and a PodDisruptionBudget allows one pod down;
+- GYMFLEET_METRICS_LISTEN listens on all interfaces on the container port named
+  `metrics`, the pod's prometheus.io annotations point there, the headless Service
+  exposes it, and every ServiceMonitor selects that Service and scrapes that port.
 
 Exits 1 with one line per broken rule.
 """
@@ -112,6 +115,21 @@ def check(docs):
                 fail(f"{where}: GYMFLEET_THREADS must equal the CPU limit ({cpus})")
             if values.get("GYMFLEET_LISTEN") != f"0.0.0.0:{GRPC_PORT}":
                 fail(f"{where}: GYMFLEET_LISTEN must be 0.0.0.0:{GRPC_PORT}")
+            metrics_port = next((p["containerPort"] for p in c.get("ports", []) if p.get("name") == "metrics"), None)
+            if metrics_port is None or values.get("GYMFLEET_METRICS_LISTEN") != f"0.0.0.0:{metrics_port}":
+                fail(f"{where}: GYMFLEET_METRICS_LISTEN must be 0.0.0.0:<the port named metrics>")
+            annotations = spec["template"]["metadata"].get("annotations") or {}
+            if annotations.get("prometheus.io/port") != str(metrics_port) or annotations.get("prometheus.io/path") != "/metrics":
+                fail(f"statefulset/{name}: prometheus.io annotations must name the metrics port and /metrics")
+            for svc in services:
+                if not any(p.get("name") == "metrics" and p.get("targetPort") == "metrics" for p in svc["spec"].get("ports", [])):
+                    fail(f"service/{svc['metadata']['name']}: must expose the port named metrics")
+            for sm in by_kind.get("ServiceMonitor", []):
+                where_sm = f"servicemonitor/{sm['metadata']['name']}"
+                if not any(selects(sm["spec"]["selector"].get("matchLabels"), s["metadata"].get("labels", {})) for s in services):
+                    fail(f"{where_sm}: selector does not match the headless Service")
+                if [e.get("port") for e in sm["spec"].get("endpoints", [])] != ["metrics"]:
+                    fail(f"{where_sm}: must scrape the Service port named metrics")
             max_envs = int(values.get("GYMFLEET_MAX_ENVS", 0))
             memory = quantity(limits["memory"])
             if max_envs == 0 or max_envs * BYTES_PER_ENV > memory * 0.8:

