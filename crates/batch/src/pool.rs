@@ -224,8 +224,10 @@ pub const POOL_NICENESS: i32 = 10;
 /// not an error.
 fn lower_priority() {
     use thread_priority::{ThreadPriority, ThreadPriorityValue};
-    // thread-priority maps 0..=99 onto niceness 19..=-20 for normal threads: 22 is 10.
-    if let Ok(value) = ThreadPriorityValue::try_from(22u8) {
+    // thread-priority maps its 0..=99 onto niceness `(39 × (1 − p/99)) as i8 − 20` for
+    // normal threads (19 down to -20); this inverts that (10 → 22).
+    let p = 99.0 * (1.0 - f64::from(POOL_NICENESS + 20) / 39.0);
+    if let Ok(value) = ThreadPriorityValue::try_from(p as u8) {
         let _ = thread_priority::set_current_thread_priority(ThreadPriority::Crossplatform(value));
     }
 }
