@@ -12,20 +12,34 @@ use tonic::{Code, Status};
 
 use crate::auth::Tenant;
 
-/// Most characters of a caller's id or name echoed back in an error message.
-const MAX_ECHOED_CHARS: usize = 96;
+/// Longest status message the server sends: anything longer is cut here, whatever
+/// built it (the sources shorten what they echo; this is the guarantee).
+pub const MAX_STATUS_MESSAGE_BYTES: usize = 4096;
 
-/// `text` as an error message quotes it: in full when short, otherwise its start and how
-/// long it was, so that no request can make the server build a large message.
+/// `text` as an error message quotes it ([`gymfleet_assembly::quoted`]): in full when
+/// short, otherwise its start and how long it was.
 pub(crate) struct Echo<'a>(pub(crate) &'a str);
 
 impl fmt::Display for Echo<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self.0.char_indices().nth(MAX_ECHOED_CHARS) {
-            None => write!(f, "{:?}", self.0),
-            Some((end, _)) => write!(f, "{:?}… ({} bytes in all)", &self.0[..end], self.0.len()),
-        }
+        f.write_str(&gymfleet_assembly::quoted(self.0))
     }
+}
+
+/// `message` cut to [`MAX_STATUS_MESSAGE_BYTES`] on a character boundary, saying so.
+fn bounded(message: String) -> String {
+    if message.len() <= MAX_STATUS_MESSAGE_BYTES {
+        return message;
+    }
+    let mut end = MAX_STATUS_MESSAGE_BYTES - 64;
+    while !message.is_char_boundary(end) {
+        end -= 1;
+    }
+    format!(
+        "{}… (message cut; {} bytes in all)",
+        &message[..end],
+        message.len()
+    )
 }
 
 /// What a server-side id names.
@@ -255,7 +269,7 @@ fn env_code(err: &EnvError) -> Code {
 
 impl From<ServerError> for Status {
     fn from(err: ServerError) -> Self {
-        Status::new(err.code(), err.to_string())
+        Status::new(err.code(), bounded(err.to_string()))
     }
 }
 
@@ -369,6 +383,24 @@ mod tests {
         let shown = Echo(&wide).to_string();
         assert!(shown.ends_with("… (400 bytes in all)"), "{shown}");
         assert_eq!(Echo("sim_1").to_string(), "\"sim_1\"");
+    }
+
+    #[test]
+    fn no_status_message_exceeds_the_bound() {
+        let s = status(ServerError::InvalidArgument {
+            field: "x",
+            reason: "é".repeat(10_000),
+        });
+        assert!(
+            s.message().len() <= MAX_STATUS_MESSAGE_BYTES,
+            "{}",
+            s.message().len()
+        );
+        assert!(
+            s.message().ends_with("… (message cut; 20003 bytes in all)"),
+            "{}",
+            s.message()
+        );
     }
 
     #[test]

@@ -38,7 +38,7 @@ pub use config::{
     DEFAULT_MAX_DOFS, DEFAULT_MAX_END_EFFECTORS, DEFAULT_MAX_ENVS, DEFAULT_MAX_INSTANCES,
     DEFAULT_MAX_JOINTS, DEFAULT_MAX_MESSAGE_BYTES,
 };
-pub use error::{EntityKind, Result, ServerError};
+pub use error::{EntityKind, Result, ServerError, MAX_STATUS_MESSAGE_BYTES};
 pub use listen::{ListenAddr, Listener, SocketFile};
 pub use local::LocalServer;
 pub use serve::serve;

@@ -2,6 +2,56 @@
 
 use std::fmt;
 
+/// Most characters of a name (or id) echoed back in a message.
+pub const MAX_ECHOED_CHARS: usize = 96;
+/// Most names listed in a message ("known: …").
+pub const MAX_LISTED_NAMES: usize = 10;
+/// Most characters of one issue's message, and of its path.
+const MAX_ISSUE_CHARS: usize = 1000;
+/// Most issues an [`AssemblyError::Invalid`] message shows (all stay in `issues`).
+const MAX_SHOWN_ISSUES: usize = 20;
+
+/// `name` quoted as messages echo it: in full when short, else its start and its length,
+/// so that no document can make an error message large.
+///
+/// ```
+/// assert_eq!(gymfleet_assembly::quoted("arm"), "\"arm\"");
+/// let long = "x".repeat(1000);
+/// assert!(gymfleet_assembly::quoted(&long).ends_with("… (1000 bytes in all)"));
+/// ```
+pub fn quoted(name: &str) -> String {
+    match name.char_indices().nth(MAX_ECHOED_CHARS) {
+        None => format!("{name:?}"),
+        Some((end, _)) => format!("{:?}… ({} bytes in all)", &name[..end], name.len()),
+    }
+}
+
+/// Names quoted and joined with `, `: at most [`MAX_LISTED_NAMES`], then
+/// `and N more`; `none` for no names.
+pub fn quoted_list<S: AsRef<str>>(names: &[S]) -> String {
+    if names.is_empty() {
+        return "none".to_string();
+    }
+    let mut text = names
+        .iter()
+        .take(MAX_LISTED_NAMES)
+        .map(|n| quoted(n.as_ref()))
+        .collect::<Vec<_>>()
+        .join(", ");
+    if names.len() > MAX_LISTED_NAMES {
+        text.push_str(&format!(", and {} more", names.len() - MAX_LISTED_NAMES));
+    }
+    text
+}
+
+/// `text` cut to `max` characters (on a character boundary), saying so.
+fn capped(text: String, max: usize) -> String {
+    match text.char_indices().nth(max) {
+        None => text,
+        Some((end, _)) => format!("{}… (cut; {} bytes in all)", &text[..end], text.len()),
+    }
+}
+
 /// One problem in a document: where it is and what was expected.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Issue {
@@ -12,10 +62,11 @@ pub struct Issue {
 }
 
 impl Issue {
+    /// An issue; a path or message longer than 1000 characters is cut.
     pub(crate) fn new(path: impl Into<String>, message: impl Into<String>) -> Self {
         Issue {
-            path: path.into(),
-            message: message.into(),
+            path: capped(path.into(), MAX_ISSUE_CHARS),
+            message: capped(message.into(), MAX_ISSUE_CHARS),
         }
     }
 }
@@ -59,11 +110,19 @@ impl AssemblyError {
 }
 
 fn join(issues: &[Issue]) -> String {
-    issues
+    let mut text = issues
         .iter()
+        .take(MAX_SHOWN_ISSUES)
         .map(Issue::to_string)
         .collect::<Vec<_>>()
-        .join("; ")
+        .join("; ");
+    if issues.len() > MAX_SHOWN_ISSUES {
+        text.push_str(&format!(
+            "; and {} more issues",
+            issues.len() - MAX_SHOWN_ISSUES
+        ));
+    }
+    text
 }
 
 /// Result alias for this crate.

@@ -5,7 +5,7 @@ use std::collections::hash_map::Entry;
 use std::collections::{BTreeMap, HashMap};
 
 use crate::document::{Document, InstanceDef, JointDef, MaterialDef, PartDef, Primitive, Vec3};
-use crate::error::{AssemblyError, Issue, Result};
+use crate::error::{quoted, quoted_list, AssemblyError, Issue, Result};
 use crate::model::{Assembly, Instance, Joint, JointType, Material, Shape, MM_PER_M};
 
 /// Validates a parsed document and converts it to SI units.
@@ -114,7 +114,11 @@ impl Validator {
             known.sort_unstable();
             self.push(
                 path,
-                format!("unknown material {name:?} (known: {})", list(&known)),
+                format!(
+                    "unknown material {} (known: {})",
+                    quoted(name),
+                    list(&known)
+                ),
             );
         }
         found
@@ -133,8 +137,8 @@ impl Validator {
                 self.push(
                     format!("{path}.name"),
                     format!(
-                        "duplicate part name {:?} (also parts[{first}]): part names must be unique",
-                        part.name
+                        "duplicate part name {} (also parts[{first}]): part names must be unique",
+                        quoted(&part.name)
                     ),
                 );
             }
@@ -194,7 +198,11 @@ impl Validator {
                 known.sort_unstable();
                 self.push(
                     format!("{path}.part"),
-                    format!("unknown part {:?} (known: {})", inst.part, list(&known)),
+                    format!(
+                        "unknown part {} (known: {})",
+                        quoted(&inst.part),
+                        list(&known)
+                    ),
                 );
             }
             if inst.name.is_empty() {
@@ -204,8 +212,8 @@ impl Validator {
                 Entry::Occupied(first) => self.push(
                     format!("{path}.name"),
                     format!(
-                        "duplicate instance name {:?} (also assembly.instances[{}]): instance names must be unique",
-                        inst.name,
+                        "duplicate instance name {} (also assembly.instances[{}]): instance names must be unique",
+                        quoted(&inst.name),
                         first.get()
                     ),
                 ),
@@ -275,7 +283,8 @@ impl Validator {
                 Entry::Occupied(first) => self.push(
                     format!("{path}.name"),
                     format!(
-                        "duplicate joint name {name:?} (also assembly.joints[{}]); give one of them a \"name\"",
+                        "duplicate joint name {} (also assembly.joints[{}]); give one of them a \"name\"",
+                        quoted(&name),
                         first.get()
                     ),
                 ),
@@ -357,7 +366,11 @@ impl Validator {
             known.sort_unstable();
             self.push(
                 path,
-                format!("unknown instance {name:?} (known: {})", list(&known)),
+                format!(
+                    "unknown instance {} (known: {})",
+                    quoted(name),
+                    list(&known)
+                ),
             );
         }
         found
@@ -464,8 +477,8 @@ impl Validator {
             self.push(
                 format!("{path}.child"),
                 format!(
-                    "joint connects instance {:?} to itself; parent and child must differ",
-                    def.child
+                    "joint connects instance {} to itself; parent and child must differ",
+                    quoted(&def.child)
                 ),
             );
             return;
@@ -474,8 +487,8 @@ impl Validator {
             self.push(
                 format!("{path}.child"),
                 format!(
-                    "instance {:?} is grounded (the first instance) and cannot be a joint child; swap parent and child",
-                    def.child
+                    "instance {} is grounded (the first instance) and cannot be a joint child; swap parent and child",
+                    quoted(&def.child)
                 ),
             );
             return;
@@ -484,8 +497,9 @@ impl Validator {
             self.push(
                 format!("{path}.child"),
                 format!(
-                    "instance {:?} already has parent {:?}; a child can have only one parent",
-                    def.child, instances[existing].name
+                    "instance {} already has parent {}; a child can have only one parent",
+                    quoted(&def.child),
+                    quoted(&instances[existing].name)
                 ),
             );
             return;
@@ -494,8 +508,9 @@ impl Validator {
             self.push(
                 path,
                 format!(
-                    "joint {:?} -> {:?} closes a kinematic loop; loops are not supported",
-                    def.parent, def.child
+                    "joint {} -> {} closes a kinematic loop; loops are not supported",
+                    quoted(&def.parent),
+                    quoted(&def.child)
                 ),
             );
             return;
@@ -505,15 +520,7 @@ impl Validator {
 }
 
 fn list(names: &[&str]) -> String {
-    if names.is_empty() {
-        "none".to_string()
-    } else {
-        names
-            .iter()
-            .map(|n| format!("{n:?}"))
-            .collect::<Vec<_>>()
-            .join(", ")
-    }
+    quoted_list(names)
 }
 
 /// Disjoint sets over instance indices, to find kinematic loops.

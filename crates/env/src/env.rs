@@ -117,13 +117,14 @@ impl RobotEnv {
                     .instance_index(id)
                     .ok_or_else(|| EnvError::UnknownEndEffector {
                         index,
-                        id: id.clone(),
-                        known: assembly
-                            .instances
-                            .iter()
-                            .map(|i| format!("{:?}", i.name))
-                            .collect::<Vec<_>>()
-                            .join(", "),
+                        id: gymfleet_assembly::quoted(id),
+                        known: gymfleet_assembly::quoted_list(
+                            &assembly
+                                .instances
+                                .iter()
+                                .map(|i| i.name.as_str())
+                                .collect::<Vec<_>>(),
+                        ),
                     })
             })
             .collect::<Result<Vec<_>>>()?;

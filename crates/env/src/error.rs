@@ -13,11 +13,11 @@ pub enum EnvError {
     #[error(transparent)]
     Physics(#[from] PhysicsError),
     /// An end-effector id names no instance.
-    #[error("end_effector_ids[{index}]: unknown instance {id:?} (known: {known})")]
+    #[error("end_effector_ids[{index}]: unknown instance {id} (known: {known})")]
     UnknownEndEffector {
         /// Position in `end_effector_ids`.
         index: usize,
-        /// The id given.
+        /// The id given, quoted (and shortened if long).
         id: String,
         /// The instance names, comma-separated.
         known: String,
