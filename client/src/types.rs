@@ -365,6 +365,8 @@ pub struct ServerLimits {
     pub max_end_effectors: u64,
     /// Most environments one tenant holds at once.
     pub tenant_max_envs: u64,
+    /// Most work per step call, in DOF-substeps (envs × substeps × DOFs).
+    pub max_step_work: u64,
 }
 
 /// Describes a server.
@@ -409,6 +411,7 @@ impl From<pb::ServerInfo> for ServerInfo {
                 max_dofs: l.max_dofs,
                 max_end_effectors: l.max_end_effectors,
                 tenant_max_envs: l.tenant_max_envs,
+                max_step_work: l.max_step_work,
             },
             tenant: i.tenant,
             auth_required: i.auth_required,

@@ -13,7 +13,7 @@ use crate::auth::TokenTable;
 use crate::config::{
     ServerConfig, TlsConfig, DEFAULT_MAX_BATCH_SIZE, DEFAULT_MAX_DOCUMENT_BYTES, DEFAULT_MAX_DOFS,
     DEFAULT_MAX_END_EFFECTORS, DEFAULT_MAX_ENVS, DEFAULT_MAX_INSTANCES, DEFAULT_MAX_JOINTS,
-    DEFAULT_MAX_MESSAGE_BYTES,
+    DEFAULT_MAX_MESSAGE_BYTES, DEFAULT_MAX_STEP_WORK,
 };
 use crate::listen::ListenAddr;
 
@@ -98,6 +98,10 @@ pub struct Cli {
     /// once; 0 = no limit beyond --max-envs.
     #[arg(long, env = "GYMFLEET_TENANT_MAX_ENVS", default_value_t = 0)]
     pub tenant_max_envs: usize,
+    /// Most work one step call may ask for, in DOF-substeps (envs × substeps × DOFs of a
+    /// batch or env); 0 = no limit.
+    #[arg(long, env = "GYMFLEET_MAX_STEP_WORK", default_value_t = DEFAULT_MAX_STEP_WORK)]
+    pub max_step_work: usize,
     /// Close envs and batches untouched for this many seconds; 0 = never.
     #[arg(long, env = "GYMFLEET_IDLE_TTL_SECS", default_value_t = 600)]
     pub idle_ttl_secs: u64,
@@ -138,6 +142,7 @@ impl Cli {
             max_joints: self.max_joints,
             max_dofs: self.max_dofs,
             max_end_effectors: self.max_end_effectors,
+            max_step_work: self.max_step_work,
             tls,
             metrics_listen: self.metrics_listen,
             auth_tokens,

@@ -23,6 +23,10 @@ pub const DEFAULT_MAX_JOINTS: usize = 512;
 /// than linearly with the DOFs of a chain (a 20-DOF chain costs ~160 µs a step, a few
 /// hundred cost seconds), so this bounds the work one env step can ask for.
 pub const DEFAULT_MAX_DOFS: usize = 128;
+/// Default most work one step call may ask for, in DOF-substeps (envs × substeps ×
+/// DOFs): 10 million, e.g. 16 384 six-DOF arms at 100 substeps, or 16 384 humanoids of
+/// 60 DOFs at 10. At ~1–2 µs per DOF-substep that bounds a call to seconds, not hours.
+pub const DEFAULT_MAX_STEP_WORK: usize = 10_000_000;
 /// Default most observed end effectors per env.
 pub const DEFAULT_MAX_END_EFFECTORS: usize = 64;
 /// Default idle time after which an untouched env or batch is closed: 10 minutes.
@@ -72,6 +76,8 @@ pub struct ServerConfig {
     pub max_dofs: usize,
     /// Most end effectors per env; 0 = no limit.
     pub max_end_effectors: usize,
+    /// Most work per step call, in DOF-substeps (envs × substeps × DOFs); 0 = no limit.
+    pub max_step_work: usize,
     /// TLS (`--tls-cert`, `--tls-key`, `--tls-client-ca`); `None` = plaintext.
     pub tls: Option<TlsConfig>,
     /// Where to serve Prometheus metrics (`GET /metrics`, plain HTTP); `None` = nowhere.
@@ -107,6 +113,7 @@ impl Default for ServerConfig {
             max_joints: DEFAULT_MAX_JOINTS,
             max_dofs: DEFAULT_MAX_DOFS,
             max_end_effectors: DEFAULT_MAX_END_EFFECTORS,
+            max_step_work: DEFAULT_MAX_STEP_WORK,
             tls: None,
             metrics_listen: None,
             auth_tokens: None,

@@ -118,6 +118,24 @@ pub enum ServerError {
         /// Its environment variable.
         var: &'static str,
     },
+    /// Envs whose every step would cost more than `--max-step-work`.
+    #[error(
+        "a step of {n_envs} env(s) × {substeps} substeps × {dofs} DOFs is {work} DOF-substeps \
+         of work, over the server's limit of {max} per call; use fewer envs or substeps, or \
+         raise --max-step-work (GYMFLEET_MAX_STEP_WORK)"
+    )]
+    TooMuchWork {
+        /// `n_envs × substeps × dofs`.
+        work: usize,
+        /// Envs stepped per call.
+        n_envs: usize,
+        /// Integration substeps per step.
+        substeps: usize,
+        /// DOFs per env (at least 1).
+        dofs: usize,
+        /// The limit.
+        max: usize,
+    },
     /// A batch whose step replies could exceed the message limit.
     #[error(
         "n_envs: a step of {n_envs} envs × {observation_dim} observation values can need \
@@ -294,6 +312,7 @@ impl ServerError {
             ServerError::TooManyEnvs { .. }
             | ServerError::TenantQuota { .. }
             | ServerError::TooComplex { .. }
+            | ServerError::TooMuchWork { .. }
             | ServerError::ReplyTooLarge { .. }
             | ServerError::BatchTooLarge { .. }
             | ServerError::DocumentTooLarge { .. } => Code::ResourceExhausted,

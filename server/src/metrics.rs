@@ -228,6 +228,7 @@ fn rejection_reason(err: &ServerError) -> Option<&'static str> {
         ServerError::BatchTooLarge { .. } => "max_batch_size",
         ServerError::DocumentTooLarge { .. } => "max_document_bytes",
         ServerError::ReplyTooLarge { .. } => "max_message_bytes",
+        ServerError::TooMuchWork { .. } => "max_step_work",
         ServerError::TooComplex { flag, .. } => match *flag {
             "--max-instances" => "max_instances",
             "--max-joints" => "max_joints",

@@ -94,11 +94,39 @@ fn check_structure(
     Ok(())
 }
 
-/// Parses, checks against the structural limits, and builds one env; names the bodies of
-/// its non-fixed joints.
-fn build_env(request: EnvRequest, config: &ServerConfig) -> Result<(RobotEnv, JointLinks)> {
+/// Refuses envs whose steps would ask for more work than `--max-step-work`: `n_envs`
+/// envs × `substeps` integration substeps × `dofs` degrees of freedom per step call.
+fn check_step_work(config: &ServerConfig, n_envs: usize, substeps: u32, dofs: usize) -> Result<()> {
+    let max = config.max_step_work;
+    let substeps = usize::try_from(substeps).unwrap_or(usize::MAX);
+    let work = n_envs.saturating_mul(substeps).saturating_mul(dofs.max(1));
+    if max != 0 && work > max {
+        return Err(ServerError::TooMuchWork {
+            work,
+            n_envs,
+            substeps,
+            dofs: dofs.max(1),
+            max,
+        });
+    }
+    Ok(())
+}
+
+/// Parses, checks against the structural limits (for `n_envs` copies), and builds one
+/// env; names the bodies of its non-fixed joints.
+fn build_env(
+    request: EnvRequest,
+    config: &ServerConfig,
+    n_envs: usize,
+) -> Result<(RobotEnv, JointLinks)> {
     let assembly = gymfleet_assembly::parse(&request.document).map_err(EnvError::Document)?;
     check_structure(config, &assembly, request.config.end_effector_ids.len())?;
+    check_step_work(
+        config,
+        n_envs,
+        request.config.substeps,
+        assembly.total_dof(),
+    )?;
     let env = RobotEnv::new(&assembly, request.config)?;
     let name = |i: usize| {
         assembly
@@ -223,7 +251,7 @@ impl Simulation {
         let reservation = self.reserve(tenant, 1, EntityKind::Env)?;
         let config = self.config.clone();
         let (env, links) = pool::run(&self.pool, Lane::Env, "CreateEnv", move || {
-            build_env(request, &config)
+            build_env(request, &config, 1)
         })
         .await?;
         let spec = env.spec().clone();
@@ -366,7 +394,7 @@ impl Simulation {
                 autoreset,
                 seed_offset,
             } = request;
-            let (template, links) = build_env(env, &config)?;
+            let (template, links) = build_env(env, &config, n_envs)?;
             check_reply_size(&config, n_envs, template.spec().observation_dim)?;
             let mut batch = EnvBatch::for_pool(&template, n_envs, autoreset, &pool)?;
             // Env i is seeded with seed + seed_offset + i; the clones start with the

@@ -138,3 +138,48 @@ async fn a_batch_whose_replies_could_outgrow_the_message_limit_is_refused() {
         .await
         .expect("500 envs fit");
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn envs_whose_steps_ask_for_too_much_work_are_refused_before_building() {
+    let server = TestServer::start(ServerConfig {
+        threads: 1,
+        max_step_work: 1_000,
+        ..ServerConfig::default()
+    })
+    .await;
+    let client = server.client().await;
+    assert_eq!(
+        client
+            .server_info()
+            .await
+            .expect("info")
+            .limits
+            .max_step_work,
+        1_000
+    );
+    // 20 envs × 10 substeps × 6 DOFs = 1 200 DOF-substeps.
+    let err = client
+        .create_batch(BatchOptions::new(chain(6), 20).substeps(10))
+        .await
+        .unwrap_err();
+    assert_eq!(
+        exhausted(err),
+        "a step of 20 env(s) × 10 substeps × 6 DOFs is 1200 DOF-substeps of work, over the \
+         server's limit of 1000 per call; use fewer envs or substeps, or raise \
+         --max-step-work (GYMFLEET_MAX_STEP_WORK)"
+    );
+    // One env of a huge substep count, too.
+    let err = client
+        .create_env(EnvOptions::new(chain(2)).substeps(1000))
+        .await
+        .unwrap_err();
+    assert!(exhausted(err).contains("is 2000 DOF-substeps"));
+    // Within the budget, it builds; nothing was left held by the refusals.
+    client
+        .create_batch(BatchOptions::new(chain(6), 16).substeps(10))
+        .await
+        .expect("960 DOF-substeps");
+    let info = client.server_info().await.expect("info");
+    assert_eq!((info.envs, info.batches, info.batch_envs), (0, 1, 16));
+    server.stop().await.expect("clean shutdown");
+}
