@@ -121,13 +121,11 @@ fn build_env(
 ) -> Result<(RobotEnv, JointLinks)> {
     let assembly = gymfleet_assembly::parse(&request.document).map_err(EnvError::Document)?;
     check_structure(config, &assembly, request.config.end_effector_ids.len())?;
-    check_step_work(
-        config,
-        n_envs,
-        request.config.substeps,
-        assembly.total_dof(),
-    )?;
+    let substeps = request.config.substeps;
+    // Options are checked first (a substep count out of range is a bad argument, not a
+    // large request); building one env is cheap, its copies are not made yet.
     let env = RobotEnv::new(&assembly, request.config)?;
+    check_step_work(config, n_envs, substeps, assembly.total_dof())?;
     let name = |i: usize| {
         assembly
             .instances

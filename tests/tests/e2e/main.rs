@@ -1,6 +1,7 @@
 //! End-to-end tests: a real server on 127.0.0.1:0 (in-process, `gymfleet_server::serve`),
 //! driven over the network by `gymfleet-client`. One test binary, one module per area.
 
+mod adversarial;
 mod batches;
 mod errors;
 mod fleet;

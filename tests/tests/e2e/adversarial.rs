@@ -1,0 +1,432 @@
+//! The adversarial suite: documents, options, actions, ids, streams and concurrency as a
+//! confused or hostile client sends them, over the raw generated stub (no client-side
+//! checks in the way). Every case asserts its exact status code and a bounded message,
+//! and after every case a known-good env, created before the first, still steps
+//! bitwise as it did then.
+
+use std::future::Future;
+use std::pin::Pin;
+
+use gymfleet_e2e::{TestServer, ARM2, PENDULUM};
+use gymfleet_proto::v1 as pb;
+use gymfleet_server::{ServerConfig, MAX_STATUS_MESSAGE_BYTES};
+use pb::simulator_client::SimulatorClient;
+use tonic::transport::Channel;
+use tonic::Code;
+
+type Raw = SimulatorClient<Channel>;
+type Call = Pin<Box<dyn Future<Output = Result<(), tonic::Status>> + Send>>;
+
+fn env_request(document: &str) -> pb::CreateEnvRequest {
+    pb::CreateEnvRequest {
+        document_json: document.to_string(),
+        ..Default::default()
+    }
+}
+
+fn batch_request(document: &str, n_envs: u32) -> pb::CreateBatchRequest {
+    pb::CreateBatchRequest {
+        document_json: document.to_string(),
+        n_envs,
+        ..Default::default()
+    }
+}
+
+fn step(env_id: &str, values: Vec<f32>) -> pb::StepRequest {
+    pb::StepRequest {
+        env_id: env_id.to_string(),
+        action_type: pb::ActionType::Torque as i32,
+        values,
+    }
+}
+
+/// The known-good env's observations over a seeded reset and five steps, as bits.
+async fn trajectory(raw: &mut Raw, env_id: &str) -> Vec<Vec<u32>> {
+    let bits = |o: pb::Observation| -> Vec<u32> {
+        o.joint_positions
+            .iter()
+            .chain(&o.joint_velocities)
+            .chain(&o.end_effector_poses)
+            .map(|v| v.to_bits())
+            .collect()
+    };
+    let first = raw
+        .reset(pb::ResetRequest {
+            env_id: env_id.to_string(),
+            seed: Some(7),
+        })
+        .await
+        .expect("the known-good env resets")
+        .into_inner();
+    let mut out = vec![bits(first)];
+    for i in 0..5 {
+        let torque = if i % 2 == 0 { 1.5 } else { -0.5 };
+        let reply = raw
+            .step(step(env_id, vec![torque]))
+            .await
+            .expect("the known-good env steps")
+            .into_inner();
+        out.push(bits(reply.observation.expect("observation")));
+    }
+    out
+}
+
+/// Runs `case`, asserts its code and that its message is bounded, then that the
+/// known-good env steps as before.
+async fn expect(
+    name: &str,
+    code: Code,
+    case: Call,
+    raw: &mut Raw,
+    good: &str,
+    reference: &[Vec<u32>],
+) {
+    let got = case.await;
+    match (&got, code) {
+        (Ok(()), Code::Ok) => {}
+        (Ok(()), _) => panic!("{name}: expected {code:?}, got OK"),
+        (Err(status), _) => {
+            assert_eq!(status.code(), code, "{name}: {status:?}");
+            assert!(
+                !status.message().is_empty() && status.message().len() <= MAX_STATUS_MESSAGE_BYTES,
+                "{name}: a message of {} bytes",
+                status.message().len()
+            );
+        }
+    }
+    assert_eq!(
+        trajectory(raw, good).await,
+        reference,
+        "{name}: the known-good env changed"
+    );
+}
+
+/// `[[[…]]]` nested `depth` deep.
+fn nested(depth: usize) -> String {
+    format!("{}{}", "[".repeat(depth), "]".repeat(depth))
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn hostile_requests_get_their_exact_code_and_leave_everyone_else_alone() {
+    let server = TestServer::start(ServerConfig {
+        threads: 2,
+        max_document_bytes: 1 << 20,
+        ..ServerConfig::default()
+    })
+    .await;
+    let channel = Channel::from_shared(server.url())
+        .unwrap()
+        .connect()
+        .await
+        .unwrap();
+    let mut raw = Raw::new(channel).max_decoding_message_size(64 << 20);
+    let good = raw
+        .create_env(env_request(PENDULUM))
+        .await
+        .expect("known-good env")
+        .into_inner()
+        .env_id;
+    let reference = trajectory(&mut raw, &good).await;
+    let batch = raw
+        .create_batch(batch_request(ARM2, 4))
+        .await
+        .expect("a batch to abuse")
+        .into_inner()
+        .batch_id;
+    let long_id = "sim_".to_string() + &"9".repeat(200_000);
+
+    let r = || raw.clone();
+    let cases: Vec<(&str, Code, Call)> = vec![
+        // Documents.
+        ("empty document", Code::InvalidArgument, {
+            let mut c = r();
+            Box::pin(async move { c.create_env(env_request("")).await.map(drop) })
+        }),
+        ("not JSON", Code::InvalidArgument, {
+            let mut c = r();
+            Box::pin(async move { c.create_env(env_request("{parts: ]")).await.map(drop) })
+        }),
+        ("JSON nested 100 000 deep", Code::InvalidArgument, {
+            let mut c = r();
+            let doc = nested(100_000);
+            Box::pin(async move { c.create_env(env_request(&doc)).await.map(drop) })
+        }),
+        ("a number past f64", Code::InvalidArgument, {
+            let mut c = r();
+            let doc = PENDULUM.replacen("\"z\": 40", "\"z\": 1e999", 1);
+            assert_ne!(doc, PENDULUM, "the edit applies");
+            Box::pin(async move { c.create_env(env_request(&doc)).await.map(drop) })
+        }),
+        (
+            "a document over --max-document-bytes",
+            Code::ResourceExhausted,
+            {
+                let mut c = r();
+                let doc = format!("{PENDULUM}{}", " ".repeat(2 << 20));
+                Box::pin(async move { c.create_env(env_request(&doc)).await.map(drop) })
+            },
+        ),
+        ("a message over the gRPC limit", Code::OutOfRange, {
+            let mut c = r();
+            let doc = "x".repeat(65 << 20);
+            Box::pin(async move {
+                c.clone()
+                    .max_encoding_message_size(128 << 20)
+                    .create_env(env_request(&doc))
+                    .await
+                    .map(drop)
+            })
+        }),
+        (
+            "an unknown end effector, 100 kB long",
+            Code::InvalidArgument,
+            {
+                let mut c = r();
+                let mut request = env_request(PENDULUM);
+                request.end_effector_ids = vec!["e".repeat(100_000)];
+                Box::pin(async move { c.create_env(request).await.map(drop) })
+            },
+        ),
+        // Options.
+        ("dt = NaN", Code::InvalidArgument, {
+            let mut c = r();
+            let mut request = env_request(PENDULUM);
+            request.dt = f64::NAN;
+            Box::pin(async move { c.create_env(request).await.map(drop) })
+        }),
+        ("dt = 1e308", Code::InvalidArgument, {
+            let mut c = r();
+            let mut request = env_request(PENDULUM);
+            request.dt = 1e308;
+            Box::pin(async move { c.create_env(request).await.map(drop) })
+        }),
+        ("substeps = u32::MAX", Code::InvalidArgument, {
+            let mut c = r();
+            let mut request = env_request(PENDULUM);
+            request.substeps = u32::MAX;
+            Box::pin(async move { c.create_env(request).await.map(drop) })
+        }),
+        ("reset_noise = inf", Code::InvalidArgument, {
+            let mut c = r();
+            let mut request = env_request(PENDULUM);
+            request.reset_noise = Some(f64::INFINITY);
+            Box::pin(async move { c.create_env(request).await.map(drop) })
+        }),
+        ("negative PD gains", Code::InvalidArgument, {
+            let mut c = r();
+            let mut request = env_request(PENDULUM);
+            request.pd_gains = Some(pb::PdGains {
+                kp: vec![-1.0],
+                kd: vec![f64::NAN],
+            });
+            Box::pin(async move { c.create_env(request).await.map(drop) })
+        }),
+        ("seed = u64::MAX, seed_offset = u64::MAX", Code::Ok, {
+            let mut c = r();
+            let mut request = batch_request(ARM2, 3);
+            request.seed = Some(u64::MAX);
+            request.seed_offset = u64::MAX;
+            Box::pin(async move {
+                let id = c.create_batch(request).await?.into_inner().batch_id;
+                c.close_batch(pb::BatchRef { batch_id: id }).await.map(drop)
+            })
+        }),
+        ("n_envs = 0", Code::InvalidArgument, {
+            let mut c = r();
+            Box::pin(async move { c.create_batch(batch_request(ARM2, 0)).await.map(drop) })
+        }),
+        ("n_envs = u32::MAX", Code::ResourceExhausted, {
+            let mut c = r();
+            Box::pin(async move {
+                c.create_batch(batch_request(ARM2, u32::MAX))
+                    .await
+                    .map(drop)
+            })
+        }),
+        ("an unknown autoreset value", Code::InvalidArgument, {
+            let mut c = r();
+            let mut request = batch_request(ARM2, 2);
+            request.autoreset = 77;
+            Box::pin(async move { c.create_batch(request).await.map(drop) })
+        }),
+        (
+            "reset of env indices out of range and repeated",
+            Code::InvalidArgument,
+            {
+                let mut c = r();
+                let batch = batch.clone();
+                Box::pin(async move {
+                    c.reset_batch(pb::ResetBatchRequest {
+                        batch_id: batch,
+                        seed: Some(1),
+                        seed_offset: 0,
+                        env_indices: vec![1, 1, u32::MAX],
+                    })
+                    .await
+                    .map(drop)
+                })
+            },
+        ),
+        // Actions.
+        ("no action type", Code::InvalidArgument, {
+            let mut c = r();
+            let mut request = step(&good, vec![0.0]);
+            request.action_type = 0;
+            Box::pin(async move { c.step(request).await.map(drop) })
+        }),
+        ("an unknown action type", Code::InvalidArgument, {
+            let mut c = r();
+            let mut request = step(&good, vec![0.0]);
+            request.action_type = 9999;
+            Box::pin(async move { c.step(request).await.map(drop) })
+        }),
+        ("too many action values", Code::InvalidArgument, {
+            let mut c = r();
+            let request = step(&good, vec![0.0; 1_000_000]);
+            Box::pin(async move { c.step(request).await.map(drop) })
+        }),
+        ("a NaN action", Code::InvalidArgument, {
+            let mut c = r();
+            let request = step(&good, vec![f32::NAN]);
+            Box::pin(async move { c.step(request).await.map(drop) })
+        }),
+        ("an infinite action", Code::InvalidArgument, {
+            let mut c = r();
+            let request = step(&good, vec![f32::INFINITY]);
+            Box::pin(async move { c.step(request).await.map(drop) })
+        }),
+        ("a batch step of the wrong length", Code::InvalidArgument, {
+            let mut c = r();
+            let batch = batch.clone();
+            Box::pin(async move {
+                c.step_batch(pb::StepBatchRequest {
+                    batch_id: batch,
+                    action_type: pb::ActionType::Torque as i32,
+                    actions: vec![0.0; 7],
+                })
+                .await
+                .map(drop)
+            })
+        }),
+        // Ids.
+        ("an empty id", Code::NotFound, {
+            let mut c = r();
+            Box::pin(async move { c.step(step("", vec![0.0])).await.map(drop) })
+        }),
+        ("a 200 kB id", Code::NotFound, {
+            let mut c = r();
+            let id = long_id.clone();
+            let request = step(&id, vec![0.0]);
+            Box::pin(async move { c.step(request).await.map(drop) })
+        }),
+        ("a batch id as an env id", Code::NotFound, {
+            let mut c = r();
+            let batch = batch.clone();
+            let request = step(&batch, vec![0.0]);
+            Box::pin(async move { c.step(request).await.map(drop) })
+        }),
+        ("an env id as a batch id", Code::NotFound, {
+            let mut c = r();
+            let good = good.clone();
+            Box::pin(async move {
+                c.observe_batch(pb::BatchRef { batch_id: good })
+                    .await
+                    .map(drop)
+            })
+        }),
+        ("ids with control characters", Code::NotFound, {
+            let mut c = r();
+            Box::pin(async move {
+                c.close(pb::EnvRef {
+                    env_id: "sim_1\u{0}\n\u{202e}".to_string(),
+                })
+                .await
+                .map(drop)
+            })
+        }),
+        // Streams.
+        ("a stream naming an unknown batch", Code::NotFound, {
+            let mut c = r();
+            Box::pin(async move {
+                let requests = tokio_stream::iter(vec![pb::StepBatchRequest {
+                    batch_id: "batch_999999".into(),
+                    action_type: pb::ActionType::Torque as i32,
+                    actions: vec![0.0; 8],
+                }]);
+                let mut replies = c.stream_batch(requests).await?.into_inner();
+                match replies.message().await {
+                    Ok(Some(_)) => Ok(()),
+                    Ok(None) => Err(tonic::Status::unknown("stream ended without an answer")),
+                    Err(status) => Err(status),
+                }
+            })
+        }),
+        (
+            "a stream whose second request is bad",
+            Code::InvalidArgument,
+            {
+                let mut c = r();
+                let batch = batch.clone();
+                Box::pin(async move {
+                    let good_step = pb::StepBatchRequest {
+                        batch_id: batch.clone(),
+                        action_type: pb::ActionType::Torque as i32,
+                        actions: vec![0.0; 8],
+                    };
+                    let bad_step = pb::StepBatchRequest {
+                        actions: vec![f32::NAN; 8],
+                        ..good_step.clone()
+                    };
+                    let requests = tokio_stream::iter(vec![good_step.clone(), bad_step, good_step]);
+                    let mut replies = c.stream_batch(requests).await?.into_inner();
+                    replies.message().await?.expect("the first step's answer");
+                    match replies.message().await {
+                        Ok(_) => Err(tonic::Status::unknown("the bad step was answered")),
+                        Err(status) => Err(status),
+                    }
+                })
+            },
+        ),
+    ];
+    let count = cases.len();
+    for (name, code, case) in cases {
+        expect(name, code, case, &mut raw, &good, &reference).await;
+    }
+    assert!(count >= 30, "{count} cases");
+
+    // Concurrency: 32 callers step the same env while one closes it; each gets OK or
+    // NOT_FOUND, none an internal error, and the known-good env is untouched.
+    let victim = raw
+        .create_env(env_request(PENDULUM))
+        .await
+        .expect("victim")
+        .into_inner()
+        .env_id;
+    let mut tasks = tokio::task::JoinSet::new();
+    for i in 0..32 {
+        let mut c = raw.clone();
+        let victim = victim.clone();
+        tasks.spawn(async move {
+            if i == 16 {
+                c.close(pb::EnvRef { env_id: victim }).await.map(drop)
+            } else {
+                c.reset(pb::ResetRequest {
+                    env_id: victim.clone(),
+                    seed: Some(i),
+                })
+                .await?;
+                c.step(step(&victim, vec![0.5])).await.map(drop)
+            }
+        });
+    }
+    while let Some(joined) = tasks.join_next().await {
+        if let Err(status) = joined.expect("task") {
+            assert!(
+                matches!(status.code(), Code::NotFound | Code::FailedPrecondition),
+                "{status:?}"
+            );
+        }
+    }
+    assert_eq!(trajectory(&mut raw, &good).await, reference);
+    server.stop().await.expect("clean shutdown");
+}
