@@ -167,11 +167,10 @@ async fn hostile_requests_get_their_exact_code_and_leave_everyone_else_alone() {
             },
         ),
         ("a message over the gRPC limit", Code::OutOfRange, {
-            let mut c = r();
+            let c = r();
             let doc = "x".repeat(65 << 20);
             Box::pin(async move {
-                c.clone()
-                    .max_encoding_message_size(128 << 20)
+                c.max_encoding_message_size(128 << 20)
                     .create_env(env_request(&doc))
                     .await
                     .map(drop)
