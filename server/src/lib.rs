@@ -3,8 +3,10 @@
 //! batches (ids `"sim_<n>"` and `"batch_<n>"`, one async lock each), the server's limits,
 //! the hand-off of all CPU work to the `gymfleet-batch` step pool (through a oneshot,
 //! never on tokio worker threads), idle reclaiming, panic containment, health and
-//! reflection, graceful shutdown, and the one mapping of domain errors to
-//! `tonic::Status` ([`ServerError`]).
+//! reflection, graceful shutdown, bearer-token tenants ([`TokenTable`], each tenant
+//! seeing only its own ids), TLS and mutual TLS, Prometheus metrics
+//! (`--metrics-listen`), and the one mapping of domain errors to `tonic::Status`
+//! ([`ServerError`]).
 //!
 //! It leaves documents to `gymfleet-assembly`, episodes to `gymfleet-env`, parallel
 //! stepping to `gymfleet-batch`, and the wire types to `gymfleet-proto`; proto types are
