@@ -1,8 +1,9 @@
 //! [`Client`]: one connection to a gymfleet server.
 
+use std::future::Future;
 use std::path::PathBuf;
 use std::sync::Arc;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use gymfleet_proto::v1 as pb;
 use pb::simulator_client::SimulatorClient;
@@ -51,6 +52,28 @@ pub struct Client {
     addr: Arc<str>,
 }
 
+tokio::task_local! {
+    /// The deadline [`with_deadline`] set for the calls of the current task.
+    static CALL_DEADLINE: Instant;
+}
+
+/// Runs `future` so that every call it makes (on this task) carries a deadline `timeout`
+/// from now, sent as `grpc-timeout`: a server does not start work for it once the
+/// deadline has passed. The earlier of this and [`ClientBuilder::timeout`] applies. It
+/// does not stop `future` itself (wrap it in `tokio::time::timeout` for that), and calls
+/// a fleet fans out to other tasks do not see it.
+///
+/// ```no_run
+/// # async fn demo(env: gymfleet_client::Env) -> gymfleet_client::Result<()> {
+/// use std::time::Duration;
+/// let step = gymfleet_client::with_deadline(Duration::from_secs(2), env.observe()).await?;
+/// # Ok(())
+/// # }
+/// ```
+pub async fn with_deadline<F: Future>(timeout: Duration, future: F) -> F::Output {
+    CALL_DEADLINE.scope(Instant::now() + timeout, future).await
+}
+
 /// Adds the bearer token and the call deadline to every request (shared: cloned with
 /// every call).
 #[derive(Debug, Clone, Default)]
@@ -69,7 +92,14 @@ impl Interceptor for CallMetadata {
                 .metadata_mut()
                 .insert("authorization", value.clone());
         }
-        if let Some(deadline) = self.0.deadline {
+        let scoped = CALL_DEADLINE
+            .try_with(|at| at.saturating_duration_since(Instant::now()))
+            .ok();
+        let deadline = match (self.0.deadline, scoped) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        };
+        if let Some(deadline) = deadline {
             // Sent as `grpc-timeout`: the server stops waiting for a caller that has gone.
             request.set_timeout(deadline);
         }
@@ -410,6 +440,33 @@ fn error_chain(err: &(dyn std::error::Error + 'static)) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn grpc_timeout(metadata: &CallMetadata) -> Option<String> {
+        let request = metadata.clone().call(Request::new(())).unwrap();
+        request
+            .metadata()
+            .get("grpc-timeout")
+            .map(|v| v.to_str().unwrap().to_string())
+    }
+
+    #[tokio::test]
+    async fn deadlines_go_out_as_grpc_timeout_the_earlier_winning() {
+        let none = CallMetadata::default();
+        assert_eq!(grpc_timeout(&none), None);
+        let builder = CallMetadata(Arc::new(CallSettings {
+            authorization: None,
+            deadline: Some(Duration::from_secs(30)),
+        }));
+        assert_eq!(grpc_timeout(&builder).as_deref(), Some("30000000u"));
+        let scoped = with_deadline(Duration::from_millis(200), async {
+            (grpc_timeout(&none), grpc_timeout(&builder))
+        })
+        .await;
+        for got in [scoped.0, scoped.1] {
+            let micros: u64 = got.unwrap().trim_end_matches('u').parse().unwrap();
+            assert!((150_000..=200_000).contains(&micros), "{micros}");
+        }
+    }
 
     #[tokio::test]
     async fn unreachable_servers_are_connect_errors() {

@@ -56,7 +56,7 @@ mod types;
 pub use args::ConnectArgs;
 pub use batch::{Batch, BatchObservations, BatchStep};
 pub use client::{
-    Client, ClientBuilder, DEFAULT_CONNECT_TIMEOUT, DEFAULT_KEEPALIVE_INTERVAL,
+    with_deadline, Client, ClientBuilder, DEFAULT_CONNECT_TIMEOUT, DEFAULT_KEEPALIVE_INTERVAL,
     DEFAULT_KEEPALIVE_TIMEOUT, DEFAULT_MAX_MESSAGE_BYTES,
 };
 pub use endpoints::FleetEndpoints;

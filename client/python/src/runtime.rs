@@ -41,15 +41,25 @@ where
         runtime().block_on(async move {
             match timeout {
                 None => call.await,
-                Some(limit) => match tokio::time::timeout(limit, call).await {
-                    Ok(result) => result,
-                    Err(_) => Err(ClientError::DeadlineExceeded {
-                        message: format!(
-                            "no reply within the timeout of {} s",
-                            limit.as_secs_f64()
-                        ),
-                    }),
-                },
+                // The server hears of the deadline too (`grpc-timeout`), so it does not
+                // start work nobody waits for.
+                Some(limit) => {
+                    match tokio::time::timeout(limit, gymfleet_client::with_deadline(limit, call))
+                        .await
+                    {
+                        // The server may say so first (it read the same deadline): one
+                        // message either way.
+                        Ok(Err(ClientError::DeadlineExceeded { .. })) | Err(_) => {
+                            Err(ClientError::DeadlineExceeded {
+                                message: format!(
+                                    "no reply within the timeout of {} s",
+                                    limit.as_secs_f64()
+                                ),
+                            })
+                        }
+                        Ok(result) => result,
+                    }
+                }
             }
         })
     });

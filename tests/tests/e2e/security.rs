@@ -405,7 +405,6 @@ async fn work_for_a_caller_that_has_gone_is_not_started() {
         .create_batch(BatchOptions::new(ARM2, 1))
         .await
         .expect("short batch");
-    let short_id = short.id().to_string();
     let actions = vec![0.1_f32; 2000 * 2];
     let busy = tokio::spawn(async move {
         let mut steps = 0;
@@ -418,22 +417,15 @@ async fn work_for_a_caller_that_has_gone_is_not_started() {
         steps
     });
     tokio::time::sleep(Duration::from_millis(30)).await;
-    // The hurried step on `short` waits behind the long steps and gives up.
-    let mut raw = pb::simulator_client::SimulatorClient::new(
-        tonic::transport::Channel::from_shared(server.url())
-            .unwrap()
-            .connect()
-            .await
-            .unwrap(),
-    );
-    let mut request = tonic::Request::new(pb::StepBatchRequest {
-        batch_id: short_id.clone(),
-        action_type: pb::ActionType::Torque as i32,
-        actions: vec![0.0, 0.0],
-    });
-    request.set_timeout(Duration::from_millis(20));
-    let status = raw.step_batch(request).await.unwrap_err();
-    assert_eq!(status.code(), tonic::Code::Cancelled, "{status:?}");
+    // The hurried step on `short` waits behind the long steps and gives up; its deadline
+    // went out as `grpc-timeout` (`with_deadline`), so the server drops the queued job.
+    let err = gymfleet_client::with_deadline(
+        Duration::from_millis(20),
+        short.step(ActionType::Torque, &[0.0, 0.0]),
+    )
+    .await
+    .unwrap_err();
+    assert_eq!(err.code(), Some(Code::DeadlineExceeded), "{err:?}");
     assert_eq!(busy.await.unwrap(), 3);
     // Had the abandoned step run, this would be the short batch's second step.
     let step = short
