@@ -86,7 +86,7 @@ def test_randomized_envs_report_their_draws(pendulum, arm2):
     env = gymfleet.make(pendulum)
     with pytest.raises(gymfleet.FailedPrecondition, match="was created without randomize"):
         env.randomization()
-    with pytest.raises(gymfleet.InvalidArgument, match=r"randomize.mass_scale: expected factors 0 < min <= max <= 100, got \[2, 1\]"):
+    with pytest.raises(gymfleet.InvalidArgument, match=r"randomize.mass_scale: expected factors 0.01 <= min <= max <= 100, got \[2, 1\]"):
         gymfleet.make(pendulum, randomize={"mass_scale": [2, 1]})
     with pytest.raises(gymfleet.InvalidArgument, match="randomize: unknown field.*mass"):
         gymfleet.make(pendulum, randomize={"mass": [1, 2]})

@@ -67,6 +67,9 @@ pub struct Randomization {
 
 /// Largest accepted scale factor.
 const MAX_SCALE: f64 = 100.0;
+/// Smallest accepted scale factor: a body scaled towards zero mass (or a joint towards
+/// zero gain) makes the dynamics degenerate, not merely varied.
+const MIN_SCALE: f64 = 0.01;
 
 impl Randomization {
     pub(crate) fn validate(&self) -> Result<()> {
@@ -79,14 +82,14 @@ impl Randomization {
             if let Some([min, max]) = range {
                 if !(min.is_finite()
                     && max.is_finite()
-                    && min > 0.0
+                    && min >= MIN_SCALE
                     && min <= max
                     && max <= MAX_SCALE)
                 {
                     return Err(EnvError::BadConfig {
                         field,
                         reason: format!(
-                            "expected factors 0 < min <= max <= {MAX_SCALE}, got [{min}, {max}]"
+                            "expected factors {MIN_SCALE} <= min <= max <= {MAX_SCALE}, got [{min}, {max}]"
                         ),
                     });
                 }

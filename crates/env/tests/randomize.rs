@@ -125,6 +125,6 @@ fn bad_ranges_are_refused_with_their_field() {
     };
     assert_eq!(
         err.to_string(),
-        "randomize.friction_scale: expected factors 0 < min <= max <= 100, got [0, 1]"
+        "randomize.friction_scale: expected factors 0.01 <= min <= max <= 100, got [0, 1]"
     );
 }

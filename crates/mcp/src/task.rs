@@ -148,7 +148,7 @@ impl TaskParam {
     }
 }
 
-/// A range of scale factors, 0 < min <= max <= 100.
+/// A range of scale factors, 0.01 <= min <= max <= 100.
 #[derive(Debug, Clone, Copy, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 #[schemars(transform = crate::schema::one_line_descriptions)]

@@ -266,6 +266,99 @@ async fn hostile_requests_get_their_exact_code_and_leave_everyone_else_alone() {
                 })
             },
         ),
+        // Task and randomisation numbers.
+        ("a reach target with NaN", Code::InvalidArgument, {
+            let mut c = r();
+            let mut request = env_request(ARM2);
+            request.end_effector_ids = vec!["forearm".into()];
+            request.task = Some(pb::Task {
+                kind: Some(pb::task::Kind::Reach(pb::ReachTask {
+                    end_effector: "forearm".into(),
+                    target: Some(pb::Vec3 {
+                        x: f64::NAN,
+                        y: 0.0,
+                        z: 40.0,
+                    }),
+                    ..Default::default()
+                })),
+                action_cost: 0.0,
+            });
+            Box::pin(async move { c.create_env(request).await.map(drop) })
+        }),
+        ("a reach target box of ±1e308", Code::InvalidArgument, {
+            let mut c = r();
+            let mut request = env_request(ARM2);
+            request.end_effector_ids = vec!["forearm".into()];
+            request.task = Some(pb::Task {
+                kind: Some(pb::task::Kind::Reach(pb::ReachTask {
+                    end_effector: "forearm".into(),
+                    target_box: Some(pb::Box3 {
+                        min: Some(pb::Vec3 {
+                            x: -1e308,
+                            y: -1e308,
+                            z: -1e308,
+                        }),
+                        max: Some(pb::Vec3 {
+                            x: 1e308,
+                            y: 1e308,
+                            z: 1e308,
+                        }),
+                    }),
+                    ..Default::default()
+                })),
+                action_cost: 0.0,
+            });
+            Box::pin(async move { c.create_env(request).await.map(drop) })
+        }),
+        (
+            "an infinite track tolerance and a NaN action cost",
+            Code::InvalidArgument,
+            {
+                let mut c = r();
+                let mut request = env_request(ARM2);
+                request.task = Some(pb::Task {
+                    kind: Some(pb::task::Kind::Track(pb::TrackTask {
+                        targets: vec![0.0, 0.0],
+                        tolerance: f64::INFINITY,
+                        terminate_on_success: false,
+                    })),
+                    action_cost: f32::NAN,
+                });
+                Box::pin(async move { c.create_env(request).await.map(drop) })
+            },
+        ),
+        ("a mass scale up to infinity", Code::InvalidArgument, {
+            let mut c = r();
+            let mut request = env_request(ARM2);
+            request.randomize = Some(pb::Randomization {
+                mass_scale: Some(pb::Range {
+                    min: 0.5,
+                    max: f64::INFINITY,
+                }),
+                ..Default::default()
+            });
+            Box::pin(async move { c.create_env(request).await.map(drop) })
+        }),
+        ("a mass scale down to 1e-300", Code::InvalidArgument, {
+            let mut c = r();
+            let mut request = env_request(ARM2);
+            request.randomize = Some(pb::Randomization {
+                mass_scale: Some(pb::Range {
+                    min: 1e-300,
+                    max: 1.0,
+                }),
+                ..Default::default()
+            });
+            Box::pin(async move {
+                let id = c.create_env(request).await?.into_inner().env_id;
+                c.reset(pb::ResetRequest {
+                    env_id: id.clone(),
+                    seed: Some(3),
+                })
+                .await?;
+                c.step(step(&id, vec![0.1, 0.1])).await.map(drop)
+            })
+        }),
         // Actions.
         ("no action type", Code::InvalidArgument, {
             let mut c = r();
