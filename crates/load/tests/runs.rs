@@ -336,6 +336,7 @@ fn a_server_that_requires_a_token_gets_it_from_token() {
         ))
         .unwrap();
     let addr = server.client_addr();
+    let path = tmp("token.json");
     let report = run_flags(&[
         "--server",
         &addr,
@@ -345,8 +346,15 @@ fn a_server_that_requires_a_token_gets_it_from_token() {
         "2",
         "--steps",
         "5",
+        "--json",
+        path.to_str().unwrap(),
     ]);
     assert_counts(&report.runs[0], 2, 5, 1);
+    let written = std::fs::read_to_string(&path).unwrap();
+    assert!(
+        !written.contains("load-test-token"),
+        "the token stays out of the report"
+    );
     let err = run(&config(&["--server", &addr, "--steps", "1"])).unwrap_err();
     assert!(
         err.to_string().contains(

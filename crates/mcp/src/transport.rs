@@ -132,3 +132,30 @@ pub(crate) async fn serve_http(
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn http_listens_off_loopback_only_with_a_token() {
+        let loopback: SocketAddr = "127.0.0.1:0".parse().unwrap();
+        let anywhere: SocketAddr = "0.0.0.0:8080".parse().unwrap();
+        assert!(check_http_addr(loopback, false).is_ok());
+        assert!(check_http_addr(anywhere, true).is_ok());
+        let err = check_http_addr(anywhere, false).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "--http 0.0.0.0:8080: without --http-token, MCP over HTTP is served on loopback \
+             only (127.0.0.1 or [::1])"
+        );
+    }
+
+    #[test]
+    fn token_comparison_needs_every_byte() {
+        assert!(constant_time_eq(b"secret-token", b"secret-token"));
+        assert!(!constant_time_eq(b"secret-token", b"secret-tokem"));
+        assert!(!constant_time_eq(b"secret-token", b"secret-toke"));
+        assert!(!constant_time_eq(b"", b"x"));
+    }
+}

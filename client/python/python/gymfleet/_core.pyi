@@ -139,8 +139,9 @@ def embedded_address() -> str:
     """The process's embedded server's address, started on first use."""
 
 def server_info(server: Optional[str] = None) -> Any:
-    """A server's ``version``, ``threads``, ``envs``, ``batches``, ``batch_envs`` and
-    ``limits`` (a list of those for a fleet)."""
+    """A server's ``version``, ``threads``, ``envs``, ``batches``, ``batch_envs``,
+    ``limits``, the caller's ``tenant`` and ``auth_required`` (a list of those for a
+    fleet). With auth on, the counts are the caller's tenant's own."""
 
 def stateful_set(
     name: str, service: str, namespace: str = "default", replicas: int = 1, port: int = 50051
