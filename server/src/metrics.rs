@@ -50,7 +50,7 @@ struct RpcLabels {
 
 #[derive(Clone, Debug, Hash, PartialEq, Eq, EncodeLabelSet)]
 struct ReasonLabel {
-    reason: &'static str,
+    reason: String,
 }
 
 type HistogramFamily = Family<RpcLabels, Histogram, fn() -> Histogram>;
@@ -72,6 +72,8 @@ pub(crate) struct Metrics {
     pool_queue_depth: Gauge,
     pool_wait: Counter<f64>,
     pool_jobs: Counter,
+    /// Held while a scrape refreshes and encodes.
+    scrape: std::sync::Mutex<()>,
 }
 
 impl std::fmt::Debug for Metrics {
@@ -146,6 +148,7 @@ impl Metrics {
             pool_queue_depth,
             pool_wait,
             pool_jobs,
+            scrape: std::sync::Mutex::new(()),
         }
     }
 
@@ -169,17 +172,27 @@ impl Metrics {
     /// Counts a call refused before any work, if `err` is such a refusal.
     pub(crate) fn rejected(&self, err: &ServerError) {
         if let Some(reason) = rejection_reason(err) {
-            self.reject(reason);
+            self.reject(&reason);
         }
     }
 
     /// Counts a call refused for `reason`.
-    pub(crate) fn reject(&self, reason: &'static str) {
-        self.rejected.get_or_create(&ReasonLabel { reason }).inc();
+    pub(crate) fn reject(&self, reason: &str) {
+        self.rejected
+            .get_or_create(&ReasonLabel {
+                reason: reason.to_string(),
+            })
+            .inc();
     }
 
     /// The text of `/metrics`, with the gauges read from `sim` now.
     pub(crate) fn encode(&self, sim: &Simulation) -> String {
+        // One scrape at a time: the gauges are cleared and refilled, and the pool
+        // counters catch up by difference, which two scrapes at once would do twice.
+        let _one_scrape = self
+            .scrape
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
         let counts = sim.open_by_tenant();
         for family in [&self.envs_open, &self.batches_open, &self.batch_envs_open] {
             family.clear();
@@ -221,23 +234,24 @@ pub(crate) struct OpenCounts {
     pub(crate) batch_envs: usize,
 }
 
-fn rejection_reason(err: &ServerError) -> Option<&'static str> {
-    Some(match err {
+/// Why `err` refused a call before any work: the limit's flag without its dashes
+/// (`max_batch_size`), or `invalid_argument`; `None` for other errors.
+fn rejection_reason(err: &ServerError) -> Option<String> {
+    let reason = match err {
         ServerError::TooManyEnvs { .. } => "max_envs",
         ServerError::TenantQuota { .. } => "tenant_max_envs",
         ServerError::BatchTooLarge { .. } => "max_batch_size",
         ServerError::DocumentTooLarge { .. } => "max_document_bytes",
         ServerError::ReplyTooLarge { .. } => "max_message_bytes",
         ServerError::TooMuchWork { .. } => "max_step_work",
-        ServerError::TooComplex { flag, .. } => match *flag {
-            "--max-instances" => "max_instances",
-            "--max-joints" => "max_joints",
-            "--max-dofs" => "max_dofs",
-            _ => "max_end_effectors",
-        },
+        // Each structural limit names its own flag, e.g. `--max-joints`.
+        ServerError::TooComplex { flag, .. } => {
+            return Some(flag.trim_start_matches("--").replace('-', "_"))
+        }
         _ if err.code() == Code::InvalidArgument => "invalid_argument",
         _ => return None,
-    })
+    };
+    Some(reason.to_string())
 }
 
 fn code_name(code: Code) -> &'static str {
@@ -287,5 +301,28 @@ pub(crate) async fn serve_metrics(listener: TcpListener, sim: Arc<Simulation>) {
     );
     if let Err(err) = axum::serve(listener, app).await {
         tracing::error!(%err, "metrics endpoint failed");
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn refusals_are_named_after_their_limits_flag() {
+        let too_complex = ServerError::TooComplex {
+            what: "assembly.joints",
+            count: 9,
+            max: 8,
+            flag: "--max-joints",
+            var: "GYMFLEET_MAX_JOINTS",
+        };
+        assert_eq!(
+            rejection_reason(&too_complex).as_deref(),
+            Some("max_joints")
+        );
+        let batch = ServerError::BatchTooLarge { n_envs: 9, max: 8 };
+        assert_eq!(rejection_reason(&batch).as_deref(), Some("max_batch_size"));
+        assert_eq!(rejection_reason(&ServerError::ShuttingDown), None);
     }
 }

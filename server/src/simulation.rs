@@ -205,6 +205,41 @@ impl Simulation {
         counts
     }
 
+    /// Runs `job` on `tenant`'s env `id` on the pool, in the fair lane (an env's work
+    /// never waits on other pool work).
+    async fn on_env<R, F>(
+        &self,
+        tenant: &Tenant,
+        id: &str,
+        operation: &'static str,
+        job: F,
+    ) -> Result<R>
+    where
+        R: Send + 'static,
+        F: FnOnce(&mut OpenEnv) -> Result<R> + Send + 'static,
+    {
+        let entry = self.envs.get(tenant, id)?;
+        pool::run_locked(&self.pool, Lane::Env, &self.envs, &entry, operation, job).await
+    }
+
+    /// Runs `job` on `tenant`'s batch `id` on the pool: in [`Lane::Batch`] when it steps
+    /// or resets the batch's envs (it runs their chunks), [`Lane::Env`] when it only reads.
+    async fn on_batch<R, F>(
+        &self,
+        tenant: &Tenant,
+        id: &str,
+        lane: Lane,
+        operation: &'static str,
+        job: F,
+    ) -> Result<R>
+    where
+        R: Send + 'static,
+        F: FnOnce(&mut OpenBatch) -> Result<R> + Send + 'static,
+    {
+        let entry = self.batches.get(tenant, id)?;
+        pool::run_locked(&self.pool, lane, &self.batches, &entry, operation, job).await
+    }
+
     /// `tenant`'s quota.
     fn quota(&self, tenant: &Tenant) -> Arc<EnvCapacity> {
         let mut quotas = self.quotas.lock().unwrap_or_else(PoisonError::into_inner);
@@ -269,34 +304,20 @@ impl Simulation {
         id: &str,
         seed: Option<u64>,
     ) -> Result<(Vec<f32>, ObsSplit)> {
-        let entry = self.envs.get(tenant, id)?;
-        pool::run_locked(
-            &self.pool,
-            Lane::Env,
-            &self.envs,
-            &entry,
-            "Reset",
-            move |open| {
-                let spec = open.env.spec();
-                let (dim, split) = (spec.observation_dim, ObsSplit::of(spec));
-                let mut obs = vec![0.0; dim];
-                open.env.reset_into(seed, &mut obs);
-                Ok((obs, split))
-            },
-        )
+        self.on_env(tenant, id, "Reset", move |open| {
+            let spec = open.env.spec();
+            let (dim, split) = (spec.observation_dim, ObsSplit::of(spec));
+            let mut obs = vec![0.0; dim];
+            open.env.reset_into(seed, &mut obs);
+            Ok((obs, split))
+        })
         .await
     }
 
     pub(crate) async fn step_env(&self, tenant: &Tenant, step: EnvStep) -> Result<EnvStepOutcome> {
-        let entry = self.envs.get(tenant, &step.env_id)?;
         let inject = self.injected_panic(&step.action);
-        let outcome = pool::run_locked(
-            &self.pool,
-            Lane::Env,
-            &self.envs,
-            &entry,
-            "Step",
-            move |open| {
+        let outcome = self
+            .on_env(tenant, &step.env_id, "Step", move |open| {
                 if inject {
                     panic!("injected panic (ServerConfig::panic_on_action)");
                 }
@@ -314,9 +335,8 @@ impl Simulation {
                     episode_step: open.env.elapsed_steps(),
                     split,
                 })
-            },
-        )
-        .await;
+            })
+            .await;
         if outcome.is_ok() {
             self.metrics.env_steps(tenant, 1);
         }
@@ -328,21 +348,13 @@ impl Simulation {
         tenant: &Tenant,
         id: &str,
     ) -> Result<(Vec<f32>, ObsSplit)> {
-        let entry = self.envs.get(tenant, id)?;
-        pool::run_locked(
-            &self.pool,
-            Lane::Env,
-            &self.envs,
-            &entry,
-            "Observe",
-            move |open| {
-                let spec = open.env.spec();
-                let (dim, split) = (spec.observation_dim, ObsSplit::of(spec));
-                let mut obs = vec![0.0; dim];
-                open.env.observe_into(&mut obs);
-                Ok((obs, split))
-            },
-        )
+        self.on_env(tenant, id, "Observe", move |open| {
+            let spec = open.env.spec();
+            let (dim, split) = (spec.observation_dim, ObsSplit::of(spec));
+            let mut obs = vec![0.0; dim];
+            open.env.observe_into(&mut obs);
+            Ok((obs, split))
+        })
         .await
     }
 
@@ -428,24 +440,16 @@ impl Simulation {
         seed_offset: u64,
         env_indices: Vec<u32>,
     ) -> Result<BatchObservations> {
-        let entry = self.batches.get(tenant, id)?;
         let pool = self.pool.clone();
         let batch_id = id.to_string();
-        pool::run_locked(
-            &self.pool,
-            Lane::Batch,
-            &self.batches,
-            &entry,
-            "ResetBatch",
-            move |open| {
-                let mut observations = Vec::new();
-                // On the wire an empty list means every env.
-                let only = (!env_indices.is_empty()).then_some(&env_indices[..]);
-                open.batch
-                    .reset_envs(&pool, seed, seed_offset, only, &mut observations)?;
-                Ok(batch_observation(batch_id, &open.batch, observations))
-            },
-        )
+        self.on_batch(tenant, id, Lane::Batch, "ResetBatch", move |open| {
+            let mut observations = Vec::new();
+            // On the wire an empty list means every env.
+            let only = (!env_indices.is_empty()).then_some(&env_indices[..]);
+            open.batch
+                .reset_envs(&pool, seed, seed_offset, only, &mut observations)?;
+            Ok(batch_observation(batch_id, &open.batch, observations))
+        })
         .await
     }
 
@@ -454,16 +458,11 @@ impl Simulation {
         tenant: &Tenant,
         step: BatchStep,
     ) -> Result<BatchStepped> {
-        let entry = self.batches.get(tenant, &step.batch_id)?;
         let inject = self.injected_panic(&step.action);
         let pool = self.pool.clone();
-        let stepped = pool::run_locked(
-            &self.pool,
-            Lane::Batch,
-            &self.batches,
-            &entry,
-            "StepBatch",
-            move |open| {
+        let batch_id = step.batch_id.clone();
+        let stepped = self
+            .on_batch(tenant, &batch_id, Lane::Batch, "StepBatch", move |open| {
                 if inject {
                     panic!("injected panic (ServerConfig::panic_on_action)");
                 }
@@ -479,9 +478,8 @@ impl Simulation {
                     step_index: open.steps,
                     out: open.out.clone(),
                 })
-            },
-        )
-        .await;
+            })
+            .await;
         if let Ok(stepped) = &stepped {
             self.metrics.env_steps(tenant, stepped.out.rewards.len());
         }
@@ -493,20 +491,12 @@ impl Simulation {
         tenant: &Tenant,
         id: &str,
     ) -> Result<BatchObservations> {
-        let entry = self.batches.get(tenant, id)?;
         let batch_id = id.to_string();
-        pool::run_locked(
-            &self.pool,
-            Lane::Batch,
-            &self.batches,
-            &entry,
-            "ObserveBatch",
-            move |open| {
-                let mut observations = Vec::new();
-                open.batch.observe(&mut observations);
-                Ok(batch_observation(batch_id, &open.batch, observations))
-            },
-        )
+        self.on_batch(tenant, id, Lane::Batch, "ObserveBatch", move |open| {
+            let mut observations = Vec::new();
+            open.batch.observe(&mut observations);
+            Ok(batch_observation(batch_id, &open.batch, observations))
+        })
         .await
     }
 
@@ -518,24 +508,18 @@ impl Simulation {
     ) -> Result<DrawReport> {
         match target {
             DrawsOf::Env(id) => {
-                let entry = self.envs.get(tenant, &id)?;
-                pool::run_locked(
-                    &self.pool,
-                    Lane::Env,
-                    &self.envs,
-                    &entry,
-                    "GetRandomization",
-                    move |open| open.env.draws().ok_or(ServerError::NotRandomized { id }),
-                )
+                let env_id = id.clone();
+                self.on_env(tenant, &env_id, "GetRandomization", move |open| {
+                    open.env.draws().ok_or(ServerError::NotRandomized { id })
+                })
                 .await
             }
             DrawsOf::BatchEnv(id, index) => {
-                let entry = self.batches.get(tenant, &id)?;
-                pool::run_locked(
-                    &self.pool,
+                let batch_id = id.clone();
+                self.on_batch(
+                    tenant,
+                    &batch_id,
                     Lane::Env,
-                    &self.batches,
-                    &entry,
                     "GetRandomization",
                     move |open| {
                         let n_envs = open.batch.n_envs();
