@@ -602,9 +602,7 @@ impl Collider {
     ///
     /// This is the AABB used for collision detection (slightly larger than the visual shape).
     pub fn compute_collision_aabb(&self, prediction: Real) -> Aabb {
-        self.shape
-            .compute_aabb(&self.pos)
-            .loosened(self.contact_skin + prediction)
+        shape_aabb(&*self.shape, &self.pos).loosened(self.contact_skin + prediction)
     }
 
     /// Computes the AABB swept from current position to `next_position`.
@@ -1523,5 +1521,55 @@ impl ColliderBuilder {
 impl From<ColliderBuilder> for Collider {
     fn from(val: ColliderBuilder) -> Collider {
         val.build()
+    }
+}
+
+/// The world-space AABB of `shape` at `pos`; a cylinder's in closed form (gymfleet patch, see
+/// `PATCHES.md`).
+///
+/// parry computes a cylinder's AABB from six support-point queries (`support_map_aabb`); the
+/// exact box has a closed form: with `a` the cylinder's axis in world space, its half-extent
+/// along world axis `d` is `half_height·|a_d| + radius·√(1 − a_d²)`. The broad phase asks for
+/// every moving collider's AABB (twice with soft CCD) at every step.
+#[inline]
+pub(crate) fn shape_aabb(shape: &dyn Shape, pos: &Pose) -> Aabb {
+    #[cfg(feature = "dim3")]
+    if let Some(cylinder) = shape.as_cylinder() {
+        let axis = pos.rotation * Vector::Y;
+        let radial = (Vector::ONE - axis * axis).max(Vector::ZERO);
+        let half_extents = axis.abs() * cylinder.half_height
+            + Vector::new(radial.x.sqrt(), radial.y.sqrt(), radial.z.sqrt()) * cylinder.radius;
+        return Aabb::new(pos.translation - half_extents, pos.translation + half_extents);
+    }
+    shape.compute_aabb(pos)
+}
+
+#[cfg(all(test, feature = "dim3"))]
+mod shape_aabb_tests {
+    use super::shape_aabb;
+    use crate::math::{Pose, Real, Rotation, Vector};
+    use parry::shape::{Cylinder, Shape};
+
+    /// The closed form gives parry's support-map AABB (the exact box) to rounding.
+    #[test]
+    fn a_cylinder_aabb_in_closed_form_matches_the_support_map_one() {
+        let cylinder = Cylinder::new(0.7, 0.25);
+        let mut worst: Real = 0.0;
+        for i in 0..200 {
+            let t = i as Real;
+            let axis = Vector::new((t * 0.37).sin(), (t * 0.91).cos(), (t * 0.13).sin() + 0.1);
+            let rotation = Rotation::from_axis_angle(axis.normalize(), t * 0.29);
+            let pose = Pose::from_parts(Vector::new(t, -2.0 * t, 0.5), rotation);
+            let fast = shape_aabb(&cylinder, &pose);
+            let slow = parry::bounding_volume::details::support_map_aabb(&pose, &cylinder);
+            worst = worst
+                .max((fast.mins - slow.mins).abs().max_element())
+                .max((fast.maxs - slow.maxs).abs().max_element());
+            assert_eq!(cylinder.compute_aabb(&pose), slow);
+        }
+        assert!(worst < 1.0e-5 * 400.0, "largest difference {worst}");
+        // Axis-aligned: exactly the cylinder's extents.
+        let aabb = shape_aabb(&cylinder, &Pose::IDENTITY);
+        assert_eq!(aabb.maxs, Vector::new(0.25, 0.7, 0.25));
     }
 }

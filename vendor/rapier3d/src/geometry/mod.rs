@@ -303,6 +303,8 @@ mod broad_phase_pair_event;
 #[cfg(feature = "alloc")]
 mod collider;
 #[cfg(feature = "alloc")]
+pub(crate) use self::collider::shape_aabb;
+#[cfg(feature = "alloc")]
 mod collider_set;
 #[cfg(feature = "alloc")]
 mod mesh_converter;

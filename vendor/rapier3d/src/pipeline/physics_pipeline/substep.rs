@@ -111,9 +111,7 @@ impl PhysicsPipeline {
                     dt,
                     rb.soft_ccd_prediction(),
                 ) * co.parent.as_ref().unwrap().pos_wrt_parent;
-                let next_aabb = co
-                    .shape
-                    .compute_aabb(&next_pose)
+                let next_aabb = crate::geometry::shape_aabb(&*co.shape, &next_pose)
                     .loosened(co.contact_skin() + prediction / 2.0);
                 aabb.merge(&next_aabb);
             }
