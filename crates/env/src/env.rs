@@ -1,7 +1,7 @@
 //! [`RobotEnv`]: one episode-driven robot.
 
 use gymfleet_assembly::Assembly;
-use gymfleet_physics::{Draws, RobotWorld, WorldOptions};
+use gymfleet_physics::{Draws, RobotWorld, SceneJoint, ScenePart, WorldOptions};
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
 
@@ -360,5 +360,45 @@ fn draw(rng: &mut Xoshiro256PlusPlus, r: &Randomization, instances: usize, joint
         friction,
         damping,
         gain,
+    }
+}
+
+/// What an env looks like now, for drawing it: its parts, joints, end effectors and task
+/// target, in world millimetres.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    /// Every part, each with its instance's index into `instance_names`.
+    pub parts: Vec<ScenePart>,
+    /// Instance names, in document order.
+    pub instance_names: Vec<String>,
+    /// Joints with at least one DOF, in document order.
+    pub joints: Vec<SceneJoint>,
+    /// Each end effector's position (its centre of mass, as observed), world mm.
+    pub end_effectors: Vec<[f32; 3]>,
+    /// A reach task's current target, world mm.
+    pub target: Option<[f32; 3]>,
+}
+
+impl RobotEnv {
+    /// The env's [`Scene`] as it is now.
+    pub fn scene(&self) -> Scene {
+        Scene {
+            parts: self.world.scene_parts(),
+            instance_names: self.names.0.clone(),
+            joints: self.world.scene_joints(),
+            end_effectors: self
+                .end_effectors
+                .iter()
+                .map(|&i| {
+                    let p = self.world.body_pose(i);
+                    [p[0], p[1], p[2]]
+                })
+                .collect(),
+            target: self
+                .task
+                .as_ref()
+                .and_then(|t| t.reach_target())
+                .map(|t| t.map(|c| c as f32)),
+        }
     }
 }

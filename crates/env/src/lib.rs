@@ -24,9 +24,9 @@ pub use action::ActionType;
 pub use config::{
     EnvConfig, EnvSpec, Randomization, DEFAULT_DT, DEFAULT_MAX_STEPS, DEFAULT_SUBSTEPS,
 };
-pub use env::{DrawReport, RobotEnv, StepFlags, StepResult, Termination};
+pub use env::{DrawReport, RobotEnv, Scene, StepFlags, StepResult, Termination};
 pub use error::{EnvError, Result};
 pub use gymfleet_assembly::{AssemblyError, DofKind, JointType};
-pub use gymfleet_physics::{JointDof, PdGains};
+pub use gymfleet_physics::{JointDof, PdGains, SceneJoint, ScenePart, SceneShape};
 pub use observation::{Observation, ObservationSegment, POSE_LEN};
 pub use task::{ReachTarget, TaskKind, TaskSpec};

@@ -312,6 +312,11 @@ impl TaskSpec {
 
 impl ActiveTask {
     /// Floats the task appends to the observation: the reach target (x, y, z mm).
+    /// A reach task's current target, world mm.
+    pub(crate) fn reach_target(&self) -> Option<[f64; 3]> {
+        matches!(self.kind, Active::Reach { .. }).then_some(self.target)
+    }
+
     pub(crate) fn observation_dim(&self) -> usize {
         match self.kind {
             Active::Reach { .. } => 3,

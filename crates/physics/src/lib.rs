@@ -19,10 +19,12 @@ mod error;
 mod perturb;
 mod randomize;
 mod readout;
+mod scene;
 mod units;
 mod world;
 
 pub use command::{ActionMode, PdGains, DEFAULT_PD_FREQUENCY_HZ};
 pub use error::{PhysicsError, Result};
 pub use randomize::Draws;
+pub use scene::{SceneJoint, ScenePart, SceneShape};
 pub use world::{JointDof, RobotWorld, WorldOptions};

@@ -1,0 +1,147 @@
+//! The robot's shapes and joints as they are now, in world millimetres, for drawing it
+//! (rendering, replays). Read from the live Rapier sets; nothing here changes the world.
+
+use rapier3d::math::{Pose, Vector};
+use rapier3d::parry::shape::ShapeType;
+
+use crate::units::to_mm;
+use crate::world::RobotWorld;
+
+/// One primitive, in its own frame (see [`ScenePart`]), millimetres.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SceneShape {
+    /// A box centred on its frame's origin.
+    Cuboid {
+        /// Half the box's size along its frame's x, y, z.
+        half_extents: [f32; 3],
+    },
+    /// A cylinder centred on its frame's origin, its axis along the frame's y.
+    Cylinder {
+        /// Radius.
+        radius: f32,
+        /// Half the length along the axis.
+        half_height: f32,
+    },
+    /// A sphere centred on its frame's origin.
+    Ball {
+        /// Radius.
+        radius: f32,
+    },
+}
+
+/// A part of the robot: an instance's shape placed in the world.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ScenePart {
+    /// The instance it belongs to (document order).
+    pub instance: usize,
+    /// The shape, in the frame given by `position` and `rotation`.
+    pub shape: SceneShape,
+    /// The shape frame's origin, world mm.
+    pub position: [f32; 3],
+    /// The shape frame's orientation, `[qw, qx, qy, qz]`.
+    pub rotation: [f32; 4],
+}
+
+/// A joint's anchor and axis (the first DOF's axis; a ball joint's frame x), world.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SceneJoint {
+    /// The anchor, world mm.
+    pub anchor: [f32; 3],
+    /// A unit vector.
+    pub axis: [f32; 3],
+}
+
+fn mm(v: Vector) -> [f32; 3] {
+    [v.x, v.y, v.z].map(|c| to_mm(f64::from(c)) as f32)
+}
+
+fn to_part(instance: usize, shape: SceneShape, pose: &Pose) -> ScenePart {
+    let q = pose.rotation;
+    ScenePart {
+        instance,
+        shape,
+        position: mm(pose.translation),
+        rotation: [q.w, q.x, q.y, q.z],
+    }
+}
+
+impl RobotWorld {
+    /// Every collider of every instance, where it is now. Shapes gymfleet does not build
+    /// (none today) are left out.
+    pub fn scene_parts(&self) -> Vec<ScenePart> {
+        let mut parts = Vec::with_capacity(self.bodies.len());
+        let len = |v: f32| to_mm(f64::from(v)) as f32;
+        for (instance, &handle) in self.bodies.iter().enumerate() {
+            for &co in self.live.bodies[handle].colliders() {
+                let co = &self.live.colliders[co];
+                let shape = co.shape();
+                let shape = match shape.shape_type() {
+                    ShapeType::Cuboid => {
+                        let c = shape.as_cuboid().expect("a cuboid");
+                        SceneShape::Cuboid {
+                            half_extents: [c.half_extents.x, c.half_extents.y, c.half_extents.z]
+                                .map(len),
+                        }
+                    }
+                    ShapeType::Cylinder => {
+                        let c = shape.as_cylinder().expect("a cylinder");
+                        SceneShape::Cylinder {
+                            radius: len(c.radius),
+                            half_height: len(c.half_height),
+                        }
+                    }
+                    ShapeType::Ball => SceneShape::Ball {
+                        radius: len(shape.as_ball().expect("a ball").radius),
+                    },
+                    _ => continue,
+                };
+                parts.push(to_part(instance, shape, co.position()));
+            }
+        }
+        parts
+    }
+
+    /// Every document joint with at least one DOF, in document order.
+    pub fn scene_joints(&self) -> Vec<SceneJoint> {
+        self.joints
+            .iter()
+            .filter(|slot| slot.kind != gymfleet_assembly::JointType::Fixed)
+            .map(|slot| {
+                let frame = self.joint_frame_world(slot);
+                let axis = frame.rotation * Vector::X;
+                SceneJoint {
+                    anchor: mm(frame.translation),
+                    axis: [axis.x, axis.y, axis.z],
+                }
+            })
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::WorldOptions;
+
+    const PENDULUM: &str = include_str!("../../../models/pendulum.json");
+
+    #[test]
+    fn parts_and_joints_are_in_world_millimetres() {
+        let assembly = gymfleet_assembly::parse(PENDULUM).unwrap();
+        let world = RobotWorld::new(&assembly, &WorldOptions::default()).unwrap();
+        let parts = world.scene_parts();
+        assert_eq!(parts.len(), 2);
+        let close = |a: [f32; 3], b: [f32; 3]| a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-3);
+        // The base: a 20 × 20 × 5 mm box with its corner at the origin.
+        assert_eq!(parts[0].instance, 0);
+        assert_eq!(parts[0].shape, SceneShape::Cuboid { half_extents: [10.0, 10.0, 2.5] });
+        assert!(close(parts[0].position, [10.0, 10.0, 2.5]), "{:?}", parts[0].position);
+        // The arm: 4 × 4 × 40 mm from (8, 8, 5).
+        assert_eq!(parts[1].shape, SceneShape::Cuboid { half_extents: [2.0, 2.0, 20.0] });
+        assert!(close(parts[1].position, [10.0, 10.0, 25.0]), "{:?}", parts[1].position);
+        let joints = world.scene_joints();
+        assert_eq!(joints.len(), 1);
+        assert!(close(joints[0].anchor, [10.0, 10.0, 5.0]), "{:?}", joints[0].anchor);
+        assert!(close(joints[0].axis, [0.0, 1.0, 0.0]), "{:?}", joints[0].axis);
+    }
+}
