@@ -39,7 +39,7 @@ impl Client {
 /// ```
 #[derive(Debug, Clone)]
 pub struct Batch {
-    client: Client,
+    pub(crate) client: Client,
     info: BatchInfo,
 }
 

@@ -21,7 +21,7 @@ impl Client {
 /// TTL. Dropping the handle does not close it.
 #[derive(Debug, Clone)]
 pub struct Env {
-    client: Client,
+    pub(crate) client: Client,
     info: EnvInfo,
 }
 

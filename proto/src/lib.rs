@@ -54,6 +54,7 @@ mod tests {
                 "StreamBatch",
                 "GetServerInfo",
                 "GetRandomization",
+                "Render",
             ]
         );
         let stream = &service.method[10];

@@ -9,10 +9,11 @@ use gymfleet_env::{
     TaskKind, TaskSpec,
 };
 use gymfleet_proto::v1 as pb;
+use gymfleet_render::{Camera, CameraPreset};
 
 use crate::domain::{
     Action, BatchObservations, BatchRequest, BatchStep, BatchStepped, DrawsOf, EnvRequest, EnvStep,
-    JointLinks, ObsSplit, ServerStatus,
+    JointLinks, ObsSplit, RenderOf, Rendered, ServerStatus,
 };
 use crate::error::{Result, ServerError};
 
@@ -236,6 +237,55 @@ impl TryFrom<pb::RandomizationRequest> for DrawsOf {
                 reason: "expected exactly one of env_id and batch_id".to_string(),
             }),
         }
+    }
+}
+
+impl TryFrom<pb::RenderRequest> for RenderOf {
+    type Error = ServerError;
+
+    fn try_from(r: pb::RenderRequest) -> Result<Self> {
+        let of = DrawsOf::try_from(pb::RandomizationRequest {
+            env_id: r.env_id,
+            batch_id: r.batch_id,
+            env_index: r.env_index,
+        })?;
+        let camera = r.camera.unwrap_or_default();
+        let preset = match pb::CameraPreset::try_from(camera.preset) {
+            Ok(pb::CameraPreset::Unspecified | pb::CameraPreset::Iso) => CameraPreset::Iso,
+            Ok(pb::CameraPreset::Front) => CameraPreset::Front,
+            Ok(pb::CameraPreset::Side) => CameraPreset::Side,
+            Ok(pb::CameraPreset::Top) => CameraPreset::Top,
+            Err(_) => {
+                return Err(ServerError::InvalidArgument {
+                    field: "camera.preset",
+                    reason: format!("unknown camera preset {}", camera.preset),
+                })
+            }
+        };
+        let point = |v: Option<pb::Vec3>| v.map(|v| [v.x as f32, v.y as f32, v.z as f32]);
+        Ok(RenderOf {
+            of,
+            camera: Camera {
+                preset,
+                eye: point(camera.eye),
+                target: point(camera.target),
+                fov_deg: camera.fov_deg,
+                orthographic: camera.orthographic,
+            },
+            width: r.width,
+            height: r.height,
+        })
+    }
+}
+
+/// A picture on the wire.
+pub(crate) fn image(r: Rendered) -> pb::Image {
+    pb::Image {
+        png: r.png,
+        width: r.width,
+        height: r.height,
+        description: r.description,
+        grid_mm: r.grid_mm,
     }
 }
 

@@ -113,7 +113,26 @@ pub(crate) struct Created {
     pub(crate) batch: Option<(usize, Autoreset)>,
 }
 
-/// Whose randomisation factors: an env, or env `index` of a batch.
+/// A picture to take: of whom, from where, how large.
+#[derive(Debug, Clone)]
+pub(crate) struct RenderOf {
+    pub(crate) of: DrawsOf,
+    pub(crate) camera: gymfleet_render::Camera,
+    pub(crate) width: u32,
+    pub(crate) height: u32,
+}
+
+/// A picture taken: the PNG and its account.
+#[derive(Debug, Clone)]
+pub(crate) struct Rendered {
+    pub(crate) png: Vec<u8>,
+    pub(crate) width: u32,
+    pub(crate) height: u32,
+    pub(crate) description: String,
+    pub(crate) grid_mm: f32,
+}
+
+/// Whose randomisation factors (or picture): an env, or env `index` of a batch.
 #[derive(Debug, Clone)]
 pub(crate) enum DrawsOf {
     Env(String),

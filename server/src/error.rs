@@ -95,6 +95,9 @@ pub enum ServerError {
         /// The env (or `batch_<n>[i]`).
         id: String,
     },
+    /// A picture that cannot be made (its size or camera).
+    #[error("{0}")]
+    Render(#[from] gymfleet_render::RenderError),
     /// A batch env index past the batch's end.
     #[error("env_index: {index} is out of range: the batch has {n_envs} envs")]
     EnvIndex {
@@ -308,7 +311,7 @@ impl ServerError {
             },
             ServerError::NotFound { .. } => Code::NotFound,
             ServerError::NotRandomized { .. } => Code::FailedPrecondition,
-            ServerError::EnvIndex { .. } => Code::InvalidArgument,
+            ServerError::EnvIndex { .. } | ServerError::Render(_) => Code::InvalidArgument,
             ServerError::TooManyEnvs { .. }
             | ServerError::TenantQuota { .. }
             | ServerError::TooComplex { .. }

@@ -13,7 +13,7 @@ use tonic::{Request, Response, Status, Streaming};
 
 use crate::auth::{tenant_of, Tenant};
 use crate::convert;
-use crate::domain::{BatchRequest, BatchStep, Created, DrawsOf, EnvRequest, EnvStep};
+use crate::domain::{BatchRequest, BatchStep, Created, DrawsOf, EnvRequest, EnvStep, RenderOf};
 use crate::error::{Result, ServerError};
 use crate::simulation::Simulation;
 
@@ -223,6 +223,19 @@ impl Simulator for SimulatorService {
             start,
             result.await.map(convert::randomization_draws),
         )
+    }
+
+    async fn render(
+        &self,
+        request: Request<pb::RenderRequest>,
+    ) -> Result<Response<pb::Image>, Status> {
+        let start = Instant::now();
+        let tenant = tenant_of(&request)?;
+        let result = async {
+            let target = RenderOf::try_from(request.into_inner())?;
+            self.sim.render(&tenant, target).await
+        };
+        self.finish("Render", start, result.await.map(convert::image))
     }
 
     async fn observe_batch(

@@ -11,7 +11,7 @@ use gymfleet_env::{DrawReport, EnvError, RobotEnv};
 use crate::auth::Tenant;
 use crate::config::ServerConfig;
 use crate::domain::{
-    Action, BatchObservations, BatchRequest, BatchStep, BatchStepped, Created, DrawsOf, EnvRequest,
+    Action, BatchObservations, BatchRequest, BatchStep, BatchStepped, Created, DrawsOf, EnvRequest, RenderOf, Rendered,
     EnvStep, EnvStepOutcome, JointLinks, ObsSplit, ServerStatus,
 };
 use crate::error::{EntityKind, Result, ServerError};
@@ -531,6 +531,39 @@ impl Simulation {
                         })
                     },
                 )
+                .await
+            }
+        }
+    }
+
+    /// A picture of an env, or of env `index` of a batch, taken on the pool.
+    pub(crate) async fn render(&self, tenant: &Tenant, request: RenderOf) -> Result<Rendered> {
+        let RenderOf { of, camera, width, height } = request;
+        let draw = move |scene: gymfleet_env::Scene| -> Result<Rendered> {
+            let frame = gymfleet_render::render(&scene, &camera, width, height)?;
+            Ok(Rendered {
+                png: frame.to_png(),
+                width: frame.width,
+                height: frame.height,
+                description: gymfleet_render::describe(&scene, &frame, &camera),
+                grid_mm: frame.grid_mm,
+            })
+        };
+        match of {
+            DrawsOf::Env(id) => {
+                self.on_env(tenant, &id, "Render", move |open| draw(open.env.scene()))
+                    .await
+            }
+            DrawsOf::BatchEnv(id, index) => {
+                let batch_id = id.clone();
+                self.on_batch(tenant, &batch_id, Lane::Env, "Render", move |open| {
+                    let n_envs = open.batch.n_envs();
+                    let scene = open
+                        .batch
+                        .scene(index)
+                        .ok_or(ServerError::EnvIndex { index, n_envs })?;
+                    draw(scene)
+                })
                 .await
             }
         }

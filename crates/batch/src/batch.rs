@@ -285,6 +285,17 @@ impl EnvBatch {
         }
     }
 
+    /// Env `index`'s [`gymfleet_env::Scene`] (`None` past the end).
+    pub fn scene(&self, index: usize) -> Option<gymfleet_env::Scene> {
+        self.chunks.iter().find_map(|chunk| {
+            let chunk = lock(chunk);
+            let first = chunk.first_env;
+            (first..first + chunk.len())
+                .contains(&index)
+                .then(|| chunk.env(index - first).scene())
+        })
+    }
+
     /// Env `index`'s domain-randomisation factors for its current episode (`None`
     /// without randomisation, or past the end).
     pub fn draws(&self, index: usize) -> Option<gymfleet_env::DrawReport> {

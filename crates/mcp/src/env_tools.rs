@@ -1,5 +1,5 @@
 //! The single-environment tools of the user guide: `create_robot_env`, `gym_reset`,
-//! `gym_step`, `gym_observe` and `gym_close`. Each checks what it can before calling the
+//! `gym_step`, `gym_observe`, `gym_render` and `gym_close`. Each checks what it can before calling the
 //! server (ids, action count, finiteness) and answers with the guide's JSON, as structured
 //! content and as text; every failure is a tool error with a message to act on.
 
@@ -8,9 +8,9 @@ use rmcp::{tool, tool_router};
 
 use crate::actions;
 use crate::errors::Result;
-use crate::output::{EnvClosed, EnvCreated, ObservationOut, StepOut};
-use crate::params::{CreateEnvParams, EnvRefParams, ResetParams, StepParams};
-use crate::reply::Json;
+use crate::output::{EnvClosed, EnvCreated, ObservationOut, RenderOut, StepOut};
+use crate::params::{CreateEnvParams, EnvRefParams, RenderParams, ResetParams, StepParams};
+use crate::reply::{Json, Picture};
 use crate::server::GymTools;
 
 #[tool_router(router = env_router, vis = "pub(crate)")]
@@ -92,6 +92,38 @@ impl GymTools {
             .await
             .map_err(|err| self.fleet.env_failed(&placed, &err))?;
         Ok(Json(ObservationOut::from(&observation)))
+    }
+
+    /// Renders an environment.
+    #[tool(
+        description = "See the robot: a PNG picture of an environment as it is now (image \
+        content) plus a JSON text {width, height, grid_mm, description}. Parts are shaded \
+        solids on a ground grid (line spacing grid_mm, every fifth line darker), joint axes \
+        red, end effectors green, a reach target magenta. camera: iso (default), front, side \
+        or top, framing the whole robot; or give eye/target in world mm.",
+        output_schema = rmcp::handler::server::common::schema_for_output::<RenderOut>()
+    )]
+    async fn gym_render(
+        &self,
+        Parameters(p): Parameters<RenderParams>,
+    ) -> Result<Picture<RenderOut>> {
+        let placed = self.fleet.env(&p.env_id)?;
+        let (camera, width, height) = p.camera();
+        let image = placed
+            .handle
+            .render(&camera, width, height)
+            .await
+            .map_err(|err| self.fleet.env_failed(&placed, &err))?;
+        Ok(Picture {
+            png: image.png,
+            about: RenderOut {
+                env_id: placed.id.clone(),
+                width: image.width,
+                height: image.height,
+                grid_mm: image.grid_mm,
+                description: image.description,
+            },
+        })
     }
 
     /// Closes an environment.

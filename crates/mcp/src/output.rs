@@ -347,3 +347,19 @@ mod tests {
         );
     }
 }
+
+/// `gym_render`'s text and structured content (the picture itself is image content).
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+pub(crate) struct RenderOut {
+    /// The env pictured.
+    pub(crate) env_id: String,
+    /// Image width in pixels.
+    pub(crate) width: u32,
+    /// Image height in pixels.
+    pub(crate) height: u32,
+    /// The distance between two ground-grid lines in mm (every fifth line is darker).
+    pub(crate) grid_mm: f32,
+    /// What the picture shows: camera, grid, marker colours, end effector and target positions.
+    pub(crate) description: String,
+}

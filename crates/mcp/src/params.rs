@@ -81,6 +81,75 @@ pub(crate) struct EnvRefParams {
     pub(crate) env_id: String,
 }
 
+/// Inputs of `gym_render`.
+#[derive(Debug, Deserialize, JsonSchema)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+pub(crate) struct RenderParams {
+    /// The env_id returned by create_robot_env, e.g. "sim_1".
+    pub(crate) env_id: String,
+    /// Viewing direction, framing the whole robot: "iso" (default, from front-right and above), "front" (from -y), "side" (from +x) or "top".
+    #[serde(default)]
+    pub(crate) camera: Option<CameraName>,
+    /// Optional camera position [x, y, z] in world mm (overrides the preset's direction).
+    #[serde(default)]
+    pub(crate) eye: Option<[f64; 3]>,
+    /// Optional point to look at [x, y, z] in world mm (default: the robot's centre).
+    #[serde(default)]
+    pub(crate) target: Option<[f64; 3]>,
+    /// Vertical field of view in degrees, (0, 170]; default 45.
+    #[serde(default)]
+    pub(crate) fov_deg: Option<f32>,
+    /// Parallel projection (true) instead of perspective.
+    #[serde(default)]
+    pub(crate) orthographic: Option<bool>,
+    /// Image width in pixels, 16 to 2048 (default 320).
+    #[serde(default)]
+    pub(crate) width: Option<u32>,
+    /// Image height in pixels, 16 to 2048 (default 240).
+    #[serde(default)]
+    pub(crate) height: Option<u32>,
+}
+
+/// A camera preset's name.
+#[derive(Debug, Clone, Copy, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+#[schemars(inline)]
+pub(crate) enum CameraName {
+    /// From the front-right and above.
+    Iso,
+    /// From -y, looking along +y.
+    Front,
+    /// From +x, looking along -x.
+    Side,
+    /// From above.
+    Top,
+}
+
+impl RenderParams {
+    /// The camera and size the client sends.
+    pub(crate) fn camera(&self) -> (gymfleet_client::Camera, u32, u32) {
+        use gymfleet_client::CameraPreset;
+        let preset = match self.camera.unwrap_or(CameraName::Iso) {
+            CameraName::Iso => CameraPreset::Iso,
+            CameraName::Front => CameraPreset::Front,
+            CameraName::Side => CameraPreset::Side,
+            CameraName::Top => CameraPreset::Top,
+        };
+        let camera = gymfleet_client::Camera {
+            preset,
+            eye: self.eye,
+            target: self.target,
+            fov_deg: self.fov_deg.unwrap_or(0.0),
+            orthographic: self.orthographic.unwrap_or(false),
+        };
+        let (w, h) = match (self.width, self.height) {
+            (None, None) => (0, 0),
+            (w, h) => (w.unwrap_or(320), h.unwrap_or(240)),
+        };
+        (camera, w, h)
+    }
+}
+
 /// How action values are interpreted.
 #[derive(Debug, Clone, Copy, Deserialize, JsonSchema)]
 #[schemars(transform = crate::schema::one_line_descriptions)]

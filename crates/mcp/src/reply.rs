@@ -26,6 +26,29 @@ impl<T: Serialize> IntoCallToolResult for Json<T> {
     }
 }
 
+/// A picture: the PNG as MCP image content, then a JSON text with its size and what it
+/// shows (camera, grid spacing, marker colours, positions).
+#[derive(Debug, Clone)]
+pub(crate) struct Picture<T> {
+    pub(crate) png: Vec<u8>,
+    pub(crate) about: T,
+}
+
+impl<T: Serialize> IntoCallToolResult for Picture<T> {
+    fn into_call_tool_result(self) -> Result<CallToolResponse, ErrorData> {
+        use base64::Engine as _;
+        let failed = |e: serde_json::Error| {
+            ErrorData::internal_error(format!("cannot serialise the tool output: {e}"), None)
+        };
+        let text = serde_json::to_string(&self.about).map_err(failed)?;
+        let value = serde_json::to_value(&self.about).map_err(failed)?;
+        let data = base64::engine::general_purpose::STANDARD.encode(&self.png);
+        let mut result = CallToolResult::structured(value);
+        result.content = vec![ContentBlock::image(data, "image/png"), ContentBlock::text(text)];
+        Ok(result.into())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -6,6 +6,7 @@ mod batches;
 mod errors;
 mod fleet;
 mod lifecycle;
+mod render;
 mod security;
 mod structure;
 mod tasks;

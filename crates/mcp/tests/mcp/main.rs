@@ -7,6 +7,7 @@ mod batches;
 mod errors;
 mod http;
 mod remote;
+mod render;
 mod tools;
 mod walkthrough;
 

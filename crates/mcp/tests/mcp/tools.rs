@@ -5,7 +5,7 @@ use serde_json::Value;
 
 use crate::Adapter;
 
-const TOOLS: [&str; 9] = [
+const TOOLS: [&str; 10] = [
     "batch_close",
     "batch_create_envs",
     "batch_reset",
@@ -13,6 +13,7 @@ const TOOLS: [&str; 9] = [
     "create_robot_env",
     "gym_close",
     "gym_observe",
+    "gym_render",
     "gym_reset",
     "gym_step",
 ];
@@ -103,6 +104,7 @@ async fn tools_are_listed_with_described_schemas() {
     assert_eq!(required("gym_step"), ["action_type", "env_id", "values"]);
     assert_eq!(required("gym_observe"), ["env_id"]);
     assert_eq!(required("gym_close"), ["env_id"]);
+    assert_eq!(required("gym_render"), ["env_id"]);
     assert_eq!(required("batch_create_envs"), ["document", "n_envs"]);
     assert_eq!(
         required("batch_step"),
