@@ -11,8 +11,8 @@ use gymfleet_env::{DrawReport, EnvError, RobotEnv};
 use crate::auth::Tenant;
 use crate::config::ServerConfig;
 use crate::domain::{
-    Action, BatchObservations, BatchRequest, BatchStep, BatchStepped, Created, DrawsOf, EnvRequest, RenderOf, Rendered,
-    EnvStep, EnvStepOutcome, JointLinks, ObsSplit, ServerStatus,
+    Action, BatchObservations, BatchRequest, BatchStep, BatchStepped, Created, DrawsOf, EnvRequest,
+    EnvStep, EnvStepOutcome, JointLinks, ObsSplit, RenderOf, Rendered, ServerStatus,
 };
 use crate::error::{EntityKind, Result, ServerError};
 use crate::metrics::{Metrics, OpenCounts};
@@ -538,7 +538,12 @@ impl Simulation {
 
     /// A picture of an env, or of env `index` of a batch, taken on the pool.
     pub(crate) async fn render(&self, tenant: &Tenant, request: RenderOf) -> Result<Rendered> {
-        let RenderOf { of, camera, width, height } = request;
+        let RenderOf {
+            of,
+            camera,
+            width,
+            height,
+        } = request;
         let draw = move |scene: gymfleet_env::Scene| -> Result<Rendered> {
             let frame = gymfleet_render::render(&scene, &camera, width, height)?;
             Ok(Rendered {

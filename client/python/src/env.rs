@@ -157,6 +157,28 @@ impl EnvHandle {
         crate::info::draws(py, d)
     }
 
+    /// A picture of the env as it is now: a `height × width × 3` uint8 array (RGB).
+    #[pyo3(signature = (camera="iso", width=0, height=0, eye=None, target=None, fov_deg=0.0, orthographic=false))]
+    #[allow(clippy::too_many_arguments)]
+    fn render<'py>(
+        &self,
+        py: Python<'py>,
+        camera: &str,
+        width: u32,
+        height: u32,
+        eye: Option<[f64; 3]>,
+        target: Option<[f64; 3]>,
+        fov_deg: f32,
+        orthographic: bool,
+    ) -> PyResult<Bound<'py, numpy::PyArray3<u8>>> {
+        let camera = crate::render::camera(camera, eye, target, fov_deg, orthographic)?;
+        let env = &self.env;
+        let image = wait(py, self.timeout.get(), || async move {
+            env.render(&camera, width, height).await
+        })?;
+        crate::render::to_array(py, &image)
+    }
+
     /// Closes the env on its server; `True` the first time, `False` afterwards.
     fn close(&self, py: Python<'_>) -> PyResult<bool> {
         if self.closed.swap(true, Ordering::SeqCst) {

@@ -14,6 +14,7 @@ mod errors;
 mod info;
 mod models;
 mod options;
+mod render;
 mod runtime;
 mod servers;
 

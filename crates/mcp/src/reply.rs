@@ -44,7 +44,10 @@ impl<T: Serialize> IntoCallToolResult for Picture<T> {
         let value = serde_json::to_value(&self.about).map_err(failed)?;
         let data = base64::engine::general_purpose::STANDARD.encode(&self.png);
         let mut result = CallToolResult::structured(value);
-        result.content = vec![ContentBlock::image(data, "image/png"), ContentBlock::text(text)];
+        result.content = vec![
+            ContentBlock::image(data, "image/png"),
+            ContentBlock::text(text),
+        ];
         Ok(result.into())
     }
 }

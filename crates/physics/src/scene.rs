@@ -134,14 +134,40 @@ mod tests {
         let close = |a: [f32; 3], b: [f32; 3]| a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-3);
         // The base: a 20 × 20 × 5 mm box with its corner at the origin.
         assert_eq!(parts[0].instance, 0);
-        assert_eq!(parts[0].shape, SceneShape::Cuboid { half_extents: [10.0, 10.0, 2.5] });
-        assert!(close(parts[0].position, [10.0, 10.0, 2.5]), "{:?}", parts[0].position);
+        assert_eq!(
+            parts[0].shape,
+            SceneShape::Cuboid {
+                half_extents: [10.0, 10.0, 2.5]
+            }
+        );
+        assert!(
+            close(parts[0].position, [10.0, 10.0, 2.5]),
+            "{:?}",
+            parts[0].position
+        );
         // The arm: 4 × 4 × 40 mm from (8, 8, 5).
-        assert_eq!(parts[1].shape, SceneShape::Cuboid { half_extents: [2.0, 2.0, 20.0] });
-        assert!(close(parts[1].position, [10.0, 10.0, 25.0]), "{:?}", parts[1].position);
+        assert_eq!(
+            parts[1].shape,
+            SceneShape::Cuboid {
+                half_extents: [2.0, 2.0, 20.0]
+            }
+        );
+        assert!(
+            close(parts[1].position, [10.0, 10.0, 25.0]),
+            "{:?}",
+            parts[1].position
+        );
         let joints = world.scene_joints();
         assert_eq!(joints.len(), 1);
-        assert!(close(joints[0].anchor, [10.0, 10.0, 5.0]), "{:?}", joints[0].anchor);
-        assert!(close(joints[0].axis, [0.0, 1.0, 0.0]), "{:?}", joints[0].axis);
+        assert!(
+            close(joints[0].anchor, [10.0, 10.0, 5.0]),
+            "{:?}",
+            joints[0].anchor
+        );
+        assert!(
+            close(joints[0].axis, [0.0, 1.0, 0.0]),
+            "{:?}",
+            joints[0].axis
+        );
     }
 }

@@ -162,11 +162,23 @@ const PALETTE: [[f32; 3]; 6] = [
 ];
 
 /// Renders `scene` as seen by `camera`, `width × height` pixels (0 for the defaults).
-pub fn render(scene: &Scene, camera: &Camera, width: u32, height: u32) -> Result<Frame, RenderError> {
+pub fn render(
+    scene: &Scene,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+) -> Result<Frame, RenderError> {
     let (width, height) = match (width, height) {
         (0, 0) => (DEFAULT_WIDTH, DEFAULT_HEIGHT),
-        (w, h) if (MIN_SIDE..=MAX_SIDE).contains(&w) && (MIN_SIDE..=MAX_SIDE).contains(&h) => (w, h),
-        (w, h) => return Err(RenderError::BadSize { width: w, height: h }),
+        (w, h) if (MIN_SIDE..=MAX_SIDE).contains(&w) && (MIN_SIDE..=MAX_SIDE).contains(&h) => {
+            (w, h)
+        }
+        (w, h) => {
+            return Err(RenderError::BadSize {
+                width: w,
+                height: h,
+            })
+        }
     };
     let meshes = tessellate(scene);
     let bounds = Bounds::of(scene, &meshes);
@@ -199,7 +211,14 @@ pub fn render(scene: &Scene, camera: &Camera, width: u32, height: u32) -> Result
     for joint in &scene.joints {
         let anchor = vec(joint.anchor);
         let axis = vec(joint.axis);
-        raster.line(&view, anchor - axis * axis_len, anchor + axis * axis_len, AXIS_COLOUR, false, 1);
+        raster.line(
+            &view,
+            anchor - axis * axis_len,
+            anchor + axis * axis_len,
+            AXIS_COLOUR,
+            false,
+            1,
+        );
         raster.dot(&view, anchor, 2.0, AXIS_COLOUR);
     }
     for &p in &scene.end_effectors {
@@ -215,7 +234,9 @@ pub fn render(scene: &Scene, camera: &Camera, width: u32, height: u32) -> Result
         rgb: raster.rgb,
         instance_ids: raster.ids,
         grid_mm,
-        mm_per_pixel: view.orthographic.then(|| 2.0 * view.half_height / height as f32),
+        mm_per_pixel: view
+            .orthographic
+            .then(|| 2.0 * view.half_height / height as f32),
         eye: view.eye.into(),
         target: view.target.into(),
     })
@@ -265,9 +286,10 @@ fn tessellate(scene: &Scene) -> Vec<Mesh> {
         .map(|part| {
             let (vertices, mut triangles) = match part.shape {
                 SceneShape::Cuboid { half_extents } => Cuboid::new(vec(half_extents)).to_trimesh(),
-                SceneShape::Cylinder { radius, half_height } => {
-                    Cylinder::new(half_height, radius).to_trimesh(32)
-                }
+                SceneShape::Cylinder {
+                    radius,
+                    half_height,
+                } => Cylinder::new(half_height, radius).to_trimesh(32),
                 SceneShape::Ball { radius } => Ball::new(radius).to_trimesh(12, 24),
             };
             // Every shape is convex and centred on its frame: a face whose normal points
@@ -283,7 +305,10 @@ fn tessellate(scene: &Scene) -> Vec<Mesh> {
             let origin = vec(part.position);
             Mesh {
                 instance: part.instance,
-                vertices: vertices.into_iter().map(|v| origin + rotation * v).collect(),
+                vertices: vertices
+                    .into_iter()
+                    .map(|v| origin + rotation * v)
+                    .collect(),
                 triangles,
             }
         })
@@ -303,13 +328,19 @@ impl Bounds {
             .flat_map(|m| m.vertices.iter().copied())
             .chain(scene.end_effectors.iter().map(|&p| vec(p)))
             .chain(scene.target.map(vec));
-        let (mut lo, mut hi) = (Vector::splat(f32::INFINITY), Vector::splat(f32::NEG_INFINITY));
+        let (mut lo, mut hi) = (
+            Vector::splat(f32::INFINITY),
+            Vector::splat(f32::NEG_INFINITY),
+        );
         for p in points.filter(|p| p.is_finite()) {
             lo = lo.min(p);
             hi = hi.max(p);
         }
         if !lo.is_finite() {
-            return Bounds { centre: Vector::ZERO, radius: 100.0 };
+            return Bounds {
+                centre: Vector::ZERO,
+                radius: 100.0,
+            };
         }
         // The ground plane (z = 0) belongs in the picture.
         lo.z = lo.z.min(0.0);
@@ -344,13 +375,22 @@ impl View {
         for (name, v) in [("eye", camera.eye), ("target", camera.target)] {
             if let Some(v) = v {
                 if !v.iter().all(|c| c.is_finite() && c.abs() <= 1.0e7) {
-                    return bad(format!("{name} must be finite and within 1e7 mm of the origin, got {v:?}"));
+                    return bad(format!(
+                        "{name} must be finite and within 1e7 mm of the origin, got {v:?}"
+                    ));
                 }
             }
         }
-        let fov_deg = if camera.fov_deg == 0.0 { DEFAULT_FOV_DEG } else { camera.fov_deg };
+        let fov_deg = if camera.fov_deg == 0.0 {
+            DEFAULT_FOV_DEG
+        } else {
+            camera.fov_deg
+        };
         if !(fov_deg > 0.0 && fov_deg <= MAX_FOV_DEG) {
-            return bad(format!("fov_deg must be in (0, {MAX_FOV_DEG}] degrees (0 means {DEFAULT_FOV_DEG}), got {}", camera.fov_deg));
+            return bad(format!(
+                "fov_deg must be in (0, {MAX_FOV_DEG}] degrees (0 means {DEFAULT_FOV_DEG}), got {}",
+                camera.fov_deg
+            ));
         }
         let aspect = width as f32 / height as f32;
         let tan_half_fov = (fov_deg.to_radians() * 0.5).tan();
@@ -365,10 +405,17 @@ impl View {
         };
         let to_target = target - eye;
         if to_target.length() < 1.0e-3 {
-            return bad(format!("eye and target are the same point {:?}", <[f32; 3]>::from(eye)));
+            return bad(format!(
+                "eye and target are the same point {:?}",
+                <[f32; 3]>::from(eye)
+            ));
         }
         let forward = to_target.normalize();
-        let world_up = if forward.z.abs() > 0.999 { Vector::Y } else { Vector::Z };
+        let world_up = if forward.z.abs() > 0.999 {
+            Vector::Y
+        } else {
+            Vector::Z
+        };
         let right = forward.cross(world_up).normalize();
         let up = right.cross(forward);
         Ok(View {
@@ -400,7 +447,11 @@ impl View {
         let d = p - self.eye;
         let (x, y, z) = (d.dot(self.right), d.dot(self.up), d.dot(self.forward));
         let (nx, ny, key) = if self.orthographic {
-            (x / (self.half_height * self.aspect), y / self.half_height, -z)
+            (
+                x / (self.half_height * self.aspect),
+                y / self.half_height,
+                -z,
+            )
         } else {
             if z <= 1.0e-3 {
                 return None;
@@ -408,7 +459,11 @@ impl View {
             let s = 1.0 / (z * self.tan_half_fov);
             (x * s / self.aspect, y * s, 1.0 / z)
         };
-        Some(((nx + 1.0) * 0.5 * self.width, (1.0 - ny) * 0.5 * self.height, key))
+        Some((
+            (nx + 1.0) * 0.5 * self.width,
+            (1.0 - ny) * 0.5 * self.height,
+            key,
+        ))
     }
 }
 
@@ -454,9 +509,15 @@ impl Raster {
 
     /// A filled triangle, depth-tested, drawn where it faces the camera.
     fn triangle(&mut self, view: &View, corners: [Vector; 3], colour: [f32; 3], id: u16) {
-        let Some(p0) = view.project(corners[0]) else { return };
-        let Some(p1) = view.project(corners[1]) else { return };
-        let Some(p2) = view.project(corners[2]) else { return };
+        let Some(p0) = view.project(corners[0]) else {
+            return;
+        };
+        let Some(p1) = view.project(corners[1]) else {
+            return;
+        };
+        let Some(p2) = view.project(corners[2]) else {
+            return;
+        };
         // Signed area in pixel space (y points down): negative means facing the camera for
         // counter-clockwise, outward-wound faces.
         let area = (p1.0 - p0.0) * (p2.1 - p0.1) - (p2.0 - p0.0) * (p1.1 - p0.1);
@@ -491,14 +552,28 @@ impl Raster {
     }
 
     /// A line, optionally depth-tested, `thickness` pixels wide.
-    fn line(&mut self, view: &View, a: Vector, b: Vector, colour: [f32; 3], depth_test: bool, thickness: i32) {
+    fn line(
+        &mut self,
+        view: &View,
+        a: Vector,
+        b: Vector,
+        colour: [f32; 3],
+        depth_test: bool,
+        thickness: i32,
+    ) {
         // Lines are split so that each piece projects (a grid may pass behind the camera).
         const PIECES: usize = 16;
         for k in 0..PIECES {
             let pa = a + (b - a) * (k as f32 / PIECES as f32);
             let pb = a + (b - a) * ((k + 1) as f32 / PIECES as f32);
-            let (Some(p), Some(q)) = (view.project(pa), view.project(pb)) else { continue };
-            let steps = (q.0 - p.0).abs().max((q.1 - p.1).abs()).ceil().clamp(1.0, 8192.0) as usize;
+            let (Some(p), Some(q)) = (view.project(pa), view.project(pb)) else {
+                continue;
+            };
+            let steps = (q.0 - p.0)
+                .abs()
+                .max((q.1 - p.1).abs())
+                .ceil()
+                .clamp(1.0, 8192.0) as usize;
             for s in 0..=steps {
                 let t = s as f32 / steps as f32;
                 let (x, y) = (p.0 + (q.0 - p.0) * t, p.1 + (q.1 - p.1) * t);
@@ -520,18 +595,42 @@ impl Raster {
     /// The ground grid on z = 0, around the point below the camera's target, behind
     /// whatever stands on it.
     fn grid(&mut self, view: &View, spacing: f32) {
-        let n = (view.visible_half_height() * 3.0 / spacing).ceil().clamp(1.0, 100.0) as i32;
+        let n = (view.visible_half_height() * 3.0 / spacing)
+            .ceil()
+            .clamp(1.0, 100.0) as i32;
         let half = n as f32 * spacing;
         let cx = (view.target.x / (5.0 * spacing)).round() * 5.0 * spacing;
         let cy = (view.target.y / (5.0 * spacing)).round() * 5.0 * spacing;
         for k in -n..=n {
             let major = (cx / spacing).round() as i64 + i64::from(k);
-            let colour = if major % 5 == 0 { GRID_MAJOR } else { GRID_MINOR };
+            let colour = if major % 5 == 0 {
+                GRID_MAJOR
+            } else {
+                GRID_MINOR
+            };
             let o = k as f32 * spacing;
-            self.line(view, Vector::new(cx + o, cy - half, 0.0), Vector::new(cx + o, cy + half, 0.0), colour, true, 1);
+            self.line(
+                view,
+                Vector::new(cx + o, cy - half, 0.0),
+                Vector::new(cx + o, cy + half, 0.0),
+                colour,
+                true,
+                1,
+            );
             let major = (cy / spacing).round() as i64 + i64::from(k);
-            let colour = if major % 5 == 0 { GRID_MAJOR } else { GRID_MINOR };
-            self.line(view, Vector::new(cx - half, cy + o, 0.0), Vector::new(cx + half, cy + o, 0.0), colour, true, 1);
+            let colour = if major % 5 == 0 {
+                GRID_MAJOR
+            } else {
+                GRID_MINOR
+            };
+            self.line(
+                view,
+                Vector::new(cx - half, cy + o, 0.0),
+                Vector::new(cx + half, cy + o, 0.0),
+                colour,
+                true,
+                1,
+            );
         }
     }
 
@@ -546,7 +645,9 @@ impl Raster {
     }
 
     fn disc(&mut self, view: &View, p: Vector, outer: f32, colour: [f32; 3], inner: f32) {
-        let Some((cx, cy, _)) = view.project(p) else { return };
+        let Some((cx, cy, _)) = view.project(p) else {
+            return;
+        };
         let r = outer.ceil() as i64;
         for dy in -r..=r {
             for dx in -r..=r {

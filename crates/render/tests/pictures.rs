@@ -9,7 +9,9 @@ const PENDULUM: &str = include_str!("../../../models/pendulum.json");
 const ARM2: &str = include_str!("../../../models/arm2.json");
 
 fn scene(document: &str) -> Scene {
-    RobotEnv::from_json(document, EnvConfig::default()).unwrap().scene()
+    RobotEnv::from_json(document, EnvConfig::default())
+        .unwrap()
+        .scene()
 }
 
 /// The pendulum's scene with its arm (instance 1) turned by `deg` about the hinge.
@@ -36,7 +38,12 @@ fn pixel_box(frame: &Frame, instance: usize) -> (usize, usize, usize, usize) {
     let id = instance as u16 + 1;
     let w = frame.width as usize;
     let mut b = (usize::MAX, 0, usize::MAX, 0);
-    for (i, _) in frame.instance_ids.iter().enumerate().filter(|(_, &v)| v == id) {
+    for (i, _) in frame
+        .instance_ids
+        .iter()
+        .enumerate()
+        .filter(|(_, &v)| v == id)
+    {
         let (x, y) = (i % w, i / w);
         b = (b.0.min(x), b.1.max(x), b.2.min(y), b.3.max(y));
     }
@@ -55,8 +62,14 @@ fn the_pendulum_at_0_and_90_degrees_differs_where_the_arm_swings() {
     let swung = render(&pendulum_at(90.0), &camera, 320, 240).unwrap();
     let (up_box, swung_box) = (pixel_box(&upright, 1), pixel_box(&swung, 1));
     // Upright: a tall, narrow arm; swung: a wide, flat one.
-    assert!(up_box.3 - up_box.2 > 3 * (up_box.1 - up_box.0), "{up_box:?}");
-    assert!(swung_box.1 - swung_box.0 > 3 * (swung_box.3 - swung_box.2), "{swung_box:?}");
+    assert!(
+        up_box.3 - up_box.2 > 3 * (up_box.1 - up_box.0),
+        "{up_box:?}"
+    );
+    assert!(
+        swung_box.1 - swung_box.0 > 3 * (swung_box.3 - swung_box.2),
+        "{swung_box:?}"
+    );
     // Every pixel that changed lies where the arm was or now is (with the end-effector
     // dot's few pixels of margin); the base, the grid and the background did not move.
     let margin = 6;
@@ -69,7 +82,10 @@ fn the_pendulum_at_0_and_90_degrees_differs_where_the_arm_swings() {
         if upright.rgb[3 * i..3 * i + 3] != swung.rgb[3 * i..3 * i + 3] {
             changed += 1;
             let at = (i % w, i / w);
-            assert!(inside(at, up_box) || inside(at, swung_box), "pixel {at:?} changed");
+            assert!(
+                inside(at, up_box) || inside(at, swung_box),
+                "pixel {at:?} changed"
+            );
         }
     }
     assert!(changed > 500, "only {changed} pixels changed");
@@ -90,7 +106,10 @@ fn an_orthographic_silhouette_has_the_parts_projected_area() {
     for (instance, expected_mm2) in [(0, 20.0 * 5.0), (1, 4.0 * 40.0)] {
         let area = frame.coverage(instance) as f32 * mm * mm;
         let error = (area - expected_mm2).abs() / expected_mm2;
-        assert!(error < 0.03, "instance {instance}: {area} mm² against {expected_mm2} mm²");
+        assert!(
+            error < 0.03,
+            "instance {instance}: {area} mm² against {expected_mm2} mm²"
+        );
     }
     // From above, a cylinder's disc (arm2's base, if it is one) and the boxes scale alike.
     let arm2 = self::scene(ARM2);
@@ -105,8 +124,16 @@ fn an_orthographic_silhouette_has_the_parts_projected_area() {
         .map(|i| frame.coverage(i) as f32 * mm * mm)
         .sum();
     assert!(visible > 0.0);
-    for part in arm2.parts.iter().filter(|p| matches!(p.shape, SceneShape::Cylinder { .. })) {
-        assert!(frame.coverage(part.instance) > 0, "cylinder {} not drawn", part.instance);
+    for part in arm2
+        .parts
+        .iter()
+        .filter(|p| matches!(p.shape, SceneShape::Cylinder { .. }))
+    {
+        assert!(
+            frame.coverage(part.instance) > 0,
+            "cylinder {} not drawn",
+            part.instance
+        );
     }
 }
 
@@ -129,17 +156,32 @@ fn the_png_decodes_to_the_frame() {
 #[test]
 fn every_preset_frames_the_whole_robot() {
     let scene = scene(ARM2);
-    for preset in [CameraPreset::Iso, CameraPreset::Front, CameraPreset::Side, CameraPreset::Top] {
+    for preset in [
+        CameraPreset::Iso,
+        CameraPreset::Front,
+        CameraPreset::Side,
+        CameraPreset::Top,
+    ] {
         for orthographic in [false, true] {
-            let camera = Camera { preset, orthographic, ..Camera::default() };
+            let camera = Camera {
+                preset,
+                orthographic,
+                ..Camera::default()
+            };
             let frame = render(&scene, &camera, 160, 120).unwrap();
             let w = frame.width as usize;
             let edge = frame.instance_ids.iter().enumerate().any(|(i, &id)| {
                 let (x, y) = (i % w, i / w);
                 id != 0 && (x == 0 || y == 0 || x == w - 1 || y == frame.height as usize - 1)
             });
-            assert!(!edge, "{preset:?} (orthographic {orthographic}) cuts the robot off");
-            assert!(frame.instance_ids.iter().any(|&id| id != 0), "{preset:?}: nothing drawn");
+            assert!(
+                !edge,
+                "{preset:?} (orthographic {orthographic}) cuts the robot off"
+            );
+            assert!(
+                frame.instance_ids.iter().any(|&id| id != 0),
+                "{preset:?}: nothing drawn"
+            );
         }
     }
 }
@@ -147,27 +189,51 @@ fn every_preset_frames_the_whole_robot() {
 #[test]
 fn bad_sizes_and_cameras_get_exact_errors() {
     let scene = scene(PENDULUM);
-    let size = |w, h| render(&scene, &Camera::default(), w, h).unwrap_err().to_string();
-    let expected = |w, h| format!("image size {w}x{h} is out of range: each side must be 16 to 2048 pixels (0 means 320x240)");
+    let size = |w, h| {
+        render(&scene, &Camera::default(), w, h)
+            .unwrap_err()
+            .to_string()
+    };
+    let expected = |w, h| {
+        format!("image size {w}x{h} is out of range: each side must be 16 to 2048 pixels (0 means 320x240)")
+    };
     assert_eq!(size(4096, 100), expected(4096, 100));
     assert_eq!(size(8, 8), expected(8, 8));
     assert_eq!(size(0, 240), expected(0, 240));
     let cam = |camera: Camera| render(&scene, &camera, 64, 64).unwrap_err();
     assert_eq!(
-        cam(Camera { fov_deg: 180.0, ..Camera::default() }).to_string(),
+        cam(Camera {
+            fov_deg: 180.0,
+            ..Camera::default()
+        })
+        .to_string(),
         "bad camera: fov_deg must be in (0, 170] degrees (0 means 45), got 180"
     );
     assert_eq!(
-        cam(Camera { fov_deg: f32::NAN, ..Camera::default() }).to_string(),
+        cam(Camera {
+            fov_deg: f32::NAN,
+            ..Camera::default()
+        })
+        .to_string(),
         "bad camera: fov_deg must be in (0, 170] degrees (0 means 45), got NaN"
     );
     assert_eq!(
-        cam(Camera { eye: Some([f32::INFINITY, 0.0, 0.0]), ..Camera::default() }).to_string(),
+        cam(Camera {
+            eye: Some([f32::INFINITY, 0.0, 0.0]),
+            ..Camera::default()
+        })
+        .to_string(),
         "bad camera: eye must be finite and within 1e7 mm of the origin, got [inf, 0.0, 0.0]"
     );
     assert_eq!(
-        cam(Camera { eye: Some([1.0, 2.0, 3.0]), target: Some([1.0, 2.0, 3.0]), ..Camera::default() }),
-        RenderError::BadCamera { reason: "eye and target are the same point [1.0, 2.0, 3.0]".into() }
+        cam(Camera {
+            eye: Some([1.0, 2.0, 3.0]),
+            target: Some([1.0, 2.0, 3.0]),
+            ..Camera::default()
+        }),
+        RenderError::BadCamera {
+            reason: "eye and target are the same point [1.0, 2.0, 3.0]".into()
+        }
     );
 }
 
@@ -175,12 +241,31 @@ fn bad_sizes_and_cameras_get_exact_errors() {
 /// the variable is set).
 #[test]
 fn pictures_for_a_person() {
-    let Some(dir) = std::env::var_os("GYMFLEET_RENDER_DIR") else { return };
+    let Some(dir) = std::env::var_os("GYMFLEET_RENDER_DIR") else {
+        return;
+    };
     let dir = std::path::PathBuf::from(dir);
-    for (name, document) in [("pendulum", PENDULUM), ("arm2", ARM2), ("arm6", include_str!("../../../models/arm6.json"))] {
+    for (name, document) in [
+        ("pendulum", PENDULUM),
+        ("arm2", ARM2),
+        ("arm6", include_str!("../../../models/arm6.json")),
+    ] {
         for preset in [CameraPreset::Iso, CameraPreset::Front, CameraPreset::Top] {
-            let frame = render(&scene(document), &Camera { preset, ..Camera::default() }, 320, 240).unwrap();
-            std::fs::write(dir.join(format!("{name}-{}.png", preset.name())), frame.to_png()).unwrap();
+            let frame = render(
+                &scene(document),
+                &Camera {
+                    preset,
+                    ..Camera::default()
+                },
+                320,
+                240,
+            )
+            .unwrap();
+            std::fs::write(
+                dir.join(format!("{name}-{}.png", preset.name())),
+                frame.to_png(),
+            )
+            .unwrap();
         }
     }
 }

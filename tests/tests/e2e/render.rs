@@ -2,8 +2,7 @@
 //! the robot, and bad requests get exact errors.
 
 use gymfleet_client::{
-    ActionType, BatchOptions, Camera, CameraPreset, ClientError, EnvOptions, Image, ReachTask,
-    Task,
+    ActionType, BatchOptions, Camera, CameraPreset, ClientError, EnvOptions, Image, ReachTask, Task,
 };
 use gymfleet_e2e::{TestServer, ARM2, PENDULUM};
 
@@ -36,15 +35,29 @@ async fn render_draws_an_env_and_a_batch_env_as_they_are_now() {
     };
     let before = env.render(&camera, 0, 0).await.expect("render");
     assert_eq!((before.width, before.height), (320, 240));
-    assert!(before.description.contains("custom view"), "{}", before.description);
+    assert!(
+        before.description.contains("custom view"),
+        "{}",
+        before.description
+    );
     let first = pixels(&before);
-    assert_eq!(first, pixels(&env.render(&camera, 0, 0).await.expect("again")));
+    assert_eq!(
+        first,
+        pixels(&env.render(&camera, 0, 0).await.expect("again"))
+    );
     for _ in 0..120 {
         env.step(ActionType::Torque, &[2e-3]).await.expect("step");
     }
     let after = pixels(&env.render(&camera, 0, 0).await.expect("render"));
-    let changed = first.chunks(3).zip(after.chunks(3)).filter(|(a, b)| a != b).count();
-    assert!(changed > 100, "only {changed} pixels changed after the swing");
+    let changed = first
+        .chunks(3)
+        .zip(after.chunks(3))
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(
+        changed > 100,
+        "only {changed} pixels changed after the swing"
+    );
 
     // A batch env, with a reach target drawn in.
     let batch = client
@@ -61,7 +74,11 @@ async fn render_draws_an_env_and_a_batch_env_as_they_are_now() {
         .await
         .expect("render");
     assert_eq!((image.width, image.height), (64, 48));
-    assert!(image.description.contains("Target at (20, 0, 40) mm"), "{}", image.description);
+    assert!(
+        image.description.contains("Target at (20, 0, 40) mm"),
+        "{}",
+        image.description
+    );
     pixels(&image);
 
     // Errors, exactly.
@@ -74,7 +91,10 @@ async fn render_draws_an_env_and_a_batch_env_as_they_are_now() {
         "invalid argument: env_index: 3 is out of range: the batch has 3 envs"
     );
     let err = env.render(&camera, 4096, 10).await.expect_err("too large");
-    assert!(matches!(err, ClientError::InvalidArgument { .. }), "{err:?}");
+    assert!(
+        matches!(err, ClientError::InvalidArgument { .. }),
+        "{err:?}"
+    );
     assert_eq!(
         err.to_string(),
         "invalid argument: image size 4096x10 is out of range: each side must be 16 to 2048 pixels (0 means 320x240)"

@@ -54,6 +54,17 @@ class EnvHandle:
         episode_step)``; ``action`` is 1-D float32, one value per DOF."""
     def observe(self) -> npt.NDArray[np.float32]:
         """The current observation, without stepping."""
+    def render(
+        self,
+        camera: str = "iso",
+        width: int = 0,
+        height: int = 0,
+        eye: Optional[Tuple[float, float, float]] = None,
+        target: Optional[Tuple[float, float, float]] = None,
+        fov_deg: float = 0.0,
+        orthographic: bool = False,
+    ) -> npt.NDArray[np.uint8]:
+        """A picture of the env now: ``height x width x 3`` uint8 RGB."""
     def close(self) -> bool:
         """Closes the env on its server: ``True`` the first time, ``False`` after."""
     @property

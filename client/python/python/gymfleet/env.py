@@ -29,7 +29,7 @@ class GymfleetEnv(HandleOwner, gym.Env):
     ``[x, y, z, qw, qx, qy, qz]`` pose per end effector (mm, world frame), as float32.
     """
 
-    metadata: Dict[str, Any] = {"render_modes": []}
+    metadata: Dict[str, Any] = {"render_modes": ["rgb_array"], "render_fps": 30}
 
     def __init__(
         self,
@@ -40,11 +40,17 @@ class GymfleetEnv(HandleOwner, gym.Env):
         normalize_actions: bool = False,
         timeout: Optional[float] = None,
         render_mode: Optional[str] = None,
+        render_options: Optional[Dict[str, Any]] = None,
         **options: Any,
     ) -> None:
-        if render_mode is not None:
-            raise ValueError(f"render_mode: {render_mode!r} is not supported (render_modes: [])")
+        if render_mode not in (None, "rgb_array"):
+            raise ValueError(
+                f"render_mode: {render_mode!r} is not supported (render_modes: ['rgb_array'])"
+            )
         self.render_mode = render_mode
+        # Camera and size for `render()`: camera ("iso", "front", "side", "top"), width,
+        # height, eye, target, fov_deg, orthographic (see `GymfleetEnv.render`).
+        self.render_options: Dict[str, Any] = dict(render_options or {})
         self.action_type = check_action_type(action_type)
         text = document_json(document)
         self._handle = _core.EnvHandle.create(server, text, create_options(options), timeout)
@@ -59,6 +65,8 @@ class GymfleetEnv(HandleOwner, gym.Env):
                 "action_type": action_type,
                 "normalize_actions": normalize_actions,
                 "timeout": timeout,
+                "render_mode": render_mode,
+                "render_options": render_options,
                 **options,
             },
         )
@@ -66,6 +74,7 @@ class GymfleetEnv(HandleOwner, gym.Env):
         self._actions = ActionMap(self._info, action_type, normalize_actions)
         self.action_space = self._actions.space
         self.observation_space = observation_space(self._info)
+        self.metadata = {**type(self).metadata, "render_fps": max(1, round(1.0 / self._info["dt"]))}
 
     @property
     def env_id(self) -> str:
@@ -108,6 +117,37 @@ class GymfleetEnv(HandleOwner, gym.Env):
         ``{"instances": [(name, mass, friction)], "joints": [(name, damping, gain)]}``.
         ``FailedPrecondition`` if the env was made without ``randomize``."""
         return self._handle.randomization()
+
+    def render(self) -> Optional[np.ndarray]:
+        """With ``render_mode="rgb_array"``: a picture of the env as it is now, a
+        ``height x width x 3`` uint8 array (default 320 x 240, the robot framed from the
+        ``iso`` direction; ``render_options`` chooses camera and size). Without a render
+        mode: ``None``, as gymnasium specifies."""
+        if self.render_mode is None:
+            gym.logger.warn(
+                "render() was called without a render_mode; make the env with "
+                'render_mode="rgb_array"'
+            )
+            return None
+        return self.picture(**self.render_options)
+
+    def picture(
+        self,
+        camera: str = "iso",
+        width: int = 0,
+        height: int = 0,
+        eye: Optional[Tuple[float, float, float]] = None,
+        target: Optional[Tuple[float, float, float]] = None,
+        fov_deg: float = 0.0,
+        orthographic: bool = False,
+    ) -> np.ndarray:
+        """A picture of the env now, whatever the render mode: ``camera`` is ``"iso"``,
+        ``"front"``, ``"side"`` or ``"top"`` (framing the robot) unless ``eye`` (world
+        mm) is given; ``target`` defaults to the robot's centre; ``fov_deg`` 0 means 45;
+        ``width`` x ``height`` 0 x 0 means 320 x 240 (16 to 2048 a side)."""
+        return self._handle.render(
+            camera, int(width), int(height), eye, target, float(fov_deg), bool(orthographic)
+        )
 
     def observe(self) -> np.ndarray:
         """The current observation, without stepping."""

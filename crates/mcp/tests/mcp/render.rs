@@ -18,7 +18,10 @@ async fn gym_render_returns_a_png_and_its_description() {
     let env_id = created["env_id"].as_str().expect("env_id").to_string();
 
     let result = adapter
-        .call("gym_render", json!({"env_id": env_id, "camera": "front", "width": 200, "height": 150}))
+        .call(
+            "gym_render",
+            json!({"env_id": env_id, "camera": "front", "width": 200, "height": 150}),
+        )
         .await;
     assert_ne!(result.is_error, Some(true), "{result:?}");
     assert_eq!(result.content.len(), 2, "{result:?}");
@@ -35,9 +38,15 @@ async fn gym_render_returns_a_png_and_its_description() {
         serde_json::from_str(&result.content[1].as_text().expect("text second").text).unwrap();
     assert_eq!(Some(&text), result.structured_content.as_ref());
     assert_eq!(text["env_id"], env_id.as_str());
-    assert_eq!((text["width"].as_u64(), text["height"].as_u64()), (Some(200), Some(150)));
+    assert_eq!(
+        (text["width"].as_u64(), text["height"].as_u64()),
+        (Some(200), Some(150))
+    );
     let description = text["description"].as_str().unwrap();
-    assert!(description.contains("front view (perspective)"), "{description}");
+    assert!(
+        description.contains("front view (perspective)"),
+        "{description}"
+    );
     assert!(description.contains("End effector 0 at ("), "{description}");
     assert!(text["grid_mm"].as_f64().unwrap() > 0.0);
 
@@ -49,8 +58,14 @@ async fn gym_render_returns_a_png_and_its_description() {
         "{err}"
     );
     let err = adapter
-        .err("gym_render", json!({"env_id": env_id, "eye": [0, 0, 50], "target": [0, 0, 50]}))
+        .err(
+            "gym_render",
+            json!({"env_id": env_id, "eye": [0, 0, 50], "target": [0, 0, 50]}),
+        )
         .await;
-    assert!(err.contains("bad camera: eye and target are the same point"), "{err}");
+    assert!(
+        err.contains("bad camera: eye and target are the same point"),
+        "{err}"
+    );
     adapter.stop().await;
 }
