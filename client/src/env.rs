@@ -46,7 +46,7 @@ impl Env {
         self.client.addr()
     }
 
-    fn env_ref(&self) -> pb::EnvRef {
+    pub(crate) fn env_ref(&self) -> pb::EnvRef {
         pb::EnvRef {
             env_id: self.info.env_id.clone(),
         }

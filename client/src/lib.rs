@@ -66,7 +66,7 @@ pub use error::{ClientError, Result};
 pub use fleet::Fleet;
 pub use fleet_batch::{FleetBatch, ShardPlacement};
 pub use options::{BatchOptions, EnvOptions, PdGains};
-pub use render::{Camera, CameraPreset, Image};
+pub use render::{Camera, CameraPreset, Image, Scene, SceneBody, SceneJoint, SceneShape};
 pub use stream::{BatchStream, DEFAULT_STREAM_WINDOW};
 pub use task::{
     Randomization, RandomizationDraws, ReachTask, Task, TaskKind, TrackTask, UprightTask,

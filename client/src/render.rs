@@ -122,3 +122,135 @@ impl Batch {
         Ok(self.client.rpc().render(request).await?.into_inner().into())
     }
 }
+
+/// A part's shape, centred on its pose's origin, mm.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SceneShape {
+    /// A box: half its size along its frame's x, y, z.
+    Box {
+        /// Half extents.
+        half_extents: [f64; 3],
+    },
+    /// A cylinder along its frame's y.
+    Cylinder {
+        /// Radius.
+        radius: f64,
+        /// Half its length.
+        half_height: f64,
+    },
+    /// A sphere.
+    Sphere {
+        /// Radius.
+        radius: f64,
+    },
+}
+
+/// One part of the robot where it is now.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneBody {
+    /// Its instance's name.
+    pub name: String,
+    /// Its shape.
+    pub shape: SceneShape,
+    /// The shape's centre, world mm.
+    pub position: [f64; 3],
+    /// Its orientation, `[qw, qx, qy, qz]`.
+    pub rotation: [f64; 4],
+}
+
+/// A joint's anchor (world mm) and unit axis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SceneJoint {
+    /// World mm.
+    pub anchor: [f64; 3],
+    /// A unit vector.
+    pub axis: [f64; 3],
+}
+
+/// What an env looks like now: enough to draw it (PRODUCT.md §6.5 `GetScene`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    /// Every part.
+    pub bodies: Vec<SceneBody>,
+    /// Joints with at least one DOF, in document order.
+    pub joints: Vec<SceneJoint>,
+    /// Each end effector's position, world mm.
+    pub end_effectors: Vec<[f64; 3]>,
+    /// A reach task's current target, world mm.
+    pub target: Option<[f64; 3]>,
+}
+
+fn malformed(what: &str) -> crate::ClientError {
+    crate::ClientError::Protocol {
+        message: format!("malformed Scene from the server: {what} missing"),
+        code: tonic::Code::Ok,
+    }
+}
+
+fn point(v: Option<pb::Vec3>, what: &str) -> Result<[f64; 3]> {
+    v.map(|v| [v.x, v.y, v.z]).ok_or_else(|| malformed(what))
+}
+
+impl TryFrom<pb::Scene> for Scene {
+    type Error = crate::ClientError;
+
+    fn try_from(s: pb::Scene) -> Result<Self> {
+        use pb::scene_shape::Kind;
+        let bodies = s
+            .bodies
+            .into_iter()
+            .map(|b| {
+                let shape = match b.shape.and_then(|s| s.kind) {
+                    Some(Kind::BoxHalfExtents(h)) => SceneShape::Box {
+                        half_extents: [h.x, h.y, h.z],
+                    },
+                    Some(Kind::Cylinder(c)) => SceneShape::Cylinder {
+                        radius: c.radius,
+                        half_height: c.half_height,
+                    },
+                    Some(Kind::SphereRadius(radius)) => SceneShape::Sphere { radius },
+                    None => return Err(malformed("a body's shape")),
+                };
+                let pose = b.pose.ok_or_else(|| malformed("a body's pose"))?;
+                Ok(SceneBody {
+                    name: b.name,
+                    shape,
+                    position: point(pose.position, "a body's position")?,
+                    rotation: [pose.qw, pose.qx, pose.qy, pose.qz],
+                })
+            })
+            .collect::<Result<_>>()?;
+        let joints = s
+            .joints
+            .into_iter()
+            .map(|j| {
+                Ok(SceneJoint {
+                    anchor: point(j.anchor, "a joint's anchor")?,
+                    axis: point(j.axis, "a joint's axis")?,
+                })
+            })
+            .collect::<Result<_>>()?;
+        Ok(Scene {
+            bodies,
+            joints,
+            end_effectors: s
+                .end_effectors
+                .into_iter()
+                .map(|p| [p.x, p.y, p.z])
+                .collect(),
+            target: s.target.map(|p| [p.x, p.y, p.z]),
+        })
+    }
+}
+
+impl Env {
+    /// The env's shapes and poses now, to draw it yourself (an HTML replay, a plot).
+    pub async fn scene(&self) -> Result<Scene> {
+        self.client
+            .rpc()
+            .get_scene(self.env_ref())
+            .await?
+            .into_inner()
+            .try_into()
+    }
+}

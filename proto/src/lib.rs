@@ -55,6 +55,7 @@ mod tests {
                 "GetServerInfo",
                 "GetRandomization",
                 "Render",
+                "GetScene",
             ]
         );
         let stream = &service.method[10];

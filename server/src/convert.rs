@@ -278,6 +278,62 @@ impl TryFrom<pb::RenderRequest> for RenderOf {
     }
 }
 
+/// An env's scene on the wire.
+pub(crate) fn scene(scene: gymfleet_env::Scene) -> pb::Scene {
+    let v = |p: [f32; 3]| pb::Vec3 {
+        x: f64::from(p[0]),
+        y: f64::from(p[1]),
+        z: f64::from(p[2]),
+    };
+    let shape = |s: gymfleet_env::SceneShape| {
+        use pb::scene_shape::Kind;
+        let kind = match s {
+            gymfleet_env::SceneShape::Cuboid { half_extents } => {
+                Kind::BoxHalfExtents(v(half_extents))
+            }
+            gymfleet_env::SceneShape::Cylinder {
+                radius,
+                half_height,
+            } => Kind::Cylinder(pb::SceneCylinder {
+                radius: f64::from(radius),
+                half_height: f64::from(half_height),
+            }),
+            gymfleet_env::SceneShape::Ball { radius } => Kind::SphereRadius(f64::from(radius)),
+        };
+        pb::SceneShape { kind: Some(kind) }
+    };
+    pb::Scene {
+        bodies: scene
+            .parts
+            .iter()
+            .map(|part| {
+                let [qw, qx, qy, qz] = part.rotation.map(f64::from);
+                pb::SceneBody {
+                    name: scene.instance_names[part.instance].clone(),
+                    shape: Some(shape(part.shape)),
+                    pose: Some(pb::ScenePose {
+                        position: Some(v(part.position)),
+                        qw,
+                        qx,
+                        qy,
+                        qz,
+                    }),
+                }
+            })
+            .collect(),
+        joints: scene
+            .joints
+            .iter()
+            .map(|j| pb::SceneJoint {
+                anchor: Some(v(j.anchor)),
+                axis: Some(v(j.axis)),
+            })
+            .collect(),
+        end_effectors: scene.end_effectors.iter().map(|&p| v(p)).collect(),
+        target: scene.target.map(v),
+    }
+}
+
 /// A picture on the wire.
 pub(crate) fn image(r: Rendered) -> pb::Image {
     pb::Image {

@@ -225,6 +225,14 @@ impl Simulator for SimulatorService {
         )
     }
 
+    async fn get_scene(&self, request: Request<pb::EnvRef>) -> Result<Response<pb::Scene>, Status> {
+        let start = Instant::now();
+        let tenant = tenant_of(&request)?;
+        let env_id = request.into_inner().env_id;
+        let result = self.sim.scene(&tenant, &env_id).await;
+        self.finish("GetScene", start, result.map(convert::scene))
+    }
+
     async fn render(
         &self,
         request: Request<pb::RenderRequest>,

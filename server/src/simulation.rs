@@ -536,6 +536,12 @@ impl Simulation {
         }
     }
 
+    /// An env's scene (shapes and poses), read on the pool.
+    pub(crate) async fn scene(&self, tenant: &Tenant, id: &str) -> Result<gymfleet_env::Scene> {
+        self.on_env(tenant, id, "GetScene", |open| Ok(open.env.scene()))
+            .await
+    }
+
     /// A picture of an env, or of env `index` of a batch, taken on the pool.
     pub(crate) async fn render(&self, tenant: &Tenant, request: RenderOf) -> Result<Rendered> {
         let RenderOf {

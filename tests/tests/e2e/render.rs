@@ -121,3 +121,62 @@ async fn render_draws_an_env_and_a_batch_env_as_they_are_now() {
     let err = env.render(&camera, 0, 0).await.expect_err("closed");
     assert!(matches!(err, ClientError::NotFound { .. }), "{err:?}");
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn get_scene_gives_every_part_where_it_is() {
+    use gymfleet_client::SceneShape;
+    let server = TestServer::start_default().await;
+    let client = server.client().await;
+    let env = client
+        .create_env(EnvOptions::new(ARM2).end_effectors(["forearm"]))
+        .await
+        .expect("env");
+    env.reset(None).await.expect("reset");
+    let scene = env.scene().await.expect("scene");
+    let names: Vec<&str> = scene.bodies.iter().map(|b| b.name.as_str()).collect();
+    assert_eq!(names, ["base", "upper", "forearm"]);
+    // arm2's base: a cylinder of radius 15 mm and height 5 mm, its centre 2.5 mm up.
+    assert_eq!(
+        scene.bodies[0].shape,
+        SceneShape::Cylinder {
+            radius: 15.0,
+            half_height: 2.5
+        }
+    );
+    assert!(
+        (scene.bodies[0].position[2] - 2.5).abs() < 1e-4,
+        "{:?}",
+        scene.bodies[0]
+    );
+    // The forearm: a 3 x 3 x 25 mm box from z = 35 mm.
+    assert_eq!(
+        scene.bodies[2].shape,
+        SceneShape::Box {
+            half_extents: [1.5, 1.5, 12.5]
+        }
+    );
+    assert!(
+        (scene.bodies[2].position[2] - 47.5).abs() < 1e-3,
+        "{:?}",
+        scene.bodies[2]
+    );
+    assert_eq!(scene.joints.len(), 2);
+    assert_eq!(scene.end_effectors.len(), 1);
+    assert_eq!(scene.target, None);
+    // It moves with the robot, and matches the observation's end-effector position.
+    for _ in 0..60 {
+        env.step(ActionType::Torque, &[0.0, 1e-3])
+            .await
+            .expect("step");
+    }
+    let observed = env.observe().await.expect("observe");
+    let moved = env.scene().await.expect("scene");
+    assert_ne!(moved.bodies[2].position, scene.bodies[2].position);
+    let ee = observed.end_effector_poses[0];
+    for (scene_mm, observed_mm) in moved.end_effectors[0].iter().zip(&ee[..3]) {
+        assert!((scene_mm - f64::from(*observed_mm)).abs() < 1e-3);
+    }
+    env.close().await.expect("close");
+    let err = env.scene().await.expect_err("closed");
+    assert!(matches!(err, ClientError::NotFound { .. }), "{err:?}");
+}
