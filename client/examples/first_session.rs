@@ -5,7 +5,7 @@
 //! cargo run --release -p gymfleet-client --example first_session [ADDR]
 //! ```
 
-use gymfleet_client::{ActionType, BatchOptions, Client, EnvOptions};
+use gymfleet_client::{ActionType, BatchOptions, Camera, CameraPreset, Client, EnvOptions};
 
 const PENDULUM: &str = include_str!("../../models/pendulum.json");
 const ARM2: &str = include_str!("../../models/arm2.json");
@@ -42,6 +42,12 @@ async fn main() -> Result<(), Box<dyn std::error::Error>> {
         "after 0.25 s: {:.2} deg at {:.2} deg/s",
         now.joint_positions[0], now.joint_velocities[0]
     );
+    // A picture of it, from the front: a PNG.
+    let picture = env
+        .render(&Camera::preset(CameraPreset::Front), 0, 0)
+        .await?;
+    std::fs::write("pendulum.png", &picture.png)?;
+    println!("pendulum.png: {}", picture.description);
     env.close().await?;
 
     // A batch of 16 two-joint arms: actions are n_envs × action_dim floats, row-major.
