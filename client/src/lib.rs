@@ -49,6 +49,7 @@ mod fleet_batch;
 mod options;
 mod placement;
 mod render;
+mod replay;
 mod stream;
 mod task;
 mod types;
@@ -67,6 +68,7 @@ pub use fleet::Fleet;
 pub use fleet_batch::{FleetBatch, ShardPlacement};
 pub use options::{BatchOptions, EnvOptions, PdGains};
 pub use render::{Camera, CameraPreset, Image, Scene, SceneBody, SceneJoint, SceneShape};
+pub use replay::{Replay, ReplayMismatch};
 pub use stream::{BatchStream, DEFAULT_STREAM_WINDOW};
 pub use task::{
     Randomization, RandomizationDraws, ReachTask, Task, TaskKind, TrackTask, UprightTask,

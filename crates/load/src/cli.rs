@@ -112,6 +112,18 @@ pub struct Cli {
     /// Write the configuration and figures as JSON to this file.
     #[arg(long, value_name = "FILE", env = "GYMFLEET_JSON")]
     pub json: Option<PathBuf>,
+    /// After the run, record one env of the model on the (first) server for
+    /// `--replay-steps` steps of the run's actions and write an HTML replay to FILE.
+    #[arg(long, value_name = "FILE", env = "GYMFLEET_REPLAY")]
+    pub replay: Option<PathBuf>,
+    /// Steps recorded for `--replay`.
+    #[arg(
+        long,
+        value_name = "N",
+        env = "GYMFLEET_REPLAY_STEPS",
+        default_value_t = 240
+    )]
+    pub replay_steps: u32,
     /// No progress bar.
     #[arg(long, short, env = "GYMFLEET_QUIET")]
     pub quiet: bool,
@@ -249,6 +261,15 @@ impl Cli {
             Target::Remote { servers }
         };
         check_embedded(&target)?;
+        if self.replay.is_some() && self.in_process {
+            return Err(LoadError::bad_flag(
+                "--replay",
+                "records over the network: it needs a server (not --in-process)",
+            ));
+        }
+        if self.replay.is_some() {
+            at_least_one("--replay-steps", u64::from(self.replay_steps))?;
+        }
 
         let model = Model::resolve(&self.model)?;
         let end_effectors = if self.end_effectors.is_empty() {
@@ -277,6 +298,7 @@ impl Cli {
             max_steps: self.max_steps,
             seed: self.seed,
             json: self.json,
+            replay: self.replay.map(|path| (path, self.replay_steps)),
             quiet: self.quiet,
             report_rss: self.report_rss,
             connect: self.connect,

@@ -139,6 +139,8 @@ pub struct LoadConfig {
     pub seed: u64,
     /// Where to write the JSON results.
     pub json: Option<PathBuf>,
+    /// Where to write an HTML replay of one env, and how many steps it records.
+    pub replay: Option<(PathBuf, u32)>,
     /// No progress bar.
     pub quiet: bool,
     /// Report this process's peak and current resident memory.
@@ -170,6 +172,7 @@ impl LoadConfig {
             max_steps: None,
             seed: 0,
             json: None,
+            replay: None,
             quiet: true,
             report_rss: false,
             connect: gymfleet_client::ConnectArgs::default(),

@@ -8,7 +8,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use gymfleet_client::{
-    Autoreset, Batch, BatchOptions, Client, ClientError, Env, EnvOptions, JointInfo,
+    Autoreset, Batch, BatchOptions, Client, ClientError, Env, EnvOptions, JointInfo, Replay,
 };
 use tokio::task::JoinSet;
 
@@ -108,9 +108,60 @@ pub(crate) async fn run(config: &LoadConfig, servers: &[String], kind: &str) -> 
     let (sessions, tallies): (Vec<Session>, Vec<Tally>) =
         done.into_iter().map(|(_, s, t)| (s, t)).unzip();
     close_all(&sessions).await;
+    if let Some((path, steps)) = &config.replay {
+        record_replay(&config, &servers[0], path, *steps).await?;
+    }
     let mut result = RunResult::from_tallies(label, target, &tallies);
     result.memory_loaded = memory_loaded;
     Ok(result)
+}
+
+/// Records one env of the model (env 0's actions of the run) for `steps` steps on `server`
+/// and writes the HTML replay to `path`.
+async fn record_replay(
+    config: &LoadConfig,
+    server: &str,
+    path: &std::path::Path,
+    steps: u32,
+) -> Result<()> {
+    let stage = |what: &str| format!("replay: {what} on {server}");
+    let client = config
+        .connect
+        .builder(server.to_string())
+        .connect()
+        .await
+        .map_err(|e| LoadError::setup(stage("connect"), e))?;
+    let env = client
+        .create_env(env_options(
+            config,
+            config.model.document.clone(),
+            config.seed,
+        ))
+        .await
+        .map_err(|e| LoadError::setup(stage("CreateEnv"), e))?;
+    let recorded = async {
+        env.reset(Some(config.seed)).await?;
+        let plan = config.action_plan(&dof_limits(&env.info().joints, env.info().action_dim));
+        let mut replay = Replay::new(config.model.name.clone(), env.info().dt);
+        replay.capture(&env).await?;
+        let mut action = vec![0.0; plan.action_dim()];
+        for k in 0..u64::from(steps) {
+            plan.fill(k, 0, &mut action);
+            let step = env.step(config.action_type.to_client(), &action).await?;
+            replay.capture(&env).await?;
+            if step.terminated || step.truncated {
+                break;
+            }
+        }
+        Ok::<_, ClientError>(replay)
+    }
+    .await;
+    let _ = env.close().await;
+    let replay = recorded.map_err(|e| LoadError::setup(stage("record"), e))?;
+    replay.write_html(path).map_err(|e| LoadError::Output {
+        path: path.to_path_buf(),
+        reason: e.to_string(),
+    })
 }
 
 /// Connects client `c` to `server`, creates its batch or env and resets it.

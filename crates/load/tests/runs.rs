@@ -459,3 +459,36 @@ fn server_and_env_report_the_same_dof_limits() {
     }
     runtime.block_on(server.stop()).unwrap();
 }
+
+#[test]
+fn replay_writes_an_html_page_of_one_env() {
+    let path = tmp("replay.html");
+    let _ = std::fs::remove_file(&path);
+    let report = run_flags(&[
+        "--model",
+        "arm2",
+        "--n-envs",
+        "2",
+        "--steps",
+        "5",
+        "--replay",
+        path.to_str().unwrap(),
+        "--replay-steps",
+        "30",
+    ]);
+    assert_counts(&report.runs[0], 2, 5, 1);
+    let html = std::fs::read_to_string(&path).expect("the replay page");
+    assert!(html.starts_with("<!doctype html>"));
+    assert!(html.contains(r#""title":"arm2""#));
+    // The first frame and 30 steps.
+    assert_eq!(html.matches(r#"{"end_effectors""#).count(), 31);
+
+    let err = Cli::try_parse_from(["gymfleet-load", "--in-process", "--replay", "x.html"])
+        .expect("flags parse")
+        .resolve()
+        .expect_err("no server to record on");
+    assert_eq!(
+        err.to_string(),
+        "--replay records over the network: it needs a server (not --in-process)"
+    );
+}

@@ -7,6 +7,7 @@ mod errors;
 mod fleet;
 mod lifecycle;
 mod render;
+mod replay;
 mod security;
 mod structure;
 mod tasks;
