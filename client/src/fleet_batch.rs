@@ -405,6 +405,28 @@ impl FleetBatch {
         })
     }
 
+    /// A picture of env `env` (global index), from the shard that holds it
+    /// ([`crate::Batch::render`]).
+    pub async fn render(
+        &self,
+        env: usize,
+        camera: &crate::Camera,
+        width: u32,
+        height: u32,
+    ) -> Result<crate::Image> {
+        let mut first = 0;
+        for shard in &self.shards {
+            let len = shard.envs.len();
+            if env < first + len {
+                return shard.batch.render(env - first, camera, width, height).await;
+            }
+            first += len;
+        }
+        Err(ClientError::InvalidArgument {
+            message: format!("env_index: {env} is out of range: the batch has {first} envs"),
+        })
+    }
+
     /// Closes every shard that is not lost, concurrently. Fails with the first failure,
     /// naming its server, after trying them all.
     pub async fn close(&self) -> Result<()> {

@@ -57,6 +57,19 @@ impl Shards {
         }
     }
 
+    async fn render(
+        &self,
+        env: usize,
+        camera: &gymfleet_client::Camera,
+        width: u32,
+        height: u32,
+    ) -> Result<gymfleet_client::Image> {
+        match self {
+            Shards::One(b) => b.render(env, camera, width, height).await,
+            Shards::Fleet(f) => f.render(env, camera, width, height).await,
+        }
+    }
+
     async fn close(&self) -> Result<()> {
         match self {
             Shards::One(b) => b.close().await,
@@ -304,6 +317,32 @@ impl BatchHandle {
             self.shards.lock().await.randomization(env_index).await
         })?;
         crate::info::draws(py, d)
+    }
+
+    /// A picture of env `env_index` now: a `height × width × 3` uint8 array (RGB).
+    #[pyo3(signature = (env_index, camera="iso", width=0, height=0, eye=None, target=None, fov_deg=0.0, orthographic=false))]
+    #[allow(clippy::too_many_arguments)]
+    fn render<'py>(
+        &self,
+        py: Python<'py>,
+        env_index: usize,
+        camera: &str,
+        width: u32,
+        height: u32,
+        eye: Option<[f64; 3]>,
+        target: Option<[f64; 3]>,
+        fov_deg: f32,
+        orthographic: bool,
+    ) -> PyResult<Bound<'py, numpy::PyArray3<u8>>> {
+        let camera = crate::render::camera(camera, eye, target, fov_deg, orthographic)?;
+        let image = wait(py, self.timeout.get(), || async move {
+            self.shards
+                .lock()
+                .await
+                .render(env_index, &camera, width, height)
+                .await
+        })?;
+        crate::render::to_array(py, &image)
     }
 
     /// Closes the batch on its server(s); `True` the first time, `False` afterwards.

@@ -69,3 +69,22 @@ def test_record_video_writes_an_episode(tmp_path):
         done = terminated or truncated
     env.close()
     assert list(tmp_path.glob("*.mp4")), list(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize("fleet", [False, True])
+def test_a_vector_env_renders_one_frame_per_env(fleet):
+    servers = [gymfleet.Server(threads=1) for _ in range(2)] if fleet else []
+    server = ",".join(s.address for s in servers) or None
+    envs = gymfleet.make_vec(
+        MODELS / "arm2.json", 3, server=server, render_mode="rgb_array",
+        render_options={"width": 64, "height": 48},
+    )
+    envs.reset(seed=0)
+    frames = envs.render()
+    assert isinstance(frames, tuple) and len(frames) == 3
+    assert all(f.shape == (48, 64, 3) and f.dtype == np.uint8 for f in frames)
+    with pytest.raises(gymfleet.errors.InvalidArgument, match="env_index: 3 is out of range: the batch has 3 envs"):
+        envs.picture(3)
+    envs.close()
+    for s in servers:
+        s.stop()

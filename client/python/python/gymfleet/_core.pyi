@@ -115,6 +115,18 @@ class BatchHandle:
         termination reasons by env."""
     def observe(self) -> npt.NDArray[np.float32]:
         """Every env's current observation."""
+    def render(
+        self,
+        env_index: int,
+        camera: str = "iso",
+        width: int = 0,
+        height: int = 0,
+        eye: Optional[Tuple[float, float, float]] = None,
+        target: Optional[Tuple[float, float, float]] = None,
+        fov_deg: float = 0.0,
+        orthographic: bool = False,
+    ) -> npt.NDArray[np.uint8]:
+        """A picture of env ``env_index`` now: ``height x width x 3`` uint8 RGB."""
     def close(self) -> bool:
         """Closes the batch on its server(s): ``True`` the first time, ``False`` after."""
     @property

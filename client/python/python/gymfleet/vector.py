@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
+import gymnasium as gym
 import numpy as np
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
@@ -52,7 +53,11 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
     ``infos["final_info"]``) and ``DISABLED`` (``reset(options={"reset_mask": mask})``).
     """
 
-    metadata: Dict[str, Any] = {"render_modes": [], "autoreset_mode": AutoresetMode.NEXT_STEP}
+    metadata: Dict[str, Any] = {
+        "render_modes": ["rgb_array"],
+        "render_fps": 30,
+        "autoreset_mode": AutoresetMode.NEXT_STEP,
+    }
 
     def __init__(
         self,
@@ -65,11 +70,16 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
         normalize_actions: bool = False,
         timeout: Optional[float] = None,
         render_mode: Optional[str] = None,
+        render_options: Optional[Dict[str, Any]] = None,
         **options: Any,
     ) -> None:
-        if render_mode is not None:
-            raise ValueError(f"render_mode: {render_mode!r} is not supported (render_modes: [])")
+        if render_mode not in (None, "rgb_array"):
+            raise ValueError(
+                f"render_mode: {render_mode!r} is not supported (render_modes: ['rgb_array'])"
+            )
         self.render_mode = render_mode
+        # Camera and size for `render()`, as for `GymfleetEnv`.
+        self.render_options: Dict[str, Any] = dict(render_options or {})
         mode = globals()["autoreset_mode"](autoreset_mode)
         self.action_type = check_action_type(action_type)
         self._handle = _core.BatchHandle.create(
@@ -190,6 +200,35 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
         """Env ``env_index``'s domain-randomisation factors drawn at its last reset (see
         :meth:`GymfleetEnv.randomization`)."""
         return self._handle.randomization(int(env_index))
+
+    def render(self) -> Optional[Tuple[np.ndarray, ...]]:
+        """With ``render_mode="rgb_array"``: one picture per env (a ``height x width x 3``
+        uint8 array each), as gymnasium's vector envs return them; one ``Render`` call per
+        env, so a large batch renders slowly. Without a render mode: ``None``."""
+        if self.render_mode is None:
+            gym.logger.warn(
+                "render() was called without a render_mode; make the envs with "
+                'render_mode="rgb_array"'
+            )
+            return None
+        return tuple(self.picture(i, **self.render_options) for i in range(self.num_envs))
+
+    def picture(
+        self,
+        env_index: int,
+        camera: str = "iso",
+        width: int = 0,
+        height: int = 0,
+        eye: Optional[Tuple[float, float, float]] = None,
+        target: Optional[Tuple[float, float, float]] = None,
+        fov_deg: float = 0.0,
+        orthographic: bool = False,
+    ) -> np.ndarray:
+        """A picture of env ``env_index`` now (see :meth:`GymfleetEnv.picture`)."""
+        return self._handle.render(
+            int(env_index), camera, int(width), int(height), eye, target, float(fov_deg),
+            bool(orthographic),
+        )
 
     def observe(self) -> np.ndarray:
         """Every env's current observation, without stepping."""
