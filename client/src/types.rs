@@ -389,6 +389,9 @@ pub struct ServerInfo {
     pub tenant: String,
     /// Whether the server requires a token.
     pub auth_required: bool,
+    /// A random id, new at every start of the server process: if it changes between two
+    /// calls, the server restarted and every env and batch it held is gone.
+    pub instance_id: String,
 }
 
 impl From<pb::ServerInfo> for ServerInfo {
@@ -415,6 +418,7 @@ impl From<pb::ServerInfo> for ServerInfo {
             },
             tenant: i.tenant,
             auth_required: i.auth_required,
+            instance_id: i.instance_id,
         }
     }
 }

@@ -534,6 +534,7 @@ pub(crate) fn server_info(status: &ServerStatus<'_>) -> pb::ServerInfo {
         }),
         tenant: status.tenant.name().to_string(),
         auth_required: c.auth_tokens.is_some(),
+        instance_id: status.instance_id.to_string(),
     }
 }
 

@@ -95,6 +95,7 @@ pub(crate) struct BatchStepped {
 
 /// What the server is and holds, for `GetServerInfo`.
 pub(crate) struct ServerStatus<'a> {
+    pub(crate) instance_id: &'a str,
     pub(crate) threads: usize,
     /// The caller.
     pub(crate) tenant: crate::auth::Tenant,

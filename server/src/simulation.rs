@@ -33,6 +33,8 @@ pub(crate) struct OpenBatch {
 
 /// The server's state.
 pub(crate) struct Simulation {
+    /// 32 random hex digits, new at every start (`ServerInfo.instance_id`).
+    instance_id: String,
     config: ServerConfig,
     pool: StepPool,
     capacity: Arc<EnvCapacity>,
@@ -162,9 +164,24 @@ fn check_reply_size(config: &ServerConfig, n_envs: usize, observation_dim: usize
     Ok(())
 }
 
+/// 128 bits from the operating system's generator, as hex; if it fails (it should not), the
+/// start time and the process id, which still differ from one start to the next.
+fn instance_id() -> String {
+    let mut bytes = [0u8; 16];
+    if getrandom::fill(&mut bytes).is_err() {
+        let now = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_nanos());
+        bytes[..12].copy_from_slice(&now.to_le_bytes()[..12]);
+        bytes[12..].copy_from_slice(&std::process::id().to_le_bytes());
+    }
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
+}
+
 impl Simulation {
     pub(crate) fn new(config: ServerConfig, pool: StepPool) -> Self {
         Simulation {
+            instance_id: instance_id(),
             capacity: EnvCapacity::new(config.max_envs),
             quotas: Mutex::new(HashMap::new()),
             metrics: Metrics::new(),
@@ -588,6 +605,7 @@ impl Simulation {
     /// (then everyone is the anonymous tenant and sees all).
     pub(crate) fn status(&self, tenant: &Tenant) -> ServerStatus<'_> {
         ServerStatus {
+            instance_id: &self.instance_id,
             threads: self.pool.threads(),
             tenant: tenant.clone(),
             envs: self.envs.len_of(tenant),

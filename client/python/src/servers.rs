@@ -301,5 +301,6 @@ fn info_dict<'py>(py: Python<'py>, i: &ServerInfo) -> PyResult<Bound<'py, PyDict
     d.set_item("limits", limits)?;
     d.set_item("tenant", &i.tenant)?;
     d.set_item("auth_required", i.auth_required)?;
+    d.set_item("instance_id", &i.instance_id)?;
     Ok(d)
 }

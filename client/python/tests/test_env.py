@@ -125,3 +125,15 @@ def test_a_garbage_collected_env_is_freed(server, arm2):
     gc.collect()
     info = gymfleet.server_info(server.address)
     assert (info["envs"], info["batches"]) == (0, 0)
+
+
+def test_server_info_has_an_instance_id_per_server_process():
+    a, b = gymfleet.Server(threads=1), gymfleet.Server(threads=1)
+    try:
+        ida = gymfleet.server_info(a.address)["instance_id"]
+        assert len(ida) == 32 and int(ida, 16) >= 0
+        assert gymfleet.server_info(a.address)["instance_id"] == ida
+        assert gymfleet.server_info(b.address)["instance_id"] != ida
+    finally:
+        a.stop()
+        b.stop()

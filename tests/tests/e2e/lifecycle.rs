@@ -239,3 +239,30 @@ async fn shutdown_ends_open_streams_and_serve_returns() {
         .expect("stop task")
         .expect("serve returned cleanly");
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_restarted_server_is_told_apart_by_its_instance_id() {
+    let first = TestServer::start_default().await;
+    let client = first.client().await;
+    let id = client.server_info().await.expect("info").instance_id;
+    assert_eq!(id.len(), 32, "{id}");
+    assert!(id.chars().all(|c| c.is_ascii_hexdigit()), "{id}");
+    // Stable for the process's life, whoever asks.
+    assert_eq!(client.server_info().await.expect("info").instance_id, id);
+    assert_eq!(
+        first
+            .client()
+            .await
+            .server_info()
+            .await
+            .expect("info")
+            .instance_id,
+        id
+    );
+    first.stop().await.expect("stop");
+    // A new process (here: a new server) has a new id.
+    let second = TestServer::start_default().await;
+    let other = second.client().await.server_info().await.expect("info");
+    assert_ne!(other.instance_id, id);
+    assert_eq!(other.instance_id.len(), 32);
+}

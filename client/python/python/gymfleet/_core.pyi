@@ -163,7 +163,8 @@ def embedded_address() -> str:
 
 def server_info(server: Optional[str] = None) -> Any:
     """A server's ``version``, ``threads``, ``envs``, ``batches``, ``batch_envs``,
-    ``limits``, the caller's ``tenant`` and ``auth_required`` (a list of those for a
+    ``limits``, the caller's ``tenant``, ``auth_required`` and ``instance_id`` (random, new
+    at every server start; a list of those for a
     fleet). With auth on, the counts are the caller's tenant's own."""
 
 def stateful_set(
