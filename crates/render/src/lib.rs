@@ -569,6 +569,15 @@ impl Raster {
             let (Some(p), Some(q)) = (view.project(pa), view.project(pb)) else {
                 continue;
             };
+            // A piece wholly beside the picture draws nothing: skip its pixels.
+            let (w, h) = (self.width as f32, self.height as f32);
+            if (p.0 < 0.0 && q.0 < 0.0)
+                || (p.0 >= w && q.0 >= w)
+                || (p.1 < 0.0 && q.1 < 0.0)
+                || (p.1 >= h && q.1 >= h)
+            {
+                continue;
+            }
             let steps = (q.0 - p.0)
                 .abs()
                 .max((q.1 - p.1).abs())
