@@ -24,7 +24,7 @@ pub struct ReplayMismatch {
 /// An episode's poses, frame by frame, for an HTML replay.
 ///
 /// ```no_run
-/// # async fn demo(env: gymfleet_client::Env) -> gymfleet_client::Result<()> {
+/// # async fn demo(env: gymfleet_client::Env) -> Result<(), Box<dyn std::error::Error>> {
 /// use gymfleet_client::{ActionType, Replay};
 /// let mut replay = Replay::new("pendulum", env.info().dt);
 /// replay.capture(&env).await?;
