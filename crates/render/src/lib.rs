@@ -1,5 +1,5 @@
 //! Pictures of a gymfleet env: a software renderer for a [`Scene`] (every part's shape at
-//! its pose, Lambert-shaded, on a ground grid with a millimetre scale, with joint axes, end
+//! its pose, Lambert-shaded, on a ground grid whose spacing in mm is printed in a corner, with joint axes, end
 //! effectors and the task target marked), to an RGB [`Frame`] and to PNG.
 //!
 //! This crate owns cameras (presets that frame the robot automatically, or an explicit
@@ -227,6 +227,7 @@ pub fn render(
     if let Some(t) = scene.target {
         raster.ring(&view, vec(t), 6.0, TARGET_COLOUR);
     }
+    raster.label(&format!("grid {} mm", format_mm(grid_mm)));
 
     Ok(Frame {
         width,
@@ -246,7 +247,7 @@ pub fn render(
 pub fn describe(scene: &Scene, frame: &Frame, camera: &Camera) -> String {
     let f = |v: [f32; 3]| format!("({:.0}, {:.0}, {:.0})", v[0], v[1], v[2]);
     let mut text = format!(
-        "{}x{} {} view ({}), eye {} mm looking at {} mm; ground grid every {} mm (every fifth line darker); joint axes red, end effectors green",
+        "{}x{} {} view ({}), eye {} mm looking at {} mm; ground grid every {} mm (every fifth line darker; labelled bottom left); joint axes red, end effectors green",
         frame.width,
         frame.height,
         if camera.eye.is_some() { "custom" } else { camera.preset.name() },
@@ -643,6 +644,41 @@ impl Raster {
         }
     }
 
+    /// `text` in the bottom-left corner on a light box (the grid's scale), scaled with
+    /// the picture; left out when the picture is too small to hold it.
+    fn label(&mut self, text: &str) {
+        let scale = (self.height / 240).max(1);
+        let (cw, ch) = (6 * scale, 7 * scale);
+        let (pad, n) = (2 * scale, text.chars().count());
+        let (w, h) = (n * cw + 2 * pad, ch + 2 * pad);
+        if w + 2 > self.width || h + 2 > self.height {
+            return;
+        }
+        let (x0, y0) = (2, self.height - h - 2);
+        for y in y0..y0 + h {
+            for x in x0..x0 + w {
+                self.put(x, y, [1.0, 1.0, 1.0]);
+            }
+        }
+        for (k, c) in text.chars().enumerate() {
+            let Some(rows) = glyph(c) else { continue };
+            for (row, bits) in rows.iter().enumerate() {
+                for col in 0..5 {
+                    if bits & (0x10 >> col) == 0 {
+                        continue;
+                    }
+                    for dy in 0..scale {
+                        for dx in 0..scale {
+                            let x = x0 + pad + k * cw + col * scale + dx;
+                            let y = y0 + pad + row * scale + dy;
+                            self.put(x, y, [0.1, 0.1, 0.15]);
+                        }
+                    }
+                }
+            }
+        }
+    }
+
     /// A filled disc of `radius` pixels, drawn on top.
     fn dot(&mut self, view: &View, p: Vector, radius: f32, colour: [f32; 3]) {
         self.disc(view, p, radius, colour, 0.0);
@@ -673,6 +709,37 @@ impl Raster {
     }
 }
 
+/// A grid spacing as a person writes it: `20`, `0.5`, `1000`.
+fn format_mm(mm: f32) -> String {
+    let text = format!("{mm:.3}");
+    text.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
+/// A 5 × 7 bitmap of each character the picture's label uses (rows top to bottom, the
+/// five low bits of each row left to right).
+fn glyph(c: char) -> Option<[u8; 7]> {
+    Some(match c {
+        '0' => [0x0e, 0x11, 0x13, 0x15, 0x19, 0x11, 0x0e],
+        '1' => [0x04, 0x0c, 0x04, 0x04, 0x04, 0x04, 0x0e],
+        '2' => [0x0e, 0x11, 0x01, 0x02, 0x04, 0x08, 0x1f],
+        '3' => [0x1f, 0x02, 0x04, 0x02, 0x01, 0x11, 0x0e],
+        '4' => [0x02, 0x06, 0x0a, 0x12, 0x1f, 0x02, 0x02],
+        '5' => [0x1f, 0x10, 0x1e, 0x01, 0x01, 0x11, 0x0e],
+        '6' => [0x06, 0x08, 0x10, 0x1e, 0x11, 0x11, 0x0e],
+        '7' => [0x1f, 0x01, 0x02, 0x04, 0x08, 0x08, 0x08],
+        '8' => [0x0e, 0x11, 0x11, 0x0e, 0x11, 0x11, 0x0e],
+        '9' => [0x0e, 0x11, 0x11, 0x0f, 0x01, 0x02, 0x0c],
+        '.' => [0x00, 0x00, 0x00, 0x00, 0x00, 0x0c, 0x0c],
+        'g' => [0x00, 0x00, 0x0f, 0x11, 0x0f, 0x01, 0x0e],
+        'r' => [0x00, 0x00, 0x16, 0x19, 0x10, 0x10, 0x10],
+        'i' => [0x04, 0x00, 0x0c, 0x04, 0x04, 0x04, 0x0e],
+        'd' => [0x01, 0x01, 0x0d, 0x13, 0x11, 0x11, 0x0f],
+        'm' => [0x00, 0x00, 0x1a, 0x15, 0x15, 0x11, 0x11],
+        ' ' => [0; 7],
+        _ => return None,
+    })
+}
+
 /// The 1, 2, 5 × 10ⁿ mm spacing nearest above `raw`.
 fn nice_spacing(raw: f32) -> f32 {
     let raw = raw.max(1.0e-3);
@@ -694,5 +761,14 @@ mod tests {
         assert_eq!(nice_spacing(1.5), 2.0);
         assert_eq!(nice_spacing(30.0), 50.0);
         assert_eq!(nice_spacing(51.0), 100.0);
+    }
+
+    #[test]
+    fn spacings_print_as_people_write_them() {
+        assert_eq!(format_mm(20.0), "20");
+        assert_eq!(format_mm(0.5), "0.5");
+        assert_eq!(format_mm(1000.0), "1000");
+        assert!("grid 0.5 mm".chars().all(|c| glyph(c).is_some()));
+        assert!("0123456789".chars().all(|c| glyph(c).is_some()));
     }
 }

@@ -154,6 +154,26 @@ fn the_png_decodes_to_the_frame() {
 }
 
 #[test]
+fn the_grid_spacing_is_printed_bottom_left() {
+    let frame = render(&scene(ARM2), &Camera::default(), 320, 240).unwrap();
+    let label = format!("grid {} mm", frame.grid_mm);
+    // A white box 6 px per character + 4 wide, 11 high, 2 px from the corner, with dark
+    // glyph pixels in it.
+    let (w, h) = (6 * label.len() + 4, 11);
+    let (mut white, mut dark) = (0, 0);
+    for y in 240 - 2 - h..240 - 2 {
+        for x in 2..2 + w {
+            let p = &frame.rgb[3 * (y * 320 + x)..][..3];
+            white += usize::from(p == [255, 255, 255]);
+            dark += usize::from(p[0] < 40 && p[1] < 40 && p[2] < 50);
+        }
+    }
+    assert!(dark > 40 && white > dark, "white {white}, dark {dark}");
+    // Too small a picture has no room for it, and is still drawn.
+    render(&scene(ARM2), &Camera::default(), 16, 16).unwrap();
+}
+
+#[test]
 fn every_preset_frames_the_whole_robot() {
     let scene = scene(ARM2);
     for preset in [
