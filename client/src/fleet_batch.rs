@@ -392,11 +392,17 @@ impl FleetBatch {
     /// The domain-randomisation factors of the env at position `env` (see
     /// [`Batch::randomization`]), asked of the shard that holds it.
     pub async fn randomization(&self, env: usize) -> Result<crate::RandomizationDraws> {
+        let (batch, local) = self.shard_of(env)?;
+        batch.randomization(local).await
+    }
+
+    /// The shard batch holding global env `env`, and the env's index in it.
+    fn shard_of(&self, env: usize) -> Result<(&Batch, usize)> {
         let mut first = 0;
         for shard in &self.shards {
             let len = shard.envs.len();
             if env < first + len {
-                return shard.batch.randomization(env - first).await;
+                return Ok((&shard.batch, env - first));
             }
             first += len;
         }
@@ -414,17 +420,8 @@ impl FleetBatch {
         width: u32,
         height: u32,
     ) -> Result<crate::Image> {
-        let mut first = 0;
-        for shard in &self.shards {
-            let len = shard.envs.len();
-            if env < first + len {
-                return shard.batch.render(env - first, camera, width, height).await;
-            }
-            first += len;
-        }
-        Err(ClientError::InvalidArgument {
-            message: format!("env_index: {env} is out of range: the batch has {first} envs"),
-        })
+        let (batch, local) = self.shard_of(env)?;
+        batch.render(local, camera, width, height).await
     }
 
     /// Closes every shard that is not lost, concurrently. Fails with the first failure,

@@ -71,6 +71,25 @@ impl From<pb::Image> for Image {
     }
 }
 
+/// The request for a picture of `env_id`, or of env `env_index` of `batch_id`.
+fn request(
+    env_id: &str,
+    batch_id: &str,
+    env_index: usize,
+    c: &Camera,
+    width: u32,
+    height: u32,
+) -> pb::RenderRequest {
+    pb::RenderRequest {
+        env_id: env_id.to_string(),
+        batch_id: batch_id.to_string(),
+        env_index: u32::try_from(env_index).unwrap_or(u32::MAX),
+        camera: Some(camera(c)),
+        width,
+        height,
+    }
+}
+
 fn camera(c: &Camera) -> pb::Camera {
     let point = |p: Option<[f64; 3]>| p.map(|[x, y, z]| pb::Vec3 { x, y, z });
     pb::Camera {
@@ -91,13 +110,7 @@ impl Env {
     /// A PNG picture of the env as it is now, `width × height` pixels (0 × 0 for 320 × 240;
     /// 16 to 2048 each). A bad size or camera is [`crate::ClientError::InvalidArgument`].
     pub async fn render(&self, camera: &Camera, width: u32, height: u32) -> Result<Image> {
-        let request = pb::RenderRequest {
-            env_id: self.id().to_string(),
-            camera: Some(self::camera(camera)),
-            width,
-            height,
-            ..Default::default()
-        };
+        let request = request(self.id(), "", 0, camera, width, height);
         Ok(self.client.rpc().render(request).await?.into_inner().into())
     }
 }
@@ -111,14 +124,7 @@ impl Batch {
         width: u32,
         height: u32,
     ) -> Result<Image> {
-        let request = pb::RenderRequest {
-            batch_id: self.id().to_string(),
-            env_index: u32::try_from(env_index).unwrap_or(u32::MAX),
-            camera: Some(self::camera(camera)),
-            width,
-            height,
-            ..Default::default()
-        };
+        let request = request("", self.id(), env_index, camera, width, height);
         Ok(self.client.rpc().render(request).await?.into_inner().into())
     }
 }

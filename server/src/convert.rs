@@ -229,9 +229,16 @@ impl TryFrom<pb::RandomizationRequest> for DrawsOf {
     type Error = ServerError;
 
     fn try_from(r: pb::RandomizationRequest) -> Result<Self> {
-        match (r.env_id.is_empty(), r.batch_id.is_empty()) {
-            (false, true) => Ok(DrawsOf::Env(r.env_id)),
-            (true, false) => Ok(DrawsOf::BatchEnv(r.batch_id, r.env_index as usize)),
+        DrawsOf::new(r.env_id, r.batch_id, r.env_index)
+    }
+}
+
+impl DrawsOf {
+    /// An env (`env_id`) or env `env_index` of a batch (`batch_id`): exactly one of the ids.
+    fn new(env_id: String, batch_id: String, env_index: u32) -> Result<Self> {
+        match (env_id.is_empty(), batch_id.is_empty()) {
+            (false, true) => Ok(DrawsOf::Env(env_id)),
+            (true, false) => Ok(DrawsOf::BatchEnv(batch_id, env_index as usize)),
             _ => Err(ServerError::InvalidArgument {
                 field: "env_id",
                 reason: "expected exactly one of env_id and batch_id".to_string(),
@@ -244,11 +251,7 @@ impl TryFrom<pb::RenderRequest> for RenderOf {
     type Error = ServerError;
 
     fn try_from(r: pb::RenderRequest) -> Result<Self> {
-        let of = DrawsOf::try_from(pb::RandomizationRequest {
-            env_id: r.env_id,
-            batch_id: r.batch_id,
-            env_index: r.env_index,
-        })?;
+        let of = DrawsOf::new(r.env_id, r.batch_id, r.env_index)?;
         let camera = r.camera.unwrap_or_default();
         let preset = match pb::CameraPreset::try_from(camera.preset) {
             Ok(pb::CameraPreset::Unspecified | pb::CameraPreset::Iso) => CameraPreset::Iso,

@@ -287,26 +287,23 @@ impl EnvBatch {
 
     /// Env `index`'s [`gymfleet_env::Scene`] (`None` past the end).
     pub fn scene(&self, index: usize) -> Option<gymfleet_env::Scene> {
-        self.chunks.iter().find_map(|chunk| {
-            let chunk = lock(chunk);
-            let first = chunk.first_env;
-            (first..first + chunk.len())
-                .contains(&index)
-                .then(|| chunk.env(index - first).scene())
-        })
+        self.with_env(index, RobotEnv::scene)
+    }
+
+    /// `read` of env `index` (`None` past the end), under its chunk's lock.
+    fn with_env<T>(&self, index: usize, read: impl FnOnce(&RobotEnv) -> T) -> Option<T> {
+        let chunk = self
+            .chunks
+            .iter()
+            .map(lock)
+            .find(|chunk| (chunk.first_env..chunk.first_env + chunk.len()).contains(&index))?;
+        Some(read(chunk.env(index - chunk.first_env)))
     }
 
     /// Env `index`'s domain-randomisation factors for its current episode (`None`
     /// without randomisation, or past the end).
     pub fn draws(&self, index: usize) -> Option<gymfleet_env::DrawReport> {
-        self.chunks.iter().find_map(|chunk| {
-            let chunk = lock(chunk);
-            let first = chunk.first_env;
-            (first..first + chunk.len())
-                .contains(&index)
-                .then(|| chunk.env(index - first).draws())
-                .flatten()
-        })
+        self.with_env(index, RobotEnv::draws).flatten()
     }
 
     /// The current observation of every env, without stepping: `n_envs ×

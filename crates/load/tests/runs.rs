@@ -491,4 +491,9 @@ fn replay_writes_an_html_page_of_one_env() {
         err.to_string(),
         "--replay records over the network: it needs a server (not --in-process)"
     );
+    let err = Cli::try_parse_from(["gymfleet-load", "--replay", "x.html", "--replay-steps", "0"])
+        .expect("flags parse")
+        .resolve()
+        .expect_err("nothing to record");
+    assert_eq!(err.to_string(), "--replay-steps must be at least 1, got 0");
 }

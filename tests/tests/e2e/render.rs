@@ -180,3 +180,40 @@ async fn get_scene_gives_every_part_where_it_is() {
     let err = env.scene().await.expect_err("closed");
     assert!(matches!(err, ClientError::NotFound { .. }), "{err:?}");
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_unknown_camera_preset_or_no_target_is_invalid() {
+    use gymfleet_proto::v1 as pb;
+    let server = TestServer::start_default().await;
+    let env = server
+        .client()
+        .await
+        .create_env(EnvOptions::new(PENDULUM))
+        .await
+        .expect("env");
+    let mut raw = pb::simulator_client::SimulatorClient::connect(server.url())
+        .await
+        .expect("connect");
+    let status = raw
+        .render(pb::RenderRequest {
+            env_id: env.id().to_string(),
+            camera: Some(pb::Camera {
+                preset: 99,
+                ..Default::default()
+            }),
+            ..Default::default()
+        })
+        .await
+        .expect_err("preset 99");
+    assert_eq!(status.code(), tonic::Code::InvalidArgument);
+    assert_eq!(status.message(), "camera.preset: unknown camera preset 99");
+    let status = raw
+        .render(pb::RenderRequest::default())
+        .await
+        .expect_err("neither id");
+    assert_eq!(status.code(), tonic::Code::InvalidArgument);
+    assert_eq!(
+        status.message(),
+        "env_id: expected exactly one of env_id and batch_id"
+    );
+}
