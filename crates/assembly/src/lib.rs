@@ -34,7 +34,9 @@ pub fn parse(json: &str) -> Result<Assembly> {
     })?;
     // Reject trailing characters after the document, e.g. `{...} x`.
     de.end().map_err(|err| malformed(".", err))?;
-    validate(&doc)
+    let mut assembly = validate(&doc)?;
+    assembly.source = std::sync::Arc::from(json);
+    Ok(assembly)
 }
 
 /// Turns a serde error into an issue: JSON syntax errors are reported on the whole

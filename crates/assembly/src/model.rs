@@ -192,6 +192,10 @@ pub struct Assembly {
     pub instances: Vec<Instance>,
     /// Joints, in document order.
     pub joints: Vec<Joint>,
+    /// The document text this assembly was parsed from ([`crate::parse`]; empty when built
+    /// by [`crate::validate`] from a [`crate::Document`]): what a saved env state carries,
+    /// so that the state rebuilds its env anywhere.
+    pub source: std::sync::Arc<str>,
 }
 
 impl Assembly {

@@ -18,7 +18,11 @@ pub fn validate(doc: &Document) -> Result<Assembly> {
     let instances = v.instances(&doc.assembly.instances, &parts, &materials);
     let joints = v.joints(&doc.assembly.joints, &doc.assembly.instances);
     if v.issues.is_empty() {
-        Ok(Assembly { instances, joints })
+        Ok(Assembly {
+            instances,
+            joints,
+            source: std::sync::Arc::from(""),
+        })
     } else {
         Err(AssemblyError::Invalid { issues: v.issues })
     }

@@ -25,7 +25,7 @@ const MAX_RESET_NOISE: f64 = 1e6;
 const MAX_SUBSTEPS: u32 = 1000;
 
 /// How to build an environment from a document.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct EnvConfig {
     /// Instance names whose poses are observed.
     pub end_effector_ids: Vec<String>,
@@ -53,7 +53,7 @@ pub struct EnvConfig {
 /// Ranges `[min, max]` of scale factors, each drawn uniformly at every reset from the
 /// env's seeded stream, independently per instance (mass, friction) and per joint
 /// (damping, PD gains). `None`: that quantity is not randomised.
-#[derive(Debug, Clone, PartialEq, Default)]
+#[derive(Debug, Clone, PartialEq, Default, serde::Serialize, serde::Deserialize)]
 pub struct Randomization {
     /// Multiplies each instance's mass (its density; the inertia follows).
     pub mass_scale: Option<[f64; 2]>,

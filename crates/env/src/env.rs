@@ -9,6 +9,7 @@ use crate::action::{self, ActionType};
 use crate::config::{EnvConfig, EnvSpec, Randomization};
 use crate::error::{EnvError, Result};
 use crate::observation::{Observation, POSE_LEN};
+use crate::state::Origin;
 use crate::task::ActiveTask;
 
 /// Why an episode terminated.
@@ -69,25 +70,27 @@ pub struct StepResult {
 /// Cloning gives an independent environment in the same state, without re-parsing.
 #[derive(Clone)]
 pub struct RobotEnv {
-    world: RobotWorld,
-    spec: EnvSpec,
+    pub(crate) world: RobotWorld,
+    pub(crate) spec: EnvSpec,
     /// Instance index of each end effector.
     end_effectors: Vec<usize>,
-    elapsed: u32,
-    seed: u64,
+    pub(crate) elapsed: u32,
+    pub(crate) seed: u64,
     /// The episode random stream: seeded from `seed`, drawn from by each reset.
-    rng: Xoshiro256PlusPlus,
+    pub(crate) rng: Xoshiro256PlusPlus,
     reset_noise: f64,
     /// Scratch for the per-DOF reset offsets.
     offsets: Vec<f64>,
     /// The last finite observation, returned if the physics diverges.
-    last_obs: Vec<f32>,
-    diverged: bool,
+    pub(crate) last_obs: Vec<f32>,
+    pub(crate) diverged: bool,
     /// The task, if any.
-    task: Option<ActiveTask>,
+    pub(crate) task: Option<ActiveTask>,
     /// Domain randomisation, and this episode's draws.
-    randomize: Option<Randomization>,
-    draws: Option<Draws>,
+    pub(crate) randomize: Option<Randomization>,
+    pub(crate) draws: Option<Draws>,
+    /// The document and options it was built from, for its saved states.
+    pub(crate) origin: std::sync::Arc<Origin>,
     /// Instance and joint names (document order), to report the draws by name.
     names: std::sync::Arc<(Vec<String>, Vec<String>)>,
 }
@@ -108,6 +111,10 @@ impl RobotEnv {
     /// Builds an environment from a validated assembly.
     pub fn new(assembly: &Assembly, config: EnvConfig) -> Result<Self> {
         config.validate()?;
+        let origin = std::sync::Arc::new(Origin {
+            document: std::sync::Arc::clone(&assembly.source),
+            config: config.clone(),
+        });
         let end_effectors = config
             .end_effector_ids
             .iter()
@@ -157,6 +164,7 @@ impl RobotEnv {
             task,
             randomize: config.randomize.clone(),
             draws: None,
+            origin,
             names: std::sync::Arc::new((
                 assembly.instances.iter().map(|i| i.name.clone()).collect(),
                 assembly.joints.iter().map(|j| j.name.clone()).collect(),

@@ -61,6 +61,20 @@ pub enum EnvError {
         /// What was given.
         got: String,
     },
+    /// A saved state's bytes are not a state of this format (see `state.rs`).
+    #[error("state: {reason}")]
+    StateFormat {
+        /// What is wrong: length, magic, version, checksum or encoding.
+        reason: String,
+    },
+    /// A saved state does not fit the env, or holds an unusable value.
+    #[error("state.{path}: {reason}")]
+    BadState {
+        /// The field, e.g. `draws.mass[2]` or `config.substeps`.
+        path: String,
+        /// What was expected and what was given.
+        reason: String,
+    },
     /// The physics diverged earlier in this episode; only `reset` is possible.
     #[error("the simulation diverged (non-finite state) and was terminated; call reset before stepping again")]
     NeedsReset,

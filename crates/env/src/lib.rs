@@ -10,14 +10,18 @@
 //! appended to the observation. Domain randomisation ([`Randomization`]) draws mass,
 //! friction, damping and gain factors at every reset from the env's seeded stream.
 //!
+//! Saved states ([`SavedState`], `state.rs`): an env's whole state as versioned,
+//! checksummed bytes that rebuild it anywhere, validated field by field on load.
+//!
 //! It leaves parsing to `gymfleet-assembly`, simulation to `gymfleet-physics`, and
-//! parallelism to `gymfleet-batch`. It knows nothing of networks or serialisation.
+//! parallelism to `gymfleet-batch`. It knows nothing of networks.
 
 mod action;
 mod config;
 mod env;
 mod error;
 mod observation;
+mod state;
 mod task;
 
 pub use action::ActionType;
@@ -29,4 +33,5 @@ pub use error::{EnvError, Result};
 pub use gymfleet_assembly::{AssemblyError, DofKind, JointType};
 pub use gymfleet_physics::{JointDof, PdGains, SceneJoint, ScenePart, SceneShape};
 pub use observation::{Observation, ObservationSegment, POSE_LEN};
+pub use state::{SavedState, STATE_VERSION};
 pub use task::{ReachTarget, TaskKind, TaskSpec};

@@ -17,7 +17,7 @@ use crate::env::Termination;
 use crate::error::{EnvError, Result};
 
 /// Where a reach target comes from.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum ReachTarget {
     /// A fixed point, world mm.
     Fixed([f64; 3]),
@@ -32,7 +32,7 @@ pub enum ReachTarget {
 }
 
 /// What an env is asked to do.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum TaskKind {
     /// Bring a point of an instance to a target.
     Reach {
@@ -68,7 +68,7 @@ pub enum TaskKind {
 }
 
 /// A task and the weight of the action cost.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct TaskSpec {
     /// What to do.
     pub kind: TaskKind,
@@ -330,6 +330,41 @@ impl ActiveTask {
             Active::Reach { .. } => Some("target"),
             Active::Track { .. } | Active::Upright { .. } => None,
         }
+    }
+
+    /// The task's episode state (a saved state's part): the current target, world mm
+    /// (`[0, 0, 0]` but for reach tasks).
+    pub(crate) fn target(&self) -> [f64; 3] {
+        self.target
+    }
+
+    /// Puts a saved target back, if it is one this task could have drawn: finite, in a
+    /// reach task's box (or its fixed point), zero for the other tasks.
+    pub(crate) fn restore_target(&mut self, target: [f64; 3]) -> Result<()> {
+        let (lo, hi) = match &self.kind {
+            Active::Reach {
+                target: ReachTarget::Box { min, max },
+                ..
+            } => (*min, *max),
+            Active::Reach {
+                target: ReachTarget::Fixed(t),
+                ..
+            } => (*t, *t),
+            Active::Track { .. } | Active::Upright { .. } => ([0.0; 3], [0.0; 3]),
+        };
+        for k in 0..3 {
+            if !(target[k] >= lo[k] && target[k] <= hi[k]) {
+                return Err(EnvError::BadState {
+                    path: format!("task_target[{k}]"),
+                    reason: format!(
+                        "expected a value this task can draw, in [{}, {}], got {}",
+                        lo[k], hi[k], target[k]
+                    ),
+                });
+            }
+        }
+        self.target = target;
+        Ok(())
     }
 
     /// A new episode: draws the reach target from its box (after the reset noise).

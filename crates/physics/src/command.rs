@@ -5,7 +5,7 @@
 pub const DEFAULT_PD_FREQUENCY_HZ: f64 = 20.0;
 
 /// How the values of an action are interpreted.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 pub enum ActionMode {
     /// Efforts in N·m (angular DOF) or N (linear DOF).
     #[default]
@@ -18,7 +18,7 @@ pub enum ActionMode {
 
 /// PD gain overrides, one entry per DOF, in SI: `kp` in N·m/rad or N/m, `kd` in
 /// N·m·s/rad or N·s/m.
-#[derive(Debug, Clone, PartialEq, Default)]
+#[derive(Debug, Clone, PartialEq, Default, serde::Serialize, serde::Deserialize)]
 pub struct PdGains {
     /// Proportional gains (empty = defaults).
     pub kp: Vec<f64>,

@@ -1,4 +1,4 @@
-//! Errors of world construction and actuation.
+//! Errors of world construction, actuation and state restore.
 
 /// Why a world could not be built or driven.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -16,6 +16,14 @@ pub enum PhysicsError {
     BadOption {
         /// The option's name.
         field: &'static str,
+        /// What was expected.
+        reason: String,
+    },
+    /// A saved dynamic state does not fit the world or holds an unusable value.
+    #[error("state.{path}: {reason}")]
+    BadState {
+        /// The field, e.g. `world.joints[2].coords[3]`.
+        path: String,
         /// What was expected.
         reason: String,
     },

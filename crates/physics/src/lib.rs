@@ -7,7 +7,9 @@
 //! measured joint state readout in user units, and an exact reset from a snapshot.
 //!
 //! It knows nothing of episodes, rewards or observation layout (that is `gymfleet-env`),
-//! and nothing of threads, networks or serialisation.
+//! and nothing of threads or networks. Its plain data types ([`DynamicState`], [`Draws`],
+//! [`PdGains`], [`ActionMode`]) derive serde for the env's saved states; the format is
+//! the env's.
 //!
 //! Units at this crate's boundary are the user's: degrees and millimetres for joint
 //! state and targets, N·m and N for efforts, millimetres for poses. Inside, all is SI.
@@ -20,6 +22,7 @@ mod perturb;
 mod randomize;
 mod readout;
 mod scene;
+mod state;
 mod units;
 mod world;
 
@@ -27,4 +30,5 @@ pub use command::{ActionMode, PdGains, DEFAULT_PD_FREQUENCY_HZ};
 pub use error::{PhysicsError, Result};
 pub use randomize::Draws;
 pub use scene::{SceneJoint, ScenePart, SceneShape};
+pub use state::{BodyMotion, DynamicState, JointCoords};
 pub use world::{JointDof, RobotWorld, WorldOptions};

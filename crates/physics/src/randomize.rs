@@ -10,7 +10,7 @@ use crate::actuation::pd_gains_from_inertia;
 use crate::world::RobotWorld;
 
 /// One episode's scale factors; 1.0 leaves a value as the document has it.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Draws {
     /// Per instance, in document order: multiplies its mass (density).
     pub mass: Vec<f64>,

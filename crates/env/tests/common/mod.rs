@@ -62,3 +62,31 @@ pub fn arm_mass_and_pivot_inertia() -> (f64, f64, f64) {
     let i_pivot = m * (a * a + c * c) / 12.0 + m * d * d;
     (m, i_pivot, d)
 }
+
+/// A post welded to the base, an arm welded on top of it, and a hand hinged (about Y) at the
+/// arm's far end, hanging 37 mm from the post. The hand and the post are links of one chain
+/// that no joint connects, so they collide: driven towards the post, the hand stops on it.
+pub fn hand_and_post() -> Value {
+    json!({
+        "parts": [
+            {"name": "Base", "primitive": {"type": "cube", "size": {"x": 100, "y": 10, "z": 5}}},
+            {"name": "Post", "primitive": {"type": "cube", "size": {"x": 6, "y": 6, "z": 50}}},
+            {"name": "Arm", "primitive": {"type": "cube", "size": {"x": 40, "y": 6, "z": 4}}},
+            {"name": "Hand", "primitive": {"type": "cube", "size": {"x": 4, "y": 4, "z": 42}}}
+        ],
+        "assembly": {
+            "instances": [
+                {"part": "Base", "name": "base"},
+                {"part": "Post", "name": "post", "position": {"x": 47, "y": 2, "z": 5}},
+                {"part": "Arm", "name": "arm", "position": {"x": 50, "y": 2, "z": 55}},
+                {"part": "Hand", "name": "hand", "position": {"x": 88, "y": 3, "z": 15}}
+            ],
+            "joints": [
+                {"type": "fixed", "parent": "base", "child": "post", "anchor": {"x": 50, "y": 5, "z": 5}},
+                {"type": "fixed", "parent": "post", "child": "arm", "anchor": {"x": 50, "y": 5, "z": 55}},
+                {"type": "revolute", "parent": "arm", "child": "hand",
+                 "anchor": {"x": 90, "y": 5, "z": 57}, "axis": {"x": 0, "y": 1, "z": 0}}
+            ]
+        }
+    })
+}

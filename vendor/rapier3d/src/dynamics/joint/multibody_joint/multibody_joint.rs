@@ -193,6 +193,26 @@ impl MultibodyJoint {
         }
     }
 
+    /// Sets the joint's generalized coordinates, as [`Self::coords`] reads them, and the
+    /// rotation they stand for (gymfleet patch, see `PATCHES.md`): for restoring a saved
+    /// state exactly. For a joint with at most one free angular DoF the rotation follows
+    /// from the angular coordinate (as [`Self::integrate`] computes it) and `joint_rot` is
+    /// ignored; with three free angular DoFs `joint_rot` (a unit quaternion) is kept as given.
+    /// Call the multibody's `forward_kinematics` afterwards.
+    pub fn set_coords(&mut self, coords: SpatialVector, joint_rot: Rotation) {
+        self.coords = coords;
+        let locked_ang_bits = self.data.locked_axes.bits() >> DIM;
+        let num_free_ang_dofs = ANG_DIM - locked_ang_bits.count_ones() as usize;
+        match num_free_ang_dofs {
+            0 => self.joint_rot = Rotation::IDENTITY,
+            1 => {
+                let dof_id = (!locked_ang_bits).trailing_zeros() as usize;
+                self.set_single_coord(DIM + dof_id, coords[DIM + dof_id]);
+            }
+            _ => self.joint_rot = joint_rot,
+        }
+    }
+
     /// Apply a displacement to the multibody_joint.
     pub fn apply_displacement(&mut self, disp: &[Real]) {
         self.integrate(1.0, disp);

@@ -1,0 +1,350 @@
+//! The dynamic state of a world: what a step changes (joint coordinates, generalized
+//! velocities, body motion) and the held command, read out and put back exactly. With the
+//! document, the options and the episode's own state (in `gymfleet-env`) it is everything
+//! that determines a world's future; `gymfleet-env` serialises it in its saved states.
+//!
+//! Values are Rapier's own `f32`s in SI (rad, m, rad/s, m/s), not the user's units, so that
+//! a round trip is bit for bit.
+
+use gymfleet_assembly::{DofKind, JointType};
+use rapier3d::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::command::ActionMode;
+use crate::error::{PhysicsError, Result};
+use crate::units::to_si;
+use crate::world::RobotWorld;
+
+/// Largest magnitude accepted for a coordinate (rad or m) or a velocity (rad/s or m/s) in
+/// a state: far beyond anything a healthy step produces (the env reports divergence long
+/// before), and far from where `f32` arithmetic on it stops meaning anything.
+const MAX_MAGNITUDE: f32 = 1.0e9;
+/// How far a limited DOF may sit past its limit in a state, in deg or mm: hard stops put a
+/// DOF back on its limit (at most 0.001° past it, `f32` rounding included).
+const LIMIT_TOLERANCE: f64 = 0.01;
+/// How far a quaternion's norm may be from 1.
+const UNIT_TOLERANCE: f32 = 1.0e-4;
+
+/// One joint's generalized coordinates (Rapier's six, locked axes zero) and, for a ball
+/// joint, the rotation they stand for (integrated apart from the coordinates).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct JointCoords {
+    /// Linear x, y, z (m) then angular x, y, z (rad) in the joint's frame.
+    pub coords: [f32; 6],
+    /// Ball joints: the rotation as a quaternion `[x, y, z, w]`; `None` for the others
+    /// (their rotation follows from their one angle).
+    pub rotation: Option<[f32; 4]>,
+}
+
+/// One instance body's motion.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BodyMotion {
+    /// World position of the body's frame, m. (Bodies moved by joints are placed from the
+    /// joint coordinates on restore; this is used for the others.)
+    pub translation: [f32; 3],
+    /// World orientation, quaternion `[x, y, z, w]`.
+    pub rotation: [f32; 4],
+    /// Linear velocity of the centre of mass, m/s.
+    pub linvel: [f32; 3],
+    /// Angular velocity, rad/s.
+    pub angvel: [f32; 3],
+}
+
+/// A world's dynamic state (see the module documentation).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DynamicState {
+    /// The held command's mode.
+    pub mode: ActionMode,
+    /// The held command, one value per DOF in DOF order (0 for passive DOFs).
+    pub command: Vec<f32>,
+    /// Every joint with at least one DOF, in document order.
+    pub joints: Vec<JointCoords>,
+    /// Generalized velocity of every DOF, in DOF order (rad/s or m/s; a ball joint's three
+    /// are its angular velocity).
+    pub velocities: Vec<f32>,
+    /// Every instance's body, in document order.
+    pub bodies: Vec<BodyMotion>,
+}
+
+fn bad(path: String, reason: String) -> PhysicsError {
+    PhysicsError::BadState { path, reason }
+}
+
+fn check_values(path: &str, values: &[f32], max: f32) -> Result<()> {
+    match values
+        .iter()
+        .position(|v| !(v.is_finite() && v.abs() <= max))
+    {
+        Some(k) => Err(bad(
+            format!("{path}[{k}]"),
+            format!("expected a finite value within ±{max:e}, got {}", values[k]),
+        )),
+        None => Ok(()),
+    }
+}
+
+fn check_unit(path: &str, q: &[f32; 4]) -> Result<()> {
+    check_values(path, q, 1.0 + UNIT_TOLERANCE)?;
+    let norm = q.iter().map(|c| c * c).sum::<f32>().sqrt();
+    if (norm - 1.0).abs() > UNIT_TOLERANCE {
+        return Err(bad(
+            path.to_string(),
+            format!("expected a unit quaternion, got one of norm {norm}"),
+        ));
+    }
+    Ok(())
+}
+
+fn check_len(path: &str, got: usize, expected: usize, what: &str) -> Result<()> {
+    if got == expected {
+        Ok(())
+    } else {
+        Err(bad(
+            path.to_string(),
+            format!("expected {expected} {what}, got {got}"),
+        ))
+    }
+}
+
+fn quat(q: [f32; 4]) -> Rotation {
+    Rotation::from_xyzw(q[0], q[1], q[2], q[3])
+}
+
+impl RobotWorld {
+    /// Joints with at least one DOF and the multibody link each one moves.
+    fn moving_joints(&self) -> impl Iterator<Item = &crate::world::JointSlot> {
+        self.joints.iter().filter(|slot| slot.kind.dof() > 0)
+    }
+
+    /// The world's dynamic state now.
+    pub fn dynamic_state(&self) -> DynamicState {
+        let mut joints = Vec::new();
+        let mut velocities = vec![0.0; self.dofs.len()];
+        for slot in self.moving_joints() {
+            let Some(mb) = self.live.multibody_joints.get_multibody(slot.multibody) else {
+                continue;
+            };
+            let Some(link) = mb.link(slot.link) else {
+                continue;
+            };
+            let joint = link.joint();
+            let c = joint.coords();
+            let rotation = (free_angular_dofs(joint) == 3).then(|| {
+                let r = joint.joint_rot();
+                [r.x, r.y, r.z, r.w]
+            });
+            joints.push(JointCoords {
+                coords: [c[0], c[1], c[2], c[3], c[4], c[5]],
+                rotation,
+            });
+            let first = link.assembly_id();
+            let all = mb.generalized_velocity();
+            for k in 0..slot.kind.dof() {
+                velocities[slot.first_dof + k] = all[first + k];
+            }
+        }
+        let bodies = self
+            .bodies
+            .iter()
+            .map(|&h| {
+                let rb = &self.live.bodies[h];
+                let (p, v, w) = (rb.position(), rb.linvel(), rb.angvel());
+                BodyMotion {
+                    translation: [p.translation.x, p.translation.y, p.translation.z],
+                    rotation: [p.rotation.x, p.rotation.y, p.rotation.z, p.rotation.w],
+                    linvel: [v.x, v.y, v.z],
+                    angvel: [w.x, w.y, w.z],
+                }
+            })
+            .collect();
+        DynamicState {
+            mode: self.command.mode,
+            command: self.command.values.clone(),
+            joints,
+            velocities,
+            bodies,
+        }
+    }
+
+    /// Checks that `state` fits this world (counts) and holds only sane values: finite,
+    /// within bounds, limited DOFs on their side of the limits, unit quaternions, no command
+    /// on a passive DOF. An error names the field (`world.joints[2].coords[3]`).
+    pub fn check_dynamic_state(&self, state: &DynamicState) -> Result<()> {
+        let dofs = self.dofs.len();
+        check_len(
+            "world.command",
+            state.command.len(),
+            dofs,
+            "values (one per DOF)",
+        )?;
+        check_values("world.command", &state.command, f32::MAX)?;
+        if let Some(k) = (0..dofs).find(|&k| !self.dofs[k].actuated && state.command[k] != 0.0) {
+            return Err(bad(
+                format!("world.command[{k}]"),
+                format!(
+                    "DOF {k} (joint {:?}) is passive and holds no command, got {}",
+                    self.dofs[k].joint_name, state.command[k]
+                ),
+            ));
+        }
+        check_len(
+            "world.velocities",
+            state.velocities.len(),
+            dofs,
+            "values (one per DOF)",
+        )?;
+        check_values("world.velocities", &state.velocities, MAX_MAGNITUDE)?;
+        let moving = self.moving_joints().count();
+        check_len(
+            "world.joints",
+            state.joints.len(),
+            moving,
+            "joints (those with a DOF)",
+        )?;
+        for (j, (slot, saved)) in self.moving_joints().zip(&state.joints).enumerate() {
+            let path = format!("world.joints[{j}]");
+            check_values(&format!("{path}.coords"), &saved.coords, MAX_MAGNITUDE)?;
+            let link = self
+                .live
+                .multibody_joints
+                .get_multibody(slot.multibody)
+                .and_then(|mb| mb.link(slot.link));
+            let Some(link) = link else { continue };
+            let joint = link.joint();
+            let locked = joint.data.locked_axes.bits();
+            if let Some(axis) = (0..6).find(|&a| locked & (1 << a) != 0 && saved.coords[a] != 0.0) {
+                return Err(bad(
+                    format!("{path}.coords[{axis}]"),
+                    format!(
+                        "axis {axis} of this joint is locked: expected 0, got {}",
+                        saved.coords[axis]
+                    ),
+                ));
+            }
+            // The DOFs' coordinates, in DOF order: free linear axes, then free angular ones.
+            let free: Vec<usize> = (0..6).filter(|&a| locked & (1 << a) == 0).collect();
+            for (k, &axis) in free.iter().enumerate() {
+                let dof = &self.dofs[slot.first_dof + k];
+                // A ball joint's three angles are not its rotation's: its limits (if any) are
+                // not checked on them.
+                let (Some([min, max]), false) = (dof.limits, slot.kind == JointType::Ball) else {
+                    continue;
+                };
+                let lo = to_si(dof.kind, min - LIMIT_TOLERANCE) as f32;
+                let hi = to_si(dof.kind, max + LIMIT_TOLERANCE) as f32;
+                let value = saved.coords[axis];
+                if !(lo..=hi).contains(&value) {
+                    let (si, user) = match dof.kind {
+                        DofKind::Angular => ("rad", "deg"),
+                        DofKind::Linear => ("m", "mm"),
+                    };
+                    return Err(bad(
+                        format!("{path}.coords[{axis}]"),
+                        format!(
+                            "{value} {si} is outside joint {:?}'s limits [{min}, {max}] {user}",
+                            dof.joint_name
+                        ),
+                    ));
+                }
+            }
+            match (free_angular_dofs(joint) == 3, &saved.rotation) {
+                (true, Some(q)) => check_unit(&format!("{path}.rotation"), q)?,
+                (true, None) => {
+                    return Err(bad(
+                        format!("{path}.rotation"),
+                        "a ball joint's state needs its rotation".to_string(),
+                    ))
+                }
+                (false, Some(_)) => {
+                    return Err(bad(
+                        format!("{path}.rotation"),
+                        "only a ball joint's state has a rotation".to_string(),
+                    ))
+                }
+                (false, None) => {}
+            }
+        }
+        check_len(
+            "world.bodies",
+            state.bodies.len(),
+            self.bodies.len(),
+            "bodies (one per instance)",
+        )?;
+        for (i, body) in state.bodies.iter().enumerate() {
+            let path = format!("world.bodies[{i}]");
+            check_values(
+                &format!("{path}.translation"),
+                &body.translation,
+                MAX_MAGNITUDE,
+            )?;
+            check_unit(&format!("{path}.rotation"), &body.rotation)?;
+            check_values(&format!("{path}.linvel"), &body.linvel, MAX_MAGNITUDE)?;
+            check_values(&format!("{path}.angvel"), &body.angvel, MAX_MAGNITUDE)?;
+        }
+        Ok(())
+    }
+
+    /// Puts `state` back: from the world as it is after [`RobotWorld::reset`] (and the
+    /// episode's randomisation draws), sets every joint's coordinates and velocities, places
+    /// the bodies (from the joints; bodies no joint moves from `state`), sets every body's
+    /// velocities and the command. Two worlds of one document restored from one state are
+    /// bitwise alike. Check the state with [`RobotWorld::check_dynamic_state`] first.
+    ///
+    /// # Panics
+    ///
+    /// If the state's counts do not fit this world.
+    pub fn restore_dynamic_state(&mut self, state: &DynamicState) {
+        assert_eq!(state.command.len(), self.dofs.len(), "one command per DOF");
+        let mut touched = Vec::new();
+        let slots: Vec<_> = self.moving_joints().cloned().collect();
+        assert_eq!(
+            slots.len(),
+            state.joints.len(),
+            "one entry per moving joint"
+        );
+        for (slot, saved) in slots.iter().zip(&state.joints) {
+            let Some(mb) = self.live.multibody_joints.get_multibody_mut(slot.multibody) else {
+                continue;
+            };
+            let Some(first) = mb.link(slot.link).map(|l| l.assembly_id()) else {
+                continue;
+            };
+            if let Some(link) = mb.link_mut(slot.link) {
+                let c = saved.coords;
+                let rotation = saved.rotation.map_or(Rotation::IDENTITY, quat);
+                link.joint.set_coords(c, rotation);
+            }
+            let mut velocities = mb.generalized_velocity_mut();
+            for k in 0..slot.kind.dof() {
+                velocities[first + k] = state.velocities[slot.first_dof + k];
+            }
+            if !touched.contains(&slot.multibody) {
+                touched.push(slot.multibody);
+            }
+        }
+        self.sync_bodies(&touched);
+        for (&h, saved) in self.bodies.iter().zip(&state.bodies) {
+            let in_multibody = self.live.multibody_joints.rigid_body_link(h).is_some();
+            let rb = &mut self.live.bodies[h];
+            if !rb.is_dynamic() {
+                continue;
+            }
+            if !in_multibody {
+                let t = saved.translation;
+                let pose = Pose::from_parts(Vector::new(t[0], t[1], t[2]), quat(saved.rotation));
+                rb.set_position(pose, false);
+            }
+            let (v, w) = (saved.linvel, saved.angvel);
+            rb.set_linvel(Vector::new(v[0], v[1], v[2]), false);
+            rb.set_angvel(AngVector::new(w[0], w[1], w[2]), false);
+        }
+        self.command.mode = state.mode;
+        self.command.values.copy_from_slice(&state.command);
+        self.configure_motors();
+    }
+}
+
+/// How many of a joint's angular axes are free.
+fn free_angular_dofs(joint: &MultibodyJoint) -> u32 {
+    3 - (joint.data.locked_axes.bits() >> 3).count_ones()
+}
