@@ -399,7 +399,8 @@ mod tests {
 
     #[test]
     fn every_forged_field_is_refused_by_name() {
-        let cases: Vec<(Box<dyn FnOnce(&mut Saved)>, &str)> = vec![
+        type Edit = Box<dyn FnOnce(&mut Saved)>;
+        let cases: Vec<(Edit, &str)> = vec![
             (
                 Box::new(|s| s.world.velocities[1] = f32::NAN),
                 "state.world.velocities[1]: expected a finite value within ±1e9, got NaN",
