@@ -5,7 +5,7 @@ use std::fmt;
 use std::num::NonZeroUsize;
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 
-use gymfleet_env::{ActionType, EnvSpec, RobotEnv};
+use gymfleet_env::{ActionType, EnvSpec, RobotEnv, SavedState};
 
 use crate::chunk::{Chunk, ChunkOp};
 use crate::error::{BatchError, Result};
@@ -107,6 +107,29 @@ impl EnvBatch {
         autoreset: Autoreset,
         chunk_size: usize,
     ) -> Result<Self> {
+        Self::build(template, n_envs, autoreset, chunk_size, true)
+    }
+
+    /// `n_envs` exact copies of `template` in its current state (not reset: a fork of a
+    /// loaded state), with the chunk size of [`EnvBatch::for_pool`]. Given the same
+    /// actions, every copy continues bitwise as `template` would.
+    pub fn copies_of(
+        template: &RobotEnv,
+        n_envs: usize,
+        autoreset: Autoreset,
+        pool: &StepPool,
+    ) -> Result<Self> {
+        let chunk_size = default_chunk_size(n_envs, pool.threads());
+        Self::build(template, n_envs, autoreset, chunk_size, false)
+    }
+
+    fn build(
+        template: &RobotEnv,
+        n_envs: usize,
+        autoreset: Autoreset,
+        chunk_size: usize,
+        reset: bool,
+    ) -> Result<Self> {
         if n_envs == 0 {
             return Err(BatchError::NoEnvs);
         }
@@ -129,7 +152,9 @@ impl EnvBatch {
                 let envs = (first..n_envs.min(first + chunk_size))
                     .map(|_| {
                         let mut env = template.clone();
-                        env.reset_into(None, &mut scratch);
+                        if reset {
+                            env.reset_into(None, &mut scratch);
+                        }
                         env
                     })
                     .collect();
@@ -283,6 +308,67 @@ impl EnvBatch {
             Some((env, source)) => Err(BatchError::Env { env, source }),
             None => Ok(()),
         }
+    }
+
+    /// Saves the state of the envs in `env_indices` (ascending, distinct, below `n_envs`;
+    /// empty: every env), in that order. Each saved env is re-seated from its state (see
+    /// [`RobotEnv::save`]). A diverged env has no state: [`BatchError::Env`] names it.
+    pub fn save_states(&mut self, env_indices: &[u32]) -> Result<Vec<SavedState>> {
+        let indices = self.indices_or_all(env_indices)?;
+        let mut states = Vec::with_capacity(indices.len());
+        for i in indices {
+            let state = self
+                .with_env_mut(i, RobotEnv::save)
+                .expect("the index was checked");
+            states.push(state.map_err(|source| BatchError::Env { env: i, source })?);
+        }
+        Ok(states)
+    }
+
+    /// Loads `states[k]` into env `env_indices[k]` (ascending, distinct, below `n_envs`;
+    /// empty: every env, one state each). Every state must come from an env of this
+    /// batch's document and options; all are checked before any is loaded, so a bad one
+    /// loads nothing. A loaded env is running (a pending next-step reset is dropped).
+    pub fn load_states(&mut self, env_indices: &[u32], states: &[SavedState]) -> Result<()> {
+        let indices = self.indices_or_all(env_indices)?;
+        if indices.len() != states.len() {
+            return Err(BatchError::StateCount {
+                indices: indices.len(),
+                states: states.len(),
+            });
+        }
+        let mut loaded = Vec::with_capacity(states.len());
+        for (&i, state) in indices.iter().zip(states) {
+            let mut env = self
+                .with_env(i, RobotEnv::clone)
+                .expect("the index was checked");
+            env.load(state)
+                .map_err(|source| BatchError::Env { env: i, source })?;
+            loaded.push((i, env));
+        }
+        for (i, env) in loaded {
+            let chunk = &self.chunks[i / self.chunk_size];
+            let mut chunk = lock(chunk);
+            let first = chunk.first_env;
+            chunk.replace(i - first, env);
+        }
+        Ok(())
+    }
+
+    /// `env_indices` checked, or every index when it is empty.
+    fn indices_or_all(&self, env_indices: &[u32]) -> Result<Vec<usize>> {
+        if env_indices.is_empty() {
+            return Ok((0..self.n_envs).collect());
+        }
+        self.check_indices(env_indices)?;
+        Ok(env_indices.iter().map(|&i| i as usize).collect())
+    }
+
+    /// `write` of env `index` (`None` past the end), under its chunk's lock.
+    fn with_env_mut<T>(&self, index: usize, write: impl FnOnce(&mut RobotEnv) -> T) -> Option<T> {
+        let mut chunk = lock(self.chunks.get(index / self.chunk_size)?);
+        let first = chunk.first_env;
+        (index - first < chunk.len()).then(|| write(chunk.env_mut(index - first)))
     }
 
     /// Env `index`'s [`gymfleet_env::Scene`] (`None` past the end).

@@ -87,6 +87,17 @@ impl Chunk {
         &self.envs[i]
     }
 
+    pub(crate) fn env_mut(&mut self, i: usize) -> &mut RobotEnv {
+        &mut self.envs[i]
+    }
+
+    /// Puts `env` in place of env `i`, running (a pending next-step reset or a divergence
+    /// mark is dropped: the env is in a live state).
+    pub(crate) fn replace(&mut self, i: usize, env: RobotEnv) {
+        self.envs[i] = env;
+        self.states[i] = EnvState::Running;
+    }
+
     pub(crate) fn run(&mut self, op: ChunkOp, autoreset: Autoreset) {
         self.error = None;
         self.final_env_indices.clear();

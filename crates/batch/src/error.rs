@@ -47,6 +47,14 @@ pub enum BatchError {
         /// What was expected and what was given.
         reason: String,
     },
+    /// A batch load got a different number of states than of env indices.
+    #[error("states: expected one state per env index ({indices}), got {states}")]
+    StateCount {
+        /// How many envs the indices name (every env when none are given).
+        indices: usize,
+        /// How many states were given.
+        states: usize,
+    },
     /// One environment failed; the others were stepped.
     #[error("env {env}: {source}")]
     Env {
