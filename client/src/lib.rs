@@ -50,6 +50,7 @@ mod options;
 mod placement;
 mod render;
 mod replay;
+mod state;
 mod stream;
 mod task;
 mod types;
@@ -69,6 +70,7 @@ pub use fleet_batch::{FleetBatch, ShardPlacement};
 pub use options::{BatchOptions, EnvOptions, PdGains};
 pub use render::{Camera, CameraPreset, Image, Scene, SceneBody, SceneJoint, SceneShape};
 pub use replay::{Replay, ReplayMismatch};
+pub use state::EnvState;
 pub use stream::{BatchStream, DEFAULT_STREAM_WINDOW};
 pub use task::{
     Randomization, RandomizationDraws, ReachTask, Task, TaskKind, TrackTask, UprightTask,

@@ -13,7 +13,7 @@ use gymfleet_render::{Camera, CameraPreset};
 
 use crate::domain::{
     Action, BatchObservations, BatchRequest, BatchStep, BatchStepped, DrawsOf, EnvRequest, EnvStep,
-    JointLinks, ObsSplit, RenderOf, Rendered, ServerStatus,
+    ForkRequest, JointLinks, ObsSplit, RenderOf, Rendered, ServerStatus,
 };
 use crate::error::{Result, ServerError};
 
@@ -221,6 +221,24 @@ impl TryFrom<pb::CreateBatchRequest> for BatchRequest {
             n_envs: usize::try_from(r.n_envs).unwrap_or(usize::MAX),
             autoreset,
             seed_offset: r.seed_offset,
+        })
+    }
+}
+
+impl TryFrom<pb::ForkRequest> for ForkRequest {
+    type Error = ServerError;
+
+    fn try_from(r: pb::ForkRequest) -> Result<Self> {
+        if r.n_envs == 0 {
+            return Err(ServerError::InvalidArgument {
+                field: "n_envs",
+                reason: "expected at least 1 environment, got 0".to_string(),
+            });
+        }
+        Ok(ForkRequest {
+            state: r.state,
+            n_envs: usize::try_from(r.n_envs).unwrap_or(usize::MAX),
+            autoreset: autoreset(r.autoreset)?,
         })
     }
 }

@@ -25,6 +25,14 @@ pub(crate) struct BatchRequest {
     pub(crate) seed_offset: u64,
 }
 
+/// A validated `ForkRequest`: the state is decoded on the pool.
+#[derive(Debug, Clone)]
+pub(crate) struct ForkRequest {
+    pub(crate) state: Vec<u8>,
+    pub(crate) n_envs: usize,
+    pub(crate) autoreset: Autoreset,
+}
+
 /// A validated action: type and values.
 #[derive(Debug, Clone)]
 pub(crate) struct Action {

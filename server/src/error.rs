@@ -196,12 +196,28 @@ pub enum ServerError {
         /// The limit.
         max: usize,
     },
+    /// The states a `SaveBatchState` would return exceed the message limit.
+    #[error(
+        "env_indices: the {count} states come to {bytes} bytes, over the server's message \
+         limit of {max}; save fewer envs per call, or raise --max-message-bytes \
+         (GYMFLEET_MAX_MESSAGE_BYTES) on the server and the client"
+    )]
+    StatesTooLarge {
+        /// The states' total size.
+        bytes: usize,
+        /// The limit.
+        max: usize,
+        /// How many states.
+        count: usize,
+    },
     /// A document larger than `--max-document-bytes`.
     #[error(
-        "document_json: {bytes} bytes exceeds the server's limit of {max} bytes; raise it \
+        "{field}: {bytes} bytes exceeds the server's limit of {max} bytes; raise it \
          with --max-document-bytes (GYMFLEET_MAX_DOCUMENT_BYTES)"
     )]
     DocumentTooLarge {
+        /// `document_json`, or `state.document` for a state's document.
+        field: &'static str,
         /// The document's size.
         bytes: usize,
         /// The limit.
@@ -283,7 +299,9 @@ fn env_code(err: &EnvError) -> Code {
         | EnvError::BadTask { .. }
         | EnvError::ActionLength { .. }
         | EnvError::NonFiniteAction { .. }
-        | EnvError::UnknownActionType { .. } => Code::InvalidArgument,
+        | EnvError::UnknownActionType { .. }
+        | EnvError::StateFormat { .. }
+        | EnvError::BadState { .. } => Code::InvalidArgument,
         EnvError::NeedsReset => Code::FailedPrecondition,
     }
 }
@@ -304,7 +322,8 @@ impl ServerError {
                 BatchError::NoEnvs
                 | BatchError::ActionLength { .. }
                 | BatchError::NonFiniteAction { .. }
-                | BatchError::EnvIndices { .. } => Code::InvalidArgument,
+                | BatchError::EnvIndices { .. }
+                | BatchError::StateCount { .. } => Code::InvalidArgument,
                 BatchError::TooManyEnvs { .. } => Code::ResourceExhausted,
                 BatchError::Env { source, .. } => env_code(source),
                 BatchError::PoolStart { .. } | BatchError::Panicked { .. } => Code::Internal,
@@ -317,6 +336,7 @@ impl ServerError {
             | ServerError::TooComplex { .. }
             | ServerError::TooMuchWork { .. }
             | ServerError::ReplyTooLarge { .. }
+            | ServerError::StatesTooLarge { .. }
             | ServerError::BatchTooLarge { .. }
             | ServerError::DocumentTooLarge { .. } => Code::ResourceExhausted,
             ServerError::Panicked { .. }
@@ -450,7 +470,11 @@ mod tests {
                 "--tenant-max-envs",
             ),
             (
-                ServerError::DocumentTooLarge { bytes: 5, max: 4 },
+                ServerError::DocumentTooLarge {
+                    field: "document_json",
+                    bytes: 5,
+                    max: 4,
+                },
                 "--max-document-bytes",
             ),
         ];

@@ -242,7 +242,9 @@ fn rejection_reason(err: &ServerError) -> Option<String> {
         ServerError::TenantQuota { .. } => "tenant_max_envs",
         ServerError::BatchTooLarge { .. } => "max_batch_size",
         ServerError::DocumentTooLarge { .. } => "max_document_bytes",
-        ServerError::ReplyTooLarge { .. } => "max_message_bytes",
+        ServerError::ReplyTooLarge { .. } | ServerError::StatesTooLarge { .. } => {
+            "max_message_bytes"
+        }
         ServerError::TooMuchWork { .. } => "max_step_work",
         // Each structural limit names its own flag, e.g. `--max-joints`.
         ServerError::TooComplex { flag, .. } => {

@@ -13,7 +13,9 @@ use tonic::{Request, Response, Status, Streaming};
 
 use crate::auth::{tenant_of, Tenant};
 use crate::convert;
-use crate::domain::{BatchRequest, BatchStep, Created, DrawsOf, EnvRequest, EnvStep, RenderOf};
+use crate::domain::{
+    BatchRequest, BatchStep, Created, DrawsOf, EnvRequest, EnvStep, ForkRequest, RenderOf,
+};
 use crate::error::{Result, ServerError};
 use crate::simulation::Simulation;
 
@@ -231,6 +233,85 @@ impl Simulator for SimulatorService {
         let env_id = request.into_inner().env_id;
         let result = self.sim.scene(&tenant, &env_id).await;
         self.finish("GetScene", start, result.map(convert::scene))
+    }
+
+    async fn save_state(
+        &self,
+        request: Request<pb::EnvRef>,
+    ) -> Result<Response<pb::EnvState>, Status> {
+        let start = Instant::now();
+        let tenant = tenant_of(&request)?;
+        let env_id = request.into_inner().env_id;
+        let result = self.sim.save_state(&tenant, &env_id).await;
+        self.finish(
+            "SaveState",
+            start,
+            result.map(|state| pb::EnvState { state }),
+        )
+    }
+
+    async fn load_state(
+        &self,
+        request: Request<pb::LoadStateRequest>,
+    ) -> Result<Response<pb::Observation>, Status> {
+        let start = Instant::now();
+        let tenant = tenant_of(&request)?;
+        let r = request.into_inner();
+        let result = self.sim.load_state(&tenant, &r.env_id, r.state).await;
+        self.finish(
+            "LoadState",
+            start,
+            result.map(|(obs, split)| convert::observation(&obs, split)),
+        )
+    }
+
+    async fn save_batch_state(
+        &self,
+        request: Request<pb::BatchStateRequest>,
+    ) -> Result<Response<pb::BatchState>, Status> {
+        let start = Instant::now();
+        let tenant = tenant_of(&request)?;
+        let r = request.into_inner();
+        let result = self
+            .sim
+            .save_batch_state(&tenant, &r.batch_id, r.env_indices)
+            .await;
+        self.finish(
+            "SaveBatchState",
+            start,
+            result.map(|states| pb::BatchState { states }),
+        )
+    }
+
+    async fn load_batch_state(
+        &self,
+        request: Request<pb::LoadBatchStateRequest>,
+    ) -> Result<Response<pb::BatchObservation>, Status> {
+        let start = Instant::now();
+        let tenant = tenant_of(&request)?;
+        let r = request.into_inner();
+        let result = self
+            .sim
+            .load_batch_state(&tenant, &r.batch_id, r.env_indices, r.states)
+            .await;
+        self.finish(
+            "LoadBatchState",
+            start,
+            result.map(convert::batch_observation),
+        )
+    }
+
+    async fn fork(
+        &self,
+        request: Request<pb::ForkRequest>,
+    ) -> Result<Response<pb::BatchInfo>, Status> {
+        let start = Instant::now();
+        let tenant = tenant_of(&request)?;
+        let result = async {
+            let request = ForkRequest::try_from(request.into_inner())?;
+            self.sim.fork(&tenant, request).await.map(batch_info)
+        };
+        self.finish("Fork", start, result.await)
     }
 
     async fn render(

@@ -6,13 +6,13 @@ use std::sync::{Arc, Mutex, PoisonError};
 use std::time::Duration;
 
 use gymfleet_batch::{BatchStepOutput, EnvBatch, StepPool};
-use gymfleet_env::{DrawReport, EnvError, RobotEnv};
+use gymfleet_env::{DrawReport, EnvError, RobotEnv, SavedState};
 
 use crate::auth::Tenant;
 use crate::config::ServerConfig;
 use crate::domain::{
     Action, BatchObservations, BatchRequest, BatchStep, BatchStepped, Created, DrawsOf, EnvRequest,
-    EnvStep, EnvStepOutcome, JointLinks, ObsSplit, RenderOf, Rendered, ServerStatus,
+    EnvStep, EnvStepOutcome, ForkRequest, JointLinks, ObsSplit, RenderOf, Rendered, ServerStatus,
 };
 use crate::error::{EntityKind, Result, ServerError};
 use crate::metrics::{Metrics, OpenCounts};
@@ -272,9 +272,15 @@ impl Simulation {
     }
 
     fn check_document(&self, document: &str) -> Result<()> {
+        self.check_document_in("document_json", document)
+    }
+
+    /// [`Simulation::check_document`] for a document found in `field`.
+    fn check_document_in(&self, field: &'static str, document: &str) -> Result<()> {
         let max = self.config.max_document_bytes;
         if max != 0 && document.len() > max {
             return Err(ServerError::DocumentTooLarge {
+                field,
                 bytes: document.len(),
                 max,
             });
@@ -595,6 +601,142 @@ impl Simulation {
                 .await
             }
         }
+    }
+
+    /// Saves an env's state (re-seating it; see `gymfleet_env::SavedState`).
+    pub(crate) async fn save_state(&self, tenant: &Tenant, id: &str) -> Result<Vec<u8>> {
+        self.on_env(tenant, id, "SaveState", |open| {
+            Ok(open.env.save()?.encode())
+        })
+        .await
+    }
+
+    /// Loads a state into an env of the same document and options; its observation.
+    pub(crate) async fn load_state(
+        &self,
+        tenant: &Tenant,
+        id: &str,
+        state: Vec<u8>,
+    ) -> Result<(Vec<f32>, ObsSplit)> {
+        self.on_env(tenant, id, "LoadState", move |open| {
+            let state = SavedState::decode(&state)?;
+            open.env.load(&state)?;
+            let spec = open.env.spec();
+            let (dim, split) = (spec.observation_dim, ObsSplit::of(spec));
+            let mut obs = vec![0.0; dim];
+            open.env.observe_into(&mut obs);
+            Ok((obs, split))
+        })
+        .await
+    }
+
+    /// Saves the states of envs `env_indices` of a batch (empty: every env), refusing a
+    /// reply over the message limit.
+    pub(crate) async fn save_batch_state(
+        &self,
+        tenant: &Tenant,
+        id: &str,
+        env_indices: Vec<u32>,
+    ) -> Result<Vec<Vec<u8>>> {
+        let max = self.config.max_message_bytes;
+        self.on_batch(tenant, id, Lane::Batch, "SaveBatchState", move |open| {
+            let states: Vec<Vec<u8>> = open
+                .batch
+                .save_states(&env_indices)?
+                .iter()
+                .map(SavedState::encode)
+                .collect();
+            // Each state also costs a few bytes of framing on the wire.
+            let bytes = states.iter().map(|s| s.len() + 8).sum::<usize>();
+            if max != 0 && bytes > max {
+                return Err(ServerError::StatesTooLarge {
+                    bytes,
+                    max,
+                    count: states.len(),
+                });
+            }
+            Ok(states)
+        })
+        .await
+    }
+
+    /// Loads states into envs `env_indices` of a batch (empty: every env); every env's
+    /// observation.
+    pub(crate) async fn load_batch_state(
+        &self,
+        tenant: &Tenant,
+        id: &str,
+        env_indices: Vec<u32>,
+        states: Vec<Vec<u8>>,
+    ) -> Result<BatchObservations> {
+        let batch_id = id.to_string();
+        self.on_batch(tenant, id, Lane::Batch, "LoadBatchState", move |open| {
+            let decoded = states
+                .iter()
+                .enumerate()
+                .map(|(k, bytes)| {
+                    SavedState::decode(bytes).map_err(|err| ServerError::InvalidArgument {
+                        field: "states",
+                        reason: format!("states[{k}]: {err}"),
+                    })
+                })
+                .collect::<Result<Vec<_>>>()?;
+            open.batch.load_states(&env_indices, &decoded)?;
+            let mut observations = Vec::new();
+            open.batch.observe(&mut observations);
+            Ok(batch_observation(batch_id, &open.batch, observations))
+        })
+        .await
+    }
+
+    /// A new batch of `n_envs` copies of a saved state, built through the same checks as
+    /// `CreateBatch` (the state's document and options against every server limit).
+    pub(crate) async fn fork(&self, tenant: &Tenant, request: ForkRequest) -> Result<Created> {
+        let ForkRequest {
+            state,
+            n_envs,
+            autoreset,
+        } = request;
+        let max = self.config.max_batch_size;
+        if max != 0 && n_envs > max {
+            return Err(ServerError::BatchTooLarge { n_envs, max });
+        }
+        // Decoding checksums the whole state: CPU work, so on the pool.
+        let state = pool::run(&self.pool, Lane::Env, "Fork", move || {
+            Ok(SavedState::decode(&state)?)
+        })
+        .await?;
+        self.check_document_in("state.document", state.document())?;
+        let reservation = self.reserve(tenant, n_envs, EntityKind::Batch)?;
+        let pool = self.pool.clone();
+        let config = self.config.clone();
+        let (batch, links) = pool::run(&self.pool, Lane::Batch, "Fork", move || {
+            let request = EnvRequest {
+                document: state.document().to_string(),
+                config: state.config().clone(),
+            };
+            let (mut template, links) = build_env(request, &config, n_envs)?;
+            check_reply_size(&config, n_envs, template.spec().observation_dim)?;
+            template.load(&state)?;
+            let batch = EnvBatch::copies_of(&template, n_envs, autoreset, &pool)?;
+            Ok((batch, links))
+        })
+        .await?;
+        let spec = batch.spec().clone();
+        let autoreset = batch.autoreset();
+        let open = OpenBatch {
+            batch,
+            out: BatchStepOutput::default(),
+            steps: 0,
+        };
+        let id = self.batches.insert(tenant, open, reservation);
+        tracing::info!(batch_id = %id, n_envs, "forked batch");
+        Ok(Created {
+            id,
+            spec,
+            links,
+            batch: Some((n_envs, autoreset)),
+        })
     }
 
     pub(crate) async fn close_batch(&self, tenant: &Tenant, id: &str) -> Result<()> {

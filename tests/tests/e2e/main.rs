@@ -9,6 +9,7 @@ mod lifecycle;
 mod render;
 mod replay;
 mod security;
+mod states;
 mod structure;
 mod tasks;
 mod transport;
