@@ -1,5 +1,6 @@
 //! The single-environment tools of the user guide: `create_robot_env`, `gym_reset`,
-//! `gym_step`, `gym_observe`, `gym_render` and `gym_close`. Each checks what it can before calling the
+//! `gym_step`, `gym_observe`, `gym_render`, `gym_save_state`, `gym_load_state` and
+//! `gym_close`. Each checks what it can before calling the
 //! server (ids, action count, finiteness) and answers with the guide's JSON, as structured
 //! content and as text; every failure is a tool error with a message to act on.
 
@@ -7,9 +8,13 @@ use rmcp::handler::server::wrapper::Parameters;
 use rmcp::{tool, tool_router};
 
 use crate::actions;
-use crate::errors::Result;
-use crate::output::{EnvClosed, EnvCreated, ObservationOut, RenderOut, StepOut};
-use crate::params::{CreateEnvParams, EnvRefParams, RenderParams, ResetParams, StepParams};
+use gymfleet_client::EnvState;
+
+use crate::errors::{McpError, Result};
+use crate::output::{EnvClosed, EnvCreated, ObservationOut, RenderOut, StateSaved, StepOut};
+use crate::params::{
+    CreateEnvParams, EnvRefParams, LoadStateParams, RenderParams, ResetParams, StepParams,
+};
 use crate::reply::{Json, Picture};
 use crate::server::GymTools;
 
@@ -124,6 +129,58 @@ impl GymTools {
                 description: image.description,
             },
         })
+    }
+
+    /// Saves an environment's state.
+    #[tool(
+        description = "Save an environment's whole state (robot pose and velocities, episode, \
+        task target, random generator) as an opaque base64 string. Try actions with gym_step, \
+        then call gym_load_state with this state to take them back: the env continues exactly \
+        as if they never happened. Returns {env_id, state, bytes}."
+    )]
+    async fn gym_save_state(
+        &self,
+        Parameters(p): Parameters<EnvRefParams>,
+    ) -> Result<Json<StateSaved>> {
+        use base64::Engine as _;
+        let placed = self.fleet.env(&p.env_id)?;
+        let state = placed
+            .handle
+            .save_state()
+            .await
+            .map_err(|err| self.fleet.env_failed(&placed, &err))?;
+        Ok(Json(StateSaved {
+            env_id: placed.id.clone(),
+            bytes: state.len(),
+            state: base64::engine::general_purpose::STANDARD.encode(state.as_bytes()),
+        }))
+    }
+
+    /// Loads a saved state into an environment.
+    #[tool(
+        description = "Return an environment to a state saved by gym_save_state (of this env, \
+        or of another env created with the same document and options) and return the \
+        observation there: {joint_positions, joint_velocities, end_effector_poses, target}."
+    )]
+    async fn gym_load_state(
+        &self,
+        Parameters(p): Parameters<LoadStateParams>,
+    ) -> Result<Json<ObservationOut>> {
+        use base64::Engine as _;
+        let placed = self.fleet.env(&p.env_id)?;
+        let bytes = base64::engine::general_purpose::STANDARD
+            .decode(p.state.trim())
+            .map_err(|err| {
+                McpError::bad_argument(format!(
+                    "state: not the base64 text gym_save_state returns ({err})"
+                ))
+            })?;
+        let observation = placed
+            .handle
+            .load_state(&EnvState::from_bytes(bytes))
+            .await
+            .map_err(|err| self.fleet.env_failed(&placed, &err))?;
+        Ok(Json(ObservationOut::from(&observation)))
     }
 
     /// Closes an environment.

@@ -205,6 +205,19 @@ impl From<&StepResult> for StepOut {
     }
 }
 
+/// What `gym_save_state` returns.
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+pub(crate) struct StateSaved {
+    /// The env whose state was saved.
+    pub(crate) env_id: String,
+    /// The whole state (document, episode, physics), base64: pass it to gym_load_state to
+    /// return to this moment.
+    pub(crate) state: String,
+    /// The state's size in bytes (before base64).
+    pub(crate) bytes: usize,
+}
+
 /// What `gym_close` returns.
 #[derive(Debug, Clone, Serialize, JsonSchema)]
 #[schemars(transform = crate::schema::one_line_descriptions)]

@@ -81,6 +81,17 @@ pub(crate) struct EnvRefParams {
     pub(crate) env_id: String,
 }
 
+/// Inputs of `gym_load_state`.
+#[derive(Debug, Deserialize, JsonSchema)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+pub(crate) struct LoadStateParams {
+    /// The env_id to load the state into: an env of the same document and options as the
+    /// one the state was saved from (the seed may differ), e.g. "sim_1".
+    pub(crate) env_id: String,
+    /// The state, base64, exactly as gym_save_state returned it.
+    pub(crate) state: String,
+}
+
 /// Inputs of `gym_render`.
 #[derive(Debug, Deserialize, JsonSchema)]
 #[schemars(transform = crate::schema::one_line_descriptions)]

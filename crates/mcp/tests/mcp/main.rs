@@ -8,6 +8,7 @@ mod errors;
 mod http;
 mod remote;
 mod render;
+mod states;
 mod tools;
 mod walkthrough;
 

@@ -5,16 +5,18 @@ use serde_json::Value;
 
 use crate::Adapter;
 
-const TOOLS: [&str; 10] = [
+const TOOLS: [&str; 12] = [
     "batch_close",
     "batch_create_envs",
     "batch_reset",
     "batch_step",
     "create_robot_env",
     "gym_close",
+    "gym_load_state",
     "gym_observe",
     "gym_render",
     "gym_reset",
+    "gym_save_state",
     "gym_step",
 ];
 
@@ -105,6 +107,8 @@ async fn tools_are_listed_with_described_schemas() {
     assert_eq!(required("gym_observe"), ["env_id"]);
     assert_eq!(required("gym_close"), ["env_id"]);
     assert_eq!(required("gym_render"), ["env_id"]);
+    assert_eq!(required("gym_save_state"), ["env_id"]);
+    assert_eq!(required("gym_load_state"), ["env_id", "state"]);
     assert_eq!(required("batch_create_envs"), ["document", "n_envs"]);
     assert_eq!(
         required("batch_step"),
