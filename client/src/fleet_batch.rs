@@ -362,6 +362,108 @@ impl FleetBatch {
         self.combine_observations(parts)
     }
 
+    /// Each shard's local indices among global `env_indices` (empty: every env of every
+    /// shard), and for each shard its share of `items` (one per index, in index order).
+    fn split_by_shard<T: Clone>(
+        &self,
+        env_indices: &[u32],
+        items: &[T],
+    ) -> Vec<(Vec<u32>, Vec<T>)> {
+        let mut first = 0;
+        let mut taken = 0;
+        self.shards
+            .iter()
+            .map(|shard| {
+                let len = shard.envs.len();
+                let local: Vec<u32> = if env_indices.is_empty() {
+                    (0..len as u32).collect()
+                } else {
+                    env_indices
+                        .iter()
+                        .map(|&i| i as usize)
+                        .filter(|i| (first..first + len).contains(i))
+                        .map(|i| (i - first) as u32)
+                        .collect()
+                };
+                first += len;
+                let share = items
+                    .get(taken..taken + local.len())
+                    .unwrap_or_default()
+                    .to_vec();
+                taken += local.len();
+                (local, share)
+            })
+            .collect()
+    }
+
+    /// Saves the states of the envs at positions `env_indices` (ascending, distinct; empty:
+    /// every env), in that order, each from the shard that holds it
+    /// ([`Batch::save_states`]).
+    pub async fn save_states(&mut self, env_indices: &[u32]) -> Result<Vec<crate::EnvState>> {
+        self.check_not_lost()?;
+        check_positions(env_indices, self.n_envs())?;
+        let saving = self
+            .split_by_shard::<()>(env_indices, &[])
+            .into_iter()
+            .zip(&self.shards)
+            .map(|((local, _), shard)| {
+                let batch = shard.batch.clone();
+                async move {
+                    if local.is_empty() {
+                        Ok(Vec::new())
+                    } else {
+                        batch.save_states(&local).await
+                    }
+                }
+            });
+        let results = join_all(saving.collect::<Vec<_>>()).await;
+        let results = self.confirm_losses(results).await;
+        Ok(self.settle(results)?.into_iter().flatten().collect())
+    }
+
+    /// Loads `states[k]` into the env at position `env_indices[k]` (empty: every env, one
+    /// state each), each on the shard that holds it ([`Batch::load_states`]); returns every
+    /// env's observation. Each shard checks all of its states before loading any.
+    pub async fn load_states(
+        &mut self,
+        env_indices: &[u32],
+        states: &[crate::EnvState],
+    ) -> Result<BatchObservations> {
+        self.check_not_lost()?;
+        check_positions(env_indices, self.n_envs())?;
+        let expected = if env_indices.is_empty() {
+            self.n_envs()
+        } else {
+            env_indices.len()
+        };
+        if states.len() != expected {
+            return Err(ClientError::InvalidArgument {
+                message: format!(
+                    "states: expected one state per env index ({expected}), got {}",
+                    states.len()
+                ),
+            });
+        }
+        let loading = self
+            .split_by_shard(env_indices, states)
+            .into_iter()
+            .zip(&self.shards)
+            .map(|((local, share), shard)| {
+                let batch = shard.batch.clone();
+                async move {
+                    if local.is_empty() {
+                        batch.observe().await
+                    } else {
+                        batch.load_states(&local, &share).await
+                    }
+                }
+            });
+        let results = join_all(loading.collect::<Vec<_>>()).await;
+        let results = self.confirm_losses(results).await;
+        let parts = self.settle(results)?;
+        self.combine_observations(parts)
+    }
+
     /// The current observation of every env, without stepping.
     pub async fn observe(&mut self) -> Result<BatchObservations> {
         self.check_not_lost()?;

@@ -2,10 +2,12 @@
 //! `gymfleet.GymfleetVectorEnv`. Replies become numpy arrays without per-element
 //! Python objects: observations take over the reply's decoded vector.
 
-use gymfleet_client::{Autoreset, Batch, BatchObservations, BatchStep, FleetBatch, Result};
+use gymfleet_client::{
+    Autoreset, Batch, BatchObservations, BatchStep, EnvState, FleetBatch, Result,
+};
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyBytes, PyDict};
 
 use crate::env::action_type;
 use crate::info::batch_info;
@@ -67,6 +69,24 @@ impl Shards {
         match self {
             Shards::One(b) => b.render(env, camera, width, height).await,
             Shards::Fleet(f) => f.render(env, camera, width, height).await,
+        }
+    }
+
+    async fn save_states(&mut self, env_indices: &[u32]) -> Result<Vec<EnvState>> {
+        match self {
+            Shards::One(b) => b.save_states(env_indices).await,
+            Shards::Fleet(f) => f.save_states(env_indices).await,
+        }
+    }
+
+    async fn load_states(
+        &mut self,
+        env_indices: &[u32],
+        states: &[EnvState],
+    ) -> Result<BatchObservations> {
+        match self {
+            Shards::One(b) => b.load_states(env_indices, states).await,
+            Shards::Fleet(f) => f.load_states(env_indices, states).await,
         }
     }
 
@@ -250,6 +270,49 @@ impl BatchHandle {
                 .lock()
                 .await
                 .reset(seed, indices.as_deref())
+                .await
+        })?;
+        matrix(
+            py,
+            observations.into_observations(),
+            self.info.observation_dim,
+        )
+    }
+
+    /// The saved states of the envs in `env_indices` (ascending; `None`: every env), as
+    /// `bytes`, in that order.
+    #[pyo3(signature = (env_indices=None))]
+    fn save_states<'py>(
+        &self,
+        py: Python<'py>,
+        env_indices: Option<PyReadonlyArray1<'py, u32>>,
+    ) -> PyResult<Vec<Bound<'py, PyBytes>>> {
+        let indices: Vec<u32> = env_indices.map_or_else(Vec::new, |a| a.as_array().to_vec());
+        let states = wait(py, self.timeout.get(), || async move {
+            self.shards.lock().await.save_states(&indices).await
+        })?;
+        Ok(states
+            .iter()
+            .map(|s| PyBytes::new(py, s.as_bytes()))
+            .collect())
+    }
+
+    /// Loads `states[k]` into env `env_indices[k]` (`None`: every env, one state each);
+    /// returns every env's observation.
+    #[pyo3(signature = (states, env_indices=None))]
+    fn load_states<'py>(
+        &self,
+        py: Python<'py>,
+        states: Vec<Vec<u8>>,
+        env_indices: Option<PyReadonlyArray1<'py, u32>>,
+    ) -> PyResult<Bound<'py, PyArray2<f32>>> {
+        let indices: Vec<u32> = env_indices.map_or_else(Vec::new, |a| a.as_array().to_vec());
+        let states: Vec<EnvState> = states.into_iter().map(EnvState::from_bytes).collect();
+        let observations = wait(py, self.timeout.get(), || async move {
+            self.shards
+                .lock()
+                .await
+                .load_states(&indices, &states)
                 .await
         })?;
         matrix(

@@ -2,10 +2,10 @@
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use gymfleet_client::{ActionType, Env};
+use gymfleet_client::{ActionType, Env, EnvState};
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyBytes, PyDict};
 
 use crate::info::env_info;
 use crate::options::{invalid, seed, timeout, CreateOptions};
@@ -145,6 +145,31 @@ impl EnvHandle {
             self.timeout.get(),
             || async move { env.observe().await },
         )?;
+        Ok(PyArray1::from_vec(py, observation.to_flat()))
+    }
+
+    /// The env's saved state, as `bytes` (the env is re-seated from it).
+    fn save_state<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
+        let env = &self.env;
+        let state = wait(
+            py,
+            self.timeout.get(),
+            || async move { env.save_state().await },
+        )?;
+        Ok(PyBytes::new(py, state.as_bytes()))
+    }
+
+    /// Loads a saved state; the observation there.
+    fn load_state<'py>(
+        &self,
+        py: Python<'py>,
+        state: Vec<u8>,
+    ) -> PyResult<Bound<'py, PyArray1<f32>>> {
+        let env = &self.env;
+        let state = EnvState::from_bytes(state);
+        let observation = wait(py, self.timeout.get(), || async move {
+            env.load_state(&state).await
+        })?;
         Ok(PyArray1::from_vec(py, observation.to_flat()))
     }
 

@@ -302,3 +302,12 @@ class HandleOwner:
             self.close()  # type: ignore[attr-defined]
         except Exception:  # noqa: BLE001 - a finaliser must not raise
             pass
+
+
+def state_bytes(path: str, state: Any) -> bytes:
+    """A saved state as ``bytes``, or a ``TypeError`` naming ``path``."""
+    if isinstance(state, (bytes, bytearray, memoryview)):
+        return bytes(state)
+    raise TypeError(
+        f"{path}: expected the bytes save_state returned, got {type(state).__name__}"
+    )

@@ -54,6 +54,10 @@ class EnvHandle:
         episode_step)``; ``action`` is 1-D float32, one value per DOF."""
     def observe(self) -> npt.NDArray[np.float32]:
         """The current observation, without stepping."""
+    def save_state(self) -> bytes:
+        """The env's saved state (the env is re-seated from it)."""
+    def load_state(self, state: bytes) -> npt.NDArray[np.float32]:
+        """Loads a saved state; the observation there."""
     def render(
         self,
         camera: str = "iso",
@@ -115,6 +119,15 @@ class BatchHandle:
         termination reasons by env."""
     def observe(self) -> npt.NDArray[np.float32]:
         """Every env's current observation."""
+    def save_states(
+        self, env_indices: Optional[npt.NDArray[np.uint32]] = None
+    ) -> List[bytes]:
+        """The saved states of the envs of ``env_indices`` (ascending; ``None``: all)."""
+    def load_states(
+        self, states: List[bytes], env_indices: Optional[npt.NDArray[np.uint32]] = None
+    ) -> npt.NDArray[np.float32]:
+        """Loads ``states[k]`` into env ``env_indices[k]`` (``None``: every env, one
+        state each); every env's observation."""
     def render(
         self,
         env_index: int,

@@ -18,6 +18,7 @@ from ._common import (
     document_json,
     observation_space,
     seed_or_none,
+    state_bytes,
 )
 
 
@@ -152,6 +153,21 @@ class GymfleetEnv(HandleOwner, gym.Env):
     def observe(self) -> np.ndarray:
         """The current observation, without stepping."""
         return self._handle.observe()
+
+    def save_state(self) -> bytes:
+        """Everything that determines the env's future (robot state, episode, task
+        target, random generator, and the document and options) as opaque bytes, for
+        :meth:`load_state` on this env or any env made with the same document and
+        options, on any server. Try actions, then load the state to take them back: the
+        env continues bit for bit as if they never happened. ``FailedPrecondition`` for
+        a diverged env."""
+        return self._handle.save_state()
+
+    def load_state(self, state: bytes) -> np.ndarray:
+        """Returns to a state from :meth:`save_state` and gives the observation there.
+        ``InvalidArgument`` (with the reason) for a state of another document, options
+        or format version, or corrupted bytes; the env is then unchanged."""
+        return self._handle.load_state(state_bytes("state", state))
 
     def close(self) -> None:
         """Frees the env on its server (again: nothing). A server that is gone has

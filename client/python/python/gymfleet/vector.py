@@ -18,6 +18,7 @@ from ._common import (
     create_options,
     document_json,
     observation_space,
+    state_bytes,
 )
 
 _MODES = {
@@ -233,6 +234,30 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
     def observe(self) -> np.ndarray:
         """Every env's current observation, without stepping."""
         return self._handle.observe()
+
+    def save_states(self, env_indices: Optional[Sequence[int]] = None) -> List[bytes]:
+        """The saved states (see :meth:`GymfleetEnv.save_state`) of the envs at
+        ``env_indices`` (ascending, distinct; ``None``: every env), in that order."""
+        if env_indices is not None and len(env_indices) == 0:
+            return []
+        return self._handle.save_states(self._indices(env_indices))
+
+    def load_states(
+        self, states: Sequence[bytes], env_indices: Optional[Sequence[int]] = None
+    ) -> np.ndarray:
+        """Loads ``states[k]`` into the env at ``env_indices[k]`` (``None``: every env,
+        one state each) and returns every env's observation. States of another document
+        or options are ``InvalidArgument``."""
+        blobs = [state_bytes(f"states[{k}]", s) for k, s in enumerate(states)]
+        if env_indices is not None and len(env_indices) == 0 and not blobs:
+            return self.observe()
+        return self._handle.load_states(blobs, self._indices(env_indices))
+
+    @staticmethod
+    def _indices(env_indices: Optional[Sequence[int]]) -> Optional[np.ndarray]:
+        if env_indices is None:
+            return None
+        return np.asarray(list(env_indices), dtype=np.uint32).reshape(-1)
 
     def close_extras(self, **kwargs: Any) -> None:
         """Frees the batch on its server(s). A server that is gone has nothing left to
