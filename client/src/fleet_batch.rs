@@ -1,5 +1,6 @@
 //! [`FleetBatch`]: one logical batch sharded across the servers of a [`crate::Fleet`],
-//! stepped as one, with lost servers reported per env and dropped on request.
+//! stepped as one, with lost servers reported per env and dropped on request (or rebuilt
+//! from a checkpoint: `fleet_recovery.rs`).
 
 use gymfleet_proto::v1 as pb;
 use std::ops::Range;
@@ -25,11 +26,11 @@ pub struct ShardPlacement {
 /// One shard: a batch on one server holding a contiguous range of the fleet's envs.
 #[derive(Debug)]
 pub(crate) struct Shard {
-    batch: Batch,
-    envs: Range<usize>,
-    lost: Option<String>,
+    pub(crate) batch: Batch,
+    pub(crate) envs: Range<usize>,
+    pub(crate) lost: Option<String>,
     /// This shard's reply to the step in which another shard's server was lost.
-    interrupted: Option<pb::BatchStepResult>,
+    pub(crate) interrupted: Option<pb::BatchStepResult>,
 }
 
 impl Shard {
@@ -65,15 +66,23 @@ impl Shard {
 /// position to its original index. The survivors did take the step that found the loss;
 /// [`FleetBatch::take_interrupted_step`] gives its result, so no step is missed.
 ///
+/// Instead of going on without them, a batch that checkpoints
+/// ([`FleetBatch::checkpoint_every`]) can rebuild the lost envs on the survivors or a
+/// replacement server ([`FleetBatch::recover`], `fleet_recovery.rs`) and go on with all of
+/// them, bitwise as if nothing had been lost.
+///
 /// A call that fails on some shard for another reason (e.g. INTERNAL) returns
 /// [`ClientError::OnServer`]; the other shards have done the call, so the shards may be
 /// out of step until the next reset.
 #[derive(Debug)]
 pub struct FleetBatch {
-    shards: Vec<Shard>,
-    info: BatchInfo,
+    pub(crate) shards: Vec<Shard>,
+    pub(crate) info: BatchInfo,
     env_indices: Vec<usize>,
     interrupted: Option<BatchStep>,
+    /// With [`FleetBatch::checkpoint_every`]: the last checkpoint and what was done since
+    /// (`fleet_recovery.rs`).
+    pub(crate) checkpoints: Option<crate::fleet_recovery::Checkpoints>,
 }
 
 impl FleetBatch {
@@ -102,13 +111,14 @@ impl FleetBatch {
             info,
             env_indices: Vec::new(),
             interrupted: None,
+            checkpoints: None,
         };
         batch.refresh();
         Ok(batch)
     }
 
     /// Recomputes the combined info and the position → index map from the shards.
-    fn refresh(&mut self) {
+    pub(crate) fn refresh(&mut self) {
         self.env_indices = self.shards.iter().flat_map(|s| s.envs.clone()).collect();
         self.info.n_envs = self.env_indices.len();
         let ids: Vec<&str> = self.shards.iter().map(|s| s.batch.id()).collect();
@@ -161,6 +171,10 @@ impl FleetBatch {
             .partition(|s| s.lost.is_some());
         self.shards = kept;
         self.refresh();
+        if !lost.is_empty() {
+            // The checkpoint's states and log are by position, which just changed.
+            self.checkpoints = None;
+        }
         // The survivors' replies to the step that found the loss, if they all stepped.
         let replies: Option<Vec<pb::BatchStepResult>> = self
             .shards
@@ -186,7 +200,7 @@ impl FleetBatch {
     }
 
     /// Fails with the first lost server's error, if one was lost.
-    fn check_not_lost(&self) -> Result<()> {
+    pub(crate) fn check_not_lost(&self) -> Result<()> {
         if self.shards.is_empty() {
             return Err(ClientError::Fleet {
                 message: "every server of this fleet batch was lost; create a new one".into(),
@@ -204,7 +218,7 @@ impl FleetBatch {
 
     /// A server that fails a call without a clear status (a dropped connection can come
     /// back as UNKNOWN) is asked for its info: if that fails too, the server is lost.
-    async fn confirm_losses<T>(&self, mut results: Vec<Result<T>>) -> Vec<Result<T>> {
+    pub(crate) async fn confirm_losses<T>(&self, mut results: Vec<Result<T>>) -> Vec<Result<T>> {
         for (shard, result) in self.shards.iter().zip(results.iter_mut()) {
             let Err(err @ ClientError::Internal { .. }) = result else {
                 continue;
@@ -224,7 +238,7 @@ impl FleetBatch {
 
     /// Sorts the shards' outcomes: marks the lost servers (unreachable, or no longer
     /// knowing the shard) and returns the first error, a loss first.
-    fn settle<T>(&mut self, results: Vec<Result<T>>) -> Result<Vec<T>> {
+    pub(crate) fn settle<T>(&mut self, results: Vec<Result<T>>) -> Result<Vec<T>> {
         self.settle_keeping(results, |_, _| {})
     }
 
@@ -287,6 +301,10 @@ impl FleetBatch {
                 ),
             });
         }
+        self.log(crate::fleet_recovery::Logged::Step {
+            action_type,
+            actions: actions.to_vec(),
+        });
         let mut position = 0;
         let stepping = self.shards.iter().map(|shard| {
             let n = shard.envs.len();
@@ -299,9 +317,12 @@ impl FleetBatch {
         let results = self.confirm_losses(results).await;
         let replies = self.settle_keeping(results, |shard, reply| {
             shard.interrupted = Some(reply);
-        })?;
+        });
+        let replies = self.unlog_unless_lost(replies)?;
         let lens: Vec<usize> = self.shards.iter().map(|s| s.envs.len()).collect();
-        BatchStep::new(merge_steps(replies, &lens), &self.info)
+        let step = BatchStep::new(merge_steps(replies, &lens), &self.info)?;
+        self.checkpoint_if_due().await;
+        Ok(step)
     }
 
     /// Resets every env; with `seed`, the env of original index `i` is reseeded with
@@ -334,6 +355,11 @@ impl FleetBatch {
         if let Some(indices) = env_indices {
             check_positions(indices, self.n_envs())?;
         }
+        self.log(crate::fleet_recovery::Logged::Reset {
+            seed,
+            seed_offset,
+            env_indices: env_indices.map(<[u32]>::to_vec),
+        });
         let mut first = 0;
         let resetting = self.shards.iter().map(|shard| {
             let batch = shard.batch.clone();
@@ -358,13 +384,14 @@ impl FleetBatch {
         });
         let results = join_all(resetting.collect::<Vec<_>>()).await;
         let results = self.confirm_losses(results).await;
-        let parts = self.settle(results)?;
+        let parts = self.settle(results);
+        let parts = self.unlog_unless_lost(parts)?;
         self.combine_observations(parts)
     }
 
     /// Each shard's local indices among global `env_indices` (empty: every env of every
     /// shard), and for each shard its share of `items` (one per index, in index order).
-    fn split_by_shard<T: Clone>(
+    pub(crate) fn split_by_shard<T: Clone>(
         &self,
         env_indices: &[u32],
         items: &[T],
@@ -461,7 +488,10 @@ impl FleetBatch {
         let results = join_all(loading.collect::<Vec<_>>()).await;
         let results = self.confirm_losses(results).await;
         let parts = self.settle(results)?;
-        self.combine_observations(parts)
+        let observations = self.combine_observations(parts)?;
+        // What was loaded is not in the log: start a new checkpoint from here.
+        self.checkpoint_now_if_on().await?;
+        Ok(observations)
     }
 
     /// The current observation of every env, without stepping.
@@ -477,7 +507,10 @@ impl FleetBatch {
         self.combine_observations(parts)
     }
 
-    fn combine_observations(&self, parts: Vec<BatchObservations>) -> Result<BatchObservations> {
+    pub(crate) fn combine_observations(
+        &self,
+        parts: Vec<BatchObservations>,
+    ) -> Result<BatchObservations> {
         let mut observations = Vec::with_capacity(self.info.n_envs * self.info.observation_dim);
         for part in parts {
             observations.extend_from_slice(part.observations());
@@ -552,7 +585,7 @@ impl FleetBatch {
 
 /// Checks a partial reset's positions as a server would, so no shard resets anything
 /// when the list is bad.
-fn check_positions(indices: &[u32], n_envs: usize) -> Result<()> {
+pub(crate) fn check_positions(indices: &[u32], n_envs: usize) -> Result<()> {
     let mut previous: Option<u32> = None;
     for (position, &i) in indices.iter().enumerate() {
         let reason = match previous {
@@ -588,7 +621,10 @@ fn is_loss(err: &ClientError) -> bool {
 /// The shards' checked replies (of `lens` envs each) as one reply: rows concatenated in
 /// shard order, per-env indices shifted by the shard's first position. The first reply's
 /// vectors are reused, so a one-shard batch copies nothing.
-fn merge_steps(replies: Vec<pb::BatchStepResult>, lens: &[usize]) -> pb::BatchStepResult {
+pub(crate) fn merge_steps(
+    replies: Vec<pb::BatchStepResult>,
+    lens: &[usize],
+) -> pb::BatchStepResult {
     let mut replies = replies.into_iter();
     let mut merged = replies.next().unwrap_or_default();
     let mut position = lens.first().copied().unwrap_or(0);

@@ -448,3 +448,108 @@ async fn a_partitioned_server_is_reported_lost_within_seconds_not_awaited_foreve
     drop(proxy);
     far.stop().await.expect("clean shutdown");
 }
+
+/// A fleet batch that checkpoints every 10 steps loses its middle server mid-run;
+/// `recover` rebuilds those envs on the survivors from the checkpoint, replays the steps
+/// and the partial reset since, returns the whole result of the step that found the loss,
+/// and the batch goes on bitwise like a one-server batch that lost nothing.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_lost_server_is_recovered_from_a_checkpoint_bitwise() {
+    const N: usize = 12;
+    let mut servers = three_servers().await;
+    let reference_server = server_with_threads(1).await;
+    let fleet = fleet_of(&servers).await;
+    let options = || arms(N).max_steps(7).reset_noise(3.0);
+    let mut batch = fleet.create_batch(options()).await.expect("fleet batch");
+    let reference = reference_server
+        .client()
+        .await
+        .create_batch(options())
+        .await
+        .expect("reference batch");
+    let lost_envs = batch.placement()[1].envs.clone();
+    assert!(!lost_envs.is_empty(), "{:?}", batch.placement());
+
+    let err = batch.recover(None).await.unwrap_err();
+    assert!(matches!(err, ClientError::Fleet { .. }), "{err:?}");
+    assert!(
+        err.to_string().contains("call checkpoint_every first"),
+        "{err}"
+    );
+    batch.checkpoint_every(10).await.expect("first checkpoint");
+
+    for t in 0..24 {
+        if t == 22 {
+            // A partial reset between checkpoints: it is replayed too.
+            let fleet_obs = batch
+                .reset_envs(Some(5), 0, Some(&[2, 7]))
+                .await
+                .expect("reset");
+            let reference_obs = reference
+                .reset_envs(Some(5), 0, &[2, 7])
+                .await
+                .expect("reset");
+            assert_eq!(
+                bits(fleet_obs.observations()),
+                bits(reference_obs.observations())
+            );
+        }
+        let acts = actions(t as u64, N * ACTION_DIM, 0.5);
+        let got = batch.step(ActionType::Torque, &acts).await.expect("step");
+        let want = reference
+            .step(ActionType::Torque, &acts)
+            .await
+            .expect("step");
+        for env in 0..N {
+            assert_same_env(&got, env, &want, env);
+        }
+    }
+    let status = batch.checkpoint_status().expect("checkpointing");
+    assert_eq!((status.every, status.steps_since), (10, 4));
+    assert!(status.bytes > N * 1000, "{status:?}");
+
+    // The middle server goes away; the step that finds it fails for its envs only.
+    let lost = servers.remove(1);
+    lost.stop().await.expect("clean shutdown");
+    let acts = actions(24, N * ACTION_DIM, 0.5);
+    let err = batch.step(ActionType::Torque, &acts).await.unwrap_err();
+    assert!(matches!(err, ClientError::ServerLost { .. }), "{err:?}");
+    let want = reference
+        .step(ActionType::Torque, &acts)
+        .await
+        .expect("step");
+
+    let got = batch
+        .recover(None)
+        .await
+        .expect("recovered on the survivors")
+        .expect("the interrupted step's result");
+    for env in 0..N {
+        assert_same_env(&got, env, &want, env);
+    }
+    let placement = batch.placement();
+    assert!(placement.iter().all(|p| p.lost.is_none()), "{placement:?}");
+    assert_eq!(placement[1].envs, lost_envs);
+    assert!(
+        servers
+            .iter()
+            .any(|s| s.addr().to_string() == placement[1].server),
+        "rebuilt on a survivor: {placement:?}"
+    );
+    for t in 25..45 {
+        let acts = actions(t, N * ACTION_DIM, 0.5);
+        let got = batch.step(ActionType::Torque, &acts).await.expect("step");
+        let want = reference
+            .step(ActionType::Torque, &acts)
+            .await
+            .expect("step");
+        for env in 0..N {
+            assert_same_env(&got, env, &want, env);
+        }
+    }
+    batch.close().await.expect("close");
+    for server in servers {
+        server.stop().await.expect("clean shutdown");
+    }
+    reference_server.stop().await.expect("clean shutdown");
+}
