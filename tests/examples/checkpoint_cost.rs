@@ -25,10 +25,15 @@ async fn run(fleet: &Fleet, envs: usize, every: u64, steps: usize) -> (f64, Opti
     if every > 0 {
         batch.checkpoint_every(every).await.expect("checkpoint");
     }
-    let actions: Vec<f32> = (0..envs * 2).map(|k| 0.01 * ((k % 7) as f32 - 3.0)).collect();
+    let actions: Vec<f32> = (0..envs * 2)
+        .map(|k| 0.01 * ((k % 7) as f32 - 3.0))
+        .collect();
     let start = Instant::now();
     for _ in 0..steps {
-        batch.step(ActionType::Torque, &actions).await.expect("step");
+        batch
+            .step(ActionType::Torque, &actions)
+            .await
+            .expect("step");
     }
     let rate = (steps * envs) as f64 / start.elapsed().as_secs_f64();
     let bytes = batch.checkpoint_status().map(|s| s.bytes);
@@ -71,10 +76,17 @@ fn main() {
             v[v.len() / 2]
         };
         let (p, c) = (median(&mut plain), median(&mut checkpointed));
-        println!("{envs} arm2 envs on 2 servers x 1 thread, {steps} steps per run, median of {rounds}");
+        println!(
+            "{envs} arm2 envs on 2 servers x 1 thread, {steps} steps per run, median of {rounds}"
+        );
         println!("without checkpoints:      {p:>9.0} env-steps/s");
         println!("checkpoint every {every:>4}:    {c:>9.0} env-steps/s");
-        println!("ratio: {:.3} (cost {:.1} %); one checkpoint: {bytes} bytes ({} per env)", c / p, 100.0 * (1.0 - c / p), bytes / envs.max(1));
+        println!(
+            "ratio: {:.3} (cost {:.1} %); one checkpoint: {bytes} bytes ({} per env)",
+            c / p,
+            100.0 * (1.0 - c / p),
+            bytes / envs.max(1)
+        );
         a.stop().await.expect("stop");
         b.stop().await.expect("stop");
     });

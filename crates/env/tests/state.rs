@@ -312,3 +312,62 @@ fn a_diverged_env_cannot_be_saved() {
     env.reset(None);
     env.save().expect("a reset env saves");
 }
+
+/// A state's payload (after the header) with `edits` applied and the checksum made valid
+/// again: what a deliberate forger can send.
+/// An edit at `at` counts from the end when `from_end` (the episode and physics fields
+/// follow the document).
+fn forge(bytes: &[u8], edits: &[(bool, usize, u8)], cut: usize) -> Vec<u8> {
+    let mut payload = bytes[12..].to_vec();
+    let len = payload.len();
+    for &(from_end, at, value) in edits {
+        let at = if from_end {
+            len - 1 - at % 400.min(len)
+        } else {
+            at % len
+        };
+        payload[at] = value;
+    }
+    payload.truncate(payload.len() - cut.min(payload.len()));
+    let mut out = bytes[..8].to_vec();
+    out.extend_from_slice(&crc32fast::hash(&payload).to_le_bytes());
+    out.extend_from_slice(&payload);
+    out
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::test_runner::Config { cases: 400, ..Default::default() })]
+
+    /// Forged bytes with a valid checksum: decoding, loading, building from the state and
+    /// stepping the result never panic; every refusal is a state or document error.
+    #[test]
+    fn forged_states_never_panic(
+        edits in proptest::collection::vec(
+            (proptest::bool::weighted(0.8), 0usize..4096, proptest::num::u8::ANY),
+            1..4,
+        ),
+        cut in proptest::prop_oneof![
+            4 => proptest::strategy::Just(0usize),
+            1 => 0usize..64,
+        ],
+    ) {
+        let mut env = env_with(&arm2(), busy_config());
+        run(&mut env, 0, 5);
+        let bytes = env.save().expect("saves").encode();
+        let forged = forge(&bytes, &edits, cut);
+        let Ok(state) = SavedState::decode(&forged) else { return Ok(()) };
+        match env.load(&state) {
+            Ok(()) => { run(&mut env, 5, 5); }
+            Err(err) => proptest::prop_assert!(
+                err.to_string().starts_with("state") || matches!(err, EnvError::Document(_)),
+                "{err}"
+            ),
+        }
+        if let Ok(mut built) = RobotEnv::from_state(&state) {
+            let dim = built.spec().action_dim;
+            for k in 0..5 {
+                let _ = built.step(ActionType::Torque, &action(k, dim));
+            }
+        }
+    }
+}
