@@ -127,6 +127,18 @@ async fn hostile_requests_get_their_exact_code_and_leave_everyone_else_alone() {
         .into_inner()
         .env_id;
     let reference = trajectory(&mut raw, &good).await;
+    let arm = raw
+        .create_env(env_request(ARM2))
+        .await
+        .expect("an arm")
+        .into_inner()
+        .env_id;
+    let arm_state = raw
+        .save_state(pb::EnvRef { env_id: arm })
+        .await
+        .expect("the arm's state")
+        .into_inner()
+        .state;
     let batch = raw
         .create_batch(batch_request(ARM2, 4))
         .await
@@ -436,6 +448,97 @@ async fn hostile_requests_get_their_exact_code_and_leave_everyone_else_alone() {
                 .map(drop)
             })
         }),
+        // Saved states.
+        (
+            "8 MB of noise loaded as a state into the known-good env",
+            Code::InvalidArgument,
+            {
+                let mut c = r();
+                let good = good.clone();
+                let noise: Vec<u8> = (0..8_000_000u32)
+                    .map(|i| (i.wrapping_mul(2_654_435_761) >> 13) as u8)
+                    .collect();
+                Box::pin(async move {
+                    c.load_state(pb::LoadStateRequest {
+                        env_id: good,
+                        state: noise,
+                    })
+                    .await
+                    .map(drop)
+                })
+            },
+        ),
+        (
+            "an arm's state loaded into the known-good pendulum",
+            Code::InvalidArgument,
+            {
+                let mut c = r();
+                let (good, state) = (good.clone(), arm_state.clone());
+                Box::pin(async move {
+                    c.load_state(pb::LoadStateRequest {
+                        env_id: good,
+                        state,
+                    })
+                    .await
+                    .map(drop)
+                })
+            },
+        ),
+        ("a fork of 4 billion copies", Code::ResourceExhausted, {
+            let mut c = r();
+            let state = arm_state.clone();
+            Box::pin(async move {
+                c.fork(pb::ForkRequest {
+                    state,
+                    n_envs: u32::MAX,
+                    autoreset: 0,
+                })
+                .await
+                .map(drop)
+            })
+        }),
+        ("a fork with an unknown autoreset", Code::InvalidArgument, {
+            let mut c = r();
+            let state = arm_state.clone();
+            Box::pin(async move {
+                c.fork(pb::ForkRequest {
+                    state,
+                    n_envs: 1,
+                    autoreset: 99,
+                })
+                .await
+                .map(drop)
+            })
+        }),
+        ("100 000 empty states for a batch", Code::InvalidArgument, {
+            let mut c = r();
+            let batch_id = batch.clone();
+            Box::pin(async move {
+                c.load_batch_state(pb::LoadBatchStateRequest {
+                    batch_id,
+                    env_indices: Vec::new(),
+                    states: vec![Vec::new(); 100_000],
+                })
+                .await
+                .map(drop)
+            })
+        }),
+        (
+            "saving a batch's env 4 294 967 295",
+            Code::InvalidArgument,
+            {
+                let mut c = r();
+                let batch_id = batch.clone();
+                Box::pin(async move {
+                    c.save_batch_state(pb::BatchStateRequest {
+                        batch_id,
+                        env_indices: vec![u32::MAX],
+                    })
+                    .await
+                    .map(drop)
+                })
+            },
+        ),
         // Streams.
         ("a stream naming an unknown batch", Code::NotFound, {
             let mut c = r();
