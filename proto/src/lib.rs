@@ -56,6 +56,11 @@ mod tests {
                 "GetRandomization",
                 "Render",
                 "GetScene",
+                "SaveState",
+                "LoadState",
+                "SaveBatchState",
+                "LoadBatchState",
+                "Fork",
             ]
         );
         let stream = &service.method[10];
