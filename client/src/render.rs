@@ -149,6 +149,13 @@ pub enum SceneShape {
         /// Radius.
         radius: f64,
     },
+    /// A capsule along its frame's y.
+    Capsule {
+        /// Radius.
+        radius: f64,
+        /// Half the length between the caps' centres.
+        half_segment: f64,
+    },
 }
 
 /// One part of the robot where it is now.
@@ -215,6 +222,10 @@ impl TryFrom<pb::Scene> for Scene {
                         half_height: c.half_height,
                     },
                     Some(Kind::SphereRadius(radius)) => SceneShape::Sphere { radius },
+                    Some(Kind::Capsule(c)) => SceneShape::Capsule {
+                        radius: c.radius,
+                        half_segment: c.half_segment,
+                    },
                     None => return Err(malformed("a body's shape")),
                 };
                 let pose = b.pose.ok_or_else(|| malformed("a body's pose"))?;

@@ -135,6 +135,10 @@ impl Replay {
                         half_height,
                     } => json!({ "cylinder": [radius, half_height] }),
                     SceneShape::Sphere { radius } => json!({ "sphere": radius }),
+                    SceneShape::Capsule {
+                        radius,
+                        half_segment,
+                    } => json!({ "capsule": [radius, half_segment] }),
                 };
                 json!({ "name": name, "instance": instance, "shape": shape })
             })

@@ -320,6 +320,13 @@ pub(crate) fn scene(scene: gymfleet_env::Scene) -> pb::Scene {
                 half_height: f64::from(half_height),
             }),
             gymfleet_env::SceneShape::Ball { radius } => Kind::SphereRadius(f64::from(radius)),
+            gymfleet_env::SceneShape::Capsule {
+                radius,
+                half_segment,
+            } => Kind::Capsule(pb::SceneCapsule {
+                radius: f64::from(radius),
+                half_segment: f64::from(half_segment),
+            }),
         };
         pb::SceneShape { kind: Some(kind) }
     };

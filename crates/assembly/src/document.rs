@@ -37,7 +37,8 @@ pub struct PartDef {
 
 /// A primitive shape, in millimetres, in the part's local frame.
 ///
-/// In JSON it is an object tagged by `type` (`"cube"`, `"cylinder"` or `"sphere"`) with
+/// In JSON it is an object tagged by `type` (`"cube"`, `"cylinder"`, `"sphere"` or
+/// `"capsule"`) with
 /// the variant's fields beside the tag. Its `Deserialize` is written by hand (see below)
 /// so that errors inside it keep their exact JSON path, e.g. `parts[0].primitive.size.z`.
 #[derive(Debug, Clone)]
@@ -59,6 +60,14 @@ pub enum Primitive {
         /// Radius in mm.
         radius: f64,
     },
+    /// *(ext)* A capsule (a cylinder with hemispherical caps) whose axis is local Z,
+    /// spanning `z ∈ [0, height]` caps included.
+    Capsule {
+        /// Radius in mm.
+        radius: f64,
+        /// Overall length in mm, caps included: at least `2 × radius`.
+        height: f64,
+    },
 }
 
 /// The `type` tag of a [`Primitive`].
@@ -68,6 +77,7 @@ enum PrimitiveKind {
     Cube,
     Cylinder,
     Sphere,
+    Capsule,
 }
 
 impl PrimitiveKind {
@@ -75,7 +85,7 @@ impl PrimitiveKind {
     fn fields(self) -> &'static [&'static str] {
         match self {
             PrimitiveKind::Cube => &["size"],
-            PrimitiveKind::Cylinder => &["radius", "height"],
+            PrimitiveKind::Cylinder | PrimitiveKind::Capsule => &["radius", "height"],
             PrimitiveKind::Sphere => &["radius"],
         }
     }
@@ -114,7 +124,7 @@ impl<'de> Visitor<'de> for PrimitiveVisitor {
     type Value = Primitive;
 
     fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str("a primitive object with a \"type\" of cube, cylinder or sphere")
+        f.write_str("a primitive object with a \"type\" of cube, cylinder, sphere or capsule")
     }
 
     fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Primitive, A::Error> {
@@ -178,6 +188,10 @@ impl<'de> Visitor<'de> for PrimitiveVisitor {
             PrimitiveKind::Sphere => Primitive::Sphere {
                 radius: radius.ok_or_else(|| de::Error::missing_field("radius"))?,
             },
+            PrimitiveKind::Capsule => Primitive::Capsule {
+                radius: radius.ok_or_else(|| de::Error::missing_field("radius"))?,
+                height: height.ok_or_else(|| de::Error::missing_field("height"))?,
+            },
         })
     }
 }
@@ -225,6 +239,64 @@ pub struct InstanceDef {
     /// *(ext)* Overrides the part's material.
     #[serde(default)]
     pub material: Option<String>,
+    /// *(ext)* Which other instances it collides with (see [`CollisionDef`]).
+    #[serde(default)]
+    pub collision: Option<CollisionDef>,
+    /// *(ext)* Mass properties given outright, instead of the shape's volume × density.
+    #[serde(default)]
+    pub inertial: Option<InertialDef>,
+}
+
+/// *(ext)* An instance's mass properties, as URDF's `<inertial>` and MJCF's `<inertial>`
+/// give them.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InertialDef {
+    /// Mass in kg.
+    pub mass: f64,
+    /// Centre of mass in mm, in the instance's frame; default the shape's centroid.
+    #[serde(default)]
+    pub center_of_mass: Option<Vec3>,
+    /// Inertia tensor about the centre of mass, in kg·m², along the instance's axes;
+    /// default the shape's own, for this mass (uniform density).
+    #[serde(default)]
+    pub inertia: Option<InertiaDef>,
+}
+
+/// *(ext)* A symmetric inertia tensor's six entries, kg·m².
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InertiaDef {
+    /// `Ixx`.
+    pub xx: f64,
+    /// `Iyy`.
+    pub yy: f64,
+    /// `Izz`.
+    pub zz: f64,
+    /// `Ixy`; default 0.
+    #[serde(default)]
+    pub xy: f64,
+    /// `Ixz`; default 0.
+    #[serde(default)]
+    pub xz: f64,
+    /// `Iyz`; default 0.
+    #[serde(default)]
+    pub yz: f64,
+}
+
+/// *(ext)* Collision filter bits (MuJoCo's `contype`/`conaffinity`): two instances not
+/// connected by a joint collide when `a.group & b.mask` or `b.group & a.mask` is non-zero.
+/// Both default to 1, so by default everything collides; `{"group": 0, "mask": 0}`
+/// collides with nothing.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CollisionDef {
+    /// The instance's own bits (32 of them); default 1.
+    #[serde(default)]
+    pub group: Option<u32>,
+    /// The bits of the instances it collides with; default 1.
+    #[serde(default)]
+    pub mask: Option<u32>,
 }
 
 /// The kind of a joint.
@@ -279,6 +351,11 @@ pub struct JointDef {
     /// value and has no motor). Default `true`.
     #[serde(default)]
     pub actuated: Option<bool>,
+    /// *(ext)* Armature (a rotor's reflected inertia, MuJoCo's `armature`): added to the
+    /// joint-space inertia of each of the joint's DOFs, in kg·m² (angular) or kg
+    /// (linear); default 0.
+    #[serde(default)]
+    pub armature: Option<f64>,
 }
 
 /// A 3-vector with named components, as the documents write it.

@@ -14,14 +14,15 @@ mod model;
 mod validate;
 
 pub use document::{
-    AssemblyDef, Document, InstanceDef, JointDef, MaterialDef, PartDef, Primitive, Vec3,
+    AssemblyDef, CollisionDef, Document, InertiaDef, InertialDef, InstanceDef, JointDef,
+    MaterialDef, PartDef, Primitive, Vec3,
 };
 pub use error::{
     quoted, quoted_list, AssemblyError, Issue, Result, MAX_ECHOED_CHARS, MAX_LISTED_NAMES,
 };
 pub use model::{
-    Assembly, DofKind, Instance, Joint, JointType, Material, Shape, DEFAULT_DENSITY,
-    DEFAULT_FRICTION, DEFAULT_RESTITUTION, MM_PER_M,
+    inertia_problem, Assembly, DofKind, Inertial, Instance, Joint, JointType, Material, Shape,
+    DEFAULT_DENSITY, DEFAULT_FRICTION, DEFAULT_RESTITUTION, MM_PER_M,
 };
 pub use validate::validate;
 

@@ -33,6 +33,14 @@ pub enum Shape {
         /// Radius in m.
         radius: f64,
     },
+    /// Capsule along local Z, centred on it, spanning `z ∈ [0,height]` caps included
+    /// (`height ≥ 2·radius`).
+    Capsule {
+        /// Radius in m.
+        radius: f64,
+        /// Overall length in m.
+        height: f64,
+    },
 }
 
 impl Shape {
@@ -42,6 +50,10 @@ impl Shape {
             Shape::Cuboid { size } => size[0] * size[1] * size[2],
             Shape::Cylinder { radius, height } => std::f64::consts::PI * radius * radius * height,
             Shape::Sphere { radius } => 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3),
+            Shape::Capsule { radius, height } => {
+                std::f64::consts::PI * radius * radius * (height - 2.0 * radius)
+                    + 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3)
+            }
         }
     }
 
@@ -49,7 +61,9 @@ impl Shape {
     pub fn centroid(&self) -> [f64; 3] {
         match *self {
             Shape::Cuboid { size } => [size[0] / 2.0, size[1] / 2.0, size[2] / 2.0],
-            Shape::Cylinder { height, .. } => [0.0, 0.0, height / 2.0],
+            Shape::Cylinder { height, .. } | Shape::Capsule { height, .. } => {
+                [0.0, 0.0, height / 2.0]
+            }
             Shape::Sphere { .. } => [0.0, 0.0, 0.0],
         }
     }
@@ -59,7 +73,7 @@ impl Shape {
         match *self {
             Shape::Cuboid { size } => size[0].min(size[1]).min(size[2]),
             Shape::Cylinder { radius, height } => (2.0 * radius).min(height),
-            Shape::Sphere { radius } => 2.0 * radius,
+            Shape::Sphere { radius } | Shape::Capsule { radius, .. } => 2.0 * radius,
         }
     }
 }
@@ -101,6 +115,61 @@ pub struct Instance {
     pub rotation: [f64; 3],
     /// Whether the instance is fixed to the world (only the first one is).
     pub grounded: bool,
+    /// Collision filter bits `(group, mask)`: instances `a` and `b` collide when
+    /// `a.group & b.mask` or `b.group & a.mask` is non-zero (jointed pairs never do).
+    pub collision: (u32, u32),
+    /// Mass properties given outright; `None`: the shape's volume × the density.
+    pub inertial: Option<Inertial>,
+}
+
+/// Mass properties given outright (see [`crate::InertialDef`]), in SI.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Inertial {
+    /// kg.
+    pub mass: f64,
+    /// Centre of mass in the instance's frame, m.
+    pub center_of_mass: [f64; 3],
+    /// Inertia about the centre of mass along the instance's axes, kg·m², row-major;
+    /// `None`: the shape's own for this mass.
+    pub inertia: Option<[[f64; 3]; 3]>,
+}
+
+/// Whether a symmetric 3×3 matrix is positive semi-definite (all principal minors ≥ 0,
+/// within a relative tolerance).
+fn positive_semi_definite(m: &[[f64; 3]; 3], tolerance: f64) -> bool {
+    let det2 = |a: usize, b: usize| m[a][a] * m[b][b] - m[a][b] * m[b][a];
+    let det3 = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+        - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+        + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    let scale = m[0][0].abs().max(m[1][1].abs()).max(m[2][2].abs());
+    (0..3).all(|i| m[i][i] >= -tolerance * scale)
+        && [(0, 1), (0, 2), (1, 2)]
+            .iter()
+            .all(|&(a, b)| det2(a, b) >= -tolerance * scale * scale)
+        && det3 >= -tolerance * scale * scale * scale
+}
+
+/// Why `inertia` (symmetric, kg·m²) is not the inertia of any body, if it is not: a body's
+/// inertia is positive definite and its second moment `tr(I)/2·E − I` is positive
+/// semi-definite (the principal moments obey the triangle inequality).
+pub fn inertia_problem(inertia: &[[f64; 3]; 3]) -> Option<String> {
+    const TOLERANCE: f64 = 1e-9;
+    let trace = inertia[0][0] + inertia[1][1] + inertia[2][2];
+    let strictly = inertia[0][0] > 0.0 && inertia[1][1] > 0.0 && inertia[2][2] > 0.0;
+    if !strictly || !positive_semi_definite(inertia, 0.0) {
+        return Some("not positive definite (every principal moment must be > 0)".into());
+    }
+    let mut second = *inertia;
+    for (i, row) in second.iter_mut().enumerate() {
+        for (j, v) in row.iter_mut().enumerate() {
+            *v = if i == j { trace / 2.0 } else { 0.0 } - *v;
+        }
+    }
+    (!positive_semi_definite(&second, TOLERANCE)).then(|| {
+        "its principal moments break the triangle inequality (each must be at most the \
+         sum of the other two): no body has this inertia"
+            .into()
+    })
 }
 
 /// The kind of a validated joint, with its DOF count.
@@ -161,6 +230,8 @@ pub struct Joint {
     /// Whether the joint is driven: a passive joint's DOFs are observed but take no
     /// action values.
     pub actuated: bool,
+    /// Added to the joint-space inertia of each DOF, in kg·m² or kg.
+    pub armature: f64,
 }
 
 /// The kind of one degree of freedom, which fixes its units.

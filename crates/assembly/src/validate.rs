@@ -4,9 +4,16 @@
 use std::collections::hash_map::Entry;
 use std::collections::{BTreeMap, HashMap};
 
-use crate::document::{Document, InstanceDef, JointDef, MaterialDef, PartDef, Primitive, Vec3};
+use crate::document::{
+    Document, InertialDef, InstanceDef, JointDef, MaterialDef, PartDef, Primitive, Vec3,
+};
 use crate::error::{quoted, quoted_list, AssemblyError, Issue, Result};
-use crate::model::{Assembly, Instance, Joint, JointType, Material, Shape, MM_PER_M};
+use crate::model::{Assembly, Inertial, Instance, Joint, JointType, Material, Shape, MM_PER_M};
+
+/// Largest mass an instance's `inertial` may give, kg.
+const MAX_MASS_KG: f64 = 1e6;
+/// Farthest an instance's given centre of mass may lie from its origin, mm (1 km).
+const MAX_COM_MM: f64 = 1e6;
 
 /// Validates a parsed document and converts it to SI units.
 ///
@@ -175,6 +182,23 @@ impl Validator {
             Primitive::Sphere { radius } => Shape::Sphere {
                 radius: self.positive_length(&format!("{path}.radius"), radius),
             },
+            Primitive::Capsule { radius, height } => {
+                let r = self.positive_length(&format!("{path}.radius"), radius);
+                let h = self.positive_length(&format!("{path}.height"), height);
+                if self.issues.len() == before && height < 2.0 * radius {
+                    self.push(
+                        format!("{path}.height"),
+                        format!(
+                            "a capsule's height includes its two caps: expected at least 2 × radius = {} mm, got {height}",
+                            2.0 * radius
+                        ),
+                    );
+                }
+                Shape::Capsule {
+                    radius: r,
+                    height: h,
+                }
+            }
         };
         (self.issues.len() == before).then_some(shape)
     }
@@ -238,10 +262,14 @@ impl Validator {
             let Some(part) = part else { continue };
             let Some(shape) = part.shape else { continue };
             let material = own_material.or(part.material).unwrap_or_default();
+            let inertial = inst
+                .inertial
+                .as_ref()
+                .and_then(|def| self.inertial(&format!("{path}.inertial"), def, &shape));
             // Sizes and densities are each finite and positive, but their product can
             // still overflow (or underflow) f64; the physics layer needs a real mass.
             let mass = shape.volume() * material.density;
-            if !(mass.is_finite() && mass > 0.0) {
+            if inst.inertial.is_none() && !(mass.is_finite() && mass > 0.0) {
                 self.push(
                     path.clone(),
                     format!(
@@ -256,6 +284,10 @@ impl Validator {
                 position: position.map(|c| c / MM_PER_M),
                 rotation: rotation.map(f64::to_radians),
                 grounded: i == 0,
+                collision: inst
+                    .collision
+                    .map_or((1, 1), |c| (c.group.unwrap_or(1), c.mask.unwrap_or(1))),
+                inertial,
             });
         }
         out
@@ -324,6 +356,20 @@ impl Validator {
                     );
                 }
             });
+            let armature = def.armature.inspect(|&a| {
+                if !(a.is_finite() && a >= 0.0) {
+                    self.push(
+                        format!("{path}.armature"),
+                        format!("expected an armature >= 0 (kg·m² or kg), got {a}"),
+                    );
+                }
+            });
+            if def.kind == JointType::Fixed && armature.is_some_and(|a| a > 0.0) {
+                self.push(
+                    format!("{path}.armature"),
+                    "a fixed joint has no DOF to add armature to".to_string(),
+                );
+            }
             let actuated = def.actuated.unwrap_or(true);
             if !actuated && max_effort.is_some() {
                 self.push(
@@ -351,6 +397,7 @@ impl Validator {
                         damping: damping.unwrap_or(0.0),
                         max_effort,
                         actuated,
+                        armature: armature.unwrap_or(0.0),
                     });
                 }
             }
@@ -456,6 +503,65 @@ impl Validator {
             );
         }
         Some([min, max])
+    }
+
+    /// An instance's `inertial`, checked and in SI (`None` after an issue).
+    fn inertial(&mut self, path: &str, def: &InertialDef, shape: &Shape) -> Option<Inertial> {
+        let before = self.issues.len();
+        if !(def.mass.is_finite() && def.mass > 0.0 && def.mass <= MAX_MASS_KG) {
+            self.push(
+                format!("{path}.mass"),
+                format!(
+                    "expected a mass in (0, {MAX_MASS_KG:e}] kg, got {}",
+                    def.mass
+                ),
+            );
+        }
+        let center_of_mass = match def.center_of_mass {
+            Some(c) => {
+                for (axis, v) in [("x", c.x), ("y", c.y), ("z", c.z)] {
+                    if !(v.is_finite() && v.abs() <= MAX_COM_MM) {
+                        self.push(
+                            format!("{path}.center_of_mass.{axis}"),
+                            format!("expected a coordinate within ±{MAX_COM_MM:e} mm, got {v}"),
+                        );
+                    }
+                }
+                c.to_array().map(|v| v / MM_PER_M)
+            }
+            None => shape.centroid(),
+        };
+        let inertia = def.inertia.map(|i| {
+            let m = [[i.xx, i.xy, i.xz], [i.xy, i.yy, i.yz], [i.xz, i.yz, i.zz]];
+            if m.iter().flatten().any(|v| !v.is_finite()) {
+                self.push(
+                    format!("{path}.inertia"),
+                    "expected finite entries (kg·m²)".to_string(),
+                );
+            } else if let Some(problem) = crate::model::inertia_problem(&m) {
+                self.push(
+                    format!("{path}.inertia"),
+                    format!(
+                        "[[{}, {}, {}], [{}, {}, {}], [{}, {}, {}]] kg·m² is {problem}",
+                        m[0][0],
+                        m[0][1],
+                        m[0][2],
+                        m[1][0],
+                        m[1][1],
+                        m[1][2],
+                        m[2][0],
+                        m[2][1],
+                        m[2][2]
+                    ),
+                );
+            }
+            m
+        });
+        (self.issues.len() == before).then_some(Inertial {
+            mass: def.mass,
+            center_of_mass,
+            inertia,
+        })
     }
 
     fn non_negative(&mut self, path: &str, value: Option<f64>, what: &str) -> Option<f64> {

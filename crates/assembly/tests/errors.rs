@@ -352,6 +352,110 @@ fn non_positive_max_effort() {
 }
 
 #[test]
+fn negative_or_misplaced_armature() {
+    assert_issue(
+        with_joint_field("armature", json!(-1e-6)),
+        "assembly.joints[0].armature: expected an armature >= 0 (kg·m² or kg), got -0.000001",
+    );
+    let mut doc = with_joint_field("armature", json!(0.5));
+    doc["assembly"]["joints"][0]["type"] = json!("fixed");
+    assert_issue(
+        doc,
+        "assembly.joints[0].armature: a fixed joint has no DOF to add armature to",
+    );
+    let armature = common::ok(with_joint_field("armature", json!(0.25))).joints[0].armature;
+    assert_eq!(armature, 0.25);
+}
+
+#[test]
+fn collision_bits_are_32_bit_unsigned_integers() {
+    for (value, message) in [
+        (json!(-1), "invalid value: integer `-1`, expected u32"),
+        (
+            json!(4294967296u64),
+            "invalid value: integer `4294967296`, expected u32",
+        ),
+        (
+            json!(1.5),
+            "invalid type: floating point `1.5`, expected u32",
+        ),
+    ] {
+        let mut doc = base_doc();
+        doc["assembly"]["instances"][0]["collision"] = json!({ "group": value });
+        common::assert_malformed(
+            &common::err(doc),
+            "assembly.instances[0].collision.group",
+            message,
+        );
+    }
+    let mut doc = base_doc();
+    doc["assembly"]["instances"][0]["collision"] = json!({ "mask": 6 });
+    assert_eq!(common::ok(doc).instances[0].collision, (1, 6));
+    assert_eq!(common::ok(base_doc()).instances[0].collision, (1, 1));
+}
+
+#[test]
+fn given_mass_properties_are_checked() {
+    let with = |inertial: serde_json::Value| {
+        let mut doc = base_doc();
+        doc["assembly"]["instances"][0]["inertial"] = inertial;
+        doc
+    };
+    assert_issue(
+        with(json!({"mass": 0})),
+        "assembly.instances[0].inertial.mass: expected a mass in (0, 1e6] kg, got 0",
+    );
+    assert_issue(
+        with(json!({"mass": 1, "center_of_mass": {"x": 1e12, "y": 0, "z": 0}})),
+        "assembly.instances[0].inertial.center_of_mass.x: expected a coordinate within ±1e6 mm, got 1000000000000",
+    );
+    assert_issue(
+        with(json!({"mass": 1, "inertia": {"xx": 1, "yy": 1, "zz": -1}})),
+        "assembly.instances[0].inertial.inertia: [[1, 0, 0], [0, 1, 0], [0, 0, -1]] kg·m² is not positive definite (every principal moment must be > 0)",
+    );
+    assert_issue(
+        with(json!({"mass": 1, "inertia": {"xx": 1, "yy": 1, "zz": 3}})),
+        "assembly.instances[0].inertial.inertia: [[1, 0, 0], [0, 1, 0], [0, 0, 3]] kg·m² is its principal moments break the triangle inequality (each must be at most the sum of the other two): no body has this inertia",
+    );
+    assert_issue(
+        with(json!({"mass": 1, "inertia": {"xx": 1, "yy": 1, "zz": 1, "xy": 2}})),
+        "assembly.instances[0].inertial.inertia: [[1, 2, 0], [2, 1, 0], [0, 0, 1]] kg·m² is not positive definite (every principal moment must be > 0)",
+    );
+    // A thin rod (principal moments 0.5, 0.5, 1e-9) is fine; so is a mass alone.
+    let rod = common::ok(with(
+        json!({"mass": 1, "inertia": {"xx": 0.5, "yy": 0.5, "zz": 1e-9}}),
+    ));
+    assert_eq!(rod.instances[0].inertial.expect("given").mass, 1.0);
+    let alone = common::ok(with(json!({"mass": 2.5})));
+    let given = alone.instances[0].inertial.expect("given");
+    assert_eq!((given.mass, given.inertia), (2.5, None));
+}
+
+#[test]
+fn a_capsule_is_at_least_as_long_as_its_caps() {
+    let mut doc = base_doc();
+    doc["parts"][0]["primitive"] = json!({ "type": "capsule", "radius": 5, "height": 8 });
+    assert_issue(
+        doc,
+        "parts[0].primitive.height: a capsule's height includes its two caps: expected at least 2 × radius = 10 mm, got 8",
+    );
+    let mut doc = base_doc();
+    doc["parts"][0]["primitive"] = json!({ "type": "capsule", "radius": 5, "height": 30 });
+    let shape = common::ok(doc).instances[0].shape;
+    assert_eq!(
+        shape,
+        gymfleet_assembly::Shape::Capsule {
+            radius: 0.005,
+            height: 0.030
+        }
+    );
+    let pi = std::f64::consts::PI;
+    let volume = pi * 0.005f64.powi(2) * 0.020 + 4.0 / 3.0 * pi * 0.005f64.powi(3);
+    assert!((shape.volume() - volume).abs() < 1e-15);
+    assert_eq!(shape.centroid(), [0.0, 0.0, 0.015]);
+}
+
+#[test]
 fn mass_overflow_is_an_error() {
     let mut doc = base_doc();
     doc["parts"][0]["primitive"]["size"] = json!({ "x": 1e200, "y": 1e200, "z": 5 });

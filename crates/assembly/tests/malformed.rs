@@ -165,7 +165,7 @@ fn unknown_primitive_type() {
     assert_malformed(
         &err(doc),
         "parts[1].primitive.type",
-        "unknown variant `cone`, expected one of `cube`, `cylinder`, `sphere`",
+        "unknown variant `cone`, expected one of `cube`, `cylinder`, `sphere`, `capsule`",
     );
 }
 

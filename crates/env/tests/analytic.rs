@@ -19,13 +19,81 @@ fn upward_zero_crossings(samples: &[f64], dt: f64) -> Vec<f64> {
 
 #[test]
 fn small_angle_compound_pendulum_period_is_within_one_percent() {
-    let mut env = env(&hanging_pendulum(json!({})), &["arm"]);
-    let dt = env.spec().dt;
-    let (m, i_pivot, d) = arm_mass_and_pivot_inertia();
-    let analytic = 2.0 * std::f64::consts::PI * (i_pivot / (m * G * d)).sqrt();
+    assert_small_angle_period(0.0);
+}
 
-    // A short push from rest: about a 2.5° amplitude.
-    step(&mut env, ActionType::Torque, &[8e-5]);
+/// Armature adds to the joint-space inertia: with twice the arm's own inertia about the
+/// pivot as armature, the period is `2π·√(3·I/(m·g·d))`, √3 times the plain one.
+#[test]
+fn joint_armature_adds_to_the_pendulums_inertia() {
+    let (_, i_pivot, _) = arm_mass_and_pivot_inertia();
+    assert_small_angle_period(2.0 * i_pivot);
+}
+
+/// Mass properties given outright (`inertial`) replace the shape's: 2 g with its centre
+/// of mass 30 mm below the pivot and 1e-7 kg·m² about it swing with the period of
+/// `I = 1e-7 + m·d²`, whatever the arm's geometry says.
+#[test]
+fn given_mass_properties_set_the_pendulums_period() {
+    let mut doc = hanging_pendulum(json!({}));
+    doc["assembly"]["instances"][1]["inertial"] = json!({
+        "mass": 0.002,
+        "center_of_mass": {"x": 2, "y": 2, "z": 10},
+        "inertia": {"xx": 1e-7, "yy": 1e-7, "zz": 2e-8}
+    });
+    let (m, d) = (0.002, 0.030);
+    assert_period_of(env(&doc, &["arm"]), 1e-7 + m * d * d, m, d);
+}
+
+/// A capsule arm (radius 2 mm, 40 mm long caps included) hanging from its top end swings
+/// with the period of its exact inertia: a 36 mm cylinder and two hemispheres.
+#[test]
+fn a_capsule_pendulum_swings_with_the_capsules_inertia() {
+    let mut doc = hanging_pendulum(json!({}));
+    doc["parts"][1]["primitive"] = json!({"type": "capsule", "radius": 2, "height": 40});
+    doc["assembly"]["instances"][1]["position"] = json!({"x": 10, "y": 10, "z": -40});
+    let (r, h, rho) = (0.002f64, 0.040f64, 1000.0);
+    let pi = std::f64::consts::PI;
+    let length = h - 2.0 * r;
+    let (m_cyl, m_hemi) = (rho * pi * r * r * length, rho * 2.0 / 3.0 * pi * r.powi(3));
+    let m = m_cyl + 2.0 * m_hemi;
+    // About the centre, perpendicular to the axis; each hemisphere's centre of mass lies
+    // 3r/8 beyond the cylinder's end, and its own inertia about it is 83/320·m·r².
+    let offset = length / 2.0 + 3.0 * r / 8.0;
+    let i_centre = m_cyl * (3.0 * r * r + length * length) / 12.0
+        + 2.0 * (83.0 / 320.0 * m_hemi * r * r + m_hemi * offset * offset);
+    let d = h / 2.0;
+    let env = env(&doc, &["arm"]);
+    let parts = env.scene().parts;
+    assert!(
+        parts.iter().any(|p| matches!(
+            p.shape,
+            gymfleet_env::SceneShape::Capsule { radius, half_segment }
+                if (radius - 2.0).abs() < 1e-4 && (half_segment - 18.0).abs() < 1e-4
+        )),
+        "{parts:?}"
+    );
+    assert_period_of(env, i_centre + m * d * d, m, d);
+}
+
+/// The hanging arm's small-angle period with `armature` (kg·m²) at its joint, within 1 %
+/// of `2π·√((I + armature)/(m·g·d))`.
+fn assert_small_angle_period(armature: f64) {
+    let env = env(&hanging_pendulum(json!({"armature": armature})), &["arm"]);
+    let (m, i_pivot, d) = arm_mass_and_pivot_inertia();
+    assert_period_of(env, i_pivot + armature, m, d);
+}
+
+/// A pendulum's small-angle period within 1 % of `2π·√(I/(m·g·d))`: `I` about the pivot
+/// (armature included), `m` its mass, `d` the pivot to centre of mass distance.
+fn assert_period_of(mut env: gymfleet_env::RobotEnv, inertia: f64, m: f64, d: f64) {
+    let dt = env.spec().dt;
+    let analytic = 2.0 * std::f64::consts::PI * (inertia / (m * G * d)).sqrt();
+    let (m0, i0, d0) = arm_mass_and_pivot_inertia();
+
+    // A short push from rest: about a 2.5° amplitude (scaled from the plain arm's).
+    let push = 8e-5 * ((inertia * m * d) / (i0 * m0 * d0)).sqrt() as f32;
+    step(&mut env, ActionType::Torque, &[push]);
     let mut angles = Vec::new();
     let steps = (12.0 * analytic / dt) as usize;
     for _ in 0..steps {
@@ -431,6 +499,47 @@ fn hand_contact_angle() -> f64 {
         }
     }
     lo.to_degrees()
+}
+
+/// Collision filters (MuJoCo's contype/conaffinity rule): a hand whose bits share none with
+/// the post's swings through it; bits that match one way only are enough to collide.
+#[test]
+fn collision_filter_bits_decide_which_instances_collide() {
+    let contact = hand_contact_angle();
+    let with_bits = |post: serde_json::Value, hand: serde_json::Value| {
+        let mut doc = hand_and_post();
+        doc["assembly"]["instances"][1]["collision"] = post;
+        doc["assembly"]["instances"][3]["collision"] = hand;
+        let mut env = env(&doc, &["hand"]);
+        let mut furthest = f64::MIN;
+        for _ in 0..240 {
+            let obs = step(&mut env, ActionType::Torque, &[2e-3]);
+            furthest = furthest.max(f64::from(obs[0]));
+        }
+        furthest
+    };
+    let apart = with_bits(
+        json!({"group": 2, "mask": 2}),
+        json!({"group": 1, "mask": 1}),
+    );
+    assert!(
+        apart > contact + 20.0,
+        "filtered apart, the hand reached only {apart}° (contact at {contact:.2}°)"
+    );
+    // The post's group is in the hand's mask (one way): they collide.
+    let one_way = with_bits(
+        json!({"group": 2, "mask": 0}),
+        json!({"group": 0, "mask": 2}),
+    );
+    assert!(
+        one_way < contact + 0.1,
+        "one matching direction should collide: the hand reached {one_way}°"
+    );
+    let none = with_bits(json!({"group": 0, "mask": 0}), json!({}));
+    assert!(
+        none > contact + 20.0,
+        "a post that collides with nothing stopped the hand at {none}°"
+    );
 }
 
 /// Collision detection runs once per step (the solver substeps reuse its contacts), so a

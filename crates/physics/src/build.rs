@@ -82,6 +82,25 @@ impl RobotWorld {
                 })?;
         }
 
+        // Armature first: the default PD gains below follow each DOF's apparent inertia,
+        // which includes it.
+        for joint in assembly.joints.iter().filter(|j| j.armature > 0.0) {
+            let link = sets
+                .multibody_joints
+                .rigid_body_link(bodies[joint.child])
+                .copied();
+            if let Some(mb) = link.and_then(|l| {
+                let mb = sets.multibody_joints.get_multibody_mut(l.multibody)?;
+                let first = mb.link(l.id)?.assembly_id();
+                Some((mb, first))
+            }) {
+                let (mb, first) = mb;
+                for k in 0..joint.kind.dof() {
+                    mb.armature_mut()[first + k] = joint.armature as Real;
+                }
+            }
+        }
+
         // Look the links up only once the tree is complete: insertion may renumber.
         let mut joints = Vec::with_capacity(assembly.joints.len());
         let mut dofs = Vec::with_capacity(assembly.total_dof());
@@ -163,6 +182,14 @@ impl RobotWorld {
 
         let n_dofs = dofs.len();
         let base = BaseValues {
+            given: assembly
+                .instances
+                .iter()
+                .map(|i| {
+                    i.inertial
+                        .map(|given| given_mass_properties(&given, &i.shape))
+                })
+                .collect(),
             density: bodies
                 .iter()
                 .map(|&b| first_collider(&sets, b).map_or(0.0, |c| c.density()))
@@ -230,18 +257,73 @@ fn insert_body(sets: &mut Sets, inst: &Instance) -> RigidBodyHandle {
     let handle = sets
         .bodies
         .insert(builder.pose(instance_pose(inst)).build());
+    let (group, mask) = inst.collision;
+    // Given mass properties replace the collider's: its density is then 0.
+    let density = if inst.inertial.is_some() {
+        0.0
+    } else {
+        inst.material.density as Real
+    };
     let collider = collider(&inst.shape)
-        .density(inst.material.density as Real)
+        .density(density)
         .friction(inst.material.friction as Real)
         .restitution(inst.material.restitution as Real)
+        // MuJoCo's rule: `a.group & b.mask` or `b.group & a.mask` (see `Instance::collision`).
+        .collision_groups(InteractionGroups::new(
+            Group::from_bits_retain(group),
+            Group::from_bits_retain(mask),
+            InteractionTestMode::Or,
+        ))
         .build();
+    if let Some(inertial) = &inst.inertial {
+        let props = given_mass_properties(inertial, &inst.shape);
+        sets.bodies[handle].set_additional_mass_properties(props, false);
+    }
     sets.colliders
         .insert_with_parent(collider, handle, &mut sets.bodies);
     handle
 }
 
-/// The exact primitive, placed in the part's frame (cube corner and cylinder base at
-/// the origin; Rapier's cylinder runs along Y, ours along Z).
+/// An instance's given mass properties in its body's frame: its inertia matrix, or the
+/// shape's own inertia scaled to the given mass, about the given centre of mass.
+pub(crate) fn given_mass_properties(
+    inertial: &gymfleet_assembly::Inertial,
+    shape: &Shape,
+) -> MassProperties {
+    let c = inertial.center_of_mass.map(|v| v as Real);
+    let com = Vector::new(c[0], c[1], c[2]);
+    let mass = inertial.mass as Real;
+    match inertial.inertia {
+        Some(m) => {
+            let m = m.map(|row| row.map(|v| v as Real));
+            let matrix = Mat3::from_cols(
+                Vector::new(m[0][0], m[1][0], m[2][0]),
+                Vector::new(m[0][1], m[1][1], m[2][1]),
+                Vector::new(m[0][2], m[1][2], m[2][2]),
+            );
+            MassProperties::with_inertia_matrix(com, mass, matrix)
+        }
+        None => {
+            // The shape's own, at unit density, placed as the collider is, then scaled.
+            let unit = collider(shape).density(1.0).build();
+            let own = unit
+                .shape()
+                .mass_properties(1.0)
+                .transform_by(unit.position_wrt_parent().unwrap_or(&Pose::IDENTITY));
+            let mut props = MassProperties::with_principal_inertia_frame(
+                com,
+                own.mass(),
+                own.principal_inertia(),
+                own.principal_inertia_local_frame,
+            );
+            props.set_mass(mass, true);
+            props
+        }
+    }
+}
+
+/// The exact primitive, placed in the part's frame (cube corner, cylinder and capsule base
+/// at the origin; Rapier's cylinder and capsule run along Y, ours along Z).
 fn collider(shape: &Shape) -> ColliderBuilder {
     match *shape {
         Shape::Cuboid { size } => {
@@ -257,6 +339,13 @@ fn collider(shape: &Shape) -> ColliderBuilder {
             ))
         }
         Shape::Sphere { radius } => ColliderBuilder::ball(radius as Real),
+        Shape::Capsule { radius, height } => {
+            let half_segment = ((height / 2.0 - radius).max(0.0)) as Real;
+            ColliderBuilder::capsule_y(half_segment, radius as Real).position(Pose::from_parts(
+                Vector::new(0.0, 0.0, (height / 2.0) as Real),
+                Rotation::from_rotation_x(std::f32::consts::FRAC_PI_2),
+            ))
+        }
     }
 }
 

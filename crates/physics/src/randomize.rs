@@ -39,6 +39,9 @@ impl Draws {
 pub(crate) struct BaseValues {
     /// Per instance: its collider's density and friction.
     pub(crate) density: Vec<Real>,
+    /// Per instance: its given mass properties (`inertial`), which a mass factor scales
+    /// instead of the density.
+    pub(crate) given: Vec<Option<MassProperties>>,
     pub(crate) friction: Vec<Real>,
     /// Per DOF: the document's damping, and the gains resolved at build.
     pub(crate) damping: Vec<Real>,
@@ -75,6 +78,11 @@ impl RobotWorld {
                 }
             }
             if let Some(rb) = self.live.bodies.get_mut(body) {
+                if let Some(given) = &self.base.given[i] {
+                    let mut scaled = *given;
+                    scaled.set_mass(given.mass() * draws.mass[i] as Real, true);
+                    rb.set_additional_mass_properties(scaled, false);
+                }
                 rb.recompute_mass_properties_from_colliders(&self.live.colliders);
             }
         }

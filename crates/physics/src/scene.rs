@@ -27,6 +27,13 @@ pub enum SceneShape {
         /// Radius.
         radius: f32,
     },
+    /// A capsule centred on its frame's origin, its axis along the frame's y.
+    Capsule {
+        /// Radius.
+        radius: f32,
+        /// Half the length of the axis segment between the caps' centres.
+        half_segment: f32,
+    },
 }
 
 /// A part of the robot: an instance's shape placed in the world.
@@ -93,6 +100,14 @@ impl RobotWorld {
                     ShapeType::Ball => SceneShape::Ball {
                         radius: len(shape.as_ball().expect("a ball").radius),
                     },
+                    // Built along its frame's y (`capsule_y`), centred.
+                    ShapeType::Capsule => {
+                        let c = shape.as_capsule().expect("a capsule");
+                        SceneShape::Capsule {
+                            radius: len(c.radius),
+                            half_segment: len(c.half_height()),
+                        }
+                    }
                     _ => continue,
                 };
                 parts.push(to_part(instance, shape, co.position()));

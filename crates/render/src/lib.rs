@@ -10,7 +10,7 @@
 
 use gymfleet_env::{Scene, SceneShape};
 use rapier3d::math::{Rotation, Vector};
-use rapier3d::parry::shape::{Ball, Cuboid, Cylinder};
+use rapier3d::parry::shape::{Ball, Capsule, Cuboid, Cylinder};
 
 /// The largest width or height accepted, in pixels.
 pub const MAX_SIDE: u32 = 2048;
@@ -292,6 +292,10 @@ fn tessellate(scene: &Scene) -> Vec<Mesh> {
                     half_height,
                 } => Cylinder::new(half_height, radius).to_trimesh(32),
                 SceneShape::Ball { radius } => Ball::new(radius).to_trimesh(12, 24),
+                SceneShape::Capsule {
+                    radius,
+                    half_segment,
+                } => Capsule::new_y(half_segment, radius).to_trimesh(24, 8),
             };
             // Every shape is convex and centred on its frame: a face whose normal points
             // towards the centre is wound inwards.
