@@ -289,3 +289,32 @@ fn pictures_for_a_person() {
         }
     }
 }
+
+#[test]
+fn a_capsule_shows_its_projected_area() {
+    // The pendulum with a capsule arm (radius 2 mm, 40 mm long caps included): from the
+    // front, a 4 × 36 mm rectangle and two half discs of radius 2 mm.
+    let document = PENDULUM.replace(
+        r#"{ "type": "cube", "size": { "x": 4, "y": 4, "z": 40 } }"#,
+        r#"{ "type": "capsule", "radius": 2, "height": 40 }"#,
+    );
+    assert_ne!(document, PENDULUM, "the arm's primitive was replaced");
+    let scene = scene(&document);
+    assert!(scene
+        .parts
+        .iter()
+        .any(|p| matches!(p.shape, SceneShape::Capsule { .. })));
+    let camera = Camera {
+        preset: CameraPreset::Front,
+        orthographic: true,
+        ..Camera::default()
+    };
+    let frame = render(&scene, &camera, 640, 480).unwrap();
+    let mm = frame.mm_per_pixel.unwrap();
+    let expected = 4.0 * 36.0 + std::f32::consts::PI * 2.0 * 2.0;
+    let area = frame.coverage(1) as f32 * mm * mm;
+    assert!(
+        (area - expected).abs() / expected < 0.03,
+        "{area} mm² against {expected} mm²"
+    );
+}
