@@ -1,0 +1,64 @@
+//! Robot descriptions from elsewhere, converted into gymfleet's assembly JSON (PRODUCT.md
+//! §6.3), so that everything downstream (validation with paths, limits, tasks, batches,
+//! MCP) works unchanged on them.
+//!
+//! This crate owns the conversions and nothing else: it reads text (with `roxmltree`) and
+//! writes a JSON document; it knows nothing of physics or networks, and the document it
+//! writes still goes through `gymfleet_assembly::parse` like any other.
+//!
+//! Today: **MJCF** ([`mjcf_to_document`]) for the subset MuJoCo's classic models use —
+//! default classes, `compiler` angle units and `inertiafromgeom`, bodies with `pos` and
+//! `quat`/`euler`/`axisangle`, box/sphere/capsule/cylinder geoms with `size` or `fromto`,
+//! hinge/slide/ball joints (several per body), bodies without joints (welded), explicit
+//! `<inertial>`, `contype`/`conaffinity`, motors (`gear`, `ctrlrange` → `max_effort`;
+//! joints without a motor are passive). Everything else is an error naming the element and
+//! its line, or, when it has no effect on the dynamics, a warning. URDF and meshes are not
+//! converted yet.
+
+mod frame;
+mod mjcf;
+
+pub use mjcf::mjcf_to_document;
+
+/// A converted description: the assembly JSON and what the conversion left out.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Converted {
+    /// The gymfleet assembly document.
+    pub document: serde_json::Value,
+    /// Constructs without effect on the dynamics that were ignored (colours, cameras,
+    /// lights, the file's integrator choice …), one line each, with the line number.
+    pub warnings: Vec<String>,
+}
+
+/// Why a description could not be converted. Every error names the element and its line.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ImportError {
+    /// The text is not well-formed XML.
+    #[error("not well-formed XML: {0}")]
+    Xml(String),
+    /// A construct that matters to the dynamics and that gymfleet cannot express (yet).
+    #[error("line {line}: <{element}>: {reason}")]
+    Unsupported {
+        /// The element's name.
+        element: String,
+        /// Its line, from 1.
+        line: u32,
+        /// What is not supported, and what to do instead if anything.
+        reason: String,
+    },
+    /// A value that is missing or does not parse.
+    #[error("line {line}: <{element} {attribute}=…>: {reason}")]
+    BadAttribute {
+        /// The element's name.
+        element: String,
+        /// The attribute's name.
+        attribute: String,
+        /// Its line, from 1.
+        line: u32,
+        /// What was expected and what was found.
+        reason: String,
+    },
+}
+
+/// Result alias for this crate.
+pub type Result<T, E = ImportError> = std::result::Result<T, E>;

@@ -1,0 +1,1082 @@
+//! MJCF (MuJoCo's XML) → assembly JSON. See the crate documentation for the subset.
+//!
+//! The mapping: every geom becomes an instance (its own part, placed in world mm with the
+//! document's Euler angles); a body's first geom is the body's instance and its other geoms
+//! are welded to it with fixed joints. A body's joints connect its parent's instance to its
+//! instance, through helper instances (1 mg spheres that collide with nothing) when it has
+//! several; a body without joints is welded to its parent. The world's geoms are the
+//! grounded instance and parts welded to it. Masses come from the geoms (volume × density,
+//! as MuJoCo's `inertiafromgeom`), or from `<inertial>` on the body's instance.
+
+use std::collections::{HashMap, HashSet};
+
+use glam::{DMat3, DQuat, DVec3};
+use roxmltree::Node;
+use serde_json::{json, Map, Value};
+
+use crate::frame::{euler_xyz_degrees, z_onto, Frame};
+use crate::{Converted, ImportError, Result};
+
+/// Millimetres per metre.
+const MM: f64 = 1000.0;
+/// The mass of the helper instances the conversion adds (kg): between two joints of one
+/// body, or for a body without geoms; small beside any real link, large enough for the
+/// solver.
+const HELPER_MASS: f64 = 1e-6;
+/// A helper instance's radius (mm).
+const HELPER_RADIUS: f64 = 1.0;
+/// MuJoCo's default geom density, kg/m³.
+const DEFAULT_DENSITY: f64 = 1000.0;
+
+/// Converts an MJCF document into gymfleet's assembly JSON.
+pub fn mjcf_to_document(xml: &str) -> Result<Converted> {
+    let doc = roxmltree::Document::parse(xml).map_err(|e| ImportError::Xml(e.to_string()))?;
+    let root = doc.root_element();
+    let mut c = Converter::new(&doc);
+    if root.tag_name().name() != "mujoco" {
+        return Err(c.unsupported(root, "the root element must be <mujoco>".into()));
+    }
+    // Settings first: they change how the rest reads.
+    for child in elements(root) {
+        match child.tag_name().name() {
+            "compiler" => c.compiler(child)?,
+            "default" => c.defaults(child, None)?,
+            _ => {}
+        }
+    }
+    for child in elements(root) {
+        match child.tag_name().name() {
+            "compiler" | "default" | "worldbody" => {}
+            "option" => c.option(child)?,
+            "actuator" => c.actuators(child)?,
+            "size" | "visual" | "statistic" | "keyframe" | "sensor" | "custom" => {
+                c.warn(child, "ignored (no effect on the dynamics)".into());
+            }
+            "asset" => c.assets(child)?,
+            "tendon" | "contact" | "equality" if elements(child).next().is_none() => {
+                c.warn(child, "empty, ignored".into());
+            }
+            other => return Err(c.unsupported(child, format!("<{other}> is not supported yet"))),
+        }
+    }
+    let world = elements(root)
+        .find(|n| n.tag_name().name() == "worldbody")
+        .ok_or_else(|| c.unsupported(root, "no <worldbody>".into()))?;
+    c.worldbody(world)?;
+    c.finish()
+}
+
+/// The element children of `node`.
+fn elements<'a, 'i>(node: Node<'a, 'i>) -> impl Iterator<Item = Node<'a, 'i>> {
+    node.children().filter(Node::is_element)
+}
+
+/// How a body's mass is found (`compiler inertiafromgeom`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum InertiaFromGeom {
+    /// From `<inertial>` where a body has one, else from its geoms (MuJoCo's default).
+    Auto,
+    /// Always from the geoms.
+    True,
+    /// Always from `<inertial>`.
+    False,
+}
+
+/// One default class: its parent and its attributes per element kind.
+#[derive(Debug, Default)]
+struct Class<'a> {
+    parent: Option<String>,
+    attributes: HashMap<&'a str, HashMap<&'a str, &'a str>>,
+}
+
+/// A motor's effect on its joint.
+#[derive(Debug, Clone, Copy)]
+struct Motor {
+    /// Effort bound, N·m or N, if the motor bounds it.
+    max_effort: Option<f64>,
+    /// The motor's position among the actuators.
+    order: usize,
+    /// Its line.
+    line: u32,
+}
+
+struct Converter<'a, 'i> {
+    doc: &'a roxmltree::Document<'i>,
+    radian: bool,
+    inertia_from_geom: InertiaFromGeom,
+    classes: HashMap<String, Class<'a>>,
+    warnings: Vec<String>,
+    warned: HashSet<String>,
+    motors: HashMap<String, Motor>,
+    parts: Vec<Value>,
+    materials: Map<String, Value>,
+    instances: Vec<Value>,
+    joints: Vec<Value>,
+    names: HashSet<String>,
+    joint_names: HashSet<String>,
+    /// Joint names with a DOF, in document (tree) order.
+    moving_joints: Vec<String>,
+}
+
+impl<'a, 'i> Converter<'a, 'i> {
+    fn new(doc: &'a roxmltree::Document<'i>) -> Self {
+        Converter {
+            doc,
+            radian: false,
+            inertia_from_geom: InertiaFromGeom::Auto,
+            classes: HashMap::new(),
+            warnings: Vec::new(),
+            warned: HashSet::new(),
+            motors: HashMap::new(),
+            parts: Vec::new(),
+            materials: Map::new(),
+            instances: Vec::new(),
+            joints: Vec::new(),
+            names: HashSet::new(),
+            joint_names: HashSet::new(),
+            moving_joints: Vec::new(),
+        }
+    }
+
+    fn line(&self, node: Node<'_, '_>) -> u32 {
+        self.doc.text_pos_at(node.range().start).row
+    }
+
+    fn unsupported(&self, node: Node<'_, '_>, reason: String) -> ImportError {
+        ImportError::Unsupported {
+            element: node.tag_name().name().to_string(),
+            line: self.line(node),
+            reason,
+        }
+    }
+
+    fn bad(&self, node: Node<'_, '_>, attribute: &str, reason: String) -> ImportError {
+        ImportError::BadAttribute {
+            element: node.tag_name().name().to_string(),
+            attribute: attribute.to_string(),
+            line: self.line(node),
+            reason,
+        }
+    }
+
+    /// A warning, once per element kind and message.
+    fn warn(&mut self, node: Node<'_, '_>, what: String) {
+        let tag = node.tag_name().name();
+        if self.warned.insert(format!("{tag} {what}")) {
+            self.warnings
+                .push(format!("line {}: <{tag}> {what}", self.line(node)));
+        }
+    }
+
+    // --- attributes, with default classes ---------------------------------------------
+
+    /// `node`'s attribute `name`, or its class chain's (`class` attribute, else the
+    /// enclosing `childclass`, else the top-level default).
+    fn attr(&self, node: Node<'a, 'i>, class: Option<&str>, name: &str) -> Option<&'a str> {
+        if let Some(v) = node.attribute(name) {
+            return Some(v);
+        }
+        let tag = node.tag_name().name();
+        let mut current = node
+            .attribute("class")
+            .map(str::to_string)
+            .or_else(|| class.map(str::to_string))
+            .or_else(|| Some("main".to_string()));
+        while let Some(name_of_class) = current {
+            let class = self.classes.get(&name_of_class)?;
+            if let Some(v) = class.attributes.get(tag).and_then(|a| a.get(name)) {
+                return Some(v);
+            }
+            current = class.parent.clone();
+        }
+        None
+    }
+
+    fn numbers(
+        &self,
+        node: Node<'a, 'i>,
+        class: Option<&str>,
+        name: &str,
+    ) -> Result<Option<Vec<f64>>> {
+        let Some(text) = self.attr(node, class, name) else {
+            return Ok(None);
+        };
+        text.split_whitespace()
+            .map(|t| {
+                t.parse::<f64>()
+                    .ok()
+                    .filter(|v| v.is_finite())
+                    .ok_or_else(|| {
+                        self.bad(node, name, format!("expected finite numbers, got {text:?}"))
+                    })
+            })
+            .collect::<Result<Vec<_>>>()
+            .map(Some)
+    }
+
+    /// Exactly `n` numbers, if the attribute is there.
+    fn exactly<const N: usize>(
+        &self,
+        node: Node<'a, 'i>,
+        class: Option<&str>,
+        name: &str,
+    ) -> Result<Option<[f64; N]>> {
+        match self.numbers(node, class, name)? {
+            None => Ok(None),
+            Some(v) => v.clone().try_into().map(Some).map_err(|_| {
+                self.bad(node, name, format!("expected {N} numbers, got {}", v.len()))
+            }),
+        }
+    }
+
+    fn number(&self, node: Node<'a, 'i>, class: Option<&str>, name: &str) -> Result<Option<f64>> {
+        Ok(self.exactly::<1>(node, class, name)?.map(|[v]| v))
+    }
+
+    fn flag(&self, node: Node<'a, 'i>, class: Option<&str>, name: &str) -> Result<Option<bool>> {
+        match self.attr(node, class, name) {
+            None | Some("auto") => Ok(None),
+            Some("true") => Ok(Some(true)),
+            Some("false") => Ok(Some(false)),
+            Some(other) => Err(self.bad(
+                node,
+                name,
+                format!("expected true, false or auto, got {other:?}"),
+            )),
+        }
+    }
+
+    fn int(
+        &self,
+        node: Node<'a, 'i>,
+        class: Option<&str>,
+        name: &str,
+        default: u32,
+    ) -> Result<u32> {
+        match self.attr(node, class, name) {
+            None => Ok(default),
+            Some(t) => t.trim().parse::<u32>().map_err(|_| {
+                self.bad(
+                    node,
+                    name,
+                    format!("expected a non-negative integer, got {t:?}"),
+                )
+            }),
+        }
+    }
+
+    fn angle(&self, value: f64) -> f64 {
+        if self.radian {
+            value
+        } else {
+            value.to_radians()
+        }
+    }
+
+    // --- settings ------------------------------------------------------------------------
+
+    fn compiler(&mut self, node: Node<'a, 'i>) -> Result<()> {
+        for a in node.attributes() {
+            match (a.name(), a.value()) {
+                ("angle", "radian") => self.radian = true,
+                ("angle", "degree") => self.radian = false,
+                ("inertiafromgeom", "true") => self.inertia_from_geom = InertiaFromGeom::True,
+                ("inertiafromgeom", "false") => self.inertia_from_geom = InertiaFromGeom::False,
+                ("inertiafromgeom", "auto") => self.inertia_from_geom = InertiaFromGeom::Auto,
+                ("eulerseq", "xyz") | ("coordinate", "local") | ("autolimits", "true") => {}
+                ("meshdir" | "texturedir" | "assetdir" | "discardvisual" | "strippath", _) => {}
+                (name @ ("angle" | "inertiafromgeom"), value) => {
+                    return Err(self.bad(node, name, format!("unexpected value {value:?}")))
+                }
+                (name, value) => {
+                    return Err(
+                        self.unsupported(node, format!("{name}=\"{value}\" is not supported yet"))
+                    )
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn defaults(&mut self, node: Node<'a, 'i>, parent: Option<&str>) -> Result<()> {
+        let name = match (node.attribute("class"), parent) {
+            (Some(n), _) => n.to_string(),
+            (None, None) => "main".to_string(),
+            (None, Some(_)) => {
+                return Err(self.bad(
+                    node,
+                    "class",
+                    "a nested <default> needs a class name".into(),
+                ))
+            }
+        };
+        let mut class = Class {
+            parent: parent.map(str::to_string),
+            attributes: HashMap::new(),
+        };
+        for child in elements(node) {
+            let tag = child.tag_name().name();
+            if tag == "default" {
+                continue;
+            }
+            let map = class.attributes.entry(tag).or_default();
+            for a in child.attributes() {
+                map.insert(a.name(), a.value());
+            }
+        }
+        self.classes.insert(name.clone(), class);
+        for child in elements(node).filter(|c| c.tag_name().name() == "default") {
+            self.defaults(child, Some(&name))?;
+        }
+        Ok(())
+    }
+
+    fn option(&mut self, node: Node<'a, 'i>) -> Result<()> {
+        if let Some(g) = self.exactly::<3>(node, None, "gravity")? {
+            if g != [0.0, 0.0, -9.81] {
+                return Err(self.unsupported(
+                    node,
+                    format!("gravity {g:?} is not supported yet (gymfleet's is 0 0 -9.81)"),
+                ));
+            }
+        }
+        if let Some(t) = node.attribute("timestep") {
+            self.warn(
+                node,
+                format!(
+                    "timestep {t} s not applied: an env step is the request's dt (default 1/240 s) \
+                     in substeps; ask for dt = {t} to step as this model does"
+                ),
+            );
+        }
+        for a in node.attributes() {
+            if !matches!(a.name(), "timestep" | "gravity") {
+                self.warn(node, format!("{}=\"{}\" ignored", a.name(), a.value()));
+            }
+        }
+        if elements(node).next().is_some() {
+            self.warn(node, "its flags are ignored".into());
+        }
+        Ok(())
+    }
+
+    fn assets(&mut self, node: Node<'a, 'i>) -> Result<()> {
+        for child in elements(node) {
+            match child.tag_name().name() {
+                "texture" | "material" => self.warn(child, "ignored (appearance only)".into()),
+                "mesh" | "hfield" | "skin" => {
+                    return Err(self.unsupported(child, "meshes are not converted yet".into()))
+                }
+                other => {
+                    return Err(self.unsupported(child, format!("<{other}> is not supported yet")))
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn actuators(&mut self, node: Node<'a, 'i>) -> Result<()> {
+        for (order, motor) in elements(node).enumerate() {
+            if motor.tag_name().name() != "motor" {
+                return Err(self.unsupported(
+                    motor,
+                    "only <motor> actuators are supported (a torque or force at a joint)".into(),
+                ));
+            }
+            let Some(joint) = self.attr(motor, None, "joint") else {
+                return Err(self.unsupported(
+                    motor,
+                    "a motor must drive a joint (tendon, site and body transmissions are not supported)".into(),
+                ));
+            };
+            let gear = self
+                .numbers(motor, None, "gear")?
+                .and_then(|g| g.first().copied())
+                .unwrap_or(1.0);
+            let bound = |range: Option<[f64; 2]>, limited: Option<bool>| match (range, limited) {
+                (Some([lo, hi]), Some(true) | None) if lo < hi => Some(lo.abs().max(hi.abs())),
+                _ => None,
+            };
+            let ctrl = bound(
+                self.exactly::<2>(motor, None, "ctrlrange")?,
+                self.flag(motor, None, "ctrllimited")?,
+            )
+            .map(|c| c * gear.abs());
+            let force = bound(
+                self.exactly::<2>(motor, None, "forcerange")?,
+                self.flag(motor, None, "forcelimited")?,
+            );
+            let max_effort = match (ctrl, force) {
+                (Some(a), Some(b)) => Some(a.min(b)),
+                (a, b) => a.or(b),
+            }
+            .filter(|e| *e > 0.0);
+            if gear != 1.0 {
+                self.warn(
+                    motor,
+                    "gear is folded into max_effort: actions are joint torques (N·m) or forces (N), \
+                     not MuJoCo's ctrl"
+                        .into(),
+                );
+            }
+            let line = self.line(motor);
+            if self
+                .motors
+                .insert(
+                    joint.to_string(),
+                    Motor {
+                        max_effort,
+                        order,
+                        line,
+                    },
+                )
+                .is_some()
+            {
+                return Err(self.unsupported(motor, format!("joint {joint:?} has a second motor")));
+            }
+        }
+        Ok(())
+    }
+
+    // --- the tree ----------------------------------------------------------------------------
+
+    fn unique(&mut self, wanted: &str) -> String {
+        let mut name = wanted.to_string();
+        let mut k = 2;
+        while !self.names.insert(name.clone()) {
+            name = format!("{wanted}_{k}");
+            k += 1;
+        }
+        name
+    }
+
+    fn worldbody(&mut self, world: Node<'a, 'i>) -> Result<()> {
+        let mut world_instance: Option<String> = None;
+        // The world's geoms first: the first of them is the grounded instance.
+        for geom in elements(world).filter(|n| n.tag_name().name() == "geom") {
+            if let Some(name) = self.geom(geom, &Frame::IDENTITY, None, "world", None)? {
+                match &world_instance {
+                    None => world_instance = Some(name),
+                    Some(ground) => self.weld(ground.clone(), name),
+                }
+            }
+        }
+        let ground = match world_instance {
+            Some(g) => g,
+            None => self.helper("world", &Frame::IDENTITY),
+        };
+        for child in elements(world) {
+            match child.tag_name().name() {
+                "geom" => {}
+                "body" => self.body(child, &Frame::IDENTITY, &ground, None)?,
+                "light" | "camera" | "site" => {
+                    self.warn(child, "ignored (no effect on the dynamics)".into())
+                }
+                other => {
+                    return Err(self.unsupported(
+                        child,
+                        format!("<{other}> in <worldbody> is not supported yet"),
+                    ))
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// A frame from `pos` and one of `quat`, `euler`, `axisangle` (MuJoCo's defaults).
+    fn local_frame(&self, node: Node<'a, 'i>, class: Option<&str>) -> Result<Frame> {
+        let p = self.exactly::<3>(node, class, "pos")?.unwrap_or([0.0; 3]);
+        let given: Vec<&str> = ["quat", "euler", "axisangle", "xyaxes", "zaxis"]
+            .into_iter()
+            .filter(|a| node.attribute(*a).is_some())
+            .collect();
+        if given.len() > 1 {
+            return Err(self.bad(
+                node,
+                given[1],
+                format!("an orientation is given twice ({})", given.join(", ")),
+            ));
+        }
+        let rotation = match given.first().copied() {
+            None => DQuat::IDENTITY,
+            Some("quat") => {
+                let [w, x, y, z] = self
+                    .exactly::<4>(node, class, "quat")?
+                    .unwrap_or([1.0, 0.0, 0.0, 0.0]);
+                let q = DQuat::from_xyzw(x, y, z, w);
+                if q.length() < 1e-9 {
+                    return Err(self.bad(
+                        node,
+                        "quat",
+                        "the zero quaternion is no rotation".into(),
+                    ));
+                }
+                q.normalize()
+            }
+            Some("euler") => {
+                // MuJoCo's default eulerseq "xyz": intrinsic x, then y, then z.
+                let [a, b, c] = self.exactly::<3>(node, class, "euler")?.unwrap_or([0.0; 3]);
+                DQuat::from_rotation_x(self.angle(a))
+                    * DQuat::from_rotation_y(self.angle(b))
+                    * DQuat::from_rotation_z(self.angle(c))
+            }
+            Some("axisangle") => {
+                let [x, y, z, angle] = self
+                    .exactly::<4>(node, class, "axisangle")?
+                    .unwrap_or([0.0, 0.0, 1.0, 0.0]);
+                let axis = DVec3::new(x, y, z);
+                if axis.length() < 1e-12 {
+                    return Err(self.bad(node, "axisangle", "the axis is the zero vector".into()));
+                }
+                DQuat::from_axis_angle(axis.normalize(), self.angle(angle))
+            }
+            Some("zaxis") => {
+                let [x, y, z] = self
+                    .exactly::<3>(node, class, "zaxis")?
+                    .unwrap_or([0.0, 0.0, 1.0]);
+                let axis = DVec3::new(x, y, z);
+                if axis.length() < 1e-12 {
+                    return Err(self.bad(node, "zaxis", "the axis is the zero vector".into()));
+                }
+                z_onto(axis.normalize())
+            }
+            Some(other) => {
+                return Err(
+                    self.unsupported(node, format!("{other} orientations are not supported yet"))
+                )
+            }
+        };
+        Ok(Frame {
+            translation: DVec3::from_array(p),
+            rotation,
+        })
+    }
+
+    /// A helper instance: a small sphere of `HELPER_MASS` that collides with nothing.
+    fn helper(&mut self, wanted: &str, at: &Frame) -> String {
+        let name = self.unique(wanted);
+        self.parts.push(json!({
+            "name": name,
+            "primitive": {"type": "sphere", "radius": HELPER_RADIUS}
+        }));
+        let p = at.translation * MM;
+        self.instances.push(json!({
+            "part": name, "name": name,
+            "position": {"x": p.x, "y": p.y, "z": p.z},
+            "collision": {"group": 0, "mask": 0},
+            "inertial": {"mass": HELPER_MASS}
+        }));
+        name
+    }
+
+    fn joint_name(&mut self, wanted: &str) -> String {
+        let mut name = wanted.to_string();
+        let mut k = 2;
+        while !self.joint_names.insert(name.clone()) {
+            name = format!("{wanted}_{k}");
+            k += 1;
+        }
+        name
+    }
+
+    fn weld(&mut self, parent: String, child: String) {
+        let name = self.joint_name(&format!("{child}_weld"));
+        self.joints
+            .push(json!({"type": "fixed", "name": name, "parent": parent, "child": child}));
+    }
+
+    /// One body, its geoms, joints and children. `parent` is the instance it hangs from.
+    fn body(
+        &mut self,
+        node: Node<'a, 'i>,
+        parent_frame: &Frame,
+        parent: &str,
+        class: Option<&str>,
+    ) -> Result<()> {
+        let body_name = node.attribute("name").unwrap_or("body").to_string();
+        let class_owned = node
+            .attribute("childclass")
+            .map(str::to_string)
+            .or(class.map(str::to_string));
+        let class = class_owned.as_deref();
+        for (attr, ok) in [("mocap", "false"), ("gravcomp", "0")] {
+            if let Some(v) = node.attribute(attr) {
+                if v != ok {
+                    return Err(
+                        self.unsupported(node, format!("{attr}=\"{v}\" is not supported yet"))
+                    );
+                }
+            }
+        }
+        let frame = parent_frame.then(&self.local_frame(node, None)?);
+        let inertial = elements(node).find(|n| n.tag_name().name() == "inertial");
+        let use_inertial = match (self.inertia_from_geom, inertial) {
+            (InertiaFromGeom::True, Some(i)) => {
+                self.warn(
+                    i,
+                    "ignored: compiler inertiafromgeom=\"true\" takes masses from the geoms".into(),
+                );
+                false
+            }
+            (InertiaFromGeom::False, None) => {
+                return Err(self.unsupported(
+                    node,
+                    "inertiafromgeom=\"false\" and no <inertial>: the body has no mass".into(),
+                ))
+            }
+            (_, i) => i.is_some(),
+        };
+
+        // Geoms: the first is the body's instance, the others are welded to it.
+        let mut main: Option<String> = None;
+        for geom in elements(node).filter(|n| n.tag_name().name() == "geom") {
+            let given = if use_inertial {
+                Some(HELPER_MASS)
+            } else {
+                None
+            };
+            let Some(name) = self.geom(geom, &frame, class, &body_name, given)? else {
+                continue;
+            };
+            match &main {
+                None => main = Some(name),
+                Some(m) => self.weld(m.clone(), name),
+            }
+        }
+        let main = match main {
+            Some(m) => m,
+            None => {
+                if !use_inertial {
+                    self.warn(
+                        node,
+                        "a body without geoms or <inertial> gets a 1 mg helper mass".into(),
+                    );
+                }
+                self.helper(&body_name, &frame)
+            }
+        };
+        if let Some(i) = inertial.filter(|_| use_inertial) {
+            self.inertial(i, &frame, &main)?;
+        }
+
+        // Joints: parent → (helpers) → the body's instance.
+        let joints: Vec<Node<'a, 'i>> = elements(node)
+            .filter(|n| matches!(n.tag_name().name(), "joint" | "freejoint"))
+            .collect();
+        if joints.is_empty() {
+            self.weld(parent.to_string(), main.clone());
+        }
+        let mut from = parent.to_string();
+        for (k, joint) in joints.iter().enumerate() {
+            let to = if k + 1 == joints.len() {
+                main.clone()
+            } else {
+                self.helper(&format!("{body_name}_dof{}", k + 1), &frame)
+            };
+            self.joint(*joint, &frame, class, &body_name, &from, &to)?;
+            from = to;
+        }
+
+        for child in elements(node) {
+            match child.tag_name().name() {
+                "geom" | "joint" | "freejoint" | "inertial" => {}
+                "body" => self.body(child, &frame, &main, class)?,
+                "site" | "camera" | "light" => {
+                    self.warn(child, "ignored (no effect on the dynamics)".into())
+                }
+                other => {
+                    return Err(self
+                        .unsupported(child, format!("<{other}> in <body> is not supported yet")))
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn joint(
+        &mut self,
+        node: Node<'a, 'i>,
+        body: &Frame,
+        class: Option<&str>,
+        body_name: &str,
+        parent: &str,
+        child: &str,
+    ) -> Result<()> {
+        let kind = if node.tag_name().name() == "freejoint" {
+            "free"
+        } else {
+            self.attr(node, class, "type").unwrap_or("hinge")
+        };
+        let our = match kind {
+            "hinge" => "revolute",
+            "slide" => "prismatic",
+            "ball" => "ball",
+            "free" => {
+                return Err(self.unsupported(
+                    node,
+                    "a free joint (floating base) is not supported yet".into(),
+                ))
+            }
+            other => return Err(self.bad(node, "type", format!("unknown joint type {other:?}"))),
+        };
+        for (attr, what) in [
+            ("stiffness", "joint springs"),
+            ("frictionloss", "joint friction"),
+        ] {
+            if self.number(node, class, attr)?.is_some_and(|v| v != 0.0) {
+                return Err(self.unsupported(node, format!("{attr} ({what}) is not supported yet")));
+            }
+        }
+        if self.number(node, class, "ref")?.is_some_and(|v| v != 0.0) {
+            self.warn(
+                node,
+                "ref ignored: positions are measured from the model's pose (MuJoCo's qpos adds ref)".into(),
+            );
+        }
+        let pos = DVec3::from_array(self.exactly::<3>(node, class, "pos")?.unwrap_or([0.0; 3]));
+        let axis = DVec3::from_array(
+            self.exactly::<3>(node, class, "axis")?
+                .unwrap_or([0.0, 0.0, 1.0]),
+        );
+        if our != "ball" && axis.length() < 1e-12 {
+            return Err(self.bad(node, "axis", "the axis is the zero vector".into()));
+        }
+        let anchor = body.point(pos) * MM;
+        let name = node
+            .attribute("name")
+            .map_or_else(|| format!("{body_name}_joint"), str::to_string);
+        let name = self.joint_name(&name);
+        let mut j = Map::new();
+        j.insert("type".into(), json!(our));
+        j.insert("name".into(), json!(name));
+        j.insert("parent".into(), json!(parent));
+        j.insert("child".into(), json!(child));
+        j.insert(
+            "anchor".into(),
+            json!({"x": anchor.x, "y": anchor.y, "z": anchor.z}),
+        );
+        if our != "ball" {
+            let a = body.direction(axis.normalize());
+            j.insert("axis".into(), json!({"x": a.x, "y": a.y, "z": a.z}));
+        }
+        let range = self.exactly::<2>(node, class, "range")?;
+        let limited = self.flag(node, class, "limited")?;
+        if let (Some([lo, hi]), Some(true) | None) = (range, limited) {
+            if our == "ball" {
+                return Err(self.unsupported(
+                    node,
+                    "a ball joint's range (a cone) is not supported yet".into(),
+                ));
+            }
+            if lo < hi {
+                let (lo, hi) = if our == "revolute" {
+                    (self.angle(lo).to_degrees(), self.angle(hi).to_degrees())
+                } else {
+                    (lo * MM, hi * MM)
+                };
+                j.insert("min".into(), json!(lo));
+                j.insert("max".into(), json!(hi));
+            } else if limited == Some(true) {
+                return Err(self.bad(
+                    node,
+                    "range",
+                    format!("a limited joint needs min < max, got {lo} {hi}"),
+                ));
+            }
+        } else if limited == Some(true) {
+            return Err(self.bad(node, "range", "limited=\"true\" without a range".into()));
+        }
+        if let Some(d) = self.number(node, class, "damping")?.filter(|d| *d != 0.0) {
+            j.insert("damping".into(), json!(d));
+        }
+        if let Some(a) = self.number(node, class, "armature")?.filter(|a| *a != 0.0) {
+            j.insert("armature".into(), json!(a));
+        }
+        match self.motors.get(&name).copied() {
+            Some(motor) => {
+                if let Some(e) = motor.max_effort {
+                    j.insert("max_effort".into(), json!(e));
+                }
+            }
+            None => {
+                j.insert("actuated".into(), json!(false));
+            }
+        }
+        self.moving_joints.push(name);
+        self.joints.push(Value::Object(j));
+        Ok(())
+    }
+
+    /// `<inertial>`: given mass properties on the body's instance, in its frame.
+    fn inertial(&mut self, node: Node<'a, 'i>, body: &Frame, instance: &str) -> Result<()> {
+        let mass = self
+            .number(node, None, "mass")?
+            .ok_or_else(|| self.bad(node, "mass", "missing".into()))?;
+        let local = self.local_frame(node, None)?;
+        let world = body.then(&local);
+        let principal = match (
+            self.exactly::<3>(node, None, "diaginertia")?,
+            self.exactly::<6>(node, None, "fullinertia")?,
+        ) {
+            (Some(d), None) => DMat3::from_diagonal(DVec3::from_array(d)),
+            (None, Some([xx, yy, zz, xy, xz, yz])) => {
+                DMat3::from_cols_array(&[xx, xy, xz, xy, yy, yz, xz, yz, zz])
+            }
+            _ => {
+                return Err(self.bad(
+                    node,
+                    "diaginertia",
+                    "expected one of diaginertia or fullinertia".into(),
+                ))
+            }
+        };
+        // Into the instance's frame: position and axes.
+        let index = self
+            .instances
+            .iter()
+            .position(|i| i["name"] == instance)
+            .expect("the body's instance exists");
+        let inst = &self.instances[index];
+        let num = |v: &Value| v.as_f64().unwrap_or(0.0);
+        let p = &inst["position"];
+        let r = &inst["rotation"];
+        let inst_rot = DQuat::from_rotation_z(num(&r["z"]).to_radians())
+            * DQuat::from_rotation_y(num(&r["y"]).to_radians())
+            * DQuat::from_rotation_x(num(&r["x"]).to_radians());
+        let inst_frame = Frame {
+            translation: DVec3::new(num(&p["x"]), num(&p["y"]), num(&p["z"])) / MM,
+            rotation: inst_rot,
+        };
+        let com = inst_rot.inverse() * (world.translation - inst_frame.translation) * MM;
+        let relative = DMat3::from_quat(inst_rot.inverse() * world.rotation);
+        let inertia = relative * principal * relative.transpose();
+        let c = inertia.to_cols_array_2d();
+        self.instances[index]["inertial"] = json!({
+            "mass": mass,
+            "center_of_mass": {"x": com.x, "y": com.y, "z": com.z},
+            "inertia": {"xx": c[0][0], "yy": c[1][1], "zz": c[2][2], "xy": c[1][0], "xz": c[2][0], "yz": c[2][1]}
+        });
+        Ok(())
+    }
+
+    /// One geom as an instance; `None` for a plane that collides with nothing (dropped).
+    /// `given_mass`: the body's mass comes from `<inertial>`; the geom then weighs this.
+    fn geom(
+        &mut self,
+        node: Node<'a, 'i>,
+        body: &Frame,
+        class: Option<&str>,
+        body_name: &str,
+        given_mass: Option<f64>,
+    ) -> Result<Option<String>> {
+        let kind = self.attr(node, class, "type").unwrap_or("sphere");
+        let contype = self.int(node, class, "contype", 1)?;
+        let conaffinity = self.int(node, class, "conaffinity", 1)?;
+        let size = self.numbers(node, class, "size")?.unwrap_or_default();
+        let fromto = self.exactly::<6>(node, class, "fromto")?;
+        let size_at = |k: usize, what: &str| -> Result<f64> {
+            size.get(k).copied().filter(|v| *v > 0.0).ok_or_else(|| {
+                self.bad(
+                    node,
+                    "size",
+                    format!("a {kind} needs a positive {what} (size[{k}])"),
+                )
+            })
+        };
+        // The geom's frame in the body; `fromto` gives the centre and the z axis.
+        let (local, half_length) = match fromto {
+            Some(f) if matches!(kind, "capsule" | "cylinder") => {
+                let (a, b) = (DVec3::new(f[0], f[1], f[2]), DVec3::new(f[3], f[4], f[5]));
+                let axis = b - a;
+                if axis.length() < 1e-12 {
+                    return Err(self.bad(node, "fromto", "the two ends are the same point".into()));
+                }
+                (
+                    Frame {
+                        translation: (a + b) / 2.0,
+                        rotation: z_onto(axis.normalize()),
+                    },
+                    Some(axis.length() / 2.0),
+                )
+            }
+            Some(_) => {
+                return Err(
+                    self.unsupported(node, format!("fromto on a {kind} is not supported yet"))
+                )
+            }
+            None => (self.local_frame(node, class)?, None),
+        };
+        let world = body.then(&local);
+        let (primitive, corner) = match kind {
+            "plane" => {
+                if contype == 0 && conaffinity == 0 {
+                    self.warn(node, "a plane that collides with nothing: dropped".into());
+                    return Ok(None);
+                }
+                return Err(self.unsupported(
+                    node,
+                    "a plane that collides (a ground) is not supported yet".into(),
+                ));
+            }
+            "sphere" => {
+                let r = size_at(0, "radius")?;
+                (json!({"type": "sphere", "radius": r * MM}), DVec3::ZERO)
+            }
+            "capsule" | "cylinder" => {
+                let r = size_at(0, "radius")?;
+                let half = match half_length {
+                    Some(h) => h,
+                    None => size_at(1, "half-length")?,
+                };
+                if kind == "capsule" {
+                    (
+                        json!({"type": "capsule", "radius": r * MM, "height": 2.0 * (half + r) * MM}),
+                        DVec3::new(0.0, 0.0, half + r),
+                    )
+                } else {
+                    (
+                        json!({"type": "cylinder", "radius": r * MM, "height": 2.0 * half * MM}),
+                        DVec3::new(0.0, 0.0, half),
+                    )
+                }
+            }
+            "box" => {
+                let h = DVec3::new(
+                    size_at(0, "x half-size")?,
+                    size_at(1, "y half-size")?,
+                    size_at(2, "z half-size")?,
+                );
+                (
+                    json!({"type": "cube", "size": {"x": 2.0 * h.x * MM, "y": 2.0 * h.y * MM, "z": 2.0 * h.z * MM}}),
+                    h,
+                )
+            }
+            "mesh" | "hfield" | "sdf" => {
+                return Err(self.unsupported(node, format!("{kind} geoms are not converted yet")))
+            }
+            other => {
+                return Err(self.unsupported(node, format!("{other} geoms are not supported yet")))
+            }
+        };
+        // Our primitives start at a corner (box) or their base (cylinder, capsule).
+        let origin = world.point(-corner) * MM;
+        let rotation = euler_xyz_degrees(world.rotation);
+        let name = match node.attribute("name") {
+            Some(n) => self.unique(n),
+            None => self.unique(&format!("{body_name}_geom")),
+        };
+        for attr in [
+            "condim", "solref", "solimp", "margin", "gap", "priority", "solmix",
+        ] {
+            if self.attr(node, class, attr).is_some() {
+                self.warn(node, format!("{attr} ignored (gymfleet's contact model)"));
+            }
+        }
+        let friction = self
+            .numbers(node, class, "friction")?
+            .and_then(|f| f.first().copied());
+        let mut material = Map::new();
+        if let Some(f) = friction {
+            material.insert("friction".into(), json!(f));
+        }
+        let mut instance = Map::new();
+        instance.insert("part".into(), json!(name));
+        instance.insert("name".into(), json!(name));
+        instance.insert(
+            "position".into(),
+            json!({"x": origin.x, "y": origin.y, "z": origin.z}),
+        );
+        instance.insert(
+            "rotation".into(),
+            json!({"x": rotation[0], "y": rotation[1], "z": rotation[2]}),
+        );
+        if (contype, conaffinity) != (1, 1) {
+            instance.insert(
+                "collision".into(),
+                json!({"group": contype, "mask": conaffinity}),
+            );
+        }
+        match (
+            given_mass,
+            self.number(node, class, "mass")?,
+            self.number(node, class, "density")?,
+        ) {
+            (Some(m), _, _) => {
+                instance.insert("inertial".into(), json!({"mass": m}));
+            }
+            (None, Some(m), _) => {
+                if m <= 0.0 {
+                    return Err(self.bad(
+                        node,
+                        "mass",
+                        format!("expected a positive mass, got {m}"),
+                    ));
+                }
+                instance.insert("inertial".into(), json!({"mass": m}));
+            }
+            (None, None, Some(d)) if d != DEFAULT_DENSITY => {
+                material.insert("density".into(), json!(d));
+            }
+            _ => {}
+        }
+        if !material.is_empty() {
+            instance.insert("material".into(), json!(name));
+        }
+        self.parts
+            .push(json!({"name": name, "primitive": primitive}));
+        if !material.is_empty() {
+            self.materials.insert(name.clone(), Value::Object(material));
+        }
+        self.instances.push(Value::Object(instance));
+        Ok(Some(name))
+    }
+
+    fn finish(mut self) -> Result<Converted> {
+        let materials = std::mem::take(&mut self.materials);
+        // Motors name joints that exist.
+        let known: HashSet<&String> = self.moving_joints.iter().collect();
+        let mut unknown: Vec<(&String, &Motor)> = self
+            .motors
+            .iter()
+            .filter(|(j, _)| !known.contains(j))
+            .collect();
+        unknown.sort_by_key(|(_, m)| m.order);
+        if let Some((j, m)) = unknown.first() {
+            return Err(ImportError::BadAttribute {
+                element: "motor".into(),
+                attribute: "joint".into(),
+                line: m.line,
+                reason: format!("no hinge, slide or ball joint is named {j:?}"),
+            });
+        }
+        // Actions follow the joints' order; say so when the actuators are in another.
+        let mut by_actuator: Vec<(&String, usize)> = self
+            .moving_joints
+            .iter()
+            .filter_map(|j| self.motors.get(j).map(|m| (j, m.order)))
+            .collect();
+        let tree_order: Vec<&String> = by_actuator.iter().map(|(j, _)| *j).collect();
+        by_actuator.sort_by_key(|(_, o)| *o);
+        if by_actuator.iter().map(|(j, _)| *j).collect::<Vec<_>>() != tree_order {
+            self.warnings.push(format!(
+                "actions follow the joints' order ({}), not the actuators' order",
+                tree_order
+                    .iter()
+                    .map(|j| j.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ));
+        }
+        let mut document = json!({
+            "parts": self.parts,
+            "assembly": {"instances": self.instances, "joints": self.joints}
+        });
+        if !materials.is_empty() {
+            document["materials"] = Value::Object(materials);
+        }
+        Ok(Converted {
+            document,
+            warnings: self.warnings,
+        })
+    }
+}

@@ -1,0 +1,265 @@
+//! MJCF descriptions nobody here wrote (Gymnasium's Reacher and InvertedPendulum) convert
+//! into documents that parse, build and move as MuJoCo's models do; unsupported
+//! constructs are errors naming the element and its line.
+
+use gymfleet_env::{ActionType, EnvConfig, RobotEnv};
+use gymfleet_import::{mjcf_to_document, ImportError};
+
+const REACHER: &str = include_str!("data/reacher.xml");
+const INVERTED_PENDULUM: &str = include_str!("data/inverted_pendulum.xml");
+
+fn env(xml: &str, end_effectors: &[&str]) -> (RobotEnv, Vec<String>) {
+    let converted = mjcf_to_document(xml).expect("converts");
+    let text = converted.document.to_string();
+    let env = RobotEnv::from_json(
+        &text,
+        EnvConfig::with_end_effectors(end_effectors.iter().copied()),
+    )
+    .unwrap_or_else(|e| panic!("the converted document builds: {e}\n{text}"));
+    (env, converted.warnings)
+}
+
+#[test]
+fn reacher_has_two_driven_joints_and_two_passive_target_slides() {
+    let (env, warnings) = env(REACHER, &["fingertip"]);
+    let spec = env.spec();
+    let names: Vec<&str> = spec.dofs.iter().map(|d| d.joint_name.as_str()).collect();
+    assert_eq!(names, ["joint0", "joint1", "target_x", "target_y"]);
+    assert_eq!(spec.action_dim, 2, "only the motors' joints take actions");
+    let limits: Vec<Option<[f64; 2]>> = spec.dofs.iter().map(|d| d.limits).collect();
+    assert_eq!(limits[0], None, "joint0 is limited=\"false\"");
+    let [lo, hi] = limits[1].expect("joint1 is limited");
+    assert!(
+        (hi - 3.0f64.to_degrees()).abs() < 1e-9 && (lo + hi).abs() < 1e-9,
+        "{lo} {hi}"
+    );
+    let [lo, hi] = limits[2].expect("target_x is limited");
+    assert!(
+        (lo + 270.0).abs() < 1e-9 && (hi - 270.0).abs() < 1e-9,
+        "{lo} {hi}"
+    );
+    // gear 200 × ctrlrange ±1.
+    assert_eq!(spec.dofs[0].max_effort, Some(200.0));
+    for expected in [
+        "timestep 0.01 s not applied",
+        "plane that collides with nothing",
+        "ref ignored",
+        "gear is folded",
+    ] {
+        assert!(
+            warnings.iter().any(|w| w.contains(expected)),
+            "no warning {expected:?} in {warnings:#?}"
+        );
+    }
+}
+
+#[test]
+fn reacher_masses_are_mujocos_from_the_geoms() {
+    let converted = mjcf_to_document(REACHER).expect("converts");
+    let assembly = gymfleet_assembly::parse(&converted.document.to_string()).expect("parses");
+    let mass = |name: &str| {
+        let i = assembly.instance_index(name).expect(name);
+        let inst = &assembly.instances[i];
+        inst.shape.volume() * inst.material.density
+    };
+    // A capsule of radius 1 cm and 10 cm between its caps' centres, water-dense.
+    let pi = std::f64::consts::PI;
+    let link = 1000.0 * (pi * 0.01f64.powi(2) * 0.1 + 4.0 / 3.0 * pi * 0.01f64.powi(3));
+    for name in ["link0", "link1"] {
+        assert!(
+            (mass(name) - link).abs() < 1e-12,
+            "{name}: {} kg against {link}",
+            mass(name)
+        );
+    }
+    let tip = 1000.0 * 4.0 / 3.0 * pi * 0.01f64.powi(3);
+    assert!((mass("fingertip") - tip).abs() < 1e-12);
+}
+
+/// Reacher's dynamics are its armature (1 kg·m²) and damping (1 N·m·s/rad), against links
+/// of a few grams: under a constant torque τ the shoulder's speed follows
+/// `τ/b·(1 − e^(−b·t/J))` with `J` the armature plus the links' own inertia. Within 2 %.
+#[test]
+fn reacher_shoulder_spins_up_through_its_armature_and_damping() {
+    let (mut env, _) = env(REACHER, &["fingertip"]);
+    let (tau, b, dt) = (0.05, 1.0, env.spec().dt);
+    // The links' inertia about the shoulder (link0, link1 and the tip, straight out):
+    // small beside the armature; MuJoCo's body_inertia gives about 1.2e-3 kg·m² in all.
+    let j = 1.0 + 1.2e-3;
+    let mut speed = 0.0;
+    let steps = (0.5 / dt).round() as usize;
+    for _ in 0..steps {
+        let obs = env
+            .step(ActionType::Torque, &[tau as f32, 0.0])
+            .expect("steps")
+            .observation;
+        speed = f64::from(obs.joint_velocities[0]).to_radians();
+    }
+    let t = steps as f64 * dt;
+    let analytic = tau / b * (1.0 - (-b * t / j).exp());
+    assert!(
+        (speed - analytic).abs() / analytic < 0.02,
+        "shoulder at {speed} rad/s after {t} s; analytic {analytic}"
+    );
+}
+
+#[test]
+fn reacher_holds_still_under_pd_at_its_initial_pose() {
+    let (mut env, _) = env(REACHER, &["fingertip"]);
+    for _ in 0..240 {
+        env.step(ActionType::Position, &[0.0, 0.0]).expect("steps");
+    }
+    let obs = env.observe();
+    for (k, q) in obs.joint_positions.iter().enumerate() {
+        assert!(q.abs() < 1e-3, "joint {k} moved to {q}");
+    }
+}
+
+#[test]
+fn inverted_pendulum_has_a_driven_cart_and_a_passive_pole() {
+    let (mut env, _) = env(INVERTED_PENDULUM, &["cpole"]);
+    let spec = env.spec().clone();
+    let names: Vec<&str> = spec.dofs.iter().map(|d| d.joint_name.as_str()).collect();
+    assert_eq!(names, ["slider", "hinge"]);
+    assert_eq!(spec.action_dim, 1);
+    assert_eq!(
+        spec.dofs[0].max_effort,
+        Some(300.0),
+        "gear 100 × ctrlrange ±3"
+    );
+    assert_eq!(spec.dofs[0].limits, Some([-1000.0, 1000.0]));
+    assert_eq!(
+        spec.dofs[1].limits,
+        Some([-90.0, 90.0]),
+        "degrees: the default angle unit"
+    );
+    // The pole starts nearly upright (its top 1 mm off the hinge's vertical: 0.095°) and
+    // falls to the side it leans to, +x, i.e. positive about +y, growing about as
+    // cosh(ω·t) with ω ≈ 5 /s: about 0.5° at 0.5 s, several degrees at 1 s.
+    let mut angles = Vec::new();
+    for _ in 0..240 {
+        angles.push(
+            env.step(ActionType::Torque, &[0.0])
+                .expect("steps")
+                .observation
+                .joint_positions[1],
+        );
+    }
+    assert!(
+        angles.windows(2).all(|w| w[1] >= w[0]),
+        "the pole falls steadily: {angles:?}"
+    );
+    assert!(
+        angles[119] > 0.2 && angles[239] > 2.0,
+        "at 0.5 s {}°, at 1 s {}°",
+        angles[119],
+        angles[239]
+    );
+}
+
+fn error(xml: &str) -> String {
+    match mjcf_to_document(xml) {
+        Err(e) => e.to_string(),
+        Ok(c) => panic!("expected an error, got {}", c.document),
+    }
+}
+
+const BODY: &str = r#"<body name="b"><geom type="sphere" size=".1"/><joint type="hinge"/></body>"#;
+
+fn model(inner: &str) -> String {
+    format!("<mujoco>\n<worldbody>\n<geom type=\"sphere\" size=\".1\"/>\n{inner}\n</worldbody>\n</mujoco>")
+}
+
+#[test]
+fn unsupported_constructs_name_their_element_and_line() {
+    assert_eq!(
+        error(&model(r#"<body><freejoint/><geom size=".1"/></body>"#)),
+        "line 4: <freejoint>: a free joint (floating base) is not supported yet"
+    );
+    assert_eq!(
+        error(&model(r#"<geom type="plane" size="1 1 1"/>"#)),
+        "line 4: <geom>: a plane that collides (a ground) is not supported yet"
+    );
+    assert_eq!(
+        error("<mujoco>\n<asset><mesh file=\"arm.stl\"/></asset>\n<worldbody/>\n</mujoco>"),
+        "line 2: <mesh>: meshes are not converted yet"
+    );
+    assert_eq!(
+        error(&model(
+            r#"<body><joint type="ball" range="0 30"/><geom size=".1"/></body>"#
+        )),
+        "line 4: <joint>: a ball joint's range (a cone) is not supported yet"
+    );
+    assert_eq!(
+        error(&model(
+            r#"<body><joint stiffness="3"/><geom size=".1"/></body>"#
+        )),
+        "line 4: <joint>: stiffness (joint springs) is not supported yet"
+    );
+    assert_eq!(
+        error(&model(r#"<composite type="grid"/>"#)),
+        "line 4: <composite>: <composite> in <worldbody> is not supported yet"
+    );
+    assert_eq!(
+        error(&format!(
+            "<mujoco>\n<worldbody>\n{BODY}\n</worldbody>\n<actuator>\n<position joint=\"j\"/>\n</actuator>\n</mujoco>"
+        )),
+        "line 6: <position>: only <motor> actuators are supported (a torque or force at a joint)"
+    );
+    assert_eq!(
+        error(&format!(
+            "<mujoco>\n<worldbody>\n{BODY}\n</worldbody>\n<actuator>\n<motor joint=\"elbow\"/>\n</actuator>\n</mujoco>"
+        )),
+        "line 6: <motor joint=…>: no hinge, slide or ball joint is named \"elbow\""
+    );
+    assert_eq!(
+        error(&model(r#"<body pos="0 0 x"><geom size=".1"/></body>"#)),
+        "line 4: <body pos=…>: expected finite numbers, got \"0 0 x\""
+    );
+    assert_eq!(
+        error(&model(
+            r#"<body><geom type="capsule" fromto="0 0 0 0 0 0" size=".1"/></body>"#
+        )),
+        "line 4: <geom fromto=…>: the two ends are the same point"
+    );
+    assert!(matches!(
+        mjcf_to_document("<mujoco><worldbody>"),
+        Err(ImportError::Xml(_))
+    ));
+}
+
+#[test]
+fn several_joints_in_one_body_chain_through_helpers_and_defaults_apply() {
+    let xml = r#"<mujoco>
+      <default>
+        <joint damping="0.5"/>
+        <default class="stiff"><joint damping="2" armature="0.1"/></default>
+      </default>
+      <worldbody>
+        <geom type="box" size=".1 .1 .01"/>
+        <body name="b" pos="0 0 .5" childclass="stiff">
+          <joint name="x" type="slide" axis="1 0 0"/>
+          <joint name="y" type="slide" axis="0 1 0" class="main"/>
+          <geom type="sphere" size=".05"/>
+        </body>
+      </worldbody>
+    </mujoco>"#;
+    let converted = mjcf_to_document(xml).expect("converts");
+    let joints = converted.document["assembly"]["joints"]
+        .as_array()
+        .expect("joints")
+        .clone();
+    assert_eq!(joints.len(), 2, "{joints:#?}");
+    assert_eq!(joints[0]["damping"], 2.0, "childclass applies");
+    assert_eq!(joints[0]["armature"], 0.1);
+    assert_eq!(
+        joints[1]["damping"], 0.5,
+        "an explicit class overrides the childclass"
+    );
+    assert_eq!(
+        joints[0]["child"], joints[1]["parent"],
+        "a helper between the two"
+    );
+    let (env, _) = env(xml, &[]);
+    assert_eq!(env.spec().dofs.len(), 2);
+}
