@@ -41,10 +41,12 @@ pub struct EnvOptions {
     reset_noise: Option<f64>,
     task: Option<Task>,
     randomize: Option<Randomization>,
+    format: crate::DocumentFormat,
 }
 
 impl EnvOptions {
-    /// Options for the assembly document `document_json` (JSON text).
+    /// Options for the assembly document `document_json` (JSON text, or an MJCF
+    /// description: the format is detected unless [`EnvOptions::format`] says it).
     pub fn new(document_json: impl Into<String>) -> Self {
         EnvOptions {
             document_json: document_json.into(),
@@ -55,6 +57,12 @@ impl EnvOptions {
     /// The instances whose poses are observed, in observation order.
     pub fn end_effectors<S: Into<String>>(mut self, ids: impl IntoIterator<Item = S>) -> Self {
         self.end_effector_ids = ids.into_iter().map(Into::into).collect();
+        self
+    }
+
+    /// The document's format (default: detected by the server).
+    pub fn format(mut self, format: crate::DocumentFormat) -> Self {
+        self.format = format;
         self
     }
 
@@ -131,6 +139,7 @@ impl EnvOptions {
             reset_noise: self.reset_noise,
             task: self.task.map(Into::into),
             randomize: self.randomize.map(Into::into),
+            format: pb::DocumentFormat::from(self.format) as i32,
         }
     }
 }
@@ -174,6 +183,12 @@ impl BatchOptions {
     /// See [`EnvOptions::end_effectors`].
     pub fn end_effectors<S: Into<String>>(mut self, ids: impl IntoIterator<Item = S>) -> Self {
         self.env = self.env.end_effectors(ids);
+        self
+    }
+
+    /// See [`EnvOptions::format`].
+    pub fn format(mut self, format: crate::DocumentFormat) -> Self {
+        self.env = self.env.format(format);
         self
     }
 
@@ -266,6 +281,7 @@ impl BatchOptions {
             reset_noise: env.reset_noise,
             task: env.task,
             randomize: env.randomize,
+            format: env.format,
             // Over u32::MAX envs: saturate, and let the server's limit refuse it.
             n_envs: u32::try_from(self.n_envs).unwrap_or(u32::MAX),
             autoreset: pb::Autoreset::from(self.autoreset) as i32,

@@ -61,6 +61,7 @@ mod tests {
                 "SaveBatchState",
                 "LoadBatchState",
                 "Fork",
+                "ConvertDocument",
             ]
         );
         let stream = &service.method[10];

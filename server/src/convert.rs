@@ -49,10 +49,37 @@ fn autoreset(raw: i32) -> Result<Autoreset> {
     }
 }
 
+/// A request's `DocumentFormat`: `None` to detect.
+pub(crate) fn document_format(raw: i32) -> Result<Option<gymfleet_import::Format>> {
+    use gymfleet_import::Format;
+    match pb::DocumentFormat::try_from(raw) {
+        Ok(pb::DocumentFormat::Unspecified) => Ok(None),
+        Ok(pb::DocumentFormat::Json) => Ok(Some(Format::Json)),
+        Ok(pb::DocumentFormat::Urdf) => Ok(Some(Format::Urdf)),
+        Ok(pb::DocumentFormat::Mjcf) => Ok(Some(Format::Mjcf)),
+        Err(_) => Err(ServerError::InvalidArgument {
+            field: "format",
+            reason: format!(
+                "expected DOCUMENT_FORMAT_UNSPECIFIED, _JSON, _URDF or _MJCF, got unknown value {raw}"
+            ),
+        }),
+    }
+}
+
+/// A format as the wire writes it.
+pub(crate) fn format_to_proto(format: gymfleet_import::Format) -> pb::DocumentFormat {
+    match format {
+        gymfleet_import::Format::Json => pb::DocumentFormat::Json,
+        gymfleet_import::Format::Urdf => pb::DocumentFormat::Urdf,
+        gymfleet_import::Format::Mjcf => pb::DocumentFormat::Mjcf,
+    }
+}
+
 /// The shared fields of `CreateEnvRequest` and `CreateBatchRequest`.
 #[allow(clippy::too_many_arguments)]
 fn env_request(
     document: String,
+    format: i32,
     end_effector_ids: Vec<String>,
     dt: f64,
     substeps: u32,
@@ -69,6 +96,7 @@ fn env_request(
         .map(|g| PdGains { kp: g.kp, kd: g.kd });
     Ok(EnvRequest {
         document,
+        format: document_format(format)?,
         config: EnvConfig {
             end_effector_ids,
             // 0 means "the default"; anything else (negative, NaN) is the env's to reject.
@@ -180,6 +208,7 @@ impl TryFrom<pb::CreateEnvRequest> for EnvRequest {
     fn try_from(r: pb::CreateEnvRequest) -> Result<Self> {
         env_request(
             r.document_json,
+            r.format,
             r.end_effector_ids,
             r.dt,
             r.substeps,
@@ -208,6 +237,7 @@ impl TryFrom<pb::CreateBatchRequest> for BatchRequest {
             seed: r.seed,
             env: env_request(
                 r.document_json,
+                r.format,
                 r.end_effector_ids,
                 r.dt,
                 r.substeps,

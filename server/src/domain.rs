@@ -11,6 +11,8 @@ use crate::config::ServerConfig;
 #[derive(Debug, Clone)]
 pub(crate) struct EnvRequest {
     pub(crate) document: String,
+    /// The document's format; `None`: detect it.
+    pub(crate) format: Option<gymfleet_import::Format>,
     pub(crate) config: EnvConfig,
 }
 

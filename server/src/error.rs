@@ -98,6 +98,9 @@ pub enum ServerError {
     /// A picture that cannot be made (its size or camera).
     #[error("{0}")]
     Render(#[from] gymfleet_render::RenderError),
+    /// A description (MJCF, URDF) that could not be converted into assembly JSON.
+    #[error("document_json: {0}")]
+    Import(#[from] gymfleet_import::ImportError),
     /// A batch env index past the batch's end.
     #[error("env_index: {index} is out of range: the batch has {n_envs} envs")]
     EnvIndex {
@@ -330,7 +333,9 @@ impl ServerError {
             },
             ServerError::NotFound { .. } => Code::NotFound,
             ServerError::NotRandomized { .. } => Code::FailedPrecondition,
-            ServerError::EnvIndex { .. } | ServerError::Render(_) => Code::InvalidArgument,
+            ServerError::EnvIndex { .. } | ServerError::Render(_) | ServerError::Import(_) => {
+                Code::InvalidArgument
+            }
             ServerError::TooManyEnvs { .. }
             | ServerError::TenantQuota { .. }
             | ServerError::TooComplex { .. }

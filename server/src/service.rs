@@ -314,6 +314,26 @@ impl Simulator for SimulatorService {
         self.finish("Fork", start, result.await)
     }
 
+    async fn convert_document(
+        &self,
+        request: Request<pb::ConvertDocumentRequest>,
+    ) -> Result<Response<pb::ConvertedDocument>, Status> {
+        let start = Instant::now();
+        let _tenant = tenant_of(&request)?;
+        let result = async {
+            let r = request.into_inner();
+            let format = convert::document_format(r.format)?;
+            let (document_json, warnings, format) =
+                self.sim.convert(r.document_json, format).await?;
+            Ok(pb::ConvertedDocument {
+                document_json,
+                warnings,
+                format: convert::format_to_proto(format) as i32,
+            })
+        };
+        self.finish("ConvertDocument", start, result.await)
+    }
+
     async fn render(
         &self,
         request: Request<pb::RenderRequest>,

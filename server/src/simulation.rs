@@ -121,7 +121,8 @@ fn build_env(
     config: &ServerConfig,
     n_envs: usize,
 ) -> Result<(RobotEnv, JointLinks)> {
-    let assembly = gymfleet_assembly::parse(&request.document).map_err(EnvError::Document)?;
+    let (document, _warnings) = convert_document(&request.document, request.format)?;
+    let assembly = gymfleet_assembly::parse(&document).map_err(EnvError::Document)?;
     check_structure(config, &assembly, request.config.end_effector_ids.len())?;
     let substeps = request.config.substeps;
     // Options are checked first (a substep count out of range is a bad argument, not a
@@ -142,6 +143,19 @@ fn build_env(
         .map(|j| (name(j.parent), name(j.child)))
         .collect();
     Ok((env, JointLinks(links)))
+}
+
+/// A document of `format` (`None`: detect) as assembly JSON text, with the conversion's
+/// warnings, and the format it was.
+pub(crate) fn convert_document(
+    document: &str,
+    format: Option<gymfleet_import::Format>,
+) -> Result<(String, Vec<String>)> {
+    let format = match format {
+        Some(f) => f,
+        None => gymfleet_import::Format::detect(document)?,
+    };
+    Ok(gymfleet_import::to_json(document, format)?)
 }
 
 /// Refuses a batch whose step reply could exceed the message limit: observations and
@@ -713,6 +727,7 @@ impl Simulation {
         let (batch, links) = pool::run(&self.pool, Lane::Batch, "Fork", move || {
             let request = EnvRequest {
                 document: state.document().to_string(),
+                format: Some(gymfleet_import::Format::Json),
                 config: state.config().clone(),
             };
             let (mut template, links) = build_env(request, &config, n_envs)?;
@@ -737,6 +752,25 @@ impl Simulation {
             links,
             batch: Some((n_envs, autoreset)),
         })
+    }
+
+    /// A description as assembly JSON (checked by parsing it), its warnings and format.
+    pub(crate) async fn convert(
+        &self,
+        document: String,
+        format: Option<gymfleet_import::Format>,
+    ) -> Result<(String, Vec<String>, gymfleet_import::Format)> {
+        self.check_document(&document)?;
+        pool::run(&self.pool, Lane::Env, "ConvertDocument", move || {
+            let format = match format {
+                Some(f) => f,
+                None => gymfleet_import::Format::detect(&document)?,
+            };
+            let (json, warnings) = convert_document(&document, Some(format))?;
+            gymfleet_assembly::parse(&json).map_err(EnvError::Document)?;
+            Ok((json, warnings, format))
+        })
+        .await
     }
 
     pub(crate) async fn close_batch(&self, tenant: &Tenant, id: &str) -> Result<()> {

@@ -279,6 +279,27 @@ pub(crate) fn server_info(py: Python<'_>, server: Option<&str>) -> PyResult<Py<P
     }
 }
 
+/// A description (MJCF text, or assembly JSON) as the assembly JSON `server` builds from
+/// it, and the conversion's warnings (`ConvertDocument`).
+#[pyfunction]
+#[pyo3(signature = (document, server=None))]
+pub(crate) fn convert_document(
+    py: Python<'_>,
+    document: String,
+    server: Option<&str>,
+) -> PyResult<(String, Vec<String>)> {
+    let client = match resolve(py, server)? {
+        Target::One(client) => client,
+        Target::Fleet(fleet) => fleet.clients()[0].clone(),
+    };
+    let converted = wait(py, None, || async move {
+        client
+            .convert_document(document, gymfleet_client::DocumentFormat::Detect)
+            .await
+    })?;
+    Ok((converted.document_json, converted.warnings))
+}
+
 fn info_dict<'py>(py: Python<'py>, i: &ServerInfo) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("version", &i.version)?;

@@ -20,6 +20,65 @@ mod mjcf;
 
 pub use mjcf::mjcf_to_document;
 
+/// A description's format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    /// gymfleet's assembly JSON.
+    Json,
+    /// ROS's Unified Robot Description Format.
+    Urdf,
+    /// MuJoCo's XML.
+    Mjcf,
+}
+
+impl Format {
+    /// The format's name as users write it: `JSON`, `URDF`, `MJCF`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Format::Json => "JSON",
+            Format::Urdf => "URDF",
+            Format::Mjcf => "MJCF",
+        }
+    }
+
+    /// The format of `text`: XML whose root element is `<mujoco>` is MJCF, `<robot>` URDF;
+    /// anything that does not start with `<` is JSON (and the JSON parser says what is
+    /// wrong with it). An XML document of another root, or not well-formed, is an error.
+    pub fn detect(text: &str) -> Result<Format> {
+        if !text.trim_start().starts_with('<') {
+            return Ok(Format::Json);
+        }
+        let doc = roxmltree::Document::parse(text).map_err(|e| ImportError::Xml(e.to_string()))?;
+        match doc.root_element().tag_name().name() {
+            "mujoco" => Ok(Format::Mjcf),
+            "robot" => Ok(Format::Urdf),
+            other => Err(ImportError::Unsupported {
+                element: other.to_string(),
+                line: doc.text_pos_at(doc.root_element().range().start).row,
+                reason: "not a description gymfleet reads: MJCF's root is <mujoco>, URDF's <robot>"
+                    .into(),
+            }),
+        }
+    }
+}
+
+/// `text` in `format` as assembly JSON text, with the conversion's warnings. JSON passes
+/// through unchanged (its checks are `gymfleet_assembly::parse`'s).
+pub fn to_json(text: &str, format: Format) -> Result<(String, Vec<String>)> {
+    match format {
+        Format::Json => Ok((text.to_string(), Vec::new())),
+        Format::Mjcf => {
+            let converted = mjcf_to_document(text)?;
+            Ok((converted.document.to_string(), converted.warnings))
+        }
+        Format::Urdf => Err(ImportError::Unsupported {
+            element: "robot".into(),
+            line: 1,
+            reason: "URDF is not converted yet (MJCF is)".into(),
+        }),
+    }
+}
+
 /// A converted description: the assembly JSON and what the conversion left out.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Converted {

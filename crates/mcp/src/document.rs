@@ -1,6 +1,7 @@
 //! [`Document`]: the `document` input of the create tools. Agents pass the assembly
-//! either as a JSON object or as a string holding the JSON; both become the JSON text
-//! the server parses (and reports errors in, with their JSON paths).
+//! either as a JSON object or as a string holding the JSON (or MJCF text, which the
+//! server detects and converts); both become the text the server parses (and reports
+//! errors in, with their JSON paths, or an MJCF element and line).
 
 use std::borrow::Cow;
 
@@ -54,7 +55,7 @@ impl JsonSchema for Document {
     fn json_schema(_: &mut SchemaGenerator) -> Schema {
         json_schema!({
             "type": ["object", "string"],
-            "description": "An assembly document: a JSON object, or a string containing it."
+            "description": "An assembly document: a JSON object, or a string containing it; or a MuJoCo MJCF description (XML text), which the server converts."
         })
     }
 }

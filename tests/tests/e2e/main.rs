@@ -5,6 +5,7 @@ mod adversarial;
 mod batches;
 mod errors;
 mod fleet;
+mod imports;
 mod lifecycle;
 mod render;
 mod replay;

@@ -11,12 +11,13 @@ running one; ``"a:50051,b:50051"`` shards batches over a fleet.
 
 from __future__ import annotations
 
-from typing import Any, List, Optional, Union
+import json
+from typing import Any, Dict, List, Optional, Tuple, Union
 
 from gymnasium.vector import AutoresetMode
 
 from . import _core
-from ._common import Document
+from ._common import Document, document_json
 from .env import GymfleetEnv
 from .errors import (
     DeadlineExceeded,
@@ -48,6 +49,7 @@ __all__ = [
     "FleetEndpoints",
     "embedded_server_address",
     "server_info",
+    "convert",
     "GymfleetError",
     "InvalidArgument",
     "NotFound",
@@ -139,6 +141,15 @@ def server_info(server: Optional[str] = None) -> Any:
     ``batches`` and ``batch_envs``, and its ``limits``. ``server=None``: this process's
     embedded server; a comma-separated list: a list, one per server."""
     return _core.server_info(server)
+
+
+def convert(document: Document, server: Optional[str] = None) -> Tuple[Dict[str, Any], List[str]]:
+    """The assembly JSON (as a dict) a server builds from ``document`` (MJCF text or a
+    path to an ``.xml`` file; JSON is checked and returned), and what the conversion
+    ignored. ``make``/``make_vec`` take MJCF directly; this shows (and lets you edit) what
+    they build."""
+    text, warnings = _core.convert_document(document_json(document), server)
+    return json.loads(text), list(warnings)
 
 
 class FleetEndpoints:

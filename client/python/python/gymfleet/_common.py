@@ -32,21 +32,22 @@ ACTION_TYPES = ("torque", "position", "velocity")
 
 
 def document_json(document: Document) -> str:
-    """The document's JSON text, from a dict, a JSON string or a path."""
+    """The document's text, from a dict, JSON or MJCF text, or a path (the server detects
+    the format: MJCF is converted into assembly JSON)."""
     if isinstance(document, Mapping):
         return json.dumps(document)
     if isinstance(document, os.PathLike):
         with open(document, encoding="utf-8") as f:
             return f.read()
     if isinstance(document, str):
-        if document.lstrip().startswith("{"):
+        if document.lstrip().startswith(("{", "<")):
             return document
         if os.path.isfile(document):
             with open(document, encoding="utf-8") as f:
                 return f.read()
         raise InvalidArgument(
-            f"document: expected a dict, JSON text or the path of a file, got {document[:80]!r} "
-            "(not JSON, and no such file)"
+            f"document: expected a dict, JSON or MJCF text or the path of a file, got "
+            f"{document[:80]!r} (neither, and no such file)"
         )
     raise TypeError(
         f"document: expected a dict, a JSON string or a path, got {type(document).__name__}"

@@ -180,6 +180,9 @@ def server_info(server: Optional[str] = None) -> Any:
     at every server start; a list of those for a
     fleet). With auth on, the counts are the caller's tenant's own."""
 
+def convert_document(document: str, server: Optional[str] = None) -> Tuple[str, List[str]]:
+    """The assembly JSON text a server builds from ``document`` (MJCF or JSON), and the
+    conversion's warnings."""
 def stateful_set(
     name: str, service: str, namespace: str = "default", replicas: int = 1, port: int = 50051
 ) -> List[str]:

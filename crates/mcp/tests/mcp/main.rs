@@ -6,6 +6,7 @@
 mod batches;
 mod errors;
 mod http;
+mod imports;
 mod remote;
 mod render;
 mod states;

@@ -1,0 +1,72 @@
+//! Descriptions in other formats (PRODUCT.md §6.3): [`DocumentFormat`] for the create
+//! options, and [`Client::convert_document`], which shows the assembly JSON the server
+//! builds from an MJCF description.
+
+use gymfleet_proto::v1 as pb;
+
+use crate::client::Client;
+use crate::Result;
+
+/// The format of a document given to `create_env`/`create_batch`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum DocumentFormat {
+    /// The server detects it: XML whose root is `<mujoco>` is MJCF, `<robot>` URDF,
+    /// anything else JSON.
+    #[default]
+    Detect,
+    /// gymfleet's assembly JSON.
+    Json,
+    /// ROS's URDF (not converted yet: the server refuses it).
+    Urdf,
+    /// MuJoCo's XML.
+    Mjcf,
+}
+
+impl From<DocumentFormat> for pb::DocumentFormat {
+    fn from(f: DocumentFormat) -> Self {
+        match f {
+            DocumentFormat::Detect => pb::DocumentFormat::Unspecified,
+            DocumentFormat::Json => pb::DocumentFormat::Json,
+            DocumentFormat::Urdf => pb::DocumentFormat::Urdf,
+            DocumentFormat::Mjcf => pb::DocumentFormat::Mjcf,
+        }
+    }
+}
+
+/// A description converted by the server.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ConvertedDocument {
+    /// The assembly JSON the server builds envs from.
+    pub document_json: String,
+    /// What the conversion ignored (no effect on the dynamics), one line each.
+    pub warnings: Vec<String>,
+    /// The description's format, as detected.
+    pub format: DocumentFormat,
+}
+
+impl Client {
+    /// The assembly JSON the server builds from `document` (MJCF, or JSON checked and
+    /// returned as is), with the conversion's warnings: see and edit what will be built.
+    pub async fn convert_document(
+        &self,
+        document: impl Into<String>,
+        format: DocumentFormat,
+    ) -> Result<ConvertedDocument> {
+        let request = pb::ConvertDocumentRequest {
+            document_json: document.into(),
+            format: pb::DocumentFormat::from(format) as i32,
+        };
+        let reply = self.rpc().convert_document(request).await?.into_inner();
+        let format = match pb::DocumentFormat::try_from(reply.format) {
+            Ok(pb::DocumentFormat::Mjcf) => DocumentFormat::Mjcf,
+            Ok(pb::DocumentFormat::Urdf) => DocumentFormat::Urdf,
+            Ok(pb::DocumentFormat::Json) => DocumentFormat::Json,
+            _ => DocumentFormat::Detect,
+        };
+        Ok(ConvertedDocument {
+            document_json: reply.document_json,
+            warnings: reply.warnings,
+            format,
+        })
+    }
+}
