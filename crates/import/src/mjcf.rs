@@ -554,18 +554,28 @@ impl<'a, 'i> Converter<'a, 'i> {
 
     /// A helper instance: a small sphere of `HELPER_MASS` that collides with nothing.
     fn helper(&mut self, wanted: &str, at: &Frame) -> String {
+        self.helper_before(wanted, at, None)
+    }
+
+    /// [`Converter::helper`], listed before instance `before` (so that a body's own
+    /// instance stays the last of its own, as users look for it).
+    fn helper_before(&mut self, wanted: &str, at: &Frame, before: Option<&str>) -> String {
         let name = self.unique(wanted);
         self.parts.push(json!({
             "name": name,
             "primitive": {"type": "sphere", "radius": HELPER_RADIUS}
         }));
         let p = at.translation * MM;
-        self.instances.push(json!({
+        let instance = json!({
             "part": name, "name": name,
             "position": {"x": p.x, "y": p.y, "z": p.z},
             "collision": {"group": 0, "mask": 0},
             "inertial": {"mass": HELPER_MASS}
-        }));
+        });
+        match before.and_then(|b| self.instances.iter().position(|i| i["name"] == b)) {
+            Some(index) => self.instances.insert(index, instance),
+            None => self.instances.push(instance),
+        }
         name
     }
 
@@ -671,7 +681,7 @@ impl<'a, 'i> Converter<'a, 'i> {
             let to = if k + 1 == joints.len() {
                 main.clone()
             } else {
-                self.helper(&format!("{body_name}_dof{}", k + 1), &frame)
+                self.helper_before(&format!("{body_name}_dof{}", k + 1), &frame, Some(&main))
             };
             self.joint(*joint, &frame, class, &body_name, &from, &to)?;
             from = to;

@@ -1,6 +1,7 @@
 //! [`Model`]: the robot document a run loads, either one of the three built-in models
-//! (compiled in from `models/`) or a document file, with its end effectors and the
-//! torque scale that moves it without throwing it about.
+//! (compiled in from `models/`) or a document file (assembly JSON, or MJCF converted by
+//! `gymfleet-import`), with its end effectors and the torque scale that moves it without
+//! throwing it about.
 
 use std::path::Path;
 
@@ -57,10 +58,19 @@ impl Model {
                 name: name.to_string(),
             });
         }
-        let document = std::fs::read_to_string(path).map_err(|e| LoadError::ModelFile {
+        let text = std::fs::read_to_string(path).map_err(|e| LoadError::ModelFile {
             path: path.to_path_buf(),
             reason: e.to_string(),
         })?;
+        // An MJCF description becomes assembly JSON here, so that in-process runs (which
+        // build without a server) read it too; JSON passes through.
+        let document = gymfleet_import::Format::detect(&text)
+            .and_then(|format| gymfleet_import::to_json(&text, format))
+            .map(|(json, _warnings)| json)
+            .map_err(|e| LoadError::ModelFile {
+                path: path.to_path_buf(),
+                reason: e.to_string(),
+            })?;
         Ok(Model {
             name: name.to_string(),
             builtin: false,
@@ -96,6 +106,32 @@ mod tests {
         let arm6 = Model::resolve("arm6").unwrap();
         assert_eq!(arm6.default_end_effectors, ["tool"]);
         assert!(arm6.document.contains("\"tool\""));
+    }
+
+    #[test]
+    fn an_mjcf_file_is_converted_into_json() {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../import/tests/data/reacher.xml"
+        );
+        let model = Model::resolve(path).unwrap();
+        assert!(model.document.trim_start().starts_with('{'));
+        assert_eq!(model.default_end_effectors, ["target"]);
+        let bad =
+            std::env::temp_dir().join(format!("gymfleet-load-bad-{}.xml", std::process::id()));
+        std::fs::write(
+            &bad,
+            "<mujoco><worldbody><body><freejoint/></body></worldbody></mujoco>",
+        )
+        .unwrap();
+        let err = Model::resolve(bad.to_str().unwrap())
+            .unwrap_err()
+            .to_string();
+        std::fs::remove_file(&bad).ok();
+        assert!(
+            err.contains("<freejoint>: a free joint (floating base) is not supported yet"),
+            "{err}"
+        );
     }
 
     #[test]
