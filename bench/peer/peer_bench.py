@@ -18,6 +18,7 @@ Setup (not part of CI; PyPI only):
   python3 -m venv /tmp/peer && /tmp/peer/bin/pip install mujoco envpool==1.2.5 numpy
   /tmp/peer/bin/python bench/peer/peer_bench.py            # per-step table
   /tmp/peer/bin/python bench/peer/peer_bench.py --throughput
+  /tmp/peer/bin/python bench/peer/peer_bench.py --reacher   # the same model on both sides
 """
 import argparse
 import json
@@ -110,6 +111,40 @@ def throughput(args):
           f"{a / 240:.0f} vs {b * 0.02:.0f} ({a / 240 / (b * 0.02):.2f})")
 
 
+def reacher(args):
+    """Apples to apples: Gymnasium's own reacher.xml on both sides, 0.02 s per env step.
+
+    gymfleet converts the MJCF (the load client's --model) and integrates each env step in
+    `substeps` semi-implicit Euler substeps; EnvPool's Reacher-v5 takes 2 RK4 steps of
+    0.01 s. Accuracy against MuJoCo over 0.5 s of a torque sequence (see BENCHMARKS.md
+    H1): 1.8 % of the joints' range at 2 substeps, 0.7 % at 5.
+    """
+    import gymnasium
+    xml = os.path.join(os.path.dirname(gymnasium.__file__), "envs", "mujoco", "assets",
+                       "reacher.xml")
+    load = os.path.join(ROOT, "target", "release", "gymfleet-load")
+    report = os.path.join(tempfile.mkdtemp(), "load.json")
+    for n_envs in args.reacher_envs:
+        for substeps in args.reacher_substeps:
+            ours, theirs = [], []
+            for _ in range(args.rounds):
+                subprocess.run([load, "--model", xml, "--end-effector", "fingertip",
+                                "--dt", "0.02", "--substeps", str(substeps),
+                                "--amplitude", "200", "--n-envs", str(n_envs),
+                                "--threads", "2", "--duration", str(args.seconds),
+                                "--warmup", "1", "--quiet", "--json", report],
+                               check=True, capture_output=True)
+                with open(report) as f:
+                    ours.append(json.load(f)["runs"][0]["env_steps_per_s"])
+                theirs.append(mujoco_side.envpool_reacher_steps_per_s(
+                    num_envs=n_envs, num_threads=2, seconds=args.seconds))
+            a, b = statistics.median(ours), statistics.median(theirs)
+            print(f"Reacher, {n_envs} envs, 2 threads, 0.02 s per env step: gymfleet remote "
+                  f"StepBatch ({substeps} Euler substeps) {a:9.0f} env-steps/s, EnvPool "
+                  f"Reacher-v5 sync (2 RK4 steps) {b:9.0f}: ratio {a / b:.2f}; simulated "
+                  f"s/s {a * 0.02:.0f} vs {b * 0.02:.0f}")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--substeps", type=int, default=5, help="gymfleet's default")
@@ -119,13 +154,19 @@ def main():
     ap.add_argument("--models", nargs="*", default=list(MODELS))
     ap.add_argument("--variants", nargs="*", default=VARIANTS)
     ap.add_argument("--throughput", action="store_true")
+    ap.add_argument("--reacher", action="store_true",
+                    help="the same Reacher model on both sides (throughput)")
+    ap.add_argument("--reacher-envs", type=int, nargs="*", default=[64, 256])
+    ap.add_argument("--reacher-substeps", type=int, nargs="*", default=[2, 5])
     ap.add_argument("--seconds", type=float, default=5.0)
     ap.add_argument("--json", help="also write the per-step table here")
     ap.add_argument("--no-build", action="store_true")
     args = ap.parse_args()
     if not args.no_build:
         build()
-    if args.throughput:
+    if args.reacher:
+        reacher(args)
+    elif args.throughput:
         throughput(args)
     else:
         per_step(args)
