@@ -44,7 +44,48 @@ pub struct ConvertedDocument {
     pub format: DocumentFormat,
 }
 
+/// A model of a server's library ([`Client::list_models`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModelInfo {
+    /// The name to give [`crate::EnvOptions::from_model`].
+    pub name: String,
+    /// Its file's format.
+    pub format: DocumentFormat,
+    /// Degrees of freedom.
+    pub dofs: usize,
+    /// Values per action.
+    pub action_dim: usize,
+}
+
+fn format_of(raw: i32) -> DocumentFormat {
+    match pb::DocumentFormat::try_from(raw) {
+        Ok(pb::DocumentFormat::Mjcf) => DocumentFormat::Mjcf,
+        Ok(pb::DocumentFormat::Urdf) => DocumentFormat::Urdf,
+        Ok(pb::DocumentFormat::Json) => DocumentFormat::Json,
+        _ => DocumentFormat::Detect,
+    }
+}
+
 impl Client {
+    /// The server's model library (`--models DIR`), by name; empty without one.
+    pub async fn list_models(&self) -> Result<Vec<ModelInfo>> {
+        let reply = self
+            .rpc()
+            .list_models(pb::ListModelsRequest {})
+            .await?
+            .into_inner();
+        Ok(reply
+            .models
+            .into_iter()
+            .map(|m| ModelInfo {
+                name: m.name,
+                format: format_of(m.format),
+                dofs: m.dofs as usize,
+                action_dim: m.action_dim as usize,
+            })
+            .collect())
+    }
+
     /// The assembly JSON the server builds from `document` (MJCF, or JSON checked and
     /// returned as is), with the conversion's warnings: see and edit what will be built.
     pub async fn convert_document(
@@ -57,16 +98,10 @@ impl Client {
             format: pb::DocumentFormat::from(format) as i32,
         };
         let reply = self.rpc().convert_document(request).await?.into_inner();
-        let format = match pb::DocumentFormat::try_from(reply.format) {
-            Ok(pb::DocumentFormat::Mjcf) => DocumentFormat::Mjcf,
-            Ok(pb::DocumentFormat::Urdf) => DocumentFormat::Urdf,
-            Ok(pb::DocumentFormat::Json) => DocumentFormat::Json,
-            _ => DocumentFormat::Detect,
-        };
         Ok(ConvertedDocument {
             document_json: reply.document_json,
             warnings: reply.warnings,
-            format,
+            format: format_of(reply.format),
         })
     }
 }

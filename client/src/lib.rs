@@ -64,7 +64,7 @@ pub use client::{
     with_deadline, Client, ClientBuilder, DEFAULT_CONNECT_TIMEOUT, DEFAULT_KEEPALIVE_INTERVAL,
     DEFAULT_KEEPALIVE_TIMEOUT, DEFAULT_MAX_MESSAGE_BYTES,
 };
-pub use document::{ConvertedDocument, DocumentFormat};
+pub use document::{ConvertedDocument, DocumentFormat, ModelInfo};
 pub use endpoints::FleetEndpoints;
 pub use env::Env;
 pub use error::{ClientError, Result};

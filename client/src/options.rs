@@ -42,6 +42,7 @@ pub struct EnvOptions {
     task: Option<Task>,
     randomize: Option<Randomization>,
     format: crate::DocumentFormat,
+    model: Option<String>,
 }
 
 impl EnvOptions {
@@ -50,6 +51,15 @@ impl EnvOptions {
     pub fn new(document_json: impl Into<String>) -> Self {
         EnvOptions {
             document_json: document_json.into(),
+            ..EnvOptions::default()
+        }
+    }
+
+    /// Options for a model of the server's library (`--models DIR`, see
+    /// [`Client::list_models`](crate::Client::list_models)) instead of a document.
+    pub fn from_model(name: impl Into<String>) -> Self {
+        EnvOptions {
+            model: Some(name.into()),
             ..EnvOptions::default()
         }
     }
@@ -140,6 +150,7 @@ impl EnvOptions {
             task: self.task.map(Into::into),
             randomize: self.randomize.map(Into::into),
             format: pb::DocumentFormat::from(self.format) as i32,
+            model: self.model.unwrap_or_default(),
         }
     }
 }
@@ -282,6 +293,7 @@ impl BatchOptions {
             task: env.task,
             randomize: env.randomize,
             format: env.format,
+            model: env.model,
             // Over u32::MAX envs: saturate, and let the server's limit refuse it.
             n_envs: u32::try_from(self.n_envs).unwrap_or(u32::MAX),
             autoreset: pb::Autoreset::from(self.autoreset) as i32,

@@ -62,6 +62,7 @@ mod tests {
                 "LoadBatchState",
                 "Fork",
                 "ConvertDocument",
+                "ListModels",
             ]
         );
         let stream = &service.method[10];

@@ -94,6 +94,11 @@ pub struct Cli {
     /// sees only its own envs and batches. Health checks stay open.
     #[arg(long, env = "GYMFLEET_AUTH_TOKENS", value_name = "FILE")]
     pub auth_tokens: Option<PathBuf>,
+    /// A model library: every .json, .xml (MJCF) and .mjcf file of this directory, loaded
+    /// and checked at start, is a model requests may name (`model: "reacher"` for
+    /// reacher.xml) instead of sending a document; ListModels lists them.
+    #[arg(long, env = "GYMFLEET_MODELS", value_name = "DIR")]
+    pub models: Option<PathBuf>,
     /// Most environments one tenant (or, with auth off, all callers together) holds at
     /// once; 0 = no limit beyond --max-envs.
     #[arg(long, env = "GYMFLEET_TENANT_MAX_ENVS", default_value_t = 0)]
@@ -132,6 +137,12 @@ impl Cli {
             Some(path) => Some(Arc::new(TokenTable::load(path)?)),
             None => None,
         };
+        let models = match &self.models {
+            Some(dir) => Some(Arc::new(
+                crate::models::ModelLibrary::load(dir).map_err(|e| e.to_string())?,
+            )),
+            None => None,
+        };
         Ok(ServerConfig {
             threads: self.threads,
             max_envs: self.max_envs,
@@ -146,6 +157,7 @@ impl Cli {
             tls,
             metrics_listen: self.metrics_listen,
             auth_tokens,
+            models,
             tenant_max_envs: self.tenant_max_envs,
             idle_ttl: Duration::from_secs(self.idle_ttl_secs),
             ..ServerConfig::default()

@@ -87,6 +87,8 @@ pub struct ServerConfig {
     pub auth_tokens: Option<Arc<TokenTable>>,
     /// Most environments one tenant holds at once; 0 = no limit beyond `max_envs`.
     pub tenant_max_envs: usize,
+    /// The model library (`--models DIR`) requests name by `model`; `None` = none.
+    pub models: Option<Arc<crate::models::ModelLibrary>>,
     /// Envs and batches untouched for this long are closed. `Duration::ZERO` disables it.
     pub idle_ttl: Duration,
     /// How often the idle sweeper looks; `None` = a quarter of `idle_ttl`, at least 1 s
@@ -118,6 +120,7 @@ impl Default for ServerConfig {
             metrics_listen: None,
             auth_tokens: None,
             tenant_max_envs: 0,
+            models: None,
             idle_ttl: DEFAULT_IDLE_TTL,
             sweep_interval: None,
             clock: Clock::system(),

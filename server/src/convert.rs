@@ -80,6 +80,7 @@ pub(crate) fn format_to_proto(format: gymfleet_import::Format) -> pb::DocumentFo
 fn env_request(
     document: String,
     format: i32,
+    model: String,
     end_effector_ids: Vec<String>,
     dt: f64,
     substeps: u32,
@@ -94,9 +95,16 @@ fn env_request(
     let pd_gains = pd_gains
         .filter(|g| !(g.kp.is_empty() && g.kd.is_empty()))
         .map(|g| PdGains { kp: g.kp, kd: g.kd });
+    if !model.is_empty() && !document.is_empty() {
+        return Err(ServerError::InvalidArgument {
+            field: "model",
+            reason: "give document_json or model, not both".to_string(),
+        });
+    }
     Ok(EnvRequest {
         document,
         format: document_format(format)?,
+        model: (!model.is_empty()).then_some(model),
         config: EnvConfig {
             end_effector_ids,
             // 0 means "the default"; anything else (negative, NaN) is the env's to reject.
@@ -209,6 +217,7 @@ impl TryFrom<pb::CreateEnvRequest> for EnvRequest {
         env_request(
             r.document_json,
             r.format,
+            r.model,
             r.end_effector_ids,
             r.dt,
             r.substeps,
@@ -238,6 +247,7 @@ impl TryFrom<pb::CreateBatchRequest> for BatchRequest {
             env: env_request(
                 r.document_json,
                 r.format,
+                r.model,
                 r.end_effector_ids,
                 r.dt,
                 r.substeps,

@@ -13,6 +13,8 @@ pub(crate) struct EnvRequest {
     pub(crate) document: String,
     /// The document's format; `None`: detect it.
     pub(crate) format: Option<gymfleet_import::Format>,
+    /// A model of the library instead of the document.
+    pub(crate) model: Option<String>,
     pub(crate) config: EnvConfig,
 }
 

@@ -251,6 +251,25 @@ pub enum ServerError {
     /// The TLS certificate, key or client CA is unusable.
     #[error("TLS: {0}")]
     Tls(String),
+    /// The model library (`--models`) could not be loaded.
+    #[error("--models: {}: {reason}", path.display())]
+    ModelLibrary {
+        /// The directory or file at fault.
+        path: std::path::PathBuf,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// A request names a model the library does not have.
+    #[error(
+        "model: {} is not in this server's model library (known: {known})",
+        Echo(name)
+    )]
+    UnknownModel {
+        /// The name as given.
+        name: String,
+        /// The library's names, comma-separated (or "none: start the server with --models DIR").
+        known: String,
+    },
     /// The listener could not be bound.
     #[error("cannot listen on {addr}: {reason}")]
     Bind {
@@ -331,7 +350,7 @@ impl ServerError {
                 BatchError::Env { source, .. } => env_code(source),
                 BatchError::PoolStart { .. } | BatchError::Panicked { .. } => Code::Internal,
             },
-            ServerError::NotFound { .. } => Code::NotFound,
+            ServerError::NotFound { .. } | ServerError::UnknownModel { .. } => Code::NotFound,
             ServerError::NotRandomized { .. } => Code::FailedPrecondition,
             ServerError::EnvIndex { .. } | ServerError::Render(_) | ServerError::Import(_) => {
                 Code::InvalidArgument
@@ -349,6 +368,7 @@ impl ServerError {
             | ServerError::Reflection(_)
             | ServerError::Tls(_)
             | ServerError::Bind { .. }
+            | ServerError::ModelLibrary { .. }
             | ServerError::Io(_)
             | ServerError::Transport(_) => Code::Internal,
             ServerError::ShuttingDown => Code::Unavailable,

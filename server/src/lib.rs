@@ -26,6 +26,7 @@ mod error;
 mod listen;
 mod local;
 mod metrics;
+mod models;
 mod pool;
 mod registry;
 mod serve;
@@ -43,4 +44,5 @@ pub use config::{
 pub use error::{EntityKind, Result, ServerError, MAX_STATUS_MESSAGE_BYTES};
 pub use listen::{ListenAddr, Listener, SocketFile};
 pub use local::LocalServer;
+pub use models::{LibraryModel, ModelLibrary};
 pub use serve::serve;

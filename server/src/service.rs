@@ -334,6 +334,26 @@ impl Simulator for SimulatorService {
         self.finish("ConvertDocument", start, result.await)
     }
 
+    async fn list_models(
+        &self,
+        request: Request<pb::ListModelsRequest>,
+    ) -> Result<Response<pb::ModelList>, Status> {
+        let start = Instant::now();
+        let _tenant = tenant_of(&request)?;
+        let models = self
+            .sim
+            .models()
+            .into_iter()
+            .map(|(name, format, dofs, action_dim)| pb::ModelInfo {
+                name,
+                format: convert::format_to_proto(format) as i32,
+                dofs: u32::try_from(dofs).unwrap_or(u32::MAX),
+                action_dim: u32::try_from(action_dim).unwrap_or(u32::MAX),
+            })
+            .collect();
+        self.finish("ListModels", start, Ok(pb::ModelList { models }))
+    }
+
     async fn render(
         &self,
         request: Request<pb::RenderRequest>,

@@ -316,7 +316,48 @@ impl Simulation {
         false
     }
 
+    /// A request naming a library model, with that model's document in its place.
+    fn resolve_model(&self, mut request: EnvRequest) -> Result<EnvRequest> {
+        let Some(name) = request.model.take() else {
+            return Ok(request);
+        };
+        let library = self.config.models.as_deref();
+        match library.and_then(|l| l.get(&name)) {
+            Some(model) => {
+                request.document = model.document.clone();
+                request.format = Some(gymfleet_import::Format::Json);
+                Ok(request)
+            }
+            None => {
+                let known = match library {
+                    Some(l) if !l.is_empty() => {
+                        let names: Vec<String> =
+                            l.iter().take(16).map(|(n, _)| format!("{n:?}")).collect();
+                        let more = l.len().saturating_sub(16);
+                        if more > 0 {
+                            format!("{} and {more} more", names.join(", "))
+                        } else {
+                            names.join(", ")
+                        }
+                    }
+                    _ => "none: start the server with --models DIR".to_string(),
+                };
+                Err(ServerError::UnknownModel { name, known })
+            }
+        }
+    }
+
+    /// The library's models: name, format, DOFs, action length.
+    pub(crate) fn models(&self) -> Vec<(String, gymfleet_import::Format, usize, usize)> {
+        self.config.models.as_deref().map_or_else(Vec::new, |l| {
+            l.iter()
+                .map(|(n, m)| (n.to_string(), m.format, m.dofs, m.action_dim))
+                .collect()
+        })
+    }
+
     pub(crate) async fn create_env(&self, tenant: &Tenant, request: EnvRequest) -> Result<Created> {
+        let request = self.resolve_model(request)?;
         self.check_document(&request.document)?;
         let reservation = self.reserve(tenant, 1, EntityKind::Env)?;
         let config = self.config.clone();
@@ -429,6 +470,8 @@ impl Simulation {
                 max,
             });
         }
+        let mut request = request;
+        request.env = self.resolve_model(request.env)?;
         self.check_document(&request.env.document)?;
         let reservation = self.reserve(tenant, request.n_envs, EntityKind::Batch)?;
         let pool = self.pool.clone();
@@ -728,6 +771,7 @@ impl Simulation {
             let request = EnvRequest {
                 document: state.document().to_string(),
                 format: Some(gymfleet_import::Format::Json),
+                model: None,
                 config: state.config().clone(),
             };
             let (mut template, links) = build_env(request, &config, n_envs)?;

@@ -11,7 +11,9 @@ use crate::actions;
 use gymfleet_client::EnvState;
 
 use crate::errors::{McpError, Result};
-use crate::output::{EnvClosed, EnvCreated, ObservationOut, RenderOut, StateSaved, StepOut};
+use crate::output::{
+    EnvClosed, EnvCreated, ModelOut, ModelsOut, ObservationOut, RenderOut, StateSaved, StepOut,
+};
 use crate::params::{
     CreateEnvParams, EnvRefParams, LoadStateParams, RenderParams, ResetParams, StepParams,
 };
@@ -129,6 +131,32 @@ impl GymTools {
                 description: image.description,
             },
         })
+    }
+
+    /// Lists the server's model library.
+    #[tool(
+        description = "List the robot models the server has in its library: {models: [{name, \
+        format, dofs, action_dim}]}. Pass a name as `model` to create_robot_env or \
+        batch_create_envs instead of a document."
+    )]
+    async fn list_models(&self) -> Result<Json<ModelsOut>> {
+        let models = self.fleet.list_models().await?;
+        Ok(Json(ModelsOut {
+            models: models
+                .into_iter()
+                .map(|m| ModelOut {
+                    name: m.name,
+                    format: match m.format {
+                        gymfleet_client::DocumentFormat::Mjcf => "mjcf",
+                        gymfleet_client::DocumentFormat::Urdf => "urdf",
+                        _ => "json",
+                    }
+                    .to_string(),
+                    dofs: m.dofs,
+                    action_dim: m.action_dim,
+                })
+                .collect(),
+        }))
     }
 
     /// Saves an environment's state.

@@ -174,6 +174,14 @@ impl Fleet {
         Err(McpError::NoServerReachable { failures })
     }
 
+    /// The model library of the first reachable server (the least loaded first).
+    pub(crate) async fn list_models(&self) -> Result<Vec<gymfleet_client::ModelInfo>> {
+        let (_, models) = self
+            .place(|client| async move { client.list_models().await })
+            .await?;
+        Ok(models)
+    }
+
     /// Creates an env and gives it the next `sim_<n>` id.
     pub(crate) async fn create_env(&self, options: EnvOptions) -> Result<Placed<Env>> {
         let (server, env) = self

@@ -205,6 +205,28 @@ impl From<&StepResult> for StepOut {
     }
 }
 
+/// What `list_models` returns.
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+pub(crate) struct ModelsOut {
+    /// The server's model library, by name; empty when it has none.
+    pub(crate) models: Vec<ModelOut>,
+}
+
+/// One model of the library.
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+pub(crate) struct ModelOut {
+    /// The name to give create_robot_env or batch_create_envs as `model`.
+    pub(crate) name: String,
+    /// Its file's format: "json" or "mjcf".
+    pub(crate) format: String,
+    /// Degrees of freedom.
+    pub(crate) dofs: usize,
+    /// Values per action.
+    pub(crate) action_dim: usize,
+}
+
 /// What `gym_save_state` returns.
 #[derive(Debug, Clone, Serialize, JsonSchema)]
 #[schemars(transform = crate::schema::one_line_descriptions)]

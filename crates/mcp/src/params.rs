@@ -8,7 +8,7 @@ use serde::Deserialize;
 
 use crate::actions::ActionValue;
 use crate::document::Document;
-use crate::errors::Result;
+use crate::errors::{McpError, Result};
 use crate::task::{RandomizeParam, TaskParam};
 
 /// Inputs of `create_robot_env`.
@@ -16,8 +16,14 @@ use crate::task::{RandomizeParam, TaskParam};
 #[schemars(transform = crate::schema::one_line_descriptions)]
 pub(crate) struct CreateEnvParams {
     /// The assembly document: a JSON object with `parts` and `assembly` (instances and
-    /// joints), lengths in mm and angles in degrees, or a string containing that JSON.
-    pub(crate) document: Document,
+    /// joints), lengths in mm and angles in degrees, or a string containing that JSON
+    /// (or MuJoCo MJCF text). Give this or `model`.
+    #[serde(default)]
+    pub(crate) document: Option<Document>,
+    /// Instead of a document: the name of a model in the server's library (see
+    /// list_models), e.g. "reacher".
+    #[serde(default)]
+    pub(crate) model: Option<String>,
     /// Instance names (the `name` of entries in `assembly.instances`) whose poses are
     /// observed, in this order. Each adds 7 values to the observation. Default: none.
     #[serde(default)]
@@ -225,8 +231,13 @@ impl From<AutoresetParam> for Autoreset {
 #[schemars(transform = crate::schema::one_line_descriptions)]
 pub(crate) struct CreateBatchParams {
     /// The assembly document shared by every env: a JSON object with `parts` and
-    /// `assembly` (lengths in mm, angles in degrees), or a string containing that JSON.
-    pub(crate) document: Document,
+    /// `assembly` (lengths in mm, angles in degrees), or a string containing that JSON
+    /// (or MuJoCo MJCF text). Give this or `model`.
+    #[serde(default)]
+    pub(crate) document: Option<Document>,
+    /// Instead of a document: the name of a model in the server's library (list_models).
+    #[serde(default)]
+    pub(crate) model: Option<String>,
     /// Number of identical environments in the batch (at least 1).
     pub(crate) n_envs: u32,
     /// Instance names whose poses are observed in every env, in this order. Each adds 7
@@ -313,9 +324,24 @@ struct Common {
 
 impl Common {
     /// The client's options for `document`; unset options take the server's defaults.
-    fn into_options(self, document: Document) -> Result<EnvOptions> {
-        let mut options =
-            EnvOptions::new(document.into_json_text()?).end_effectors(self.end_effector_ids);
+    fn into_options(self, document: Option<Document>, model: Option<String>) -> Result<EnvOptions> {
+        let options = match (document, model) {
+            (Some(document), None) => EnvOptions::new(document.into_json_text()?),
+            (None, Some(model)) => EnvOptions::from_model(model),
+            (Some(_), Some(_)) => {
+                return Err(McpError::bad_argument(
+                    "give document or model, not both".to_string(),
+                ))
+            }
+            (None, None) => {
+                return Err(McpError::bad_argument(
+                    "document is required: the assembly document (JSON or MJCF), or give \
+                     model: a name from list_models"
+                        .to_string(),
+                ))
+            }
+        };
+        let mut options = options.end_effectors(self.end_effector_ids);
         if let Some(dt) = self.dt {
             options = options.dt(dt);
         }
@@ -361,7 +387,7 @@ impl CreateEnvParams {
             task: self.task,
             randomize: self.randomize,
         };
-        common.into_options(self.document)
+        common.into_options(self.document, self.model)
     }
 }
 
@@ -379,7 +405,7 @@ impl CreateBatchParams {
             task: self.task,
             randomize: self.randomize,
         };
-        let env = common.into_options(self.document)?;
+        let env = common.into_options(self.document, self.model)?;
         Ok(BatchOptions::from_env(env, self.n_envs as usize).autoreset(self.autoreset.into()))
     }
 }

@@ -126,7 +126,7 @@ async fn tools_over_streamable_http() {
             .await
             .expect("MCP initialize over HTTP");
     let tools = session.list_all_tools().await.expect("tools/list");
-    assert_eq!(tools.len(), 12);
+    assert_eq!(tools.len(), 13);
     let created = expect_ok(
         "create_robot_env",
         call(

@@ -28,3 +28,31 @@ async fn an_mjcf_document_makes_an_env() {
     );
     adapter.stop().await;
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn list_models_and_model_names() {
+    let adapter = Adapter::embedded().await;
+    let listed = adapter.ok("list_models", json!({})).await;
+    assert_eq!(
+        listed,
+        json!({"models": []}),
+        "the embedded server has no library"
+    );
+    let err = adapter
+        .err("create_robot_env", json!({"model": "reacher"}))
+        .await;
+    assert!(
+        err.contains("model: \"reacher\" is not in this server's model library"),
+        "{err}"
+    );
+    let err = adapter.err("create_robot_env", json!({})).await;
+    assert!(err.contains("document is required"), "{err}");
+    let err = adapter
+        .err(
+            "batch_create_envs",
+            json!({"n_envs": 2, "model": "a", "document": "{}"}),
+        )
+        .await;
+    assert!(err.contains("give document or model, not both"), "{err}");
+    adapter.stop().await;
+}

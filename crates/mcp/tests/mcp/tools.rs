@@ -5,7 +5,7 @@ use serde_json::Value;
 
 use crate::Adapter;
 
-const TOOLS: [&str; 12] = [
+const TOOLS: [&str; 13] = [
     "batch_close",
     "batch_create_envs",
     "batch_reset",
@@ -18,6 +18,7 @@ const TOOLS: [&str; 12] = [
     "gym_reset",
     "gym_save_state",
     "gym_step",
+    "list_models",
 ];
 
 /// Asserts a description on every property of `schema`, recursively.
@@ -92,16 +93,21 @@ async fn tools_are_listed_with_described_schemas() {
 
     let required = |name: &str| -> Vec<String> {
         let tool = tools.iter().find(|t| t.name == name).expect("tool");
-        let mut required: Vec<String> = tool.input_schema["required"]
-            .as_array()
-            .expect("required list")
+        // No "required" list at all means nothing is required.
+        let mut required: Vec<String> = tool
+            .input_schema
+            .get("required")
+            .and_then(|r| r.as_array())
+            .cloned()
+            .unwrap_or_default()
             .iter()
             .map(|v| v.as_str().expect("name").to_string())
             .collect();
         required.sort_unstable();
         required
     };
-    assert_eq!(required("create_robot_env"), ["document"]);
+    let none: [&str; 0] = [];
+    assert_eq!(required("create_robot_env"), none, "document or model");
     assert_eq!(required("gym_reset"), ["env_id"]);
     assert_eq!(required("gym_step"), ["action_type", "env_id", "values"]);
     assert_eq!(required("gym_observe"), ["env_id"]);
@@ -109,7 +115,7 @@ async fn tools_are_listed_with_described_schemas() {
     assert_eq!(required("gym_render"), ["env_id"]);
     assert_eq!(required("gym_save_state"), ["env_id"]);
     assert_eq!(required("gym_load_state"), ["env_id", "state"]);
-    assert_eq!(required("batch_create_envs"), ["document", "n_envs"]);
+    assert_eq!(required("batch_create_envs"), ["n_envs"]);
     assert_eq!(
         required("batch_step"),
         ["action_type", "actions", "batch_id"]
@@ -139,7 +145,12 @@ async fn tools_are_listed_with_described_schemas() {
         .expect("create_robot_env");
     assert_eq!(
         create.input_schema["properties"]["document"]["type"],
-        serde_json::json!(["object", "string"])
+        serde_json::json!(["object", "string", "null"]),
+        "optional: a document or a model"
+    );
+    assert_eq!(
+        create.input_schema["properties"]["model"]["type"],
+        serde_json::json!(["string", "null"])
     );
     adapter.stop().await;
 }
