@@ -494,6 +494,18 @@ impl Simulation {
             Ok((batch, links))
         })
         .await?;
+        Ok(self.open_batch(tenant, batch, links, reservation, "created batch"))
+    }
+
+    /// Registers a built batch under a new id for `tenant` (its envs already reserved).
+    fn open_batch(
+        &self,
+        tenant: &Tenant,
+        batch: EnvBatch,
+        links: JointLinks,
+        reservation: Reservation,
+        what: &'static str,
+    ) -> Created {
         let spec = batch.spec().clone();
         let n_envs = batch.n_envs();
         let autoreset = batch.autoreset();
@@ -503,13 +515,13 @@ impl Simulation {
             steps: 0,
         };
         let id = self.batches.insert(tenant, open, reservation);
-        tracing::info!(batch_id = %id, n_envs, "created batch");
-        Ok(Created {
+        tracing::info!(batch_id = %id, n_envs, "{what}");
+        Created {
             id,
             spec,
             links,
             batch: Some((n_envs, autoreset)),
-        })
+        }
     }
 
     pub(crate) async fn reset_batch(
@@ -781,21 +793,7 @@ impl Simulation {
             Ok((batch, links))
         })
         .await?;
-        let spec = batch.spec().clone();
-        let autoreset = batch.autoreset();
-        let open = OpenBatch {
-            batch,
-            out: BatchStepOutput::default(),
-            steps: 0,
-        };
-        let id = self.batches.insert(tenant, open, reservation);
-        tracing::info!(batch_id = %id, n_envs, "forked batch");
-        Ok(Created {
-            id,
-            spec,
-            links,
-            batch: Some((n_envs, autoreset)),
-        })
+        Ok(self.open_batch(tenant, batch, links, reservation, "forked batch"))
     }
 
     /// A description as assembly JSON (checked by parsing it), its warnings and format.
