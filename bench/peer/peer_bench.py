@@ -116,8 +116,8 @@ def reacher(args):
 
     gymfleet converts the MJCF (the load client's --model) and integrates each env step in
     `substeps` semi-implicit Euler substeps; EnvPool's Reacher-v5 takes 2 RK4 steps of
-    0.01 s. Accuracy against MuJoCo over 0.5 s of a torque sequence (see BENCHMARKS.md
-    H1): 1.8 % of the joints' range at 2 substeps, 0.7 % at 5.
+    0.01 s. Accuracy against MuJoCo over 0.5 s of a torque sequence (reacher_accuracy.py,
+    BENCHMARKS.md H1): 1.8 % of the joints' range at 2 substeps, 0.7 % at 5.
     """
     import gymnasium
     xml = os.path.join(os.path.dirname(gymnasium.__file__), "envs", "mujoco", "assets",

@@ -111,6 +111,8 @@ struct Converter<'a, 'i> {
     parts: Vec<Value>,
     materials: Map<String, Value>,
     instances: Vec<Value>,
+    /// Each instance's frame in the world (m), as written into its `position`/`rotation`.
+    frames: HashMap<String, Frame>,
     joints: Vec<Value>,
     names: HashSet<String>,
     joint_names: HashSet<String>,
@@ -131,6 +133,7 @@ impl<'a, 'i> Converter<'a, 'i> {
             parts: Vec::new(),
             materials: Map::new(),
             instances: Vec::new(),
+            frames: HashMap::new(),
             joints: Vec::new(),
             names: HashSet::new(),
             joint_names: HashSet::new(),
@@ -572,6 +575,13 @@ impl<'a, 'i> Converter<'a, 'i> {
             "collision": {"group": 0, "mask": 0},
             "inertial": {"mass": HELPER_MASS}
         });
+        self.frames.insert(
+            name.clone(),
+            Frame {
+                translation: at.translation,
+                rotation: DQuat::IDENTITY,
+            },
+        );
         match before.and_then(|b| self.instances.iter().position(|i| i["name"] == b)) {
             Some(index) => self.instances.insert(index, instance),
             None => self.instances.push(instance),
@@ -846,17 +856,8 @@ impl<'a, 'i> Converter<'a, 'i> {
             .iter()
             .position(|i| i["name"] == instance)
             .expect("the body's instance exists");
-        let inst = &self.instances[index];
-        let num = |v: &Value| v.as_f64().unwrap_or(0.0);
-        let p = &inst["position"];
-        let r = &inst["rotation"];
-        let inst_rot = DQuat::from_rotation_z(num(&r["z"]).to_radians())
-            * DQuat::from_rotation_y(num(&r["y"]).to_radians())
-            * DQuat::from_rotation_x(num(&r["x"]).to_radians());
-        let inst_frame = Frame {
-            translation: DVec3::new(num(&p["x"]), num(&p["y"]), num(&p["z"])) / MM,
-            rotation: inst_rot,
-        };
+        let inst_frame = self.frames[instance];
+        let inst_rot = inst_frame.rotation;
         let com = inst_rot.inverse() * (world.translation - inst_frame.translation) * MM;
         let relative = DMat3::from_quat(inst_rot.inverse() * world.rotation);
         let inertia = relative * principal * relative.transpose();
@@ -969,7 +970,8 @@ impl<'a, 'i> Converter<'a, 'i> {
             }
         };
         // Our primitives start at a corner (box) or their base (cylinder, capsule).
-        let origin = world.point(-corner) * MM;
+        let origin_m = world.point(-corner);
+        let origin = origin_m * MM;
         let rotation = euler_xyz_degrees(world.rotation);
         let name = match node.attribute("name") {
             Some(n) => self.unique(n),
@@ -1032,6 +1034,13 @@ impl<'a, 'i> Converter<'a, 'i> {
         if !material.is_empty() {
             instance.insert("material".into(), json!(name));
         }
+        self.frames.insert(
+            name.clone(),
+            Frame {
+                translation: origin_m,
+                rotation: world.rotation,
+            },
+        );
         self.parts
             .push(json!({"name": name, "primitive": primitive}));
         if !material.is_empty() {

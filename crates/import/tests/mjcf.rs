@@ -263,3 +263,105 @@ fn several_joints_in_one_body_chain_through_helpers_and_defaults_apply() {
     let (env, _) = env(xml, &[]);
     assert_eq!(env.spec().dofs.len(), 2);
 }
+
+/// `<inertial>` is written on the body's instance in that instance's own frame (mm), the
+/// geoms then weighing next to nothing; `euler` and `quat` give the same orientation.
+#[test]
+fn an_inertial_lands_in_the_body_instances_frame() {
+    let body = |orientation: &str| {
+        format!(
+            r#"<mujoco><compiler angle="degree"/><worldbody>
+            <geom type="box" size=".1 .1 .01"/>
+            <body name="b" pos="0 0 1" {orientation}>
+              <joint type="hinge" axis="0 1 0"/>
+              <geom type="box" size=".1 .2 .3" pos="0.5 0 0"/>
+              <inertial mass="2" pos="0.1 0 0" diaginertia="0.1 0.2 0.3"/>
+            </body></worldbody></mujoco>"#
+        )
+    };
+    for orientation in [r#"euler="0 0 90""#, r#"quat="0.70710678 0 0 0.70710678""#] {
+        let converted = mjcf_to_document(&body(orientation)).expect("converts");
+        let instance = &converted.document["assembly"]["instances"][1];
+        let close = |v: &serde_json::Value, expected: f64| {
+            (v.as_f64().expect("a number") - expected).abs() < 1e-6
+        };
+        // The box's corner: its centre (0, 0.5, 1) m less R·(0.1, 0.2, 0.3), R = 90° about z.
+        assert!(
+            close(&instance["position"]["x"], 200.0),
+            "{orientation}: {instance}"
+        );
+        assert!(
+            close(&instance["position"]["y"], 400.0),
+            "{orientation}: {instance}"
+        );
+        assert!(
+            close(&instance["rotation"]["z"], 90.0),
+            "{orientation}: {instance}"
+        );
+        let inertial = &instance["inertial"];
+        assert_eq!(inertial["mass"], 2.0);
+        // The centre of mass (0, 0.1, 1) m in the world, seen from the box's corner frame.
+        let com = &inertial["center_of_mass"];
+        assert!(
+            close(&com["x"], -300.0) && close(&com["y"], 200.0) && close(&com["z"], 300.0),
+            "{com}"
+        );
+        let i = &inertial["inertia"];
+        assert!(
+            close(&i["xx"], 0.1) && close(&i["yy"], 0.2) && close(&i["zz"], 0.3),
+            "{i}"
+        );
+        assert!(
+            close(&i["xy"], 0.0) && close(&i["xz"], 0.0) && close(&i["yz"], 0.0),
+            "{i}"
+        );
+        let (env, _) = env(&body(orientation), &["b_geom"]);
+        assert_eq!(env.spec().dofs.len(), 1);
+    }
+}
+
+#[test]
+fn a_motor_force_range_bounds_max_effort() {
+    let xml = format!(
+        "<mujoco>\n<worldbody>\n{BODY}\n</worldbody>\n<actuator>\n<motor joint=\"b_joint\" gear=\"100\" ctrlrange=\"-1 1\" forcerange=\"-30 30\"/>\n</actuator>\n</mujoco>"
+    );
+    let converted = mjcf_to_document(&xml).expect("converts");
+    assert_eq!(
+        converted.document["assembly"]["joints"][0]["max_effort"],
+        30.0
+    );
+}
+
+#[test]
+fn more_bad_descriptions_name_their_element_and_line() {
+    assert_eq!(
+        error("<mujoco>\n<option gravity=\"0 0 -1\"/>\n<worldbody/>\n</mujoco>"),
+        "line 2: <option>: gravity [0.0, 0.0, -1.0] is not supported yet (gymfleet's is 0 0 -9.81)"
+    );
+    assert_eq!(
+        error(&model(
+            r#"<body quat="1 0 0 0" euler="0 0 0"><geom size=".1"/></body>"#
+        )),
+        "line 4: <body euler=…>: an orientation is given twice (quat, euler)"
+    );
+    assert_eq!(
+        error(&model(r#"<body quat="0 0 0 0"><geom size=".1"/></body>"#)),
+        "line 4: <body quat=…>: the zero quaternion is no rotation"
+    );
+    assert_eq!(
+        error(&model(
+            r#"<body><joint type="screw"/><geom size=".1"/></body>"#
+        )),
+        "line 4: <joint type=…>: unknown joint type \"screw\""
+    );
+    assert_eq!(
+        error(&model(
+            r#"<body><geom type="ellipsoid" size=".1 .2 .3"/></body>"#
+        )),
+        "line 4: <geom>: ellipsoid geoms are not supported yet"
+    );
+    assert_eq!(
+        error(&model(r#"<body><geom type="capsule" size=".1"/></body>"#)),
+        "line 4: <geom size=…>: a capsule needs a positive half-length (size[1])"
+    );
+}
