@@ -8,17 +8,9 @@ use gymfleet_env::{
 };
 use gymfleet_physics::{ActionMode, RobotWorld, WorldOptions};
 
-const PENDULUM: &str = include_str!("../../../models/pendulum.json");
-const ARM2: &str = include_str!("../../../models/arm2.json");
-const ARM6: &str = include_str!("../../../models/arm6.json");
-const CHAIN20: &str = include_str!("../../../models/chain20.json");
+mod common;
 
-const MODELS: [(&str, &str, &str); 4] = [
-    ("pendulum", PENDULUM, "arm"),
-    ("arm2", ARM2, "forearm"),
-    ("arm6", ARM6, "tool"),
-    ("chain20", CHAIN20, "link20"),
-];
+use common::{ARM2, MODELS};
 
 fn bench_env(c: &mut Criterion) {
     let mut group = c.benchmark_group("env");

@@ -7,17 +7,9 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use gymfleet_env::{ActionType, EnvConfig, RobotEnv, SavedState};
 
-const PENDULUM: &str = include_str!("../../../models/pendulum.json");
-const ARM2: &str = include_str!("../../../models/arm2.json");
-const ARM6: &str = include_str!("../../../models/arm6.json");
-const CHAIN20: &str = include_str!("../../../models/chain20.json");
+mod common;
 
-const MODELS: [(&str, &str, &str); 4] = [
-    ("pendulum", PENDULUM, "arm"),
-    ("arm2", ARM2, "forearm"),
-    ("arm6", ARM6, "tool"),
-    ("chain20", CHAIN20, "link20"),
-];
+use common::MODELS;
 
 fn bench_state(c: &mut Criterion) {
     let mut group = c.benchmark_group("state");
