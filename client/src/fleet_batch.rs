@@ -301,7 +301,7 @@ impl FleetBatch {
                 ),
             });
         }
-        self.log(crate::fleet_recovery::Logged::Step {
+        self.log(|| crate::fleet_recovery::Logged::Step {
             action_type,
             actions: actions.to_vec(),
         });
@@ -355,7 +355,7 @@ impl FleetBatch {
         if let Some(indices) = env_indices {
             check_positions(indices, self.n_envs())?;
         }
-        self.log(crate::fleet_recovery::Logged::Reset {
+        self.log(|| crate::fleet_recovery::Logged::Reset {
             seed,
             seed_offset,
             env_indices: env_indices.map(<[u32]>::to_vec),

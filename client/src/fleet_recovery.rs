@@ -85,10 +85,11 @@ impl FleetBatch {
         })
     }
 
-    /// Records a call about to be made, when checkpointing.
-    pub(crate) fn log(&mut self, entry: Logged) {
+    /// Records a call about to be made, when checkpointing (`entry` is only built then:
+    /// a step's actions are not copied otherwise).
+    pub(crate) fn log(&mut self, entry: impl FnOnce() -> Logged) {
         if let Some(c) = &mut self.checkpoints {
-            c.log.push(entry);
+            c.log.push(entry());
         }
     }
 
