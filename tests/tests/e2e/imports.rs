@@ -257,6 +257,15 @@ fn a_broken_library_file_stops_the_server_naming_it() {
         .to_string();
     assert!(err.starts_with("--models: "), "{err}");
     assert!(err.contains("bad.xml: line 1: <freejoint>"), "{err}");
+    let twice = Dir::with(
+        "twice",
+        &[("arm.json", gymfleet_e2e::ARM2), ("arm.xml", REACHER)],
+    );
+    let err = gymfleet_server::ModelLibrary::load(&twice.0)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("arm.xml: model \"arm\" is also "), "{err}");
+    assert!(err.ends_with("arm.json"), "{err}");
     let missing = gymfleet_server::ModelLibrary::load(std::path::Path::new("/no/such/dir"))
         .unwrap_err()
         .to_string();
