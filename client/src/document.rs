@@ -93,9 +93,23 @@ impl Client {
         document: impl Into<String>,
         format: DocumentFormat,
     ) -> Result<ConvertedDocument> {
+        self.convert_document_with_assets(document, format, Vec::new())
+            .await
+    }
+
+    /// [`Client::convert_document`] for a description that references mesh files, given
+    /// as one zip, tar or tar.gz archive (see [`EnvOptions::assets`](crate::EnvOptions::assets)):
+    /// the meshes are read into the returned document.
+    pub async fn convert_document_with_assets(
+        &self,
+        document: impl Into<String>,
+        format: DocumentFormat,
+        assets: impl Into<Vec<u8>>,
+    ) -> Result<ConvertedDocument> {
         let request = pb::ConvertDocumentRequest {
             document_json: document.into(),
             format: pb::DocumentFormat::from(format) as i32,
+            assets: assets.into(),
         };
         let reply = self.rpc().convert_document(request).await?.into_inner();
         Ok(ConvertedDocument {

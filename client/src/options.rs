@@ -43,6 +43,7 @@ pub struct EnvOptions {
     randomize: Option<Randomization>,
     format: crate::DocumentFormat,
     model: Option<String>,
+    assets: Vec<u8>,
 }
 
 impl EnvOptions {
@@ -73,6 +74,13 @@ impl EnvOptions {
     /// The document's format (default: detected by the server).
     pub fn format(mut self, format: crate::DocumentFormat) -> Self {
         self.format = format;
+        self
+    }
+
+    /// The files the document references (STL/OBJ/DAE meshes) as one zip, tar or tar.gz
+    /// archive; `package://pkg/path` and relative paths resolve against its root.
+    pub fn assets(mut self, archive: impl Into<Vec<u8>>) -> Self {
+        self.assets = archive.into();
         self
     }
 
@@ -151,6 +159,7 @@ impl EnvOptions {
             randomize: self.randomize.map(Into::into),
             format: pb::DocumentFormat::from(self.format) as i32,
             model: self.model.unwrap_or_default(),
+            assets: self.assets,
         }
     }
 }
@@ -200,6 +209,12 @@ impl BatchOptions {
     /// See [`EnvOptions::format`].
     pub fn format(mut self, format: crate::DocumentFormat) -> Self {
         self.env = self.env.format(format);
+        self
+    }
+
+    /// See [`EnvOptions::assets`].
+    pub fn assets(mut self, archive: impl Into<Vec<u8>>) -> Self {
+        self.env = self.env.assets(archive);
         self
     }
 
@@ -294,6 +309,7 @@ impl BatchOptions {
             randomize: env.randomize,
             format: env.format,
             model: env.model,
+            assets: env.assets,
             // Over u32::MAX envs: saturate, and let the server's limit refuse it.
             n_envs: u32::try_from(self.n_envs).unwrap_or(u32::MAX),
             autoreset: pb::Autoreset::from(self.autoreset) as i32,

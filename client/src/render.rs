@@ -129,8 +129,8 @@ impl Batch {
     }
 }
 
-/// A part's shape, centred on its pose's origin, mm.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// A part's shape, centred on its pose's origin (a mesh: in its pose's frame), mm.
+#[derive(Debug, Clone, PartialEq)]
 pub enum SceneShape {
     /// A box: half its size along its frame's x, y, z.
     Box {
@@ -155,6 +155,13 @@ pub enum SceneShape {
         radius: f64,
         /// Half the length between the caps' centres.
         half_segment: f64,
+    },
+    /// A convex polyhedron (a mesh's hull, or one part of its decomposition).
+    Mesh {
+        /// Vertices in the pose's frame.
+        vertices: Vec<[f32; 3]>,
+        /// Three indices into `vertices` per triangle, counter-clockwise seen from outside.
+        triangles: Vec<[u32; 3]>,
     },
 }
 
@@ -204,6 +211,22 @@ fn point(v: Option<pb::Vec3>, what: &str) -> Result<[f64; 3]> {
     v.map(|v| [v.x, v.y, v.z]).ok_or_else(|| malformed(what))
 }
 
+/// A mesh's flat arrays as vertices and triangles, each index checked.
+fn mesh(m: pb::SceneMesh) -> Result<SceneShape> {
+    let (vertices, rest) = m.vertices.as_chunks::<3>();
+    let (triangles, tail) = m.triangles.as_chunks::<3>();
+    let n = vertices.len() as u32;
+    if !rest.is_empty() || !tail.is_empty() || triangles.iter().flatten().any(|&i| i >= n) {
+        return Err(malformed(
+            "a well-formed mesh (whole vertices and triangles, indices in range)",
+        ));
+    }
+    Ok(SceneShape::Mesh {
+        vertices: vertices.to_vec(),
+        triangles: triangles.to_vec(),
+    })
+}
+
 impl TryFrom<pb::Scene> for Scene {
     type Error = crate::ClientError;
 
@@ -226,6 +249,7 @@ impl TryFrom<pb::Scene> for Scene {
                         radius: c.radius,
                         half_segment: c.half_segment,
                     },
+                    Some(Kind::Mesh(m)) => mesh(m)?,
                     None => return Err(malformed("a body's shape")),
                 };
                 let pose = b.pose.ok_or_else(|| malformed("a body's pose"))?;

@@ -73,7 +73,7 @@ impl Replay {
             self.bodies = scene
                 .bodies
                 .iter()
-                .map(|b| (b.name.clone(), b.shape))
+                .map(|b| (b.name.clone(), b.shape.clone()))
                 .collect();
         } else if scene.bodies.len() != self.bodies.len()
             || scene
@@ -128,7 +128,7 @@ impl Replay {
                     instances.push(name);
                     instances.len() - 1
                 });
-                let shape = match *shape {
+                let shape = match shape {
                     SceneShape::Box { half_extents } => json!({ "box": half_extents }),
                     SceneShape::Cylinder {
                         radius,
@@ -139,6 +139,10 @@ impl Replay {
                         radius,
                         half_segment,
                     } => json!({ "capsule": [radius, half_segment] }),
+                    SceneShape::Mesh {
+                        ref vertices,
+                        ref triangles,
+                    } => json!({ "mesh": [vertices.as_flattened(), triangles.as_flattened()] }),
                 };
                 json!({ "name": name, "instance": instance, "shape": shape })
             })

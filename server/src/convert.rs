@@ -81,6 +81,7 @@ fn env_request(
     document: String,
     format: i32,
     model: String,
+    assets: Vec<u8>,
     end_effector_ids: Vec<String>,
     dt: f64,
     substeps: u32,
@@ -101,10 +102,19 @@ fn env_request(
             reason: "give document_json or model, not both".to_string(),
         });
     }
+    if !model.is_empty() && !assets.is_empty() {
+        return Err(ServerError::InvalidArgument {
+            field: "assets",
+            reason:
+                "a library model brings its own mesh files: give assets with document_json only"
+                    .to_string(),
+        });
+    }
     Ok(EnvRequest {
         document,
         format: document_format(format)?,
         model: (!model.is_empty()).then_some(model),
+        assets,
         config: EnvConfig {
             end_effector_ids,
             // 0 means "the default"; anything else (negative, NaN) is the env's to reject.
@@ -218,6 +228,7 @@ impl TryFrom<pb::CreateEnvRequest> for EnvRequest {
             r.document_json,
             r.format,
             r.model,
+            r.assets,
             r.end_effector_ids,
             r.dt,
             r.substeps,
@@ -248,6 +259,7 @@ impl TryFrom<pb::CreateBatchRequest> for BatchRequest {
                 r.document_json,
                 r.format,
                 r.model,
+                r.assets,
                 r.end_effector_ids,
                 r.dt,
                 r.substeps,
@@ -346,9 +358,9 @@ pub(crate) fn scene(scene: gymfleet_env::Scene) -> pb::Scene {
         y: f64::from(p[1]),
         z: f64::from(p[2]),
     };
-    let shape = |s: gymfleet_env::SceneShape| {
+    let shape = |s: &gymfleet_env::SceneShape| {
         use pb::scene_shape::Kind;
-        let kind = match s {
+        let kind = match *s {
             gymfleet_env::SceneShape::Cuboid { half_extents } => {
                 Kind::BoxHalfExtents(v(half_extents))
             }
@@ -367,6 +379,13 @@ pub(crate) fn scene(scene: gymfleet_env::Scene) -> pb::Scene {
                 radius: f64::from(radius),
                 half_segment: f64::from(half_segment),
             }),
+            gymfleet_env::SceneShape::Mesh {
+                ref vertices,
+                ref triangles,
+            } => Kind::Mesh(pb::SceneMesh {
+                vertices: vertices.iter().flatten().copied().collect(),
+                triangles: triangles.iter().flatten().copied().collect(),
+            }),
         };
         pb::SceneShape { kind: Some(kind) }
     };
@@ -378,7 +397,7 @@ pub(crate) fn scene(scene: gymfleet_env::Scene) -> pb::Scene {
                 let [qw, qx, qy, qz] = part.rotation.map(f64::from);
                 pb::SceneBody {
                     name: scene.instance_names[part.instance].clone(),
-                    shape: Some(shape(part.shape)),
+                    shape: Some(shape(&part.shape)),
                     pose: Some(pb::ScenePose {
                         position: Some(v(part.position)),
                         qw,

@@ -15,6 +15,8 @@ pub(crate) struct EnvRequest {
     pub(crate) format: Option<gymfleet_import::Format>,
     /// A model of the library instead of the document.
     pub(crate) model: Option<String>,
+    /// The document's mesh files: a zip, tar or tar.gz archive (empty: none).
+    pub(crate) assets: Vec<u8>,
     pub(crate) config: EnvConfig,
 }
 

@@ -1,7 +1,9 @@
 //! The model library (`--models DIR`): descriptions a request names by `model` instead of
 //! sending a document, listed by `ListModels`. Loaded once at start: every file is read,
-//! converted (MJCF) and validated then, so a broken library stops the server with the
-//! file named, not a request later.
+//! converted (MJCF, URDF) and validated then, so a broken library stops the server with the
+//! file named, not a request later. Mesh files the descriptions reference are read from
+//! the directory (and its subdirectories: `package://` and relative paths resolve against
+//! it) into the converted documents.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -11,7 +13,7 @@ use gymfleet_import::Format;
 use crate::error::{Result, ServerError};
 
 /// File extensions the library reads, and the format each implies (JSON is checked).
-const EXTENSIONS: [&str; 3] = ["json", "xml", "mjcf"];
+const EXTENSIONS: [&str; 4] = ["json", "xml", "mjcf", "urdf"];
 
 /// One model of the library.
 #[derive(Debug, Clone, PartialEq)]
@@ -42,8 +44,8 @@ fn library_error(path: &Path, reason: impl Into<String>) -> ServerError {
 }
 
 impl ModelLibrary {
-    /// Reads every `.json`, `.xml` and `.mjcf` file of `dir` (not its subdirectories),
-    /// converting and validating each; the first failure names its file.
+    /// Reads every `.json`, `.xml`, `.mjcf` and `.urdf` file of `dir` (not its
+    /// subdirectories), converting and validating each; the first failure names its file.
     pub fn load(dir: &Path) -> Result<ModelLibrary> {
         let entries = std::fs::read_dir(dir).map_err(|e| library_error(dir, e.to_string()))?;
         let mut paths: Vec<PathBuf> = entries
@@ -57,6 +59,8 @@ impl ModelLibrary {
             .collect();
         paths.sort();
         let mut models = BTreeMap::new();
+        // The directory's files, read once and only if a description references meshes.
+        let mut assets: Option<gymfleet_import::Assets> = None;
         for path in paths {
             let name = path
                 .file_stem()
@@ -65,7 +69,7 @@ impl ModelLibrary {
                 .to_string();
             let text =
                 std::fs::read_to_string(&path).map_err(|e| library_error(&path, e.to_string()))?;
-            let model = Self::model(&path, &text)?;
+            let model = Self::model(dir, &path, &text, &mut assets)?;
             if let Some(other) = models.insert(name.clone(), model) {
                 return Err(library_error(
                     &path,
@@ -76,10 +80,26 @@ impl ModelLibrary {
         Ok(ModelLibrary { models })
     }
 
-    fn model(path: &Path, text: &str) -> Result<LibraryModel> {
+    fn model(
+        dir: &Path,
+        path: &Path,
+        text: &str,
+        assets: &mut Option<gymfleet_import::Assets>,
+    ) -> Result<LibraryModel> {
         let format = Format::detect(text).map_err(|e| library_error(path, e.to_string()))?;
-        let (document, _warnings) = gymfleet_import::to_json(text, format)
+        let (mut document, _warnings) = gymfleet_import::to_json(text, format, None)
             .map_err(|e| library_error(path, e.to_string()))?;
+        if gymfleet_import::references_mesh_files(&document) {
+            if assets.is_none() {
+                *assets = Some(
+                    gymfleet_import::Assets::from_dir(dir)
+                        .map_err(|e| library_error(dir, e.to_string()))?,
+                );
+            }
+            document = gymfleet_import::to_json(text, format, assets.as_ref())
+                .map_err(|e| library_error(path, e.to_string()))?
+                .0;
+        }
         let assembly =
             gymfleet_assembly::parse(&document).map_err(|e| library_error(path, e.to_string()))?;
         Ok(LibraryModel {

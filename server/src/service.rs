@@ -324,7 +324,7 @@ impl Simulator for SimulatorService {
             let r = request.into_inner();
             let format = convert::document_format(r.format)?;
             let (document_json, warnings, format) =
-                self.sim.convert(r.document_json, format).await?;
+                self.sim.convert(r.document_json, format, r.assets).await?;
             Ok(pb::ConvertedDocument {
                 document_json,
                 warnings,

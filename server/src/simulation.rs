@@ -121,7 +121,8 @@ fn build_env(
     config: &ServerConfig,
     n_envs: usize,
 ) -> Result<(RobotEnv, JointLinks)> {
-    let (document, _warnings) = convert_document(&request.document, request.format)?;
+    let (document, _warnings) =
+        convert_document(&request.document, request.format, &request.assets)?;
     let assembly = gymfleet_assembly::parse(&document).map_err(EnvError::Document)?;
     check_structure(config, &assembly, request.config.end_effector_ids.len())?;
     let substeps = request.config.substeps;
@@ -145,17 +146,23 @@ fn build_env(
     Ok((env, JointLinks(links)))
 }
 
-/// A document of `format` (`None`: detect) as assembly JSON text, with the conversion's
-/// warnings, and the format it was.
+/// A document of `format` (`None`: detect) as assembly JSON text, its mesh files read from
+/// `assets` (an archive; empty: none), with the conversion's warnings.
 pub(crate) fn convert_document(
     document: &str,
     format: Option<gymfleet_import::Format>,
+    assets: &[u8],
 ) -> Result<(String, Vec<String>)> {
     let format = match format {
         Some(f) => f,
         None => gymfleet_import::Format::detect(document)?,
     };
-    Ok(gymfleet_import::to_json(document, format)?)
+    let assets = if assets.is_empty() {
+        None
+    } else {
+        Some(gymfleet_import::Assets::from_archive(assets)?)
+    };
+    Ok(gymfleet_import::to_json(document, format, assets.as_ref())?)
 }
 
 /// Refuses a batch whose step reply could exceed the message limit: observations and
@@ -784,6 +791,7 @@ impl Simulation {
                 document: state.document().to_string(),
                 format: Some(gymfleet_import::Format::Json),
                 model: None,
+                assets: Vec::new(),
                 config: state.config().clone(),
             };
             let (mut template, links) = build_env(request, &config, n_envs)?;
@@ -801,6 +809,7 @@ impl Simulation {
         &self,
         document: String,
         format: Option<gymfleet_import::Format>,
+        assets: Vec<u8>,
     ) -> Result<(String, Vec<String>, gymfleet_import::Format)> {
         self.check_document(&document)?;
         pool::run(&self.pool, Lane::Env, "ConvertDocument", move || {
@@ -808,7 +817,7 @@ impl Simulation {
                 Some(f) => f,
                 None => gymfleet_import::Format::detect(&document)?,
             };
-            let (json, warnings) = convert_document(&document, Some(format))?;
+            let (json, warnings) = convert_document(&document, Some(format), &assets)?;
             gymfleet_assembly::parse(&json).map_err(EnvError::Document)?;
             Ok((json, warnings, format))
         })

@@ -37,8 +37,8 @@ pub struct PartDef {
 
 /// A primitive shape, in millimetres, in the part's local frame.
 ///
-/// In JSON it is an object tagged by `type` (`"cube"`, `"cylinder"`, `"sphere"` or
-/// `"capsule"`) with
+/// In JSON it is an object tagged by `type` (`"cube"`, `"cylinder"`, `"sphere"`,
+/// `"capsule"` or `"mesh"`) with
 /// the variant's fields beside the tag. Its `Deserialize` is written by hand (see below)
 /// so that errors inside it keep their exact JSON path, e.g. `parts[0].primitive.size.z`.
 #[derive(Debug, Clone)]
@@ -68,6 +68,34 @@ pub enum Primitive {
         /// Overall length in mm, caps included: at least `2 × radius`.
         height: f64,
     },
+    /// *(ext)* A triangle mesh, simulated as its convex hull or as a convex decomposition.
+    Mesh(MeshDef),
+}
+
+/// *(ext)* A mesh primitive as the document writes it: inline `vertices` (+ `indices`), or a
+/// `file` of the request's assets that the import step replaces with them.
+#[derive(Debug, Clone, Default)]
+pub struct MeshDef {
+    /// Vertex positions in mm, in the part's frame.
+    pub vertices: Option<Vec<[f64; 3]>>,
+    /// Triangles as three indices into `vertices`; needed for a decomposition.
+    pub indices: Option<Vec<[u32; 3]>>,
+    /// How the mesh is made convex; default [`ConvexMode::Hull`].
+    pub convex: Option<ConvexMode>,
+    /// A file of the request's assets (STL, OBJ or DAE), resolved before validation.
+    pub file: Option<String>,
+    /// Per-axis scale of the file's coordinates into mm (default 1: the file is in mm).
+    pub scale: Option<Vec3>,
+}
+
+/// How a mesh becomes the convex shapes the physics engine collides.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ConvexMode {
+    /// One convex hull of all the vertices.
+    Hull,
+    /// Several convex parts found by V-HACD (needs `indices`).
+    Decomposition,
 }
 
 /// The `type` tag of a [`Primitive`].
@@ -78,6 +106,7 @@ enum PrimitiveKind {
     Cylinder,
     Sphere,
     Capsule,
+    Mesh,
 }
 
 impl PrimitiveKind {
@@ -87,12 +116,18 @@ impl PrimitiveKind {
             PrimitiveKind::Cube => &["size"],
             PrimitiveKind::Cylinder | PrimitiveKind::Capsule => &["radius", "height"],
             PrimitiveKind::Sphere => &["radius"],
+            PrimitiveKind::Mesh => MESH_FIELDS,
         }
     }
 }
 
 /// Every field of any primitive, for unknown-field messages before the tag is known.
-const PRIMITIVE_FIELDS: &[&str] = &["type", "size", "radius", "height"];
+const PRIMITIVE_FIELDS: &[&str] = &[
+    "type", "size", "radius", "height", "vertices", "indices", "convex", "file", "scale",
+];
+
+/// The fields of a mesh primitive besides `type`.
+const MESH_FIELDS: &[&str] = &["vertices", "indices", "convex", "file", "scale"];
 
 /// A seed that rejects a map value with an error. Failing *inside* `next_value_seed`
 /// makes `serde_path_to_error` report the path of the offending key itself.
@@ -124,7 +159,7 @@ impl<'de> Visitor<'de> for PrimitiveVisitor {
     type Value = Primitive;
 
     fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str("a primitive object with a \"type\" of cube, cylinder, sphere or capsule")
+        f.write_str("a primitive object with a \"type\" of cube, cylinder, sphere, capsule or mesh")
     }
 
     fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Primitive, A::Error> {
@@ -132,6 +167,7 @@ impl<'de> Visitor<'de> for PrimitiveVisitor {
         let mut size: Option<Vec3> = None;
         let mut radius: Option<f64> = None;
         let mut height: Option<f64> = None;
+        let mut mesh = MeshDef::default();
         while let Some(key) = map.next_key::<String>()? {
             let allowed = match kind {
                 Some(k) => key == "type" || k.fields().contains(&key.as_str()),
@@ -142,6 +178,11 @@ impl<'de> Visitor<'de> for PrimitiveVisitor {
                 "size" => size.is_some(),
                 "radius" => radius.is_some(),
                 "height" => height.is_some(),
+                "vertices" => mesh.vertices.is_some(),
+                "indices" => mesh.indices.is_some(),
+                "convex" => mesh.convex.is_some(),
+                "file" => mesh.file.is_some(),
+                "scale" => mesh.scale.is_some(),
                 _ => false,
             };
             if !allowed || already {
@@ -161,6 +202,11 @@ impl<'de> Visitor<'de> for PrimitiveVisitor {
                 "size" => size = Some(map.next_value()?),
                 "radius" => radius = Some(map.next_value()?),
                 "height" => height = Some(map.next_value()?),
+                "vertices" => mesh.vertices = Some(map.next_value()?),
+                "indices" => mesh.indices = Some(map.next_value()?),
+                "convex" => mesh.convex = Some(map.next_value()?),
+                "file" => mesh.file = Some(map.next_value()?),
+                "scale" => mesh.scale = Some(map.next_value()?),
                 _ => {
                     map.next_value::<IgnoredAny>()?;
                 }
@@ -172,6 +218,11 @@ impl<'de> Visitor<'de> for PrimitiveVisitor {
             ("size", size.is_some()),
             ("radius", radius.is_some()),
             ("height", height.is_some()),
+            ("vertices", mesh.vertices.is_some()),
+            ("indices", mesh.indices.is_some()),
+            ("convex", mesh.convex.is_some()),
+            ("file", mesh.file.is_some()),
+            ("scale", mesh.scale.is_some()),
         ] {
             if present && !kind.fields().contains(&name) {
                 return Err(de::Error::unknown_field(name, kind.fields()));
@@ -192,6 +243,14 @@ impl<'de> Visitor<'de> for PrimitiveVisitor {
                 radius: radius.ok_or_else(|| de::Error::missing_field("radius"))?,
                 height: height.ok_or_else(|| de::Error::missing_field("height"))?,
             },
+            PrimitiveKind::Mesh => {
+                if mesh.vertices.is_none() && mesh.file.is_none() {
+                    return Err(de::Error::custom(
+                        "a mesh needs `vertices` (and `indices`) or a `file` of the assets",
+                    ));
+                }
+                Primitive::Mesh(mesh)
+            }
         })
     }
 }

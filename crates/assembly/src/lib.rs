@@ -10,15 +10,20 @@
 
 mod document;
 mod error;
+mod mesh;
 mod model;
 mod validate;
 
 pub use document::{
-    AssemblyDef, CollisionDef, Document, InertiaDef, InertialDef, InstanceDef, JointDef,
-    MaterialDef, PartDef, Primitive, Vec3,
+    AssemblyDef, CollisionDef, ConvexMode, Document, InertiaDef, InertialDef, InstanceDef,
+    JointDef, MaterialDef, MeshDef, PartDef, Primitive, Vec3,
 };
 pub use error::{
     quoted, quoted_list, AssemblyError, Issue, Result, MAX_ECHOED_CHARS, MAX_LISTED_NAMES,
+};
+pub use mesh::{
+    ConvexParts, ConvexPiece, MAX_CONVEX_PARTS, MAX_DECOMPOSED_TRIANGLES, MAX_MESH_TRIANGLES,
+    MAX_MESH_VERTICES,
 };
 pub use model::{
     inertia_problem, Assembly, DofKind, Inertial, Instance, Joint, JointType, Material, Shape,

@@ -14,7 +14,7 @@ pub const DEFAULT_FRICTION: f64 = 0.5;
 pub const DEFAULT_RESTITUTION: f64 = 0.0;
 
 /// A primitive shape in metres, in the part's local frame (see [`crate::Primitive`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum Shape {
     /// Box spanning `[0,x]×[0,y]×[0,z]`; `size` holds the edge lengths.
     Cuboid {
@@ -41,6 +41,8 @@ pub enum Shape {
         /// Overall length in m.
         height: f64,
     },
+    /// A mesh made convex: its hull, or the parts of its convex decomposition.
+    Convex(std::sync::Arc<crate::ConvexParts>),
 }
 
 impl Shape {
@@ -54,6 +56,7 @@ impl Shape {
                 std::f64::consts::PI * radius * radius * (height - 2.0 * radius)
                     + 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3)
             }
+            Shape::Convex(ref parts) => parts.volume(),
         }
     }
 
@@ -65,6 +68,7 @@ impl Shape {
                 [0.0, 0.0, height / 2.0]
             }
             Shape::Sphere { .. } => [0.0, 0.0, 0.0],
+            Shape::Convex(ref parts) => parts.centroid(),
         }
     }
 
@@ -74,6 +78,7 @@ impl Shape {
             Shape::Cuboid { size } => size[0].min(size[1]).min(size[2]),
             Shape::Cylinder { radius, height } => (2.0 * radius).min(height),
             Shape::Sphere { radius } | Shape::Capsule { radius, .. } => 2.0 * radius,
+            Shape::Convex(ref parts) => parts.min_extent(),
         }
     }
 }

@@ -5,9 +5,11 @@ use std::collections::hash_map::Entry;
 use std::collections::{BTreeMap, HashMap};
 
 use crate::document::{
-    Document, InertialDef, InstanceDef, JointDef, MaterialDef, PartDef, Primitive, Vec3,
+    ConvexMode, Document, InertialDef, InstanceDef, JointDef, MaterialDef, MeshDef, PartDef,
+    Primitive, Vec3,
 };
 use crate::error::{quoted, quoted_list, AssemblyError, Issue, Result};
+use crate::mesh::{ConvexParts, MAX_MESH_TRIANGLES, MAX_MESH_VERTICES};
 use crate::model::{Assembly, Inertial, Instance, Joint, JointType, Material, Shape, MM_PER_M};
 
 /// Largest mass an instance's `inertial` may give, kg.
@@ -168,6 +170,7 @@ impl Validator {
     fn shape(&mut self, path: &str, primitive: &Primitive) -> Option<Shape> {
         let before = self.issues.len();
         let shape = match *primitive {
+            Primitive::Mesh(ref mesh) => return self.mesh(path, mesh),
             Primitive::Cube { size } => Shape::Cuboid {
                 size: [
                     self.positive_length(&format!("{path}.size.x"), size.x),
@@ -201,6 +204,99 @@ impl Validator {
             }
         };
         (self.issues.len() == before).then_some(shape)
+    }
+
+    /// A mesh primitive made convex (`None` after an issue).
+    fn mesh(&mut self, path: &str, mesh: &MeshDef) -> Option<Shape> {
+        if let Some(file) = &mesh.file {
+            self.push(
+                format!("{path}.file"),
+                format!(
+                    "{}: a mesh file is read from the request's assets (a zip or tar archive of the files the document names), and this request has none",
+                    quoted(file)
+                ),
+            );
+            return None;
+        }
+        let vertices = mesh.vertices.as_deref().unwrap_or_default();
+        if vertices.len() > MAX_MESH_VERTICES {
+            self.push(
+                format!("{path}.vertices"),
+                format!(
+                    "a mesh may have at most {MAX_MESH_VERTICES} vertices, got {}",
+                    vertices.len()
+                ),
+            );
+            return None;
+        }
+        let scale = match mesh.scale {
+            Some(s) => {
+                let before = self.issues.len();
+                let s = [("x", s.x), ("y", s.y), ("z", s.z)].map(|(axis, v)| {
+                    if !(v.is_finite() && v != 0.0 && v.abs() <= 1e6) {
+                        self.push(
+                            format!("{path}.scale.{axis}"),
+                            format!("expected a finite, non-zero factor within ±1e6, got {v}"),
+                        );
+                    }
+                    v
+                });
+                if self.issues.len() > before {
+                    return None;
+                }
+                s
+            }
+            None => [1.0; 3],
+        };
+        let mut in_m = Vec::with_capacity(vertices.len());
+        for (i, v) in vertices.iter().enumerate() {
+            let v = [v[0] * scale[0], v[1] * scale[1], v[2] * scale[2]];
+            if v.iter().any(|c| !(c.is_finite() && c.abs() <= MAX_COM_MM)) {
+                self.push(
+                    format!("{path}.vertices[{i}]"),
+                    format!(
+                        "expected coordinates within ±{MAX_COM_MM:e} mm, got [{}, {}, {}]",
+                        v[0], v[1], v[2]
+                    ),
+                );
+                return None;
+            }
+            in_m.push(v.map(|c| c / MM_PER_M));
+        }
+        if let Some(indices) = &mesh.indices {
+            if indices.len() > MAX_MESH_TRIANGLES {
+                self.push(
+                    format!("{path}.indices"),
+                    format!(
+                        "a mesh may have at most {MAX_MESH_TRIANGLES} triangles, got {}",
+                        indices.len()
+                    ),
+                );
+                return None;
+            }
+            if let Some((t, bad)) = indices.iter().enumerate().find_map(|(t, tri)| {
+                tri.iter()
+                    .find(|&&i| i as usize >= vertices.len())
+                    .map(|&i| (t, i))
+            }) {
+                self.push(
+                    format!("{path}.indices[{t}]"),
+                    format!(
+                        "vertex index {bad} is out of range: the mesh has {} vertices",
+                        vertices.len()
+                    ),
+                );
+                return None;
+            }
+        }
+        let mode = mesh.convex.unwrap_or(ConvexMode::Hull);
+        match ConvexParts::new(&in_m, mesh.indices.as_deref(), mode) {
+            Ok(parts) => Some(Shape::Convex(parts)),
+            Err(message) => {
+                self.push(path.to_string(), message);
+                None
+            }
+        }
     }
 
     fn instances(
@@ -260,7 +356,9 @@ impl Validator {
             let own_material =
                 self.material_ref(&format!("{path}.material"), &inst.material, materials);
             let Some(part) = part else { continue };
-            let Some(shape) = part.shape else { continue };
+            let Some(shape) = part.shape.clone() else {
+                continue;
+            };
             let material = own_material.or(part.material).unwrap_or_default();
             let inertial = inst
                 .inertial

@@ -441,7 +441,7 @@ fn a_capsule_is_at_least_as_long_as_its_caps() {
     );
     let mut doc = base_doc();
     doc["parts"][0]["primitive"] = json!({ "type": "capsule", "radius": 5, "height": 30 });
-    let shape = common::ok(doc).instances[0].shape;
+    let shape = common::ok(doc).instances[0].shape.clone();
     assert_eq!(
         shape,
         gymfleet_assembly::Shape::Capsule {

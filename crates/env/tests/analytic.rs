@@ -76,6 +76,35 @@ fn a_capsule_pendulum_swings_with_the_capsules_inertia() {
     assert_period_of(env, i_centre + m * d * d, m, d);
 }
 
+/// The arm given as a mesh (its box's 8 corners: a hull) has the box's mass and inertia,
+/// so the period of `2π·√(I/(m·g·d))`; its scene carries the hull to draw.
+#[test]
+fn a_mesh_hull_pendulum_swings_with_its_boxs_period() {
+    let mut doc = hanging_pendulum(json!({}));
+    let corners: Vec<[u32; 3]> = (0..8u32)
+        .map(|i| [4 * (i & 1), 4 * ((i >> 1) & 1), 40 * ((i >> 2) & 1)])
+        .collect();
+    doc["parts"][1]["primitive"] = json!({"type": "mesh", "vertices": corners});
+    let env = env(&doc, &["arm"]);
+    let scene = env.scene();
+    let arm = scene
+        .parts
+        .iter()
+        .find(|p| p.instance == 1)
+        .expect("the arm");
+    match &arm.shape {
+        gymfleet_env::SceneShape::Mesh {
+            vertices,
+            triangles,
+        } => {
+            assert_eq!((vertices.len(), triangles.len()), (8, 12));
+        }
+        other => panic!("a mesh, got {other:?}"),
+    }
+    let (m, i_pivot, d) = arm_mass_and_pivot_inertia();
+    assert_period_of(env, i_pivot, m, d);
+}
+
 /// The hanging arm's small-angle period with `armature` (kg·m²) at its joint, within 1 %
 /// of `2π·√((I + armature)/(m·g·d))`.
 fn assert_small_angle_period(armature: f64) {

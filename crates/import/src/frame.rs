@@ -1,7 +1,8 @@
 //! Rigid frames in f64 (glam): composing a description's nested poses into world
 //! placements, and writing a rotation as the document's Euler angles.
 
-use glam::{DQuat, DVec3, EulerRot};
+use glam::{DMat3, DQuat, DVec3, EulerRot};
+use serde_json::{json, Value};
 
 /// A pose: `p_world = translation + rotation · p_local`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -45,6 +46,27 @@ pub(crate) fn euler_xyz_degrees(q: DQuat) -> [f64; 3] {
 /// The rotation taking local +Z onto `axis` (a unit vector), by the shortest arc.
 pub(crate) fn z_onto(axis: DVec3) -> DQuat {
     DQuat::from_rotation_arc(DVec3::Z, axis)
+}
+
+/// A document's `inertial` for an instance placed at `instance` (m): `mass` (kg) with its
+/// centre of mass at `at`'s origin and `tensor` (kg·m², about the centre of mass along
+/// `at`'s axes), moved into the instance's frame (centre of mass in mm: `mm` per metre).
+pub(crate) fn inertial_json(
+    mass: f64,
+    at: &Frame,
+    tensor: DMat3,
+    instance: &Frame,
+    mm: f64,
+) -> Value {
+    let back = instance.rotation.inverse();
+    let com = back * (at.translation - instance.translation) * mm;
+    let relative = DMat3::from_quat(back * at.rotation);
+    let c = (relative * tensor * relative.transpose()).to_cols_array_2d();
+    json!({
+        "mass": mass,
+        "center_of_mass": {"x": com.x, "y": com.y, "z": com.z},
+        "inertia": {"xx": c[0][0], "yy": c[1][1], "zz": c[2][2], "xy": c[1][0], "xz": c[2][0], "yz": c[2][1]}
+    })
 }
 
 #[cfg(test)]

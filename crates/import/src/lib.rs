@@ -15,10 +15,28 @@
 //! its line, or, when it has no effect on the dynamics, a warning. URDF and meshes are not
 //! converted yet.
 
+mod assets;
 mod frame;
+mod meshes;
 mod mjcf;
+mod urdf;
 
+pub use assets::{Assets, MAX_ASSET_BYTES, MAX_ASSET_FILES};
+pub use meshes::{
+    inline_mesh_files, load as load_mesh, references_mesh_files, MeshData, MAX_FILE_VERTICES,
+};
 pub use mjcf::mjcf_to_document;
+pub use urdf::urdf_to_document;
+
+/// `s` quoted, cut to a readable length (names and paths echoed in errors).
+pub(crate) fn quote(s: &str) -> String {
+    const MAX: usize = 120;
+    if s.chars().count() <= MAX {
+        format!("\"{s}\"")
+    } else {
+        format!("\"{}…\"", s.chars().take(MAX).collect::<String>())
+    }
+}
 
 /// A description's format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -62,21 +80,62 @@ impl Format {
     }
 }
 
-/// `text` in `format` as assembly JSON text, with the conversion's warnings. JSON passes
-/// through unchanged (its checks are `gymfleet_assembly::parse`'s).
-pub fn to_json(text: &str, format: Format) -> Result<(String, Vec<String>)> {
-    match format {
-        Format::Json => Ok((text.to_string(), Vec::new())),
-        Format::Mjcf => {
-            let converted = mjcf_to_document(text)?;
-            Ok((converted.document.to_string(), converted.warnings))
+/// `text` in `format` as assembly JSON text, with the conversion's warnings, its mesh
+/// files read from `assets` into the document ([`inline_mesh_files`]). JSON without mesh
+/// files passes through unchanged (its checks are `gymfleet_assembly::parse`'s).
+pub fn to_json(
+    text: &str,
+    format: Format,
+    assets: Option<&Assets>,
+) -> Result<(String, Vec<String>)> {
+    let mut converted = match format {
+        Format::Json => {
+            if assets.is_none() {
+                return Ok((text.to_string(), Vec::new()));
+            }
+            match serde_json::from_str(text) {
+                Ok(document) => Converted {
+                    document,
+                    warnings: Vec::new(),
+                },
+                // Not JSON: the assembly parser says what is wrong with it.
+                Err(_) => return Ok((text.to_string(), Vec::new())),
+            }
         }
-        Format::Urdf => Err(ImportError::Unsupported {
-            element: "robot".into(),
-            line: 1,
-            reason: "URDF is not converted yet (MJCF is)".into(),
-        }),
+        Format::Mjcf => mjcf_to_document(text)?,
+        Format::Urdf => urdf_to_document(text)?,
+    };
+    inline_mesh_files(&mut converted.document, assets)?;
+    Ok((converted.document.to_string(), converted.warnings))
+}
+
+/// A description file as assembly JSON text, with the conversion's warnings. Mesh files it
+/// references are read from the folder that holds it, or else from the folders above (up
+/// to three: a ROS package keeps `urdf/` beside `meshes/`), the first that has them all.
+pub fn convert_file(path: &std::path::Path) -> Result<(String, Vec<String>)> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| ImportError::Assets(format!("{}: {e}", path.display())))?;
+    let format = Format::detect(&text)?;
+    let plain = to_json(&text, format, None)?;
+    if !references_mesh_files(&plain.0) {
+        return Ok(plain);
     }
+    let mut first_error = None;
+    for root in path.ancestors().skip(1).take(4) {
+        let root = if root.as_os_str().is_empty() {
+            std::path::Path::new(".")
+        } else {
+            root
+        };
+        let attempt = Assets::from_dir(root).and_then(|a| to_json(&text, format, Some(&a)));
+        match attempt {
+            Ok(converted) => return Ok(converted),
+            Err(e) => {
+                first_error.get_or_insert(e);
+            }
+        }
+    }
+    Err(first_error.unwrap_or_else(|| ImportError::Assets("no folder to read meshes from".into())))
 }
 
 /// A converted description: the assembly JSON and what the conversion left out.
@@ -89,9 +148,13 @@ pub struct Converted {
     pub warnings: Vec<String>,
 }
 
-/// Why a description could not be converted. Every error names the element and its line.
+/// Why a description could not be converted. Every error names the element and its line
+/// (or, for assets, the archive entry or the document path).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ImportError {
+    /// The assets archive, or a mesh file in it, cannot be used.
+    #[error("{0}")]
+    Assets(String),
     /// The text is not well-formed XML.
     #[error("not well-formed XML: {0}")]
     Xml(String),

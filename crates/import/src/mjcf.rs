@@ -14,7 +14,7 @@ use glam::{DMat3, DQuat, DVec3};
 use roxmltree::Node;
 use serde_json::{json, Map, Value};
 
-use crate::frame::{euler_xyz_degrees, z_onto, Frame};
+use crate::frame::{euler_xyz_degrees, inertial_json, z_onto, Frame};
 use crate::{Converted, ImportError, Result};
 
 /// Millimetres per metre.
@@ -856,17 +856,8 @@ impl<'a, 'i> Converter<'a, 'i> {
             .iter()
             .position(|i| i["name"] == instance)
             .expect("the body's instance exists");
-        let inst_frame = self.frames[instance];
-        let inst_rot = inst_frame.rotation;
-        let com = inst_rot.inverse() * (world.translation - inst_frame.translation) * MM;
-        let relative = DMat3::from_quat(inst_rot.inverse() * world.rotation);
-        let inertia = relative * principal * relative.transpose();
-        let c = inertia.to_cols_array_2d();
-        self.instances[index]["inertial"] = json!({
-            "mass": mass,
-            "center_of_mass": {"x": com.x, "y": com.y, "z": com.z},
-            "inertia": {"xx": c[0][0], "yy": c[1][1], "zz": c[2][2], "xy": c[1][0], "xz": c[2][0], "yz": c[2][1]}
-        });
+        self.instances[index]["inertial"] =
+            inertial_json(mass, &world, principal, &self.frames[instance], MM);
         Ok(())
     }
 

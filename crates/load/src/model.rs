@@ -58,14 +58,10 @@ impl Model {
                 name: name.to_string(),
             });
         }
-        let text = std::fs::read_to_string(path).map_err(|e| LoadError::ModelFile {
-            path: path.to_path_buf(),
-            reason: e.to_string(),
-        })?;
-        // An MJCF description becomes assembly JSON here, so that in-process runs (which
-        // build without a server) read it too; JSON passes through.
-        let document = gymfleet_import::Format::detect(&text)
-            .and_then(|format| gymfleet_import::to_json(&text, format))
+        // An MJCF or URDF description becomes assembly JSON here (its meshes read from
+        // its folder), so that in-process runs (which build without a server) read it
+        // too; JSON passes through.
+        let document = gymfleet_import::convert_file(path)
             .map(|(json, _warnings)| json)
             .map_err(|e| LoadError::ModelFile {
                 path: path.to_path_buf(),

@@ -346,6 +346,27 @@ fn collider(shape: &Shape) -> ColliderBuilder {
                 Rotation::from_rotation_x(std::f32::consts::FRAC_PI_2),
             ))
         }
+        Shape::Convex(ref parts) => {
+            let mut shapes: Vec<(Pose, SharedShape)> = parts
+                .pieces
+                .iter()
+                .map(|piece| {
+                    let vertices = piece
+                        .vertices
+                        .iter()
+                        .map(|v| Vector::new(v[0] as Real, v[1] as Real, v[2] as Real))
+                        .collect();
+                    let shape = SharedShape::convex_mesh(vertices, &piece.triangles)
+                        .expect("gymfleet_assembly built this polyhedron from these very points");
+                    (Pose::IDENTITY, shape)
+                })
+                .collect();
+            if shapes.len() == 1 {
+                ColliderBuilder::new(shapes.remove(0).1)
+            } else {
+                ColliderBuilder::compound(shapes)
+            }
+        }
     }
 }
 

@@ -1,14 +1,16 @@
 //! The robot's shapes and joints as they are now, in world millimetres, for drawing it
 //! (rendering, replays). Read from the live Rapier sets; nothing here changes the world.
 
+use std::sync::Arc;
+
 use rapier3d::math::{Pose, Vector};
-use rapier3d::parry::shape::ShapeType;
+use rapier3d::parry::shape::{Shape, ShapeType};
 
 use crate::units::to_mm;
 use crate::world::RobotWorld;
 
 /// One primitive, in its own frame (see [`ScenePart`]), millimetres.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum SceneShape {
     /// A box centred on its frame's origin.
     Cuboid {
@@ -34,10 +36,17 @@ pub enum SceneShape {
         /// Half the length of the axis segment between the caps' centres.
         half_segment: f32,
     },
+    /// A convex polyhedron (a mesh's hull, or one part of its decomposition).
+    Mesh {
+        /// Vertices in the frame, mm.
+        vertices: Arc<[[f32; 3]]>,
+        /// Triangles, three indices into `vertices` each, counter-clockwise seen from outside.
+        triangles: Arc<[[u32; 3]]>,
+    },
 }
 
 /// A part of the robot: an instance's shape placed in the world.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct ScenePart {
     /// The instance it belongs to (document order).
     pub instance: usize,
@@ -72,45 +81,67 @@ fn to_part(instance: usize, shape: SceneShape, pose: &Pose) -> ScenePart {
     }
 }
 
+/// A collider's shape in mm, if gymfleet builds shapes of its kind.
+fn scene_shape(shape: &dyn Shape) -> Option<SceneShape> {
+    let len = |v: f32| to_mm(f64::from(v)) as f32;
+    Some(match shape.shape_type() {
+        ShapeType::Cuboid => {
+            let c = shape.as_cuboid()?;
+            SceneShape::Cuboid {
+                half_extents: [c.half_extents.x, c.half_extents.y, c.half_extents.z].map(len),
+            }
+        }
+        ShapeType::Cylinder => {
+            let c = shape.as_cylinder()?;
+            SceneShape::Cylinder {
+                radius: len(c.radius),
+                half_height: len(c.half_height),
+            }
+        }
+        ShapeType::Ball => SceneShape::Ball {
+            radius: len(shape.as_ball()?.radius),
+        },
+        // Built along its frame's y (`capsule_y`), centred.
+        ShapeType::Capsule => {
+            let c = shape.as_capsule()?;
+            SceneShape::Capsule {
+                radius: len(c.radius),
+                half_segment: len(c.half_height()),
+            }
+        }
+        ShapeType::ConvexPolyhedron => {
+            let (vertices, triangles) = shape.as_convex_polyhedron()?.to_trimesh();
+            SceneShape::Mesh {
+                vertices: vertices.into_iter().map(mm).collect(),
+                triangles: triangles.into(),
+            }
+        }
+        _ => return None,
+    })
+}
+
 impl RobotWorld {
-    /// Every collider of every instance, where it is now. Shapes gymfleet does not build
-    /// (none today) are left out.
+    /// Every collider of every instance, where it is now (a decomposed mesh: each of its
+    /// convex parts). Shapes gymfleet does not build (none today) are left out.
     pub fn scene_parts(&self) -> Vec<ScenePart> {
         let mut parts = Vec::with_capacity(self.bodies.len());
-        let len = |v: f32| to_mm(f64::from(v)) as f32;
         for (instance, &handle) in self.bodies.iter().enumerate() {
             for &co in self.live.bodies[handle].colliders() {
                 let co = &self.live.colliders[co];
-                let shape = co.shape();
-                let shape = match shape.shape_type() {
-                    ShapeType::Cuboid => {
-                        let c = shape.as_cuboid().expect("a cuboid");
-                        SceneShape::Cuboid {
-                            half_extents: [c.half_extents.x, c.half_extents.y, c.half_extents.z]
-                                .map(len),
+                match co.shape().as_compound() {
+                    Some(compound) => {
+                        for (pose, piece) in compound.shapes() {
+                            if let Some(shape) = scene_shape(&**piece) {
+                                parts.push(to_part(instance, shape, &(*co.position() * *pose)));
+                            }
                         }
                     }
-                    ShapeType::Cylinder => {
-                        let c = shape.as_cylinder().expect("a cylinder");
-                        SceneShape::Cylinder {
-                            radius: len(c.radius),
-                            half_height: len(c.half_height),
+                    None => {
+                        if let Some(shape) = scene_shape(co.shape()) {
+                            parts.push(to_part(instance, shape, co.position()));
                         }
                     }
-                    ShapeType::Ball => SceneShape::Ball {
-                        radius: len(shape.as_ball().expect("a ball").radius),
-                    },
-                    // Built along its frame's y (`capsule_y`), centred.
-                    ShapeType::Capsule => {
-                        let c = shape.as_capsule().expect("a capsule");
-                        SceneShape::Capsule {
-                            radius: len(c.radius),
-                            half_segment: len(c.half_height()),
-                        }
-                    }
-                    _ => continue,
-                };
-                parts.push(to_part(instance, shape, co.position()));
+                }
             }
         }
         parts

@@ -286,6 +286,13 @@ fn tessellate(scene: &Scene) -> Vec<Mesh> {
         .iter()
         .map(|part| {
             let (vertices, mut triangles) = match part.shape {
+                SceneShape::Mesh {
+                    ref vertices,
+                    ref triangles,
+                } => (
+                    vertices.iter().copied().map(vec).collect(),
+                    triangles.to_vec(),
+                ),
                 SceneShape::Cuboid { half_extents } => Cuboid::new(vec(half_extents)).to_trimesh(),
                 SceneShape::Cylinder {
                     radius,
@@ -297,11 +304,12 @@ fn tessellate(scene: &Scene) -> Vec<Mesh> {
                     half_segment,
                 } => Capsule::new_y(half_segment, radius).to_trimesh(24, 8),
             };
-            // Every shape is convex and centred on its frame: a face whose normal points
-            // towards the centre is wound inwards.
+            // Every shape is convex: a face whose normal points towards the shape's
+            // inside (its vertices' mean) is wound inwards.
+            let inside = vertices.iter().copied().sum::<Vector>() / vertices.len().max(1) as f32;
             for tri in &mut triangles {
                 let [a, b, c] = tri.map(|i| vertices[i as usize]);
-                if (b - a).cross(c - a).dot(a + b + c) < 0.0 {
+                if (b - a).cross(c - a).dot(a + b + c - 3.0 * inside) < 0.0 {
                     tri.swap(1, 2);
                 }
             }

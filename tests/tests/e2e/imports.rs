@@ -1,5 +1,6 @@
-//! Descriptions in MuJoCo's format over the network: detected and converted by the
-//! server, shown by ConvertDocument, refused with the element and line when unsupported.
+//! Descriptions in MuJoCo's and ROS's formats over the network (MJCF, URDF with its meshes
+//! in an assets archive or the model library): detected and converted by the server, shown
+//! by ConvertDocument, refused with the element and line when unsupported.
 
 use gymfleet_client::{ActionType, BatchOptions, ClientError, DocumentFormat, EnvOptions};
 use gymfleet_e2e::TestServer;
@@ -107,12 +108,12 @@ async fn unsupported_descriptions_name_the_element_and_line() {
         err.message(),
         "document_json: line 3: <freejoint>: a free joint (floating base) is not supported yet"
     );
-    let err = create("<robot name=\"ur5\"><link name=\"base\"/></robot>")
+    let err = create("<robot name=\"r\">\n<link name=\"a\"/>\n<link name=\"b\"/>\n<joint name=\"j\" type=\"planar\"><parent link=\"a\"/><child link=\"b\"/></joint>\n</robot>")
         .await
         .unwrap_err();
     assert_eq!(
         err.message(),
-        "document_json: line 1: <robot>: URDF is not converted yet (MJCF is)"
+        "document_json: line 4: <joint type=…>: \"planar\" joints are not supported"
     );
     let err = create("<html><body/></html>").await.unwrap_err();
     assert_mentions(
@@ -270,4 +271,172 @@ fn a_broken_library_file_stops_the_server_naming_it() {
         .unwrap_err()
         .to_string();
     assert!(missing.starts_with("--models: /no/such/dir: "), "{missing}");
+}
+
+const UR5: &str = include_str!(
+    "../../../crates/import/tests/data/example-robot-data/robots/ur_description/urdf/ur5_robot.urdf"
+);
+const UR5_MESHES: &str = "example-robot-data/robots/ur_description/meshes/ur5/collision";
+
+/// The UR5's collision meshes: (path from the assets root, bytes).
+fn ur5_meshes() -> Vec<(String, Vec<u8>)> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../crates/import/tests/data")
+        .join(UR5_MESHES);
+    let mut files: Vec<(String, Vec<u8>)> = std::fs::read_dir(&dir)
+        .expect("the import crate's test data")
+        .map(|e| {
+            let e = e.expect("entry");
+            let name = format!("{UR5_MESHES}/{}", e.file_name().to_string_lossy());
+            (name, std::fs::read(e.path()).expect("read"))
+        })
+        .collect();
+    files.sort();
+    files
+}
+
+/// `files` as a tar archive.
+fn tar_of(files: &[(String, Vec<u8>)]) -> Vec<u8> {
+    let mut out = tar::Builder::new(Vec::new());
+    for (name, bytes) in files {
+        let mut header = tar::Header::new_gnu();
+        header.set_size(bytes.len() as u64);
+        header.set_mode(0o644);
+        header.set_cksum();
+        out.append_data(&mut header, name, bytes.as_slice())
+            .expect("tar");
+    }
+    out.into_inner().expect("tar")
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_urdf_with_its_meshes_in_an_archive_creates_envs_that_hold_still() {
+    let server = TestServer::start_default().await;
+    let client = server.client().await;
+    let assets = tar_of(&ur5_meshes());
+    let env = client
+        .create_env(
+            EnvOptions::new(UR5)
+                .assets(assets.clone())
+                .end_effectors(["ee_link"]),
+        )
+        .await
+        .expect("URDF with meshes");
+    assert_eq!(env.info().action_dim, 6);
+    let mut last = None;
+    for _ in 0..120 {
+        last = Some(
+            env.step(ActionType::Position, &[0.0; 6])
+                .await
+                .expect("steps"),
+        );
+    }
+    let q = last.expect("stepped").observation.joint_positions;
+    assert!(
+        q.iter().all(|v| v.abs() < 1.0),
+        "PD at the initial pose: {q:?}"
+    );
+    // The scene draws the hulls.
+    let scene = env.scene().await.expect("scene");
+    assert!(scene
+        .bodies
+        .iter()
+        .any(|b| b.name == "forearm_link"
+            && matches!(b.shape, gymfleet_client::SceneShape::Mesh { .. })));
+    // The saved state carries the meshes (read into the document): it forks without assets.
+    let state = env.save_state().await.expect("saves");
+    let fork = client
+        .fork(&state, 2, gymfleet_client::Autoreset::Disabled)
+        .await
+        .expect("forks");
+    assert_eq!(fork.info().action_dim, 6);
+    // ConvertDocument shows the document with the hulls' vertices in place of the files.
+    let converted = client
+        .convert_document_with_assets(UR5, DocumentFormat::Detect, assets.clone())
+        .await
+        .expect("converts");
+    assert_eq!(converted.format, DocumentFormat::Urdf);
+    assert!(!converted.document_json.contains("package://"));
+    assert!(converted
+        .warnings
+        .iter()
+        .any(|w| w.contains("<visual> ignored")));
+    // A batch takes the same archive.
+    let batch = client
+        .create_batch(BatchOptions::new(UR5, 3).assets(assets))
+        .await
+        .expect("a batch");
+    assert_eq!(batch.info().n_envs, 3);
+
+    // Without the archive, or with one that misses a mesh: the file is named.
+    let err = client.create_env(EnvOptions::new(UR5)).await.unwrap_err();
+    assert!(
+        matches!(err, ClientError::InvalidArgument { .. }),
+        "{err:?}"
+    );
+    assert_mentions(
+        &err,
+        &[
+            ".primitive.file: \"package://example-robot-data/robots/ur_description/meshes/ur5/collision/base.stl\": a mesh file is read from the request's assets",
+        ],
+    );
+    let mut partial = ur5_meshes();
+    partial.retain(|(n, _)| !n.ends_with("wrist2.stl"));
+    let err = client
+        .create_env(EnvOptions::new(UR5).assets(tar_of(&partial)))
+        .await
+        .unwrap_err();
+    assert!(
+        matches!(err, ClientError::InvalidArgument { .. }),
+        "{err:?}"
+    );
+    assert_mentions(&err, &["assets: no file \"package://example-robot-data/robots/ur_description/meshes/ur5/collision/wrist2.stl\" in the archive"]);
+    let err = client
+        .create_env(EnvOptions::new(UR5).assets(b"not an archive".to_vec()))
+        .await
+        .unwrap_err();
+    assert_eq!(
+        err.message(),
+        "document_json: assets: expected a zip, tar or tar.gz archive; the 14 bytes given are none of these"
+    );
+    let info = client.server_info().await.expect("info");
+    assert_eq!((info.envs, info.batches), (1, 2), "nothing half-created");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_library_urdf_reads_its_meshes_from_the_library_folder() {
+    use gymfleet_server::{ModelLibrary, ServerConfig};
+    let dir = Dir::with("urdf", &[("ur5.urdf", UR5)]);
+    for (name, bytes) in ur5_meshes() {
+        let path = dir.0.join(&name);
+        std::fs::create_dir_all(path.parent().expect("a folder")).expect("mkdir");
+        std::fs::write(path, bytes).expect("write");
+    }
+    let library = ModelLibrary::load(&dir.0).expect("loads");
+    let server = TestServer::start(ServerConfig {
+        models: Some(std::sync::Arc::new(library)),
+        ..ServerConfig::default()
+    })
+    .await;
+    let client = server.client().await;
+    let models = client.list_models().await.expect("lists");
+    assert_eq!(models.len(), 1);
+    assert_eq!(
+        (models[0].name.as_str(), models[0].format, models[0].dofs),
+        ("ur5", DocumentFormat::Urdf, 6)
+    );
+    let env = client
+        .create_env(EnvOptions::from_model("ur5"))
+        .await
+        .expect("a library URDF");
+    assert_eq!(env.info().action_dim, 6);
+    // A model brings its own meshes.
+    let err = client
+        .create_env(EnvOptions::from_model("ur5").assets(b"x".to_vec()))
+        .await
+        .unwrap_err();
+    assert_eq!(
+        err.message(),
+        "assets: a library model brings its own mesh files: give assets with document_json only"
+    );
 }

@@ -1,0 +1,246 @@
+//! URDF descriptions nobody here wrote (example-robot-data's UR5 and Panda, with their STL
+//! meshes) convert into documents that parse, build and hold still; unsupported
+//! constructs are errors naming the element and its line.
+
+use std::path::Path;
+
+use gymfleet_env::{ActionType, EnvConfig, RobotEnv};
+use gymfleet_import::{to_json, urdf_to_document, Assets, Format, ImportError};
+
+const UR5: &str = include_str!("data/example-robot-data/robots/ur_description/urdf/ur5_robot.urdf");
+const PANDA: &str =
+    include_str!("data/example-robot-data/robots/panda_description/urdf/panda.urdf");
+
+/// The test data folder as an assets root: `example-robot-data/robots/…` inside it.
+fn assets() -> Assets {
+    Assets::from_dir(&Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data")).expect("reads")
+}
+
+fn ur5_json() -> (String, Vec<String>) {
+    to_json(UR5, Format::Urdf, Some(&assets())).expect("converts")
+}
+
+fn ur5_env() -> RobotEnv {
+    let (text, _) = ur5_json();
+    RobotEnv::from_json(&text, EnvConfig::with_end_effectors(["ee_link"]))
+        .unwrap_or_else(|e| panic!("the converted UR5 builds: {e}"))
+}
+
+#[test]
+fn ur5_has_six_actuated_joints_with_the_files_limits_and_efforts() {
+    let env = ur5_env();
+    let spec = env.spec();
+    let names: Vec<&str> = spec.dofs.iter().map(|d| d.joint_name.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "shoulder_pan_joint",
+            "shoulder_lift_joint",
+            "elbow_joint",
+            "wrist_1_joint",
+            "wrist_2_joint",
+            "wrist_3_joint"
+        ]
+    );
+    assert_eq!(spec.action_dim, 6);
+    let limits: Vec<[f64; 2]> = spec
+        .dofs
+        .iter()
+        .map(|d| d.limits.expect("limited"))
+        .collect();
+    for (k, [lo, hi]) in limits.iter().enumerate() {
+        let expected = if k == 2 { 180.0 } else { 360.0 };
+        assert!(
+            (hi - expected).abs() < 1e-6 && (lo + expected).abs() < 1e-6,
+            "{k}: {lo} {hi}"
+        );
+    }
+    let efforts: Vec<Option<f64>> = spec.dofs.iter().map(|d| d.max_effort).collect();
+    assert_eq!(
+        efforts,
+        [150.0, 150.0, 150.0, 28.0, 28.0, 28.0].map(Some).to_vec()
+    );
+}
+
+#[test]
+fn ur5_masses_are_the_files_and_its_shapes_are_mesh_hulls() {
+    let (text, warnings) = ur5_json();
+    let assembly = gymfleet_assembly::parse(&text).expect("parses");
+    let mass = |name: &str| {
+        let inst = &assembly.instances[assembly.instance_index(name).expect(name)];
+        inst.inertial.expect("given").mass
+    };
+    for (link, kg) in [
+        ("base_link", 4.0),
+        ("shoulder_link", 3.7),
+        ("upper_arm_link", 8.393),
+        ("forearm_link", 2.275),
+        ("wrist_1_link", 1.219),
+        ("wrist_2_link", 1.219),
+        ("wrist_3_link", 0.1879),
+    ] {
+        assert_eq!(mass(link), kg, "{link}");
+    }
+    let upper = &assembly.instances[assembly.instance_index("upper_arm_link").unwrap()];
+    let gymfleet_assembly::Shape::Convex(parts) = &upper.shape else {
+        panic!("a mesh hull, got {:?}", upper.shape)
+    };
+    assert_eq!(parts.pieces.len(), 1);
+    // The upper arm's collision mesh spans its 425 mm link (and a little more).
+    let z: Vec<f64> = parts.pieces[0].vertices.iter().map(|v| v[2]).collect();
+    let span =
+        z.iter().cloned().fold(f64::MIN, f64::max) - z.iter().cloned().fold(f64::MAX, f64::min);
+    assert!(
+        (0.42..0.6).contains(&span),
+        "upper arm hull spans {span} m along its z"
+    );
+    for expected in [
+        "<visual> ignored",
+        "<transmission> ignored",
+        "velocity ignored",
+        "mass 0",
+    ] {
+        assert!(
+            warnings.iter().any(|w| w.contains(expected)),
+            "no {expected:?} in {warnings:#?}"
+        );
+    }
+}
+
+#[test]
+fn ur5_holds_still_under_pd_at_its_initial_pose() {
+    let mut env = ur5_env();
+    let steps = (1.0 / env.spec().dt).round() as usize;
+    for _ in 0..steps {
+        env.step(ActionType::Position, &[0.0; 6]).expect("steps");
+    }
+    let obs = env.observe();
+    for (k, q) in obs.joint_positions.iter().enumerate() {
+        assert!(q.abs() < 1.0, "joint {k} sagged to {q} deg");
+    }
+    for (k, v) in obs.joint_velocities.iter().enumerate() {
+        assert!(v.abs() < 1.0, "joint {k} still moves at {v} deg/s");
+    }
+}
+
+#[test]
+fn panda_mimic_finger_is_refused_naming_the_line() {
+    let err = urdf_to_document(PANDA).expect_err("a mimic joint");
+    let ImportError::Unsupported {
+        element,
+        line,
+        reason,
+    } = &err
+    else {
+        panic!("{err}")
+    };
+    assert_eq!(element, "mimic");
+    assert_eq!(*line, 348);
+    assert!(
+        reason.contains("panda_finger_joint2") && reason.contains("mimic"),
+        "{reason}"
+    );
+}
+
+fn urdf_error(xml: &str) -> String {
+    urdf_to_document(xml).expect_err("refused").to_string()
+}
+
+fn robot(inner: &str) -> String {
+    format!("<robot name=\"r\">\n{inner}\n</robot>")
+}
+
+const LINK: &str = r#"<inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>"#;
+
+fn link(name: &str) -> String {
+    format!(
+        r#"<link name="{name}">{LINK}<collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision></link>"#
+    )
+}
+
+fn revolute(name: &str, parent: &str, child: &str) -> String {
+    format!(
+        r#"<joint name="{name}" type="revolute"><parent link="{parent}"/><child link="{child}"/><origin xyz="0 0 0.2"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="5" velocity="1"/></joint>"#
+    )
+}
+
+#[test]
+fn bad_descriptions_name_their_element_and_line() {
+    let cases: Vec<(String, &str)> = vec![
+        (
+            robot(&format!("{}\n{}\n{}\n{}", link("a"), link("b"), revolute("j1", "a", "b"), revolute("j2", "b", "a"))),
+            "every link is some joint's child: the joints form a cycle",
+        ),
+        (
+            robot(&format!("{}\n{}\n{}", link("a"), link("b"), link("c"))),
+            "3 links are no joint's child",
+        ),
+        (
+            robot(&format!("{}\n{}\n{}\n{}\n{}", link("a"), link("b"), link("c"), revolute("j1", "a", "c"), revolute("j2", "b", "c"))),
+            "line 6: <joint>: link \"c\" is already the child of joint \"j1\" (line 5): URDF is a tree",
+        ),
+        (
+            robot(&format!("{}\n{}", link("a"), revolute("j1", "a", "ghost"))),
+            "line 3: <child link=…>: no link is named \"ghost\"",
+        ),
+        (
+            robot(r#"<link name="a"><inertial><mass value="2"/><inertia ixx="0" iyy="0" izz="0" ixy="0" ixz="0" iyz="0"/></inertial></link>"#),
+            "<inertia>: a link of 2 kg with zero inertia",
+        ),
+        (
+            robot(&format!("{}\n{}\n{}", link("a"), link("b"), revolute("j1", "a", "b").replace("revolute", "floating"))),
+            "line 4: <joint>: floating joints (a free base) are not supported yet",
+        ),
+        (
+            robot(&format!("{}\n{}\n{}", link("a"), link("b"), revolute("j1", "a", "b").replace(r#"<limit lower="-1" upper="1" effort="5" velocity="1"/>"#, ""))),
+            "a revolute joint needs <limit lower upper effort velocity>",
+        ),
+        (
+            robot(&format!("{}\n{}\n{}", link("a"), link("b"), revolute("j1", "a", "b").replace("</joint>", r#"<dynamics friction="0.3"/></joint>"#))),
+            "<dynamics friction=…>: joint friction (0.3) is not supported yet",
+        ),
+        (
+            robot(&link("a").replace(r#"size="0.1 0.1 0.1""#, r#"size="0.1 0.1""#)),
+            "<box size=…>: expected 3 numbers, got 2",
+        ),
+        (
+            robot(&link("a").replace(r#"<box size="0.1 0.1 0.1"/>"#, r#"<cone radius="1"/>"#)),
+            "<cone>: <cone> geometry is not supported",
+        ),
+        (
+            robot(&format!("{}\n{}", link("a"), link("a"))),
+            "line 3: <link name=…>: a second link named \"a\"",
+        ),
+    ];
+    for (xml, expected) in cases {
+        let message = urdf_error(&xml);
+        assert!(
+            message.contains(expected),
+            "expected {expected:?} in {message:?} for\n{xml}"
+        );
+    }
+}
+
+#[test]
+fn a_continuous_joint_is_unlimited_and_a_prismatic_one_is_in_mm() {
+    let xml = robot(&format!(
+        "{}\n{}\n{}\n{}\n{}",
+        link("a"),
+        link("b"),
+        link("c"),
+        revolute("spin", "a", "b").replace("revolute", "continuous"),
+        revolute("slide", "b", "c").replace("revolute", "prismatic")
+    ));
+    let converted = urdf_to_document(&xml).expect("converts");
+    let env =
+        RobotEnv::from_json(&converted.document.to_string(), EnvConfig::default()).expect("builds");
+    let spec = env.spec();
+    assert_eq!(spec.dofs[0].limits, None);
+    assert_eq!(spec.dofs[1].limits, Some([-1000.0, 1000.0]));
+    // The anchors compose: b's frame is 200 mm above a's, c's 200 mm above b's.
+    let joints = converted.document["assembly"]["joints"]
+        .as_array()
+        .unwrap()
+        .clone();
+    assert_eq!(joints[1]["anchor"]["z"], 400.0);
+}
