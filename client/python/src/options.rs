@@ -26,6 +26,10 @@ pub(crate) struct CreateOptions {
     pub(crate) kd: Option<Vec<f64>>,
     pub(crate) task: Option<TaskFields>,
     pub(crate) randomize: Option<RandomizeFields>,
+    /// A model of the server's library instead of the document.
+    pub(crate) model: Option<String>,
+    /// The document's mesh files as one archive (zip, tar or tar.gz bytes).
+    pub(crate) assets: Option<Vec<u8>>,
 }
 
 /// Domain-randomisation ranges as `gymfleet._common.randomize_fields` checks them.
@@ -133,8 +137,14 @@ pub(crate) fn timeout(value: Option<f64>) -> PyResult<Option<Duration>> {
 impl CreateOptions {
     /// The client's builder for one env of `document_json`.
     pub(crate) fn env_options(&self, document_json: String) -> PyResult<EnvOptions> {
-        let mut options =
-            EnvOptions::new(document_json).end_effectors(self.end_effector_ids.clone());
+        let mut options = match &self.model {
+            Some(name) => EnvOptions::from_model(name.clone()),
+            None => EnvOptions::new(document_json),
+        }
+        .end_effectors(self.end_effector_ids.clone());
+        if let Some(assets) = &self.assets {
+            options = options.assets(assets.clone());
+        }
         if let Some(dt) = self.dt {
             options = options.dt(dt);
         }

@@ -158,8 +158,10 @@ pub(crate) struct Server {
 impl Server {
     #[new]
     #[pyo3(signature = (
-        *, threads=0, max_envs=None, max_batch_size=None, idle_ttl=None, auth_tokens=None
+        *, threads=0, max_envs=None, max_batch_size=None, idle_ttl=None, auth_tokens=None,
+        models=None
     ))]
+    #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
         threads: usize,
@@ -167,6 +169,7 @@ impl Server {
         max_batch_size: Option<usize>,
         idle_ttl: Option<f64>,
         auth_tokens: Option<std::path::PathBuf>,
+        models: Option<std::path::PathBuf>,
     ) -> PyResult<Self> {
         let defaults = ServerConfig::default();
         let idle_ttl = match idle_ttl {
@@ -184,8 +187,17 @@ impl Server {
             )),
             None => None,
         };
+        // The model library (`--models DIR`): read, converted and checked now.
+        let models = match models {
+            Some(dir) => Some(std::sync::Arc::new(
+                py.detach(|| gymfleet_server::ModelLibrary::load(&dir))
+                    .map_err(|e| crate::options::invalid(format!("models: {e}")))?,
+            )),
+            None => None,
+        };
         let config = ServerConfig {
             threads,
+            models,
             max_envs: max_envs.unwrap_or(defaults.max_envs),
             max_batch_size: max_batch_size.unwrap_or(defaults.max_batch_size),
             idle_ttl,
@@ -282,11 +294,12 @@ pub(crate) fn server_info(py: Python<'_>, server: Option<&str>) -> PyResult<Py<P
 /// A description (MJCF text, or assembly JSON) as the assembly JSON `server` builds from
 /// it, and the conversion's warnings (`ConvertDocument`).
 #[pyfunction]
-#[pyo3(signature = (document, server=None))]
+#[pyo3(signature = (document, server=None, assets=None))]
 pub(crate) fn convert_document(
     py: Python<'_>,
     document: String,
     server: Option<&str>,
+    assets: Option<Vec<u8>>,
 ) -> PyResult<(String, Vec<String>)> {
     let client = match resolve(py, server)? {
         Target::One(client) => client,
@@ -294,7 +307,11 @@ pub(crate) fn convert_document(
     };
     let converted = wait(py, None, || async move {
         client
-            .convert_document(document, gymfleet_client::DocumentFormat::Detect)
+            .convert_document_with_assets(
+                document,
+                gymfleet_client::DocumentFormat::Detect,
+                assets.unwrap_or_default(),
+            )
             .await
     })?;
     Ok((converted.document_json, converted.warnings))

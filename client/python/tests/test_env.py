@@ -87,7 +87,7 @@ def test_a_document_is_a_dict_a_json_string_or_a_path(arm2):
         env = gymfleet.make(document, end_effector_ids=["forearm"])
         assert env.reset(seed=0)[0].shape == (11,)
         env.close()
-    with pytest.raises(gymfleet.InvalidArgument, match="document: expected a dict, JSON or MJCF text or the path of a file, got 'no/such/file.json'"):
+    with pytest.raises(gymfleet.InvalidArgument, match="document: expected a dict, JSON, MJCF or URDF text or the path of a file, got 'no/such/file.json'"):
         gymfleet.make("no/such/file.json")
     with pytest.raises(TypeError, match="unexpected option.*end_effectors"):
         gymfleet.make(arm2, end_effectors=["forearm"])

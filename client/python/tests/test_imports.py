@@ -65,3 +65,58 @@ def test_unsupported_mjcf_raises_with_element_and_line():
     xml = "<mujoco>\n<worldbody>\n<body><freejoint/><geom size='.1'/></body>\n</worldbody>\n</mujoco>"
     with pytest.raises(gymfleet.InvalidArgument, match=r"line 3: <freejoint>: a free joint"):
         gymfleet.make(xml)
+
+
+# ROS's descriptions: example-robot-data's UR5 (a URDF with STL meshes), kept in the import
+# crate's test data in the wheel's own layout.
+ROBOTS = pathlib.Path(__file__).parents[3] / "crates" / "import" / "tests" / "data"
+UR5 = ROBOTS / "example-robot-data" / "robots" / "ur_description" / "urdf" / "ur5_robot.urdf"
+
+
+def test_a_urdf_with_its_meshes_holds_still_under_pd():
+    env = gymfleet.make(UR5, assets=ROBOTS, action_type="position", end_effector_ids=["ee_link"])
+    assert env.action_space.shape == (6,)
+    names = [j["name"] for j in env.env_info["joints"]]
+    assert names[:2] == ["shoulder_pan_joint", "shoulder_lift_joint"], names
+    env.reset(seed=0)
+    for _ in range(120):
+        obs, *_ = env.step(np.zeros(6, dtype=np.float32))
+    assert np.abs(obs[:6]).max() < 1.0, obs[:6]
+    env.close()
+
+
+def test_assets_may_be_a_folder_an_archive_or_bytes(tmp_path):
+    import shutil
+
+    archive = shutil.make_archive(str(tmp_path / "robots"), "gztar", ROBOTS)
+    from_folder, warnings = gymfleet.convert(UR5, assets=ROBOTS)
+    from_archive, _ = gymfleet.convert(UR5, assets=archive)
+    with open(archive, "rb") as f:
+        from_bytes, _ = gymfleet.convert(UR5, assets=f.read())
+    assert from_folder == from_archive == from_bytes
+    meshes = [p["primitive"] for p in from_folder["parts"] if p["primitive"]["type"] == "mesh"]
+    assert len(meshes) == 7 and all("vertices" in m and "file" not in m for m in meshes)
+    assert any("<visual> ignored" in w for w in warnings), warnings
+
+
+def test_a_urdf_without_its_meshes_names_the_file():
+    with pytest.raises(gymfleet.InvalidArgument, match=r"collision/base\.stl.*a mesh file is read from the request's assets"):
+        gymfleet.make(UR5)
+    with pytest.raises(gymfleet.InvalidArgument, match="assets: 'no/such/place' is neither a folder nor a file"):
+        gymfleet.make(UR5, assets="no/such/place")
+
+
+def test_a_library_model_is_made_by_name(tmp_path):
+    import shutil
+
+    shutil.copy(UR5, tmp_path / "ur5.urdf")
+    shutil.copytree(ROBOTS / "example-robot-data", tmp_path / "example-robot-data")
+    with gymfleet.Server(threads=1, models=str(tmp_path)) as server:
+        env = gymfleet.make(model="ur5", server=server.address)
+        assert env.action_space.shape == (6,)
+        envs = gymfleet.make_vec(num_envs=3, model="ur5", server=server.address)
+        assert envs.action_space.shape == (3, 6)
+        envs.close()
+        env.close()
+    with pytest.raises(gymfleet.InvalidArgument, match="model: give a document or a model, not both"):
+        gymfleet.make(UR5, model="ur5")

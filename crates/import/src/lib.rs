@@ -2,18 +2,28 @@
 //! §6.3), so that everything downstream (validation with paths, limits, tasks, batches,
 //! MCP) works unchanged on them.
 //!
-//! This crate owns the conversions and nothing else: it reads text (with `roxmltree`) and
-//! writes a JSON document; it knows nothing of physics or networks, and the document it
-//! writes still goes through `gymfleet_assembly::parse` like any other.
+//! This crate owns the conversions and the request's assets, and nothing else: it reads
+//! text (with `roxmltree`), archives (`zip`, `tar`, `flate2`) and mesh files
+//! (`mesh-loader`), and writes a JSON document; it knows nothing of physics or networks,
+//! and the document it writes still goes through `gymfleet_assembly::parse` like any
+//! other.
 //!
-//! Today: **MJCF** ([`mjcf_to_document`]) for the subset MuJoCo's classic models use —
-//! default classes, `compiler` angle units and `inertiafromgeom`, bodies with `pos` and
-//! `quat`/`euler`/`axisangle`, box/sphere/capsule/cylinder geoms with `size` or `fromto`,
-//! hinge/slide/ball joints (several per body), bodies without joints (welded), explicit
-//! `<inertial>`, `contype`/`conaffinity`, motors (`gear`, `ctrlrange` → `max_effort`;
-//! joints without a motor are passive). Everything else is an error naming the element and
-//! its line, or, when it has no effect on the dynamics, a warning. URDF and meshes are not
-//! converted yet.
+//! - **MJCF** ([`mjcf_to_document`]): the subset MuJoCo's classic models use — default
+//!   classes, `compiler` angle units and `inertiafromgeom`, bodies with `pos` and
+//!   `quat`/`euler`/`axisangle`, box/sphere/capsule/cylinder geoms with `size` or
+//!   `fromto`, hinge/slide/ball joints (several per body), bodies without joints (welded),
+//!   explicit `<inertial>`, `contype`/`conaffinity`, motors (`gear`, `ctrlrange` →
+//!   `max_effort`; joints without a motor are passive).
+//! - **URDF** ([`urdf_to_document`]): links with `<collision>` boxes, cylinders, spheres,
+//!   capsules and meshes, `<inertial>`, revolute/continuous/prismatic/fixed joints with
+//!   limits, effort and damping.
+//! - **Meshes** ([`inline_mesh_files`]): a `{"type": "mesh", "file": …}` primitive (what
+//!   URDF meshes become, or written in JSON) is read from the request's [`Assets`] (a zip,
+//!   tar or tar.gz archive; `package://` and relative paths) and replaced by its vertices,
+//!   so the document is self-contained (env states carry it).
+//!
+//! Everything else is an error naming the element and its line, or, when it has no effect
+//! on the dynamics, a warning.
 
 mod assets;
 mod frame;

@@ -17,7 +17,7 @@ from typing import Any, Dict, List, Optional, Tuple, Union
 from gymnasium.vector import AutoresetMode
 
 from . import _core
-from ._common import Document, document_json
+from ._common import assets_bytes, Document, document_json
 from .env import GymfleetEnv
 from .errors import (
     DeadlineExceeded,
@@ -64,7 +64,7 @@ __all__ = [
 
 
 def make(
-    document: Document,
+    document: Optional[Document] = None,
     *,
     server: Optional[str] = None,
     end_effector_ids: Optional[List[str]] = None,
@@ -76,10 +76,12 @@ def make(
     action_type: str = "torque",
     **kwargs: Any,
 ) -> GymfleetEnv:
-    """One environment of ``document`` (a dict, JSON text or a path) as a
+    """One environment of ``document`` (a dict, JSON, MJCF or URDF text, or a path) as a
     :class:`gymnasium.Env`. Options are the proto's ``CreateEnvRequest`` fields; unset
     ones take the server's defaults (dt 1/240 s, 5 substeps, 1000 steps, seed 0).
-    Other keywords: ``pd_gains``, ``normalize_actions``, ``timeout`` (seconds per call).
+    Other keywords: ``pd_gains``, ``normalize_actions``, ``timeout`` (seconds per call),
+    ``model`` (a name of the server's ``--models`` library, instead of ``document``) and
+    ``assets`` (the description's mesh files: a folder, a zip/tar file, or its bytes).
     """
     return GymfleetEnv(
         document,
@@ -96,8 +98,8 @@ def make(
 
 
 def make_vec(
-    document: Document,
-    num_envs: int,
+    document: Optional[Document] = None,
+    num_envs: int = 1,
     *,
     server: Optional[str] = None,
     autoreset_mode: Union[AutoresetMode, str] = AutoresetMode.NEXT_STEP,
@@ -143,12 +145,15 @@ def server_info(server: Optional[str] = None) -> Any:
     return _core.server_info(server)
 
 
-def convert(document: Document, server: Optional[str] = None) -> Tuple[Dict[str, Any], List[str]]:
-    """The assembly JSON (as a dict) a server builds from ``document`` (MJCF text or a
-    path to an ``.xml`` file; JSON is checked and returned), and what the conversion
-    ignored. ``make``/``make_vec`` take MJCF directly; this shows (and lets you edit) what
-    they build."""
-    text, warnings = _core.convert_document(document_json(document), server)
+def convert(
+    document: Document, server: Optional[str] = None, assets: Any = None
+) -> Tuple[Dict[str, Any], List[str]]:
+    """The assembly JSON (as a dict) a server builds from ``document`` (MJCF or URDF text
+    or a path to an ``.xml``/``.urdf`` file; JSON is checked and returned), and what the
+    conversion ignored. ``assets``: the mesh files, as for :func:`make` (their hulls are
+    read into the JSON). ``make``/``make_vec`` take MJCF and URDF directly; this shows
+    (and lets you edit) what they build."""
+    text, warnings = _core.convert_document(document_json(document), server, assets_bytes(assets))
     return json.loads(text), list(warnings)
 
 

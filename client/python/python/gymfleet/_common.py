@@ -3,8 +3,10 @@ reading a document, checking the creation options, the spaces and the action map
 
 from __future__ import annotations
 
+import io
 import json
 import os
+import zipfile
 from typing import Any, Dict, List, Mapping, Optional, Tuple, Union
 
 import numpy as np
@@ -26,14 +28,23 @@ OPTION_NAMES = (
     "pd_gains",
     "task",
     "randomize",
+    "model",
+    "assets",
 )
 
 ACTION_TYPES = ("torque", "position", "velocity")
 
 
-def document_json(document: Document) -> str:
-    """The document's text, from a dict, JSON or MJCF text, or a path (the server detects
-    the format: MJCF is converted into assembly JSON)."""
+def document_json(document: Optional[Document], model: Optional[str] = None) -> str:
+    """The document's text, from a dict, JSON, MJCF or URDF text, or a path (the server
+    detects the format: MJCF and URDF are converted into assembly JSON); ``""`` when a
+    library ``model`` is named instead."""
+    if model is not None:
+        if document is not None:
+            raise InvalidArgument("model: give a document or a model, not both")
+        return ""
+    if document is None:
+        raise InvalidArgument("document: expected a document (or model=NAME of the server's library)")
     if isinstance(document, Mapping):
         return json.dumps(document)
     if isinstance(document, os.PathLike):
@@ -46,11 +57,39 @@ def document_json(document: Document) -> str:
             with open(document, encoding="utf-8") as f:
                 return f.read()
         raise InvalidArgument(
-            f"document: expected a dict, JSON or MJCF text or the path of a file, got "
+            f"document: expected a dict, JSON, MJCF or URDF text or the path of a file, got "
             f"{document[:80]!r} (neither, and no such file)"
         )
     raise TypeError(
         f"document: expected a dict, a JSON string or a path, got {type(document).__name__}"
+    )
+
+
+def assets_bytes(assets: Any) -> Optional[bytes]:
+    """The ``assets`` option as the archive the server reads: bytes as they are, a zip,
+    tar or tar.gz file's bytes, or a folder zipped in memory (its hidden files left out)."""
+    if assets is None:
+        return None
+    if isinstance(assets, (bytes, bytearray, memoryview)):
+        return bytes(assets)
+    if isinstance(assets, (str, os.PathLike)):
+        path = os.fspath(assets)
+        if os.path.isdir(path):
+            buffer = io.BytesIO()
+            with zipfile.ZipFile(buffer, "w", zipfile.ZIP_DEFLATED) as archive:
+                for folder, folders, files in os.walk(path):
+                    folders[:] = sorted(f for f in folders if not f.startswith("."))
+                    for name in sorted(files):
+                        if not name.startswith("."):
+                            full = os.path.join(folder, name)
+                            archive.write(full, os.path.relpath(full, path))
+            return buffer.getvalue()
+        if os.path.isfile(path):
+            with open(path, "rb") as f:
+                return f.read()
+        raise InvalidArgument(f"assets: {path!r} is neither a folder nor a file")
+    raise TypeError(
+        f"assets: expected bytes, or the path of a folder or of a zip/tar file, got {type(assets).__name__}"
     )
 
 
@@ -81,6 +120,8 @@ def create_options(options: Dict[str, Any]) -> Dict[str, Any]:
         "kd": None if gains.get("kd") is None else [float(v) for v in gains["kd"]],
         "task": None if options.get("task") is None else task_fields(options["task"]),
         "randomize": None if options.get("randomize") is None else randomize_fields(options["randomize"]),
+        "model": options.get("model"),
+        "assets": assets_bytes(options.get("assets")),
     }
 
 

@@ -23,6 +23,10 @@ class CreateOptions(TypedDict):
     reset_noise: Optional[float]
     kp: Optional[List[float]]
     kd: Optional[List[float]]
+    task: Optional[Dict[str, Any]]
+    randomize: Optional[Dict[str, Any]]
+    model: Optional[str]
+    assets: Optional[bytes]
 
 class EnvHandle:
     """One env on a server."""
@@ -157,10 +161,13 @@ class Server:
         max_batch_size: Optional[int] = None,
         idle_ttl: Optional[float] = None,
         auth_tokens: Optional[str] = None,
+        models: Optional[str] = None,
     ) -> None:
         """``threads``: simulation threads (0: one per core); limits default to the
         server's (``None``); ``idle_ttl`` in seconds (``None`` or 0: never);
-        ``auth_tokens``: a ``TENANT TOKEN`` file, and every call needs a token."""
+        ``auth_tokens``: a ``TENANT TOKEN`` file, and every call needs a token;
+        ``models``: a model library folder (``--models DIR``) that ``make(model=...)``
+        names."""
     @property
     def address(self) -> str:
         """``"127.0.0.1:<port>"``, what ``server=`` takes."""
@@ -180,9 +187,11 @@ def server_info(server: Optional[str] = None) -> Any:
     at every server start; a list of those for a
     fleet). With auth on, the counts are the caller's tenant's own."""
 
-def convert_document(document: str, server: Optional[str] = None) -> Tuple[str, List[str]]:
-    """The assembly JSON text a server builds from ``document`` (MJCF or JSON), and the
-    conversion's warnings."""
+def convert_document(
+    document: str, server: Optional[str] = None, assets: Optional[bytes] = None
+) -> Tuple[str, List[str]]:
+    """The assembly JSON text a server builds from ``document`` (MJCF, URDF or JSON, its
+    mesh files in the ``assets`` archive), and the conversion's warnings."""
 def stateful_set(
     name: str, service: str, namespace: str = "default", replicas: int = 1, port: int = 50051
 ) -> List[str]:

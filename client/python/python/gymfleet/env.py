@@ -34,7 +34,7 @@ class GymfleetEnv(HandleOwner, gym.Env):
 
     def __init__(
         self,
-        document: Document,
+        document: Optional[Document] = None,
         *,
         server: Optional[str] = None,
         action_type: str = "torque",
@@ -53,7 +53,7 @@ class GymfleetEnv(HandleOwner, gym.Env):
         # height, eye, target, fov_deg, orthographic (see `GymfleetEnv.render`).
         self.render_options: Dict[str, Any] = dict(render_options or {})
         self.action_type = check_action_type(action_type)
-        text = document_json(document)
+        text = document_json(document, options.get("model"))
         self._handle = _core.EnvHandle.create(server, text, create_options(options), timeout)
         # gymnasium.make sets the spec of registered envs; one made here gets its own, so
         # `gymnasium.make(env.spec)` (and gymnasium's tools that use it) re-create it.
@@ -61,7 +61,7 @@ class GymfleetEnv(HandleOwner, gym.Env):
             id="gymfleet/Document-v0",
             entry_point="gymfleet.env:GymfleetEnv",
             kwargs={
-                "document": text,
+                "document": text or None,
                 "server": server,
                 "action_type": action_type,
                 "normalize_actions": normalize_actions,

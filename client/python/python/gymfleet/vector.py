@@ -62,8 +62,8 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
 
     def __init__(
         self,
-        document: Document,
-        num_envs: int,
+        document: Optional[Document] = None,
+        num_envs: int = 1,
         *,
         server: Optional[str] = None,
         autoreset_mode: Union[AutoresetMode, str] = AutoresetMode.NEXT_STEP,
@@ -85,7 +85,7 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
         self.action_type = check_action_type(action_type)
         self._handle = _core.BatchHandle.create(
             server,
-            document_json(document),
+            document_json(document, options.get("model")),
             int(num_envs),
             _MODES[mode],
             create_options(options),
