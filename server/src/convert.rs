@@ -117,8 +117,9 @@ fn env_request(
         assets,
         config: EnvConfig {
             end_effector_ids,
-            // 0 means "the default"; anything else (negative, NaN) is the env's to reject.
-            dt: if dt == 0.0 { defaults.dt } else { dt },
+            // 0 means "the document's, else the default" (resolved by the env); anything
+            // else (negative, NaN) is the env's to reject.
+            dt,
             substeps: if substeps == 0 {
                 defaults.substeps
             } else {
@@ -627,7 +628,7 @@ pub(crate) fn server_info(status: &ServerStatus<'_>) -> pb::ServerInfo {
 
 #[cfg(test)]
 mod tests {
-    use gymfleet_env::{DEFAULT_DT, DEFAULT_MAX_STEPS, DEFAULT_SUBSTEPS};
+    use gymfleet_env::{DEFAULT_MAX_STEPS, DEFAULT_SUBSTEPS};
 
     use super::*;
 
@@ -640,7 +641,7 @@ mod tests {
             ..Default::default()
         })
         .unwrap();
-        assert_eq!(r.config.dt, DEFAULT_DT);
+        assert_eq!(r.config.dt, 0.0, "the document's, else DEFAULT_DT: the env resolves it");
         assert_eq!(r.config.substeps, DEFAULT_SUBSTEPS);
         assert_eq!(r.config.max_steps, DEFAULT_MAX_STEPS);
         assert_eq!(r.config.seed, 0);

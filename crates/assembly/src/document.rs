@@ -20,6 +20,21 @@ pub struct Document {
     pub materials: BTreeMap<String, MaterialDef>,
     /// The placed instances and the joints between them.
     pub assembly: AssemblyDef,
+    /// *(ext)* The world's gravity and the env step the description was made for.
+    #[serde(default)]
+    pub simulation: Option<SimulationDef>,
+}
+
+/// *(ext)* World settings a description carries (MJCF's `<option gravity timestep>`).
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SimulationDef {
+    /// Gravity in m/s², world frame; default `{0, 0, -9.81}`.
+    #[serde(default)]
+    pub gravity: Option<Vec3>,
+    /// The env step in s that requests get when they leave `dt` unset; default 1/240.
+    #[serde(default)]
+    pub dt: Option<f64>,
 }
 
 /// A part: a named primitive shape with an optional material.

@@ -27,7 +27,7 @@ pub use mesh::{
 };
 pub use model::{
     inertia_problem, Assembly, DofKind, Inertial, Instance, Joint, JointType, Material, Shape,
-    DEFAULT_DENSITY, DEFAULT_FRICTION, DEFAULT_RESTITUTION, MM_PER_M,
+    DEFAULT_DENSITY, DEFAULT_FRICTION, DEFAULT_GRAVITY, DEFAULT_RESTITUTION, MM_PER_M,
 };
 pub use validate::validate;
 

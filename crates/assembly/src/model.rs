@@ -6,6 +6,9 @@
 /// Millimetres per metre.
 pub const MM_PER_M: f64 = 1000.0;
 
+/// Gravity when the document gives none, m/s² (Z up).
+pub const DEFAULT_GRAVITY: [f64; 3] = [0.0, 0.0, -9.81];
+
 /// Default density when no material gives one, in kg/m³.
 pub const DEFAULT_DENSITY: f64 = 1000.0;
 /// Default friction coefficient.
@@ -272,6 +275,12 @@ pub struct Assembly {
     /// by [`crate::validate`] from a [`crate::Document`]): what a saved env state carries,
     /// so that the state rebuilds its env anywhere.
     pub source: std::sync::Arc<str>,
+    /// Gravity, m/s², world frame (the document's `simulation.gravity`, else
+    /// [`DEFAULT_GRAVITY`]).
+    pub gravity: [f64; 3],
+    /// The env step the document asks for (`simulation.dt`), s: what an env gets when its
+    /// request leaves `dt` unset.
+    pub dt: Option<f64>,
 }
 
 impl Assembly {

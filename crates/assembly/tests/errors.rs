@@ -503,3 +503,29 @@ fn all_independent_errors_are_reported_in_document_order() {
     assert_eq!(e.to_string(), expected.join("; "));
     assert_eq!(e.path(), "parts[0].primitive.size.z");
 }
+
+#[test]
+fn simulation_settings_are_checked_and_default_to_z_up_gravity() {
+    let a = common::ok(base_doc());
+    assert_eq!((a.gravity, a.dt), (gymfleet_assembly::DEFAULT_GRAVITY, None));
+    let mut doc = base_doc();
+    doc["simulation"] = json!({"gravity": {"x": 0, "y": -9.81, "z": 0}, "dt": 0.002});
+    let a = common::ok(doc);
+    assert_eq!((a.gravity, a.dt), ([0.0, -9.81, 0.0], Some(0.002)));
+    let mut doc = base_doc();
+    doc["simulation"] = json!({"gravity": {"x": 0, "y": 0, "z": -2000}});
+    assert_issue(
+        doc,
+        "simulation.gravity.z: expected a component within ±1000 m/s², got -2000",
+    );
+    let mut doc = base_doc();
+    doc["simulation"] = json!({"dt": 0});
+    assert_issue(doc, "simulation.dt: expected an env step in (0, 1] s, got 0");
+    let mut doc = base_doc();
+    doc["simulation"] = json!({"timestep": 0.01});
+    let message = common::err(doc).to_string();
+    assert!(
+        message.contains("simulation.timestep: unknown field `timestep`, expected `gravity` or `dt`"),
+        "{message}"
+    );
+}

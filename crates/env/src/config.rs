@@ -29,7 +29,8 @@ const MAX_SUBSTEPS: u32 = 1000;
 pub struct EnvConfig {
     /// Instance names whose poses are observed.
     pub end_effector_ids: Vec<String>,
-    /// Seconds per step.
+    /// Seconds per step; 0 (the default): the document's `simulation.dt`, else
+    /// [`DEFAULT_DT`].
     pub dt: f64,
     /// Physics substeps per step.
     pub substeps: u32,
@@ -103,7 +104,7 @@ impl Default for EnvConfig {
     fn default() -> Self {
         EnvConfig {
             end_effector_ids: Vec::new(),
-            dt: DEFAULT_DT,
+            dt: 0.0,
             substeps: DEFAULT_SUBSTEPS,
             max_steps: DEFAULT_MAX_STEPS,
             seed: 0,

@@ -108,8 +108,12 @@ pub struct DrawReport {
 const DIVERGENCE_LIMIT: f32 = 1.0e9;
 
 impl RobotEnv {
-    /// Builds an environment from a validated assembly.
-    pub fn new(assembly: &Assembly, config: EnvConfig) -> Result<Self> {
+    /// Builds an environment from a validated assembly. A `dt` of 0 becomes the
+    /// document's `simulation.dt`, else [`crate::DEFAULT_DT`].
+    pub fn new(assembly: &Assembly, mut config: EnvConfig) -> Result<Self> {
+        if config.dt == 0.0 {
+            config.dt = assembly.dt.unwrap_or(crate::DEFAULT_DT);
+        }
         config.validate()?;
         let origin = std::sync::Arc::new(Origin {
             document: std::sync::Arc::clone(&assembly.source),

@@ -105,6 +105,32 @@ fn a_mesh_hull_pendulum_swings_with_its_boxs_period() {
     assert_period_of(env, i_pivot, m, d);
 }
 
+/// The document's `simulation.gravity` is the world's: at a quarter of g (along a tilted
+/// axis) the pendulum's period doubles, `2π·√(I/(m·g/4·d))`.
+#[test]
+fn the_documents_gravity_sets_the_pendulums_period() {
+    let mut doc = hanging_pendulum(json!({}));
+    // g/4 straight down, plus a component along the hinge axis (Y) that cannot swing it.
+    doc["simulation"] = json!({"gravity": {"x": 0.0, "y": 3.0, "z": -G / 4.0}});
+    let env = env(&doc, &["arm"]);
+    let (m, i_pivot, d) = arm_mass_and_pivot_inertia();
+    assert_period_of(env, i_pivot, m / 4.0, d);
+}
+
+/// A document's `simulation.dt` is the env step when the request leaves `dt` at 0.
+#[test]
+fn the_documents_dt_is_the_default_env_step() {
+    let mut doc = hanging_pendulum(json!({}));
+    doc["simulation"] = json!({"dt": 0.002});
+    assert_eq!(env(&doc, &["arm"]).spec().dt, 0.002);
+    let asked = gymfleet_env::EnvConfig {
+        dt: 0.01,
+        ..gymfleet_env::EnvConfig::default()
+    };
+    assert_eq!(env_with(&doc, asked).spec().dt, 0.01);
+    assert_eq!(env(&hanging_pendulum(json!({})), &["arm"]).spec().dt, gymfleet_env::DEFAULT_DT);
+}
+
 /// The hanging arm's small-angle period with `armature` (kg·m²) at its joint, within 1 %
 /// of `2π·√((I + armature)/(m·g·d))`.
 fn assert_small_angle_period(armature: f64) {

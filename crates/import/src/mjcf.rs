@@ -110,6 +110,8 @@ struct Converter<'a, 'i> {
     motors: HashMap<String, Motor>,
     parts: Vec<Value>,
     materials: Map<String, Value>,
+    /// The document's `simulation` (gravity, dt) from `<option>`.
+    simulation: Map<String, Value>,
     instances: Vec<Value>,
     /// Each instance's frame in the world (m), as written into its `position`/`rotation`.
     frames: HashMap<String, Frame>,
@@ -132,6 +134,7 @@ impl<'a, 'i> Converter<'a, 'i> {
             motors: HashMap::new(),
             parts: Vec::new(),
             materials: Map::new(),
+            simulation: Map::new(),
             instances: Vec::new(),
             frames: HashMap::new(),
             joints: Vec::new(),
@@ -334,23 +337,18 @@ impl<'a, 'i> Converter<'a, 'i> {
         Ok(())
     }
 
+    /// `<option>`: gravity and timestep become the document's `simulation` (one env step
+    /// of the default `dt` is one MuJoCo step); the rest is the engine's own.
     fn option(&mut self, node: Node<'a, 'i>) -> Result<()> {
         if let Some(g) = self.exactly::<3>(node, None, "gravity")? {
-            if g != [0.0, 0.0, -9.81] {
-                return Err(self.unsupported(
-                    node,
-                    format!("gravity {g:?} is not supported yet (gymfleet's is 0 0 -9.81)"),
-                ));
-            }
+            self.simulation
+                .insert("gravity".into(), json!({"x": g[0], "y": g[1], "z": g[2]}));
         }
-        if let Some(t) = node.attribute("timestep") {
-            self.warn(
-                node,
-                format!(
-                    "timestep {t} s not applied: an env step is the request's dt (default 1/240 s) \
-                     in substeps; ask for dt = {t} to step as this model does"
-                ),
-            );
+        if let Some(t) = self.number(node, None, "timestep")? {
+            if !(t > 0.0 && t <= 1.0) {
+                return Err(self.bad(node, "timestep", format!("expected (0, 1] s, got {t}")));
+            }
+            self.simulation.insert("dt".into(), json!(t));
         }
         for a in node.attributes() {
             if !matches!(a.name(), "timestep" | "gravity") {
@@ -1083,6 +1081,9 @@ impl<'a, 'i> Converter<'a, 'i> {
         });
         if !materials.is_empty() {
             document["materials"] = Value::Object(materials);
+        }
+        if !self.simulation.is_empty() {
+            document["simulation"] = Value::Object(std::mem::take(&mut self.simulation));
         }
         Ok(Converted {
             document,

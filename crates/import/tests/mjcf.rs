@@ -40,8 +40,9 @@ fn reacher_has_two_driven_joints_and_two_passive_target_slides() {
     );
     // gear 200 × ctrlrange ±1.
     assert_eq!(spec.dofs[0].max_effort, Some(200.0));
+    // MuJoCo's timestep is an env step unless the request asks for another `dt`.
+    assert_eq!(spec.dt, 0.01);
     for expected in [
-        "timestep 0.01 s not applied",
         "plane that collides with nothing",
         "ref ignored",
         "gear is folded",
@@ -335,8 +336,8 @@ fn a_motor_force_range_bounds_max_effort() {
 #[test]
 fn more_bad_descriptions_name_their_element_and_line() {
     assert_eq!(
-        error("<mujoco>\n<option gravity=\"0 0 -1\"/>\n<worldbody/>\n</mujoco>"),
-        "line 2: <option>: gravity [0.0, 0.0, -1.0] is not supported yet (gymfleet's is 0 0 -9.81)"
+        error("<mujoco>\n<option timestep=\"0\"/>\n<worldbody/>\n</mujoco>"),
+        "line 2: <option timestep=…>: expected (0, 1] s, got 0"
     );
     assert_eq!(
         error(&model(
@@ -364,4 +365,24 @@ fn more_bad_descriptions_name_their_element_and_line() {
         error(&model(r#"<body><geom type="capsule" size=".1"/></body>"#)),
         "line 4: <geom size=…>: a capsule needs a positive half-length (size[1])"
     );
+}
+
+#[test]
+fn option_gravity_and_timestep_become_the_documents_simulation() {
+    let converted = mjcf_to_document(
+        "<mujoco><option gravity=\"0 0 -1.5\" timestep=\"0.002\"/><worldbody>\
+         <body><joint type=\"hinge\" axis=\"0 1 0\"/><geom type=\"capsule\" fromto=\"0 0 0 0 0 -0.1\" size=\"0.01\"/></body>\
+         </worldbody></mujoco>",
+    )
+    .expect("converts");
+    assert_eq!(
+        converted.document["simulation"],
+        serde_json::json!({"gravity": {"x": 0.0, "y": 0.0, "z": -1.5}, "dt": 0.002})
+    );
+    let assembly = gymfleet_assembly::parse(&converted.document.to_string()).expect("parses");
+    assert_eq!(assembly.gravity, [0.0, 0.0, -1.5]);
+    let env = RobotEnv::new(&assembly, EnvConfig::default()).expect("builds");
+    assert_eq!(env.spec().dt, 0.002);
+    let asked = RobotEnv::new(&assembly, EnvConfig { dt: 0.01, ..EnvConfig::default() }).expect("builds");
+    assert_eq!(asked.spec().dt, 0.01, "the request's dt wins");
 }

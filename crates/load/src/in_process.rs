@@ -9,7 +9,7 @@ use std::time::Instant;
 
 use gymfleet_batch::{Autoreset, BatchStepOutput, EnvBatch, StepPool};
 use gymfleet_env::{
-    ActionType, EnvConfig, RobotEnv, DEFAULT_DT, DEFAULT_MAX_STEPS, DEFAULT_SUBSTEPS,
+    ActionType, EnvConfig, RobotEnv, DEFAULT_MAX_STEPS, DEFAULT_SUBSTEPS,
 };
 
 use crate::actions::{ActionKind, ActionPlan};
@@ -105,7 +105,8 @@ pub(crate) fn run(config: &LoadConfig, threads: usize) -> Result<RunResult> {
 fn template(config: &LoadConfig) -> Result<RobotEnv> {
     let env_config = EnvConfig {
         end_effector_ids: config.end_effectors.clone(),
-        dt: config.dt.unwrap_or(DEFAULT_DT),
+        // 0: the document's `simulation.dt`, else the default, as on a server.
+        dt: config.dt.unwrap_or(0.0),
         substeps: config.substeps.unwrap_or(DEFAULT_SUBSTEPS),
         max_steps: config.max_steps.unwrap_or(DEFAULT_MAX_STEPS),
         seed: config.seed,

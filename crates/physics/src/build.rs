@@ -11,8 +11,6 @@ use crate::world::{
     length_unit, JointDof, JointSlot, PipelineCell, RobotWorld, Sets, WorldOptions,
 };
 
-/// Standard gravity, along −Z.
-const GRAVITY: f32 = 9.81;
 
 impl RobotWorld {
     /// Builds the world: one body per instance (the first fixed, the others dynamic),
@@ -212,7 +210,11 @@ impl RobotWorld {
             pipeline_params: params,
             substep_params,
             substeps: options.substeps,
-            gravity: Vector::new(0.0, 0.0, -GRAVITY),
+            gravity: Vector::new(
+                assembly.gravity[0] as Real,
+                assembly.gravity[1] as Real,
+                assembly.gravity[2] as Real,
+            ),
             bodies,
             joints,
             dofs,
