@@ -641,7 +641,10 @@ mod tests {
             ..Default::default()
         })
         .unwrap();
-        assert_eq!(r.config.dt, 0.0, "the document's, else DEFAULT_DT: the env resolves it");
+        assert_eq!(
+            r.config.dt, 0.0,
+            "the document's, else DEFAULT_DT: the env resolves it"
+        );
         assert_eq!(r.config.substeps, DEFAULT_SUBSTEPS);
         assert_eq!(r.config.max_steps, DEFAULT_MAX_STEPS);
         assert_eq!(r.config.seed, 0);

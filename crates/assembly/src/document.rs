@@ -53,7 +53,7 @@ pub struct PartDef {
 /// A primitive shape, in millimetres, in the part's local frame.
 ///
 /// In JSON it is an object tagged by `type` (`"cube"`, `"cylinder"`, `"sphere"`,
-/// `"capsule"` or `"mesh"`) with
+/// `"capsule"`, `"mesh"` or `"plane"`) with
 /// the variant's fields beside the tag. Its `Deserialize` is written by hand (see below)
 /// so that errors inside it keep their exact JSON path, e.g. `parts[0].primitive.size.z`.
 #[derive(Debug, Clone)]
@@ -85,6 +85,9 @@ pub enum Primitive {
     },
     /// *(ext)* A triangle mesh, simulated as its convex hull or as a convex decomposition.
     Mesh(MeshDef),
+    /// *(ext)* The half-space below the part's local XY plane (its normal is local +Z): a
+    /// ground. Only the grounded (first) instance may be a plane.
+    Plane,
 }
 
 /// *(ext)* A mesh primitive as the document writes it: inline `vertices` (+ `indices`), or a
@@ -122,6 +125,7 @@ enum PrimitiveKind {
     Sphere,
     Capsule,
     Mesh,
+    Plane,
 }
 
 impl PrimitiveKind {
@@ -132,6 +136,7 @@ impl PrimitiveKind {
             PrimitiveKind::Cylinder | PrimitiveKind::Capsule => &["radius", "height"],
             PrimitiveKind::Sphere => &["radius"],
             PrimitiveKind::Mesh => MESH_FIELDS,
+            PrimitiveKind::Plane => &[],
         }
     }
 }
@@ -266,6 +271,7 @@ impl<'de> Visitor<'de> for PrimitiveVisitor {
                 }
                 Primitive::Mesh(mesh)
             }
+            PrimitiveKind::Plane => Primitive::Plane,
         })
     }
 }

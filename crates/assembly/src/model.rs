@@ -46,6 +46,8 @@ pub enum Shape {
     },
     /// A mesh made convex: its hull, or the parts of its convex decomposition.
     Convex(std::sync::Arc<crate::ConvexParts>),
+    /// The half-space `z ≤ 0` of the part's frame (a ground; grounded instances only).
+    Plane,
 }
 
 impl Shape {
@@ -60,6 +62,7 @@ impl Shape {
                     + 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3)
             }
             Shape::Convex(ref parts) => parts.volume(),
+            Shape::Plane => 0.0,
         }
     }
 
@@ -72,16 +75,19 @@ impl Shape {
             }
             Shape::Sphere { .. } => [0.0, 0.0, 0.0],
             Shape::Convex(ref parts) => parts.centroid(),
+            Shape::Plane => [0.0, 0.0, 0.0],
         }
     }
 
-    /// The smallest extent of the shape (an edge, a diameter or a height), in m.
+    /// The smallest extent of the shape (an edge, a diameter or a height), in m; a
+    /// plane's is infinite.
     pub fn min_extent(&self) -> f64 {
         match *self {
             Shape::Cuboid { size } => size[0].min(size[1]).min(size[2]),
             Shape::Cylinder { radius, height } => (2.0 * radius).min(height),
             Shape::Sphere { radius } | Shape::Capsule { radius, .. } => 2.0 * radius,
             Shape::Convex(ref parts) => parts.min_extent(),
+            Shape::Plane => f64::INFINITY,
         }
     }
 }

@@ -180,6 +180,7 @@ impl Validator {
         let before = self.issues.len();
         let shape = match *primitive {
             Primitive::Mesh(ref mesh) => return self.mesh(path, mesh),
+            Primitive::Plane => Shape::Plane,
             Primitive::Cube { size } => Shape::Cuboid {
                 size: [
                     self.positive_length(&format!("{path}.size.x"), size.x),
@@ -405,8 +406,20 @@ impl Validator {
                 .and_then(|def| self.inertial(&format!("{path}.inertial"), def, &shape));
             // Sizes and densities are each finite and positive, but their product can
             // still overflow (or underflow) f64; the physics layer needs a real mass.
+            let grounded = i == 0;
+            if shape == Shape::Plane && !grounded {
+                self.push(
+                    format!("{path}.part"),
+                    format!(
+                        "part {} is a plane (a half-space, a ground): only the grounded, first instance may be one",
+                        quoted(&inst.part)
+                    ),
+                );
+                continue;
+            }
             let mass = shape.volume() * material.density;
-            if inst.inertial.is_none() && !(mass.is_finite() && mass > 0.0) {
+            if shape != Shape::Plane && inst.inertial.is_none() && !(mass.is_finite() && mass > 0.0)
+            {
                 self.push(
                     path.clone(),
                     format!(

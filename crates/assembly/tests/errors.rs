@@ -507,7 +507,10 @@ fn all_independent_errors_are_reported_in_document_order() {
 #[test]
 fn simulation_settings_are_checked_and_default_to_z_up_gravity() {
     let a = common::ok(base_doc());
-    assert_eq!((a.gravity, a.dt), (gymfleet_assembly::DEFAULT_GRAVITY, None));
+    assert_eq!(
+        (a.gravity, a.dt),
+        (gymfleet_assembly::DEFAULT_GRAVITY, None)
+    );
     let mut doc = base_doc();
     doc["simulation"] = json!({"gravity": {"x": 0, "y": -9.81, "z": 0}, "dt": 0.002});
     let a = common::ok(doc);
@@ -520,12 +523,16 @@ fn simulation_settings_are_checked_and_default_to_z_up_gravity() {
     );
     let mut doc = base_doc();
     doc["simulation"] = json!({"dt": 0});
-    assert_issue(doc, "simulation.dt: expected an env step in (0, 1] s, got 0");
+    assert_issue(
+        doc,
+        "simulation.dt: expected an env step in (0, 1] s, got 0",
+    );
     let mut doc = base_doc();
     doc["simulation"] = json!({"timestep": 0.01});
     let message = common::err(doc).to_string();
     assert!(
-        message.contains("simulation.timestep: unknown field `timestep`, expected `gravity` or `dt`"),
+        message
+            .contains("simulation.timestep: unknown field `timestep`, expected `gravity` or `dt`"),
         "{message}"
     );
 }

@@ -128,7 +128,10 @@ fn the_documents_dt_is_the_default_env_step() {
         ..gymfleet_env::EnvConfig::default()
     };
     assert_eq!(env_with(&doc, asked).spec().dt, 0.01);
-    assert_eq!(env(&hanging_pendulum(json!({})), &["arm"]).spec().dt, gymfleet_env::DEFAULT_DT);
+    assert_eq!(
+        env(&hanging_pendulum(json!({})), &["arm"]).spec().dt,
+        gymfleet_env::DEFAULT_DT
+    );
 }
 
 /// The hanging arm's small-angle period with `armature` (kg·m²) at its joint, within 1 %
@@ -264,6 +267,51 @@ fn an_unjointed_body_falls_as_half_g_t_squared() {
         "fell {drop_mm:.3} mm, analytic {analytic_mm:.3} mm (bound {bound:.3})"
     );
     assert!((f64::from(obs[0]) - 500.0).abs() < 1e-3, "drifted sideways");
+}
+
+/// A ground plane (the grounded instance) stops a falling ball: it comes to rest touching
+/// the plane, wherever it lands (the plane is unbounded), with no sinking.
+#[test]
+fn a_ground_plane_catches_a_falling_ball() {
+    let doc = json!({
+        "parts": [
+            {"name": "Ground", "primitive": {"type": "plane"}},
+            {"name": "Ball", "primitive": {"type": "sphere", "radius": 5}}
+        ],
+        "assembly": {"instances": [
+            {"part": "Ground", "name": "ground"},
+            {"part": "Ball", "name": "ball", "position": {"x": 5000, "y": -3000, "z": 100}}
+        ]}
+    });
+    let mut env = env(&doc, &["ball"]);
+    let mut obs = Vec::new();
+    for _ in 0..480 {
+        obs = step(&mut env, ActionType::Torque, &[]);
+    }
+    let z = f64::from(obs[2]);
+    assert!(
+        (z - 5.0).abs() < 0.1,
+        "the ball's centre rests at {z} mm, its radius is 5"
+    );
+    assert!(
+        (f64::from(obs[0]) - 5000.0).abs() < 1e-3,
+        "it rolled off to {}",
+        obs[0]
+    );
+    // A plane is a ground only: another instance may not be one.
+    let mut bad = doc.clone();
+    bad["assembly"]["instances"] = json!([
+        {"part": "Ball", "name": "ball"},
+        {"part": "Ground", "name": "ground"}
+    ]);
+    let err = RobotEnv::from_json(&bad.to_string(), EnvConfig::default())
+        .err()
+        .expect("refused")
+        .to_string();
+    assert!(
+        err.contains("assembly.instances[1].part: part \"Ground\" is a plane (a half-space, a ground): only the grounded, first instance may be one"),
+        "{err}"
+    );
 }
 
 /// A 10×10×10 mm block (m = 1e-3 kg) sliding along +X on a grounded base.

@@ -453,8 +453,13 @@ impl<'a, 'i> Converter<'a, 'i> {
 
     fn worldbody(&mut self, world: Node<'a, 'i>) -> Result<()> {
         let mut world_instance: Option<String> = None;
-        // The world's geoms first: the first of them is the grounded instance.
-        for geom in elements(world).filter(|n| n.tag_name().name() == "geom") {
+        // The world's geoms first: the first of them is the grounded instance. A colliding
+        // plane (a ground) must be it, so planes go first; one at most.
+        let mut geoms: Vec<Node<'a, 'i>> = elements(world)
+            .filter(|n| n.tag_name().name() == "geom")
+            .collect();
+        geoms.sort_by_key(|g| self.attr(*g, None, "type") != Some("plane"));
+        for geom in geoms {
             if let Some(name) = self.geom(geom, &Frame::IDENTITY, None, "world", None)? {
                 match &world_instance {
                     None => world_instance = Some(name),
@@ -913,10 +918,13 @@ impl<'a, 'i> Converter<'a, 'i> {
                     self.warn(node, "a plane that collides with nothing: dropped".into());
                     return Ok(None);
                 }
-                return Err(self.unsupported(
-                    node,
-                    "a plane that collides (a ground) is not supported yet".into(),
-                ));
+                if body_name != "world" || !self.instances.is_empty() {
+                    return Err(self.unsupported(
+                        node,
+                        "a colliding plane (a ground) must be the world's, and only one".into(),
+                    ));
+                }
+                (json!({"type": "plane"}), DVec3::ZERO)
             }
             "sphere" => {
                 let r = size_at(0, "radius")?;

@@ -383,6 +383,56 @@ fn option_gravity_and_timestep_become_the_documents_simulation() {
     assert_eq!(assembly.gravity, [0.0, 0.0, -1.5]);
     let env = RobotEnv::new(&assembly, EnvConfig::default()).expect("builds");
     assert_eq!(env.spec().dt, 0.002);
-    let asked = RobotEnv::new(&assembly, EnvConfig { dt: 0.01, ..EnvConfig::default() }).expect("builds");
+    let asked = RobotEnv::new(
+        &assembly,
+        EnvConfig {
+            dt: 0.01,
+            ..EnvConfig::default()
+        },
+    )
+    .expect("builds");
     assert_eq!(asked.spec().dt, 0.01, "the request's dt wins");
+}
+
+#[test]
+fn a_colliding_world_plane_is_the_grounded_instance() {
+    let converted = mjcf_to_document(
+        "<mujoco><worldbody>\
+         <geom name=\"post\" type=\"box\" size=\"0.01 0.01 0.1\" pos=\"0 0 0.1\" contype=\"0\" conaffinity=\"0\"/>\
+         <geom name=\"floor\" type=\"plane\" size=\"1 1 0.1\"/>\
+         <body pos=\"0 0 0.2\"><joint type=\"hinge\" axis=\"0 1 0\"/><geom type=\"capsule\" fromto=\"0 0 0 0.3 0 0\" size=\"0.01\"/></body>\
+         </worldbody></mujoco>",
+    )
+    .expect("converts");
+    let instances = converted.document["assembly"]["instances"]
+        .as_array()
+        .unwrap();
+    assert_eq!(
+        instances[0]["name"], "floor",
+        "the plane goes first: {instances:?}"
+    );
+    let (mut env, _) = (
+        RobotEnv::from_json(&converted.document.to_string(), EnvConfig::default()).expect("builds"),
+        (),
+    );
+    // The arm falls about its hinge 200 mm above the floor; its 300 mm capsule meets the
+    // floor after about 39° and stops there.
+    for _ in 0..480 {
+        env.step(ActionType::Torque, &[]).expect("steps");
+    }
+    let q = env.observe().joint_positions[0];
+    // The capsule's tip (radius 10 mm) touches the floor when 0.2 − 0.3·sin θ = 0.01.
+    let stop = (0.19f64 / 0.3).asin().to_degrees() as f32;
+    assert!(
+        (q - stop).abs() < 0.05,
+        "the arm rests at {q} deg, on the floor at {stop}"
+    );
+    let err = mjcf_to_document(
+        "<mujoco><worldbody>\n<geom type=\"plane\" size=\"1 1 1\"/>\n<geom type=\"plane\" size=\"1 1 1\"/>\n</worldbody></mujoco>",
+    )
+    .expect_err("two grounds");
+    assert_eq!(
+        err.to_string(),
+        "line 3: <geom>: a colliding plane (a ground) must be the world's, and only one"
+    );
 }

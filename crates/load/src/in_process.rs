@@ -8,9 +8,7 @@
 use std::time::Instant;
 
 use gymfleet_batch::{Autoreset, BatchStepOutput, EnvBatch, StepPool};
-use gymfleet_env::{
-    ActionType, EnvConfig, RobotEnv, DEFAULT_MAX_STEPS, DEFAULT_SUBSTEPS,
-};
+use gymfleet_env::{ActionType, EnvConfig, RobotEnv, DEFAULT_MAX_STEPS, DEFAULT_SUBSTEPS};
 
 use crate::actions::{ActionKind, ActionPlan};
 use crate::config::{Api, LoadConfig};

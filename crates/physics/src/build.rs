@@ -11,7 +11,6 @@ use crate::world::{
     length_unit, JointDof, JointSlot, PipelineCell, RobotWorld, Sets, WorldOptions,
 };
 
-
 impl RobotWorld {
     /// Builds the world: one body per instance (the first fixed, the others dynamic),
     /// exact primitive colliders, and every joint as a link of a reduced-coordinate
@@ -68,7 +67,10 @@ impl RobotWorld {
             let (parent, child) = (bodies[joint.parent], bodies[joint.child]);
             let (f1, f2) = joint_frames(&sets.bodies, parent, child, joint);
             frames[j] = (f1, f2);
-            let data = generic_joint(joint, f1, f2);
+            // A ground plane collides with what is jointed to it too (MuJoCo never filters
+            // the world body's geoms): only the plane stops a link from falling through.
+            let contacts = assembly.instances[joint.parent].shape == Shape::Plane;
+            let data = generic_joint(joint, f1, f2, contacts);
             sets.multibody_joints
                 .insert(parent, child, data, true)
                 .ok_or_else(|| PhysicsError::BadOption {
@@ -348,6 +350,7 @@ fn collider(shape: &Shape) -> ColliderBuilder {
                 Rotation::from_rotation_x(std::f32::consts::FRAC_PI_2),
             ))
         }
+        Shape::Plane => ColliderBuilder::halfspace(rapier3d::na::Unit::new_unchecked(Vector::Z)),
         Shape::Convex(ref parts) => {
             let mut shapes: Vec<(Pose, SharedShape)> = parts
                 .pieces
@@ -375,7 +378,11 @@ fn collider(shape: &Shape) -> ColliderBuilder {
 /// The diagonal of the box that holds every collider at the initial pose, in m.
 fn assembly_reach(colliders: &ColliderSet) -> Real {
     let mut all: Option<Aabb> = None;
-    for (_, co) in colliders.iter() {
+    // A ground plane is unbounded: the robot's size is its other parts'.
+    for (_, co) in colliders
+        .iter()
+        .filter(|(_, co)| co.shape().as_halfspace().is_none())
+    {
         let aabb = co.compute_aabb();
         all = Some(all.map_or(aabb, |a| a.merged(&aabb)));
     }
@@ -419,7 +426,8 @@ fn joint_frames(
     (f1, f2)
 }
 
-fn generic_joint(joint: &Joint, f1: Pose, f2: Pose) -> GenericJoint {
+/// `contacts`: whether the two instances still collide (a ground plane and what hangs on it).
+fn generic_joint(joint: &Joint, f1: Pose, f2: Pose, contacts: bool) -> GenericJoint {
     let locked = match joint.kind {
         JointType::Revolute => JointAxesMask::LOCKED_REVOLUTE_AXES,
         JointType::Prismatic => JointAxesMask::LOCKED_PRISMATIC_AXES,
@@ -435,7 +443,7 @@ fn generic_joint(joint: &Joint, f1: Pose, f2: Pose) -> GenericJoint {
     let mut builder = GenericJointBuilder::new(locked)
         .local_frame1(f1)
         .local_frame2(f2)
-        .contacts_enabled(false);
+        .contacts_enabled(contacts);
     if let Some([min, max]) = joint.limits {
         let axis = match joint.kind {
             JointType::Prismatic => JointAxis::LinX,
