@@ -178,8 +178,8 @@ fn unsupported_constructs_name_their_element_and_line() {
         "line 4: <freejoint>: a free joint (floating base) is not supported yet"
     );
     assert_eq!(
-        error(&model(r#"<geom type="plane" size="1 1 1"/>"#)),
-        "line 4: <geom>: a plane that collides (a ground) is not supported yet"
+        error(&model(r#"<body><joint type="hinge"/><geom type="plane" size="1 1 1"/></body>"#)),
+        "line 4: <geom>: a colliding plane (a ground) must be the world's, and only one"
     );
     assert_eq!(
         error("<mujoco>\n<asset><mesh file=\"arm.stl\"/></asset>\n<worldbody/>\n</mujoco>"),
