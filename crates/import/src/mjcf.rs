@@ -750,10 +750,13 @@ impl<'a, 'i> Converter<'a, 'i> {
                 return Err(self.unsupported(node, format!("{attr} ({what}) is not supported yet")));
             }
         }
-        if self.number(node, class, "ref")?.is_some_and(|v| v != 0.0) {
+        // MuJoCo's joint value is `ref` at the model's pose; gymfleet measures from that
+        // pose, so a range (given in MuJoCo's values) shifts by −ref.
+        let reference = self.number(node, class, "ref")?.unwrap_or(0.0);
+        if reference != 0.0 {
             self.warn(
                 node,
-                "ref ignored: positions are measured from the model's pose (MuJoCo's qpos adds ref)".into(),
+                "ref: positions are observed from the model's pose (MuJoCo's qpos − ref); the range is shifted to match".into(),
             );
         }
         let pos = DVec3::from_array(self.exactly::<3>(node, class, "pos")?.unwrap_or([0.0; 3]));
@@ -792,6 +795,7 @@ impl<'a, 'i> Converter<'a, 'i> {
                 ));
             }
             if lo < hi {
+                let (lo, hi) = (lo - reference, hi - reference);
                 let (lo, hi) = if our == "revolute" {
                     (self.angle(lo).to_degrees(), self.angle(hi).to_degrees())
                 } else {

@@ -33,9 +33,15 @@ fn reacher_has_two_driven_joints_and_two_passive_target_slides() {
         (hi - 3.0f64.to_degrees()).abs() < 1e-9 && (lo + hi).abs() < 1e-9,
         "{lo} {hi}"
     );
+    // ±0.27 m of MuJoCo's qpos, whose value at the model's pose is ref = ±0.1 m.
     let [lo, hi] = limits[2].expect("target_x is limited");
     assert!(
-        (lo + 270.0).abs() < 1e-9 && (hi - 270.0).abs() < 1e-9,
+        (lo + 370.0).abs() < 1e-9 && (hi - 170.0).abs() < 1e-9,
+        "{lo} {hi}"
+    );
+    let [lo, hi] = limits[3].expect("target_y is limited");
+    assert!(
+        (lo + 170.0).abs() < 1e-9 && (hi - 370.0).abs() < 1e-9,
         "{lo} {hi}"
     );
     // gear 200 × ctrlrange ±1.
@@ -44,7 +50,7 @@ fn reacher_has_two_driven_joints_and_two_passive_target_slides() {
     assert_eq!(spec.dt, 0.01);
     for expected in [
         "plane that collides with nothing",
-        "ref ignored",
+        "the range is shifted to match",
         "gear is folded",
     ] {
         assert!(
