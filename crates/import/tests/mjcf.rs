@@ -184,7 +184,9 @@ fn unsupported_constructs_name_their_element_and_line() {
         "line 4: <freejoint>: a free joint (floating base) is not supported yet"
     );
     assert_eq!(
-        error(&model(r#"<body><joint type="hinge"/><geom type="plane" size="1 1 1"/></body>"#)),
+        error(&model(
+            r#"<body><joint type="hinge"/><geom type="plane" size="1 1 1"/></body>"#
+        )),
         "line 4: <geom>: a colliding plane (a ground) must be the world's, and only one"
     );
     assert_eq!(

@@ -17,13 +17,18 @@ use crate::task::{RandomizeParam, TaskParam};
 pub(crate) struct CreateEnvParams {
     /// The assembly document: a JSON object with `parts` and `assembly` (instances and
     /// joints), lengths in mm and angles in degrees, or a string containing that JSON
-    /// (or MuJoCo MJCF text). Give this or `model`.
+    /// (or MuJoCo MJCF or ROS URDF text). Give this or `model`.
     #[serde(default)]
     pub(crate) document: Option<Document>,
     /// Instead of a document: the name of a model in the server's library (see
     /// list_models), e.g. "reacher".
     #[serde(default)]
     pub(crate) model: Option<String>,
+    /// The mesh files a URDF or JSON document references (STL, OBJ, DAE), as one zip, tar
+    /// or tar.gz archive in base64; `package://pkg/path` and relative paths resolve against
+    /// its root. Omit when the document names no mesh files.
+    #[serde(default)]
+    pub(crate) assets_base64: Option<String>,
     /// Instance names (the `name` of entries in `assembly.instances`) whose poses are
     /// observed, in this order. Each adds 7 values to the observation. Default: none.
     #[serde(default)]
@@ -232,12 +237,17 @@ impl From<AutoresetParam> for Autoreset {
 pub(crate) struct CreateBatchParams {
     /// The assembly document shared by every env: a JSON object with `parts` and
     /// `assembly` (lengths in mm, angles in degrees), or a string containing that JSON
-    /// (or MuJoCo MJCF text). Give this or `model`.
+    /// (or MuJoCo MJCF or ROS URDF text). Give this or `model`.
     #[serde(default)]
     pub(crate) document: Option<Document>,
     /// Instead of a document: the name of a model in the server's library (list_models).
     #[serde(default)]
     pub(crate) model: Option<String>,
+    /// The mesh files a URDF or JSON document references (STL, OBJ, DAE), as one zip, tar
+    /// or tar.gz archive in base64; `package://pkg/path` and relative paths resolve against
+    /// its root. Omit when the document names no mesh files.
+    #[serde(default)]
+    pub(crate) assets_base64: Option<String>,
     /// Number of identical environments in the batch (at least 1).
     pub(crate) n_envs: u32,
     /// Instance names whose poses are observed in every env, in this order. Each adds 7
@@ -324,7 +334,12 @@ struct Common {
 
 impl Common {
     /// The client's options for `document`; unset options take the server's defaults.
-    fn into_options(self, document: Option<Document>, model: Option<String>) -> Result<EnvOptions> {
+    fn into_options(
+        self,
+        document: Option<Document>,
+        model: Option<String>,
+        assets_base64: Option<String>,
+    ) -> Result<EnvOptions> {
         let options = match (document, model) {
             (Some(document), None) => EnvOptions::new(document.into_json_text()?),
             (None, Some(model)) => EnvOptions::from_model(model),
@@ -335,13 +350,20 @@ impl Common {
             }
             (None, None) => {
                 return Err(McpError::bad_argument(
-                    "document is required: the assembly document (JSON or MJCF), or give \
-                     model: a name from list_models"
+                    "document is required: the assembly document (JSON, MJCF or URDF), or \
+                     give model: a name from list_models"
                         .to_string(),
                 ))
             }
         };
         let mut options = options.end_effectors(self.end_effector_ids);
+        if let Some(text) = assets_base64 {
+            use base64::Engine as _;
+            let archive = base64::engine::general_purpose::STANDARD
+                .decode(text.trim())
+                .map_err(|e| McpError::bad_argument(format!("assets_base64: not base64: {e}")))?;
+            options = options.assets(archive);
+        }
         if let Some(dt) = self.dt {
             options = options.dt(dt);
         }
@@ -387,7 +409,7 @@ impl CreateEnvParams {
             task: self.task,
             randomize: self.randomize,
         };
-        common.into_options(self.document, self.model)
+        common.into_options(self.document, self.model, self.assets_base64)
     }
 }
 
@@ -405,7 +427,7 @@ impl CreateBatchParams {
             task: self.task,
             randomize: self.randomize,
         };
-        let env = common.into_options(self.document, self.model)?;
+        let env = common.into_options(self.document, self.model, self.assets_base64)?;
         Ok(BatchOptions::from_env(env, self.n_envs as usize).autoreset(self.autoreset.into()))
     }
 }

@@ -1,4 +1,5 @@
-//! An agent hands the adapter a MuJoCo description as text: the server converts it.
+//! An agent hands the adapter a MuJoCo or ROS description as text (with its mesh files as
+//! a base64 archive): the server converts it.
 
 use serde_json::json;
 
@@ -54,5 +55,65 @@ async fn list_models_and_model_names() {
         )
         .await;
     assert!(err.contains("give document or model, not both"), "{err}");
+    adapter.stop().await;
+}
+
+/// A two-link URDF whose arm is a mesh file (a tetrahedron in OBJ).
+const URDF: &str = r#"<robot name="tet">
+  <link name="base"><inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>
+    <collision><geometry><box size="0.1 0.1 0.02"/></geometry></collision></link>
+  <link name="arm"><inertial><mass value="0.1"/><inertia ixx="0.001" iyy="0.001" izz="0.001" ixy="0" ixz="0" iyz="0"/></inertial>
+    <collision><geometry><mesh filename="package://tet/meshes/arm.obj"/></geometry></collision></link>
+  <joint name="hinge" type="revolute"><parent link="base"/><child link="arm"/><origin xyz="0 0 0.1"/>
+    <axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="2" velocity="1"/></joint>
+</robot>"#;
+
+fn tar_with(name: &str, bytes: &[u8]) -> Vec<u8> {
+    let mut out = tar::Builder::new(Vec::new());
+    let mut header = tar::Header::new_gnu();
+    header.set_size(bytes.len() as u64);
+    header.set_mode(0o644);
+    header.set_cksum();
+    out.append_data(&mut header, name, bytes).expect("tar");
+    out.into_inner().expect("tar")
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_urdf_with_a_mesh_archive_makes_an_env() {
+    use base64::Engine as _;
+    let adapter = Adapter::embedded().await;
+    let obj = "v 0 0 0\nv 0.05 0 0\nv 0 0.05 0\nv 0 0 0.2\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+    let assets = base64::engine::general_purpose::STANDARD
+        .encode(tar_with("tet/meshes/arm.obj", obj.as_bytes()));
+    let created = adapter
+        .ok(
+            "create_robot_env",
+            json!({"document": URDF, "assets_base64": assets, "end_effector_ids": ["arm"]}),
+        )
+        .await;
+    assert_eq!(created["action_dim"], 1, "{created}");
+    let batch = adapter
+        .ok(
+            "batch_create_envs",
+            json!({"document": URDF, "assets_base64": assets, "n_envs": 2}),
+        )
+        .await;
+    assert_eq!(batch["n_envs"], 2, "{batch}");
+    let err = adapter
+        .err("create_robot_env", json!({"document": URDF}))
+        .await;
+    assert!(
+        err.contains(
+            "\"package://tet/meshes/arm.obj\": a mesh file is read from the request's assets"
+        ),
+        "{err}"
+    );
+    let err = adapter
+        .err(
+            "create_robot_env",
+            json!({"document": URDF, "assets_base64": "%%%"}),
+        )
+        .await;
+    assert!(err.contains("assets_base64: not base64"), "{err}");
     adapter.stop().await;
 }
