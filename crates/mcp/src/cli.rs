@@ -67,6 +67,13 @@ pub(crate) struct Cli {
     #[cfg(feature = "embedded")]
     #[arg(long, env = "GYMFLEET_THREADS", value_name = "N", default_value_t = 0)]
     pub(crate) threads: usize,
+
+    /// A model library for the embedded server (the server's `--models DIR`: `.json`,
+    /// `.xml`, `.mjcf` and `.urdf` files, meshes below), listed by `list_models`.
+    /// Ignored with --server.
+    #[cfg(feature = "embedded")]
+    #[arg(long, env = "GYMFLEET_MODELS", value_name = "DIR")]
+    pub(crate) models: Option<std::path::PathBuf>,
 }
 
 impl Cli {

@@ -28,7 +28,8 @@ impl Servers {
         }
         #[cfg(feature = "embedded")]
         {
-            let server = embedded::EmbeddedServer::start(cli.threads).await?;
+            let server =
+                embedded::EmbeddedServer::start(cli.threads, cli.models.as_deref()).await?;
             Ok(Servers {
                 addrs: vec![server.addr()],
                 embedded: Some(server),
@@ -72,10 +73,21 @@ mod embedded {
         /// Binds 127.0.0.1:0 and serves there with `threads` pool threads (0 = one per
         /// core). It never reclaims idle envs: they live as long as this process, which
         /// closes them at exit.
-        pub(super) async fn start(threads: usize) -> crate::errors::Result<Self> {
+        pub(super) async fn start(
+            threads: usize,
+            models: Option<&std::path::Path>,
+        ) -> crate::errors::Result<Self> {
+            let models = match models {
+                Some(dir) => Some(std::sync::Arc::new(
+                    gymfleet_server::ModelLibrary::load(dir)
+                        .map_err(|e| crate::errors::McpError::startup(format!("--models: {e}")))?,
+                )),
+                None => None,
+            };
             let config = ServerConfig {
                 threads,
                 idle_ttl: Duration::ZERO,
+                models,
                 ..ServerConfig::default()
             };
             let server = LocalServer::start(config)

@@ -117,3 +117,39 @@ async fn a_urdf_with_a_mesh_archive_makes_an_env() {
     assert!(err.contains("assets_base64: not base64"), "{err}");
     adapter.stop().await;
 }
+
+/// `--models DIR` gives the embedded server a model library that `list_models` shows and
+/// `model` names.
+#[cfg(feature = "embedded")]
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_embedded_server_takes_a_model_library() {
+    let dir = std::env::temp_dir().join(format!("gymfleet-mcp-models-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    std::fs::write(dir.join("reacher.xml"), REACHER).expect("write");
+    std::fs::write(
+        dir.join("tet.urdf"),
+        URDF.replace("package://tet/meshes/arm.obj", "arm.obj"),
+    )
+    .expect("write");
+    std::fs::write(
+        dir.join("arm.obj"),
+        "v 0 0 0\nv 0.05 0 0\nv 0 0.05 0\nv 0 0 0.2\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n",
+    )
+    .expect("write");
+    let adapter =
+        Adapter::spawn(&["--threads", "1", "--models", dir.to_str().expect("utf-8")]).await;
+    let listed = adapter.ok("list_models", json!({})).await;
+    let names: Vec<&str> = listed["models"]
+        .as_array()
+        .expect("models")
+        .iter()
+        .map(|m| m["name"].as_str().expect("a name"))
+        .collect();
+    assert_eq!(names, ["reacher", "tet"], "{listed}");
+    let created = adapter
+        .ok("create_robot_env", json!({"model": "tet"}))
+        .await;
+    assert_eq!(created["action_dim"], 1, "{created}");
+    adapter.stop().await;
+    let _ = std::fs::remove_dir_all(&dir);
+}
