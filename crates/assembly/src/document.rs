@@ -436,6 +436,11 @@ pub struct JointDef {
     /// (linear); default 0.
     #[serde(default)]
     pub armature: Option<f64>,
+    /// *(ext)* Where the joint starts (every reset), in deg or mm from the document's
+    /// pose (revolute and prismatic joints); default 0. Observed positions are measured
+    /// from the document's pose, so a reset observes this value.
+    #[serde(default)]
+    pub initial: Option<f64>,
 }
 
 /// A 3-vector with named components, as the documents write it.

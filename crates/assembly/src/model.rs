@@ -246,6 +246,9 @@ pub struct Joint {
     pub actuated: bool,
     /// Added to the joint-space inertia of each DOF, in kg·m² or kg.
     pub armature: f64,
+    /// Where the joint starts, from the document's pose, in rad or m (0 for joints other
+    /// than revolute and prismatic); within `limits`.
+    pub initial: f64,
 }
 
 /// The kind of one degree of freedom, which fixes its units.

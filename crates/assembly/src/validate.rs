@@ -497,6 +497,7 @@ impl Validator {
             };
             let axis = self.axis(&path, def);
             let document_limits = self.limits(&path, def);
+            let initial = self.initial(&path, def, document_limits);
             let damping = self.non_negative(&format!("{path}.damping"), def.damping, "damping");
             let max_effort = def.max_effort.inspect(|&e| {
                 if !(e.is_finite() && e > 0.0) {
@@ -548,6 +549,7 @@ impl Validator {
                         max_effort,
                         actuated,
                         armature: armature.unwrap_or(0.0),
+                        initial: initial * limit_to_si(def.kind),
                     });
                 }
             }
@@ -653,6 +655,55 @@ impl Validator {
             );
         }
         Some([min, max])
+    }
+
+    /// A joint's `initial` position (deg or mm, 0 when unset), which must lie within its
+    /// limits: where the joint starts, positions being measured from the document's pose.
+    fn initial(&mut self, path: &str, def: &JointDef, limits: Option<[f64; 2]>) -> f64 {
+        let unit = if def.kind == JointType::Prismatic {
+            "mm"
+        } else {
+            "deg"
+        };
+        let initial = match def.initial {
+            None => 0.0,
+            Some(_) if !def.kind.supports_limits() => {
+                self.push(
+                    format!("{path}.initial"),
+                    format!(
+                        "a {} joint has no initial position; initial applies to revolute and prismatic joints only",
+                        def.kind.as_str()
+                    ),
+                );
+                return 0.0;
+            }
+            Some(v) if !v.is_finite() => {
+                self.push(
+                    format!("{path}.initial"),
+                    format!("expected a finite position in {unit}, got {v}"),
+                );
+                return 0.0;
+            }
+            Some(v) => v,
+        };
+        if let Some([min, max]) = limits.filter(|[min, max]| min <= max) {
+            if !(min..=max).contains(&initial) {
+                let field = if def.initial.is_some() {
+                    "initial"
+                } else if min > 0.0 {
+                    "min"
+                } else {
+                    "max"
+                };
+                self.push(
+                    format!("{path}.{field}"),
+                    format!(
+                        "the joint starts at {initial} {unit} (its `initial`; positions are measured from the document's pose), outside its limits [{min}, {max}]"
+                    ),
+                );
+            }
+        }
+        initial
     }
 
     /// An instance's `inertial`, checked and in SI (`None` after an issue).

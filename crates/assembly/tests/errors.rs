@@ -536,3 +536,32 @@ fn simulation_settings_are_checked_and_default_to_z_up_gravity() {
         "{message}"
     );
 }
+
+#[test]
+fn limits_must_hold_the_documents_pose() {
+    let doc = with_joint_field("min", json!(10));
+    assert_issue(
+        doc,
+        "assembly.joints[0].min: the joint starts at 0 deg (its `initial`; positions are measured from the document's pose), outside its limits [10, inf]",
+    );
+}
+
+#[test]
+fn an_initial_position_lies_within_the_limits() {
+    let mut doc = with_joint_field("min", json!(10));
+    doc["assembly"]["joints"][0]["max"] = json!(50);
+    doc["assembly"]["joints"][0]["initial"] = json!(30);
+    let a = common::ok(doc.clone());
+    assert!((a.joints[0].initial - 30f64.to_radians()).abs() < 1e-12);
+    doc["assembly"]["joints"][0]["initial"] = json!(60);
+    assert_issue(
+        doc,
+        "assembly.joints[0].initial: the joint starts at 60 deg (its `initial`; positions are measured from the document's pose), outside its limits [10, 50]",
+    );
+    let mut ball = with_joint_type("ball");
+    ball["assembly"]["joints"][0]["initial"] = json!(5);
+    assert_issue(
+        ball,
+        "assembly.joints[0].initial: a ball joint has no initial position; initial applies to revolute and prismatic joints only",
+    );
+}

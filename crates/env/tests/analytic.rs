@@ -117,6 +117,59 @@ fn the_documents_gravity_sets_the_pendulums_period() {
     assert_period_of(env, i_pivot, m / 4.0, d);
 }
 
+/// A joint's `initial` position is where every reset starts: observed there (positions are
+/// measured from the document's pose), with the body (and its drawn collider) moved there,
+/// and the swing that follows is the pendulum's from that angle. Reset noise stays within
+/// the limits around it.
+#[test]
+fn a_joint_starts_at_its_initial_position() {
+    let mut doc = hanging_pendulum(json!({"min": -40, "max": 40, "initial": 30}));
+    let mut env = env(&doc, &["arm"]);
+    let start = env.reset(Some(0));
+    assert!((start.joint_positions[0] - 30.0).abs() < 1e-4, "{start:?}");
+    // The arm's centre of mass, 20 mm below the pivot at (10, 10, 0), turned 30° about +Y.
+    let com = start.end_effector_poses[0];
+    let (s, c) = 30f64.to_radians().sin_cos();
+    assert!(
+        (f64::from(com[0]) - (10.0 - 20.0 * s)).abs() < 1e-3,
+        "{com:?}"
+    );
+    assert!((f64::from(com[2]) - (-20.0 * c)).abs() < 1e-3, "{com:?}");
+    let part = env
+        .scene()
+        .parts
+        .into_iter()
+        .find(|p| p.instance == 1)
+        .expect("the arm");
+    let scene_x = f64::from(part.position[0]);
+    assert!(
+        (scene_x - (10.0 - 20.0 * s)).abs() < 1e-3,
+        "drawn at the start pose: {part:?}"
+    );
+    // Released from 30°, it swings through to about −30° (energy kept within 1 %).
+    let mut lowest = f32::MAX;
+    for _ in 0..60 {
+        lowest = lowest.min(step(&mut env, ActionType::Torque, &[0.0])[0]);
+    }
+    assert!((lowest + 30.0).abs() < 0.3, "swung to {lowest}");
+    // Noise wider than the limits: every start stays within [-40, 40] around 30.
+    doc["assembly"]["joints"][0]["initial"] = json!(35);
+    let mut noisy = env_with(
+        &doc,
+        EnvConfig {
+            reset_noise: 100.0,
+            ..EnvConfig::with_end_effectors(["arm"])
+        },
+    );
+    let mut seen_top = false;
+    for seed in 0..40 {
+        let q = noisy.reset(Some(seed)).joint_positions[0];
+        assert!((-40.0..=40.0).contains(&q), "started at {q}");
+        seen_top |= q > 39.99;
+    }
+    assert!(seen_top, "some draws clamp at the upper limit");
+}
+
 /// A document's `simulation.dt` is the env step when the request leaves `dt` at 0.
 #[test]
 fn the_documents_dt_is_the_default_env_step() {

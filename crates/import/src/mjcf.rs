@@ -803,6 +803,20 @@ impl<'a, 'i> Converter<'a, 'i> {
                 };
                 j.insert("min".into(), json!(lo));
                 j.insert("max".into(), json!(hi));
+                // The model's pose (qpos = ref) breaks the range: start at the nearest
+                // limit, where MuJoCo's limit constraint would push it.
+                if lo > 0.0 || hi < 0.0 {
+                    let start = 0.0f64.clamp(lo, hi);
+                    j.insert("initial".into(), json!(start));
+                    self.warn(
+                        node,
+                        format!(
+                            "joint {name:?} starts at {} {}, the end of its range nearest to the model's pose, which the range excludes",
+                            (start * 1e6).round() / 1e6,
+                            if our == "revolute" { "deg" } else { "mm" }
+                        ),
+                    );
+                }
             } else if limited == Some(true) {
                 return Err(self.bad(
                     node,

@@ -388,6 +388,14 @@ impl<'a, 'i> Converter<'a, 'i> {
                 ),
             ));
         }
+        if let Some(problem) =
+            gymfleet_assembly::inertia_problem(&[[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
+        {
+            return Err(self.unsupported(
+                inertia,
+                format!("the inertia of a link of {mass} kg is {problem}"),
+            ));
+        }
         let tensor = DMat3::from_cols_array(&[xx, xy, xz, xy, yy, yz, xz, yz, zz]);
         let frame = self.frame_of(instance);
         let index = self.index_of(instance);
@@ -640,6 +648,21 @@ impl<'a, 'i> Converter<'a, 'i> {
                 let unit = |v: f64| if linear { v * MM } else { v.to_degrees() };
                 j.insert("min".into(), json!(unit(lower)));
                 j.insert("max".into(), json!(unit(upper)));
+                // The zero pose breaks these limits (Panda's joint 4, Kinova's joint 2):
+                // start at the nearest limit, where MuJoCo's limit would push it.
+                if lower > 0.0 || upper < 0.0 {
+                    let start = 0.0f64.clamp(lower, upper);
+                    j.insert("initial".into(), json!(unit(start)));
+                    self.warn(
+                        l,
+                        format!(
+                            "joint {} starts at {} {}, its limit nearest to the zero pose that its limits exclude",
+                            crate::quote(&name),
+                            (unit(start) * 1e6).round() / 1e6,
+                            if linear { "mm" } else { "deg" }
+                        ),
+                    );
+                }
             }
         }
         if let Some(l) = limit {

@@ -444,3 +444,27 @@ fn a_colliding_world_plane_is_the_grounded_instance() {
         "line 3: <geom>: a colliding plane (a ground) must be the world's, and only one"
     );
 }
+
+#[test]
+fn a_range_that_excludes_the_models_pose_starts_at_its_nearest_end() {
+    let converted = mjcf_to_document(&model(
+        r#"<body name="b"><joint name="j" type="hinge" axis="0 1 0" range="10 50"/><geom size=".1"/></body>"#,
+    ))
+    .expect("converts");
+    let joints = converted.document["assembly"]["joints"]
+        .as_array()
+        .expect("joints");
+    let j = joints.iter().find(|j| j["name"] == "j").expect("joint j");
+    assert_eq!(j["initial"], 10.0);
+    assert!(
+        converted
+            .warnings
+            .iter()
+            .any(|w| w.contains("joint \"j\" starts at 10 deg")),
+        "{:?}",
+        converted.warnings
+    );
+    let mut env =
+        RobotEnv::from_json(&converted.document.to_string(), EnvConfig::default()).expect("builds");
+    assert!((env.reset(None).joint_positions[0] - 10.0).abs() < 1e-4);
+}

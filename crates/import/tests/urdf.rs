@@ -211,6 +211,11 @@ fn bad_descriptions_name_their_element_and_line() {
             robot(&format!("{}\n{}", link("a"), link("a"))),
             "line 3: <link name=…>: a second link named \"a\"",
         ),
+        (
+            robot(r#"<link name="a"><inertial><mass value="2"/><inertia ixx="0.1" iyy="0.1" izz="0" ixy="0" ixz="0" iyz="0"/></inertial></link>"#),
+            "<inertia>: the inertia of a link of 2 kg is not positive definite",
+        ),
+
     ];
     for (xml, expected) in cases {
         let message = urdf_error(&xml);
@@ -243,4 +248,86 @@ fn a_continuous_joint_is_unlimited_and_a_prismatic_one_is_in_mm() {
         .unwrap()
         .clone();
     assert_eq!(joints[1]["anchor"]["z"], 400.0);
+}
+
+/// Kinova's j2s6s200 joint 2 and Panda's joint 4 have limits that exclude the zero pose:
+/// the joint starts at its nearest limit (where MuJoCo's limit would push it).
+#[test]
+fn a_zero_pose_outside_the_limits_starts_at_the_nearest_limit() {
+    let xml = robot(&format!(
+        "{}\n{}\n{}",
+        link("a"),
+        link("b"),
+        revolute("j1", "a", "b")
+            .replace(r#"lower="-1""#, r#"lower="0.82""#)
+            .replace(r#"upper="1""#, r#"upper="5.46""#)
+    ));
+    let converted = urdf_to_document(&xml).expect("converts");
+    assert!(
+        converted
+            .warnings
+            .iter()
+            .any(|w| w.contains("line 4: <limit> joint \"j1\" starts at 46.98")),
+        "{:?}",
+        converted.warnings
+    );
+    let mut env =
+        RobotEnv::from_json(&converted.document.to_string(), EnvConfig::default()).expect("builds");
+    let q = env.reset(None).joint_positions[0];
+    assert!(
+        (f64::from(q) - 0.82f64.to_degrees()).abs() < 1e-3,
+        "starts at {q}"
+    );
+}
+
+const KINOVA: &str =
+    include_str!("data/example-robot-data/robots/kinova_description/robots/kinova.urdf");
+
+/// Kinova's Jaco 2 (j2s6s200): COLLADA meshes, continuous joints, fixed fingers, and a
+/// zero pose outside two joints' limits: it starts at their nearest limits and holds there.
+#[test]
+fn kinova_with_collada_meshes_starts_at_its_limits_and_holds_still() {
+    let (text, warnings) = to_json(KINOVA, Format::Urdf, Some(&assets())).expect("converts");
+    for expected in [
+        "\"j2s6s200_joint_2\" starts at 47",
+        "\"j2s6s200_joint_3\" starts at 19",
+    ] {
+        assert!(
+            warnings.iter().any(|w| w.contains(expected)),
+            "no {expected:?} in {warnings:#?}"
+        );
+    }
+    let assembly = gymfleet_assembly::parse(&text).expect("parses");
+    // The arm link's hull (arm.dae, in metres by its <unit>) spans its 410 mm.
+    let arm = &assembly.instances[assembly.instance_index("j2s6s200_link_2").expect("link 2")];
+    let gymfleet_assembly::Shape::Convex(parts) = &arm.shape else {
+        panic!("a mesh hull, got {:?}", arm.shape)
+    };
+    let y: Vec<f64> = parts.pieces[0].vertices.iter().map(|v| v[1]).collect();
+    let span =
+        y.iter().cloned().fold(f64::MIN, f64::max) - y.iter().cloned().fold(f64::MAX, f64::min);
+    assert!((0.4..0.5).contains(&span), "link 2's hull spans {span} m");
+    assert_eq!(arm.inertial.expect("given").mass, 0.99);
+
+    let mut env = RobotEnv::from_json(&text, EnvConfig::default()).expect("builds");
+    let spec = env.spec();
+    assert_eq!(spec.action_dim, 6);
+    let limited: Vec<bool> = spec.dofs.iter().map(|d| d.limits.is_some()).collect();
+    assert_eq!(
+        limited,
+        [false, true, true, false, true, false],
+        "continuous joints 1, 4, 6"
+    );
+    let start = env.reset(None).joint_positions;
+    let expected = [0.0, 47.0, 19.0, 0.0, 30.0, 0.0];
+    for (q, e) in start.iter().zip(expected) {
+        assert!((q - e).abs() < 1e-3, "starts at {start:?}");
+    }
+    for _ in 0..240 {
+        env.step(ActionType::Position, &start).expect("steps");
+    }
+    let q = env.observe().joint_positions;
+    for (k, (q, s)) in q.iter().zip(&start).enumerate() {
+        assert!((q - s).abs() < 1.0, "joint {k} drifted from {s} to {q} deg");
+    }
 }

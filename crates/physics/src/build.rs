@@ -82,6 +82,9 @@ impl RobotWorld {
                 })?;
         }
 
+        // The joints' initial positions, before anything reads the pose (gains, snapshot).
+        apply_initial_positions(&mut sets, assembly, &bodies)?;
+
         // Armature first: the default PD gains below follow each DOF's apparent inertia,
         // which includes it.
         for joint in assembly.joints.iter().filter(|j| j.armature > 0.0) {
@@ -467,9 +470,58 @@ fn joint_dofs(j: usize, joint: &Joint) -> impl Iterator<Item = JointDof> + '_ {
         } else {
             None
         },
+        initial: crate::units::from_si(kind, joint.initial),
         max_effort: joint.max_effort,
         actuated: joint.actuated,
         kp: 0.0,
         kd: 0.0,
     })
+}
+
+/// Moves every joint with an `initial` position there (from the document's pose, where
+/// the multibodies were built), so that the world's initial state, which every reset
+/// restores, starts there; rigid bodies and their colliders follow.
+fn apply_initial_positions(
+    sets: &mut Sets,
+    assembly: &Assembly,
+    bodies: &[RigidBodyHandle],
+) -> Result<()> {
+    let mut touched: Vec<MultibodyIndex> = Vec::new();
+    for joint in assembly.joints.iter().filter(|j| j.initial != 0.0) {
+        let link = sets
+            .multibody_joints
+            .rigid_body_link(bodies[joint.child])
+            .copied()
+            .ok_or_else(|| PhysicsError::BadOption {
+                field: "assembly.joints",
+                reason: format!("joint {:?} has no multibody link", joint.name),
+            })?;
+        let Some(mb) = sets.multibody_joints.get_multibody_mut(link.multibody) else {
+            continue;
+        };
+        let Some(first) = mb.link(link.id).map(|l| l.assembly_id()) else {
+            continue;
+        };
+        let mut disp = vec![0.0; mb.ndofs()];
+        disp[first] = joint.initial as Real;
+        mb.apply_displacements(&disp);
+        if !touched.contains(&link.multibody) {
+            touched.push(link.multibody);
+        }
+    }
+    for index in touched {
+        if let Some(mb) = sets.multibody_joints.get_multibody_mut(index) {
+            mb.forward_kinematics(&sets.bodies, false);
+            mb.update_rigid_bodies(&mut sets.bodies, true);
+        }
+    }
+    // Colliders follow their bodies now, not at the first step: a scene drawn before it
+    // shows the robot where it is.
+    for (_, co) in sets.colliders.iter_mut() {
+        if let Some(parent) = co.parent() {
+            let wrt = co.position_wrt_parent().copied().unwrap_or(Pose::IDENTITY);
+            co.set_position(*sets.bodies[parent].position() * wrt);
+        }
+    }
+    Ok(())
 }

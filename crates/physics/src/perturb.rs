@@ -8,8 +8,8 @@ use crate::world::RobotWorld;
 
 impl RobotWorld {
     /// [`RobotWorld::reset`], then offsets every DOF's position by `offsets[k]` (deg or
-    /// mm, in [`RobotWorld::dofs`] order; a rotation vector in deg for ball joints),
-    /// clamped into the DOF's limits. Velocities stay zero. Offsets of zero leave the
+    /// mm, in [`RobotWorld::dofs`] order; a rotation vector in deg for ball joints), the
+    /// position it reaches (from the joint's initial one) clamped into the DOF's limits. Velocities stay zero. Offsets of zero leave the
     /// state bit-for-bit as a plain reset does.
     ///
     /// # Panics
@@ -49,8 +49,9 @@ impl RobotWorld {
             for k in 0..n {
                 let dof = &self.dofs[slot.first_dof + k];
                 let mut offset = offsets[slot.first_dof + k];
+                // From the joint's initial position, kept within its limits.
                 if let Some([min, max]) = dof.limits {
-                    offset = offset.clamp(min, max);
+                    offset = (dof.initial + offset).clamp(min, max) - dof.initial;
                 }
                 disp[first + k] = to_si(dof.kind, offset) as Real;
             }

@@ -11,6 +11,14 @@ pub(crate) fn to_si(kind: DofKind, user: f64) -> f64 {
     }
 }
 
+/// A position of a DOF in SI (rad or m), in user units (deg or mm).
+pub(crate) fn from_si(kind: DofKind, si: f64) -> f64 {
+    match kind {
+        DofKind::Angular => si.to_degrees(),
+        DofKind::Linear => si * MM_PER_M,
+    }
+}
+
 /// A length in mm, in m.
 pub(crate) fn to_m(millimetres: f64) -> f64 {
     millimetres / MM_PER_M

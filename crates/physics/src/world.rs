@@ -47,6 +47,8 @@ pub struct JointDof {
     pub kind: DofKind,
     /// Hard limits in deg or mm, if any.
     pub limits: Option<[f64; 2]>,
+    /// Where the DOF starts at every reset, deg or mm from the document's pose.
+    pub initial: f64,
     /// Effort clamp in N·m or N, if any.
     pub max_effort: Option<f64>,
     /// Whether the DOF is driven; a passive one is observed but takes no action value.
