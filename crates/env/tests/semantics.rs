@@ -144,11 +144,12 @@ fn unknown_end_effectors_and_bad_configs_are_rejected() {
     );
     for (config, message) in [
         (
+            // 0 is "the document's, else the default"; a negative step is an error.
             EnvConfig {
-                dt: 0.0,
+                dt: -0.01,
                 ..EnvConfig::default()
             },
-            "dt: expected a step length in (0, 1] s, got 0",
+            "dt: expected a step length in (0, 1] s, got -0.01",
         ),
         (
             EnvConfig {
