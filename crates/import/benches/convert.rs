@@ -22,7 +22,10 @@ fn ur5_tar() -> Vec<u8> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data/example-robot-data/robots/ur_description/meshes/ur5/collision");
     let mut out = tar::Builder::new(Vec::new());
-    let mut entries: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().path()).collect();
+    let mut entries: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
     entries.sort();
     for path in entries {
         let name = format!(
@@ -35,7 +38,8 @@ fn ur5_tar() -> Vec<u8> {
 }
 
 fn bench_convert(c: &mut Criterion) {
-    let assets = Assets::from_dir(&Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data")).unwrap();
+    let assets =
+        Assets::from_dir(&Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data")).unwrap();
     let mut group = c.benchmark_group("import");
     for (name, text, format) in [
         ("reacher", REACHER, Format::Mjcf),
@@ -43,7 +47,11 @@ fn bench_convert(c: &mut Criterion) {
         ("kinova", KINOVA, Format::Urdf),
     ] {
         let (json, _) = to_json(text, format, Some(&assets)).unwrap();
-        println!("import/{name}: {} bytes of description, {} bytes of assembly JSON", text.len(), json.len());
+        println!(
+            "import/{name}: {} bytes of description, {} bytes of assembly JSON",
+            text.len(),
+            json.len()
+        );
         group.bench_function(format!("convert/{name}"), |b| {
             b.iter(|| to_json(text, format, Some(&assets)).unwrap())
         });
@@ -55,8 +63,13 @@ fn bench_convert(c: &mut Criterion) {
         });
     }
     let tar = ur5_tar();
-    println!("import/assets: a tar of the UR5's 7 meshes, {} bytes", tar.len());
-    group.bench_function("assets/ur5-tar", |b| b.iter(|| Assets::from_archive(&tar).unwrap()));
+    println!(
+        "import/assets: a tar of the UR5's 7 meshes, {} bytes",
+        tar.len()
+    );
+    group.bench_function("assets/ur5-tar", |b| {
+        b.iter(|| Assets::from_archive(&tar).unwrap())
+    });
     group.finish();
 }
 

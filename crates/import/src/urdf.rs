@@ -12,7 +12,9 @@
 //! `{"type": "mesh", "file": …}` primitives in metres (scaled into mm), read from the
 //! request's assets afterwards ([`crate::inline_mesh_files`]) and simulated as their hull.
 //!
-//! Refused with the element and its line: mimic joints, floating and planar joints,
+//! PyBullet's `<contact>` gives the link's shapes their `lateral_friction` and
+//! `restitution`. Refused with the element and its line: mimic joints, floating and planar
+//! joints,
 //! joint friction, several roots, a link that is two joints' child, zero inertia with a
 //! mass, bad numbers. Ignored with a warning: `<visual>`, `<material>`, `<gazebo>`,
 //! `<transmission>`, joint `velocity` limits, calibration and safety controllers.
@@ -41,6 +43,7 @@ pub fn urdf_to_document(xml: &str) -> Result<Converted> {
         warnings: Vec::new(),
         warned: HashSet::new(),
         parts: Vec::new(),
+        materials: Map::new(),
         instances: Vec::new(),
         joints: Vec::new(),
         names: HashSet::new(),
@@ -143,11 +146,15 @@ pub fn urdf_to_document(xml: &str) -> Result<Converted> {
     if visited != links.len() {
         return Err(c.unsupported(root, "some links are not connected to the root link".into()));
     }
+    let mut document = json!({
+        "parts": c.parts,
+        "assembly": {"instances": c.instances, "joints": c.joints}
+    });
+    if !c.materials.is_empty() {
+        document["materials"] = Value::Object(c.materials);
+    }
     Ok(Converted {
-        document: json!({
-            "parts": c.parts,
-            "assembly": {"instances": c.instances, "joints": c.joints}
-        }),
+        document,
         warnings: c.warnings,
     })
 }
@@ -166,6 +173,7 @@ struct Converter<'a, 'i> {
     warnings: Vec<String>,
     warned: HashSet<String>,
     parts: Vec<Value>,
+    materials: Map<String, Value>,
     instances: Vec<Value>,
     joints: Vec<Value>,
     names: HashSet<String>,
@@ -311,7 +319,7 @@ impl<'a, 'i> Converter<'a, 'i> {
                     node,
                     "ignored (only <collision> shapes are simulated)".into(),
                 ),
-                "inertial" | "collision" => {}
+                "inertial" | "collision" | "contact" => {}
                 other => {
                     return Err(
                         self.unsupported(node, format!("<{other}> in <link> is not supported"))
@@ -324,6 +332,7 @@ impl<'a, 'i> Converter<'a, 'i> {
             self.warn(link, "a link of mass 0 (a frame) weighs 1 mg".into());
         }
         let mut main: Option<String> = None;
+        let first_instance = self.instances.len();
         for collision in elements(link).filter(|n| n.tag_name().name() == "collision") {
             // With given mass properties (or none at all) the shapes weigh 1 mg each and
             // the link's instance carries the mass.
@@ -346,6 +355,9 @@ impl<'a, 'i> Converter<'a, 'i> {
                 self.helper(&link_name, frame)
             }
         };
+        if let Some(contact) = child(link, "contact") {
+            self.contact(contact, &link_name, first_instance)?;
+        }
         match (inertial, mass) {
             (Some(i), Some(m)) if m > 0.0 => self.inertial(i, m, frame, &main)?,
             (None, _) if !self.is_helper(&main) => self.warn(
@@ -355,6 +367,41 @@ impl<'a, 'i> Converter<'a, 'i> {
             _ => {}
         }
         Ok(main)
+    }
+
+    /// PyBullet's `<contact>` extension: `lateral_friction` and `restitution` become the
+    /// material of the link's shapes (instances from `first` on); its solver tuning
+    /// (stiffness, damping, rolling and spinning friction) is ignored with a warning.
+    fn contact(&mut self, node: Node<'a, 'i>, link_name: &str, first: usize) -> Result<()> {
+        let mut material = Map::new();
+        for item in elements(node) {
+            let key = match item.tag_name().name() {
+                "lateral_friction" => "friction",
+                "restitution" => "restitution",
+                other => {
+                    self.warn(
+                        item,
+                        format!("<{other}> ignored (gymfleet's contact model)"),
+                    );
+                    continue;
+                }
+            };
+            let value = self
+                .number(item, "value")?
+                .ok_or_else(|| self.bad(item, "value", "missing".into()))?;
+            material.insert(key.into(), json!(value));
+        }
+        if material.is_empty() {
+            return Ok(());
+        }
+        let name = format!("{link_name}_contact");
+        for instance in &mut self.instances[first..] {
+            if instance["collision"] != json!({"group": 0, "mask": 0}) {
+                instance["material"] = json!(name);
+            }
+        }
+        self.materials.insert(name, Value::Object(material));
+        Ok(())
     }
 
     fn is_helper(&self, name: &str) -> bool {

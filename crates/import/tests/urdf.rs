@@ -331,3 +331,35 @@ fn kinova_with_collada_meshes_starts_at_its_limits_and_holds_still() {
         assert!((q - s).abs() < 1.0, "joint {k} drifted from {s} to {q} deg");
     }
 }
+
+/// PyBullet's `<contact>` extension (Solo's and other legged robots' feet) sets the
+/// link's friction and restitution; its solver tuning is ignored with a warning.
+#[test]
+fn a_pybullet_contact_sets_the_links_friction() {
+    let xml = robot(&format!(
+        "{}\n{}\n{}",
+        link("a"),
+        link("foot").replace(
+            "</link>",
+            r#"<contact><lateral_friction value="1.2"/><restitution value="0.1"/><stiffness value="30000"/></contact></link>"#
+        ),
+        revolute("j1", "a", "foot")
+    ));
+    let converted = urdf_to_document(&xml).expect("converts");
+    let assembly = gymfleet_assembly::parse(&converted.document.to_string()).expect("parses");
+    let foot = &assembly.instances[assembly.instance_index("foot").expect("foot")];
+    assert_eq!(
+        (foot.material.friction, foot.material.restitution),
+        (1.2, 0.1)
+    );
+    let a = &assembly.instances[assembly.instance_index("a").expect("a")];
+    assert_eq!(a.material.friction, gymfleet_assembly::DEFAULT_FRICTION);
+    assert!(
+        converted
+            .warnings
+            .iter()
+            .any(|w| w.contains("<stiffness> ignored")),
+        "{:?}",
+        converted.warnings
+    );
+}
