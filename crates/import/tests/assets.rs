@@ -163,6 +163,18 @@ fn bad_archives_are_refused_precisely() {
         err.to_string(),
         "assets: \"../../etc/passwd\" escapes the archive's root (absolute, or with ..)"
     );
+    // The same in a tar, its name field written as a hostile client would.
+    let mut header = tar::Header::new_gnu();
+    header.set_size(1);
+    header.as_old_mut().name[..12].copy_from_slice(b"../../x.stl\0");
+    header.set_cksum();
+    let mut out = tar::Builder::new(Vec::new());
+    out.append(&header, &b"x"[..]).unwrap();
+    let err = Assets::from_archive(&out.into_inner().unwrap()).expect_err("escapes the root");
+    assert_eq!(
+        err.to_string(),
+        "assets: \"../../x.stl\" escapes the archive's root (absolute, or with ..)"
+    );
     let many: Vec<(String, Vec<u8>)> = (0..=gymfleet_import::MAX_ASSET_FILES)
         .map(|i| (format!("f{i}"), Vec::new()))
         .collect();

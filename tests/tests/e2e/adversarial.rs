@@ -101,6 +101,30 @@ async fn expect(
     );
 }
 
+/// A document whose only part is a mesh file of the request's assets.
+const MESH_FILE_DOC: &str = r#"{"parts": [{"name": "m", "primitive": {"type": "mesh", "file": "arm.stl"}}],
+    "assembly": {"instances": [{"part": "m", "name": "m"}]}}"#;
+
+/// One file in a tar archive, its path as given (unchecked: hostile paths too).
+fn tar_of(name: &str, bytes: &[u8]) -> Vec<u8> {
+    let mut header = tar::Header::new_gnu();
+    header.set_size(bytes.len() as u64);
+    header.set_mode(0o644);
+    // `set_path` refuses `..`: write the name field itself, as a hostile client would.
+    header.as_old_mut().name[..name.len()].copy_from_slice(name.as_bytes());
+    header.set_cksum();
+    let mut out = tar::Builder::new(Vec::new());
+    out.append(&header, bytes).expect("tar");
+    out.into_inner().expect("tar")
+}
+
+fn gzip(bytes: &[u8]) -> Vec<u8> {
+    use std::io::Write as _;
+    let mut out = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+    out.write_all(bytes).expect("gzip");
+    out.finish().expect("gzip")
+}
+
 /// `[[[…]]]` nested `depth` deep.
 fn nested(depth: usize) -> String {
     format!("{}{}", "[".repeat(depth), "]".repeat(depth))
@@ -178,6 +202,46 @@ async fn hostile_requests_get_their_exact_code_and_leave_everyone_else_alone() {
                 Box::pin(async move { c.create_env(env_request(&doc)).await.map(drop) })
             },
         ),
+        // Assets (an archive of mesh files, read by the server).
+        (
+            "assets: a tar.gz of 80 MiB of zeros",
+            Code::InvalidArgument,
+            {
+                let mut c = r();
+                let mut request = env_request(MESH_FILE_DOC);
+                request.assets = gzip(&tar_of("arm.stl", &vec![0u8; 80 << 20]));
+                assert!(request.assets.len() < 1 << 20, "a small bomb");
+                Box::pin(async move { c.create_env(request).await.map(drop) })
+            },
+        ),
+        ("assets: 8 MB of noise", Code::InvalidArgument, {
+            let mut c = r();
+            let mut request = env_request(MESH_FILE_DOC);
+            request.assets = (0..8_000_000u32)
+                .map(|i| (i.wrapping_mul(2_654_435_761) >> 24) as u8)
+                .collect();
+            Box::pin(async move { c.create_env(request).await.map(drop) })
+        }),
+        (
+            "assets: a path out of the archive",
+            Code::InvalidArgument,
+            {
+                let mut c = r();
+                let mut request = env_request(MESH_FILE_DOC);
+                request.assets = tar_of("../../etc/arm.stl", b"solid x\nendsolid x\n");
+                Box::pin(async move { c.create_env(request).await.map(drop) })
+            },
+        ),
+        ("a mesh of 70 000 vertices", Code::InvalidArgument, {
+            let mut c = r();
+            let vertices: Vec<[u32; 3]> = (0..70_000).map(|i| [i % 97, i % 89, i % 83]).collect();
+            let doc = serde_json::json!({
+                "parts": [{"name": "m", "primitive": {"type": "mesh", "vertices": vertices}}],
+                "assembly": {"instances": [{"part": "m", "name": "m"}]}
+            })
+            .to_string();
+            Box::pin(async move { c.create_env(env_request(&doc)).await.map(drop) })
+        }),
         ("a message over the gRPC limit", Code::OutOfRange, {
             let c = r();
             let doc = "x".repeat(65 << 20);
