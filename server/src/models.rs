@@ -89,16 +89,16 @@ impl ModelLibrary {
         let format = Format::detect(text).map_err(|e| library_error(path, e.to_string()))?;
         let (mut document, _warnings) = gymfleet_import::to_json(text, format, None)
             .map_err(|e| library_error(path, e.to_string()))?;
-        if gymfleet_import::references_mesh_files(&document) {
+        if let Some(mut value) = gymfleet_import::with_mesh_files(&document) {
             if assets.is_none() {
                 *assets = Some(
                     gymfleet_import::Assets::from_dir(dir)
                         .map_err(|e| library_error(dir, e.to_string()))?,
                 );
             }
-            document = gymfleet_import::to_json(text, format, assets.as_ref())
-                .map_err(|e| library_error(path, e.to_string()))?
-                .0;
+            gymfleet_import::inline_mesh_files(&mut value, assets.as_ref())
+                .map_err(|e| library_error(path, e.to_string()))?;
+            document = value.to_string();
         }
         let assembly =
             gymfleet_assembly::parse(&document).map_err(|e| library_error(path, e.to_string()))?;

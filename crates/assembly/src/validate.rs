@@ -78,6 +78,23 @@ impl Validator {
         mm / MM_PER_M
     }
 
+    /// `v`'s components, each checked by `ok`; one issue per failing component at
+    /// `{path}.x|y|z`, worded by `expected` from the value.
+    fn components(
+        &mut self,
+        path: &str,
+        v: Vec3,
+        ok: impl Fn(f64) -> bool,
+        expected: impl Fn(f64) -> String,
+    ) -> [f64; 3] {
+        for (axis, c) in [("x", v.x), ("y", v.y), ("z", v.z)] {
+            if !ok(c) {
+                self.push(format!("{path}.{axis}"), expected(c));
+            }
+        }
+        v.to_array()
+    }
+
     fn vec3(&mut self, path: &str, v: Vec3) -> [f64; 3] {
         for (name, c) in [("x", v.x), ("y", v.y), ("z", v.z)] {
             self.finite(&format!("{path}.{name}"), c);
@@ -222,17 +239,12 @@ impl Validator {
             return (DEFAULT_GRAVITY, None);
         };
         let gravity = match def.gravity {
-            Some(g) => {
-                for (axis, v) in [("x", g.x), ("y", g.y), ("z", g.z)] {
-                    if !(v.is_finite() && v.abs() <= MAX_GRAVITY) {
-                        self.push(
-                            format!("simulation.gravity.{axis}"),
-                            format!("expected a component within ±{MAX_GRAVITY} m/s², got {v}"),
-                        );
-                    }
-                }
-                g.to_array()
-            }
+            Some(g) => self.components(
+                "simulation.gravity",
+                g,
+                |v| v.is_finite() && v.abs() <= MAX_GRAVITY,
+                |v| format!("expected a component within ±{MAX_GRAVITY} m/s², got {v}"),
+            ),
             None => DEFAULT_GRAVITY,
         };
         if let Some(dt) = def.dt {
@@ -272,15 +284,12 @@ impl Validator {
         let scale = match mesh.scale {
             Some(s) => {
                 let before = self.issues.len();
-                let s = [("x", s.x), ("y", s.y), ("z", s.z)].map(|(axis, v)| {
-                    if !(v.is_finite() && v != 0.0 && v.abs() <= 1e6) {
-                        self.push(
-                            format!("{path}.scale.{axis}"),
-                            format!("expected a finite, non-zero factor within ±1e6, got {v}"),
-                        );
-                    }
-                    v
-                });
+                let s = self.components(
+                    &format!("{path}.scale"),
+                    s,
+                    |v| v.is_finite() && v != 0.0 && v.abs() <= 1e6,
+                    |v| format!("expected a finite, non-zero factor within ±1e6, got {v}"),
+                );
                 if self.issues.len() > before {
                     return None;
                 }
@@ -719,17 +728,14 @@ impl Validator {
             );
         }
         let center_of_mass = match def.center_of_mass {
-            Some(c) => {
-                for (axis, v) in [("x", c.x), ("y", c.y), ("z", c.z)] {
-                    if !(v.is_finite() && v.abs() <= MAX_COM_MM) {
-                        self.push(
-                            format!("{path}.center_of_mass.{axis}"),
-                            format!("expected a coordinate within ±{MAX_COM_MM:e} mm, got {v}"),
-                        );
-                    }
-                }
-                c.to_array().map(|v| v / MM_PER_M)
-            }
+            Some(c) => self
+                .components(
+                    &format!("{path}.center_of_mass"),
+                    c,
+                    |v| v.is_finite() && v.abs() <= MAX_COM_MM,
+                    |v| format!("expected a coordinate within ±{MAX_COM_MM:e} mm, got {v}"),
+                )
+                .map(|v| v / MM_PER_M),
             None => shape.centroid(),
         };
         let inertia = def.inertia.map(|i| {

@@ -30,10 +30,11 @@ mod frame;
 mod meshes;
 mod mjcf;
 mod urdf;
+mod xml;
 
 pub use assets::{Assets, MAX_ASSET_BYTES, MAX_ASSET_FILES};
 pub use meshes::{
-    inline_mesh_files, load as load_mesh, references_mesh_files, MeshData, MAX_FILE_VERTICES,
+    inline_mesh_files, load as load_mesh, with_mesh_files, MeshData, MAX_FILE_VERTICES,
 };
 pub use mjcf::mjcf_to_document;
 pub use urdf::urdf_to_document;
@@ -126,10 +127,10 @@ pub fn convert_file(path: &std::path::Path) -> Result<(String, Vec<String>)> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| ImportError::Assets(format!("{}: {e}", path.display())))?;
     let format = Format::detect(&text)?;
-    let plain = to_json(&text, format, None)?;
-    if !references_mesh_files(&plain.0) {
-        return Ok(plain);
-    }
+    let (plain, warnings) = to_json(&text, format, None)?;
+    let Some(document) = with_mesh_files(&plain) else {
+        return Ok((plain, warnings));
+    };
     let mut first_error = None;
     for root in path.ancestors().skip(1).take(4) {
         let root = if root.as_os_str().is_empty() {
@@ -137,9 +138,9 @@ pub fn convert_file(path: &std::path::Path) -> Result<(String, Vec<String>)> {
         } else {
             root
         };
-        let attempt = Assets::from_dir(root).and_then(|a| to_json(&text, format, Some(&a)));
-        match attempt {
-            Ok(converted) => return Ok(converted),
+        let mut attempt = document.clone();
+        match Assets::from_dir(root).and_then(|a| inline_mesh_files(&mut attempt, Some(&a))) {
+            Ok(()) => return Ok((attempt.to_string(), warnings)),
             Err(e) => {
                 first_error.get_or_insert(e);
             }

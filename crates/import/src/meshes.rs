@@ -72,17 +72,16 @@ pub fn inline_mesh_files(document: &mut Value, assets: Option<&Assets>) -> Resul
     Ok(())
 }
 
-/// Whether an assembly JSON text has mesh primitives that name a `file` (which
-/// [`inline_mesh_files`] would read).
-pub fn references_mesh_files(document: &str) -> bool {
-    let Ok(value) = serde_json::from_str::<Value>(document) else {
-        return false;
-    };
-    value["parts"].as_array().is_some_and(|parts| {
+/// An assembly JSON text as a JSON value, if it has mesh primitives that name a `file`
+/// (for [`inline_mesh_files`] to read once the assets are at hand); `None` otherwise.
+pub fn with_mesh_files(document: &str) -> Option<Value> {
+    let value = serde_json::from_str::<Value>(document).ok()?;
+    let names_files = value["parts"].as_array().is_some_and(|parts| {
         parts
             .iter()
             .any(|p| p["primitive"]["type"] == "mesh" && p["primitive"].get("file").is_some())
-    })
+    });
+    names_files.then_some(value)
 }
 
 /// A mesh's vertices and triangles (three indices into the vertices each).

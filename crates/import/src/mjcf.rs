@@ -15,6 +15,7 @@ use roxmltree::Node;
 use serde_json::{json, Map, Value};
 
 use crate::frame::{euler_xyz_degrees, inertial_json, z_onto, Frame};
+use crate::xml::{elements, Names, Warnings, XmlReader};
 use crate::{Converted, ImportError, Result};
 
 /// Millimetres per metre.
@@ -66,11 +67,6 @@ pub fn mjcf_to_document(xml: &str) -> Result<Converted> {
     c.finish()
 }
 
-/// The element children of `node`.
-fn elements<'a, 'i>(node: Node<'a, 'i>) -> impl Iterator<Item = Node<'a, 'i>> {
-    node.children().filter(Node::is_element)
-}
-
 /// How a body's mass is found (`compiler inertiafromgeom`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum InertiaFromGeom {
@@ -105,8 +101,7 @@ struct Converter<'a, 'i> {
     radian: bool,
     inertia_from_geom: InertiaFromGeom,
     classes: HashMap<String, Class<'a>>,
-    warnings: Vec<String>,
-    warned: HashSet<String>,
+    warnings: Warnings,
     motors: HashMap<String, Motor>,
     parts: Vec<Value>,
     materials: Map<String, Value>,
@@ -116,10 +111,20 @@ struct Converter<'a, 'i> {
     /// Each instance's frame in the world (m), as written into its `position`/`rotation`.
     frames: HashMap<String, Frame>,
     joints: Vec<Value>,
-    names: HashSet<String>,
-    joint_names: HashSet<String>,
+    names: Names,
+    joint_names: Names,
     /// Joint names with a DOF, in document (tree) order.
     moving_joints: Vec<String>,
+}
+
+impl<'i> XmlReader<'i> for Converter<'_, 'i> {
+    fn document(&self) -> &roxmltree::Document<'i> {
+        self.doc
+    }
+
+    fn warnings(&mut self) -> &mut Warnings {
+        &mut self.warnings
+    }
 }
 
 impl<'a, 'i> Converter<'a, 'i> {
@@ -129,8 +134,7 @@ impl<'a, 'i> Converter<'a, 'i> {
             radian: false,
             inertia_from_geom: InertiaFromGeom::Auto,
             classes: HashMap::new(),
-            warnings: Vec::new(),
-            warned: HashSet::new(),
+            warnings: Warnings::default(),
             motors: HashMap::new(),
             parts: Vec::new(),
             materials: Map::new(),
@@ -138,39 +142,9 @@ impl<'a, 'i> Converter<'a, 'i> {
             instances: Vec::new(),
             frames: HashMap::new(),
             joints: Vec::new(),
-            names: HashSet::new(),
-            joint_names: HashSet::new(),
+            names: Names::default(),
+            joint_names: Names::default(),
             moving_joints: Vec::new(),
-        }
-    }
-
-    fn line(&self, node: Node<'_, '_>) -> u32 {
-        self.doc.text_pos_at(node.range().start).row
-    }
-
-    fn unsupported(&self, node: Node<'_, '_>, reason: String) -> ImportError {
-        ImportError::Unsupported {
-            element: node.tag_name().name().to_string(),
-            line: self.line(node),
-            reason,
-        }
-    }
-
-    fn bad(&self, node: Node<'_, '_>, attribute: &str, reason: String) -> ImportError {
-        ImportError::BadAttribute {
-            element: node.tag_name().name().to_string(),
-            attribute: attribute.to_string(),
-            line: self.line(node),
-            reason,
-        }
-    }
-
-    /// A warning, once per element kind and message.
-    fn warn(&mut self, node: Node<'_, '_>, what: String) {
-        let tag = node.tag_name().name();
-        if self.warned.insert(format!("{tag} {what}")) {
-            self.warnings
-                .push(format!("line {}: <{tag}> {what}", self.line(node)));
         }
     }
 
@@ -442,13 +416,7 @@ impl<'a, 'i> Converter<'a, 'i> {
     // --- the tree ----------------------------------------------------------------------------
 
     fn unique(&mut self, wanted: &str) -> String {
-        let mut name = wanted.to_string();
-        let mut k = 2;
-        while !self.names.insert(name.clone()) {
-            name = format!("{wanted}_{k}");
-            k += 1;
-        }
-        name
+        self.names.unique(wanted)
     }
 
     fn worldbody(&mut self, world: Node<'a, 'i>) -> Result<()> {
@@ -593,13 +561,7 @@ impl<'a, 'i> Converter<'a, 'i> {
     }
 
     fn joint_name(&mut self, wanted: &str) -> String {
-        let mut name = wanted.to_string();
-        let mut k = 2;
-        while !self.joint_names.insert(name.clone()) {
-            name = format!("{wanted}_{k}");
-            k += 1;
-        }
-        name
+        self.joint_names.unique(wanted)
     }
 
     fn weld(&mut self, parent: String, child: String) {
@@ -1113,7 +1075,7 @@ impl<'a, 'i> Converter<'a, 'i> {
         }
         Ok(Converted {
             document,
-            warnings: self.warnings,
+            warnings: self.warnings.into_vec(),
         })
     }
 }

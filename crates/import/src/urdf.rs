@@ -19,13 +19,14 @@
 //! mass, bad numbers. Ignored with a warning: `<visual>`, `<material>`, `<gazebo>`,
 //! `<transmission>`, joint `velocity` limits, calibration and safety controllers.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashMap;
 
 use glam::{DMat3, DQuat, DVec3};
 use roxmltree::Node;
 use serde_json::{json, Map, Value};
 
 use crate::frame::{euler_xyz_degrees, inertial_json, Frame};
+use crate::xml::{elements, Names, Warnings, XmlReader};
 use crate::{Converted, ImportError, Result};
 
 /// Millimetres per metre.
@@ -40,13 +41,13 @@ pub fn urdf_to_document(xml: &str) -> Result<Converted> {
     let doc = roxmltree::Document::parse(xml).map_err(|e| ImportError::Xml(e.to_string()))?;
     let mut c = Converter {
         doc: &doc,
-        warnings: Vec::new(),
-        warned: HashSet::new(),
+        warnings: Warnings::default(),
         parts: Vec::new(),
         materials: Map::new(),
         instances: Vec::new(),
+        frames: HashMap::new(),
         joints: Vec::new(),
-        names: HashSet::new(),
+        names: Names::default(),
     };
     let root = doc.root_element();
     if root.tag_name().name() != "robot" {
@@ -155,13 +156,8 @@ pub fn urdf_to_document(xml: &str) -> Result<Converted> {
     }
     Ok(Converted {
         document,
-        warnings: c.warnings,
+        warnings: c.warnings.into_vec(),
     })
-}
-
-/// The element children of `node`.
-fn elements<'a, 'i>(node: Node<'a, 'i>) -> impl Iterator<Item = Node<'a, 'i>> {
-    node.children().filter(|n| n.is_element())
 }
 
 fn child<'a, 'i>(node: Node<'a, 'i>, tag: &str) -> Option<Node<'a, 'i>> {
@@ -170,46 +166,27 @@ fn child<'a, 'i>(node: Node<'a, 'i>, tag: &str) -> Option<Node<'a, 'i>> {
 
 struct Converter<'a, 'i> {
     doc: &'a roxmltree::Document<'i>,
-    warnings: Vec<String>,
-    warned: HashSet<String>,
+    warnings: Warnings,
     parts: Vec<Value>,
     materials: Map<String, Value>,
     instances: Vec<Value>,
+    /// Each instance's frame in the world (m), as written into its `position`/`rotation`.
+    frames: HashMap<String, Frame>,
     joints: Vec<Value>,
-    names: HashSet<String>,
+    names: Names,
+}
+
+impl<'i> XmlReader<'i> for Converter<'_, 'i> {
+    fn document(&self) -> &roxmltree::Document<'i> {
+        self.doc
+    }
+
+    fn warnings(&mut self) -> &mut Warnings {
+        &mut self.warnings
+    }
 }
 
 impl<'a, 'i> Converter<'a, 'i> {
-    fn line(&self, node: Node<'_, '_>) -> u32 {
-        self.doc.text_pos_at(node.range().start).row
-    }
-
-    fn unsupported(&self, node: Node<'_, '_>, reason: String) -> ImportError {
-        ImportError::Unsupported {
-            element: node.tag_name().name().to_string(),
-            line: self.line(node),
-            reason,
-        }
-    }
-
-    fn bad(&self, node: Node<'_, '_>, attribute: &str, reason: String) -> ImportError {
-        ImportError::BadAttribute {
-            element: node.tag_name().name().to_string(),
-            attribute: attribute.to_string(),
-            line: self.line(node),
-            reason,
-        }
-    }
-
-    /// A warning, once per element kind and message.
-    fn warn(&mut self, node: Node<'_, '_>, what: String) {
-        let tag = node.tag_name().name();
-        if self.warned.insert(format!("{tag} {what}")) {
-            self.warnings
-                .push(format!("line {}: <{tag}> {what}", self.line(node)));
-        }
-    }
-
     fn required(&self, node: Node<'a, 'i>, name: &str) -> Result<&'a str> {
         node.attribute(name)
             .ok_or_else(|| self.bad(node, name, "missing".into()))
@@ -282,13 +259,7 @@ impl<'a, 'i> Converter<'a, 'i> {
     }
 
     fn unique(&mut self, wanted: &str) -> String {
-        let mut name = wanted.to_string();
-        let mut k = 2;
-        while !self.names.insert(name.clone()) {
-            name = format!("{wanted}_{k}");
-            k += 1;
-        }
-        name
+        self.names.unique(wanted)
     }
 
     /// A link's instances; returns the link's own (its first collision's, or a helper).
@@ -343,6 +314,8 @@ impl<'a, 'i> Converter<'a, 'i> {
                 Some(m) => self.weld(m, &name),
             }
         }
+        // The link's shapes are instances `first_instance..shapes_end`.
+        let shapes_end = self.instances.len();
         let main = match main {
             Some(m) => m,
             None => {
@@ -356,11 +329,11 @@ impl<'a, 'i> Converter<'a, 'i> {
             }
         };
         if let Some(contact) = child(link, "contact") {
-            self.contact(contact, &link_name, first_instance)?;
+            self.contact(contact, &link_name, first_instance..shapes_end)?;
         }
         match (inertial, mass) {
             (Some(i), Some(m)) if m > 0.0 => self.inertial(i, m, frame, &main)?,
-            (None, _) if !self.is_helper(&main) => self.warn(
+            (None, _) if shapes_end > first_instance => self.warn(
                 link,
                 "no <inertial>: the mass comes from the shapes at 1000 kg/m³".into(),
             ),
@@ -370,9 +343,14 @@ impl<'a, 'i> Converter<'a, 'i> {
     }
 
     /// PyBullet's `<contact>` extension: `lateral_friction` and `restitution` become the
-    /// material of the link's shapes (instances from `first` on); its solver tuning
+    /// material of the link's shapes (the instances `shapes`); its solver tuning
     /// (stiffness, damping, rolling and spinning friction) is ignored with a warning.
-    fn contact(&mut self, node: Node<'a, 'i>, link_name: &str, first: usize) -> Result<()> {
+    fn contact(
+        &mut self,
+        node: Node<'a, 'i>,
+        link_name: &str,
+        shapes: std::ops::Range<usize>,
+    ) -> Result<()> {
         let mut material = Map::new();
         for item in elements(node) {
             let key = match item.tag_name().name() {
@@ -395,19 +373,11 @@ impl<'a, 'i> Converter<'a, 'i> {
             return Ok(());
         }
         let name = format!("{link_name}_contact");
-        for instance in &mut self.instances[first..] {
-            if instance["collision"] != json!({"group": 0, "mask": 0}) {
-                instance["material"] = json!(name);
-            }
+        for instance in &mut self.instances[shapes] {
+            instance["material"] = json!(name);
         }
         self.materials.insert(name, Value::Object(material));
         Ok(())
-    }
-
-    fn is_helper(&self, name: &str) -> bool {
-        self.instances
-            .iter()
-            .any(|i| i["name"] == name && i["collision"] == json!({"group": 0, "mask": 0}))
     }
 
     /// A link's `<inertial>` on its instance: mass, centre of mass and inertia.
@@ -444,9 +414,9 @@ impl<'a, 'i> Converter<'a, 'i> {
             ));
         }
         let tensor = DMat3::from_cols_array(&[xx, xy, xz, xy, yy, yz, xz, yz, zz]);
-        let frame = self.frame_of(instance);
         let index = self.index_of(instance);
-        self.instances[index]["inertial"] = inertial_json(mass, &at, tensor, &frame, MM);
+        self.instances[index]["inertial"] =
+            inertial_json(mass, &at, tensor, &self.frames[instance], MM);
         Ok(())
     }
 
@@ -455,25 +425,6 @@ impl<'a, 'i> Converter<'a, 'i> {
             .iter()
             .position(|i| i["name"] == instance)
             .unwrap_or_default()
-    }
-
-    /// An instance's frame as written (position mm → m, rotation from its Euler angles).
-    fn frame_of(&self, instance: &str) -> Frame {
-        let i = &self.instances[self.index_of(instance)];
-        let v = |key: &str| {
-            DVec3::new(
-                i[key]["x"].as_f64().unwrap_or(0.0),
-                i[key]["y"].as_f64().unwrap_or(0.0),
-                i[key]["z"].as_f64().unwrap_or(0.0),
-            )
-        };
-        let r = v("rotation");
-        Frame {
-            translation: v("position") / MM,
-            rotation: DQuat::from_rotation_z(r.z.to_radians())
-                * DQuat::from_rotation_y(r.y.to_radians())
-                * DQuat::from_rotation_x(r.x.to_radians()),
-        }
     }
 
     /// A helper instance: a small sphere of `HELPER_MASS` that collides with nothing.
@@ -492,6 +443,7 @@ impl<'a, 'i> Converter<'a, 'i> {
             "collision": {"group": 0, "mask": 0},
             "inertial": {"mass": HELPER_MASS}
         }));
+        self.frames.insert(name.clone(), *at);
         name
     }
 
@@ -605,6 +557,13 @@ impl<'a, 'i> Converter<'a, 'i> {
         self.parts
             .push(json!({"name": name, "primitive": primitive}));
         self.instances.push(Value::Object(instance));
+        self.frames.insert(
+            name.clone(),
+            Frame {
+                translation: origin_m,
+                rotation: at.rotation,
+            },
+        );
         Ok(name)
     }
 

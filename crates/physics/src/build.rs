@@ -509,6 +509,9 @@ fn apply_initial_positions(
             touched.push(link.multibody);
         }
     }
+    if touched.is_empty() {
+        return Ok(());
+    }
     for index in touched {
         if let Some(mb) = sets.multibody_joints.get_multibody_mut(index) {
             mb.forward_kinematics(&sets.bodies, false);
