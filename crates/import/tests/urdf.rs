@@ -363,3 +363,20 @@ fn a_pybullet_contact_sets_the_links_friction() {
         converted.warnings
     );
 }
+
+/// A description file finds its meshes in its folder or the folders above (the load
+/// client's `--model x.urdf`): the UR5's `package://` paths resolve from its package.
+#[test]
+fn a_urdf_file_finds_its_meshes_above_it() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/example-robot-data/robots/ur_description/urdf/ur5_robot.urdf");
+    let (from_file, warnings) = gymfleet_import::convert_file(&path).expect("converts");
+    let (expected, expected_warnings) = ur5_json();
+    assert_eq!(warnings, expected_warnings);
+    // The same document (as JSON values: the file's route writes it out twice).
+    let (a, b): (serde_json::Value, serde_json::Value) = (
+        serde_json::from_str(&from_file).unwrap(),
+        serde_json::from_str(&expected).unwrap(),
+    );
+    assert_eq!(a, b, "the same document as with explicit assets");
+}
