@@ -23,6 +23,10 @@ pub struct Document {
     /// *(ext)* The world's gravity and the env step the description was made for.
     #[serde(default)]
     pub simulation: Option<SimulationDef>,
+    /// *(ext)* Whether the first instance is free (a floating base: a legged robot, a
+    /// drone) instead of grounded; default `false`.
+    #[serde(default)]
+    pub floating_base: Option<bool>,
 }
 
 /// *(ext)* World settings a description carries (MJCF's `<option gravity timestep>`).
@@ -86,7 +90,7 @@ pub enum Primitive {
     /// *(ext)* A triangle mesh, simulated as its convex hull or as a convex decomposition.
     Mesh(MeshDef),
     /// *(ext)* The half-space below the part's local XY plane (its normal is local +Z): a
-    /// ground. Only the grounded (first) instance may be a plane.
+    /// ground. A plane is always fixed to the world and cannot be a joint's child.
     Plane,
 }
 
@@ -295,7 +299,8 @@ pub struct MaterialDef {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct AssemblyDef {
-    /// Placed parts. The first one is grounded (fixed to the world).
+    /// Placed parts. The first one is grounded (fixed to the world), unless the document
+    /// has a `floating_base`.
     pub instances: Vec<InstanceDef>,
     /// Joints between instances.
     #[serde(default)]

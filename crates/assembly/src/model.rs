@@ -46,7 +46,7 @@ pub enum Shape {
     },
     /// A mesh made convex: its hull, or the parts of its convex decomposition.
     Convex(std::sync::Arc<crate::ConvexParts>),
-    /// The half-space `z ≤ 0` of the part's frame (a ground; grounded instances only).
+    /// The half-space `z ≤ 0` of the part's frame (a ground: always grounded).
     Plane,
 }
 
@@ -127,7 +127,8 @@ pub struct Instance {
     /// Rotation of the local frame as Euler angles in radians, applied X, then Y, then Z
     /// (extrinsic, i.e. `R = Rz · Ry · Rx`).
     pub rotation: [f64; 3],
-    /// Whether the instance is fixed to the world (only the first one is).
+    /// Whether the instance is fixed to the world: the first one unless the assembly has a
+    /// floating base, and every plane.
     pub grounded: bool,
     /// Collision filter bits `(group, mask)`: instances `a` and `b` collide when
     /// `a.group & b.mask` or `b.group & a.mask` is non-zero (jointed pairs never do).
@@ -276,7 +277,7 @@ impl Joint {
 /// A validated assembly: instances, then joints in document order.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Assembly {
-    /// Bodies, in document order. The first is grounded.
+    /// Bodies, in document order. The first is grounded, or the floating base.
     pub instances: Vec<Instance>,
     /// Joints, in document order.
     pub joints: Vec<Joint>,
@@ -290,6 +291,9 @@ pub struct Assembly {
     /// The env step the document asks for (`simulation.dt`), s: what an env gets when its
     /// request leaves `dt` unset.
     pub dt: Option<f64>,
+    /// Whether the first instance is free (six DOFs that no action drives, observed as the
+    /// base's pose and velocity) instead of grounded.
+    pub floating_base: bool,
 }
 
 impl Assembly {

@@ -30,8 +30,21 @@ pub fn validate(doc: &Document) -> Result<Assembly> {
     let mut v = Validator::default();
     let materials = v.materials(&doc.materials);
     let parts = v.parts(&doc.parts, &materials);
-    let instances = v.instances(&doc.assembly.instances, &parts, &materials);
-    let joints = v.joints(&doc.assembly.joints, &doc.assembly.instances);
+    let floating_base = doc.floating_base.unwrap_or(false);
+    let instances = v.instances(&doc.assembly.instances, &parts, &materials, floating_base);
+    // Which instances are planes (fixed grounds, never a joint's child), by document index.
+    let planes: Vec<bool> = doc
+        .assembly
+        .instances
+        .iter()
+        .map(|i| parts.get(&i.part).and_then(|p| p.shape.as_ref()) == Some(&Shape::Plane))
+        .collect();
+    let joints = v.joints(
+        &doc.assembly.joints,
+        &doc.assembly.instances,
+        &planes,
+        floating_base,
+    );
     let (gravity, dt) = v.simulation(doc.simulation.as_ref());
     if v.issues.is_empty() {
         Ok(Assembly {
@@ -40,6 +53,7 @@ pub fn validate(doc: &Document) -> Result<Assembly> {
             source: std::sync::Arc::from(""),
             gravity,
             dt,
+            floating_base,
         })
     } else {
         Err(AssemblyError::Invalid { issues: v.issues })
@@ -353,11 +367,16 @@ impl Validator {
         defs: &[InstanceDef],
         parts: &HashMap<String, CheckedPart>,
         materials: &HashMap<String, Material>,
+        floating_base: bool,
     ) -> Vec<Instance> {
         if defs.is_empty() {
             self.push(
                 "assembly.instances",
-                "expected at least one instance (the first one is grounded)",
+                if floating_base {
+                    "expected at least one instance (the first one is the floating base)"
+                } else {
+                    "expected at least one instance (the first one is grounded)"
+                },
             );
         }
         let mut seen: HashMap<&str, usize> = HashMap::new();
@@ -415,17 +434,20 @@ impl Validator {
                 .and_then(|def| self.inertial(&format!("{path}.inertial"), def, &shape));
             // Sizes and densities are each finite and positive, but their product can
             // still overflow (or underflow) f64; the physics layer needs a real mass.
-            let grounded = i == 0;
-            if shape == Shape::Plane && !grounded {
+            // A plane is a ground wherever it is listed; the first instance is one too,
+            // unless it is the floating base (which a plane cannot be).
+            let plane = shape == Shape::Plane;
+            if plane && i == 0 && floating_base {
                 self.push(
                     format!("{path}.part"),
                     format!(
-                        "part {} is a plane (a half-space, a ground): only the grounded, first instance may be one",
+                        "part {} is a plane (a half-space, a ground), which cannot be the floating base (the first instance); list the robot's base first",
                         quoted(&inst.part)
                     ),
                 );
                 continue;
             }
+            let grounded = plane || (i == 0 && !floating_base);
             let mass = shape.volume() * material.density;
             if shape != Shape::Plane && inst.inertial.is_none() && !(mass.is_finite() && mass > 0.0)
             {
@@ -442,7 +464,7 @@ impl Validator {
                 material,
                 position: position.map(|c| c / MM_PER_M),
                 rotation: rotation.map(f64::to_radians),
-                grounded: i == 0,
+                grounded,
                 collision: inst
                     .collision
                     .map_or((1, 1), |c| (c.group.unwrap_or(1), c.mask.unwrap_or(1))),
@@ -452,7 +474,13 @@ impl Validator {
         out
     }
 
-    fn joints(&mut self, defs: &[JointDef], instances: &[InstanceDef]) -> Vec<Joint> {
+    fn joints(
+        &mut self,
+        defs: &[JointDef],
+        instances: &[InstanceDef],
+        planes: &[bool],
+        floating_base: bool,
+    ) -> Vec<Joint> {
         // Look names up in the document's instances, so that one bad instance does not
         // turn every joint that names it into a second, misleading error.
         let mut index: HashMap<&str, usize> = HashMap::new();
@@ -541,7 +569,20 @@ impl Validator {
             }
 
             if let (Some(p), Some(c)) = (parent, child) {
-                self.topology(&path, def, p, c, &mut parent_of, &mut forest, instances);
+                let roots = Roots {
+                    planes,
+                    floating_base,
+                };
+                self.topology(
+                    &path,
+                    def,
+                    p,
+                    c,
+                    &mut parent_of,
+                    &mut forest,
+                    instances,
+                    roots,
+                );
             }
             if self.issues.len() == before {
                 if let (Some(parent), Some(child)) = (parent, child) {
@@ -789,6 +830,7 @@ impl Validator {
         parent_of: &mut HashMap<usize, usize>,
         forest: &mut UnionFind,
         instances: &[InstanceDef],
+        roots: Roots<'_>,
     ) {
         if parent == child {
             self.push(
@@ -801,10 +843,25 @@ impl Validator {
             return;
         }
         if child == 0 {
+            let what = if roots.floating_base {
+                "the floating base (the first instance), the root of the tree,"
+            } else {
+                "grounded (the first instance)"
+            };
             self.push(
                 format!("{path}.child"),
                 format!(
-                    "instance {} is grounded (the first instance) and cannot be a joint child; swap parent and child",
+                    "instance {} is {what} and cannot be a joint child; swap parent and child",
+                    quoted(&def.child)
+                ),
+            );
+            return;
+        }
+        if roots.planes.get(child).copied().unwrap_or(false) {
+            self.push(
+                format!("{path}.child"),
+                format!(
+                    "instance {} is a plane, a ground fixed to the world, and cannot be a joint child; swap parent and child",
                     quoted(&def.child)
                 ),
             );
@@ -834,6 +891,14 @@ impl Validator {
         }
         parent_of.insert(child, parent);
     }
+}
+
+/// What roots the kinematic trees: which instances are planes (fixed wherever they are
+/// listed), and whether the first instance floats.
+#[derive(Clone, Copy)]
+struct Roots<'a> {
+    planes: &'a [bool],
+    floating_base: bool,
 }
 
 fn list(names: &[&str]) -> String {

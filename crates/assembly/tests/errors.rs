@@ -252,12 +252,89 @@ fn grounded_instance_as_child() {
 }
 
 #[test]
+fn floating_base_as_child() {
+    let mut doc = with_joint_field("parent", json!("arm"));
+    doc["assembly"]["joints"][0]["child"] = json!("base");
+    doc["floating_base"] = json!(true);
+    assert_issue(
+        doc,
+        r#"assembly.joints[0].child: instance "base" is the floating base (the first instance), the root of the tree, and cannot be a joint child; swap parent and child"#,
+    );
+}
+
+/// A plane is a ground wherever it is listed: a fixed body that no joint may move.
+#[test]
+fn plane_as_joint_child() {
+    let mut doc = base_doc();
+    doc["parts"][1]["primitive"] = json!({"type": "plane"});
+    assert_issue(
+        doc,
+        r#"assembly.joints[0].child: instance "arm" is a plane, a ground fixed to the world, and cannot be a joint child; swap parent and child"#,
+    );
+}
+
+#[test]
+fn plane_as_floating_base() {
+    let mut doc = base_doc();
+    doc["parts"][0]["primitive"] = json!({"type": "plane"});
+    doc["floating_base"] = json!(true);
+    assert_issue(
+        doc,
+        r#"assembly.instances[0].part: part "Base" is a plane (a half-space, a ground), which cannot be the floating base (the first instance); list the robot's base first"#,
+    );
+}
+
+#[test]
+fn floating_base_is_a_boolean() {
+    let mut doc = base_doc();
+    doc["floating_base"] = json!("yes");
+    let e = err(doc);
+    common::assert_malformed(
+        &e,
+        "floating_base",
+        "invalid type: string \"yes\", expected a boolean",
+    );
+}
+
+/// With a floating base the first instance is free and every plane is grounded, wherever
+/// it is listed.
+#[test]
+fn floating_base_frees_the_first_instance_and_grounds_planes() {
+    let mut doc = base_doc();
+    doc["floating_base"] = json!(true);
+    doc["parts"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({"name": "Floor", "primitive": {"type": "plane"}}));
+    doc["assembly"]["instances"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({"part": "Floor", "name": "floor"}));
+    let a = common::ok(doc.clone());
+    assert!(a.floating_base);
+    let grounded: Vec<bool> = a.instances.iter().map(|i| i.grounded).collect();
+    assert_eq!(grounded, [false, false, true]);
+    doc["floating_base"] = json!(false);
+    let a = common::ok(doc);
+    assert!(!a.floating_base);
+    let grounded: Vec<bool> = a.instances.iter().map(|i| i.grounded).collect();
+    assert_eq!(grounded, [true, false, true]);
+}
+
+#[test]
 fn empty_assembly() {
     let mut doc = base_doc();
     doc["assembly"] = json!({ "instances": [], "joints": [] });
     assert_issue(
         doc,
         "assembly.instances: expected at least one instance (the first one is grounded)",
+    );
+    let mut doc = base_doc();
+    doc["assembly"] = json!({ "instances": [], "joints": [] });
+    doc["floating_base"] = json!(true);
+    assert_issue(
+        doc,
+        "assembly.instances: expected at least one instance (the first one is the floating base)",
     );
 }
 

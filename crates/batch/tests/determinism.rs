@@ -136,3 +136,62 @@ fn for_pool_chunks_by_the_pools_threads_not_the_machines_cores() {
         assert_eq!(batch.chunk_size(), chunk, "{threads} threads");
     }
 }
+
+/// A floating robot (a free slab with a hinged arm) dropped onto a ground plane: its base
+/// moves, lands and its contacts are solved, with the same bits for any thread count and
+/// chunking.
+#[test]
+fn floating_robots_on_a_ground_are_identical_for_any_thread_count() {
+    let document = r#"{
+        "floating_base": true,
+        "parts": [
+            {"name": "Slab", "primitive": {"type": "cube", "size": {"x": 100, "y": 100, "z": 20}}},
+            {"name": "Arm", "primitive": {"type": "cube", "size": {"x": 20, "y": 20, "z": 200}}},
+            {"name": "Floor", "primitive": {"type": "plane"}}
+        ],
+        "assembly": {
+            "instances": [
+                {"part": "Slab", "name": "base", "position": {"x": 0, "y": 0, "z": 30}},
+                {"part": "Arm", "name": "arm", "position": {"x": 40, "y": 40, "z": 50}},
+                {"part": "Floor", "name": "floor"}
+            ],
+            "joints": [
+                {"type": "revolute", "parent": "base", "child": "arm",
+                 "anchor": {"x": 50, "y": 50, "z": 50}, "axis": {"x": 1, "y": 0, "z": 0},
+                 "min": -60, "max": 60}
+            ]
+        }
+    }"#;
+    let run = |threads: usize, chunk_size: usize| {
+        let pool = StepPool::new(threads).unwrap();
+        let config = gymfleet_env::EnvConfig {
+            reset_noise: 10.0,
+            ..gymfleet_env::EnvConfig::with_end_effectors(["arm"])
+        };
+        let template = RobotEnv::from_json(document, config).expect("valid");
+        assert_eq!(template.spec().observation_dim, 2 + 13 + 7);
+        let mut batch =
+            EnvBatch::with_chunk_size(&template, 6, Autoreset::SameStep, chunk_size).unwrap();
+        let mut obs = Vec::new();
+        batch.reset(&pool, Some(3), 0, &mut obs).unwrap();
+        let mut out = BatchStepOutput::default();
+        let mut trace = Vec::new();
+        for t in 0..48 {
+            let (action_type, values) = actions(t, 6, 1);
+            batch.step(&pool, action_type, &values, &mut out).unwrap();
+            trace.push(output_bits(&out));
+        }
+        // The bases fell onto the floor: their centres (10 mm above it at rest) came down.
+        for row in out.observations.chunks_exact(22) {
+            assert!(row[4] < 35.0, "base centre at {} mm", row[4]);
+        }
+        trace
+    };
+    let reference = run(1, 1);
+    for (threads, chunk_size) in [(2, 1), (2, 3), (4, 2)] {
+        assert!(
+            run(threads, chunk_size) == reference,
+            "{threads} threads, chunk size {chunk_size} differ"
+        );
+    }
+}

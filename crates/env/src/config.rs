@@ -3,7 +3,7 @@
 use gymfleet_physics::{JointDof, PdGains};
 
 use crate::error::{EnvError, Result};
-use crate::observation::{ObservationSegment, POSE_LEN};
+use crate::observation::{ObservationSegment, BASE_VELOCITY_LEN, POSE_LEN};
 use crate::task::TaskSpec;
 
 /// Default step length: 1/240 s.
@@ -182,8 +182,11 @@ pub struct EnvSpec {
     pub action_dim: usize,
     /// Every DOF, passive ones included: the positions (and velocities) observed.
     pub num_dofs: usize,
-    /// `2·DOF + 7·end effectors` + the task's floats.
+    /// `2·DOF` (+ 13 with a floating base) `+ 7·end effectors` + the task's floats.
     pub observation_dim: usize,
+    /// Whether the first instance is a floating base, observed as `base_pose` and
+    /// `base_velocity`.
+    pub floating_base: bool,
     /// The flat observation's segments, in order; their sizes sum to `observation_dim`.
     pub observation_layout: Vec<ObservationSegment>,
     /// Observed instances, in order.
@@ -206,6 +209,7 @@ impl EnvSpec {
     pub(crate) fn new(
         config: &EnvConfig,
         dofs: &[JointDof],
+        floating_base: bool,
         task: Option<(&'static str, usize)>,
     ) -> Self {
         let mut joint_names: Vec<String> = Vec::new();
@@ -225,11 +229,23 @@ impl EnvSpec {
                 name: "joint_velocities",
                 size: dofs.len(),
             },
-            ObservationSegment {
-                name: "end_effector_poses",
-                size: POSE_LEN * config.end_effector_ids.len(),
-            },
         ];
+        if floating_base {
+            observation_layout.extend([
+                ObservationSegment {
+                    name: "base_pose",
+                    size: POSE_LEN,
+                },
+                ObservationSegment {
+                    name: "base_velocity",
+                    size: BASE_VELOCITY_LEN,
+                },
+            ]);
+        }
+        observation_layout.push(ObservationSegment {
+            name: "end_effector_poses",
+            size: POSE_LEN * config.end_effector_ids.len(),
+        });
         if let Some((name, size)) = task {
             observation_layout.push(ObservationSegment { name, size });
         }
@@ -239,6 +255,7 @@ impl EnvSpec {
             num_dofs: dofs.len(),
             observation_dim: observation_layout.iter().map(|s| s.size).sum(),
             observation_layout,
+            floating_base,
             end_effector_ids: config.end_effector_ids.clone(),
             joint_names,
             dofs: dofs.to_vec(),

@@ -1,7 +1,7 @@
 //! [`RobotEnv`]: one episode-driven robot.
 
 use gymfleet_assembly::Assembly;
-use gymfleet_physics::{Draws, RobotWorld, SceneJoint, ScenePart, WorldOptions};
+use gymfleet_physics::{Draws, RobotWorld, SceneJoint, ScenePart, WorldOptions, BASE_STATE_LEN};
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
 
@@ -153,7 +153,7 @@ impl RobotEnv {
         let segment = task
             .as_ref()
             .and_then(|t| t.observation_name().map(|name| (name, t.observation_dim())));
-        let spec = EnvSpec::new(&config, world.dofs(), segment);
+        let spec = EnvSpec::new(&config, world.dofs(), world.has_floating_base(), segment);
         let mut env = RobotEnv {
             world,
             end_effectors,
@@ -323,7 +323,12 @@ impl RobotEnv {
     }
 
     fn structured(&self, flat: &[f32]) -> Observation {
-        Observation::from_flat(flat, self.spec.num_dofs, self.end_effectors.len())
+        Observation::from_flat(
+            flat,
+            self.spec.num_dofs,
+            self.spec.floating_base,
+            self.end_effectors.len(),
+        )
     }
 
     /// The current observation, without stepping.
@@ -342,8 +347,15 @@ impl RobotEnv {
         let dof = self.spec.num_dofs;
         let (positions, rest) = out.split_at_mut(dof);
         let (velocities, rest) = rest.split_at_mut(dof);
-        let (poses, task) = rest.split_at_mut(POSE_LEN * self.end_effectors.len());
         self.world.joint_state(positions, velocities);
+        let rest = if self.spec.floating_base {
+            let (base, rest) = rest.split_at_mut(BASE_STATE_LEN);
+            base.copy_from_slice(&self.world.base_state());
+            rest
+        } else {
+            rest
+        };
+        let (poses, task) = rest.split_at_mut(POSE_LEN * self.end_effectors.len());
         for (pose, &instance) in poses.chunks_exact_mut(POSE_LEN).zip(&self.end_effectors) {
             pose.copy_from_slice(&self.world.body_pose(instance));
         }

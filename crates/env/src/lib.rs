@@ -32,6 +32,6 @@ pub use env::{DrawReport, RobotEnv, Scene, StepFlags, StepResult, Termination};
 pub use error::{EnvError, Result};
 pub use gymfleet_assembly::{AssemblyError, DofKind, JointType};
 pub use gymfleet_physics::{JointDof, PdGains, SceneJoint, ScenePart, SceneShape};
-pub use observation::{Observation, ObservationSegment, POSE_LEN};
+pub use observation::{Observation, ObservationSegment, BASE_VELOCITY_LEN, POSE_LEN};
 pub use state::{SavedState, STATE_VERSION};
 pub use task::{ReachTarget, TaskKind, TaskSpec};

@@ -8,7 +8,7 @@ use crate::command::{Command, ResolvedGains};
 use crate::error::{PhysicsError, Result};
 use crate::randomize::BaseValues;
 use crate::world::{
-    length_unit, JointDof, JointSlot, PipelineCell, RobotWorld, Sets, WorldOptions,
+    length_unit, FreeRoot, JointDof, JointSlot, PipelineCell, RobotWorld, Sets, WorldOptions,
 };
 
 impl RobotWorld {
@@ -82,6 +82,22 @@ impl RobotWorld {
                 })?;
         }
 
+        // A tree whose root is dynamic (a floating base) starts as Rapier's free root at the
+        // origin until a step reads the root body's pose: read it now, so that everything
+        // below (initial positions, gains) sees the tree where the document places it.
+        let trees: Vec<MultibodyIndex> = sets
+            .multibody_joints
+            .multibodies()
+            .map(|mb| mb.root().rigid_body_handle())
+            .filter_map(|root| Some(sets.multibody_joints.rigid_body_link(root)?.multibody))
+            .collect();
+        for &index in &trees {
+            if let Some(mb) = sets.multibody_joints.get_multibody_mut(index) {
+                mb.forward_kinematics(&sets.bodies, true);
+                mb.update_rigid_bodies(&mut sets.bodies, true);
+            }
+        }
+
         // The joints' initial positions, before anything reads the pose (gains, snapshot).
         apply_initial_positions(&mut sets, assembly, &bodies)?;
 
@@ -153,6 +169,7 @@ impl RobotWorld {
             dofs.extend(joint_dofs(j, joint));
         }
         let overridden = resolve_gains(&mut dofs, &inertia, options.gains.as_ref())?;
+        let free_roots = free_roots(&sets, &bodies);
 
         // One step is one pipeline step whose solver substeps are the integration substeps:
         // collision detection runs once per step (contacts are speculative, so a contact
@@ -223,6 +240,8 @@ impl RobotWorld {
             bodies,
             joints,
             dofs,
+            free_roots,
+            floating_base: assembly.floating_base,
             gains: ResolvedGains {
                 ball_omega_cap: 0.2 / substep_dt,
                 overridden,
@@ -238,6 +257,24 @@ impl RobotWorld {
         world.reset();
         Ok(world)
     }
+}
+
+/// The instances at the root of a tree with a dynamic root (a floating base, or a free
+/// body that others are jointed to), in document order: each has six free coordinates
+/// that no document joint owns.
+fn free_roots(sets: &Sets, bodies: &[RigidBodyHandle]) -> Vec<FreeRoot> {
+    bodies
+        .iter()
+        .enumerate()
+        .filter(|&(_, &h)| sets.bodies[h].is_dynamic())
+        .filter_map(|(instance, &h)| {
+            let link = sets.multibody_joints.rigid_body_link(h)?;
+            (link.id == 0).then_some(FreeRoot {
+                instance,
+                multibody: link.multibody,
+            })
+        })
+        .collect()
 }
 
 fn first_collider(sets: &Sets, body: RigidBodyHandle) -> Option<&Collider> {
@@ -514,7 +551,7 @@ fn apply_initial_positions(
     }
     for index in touched {
         if let Some(mb) = sets.multibody_joints.get_multibody_mut(index) {
-            mb.forward_kinematics(&sets.bodies, false);
+            mb.forward_kinematics(&sets.bodies, true);
             mb.update_rigid_bodies(&mut sets.bodies, true);
         }
     }

@@ -2,7 +2,8 @@
 //!
 //! This crate owns everything between a document and the rigid-body solver: one body per
 //! instance with its exact primitive collider and mass from volume × density, the joint
-//! tree as a reduced-coordinate multibody rooted at the grounded instance, actuation
+//! tree as a reduced-coordinate multibody rooted at the grounded instance (or at a
+//! floating base, whose pose and velocity it reads out), actuation
 //! (real torques and forces, force-based PD motors for position and velocity targets),
 //! measured joint state readout in user units, and an exact reset from a snapshot.
 //!
@@ -29,6 +30,7 @@ mod world;
 pub use command::{ActionMode, PdGains, DEFAULT_PD_FREQUENCY_HZ};
 pub use error::{PhysicsError, Result};
 pub use randomize::Draws;
+pub use readout::BASE_STATE_LEN;
 pub use scene::{SceneJoint, ScenePart, SceneShape};
 pub use state::{BodyMotion, DynamicState, JointCoords};
 pub use world::{JointDof, RobotWorld, WorldOptions};

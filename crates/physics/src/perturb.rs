@@ -69,7 +69,8 @@ impl RobotWorld {
     pub(crate) fn sync_bodies(&mut self, multibodies: &[MultibodyIndex]) {
         for &index in multibodies {
             if let Some(mb) = self.live.multibody_joints.get_multibody_mut(index) {
-                mb.forward_kinematics(&self.live.bodies, false);
+                // The root of a floating tree is placed where its body is.
+                mb.forward_kinematics(&self.live.bodies, true);
                 mb.update_rigid_bodies(&mut self.live.bodies, true);
             }
         }

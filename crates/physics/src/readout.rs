@@ -9,6 +9,9 @@ use crate::units::{to_m, to_mm};
 use crate::world::{JointSlot, RobotWorld};
 use gymfleet_assembly::JointType;
 
+/// Floats in [`RobotWorld::base_state`]: a pose (7) and a velocity (6).
+pub const BASE_STATE_LEN: usize = 13;
+
 impl RobotWorld {
     /// Writes the measured position (deg or mm; a rotation vector in deg for ball joints)
     /// and velocity (deg/s or mm/s) of every DOF, in document joint order.
@@ -71,6 +74,47 @@ impl RobotWorld {
         let q = rb.rotation();
         let mm = to_mm(1.0) as f32;
         [c.x * mm, c.y * mm, c.z * mm, q.w, q.x, q.y, q.z]
+    }
+
+    /// Whether the first instance is a floating base, observed by
+    /// [`RobotWorld::base_state`].
+    pub fn has_floating_base(&self) -> bool {
+        self.floating_base
+    }
+
+    /// A floating base's state, [`BASE_STATE_LEN`] floats: its pose as
+    /// [`RobotWorld::body_pose`] gives it (centre of mass in world mm, orientation
+    /// `[qw, qx, qy, qz]`), then the velocity of its centre of mass (world mm/s) and its
+    /// angular velocity (world deg/s), read from the tree's generalized velocities. Zeros
+    /// without a floating base.
+    pub fn base_state(&self) -> [f32; BASE_STATE_LEN] {
+        let mut out = [0.0; BASE_STATE_LEN];
+        if !self.floating_base {
+            return out;
+        }
+        out[..7].copy_from_slice(&self.body_pose(0));
+        let rb = &self.live.bodies[self.bodies[0]];
+        let tree = self
+            .free_roots
+            .first()
+            .filter(|r| r.instance == 0)
+            .and_then(|r| self.live.multibody_joints.get_multibody(r.multibody));
+        let (v, w) = match tree {
+            // The generalized linear velocity is the body frame origin's.
+            Some(mb) => {
+                let q = mb.generalized_velocity();
+                let w = Vector::new(q[3], q[4], q[5]);
+                let arm = rb.center_of_mass() - rb.position().translation;
+                (Vector::new(q[0], q[1], q[2]) + w.cross(arm), w)
+            }
+            // A base nothing is jointed to is a plain rigid body.
+            None => (rb.linvel(), rb.angvel()),
+        };
+        for k in 0..3 {
+            out[7 + k] = to_mm(f64::from(v[k])) as f32;
+            out[10 + k] = f64::from(w[k]).to_degrees() as f32;
+        }
+        out
     }
 
     /// An instance's centre of mass, world mm.

@@ -64,6 +64,10 @@ pub struct DynamicState {
     pub velocities: Vec<f32>,
     /// Every instance's body, in document order.
     pub bodies: Vec<BodyMotion>,
+    /// The generalized velocity of every tree with a free root (a floating base), in
+    /// document order of the roots: linear (m/s, of the root body's frame origin), then
+    /// angular (rad/s), world frame. The root's pose is its body's.
+    pub roots: Vec<[f32; 6]>,
 }
 
 fn bad(path: String, reason: String) -> PhysicsError {
@@ -157,12 +161,27 @@ impl RobotWorld {
                 }
             })
             .collect();
+        let roots = self
+            .free_roots
+            .iter()
+            .map(|root| {
+                let mut v = [0.0; 6];
+                if let Some(mb) = self.live.multibody_joints.get_multibody(root.multibody) {
+                    let all = mb.generalized_velocity();
+                    for (k, value) in v.iter_mut().enumerate() {
+                        *value = all[k];
+                    }
+                }
+                v
+            })
+            .collect();
         DynamicState {
             mode: self.command.mode,
             command: self.command.values.clone(),
             joints,
             velocities,
             bodies,
+            roots,
         }
     }
 
@@ -281,6 +300,15 @@ impl RobotWorld {
             check_values(&format!("{path}.linvel"), &body.linvel, MAX_MAGNITUDE)?;
             check_values(&format!("{path}.angvel"), &body.angvel, MAX_MAGNITUDE)?;
         }
+        check_len(
+            "world.roots",
+            state.roots.len(),
+            self.free_roots.len(),
+            "free roots (trees with a floating base)",
+        )?;
+        for (r, root) in state.roots.iter().enumerate() {
+            check_values(&format!("world.roots[{r}]"), root, MAX_MAGNITUDE)?;
+        }
         Ok(())
     }
 
@@ -320,6 +348,28 @@ impl RobotWorld {
             }
             if !touched.contains(&slot.multibody) {
                 touched.push(slot.multibody);
+            }
+        }
+        // A free root is placed from its body's pose (read by the kinematics below) and
+        // moves with its six generalized velocities.
+        assert_eq!(
+            state.roots.len(),
+            self.free_roots.len(),
+            "one entry per free root"
+        );
+        for (root, saved) in self.free_roots.clone().iter().zip(&state.roots) {
+            let motion = &state.bodies[root.instance];
+            let t = motion.translation;
+            let pose = Pose::from_parts(Vector::new(t[0], t[1], t[2]), quat(motion.rotation));
+            self.live.bodies[self.bodies[root.instance]].set_position(pose, false);
+            if let Some(mb) = self.live.multibody_joints.get_multibody_mut(root.multibody) {
+                let mut all = mb.generalized_velocity_mut();
+                for (k, &value) in saved.iter().enumerate() {
+                    all[k] = value;
+                }
+            }
+            if !touched.contains(&root.multibody) {
+                touched.push(root.multibody);
             }
         }
         self.sync_bodies(&touched);

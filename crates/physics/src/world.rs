@@ -88,6 +88,16 @@ pub(crate) struct JointSlot {
     pub(crate) first_dof: usize,
 }
 
+/// The root of a kinematic tree whose root body is dynamic: Rapier gives it a free joint
+/// of six DOFs (linear, then angular velocity, world frame) ahead of the tree's joints,
+/// which no document joint owns. Its pose is its body's.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct FreeRoot {
+    /// The root's instance.
+    pub(crate) instance: usize,
+    pub(crate) multibody: MultibodyIndex,
+}
+
 /// The physics of one robot: a Rapier world built from an assembly.
 ///
 /// `Clone` gives an independent copy (for batches), sharing nothing.
@@ -108,6 +118,10 @@ pub struct RobotWorld {
     pub(crate) bodies: Vec<RigidBodyHandle>,
     pub(crate) joints: Vec<JointSlot>,
     pub(crate) dofs: Vec<JointDof>,
+    /// Trees with a dynamic root, in document order of their roots.
+    pub(crate) free_roots: Vec<FreeRoot>,
+    /// Whether the first instance is a floating base (see [`RobotWorld::base_state`]).
+    pub(crate) floating_base: bool,
     pub(crate) gains: ResolvedGains,
     /// Whether any joint is a ball joint (whose target modes use an explicit PD).
     pub(crate) has_ball_joints: bool,

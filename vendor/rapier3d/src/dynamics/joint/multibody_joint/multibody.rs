@@ -72,6 +72,22 @@ fn set_vec3_at(slice: &mut [Real], at: usize, v: Vector) {
     slice[at + 2] = v.z;
 }
 
+/// The root link's shift from its joint's child frame to its centre of mass, in world
+/// coordinates (gymfleet patch, see `PATCHES.md`). Upstream leaves it zero, which is right
+/// for a fixed root (it has no DoF) but makes a free root's jacobian map its linear DoFs
+/// (the velocity of the body frame's origin, as [`MultibodyJoint::integrate`] treats them)
+/// onto its centre of mass: a free base whose centre of mass is off its origin then turned
+/// about the origin while the dynamics turned it about the centre of mass, and its centre
+/// of mass drifted under internal torques alone.
+fn root_shift23(link: &MultibodyLink, bodies: &RigidBodySet) -> Vector {
+    let Some(rb) = bodies.get(link.rigid_body) else {
+        return Vector::ZERO;
+    };
+    let c2 = link.local_to_world * Vector::from(link.joint.data.local_frame2.translation);
+    let c3 = link.local_to_world * rb.mprops.local_mprops.local_com;
+    c3 - c2
+}
+
 /// `J[lin, c] += J[ang, c] × shift` for the first `span` columns of a body jacobian `J`
 /// (what `Jv += [shift×]ᵀ·Jw` computes, column by column).
 #[cfg(feature = "dim3")]
@@ -852,7 +868,11 @@ impl Multibody {
             .jacobian_mul_coordinates(&self.velocities.as_slice()[link.assembly_id..]);
 
         link.joint_velocity = joint_velocity;
-        bodies.index_mut_internal(link.rigid_body).vels = link.joint_velocity;
+        // gymfleet patch (see `PATCHES.md`): a free root's linear DoFs move its frame's
+        // origin; its centre of mass moves with them and with its turn about that origin.
+        let mut root_vels = link.joint_velocity;
+        root_vels.linvel += link.joint_velocity.angvel.gcross(link.shift23);
+        bodies.index_mut_internal(link.rigid_body).vels = root_vels;
 
         for i in 1..self.links.len() {
             let (link, parent_link) = self.links.get_mut_with_parent(i);
@@ -1813,6 +1833,7 @@ impl Multibody {
             let link = &mut self.links[0];
             link.local_to_parent = link.joint.body_to_parent();
             link.local_to_world = link.local_to_parent;
+            link.shift23 = root_shift23(link, bodies);
         }
 
         // Handle the children. They all have a parent within this multibody.
@@ -1952,6 +1973,7 @@ impl Multibody {
             } else {
                 link.local_to_parent = link.joint.body_to_parent();
                 link.local_to_world = link.local_to_parent;
+                link.shift23 = root_shift23(&link, bodies);
                 parent_to_world = Pose::IDENTITY;
             }
 
