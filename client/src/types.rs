@@ -80,18 +80,29 @@ pub struct Observation {
     pub end_effector_poses: Vec<[f32; POSE_LEN]>,
     /// What the task adds: a reach task's target, world mm. Empty without one.
     pub task_observation: Vec<f32>,
+    /// A floating base's `[x, y, z, qw, qx, qy, qz]` (centre of mass in world mm, world
+    /// orientation); empty when the first instance is grounded.
+    pub base_pose: Vec<f32>,
+    /// A floating base's centre-of-mass velocity (world mm/s), then its angular velocity
+    /// (world deg/s); empty when the first instance is grounded.
+    pub base_velocity: Vec<f32>,
 }
 
 impl Observation {
-    /// The flat layout of batches: positions, velocities, the poses, the task's part.
+    /// The flat layout of batches: positions, velocities, a floating base's pose and
+    /// velocity, the poses, the task's part.
     pub fn to_flat(&self) -> Vec<f32> {
         let mut out = Vec::with_capacity(
             self.joint_positions.len() * 2
+                + self.base_pose.len()
+                + self.base_velocity.len()
                 + self.end_effector_poses.len() * POSE_LEN
                 + self.task_observation.len(),
         );
         out.extend_from_slice(&self.joint_positions);
         out.extend_from_slice(&self.joint_velocities);
+        out.extend_from_slice(&self.base_pose);
+        out.extend_from_slice(&self.base_velocity);
         for pose in &self.end_effector_poses {
             out.extend_from_slice(pose);
         }
@@ -110,6 +121,13 @@ impl TryFrom<pb::Observation> for Observation {
                 o.end_effector_poses.len()
             )));
         }
+        let base = (o.base_pose.len(), o.base_velocity.len());
+        if base != (0, 0) && base != (POSE_LEN, 6) {
+            return Err(ClientError::protocol(format!(
+                "observation: a floating base has {POSE_LEN} pose and 6 velocity values, got {} and {}",
+                base.0, base.1
+            )));
+        }
         let end_effector_poses = o
             .end_effector_poses
             .chunks_exact(POSE_LEN)
@@ -124,6 +142,8 @@ impl TryFrom<pb::Observation> for Observation {
             joint_velocities: o.joint_velocities,
             end_effector_poses,
             task_observation: o.task_observation,
+            base_pose: o.base_pose,
+            base_velocity: o.base_velocity,
         })
     }
 }
@@ -254,10 +274,21 @@ fn observed_dofs(layout: &[(String, usize)], action_dim: usize) -> usize {
         .map_or(action_dim, |(_, size)| *size)
 }
 
+/// Whether the layout has a floating base's segments.
+fn floats(layout: &[(String, usize)]) -> bool {
+    layout.iter().any(|(name, _)| name == "base_pose")
+}
+
 impl EnvInfo {
     /// Every DOF's count, passive joints' included (positions per observation).
     pub fn num_dofs(&self) -> usize {
         observed_dofs(&self.observation_layout, self.action_dim)
+    }
+
+    /// Whether the env's first instance is a floating base (observed as `base_pose` and
+    /// `base_velocity`).
+    pub fn floating_base(&self) -> bool {
+        floats(&self.observation_layout)
     }
 }
 
@@ -265,6 +296,12 @@ impl BatchInfo {
     /// Every DOF's count, passive joints' included (positions per observation row).
     pub fn num_dofs(&self) -> usize {
         observed_dofs(&self.observation_layout, self.action_dim)
+    }
+
+    /// Whether each env's first instance is a floating base (13 floats of each row after
+    /// the joint velocities).
+    pub fn floating_base(&self) -> bool {
+        floats(&self.observation_layout)
     }
 }
 
@@ -434,6 +471,7 @@ mod tests {
             joint_velocities: vec![2.0],
             end_effector_poses: vec![10.0, 10.0, 25.0, 1.0, 0.0, 0.0, 0.0],
             task_observation: vec![20.0, 0.0, 40.0],
+            ..Default::default()
         })
         .unwrap();
         assert_eq!(
@@ -450,5 +488,32 @@ mod tests {
             Observation::try_from(bad),
             Err(ClientError::Protocol { .. })
         ));
+    }
+
+    #[test]
+    fn a_floating_base_comes_between_the_joints_and_the_poses() {
+        let o = Observation::try_from(pb::Observation {
+            joint_positions: vec![1.0],
+            joint_velocities: vec![2.0],
+            base_pose: vec![3.0, 4.0, 5.0, 1.0, 0.0, 0.0, 0.0],
+            base_velocity: vec![6.0, 7.0, 8.0, 9.0, 10.0, 11.0],
+            end_effector_poses: vec![10.0, 10.0, 25.0, 1.0, 0.0, 0.0, 0.0],
+            ..Default::default()
+        })
+        .unwrap();
+        let flat = o.to_flat();
+        assert_eq!(flat.len(), 2 + 13 + 7);
+        assert_eq!(flat[2..4], [3.0, 4.0]);
+        assert_eq!(flat[15], 10.0);
+        let bad = pb::Observation {
+            base_pose: vec![0.0; 7],
+            base_velocity: vec![0.0; 3],
+            ..Default::default()
+        };
+        let err = Observation::try_from(bad).unwrap_err().to_string();
+        assert!(
+            err.contains("a floating base has 7 pose and 6 velocity values, got 7 and 3"),
+            "{err}"
+        );
     }
 }

@@ -6,7 +6,7 @@
 use gymfleet_batch::Autoreset;
 use gymfleet_env::{
     ActionType, DofKind, DrawReport, EnvConfig, EnvSpec, PdGains, Randomization, ReachTarget,
-    TaskKind, TaskSpec,
+    TaskKind, TaskSpec, POSE_LEN,
 };
 use gymfleet_proto::v1 as pb;
 use gymfleet_render::{Camera, CameraPreset};
@@ -465,12 +465,16 @@ impl TryFrom<pb::StepBatchRequest> for BatchStep {
 pub(crate) fn observation(flat: &[f32], split: ObsSplit) -> pb::Observation {
     let (positions, rest) = flat.split_at(split.dof.min(flat.len()));
     let (velocities, rest) = rest.split_at(split.dof.min(rest.len()));
+    let (base, rest) = rest.split_at(split.base.min(rest.len()));
+    let (base_pose, base_velocity) = base.split_at(POSE_LEN.min(base.len()));
     let (poses, task) = rest.split_at(split.poses.min(rest.len()));
     pb::Observation {
         joint_positions: positions.to_vec(),
         joint_velocities: velocities.to_vec(),
         end_effector_poses: poses.to_vec(),
         task_observation: task.to_vec(),
+        base_pose: base_pose.to_vec(),
+        base_velocity: base_velocity.to_vec(),
     }
 }
 
@@ -731,11 +735,30 @@ mod tests {
             &[
                 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0, 10.0, 11.0, 20.0, 0.0, 40.0,
             ],
-            ObsSplit { dof: 2, poses: 7 },
+            ObsSplit {
+                dof: 2,
+                base: 0,
+                poses: 7,
+            },
         );
         assert_eq!(o.joint_positions, [1.0, 2.0]);
         assert_eq!(o.joint_velocities, [3.0, 4.0]);
         assert_eq!(o.end_effector_poses.len(), 7);
         assert_eq!(o.task_observation, [20.0, 0.0, 40.0]);
+        assert!(o.base_pose.is_empty() && o.base_velocity.is_empty());
+        // A floating base's 13 floats come between the joints and the poses.
+        let flat: Vec<f32> = (0..(1 + 1 + 13 + 7)).map(|v| v as f32).collect();
+        let o = observation(
+            &flat,
+            ObsSplit {
+                dof: 1,
+                base: 13,
+                poses: 7,
+            },
+        );
+        assert_eq!(o.base_pose, [2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0]);
+        assert_eq!(o.base_velocity, [9.0, 10.0, 11.0, 12.0, 13.0, 14.0]);
+        assert_eq!(o.end_effector_poses[0], 15.0);
+        assert!(o.task_observation.is_empty());
     }
 }

@@ -3,7 +3,7 @@
 //! `convert.rs` to encode. Both modules sit above this one.
 
 use gymfleet_batch::{Autoreset, BatchStepOutput};
-use gymfleet_env::{ActionType, EnvConfig, EnvSpec, StepFlags, POSE_LEN};
+use gymfleet_env::{ActionType, EnvConfig, EnvSpec, StepFlags, BASE_VELOCITY_LEN, POSE_LEN};
 
 use crate::config::ServerConfig;
 
@@ -69,6 +69,8 @@ pub(crate) struct JointLinks(pub(crate) Vec<(String, String)>);
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct ObsSplit {
     pub(crate) dof: usize,
+    /// A floating base's pose and velocity: 13 floats, or none.
+    pub(crate) base: usize,
     pub(crate) poses: usize,
 }
 
@@ -76,6 +78,11 @@ impl ObsSplit {
     pub(crate) fn of(spec: &EnvSpec) -> Self {
         ObsSplit {
             dof: spec.num_dofs,
+            base: if spec.floating_base {
+                POSE_LEN + BASE_VELOCITY_LEN
+            } else {
+                0
+            },
             poses: POSE_LEN * spec.end_effector_ids.len(),
         }
     }

@@ -62,9 +62,30 @@ def test_convert_shows_the_json_and_the_warnings():
 
 
 def test_unsupported_mjcf_raises_with_element_and_line():
-    xml = "<mujoco>\n<worldbody>\n<body><freejoint/><geom size='.1'/></body>\n</worldbody>\n</mujoco>"
-    with pytest.raises(gymfleet.InvalidArgument, match=r"line 3: <freejoint>: a free joint"):
+    xml = "<mujoco>\n<worldbody>\n<body><geom size='.1'/><body><freejoint/><geom size='.1'/></body></body>\n</worldbody>\n</mujoco>"
+    with pytest.raises(gymfleet.InvalidArgument, match=r"line 3: <freejoint>: a free joint belongs to a top-level body"):
         gymfleet.make(xml)
+
+
+def test_the_ant_has_a_floating_base_and_passes_gymnasiums_checker():
+    """Gymnasium's Ant: its free joint is a floating base, observed after the joint
+    velocities as the torso's pose and velocity; dropped, it lands on its legs."""
+    from test_env import checked
+
+    env = gymfleet.make(ASSETS / "ant.xml")
+    assert checked(env) == []
+    layout = env.env_info["observation_layout"]
+    assert [name for name, _ in layout] == [
+        "joint_positions", "joint_velocities", "base_pose", "base_velocity", "end_effector_poses",
+    ]
+    assert env.observation_space.shape == (8 + 8 + 13,)
+    assert env.action_space.shape == (8,)
+    obs, _ = env.reset(seed=0)
+    np.testing.assert_array_equal(obs[16:19], np.float32([0.0, 0.0, 750.0]))
+    for _ in range(480):
+        obs, *_ = env.step(np.zeros(8, dtype=np.float32))
+    assert 300.0 < obs[18] < 450.0, f"the torso's centre rests at {obs[18]} mm"
+    env.close()
 
 
 # ROS's descriptions: example-robot-data's UR5 (a URDF with STL meshes), kept in the import

@@ -115,6 +115,8 @@ struct Converter<'a, 'i> {
     joint_names: Names,
     /// Joint names with a DOF, in document (tree) order.
     moving_joints: Vec<String>,
+    /// The instance of the first body with a free joint: the floating base.
+    floating: Option<String>,
 }
 
 impl<'i> XmlReader<'i> for Converter<'_, 'i> {
@@ -145,7 +147,13 @@ impl<'a, 'i> Converter<'a, 'i> {
             names: Names::default(),
             joint_names: Names::default(),
             moving_joints: Vec::new(),
+            floating: None,
         }
+    }
+
+    /// Whether `joint` (a `<freejoint>` or `<joint>` of a body of class `class`) is free.
+    fn is_free(&self, joint: Node<'a, 'i>, class: Option<&str>) -> bool {
+        joint.tag_name().name() == "freejoint" || self.attr(joint, class, "type") == Some("free")
     }
 
     // --- attributes, with default classes ---------------------------------------------
@@ -420,6 +428,17 @@ impl<'a, 'i> Converter<'a, 'i> {
     }
 
     fn worldbody(&mut self, world: Node<'a, 'i>) -> Result<()> {
+        // A top-level body with a free joint makes the model's first instance that body's, a
+        // floating base (MuJoCo allows free joints in top-level bodies only); the world's
+        // geoms are then grounds only if they are planes.
+        let floating = elements(world)
+            .filter(|n| n.tag_name().name() == "body")
+            .any(|body| {
+                let class = body.attribute("childclass");
+                elements(body).any(|j| {
+                    matches!(j.tag_name().name(), "joint" | "freejoint") && self.is_free(j, class)
+                })
+            });
         let mut world_instance: Option<String> = None;
         // The world's geoms first: the first of them is the grounded instance. A colliding
         // plane (a ground) must be it, so planes go first; one at most.
@@ -430,19 +449,27 @@ impl<'a, 'i> Converter<'a, 'i> {
         for geom in geoms {
             if let Some(name) = self.geom(geom, &Frame::IDENTITY, None, "world", None)? {
                 match &world_instance {
+                    None if floating && self.attr(geom, None, "type") != Some("plane") => {
+                        return Err(self.unsupported(
+                            geom,
+                            "in a model with a free joint, the world's geoms other than a plane need a ground plane to be fixed to"
+                                .into(),
+                        ))
+                    }
                     None => world_instance = Some(name),
                     Some(ground) => self.weld(ground.clone(), name),
                 }
             }
         }
         let ground = match world_instance {
-            Some(g) => g,
-            None => self.helper("world", &Frame::IDENTITY),
+            Some(g) => Some(g),
+            None if floating => None,
+            None => Some(self.helper("world", &Frame::IDENTITY)),
         };
         for child in elements(world) {
             match child.tag_name().name() {
                 "geom" => {}
-                "body" => self.body(child, &Frame::IDENTITY, &ground, None)?,
+                "body" => self.body(child, &Frame::IDENTITY, ground.as_deref(), None)?,
                 "light" | "camera" | "site" => {
                     self.warn(child, "ignored (no effect on the dynamics)".into())
                 }
@@ -452,6 +479,36 @@ impl<'a, 'i> Converter<'a, 'i> {
                         format!("<{other}> in <worldbody> is not supported yet"),
                     ))
                 }
+            }
+        }
+        Ok(())
+    }
+
+    /// A top-level body's free joint: the body moves freely (the first such body is the
+    /// floating base). Its damping and armature act on no DOF gymfleet has: warned about.
+    fn free_joint(&mut self, joint: Node<'a, 'i>, class: Option<&str>, main: &str) -> Result<()> {
+        for (attr, what) in [
+            ("damping", "damping"),
+            ("armature", "armature"),
+            ("stiffness", "stiffness"),
+        ] {
+            if self.number(joint, class, attr)?.is_some_and(|v| v != 0.0) {
+                self.warn(
+                    joint,
+                    format!("{what} on a free joint ignored (the base's six DOFs take none)"),
+                );
+            }
+        }
+        match &self.floating {
+            None => self.floating = Some(main.to_string()),
+            Some(base) => {
+                let base = base.clone();
+                self.warn(
+                    joint,
+                    format!(
+                        "a second free body moves freely, but only the first ({base:?}) is observed as the floating base; name {main:?} in end_effector_ids to observe its pose"
+                    ),
+                );
             }
         }
         Ok(())
@@ -570,12 +627,13 @@ impl<'a, 'i> Converter<'a, 'i> {
             .push(json!({"type": "fixed", "name": name, "parent": parent, "child": child}));
     }
 
-    /// One body, its geoms, joints and children. `parent` is the instance it hangs from.
+    /// One body, its geoms, joints and children. `parent` is the instance it hangs from;
+    /// `None` for a top-level body of a model with a free joint and no ground plane.
     fn body(
         &mut self,
         node: Node<'a, 'i>,
         parent_frame: &Frame,
-        parent: &str,
+        parent: Option<&str>,
         class: Option<&str>,
     ) -> Result<()> {
         let body_name = node.attribute("name").unwrap_or("body").to_string();
@@ -648,9 +706,39 @@ impl<'a, 'i> Converter<'a, 'i> {
         let joints: Vec<Node<'a, 'i>> = elements(node)
             .filter(|n| matches!(n.tag_name().name(), "joint" | "freejoint"))
             .collect();
+        let top_level = node
+            .parent_element()
+            .is_some_and(|p| p.tag_name().name() == "worldbody");
+        let free = joints.iter().copied().find(|j| self.is_free(*j, class));
+        if let Some(free) = free {
+            if !top_level {
+                return Err(self.unsupported(
+                    free,
+                    "a free joint belongs to a top-level body (a child of <worldbody>)".into(),
+                ));
+            }
+            if joints.len() > 1 {
+                return Err(
+                    self.unsupported(free, "a free joint must be its body's only joint".into())
+                );
+            }
+            self.free_joint(free, class, &main)?;
+        }
+        let parent = match (parent, free) {
+            (_, Some(_)) => "",
+            (Some(p), None) => p,
+            (None, None) => {
+                return Err(self.unsupported(
+                    node,
+                    "in a model with a free joint, a body fixed or jointed to the world needs a ground plane in <worldbody>"
+                        .into(),
+                ))
+            }
+        };
         if joints.is_empty() {
             self.weld(parent.to_string(), main.clone());
         }
+        let joints = if free.is_some() { Vec::new() } else { joints };
         let mut from = parent.to_string();
         for (k, joint) in joints.iter().enumerate() {
             let to = if k + 1 == joints.len() {
@@ -665,7 +753,7 @@ impl<'a, 'i> Converter<'a, 'i> {
         for child in elements(node) {
             match child.tag_name().name() {
                 "geom" | "joint" | "freejoint" | "inertial" => {}
-                "body" => self.body(child, &frame, &main, class)?,
+                "body" => self.body(child, &frame, Some(&main), class)?,
                 "site" | "camera" | "light" => {
                     self.warn(child, "ignored (no effect on the dynamics)".into())
                 }
@@ -699,7 +787,7 @@ impl<'a, 'i> Converter<'a, 'i> {
             "free" => {
                 return Err(self.unsupported(
                     node,
-                    "a free joint (floating base) is not supported yet".into(),
+                    "a free joint must be its body's only joint, in a top-level body".into(),
                 ))
             }
             other => return Err(self.bad(node, "type", format!("unknown joint type {other:?}"))),
@@ -1063,10 +1151,20 @@ impl<'a, 'i> Converter<'a, 'i> {
                     .join(", ")
             ));
         }
+        // The floating base is the first instance.
+        if let Some(base) = &self.floating {
+            if let Some(at) = self.instances.iter().position(|i| i["name"] == *base) {
+                let instance = self.instances.remove(at);
+                self.instances.insert(0, instance);
+            }
+        }
         let mut document = json!({
             "parts": self.parts,
             "assembly": {"instances": self.instances, "joints": self.joints}
         });
+        if self.floating.is_some() {
+            document["floating_base"] = json!(true);
+        }
         if !materials.is_empty() {
             document["materials"] = Value::Object(materials);
         }

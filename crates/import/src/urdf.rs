@@ -13,9 +13,9 @@
 //! request's assets afterwards ([`crate::inline_mesh_files`]) and simulated as their hull.
 //!
 //! PyBullet's `<contact>` gives the link's shapes their `lateral_friction` and
-//! `restitution`. Refused with the element and its line: mimic joints, floating and planar
-//! joints,
-//! joint friction, several roots, a link that is two joints' child, zero inertia with a
+//! `restitution`. A `floating` joint from an empty root link (the world) makes its child
+//! the floating base. Refused with the element and its line: mimic joints, planar
+//! joints, joint friction, several roots, a link that is two joints' child, zero inertia with a
 //! mass, bad numbers. Ignored with a warning: `<visual>`, `<material>`, `<gazebo>`,
 //! `<transmission>`, joint `velocity` limits, calibration and safety controllers.
 
@@ -124,9 +124,67 @@ pub fn urdf_to_document(xml: &str) -> Result<Converted> {
             ));
         }
     };
-    // Depth first from the root: the root link's instance comes first (grounded).
-    let mut stack = vec![(root_link, Frame::IDENTITY, None::<(Node<'_, '_>, String)>)];
-    let mut visited = 0usize;
+    // A floating joint hangs the robot's base from the world: the base is then the first
+    // instance (a floating base) and the world link, an empty frame, is dropped.
+    let floating: Vec<Node<'_, '_>> = joints
+        .iter()
+        .copied()
+        .filter(|j| j.attribute("type") == Some("floating"))
+        .collect();
+    let (start, start_frame, visited) = match floating.as_slice() {
+        [] => (root_link, Frame::IDENTITY, 0usize),
+        [joint] => {
+            let world = root_link.attribute("name").unwrap_or_default();
+            if c.link_ref(*joint, "parent", &links)? != world {
+                return Err(c.unsupported(
+                    *joint,
+                    format!(
+                        "a floating joint must hang the robot from the root link, the world (here {})",
+                        crate::quote(world)
+                    ),
+                ));
+            }
+            if elements(root_link).any(|n| matches!(n.tag_name().name(), "collision" | "inertial"))
+            {
+                return Err(c.unsupported(
+                    root_link,
+                    format!(
+                        "the root link {} holds a floating joint, so it is the world: it may have no <collision> or <inertial>",
+                        crate::quote(world)
+                    ),
+                ));
+            }
+            if children.get(world).map_or(0, Vec::len) > 1 {
+                return Err(c.unsupported(
+                    root_link,
+                    format!(
+                        "the world link {} holds a floating joint and other joints: nothing is fixed to the world beside a floating base",
+                        crate::quote(world)
+                    ),
+                ));
+            }
+            for attr in ["dynamics", "limit"] {
+                if let Some(n) = child(*joint, attr) {
+                    c.warn(
+                        n,
+                        "ignored on a floating joint (the base's six DOFs take none)".into(),
+                    );
+                }
+            }
+            let base = c.link_ref(*joint, "child", &links)?;
+            (links[base], c.origin(*joint)?, 1)
+        }
+        [_, second, ..] => {
+            return Err(c.unsupported(
+                *second,
+                "a second floating joint: one floating base is supported".into(),
+            ))
+        }
+    };
+    // Depth first from the root: the root link's instance comes first (grounded, or the
+    // floating base).
+    let mut stack = vec![(start, start_frame, None::<(Node<'_, '_>, String)>)];
+    let mut visited = visited;
     while let Some((link, frame, via)) = stack.pop() {
         visited += 1;
         let instance = c.link(link, &frame)?;
@@ -153,6 +211,9 @@ pub fn urdf_to_document(xml: &str) -> Result<Converted> {
     });
     if !c.materials.is_empty() {
         document["materials"] = Value::Object(c.materials);
+    }
+    if !floating.is_empty() {
+        document["floating_base"] = json!(true);
     }
     Ok(Converted {
         document,
@@ -594,7 +655,7 @@ impl<'a, 'i> Converter<'a, 'i> {
             "floating" => {
                 return Err(self.unsupported(
                     node,
-                    "floating joints (a free base) are not supported yet".into(),
+                    "a floating joint must hang the robot's base from the world link".into(),
                 ))
             }
             other => {

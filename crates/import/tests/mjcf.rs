@@ -181,7 +181,7 @@ fn model(inner: &str) -> String {
 fn unsupported_constructs_name_their_element_and_line() {
     assert_eq!(
         error(&model(r#"<body><freejoint/><geom size=".1"/></body>"#)),
-        "line 4: <freejoint>: a free joint (floating base) is not supported yet"
+        "line 3: <geom>: in a model with a free joint, the world's geoms other than a plane need a ground plane to be fixed to"
     );
     assert_eq!(
         error(&model(
@@ -467,4 +467,116 @@ fn a_range_that_excludes_the_models_pose_starts_at_its_nearest_end() {
     let mut env =
         RobotEnv::from_json(&converted.document.to_string(), EnvConfig::default()).expect("builds");
     assert!((env.reset(None).joint_positions[0] - 10.0).abs() < 1e-4);
+}
+
+const ANT: &str = include_str!("data/ant.xml");
+
+/// Gymnasium's Ant: a free joint makes its torso the floating base (the first instance),
+/// its eight motors drive the hips and ankles, and, dropped from 0.75 m with its ankles
+/// at their stops, it lands on its legs and stays there. MuJoCo 3 (this description from
+/// the same pose, 60 s) rests its torso's centre at 382.5 mm with its ankles on the
+/// stops, the capsules held 10 mm off the floor by the description's contact `margin`,
+/// which gymfleet does not model (it warns).
+#[test]
+fn ant_has_a_floating_torso_and_eight_driven_joints() {
+    let converted = mjcf_to_document(ANT).expect("converts");
+    let doc = &converted.document;
+    assert_eq!(doc["floating_base"], true);
+    assert_eq!(doc["assembly"]["instances"][0]["name"], "torso_geom");
+    assert!(
+        converted.warnings.iter().all(|w| !w.contains("free joint")),
+        "the free joint's damping and armature are 0: {:?}",
+        converted.warnings
+    );
+    let (mut env, _) = env(ANT, &["torso_geom"]);
+    let spec = env.spec();
+    assert!(spec.floating_base);
+    assert_eq!(spec.action_dim, 8);
+    assert_eq!(spec.num_dofs, 8);
+    assert_eq!(spec.observation_dim, 2 * 8 + 13 + 7);
+    let names: Vec<&str> = spec.dofs.iter().map(|d| d.joint_name.as_str()).collect();
+    assert_eq!(
+        names,
+        ["hip_1", "ankle_1", "hip_2", "ankle_2", "hip_3", "ankle_3", "hip_4", "ankle_4"]
+    );
+    assert!(spec.dofs.iter().all(|d| d.max_effort == Some(150.0)));
+    let start = env.observe();
+    assert!(
+        (start.base_pose[2] - 750.0).abs() < 1e-3,
+        "{:?}",
+        start.base_pose
+    );
+    let mut run = |steps: usize| {
+        let mut o = None;
+        for _ in 0..steps {
+            o = Some(
+                env.step(ActionType::Torque, &[0.0; 8])
+                    .expect("valid")
+                    .observation,
+            );
+        }
+        o.expect("stepped")
+    };
+    let landed = run(480);
+    let later = run(120);
+    let z = f64::from(landed.base_pose[2]);
+    assert!(
+        (z - 382.5).abs() < 25.0,
+        "the torso's centre rests at {z} mm"
+    );
+    let moved = (0..3)
+        .map(|k| f64::from(later.base_pose[k] - landed.base_pose[k]).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    assert!(moved < 0.5, "the torso still moves: {moved} mm in 0.5 s");
+    let sideways = f64::from(later.base_pose[0]).hypot(f64::from(later.base_pose[1]));
+    assert!(sideways < 20.0, "it slid {sideways} mm sideways");
+    for (k, &angle) in later.joint_positions.iter().enumerate() {
+        let [lo, hi] = spec_limits(&env, k);
+        assert!(
+            angle >= lo as f32 - 1e-3 && angle <= hi as f32 + 1e-3,
+            "joint {k}: {angle}°"
+        );
+    }
+}
+
+fn spec_limits(env: &RobotEnv, dof: usize) -> [f64; 2] {
+    env.spec().dofs[dof]
+        .limits
+        .expect("every Ant joint is limited")
+}
+
+fn bare(inner: &str) -> String {
+    format!("<mujoco>\n<worldbody>\n{inner}\n</worldbody>\n</mujoco>")
+}
+
+#[test]
+fn free_joints_outside_top_level_bodies_or_beside_other_joints_are_refused() {
+    let nested = bare(
+        r#"<body name="a"><geom size="0.1"/><body name="b"><freejoint/><geom size="0.1"/></body></body>"#,
+    );
+    assert_eq!(
+        error(&nested),
+        "line 3: <freejoint>: a free joint belongs to a top-level body (a child of <worldbody>)"
+    );
+    let beside =
+        bare(r#"<body name="a"><freejoint/><joint type="hinge"/><geom size="0.1"/></body>"#);
+    assert_eq!(
+        error(&beside),
+        "line 3: <freejoint>: a free joint must be its body's only joint"
+    );
+    let no_ground = bare(
+        r#"<geom type="box" size="1 1 0.1"/><body name="a"><freejoint/><geom size="0.1"/></body>"#,
+    );
+    assert_eq!(
+        error(&no_ground),
+        "line 3: <geom>: in a model with a free joint, the world's geoms other than a plane need a ground plane to be fixed to"
+    );
+    let hinged = bare(
+        r#"<body name="a"><freejoint/><geom size="0.1"/></body><body name="door"><joint type="hinge"/><geom size="0.1"/></body>"#,
+    );
+    assert_eq!(
+        error(&hinged),
+        "line 3: <body>: in a model with a free joint, a body fixed or jointed to the world needs a ground plane in <worldbody>"
+    );
 }

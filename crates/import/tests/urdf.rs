@@ -189,7 +189,19 @@ fn bad_descriptions_name_their_element_and_line() {
         ),
         (
             robot(&format!("{}\n{}\n{}", link("a"), link("b"), revolute("j1", "a", "b").replace("revolute", "floating"))),
-            "line 4: <joint>: floating joints (a free base) are not supported yet",
+            "line 2: <link>: the root link \"a\" holds a floating joint, so it is the world: it may have no <collision> or <inertial>",
+        ),
+        (
+            robot(&format!("<link name=\"w\"/>\n{}\n{}\n{}\n{}", link("a"), link("b"), revolute("j1", "w", "a"), revolute("j2", "a", "b").replace("revolute", "floating"))),
+            "line 6: <joint>: a floating joint must hang the robot from the root link, the world (here \"w\")",
+        ),
+        (
+            robot(&format!("<link name=\"w\"/>\n{}\n{}\n{}\n{}", link("a"), link("b"), revolute("j1", "w", "a").replace("revolute", "floating"), revolute("j2", "w", "b").replace("revolute", "floating"))),
+            "line 6: <joint>: a second floating joint: one floating base is supported",
+        ),
+        (
+            robot(&format!("<link name=\"w\"/>\n{}\n{}\n{}\n{}", link("a"), link("b"), revolute("j1", "w", "a").replace("revolute", "floating"), revolute("j2", "w", "b"))),
+            "line 2: <link>: the world link \"w\" holds a floating joint and other joints: nothing is fixed to the world beside a floating base",
         ),
         (
             robot(&format!("{}\n{}\n{}", link("a"), link("b"), revolute("j1", "a", "b").replace(r#"<limit lower="-1" upper="1" effort="5" velocity="1"/>"#, ""))),
@@ -379,4 +391,50 @@ fn a_urdf_file_finds_its_meshes_above_it() {
         serde_json::from_str(&expected).unwrap(),
     );
     assert_eq!(a, b, "the same document as with explicit assets");
+}
+
+/// A floating joint from an empty world link makes its child the floating base: the first
+/// instance, free, observed as `base_pose`/`base_velocity`; the world link is dropped.
+#[test]
+fn a_floating_joint_from_the_world_makes_a_floating_base() {
+    let xml = robot(&format!(
+        "<link name=\"world\"/>\n{}\n{}\n{}\n{}",
+        link("base"),
+        link("arm"),
+        revolute("root", "world", "base")
+            .replace("revolute", "floating")
+            .replace(
+                r#"<axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="5" velocity="1"/>"#,
+                ""
+            ),
+        revolute("elbow", "base", "arm")
+    ));
+    let converted = urdf_to_document(&xml).expect("converts");
+    let doc = &converted.document;
+    assert_eq!(doc["floating_base"], true);
+    let names: Vec<&str> = doc["assembly"]["instances"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|i| i["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["base", "arm"]);
+    let mut env = RobotEnv::from_json(&doc.to_string(), EnvConfig::default()).expect("builds");
+    assert!(env.spec().floating_base);
+    assert_eq!(env.spec().action_dim, 1);
+    // The base's box centre is where the floating joint's origin puts the link: 0.2 m up.
+    let start = env.observe();
+    assert_eq!(&start.base_pose[..3], &[0.0, 0.0, 200.0]);
+    let mut o = start;
+    for _ in 0..24 {
+        o = env
+            .step(ActionType::Torque, &[0.0])
+            .expect("valid")
+            .observation;
+    }
+    let vz = f64::from(o.base_velocity[2]);
+    assert!(
+        (vz + 981.0).abs() < 0.5,
+        "falls freely: {vz} mm/s after 0.1 s"
+    );
 }

@@ -57,14 +57,14 @@ impl GymTools {
             .step(p.action_type.into(), &flat)
             .await
             .map_err(|err| self.fleet.batch_failed(&placed, &err))?;
-        let dof = info.num_dofs();
+        let (dof, floating) = (info.num_dofs(), info.floating_base());
         let results = (0..step.n_envs())
             .map(|env| {
                 let terminated = step.terminated()[env];
                 let truncated = step.truncated()[env];
                 EnvStepOut {
                     env_index: env,
-                    observation: ObservationOut::from_row(step.obs(env), dof),
+                    observation: ObservationOut::from_row(step.obs(env), dof, floating),
                     reward: crate::output::clean(step.rewards()[env]),
                     done: terminated || truncated,
                     terminated,
@@ -72,7 +72,7 @@ impl GymTools {
                     termination_reason: step.termination_reason(env).map(str::to_string),
                     final_observation: step
                         .final_observation(env)
-                        .map(|row| ObservationOut::from_row(row, dof)),
+                        .map(|row| ObservationOut::from_row(row, dof, floating)),
                 }
             })
             .collect();
@@ -98,9 +98,10 @@ impl GymTools {
             .reset(p.seed)
             .await
             .map_err(|err| self.fleet.batch_failed(&placed, &err))?;
-        let dof = placed.handle.info().num_dofs();
+        let info = placed.handle.info();
+        let (dof, floating) = (info.num_dofs(), info.floating_base());
         let observations = (0..observations.n_envs())
-            .map(|env| ObservationOut::from_row(observations.obs(env), dof))
+            .map(|env| ObservationOut::from_row(observations.obs(env), dof, floating))
             .collect();
         Ok(Json(BatchObservationsOut {
             batch_id: placed.id,

@@ -48,7 +48,8 @@ impl GymTools {
         description = "Reset an environment to its initial state (joint positions 0, zero \
         velocities) and return the first observation: {joint_positions [deg or mm], \
         joint_velocities [deg/s or mm/s], end_effector_poses [[x, y, z, qw, qx, qy, qz], ...] \
-        in mm}."
+        in mm; with a floating base also base_pose [x, y, z, qw, qx, qy, qz] and \
+        base_velocity [vx, vy, vz mm/s, wx, wy, wz deg/s]}."
     )]
     async fn gym_reset(
         &self,
@@ -86,7 +87,8 @@ impl GymTools {
     #[tool(
         description = "Read an environment's current observation without stepping: \
         {joint_positions [deg or mm], joint_velocities [deg/s or mm/s], end_effector_poses \
-        [[x, y, z, qw, qx, qy, qz], ...] in mm}."
+        [[x, y, z, qw, qx, qy, qz], ...] in mm; with a floating base also base_pose and \
+        base_velocity}."
     )]
     async fn gym_observe(
         &self,

@@ -33,6 +33,25 @@ pub(crate) struct ObservationOut {
     /// With a reach task only: the target [x, y, z] in world mm.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(crate) target: Option<[f64; 3]>,
+    /// With a floating base only: its [x, y, z, qw, qx, qy, qz], centre of mass in world
+    /// mm, then the world orientation.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) base_pose: Option<[f64; POSE_LEN]>,
+    /// With a floating base only: its centre of mass's velocity [vx, vy, vz] in world
+    /// mm/s, then its angular velocity [wx, wy, wz] in world degrees/s.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) base_velocity: Option<[f64; 6]>,
+}
+
+/// A floating base's pose and velocity, if the observation has them.
+fn base(pose: &[f32], velocity: &[f32]) -> (Option<[f64; POSE_LEN]>, Option<[f64; 6]>) {
+    match (pose.len(), velocity.len()) {
+        (POSE_LEN, 6) => (
+            Some(std::array::from_fn(|i| clean(pose[i]))),
+            Some(std::array::from_fn(|i| clean(velocity[i]))),
+        ),
+        _ => (None, None),
+    }
 }
 
 /// A reach task's target from the task's part of an observation.
@@ -45,7 +64,10 @@ fn target(task: &[f32]) -> Option<[f64; 3]> {
 
 impl From<&Observation> for ObservationOut {
     fn from(o: &Observation) -> Self {
+        let (base_pose, base_velocity) = base(&o.base_pose, &o.base_velocity);
         ObservationOut {
+            base_pose,
+            base_velocity,
             joint_positions: clean_all(&o.joint_positions),
             joint_velocities: clean_all(&o.joint_velocities),
             end_effector_poses: o
@@ -59,15 +81,22 @@ impl From<&Observation> for ObservationOut {
 }
 
 impl ObservationOut {
-    /// One row of a batch's flat observations: positions, velocities, the poses, then
-    /// the task's part (a reach target's 3 floats, shorter than a pose).
-    pub(crate) fn from_row(row: &[f32], dof: usize) -> Self {
+    /// One row of a batch's flat observations: positions, velocities, a floating base's
+    /// pose and velocity (`floating_base`), the poses, then the task's part (a reach
+    /// target's 3 floats, shorter than a pose).
+    pub(crate) fn from_row(row: &[f32], dof: usize, floating_base: bool) -> Self {
         let dof = dof.min(row.len() / 2);
         let (positions, rest) = row.split_at(dof);
-        let (velocities, poses) = rest.split_at(dof);
+        let (velocities, rest) = rest.split_at(dof);
+        let base_len = if floating_base { POSE_LEN + 6 } else { 0 };
+        let (base_values, poses) = rest.split_at(base_len.min(rest.len()));
+        let (base_pose, base_velocity) = base_values.split_at(POSE_LEN.min(base_values.len()));
+        let (base_pose, base_velocity) = base(base_pose, base_velocity);
         let poses = poses.chunks_exact(POSE_LEN);
         let task = poses.remainder();
         ObservationOut {
+            base_pose,
+            base_velocity,
             joint_positions: clean_all(positions),
             joint_velocities: clean_all(velocities),
             end_effector_poses: poses
@@ -374,11 +403,24 @@ mod tests {
     #[test]
     fn rows_split_into_the_guide_layout() {
         let row = [0.12, 28.6, 10.042, 10.0, 24.997, 0.999, 0.0, 0.001, 0.0];
-        let obs = ObservationOut::from_row(&row, 1);
+        let obs = ObservationOut::from_row(&row, 1, false);
         let text = serde_json::to_string(&obs).unwrap();
         assert_eq!(
             text,
             r#"{"joint_positions":[0.12],"joint_velocities":[28.6],"end_effector_poses":[[10.042,10.0,24.997,0.999,0.0,0.001,0.0]]}"#
+        );
+    }
+
+    #[test]
+    fn a_floating_base_comes_before_the_poses() {
+        let mut row = vec![0.5, -1.0];
+        row.extend([50.0, 50.0, 510.0, 1.0, 0.0, 0.0, 0.0]);
+        row.extend([0.0, 0.0, -981.0, 0.0, 0.0, 0.0]);
+        let obs = ObservationOut::from_row(&row, 1, true);
+        let text = serde_json::to_string(&obs).unwrap();
+        assert_eq!(
+            text,
+            r#"{"joint_positions":[0.5],"joint_velocities":[-1.0],"end_effector_poses":[],"base_pose":[50.0,50.0,510.0,1.0,0.0,0.0,0.0],"base_velocity":[0.0,0.0,-981.0,0.0,0.0,0.0]}"#
         );
     }
 }

@@ -49,6 +49,94 @@ async fn an_mjcf_description_creates_envs_and_batches() {
         .expect("batch steps");
 }
 
+const ANT: &str = include_str!("../../../crates/import/tests/data/ant.xml");
+
+/// Gymnasium's Ant over the network: its free joint is a floating base whose pose and
+/// velocity every observation carries (single envs in their own fields, batch rows after
+/// the joint velocities), the same bits either way; its saved state brings the base back.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_free_joint_makes_a_floating_base_over_the_network() {
+    let server = TestServer::start_default().await;
+    let client = server.client().await;
+    let env = client
+        .create_env(EnvOptions::new(ANT))
+        .await
+        .expect("the Ant converts");
+    let info = env.info().clone();
+    assert!(info.floating_base());
+    assert_eq!(info.action_dim, 8);
+    assert_eq!(info.observation_dim, 16 + 13);
+    let layout: Vec<&str> = info
+        .observation_layout
+        .iter()
+        .map(|(name, _)| name.as_str())
+        .collect();
+    assert_eq!(
+        layout,
+        [
+            "joint_positions",
+            "joint_velocities",
+            "base_pose",
+            "base_velocity",
+            "end_effector_poses"
+        ]
+    );
+    let batch = client
+        .create_batch(BatchOptions::new(ANT, 2))
+        .await
+        .expect("a batch of Ants");
+    assert!(batch.info().floating_base());
+    let torque = [20.0, -10.0, 5.0, 0.0, -20.0, 10.0, 0.0, 5.0];
+    let mut single = env.observe().await.expect("observes");
+    assert_eq!(single.base_pose[..3], [0.0, 0.0, 750.0]);
+    let mut rows = Vec::new();
+    for _ in 0..60 {
+        single = env
+            .step(ActionType::Torque, &torque)
+            .await
+            .expect("steps")
+            .observation;
+        let both: Vec<f32> = torque.iter().chain(&torque).copied().collect();
+        rows = batch
+            .step(ActionType::Torque, &both)
+            .await
+            .expect("batch steps")
+            .obs(1)
+            .to_vec();
+    }
+    assert_eq!(single.base_pose.len(), 7);
+    assert_eq!(single.base_velocity.len(), 6);
+    assert!(
+        single.base_pose[2] < 700.0,
+        "it fell: {:?}",
+        single.base_pose
+    );
+    let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(
+        bits(&rows),
+        bits(&single.to_flat()),
+        "batch row = single env"
+    );
+
+    let state = env.save_state().await.expect("saves");
+    let later = env
+        .step(ActionType::Torque, &torque)
+        .await
+        .expect("steps")
+        .observation;
+    env.load_state(&state).await.expect("loads");
+    let again = env
+        .step(ActionType::Torque, &torque)
+        .await
+        .expect("steps")
+        .observation;
+    assert_eq!(
+        bits(&again.to_flat()),
+        bits(&later.to_flat()),
+        "the state brings the base back"
+    );
+}
+
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn convert_document_shows_the_json_and_what_was_ignored() {
     let server = TestServer::start_default().await;
@@ -91,7 +179,7 @@ async fn unsupported_descriptions_name_the_element_and_line() {
     let server = TestServer::start_default().await;
     let client = server.client().await;
     let create = |doc: &str| client.create_env(EnvOptions::new(doc));
-    let err = create("<mujoco>\n<worldbody>\n<body><freejoint/><geom size=\".1\"/></body>\n</worldbody>\n</mujoco>")
+    let err = create("<mujoco>\n<worldbody>\n<body><geom size=\".1\"/><body><freejoint/><geom size=\".1\"/></body></body>\n</worldbody>\n</mujoco>")
         .await
         .unwrap_err();
     assert!(
@@ -100,7 +188,7 @@ async fn unsupported_descriptions_name_the_element_and_line() {
     );
     assert_eq!(
         err.message(),
-        "document_json: line 3: <freejoint>: a free joint (floating base) is not supported yet"
+        "document_json: line 3: <freejoint>: a free joint belongs to a top-level body (a child of <worldbody>)"
     );
     let err = create("<robot name=\"r\">\n<link name=\"a\"/>\n<link name=\"b\"/>\n<joint name=\"j\" type=\"planar\"><parent link=\"a\"/><child link=\"b\"/></joint>\n</robot>")
         .await
@@ -243,7 +331,7 @@ fn a_broken_library_file_stops_the_server_naming_it() {
             ("good.json", gymfleet_e2e::ARM2),
             (
                 "bad.xml",
-                "<mujoco><worldbody><body><freejoint/></body></worldbody></mujoco>",
+                "<mujoco><worldbody><body><joint stiffness=\"5\"/><geom size=\".1\"/></body></worldbody></mujoco>",
             ),
         ],
     );
@@ -251,7 +339,7 @@ fn a_broken_library_file_stops_the_server_naming_it() {
         .unwrap_err()
         .to_string();
     assert!(err.starts_with("--models: "), "{err}");
-    assert!(err.contains("bad.xml: line 1: <freejoint>"), "{err}");
+    assert!(err.contains("bad.xml: line 1: <joint>"), "{err}");
     let twice = Dir::with(
         "twice",
         &[("arm.json", gymfleet_e2e::ARM2), ("arm.xml", REACHER)],
