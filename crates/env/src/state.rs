@@ -374,6 +374,12 @@ mod tests {
     /// forgery, not an accident) and returns the load error's message, checking that the
     /// env it was loaded into did not change.
     fn forged(edit: impl FnOnce(&mut Saved)) -> String {
+        forged_in(env, edit)
+    }
+
+    /// [`forged`], for envs that `make` builds.
+    fn forged_in(make: fn() -> RobotEnv, edit: impl FnOnce(&mut Saved)) -> String {
+        let env = make;
         let mut source = env();
         let SavedState(mut saved) = source.save().expect("saves");
         edit(&mut saved);
@@ -468,6 +474,30 @@ mod tests {
         for (edit, expected) in cases {
             assert_eq!(forged(edit), expected);
         }
+    }
+
+    /// A floating slab with a hinged arm: one free root.
+    fn floating() -> RobotEnv {
+        let document = r#"{"floating_base": true,
+            "parts": [{"name": "Slab", "primitive": {"type": "cube", "size": {"x": 10, "y": 10, "z": 2}}},
+                      {"name": "Arm", "primitive": {"type": "cube", "size": {"x": 2, "y": 2, "z": 20}}}],
+            "assembly": {"instances": [{"part": "Slab", "name": "slab"},
+                                       {"part": "Arm", "name": "arm", "position": {"x": 4, "y": 4, "z": 2}}],
+                         "joints": [{"type": "revolute", "parent": "slab", "child": "arm",
+                                     "anchor": {"x": 5, "y": 5, "z": 2}, "axis": {"x": 1, "y": 0, "z": 0}}]}}"#;
+        RobotEnv::from_json(document, EnvConfig::default()).expect("valid")
+    }
+
+    #[test]
+    fn a_forged_free_root_is_refused_by_name() {
+        assert_eq!(
+            forged(|s| s.world.roots.push([0.0; 6])),
+            "state.world.roots: expected 0 free roots (trees with a floating base), got 1"
+        );
+        assert_eq!(
+            forged_in(floating, |s| s.world.roots[0][4] = f32::NAN),
+            "state.world.roots[0][4]: expected a finite value within ±1e9, got NaN"
+        );
     }
 
     #[test]
