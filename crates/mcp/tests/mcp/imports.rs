@@ -20,12 +20,57 @@ async fn an_mjcf_document_makes_an_env() {
     let err = adapter
         .err(
             "create_robot_env",
-            json!({"document": "<mujoco><worldbody><body><freejoint/></body></worldbody></mujoco>"}),
+            json!({"document": "<mujoco><worldbody><body><geom size=\".1\"/><body><freejoint/></body></body></worldbody></mujoco>"}),
         )
         .await;
     assert!(
-        err.contains("<freejoint>: a free joint (floating base) is not supported yet"),
+        err.contains(
+            "<freejoint>: a free joint belongs to a top-level body (a child of <worldbody>)"
+        ),
         "{err}"
+    );
+    adapter.stop().await;
+}
+
+const ANT: &str = include_str!("../../../import/tests/data/ant.xml");
+
+/// Gymnasium's Ant through the adapter: its free joint is a floating base, whose pose and
+/// velocity every observation shows, single env and batch alike.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_floating_base_is_observed_by_every_tool() {
+    let adapter = Adapter::embedded().await;
+    let created = adapter
+        .ok("create_robot_env", json!({"document": ANT}))
+        .await;
+    assert_eq!(created["action_dim"], 8, "{created}");
+    assert_eq!(created["observation_dim"], 29, "{created}");
+    let env_id = created["env_id"].clone();
+    let observed = adapter.ok("gym_observe", json!({"env_id": env_id})).await;
+    assert_eq!(
+        observed["base_pose"],
+        json!([0.0, 0.0, 750.0, 1.0, 0.0, 0.0, 0.0]),
+        "{observed}"
+    );
+    let stepped = adapter
+        .ok(
+            "gym_step",
+            json!({"env_id": env_id, "action_type": "torque", "values": [0, 0, 0, 0, 0, 0, 0, 0]}),
+        )
+        .await;
+    let vz = stepped["observation"]["base_velocity"][2]
+        .as_f64()
+        .expect("a base velocity");
+    assert!(vz < 0.0, "falling: {stepped}");
+    let batch = adapter
+        .ok("batch_create_envs", json!({"document": ANT, "n_envs": 2}))
+        .await;
+    let reset = adapter
+        .ok("batch_reset", json!({"batch_id": batch["batch_id"]}))
+        .await;
+    assert_eq!(
+        reset["observations"][1]["base_pose"],
+        json!([0.0, 0.0, 750.0, 1.0, 0.0, 0.0, 0.0]),
+        "{reset}"
     );
     adapter.stop().await;
 }
