@@ -141,3 +141,14 @@ def test_a_library_model_is_made_by_name(tmp_path):
         env.close()
     with pytest.raises(gymfleet.InvalidArgument, match="model: give a document or a model, not both"):
         gymfleet.make(UR5, model="ur5")
+
+
+def test_the_half_cheetah_converts_with_its_springs_and_passes_the_checker():
+    """HalfCheetah: `settotalmass` and joint springs; a planar root of three passive joints."""
+    from test_env import checked
+
+    env = gymfleet.make(ASSETS / "half_cheetah.xml")
+    assert checked(env) == []
+    assert env.action_space.shape == (6,)
+    assert env.observation_space.shape == (9 + 9,)
+    env.close()

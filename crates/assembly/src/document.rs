@@ -446,6 +446,15 @@ pub struct JointDef {
     /// from the document's pose, so a reset observes this value.
     #[serde(default)]
     pub initial: Option<f64>,
+    /// *(ext)* A passive spring (MuJoCo's joint `stiffness`): a torque or force
+    /// `-stiffness·(q − spring_rest)` on a revolute or prismatic joint, in N·m/rad or N/m;
+    /// default 0 (none).
+    #[serde(default)]
+    pub stiffness: Option<f64>,
+    /// *(ext)* The spring's rest position, in deg or mm from the document's pose (as
+    /// observed positions are); default 0. Needs a `stiffness`.
+    #[serde(default)]
+    pub spring_rest: Option<f64>,
 }
 
 /// A 3-vector with named components, as the documents write it.

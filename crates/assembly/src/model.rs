@@ -250,6 +250,11 @@ pub struct Joint {
     /// Where the joint starts, from the document's pose, in rad or m (0 for joints other
     /// than revolute and prismatic); within `limits`.
     pub initial: f64,
+    /// A passive spring's stiffness, N·m/rad or N/m (0: none; revolute and prismatic
+    /// joints only).
+    pub stiffness: f64,
+    /// The spring's rest position from the document's pose, rad or m.
+    pub spring_rest: f64,
 }
 
 /// The kind of one degree of freedom, which fixes its units.

@@ -558,6 +558,7 @@ impl Validator {
                     "a fixed joint has no DOF to add armature to".to_string(),
                 );
             }
+            let (stiffness, spring_rest) = self.spring(&path, def);
             let actuated = def.actuated.unwrap_or(true);
             if !actuated && max_effort.is_some() {
                 self.push(
@@ -600,6 +601,8 @@ impl Validator {
                         actuated,
                         armature: armature.unwrap_or(0.0),
                         initial: initial * limit_to_si(def.kind),
+                        stiffness,
+                        spring_rest: spring_rest * limit_to_si(def.kind),
                     });
                 }
             }
@@ -754,6 +757,55 @@ impl Validator {
             }
         }
         initial
+    }
+
+    /// A joint's passive spring: its stiffness (SI) and rest position (deg or mm).
+    fn spring(&mut self, path: &str, def: &JointDef) -> (f64, f64) {
+        let unit = if def.kind == JointType::Prismatic {
+            ("N/m", "mm")
+        } else {
+            ("N·m/rad", "deg")
+        };
+        let stiffness = match def.stiffness {
+            None => 0.0,
+            Some(_) if !def.kind.supports_limits() => {
+                self.push(
+                    format!("{path}.stiffness"),
+                    format!(
+                        "a {} joint takes no spring; stiffness applies to revolute and prismatic joints only",
+                        def.kind.as_str()
+                    ),
+                );
+                return (0.0, 0.0);
+            }
+            Some(k) if !(k.is_finite() && k >= 0.0) => {
+                self.push(
+                    format!("{path}.stiffness"),
+                    format!("expected a stiffness >= 0 in {}, got {k}", unit.0),
+                );
+                return (0.0, 0.0);
+            }
+            Some(k) => k,
+        };
+        let rest = match def.spring_rest {
+            None => 0.0,
+            Some(_) if def.stiffness.is_none() => {
+                self.push(
+                    format!("{path}.spring_rest"),
+                    "a spring rest position needs a `stiffness`".to_string(),
+                );
+                0.0
+            }
+            Some(r) if !r.is_finite() => {
+                self.push(
+                    format!("{path}.spring_rest"),
+                    format!("expected a finite position in {}, got {r}", unit.1),
+                );
+                0.0
+            }
+            Some(r) => r,
+        };
+        (stiffness, rest)
     }
 
     /// An instance's `inertial`, checked and in SI (`None` after an issue).

@@ -322,6 +322,39 @@ fn floating_base_frees_the_first_instance_and_grounds_planes() {
 }
 
 #[test]
+fn spring_errors_name_the_field() {
+    assert_issue(
+        with_joint_field("stiffness", json!(-1)),
+        "assembly.joints[0].stiffness: expected a stiffness >= 0 in N·m/rad, got -1",
+    );
+    let mut doc = with_joint_type("ball");
+    doc["assembly"]["joints"][0]["stiffness"] = json!(2);
+    assert_issue(
+        doc,
+        "assembly.joints[0].stiffness: a ball joint takes no spring; stiffness applies to revolute and prismatic joints only",
+    );
+    assert_issue(
+        with_joint_field("spring_rest", json!(10)),
+        "assembly.joints[0].spring_rest: a spring rest position needs a `stiffness`",
+    );
+    let mut doc = with_joint_field("stiffness", json!(2));
+    doc["assembly"]["joints"][0]["spring_rest"] = json!(12345.5);
+    let text = doc.to_string().replace("12345.5", "1e999");
+    let e = common::err_text(&text);
+    assert!(
+        e.to_string().contains("spring_rest"),
+        "an infinite rest is refused at its field: {e}"
+    );
+    let a = common::ok({
+        let mut doc = with_joint_field("stiffness", json!(2));
+        doc["assembly"]["joints"][0]["spring_rest"] = json!(30);
+        doc
+    });
+    assert_eq!(a.joints[0].stiffness, 2.0);
+    assert!((a.joints[0].spring_rest - 30f64.to_radians()).abs() < 1e-12);
+}
+
+#[test]
 fn empty_assembly() {
     let mut doc = base_doc();
     doc["assembly"] = json!({ "instances": [], "joints": [] });

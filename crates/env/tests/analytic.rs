@@ -414,6 +414,40 @@ fn prismatic_displacement_under_a_known_force_matches_f_equals_m_a() {
     assert!((f64::from(obs[2]) - (5.0 + x)).abs() < 1e-2);
 }
 
+/// A joint spring (`stiffness`, MuJoCo's): the block on its slider oscillates about the
+/// spring's rest position with the period `2π·√(m/k)` (within 1 %), from a displaced start
+/// or about a displaced rest.
+#[test]
+fn a_joint_spring_oscillates_with_the_analytic_period() {
+    let (mass, k) = (1e-3f64, 1.0f64);
+    let expected = 2.0 * std::f64::consts::PI * (mass / k).sqrt();
+    for (initial, rest) in [(10.0, 0.0), (0.0, -8.0)] {
+        let doc = slider(json!({"stiffness": k, "spring_rest": rest, "initial": initial}));
+        let mut env = env(&doc, &["block"]);
+        let dt = env.spec().dt;
+        let samples: Vec<f64> = (0..480)
+            .map(|_| f64::from(step(&mut env, ActionType::Torque, &[0.0])[0]) - rest)
+            .collect();
+        let crossings = upward_zero_crossings(&samples, dt);
+        let periods: Vec<f64> = crossings.windows(2).map(|w| w[1] - w[0]).collect();
+        assert!(periods.len() >= 5, "{crossings:?}");
+        let period = periods.iter().sum::<f64>() / periods.len() as f64;
+        assert!(
+            (period / expected - 1.0).abs() < 0.01,
+            "start {initial} mm, rest {rest} mm: period {period} s, expected {expected}"
+        );
+        // It swings about the rest position, as far to each side.
+        let (lo, hi) = samples
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(l, h), &x| (l.min(x), h.max(x)));
+        let amplitude = (initial - rest).abs();
+        assert!(
+            (hi - amplitude).abs() < 0.05 * amplitude && (lo + amplitude).abs() < 0.05 * amplitude,
+            "{lo} .. {hi} about the rest, amplitude {amplitude}"
+        );
+    }
+}
+
 /// A horizontal arm turning about a vertical axis: gravity exerts no torque on it.
 fn turntable(joint_extra: serde_json::Value) -> serde_json::Value {
     let mut joint = json!({"type": "revolute", "parent": "base", "child": "arm",

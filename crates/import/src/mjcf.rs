@@ -117,6 +117,10 @@ struct Converter<'a, 'i> {
     moving_joints: Vec<String>,
     /// The instance of the first body with a free joint: the floating base.
     floating: Option<String>,
+    /// `compiler settotalmass`: every body's mass and inertia scaled to this total (kg).
+    total_mass: Option<f64>,
+    /// Instances that are not bodies' own mass: the world's geoms and helpers.
+    massless: HashSet<String>,
 }
 
 impl<'i> XmlReader<'i> for Converter<'_, 'i> {
@@ -148,6 +152,8 @@ impl<'a, 'i> Converter<'a, 'i> {
             joint_names: Names::default(),
             moving_joints: Vec::new(),
             floating: None,
+            total_mass: None,
+            massless: HashSet::new(),
         }
     }
 
@@ -271,6 +277,24 @@ impl<'a, 'i> Converter<'a, 'i> {
                 ("inertiafromgeom", "true") => self.inertia_from_geom = InertiaFromGeom::True,
                 ("inertiafromgeom", "false") => self.inertia_from_geom = InertiaFromGeom::False,
                 ("inertiafromgeom", "auto") => self.inertia_from_geom = InertiaFromGeom::Auto,
+                ("settotalmass", value) => {
+                    let total: f64 = value.trim().parse().map_err(|_| {
+                        self.bad(
+                            node,
+                            "settotalmass",
+                            format!("expected a number, got {value:?}"),
+                        )
+                    })?;
+                    if !total.is_finite() {
+                        return Err(self.bad(
+                            node,
+                            "settotalmass",
+                            format!("expected a finite mass, got {value:?}"),
+                        ));
+                    }
+                    // MuJoCo: a positive value rescales every body; others do nothing.
+                    self.total_mass = (total > 0.0).then_some(total);
+                }
                 ("eulerseq", "xyz") | ("coordinate", "local") | ("autolimits", "true") => {}
                 ("meshdir" | "texturedir" | "assetdir" | "discardvisual" | "strippath", _) => {}
                 (name @ ("angle" | "inertiafromgeom"), value) => {
@@ -448,6 +472,7 @@ impl<'a, 'i> Converter<'a, 'i> {
         geoms.sort_by_key(|g| self.attr(*g, None, "type") != Some("plane"));
         for geom in geoms {
             if let Some(name) = self.geom(geom, &Frame::IDENTITY, None, "world", None)? {
+                self.massless.insert(name.clone());
                 match &world_instance {
                     None if floating && self.attr(geom, None, "type") != Some("plane") => {
                         return Err(self.unsupported(
@@ -592,6 +617,7 @@ impl<'a, 'i> Converter<'a, 'i> {
     /// instance stays the last of its own, as users look for it).
     fn helper_before(&mut self, wanted: &str, at: &Frame, before: Option<&str>) -> String {
         let name = self.unique(wanted);
+        self.massless.insert(name.clone());
         self.parts.push(json!({
             "name": name,
             "primitive": {"type": "sphere", "radius": HELPER_RADIUS}
@@ -793,12 +819,22 @@ impl<'a, 'i> Converter<'a, 'i> {
             other => return Err(self.bad(node, "type", format!("unknown joint type {other:?}"))),
         };
         for (attr, what) in [
-            ("stiffness", "joint springs"),
             ("frictionloss", "joint friction"),
+            ("springdamper", "a spring-damper by time constant"),
         ] {
-            if self.number(node, class, attr)?.is_some_and(|v| v != 0.0) {
+            if self
+                .numbers(node, class, attr)?
+                .is_some_and(|v| v.iter().any(|x| *x != 0.0))
+            {
                 return Err(self.unsupported(node, format!("{attr} ({what}) is not supported yet")));
             }
+        }
+        let stiffness = self.number(node, class, "stiffness")?.filter(|k| *k != 0.0);
+        if stiffness.is_some() && our == "ball" {
+            return Err(self.unsupported(
+                node,
+                "stiffness on a ball joint (a rotational spring) is not supported yet".into(),
+            ));
         }
         // MuJoCo's joint value is `ref` at the model's pose; gymfleet measures from that
         // pose, so a range (given in MuJoCo's values) shifts by −ref.
@@ -882,6 +918,26 @@ impl<'a, 'i> Converter<'a, 'i> {
         }
         if let Some(a) = self.number(node, class, "armature")?.filter(|a| *a != 0.0) {
             j.insert("armature".into(), json!(a));
+        }
+        if let Some(k) = stiffness {
+            if k < 0.0 {
+                return Err(self.bad(
+                    node,
+                    "stiffness",
+                    format!("expected a stiffness >= 0, got {k}"),
+                ));
+            }
+            j.insert("stiffness".into(), json!(k));
+            // MuJoCo's spring pulls qpos to `springref`; positions here are qpos − ref.
+            let rest = self.number(node, class, "springref")?.unwrap_or(0.0) - reference;
+            if rest != 0.0 {
+                let rest = if our == "revolute" {
+                    self.angle(rest).to_degrees()
+                } else {
+                    rest * MM
+                };
+                j.insert("spring_rest".into(), json!(rest));
+            }
         }
         match self.motors.get(&name).copied() {
             Some(motor) => {
@@ -1165,15 +1221,74 @@ impl<'a, 'i> Converter<'a, 'i> {
         if self.floating.is_some() {
             document["floating_base"] = json!(true);
         }
+
         if !materials.is_empty() {
             document["materials"] = Value::Object(materials);
         }
         if !self.simulation.is_empty() {
             document["simulation"] = Value::Object(std::mem::take(&mut self.simulation));
         }
+        if let Some(total) = self.total_mass {
+            scale_total_mass(&mut document, total, &self.massless);
+        }
         Ok(Converted {
             document,
             warnings: self.warnings.into_vec(),
         })
+    }
+}
+
+/// MuJoCo's `compiler settotalmass`: scales every body's mass and inertia (the world's geoms
+/// and the conversion's helpers excepted) so that they add up to `total` kg. A geom's mass
+/// from its volume scales through its material's density, a given one (`inertial`) with
+/// its tensor. A document that does not validate is left as it is: its own parse reports
+/// why.
+fn scale_total_mass(document: &mut Value, total: f64, massless: &HashSet<String>) {
+    let Ok(assembly) = gymfleet_assembly::from_value(document.clone()) else {
+        return;
+    };
+    let bodies: Vec<(usize, f64)> = assembly
+        .instances
+        .iter()
+        .enumerate()
+        .filter(|(_, i)| !massless.contains(&i.name))
+        .map(|(k, i)| {
+            let mass = i
+                .inertial
+                .map_or(i.shape.volume() * i.material.density, |given| given.mass);
+            (k, mass)
+        })
+        .collect();
+    let sum: f64 = bodies.iter().map(|(_, m)| m).sum();
+    if !(sum.is_finite() && sum > 0.0) {
+        return;
+    }
+    let factor = total / sum;
+    for (k, _) in bodies {
+        let instance = &mut document["assembly"]["instances"][k];
+        if let Some(inertial) = instance.get_mut("inertial") {
+            let mass = inertial["mass"].as_f64().unwrap_or(0.0);
+            inertial["mass"] = json!(mass * factor);
+            if let Some(Value::Object(inertia)) = inertial.get_mut("inertia") {
+                for value in inertia.values_mut() {
+                    *value = json!(value.as_f64().unwrap_or(0.0) * factor);
+                }
+            }
+            continue;
+        }
+        let density = assembly.instances[k].material.density * factor;
+        let name = assembly.instances[k].name.clone();
+        instance["material"] = json!(name);
+        let materials = document
+            .as_object_mut()
+            .expect("a document is an object")
+            .entry("materials")
+            .or_insert_with(|| json!({}));
+        let material = materials
+            .as_object_mut()
+            .expect("materials are an object")
+            .entry(name)
+            .or_insert_with(|| json!({}));
+        material["density"] = json!(density);
     }
 }

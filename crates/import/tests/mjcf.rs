@@ -201,9 +201,9 @@ fn unsupported_constructs_name_their_element_and_line() {
     );
     assert_eq!(
         error(&model(
-            r#"<body><joint stiffness="3"/><geom size=".1"/></body>"#
+            r#"<body><joint springdamper="0.1 1"/><geom size=".1"/></body>"#
         )),
-        "line 4: <joint>: stiffness (joint springs) is not supported yet"
+        "line 4: <joint>: springdamper (a spring-damper by time constant) is not supported yet"
     );
     assert_eq!(
         error(&model(r#"<composite type="grid"/>"#)),
@@ -578,5 +578,88 @@ fn free_joints_outside_top_level_bodies_or_beside_other_joints_are_refused() {
     assert_eq!(
         error(&hinged),
         "line 3: <body>: in a model with a free joint, a body fixed or jointed to the world needs a ground plane in <worldbody>"
+    );
+}
+
+const HALF_CHEETAH: &str = include_str!("data/half_cheetah.xml");
+
+/// Gymnasium's HalfCheetah: `settotalmass` scales its bodies to 14 kg, its joints carry
+/// springs (`stiffness`), its root is three passive joints to the world (x, z slides, a
+/// pitch hinge). Left alone for 5 s it settles into the pose MuJoCo settles it into
+/// (MuJoCo 4.0.0, the same file, 500 steps of 0.01 s: root x −12.32 mm, z −132.44 mm,
+/// pitch 2.986°, joints [1.959, 3.888, −0.797, −3.376, −8.020, −7.507]°): springs and
+/// gravity balance the same way. The root's height differs by the depth MuJoCo's soft
+/// contacts sink, its x by how each engine's contacts settle a sideways slip.
+#[test]
+fn half_cheetah_settles_into_mujocos_pose() {
+    let converted = mjcf_to_document(HALF_CHEETAH).expect("converts");
+    let text = converted.document.to_string();
+    let assembly = gymfleet_assembly::parse(&text).expect("valid");
+    let total: f64 = assembly
+        .instances
+        .iter()
+        .filter(|i| !i.grounded)
+        .map(|i| {
+            i.inertial
+                .map_or(i.shape.volume() * i.material.density, |g| g.mass)
+        })
+        .sum();
+    // The two 1 mg helpers between the root's three joints are not bodies of MuJoCo's.
+    assert!((total - 14.0 - 2e-6).abs() < 1e-9, "total mass {total} kg");
+    let (mut env, _) = env(HALF_CHEETAH, &[]);
+    let spec = env.spec().clone();
+    assert_eq!(spec.action_dim, 6);
+    assert_eq!(spec.num_dofs, 9);
+    let mut o = env.observe();
+    for _ in 0..500 {
+        o = env
+            .step(ActionType::Torque, &[0.0; 6])
+            .expect("valid")
+            .observation;
+    }
+    let q = &o.joint_positions;
+    let mujoco = [1.959, 3.888, -0.797, -3.376, -8.020, -7.507];
+    for (k, expected) in mujoco.iter().enumerate() {
+        let ours = f64::from(q[3 + k]);
+        assert!(
+            (ours - expected).abs() < 0.05,
+            "{}: {ours}° against MuJoCo's {expected}°",
+            spec.dofs[3 + k].joint_name
+        );
+    }
+    assert!((f64::from(q[2]) - 2.986).abs() < 0.05, "pitch {}°", q[2]);
+    assert!((f64::from(q[1]) + 132.44).abs() < 8.0, "root z {} mm", q[1]);
+    assert!((f64::from(q[0]) + 12.32).abs() < 25.0, "root x {} mm", q[0]);
+}
+
+/// Joint springs: `stiffness` and `springref` (less `ref`, as positions are) become the
+/// joint's `stiffness` and `spring_rest`; bad values name their attribute and line.
+#[test]
+fn springs_and_total_mass_convert_or_name_their_line() {
+    let xml = "<mujoco>\n<compiler angle=\"radian\"/>\n<worldbody>\n<body><joint name=\"j\" type=\"hinge\" stiffness=\"2\" springref=\"0.3\" ref=\"0.1\" range=\"-1 1\"/><geom size=\".1\"/></body>\n<body><joint name=\"s\" type=\"slide\" stiffness=\"5\"/><geom size=\".1\"/></body>\n</worldbody>\n</mujoco>";
+    let converted = mjcf_to_document(xml).expect("converts");
+    let joints = converted.document["assembly"]["joints"].as_array().unwrap();
+    let hinge = joints.iter().find(|j| j["name"] == "j").unwrap();
+    assert_eq!(hinge["stiffness"], 2.0);
+    let rest = hinge["spring_rest"].as_f64().unwrap();
+    assert!((rest - 0.2f64.to_degrees()).abs() < 1e-9, "{rest}");
+    let slide = joints.iter().find(|j| j["name"] == "s").unwrap();
+    assert_eq!(slide["stiffness"], 5.0);
+    assert!(slide.get("spring_rest").is_none());
+    assert_eq!(
+        error("<mujoco>\n<compiler settotalmass=\"heavy\"/>\n<worldbody/>\n</mujoco>"),
+        "line 2: <compiler settotalmass=…>: expected a number, got \"heavy\""
+    );
+    assert_eq!(
+        error(&bare(
+            r#"<body><joint stiffness="-1"/><geom size="0.1"/></body>"#
+        )),
+        "line 3: <joint stiffness=…>: expected a stiffness >= 0, got -1"
+    );
+    assert_eq!(
+        error(&bare(
+            r#"<body><joint type="ball" stiffness="1"/><geom size="0.1"/></body>"#
+        )),
+        "line 3: <joint>: stiffness on a ball joint (a rotational spring) is not supported yet"
     );
 }

@@ -331,7 +331,7 @@ fn a_broken_library_file_stops_the_server_naming_it() {
             ("good.json", gymfleet_e2e::ARM2),
             (
                 "bad.xml",
-                "<mujoco><worldbody><body><joint stiffness=\"5\"/><geom size=\".1\"/></body></worldbody></mujoco>",
+                "<mujoco><worldbody><body><joint frictionloss=\"5\"/><geom size=\".1\"/></body></worldbody></mujoco>",
             ),
         ],
     );
