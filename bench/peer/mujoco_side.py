@@ -257,12 +257,18 @@ def envpool_reacher_steps_per_s(num_envs=64, num_threads=2, seconds=5.0, seed=0)
 
     One env step = frame_skip 2 x RK4 timestep 0.01 s = 0.02 s simulated.
     """
+    return envpool_steps_per_s("Reacher-v5", num_envs, num_threads, seconds, seed)
+
+
+def envpool_steps_per_s(task, num_envs=64, num_threads=2, seconds=5.0, seed=0):
+    """Env steps per second (all envs together) of an envpool task, sync mode, uniform random
+    actions in [-1, 1] (the MuJoCo tasks' ctrl range)."""
     import envpool
-    env = envpool.make("Reacher-v5", env_type="gymnasium", num_envs=num_envs,
+    env = envpool.make(task, env_type="gymnasium", num_envs=num_envs,
                        batch_size=num_envs, num_threads=num_threads, seed=seed)
     env.reset()
     rng = np.random.default_rng(seed)
-    acts = rng.uniform(-1.0, 1.0, (256, num_envs, 2))
+    acts = rng.uniform(-1.0, 1.0, (256, num_envs) + env.action_space.shape)
     for i in range(50):  # warm-up
         env.step(acts[i % 256])
     n = 0

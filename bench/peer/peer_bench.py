@@ -19,6 +19,7 @@ Setup (not part of CI; PyPI only):
   /tmp/peer/bin/python bench/peer/peer_bench.py            # per-step table
   /tmp/peer/bin/python bench/peer/peer_bench.py --throughput
   /tmp/peer/bin/python bench/peer/peer_bench.py --reacher   # the same model on both sides
+  /tmp/peer/bin/python bench/peer/peer_bench.py --locomotion   # HalfCheetah and Ant, same files
 """
 import argparse
 import json
@@ -145,6 +146,49 @@ def reacher(args):
                   f"s/s {a * 0.02:.0f} vs {b * 0.02:.0f}")
 
 
+# Gymnasium's locomotion models, the same file on both sides: (file, EnvPool task, motor
+# gear: gymfleet's torque amplitude for actions as EnvPool's uniform [-1, 1] ctrl, env step
+# in s = frame_skip x timestep).
+LOCOMOTION = {
+    "half_cheetah": ("half_cheetah.xml", "HalfCheetah-v5", 120.0, 0.05),
+    "ant": ("ant.xml", "Ant-v5", 150.0, 0.05),
+}
+
+
+def locomotion(args):
+    """Apples to apples on Gymnasium's locomotion models: the same XML on both sides (the
+    server converts it), the same env step (frame_skip 5 x 0.01 s). HalfCheetah's file
+    integrates with Euler at 0.01 s, so at `substeps` 5 both sides take the same five
+    semi-implicit Euler steps of 0.01 s per env step (its resting pose matches MuJoCo's
+    within 0.05 deg per joint: crates/import/tests/mjcf.rs); the Ant's file asks for RK4.
+    Random uniform actions on both sides; contacts on both.
+    """
+    import gymnasium
+    assets = os.path.join(os.path.dirname(gymnasium.__file__), "envs", "mujoco", "assets")
+    load = os.path.join(ROOT, "target", "release", "gymfleet-load")
+    report = os.path.join(tempfile.mkdtemp(), "load.json")
+    for name in args.locomotion_models:
+        xml, task, gear, dt = LOCOMOTION[name]
+        for n_envs in args.reacher_envs:
+            for substeps in args.locomotion_substeps:
+                ours, theirs = [], []
+                for _ in range(args.rounds):
+                    subprocess.run([load, "--model", os.path.join(assets, xml),
+                                    "--dt", str(dt), "--substeps", str(substeps),
+                                    "--amplitude", str(gear), "--n-envs", str(n_envs),
+                                    "--threads", "2", "--duration", str(args.seconds),
+                                    "--warmup", "1", "--quiet", "--json", report],
+                                   check=True, capture_output=True)
+                    with open(report) as f:
+                        ours.append(json.load(f)["runs"][0]["env_steps_per_s"])
+                    theirs.append(mujoco_side.envpool_steps_per_s(
+                        task, num_envs=n_envs, num_threads=2, seconds=args.seconds))
+                a, b = statistics.median(ours), statistics.median(theirs)
+                print(f"{name}, {n_envs} envs, 2 threads, {dt} s per env step: gymfleet "
+                      f"remote StepBatch ({substeps} Euler substeps) {a:9.0f} env-steps/s, "
+                      f"EnvPool {task} sync {b:9.0f}: ratio {a / b:.2f}")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--substeps", type=int, default=5, help="gymfleet's default")
@@ -158,13 +202,19 @@ def main():
                     help="the same Reacher model on both sides (throughput)")
     ap.add_argument("--reacher-envs", type=int, nargs="*", default=[64, 256])
     ap.add_argument("--reacher-substeps", type=int, nargs="*", default=[2, 5])
+    ap.add_argument("--locomotion", action="store_true",
+                    help="Gymnasium's HalfCheetah and Ant, the same file on both sides")
+    ap.add_argument("--locomotion-models", nargs="*", default=list(LOCOMOTION))
+    ap.add_argument("--locomotion-substeps", type=int, nargs="*", default=[5])
     ap.add_argument("--seconds", type=float, default=5.0)
     ap.add_argument("--json", help="also write the per-step table here")
     ap.add_argument("--no-build", action="store_true")
     args = ap.parse_args()
     if not args.no_build:
         build()
-    if args.reacher:
+    if args.locomotion:
+        locomotion(args)
+    elif args.reacher:
         reacher(args)
     elif args.throughput:
         throughput(args)
