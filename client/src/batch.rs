@@ -12,7 +12,9 @@ use crate::types::{ActionType, BatchInfo};
 impl Client {
     /// Creates a batch of identical environments.
     pub async fn create_batch(&self, options: BatchOptions) -> Result<Batch> {
-        let info = self.rpc().create_batch(options.into_request()).await?;
+        let request = options.into_request();
+        self.check_request_size(&request, request.document_json.len(), request.assets.len())?;
+        let info = self.rpc().create_batch(request).await?;
         let info = BatchInfo::try_from(info.into_inner())?;
         Ok(Batch::new(self.clone(), info))
     }

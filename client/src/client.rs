@@ -50,6 +50,8 @@ pub(crate) type Rpc = SimulatorClient<InterceptedService<Channel, CallMetadata>>
 pub struct Client {
     inner: Rpc,
     addr: Arc<str>,
+    /// The largest message this client encodes (0: tonic's default).
+    max_message_bytes: usize,
 }
 
 tokio::task_local! {
@@ -371,6 +373,7 @@ impl ClientBuilder {
         Ok(Client {
             inner,
             addr: self.addr.into(),
+            max_message_bytes: self.max_message_bytes,
         })
     }
 }
@@ -408,6 +411,30 @@ impl Client {
 
     pub(crate) fn rpc(&self) -> Rpc {
         self.inner.clone()
+    }
+
+    /// Refuses a request whose encoding would exceed the message limit, naming its parts,
+    /// before anything is sent (over the limit, the transport would only say that the
+    /// stream broke).
+    pub(crate) fn check_request_size(
+        &self,
+        request: &impl prost::Message,
+        document: usize,
+        assets: usize,
+    ) -> Result<()> {
+        let bytes = request.encoded_len();
+        let max = self.max_message_bytes;
+        if max == 0 || bytes <= max {
+            return Ok(());
+        }
+        Err(crate::error::ClientError::InvalidArgument {
+            message: format!(
+                "request: {bytes} bytes ({document} of document, {assets} of assets) is over the \
+                 message limit of {max} bytes; send only the files the description references \
+                 (its own package folder), or raise the server's --max-message-bytes and \
+                 ClientBuilder::max_message_bytes together"
+            ),
+        })
     }
 
     /// The server's version, thread count, load and limits.

@@ -111,6 +111,7 @@ impl Client {
             format: pb::DocumentFormat::from(format) as i32,
             assets: assets.into(),
         };
+        self.check_request_size(&request, request.document_json.len(), request.assets.len())?;
         let reply = self.rpc().convert_document(request).await?.into_inner();
         Ok(ConvertedDocument {
             document_json: reply.document_json,

@@ -10,7 +10,9 @@ use crate::types::{ActionType, EnvInfo, Observation, StepResult};
 impl Client {
     /// Creates one environment.
     pub async fn create_env(&self, options: EnvOptions) -> Result<Env> {
-        let info = self.rpc().create_env(options.into_request()).await?;
+        let request = options.into_request();
+        self.check_request_size(&request, request.document_json.len(), request.assets.len())?;
+        let info = self.rpc().create_env(request).await?;
         Ok(Env::new(self.clone(), info.into_inner().into()))
     }
 }

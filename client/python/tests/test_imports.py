@@ -152,3 +152,8 @@ def test_the_half_cheetah_converts_with_its_springs_and_passes_the_checker():
     assert env.action_space.shape == (6,)
     assert env.observation_space.shape == (9 + 9,)
     env.close()
+
+
+def test_assets_over_the_message_limit_are_refused_naming_the_sizes():
+    with pytest.raises(gymfleet.InvalidArgument, match=r"of assets\) is over the message limit of 67108864 bytes"):
+        gymfleet.make(REACHER, assets=bytes(65 * 1024 * 1024))

@@ -455,6 +455,11 @@ pub struct JointDef {
     /// observed positions are); default 0. Needs a `stiffness`.
     #[serde(default)]
     pub spring_rest: Option<f64>,
+    /// *(ext)* Dry (Coulomb) friction on each DOF (MuJoCo's `frictionloss`, URDF's
+    /// `<dynamics friction>`): the largest torque or force, N·m or N, that resists the
+    /// joint's motion; default 0.
+    #[serde(default)]
+    pub friction: Option<f64>,
 }
 
 /// A 3-vector with named components, as the documents write it.

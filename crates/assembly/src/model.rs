@@ -255,6 +255,8 @@ pub struct Joint {
     pub stiffness: f64,
     /// The spring's rest position from the document's pose, rad or m.
     pub spring_rest: f64,
+    /// Dry friction per DOF, N·m or N (0: none).
+    pub friction: f64,
 }
 
 /// The kind of one degree of freedom, which fixes its units.

@@ -559,6 +559,20 @@ impl Validator {
                 );
             }
             let (stiffness, spring_rest) = self.spring(&path, def);
+            let friction = def.friction.inspect(|&f| {
+                if !(f.is_finite() && f >= 0.0) {
+                    self.push(
+                        format!("{path}.friction"),
+                        format!("expected a friction >= 0 (N·m or N), got {f}"),
+                    );
+                }
+            });
+            if def.kind == JointType::Fixed && friction.is_some_and(|f| f > 0.0) {
+                self.push(
+                    format!("{path}.friction"),
+                    "a fixed joint has no DOF to resist with friction".to_string(),
+                );
+            }
             let actuated = def.actuated.unwrap_or(true);
             if !actuated && max_effort.is_some() {
                 self.push(
@@ -603,6 +617,7 @@ impl Validator {
                         initial: initial * limit_to_si(def.kind),
                         stiffness,
                         spring_rest: spring_rest * limit_to_si(def.kind),
+                        friction: friction.unwrap_or(0.0),
                     });
                 }
             }

@@ -322,6 +322,22 @@ fn floating_base_frees_the_first_instance_and_grounds_planes() {
 }
 
 #[test]
+fn friction_errors_name_the_field() {
+    assert_issue(
+        with_joint_field("friction", json!(-0.5)),
+        "assembly.joints[0].friction: expected a friction >= 0 (N·m or N), got -0.5",
+    );
+    let mut doc = with_joint_type("fixed");
+    doc["assembly"]["joints"][0]["friction"] = json!(1);
+    assert_issue(
+        doc,
+        "assembly.joints[0].friction: a fixed joint has no DOF to resist with friction",
+    );
+    let a = common::ok(with_joint_field("friction", json!(0.25)));
+    assert_eq!(a.joints[0].friction, 0.25);
+}
+
+#[test]
 fn spring_errors_name_the_field() {
     assert_issue(
         with_joint_field("stiffness", json!(-1)),

@@ -448,6 +448,38 @@ fn a_joint_spring_oscillates_with_the_analytic_period() {
     }
 }
 
+/// Joint friction (`friction`, MuJoCo's `frictionloss`): a force below it leaves the block
+/// on its slider at rest; a force above it accelerates the block at `(F − F_f)/m`.
+#[test]
+fn joint_friction_holds_below_it_and_subtracts_above_it() {
+    let (friction, mass) = (0.005, 1e-3);
+    let mut env = env(&slider(json!({"friction": friction})), &["block"]);
+    let mut obs = Vec::new();
+    for _ in 0..60 {
+        obs = step(&mut env, ActionType::Torque, &[0.004]);
+    }
+    assert!(
+        f64::from(obs[0]).abs() < 1e-3,
+        "moved {} mm under 0.004 N",
+        obs[0]
+    );
+    let force = 0.01;
+    let (dt, substeps) = (env.spec().dt, f64::from(env.spec().substeps));
+    let steps = 60;
+    for _ in 0..steps {
+        obs = step(&mut env, ActionType::Torque, &[force as f32]);
+    }
+    let t = steps as f64 * dt;
+    let a = (force - friction) / mass;
+    let analytic_mm = 0.5 * a * t * t * 1000.0;
+    let bound = 0.5 * a * (dt / substeps) * t * 1000.0 + 0.05;
+    let x = f64::from(obs[0]);
+    assert!(
+        (x - analytic_mm).abs() <= bound,
+        "moved {x:.3} mm, analytic {analytic_mm:.3} mm"
+    );
+}
+
 /// A horizontal arm turning about a vertical axis: gravity exerts no torque on it.
 fn turntable(joint_extra: serde_json::Value) -> serde_json::Value {
     let mut joint = json!({"type": "revolute", "parent": "base", "child": "arm",

@@ -87,6 +87,19 @@ pub fn with_mesh_files(document: &str) -> Option<Value> {
 /// A mesh's vertices and triangles (three indices into the vertices each).
 pub type MeshData = (Vec<[f32; 3]>, Vec<[u32; 3]>);
 
+/// Whether `bytes` has exactly a binary STL's size: an 80-byte header, a triangle count
+/// `n`, then `n` records of 50 bytes.
+fn is_binary_stl_size(bytes: &[u8]) -> bool {
+    let Some(count) = bytes.get(80..84) else {
+        return false;
+    };
+    let n = u32::from_le_bytes(count.try_into().expect("4 bytes")) as usize;
+    n.checked_mul(50)
+        .and_then(|b| b.checked_add(84))
+        .is_some_and(|size| size == bytes.len())
+        && bytes.starts_with(b"solid")
+}
+
 /// A mesh file's vertices (in the file's units; COLLADA's `<unit>` applied) and triangles.
 pub fn load(bytes: &[u8], name: &str) -> std::result::Result<MeshData, String> {
     // No reader of the file system: an OBJ's material library is not needed (only the
@@ -108,9 +121,25 @@ pub fn load(bytes: &[u8], name: &str) -> std::result::Result<MeshData, String> {
         ));
     }
     let loader = mesh_loader::Loader::with_custom_reader(no_files).merge_meshes(true);
-    let scene = loader
-        .load_from_slice(bytes, name)
-        .map_err(|e| format!("{} is not a readable mesh: {e}", crate::quote(name)))?;
+    let scene = match loader.load_from_slice(bytes, name) {
+        Ok(scene) => scene,
+        // A binary STL whose 80-byte header starts with "solid" (many exporters write
+        // one) can fail mesh-loader's ASCII parse past the point where it falls back to
+        // binary. When the size is exactly a binary STL's, read it as one.
+        Err(_) if lower.ends_with(".stl") && is_binary_stl_size(bytes) => {
+            let mut patched = bytes.to_vec();
+            patched[..5].copy_from_slice(b"     ");
+            loader
+                .load_from_slice(&patched, name)
+                .map_err(|e| format!("{} is not a readable mesh: {e}", crate::quote(name)))?
+        }
+        Err(e) => {
+            return Err(format!(
+                "{} is not a readable mesh: {e}",
+                crate::quote(name)
+            ))
+        }
+    };
     let mut vertices = Vec::new();
     let mut triangles = Vec::new();
     for mesh in scene.meshes {

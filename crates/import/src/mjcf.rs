@@ -818,16 +818,24 @@ impl<'a, 'i> Converter<'a, 'i> {
             }
             other => return Err(self.bad(node, "type", format!("unknown joint type {other:?}"))),
         };
-        for (attr, what) in [
-            ("frictionloss", "joint friction"),
-            ("springdamper", "a spring-damper by time constant"),
-        ] {
-            if self
-                .numbers(node, class, attr)?
-                .is_some_and(|v| v.iter().any(|x| *x != 0.0))
-            {
-                return Err(self.unsupported(node, format!("{attr} ({what}) is not supported yet")));
-            }
+        if self
+            .numbers(node, class, "springdamper")?
+            .is_some_and(|v| v.iter().any(|x| *x != 0.0))
+        {
+            return Err(self.unsupported(
+                node,
+                "springdamper (a spring-damper by time constant) is not supported yet".into(),
+            ));
+        }
+        let friction = self
+            .number(node, class, "frictionloss")?
+            .filter(|f| *f != 0.0);
+        if let Some(f) = friction.filter(|f| *f < 0.0) {
+            return Err(self.bad(
+                node,
+                "frictionloss",
+                format!("expected a friction >= 0, got {f}"),
+            ));
         }
         let stiffness = self.number(node, class, "stiffness")?.filter(|k| *k != 0.0);
         if stiffness.is_some() && our == "ball" {
@@ -918,6 +926,9 @@ impl<'a, 'i> Converter<'a, 'i> {
         }
         if let Some(a) = self.number(node, class, "armature")?.filter(|a| *a != 0.0) {
             j.insert("armature".into(), json!(a));
+        }
+        if let Some(f) = friction {
+            j.insert("friction".into(), json!(f));
         }
         if let Some(k) = stiffness {
             if k < 0.0 {

@@ -15,7 +15,7 @@
 //! PyBullet's `<contact>` gives the link's shapes their `lateral_friction` and
 //! `restitution`. A `floating` joint from an empty root link (the world) makes its child
 //! the floating base. Refused with the element and its line: mimic joints, planar
-//! joints, joint friction, several roots, a link that is two joints' child, zero inertia with a
+//! joints, several roots, a link that is two joints' child, zero inertia with a
 //! mass, bad numbers. Ignored with a warning: `<visual>`, `<material>`, `<gazebo>`,
 //! `<transmission>`, joint `velocity` limits, calibration and safety controllers.
 
@@ -35,6 +35,9 @@ const MM: f64 = 1000.0;
 const HELPER_MASS: f64 = 1e-6;
 /// A helper instance's radius (mm).
 const HELPER_RADIUS: f64 = 1.0;
+/// The heaviest link (kg) whose non-physical inertia is taken for a placeholder (and
+/// replaced by its shape's for its mass) rather than refused.
+const PLACEHOLDER_MASS: f64 = 1e-3;
 
 /// Converts a URDF document into gymfleet's assembly JSON.
 pub fn urdf_to_document(xml: &str) -> Result<Converted> {
@@ -351,6 +354,10 @@ impl<'a, 'i> Converter<'a, 'i> {
                     node,
                     "ignored (only <collision> shapes are simulated)".into(),
                 ),
+                "self_filter" => self.warn(
+                    node,
+                    "ignored (a ROS sensor-filtering setting, no effect on the dynamics)".into(),
+                ),
                 "inertial" | "collision" | "contact" => {}
                 other => {
                     return Err(
@@ -469,6 +476,20 @@ impl<'a, 'i> Converter<'a, 'i> {
         if let Some(problem) =
             gymfleet_assembly::inertia_problem(&[[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
         {
+            // Placeholder inertias on near-massless frame links (1e-6 everywhere, off
+            // diagonals included: Unitree's B1, IIT's HyQ) are not the link's physics: it
+            // keeps its mass, with its shape's inertia for that mass.
+            if mass <= PLACEHOLDER_MASS {
+                self.warn(
+                    inertia,
+                    format!(
+                        "the inertia of a link of {mass} kg is {problem}; a link this light keeps its mass with its shape's inertia"
+                    ),
+                );
+                let index = self.index_of(instance);
+                self.instances[index]["inertial"] = json!({"mass": mass});
+                return Ok(());
+            }
             return Err(self.unsupported(
                 inertia,
                 format!("the inertia of a link of {mass} kg is {problem}"),
@@ -766,11 +787,12 @@ impl<'a, 'i> Converter<'a, 'i> {
                 }
             }
             if let Some(f) = self.number(d, "friction")?.filter(|f| *f != 0.0) {
-                return Err(self.bad(
-                    d,
-                    "friction",
-                    format!("joint friction ({f}) is not supported yet"),
-                ));
+                if f < 0.0 {
+                    return Err(self.bad(d, "friction", format!("expected friction ≥ 0, got {f}")));
+                }
+                if json_kind != "fixed" {
+                    j.insert("friction".into(), json!(f));
+                }
             }
         }
         for other in ["calibration", "safety_controller"] {

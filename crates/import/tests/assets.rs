@@ -244,3 +244,29 @@ fn obj_and_collada_meshes_are_read() {
     let far = vertices.iter().flatten().fold(0f32, |m, c| m.max(c.abs()));
     assert!((far - 0.1).abs() < 1e-6, "10 cm in metres: {far}");
 }
+
+/// A binary STL whose header starts with "solid" (Solo 12's feet in example-robot-data)
+/// and whose triangle count's first byte is a newline fools an ASCII parse into reading
+/// the triangles as text; its exact binary size makes it read as binary.
+#[test]
+fn a_binary_stl_with_a_solid_header_is_read_as_binary() {
+    let mut stl = b"solid foot".to_vec();
+    stl.resize(80, b' ');
+    let triangles = 10u32; // 0x0A: a newline right after the header
+    stl.extend(triangles.to_le_bytes());
+    for k in 0..triangles {
+        let z = k as f32;
+        stl.extend([0f32, 0.0, 1.0].iter().flat_map(|v| v.to_le_bytes()));
+        for v in [[0.0, 0.0, z], [1.0, 0.0, z], [0.0, 1.0, z]] {
+            stl.extend(v.iter().flat_map(|c: &f32| c.to_le_bytes()));
+        }
+        stl.extend([0u8, 0]);
+    }
+    assert_eq!(stl.len(), 84 + 50 * 10);
+    let (vertices, faces) = gymfleet_import::load_mesh(&stl, "foot.stl").expect("binary STL");
+    assert_eq!(faces.len(), 10);
+    assert!(vertices.iter().any(|v| v[2] == 9.0), "{vertices:?}");
+    // Not a binary STL's size: the ASCII parser's error stands.
+    let err = gymfleet_import::load_mesh(&stl[..500], "foot.stl").unwrap_err();
+    assert!(err.contains("\"foot.stl\" is not a readable mesh"), "{err}");
+}

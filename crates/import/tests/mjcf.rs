@@ -636,7 +636,7 @@ fn half_cheetah_settles_into_mujocos_pose() {
 /// joint's `stiffness` and `spring_rest`; bad values name their attribute and line.
 #[test]
 fn springs_and_total_mass_convert_or_name_their_line() {
-    let xml = "<mujoco>\n<compiler angle=\"radian\"/>\n<worldbody>\n<body><joint name=\"j\" type=\"hinge\" stiffness=\"2\" springref=\"0.3\" ref=\"0.1\" range=\"-1 1\"/><geom size=\".1\"/></body>\n<body><joint name=\"s\" type=\"slide\" stiffness=\"5\"/><geom size=\".1\"/></body>\n</worldbody>\n</mujoco>";
+    let xml = "<mujoco>\n<compiler angle=\"radian\"/>\n<worldbody>\n<body><joint name=\"j\" type=\"hinge\" stiffness=\"2\" springref=\"0.3\" ref=\"0.1\" range=\"-1 1\"/><geom size=\".1\"/></body>\n<body><joint name=\"s\" type=\"slide\" stiffness=\"5\" frictionloss=\"0.4\"/><geom size=\".1\"/></body>\n</worldbody>\n</mujoco>";
     let converted = mjcf_to_document(xml).expect("converts");
     let joints = converted.document["assembly"]["joints"].as_array().unwrap();
     let hinge = joints.iter().find(|j| j["name"] == "j").unwrap();
@@ -646,6 +646,17 @@ fn springs_and_total_mass_convert_or_name_their_line() {
     let slide = joints.iter().find(|j| j["name"] == "s").unwrap();
     assert_eq!(slide["stiffness"], 5.0);
     assert!(slide.get("spring_rest").is_none());
+    assert_eq!(
+        slide["friction"], 0.4,
+        "frictionloss is the joint's friction"
+    );
+    assert!(hinge.get("friction").is_none());
+    assert_eq!(
+        error(&bare(
+            r#"<body><joint frictionloss="-1"/><geom size="0.1"/></body>"#
+        )),
+        "line 3: <joint frictionloss=…>: expected a friction >= 0, got -1"
+    );
     assert_eq!(
         error("<mujoco>\n<compiler settotalmass=\"heavy\"/>\n<worldbody/>\n</mujoco>"),
         "line 2: <compiler settotalmass=…>: expected a number, got \"heavy\""

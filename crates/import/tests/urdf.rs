@@ -208,8 +208,8 @@ fn bad_descriptions_name_their_element_and_line() {
             "a revolute joint needs <limit lower upper effort velocity>",
         ),
         (
-            robot(&format!("{}\n{}\n{}", link("a"), link("b"), revolute("j1", "a", "b").replace("</joint>", r#"<dynamics friction="0.3"/></joint>"#))),
-            "<dynamics friction=…>: joint friction (0.3) is not supported yet",
+            robot(&format!("{}\n{}\n{}", link("a"), link("b"), revolute("j1", "a", "b").replace("</joint>", r#"<dynamics friction="-0.3"/></joint>"#))),
+            "<dynamics friction=…>: expected friction ≥ 0, got -0.3",
         ),
         (
             robot(&link("a").replace(r#"size="0.1 0.1 0.1""#, r#"size="0.1 0.1""#)),
@@ -437,4 +437,75 @@ fn a_floating_joint_from_the_world_makes_a_floating_base() {
         (vz + 981.0).abs() < 0.5,
         "falls freely: {vz} mm/s after 0.1 s"
     );
+}
+
+/// ROS's `<self_filter>` in a link (ANYmal's description) has no effect on the dynamics:
+/// ignored with a warning naming its line.
+#[test]
+fn a_self_filter_is_ignored_with_a_warning() {
+    let xml = robot(&link("a").replace(
+        "</link>",
+        r#"<self_filter><sphere radius="0.1"/></self_filter></link>"#,
+    ));
+    let converted = urdf_to_document(&xml).expect("converts");
+    assert!(
+        converted
+            .warnings
+            .iter()
+            .any(|w| w.contains("line 2: <self_filter> ignored (a ROS sensor-filtering setting")),
+        "{:?}",
+        converted.warnings
+    );
+}
+
+/// A near-massless frame link with a placeholder inertia (Unitree's B1, IIT's HyQ: 1e-6
+/// everywhere) keeps its mass with its shape's inertia, with a warning; a real link with a
+/// non-physical inertia is still refused at its line.
+#[test]
+fn placeholder_inertias_on_frame_links_are_replaced_with_a_warning() {
+    let placeholder = r#"<link name="b"><inertial><mass value="1e-6"/><inertia ixx="1e-6" ixy="1e-6" ixz="1e-6" iyy="1e-6" iyz="1e-6" izz="1e-6"/></inertial><collision><geometry><box size="0.01 0.01 0.01"/></geometry></collision></link>"#;
+    let xml = robot(&format!(
+        "{}\n{placeholder}\n{}",
+        link("a"),
+        revolute("j", "a", "b")
+    ));
+    let converted = urdf_to_document(&xml).expect("converts");
+    assert!(
+        converted
+            .warnings
+            .iter()
+            .any(|w| w.contains("line 3: <inertia>")
+                && w.contains("a link this light keeps its mass with its shape's inertia")),
+        "{:?}",
+        converted.warnings
+    );
+    let b = &converted.document["assembly"]["instances"][1];
+    assert_eq!(b["inertial"], serde_json::json!({"mass": 1e-6}));
+    RobotEnv::from_json(&converted.document.to_string(), EnvConfig::default()).expect("builds");
+    let heavy = placeholder.replace(r#"<mass value="1e-6"/>"#, r#"<mass value="0.5"/>"#);
+    let xml = robot(&format!(
+        "{}\n{heavy}\n{}",
+        link("a"),
+        revolute("j", "a", "b")
+    ));
+    assert!(
+        urdf_error(&xml).contains("line 3: <inertia>: the inertia of a link of 0.5 kg is"),
+        "{}",
+        urdf_error(&xml)
+    );
+}
+
+/// `<dynamics friction>` is the joint's dry friction (z1, xArm7, TALOS, TIAGo carry it).
+#[test]
+fn dynamics_friction_is_the_joints_friction() {
+    let joint = revolute("j", "a", "b").replace(
+        "</joint>",
+        r#"<dynamics damping="0.1" friction="0.3"/></joint>"#,
+    );
+    let xml = robot(&format!("{}\n{}\n{joint}", link("a"), link("b")));
+    let converted = urdf_to_document(&xml).expect("converts");
+    let j = &converted.document["assembly"]["joints"][0];
+    assert_eq!(j["friction"], 0.3);
+    assert_eq!(j["damping"], 0.1);
+    RobotEnv::from_json(&converted.document.to_string(), EnvConfig::default()).expect("builds");
 }

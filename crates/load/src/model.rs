@@ -117,7 +117,7 @@ mod tests {
             std::env::temp_dir().join(format!("gymfleet-load-bad-{}.xml", std::process::id()));
         std::fs::write(
             &bad,
-            "<mujoco><worldbody><body><joint frictionloss=\"5\"/><geom size=\".1\"/></body></worldbody></mujoco>",
+            "<mujoco><worldbody><body><joint springdamper=\"0.1 1\"/><geom size=\".1\"/></body></worldbody></mujoco>",
         )
         .unwrap();
         let err = Model::resolve(bad.to_str().unwrap())
@@ -125,7 +125,9 @@ mod tests {
             .to_string();
         std::fs::remove_file(&bad).ok();
         assert!(
-            err.contains("<joint>: frictionloss (joint friction) is not supported yet"),
+            err.contains(
+                "<joint>: springdamper (a spring-damper by time constant) is not supported yet"
+            ),
             "{err}"
         );
     }

@@ -180,6 +180,7 @@ impl RobotWorld {
             let assembly_id = mb.link(link_id.id).expect("link exists").assembly_id();
             for k in 0..joint.kind.dof() {
                 mb.damping_mut()[assembly_id + k] = joint.damping as Real;
+                mb.frictions_mut()[assembly_id + k] = joint.friction as Real;
                 let inv_i = f64::from(inv[assembly_id + k]);
                 inertia.push(if inv_i > 0.0 { 1.0 / inv_i } else { 0.0 });
             }

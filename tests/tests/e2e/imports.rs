@@ -49,6 +49,60 @@ async fn an_mjcf_description_creates_envs_and_batches() {
         .expect("batch steps");
 }
 
+/// Assets larger than a message can carry are refused by the client before anything is
+/// sent, naming the sizes (the transport alone would only report a broken stream).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn assets_over_the_message_limit_are_refused_before_sending() {
+    let server = TestServer::start_default().await;
+    let client = server.client().await;
+    let huge = vec![7u8; 65 * 1024 * 1024];
+    let expected = format!(
+        "bytes ({} of document, {} of assets) is over the message limit of {} bytes; send only \
+         the files the description references",
+        REACHER.len(),
+        huge.len(),
+        64 * 1024 * 1024
+    );
+    let err = client
+        .create_env(EnvOptions::new(REACHER).assets(huge.clone()))
+        .await
+        .unwrap_err();
+    assert!(
+        matches!(err, ClientError::InvalidArgument { .. }),
+        "{err:?}"
+    );
+    assert!(
+        err.message().starts_with("request: ") && err.message().contains(&expected),
+        "{}",
+        err.message()
+    );
+    let err = client
+        .create_batch(BatchOptions::new(REACHER, 2).assets(huge.clone()))
+        .await
+        .unwrap_err();
+    assert!(
+        err.message()
+            .contains("of assets) is over the message limit"),
+        "{}",
+        err.message()
+    );
+    let err = client
+        .convert_document_with_assets(REACHER, DocumentFormat::Detect, huge)
+        .await
+        .unwrap_err();
+    assert!(
+        err.message()
+            .contains("of assets) is over the message limit"),
+        "{}",
+        err.message()
+    );
+    // The server is fine and still serves.
+    client
+        .create_env(EnvOptions::new(REACHER))
+        .await
+        .expect("a request within the limit");
+}
+
 const ANT: &str = include_str!("../../../crates/import/tests/data/ant.xml");
 
 /// Gymnasium's Ant over the network: its free joint is a floating base whose pose and
@@ -331,7 +385,7 @@ fn a_broken_library_file_stops_the_server_naming_it() {
             ("good.json", gymfleet_e2e::ARM2),
             (
                 "bad.xml",
-                "<mujoco><worldbody><body><joint frictionloss=\"5\"/><geom size=\".1\"/></body></worldbody></mujoco>",
+                "<mujoco><worldbody><body><joint springdamper=\"0.1 1\"/><geom size=\".1\"/></body></worldbody></mujoco>",
             ),
         ],
     );
