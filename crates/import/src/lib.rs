@@ -11,14 +11,15 @@
 //! - **MJCF** ([`mjcf_to_document`]): the subset MuJoCo's classic models use — default
 //!   classes, `compiler` angle units, `inertiafromgeom` and `settotalmass`, bodies with
 //!   `pos` and `quat`/`euler`/`axisangle`, box/sphere/capsule/cylinder geoms with `size`
-//!   or `fromto`, hinge/slide/ball joints (several per body) with damping, armature and
-//!   springs (`stiffness`, `springref`), a top-level body's free joint (the floating
-//!   base), bodies without joints (welded), explicit `<inertial>`,
+//!   or `fromto`, hinge/slide/ball joints (several per body) with damping, armature,
+//!   springs (`stiffness`, `springref`) and `frictionloss`, a top-level body's free joint
+//!   (the floating base), bodies without joints (welded), explicit `<inertial>`,
 //!   `contype`/`conaffinity`, motors (`gear`, `ctrlrange` → `max_effort`; joints without
 //!   a motor are passive).
 //! - **URDF** ([`urdf_to_document`]): links with `<collision>` boxes, cylinders, spheres,
 //!   capsules and meshes, `<inertial>`, revolute/continuous/prismatic/fixed joints with
-//!   limits, effort and damping, a `floating` joint from the world (the floating base).
+//!   limits, effort, damping and friction, a `floating` joint from the world (the floating
+//!   base).
 //! - **Meshes** ([`inline_mesh_files`]): a `{"type": "mesh", "file": …}` primitive (what
 //!   URDF meshes become, or written in JSON) is read from the request's [`Assets`] (a zip,
 //!   tar or tar.gz archive; `package://` and relative paths) and replaced by its vertices,
