@@ -112,6 +112,24 @@ def throughput(args):
           f"{a / 240:.0f} vs {b * 0.02:.0f} ({a / 240 / (b * 0.02):.2f})")
 
 
+def same_model_rounds(args, model_args, task, n_envs):
+    """Medians over `args.rounds` alternating rounds: gymfleet's remote StepBatch (the load
+    client on a 2-thread embedded server, `model_args` naming the model and its step) and
+    EnvPool's `task` (sync, 2 threads), both with `n_envs` envs; env-steps/s each."""
+    load = os.path.join(ROOT, "target", "release", "gymfleet-load")
+    report = os.path.join(tempfile.mkdtemp(), "load.json")
+    ours, theirs = [], []
+    for _ in range(args.rounds):
+        subprocess.run([load, *model_args, "--n-envs", str(n_envs), "--threads", "2",
+                        "--duration", str(args.seconds), "--warmup", "1", "--quiet",
+                        "--json", report], check=True, capture_output=True)
+        with open(report) as f:
+            ours.append(json.load(f)["runs"][0]["env_steps_per_s"])
+        theirs.append(mujoco_side.envpool_steps_per_s(
+            task, num_envs=n_envs, num_threads=2, seconds=args.seconds))
+    return statistics.median(ours), statistics.median(theirs)
+
+
 def reacher(args):
     """Apples to apples: Gymnasium's own reacher.xml on both sides, 0.02 s per env step.
 
@@ -123,23 +141,12 @@ def reacher(args):
     import gymnasium
     xml = os.path.join(os.path.dirname(gymnasium.__file__), "envs", "mujoco", "assets",
                        "reacher.xml")
-    load = os.path.join(ROOT, "target", "release", "gymfleet-load")
-    report = os.path.join(tempfile.mkdtemp(), "load.json")
     for n_envs in args.reacher_envs:
         for substeps in args.reacher_substeps:
-            ours, theirs = [], []
-            for _ in range(args.rounds):
-                subprocess.run([load, "--model", xml, "--end-effector", "fingertip",
-                                "--dt", "0.02", "--substeps", str(substeps),
-                                "--amplitude", "200", "--n-envs", str(n_envs),
-                                "--threads", "2", "--duration", str(args.seconds),
-                                "--warmup", "1", "--quiet", "--json", report],
-                               check=True, capture_output=True)
-                with open(report) as f:
-                    ours.append(json.load(f)["runs"][0]["env_steps_per_s"])
-                theirs.append(mujoco_side.envpool_reacher_steps_per_s(
-                    num_envs=n_envs, num_threads=2, seconds=args.seconds))
-            a, b = statistics.median(ours), statistics.median(theirs)
+            a, b = same_model_rounds(
+                args, ["--model", xml, "--end-effector", "fingertip", "--dt", "0.02",
+                       "--substeps", str(substeps), "--amplitude", "200"],
+                "Reacher-v5", n_envs)
             print(f"Reacher, {n_envs} envs, 2 threads, 0.02 s per env step: gymfleet remote "
                   f"StepBatch ({substeps} Euler substeps) {a:9.0f} env-steps/s, EnvPool "
                   f"Reacher-v5 sync (2 RK4 steps) {b:9.0f}: ratio {a / b:.2f}; simulated "
@@ -165,25 +172,14 @@ def locomotion(args):
     """
     import gymnasium
     assets = os.path.join(os.path.dirname(gymnasium.__file__), "envs", "mujoco", "assets")
-    load = os.path.join(ROOT, "target", "release", "gymfleet-load")
-    report = os.path.join(tempfile.mkdtemp(), "load.json")
     for name in args.locomotion_models:
         xml, task, gear, dt = LOCOMOTION[name]
         for n_envs in args.reacher_envs:
             for substeps in args.locomotion_substeps:
-                ours, theirs = [], []
-                for _ in range(args.rounds):
-                    subprocess.run([load, "--model", os.path.join(assets, xml),
-                                    "--dt", str(dt), "--substeps", str(substeps),
-                                    "--amplitude", str(gear), "--n-envs", str(n_envs),
-                                    "--threads", "2", "--duration", str(args.seconds),
-                                    "--warmup", "1", "--quiet", "--json", report],
-                                   check=True, capture_output=True)
-                    with open(report) as f:
-                        ours.append(json.load(f)["runs"][0]["env_steps_per_s"])
-                    theirs.append(mujoco_side.envpool_steps_per_s(
-                        task, num_envs=n_envs, num_threads=2, seconds=args.seconds))
-                a, b = statistics.median(ours), statistics.median(theirs)
+                a, b = same_model_rounds(
+                    args, ["--model", os.path.join(assets, xml), "--dt", str(dt),
+                           "--substeps", str(substeps), "--amplitude", str(gear)],
+                    task, n_envs)
                 print(f"{name}, {n_envs} envs, 2 threads, {dt} s per env step: gymfleet "
                       f"remote StepBatch ({substeps} Euler substeps) {a:9.0f} env-steps/s, "
                       f"EnvPool {task} sync {b:9.0f}: ratio {a / b:.2f}")

@@ -101,32 +101,6 @@ impl RobotWorld {
         // The joints' initial positions, before anything reads the pose (gains, snapshot).
         apply_initial_positions(&mut sets, assembly, &bodies)?;
 
-        // Passive springs (MuJoCo's joint stiffness): Rapier's implicit joint spring on the
-        // joint's one free axis (a revolute joint's angle is angular X, a prismatic joint's
-        // displacement linear X), the rest position measured like the joint's coordinate.
-        for joint in assembly.joints.iter().filter(|j| j.stiffness > 0.0) {
-            let axis = match joint.kind {
-                JointType::Revolute => 3,
-                JointType::Prismatic => 0,
-                _ => continue,
-            };
-            let link = sets
-                .multibody_joints
-                .rigid_body_link(bodies[joint.child])
-                .copied();
-            if let Some(l) = link {
-                if let Some(mb) = sets.multibody_joints.get_multibody_mut(l.multibody) {
-                    if let Some(link) = mb.link_mut(l.id) {
-                        link.joint.set_spring(
-                            axis,
-                            joint.stiffness as Real,
-                            joint.spring_rest as Real,
-                        );
-                    }
-                }
-            }
-        }
-
         // Armature first: the default PD gains below follow each DOF's apparent inertia,
         // which includes it.
         for joint in assembly.joints.iter().filter(|j| j.armature > 0.0) {
@@ -178,6 +152,22 @@ impl RobotWorld {
                 })
                 .clone();
             let assembly_id = mb.link(link_id.id).expect("link exists").assembly_id();
+            // A passive spring (MuJoCo's joint stiffness): Rapier's implicit joint spring on
+            // the joint's one free axis (a revolute joint's angle is angular X, a prismatic
+            // joint's displacement linear X), its rest measured like the joint's coordinate.
+            // The default gains above exclude springs, so setting it here changes nothing
+            // for them.
+            let spring_axis = match joint.kind {
+                JointType::Revolute => Some(3),
+                JointType::Prismatic => Some(0),
+                _ => None,
+            };
+            if let (Some(axis), true) = (spring_axis, joint.stiffness > 0.0) {
+                if let Some(link) = mb.link_mut(link_id.id) {
+                    link.joint
+                        .set_spring(axis, joint.stiffness as Real, joint.spring_rest as Real);
+                }
+            }
             for k in 0..joint.kind.dof() {
                 mb.damping_mut()[assembly_id + k] = joint.damping as Real;
                 mb.frictions_mut()[assembly_id + k] = joint.friction as Real;
