@@ -674,3 +674,35 @@ fn springs_and_total_mass_convert_or_name_their_line() {
         "line 3: <joint>: stiffness on a ball joint (a rotational spring) is not supported yet"
     );
 }
+
+/// What a free joint carries that the base's six DOFs cannot take (damping, armature) is
+/// warned about; a second free body moves freely, and a warning says it is not the
+/// observed base.
+#[test]
+fn free_joint_extras_and_a_second_free_body_are_warned_about() {
+    let xml = bare(
+        r#"<geom type="plane" size="1 1 0.1"/><body name="a"><joint type="free" damping="2" armature="0.1"/><geom size="0.1"/></body><body name="b" pos="1 0 0"><freejoint/><geom size="0.1"/></body>"#,
+    );
+    let converted = mjcf_to_document(&xml).expect("converts");
+    let w = &converted.warnings;
+    assert!(
+        w.iter()
+            .any(|m| m.contains("damping on a free joint ignored (the base's six DOFs take none)")),
+        "{w:?}"
+    );
+    assert!(
+        w.iter()
+            .any(|m| m.contains("armature on a free joint ignored")),
+        "{w:?}"
+    );
+    assert!(
+        w.iter()
+            .any(|m| m.contains("a second free body moves freely, but only the first")),
+        "{w:?}"
+    );
+    assert_eq!(converted.document["floating_base"], true);
+    assert_eq!(
+        converted.document["assembly"]["instances"][0]["name"],
+        "a_geom"
+    );
+}
