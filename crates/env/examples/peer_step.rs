@@ -14,7 +14,9 @@
 //! - `sine`: `A_j·sin(2π·f_j·t + φ_j)`, `f_j` ∈ U(0.5, 1.5) Hz, `φ_j` ∈ U(0, 2π);
 //! - `random`: U(−A_j, A_j) per env step.
 //!
-//! The env is reset every 1000 env steps, inside the timed loop. Prints one JSON object.
+//! The env is reset every 1000 env steps, inside the timed loop. Prints one JSON object;
+//! its `obs_hash` (of every observation of the last repeat) tells whether two builds step
+//! the same trajectory bit for bit.
 
 use std::time::Instant;
 
@@ -148,7 +150,11 @@ fn main() {
     });
     let mut obs = vec![0.0f32; env.spec().observation_dim];
     let mut diverged = 0usize;
+    // FNV-1a over the bits of every observation of the last repeat: two builds that print
+    // the same hash stepped the same trajectory bit for bit.
+    let mut obs_hash = 0u64;
     let mut run = |rows: &[Vec<f32>]| {
+        obs_hash = 0xcbf2_9ce4_8422_2325;
         let start = Instant::now();
         for (i, action) in rows.iter().enumerate() {
             if i % RESET_EVERY == 0 {
@@ -161,6 +167,9 @@ fn main() {
                 diverged += 1;
                 env.reset_into(None, &mut obs);
             }
+            for x in &obs {
+                obs_hash = (obs_hash ^ u64::from(x.to_bits())).wrapping_mul(0x0100_0000_01b3);
+            }
         }
         start.elapsed().as_secs_f64() / rows.len() as f64 * 1e6
     };
@@ -171,7 +180,8 @@ fn main() {
     let median = us[us.len() / 2];
     println!(
         "{{\"document\": {:?}, \"variant\": {:?}, \"substeps\": {}, \"dofs\": {dofs}, \
-         \"us_per_env_step\": {median:.3}, \"repeats_us\": {repeats:?}, \"diverged\": {diverged}}}",
+         \"us_per_env_step\": {median:.3}, \"repeats_us\": {repeats:?}, \"diverged\": {diverged}, \
+         \"obs_hash\": \"{obs_hash:016x}\"}}",
         args.document, args.variant, args.substeps
     );
 }

@@ -43,6 +43,10 @@ pub(crate) struct VelocitySolver {
     pub generic_solver_vels: DVector,
     pub generic_solver_vels_increment: DVector,
     pub multibody_roots: Vec<MultibodyLinkId>,
+    /// Whether the island has contacts or impulse joints that may involve a multibody: then every
+    /// multibody's `inv_augmented_mass` is factorized at each substep (gymfleet patch, see
+    /// `PATCHES.md`); otherwise only those whose own constraints need it.
+    pub multibody_external_constraints: bool,
     /// Per-solver-body gyroscopic parameters (3D), indexed like `solver_bodies`; consumed each
     /// substep by the velocity-increment stage, gated by a global "any gyroscopic body" flag so
     /// gyro-free scenes (the common case) skip the pass entirely.
@@ -58,6 +62,7 @@ impl VelocitySolver {
             generic_solver_vels: DVector::zeros(0),
             generic_solver_vels_increment: DVector::zeros(0),
             multibody_roots: Vec::new(),
+            multibody_external_constraints: true,
             #[cfg(feature = "dim3")]
             solver_gyro: Vec::new(),
         }

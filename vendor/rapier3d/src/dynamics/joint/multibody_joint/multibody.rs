@@ -163,6 +163,10 @@ pub struct Multibody {
     // TODO: use sparse matrices?
     augmented_mass: DMatrix<Real>,
     inv_augmented_mass: MassMatrixLu,
+    /// Whether `augmented_mass` changed since `inv_augmented_mass` was factorized (gymfleet
+    /// patch, see `PATCHES.md`: it is factorized only when a constraint or the hard limits need
+    /// it, see [`Multibody::factorize_inv_augmented_mass`]).
+    inv_augmented_mass_stale: bool,
     // The indexing sequence for moving all kinematics degrees of
     // freedoms to the end of the generalized coordinates vector.
     augmented_mass_indices: IndexSequence,
@@ -214,6 +218,7 @@ impl Multibody {
             body_jacobians: Vec::new(),
             augmented_mass: DMatrix::zeros(0, 0),
             inv_augmented_mass: MassMatrixLu::default(),
+            inv_augmented_mass_stale: false,
             acc_augmented_mass: DMatrix::zeros(0, 0),
             acc_inv_augmented_mass: MassMatrixLu::default(),
             augmented_mass_indices: IndexSequence::new(),
@@ -431,8 +436,44 @@ impl Multibody {
     }
 
     /// The inverse augmented mass matrix of this multibody.
+    ///
+    /// The solver factorizes it only in the substeps where a constraint on this multibody (a
+    /// contact, a joint, a motor, dry friction, a coupling, a limit it is past) or a hard limit
+    /// needs it; call [`Multibody::factorize_inv_augmented_mass`] first to be sure it matches the
+    /// last mass matrix.
     pub fn inv_augmented_mass(&self) -> &MassMatrixLu {
+        debug_assert!(
+            !self.inv_augmented_mass_stale,
+            "inv_augmented_mass read before factorize_inv_augmented_mass"
+        );
         &self.inv_augmented_mass
+    }
+
+    /// Factorizes the augmented mass matrix built by the last mass-matrix update into
+    /// [`Multibody::inv_augmented_mass`], if it has not been already (gymfleet patch, see
+    /// `PATCHES.md`).
+    pub fn factorize_inv_augmented_mass(&mut self) {
+        if self.inv_augmented_mass_stale {
+            let effective_dim = self
+                .augmented_mass_indices
+                .dim_after_removal(self.augmented_mass.nrows());
+            self.inv_augmented_mass
+                .factorize_leading(&self.augmented_mass, effective_dim);
+            self.inv_augmented_mass_stale = false;
+        }
+    }
+
+    /// Whether this multibody's own velocity constraints need [`Multibody::inv_augmented_mass`]
+    /// at its current configuration (gymfleet patch, see `PATCHES.md`): a motor, dry friction or
+    /// a DoF coupling always does, a limit only while the joint is past it (the same test as
+    /// the limit constraint's). Contacts and impulse joints are the solver's to add.
+    pub(crate) fn own_constraints_need_inv_augmented_mass(&self) -> bool {
+        !self.couplings.is_empty()
+            || self.frictions.iter().any(|f| *f > 0.0)
+            || self
+                .links
+                .iter()
+                .any(|link| link.joint.has_engaged_velocity_constraints())
     }
 
     /// The first link of this multibody.
@@ -837,6 +878,7 @@ impl Multibody {
             _ => {
                 // The implicit solve injected energy (or produced non-finite
                 // values): fall back to the plain mass matrix.
+                self.factorize_inv_augmented_mass();
                 self.accelerations.copy_from(gen_forces);
                 self.augmented_mass_indices.with_rearranged_rows_mut(
                     &mut self.accelerations,
@@ -1401,8 +1443,9 @@ impl Multibody {
         self.augmented_mass_indices
             .rearrange_rows(&mut self.augmented_mass, true);
 
-        self.inv_augmented_mass
-            .factorize_leading(&self.augmented_mass, effective_dim);
+        // gymfleet patch (see `PATCHES.md`): `inv_augmented_mass` serves only constraints and
+        // hard limits; it is factorized on demand (`factorize_inv_augmented_mass`).
+        self.inv_augmented_mass_stale = true;
     }
 
     /// Per-DoF inverse joint-space inertia `diag(M⁻¹)` at the current configuration, where `M`
@@ -1416,6 +1459,7 @@ impl Multibody {
         // `dt²·stiffness` diagonal terms, leaving exactly `M + armature`.
         self.forward_kinematics(bodies, false);
         self.update_mass_matrix(0.0, bodies);
+        self.factorize_inv_augmented_mass();
 
         let n = self.ndofs;
         let mut out = DVector::zeros(n);
@@ -1521,7 +1565,7 @@ impl Multibody {
             for k in 0..ndofs {
                 jacobians[j_id + ndofs + k] = jacobians[j_id + k];
             }
-            self.inv_augmented_mass
+            self.inv_augmented_mass()
                 .solve_mut(&mut jacobians.rows_mut(j_id + ndofs, ndofs));
 
             // lhs = Jᵀ M⁻¹ J = Σ J[k]·WJ[k]; only g1/g2 entries of J are nonzero.
@@ -1647,6 +1691,8 @@ impl Multibody {
         if v * outward <= 0.0 {
             return false;
         }
+        // gymfleet patch (see `PATCHES.md`): factorized on demand.
+        self.factorize_inv_augmented_mass();
         let response = &mut self.workspace.ndofs_vec;
         if response.len() != self.ndofs {
             // The root's joint type (free or fixed) changes the DoF count after `add_link`.
@@ -2044,7 +2090,7 @@ impl Multibody {
             let mut out_invm_j = jacobians.rows_mut(wj_id, self.ndofs);
             self.augmented_mass_indices
                 .with_rearranged_rows_mut(&mut out_invm_j, |out_invm_j| {
-                    self.inv_augmented_mass.solve_mut(out_invm_j);
+                    self.inv_augmented_mass().solve_mut(out_invm_j);
                 });
         }
 
@@ -2117,7 +2163,7 @@ impl Multibody {
             let mut out_invm_j = jacobians.rows_mut(wj_id, self.ndofs);
             self.augmented_mass_indices
                 .with_rearranged_rows_mut(&mut out_invm_j, |out_invm_j| {
-                    self.inv_augmented_mass.solve_mut(out_invm_j);
+                    self.inv_augmented_mass().solve_mut(out_invm_j);
                 });
         }
 

@@ -277,6 +277,16 @@ impl GenericJointConstraint {
         solver_vels: &mut SolverBodies,
         generic_solver_vels: &mut DVector,
     ) {
+        // gymfleet patch (see `PATCHES.md`): a constraint over no DoF on either side whose
+        // impulse is held at zero (an inactive multibody limit) has nothing to read, change
+        // or push.
+        if self.ndofs1 == 0
+            && self.ndofs2 == 0
+            && self.impulse == 0.0
+            && self.impulse_bounds == [0.0, 0.0]
+        {
+            return;
+        }
         let jacobians = jacobians.as_slice();
 
         let solver_vel1 = self.solver_vel1(solver_vels, generic_solver_vels);

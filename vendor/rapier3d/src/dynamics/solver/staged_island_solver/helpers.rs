@@ -107,6 +107,11 @@ impl VelocitySolver {
                 .unwrap();
             multibody.update_velocities(bodies);
             multibody.update_mass_matrix(params.dt, bodies);
+            if self.multibody_external_constraints
+                || multibody.own_constraints_need_inv_augmented_mass()
+            {
+                multibody.factorize_inv_augmented_mass();
+            }
             multibody.update_acceleration(params.dt, bodies);
 
             let mut solver_vels_incr = self
@@ -151,6 +156,11 @@ impl VelocitySolver {
             if !is_last_substep {
                 multibody.update_velocities(bodies);
                 multibody.update_mass_matrix(params.dt, bodies);
+                if self.multibody_external_constraints
+                    || multibody.own_constraints_need_inv_augmented_mass()
+                {
+                    multibody.factorize_inv_augmented_mass();
+                }
                 multibody.update_acceleration(params.dt, bodies);
 
                 let mut solver_vels_incr = self

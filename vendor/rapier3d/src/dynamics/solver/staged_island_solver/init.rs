@@ -155,6 +155,11 @@ impl StagedIslandSolver {
             g.soft_slots = sg.slots.clone();
         }
         let num_soft_slots = self.soft_constraints.slots.len();
+        // gymfleet patch (see `PATCHES.md`): without contacts on a multibody or impulse joints
+        // in the island, a multibody's plain mass matrix is factorized only for its own
+        // constraints.
+        self.velocity_solver.multibody_external_constraints =
+            !graph.generic().is_empty() || !joint_indices.is_empty();
         self.velocity_solver.init_solver_buffers_and_multibodies(
             &params,
             island_bodies,
