@@ -105,6 +105,14 @@ impl RobotWorld {
             if axes.is_empty() {
                 continue;
             }
+            // A joint that is to have no motor and has none is left untouched: a mutable
+            // access to a link makes Rapier redo its multibody's forward kinematics at the next
+            // step (`vendor/rapier3d/PATCHES.md` 14), and under torques nothing changes.
+            let motorless = mode == ActionMode::Torque
+                || (0..axes.len()).all(|k| !self.dofs[slot.first_dof + k].actuated);
+            if motorless && !self.has_motor(slot, axes) {
+                continue;
+            }
             let Some(mb) = self.live.multibody_joints.get_multibody_mut(slot.multibody) else {
                 continue;
             };
@@ -159,6 +167,22 @@ impl RobotWorld {
                 }
             }
         }
+    }
+
+    /// Whether any of `axes` of the joint in `slot` has a Rapier motor.
+    fn has_motor(&self, slot: &JointSlot, axes: &[JointAxis]) -> bool {
+        self.live
+            .multibody_joints
+            .get_multibody(slot.multibody)
+            .and_then(|mb| mb.link(slot.link))
+            .is_some_and(|link| {
+                axes.iter().any(|&axis| {
+                    link.joint
+                        .data
+                        .motor_axes
+                        .contains(JointAxesMask::from(axis))
+                })
+            })
     }
 
     /// Whether some effort depends on the state within a step (the explicit PD of ball

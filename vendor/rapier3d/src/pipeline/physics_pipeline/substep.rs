@@ -434,6 +434,15 @@ impl PhysicsPipeline {
         // TODO: do this only on user-change.
         // TODO: do we want some kind of automatic inverse kinematics?
         for multibody in &mut multibody_joints.multibodies {
+            // gymfleet patch (see `PATCHES.md`): a fixed-root multibody the last step left
+            // current, untouched since (no link, link body or collider modified), would get
+            // back the very poses it has.
+            let current =
+                modified_colliders.is_empty() && multibody.1.kinematics_are_current(bodies);
+            multibody.1.set_kinematics_current(false);
+            if current {
+                continue;
+            }
             multibody.1.forward_kinematics(bodies, true);
             multibody
                 .1
@@ -665,6 +674,11 @@ impl PhysicsPipeline {
 
         if any_ccd_active {
             self.counters.ccd.num_substeps = num_passes;
+            // gymfleet patch (see `PATCHES.md`): the CCD may have clamped link bodies' poses
+            // after the solver left their multibodies' kinematics current.
+            for multibody in &mut multibody_joints.multibodies {
+                multibody.1.set_kinematics_current(false);
+            }
         }
 
         // Finally, make sure we update the world mass-properties of the rigid-bodies

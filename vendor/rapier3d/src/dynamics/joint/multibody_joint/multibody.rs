@@ -167,6 +167,10 @@ pub struct Multibody {
     /// patch, see `PATCHES.md`: it is factorized only when a constraint or the hard limits need
     /// it, see [`Multibody::factorize_inv_augmented_mass`]).
     inv_augmented_mass_stale: bool,
+    /// Whether the links' poses, shifts and body jacobians, and the link bodies' poses, are
+    /// those of the current coordinates, as the solver left them after the last substep of a
+    /// step (gymfleet patch, see `PATCHES.md`); any mutable access to the links clears it.
+    kinematics_current: bool,
     // The indexing sequence for moving all kinematics degrees of
     // freedoms to the end of the generalized coordinates vector.
     augmented_mass_indices: IndexSequence,
@@ -219,6 +223,7 @@ impl Multibody {
             augmented_mass: DMatrix::zeros(0, 0),
             inv_augmented_mass: MassMatrixLu::default(),
             inv_augmented_mass_stale: false,
+            kinematics_current: false,
             acc_augmented_mass: DMatrix::zeros(0, 0),
             acc_inv_augmented_mass: MassMatrixLu::default(),
             augmented_mass_indices: IndexSequence::new(),
@@ -343,6 +348,7 @@ impl Multibody {
     }
 
     pub(crate) fn append(&mut self, mut rhs: Multibody, parent: usize, joint: MultibodyJoint) {
+        self.kinematics_current = false;
         let joint_ndofs = joint.ndofs();
         let rhs_root_ndofs = rhs.links[0].joint.ndofs();
         let ndofs_before_append = self.velocities.len();
@@ -463,6 +469,25 @@ impl Multibody {
         }
     }
 
+    /// Records that the solver just ran forward kinematics on the coordinates it integrated
+    /// and wrote the link bodies' poses (gymfleet patch, see `PATCHES.md`).
+    pub(crate) fn set_kinematics_current(&mut self, current: bool) {
+        self.kinematics_current = current;
+    }
+
+    /// Whether the next step can skip its forward kinematics (gymfleet patch, see
+    /// `PATCHES.md`): the solver left the kinematics current, nothing has touched the links
+    /// since, the root is fixed (a kinematic root moves by its body's pose, a free root's pose
+    /// is read back from its body) and no link body was modified by the user.
+    pub(crate) fn kinematics_are_current(&self, bodies: &RigidBodySet) -> bool {
+        self.kinematics_current
+            && self.links.iter().all(|link| {
+                bodies.get(link.rigid_body).is_some_and(|rb| {
+                    rb.changes.is_empty() && (link.internal_id != 0 || rb.is_fixed())
+                })
+            })
+    }
+
     /// Whether this multibody's own velocity constraints need [`Multibody::inv_augmented_mass`]
     /// at its current configuration (gymfleet patch, see `PATCHES.md`): a motor, dry friction or
     /// a DoF coupling always does, a limit only while the joint is past it (the same test as
@@ -485,6 +510,7 @@ impl Multibody {
     /// Mutable reference to the first link of this multibody.
     #[inline]
     pub fn root_mut(&mut self) -> &mut MultibodyLink {
+        self.kinematics_current = false;
         &mut self.links[0]
     }
 
@@ -501,6 +527,7 @@ impl Multibody {
     /// Return `None` if the given id does not identifies a multibody link part of `self`.
     #[inline]
     pub fn link_mut(&mut self, id: usize) -> Option<&mut MultibodyLink> {
+        self.kinematics_current = false;
         self.links.get_mut(id)
     }
 
@@ -520,6 +547,7 @@ impl Multibody {
     ///
     /// All link are guaranteed to be yielded before its descendant.
     pub fn links_mut(&mut self) -> impl Iterator<Item = &mut MultibodyLink> {
+        self.kinematics_current = false;
         self.links.iter_mut()
     }
 
@@ -607,6 +635,7 @@ impl Multibody {
         dof: MultibodyJoint,
         body: RigidBodyHandle,
     ) -> &mut MultibodyLink {
+        self.kinematics_current = false;
         assert!(
             parent.is_none() || !self.links.is_empty(),
             "Multibody::build_body: invalid parent id."
@@ -1719,6 +1748,7 @@ impl Multibody {
     /// Note this does **not** updates the link poses, only their generalized coordinates.
     /// To update the link poses and associated rigid-bodies, call [`Self::forward_kinematics`].
     pub fn apply_displacements(&mut self, disp: &[Real]) {
+        self.kinematics_current = false;
         for link in self.links.iter_mut() {
             link.joint.apply_displacement(&disp[link.assembly_id..])
         }

@@ -152,6 +152,10 @@ impl VelocitySolver {
             }
             multibody.forward_kinematics(bodies, false);
             multibody.update_rigid_bodies_internal(bodies, !is_last_substep, true, false);
+            // gymfleet patch (see `PATCHES.md`): after the last substep the links and their
+            // bodies' next poses are those of the final coordinates; the pipeline's advance
+            // makes them the bodies' poses (and their world mass properties).
+            multibody.set_kinematics_current(is_last_substep);
 
             if !is_last_substep {
                 multibody.update_velocities(bodies);
