@@ -330,6 +330,9 @@ impl MultibodyJoint {
             return true;
         }
         let limited = self.data.limit_axes.bits() & free;
+        if limited == 0 {
+            return false;
+        }
         (0..SPATIAL_DIM).any(|i| {
             let limits = &self.data.limits[i];
             limited & (1 << i) != 0
