@@ -544,35 +544,21 @@ impl Validator {
                     );
                 }
             });
-            let armature = def.armature.inspect(|&a| {
-                if !(a.is_finite() && a >= 0.0) {
-                    self.push(
-                        format!("{path}.armature"),
-                        format!("expected an armature >= 0 (kg·m² or kg), got {a}"),
-                    );
-                }
-            });
-            if def.kind == JointType::Fixed && armature.is_some_and(|a| a > 0.0) {
-                self.push(
-                    format!("{path}.armature"),
-                    "a fixed joint has no DOF to add armature to".to_string(),
-                );
-            }
+            let armature = self.dof_quantity(
+                &path,
+                def,
+                ("armature", def.armature),
+                "an armature >= 0 (kg·m² or kg)",
+                "to add armature to",
+            );
             let (stiffness, spring_rest) = self.spring(&path, def);
-            let friction = def.friction.inspect(|&f| {
-                if !(f.is_finite() && f >= 0.0) {
-                    self.push(
-                        format!("{path}.friction"),
-                        format!("expected a friction >= 0 (N·m or N), got {f}"),
-                    );
-                }
-            });
-            if def.kind == JointType::Fixed && friction.is_some_and(|f| f > 0.0) {
-                self.push(
-                    format!("{path}.friction"),
-                    "a fixed joint has no DOF to resist with friction".to_string(),
-                );
-            }
+            let friction = self.dof_quantity(
+                &path,
+                def,
+                ("friction", def.friction),
+                "a friction >= 0 (N·m or N)",
+                "to resist with friction",
+            );
             let actuated = def.actuated.unwrap_or(true);
             if !actuated && max_effort.is_some() {
                 self.push(
@@ -772,6 +758,31 @@ impl Validator {
             }
         }
         initial
+    }
+
+    /// A joint's per-DOF quantity that must be finite and >= 0 (armature, friction), and that
+    /// a fixed joint, with no DOF, cannot take above zero.
+    fn dof_quantity(
+        &mut self,
+        path: &str,
+        def: &JointDef,
+        (field, value): (&str, Option<f64>),
+        expected: &str,
+        on_fixed: &str,
+    ) -> Option<f64> {
+        if let Some(v) = value.filter(|v| !(v.is_finite() && *v >= 0.0)) {
+            self.push(
+                format!("{path}.{field}"),
+                format!("expected {expected}, got {v}"),
+            );
+        }
+        if def.kind == JointType::Fixed && value.is_some_and(|v| v > 0.0) {
+            self.push(
+                format!("{path}.{field}"),
+                format!("a fixed joint has no DOF {on_fixed}"),
+            );
+        }
+        value
     }
 
     /// A joint's passive spring: its stiffness (SI) and rest position (deg or mm).
