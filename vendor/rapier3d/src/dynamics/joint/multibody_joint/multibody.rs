@@ -488,6 +488,25 @@ impl Multibody {
             })
     }
 
+    /// The solver's per-substep update of the dynamics at the current configuration: the
+    /// links' velocities, both mass matrices, and the free accelerations. The plain mass
+    /// matrix is factorized only if the island's contacts or impulse joints
+    /// (`external_constraints`) or this multibody's own constraints may read it (gymfleet
+    /// patch, see `PATCHES.md`).
+    pub(crate) fn update_dynamics(
+        &mut self,
+        dt: Real,
+        bodies: &mut RigidBodySet,
+        external_constraints: bool,
+    ) {
+        self.update_velocities(bodies);
+        self.update_mass_matrix(dt, bodies);
+        if external_constraints || self.own_constraints_need_inv_augmented_mass() {
+            self.factorize_inv_augmented_mass();
+        }
+        self.update_acceleration(dt, bodies);
+    }
+
     /// Whether this multibody's own velocity constraints need [`Multibody::inv_augmented_mass`]
     /// at its current configuration (gymfleet patch, see `PATCHES.md`): a motor, dry friction or
     /// a DoF coupling always does, a limit only while the joint is past it (the same test as

@@ -105,14 +105,7 @@ impl VelocitySolver {
             let multibody = multibodies
                 .get_multibody_mut_internal(link.multibody)
                 .unwrap();
-            multibody.update_velocities(bodies);
-            multibody.update_mass_matrix(params.dt, bodies);
-            if self.multibody_external_constraints
-                || multibody.own_constraints_need_inv_augmented_mass()
-            {
-                multibody.factorize_inv_augmented_mass();
-            }
-            multibody.update_acceleration(params.dt, bodies);
+            multibody.update_dynamics(params.dt, bodies, self.multibody_external_constraints);
 
             let mut solver_vels_incr = self
                 .generic_solver_vels_increment
@@ -158,14 +151,7 @@ impl VelocitySolver {
             multibody.set_kinematics_current(is_last_substep);
 
             if !is_last_substep {
-                multibody.update_velocities(bodies);
-                multibody.update_mass_matrix(params.dt, bodies);
-                if self.multibody_external_constraints
-                    || multibody.own_constraints_need_inv_augmented_mass()
-                {
-                    multibody.factorize_inv_augmented_mass();
-                }
-                multibody.update_acceleration(params.dt, bodies);
+                multibody.update_dynamics(params.dt, bodies, self.multibody_external_constraints);
 
                 let mut solver_vels_incr = self
                     .generic_solver_vels_increment
