@@ -44,6 +44,19 @@ impl MassMatrixLu {
         self.invertible
     }
 
+    /// Makes this factorisation a copy of `other`, reusing this one's storage (gymfleet patch,
+    /// see `PATCHES.md`).
+    pub fn copy_from(&mut self, other: &MassMatrixLu) {
+        if self.lu.shape() != other.lu.shape() {
+            self.lu = other.lu.clone();
+        } else {
+            self.lu.copy_from(&other.lu);
+        }
+        self.swaps.clear();
+        self.swaps.extend_from_slice(&other.swaps);
+        self.invertible = other.invertible;
+    }
+
     /// Factorises the square matrix `a`, reusing this factorisation's storage.
     pub fn factorize<S: Storage<Real, Dyn, Dyn>>(&mut self, a: &Matrix<Real, Dyn, Dyn, S>) {
         let n = a.nrows();

@@ -49,6 +49,13 @@ fn concat_rb_mass_matrix(mass: Vector, inertia: Real) -> SMatrix<Real, SPATIAL_D
 
 /// Makes `v` a zero vector of length `n`, reusing its allocation when it already has that
 /// length (gymfleet patch: per-substep buffers live in the multibody's workspace).
+/// The largest motion of any DoF (radians, or length units) within one substep below which a
+/// multibody counts as still, and its mass matrix leaves out the velocity-dependent terms
+/// (gymfleet patch, see `PATCHES.md`): those terms change the semi-implicit mass matrix by a
+/// relative amount of the order of this motion, here 10⁻¹², some 10⁵ times below `f32`'s
+/// resolution. A multibody held still in balance moves by about 10⁻¹⁶ per substep (rounding).
+pub const NEGLIGIBLE_MOTION_PER_SUBSTEP: Real = 1.0e-12;
+
 fn resize_zeroed(v: &mut DVector, n: usize) {
     if v.len() == n {
         v.fill(0.0);
@@ -177,6 +184,10 @@ pub struct Multibody {
 
     acc_augmented_mass: DMatrix<Real>,
     acc_inv_augmented_mass: MassMatrixLu,
+    /// Whether the last mass-matrix update left out the velocity terms because they were
+    /// negligible, so that `acc_augmented_mass` is `augmented_mass` (gymfleet patch, see
+    /// `PATCHES.md` and [`NEGLIGIBLE_MOTION_PER_SUBSTEP`]).
+    velocity_terms_skipped: bool,
 
     ndofs: usize,
     pub(crate) root_is_dynamic: bool,
@@ -226,6 +237,7 @@ impl Multibody {
             kinematics_current: false,
             acc_augmented_mass: DMatrix::zeros(0, 0),
             acc_inv_augmented_mass: MassMatrixLu::default(),
+            velocity_terms_skipped: false,
             augmented_mass_indices: IndexSequence::new(),
             ndofs: 0,
             solver_id: 0,
@@ -460,11 +472,17 @@ impl Multibody {
     /// `PATCHES.md`).
     pub fn factorize_inv_augmented_mass(&mut self) {
         if self.inv_augmented_mass_stale {
-            let effective_dim = self
-                .augmented_mass_indices
-                .dim_after_removal(self.augmented_mass.nrows());
-            self.inv_augmented_mass
-                .factorize_leading(&self.augmented_mass, effective_dim);
+            if self.velocity_terms_skipped {
+                // Both matrices are the same: so are their factorizations.
+                self.inv_augmented_mass
+                    .copy_from(&self.acc_inv_augmented_mass);
+            } else {
+                let effective_dim = self
+                    .augmented_mass_indices
+                    .dim_after_removal(self.augmented_mass.nrows());
+                self.inv_augmented_mass
+                    .factorize_leading(&self.augmented_mass, effective_dim);
+            }
             self.inv_augmented_mass_stale = false;
         }
     }
@@ -1035,7 +1053,14 @@ impl Multibody {
     /// `acc_augmented_mass`, on the link's span only. The same arithmetic as the generic 2D
     /// path, written column by column with the structure of each product.
     #[cfg(feature = "dim3")]
-    fn accumulate_link_mass_3d(&mut self, i: usize, span: usize, dt: Real, bodies: &RigidBodySet) {
+    fn accumulate_link_mass_3d(
+        &mut self,
+        i: usize,
+        span: usize,
+        dt: Real,
+        velocity_terms: bool,
+        bodies: &RigidBodySet,
+    ) {
         if span == 0 {
             // A fixed root (or links welded to it): nothing moves it, it adds nothing.
             return;
@@ -1048,9 +1073,12 @@ impl Multibody {
 
         /*
          * Coriolis terms, column by column: `coriolis_v`/`coriolis_w` hold, for each DoF,
-         * the linear/angular part of `JDot + JDot/u·qdot` of this link.
+         * the linear/angular part of `JDot + JDot/u·qdot` of this link. Left out, with every
+         * other velocity term, when the multibody is still (see `update_mass_matrix`).
          */
-        if i != 0 {
+        if !velocity_terms {
+            // Nothing to compute: `coriolis_v`/`coriolis_w` are not read below.
+        } else if i != 0 {
             let parent_id = link.parent_internal_id;
             let parent_link = &self.links[parent_id];
             let parent_span = parent_link.assembly_id + parent_link.joint.ndofs();
@@ -1131,13 +1159,6 @@ impl Multibody {
         for c in 0..span {
             let jv = vec3_at(rb_j, c * SPATIAL_DIM);
             let jw = vec3_at(rb_j, c * SPATIAL_DIM + DIM);
-            let w = vec3_at(cw, c * DIM);
-            // [c3 - c2].gcross() * (JDot + JDot/u * qdot), JDot, then JDot/u * qdot.
-            let v = vec3_at(cv, c * DIM)
-                + w.cross(shift23)
-                + jw.cross(dvel23)
-                + angvel.cross(jw.cross(shift23));
-            set_vec3_at(cv, c * DIM, v);
             for (rows, value) in ws
                 .jacobian_rows
                 .iter_mut()
@@ -1145,11 +1166,23 @@ impl Multibody {
             {
                 rows[c] = value;
             }
+            let (acc_v, acc_w) = if velocity_terms {
+                let w = vec3_at(cw, c * DIM);
+                // [c3 - c2].gcross() * (JDot + JDot/u * qdot), JDot, then JDot/u * qdot.
+                let v = vec3_at(cv, c * DIM)
+                    + w.cross(shift23)
+                    + jw.cross(dvel23)
+                    + angvel.cross(jw.cross(shift23));
+                set_vec3_at(cv, c * DIM, v);
+                (mass_dt * v, gyroscopic_dt * jw + rb_inertia * (w * dt))
+            } else {
+                (Vector::ZERO, Vector::ZERO)
+            };
             ws.mass_columns[c] = MassColumn {
                 mass_jv: rb_mass * jv,
                 inertia_jw: rb_inertia * jw,
-                acc_v: mass_dt * v,
-                acc_w: gyroscopic_dt * jw + rb_inertia * (w * dt),
+                acc_v,
+                acc_w,
             };
         }
 
@@ -1164,15 +1197,17 @@ impl Multibody {
         let (jx, jy, jz) = (&jx[..span], &jy[..span], &jz[..span]);
         let (wx, wy, wz) = (&wx[..span], &wy[..span], &wz[..span]);
         for (b, col) in ws.mass_columns[..span].iter().enumerate() {
-            let (av, aw) = (col.acc_v, col.acc_w);
-            let acc_col = &mut acc[b * n..b * n + span];
-            for (a, out) in acc_col.iter_mut().enumerate() {
-                *out += jx[a] * av.x
-                    + jy[a] * av.y
-                    + jz[a] * av.z
-                    + wx[a] * aw.x
-                    + wy[a] * aw.y
-                    + wz[a] * aw.z;
+            if velocity_terms {
+                let (av, aw) = (col.acc_v, col.acc_w);
+                let acc_col = &mut acc[b * n..b * n + span];
+                for (a, out) in acc_col.iter_mut().enumerate() {
+                    *out += jx[a] * av.x
+                        + jy[a] * av.y
+                        + jz[a] * av.z
+                        + wx[a] * aw.x
+                        + wy[a] * aw.y
+                        + wz[a] * aw.z;
+                }
             }
             let (mv, iw) = (col.mass_jv, col.inertia_jw);
             let mass_col = &mut mass[b * n..b * n + b + 1];
@@ -1202,6 +1237,18 @@ impl Multibody {
         }
 
         self.augmented_mass_indices.clear();
+
+        // gymfleet patch (see `PATCHES.md`): the velocity-dependent terms (the semi-implicit
+        // coriolis and gyroscopic derivatives, all proportional to a velocity) are left out when
+        // no DoF moves by more than `NEGLIGIBLE_MOTION_PER_SUBSTEP` in this substep: they would
+        // change the matrix by a fraction of that size, far below `Real`'s resolution. The
+        // links' velocities are those of the DoFs (`update_velocities`: a root that is not
+        // dynamic has none), and `!(x < y)` keeps the terms for non-finite velocities.
+        #[cfg(feature = "dim3")]
+        let velocity_terms = !(dt * self.velocities.amax() < NEGLIGIBLE_MOTION_PER_SUBSTEP);
+        #[cfg(feature = "dim2")]
+        let velocity_terms = true;
+        self.velocity_terms_skipped = !velocity_terms;
 
         // Resize coriolis workspaces if the link count or number of DOFs change.
         let coriolis_ndofs = self.coriolis_v.first().map(|m| m.ncols());
@@ -1244,7 +1291,7 @@ impl Multibody {
             }
 
             #[cfg(feature = "dim3")]
-            self.accumulate_link_mass_3d(i, span, dt, bodies);
+            self.accumulate_link_mass_3d(i, span, dt, velocity_terms, bodies);
             #[cfg(feature = "dim2")]
             {
                 let rb = &bodies[link.rigid_body];
@@ -2546,5 +2593,111 @@ mod test {
             vec,
             DVector::from(vec![0.0, 10.0, 0.0, 0.0, 0.0, 50.0, 60.0, 0.0, 80.0, 0.0])
         );
+    }
+}
+
+/// gymfleet patch 15 (`PATCHES.md`): a still multibody's mass matrix leaves out the velocity
+/// terms; these tests pin that they are negligible there and matter elsewhere.
+#[cfg(all(test, feature = "dim3"))]
+mod still_multibody_tests {
+    use super::{Multibody, NEGLIGIBLE_MOTION_PER_SUBSTEP};
+    use crate::math::{DVector, Real, Vector};
+    use crate::prelude::*;
+
+    const DT: Real = 1.0 / 1200.0;
+
+    /// A fixed base and three links on revolute joints about Z, X and Z (general enough for
+    /// every coriolis and gyroscopic term to be non-zero once the chain moves).
+    fn chain() -> (PhysicsWorld, MultibodyJointHandle) {
+        let mut world = PhysicsWorld::new();
+        let mut parent = world.insert_body(RigidBodyBuilder::fixed());
+        let mut joint = None;
+        for (i, axis) in [Vector::Z, Vector::X, Vector::Z].into_iter().enumerate() {
+            let (link, _) = world.insert(
+                RigidBodyBuilder::dynamic()
+                    .translation(Vector::new(0.3 * (i + 1) as Real, 0.05, 0.0)),
+                ColliderBuilder::capsule_x(0.1, 0.02).translation(Vector::new(0.1, 0.0, 0.0)),
+            );
+            let anchor = if i == 0 { Vector::ZERO } else { Vector::new(0.3, 0.05, 0.0) };
+            let rev = RevoluteJointBuilder::new(axis).local_anchor1(anchor);
+            joint = world.insert_multibody_joint(parent, link, rev);
+            parent = link;
+        }
+        (world, joint.unwrap())
+    }
+
+    /// Sets the chain's generalized velocities and updates its dynamics at them.
+    fn update_at(world: &mut PhysicsWorld, joint: MultibodyJointHandle, velocities: &[Real]) {
+        let mb = world.multibody_joints.get_mut(joint).unwrap().0;
+        mb.forward_kinematics(&world.bodies, false);
+        mb.velocities.copy_from_slice(velocities);
+        mb.update_velocities(&mut world.bodies);
+        mb.update_mass_matrix(DT, &world.bodies);
+    }
+
+    fn multibody(world: &mut PhysicsWorld, joint: MultibodyJointHandle) -> &mut Multibody {
+        world.multibody_joints.get_mut(joint).unwrap().0
+    }
+
+    /// `max |acc_augmented_mass − augmented_mass| / max |augmented_mass|`.
+    fn velocity_terms_share(mb: &Multibody) -> Real {
+        (&mb.acc_augmented_mass - &mb.augmented_mass).amax() / mb.augmented_mass.amax()
+    }
+
+    #[test]
+    fn a_still_multibody_leaves_out_the_velocity_terms_and_factorizes_once() {
+        let (mut world, joint) = chain();
+        update_at(&mut world, joint, &[1.0e-13, -2.0e-13, 1.0e-13]);
+        let mb = multibody(&mut world, joint);
+        assert!(mb.velocity_terms_skipped);
+        assert_eq!(mb.acc_augmented_mass, mb.augmented_mass);
+
+        // The plain matrix's factorization, copied from the semi-implicit one, solves
+        // exactly as its own factorization does.
+        mb.factorize_inv_augmented_mass();
+        let mut fresh = super::MassMatrixLu::default();
+        fresh.factorize(&mb.augmented_mass);
+        let mut copied_x = DVector::from_row_slice(&[0.3, -1.0, 2.0]);
+        let mut fresh_x = copied_x.clone();
+        assert!(mb.inv_augmented_mass().solve_mut(&mut copied_x));
+        assert!(fresh.solve_mut(&mut fresh_x));
+        assert_eq!(copied_x, fresh_x);
+    }
+
+    #[test]
+    fn the_velocity_terms_at_the_threshold_are_far_below_f32_resolution() {
+        let (mut world, joint) = chain();
+        // Just above the threshold: computed, and they change the matrix by ~1e-12 of itself.
+        let speed = 1.01 * NEGLIGIBLE_MOTION_PER_SUBSTEP / DT;
+        update_at(&mut world, joint, &[speed, -speed, speed]);
+        let mb = multibody(&mut world, joint);
+        assert!(!mb.velocity_terms_skipped);
+        let share = velocity_terms_share(mb);
+        assert!(share < 1.0e-10, "velocity terms at the threshold: {share:e} of the matrix");
+
+        // At a real speed they matter (so the share above measures something).
+        update_at(&mut world, joint, &[2.0, -3.0, 4.0]);
+        let mb = multibody(&mut world, joint);
+        assert!(!mb.velocity_terms_skipped);
+        let share = velocity_terms_share(mb);
+        assert!(share > 1.0e-4, "velocity terms at 2-4 rad/s: {share:e} of the matrix");
+    }
+
+    #[test]
+    fn a_spinning_free_root_keeps_the_velocity_terms() {
+        let (mut world, joint) = chain();
+        let root = multibody(&mut world, joint).links[0].rigid_body;
+        world
+            .bodies
+            .get_mut(root)
+            .unwrap()
+            .set_body_type(RigidBodyType::Dynamic, true);
+        // The free root's six DoFs come first; spin it about Y, the joints still.
+        let mb = world.multibody_joints.get_mut(joint).unwrap().0;
+        mb.forward_kinematics(&world.bodies, false);
+        update_at(&mut world, joint, &[0.0, 0.0, 0.0, 0.0, 3.0, 0.0, 0.0, 0.0, 0.0]);
+        let mb = multibody(&mut world, joint);
+        assert!(!mb.velocity_terms_skipped);
+        assert!(velocity_terms_share(mb) > 1.0e-4);
     }
 }
