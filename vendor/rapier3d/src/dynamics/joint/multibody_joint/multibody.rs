@@ -21,6 +21,10 @@ use na::{self, DMatrix, DVectorView, DVectorViewMut, Dyn, OMatrix, SMatrix, SVec
 #[cfg(doc)]
 use crate::prelude::{GenericJoint, RigidBody};
 
+#[cfg(feature = "dim3")]
+#[path = "multibody_composite.rs"]
+mod composite;
+
 #[repr(C)]
 #[derive(Copy, Clone, Debug, Default)]
 struct Force {
@@ -205,6 +209,11 @@ pub struct Multibody {
      * Workspaces.
      */
     workspace: MultibodyWorkspace,
+    /// Buffers of the composite-rigid-body construction of the mass matrices (gymfleet patch,
+    /// see `PATCHES.md`).
+    #[cfg(feature = "dim3")]
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    composite_workspace: composite::CompositeWorkspace,
     coriolis_v: Vec<OMatrix<Real, Dim, Dyn>>,
     coriolis_w: Vec<OMatrix<Real, AngDim, Dyn>>,
     i_coriolis_dt: Jacobian<Real>,
@@ -242,6 +251,8 @@ impl Multibody {
             ndofs: 0,
             solver_id: 0,
             workspace: MultibodyWorkspace::new(),
+            #[cfg(feature = "dim3")]
+            composite_workspace: Default::default(),
             coriolis_v: Vec::new(),
             coriolis_w: Vec::new(),
             i_coriolis_dt: Jacobian::zeros(0),
@@ -1232,8 +1243,10 @@ impl Multibody {
             self.augmented_mass = DMatrix::zeros(self.ndofs, self.ndofs);
             self.acc_augmented_mass = DMatrix::zeros(self.ndofs, self.ndofs);
         } else {
-            self.augmented_mass.fill(0.0);
-            self.acc_augmented_mass.fill(0.0);
+            // On the contiguous storage (gymfleet patch, see `PATCHES.md`): nalgebra's
+            // element-wise `fill` is several times slower.
+            self.augmented_mass.as_mut_slice().fill(0.0);
+            self.acc_augmented_mass.as_mut_slice().fill(0.0);
         }
 
         self.augmented_mass_indices.clear();
@@ -1249,6 +1262,10 @@ impl Multibody {
         #[cfg(feature = "dim2")]
         let velocity_terms = true;
         self.velocity_terms_skipped = !velocity_terms;
+        // gymfleet patch (see `PATCHES.md`): chains and trees of one-DoF joints on a root that
+        // is not dynamic build both matrices by composite rigid bodies, after the loop below.
+        #[cfg(feature = "dim3")]
+        let composite = self.composite_applies(bodies);
 
         // Resize coriolis workspaces if the link count or number of DOFs change.
         let coriolis_ndofs = self.coriolis_v.first().map(|m| m.ncols());
@@ -1291,7 +1308,9 @@ impl Multibody {
             }
 
             #[cfg(feature = "dim3")]
-            self.accumulate_link_mass_3d(i, span, dt, velocity_terms, bodies);
+            if !composite {
+                self.accumulate_link_mass_3d(i, span, dt, velocity_terms, bodies);
+            }
             #[cfg(feature = "dim2")]
             {
                 let rb = &bodies[link.rigid_body];
@@ -1475,6 +1494,11 @@ impl Multibody {
             }
         }
 
+        #[cfg(feature = "dim3")]
+        if composite {
+            self.composite_mass_matrices(dt, velocity_terms, bodies);
+        }
+
         // The 3D path accumulates only the upper triangle of the symmetric mass matrix.
         #[cfg(feature = "dim3")]
         {
@@ -1518,8 +1542,15 @@ impl Multibody {
             }
         }
 
-        // The part both matrices share.
-        self.acc_augmented_mass += &self.augmented_mass;
+        // The part both matrices share (on the contiguous storage, gymfleet patch).
+        for (acc, mass) in self
+            .acc_augmented_mass
+            .as_mut_slice()
+            .iter_mut()
+            .zip(self.augmented_mass.as_slice())
+        {
+            *acc += *mass;
+        }
 
         let effective_dim = self
             .augmented_mass_indices
@@ -2699,5 +2730,175 @@ mod still_multibody_tests {
         let mb = multibody(&mut world, joint);
         assert!(!mb.velocity_terms_skipped);
         assert!(velocity_terms_share(mb) > 1.0e-4);
+    }
+}
+
+/// gymfleet patch 16 (`PATCHES.md`): the composite-rigid-body construction of both mass
+/// matrices gives the link-by-link construction's matrices.
+#[cfg(all(test, feature = "dim3"))]
+mod composite_tests {
+    use super::Multibody;
+    use crate::math::{DMatrix, DVector, Real, Vector};
+    use crate::prelude::*;
+
+    const DT: Real = 1.0 / 1200.0;
+
+    /// A fixed base and a tree: revolute Z, prismatic X, revolute Y on one branch, then a
+    /// welded link and a revolute about a skew axis; a revolute X on a second branch. Every
+    /// link's centre of mass is off its joint and the joints start displaced and moving.
+    fn tree() -> (PhysicsWorld, MultibodyJointHandle) {
+        let mut world = PhysicsWorld::new();
+        let base = world.insert_body(RigidBodyBuilder::fixed().translation(Vector::new(0.2, 1.0, -0.1)));
+        let link = |world: &mut PhysicsWorld, at: Vector, half: Vector| {
+            world
+                .insert(
+                    RigidBodyBuilder::dynamic().translation(at),
+                    ColliderBuilder::cuboid(half.x, half.y, half.z)
+                        .translation(Vector::new(half.x, 0.02, -0.01))
+                        .density(700.0 + 100.0 * at.x),
+                )
+                .0
+        };
+        let l1 = link(&mut world, Vector::new(0.2, 1.0, -0.1), Vector::new(0.15, 0.03, 0.02));
+        let l2 = link(&mut world, Vector::new(0.5, 1.0, -0.1), Vector::new(0.1, 0.02, 0.04));
+        let l3 = link(&mut world, Vector::new(0.7, 1.0, -0.1), Vector::new(0.12, 0.03, 0.03));
+        let l4 = link(&mut world, Vector::new(0.2, 1.1, -0.1), Vector::new(0.08, 0.05, 0.02));
+        let l5 = link(&mut world, Vector::new(0.94, 1.0, -0.1), Vector::new(0.05, 0.02, 0.02));
+        let l6 = link(&mut world, Vector::new(1.04, 1.0, -0.1), Vector::new(0.09, 0.02, 0.03));
+        let skew = Vector::new(1.0, 1.0, 0.0).normalize();
+        let joints: [(RigidBodyHandle, RigidBodyHandle, GenericJoint, Vector); 6] = [
+            (base, l1, RevoluteJointBuilder::new(Vector::Z).into(), Vector::ZERO),
+            (l1, l2, PrismaticJointBuilder::new(Vector::X).into(), Vector::new(0.3, 0.0, 0.0)),
+            (l2, l3, RevoluteJointBuilder::new(Vector::Y).into(), Vector::new(0.2, 0.0, 0.0)),
+            (l1, l4, RevoluteJointBuilder::new(Vector::X).into(), Vector::new(0.0, 0.1, 0.0)),
+            (l3, l5, FixedJointBuilder::new().into(), Vector::new(0.24, 0.0, 0.0)),
+            (l5, l6, RevoluteJointBuilder::new(skew).into(), Vector::new(0.1, 0.0, 0.0)),
+        ];
+        let mut handle = None;
+        for (parent, child, mut joint, anchor) in joints {
+            joint.set_local_anchor1(anchor);
+            handle = world.insert_multibody_joint(parent, child, joint);
+        }
+        let handle = handle.unwrap();
+        let mb = world.multibody_joints.get_mut(handle).unwrap().0;
+        // The root collapses from a free joint to a fixed one here.
+        mb.forward_kinematics(&world.bodies, false);
+        assert_eq!(mb.ndofs(), 5);
+        mb.apply_displacements(&[0.4, 0.05, -0.6, 0.9, 0.3]);
+        mb.forward_kinematics(&world.bodies, false);
+        // World inertias and centres of mass of the displaced links, as the solver keeps them.
+        mb.update_rigid_bodies(&mut world.bodies, true);
+        mb.velocities.copy_from_slice(&[1.3, -0.7, 2.1, 0.4, -1.9]);
+        mb.update_velocities(&mut world.bodies);
+        mb.update_mass_matrix(DT, &world.bodies);
+        (world, handle)
+    }
+
+    /// `(M's upper triangle, dt·D)` as built by `build`, from zeroed matrices.
+    fn matrices(mb: &mut Multibody, build: impl Fn(&mut Multibody)) -> (DMatrix, DMatrix) {
+        mb.augmented_mass.fill(0.0);
+        mb.acc_augmented_mass.fill(0.0);
+        build(mb);
+        let mut mass = mb.augmented_mass.clone();
+        for b in 0..mass.ncols() {
+            for a in b + 1..mass.nrows() {
+                mass[(a, b)] = 0.0;
+            }
+        }
+        (mass, mb.acc_augmented_mass.clone())
+    }
+
+    /// The generalized forces `update_acceleration` applies at the tree's configuration with
+    /// velocities `qdot`: damping and the coriolis, centrifugal and gyroscopic forces (no
+    /// gravity or applied force here).
+    fn generalized_forces(
+        world: &mut PhysicsWorld,
+        handle: MultibodyJointHandle,
+        qdot: &DVector,
+    ) -> DVector {
+        let mb = world.multibody_joints.get_mut(handle).unwrap().0;
+        mb.velocities.copy_from(qdot);
+        mb.update_velocities(&mut world.bodies);
+        mb.update_mass_matrix(DT, &world.bodies);
+        // Fast enough for the energy guard, which keeps a copy of the forces.
+        assert!(DT * qdot.amax() >= 1.0e-3);
+        mb.update_acceleration(DT, &world.bodies);
+        mb.workspace.gen_forces.clone()
+    }
+
+    /// `dt·∂τ/∂q̇` of Rapier's own generalized forces `τ` (less the damping's constant part), by
+    /// central differences, which are exact for forces quadratic in the velocities.
+    fn velocity_derivative(world: &mut PhysicsWorld, handle: MultibodyJointHandle) -> DMatrix {
+        let mb = world.multibody_joints.get(handle).unwrap().0;
+        let (qdot, damping, n) = (mb.velocities.clone(), mb.damping.clone(), mb.ndofs());
+        let mut derivative = DMatrix::zeros(n, n);
+        for c in 0..n {
+            let (mut plus, mut minus) = (qdot.clone(), qdot.clone());
+            plus[c] += 1.0;
+            minus[c] -= 1.0;
+            let forces = generalized_forces(world, handle, &plus)
+                - generalized_forces(world, handle, &minus);
+            for a in 0..n {
+                // The forces are −τ − d·q̇.
+                let damping = if a == c { damping[a] } else { 0.0 };
+                derivative[(a, c)] = DT * (-forces[a] / 2.0 - damping);
+            }
+        }
+        generalized_forces(world, handle, &qdot);
+        derivative
+    }
+
+    fn relative_error(ours: &DMatrix, reference: &DMatrix) -> Real {
+        (ours - reference).amax() / reference.amax()
+    }
+
+    #[test]
+    fn a_tree_of_one_dof_joints_builds_both_matrices_by_composite_bodies() {
+        let (mut world, handle) = tree();
+        let derivative = velocity_derivative(&mut world, handle);
+        let bodies = &world.bodies;
+        let mb = world.multibody_joints.get_mut(handle).unwrap().0;
+        assert!(mb.composite_applies(bodies));
+        let (mass, velocity) = matrices(mb, |mb| mb.composite_mass_matrices(DT, true, bodies));
+        let (link_mass, link_velocity) = matrices(mb, |mb| {
+            for i in 0..mb.links.len() {
+                let span = mb.links[i].assembly_id + mb.links[i].joint.ndofs();
+                mb.accumulate_link_mass_3d(i, span, DT, true, bodies);
+            }
+        });
+        // M: the same sums in another order (and in f64 rather than f32).
+        let mass_error = relative_error(&mass, &link_mass);
+        assert!(mass_error < 1.0e-6, "M: {mass_error:e}\n{mass}\n{link_mass}");
+        // dt·D: the derivative of the forces the dynamics apply (measured: 2e-7 off it). The
+        // link-by-link construction is not that derivative (27 % of the largest entry off).
+        let velocity_error = relative_error(&velocity, &derivative);
+        let link_error = relative_error(&link_velocity, &derivative);
+        assert!(link_error > 0.1, "the link-by-link velocity terms: {link_error:e}");
+        assert!(
+            velocity_error < 1.0e-5,
+            "dt·D: {velocity_error:e} (link by link: {link_error:e})\n{velocity}\n{derivative}"
+        );
+        // The velocity terms are not trivially zero, and not symmetric.
+        assert!(derivative.amax() > 1.0e-4 * link_mass.amax());
+        assert!((&derivative - derivative.transpose()).amax() > 0.1 * derivative.amax());
+    }
+
+    #[test]
+    fn a_free_root_or_a_ball_joint_keeps_the_link_by_link_construction() {
+        let (mut world, handle) = tree();
+        let root = world.multibody_joints.get(handle).unwrap().0.links[0].rigid_body;
+        world.bodies.get_mut(root).unwrap().set_body_type(RigidBodyType::Dynamic, true);
+        let mb = world.multibody_joints.get_mut(handle).unwrap().0;
+        mb.forward_kinematics(&world.bodies, false);
+        assert!(!mb.composite_applies(&world.bodies));
+
+        let mut world = PhysicsWorld::new();
+        let base = world.insert_body(RigidBodyBuilder::fixed());
+        let ball = world.insert_body(RigidBodyBuilder::dynamic().additional_mass(1.0));
+        let handle = world
+            .insert_multibody_joint(base, ball, SphericalJointBuilder::new())
+            .unwrap();
+        let mb = world.multibody_joints.get_mut(handle).unwrap().0;
+        assert!(!mb.composite_applies(&world.bodies));
     }
 }

@@ -1,0 +1,323 @@
+//! The multibody mass matrices by composite rigid bodies (gymfleet patch, see `PATCHES.md`).
+//!
+//! `Multibody::update_mass_matrix` builds `M = Σᵢ Jᵢᵀ·diag(mᵢ, Iᵢ)·Jᵢ` and the velocity terms of
+//! the semi-implicit matrix, `D = ∂τ_bias/∂q̇` (the derivative of the coriolis, centrifugal and
+//! gyroscopic generalized forces), link by link: for a chain of `n` links that is `O(n³)` work.
+//! For a multibody whose root is not dynamic and whose joints have at most one DoF each (arms,
+//! chains, and the slide/hinge roots MJCF imports use), this module builds the same two
+//! matrices in `O(n·depth)` with spatial algebra:
+//!
+//! - every spatial vector is taken at one point `p₀` (the root link's centre of mass) in world
+//!   axes, in `f64` so that the lever arms of a long chain cost no precision; a motion vector is
+//!   `(ω, v)` (`v` the velocity of the point at `p₀`), a force `(n, f)` (`n` the moment about
+//!   `p₀`);
+//! - DoF `c` of link `L` moves every link of `L`'s subtree by the same motion `S_c` (its column
+//!   of `L`'s body jacobian, taken to `p₀`);
+//! - `M[a, c] = S_a · Î_L S_c` for `a` on the path from the root to `L`, with `Î_L` the spatial
+//!   inertia of `L`'s whole subtree (the composite rigid-body algorithm);
+//! - with `Vᵢ` link `i`'s spatial velocity and `λ` the parent of `L`, the force each link of the
+//!   subtree adds per unit `q̇_c` is `Iᵢ·(2V_λ − Vᵢ)×S_c + S_c×*(IᵢVᵢ) + Vᵢ×*(IᵢS_c)`, which sums
+//!   over a subtree `K` to `Î_K·(2V_λ×S_c) + B̂_K·S_c + S_c×*Ĥ_K`, with `Ĥ_K = Σ IᵢVᵢ` and
+//!   `B̂_K = Σ ([Vᵢ×*]·Iᵢ − Iᵢ·[Vᵢ×])` (symmetric). `D[a, c]` is `S_a` dotted with it, over the
+//!   subtree of the deeper of the two links.
+//!
+//! `still_multibody_tests`'s sibling `composite_tests` checks both matrices against the
+//! link-by-link construction.
+
+use super::Multibody;
+use crate::alloc_prelude::*;
+use crate::dynamics::RigidBodySet;
+use crate::glamx::{DMat3, DVec3};
+use crate::math::{DIM, Real, SPATIAL_DIM};
+use crate::utils::AngularInertiaOps;
+
+/// A motion `(ω, v)` or a force `(n, f)` at `p₀`.
+#[derive(Copy, Clone, Debug, Default)]
+pub(super) struct Spatial {
+    ang: DVec3,
+    lin: DVec3,
+}
+
+impl Spatial {
+    fn new(ang: DVec3, lin: DVec3) -> Self {
+        Self { ang, lin }
+    }
+
+    /// `self · other`, a motion with a force.
+    fn dot(self, other: Spatial) -> f64 {
+        self.ang.dot(other.ang) + self.lin.dot(other.lin)
+    }
+
+    /// The motion cross product `self × m`.
+    fn cross_motion(self, m: Spatial) -> Spatial {
+        Spatial::new(
+            self.ang.cross(m.ang),
+            self.ang.cross(m.lin) + self.lin.cross(m.ang),
+        )
+    }
+
+    /// The force cross product `self ×* f`.
+    fn cross_force(self, f: Spatial) -> Spatial {
+        Spatial::new(
+            self.ang.cross(f.ang) + self.lin.cross(f.lin),
+            self.ang.cross(f.lin),
+        )
+    }
+
+    fn add(self, other: Spatial) -> Spatial {
+        Spatial::new(self.ang + other.ang, self.lin + other.lin)
+    }
+
+    fn sub(self, other: Spatial) -> Spatial {
+        Spatial::new(self.ang - other.ang, self.lin - other.lin)
+    }
+}
+
+/// A subtree's spatial inertia at `p₀` (mass, first moment `m·r` and rotational inertia about
+/// `p₀`), its momentum `Ĥ` and its `B̂` (of which only the upper-left block and the linear
+/// momentum, `Ĥ.lin`, are not zero: `B̂ = [[B₁₁, [p]×], [−[p]×, 0]]`).
+#[derive(Copy, Clone, Debug, Default)]
+pub(super) struct Composite {
+    mass: f64,
+    moment: DVec3,
+    inertia: DMat3,
+    momentum: Spatial,
+    b11: DMat3,
+}
+
+impl Composite {
+    /// `Î·s`.
+    fn inertia_times(&self, s: Spatial) -> Spatial {
+        Spatial::new(
+            self.inertia * s.ang + self.moment.cross(s.lin),
+            self.mass * s.lin - self.moment.cross(s.ang),
+        )
+    }
+
+    /// `B̂·s`.
+    fn b_times(&self, s: Spatial) -> Spatial {
+        let p = self.momentum.lin;
+        Spatial::new(self.b11 * s.ang + p.cross(s.lin), -p.cross(s.ang))
+    }
+
+    fn accumulate(&mut self, other: &Composite) {
+        self.mass += other.mass;
+        self.moment += other.moment;
+        self.inertia += other.inertia;
+        self.momentum = self.momentum.add(other.momentum);
+        self.b11 += other.b11;
+    }
+}
+
+/// What the composite construction needs per DoF.
+#[derive(Copy, Clone, Debug, Default)]
+pub(super) struct CompositeDof {
+    /// The DoF's motion `S`.
+    motion: Spatial,
+    /// `Î_L·S`, with `L` the DoF's link.
+    inertia_motion: Spatial,
+    /// `2·V_λ × S`.
+    coriolis_motion: Spatial,
+    /// The subtree's force per unit velocity of this DoF:
+    /// `Î_L·(2V_λ×S) + B̂_L·S + S×*Ĥ_L`.
+    velocity_force: Spatial,
+    /// `B̂_L·S − S×*Ĥ_L`, what a DoF below `L` pairs with this one's motion.
+    velocity_force_below: Spatial,
+}
+
+/// Reused buffers of the composite construction.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct CompositeWorkspace {
+    composites: Vec<Composite>,
+    velocities: Vec<Spatial>,
+    dofs: Vec<CompositeDof>,
+    /// Per link: its parent and its DoF (`NO_DOF` for a welded link).
+    parents: Vec<usize>,
+    link_dofs: Vec<usize>,
+}
+
+const NO_DOF: usize = usize::MAX;
+
+fn dvec3_at(slice: &[Real], at: usize) -> DVec3 {
+    DVec3::new(
+        f64::from(slice[at]),
+        f64::from(slice[at + 1]),
+        f64::from(slice[at + 2]),
+    )
+}
+
+/// `[a]×[b]× + [b]×[a]× = a·bᵀ + b·aᵀ − 2(a·b)·1`.
+fn symmetric_cross_product(a: DVec3, b: DVec3) -> DMat3 {
+    let outer = |u: DVec3, v: DVec3| DMat3::from_cols(u * v.x, u * v.y, u * v.z);
+    outer(a, b) + outer(b, a) - DMat3::from_diagonal(DVec3::splat(2.0 * a.dot(b)))
+}
+
+impl Multibody {
+    /// Whether [`Multibody::composite_mass_matrices`] applies: a root that is not dynamic (no
+    /// free root joint), joints of at most one DoF, none kinematic, and links whose effective
+    /// mass is the same along every axis.
+    pub(super) fn composite_applies(&self, bodies: &RigidBodySet) -> bool {
+        !self.root_is_dynamic
+            && self.links.iter().skip(1).all(|link| {
+                let mass = bodies[link.rigid_body].mprops.effective_mass();
+                link.joint.ndofs() <= 1
+                    && !link.joint.kinematic
+                    && mass.x == mass.y
+                    && mass.y == mass.z
+            })
+    }
+
+    /// Writes the upper triangle of `M` into `augmented_mass` and, if `velocity_terms`, all of
+    /// `dt·D` into `acc_augmented_mass` (both zeroed by the caller), as the link-by-link
+    /// construction would; see the module documentation. Needs the links' poses, body
+    /// jacobians and velocities of this configuration (`forward_kinematics`,
+    /// `update_velocities`).
+    pub(super) fn composite_mass_matrices(
+        &mut self,
+        dt: Real,
+        velocity_terms: bool,
+        bodies: &RigidBodySet,
+    ) {
+        let nlinks = self.links.len();
+        let mut ws = core::mem::take(&mut self.composite_workspace);
+        ws.composites.clear();
+        ws.composites.resize(nlinks, Composite::default());
+        ws.velocities.clear();
+        ws.velocities.resize(nlinks, Spatial::default());
+        ws.dofs.clear();
+        ws.dofs.resize(self.ndofs, CompositeDof::default());
+        ws.parents.clear();
+        ws.link_dofs.clear();
+        for link in self.links.iter() {
+            ws.parents.push(link.parent_internal_id);
+            ws.link_dofs.push(if link.joint.ndofs() == 1 {
+                link.assembly_id
+            } else {
+                NO_DOF
+            });
+        }
+
+        // Centres of mass from the links' poses, as the body jacobians' shifts are.
+        let com = |i: usize| {
+            let link = &self.links[i];
+            let local_com = bodies[link.rigid_body].mprops.local_mprops.local_com;
+            (link.local_to_world * local_com).as_dvec3()
+        };
+        let p0 = com(0);
+
+        // Each link's own inertia, velocity, momentum and `B` at `p₀`. The root is not moved
+        // by any DoF: it adds to no composite that a DoF reads.
+        for i in 1..nlinks {
+            let rb = &bodies[self.links[i].rigid_body];
+            let mass = f64::from(rb.mprops.effective_mass().x);
+            let r = com(i) - p0;
+            let inertia_com = rb.mprops.effective_angular_inertia().into_matrix().as_dmat3();
+            let moment = r * mass;
+            let inertia = inertia_com
+                + DMat3::from_diagonal(DVec3::splat(mass * r.length_squared()))
+                - DMat3::from_cols(moment * r.x, moment * r.y, moment * r.z);
+            let angvel = rb.vels.angvel.as_dvec3();
+            let velocity = Spatial::new(angvel, rb.vels.linvel.as_dvec3() - angvel.cross(r));
+            ws.velocities[i] = velocity;
+            let mut own = Composite {
+                mass,
+                moment,
+                inertia,
+                ..Composite::default()
+            };
+            if velocity_terms {
+                own.momentum = own.inertia_times(velocity);
+                // B₁₁ = [ω]×·I − I·[ω]× − ([v]×[h]× + [h]×[v]×).
+                let omega = DMat3::from_cols(
+                    DVec3::X.cross(angvel) * -1.0,
+                    DVec3::Y.cross(angvel) * -1.0,
+                    DVec3::Z.cross(angvel) * -1.0,
+                );
+                own.b11 = omega * inertia - inertia * omega
+                    - symmetric_cross_product(velocity.lin, moment);
+            }
+            ws.composites[i] = own;
+        }
+
+        // Subtree sums, children (which come after their parents) first.
+        for i in (2..nlinks).rev() {
+            let parent = self.links[i].parent_internal_id;
+            if parent != 0 {
+                let child = ws.composites[i];
+                ws.composites[parent].accumulate(&child);
+            }
+        }
+
+        // Per DoF: its motion and the products every pair reads.
+        for i in 1..nlinks {
+            let link = &self.links[i];
+            let c = ws.link_dofs[i];
+            if c == NO_DOF {
+                continue;
+            }
+            let jacobian = self.body_jacobians[i].as_slice();
+            let jv = dvec3_at(jacobian, c * SPATIAL_DIM);
+            let jw = dvec3_at(jacobian, c * SPATIAL_DIM + DIM);
+            let r = com(i) - p0;
+            let motion = Spatial::new(jw, jv - jw.cross(r));
+            let composite = &ws.composites[i];
+            let mut dof = CompositeDof {
+                motion,
+                inertia_motion: composite.inertia_times(motion),
+                ..CompositeDof::default()
+            };
+            if velocity_terms {
+                let parent_velocity = ws.velocities[link.parent_internal_id];
+                let coriolis_motion = Spatial::new(
+                    parent_velocity.ang * 2.0,
+                    parent_velocity.lin * 2.0,
+                )
+                .cross_motion(motion);
+                let b_motion = composite.b_times(motion);
+                let motion_momentum = motion.cross_force(composite.momentum);
+                dof.coriolis_motion = coriolis_motion;
+                dof.velocity_force = composite
+                    .inertia_times(coriolis_motion)
+                    .add(b_motion)
+                    .add(motion_momentum);
+                dof.velocity_force_below = b_motion.sub(motion_momentum);
+            }
+            ws.dofs[c] = dof;
+        }
+
+        // Every pair of DoFs on one path from the root: `a` on link `k`, `c` on link `L`, `k`
+        // an ancestor of `L` or `L` itself (so `a ≤ c`).
+        let n = self.ndofs;
+        let mass = self.augmented_mass.as_mut_slice();
+        let acc = self.acc_augmented_mass.as_mut_slice();
+        let dt = f64::from(dt);
+        for i in 1..nlinks {
+            let c = ws.link_dofs[i];
+            if c == NO_DOF {
+                continue;
+            }
+            let below = ws.dofs[c];
+            let mut k = i;
+            while k != 0 {
+                let a = ws.link_dofs[k];
+                if a != NO_DOF {
+                    let above = ws.dofs[a];
+                    mass[a + c * n] = above.motion.dot(below.inertia_motion) as Real;
+                    if velocity_terms {
+                        acc[a + c * n] = (dt * above.motion.dot(below.velocity_force)) as Real;
+                        if a != c {
+                            acc[c + a * n] = (dt
+                                * (below.inertia_motion.dot(above.coriolis_motion)
+                                    + below.velocity_force_below.dot(above.motion)))
+                                as Real;
+                        }
+                    }
+                }
+                k = ws.parents[k];
+            }
+        }
+
+        self.composite_workspace = ws;
+    }
+}
+
