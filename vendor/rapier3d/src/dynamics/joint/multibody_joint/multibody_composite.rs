@@ -131,8 +131,10 @@ pub(crate) struct CompositeWorkspace {
     composites: Vec<Composite>,
     velocities: Vec<Spatial>,
     dofs: Vec<CompositeDof>,
-    /// Per link: its parent and its DoF (`NO_DOF` for a welded link).
+    /// Per link: its parent, its DoF (`NO_DOF` for a welded link) and its centre of mass
+    /// relative to `p₀`.
     parents: Vec<usize>,
+    offsets: Vec<DVec3>,
     link_dofs: Vec<usize>,
 }
 
@@ -188,7 +190,15 @@ impl Multibody {
         ws.dofs.resize(self.ndofs, CompositeDof::default());
         ws.parents.clear();
         ws.link_dofs.clear();
+        ws.offsets.clear();
+        // Centres of mass from the links' poses, as the body jacobians' shifts are.
+        let com = |link: &super::MultibodyLink| {
+            let local_com = bodies[link.rigid_body].mprops.local_mprops.local_com;
+            (link.local_to_world * local_com).as_dvec3()
+        };
+        let p0 = com(&self.links[0]);
         for link in self.links.iter() {
+            ws.offsets.push(com(link) - p0);
             ws.parents.push(link.parent_internal_id);
             ws.link_dofs.push(if link.joint.ndofs() == 1 {
                 link.assembly_id
@@ -197,20 +207,13 @@ impl Multibody {
             });
         }
 
-        // Centres of mass from the links' poses, as the body jacobians' shifts are.
-        let com = |i: usize| {
-            let link = &self.links[i];
-            let local_com = bodies[link.rigid_body].mprops.local_mprops.local_com;
-            (link.local_to_world * local_com).as_dvec3()
-        };
-        let p0 = com(0);
 
         // Each link's own inertia, velocity, momentum and `B` at `p₀`. The root is not moved
         // by any DoF: it adds to no composite that a DoF reads.
         for i in 1..nlinks {
             let rb = &bodies[self.links[i].rigid_body];
             let mass = f64::from(rb.mprops.effective_mass().x);
-            let r = com(i) - p0;
+            let r = ws.offsets[i];
             let inertia_com = rb.mprops.effective_angular_inertia().into_matrix().as_dmat3();
             let moment = r * mass;
             let inertia = inertia_com
@@ -227,13 +230,16 @@ impl Multibody {
             };
             if velocity_terms {
                 own.momentum = own.inertia_times(velocity);
-                // B₁₁ = [ω]×·I − I·[ω]× − ([v]×[h]× + [h]×[v]×).
+                // B₁₁ = [ω]×·I − I·[ω]× − ([v]×[h]× + [h]×[v]×), where I·[ω]× = −([ω]×·I)ᵀ
+                // since I is symmetric.
+                let w = angvel;
                 let omega = DMat3::from_cols(
-                    DVec3::X.cross(angvel) * -1.0,
-                    DVec3::Y.cross(angvel) * -1.0,
-                    DVec3::Z.cross(angvel) * -1.0,
+                    DVec3::new(0.0, w.z, -w.y),
+                    DVec3::new(-w.z, 0.0, w.x),
+                    DVec3::new(w.y, -w.x, 0.0),
                 );
-                own.b11 = omega * inertia - inertia * omega
+                let omega_inertia = omega * inertia;
+                own.b11 = omega_inertia + omega_inertia.transpose()
                     - symmetric_cross_product(velocity.lin, moment);
             }
             ws.composites[i] = own;
@@ -258,7 +264,7 @@ impl Multibody {
             let jacobian = self.body_jacobians[i].as_slice();
             let jv = dvec3_at(jacobian, c * SPATIAL_DIM);
             let jw = dvec3_at(jacobian, c * SPATIAL_DIM + DIM);
-            let r = com(i) - p0;
+            let r = ws.offsets[i];
             let motion = Spatial::new(jw, jv - jw.cross(r));
             let composite = &ws.composites[i];
             let mut dof = CompositeDof {
