@@ -51,8 +51,6 @@ fn concat_rb_mass_matrix(mass: Vector, inertia: Real) -> SMatrix<Real, SPATIAL_D
     result
 }
 
-/// Makes `v` a zero vector of length `n`, reusing its allocation when it already has that
-/// length (gymfleet patch: per-substep buffers live in the multibody's workspace).
 /// The largest motion of any DoF (radians, or length units) within one substep below which a
 /// multibody counts as still, and its mass matrix leaves out the velocity-dependent terms
 /// (gymfleet patch, see `PATCHES.md`): those terms change the semi-implicit mass matrix by a
@@ -60,6 +58,8 @@ fn concat_rb_mass_matrix(mass: Vector, inertia: Real) -> SMatrix<Real, SPATIAL_D
 /// resolution. A multibody held still in balance moves by about 10⁻¹⁶ per substep (rounding).
 pub const NEGLIGIBLE_MOTION_PER_SUBSTEP: Real = 1.0e-12;
 
+/// Makes `v` a zero vector of length `n`, reusing its allocation when it already has that
+/// length (gymfleet patch: per-substep buffers live in the multibody's workspace).
 fn resize_zeroed(v: &mut DVector, n: usize) {
     if v.len() == n {
         v.fill(0.0);

@@ -21,8 +21,9 @@
 //!   `B̂_K = Σ ([Vᵢ×*]·Iᵢ − Iᵢ·[Vᵢ×])` (symmetric). `D[a, c]` is `S_a` dotted with it, over the
 //!   subtree of the deeper of the two links.
 //!
-//! `still_multibody_tests`'s sibling `composite_tests` checks both matrices against the
-//! link-by-link construction.
+//! `composite_tests` (in `multibody.rs`) checks `M` against the link-by-link construction and
+//! `D` against the derivative, by central differences, of the forces `update_acceleration`
+//! applies.
 
 use super::Multibody;
 use crate::alloc_prelude::*;
