@@ -2859,6 +2859,11 @@ mod composite_tests {
         let bodies = &world.bodies;
         let mb = world.multibody_joints.get_mut(handle).unwrap().0;
         assert!(mb.composite_applies(bodies));
+        // `update_mass_matrix` (which `velocity_derivative` left at the tree's velocities)
+        // takes this construction: its two matrices differ by exactly `dt·D`.
+        let update_velocity = &mb.acc_augmented_mass - &mb.augmented_mass;
+        let update_error = relative_error(&update_velocity, &derivative);
+        assert!(update_error < 1.0e-5, "update_mass_matrix's dt·D: {update_error:e}");
         let (mass, velocity) = matrices(mb, |mb| mb.composite_mass_matrices(DT, true, bodies));
         let (link_mass, link_velocity) = matrices(mb, |mb| {
             for i in 0..mb.links.len() {
