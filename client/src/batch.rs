@@ -195,6 +195,7 @@ impl BatchStep {
         let (n, dim) = (info.n_envs, info.observation_dim);
         check_len("observation values", result.observations.len(), n * dim)?;
         check_len("rewards", result.rewards.len(), n)?;
+        check_len("term values", result.terms.len(), n * info.term_names.len())?;
         check_len("terminated flags", result.terminated.len(), n)?;
         check_len("truncated flags", result.truncated.len(), n)?;
         check_len(
@@ -249,6 +250,12 @@ impl BatchStep {
     /// One reward per env.
     pub fn rewards(&self) -> &[f32] {
         &self.result.rewards
+    }
+
+    /// A terms task's values, `n_envs × term_names.len()`, row-major (the step's values,
+    /// before a same-step autoreset).
+    pub fn terms(&self) -> &[f32] {
+        &self.result.terms
     }
 
     /// One flag per env: ended for a task or physics reason.
@@ -374,6 +381,7 @@ mod tests {
             final_env_indices: vec![1],
             final_observations: vec![-1.0; dim],
             termination_reasons: [(0, "physics_diverged".to_string())].into(),
+            terms: Vec::new(),
         }
     }
 

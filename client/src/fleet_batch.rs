@@ -632,6 +632,7 @@ pub(crate) fn merge_steps(
         let shift = u32::try_from(position).unwrap_or(u32::MAX);
         merged.observations.extend_from_slice(&reply.observations);
         merged.rewards.extend_from_slice(&reply.rewards);
+        merged.terms.extend_from_slice(&reply.terms);
         merged.terminated.extend_from_slice(&reply.terminated);
         merged.truncated.extend_from_slice(&reply.truncated);
         merged
@@ -672,6 +673,7 @@ mod tests {
                 .iter()
                 .map(|&i| (i, format!("reason {base} {i}")))
                 .collect(),
+            terms: Vec::new(),
         }
     }
 

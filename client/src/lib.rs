@@ -83,5 +83,5 @@ pub use task::{
 pub use tonic::Code;
 pub use types::{
     ActionType, Autoreset, BatchInfo, DofLimit, EnvInfo, JointInfo, Observation, ServerInfo,
-    ServerLimits, StepResult, POSE_LEN,
+    ServerLimits, StepResult, Units, POSE_LEN,
 };

@@ -44,6 +44,7 @@ pub struct EnvOptions {
     format: crate::DocumentFormat,
     model: Option<String>,
     assets: Vec<u8>,
+    units: crate::Units,
 }
 
 impl EnvOptions {
@@ -134,6 +135,12 @@ impl EnvOptions {
         self
     }
 
+    /// The units of observations and of a terms task (default: the document's).
+    pub fn units(mut self, units: crate::Units) -> Self {
+        self.units = units;
+        self
+    }
+
     /// The document.
     pub fn document_json(&self) -> &str {
         &self.document_json
@@ -160,6 +167,7 @@ impl EnvOptions {
             format: pb::DocumentFormat::from(self.format) as i32,
             model: self.model.unwrap_or_default(),
             assets: self.assets,
+            units: pb::Units::from(self.units) as i32,
         }
     }
 }
@@ -266,6 +274,12 @@ impl BatchOptions {
         self
     }
 
+    /// See [`EnvOptions::units`].
+    pub fn units(mut self, units: crate::Units) -> Self {
+        self.env = self.env.units(units);
+        self
+    }
+
     /// What happens to finished envs.
     pub fn autoreset(mut self, autoreset: Autoreset) -> Self {
         self.autoreset = autoreset;
@@ -310,6 +324,7 @@ impl BatchOptions {
             format: env.format,
             model: env.model,
             assets: env.assets,
+            units: env.units,
             // Over u32::MAX envs: saturate, and let the server's limit refuse it.
             n_envs: u32::try_from(self.n_envs).unwrap_or(u32::MAX),
             autoreset: pb::Autoreset::from(self.autoreset) as i32,

@@ -69,6 +69,9 @@ pub enum TaskKind {
     Track(TrackTask),
     /// See [`UprightTask`].
     Upright(UprightTask),
+    /// A terms task, as its JSON (see the README's "Terms tasks"): weighted terms,
+    /// healthy conditions and reset noise, in the env's units.
+    Terms(String),
 }
 
 /// A task and the weight of its action cost.
@@ -81,6 +84,15 @@ pub struct Task {
 }
 
 impl Task {
+    /// A terms task from its JSON (`{"terms": [...], "healthy": {...},
+    /// "reset_noise": {...}}`); the server checks it against the robot.
+    pub fn terms(json: impl Into<String>) -> Self {
+        Task {
+            kind: TaskKind::Terms(json.into()),
+            action_cost: 0.0,
+        }
+    }
+
     /// The same task with an action cost.
     pub fn with_action_cost(mut self, weight: f32) -> Self {
         self.action_cost = weight;
@@ -144,6 +156,7 @@ impl From<Task> for pb::Task {
                 axis: r.axis.map(vec3),
                 max_tilt_deg: r.max_tilt_deg,
             }),
+            TaskKind::Terms(json) => Kind::Terms(pb::TermsTask { json }),
         };
         pb::Task {
             kind: Some(kind),

@@ -165,6 +165,8 @@ pub struct StepResult {
     pub termination_reason: Option<String>,
     /// Steps taken in the current episode, this one included.
     pub episode_step: u32,
+    /// A terms task's values for this step, in [`EnvInfo::term_names`] order.
+    pub terms: Vec<f32>,
 }
 
 impl TryFrom<pb::StepResult> for StepResult {
@@ -182,6 +184,7 @@ impl TryFrom<pb::StepResult> for StepResult {
             done: r.done,
             termination_reason: r.termination_reason,
             episode_step: r.episode_step,
+            terms: r.terms,
         })
     }
 }
@@ -216,6 +219,11 @@ pub struct JointInfo {
     pub max_effort: Option<f64>,
     /// Whether it is driven; a passive joint's DOFs are observed but take no action.
     pub actuated: bool,
+    /// The motor's gear: a torque action value is a control signal, the effort
+    /// `gear ×` it (bound `max_effort / |gear|`). 1: values are efforts.
+    pub gear: f64,
+    /// The position the joint reports at the document's pose (deg or mm).
+    pub reference: f64,
 }
 
 impl From<pb::JointInfo> for JointInfo {
@@ -237,6 +245,9 @@ impl From<pb::JointInfo> for JointInfo {
             child: j.child,
             max_effort: j.max_effort,
             actuated: j.actuated,
+            // Servers before gears sent nothing: 0 reads as 1.
+            gear: if j.gear == 0.0 { 1.0 } else { j.gear },
+            reference: j.reference,
         }
     }
 }
@@ -264,6 +275,38 @@ pub struct EnvInfo {
     pub joints: Vec<JointInfo>,
     /// The observation's segments, `(name, size)` in order.
     pub observation_layout: Vec<(String, usize)>,
+    /// The observation's units.
+    pub units: Units,
+    /// A terms task's term names, in the order of [`StepResult::terms`].
+    pub term_names: Vec<String>,
+}
+
+/// The units of observations and of a terms task's values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Units {
+    /// The document's: deg or mm (and per second), world mm.
+    #[default]
+    Document,
+    /// SI, as MuJoCo and Gymnasium report them: rad or m (and per second), world m.
+    Si,
+}
+
+impl From<Units> for pb::Units {
+    fn from(u: Units) -> Self {
+        match u {
+            Units::Document => pb::Units::Document,
+            Units::Si => pb::Units::Si,
+        }
+    }
+}
+
+impl Units {
+    fn from_wire(raw: i32) -> Self {
+        match pb::Units::try_from(raw) {
+            Ok(pb::Units::Si) => Units::Si,
+            _ => Units::Document,
+        }
+    }
 }
 
 /// The observed DOFs (passive joints' included): the `joint_positions` segment's size.
@@ -325,6 +368,8 @@ impl From<pb::EnvInfo> for EnvInfo {
             max_steps: i.max_steps,
             joints: i.joints.into_iter().map(Into::into).collect(),
             observation_layout: layout(i.observation_layout),
+            units: Units::from_wire(i.units),
+            term_names: i.term_names,
         }
     }
 }
@@ -356,6 +401,10 @@ pub struct BatchInfo {
     pub joints: Vec<JointInfo>,
     /// Each env's observation row, `(name, size)` segment by segment.
     pub observation_layout: Vec<(String, usize)>,
+    /// The observation's units.
+    pub units: Units,
+    /// A terms task's term names, in the order of each row of the step's `terms`.
+    pub term_names: Vec<String>,
 }
 
 impl TryFrom<pb::BatchInfo> for BatchInfo {
@@ -375,6 +424,8 @@ impl TryFrom<pb::BatchInfo> for BatchInfo {
             max_steps: i.max_steps,
             joints: i.joints.into_iter().map(Into::into).collect(),
             observation_layout: layout(i.observation_layout),
+            units: Units::from_wire(i.units),
+            term_names: i.term_names,
         })
     }
 }

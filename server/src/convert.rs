@@ -6,7 +6,7 @@
 use gymfleet_batch::Autoreset;
 use gymfleet_env::{
     ActionType, DofKind, DrawReport, EnvConfig, EnvSpec, PdGains, Randomization, ReachTarget,
-    TaskKind, TaskSpec, POSE_LEN,
+    TaskKind, TaskSpec, TermsTask, Units, POSE_LEN,
 };
 use gymfleet_proto::v1 as pb;
 use gymfleet_render::{Camera, CameraPreset};
@@ -91,6 +91,7 @@ fn env_request(
     reset_noise: Option<f64>,
     task: Option<pb::Task>,
     randomize: Option<pb::Randomization>,
+    units: i32,
 ) -> Result<EnvRequest> {
     let defaults = EnvConfig::default();
     let pd_gains = pd_gains
@@ -143,9 +144,34 @@ fn env_request(
                     gain_scale: range(r.gain_scale),
                 }
             }),
+            units: units_of(units)?,
         },
     })
 }
+
+/// A request's `units`.
+fn units_of(raw: i32) -> Result<Units> {
+    match pb::Units::try_from(raw) {
+        Ok(pb::Units::Document) => Ok(Units::Document),
+        Ok(pb::Units::Si) => Ok(Units::Si),
+        Err(_) => Err(ServerError::InvalidArgument {
+            field: "units",
+            reason: format!("expected UNITS_DOCUMENT or UNITS_SI, got unknown value {raw}"),
+        }),
+    }
+}
+
+/// Units as the wire writes them.
+fn units_to_proto(units: Units) -> i32 {
+    let units = match units {
+        Units::Document => pb::Units::Document,
+        Units::Si => pb::Units::Si,
+    };
+    units as i32
+}
+
+/// Longest terms task JSON accepted, bytes.
+const MAX_TERMS_JSON: usize = 64 * 1024;
 
 /// An env's draws as the proto's.
 pub(crate) fn randomization_draws(report: DrawReport) -> pb::RandomizationDraws {
@@ -182,7 +208,7 @@ fn task_spec(t: pb::Task) -> Result<TaskSpec> {
         None => {
             return Err(ServerError::InvalidArgument {
                 field: "task.kind",
-                reason: "expected one of reach, track, upright".to_string(),
+                reason: "expected one of reach, track, upright, terms".to_string(),
             })
         }
         Some(Kind::Reach(r)) => TaskKind::Reach {
@@ -214,6 +240,18 @@ fn task_spec(t: pb::Task) -> Result<TaskSpec> {
             axis: r.axis.map_or([0.0, 0.0, 1.0], vec3),
             max_tilt_deg: r.max_tilt_deg,
         },
+        Some(Kind::Terms(r)) => {
+            if r.json.len() > MAX_TERMS_JSON {
+                return Err(ServerError::InvalidArgument {
+                    field: "task.terms.json",
+                    reason: format!(
+                        "expected at most {MAX_TERMS_JSON} bytes of JSON, got {}",
+                        r.json.len()
+                    ),
+                });
+            }
+            TaskKind::Terms(TermsTask::from_json(&r.json)?)
+        }
     };
     Ok(TaskSpec {
         kind,
@@ -239,6 +277,7 @@ impl TryFrom<pb::CreateEnvRequest> for EnvRequest {
             r.reset_noise,
             r.task,
             r.randomize,
+            r.units,
         )
     }
 }
@@ -270,6 +309,7 @@ impl TryFrom<pb::CreateBatchRequest> for BatchRequest {
                 r.reset_noise,
                 r.task,
                 r.randomize,
+                r.units,
             )?,
             n_envs: usize::try_from(r.n_envs).unwrap_or(usize::MAX),
             autoreset,
@@ -509,6 +549,8 @@ pub(crate) fn joints(spec: &EnvSpec, links: &JointLinks) -> Vec<pb::JointInfo> {
                 child,
                 max_effort: dof.max_effort,
                 actuated: dof.actuated,
+                gear: dof.gear,
+                reference: dof.reference,
             });
         }
         if let Some(joint) = joints.last_mut() {
@@ -540,6 +582,8 @@ pub(crate) fn env_info(env_id: String, spec: &EnvSpec, links: &JointLinks) -> pb
         max_steps: spec.max_steps,
         joints: joints(spec, links),
         observation_layout: observation_layout(spec),
+        units: units_to_proto(spec.units),
+        term_names: spec.term_names.clone(),
     }
 }
 
@@ -568,6 +612,8 @@ pub(crate) fn batch_info(
         } as i32,
         joints: joints(spec, links),
         observation_layout: observation_layout(spec),
+        units: units_to_proto(spec.units),
+        term_names: spec.term_names.clone(),
     }
 }
 
@@ -588,6 +634,7 @@ pub(crate) fn batch_step_result(stepped: BatchStepped) -> pb::BatchStepResult {
         final_env_indices: out.final_env_indices,
         final_observations: out.final_observations,
         termination_reasons: out.termination_reasons,
+        terms: out.terms,
     }
 }
 

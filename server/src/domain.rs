@@ -94,6 +94,8 @@ pub(crate) struct EnvStepOutcome {
     pub(crate) flags: StepFlags,
     pub(crate) episode_step: u32,
     pub(crate) split: ObsSplit,
+    /// A terms task's values of the step.
+    pub(crate) terms: Vec<f32>,
 }
 
 /// Every env's observation in a batch, after a reset or an observe.

@@ -127,6 +127,7 @@ impl Simulator for SimulatorService {
                 done: flags.done(),
                 termination_reason: flags.termination.map(|t| t.as_str().to_string()),
                 episode_step: outcome.episode_step,
+                terms: outcome.terms,
             })
         };
         self.finish("Step", start, result.await)

@@ -419,6 +419,7 @@ impl Simulation {
                     flags,
                     episode_step: open.env.elapsed_steps(),
                     split,
+                    terms: open.env.term_values().to_vec(),
                 })
             })
             .await;

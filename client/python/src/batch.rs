@@ -102,6 +102,7 @@ impl Shards {
 struct StepRows {
     observations: Vec<f32>,
     rewards: Vec<f32>,
+    terms: Vec<f32>,
     terminated: Vec<bool>,
     truncated: Vec<bool>,
     final_env_indices: Vec<u32>,
@@ -129,6 +130,7 @@ impl StepRows {
             .collect();
         StepRows {
             rewards: step.rewards().to_vec(),
+            terms: step.terms().to_vec(),
             terminated: step.terminated().to_vec(),
             truncated: step.truncated().to_vec(),
             final_env_indices,
@@ -146,8 +148,8 @@ fn matrix(py: Python<'_>, values: Vec<f32>, dim: usize) -> PyResult<Bound<'_, Py
 }
 
 /// What `step` returns: observations, rewards, terminated, truncated, the envs reset in
-/// the step (same-step autoreset) with their final observations, and the termination
-/// reasons by env.
+/// the step (same-step autoreset) with their final observations, the termination
+/// reasons by env, and a terms task's values (`n_envs × len(term_names)`).
 type StepTuple<'py> = (
     Bound<'py, PyArray2<f32>>,
     Bound<'py, PyArray1<f32>>,
@@ -156,6 +158,7 @@ type StepTuple<'py> = (
     Bound<'py, PyArray1<u32>>,
     Bound<'py, PyArray2<f32>>,
     Bound<'py, PyDict>,
+    Bound<'py, PyArray2<f32>>,
 );
 
 /// A batch of identical envs; its calls block (GIL released) until every shard answered.
@@ -343,6 +346,7 @@ impl BatchHandle {
                 .map(StepRows::new)
         })?;
         let dim = self.info.observation_dim;
+        let (n, k) = (self.info.n_envs, self.info.term_names.len());
         let reasons = PyDict::new(py);
         for (env, reason) in rows.termination_reasons {
             reasons.set_item(env, reason)?;
@@ -355,6 +359,7 @@ impl BatchHandle {
             PyArray1::from_vec(py, rows.final_env_indices),
             matrix(py, rows.final_observations, dim)?,
             reasons,
+            PyArray1::from_vec(py, rows.terms).reshape([n, k])?,
         ))
     }
 

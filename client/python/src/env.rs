@@ -106,7 +106,7 @@ impl EnvHandle {
     }
 
     /// One step: `(observation, reward, terminated, truncated, termination_reason,
-    /// episode_step)`.
+    /// episode_step, terms)` (`terms`: a terms task's values, empty without one).
     #[allow(clippy::type_complexity)]
     fn step<'py>(
         &self,
@@ -120,6 +120,7 @@ impl EnvHandle {
         bool,
         Option<String>,
         u32,
+        Bound<'py, PyArray1<f32>>,
     )> {
         let action_type = action_type(action_type_name)?;
         let values = action.as_array().to_vec();
@@ -134,6 +135,7 @@ impl EnvHandle {
             r.truncated,
             r.termination_reason,
             r.episode_step,
+            PyArray1::from_vec(py, r.terms),
         ))
     }
 

@@ -14,6 +14,8 @@ fn joint<'py>(py: Python<'py>, j: &JointInfo) -> PyResult<Bound<'py, PyDict>> {
     d.set_item("child", &j.child)?;
     d.set_item("max_effort", j.max_effort)?;
     d.set_item("actuated", j.actuated)?;
+    d.set_item("gear", j.gear)?;
+    d.set_item("reference", j.reference)?;
     let limits = j
         .limits
         .iter()
@@ -48,6 +50,8 @@ struct Shape<'a> {
     max_steps: u32,
     joints: &'a [JointInfo],
     observation_layout: &'a [(String, usize)],
+    units: gymfleet_client::Units,
+    term_names: &'a [String],
 }
 
 impl Shape<'_> {
@@ -60,7 +64,15 @@ impl Shape<'_> {
         d.set_item("substeps", self.substeps)?;
         d.set_item("max_steps", self.max_steps)?;
         d.set_item("joints", joints(py, self.joints)?)?;
-        d.set_item("observation_layout", self.observation_layout.to_vec())
+        d.set_item("observation_layout", self.observation_layout.to_vec())?;
+        d.set_item(
+            "units",
+            match self.units {
+                gymfleet_client::Units::Document => "document",
+                gymfleet_client::Units::Si => "si",
+            },
+        )?;
+        d.set_item("term_names", self.term_names)
     }
 }
 
@@ -83,6 +95,8 @@ pub(crate) fn env_info<'py>(
         max_steps: i.max_steps,
         joints: &i.joints,
         observation_layout: &i.observation_layout,
+        units: i.units,
+        term_names: &i.term_names,
     }
     .write(py, &d)?;
     Ok(d)
@@ -107,6 +121,8 @@ pub(crate) fn batch_info<'py>(
         max_steps: i.max_steps,
         joints: &i.joints,
         observation_layout: &i.observation_layout,
+        units: i.units,
+        term_names: &i.term_names,
     }
     .write(py, &d)?;
     d.set_item("shards", PyList::new(py, shards)?)?;

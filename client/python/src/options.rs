@@ -5,7 +5,7 @@ use std::time::Duration;
 
 use gymfleet_client::{
     BatchOptions, ClientError, EnvOptions, PdGains, Randomization, ReachTask, Task, TaskKind,
-    TrackTask, UprightTask,
+    TrackTask, Units, UprightTask,
 };
 use pyo3::prelude::*;
 
@@ -30,6 +30,8 @@ pub(crate) struct CreateOptions {
     pub(crate) model: Option<String>,
     /// The document's mesh files as one archive (zip, tar or tar.gz bytes).
     pub(crate) assets: Option<Vec<u8>>,
+    /// `"document"` or `"si"` (checked by `gymfleet._common.check_units`).
+    pub(crate) units: Option<String>,
 }
 
 /// Domain-randomisation ranges as `gymfleet._common.randomize_fields` checks them.
@@ -61,6 +63,8 @@ pub(crate) struct TaskFields {
     instance: Option<String>,
     axis: Option<[f64; 3]>,
     max_tilt_deg: f64,
+    /// A terms task's JSON.
+    json: Option<String>,
 }
 
 impl TaskFields {
@@ -84,9 +88,10 @@ impl TaskFields {
                 axis: self.axis,
                 max_tilt_deg: self.max_tilt_deg,
             }),
+            "terms" => TaskKind::Terms(self.json.clone().unwrap_or_default()),
             other => {
                 return Err(invalid(format!(
-                    "task: expected one of reach, track, upright, got {:?}",
+                    "task: expected one of reach, track, upright, terms, got {:?}",
                     other.chars().take(64).collect::<String>()
                 )))
             }
@@ -162,6 +167,16 @@ impl CreateOptions {
         }
         if let Some(task) = &self.task {
             options = options.task(task.task()?);
+        }
+        match self.units.as_deref() {
+            None | Some("document") => {}
+            Some("si") => options = options.units(Units::Si),
+            Some(other) => {
+                return Err(invalid(format!(
+                    "units: expected \"document\" or \"si\", got {:?}",
+                    other.chars().take(64).collect::<String>()
+                )))
+            }
         }
         if let Some(r) = &self.randomize {
             options = options.randomize(Randomization {

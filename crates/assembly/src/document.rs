@@ -460,6 +460,17 @@ pub struct JointDef {
     /// joint's motion; default 0.
     #[serde(default)]
     pub friction: Option<f64>,
+    /// *(ext)* The motor's gear (MuJoCo's motor `gear`): in torque mode an action value
+    /// is a control signal and the joint's torque or force is `gear × value`, clamped to
+    /// `max_effort`, so the action's bound is `max_effort / gear`. Default 1 (actions in
+    /// N·m or N).
+    #[serde(default)]
+    pub gear: Option<f64>,
+    /// *(ext)* The position the joint reports at the document's pose (MuJoCo's joint
+    /// `ref`), in deg or mm: added to every observed position. Limits, `initial` and
+    /// `spring_rest` stay measured from the document's pose. Default 0.
+    #[serde(default)]
+    pub reference: Option<f64>,
 }
 
 /// A 3-vector with named components, as the documents write it.

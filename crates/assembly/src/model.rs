@@ -257,6 +257,12 @@ pub struct Joint {
     pub spring_rest: f64,
     /// Dry friction per DOF, N·m or N (0: none).
     pub friction: f64,
+    /// Torque-mode actions are control signals: the effort is `gear ×` the value
+    /// (1: actions in N·m or N).
+    pub gear: f64,
+    /// The position reported at the document's pose, deg or mm as written (added to
+    /// observed positions; 0 for joints other than revolute and prismatic).
+    pub reference: f64,
 }
 
 /// The kind of one degree of freedom, which fixes its units.

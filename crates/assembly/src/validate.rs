@@ -560,6 +560,7 @@ impl Validator {
                 "to resist with friction",
             );
             let actuated = def.actuated.unwrap_or(true);
+            let (gear, reference) = self.gear_and_reference(&path, def, actuated);
             if !actuated && max_effort.is_some() {
                 self.push(
                     format!("{path}.max_effort"),
@@ -604,6 +605,8 @@ impl Validator {
                         stiffness,
                         spring_rest: spring_rest * limit_to_si(def.kind),
                         friction: friction.unwrap_or(0.0),
+                        gear,
+                        reference,
                     });
                 }
             }
@@ -758,6 +761,59 @@ impl Validator {
             }
         }
         initial
+    }
+
+    /// A joint's `gear` (finite, non-zero, on an actuated revolute or prismatic joint;
+    /// default 1) and `reference` (finite, within ±1e9 deg or mm, on a revolute or
+    /// prismatic joint; default 0).
+    fn gear_and_reference(&mut self, path: &str, def: &JointDef, actuated: bool) -> (f64, f64) {
+        let one_dof = matches!(def.kind, JointType::Revolute | JointType::Prismatic);
+        let mut gear = 1.0;
+        if let Some(g) = def.gear {
+            if !(g.is_finite() && g != 0.0 && g.abs() <= 1e9) {
+                self.push(
+                    format!("{path}.gear"),
+                    format!("expected a finite, non-zero gear within ±1e9, got {g}"),
+                );
+            } else if !one_dof {
+                self.push(
+                    format!("{path}.gear"),
+                    format!(
+                        "a gear needs a revolute or prismatic joint, not a {} joint",
+                        def.kind.as_str()
+                    ),
+                );
+            } else if !actuated {
+                self.push(
+                    format!("{path}.gear"),
+                    "a passive joint (\"actuated\": false) has no motor to gear; \
+                     remove gear or the actuated flag"
+                        .to_string(),
+                );
+            } else {
+                gear = g;
+            }
+        }
+        let mut reference = 0.0;
+        if let Some(r) = def.reference {
+            if !(r.is_finite() && r.abs() <= 1e9) {
+                self.push(
+                    format!("{path}.reference"),
+                    format!("expected a finite position within ±1e9 (deg or mm), got {r}"),
+                );
+            } else if !one_dof {
+                self.push(
+                    format!("{path}.reference"),
+                    format!(
+                        "a reference position needs a revolute or prismatic joint, not a {} joint",
+                        def.kind.as_str()
+                    ),
+                );
+            } else {
+                reference = r;
+            }
+        }
+        (gear, reference)
     }
 
     /// A joint's per-DOF quantity that must be finite and >= 0 (armature, friction), and that

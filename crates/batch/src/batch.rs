@@ -36,6 +36,9 @@ pub struct BatchStepOutput {
     pub observations: Vec<f32>,
     /// One per env.
     pub rewards: Vec<f32>,
+    /// A terms task's values: `n_envs × term_names.len()`, row-major per env (see
+    /// [`gymfleet_env::RobotEnv::term_values`]).
+    pub terms: Vec<f32>,
     /// One per env.
     pub terminated: Vec<bool>,
     /// One per env.
@@ -277,6 +280,7 @@ impl EnvBatch {
 
         out.observations.clear();
         out.rewards.clear();
+        out.terms.clear();
         out.terminated.clear();
         out.truncated.clear();
         out.final_env_indices.clear();
@@ -287,6 +291,7 @@ impl EnvBatch {
             let mut chunk = lock(chunk);
             out.observations.extend_from_slice(&chunk.observations);
             out.rewards.extend_from_slice(&chunk.rewards);
+            out.terms.extend_from_slice(&chunk.terms);
             out.terminated.extend_from_slice(&chunk.terminated);
             out.truncated.extend_from_slice(&chunk.truncated);
             out.final_env_indices

@@ -39,12 +39,16 @@ pub(crate) struct Chunk {
     states: Vec<EnvState>,
     obs_dim: usize,
     action_dim: usize,
+    /// A terms task's values per env.
+    terms_dim: usize,
     /// Filled by the caller before a step.
     pub(crate) actions: Vec<f32>,
     /// Filled by the caller before a partial reset: which envs to reset.
     pub(crate) reset_marks: Vec<bool>,
     pub(crate) observations: Vec<f32>,
     pub(crate) rewards: Vec<f32>,
+    /// `len × terms_dim`: each env's term values of its step.
+    pub(crate) terms: Vec<f32>,
     pub(crate) terminated: Vec<bool>,
     pub(crate) truncated: Vec<bool>,
     pub(crate) terminations: Vec<Option<Termination>>,
@@ -60,16 +64,19 @@ impl Chunk {
         let n = envs.len();
         let spec = envs[0].spec();
         let (obs_dim, action_dim) = (spec.observation_dim, spec.action_dim);
+        let terms_dim = spec.term_names.len();
         Chunk {
             first_env,
             states: vec![EnvState::Running; n],
             envs,
             obs_dim,
             action_dim,
+            terms_dim,
             actions: vec![0.0; n * action_dim],
             reset_marks: vec![false; n],
             observations: vec![0.0; n * obs_dim],
             rewards: vec![0.0; n],
+            terms: vec![0.0; n * terms_dim],
             terminated: vec![false; n],
             truncated: vec![false; n],
             terminations: vec![None; n],
@@ -103,6 +110,7 @@ impl Chunk {
         self.final_env_indices.clear();
         self.final_observations.clear();
         self.rewards.fill(0.0);
+        self.terms.fill(0.0);
         self.terminated.fill(false);
         self.truncated.fill(false);
         self.terminations.fill(None);
@@ -172,6 +180,9 @@ impl Chunk {
                 }
             }
         };
+        // The step's term values, before an autoreset zeroes them.
+        let k = self.terms_dim;
+        self.terms[i * k..(i + 1) * k].copy_from_slice(env.term_values());
         if self.states[i] == EnvState::Running && flags.done() {
             match autoreset {
                 Autoreset::Disabled => {

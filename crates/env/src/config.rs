@@ -1,6 +1,6 @@
 //! Environment configuration and the metadata an agent needs to drive it.
 
-use gymfleet_physics::{JointDof, PdGains};
+use gymfleet_physics::{JointDof, PdGains, Units};
 
 use crate::error::{EnvError, Result};
 use crate::observation::{ObservationSegment, BASE_VELOCITY_LEN, POSE_LEN};
@@ -49,6 +49,9 @@ pub struct EnvConfig {
     pub task: Option<TaskSpec>,
     /// Domain randomisation: scale factors drawn at every reset. `None`: none.
     pub randomize: Option<Randomization>,
+    /// The units of observations and of a terms task's values (and of its ranges and
+    /// noise): the document's (mm, deg; the default) or SI (m, rad).
+    pub units: Units,
 }
 
 /// Ranges `[min, max]` of scale factors, each drawn uniformly at every reset from the
@@ -112,6 +115,7 @@ impl Default for EnvConfig {
             reset_noise: 0.0,
             task: None,
             randomize: None,
+            units: Units::Document,
         }
     }
 }
@@ -202,6 +206,10 @@ pub struct EnvSpec {
     pub substeps: u32,
     /// Steps until `truncated`.
     pub max_steps: u32,
+    /// The units of the observation and the term values.
+    pub units: Units,
+    /// A terms task's term names, in the order their values are reported.
+    pub term_names: Vec<String>,
 }
 
 impl EnvSpec {
@@ -211,6 +219,7 @@ impl EnvSpec {
         dofs: &[JointDof],
         floating_base: bool,
         task: Option<(&'static str, usize)>,
+        term_names: Vec<String>,
     ) -> Self {
         let mut joint_names: Vec<String> = Vec::new();
         let mut last = None;
@@ -262,6 +271,8 @@ impl EnvSpec {
             dt: config.dt,
             substeps: config.substeps,
             max_steps: config.max_steps,
+            units: config.units,
+            term_names,
         }
     }
 }

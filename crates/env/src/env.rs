@@ -1,7 +1,9 @@
 //! [`RobotEnv`]: one episode-driven robot.
 
 use gymfleet_assembly::Assembly;
-use gymfleet_physics::{Draws, RobotWorld, SceneJoint, ScenePart, WorldOptions, BASE_STATE_LEN};
+use gymfleet_physics::{
+    Draws, RobotWorld, SceneJoint, ScenePart, Units, WorldOptions, BASE_STATE_LEN,
+};
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
 
@@ -11,6 +13,7 @@ use crate::error::{EnvError, Result};
 use crate::observation::{Observation, POSE_LEN};
 use crate::state::Origin;
 use crate::task::ActiveTask;
+use crate::terms::{Context, Dist};
 
 /// Why an episode terminated.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -22,15 +25,19 @@ pub enum Termination {
     GoalReached,
     /// An upright task's instance tilted past its bound.
     Fell,
+    /// A terms task's healthy conditions failed (with `terminate`).
+    Unhealthy,
 }
 
 impl Termination {
-    /// A short machine-readable reason: `physics_diverged`, `goal_reached`, `fell`.
+    /// A short machine-readable reason: `physics_diverged`, `goal_reached`, `fell`,
+    /// `unhealthy`.
     pub fn as_str(self) -> &'static str {
         match self {
             Termination::PhysicsDiverged => "physics_diverged",
             Termination::GoalReached => "goal_reached",
             Termination::Fell => "fell",
+            Termination::Unhealthy => "unhealthy",
         }
     }
 }
@@ -78,9 +85,17 @@ pub struct RobotEnv {
     pub(crate) seed: u64,
     /// The episode random stream: seeded from `seed`, drawn from by each reset.
     pub(crate) rng: Xoshiro256PlusPlus,
-    reset_noise: f64,
-    /// Scratch for the per-DOF reset offsets.
+    /// The units of observations and terms.
+    pub(crate) units: Units,
+    /// Each reset's position offsets, in `units` (`EnvConfig::reset_noise` is in the
+    /// document's: its draws are converted), and velocity offsets.
+    position_noise: Option<(Dist, Units)>,
+    velocity_noise: Option<Dist>,
+    /// Scratch for the per-DOF reset offsets (deg or mm) and velocities (`units`).
     offsets: Vec<f64>,
+    start_velocities: Vec<f64>,
+    /// A terms task's values of the last step (zeros after a reset).
+    term_values: Vec<f32>,
     /// The last finite observation, returned if the physics diverges.
     pub(crate) last_obs: Vec<f32>,
     pub(crate) diverged: bool,
@@ -145,23 +160,57 @@ impl RobotEnv {
             gains: config.pd_gains.clone(),
         };
         let world = RobotWorld::new(assembly, &options)?;
-        let task = config
-            .task
-            .as_ref()
-            .map(|t| t.resolve(assembly, world.dofs()))
-            .transpose()?;
+        let cx = Context {
+            assembly,
+            dofs: world.dofs(),
+            units: config.units,
+            dt: config.dt,
+        };
+        let task = config.task.as_ref().map(|t| t.resolve(&cx)).transpose()?;
+        let terms = task.as_ref().and_then(|t| t.terms());
+        let mut position_noise = (config.reset_noise > 0.0)
+            .then_some((Dist::Uniform(config.reset_noise), Units::Document));
+        if let Some(dist) = terms.and_then(|t| t.position_noise) {
+            if position_noise.is_some() {
+                return Err(EnvError::BadConfig {
+                    field: "reset_noise",
+                    reason: "the task draws the positions (task.terms.reset_noise.position); \
+                             set one of the two"
+                        .into(),
+                });
+            }
+            position_noise = Some((dist, config.units));
+        }
+        let velocity_noise = terms.and_then(|t| t.velocity_noise);
         let segment = task
             .as_ref()
             .and_then(|t| t.observation_name().map(|name| (name, t.observation_dim())));
-        let spec = EnvSpec::new(&config, world.dofs(), world.has_floating_base(), segment);
+        let term_names = match &config.task {
+            Some(crate::TaskSpec {
+                kind: crate::TaskKind::Terms(t),
+                ..
+            }) => t.terms.iter().map(|t| t.name.clone()).collect(),
+            _ => Vec::new(),
+        };
+        let spec = EnvSpec::new(
+            &config,
+            world.dofs(),
+            world.has_floating_base(),
+            segment,
+            term_names,
+        );
         let mut env = RobotEnv {
             world,
             end_effectors,
             elapsed: 0,
             seed: config.seed,
             rng: Xoshiro256PlusPlus::seed_from_u64(config.seed),
-            reset_noise: config.reset_noise,
+            units: config.units,
+            position_noise,
+            velocity_noise,
             offsets: vec![0.0; spec.num_dofs],
+            start_velocities: vec![0.0; spec.num_dofs],
+            term_values: vec![0.0; spec.term_names.len()],
             last_obs: vec![0.0; spec.observation_dim],
             spec,
             diverged: false,
@@ -217,10 +266,14 @@ impl RobotEnv {
             self.seed = seed;
             self.rng = Xoshiro256PlusPlus::seed_from_u64(seed);
         }
-        if self.reset_noise > 0.0 {
-            let noise = self.reset_noise;
-            for offset in &mut self.offsets {
-                *offset = self.rng.random_range(-noise..=noise);
+        if let Some((dist, units)) = self.position_noise {
+            for (offset, dof) in self.offsets.iter_mut().zip(&self.spec.dofs) {
+                *offset = units.to_document(dof.kind, dist.draw(&mut self.rng));
+            }
+        }
+        if let Some(dist) = self.velocity_noise {
+            for v in &mut self.start_velocities {
+                *v = dist.draw(&mut self.rng);
             }
         }
         if let Some(r) = &self.randomize {
@@ -236,8 +289,12 @@ impl RobotEnv {
         if let Some(draws) = &self.draws {
             self.world.apply_draws(draws);
         }
-        if self.reset_noise > 0.0 {
+        if self.position_noise.is_some() {
             self.world.offset_dofs(&self.offsets);
+        }
+        if self.velocity_noise.is_some() {
+            self.world
+                .set_dof_velocities(self.units, &self.start_velocities);
         }
         if let Some(task) = &mut self.task {
             task.reset(&mut self.rng);
@@ -246,6 +303,24 @@ impl RobotEnv {
         self.diverged = false;
         self.observe_into(out);
         self.last_obs.copy_from_slice(out);
+        self.start_task(out);
+    }
+
+    /// A terms task's velocity terms start from the observation `obs`; the term values
+    /// are zero until the next step.
+    pub(crate) fn start_task(&mut self, obs: &[f32]) {
+        self.term_values.iter_mut().for_each(|v| *v = 0.0);
+        let dof = self.spec.num_dofs;
+        if let Some(task) = &mut self.task {
+            task.start(&self.world, &obs[..dof], &obs[dof..2 * dof]);
+        }
+    }
+
+    /// A terms task's values after the last step, in the order of
+    /// [`EnvSpec::term_names`] (zeros after a reset or a diverged step; empty without a
+    /// terms task).
+    pub fn term_values(&self) -> &[f32] {
+        &self.term_values
     }
 
     /// Validates and applies an action for one step of `dt` seconds.
@@ -283,6 +358,7 @@ impl RobotEnv {
         if !healthy {
             self.diverged = true;
             out.copy_from_slice(&self.last_obs);
+            self.term_values.iter_mut().for_each(|v| *v = 0.0);
             return Ok(StepFlags {
                 reward: 0.0,
                 terminated: true,
@@ -291,8 +367,15 @@ impl RobotEnv {
             });
         }
         self.last_obs.copy_from_slice(out);
-        let (reward, termination) = match &self.task {
-            Some(task) => task.evaluate(&self.world, &out[..self.spec.num_dofs], values),
+        let dof = self.spec.num_dofs;
+        let (reward, termination) = match &mut self.task {
+            Some(task) => task.evaluate(
+                &self.world,
+                &out[..dof],
+                &out[dof..2 * dof],
+                values,
+                &mut self.term_values,
+            ),
             None => (0.0, None),
         };
         Ok(StepFlags {
@@ -347,17 +430,17 @@ impl RobotEnv {
         let dof = self.spec.num_dofs;
         let (positions, rest) = out.split_at_mut(dof);
         let (velocities, rest) = rest.split_at_mut(dof);
-        self.world.joint_state(positions, velocities);
+        self.world.joint_state(self.units, positions, velocities);
         let rest = if self.spec.floating_base {
             let (base, rest) = rest.split_at_mut(BASE_STATE_LEN);
-            base.copy_from_slice(&self.world.base_state());
+            base.copy_from_slice(&self.world.base_state(self.units));
             rest
         } else {
             rest
         };
         let (poses, task) = rest.split_at_mut(POSE_LEN * self.end_effectors.len());
         for (pose, &instance) in poses.chunks_exact_mut(POSE_LEN).zip(&self.end_effectors) {
-            pose.copy_from_slice(&self.world.body_pose(instance));
+            pose.copy_from_slice(&self.world.body_pose(self.units, instance));
         }
         if let Some(t) = &self.task {
             t.observe(task);
@@ -414,7 +497,7 @@ impl RobotEnv {
                 .end_effectors
                 .iter()
                 .map(|&i| {
-                    let p = self.world.body_pose(i);
+                    let p = self.world.body_pose(Units::Document, i);
                     [p[0], p[1], p[2]]
                 })
                 .collect(),

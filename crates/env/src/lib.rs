@@ -23,6 +23,7 @@ mod error;
 mod observation;
 mod state;
 mod task;
+pub mod terms;
 
 pub use action::ActionType;
 pub use config::{
@@ -31,7 +32,9 @@ pub use config::{
 pub use env::{DrawReport, RobotEnv, Scene, StepFlags, StepResult, Termination};
 pub use error::{EnvError, Result};
 pub use gymfleet_assembly::{AssemblyError, DofKind, JointType};
+pub use gymfleet_physics::Units;
 pub use gymfleet_physics::{JointDof, PdGains, SceneJoint, ScenePart, SceneShape};
 pub use observation::{Observation, ObservationSegment, BASE_VELOCITY_LEN, POSE_LEN};
 pub use state::{SavedState, STATE_VERSION};
 pub use task::{ReachTarget, TaskKind, TaskSpec};
+pub use terms::TermsTask;

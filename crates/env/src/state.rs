@@ -39,7 +39,7 @@ use crate::env::RobotEnv;
 use crate::error::{EnvError, Result};
 
 /// The saved-state format this build writes and reads.
-pub const STATE_VERSION: u32 = 2;
+pub const STATE_VERSION: u32 = 3;
 /// The first bytes of every saved state.
 const MAGIC: [u8; 4] = *b"GFST";
 /// Magic, version, checksum.
@@ -162,6 +162,7 @@ fn config_difference(a: &EnvConfig, b: &EnvConfig) -> Option<&'static str> {
         reset_noise,
         task,
         randomize,
+        units,
     } = a;
     [
         ("end_effector_ids", *end_effector_ids == b.end_effector_ids),
@@ -175,6 +176,7 @@ fn config_difference(a: &EnvConfig, b: &EnvConfig) -> Option<&'static str> {
         ),
         ("task", *task == b.task),
         ("randomize", *randomize == b.randomize),
+        ("units", *units == b.units),
     ]
     .into_iter()
     .find_map(|(name, same)| (!same).then_some(name))
@@ -320,6 +322,9 @@ impl RobotEnv {
         self.diverged = false;
         self.last_obs.copy_from_slice(&saved.last_obs);
         self.draws = saved.draws.clone();
+        let mut obs = vec![0.0; self.spec.observation_dim];
+        self.observe_into(&mut obs);
+        self.start_task(&obs);
     }
 }
 

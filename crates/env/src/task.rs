@@ -9,12 +9,13 @@
 //! the seed guide's reaching loop (`reward = −distance` to a target in mm) exactly.
 
 use gymfleet_assembly::Assembly;
-use gymfleet_physics::{JointDof, RobotWorld};
+use gymfleet_physics::{RobotWorld, Units};
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::RngExt;
 
 use crate::env::Termination;
 use crate::error::{EnvError, Result};
+use crate::terms::{ActiveTerms, Context, TermsTask};
 
 /// Where a reach target comes from.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -65,6 +66,8 @@ pub enum TaskKind {
         /// The episode ends (`fell`) when the axis tilts further than this, deg.
         max_tilt_deg: f64,
     },
+    /// A reward of weighted terms (see [`crate::terms`]), in the env's units.
+    Terms(TermsTask),
 }
 
 /// A task and the weight of the action cost.
@@ -105,6 +108,7 @@ enum Active {
         axis: [f64; 3],
         cos_max_tilt: f64,
     },
+    Terms(ActiveTerms),
 }
 
 /// Largest magnitude accepted for a coordinate, mm (100 km).
@@ -141,7 +145,7 @@ fn non_negative(path: &str, value: f64, unit: &str) -> Result<()> {
     }
 }
 
-fn instance(assembly: &Assembly, path: &str, name: &str) -> Result<usize> {
+pub(crate) fn instance(assembly: &Assembly, path: &str, name: &str) -> Result<usize> {
     assembly.instance_index(name).ok_or_else(|| {
         let names: Vec<String> = assembly
             .instances
@@ -166,9 +170,17 @@ fn instance(assembly: &Assembly, path: &str, name: &str) -> Result<usize> {
 }
 
 impl TaskSpec {
-    /// Checks the task against the env's assembly and DOFs; the errors' paths start at
-    /// `task`.
-    pub(crate) fn resolve(&self, assembly: &Assembly, dofs: &[JointDof]) -> Result<ActiveTask> {
+    /// Checks the task against the env's assembly, DOFs, units and step; the errors'
+    /// paths start at `task`.
+    pub(crate) fn resolve(&self, cx: &Context<'_>) -> Result<ActiveTask> {
+        let (assembly, dofs) = (cx.assembly, cx.dofs);
+        if cx.units != Units::Document && !matches!(self.kind, TaskKind::Terms(_)) {
+            return Err(bad(
+                "task",
+                "reach, track and upright tasks are in the document's units (mm, deg); \
+                 with units \"si\" use a terms task",
+            ));
+        }
         if !(self.action_cost.is_finite() && self.action_cost >= 0.0) {
             return Err(bad(
                 "task.action_cost",
@@ -243,7 +255,7 @@ impl TaskSpec {
                             format!("expected a finite target (deg or mm), got {t}"),
                         ));
                     }
-                    if let Some([lo, hi]) = dof.limits {
+                    if let Some([lo, hi]) = dof.limits.map(|l| l.map(|v| v + dof.reference)) {
                         if *t < lo || *t > hi {
                             return Err(bad(
                                 format!("task.track.targets[{k}]"),
@@ -294,6 +306,7 @@ impl TaskSpec {
                     cos_max_tilt: max_tilt_deg.to_radians().cos(),
                 }
             }
+            TaskKind::Terms(terms) => Active::Terms(terms.resolve(cx)?),
         };
         let target = match &self.kind {
             TaskKind::Reach {
@@ -320,7 +333,7 @@ impl ActiveTask {
     pub(crate) fn observation_dim(&self) -> usize {
         match self.kind {
             Active::Reach { .. } => 3,
-            Active::Track { .. } | Active::Upright { .. } => 0,
+            Active::Track { .. } | Active::Upright { .. } | Active::Terms(_) => 0,
         }
     }
 
@@ -328,7 +341,7 @@ impl ActiveTask {
     pub(crate) fn observation_name(&self) -> Option<&'static str> {
         match self.kind {
             Active::Reach { .. } => Some("target"),
-            Active::Track { .. } | Active::Upright { .. } => None,
+            Active::Track { .. } | Active::Upright { .. } | Active::Terms(_) => None,
         }
     }
 
@@ -350,7 +363,9 @@ impl ActiveTask {
                 target: ReachTarget::Fixed(t),
                 ..
             } => (*t, *t),
-            Active::Track { .. } | Active::Upright { .. } => ([0.0; 3], [0.0; 3]),
+            Active::Track { .. } | Active::Upright { .. } | Active::Terms(_) => {
+                ([0.0; 3], [0.0; 3])
+            }
         };
         for k in 0..3 {
             if !(target[k] >= lo[k] && target[k] <= hi[k]) {
@@ -393,14 +408,32 @@ impl ActiveTask {
         }
     }
 
+    /// A terms task's resolved terms.
+    pub(crate) fn terms(&self) -> Option<&ActiveTerms> {
+        match &self.kind {
+            Active::Terms(t) => Some(t),
+            _ => None,
+        }
+    }
+
+    /// After a reset or a state put back: a terms task's velocity terms start from the
+    /// observed state.
+    pub(crate) fn start(&mut self, world: &RobotWorld, positions: &[f32], velocities: &[f32]) {
+        if let Active::Terms(t) = &mut self.kind {
+            t.start(world, positions, velocities);
+        }
+    }
+
     /// The step's reward, and the termination the task calls for, from the state after
-    /// the step (`positions`: the joint positions the step just observed) and the action
-    /// that led there.
+    /// the step (`positions`, `velocities`: the joint state the step just observed) and
+    /// the action that led there. A terms task writes its terms' values into `values`.
     pub(crate) fn evaluate(
-        &self,
+        &mut self,
         world: &RobotWorld,
         positions: &[f32],
+        velocities: &[f32],
         action: &[f32],
+        values: &mut [f32],
     ) -> (f64, Option<Termination>) {
         let cost = if self.action_cost > 0.0 {
             self.action_cost
@@ -411,7 +444,7 @@ impl ActiveTask {
         } else {
             0.0
         };
-        let (reward, termination) = match &self.kind {
+        let (reward, termination) = match &mut self.kind {
             Active::Reach {
                 body,
                 point,
@@ -420,8 +453,8 @@ impl ActiveTask {
                 ..
             } => {
                 let p = match point {
-                    Some(offset) => world.point_position(*body, *offset),
-                    None => world.center_of_mass(*body),
+                    Some(offset) => world.point_position(Units::Document, *body, *offset),
+                    None => world.center_of_mass(Units::Document, *body),
                 };
                 let d = distance(p, self.target);
                 let reached = *success_radius > 0.0 && d <= *success_radius;
@@ -460,6 +493,7 @@ impl ActiveTask {
                     (1.0, None)
                 }
             }
+            Active::Terms(terms) => terms.evaluate(world, positions, velocities, action, values),
         };
         (reward - cost, termination)
     }

@@ -90,6 +90,8 @@ struct Class<'a> {
 struct Motor {
     /// Effort bound, N·m or N, if the motor bounds it.
     max_effort: Option<f64>,
+    /// The motor's gear: actions are MuJoCo's ctrl, the effort gear × ctrl.
+    gear: f64,
     /// The motor's position among the actuators.
     order: usize,
     /// Its line.
@@ -418,14 +420,6 @@ impl<'a, 'i> Converter<'a, 'i> {
                 (a, b) => a.or(b),
             }
             .filter(|e| *e > 0.0);
-            if gear != 1.0 {
-                self.warn(
-                    motor,
-                    "gear is folded into max_effort: actions are joint torques (N·m) or forces (N), \
-                     not MuJoCo's ctrl"
-                        .into(),
-                );
-            }
             let line = self.line(motor);
             if self
                 .motors
@@ -433,6 +427,7 @@ impl<'a, 'i> Converter<'a, 'i> {
                     joint.to_string(),
                     Motor {
                         max_effort,
+                        gear,
                         order,
                         line,
                     },
@@ -844,15 +839,10 @@ impl<'a, 'i> Converter<'a, 'i> {
                 "stiffness on a ball joint (a rotational spring) is not supported yet".into(),
             ));
         }
-        // MuJoCo's joint value is `ref` at the model's pose; gymfleet measures from that
-        // pose, so a range (given in MuJoCo's values) shifts by −ref.
+        // MuJoCo's joint value is `ref` at the model's pose; gymfleet measures limits from
+        // that pose, so a range (given in MuJoCo's values) shifts by −ref, and reports
+        // positions with the `reference` added back.
         let reference = self.number(node, class, "ref")?.unwrap_or(0.0);
-        if reference != 0.0 {
-            self.warn(
-                node,
-                "ref: positions are observed from the model's pose (MuJoCo's qpos − ref); the range is shifted to match".into(),
-            );
-        }
         let pos = DVec3::from_array(self.exactly::<3>(node, class, "pos")?.unwrap_or([0.0; 3]));
         let axis = DVec3::from_array(
             self.exactly::<3>(node, class, "axis")?
@@ -950,10 +940,33 @@ impl<'a, 'i> Converter<'a, 'i> {
                 j.insert("spring_rest".into(), json!(rest));
             }
         }
+        if reference != 0.0 {
+            // Observed positions are MuJoCo's qpos: the document's pose reports `ref`.
+            let reference = if our == "revolute" {
+                self.angle(reference).to_degrees()
+            } else {
+                reference * MM
+            };
+            j.insert("reference".into(), json!(reference));
+        }
         match self.motors.get(&name).copied() {
             Some(motor) => {
                 if let Some(e) = motor.max_effort {
                     j.insert("max_effort".into(), json!(e));
+                }
+                if motor.gear != 1.0 {
+                    if our == "revolute" || our == "prismatic" {
+                        // Actions are MuJoCo's ctrl: the effort is gear × ctrl.
+                        j.insert("gear".into(), json!(motor.gear));
+                    } else {
+                        self.warn(
+                            node,
+                            format!(
+                                "gear {} is folded into max_effort: a {our} joint's actions are torques (N·m)",
+                                motor.gear
+                            ),
+                        );
+                    }
                 }
             }
             None => {

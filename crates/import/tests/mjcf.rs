@@ -44,15 +44,16 @@ fn reacher_has_two_driven_joints_and_two_passive_target_slides() {
         (lo + 170.0).abs() < 1e-9 && (hi - 370.0).abs() < 1e-9,
         "{lo} {hi}"
     );
-    // gear 200 × ctrlrange ±1.
+    // gear 200 × ctrlrange ±1; actions are MuJoCo's ctrl (the effort is gear × ctrl).
     assert_eq!(spec.dofs[0].max_effort, Some(200.0));
+    assert_eq!(spec.dofs[0].gear, 200.0);
+    // The target slides report MuJoCo's qpos: ref (±0.1 m) at the model's pose.
+    assert_eq!(spec.dofs[2].reference, 100.0);
+    assert_eq!(spec.dofs[3].reference, -100.0);
+    assert_eq!(spec.dofs[2].gear, 1.0);
     // MuJoCo's timestep is an env step unless the request asks for another `dt`.
     assert_eq!(spec.dt, 0.01);
-    for expected in [
-        "plane that collides with nothing",
-        "the range is shifted to match",
-        "gear is folded",
-    ] {
+    for expected in ["plane that collides with nothing"] {
         assert!(
             warnings.iter().any(|w| w.contains(expected)),
             "no warning {expected:?} in {warnings:#?}"
@@ -90,6 +91,8 @@ fn reacher_masses_are_mujocos_from_the_geoms() {
 fn reacher_shoulder_spins_up_through_its_armature_and_damping() {
     let (mut env, _) = env(REACHER, &["fingertip"]);
     let (tau, b, dt) = (0.05, 1.0, env.spec().dt);
+    // The action is MuJoCo's ctrl: the torque is gear (200) × ctrl.
+    let gear = env.spec().dofs[0].gear;
     // The links' inertia about the shoulder (link0, link1 and the tip, straight out):
     // small beside the armature; MuJoCo's body_inertia gives about 1.2e-3 kg·m² in all.
     let j = 1.0 + 1.2e-3;
@@ -97,7 +100,7 @@ fn reacher_shoulder_spins_up_through_its_armature_and_damping() {
     let steps = (0.5 / dt).round() as usize;
     for _ in 0..steps {
         let obs = env
-            .step(ActionType::Torque, &[tau as f32, 0.0])
+            .step(ActionType::Torque, &[(tau / gear) as f32, 0.0])
             .expect("steps")
             .observation;
         speed = f64::from(obs.joint_velocities[0]).to_radians();
@@ -117,8 +120,14 @@ fn reacher_holds_still_under_pd_at_its_initial_pose() {
         env.step(ActionType::Position, &[0.0, 0.0]).expect("steps");
     }
     let obs = env.observe();
-    for (k, q) in obs.joint_positions.iter().enumerate() {
-        assert!(q.abs() < 1e-3, "joint {k} moved to {q}");
+    // Positions are MuJoCo's qpos: the target slides start at their ref (±100 mm).
+    for (k, (q, dof)) in obs.joint_positions.iter().zip(&env.spec().dofs).enumerate() {
+        let moved = f64::from(*q) - dof.reference;
+        assert!(
+            moved.abs() < 1e-3,
+            "joint {k} moved to {q} from {}",
+            dof.reference
+        );
     }
 }
 

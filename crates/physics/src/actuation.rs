@@ -206,7 +206,7 @@ impl RobotWorld {
                     for (k, effort) in efforts.iter_mut().enumerate().take(n) {
                         let dof = &self.dofs[slot.first_dof + k];
                         let value = f64::from(self.command.values[slot.first_dof + k]);
-                        *effort = clamp_effort(value, dof.max_effort) as Real;
+                        *effort = clamp_effort(dof.gear * value, dof.max_effort) as Real;
                     }
                     efforts
                 }

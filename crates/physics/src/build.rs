@@ -526,6 +526,8 @@ fn joint_dofs(j: usize, joint: &Joint) -> impl Iterator<Item = JointDof> + '_ {
         },
         initial: crate::units::from_si(kind, joint.initial),
         max_effort: joint.max_effort,
+        gear: joint.gear,
+        reference: joint.reference,
         actuated: joint.actuated,
         kp: 0.0,
         kd: 0.0,

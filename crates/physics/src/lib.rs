@@ -33,4 +33,5 @@ pub use randomize::Draws;
 pub use readout::BASE_STATE_LEN;
 pub use scene::{SceneJoint, ScenePart, SceneShape};
 pub use state::{BodyMotion, DynamicState, JointCoords};
+pub use units::Units;
 pub use world::{JointDof, RobotWorld, WorldOptions};

@@ -3,7 +3,7 @@
 
 use rapier3d::prelude::*;
 
-use crate::units::to_si;
+use crate::units::{to_si, Units};
 use crate::world::RobotWorld;
 
 impl RobotWorld {
@@ -61,6 +61,34 @@ impl RobotWorld {
             }
         }
         self.sync_bodies(&touched);
+    }
+
+    /// Sets every DOF's velocity (in [`RobotWorld::dofs`] order; deg/s or mm/s, rad/s or
+    /// m/s in [`Units::Si`]; a ball joint's angular velocity in its joint frame), e.g. to
+    /// start an episode moving. The links' velocities follow at the next substep.
+    ///
+    /// # Panics
+    ///
+    /// If `velocities.len()` differs from the number of DOFs.
+    pub fn set_dof_velocities(&mut self, units: Units, velocities: &[f64]) {
+        assert_eq!(velocities.len(), self.dofs.len(), "one velocity per DOF");
+        for slot in &self.joints {
+            let n = slot.kind.dof();
+            if n == 0 {
+                continue;
+            }
+            let Some(mb) = self.live.multibody_joints.get_multibody_mut(slot.multibody) else {
+                continue;
+            };
+            let Some(first) = mb.link(slot.link).map(|l| l.assembly_id()) else {
+                continue;
+            };
+            let mut all = mb.generalized_velocity_mut();
+            for k in 0..n {
+                let dof = &self.dofs[slot.first_dof + k];
+                all[first + k] = units.to_si(dof.kind, velocities[slot.first_dof + k]) as Real;
+            }
+        }
     }
 
     /// After their generalized coordinates were changed outside a step: recomputes the

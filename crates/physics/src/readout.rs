@@ -5,7 +5,7 @@
 
 use rapier3d::math::{Real, Rotation, Vector};
 
-use crate::units::{to_m, to_mm};
+use crate::units::{to_m, Units};
 use crate::world::{JointSlot, RobotWorld};
 use gymfleet_assembly::JointType;
 
@@ -13,9 +13,10 @@ use gymfleet_assembly::JointType;
 pub const BASE_STATE_LEN: usize = 13;
 
 impl RobotWorld {
-    /// Writes the measured position (deg or mm; a rotation vector in deg for ball joints)
-    /// and velocity (deg/s or mm/s) of every DOF, in document joint order.
-    pub fn joint_state(&self, positions: &mut [f32], velocities: &mut [f32]) {
+    /// Writes the measured position (deg or mm, or rad or m in [`Units::Si`]; a rotation
+    /// vector for ball joints) and velocity (their rates) of every DOF, in document joint
+    /// order. A joint's `reference` is added to its position.
+    pub fn joint_state(&self, units: Units, positions: &mut [f32], velocities: &mut [f32]) {
         for slot in &self.joints {
             let first = slot.first_dof;
             let n = slot.kind.dof();
@@ -31,8 +32,8 @@ impl RobotWorld {
                 let rv = rotation.to_scaled_axis();
                 let rv = [f64::from(rv.x), f64::from(rv.y), f64::from(rv.z)];
                 for k in 0..3 {
-                    pos[k] = rv[k].to_degrees() as f32;
-                    vel[k] = w[k].to_degrees() as f32;
+                    pos[k] = units.angle(rv[k]) as f32;
+                    vel[k] = units.angle(w[k]) as f32;
                 }
                 continue;
             }
@@ -44,36 +45,38 @@ impl RobotWorld {
             };
             let coords = link.joint().coords();
             let gen_vel = mb.joint_velocity(link);
-            let lin = to_mm(f64::from(coords[0]));
-            let ang = f64::from(coords[3]).to_degrees();
+            let lin = units.length(f64::from(coords[0]));
+            let ang = units.angle(f64::from(coords[3]));
+            let dof = &self.dofs[first];
+            let reference = units.from_document(dof.kind, dof.reference);
             match slot.kind {
                 JointType::Revolute => {
-                    pos[0] = ang as f32;
-                    vel[0] = f64::from(gen_vel[0]).to_degrees() as f32;
+                    pos[0] = (ang + reference) as f32;
+                    vel[0] = units.angle(f64::from(gen_vel[0])) as f32;
                 }
                 JointType::Prismatic => {
-                    pos[0] = lin as f32;
-                    vel[0] = to_mm(f64::from(gen_vel[0])) as f32;
+                    pos[0] = (lin + reference) as f32;
+                    vel[0] = units.length(f64::from(gen_vel[0])) as f32;
                 }
                 JointType::Cylindrical => {
                     pos[0] = lin as f32;
                     pos[1] = ang as f32;
-                    vel[0] = to_mm(f64::from(gen_vel[0])) as f32;
-                    vel[1] = f64::from(gen_vel[1]).to_degrees() as f32;
+                    vel[0] = units.length(f64::from(gen_vel[0])) as f32;
+                    vel[1] = units.angle(f64::from(gen_vel[1])) as f32;
                 }
                 JointType::Ball | JointType::Fixed => {}
             }
         }
     }
 
-    /// The pose of an instance's centre of mass: `[x, y, z]` in world mm and the world
-    /// orientation as `[qw, qx, qy, qz]`.
-    pub fn body_pose(&self, instance: usize) -> [f32; 7] {
+    /// The pose of an instance's centre of mass: `[x, y, z]` in world mm (m in
+    /// [`Units::Si`]) and the world orientation as `[qw, qx, qy, qz]`.
+    pub fn body_pose(&self, units: Units, instance: usize) -> [f32; 7] {
         let rb = &self.live.bodies[self.bodies[instance]];
         let c = rb.center_of_mass();
         let q = rb.rotation();
-        let mm = to_mm(1.0) as f32;
-        [c.x * mm, c.y * mm, c.z * mm, q.w, q.x, q.y, q.z]
+        let l = units.length(1.0) as f32;
+        [c.x * l, c.y * l, c.z * l, q.w, q.x, q.y, q.z]
     }
 
     /// Whether the first instance is a floating base, observed by
@@ -85,14 +88,14 @@ impl RobotWorld {
     /// A floating base's state, [`BASE_STATE_LEN`] floats: its pose as
     /// [`RobotWorld::body_pose`] gives it (centre of mass in world mm, orientation
     /// `[qw, qx, qy, qz]`), then the velocity of its centre of mass (world mm/s) and its
-    /// angular velocity (world deg/s), read from the tree's generalized velocities. Zeros
-    /// without a floating base.
-    pub fn base_state(&self) -> [f32; BASE_STATE_LEN] {
+    /// angular velocity (world deg/s), read from the tree's generalized velocities (m,
+    /// m/s and rad/s in [`Units::Si`]). Zeros without a floating base.
+    pub fn base_state(&self, units: Units) -> [f32; BASE_STATE_LEN] {
         let mut out = [0.0; BASE_STATE_LEN];
         if !self.floating_base {
             return out;
         }
-        out[..7].copy_from_slice(&self.body_pose(0));
+        out[..7].copy_from_slice(&self.body_pose(units, 0));
         let rb = &self.live.bodies[self.bodies[0]];
         let tree = self
             .free_roots
@@ -111,25 +114,49 @@ impl RobotWorld {
             None => (rb.linvel(), rb.angvel()),
         };
         for k in 0..3 {
-            out[7 + k] = to_mm(f64::from(v[k])) as f32;
-            out[10 + k] = f64::from(w[k]).to_degrees() as f32;
+            out[7 + k] = units.length(f64::from(v[k])) as f32;
+            out[10 + k] = units.angle(f64::from(w[k])) as f32;
         }
         out
     }
 
-    /// An instance's centre of mass, world mm.
-    pub fn center_of_mass(&self, instance: usize) -> [f64; 3] {
+    /// An instance's centre of mass, world mm (m in [`Units::Si`]).
+    pub fn center_of_mass(&self, units: Units, instance: usize) -> [f64; 3] {
         let c = self.live.bodies[self.bodies[instance]].center_of_mass();
-        [c.x, c.y, c.z].map(|v| to_mm(f64::from(v)))
+        [c.x, c.y, c.z].map(|v| units.length(f64::from(v)))
+    }
+
+    /// The whole robot's centre of mass: its moving instances' centres weighted by their
+    /// masses (grounded instances and planes left out, as MuJoCo's world body is), world
+    /// mm (m in [`Units::Si`]); the first instance's own if nothing moves.
+    pub fn robot_center_of_mass(&self, units: Units) -> [f64; 3] {
+        let (mut sum, mut mass) = ([0.0f64; 3], 0.0f64);
+        for &h in &self.bodies {
+            let rb = &self.live.bodies[h];
+            if !rb.is_dynamic() {
+                continue;
+            }
+            let m = f64::from(rb.mass());
+            let c = rb.center_of_mass();
+            for (s, v) in sum.iter_mut().zip([c.x, c.y, c.z]) {
+                *s += m * f64::from(v);
+            }
+            mass += m;
+        }
+        if mass > 0.0 {
+            sum.map(|s| units.length(s / mass))
+        } else {
+            self.center_of_mass(units, 0)
+        }
     }
 
     /// A point given in an instance's frame (mm; the frame its document placement
-    /// defines), in world mm.
-    pub fn point_position(&self, instance: usize, local_mm: [f64; 3]) -> [f64; 3] {
+    /// defines), in world mm (m in [`Units::Si`]).
+    pub fn point_position(&self, units: Units, instance: usize, local_mm: [f64; 3]) -> [f64; 3] {
         let pose = self.live.bodies[self.bodies[instance]].position();
         let local = local_mm.map(|v| to_m(v) as Real);
         let p = pose.transform_point(Vector::new(local[0], local[1], local[2]));
-        [p.x, p.y, p.z].map(|v| to_mm(f64::from(v)))
+        [p.x, p.y, p.z].map(|v| units.length(f64::from(v)))
     }
 
     /// A direction given in an instance's frame, in world coordinates (rotated, not

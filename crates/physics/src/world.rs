@@ -51,6 +51,12 @@ pub struct JointDof {
     pub initial: f64,
     /// Effort clamp in N·m or N, if any.
     pub max_effort: Option<f64>,
+    /// Torque-mode action values are control signals: the effort is `gear ×` the value
+    /// (1: N·m or N), so the action's bound is `max_effort / |gear|`.
+    pub gear: f64,
+    /// The position reported at the document's pose, deg or mm (added to every observed
+    /// position; MuJoCo's `ref`).
+    pub reference: f64,
     /// Whether the DOF is driven; a passive one is observed but takes no action value.
     pub actuated: bool,
     /// Proportional gain used by position targets, in N·m/rad or N/m.
@@ -166,8 +172,9 @@ impl RobotWorld {
         self.substeps
     }
 
-    /// Sets the command held until the next call: efforts in N·m/N, or targets in
-    /// deg/mm (position) or deg/s, mm/s (velocity). `values` has one entry per actuated
+    /// Sets the command held until the next call: efforts in N·m/N (times each DOF's
+    /// gear), or targets in deg/mm (position, as observed: with the joint's reference) or
+    /// deg/s, mm/s (velocity). `values` has one entry per actuated
     /// DOF, in DOF order; passive DOFs get no effort and no motor.
     ///
     /// The caller validates length and finiteness; this only clamps and converts.
@@ -177,7 +184,13 @@ impl RobotWorld {
         let mut values = values.iter();
         for (slot, dof) in self.command.values.iter_mut().zip(&self.dofs) {
             *slot = if dof.actuated {
-                values.next().copied().unwrap_or(0.0)
+                let value = values.next().copied().unwrap_or(0.0);
+                // Position targets are observed positions: the reference is taken off.
+                if mode == ActionMode::Position && dof.reference != 0.0 {
+                    (f64::from(value) - dof.reference) as f32
+                } else {
+                    value
+                }
             } else {
                 0.0
             };

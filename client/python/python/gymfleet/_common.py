@@ -30,7 +30,11 @@ OPTION_NAMES = (
     "randomize",
     "model",
     "assets",
+    "units",
 )
+
+#: The units a creation can ask for: the document's (deg, mm) or SI (rad, m).
+UNITS = ("document", "si")
 
 ACTION_TYPES = ("torque", "position", "velocity")
 
@@ -122,7 +126,14 @@ def create_options(options: Dict[str, Any]) -> Dict[str, Any]:
         "randomize": None if options.get("randomize") is None else randomize_fields(options["randomize"]),
         "model": options.get("model"),
         "assets": assets_bytes(options.get("assets")),
+        "units": check_units(options.get("units")),
     }
+
+
+def check_units(units: Optional[str]) -> Optional[str]:
+    if units is None or units in UNITS:
+        return units
+    raise InvalidArgument(f'units: expected "document" or "si", got {units!r}')
 
 
 RANDOMIZE_FIELDS = ("mass_scale", "friction_scale", "damping_scale", "gain_scale")
@@ -182,11 +193,34 @@ def _vec3(path: str, value: Any) -> Optional[List[float]]:
     return v
 
 
+#: A terms task's own fields (see the README's "Terms tasks").
+TERMS_FIELDS = ("terms", "healthy", "reset_noise")
+
+
 def task_fields(task: Mapping[str, Any]) -> Dict[str, Any]:
     """A task as the proto writes it (``{"reach": {...}, "action_cost": 0.01}``), flattened
-    for the extension: ``kind``, ``action_cost`` and every field of every kind."""
+    for the extension: ``kind``, ``action_cost`` and every field of every kind. A terms
+    task (``{"terms": [...], "healthy": {...}, "reset_noise": {...}}``) travels as its
+    JSON (``json``), checked by the server."""
     if not isinstance(task, Mapping):
         raise InvalidArgument(f"task: expected a dict like {{'reach': {{...}}}}, got {type(task).__name__}")
+    if "terms" in task:
+        extra = sorted(set(task) - set(TERMS_FIELDS) - {"action_cost"})
+        if extra:
+            raise InvalidArgument(
+                f"task: unknown field(s) {', '.join(extra)} beside terms; a terms task has "
+                f"{', '.join(TERMS_FIELDS)} and action_cost"
+            )
+        body = {k: task[k] for k in TERMS_FIELDS if k in task}
+        try:
+            text = json.dumps(body, allow_nan=False)
+        except (TypeError, ValueError) as e:
+            raise InvalidArgument(f"task.terms: expected JSON-serialisable values, {e}") from None
+        return {
+            "kind": "terms",
+            "json": text,
+            "action_cost": float(task.get("action_cost", 0.0)),
+        }
     kinds = [k for k in TASK_FIELDS if k in task]
     extra = sorted(set(task) - set(TASK_FIELDS) - {"action_cost"})
     if extra:
@@ -236,9 +270,10 @@ def check_action_type(action_type: str) -> str:
 
 
 def action_bounds(info: Mapping[str, Any], action_type: str) -> Tuple[np.ndarray, np.ndarray]:
-    """Each actuated DOF's action range: ±max_effort for torque, the joint limits for
-    position, unbounded for velocity (and wherever the document sets no bound). Passive
-    joints take no action."""
+    """Each actuated DOF's action range: ±max_effort / |gear| for torque (a geared motor's
+    action is its control signal), the joint limits (shifted by the joint's reference,
+    as positions are observed) for position, unbounded for velocity (and wherever the
+    document sets no bound). Passive joints take no action."""
     low: List[float] = []
     high: List[float] = []
     for joint in info["joints"]:
@@ -247,10 +282,12 @@ def action_bounds(info: Mapping[str, Any], action_type: str) -> Tuple[np.ndarray
         for limit in joint["limits"]:
             lo, hi = -np.inf, np.inf
             if action_type == "torque" and joint["max_effort"] is not None:
-                lo, hi = -joint["max_effort"], joint["max_effort"]
+                bound = joint["max_effort"] / abs(joint.get("gear") or 1.0)
+                lo, hi = -bound, bound
             elif action_type == "position":
-                lo = -np.inf if limit["min"] is None else limit["min"]
-                hi = np.inf if limit["max"] is None else limit["max"]
+                reference = joint.get("reference") or 0.0
+                lo = -np.inf if limit["min"] is None else limit["min"] + reference
+                hi = np.inf if limit["max"] is None else limit["max"] + reference
             low.append(lo)
             high.append(hi)
     return np.array(low, dtype=np.float32), np.array(high, dtype=np.float32)

@@ -105,10 +105,12 @@ class GymfleetEnv(HandleOwner, gym.Env):
     def step(self, action: Any) -> Tuple[np.ndarray, float, bool, bool, Dict[str, Any]]:
         """One env step of ``dt`` seconds; ``action`` has one value per DOF."""
         values = self._actions.to_server(action).reshape(-1)
-        obs, reward, terminated, truncated, reason, episode_step = self._handle.step(
+        obs, reward, terminated, truncated, reason, episode_step, terms = self._handle.step(
             self.action_type, values
         )
         info: Dict[str, Any] = {"episode_step": episode_step}
+        for name, value in zip(self._info["term_names"], terms):
+            info[name] = float(value)
         if reason is not None:
             info["termination_reason"] = reason
         return obs, float(reward), terminated, truncated, info

@@ -171,10 +171,24 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
     ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
         """Steps every env once; ``actions`` is ``(num_envs, action_dim)``."""
         values = self._actions.to_server(actions).reshape(self.num_envs, self._action_dim)
-        obs, rewards, terminated, truncated, final_envs, final_obs, reasons = self._handle.step(
-            self.action_type, values
-        )
+        (
+            obs,
+            rewards,
+            terminated,
+            truncated,
+            final_envs,
+            final_obs,
+            reasons,
+            terms,
+        ) = self._handle.step(self.action_type, values)
         infos: Dict[str, Any] = {}
+        # A terms task's values (the step's, before a same-step autoreset), one array per
+        # term name, as gymnasium's vector envs write per-env info.
+        if terms.shape[1]:
+            every = np.ones(self.num_envs, dtype=np.bool_)
+            for k, name in enumerate(self._info["term_names"]):
+                infos[name] = terms[:, k].astype(np.float64)
+                infos["_" + name] = every
         why: Dict[str, Any] = {}
         if reasons:
             reason = np.full(self.num_envs, None, dtype=object)
