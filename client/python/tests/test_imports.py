@@ -40,7 +40,8 @@ def test_reacher_follows_mujocos_trajectory_within_two_percent():
     env.reset(seed=0)
     ours = []
     for k in range(steps):
-        obs, *_ = env.step(_torque(k).astype(np.float32))
+        # Actions are MuJoCo's ctrl, as in MuJoCo: the motor's torque is gear × ctrl.
+        obs, *_ = env.step((_torque(k) / 200.0).astype(np.float32))
         ours.append(np.radians(obs[:2]))
     env.close()
     ours = np.array(ours)

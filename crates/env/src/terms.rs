@@ -429,7 +429,7 @@ impl Context<'_> {
                 )),
             };
         let (Dist::Uniform(s) | Dist::Normal(s)) = dist;
-        if !(s.is_finite() && s >= 0.0 && s <= MAX_VALUE) {
+        if !(0.0..=MAX_VALUE).contains(&s) {
             return Err(bad(
                 path,
                 format!(
@@ -649,7 +649,7 @@ impl ActiveTerms {
     ) -> (f64, Option<Termination>) {
         let healthy = self.is_healthy(world, positions, velocities);
         let mut reward = 0.0;
-        for k in 0..self.terms.len() {
+        for (k, slot) in values.iter_mut().enumerate().take(self.terms.len()) {
             let (weight, kind) = &self.terms[k];
             let value = match kind {
                 Kind::Velocity(q) => {
@@ -666,7 +666,7 @@ impl ActiveTerms {
                     ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
                 }
             };
-            values[k] = value as f32;
+            *slot = value as f32;
             reward += weight * value;
         }
         let terminate = self.healthy.as_ref().is_some_and(|h| h.terminate);

@@ -53,7 +53,7 @@ pub(crate) fn run(config: &LoadConfig, threads: usize) -> Result<RunResult> {
                 batch
                     .reset(&pool, Some(config.seed), first_env, &mut scratch)
                     .map_err(|e| LoadError::setup(stage("reset the batch"), e))?;
-                Driven::Batch(batch)
+                Driven::Batch(Box::new(batch))
             }
             Api::Env | Api::Observe | Api::Ping => {
                 let mut env = template.clone();
@@ -134,7 +134,7 @@ fn to_env(kind: ActionKind) -> ActionType {
 }
 
 enum Driven {
-    Batch(EnvBatch),
+    Batch(Box<EnvBatch>),
     Env(Box<RobotEnv>),
 }
 

@@ -14,6 +14,7 @@ from __future__ import annotations
 import json
 from typing import Any, Dict, List, Optional, Tuple, Union
 
+import gymnasium
 from gymnasium.vector import AutoresetMode
 
 from . import _core
@@ -32,6 +33,7 @@ from .errors import (
     Unavailable,
 )
 from .registration import register_envs
+from .suite import register_suite
 from .vector import GymfleetVectorEnv
 
 __version__: str = _core.__version__
@@ -77,12 +79,16 @@ def make(
     **kwargs: Any,
 ) -> GymfleetEnv:
     """One environment of ``document`` (a dict, JSON, MJCF or URDF text, or a path) as a
-    :class:`gymnasium.Env`. Options are the proto's ``CreateEnvRequest`` fields; unset
+    :class:`gymnasium.Env`; or, given a registered id such as ``"gymfleet/Hopper-v5"``,
+    ``gymnasium.make(id, server=server, **kwargs)``. Options are the proto's ``CreateEnvRequest`` fields; unset
     ones take the server's defaults (dt 1/240 s, 5 substeps, 1000 steps, seed 0).
     Other keywords: ``pd_gains``, ``normalize_actions``, ``timeout`` (seconds per call),
     ``model`` (a name of the server's ``--models`` library, instead of ``document``) and
     ``assets`` (the description's mesh files: a folder, a zip/tar file, or its bytes).
     """
+    if _registered(document):
+        _only_gymnasium_keywords(document, end_effector_ids, dt, substeps, max_steps, seed, reset_noise, action_type)
+        return gymnasium.make(document, server=server, **kwargs)
     return GymfleetEnv(
         document,
         server=server,
@@ -114,8 +120,20 @@ def make_vec(
 ) -> GymfleetVectorEnv:
     """``num_envs`` environments of ``document`` as one :class:`gymnasium.vector.VectorEnv`
     (one server-side batch; sharded when ``server`` lists several servers). Env ``i`` is
-    seeded with ``seed + i``. Same options as :func:`make`, plus ``autoreset_mode``.
+    seeded with ``seed + i``. Same options as :func:`make`, plus ``autoreset_mode``. Given
+    a registered id such as ``"gymfleet/Hopper-v5"``: ``gymnasium.make_vec(id, num_envs,
+    server=server, autoreset_mode=..., **kwargs)``, one server batch.
     """
+    if _registered(document):
+        _only_gymnasium_keywords(document, end_effector_ids, dt, substeps, max_steps, seed, reset_noise, action_type)
+        return gymnasium.make_vec(
+            document,
+            num_envs,
+            vectorization_mode="vector_entry_point",
+            server=server,
+            autoreset_mode=autoreset_mode,
+            **kwargs,
+        )
     return GymfleetVectorEnv(
         document,
         num_envs,
@@ -130,6 +148,20 @@ def make_vec(
         action_type=action_type,
         **kwargs,
     )
+
+
+def _registered(document: Any) -> bool:
+    """Whether ``document`` is a gymfleet id registered with gymnasium."""
+    return isinstance(document, str) and document.startswith("gymfleet/") and document in gymnasium.registry
+
+
+def _only_gymnasium_keywords(env_id: str, *given: Any) -> None:
+    defaults = (None, None, None, None, None, None, None, "torque")
+    if any(g != d for g, d in zip(given, defaults[1:])):
+        raise InvalidArgument(
+            f"{env_id} takes its registered env's keywords (and server); end_effector_ids, "
+            "dt, substeps, max_steps, seed, reset_noise and action_type are for documents"
+        )
 
 
 def embedded_server_address() -> str:
@@ -174,3 +206,4 @@ class FleetEndpoints:
 
 
 register_envs()
+register_suite()

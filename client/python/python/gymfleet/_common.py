@@ -197,6 +197,13 @@ def _vec3(path: str, value: Any) -> Optional[List[float]]:
 TERMS_FIELDS = ("terms", "healthy", "reset_noise")
 
 
+def _unset_task_fields() -> Dict[str, Any]:
+    """Every kind's fields at their defaults, as the extension reads them all."""
+    out: Dict[str, Any] = {f: d for fields in TASK_FIELDS.values() for f, d in fields.items()}
+    out.update(target_min=None, target_max=None, json=None)
+    return out
+
+
 def task_fields(task: Mapping[str, Any]) -> Dict[str, Any]:
     """A task as the proto writes it (``{"reach": {...}, "action_cost": 0.01}``), flattened
     for the extension: ``kind``, ``action_cost`` and every field of every kind. A terms
@@ -216,11 +223,9 @@ def task_fields(task: Mapping[str, Any]) -> Dict[str, Any]:
             text = json.dumps(body, allow_nan=False)
         except (TypeError, ValueError) as e:
             raise InvalidArgument(f"task.terms: expected JSON-serialisable values, {e}") from None
-        return {
-            "kind": "terms",
-            "json": text,
-            "action_cost": float(task.get("action_cost", 0.0)),
-        }
+        out = _unset_task_fields()
+        out.update(kind="terms", json=text, action_cost=float(task.get("action_cost", 0.0)))
+        return out
     kinds = [k for k in TASK_FIELDS if k in task]
     extra = sorted(set(task) - set(TASK_FIELDS) - {"action_cost"})
     if extra:
@@ -237,7 +242,7 @@ def task_fields(task: Mapping[str, Any]) -> Dict[str, Any]:
             f"task.{kind}: unknown field(s) {', '.join(unknown)}; the fields are "
             f"{', '.join(TASK_FIELDS[kind])}"
         )
-    out: Dict[str, Any] = {f: d for fields in TASK_FIELDS.values() for f, d in fields.items()}
+    out = _unset_task_fields()
     out.update(body)
     box = out.pop("target_box")
     if box is not None:

@@ -1,0 +1,265 @@
+""":class:`SuiteEnv` and :class:`SuiteVectorEnv`: Gymnasium's MuJoCo v5 environments on a
+gymfleet server, with Gymnasium's observation, reward, termination and ``info``.
+
+The server simulates the XML file of the installed gymnasium package (converted on the
+server), in SI units, with actions as MuJoCo's ctrl (torque = gear · clip(ctrl)), one
+MuJoCo timestep per substep and ``frame_skip`` substeps per env step, and computes the
+reward terms inside the step. This module only picks the observation's entries out of
+the server's SI joint state (Gymnasium's ``qpos[k:]``, ``clip(qvel)``) and names the
+term values as Gymnasium's ``info`` does.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Dict, Optional, Sequence, Tuple, Union
+
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+from gymnasium.vector import AutoresetMode, VectorEnv
+from gymnasium.vector.utils import batch_space
+
+from ..env import GymfleetEnv
+from ..errors import InvalidArgument
+from ..vector import GymfleetVectorEnv
+from .plans import IGNORED_KWARGS, SUITE, Model, Plan, SuiteSpec, read_model
+
+#: A single env's server-side episode limit: none that matters; gymnasium's TimeLimit
+#: (``max_episode_steps`` on the spec) truncates.
+_NO_LIMIT = (1 << 32) - 1
+
+
+class _Setup:
+    """What both classes build from an id and its keywords."""
+
+    def __init__(self, env_id: str, kwargs: Dict[str, Any]) -> None:
+        if env_id not in SUITE:
+            raise InvalidArgument(
+                f"env_id: {env_id!r} is not one of gymfleet's Gymnasium ids ({', '.join(SUITE)})"
+            )
+        self.suite: SuiteSpec = SUITE[env_id]
+        self.kw = self.suite.kwargs(kwargs)
+        for name in IGNORED_KWARGS:
+            if self.kw[name] is not None and name in kwargs and name != "max_geom":
+                gym.logger.warn(
+                    f"{env_id}: {name} is ignored (gymfleet renders with its own renderer)"
+                )
+        self.model: Model = read_model(str(self.kw["xml_file"]))
+        self.plan: Plan = self.suite.plan(self.model, self.kw)
+        self.frame_skip = int(self.kw["frame_skip"])
+        self.dt = self.model.timestep * self.frame_skip
+        render_mode = self.kw["render_mode"]
+        if render_mode not in (None, "rgb_array"):
+            raise InvalidArgument(
+                f"render_mode: {render_mode!r} is not supported (render_modes: ['rgb_array'])"
+            )
+
+    def options(self, max_steps: int) -> Dict[str, Any]:
+        return {
+            "server": self.kw["server"],
+            "timeout": self.kw["timeout"],
+            "units": "si",
+            "dt": self.dt,
+            "substeps": self.frame_skip,
+            "max_steps": int(max_steps),
+            "task": self.plan.task,
+            "render_mode": self.kw["render_mode"],
+            "render_options": {"width": int(self.kw["width"]), "height": int(self.kw["height"])},
+        }
+
+    def check(self, info: Dict[str, Any]) -> int:
+        """The converted robot's joints must be MuJoCo's, in qpos order, one DOF each;
+        returns the number of DOFs."""
+        names = [j["name"] for j in info["joints"]]
+        dofs = sum(j["dof"] for j in info["joints"])
+        if names != self.model.joints or dofs != len(names):
+            raise InvalidArgument(
+                f"{self.suite.id}: {self.model.path} converts to joints {names} ({dofs} DOFs); "
+                f"the env needs MuJoCo's {self.model.joints}, one DOF each"
+            )
+        return dofs
+
+    def observation_space(self) -> spaces.Box:
+        # float32 where Gymnasium's is float64: the server's values are float32.
+        return spaces.Box(-np.inf, np.inf, shape=(self.plan.observation_dim,), dtype=np.float32)
+
+
+def _split(raw: np.ndarray, dofs: int) -> Tuple[np.ndarray, np.ndarray]:
+    return raw[:, :dofs], raw[:, dofs : 2 * dofs]
+
+
+class SuiteEnv(gym.Env):
+    """One of Gymnasium's MuJoCo v5 envs on gymfleet; made by
+    ``gymnasium.make("gymfleet/<Name>-v5", **gymnasium_kwargs)``."""
+
+    metadata: Dict[str, Any] = {"render_modes": ["rgb_array"], "render_fps": 30}
+
+    def __init__(self, env_id: str, **kwargs: Any) -> None:
+        setup = _Setup(env_id, kwargs)
+        self._setup = setup
+        self._env = GymfleetEnv(setup.model.text, **setup.options(_NO_LIMIT))
+        self._dofs = setup.check(self._env.env_info)
+        self.render_mode = setup.kw["render_mode"]
+        self.frame_skip = setup.frame_skip
+        self.dt = setup.dt
+        self.action_space = self._env.action_space
+        self.observation_space = setup.observation_space()
+        self.metadata = {**type(self).metadata, "render_fps": int(np.round(1.0 / self.dt))}
+
+    @property
+    def gymfleet_env(self) -> GymfleetEnv:
+        """The server-side env underneath (SI joint state, term values in its info)."""
+        return self._env
+
+    def reset(
+        self, *, seed: Optional[int] = None, options: Optional[Dict[str, Any]] = None
+    ) -> Tuple[np.ndarray, Dict[str, Any]]:
+        super().reset(seed=seed)
+        raw, _ = self._env.reset(seed=seed)
+        q, v = _split(raw[None, :], self._dofs)
+        info = {k: float(x[0]) for k, x in self._setup.plan.reset_info(q.astype(np.float64)).items()}
+        return self._setup.plan.observe(q, v)[0].astype(np.float32), info
+
+    def step(self, action: Any) -> Tuple[np.ndarray, float, bool, bool, Dict[str, Any]]:
+        raw, reward, terminated, truncated, raw_info = self._env.step(action)
+        q, v = _split(raw[None, :], self._dofs)
+        terms = {
+            name: np.array([raw_info[name]], dtype=np.float64)
+            for name in self._env.env_info["term_names"]
+        }
+        info = {
+            k: float(x[0])
+            for k, x in self._setup.plan.step_info(q.astype(np.float64), terms).items()
+        }
+        obs = self._setup.plan.observe(q, v)[0].astype(np.float32)
+        return obs, float(reward), bool(terminated), bool(truncated), info
+
+    def render(self) -> Optional[np.ndarray]:
+        return self._env.render()
+
+    def close(self) -> None:
+        self._env.close()
+        super().close()
+
+    def __repr__(self) -> str:
+        return f"<SuiteEnv {self._setup.suite.id} on {self._env.server}>"
+
+
+class SuiteVectorEnv(VectorEnv):
+    """``num_envs`` of one of Gymnasium's MuJoCo v5 envs as one gymfleet batch; made by
+    ``gymnasium.make_vec("gymfleet/<Name>-v5", num_envs)`` or ``gymfleet.make_vec``.
+    Autoreset is the server's, in gymnasium's three modes."""
+
+    metadata: Dict[str, Any] = {
+        "render_modes": ["rgb_array"],
+        "render_fps": 30,
+        "autoreset_mode": AutoresetMode.NEXT_STEP,
+    }
+
+    def __init__(
+        self,
+        env_id: str,
+        num_envs: int = 1,
+        *,
+        autoreset_mode: Union[AutoresetMode, str] = AutoresetMode.NEXT_STEP,
+        max_episode_steps: Optional[int] = None,
+        **kwargs: Any,
+    ) -> None:
+        setup = _Setup(env_id, kwargs)
+        self._setup = setup
+        limit = setup.suite.max_episode_steps if max_episode_steps is None else max_episode_steps
+        self._envs = GymfleetVectorEnv(
+            setup.model.text,
+            num_envs,
+            autoreset_mode=autoreset_mode,
+            **setup.options(limit),
+        )
+        self._dofs = setup.check(self._envs.batch_info)
+        self.num_envs = self._envs.num_envs
+        self.render_mode = setup.kw["render_mode"]
+        self.dt = setup.dt
+        self.metadata = {
+            **type(self).metadata,
+            "render_fps": int(np.round(1.0 / self.dt)),
+            "autoreset_mode": self._envs.metadata["autoreset_mode"],
+        }
+        self.single_action_space = self._envs.single_action_space
+        self.single_observation_space = setup.observation_space()
+        self.action_space = batch_space(self.single_action_space, self.num_envs)
+        self.observation_space = batch_space(self.single_observation_space, self.num_envs)
+
+    @property
+    def gymfleet_envs(self) -> GymfleetVectorEnv:
+        """The server-side batch underneath."""
+        return self._envs
+
+    def _observe(self, raw: np.ndarray) -> np.ndarray:
+        q, v = _split(raw, self._dofs)
+        return self._setup.plan.observe(q, v).astype(np.float32)
+
+    def _infos(self, values: Dict[str, np.ndarray]) -> Dict[str, Any]:
+        every = np.ones(self.num_envs, dtype=np.bool_)
+        out: Dict[str, Any] = {}
+        for key, value in values.items():
+            out[key] = np.asarray(value, dtype=np.float64)
+            out["_" + key] = every
+        return out
+
+    def reset(
+        self,
+        *,
+        seed: Union[int, Sequence[Optional[int]], None] = None,
+        options: Optional[Dict[str, Any]] = None,
+    ) -> Tuple[np.ndarray, Dict[str, Any]]:
+        if seed is not None and isinstance(seed, (int, np.integer)):
+            super().reset(seed=int(seed))
+        raw, _ = self._envs.reset(seed=seed, options=options)
+        q, _ = _split(raw, self._dofs)
+        return self._observe(raw), self._infos(self._setup.plan.reset_info(q.astype(np.float64)))
+
+    def step(
+        self, actions: Any
+    ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
+        raw, rewards, terminated, truncated, raw_infos = self._envs.step(actions)
+        names = self._envs.batch_info["term_names"]
+        terms = {name: np.asarray(raw_infos[name], dtype=np.float64) for name in names}
+        # The step's values come from the rows the step produced; with same-step autoreset
+        # a finished env's row is already its next episode's first: its final row is kept
+        # in `final_obs`, and the step's info (terms included) in `final_info`.
+        rows = raw
+        if "final_obs" in raw_infos:
+            rows = raw.copy()
+            for env in np.flatnonzero(raw_infos["_final_obs"]):
+                rows[env] = raw_infos["final_obs"][env]
+        q, _ = _split(rows, self._dofs)
+        values = self._setup.plan.step_info(q.astype(np.float64), terms)
+        infos = self._infos(values)
+        if "final_obs" in raw_infos:
+            # As gymnasium's SyncVectorEnv in same-step mode: a finished env's info is its
+            # reset's, and its step's info is in `final_info`.
+            has_final = raw_infos["_final_obs"]
+            final = np.full(self.num_envs, None, dtype=object)
+            for env in np.flatnonzero(has_final):
+                final[env] = self._observe(raw_infos["final_obs"][env][None, :])[0]
+            final_info = {k: (v & has_final if k.startswith("_") else v) for k, v in infos.items()}
+            q_now, _ = _split(raw, self._dofs)
+            for key, value in self._setup.plan.reset_info(q_now.astype(np.float64)).items():
+                if key in values:
+                    infos[key] = np.where(has_final, value, infos[key])
+                else:
+                    infos[key], infos["_" + key] = value, has_final.copy()
+            for key in values:
+                if key not in self._setup.plan.reset_info(q_now[:0]):
+                    infos["_" + key] = ~has_final
+            infos["final_obs"], infos["_final_obs"] = final, has_final
+            infos["final_info"], infos["_final_info"] = final_info, has_final.copy()
+        return self._observe(raw), rewards.astype(np.float64), terminated, truncated, infos
+
+    def render(self) -> Optional[Tuple[np.ndarray, ...]]:
+        return self._envs.render()
+
+    def close_extras(self, **kwargs: Any) -> None:
+        self._envs.close()
+
+    def __repr__(self) -> str:
+        return f"<SuiteVectorEnv {self._setup.suite.id} x {self.num_envs}>"

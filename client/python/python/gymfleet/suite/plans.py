@@ -1,0 +1,425 @@
+"""Gymnasium's MuJoCo v5 environments as gymfleet plans: for each, its keyword arguments
+with Gymnasium's defaults, and what they make: the server's terms task (reward terms,
+healthy conditions, reset noise), the observation taken from the server's SI joint state,
+and the ``info`` scalars Gymnasium's env reports. Each plan mirrors the corresponding
+``gymnasium/envs/mujoco/<name>_v5.py``; the contract tests check it against that file's
+env (``client/python/tests/test_suite.py``).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import pathlib
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass, field
+from typing import Any, Callable, Dict, List, Mapping, Optional, Tuple
+
+import numpy as np
+
+from ..errors import InvalidArgument
+
+#: Arrays per env: positions (n, dof), and the terms task's values by name (n,) each.
+Positions = np.ndarray
+Terms = Mapping[str, np.ndarray]
+
+#: Keywords every suite env takes besides its own: Gymnasium's ``MujocoEnv`` ones (the
+#: renderer's are accepted and ignored but ``render_mode``, ``width`` and ``height``) and
+#: gymfleet's (``server``, ``timeout``).
+COMMON_KWARGS: Dict[str, Any] = {
+    "xml_file": None,
+    "frame_skip": None,
+    "render_mode": None,
+    "width": 480,
+    "height": 480,
+    "camera_id": None,
+    "camera_name": None,
+    "default_camera_config": None,
+    "max_geom": 1000,
+    "visual_options": None,
+    "server": None,
+    "timeout": None,
+}
+
+#: The renderer options gymfleet cannot honour (its pictures come from its own renderer).
+IGNORED_KWARGS = ("camera_id", "camera_name", "default_camera_config", "max_geom", "visual_options")
+
+
+@dataclass
+class Model:
+    """What the plans read from the XML file: MuJoCo's joints in qpos order and its
+    timestep."""
+
+    path: str
+    text: str
+    joints: List[str]
+    timestep: float
+
+    def index(self, name: str) -> int:
+        return self.joints.index(name)
+
+
+def assets_dir() -> pathlib.Path:
+    import gymnasium
+
+    return pathlib.Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets"
+
+
+def xml_path(xml_file: str) -> str:
+    """As Gymnasium's ``MujocoEnv`` finds a model: a path starting with ``.``, ``/`` or
+    ``~`` as it is, any other name in the installed gymnasium's assets."""
+    if xml_file.startswith((".", "/")):
+        return xml_file
+    if xml_file.startswith("~"):
+        return os.path.expanduser(xml_file)
+    return str(assets_dir() / xml_file)
+
+
+def read_model(xml_file: str) -> Model:
+    path = xml_path(xml_file)
+    if not os.path.isfile(path):
+        raise InvalidArgument(f"xml_file: {path!r} does not exist")
+    with open(path, encoding="utf-8") as f:
+        text = f.read()
+    try:
+        root = ET.fromstring(text)
+    except ET.ParseError as e:
+        raise InvalidArgument(f"xml_file: {path!r} is not XML: {e}") from None
+    world = root.find("worldbody")
+    joints: List[str] = []
+    if world is not None:
+        for j in world.iter():
+            if j.tag in ("joint", "freejoint"):
+                joints.append(j.get("name", ""))
+    option = root.find("option")
+    timestep = float(option.get("timestep", 0.002)) if option is not None else 0.002
+    return Model(path=path, text=text, joints=joints, timestep=timestep)
+
+
+@dataclass
+class Plan:
+    """One env's configuration on the server, and how its observation and info are
+    made from what the server returns."""
+
+    #: The terms task (``gymfleet.make(..., task=...)``).
+    task: Dict[str, Any]
+    #: The observation from the positions and velocities (n, dof) each, in SI.
+    observe: Callable[[np.ndarray, np.ndarray], np.ndarray]
+    #: The observation's length.
+    observation_dim: int
+    #: The step's info from the positions and the term values.
+    step_info: Callable[[Positions, Terms], Dict[str, np.ndarray]]
+    #: The reset's info from the positions.
+    reset_info: Callable[[Positions], Dict[str, np.ndarray]] = field(
+        default=lambda q: {}
+    )
+
+
+def _joint_state(skip: int, clip: Optional[float]) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
+    """Gymnasium's ``concatenate(qpos[skip:], qvel)``, the velocities clipped to ±clip."""
+
+    def observe(q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        if clip is not None:
+            v = np.clip(v, -clip, clip)
+        return np.concatenate([q[:, skip:], v], axis=1)
+
+    return observe
+
+
+def _noise(kind_position: str, kind_velocity: str, scale: float) -> Dict[str, Any]:
+    return {"position": {kind_position: scale}, "velocity": {kind_velocity: scale}}
+
+
+def _exclude(kwargs: Mapping[str, Any]) -> bool:
+    return bool(kwargs["exclude_current_positions_from_observation"])
+
+
+def _range(pair: Any, name: str) -> Tuple[Optional[float], Optional[float]]:
+    try:
+        lo, hi = (float(v) for v in pair)
+    except (TypeError, ValueError):
+        raise InvalidArgument(f"{name}: expected (min, max), got {pair!r}") from None
+    return (None if math.isinf(lo) else lo), (None if math.isinf(hi) else hi)
+
+
+def _bound(of: Dict[str, Any], pair: Any, name: str) -> Dict[str, Any]:
+    lo, hi = _range(pair, name)
+    out: Dict[str, Any] = {"of": of}
+    if lo is not None:
+        out["min"] = lo
+    if hi is not None:
+        out["max"] = hi
+    return out
+
+
+def _walker(model: Model, kw: Mapping[str, Any], with_state_range: bool) -> Plan:
+    """Hopper and Walker2d: forward reward from rootx, healthy z (rootz) and angle
+    (rooty), Hopper's state range; velocities clipped to ±10."""
+    x, z, angle = model.joints[0], model.joints[1], model.joints[2]
+    healthy: Dict[str, Any] = {
+        "ranges": [
+            _bound({"joint": z}, kw["healthy_z_range"], "healthy_z_range"),
+            _bound({"joint": angle}, kw["healthy_angle_range"], "healthy_angle_range"),
+        ],
+        "terminate": bool(kw["terminate_when_unhealthy"]),
+    }
+    if with_state_range:
+        lo, hi = _range(kw["healthy_state_range"], "healthy_state_range")
+        healthy["state_range"] = {
+            "min": -1e9 if lo is None else lo,
+            "max": 1e9 if hi is None else hi,
+            "skip_positions": 2,
+        }
+    fw, cw, hw = (
+        float(kw["forward_reward_weight"]),
+        float(kw["ctrl_cost_weight"]),
+        float(kw["healthy_reward"]),
+    )
+    task = {
+        "terms": [
+            {"name": "x_velocity", "weight": fw, "velocity": {"joint": x}},
+            {"name": "ctrl_cost", "weight": -cw, "ctrl_cost": {}},
+            {"name": "healthy", "weight": hw, "healthy": {}},
+        ],
+        "healthy": healthy,
+        "reset_noise": _noise("uniform", "uniform", float(kw["reset_noise_scale"])),
+    }
+    ix, iz = model.index(x), model.index(z)
+    skip = 1 if _exclude(kw) else 0
+    # MuJoCo's init_qpos is each joint's ref: what the server reports at the pose.
+    z0 = _references(model)[iz]
+
+    def reset_info(q: Positions) -> Dict[str, np.ndarray]:
+        return {"x_position": q[:, ix], "z_distance_from_origin": q[:, iz] - z0}
+
+    def step_info(q: Positions, t: Terms) -> Dict[str, np.ndarray]:
+        return {
+            **reset_info(q),
+            "x_velocity": t["x_velocity"],
+            "reward_forward": fw * t["x_velocity"],
+            "reward_ctrl": -cw * t["ctrl_cost"],
+            "reward_survive": hw * t["healthy"],
+        }
+
+    n = len(model.joints)
+    return Plan(task, _joint_state(skip, 10.0), 2 * n - skip, step_info, reset_info)
+
+
+def _references(model: Model) -> List[float]:
+    """Each joint's ``ref`` (MuJoCo's qpos0) as written: metres for slide joints (the
+    walkers' refs are on their rootz slides)."""
+    root = ET.fromstring(model.text)
+    refs = []
+    world = root.find("worldbody")
+    assert world is not None
+    for j in world.iter():
+        if j.tag in ("joint", "freejoint"):
+            refs.append(float(j.get("ref", 0.0)))
+    return refs
+
+
+def _hopper(model: Model, kw: Mapping[str, Any]) -> Plan:
+    return _walker(model, kw, with_state_range=True)
+
+
+def _walker2d(model: Model, kw: Mapping[str, Any]) -> Plan:
+    return _walker(model, kw, with_state_range=False)
+
+
+def _half_cheetah(model: Model, kw: Mapping[str, Any]) -> Plan:
+    x = model.joints[0]
+    fw, cw = float(kw["forward_reward_weight"]), float(kw["ctrl_cost_weight"])
+    task = {
+        "terms": [
+            {"name": "x_velocity", "weight": fw, "velocity": {"joint": x}},
+            {"name": "ctrl_cost", "weight": -cw, "ctrl_cost": {}},
+        ],
+        "reset_noise": _noise("uniform", "normal", float(kw["reset_noise_scale"])),
+    }
+    ix = model.index(x)
+    skip = 1 if _exclude(kw) else 0
+
+    def reset_info(q: Positions) -> Dict[str, np.ndarray]:
+        return {"x_position": q[:, ix]}
+
+    def step_info(q: Positions, t: Terms) -> Dict[str, np.ndarray]:
+        return {
+            "x_position": q[:, ix],
+            "x_velocity": t["x_velocity"],
+            "reward_forward": fw * t["x_velocity"],
+            "reward_ctrl": -cw * t["ctrl_cost"],
+        }
+
+    n = len(model.joints)
+    return Plan(task, _joint_state(skip, None), 2 * n - skip, step_info, reset_info)
+
+
+def _swimmer(model: Model, kw: Mapping[str, Any]) -> Plan:
+    x, y = model.joints[0], model.joints[1]
+    fw, cw = float(kw["forward_reward_weight"]), float(kw["ctrl_cost_weight"])
+    task = {
+        "terms": [
+            {"name": "x_velocity", "weight": fw, "velocity": {"joint": x}},
+            {"name": "y_velocity", "weight": 0.0, "velocity": {"joint": y}},
+            {"name": "ctrl_cost", "weight": -cw, "ctrl_cost": {}},
+        ],
+        "reset_noise": _noise("uniform", "uniform", float(kw["reset_noise_scale"])),
+    }
+    ix, iy = model.index(x), model.index(y)
+    skip = 2 if _exclude(kw) else 0
+
+    def reset_info(q: Positions) -> Dict[str, np.ndarray]:
+        return {
+            "x_position": q[:, ix],
+            "y_position": q[:, iy],
+            "distance_from_origin": np.hypot(q[:, ix], q[:, iy]),
+        }
+
+    def step_info(q: Positions, t: Terms) -> Dict[str, np.ndarray]:
+        return {
+            **reset_info(q),
+            "x_velocity": t["x_velocity"],
+            "y_velocity": t["y_velocity"],
+            "reward_forward": fw * t["x_velocity"],
+            "reward_ctrl": -cw * t["ctrl_cost"],
+        }
+
+    n = len(model.joints)
+    return Plan(task, _joint_state(skip, None), 2 * n - skip, step_info, reset_info)
+
+
+def _inverted_pendulum(model: Model, kw: Mapping[str, Any]) -> Plan:
+    hinge = model.joints[1]
+    task = {
+        "terms": [{"name": "alive", "weight": 1.0, "healthy": {}}],
+        # Gymnasium ends the episode once |qpos[1]| > 0.2 (or the state is not finite).
+        "healthy": {"ranges": [{"of": {"joint": hinge}, "min": -0.2, "max": 0.2}]},
+        "reset_noise": _noise("uniform", "uniform", float(kw["reset_noise_scale"])),
+    }
+
+    def step_info(q: Positions, t: Terms) -> Dict[str, np.ndarray]:
+        return {"reward_survive": t["alive"]}
+
+    n = len(model.joints)
+    return Plan(task, _joint_state(0, None), 2 * n, step_info)
+
+
+@dataclass
+class SuiteSpec:
+    """One registered env: its Gymnasium name, defaults and plan."""
+
+    name: str
+    xml_file: str
+    frame_skip: int
+    max_episode_steps: int
+    reward_threshold: Optional[float]
+    defaults: Dict[str, Any]
+    plan: Callable[[Model, Mapping[str, Any]], Plan]
+    #: MuJoCo's own joint names in qpos order, checked against the converted robot's.
+    note: str = ""
+
+    @property
+    def id(self) -> str:
+        return f"gymfleet/{self.name}-v5"
+
+    def kwargs(self, given: Mapping[str, Any]) -> Dict[str, Any]:
+        """Gymnasium's defaults updated with ``given``; an unknown keyword is an
+        ``InvalidArgument`` naming the known ones."""
+        known = {**COMMON_KWARGS, **self.defaults}
+        unknown = sorted(set(given) - set(known))
+        if unknown:
+            raise InvalidArgument(
+                f"{self.id}: unknown keyword argument(s) {', '.join(unknown)}; the keywords "
+                f"are {', '.join(sorted(known))}"
+            )
+        out = dict(known)
+        out.update(given)
+        if out["xml_file"] is None:
+            out["xml_file"] = self.xml_file
+        if out["frame_skip"] is None:
+            out["frame_skip"] = self.frame_skip
+        frame_skip = out["frame_skip"]
+        if isinstance(frame_skip, bool) or not isinstance(frame_skip, (int, np.integer)) or frame_skip < 1:
+            raise InvalidArgument(f"frame_skip: expected an integer >= 1, got {frame_skip!r}")
+        return out
+
+
+_WALKER_DEFAULTS = {
+    "forward_reward_weight": 1.0,
+    "ctrl_cost_weight": 1e-3,
+    "healthy_reward": 1.0,
+    "terminate_when_unhealthy": True,
+    "reset_noise_scale": 5e-3,
+    "exclude_current_positions_from_observation": True,
+}
+
+SUITE: Dict[str, SuiteSpec] = {
+    s.id: s
+    for s in [
+        SuiteSpec(
+            "InvertedPendulum",
+            "inverted_pendulum.xml",
+            2,
+            1000,
+            950.0,
+            {"reset_noise_scale": 0.01},
+            _inverted_pendulum,
+        ),
+        SuiteSpec(
+            "HalfCheetah",
+            "half_cheetah.xml",
+            5,
+            1000,
+            4800.0,
+            {
+                "forward_reward_weight": 1.0,
+                "ctrl_cost_weight": 0.1,
+                "reset_noise_scale": 0.1,
+                "exclude_current_positions_from_observation": True,
+            },
+            _half_cheetah,
+        ),
+        SuiteSpec(
+            "Hopper",
+            "hopper.xml",
+            4,
+            1000,
+            3800.0,
+            {
+                **_WALKER_DEFAULTS,
+                "healthy_state_range": (-100.0, 100.0),
+                "healthy_z_range": (0.7, float("inf")),
+                "healthy_angle_range": (-0.2, 0.2),
+            },
+            _hopper,
+        ),
+        SuiteSpec(
+            "Walker2d",
+            "walker2d_v5.xml",
+            4,
+            1000,
+            None,
+            {
+                **_WALKER_DEFAULTS,
+                "healthy_z_range": (0.8, 2.0),
+                "healthy_angle_range": (-1.0, 1.0),
+            },
+            _walker2d,
+        ),
+        SuiteSpec(
+            "Swimmer",
+            "swimmer.xml",
+            4,
+            1000,
+            360.0,
+            {
+                "forward_reward_weight": 1.0,
+                "ctrl_cost_weight": 1e-4,
+                "reset_noise_scale": 0.1,
+                "exclude_current_positions_from_observation": True,
+            },
+            _swimmer,
+            note="MuJoCo's fluid (the XML's viscosity) is not simulated yet: the swimmer cannot swim",
+        ),
+    ]
+}

@@ -1,0 +1,265 @@
+"""Gymnasium's MuJoCo v5 contract, checked against Gymnasium's own envs (with MuJoCo from
+PyPI): for every registered ``gymfleet/<Name>-v5``, the spaces, the observation's
+contents and units at a noiseless reset, the info keys, each reward term recomputed from
+the observation, info and action, ``x_velocity = Δx_position / dt``, the episode's end
+within 20 % of MuJoCo's under a fixed action sequence, the reset noise's distributions,
+the keyword arguments, and the vector env on one server batch, remote and on a fleet."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import gymfleet
+from gymfleet.suite import SUITE
+
+gymnasium = pytest.importorskip("gymnasium")
+pytest.importorskip("mujoco")
+
+NAMES = [spec.name for spec in SUITE.values()]
+#: Gymnasium defines x_velocity as Δx_position / dt for these.
+WITH_X_VELOCITY = {"HalfCheetah", "Hopper", "Walker2d", "Swimmer"}
+#: The reward as the sum of its info terms (Gymnasium's `_get_rew`).
+REWARD_TERMS = ("reward_forward", "reward_ctrl", "reward_survive")
+
+
+def pair(name: str, **kwargs):
+    ours = gymnasium.make(f"gymfleet/{name}-v5", **kwargs)
+    theirs = gymnasium.make(f"{name}-v5", **kwargs)
+    return ours, theirs
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_spaces_and_a_noiseless_reset_match_gymnasium(name):
+    ours, theirs = pair(name, reset_noise_scale=0.0)
+    assert ours.observation_space.shape == theirs.observation_space.shape
+    # float32 where Gymnasium's observations are float64 (the server's values are float32).
+    assert ours.observation_space.dtype == np.float32
+    assert ours.action_space.shape == theirs.action_space.shape
+    assert ours.action_space.dtype == theirs.action_space.dtype
+    np.testing.assert_array_equal(ours.action_space.low, theirs.action_space.low)
+    np.testing.assert_array_equal(ours.action_space.high, theirs.action_space.high)
+    assert ours.unwrapped.dt == pytest.approx(theirs.unwrapped.dt)
+    assert ours.spec.max_episode_steps == theirs.spec.max_episode_steps
+    # The same contents in the same order and units (metres, radians): MuJoCo's qpos0.
+    obs, info = ours.reset(seed=0)
+    ref, ref_info = theirs.reset(seed=0)
+    np.testing.assert_allclose(obs, ref, atol=1e-6)
+    assert set(info) == set(ref_info)
+    for key in info:
+        assert info[key] == pytest.approx(ref_info[key], abs=1e-6), key
+    ours.close()
+    theirs.close()
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_info_keys_and_every_reward_term_recomputed(name):
+    ours, theirs = pair(name)
+    spec = SUITE[f"gymfleet/{name}-v5"]
+    obs, reset_info = ours.reset(seed=1)
+    theirs.reset(seed=1)
+    rng = np.random.default_rng(0)
+    previous_x = reset_info.get("x_position", 0.0)
+    dt = ours.unwrapped.dt
+    for step in range(40):
+        action = rng.uniform(-1, 1, ours.action_space.shape).astype(np.float32)
+        obs, reward, terminated, truncated, info = ours.step(action)
+        *_, ref_info = theirs.step(action)
+        assert set(info) == set(ref_info), step
+        assert obs.shape == ours.observation_space.shape
+        assert reward == pytest.approx(sum(info.get(k, 0.0) for k in REWARD_TERMS), abs=1e-5)
+        if "reward_ctrl" in info:
+            weight = spec.defaults["ctrl_cost_weight"]
+            expected = -weight * float(np.sum(np.square(action.astype(np.float64))))
+            assert info["reward_ctrl"] == pytest.approx(expected, rel=1e-5, abs=1e-9)
+        if "reward_forward" in info:
+            assert info["reward_forward"] == pytest.approx(
+                spec.defaults["forward_reward_weight"] * info["x_velocity"], rel=1e-6
+            )
+        if "reward_survive" in info:
+            assert info["reward_survive"] == (0.0 if terminated else 1.0)
+        if name in WITH_X_VELOCITY:
+            assert info["x_velocity"] == pytest.approx(
+                (info["x_position"] - previous_x) / dt, abs=2e-3
+            ), step
+            previous_x = info["x_position"]
+        if name in ("Hopper", "Walker2d", "HalfCheetah", "Swimmer"):
+            # The observation leaves out x (and Swimmer's y): it starts at qpos[1] (qpos[2]).
+            skip = 2 if name == "Swimmer" else 1
+            q = ours.unwrapped.gymfleet_env.observe()
+            assert obs[0] == pytest.approx(q[skip], abs=1e-6)
+        if terminated or truncated:
+            break
+    ours.close()
+    theirs.close()
+
+
+#: A fixed action sequence per env. Each drives the robot (a slow topple from a balanced
+#: stance is chaotic: Walker2d under a constant 0.3 ends at step 59 here and 241 in MuJoCo,
+#: under zero torque at 181 and 135; see BENCHMARKS "Fidelity of the suite").
+SEQUENCES = {
+    "InvertedPendulum": lambda k: np.array([0.5]),
+    "Hopper": lambda k: np.array([0.4, -0.3, 0.2]) * np.sin(0.05 * k),
+    "Walker2d": lambda k: np.sin(0.1 * k + np.arange(6)),
+    "HalfCheetah": lambda k: np.sin(0.1 * k + np.arange(6)),
+    "Swimmer": lambda k: np.array([np.sin(0.1 * k), np.cos(0.1 * k)]),
+}
+
+
+def _episode_length(env, sequence) -> tuple:
+    env.reset(seed=0)
+    for k in range(2000):
+        _, _, terminated, truncated, _ = env.step(sequence(k).astype(np.float32))
+        if terminated or truncated:
+            return k + 1, terminated
+    raise AssertionError("no episode end in 2000 steps")
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_a_fixed_action_sequence_ends_within_20_percent_of_mujoco(name):
+    ours, theirs = pair(name, reset_noise_scale=0.0)
+    ours_len, ours_terminated = _episode_length(ours, SEQUENCES[name])
+    ref_len, ref_terminated = _episode_length(theirs, SEQUENCES[name])
+    if not ref_terminated:
+        assert (ours_len, ours_terminated) == (ref_len, False), "both truncate"
+    else:
+        assert ours_terminated, f"MuJoCo's ends at step {ref_len}, ours runs to {ours_len}"
+        assert abs(ours_len - ref_len) <= 0.2 * ref_len, f"ours {ours_len}, MuJoCo's {ref_len}"
+    ours.close()
+    theirs.close()
+
+
+def test_reset_noise_has_gymnasiums_distributions():
+    # Hopper: uniform ±0.005 on positions and velocities.
+    env = gymnasium.make("gymfleet/Hopper-v5")
+    starts = np.array([env.reset(seed=s)[0] for s in range(200)])
+    assert np.abs(starts[:, 0] - 1.25).max() <= 0.005 + 1e-6  # z = qpos[1], ref 1.25
+    assert np.abs(starts[:, 5:]).max() <= 0.005 + 1e-6  # velocities
+    assert starts[:, 5:].std() == pytest.approx(0.005 / np.sqrt(3), rel=0.15)
+    env.close()
+    # HalfCheetah: normal velocities, σ = 0.1.
+    env = gymnasium.make("gymfleet/HalfCheetah-v5")
+    starts = np.array([env.reset(seed=s)[0] for s in range(200)])
+    velocities = starts[:, 8:]
+    assert velocities.std() == pytest.approx(0.1, rel=0.1)
+    assert np.abs(velocities).max() > 0.2  # a uniform ±0.1 draw never gets there
+    assert np.abs(starts[:, :8]).max() <= 0.1 + 1e-6
+    env.close()
+
+
+def test_keyword_arguments_change_what_gymnasiums_do():
+    env = gymnasium.make("gymfleet/Hopper-v5", exclude_current_positions_from_observation=False)
+    obs, _ = env.reset(seed=0)
+    assert obs.shape == (12,) and abs(obs[0]) < 0.01  # x comes first
+    env.close()
+    env = gymnasium.make("gymfleet/Hopper-v5", ctrl_cost_weight=0.0, healthy_reward=2.0)
+    env.reset(seed=0)
+    _, reward, _, _, info = env.step(np.ones(3, dtype=np.float32))
+    assert info["reward_ctrl"] == 0.0 and info["reward_survive"] == 2.0
+    env.close()
+    # Unhealthy at once (z starts at 1.25), but not terminated when told not to.
+    env = gymnasium.make("gymfleet/Hopper-v5", healthy_z_range=(2.0, 3.0), terminate_when_unhealthy=False)
+    env.reset(seed=0)
+    _, _, terminated, _, info = env.step(np.zeros(3, dtype=np.float32))
+    assert not terminated and info["reward_survive"] == 0.0
+    env.close()
+    env = gymnasium.make("gymfleet/Hopper-v5", healthy_z_range=(2.0, 3.0))
+    env.reset(seed=0)
+    assert env.step(np.zeros(3, dtype=np.float32))[2]
+    env.close()
+    env = gymnasium.make("gymfleet/HalfCheetah-v5", frame_skip=2)
+    assert env.unwrapped.dt == pytest.approx(0.02)
+    env.close()
+
+
+def test_an_unknown_keyword_names_the_known_ones():
+    with pytest.raises(gymfleet.InvalidArgument) as e:
+        gymnasium.make("gymfleet/Hopper-v5", forward_weight=2.0)
+    message = str(e.value)
+    assert "unknown keyword argument(s) forward_weight" in message
+    assert "forward_reward_weight" in message and "healthy_z_range" in message
+    with pytest.raises(gymfleet.InvalidArgument, match="frame_skip: expected an integer >= 1"):
+        gymnasium.make("gymfleet/Hopper-v5", frame_skip=0)
+    with pytest.raises(gymfleet.InvalidArgument, match="does not exist"):
+        gymnasium.make("gymfleet/Hopper-v5", xml_file="no_such_robot.xml")
+
+
+def test_gymnasiums_env_checker_passes():
+    from gymnasium.utils.env_checker import check_env
+
+    for name in NAMES:
+        env = gymnasium.make(f"gymfleet/{name}-v5")
+        check_env(env.unwrapped, skip_render_check=True)
+        env.close()
+
+
+def test_make_vec_is_one_batch_with_gymnasiums_vector_info():
+    envs = gymnasium.make_vec("gymfleet/Hopper-v5", num_envs=4)
+    assert envs.gymfleet_envs.batch_info["n_envs"] == 4
+    obs, info = envs.reset(seed=3)
+    assert obs.shape == (4, 11) and obs.dtype == np.float32
+    assert info["_x_position"].all()
+    single = gymnasium.make("gymfleet/Hopper-v5")
+    # Env i of the batch is seeded with seed + i.
+    np.testing.assert_array_equal(obs[2], single.reset(seed=5)[0])
+    actions = np.zeros((4, 3), dtype=np.float32)
+    obs, rewards, terminated, truncated, info = envs.step(actions)
+    one = single.step(actions[2])
+    np.testing.assert_array_equal(obs[2], one[0])
+    assert rewards[2] == pytest.approx(one[1])
+    for key in ("x_position", "x_velocity", "reward_forward", "reward_ctrl", "reward_survive"):
+        assert info[key].shape == (4,) and info["_" + key].all()
+        assert info[key][2] == pytest.approx(one[4][key], abs=1e-6)
+    envs.close()
+    single.close()
+    # gymfleet's own entry points take the ids too.
+    envs = gymfleet.make_vec("gymfleet/Walker2d-v5", 3, max_episode_steps=5)
+    envs.reset(seed=0)
+    for _ in range(5):
+        *_, truncated, _ = envs.step(np.zeros((3, 6), dtype=np.float32))
+    assert truncated.all(), "the server truncates at max_episode_steps"
+    envs.close()
+    env = gymfleet.make("gymfleet/InvertedPendulum-v5")
+    assert env.spec.max_episode_steps == 1000
+    env.close()
+    with pytest.raises(gymfleet.InvalidArgument, match="takes its registered env's keywords"):
+        gymfleet.make("gymfleet/Hopper-v5", dt=0.01)
+
+
+def test_same_step_autoreset_keeps_the_final_observation_and_info():
+    envs = gymfleet.make_vec(
+        "gymfleet/Hopper-v5", 2, autoreset_mode="SameStep", healthy_z_range=(1.2, 3.0)
+    )
+    envs.reset(seed=0)
+    for _ in range(50):
+        obs, _, terminated, _, info = envs.step(np.full((2, 3), -1.0, dtype=np.float32))
+        if terminated.any():
+            break
+    assert terminated.any(), "the hopper never dropped below 1.2 m"
+    env = int(np.flatnonzero(terminated)[0])
+    assert info["_final_obs"][env] and info["final_obs"][env].shape == (11,)
+    z, angle = info["final_obs"][env][:2]
+    assert z <= 1.2 or abs(angle) >= 0.2, "it ended unhealthy"
+    assert abs(obs[env][0] - 1.25) <= 0.005 + 1e-6  # the next episode's start
+    assert info["final_info"]["reward_survive"][env] == 0.0
+    envs.close()
+
+
+def test_remote_server_and_fleet(remote_server):
+    envs = gymfleet.make_vec("gymfleet/HalfCheetah-v5", 4, server=remote_server)
+    local = gymfleet.make_vec("gymfleet/HalfCheetah-v5", 4)
+    a, _ = envs.reset(seed=9)
+    b, _ = local.reset(seed=9)
+    np.testing.assert_array_equal(a, b)
+    actions = np.full((4, 6), 0.2, dtype=np.float32)
+    np.testing.assert_array_equal(envs.step(actions)[0], local.step(actions)[0])
+    envs.close()
+    with gymfleet.Server(threads=1) as other:
+        fleet = gymfleet.make_vec(
+            "gymfleet/HalfCheetah-v5", 4, server=f"{remote_server},{other.address}"
+        )
+        assert len(fleet.gymfleet_envs.batch_info["shards"]) == 2
+        np.testing.assert_array_equal(fleet.reset(seed=9)[0], local.reset(seed=9)[0])
+        np.testing.assert_array_equal(fleet.step(actions)[0], local.step(actions)[0])
+        fleet.close()
+    local.close()
