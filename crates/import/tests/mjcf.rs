@@ -60,7 +60,9 @@ fn reacher_has_two_driven_joints_and_two_passive_target_slides() {
     );
     // Neither the gear nor ref is a warning any more: both are kept.
     assert!(
-        !warnings.iter().any(|w| w.contains("gear") || w.contains("ref")),
+        !warnings
+            .iter()
+            .any(|w| w.contains("gear") || w.contains("ref")),
         "{warnings:#?}"
     );
 }

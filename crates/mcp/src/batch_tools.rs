@@ -58,6 +58,7 @@ impl GymTools {
             .await
             .map_err(|err| self.fleet.batch_failed(&placed, &err))?;
         let (dof, floating) = (info.num_dofs(), info.floating_base());
+        let k = info.term_names.len();
         let results = (0..step.n_envs())
             .map(|env| {
                 let terminated = step.terminated()[env];
@@ -73,6 +74,10 @@ impl GymTools {
                     final_observation: step
                         .final_observation(env)
                         .map(|row| ObservationOut::from_row(row, dof, floating)),
+                    terms: crate::output::terms(
+                        &info.term_names,
+                        step.terms().get(env * k..(env + 1) * k).unwrap_or_default(),
+                    ),
                 }
             })
             .collect();

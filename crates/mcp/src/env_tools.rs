@@ -80,7 +80,10 @@ impl GymTools {
             .step(p.action_type.into(), &values)
             .await
             .map_err(|err| self.fleet.env_failed(&placed, &err))?;
-        Ok(Json(StepOut::from(&result)))
+        Ok(Json(StepOut::new(
+            &result,
+            &placed.handle.info().term_names,
+        )))
     }
 
     /// Observes an environment.

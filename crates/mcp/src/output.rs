@@ -2,6 +2,8 @@
 //! `f32`; each is widened through its shortest decimal form ([`clean`]) so that a pose of
 //! `10.042` prints as `10.042`, not `10.041999816894531`.
 
+use std::collections::BTreeMap;
+
 use gymfleet_client::{
     Autoreset, BatchInfo, EnvInfo, JointInfo, Observation, StepResult, POSE_LEN,
 };
@@ -219,10 +221,23 @@ pub(crate) struct StepOut {
     /// Why it terminated, when it did (e.g. "physics_diverged").
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(crate) termination_reason: Option<String>,
+    /// A terms task's values for the step, by term name (the reward is the weighted sum).
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
+    pub(crate) terms: BTreeMap<String, f64>,
 }
 
-impl From<&StepResult> for StepOut {
-    fn from(r: &StepResult) -> Self {
+/// A terms task's values by name.
+pub(crate) fn terms(names: &[String], values: &[f32]) -> BTreeMap<String, f64> {
+    names
+        .iter()
+        .zip(values)
+        .map(|(n, v)| (n.clone(), clean(*v)))
+        .collect()
+}
+
+impl StepOut {
+    /// A step's result; `term_names` name its terms' values.
+    pub(crate) fn new(r: &StepResult, term_names: &[String]) -> Self {
         StepOut {
             observation: ObservationOut::from(&r.observation),
             reward: clean(r.reward),
@@ -230,6 +245,7 @@ impl From<&StepResult> for StepOut {
             terminated: r.terminated,
             truncated: r.truncated,
             termination_reason: r.termination_reason.clone(),
+            terms: terms(term_names, &r.terms),
         }
     }
 }
@@ -353,6 +369,9 @@ pub(crate) struct EnvStepOut {
     /// With same_step autoreset, the last observation of the episode that just ended.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(crate) final_observation: Option<ObservationOut>,
+    /// A terms task's values for the env's step, by term name.
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
+    pub(crate) terms: BTreeMap<String, f64>,
 }
 
 /// What `batch_step` returns: results grouped by environment.

@@ -95,7 +95,7 @@ pub(crate) struct UprightParam {
 }
 
 /// What the env is asked to do; the server computes the reward and the task's
-/// terminations in every step. Give exactly one of reach, track, upright.
+/// terminations in every step. Give exactly one of reach, track, upright, terms.
 #[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 #[schemars(transform = crate::schema::one_line_descriptions)]
@@ -107,6 +107,13 @@ pub(crate) struct TaskParam {
     track: Option<TrackParam>,
     /// Keep an instance upright.
     upright: Option<UprightParam>,
+    /// A reward of weighted terms any robot can carry (the Gymnasium suite's): {"terms":
+    /// [{"name", "weight", and one of "velocity", "value" (a coordinate: {"joint"} or
+    /// {"instance", "axis"}), "ctrl_cost": {}, "healthy": {}, "distance": [point, point]}],
+    /// "healthy": {"ranges": [{"of", "min", "max"}], "terminate"}, "reset_noise":
+    /// {"position": {"uniform"}, "velocity": {"normal"}}}, in the document's units (mm,
+    /// deg). Each step reports every term's value in "terms".
+    terms: Option<serde_json::Map<String, serde_json::Value>>,
     /// Subtracted from each step's reward: this weight × the sum of the squared action
     /// values (in the action's own units). Default 0.
     #[serde(default)]
@@ -116,6 +123,15 @@ pub(crate) struct TaskParam {
 impl TaskParam {
     /// The client's task, or which argument is wrong.
     pub(crate) fn into_task(self) -> Result<Task> {
+        if let Some(terms) = self.terms {
+            if self.reach.is_some() || self.track.is_some() || self.upright.is_some() {
+                return Err(McpError::bad_argument(
+                    "task: give exactly one of \"reach\", \"track\", \"upright\" or \"terms\"",
+                ));
+            }
+            let json = serde_json::Value::Object(terms).to_string();
+            return Ok(Task::terms(json).with_action_cost(self.action_cost));
+        }
         let task: Task = match (self.reach, self.track, self.upright) {
             (Some(r), None, None) => ReachTask {
                 end_effector: r.end_effector,
@@ -140,7 +156,7 @@ impl TaskParam {
             .into(),
             _ => {
                 return Err(McpError::bad_argument(
-                    "task: give exactly one of \"reach\", \"track\" or \"upright\"",
+                    "task: give exactly one of \"reach\", \"track\", \"upright\" or \"terms\"",
                 ))
             }
         };

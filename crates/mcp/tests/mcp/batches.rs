@@ -140,6 +140,74 @@ async fn same_step_autoreset_reports_the_final_observation() {
     adapter.stop().await;
 }
 
+/// A terms task over MCP: a forward-velocity term on the pendulum's hinge, the control
+/// cost and a healthy range, each step reporting every term's value by name, single and
+/// batched; the pendulum tipping past 30° ends the episode as `unhealthy`.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn terms_tasks_report_each_term_and_end_unhealthy_episodes() {
+    let adapter = Adapter::embedded().await;
+    let task = json!({
+        "terms": {
+            "terms": [
+                {"name": "swing", "weight": 1.0, "velocity": {"joint": "arm"}},
+                {"name": "effort", "weight": -2.0, "ctrl_cost": {}},
+                {"name": "alive", "healthy": {}}
+            ],
+            "healthy": {"ranges": [{"of": {"joint": "arm"}, "min": -30, "max": 30}]}
+        }
+    });
+    adapter
+        .ok(
+            "create_robot_env",
+            json!({"document": doc(crate::PENDULUM), "task": task}),
+        )
+        .await;
+    let mut ended = false;
+    for _ in 0..400 {
+        let step = adapter
+            .ok(
+                "gym_step",
+                json!({"env_id": "sim_1", "action_type": "torque", "values": [0.0002]}),
+            )
+            .await;
+        let terms = &step["terms"];
+        let (swing, effort, alive) = (
+            terms["swing"].as_f64().expect("swing"),
+            terms["effort"].as_f64().expect("effort"),
+            terms["alive"].as_f64().expect("alive"),
+        );
+        assert!((effort - 4e-8).abs() < 1e-12, "{effort}");
+        let reward = step["reward"].as_f64().expect("reward");
+        assert!((reward - (swing - 2.0 * effort + alive)).abs() < 1e-3 * swing.abs().max(1.0));
+        if step["terminated"] == true {
+            assert_eq!(step["termination_reason"], "unhealthy");
+            assert_eq!(alive, 0.0);
+            ended = true;
+            break;
+        }
+        assert_eq!(alive, 1.0);
+    }
+    assert!(ended, "the pendulum never tipped past 30°");
+    adapter
+        .ok(
+            "batch_create_envs",
+            json!({"document": doc(crate::PENDULUM), "n_envs": 2, "task": task}),
+        )
+        .await;
+    let step = adapter
+        .ok(
+            "batch_step",
+            json!({"batch_id": "batch_1", "action_type": "torque", "actions": [[0.0001], [0.0]]}),
+        )
+        .await;
+    let results = step["results"].as_array().expect("results");
+    let effort = results[0]["terms"]["effort"].as_f64().expect("effort");
+    assert!((effort - 1e-8).abs() < 1e-13, "{effort}");
+    assert_eq!(results[1]["terms"]["effort"].as_f64(), Some(0.0));
+    assert_eq!(results[1]["terms"]["alive"].as_f64(), Some(1.0));
+    adapter.stop().await;
+}
+
 /// A task over MCP: the guide's reaching loop (target [20, 0, 40] mm, reward −distance)
 /// as one `task` field, a batch that ends episodes with `goal_reached`, and randomised
 /// masses.
@@ -225,7 +293,7 @@ async fn tasks_compute_rewards_and_show_the_target() {
         .await;
     let text = crate::text_of("create_robot_env", &error);
     assert!(
-        text.contains("task: give exactly one of \"reach\", \"track\" or \"upright\""),
+        text.contains("task: give exactly one of \"reach\", \"track\", \"upright\" or \"terms\""),
         "{text}"
     );
 }
