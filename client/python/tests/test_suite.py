@@ -20,7 +20,15 @@ NAMES = [spec.name for spec in SUITE.values()]
 #: Gymnasium defines x_velocity as Δx_position / dt for these.
 WITH_X_VELOCITY = {"HalfCheetah", "Hopper", "Walker2d", "Swimmer"}
 #: The reward as the sum of its info terms (Gymnasium's `_get_rew`).
-REWARD_TERMS = ("reward_forward", "reward_ctrl", "reward_survive")
+REWARD_TERMS = ("reward_forward", "reward_ctrl", "reward_survive", "reward_dist", "reward_near")
+
+
+#: Reacher and Pusher draw their goals at every reset; they take no reset_noise_scale.
+RANDOM_GOALS = {"Reacher", "Pusher"}
+
+
+def noiseless(name: str) -> dict:
+    return {} if name in RANDOM_GOALS else {"reset_noise_scale": 0.0}
 
 
 def pair(name: str, **kwargs):
@@ -31,7 +39,7 @@ def pair(name: str, **kwargs):
 
 @pytest.mark.parametrize("name", NAMES)
 def test_spaces_and_a_noiseless_reset_match_gymnasium(name):
-    ours, theirs = pair(name, reset_noise_scale=0.0)
+    ours, theirs = pair(name, **noiseless(name))
     assert ours.observation_space.shape == theirs.observation_space.shape
     # float32 where Gymnasium's observations are float64 (the server's values are float32).
     assert ours.observation_space.dtype == np.float32
@@ -44,7 +52,8 @@ def test_spaces_and_a_noiseless_reset_match_gymnasium(name):
     # The same contents in the same order and units (metres, radians): MuJoCo's qpos0.
     obs, info = ours.reset(seed=0)
     ref, ref_info = theirs.reset(seed=0)
-    np.testing.assert_allclose(obs, ref, atol=1e-6)
+    if name not in RANDOM_GOALS:  # their goals are checked in their own test below
+        np.testing.assert_allclose(obs, ref, atol=1e-6)
     assert set(info) == set(ref_info)
     for key in info:
         assert info[key] == pytest.approx(ref_info[key], abs=1e-6), key
@@ -69,7 +78,7 @@ def test_info_keys_and_every_reward_term_recomputed(name):
         assert obs.shape == ours.observation_space.shape
         assert reward == pytest.approx(sum(info.get(k, 0.0) for k in REWARD_TERMS), abs=1e-5)
         if "reward_ctrl" in info:
-            weight = spec.defaults["ctrl_cost_weight"]
+            weight = spec.defaults.get("ctrl_cost_weight", spec.defaults.get("reward_control_weight"))
             expected = -weight * float(np.sum(np.square(action.astype(np.float64))))
             assert info["reward_ctrl"] == pytest.approx(expected, rel=1e-5, abs=1e-9)
         if "reward_forward" in info:
@@ -102,6 +111,8 @@ SEQUENCES = {
     "Hopper": lambda k: np.array([0.4, -0.3, 0.2]) * np.sin(0.05 * k),
     "Walker2d": lambda k: np.sin(0.1 * k + np.arange(6)),
     "HalfCheetah": lambda k: np.sin(0.1 * k + np.arange(6)),
+    "Reacher": lambda k: np.array([np.sin(0.2 * k), np.cos(0.3 * k)]),
+    "Pusher": lambda k: 0.5 * np.sin(0.1 * k + np.arange(7)),
     "Swimmer": lambda k: np.array([np.sin(0.1 * k), np.cos(0.1 * k)]),
 }
 
@@ -117,7 +128,7 @@ def _episode_length(env, sequence) -> tuple:
 
 @pytest.mark.parametrize("name", NAMES)
 def test_a_fixed_action_sequence_ends_within_20_percent_of_mujoco(name):
-    ours, theirs = pair(name, reset_noise_scale=0.0)
+    ours, theirs = pair(name, **noiseless(name))
     ours_len, ours_terminated = _episode_length(ours, SEQUENCES[name])
     ref_len, ref_terminated = _episode_length(theirs, SEQUENCES[name])
     if not ref_terminated:
@@ -126,6 +137,44 @@ def test_a_fixed_action_sequence_ends_within_20_percent_of_mujoco(name):
         assert ours_terminated, f"MuJoCo's ends at step {ref_len}, ours runs to {ours_len}"
         assert abs(ours_len - ref_len) <= 0.2 * ref_len, f"ours {ours_len}, MuJoCo's {ref_len}"
     ours.close()
+    theirs.close()
+
+
+def test_reacher_and_pusher_measure_mujocos_bodies():
+    """Reacher's fingertip − target and Pusher's tip, object and goal are MuJoCo's body
+    positions (xpos, kept as sites by the import); the distance terms recomputed from
+    them; the goals drawn where Gymnasium draws them."""
+    mujoco = pytest.importorskip("mujoco")
+    env = gymnasium.make("gymfleet/Pusher-v5")
+    theirs = gymnasium.make("Pusher-v5")
+    for seed in range(20):
+        obs, _ = env.reset(seed=seed)
+        tip, obj, goal = obs[14:17], obs[17:20], obs[20:23]
+        np.testing.assert_allclose(goal[:2], [0.45, -0.05], atol=1e-6)  # goal at (0, 0)
+        assert np.linalg.norm(obj[:2] - goal[:2]) > 0.17 - 1e-6
+        assert -0.3 - 1e-6 <= obj[1] - goal[1] <= 1e-6  # obj_slidey, drawn first, in [-0.3, 0]
+        # The arm starts at MuJoCo's pose: the tip where MuJoCo puts tips_arm.
+        theirs.reset(seed=seed)
+        ref_tip = theirs.unwrapped.data.body("tips_arm").xpos
+        np.testing.assert_allclose(tip, ref_tip, atol=2e-3)
+        _, reward, _, _, info = env.step(np.zeros(7, dtype=np.float32))
+        assert info["reward_near"] == pytest.approx(-0.5 * np.linalg.norm(obj - tip), abs=5e-3)
+    env.close()
+    env = gymnasium.make("gymfleet/Reacher-v5")
+    model = mujoco.MjModel.from_xml_path(str(theirs.unwrapped.fullpath).replace("pusher_v5", "reacher"))
+    data = mujoco.MjData(model)
+    for seed in range(20):
+        obs, _ = env.reset(seed=seed)
+        goal = obs[4:6]
+        assert np.linalg.norm(goal) <= 0.2 + 1e-6
+        # MuJoCo at the same joint positions: the fingertip − target vector.
+        theta = np.arctan2(obs[2:4], obs[0:2])
+        data.qpos[:] = [theta[0], theta[1], goal[0], goal[1]]
+        mujoco.mj_forward(model, data)
+        ref = (data.body("fingertip").xpos - data.body("target").xpos)[:2]
+        np.testing.assert_allclose(obs[8:10], ref, atol=1e-5)
+        _, reward, _, _, info = env.step(np.zeros(2, dtype=np.float32))
+    env.close()
     theirs.close()
 
 

@@ -305,6 +305,21 @@ pub struct AssemblyDef {
     /// Joints between instances.
     #[serde(default)]
     pub joints: Vec<JointDef>,
+    /// *(ext)* Named points of instances (MJCF sites and body origins), for tasks.
+    #[serde(default)]
+    pub sites: Vec<SiteDef>,
+}
+
+/// *(ext)* A named point of an instance, which moves with it.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SiteDef {
+    /// The site's name (unique among sites).
+    pub name: String,
+    /// The instance it belongs to.
+    pub instance: String,
+    /// The point, mm in the instance's frame (the frame its placement defines).
+    pub point: Vec3,
 }
 
 /// A placed copy of a part.

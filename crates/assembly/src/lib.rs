@@ -12,11 +12,12 @@ mod document;
 mod error;
 mod mesh;
 mod model;
+mod sites;
 mod validate;
 
 pub use document::{
     AssemblyDef, CollisionDef, ConvexMode, Document, InertiaDef, InertialDef, InstanceDef,
-    JointDef, MaterialDef, MeshDef, PartDef, Primitive, Vec3,
+    JointDef, MaterialDef, MeshDef, PartDef, Primitive, SiteDef, Vec3,
 };
 pub use error::{
     quoted, quoted_list, AssemblyError, Issue, Result, MAX_ECHOED_CHARS, MAX_LISTED_NAMES,
@@ -27,8 +28,9 @@ pub use mesh::{
 };
 pub use model::{
     inertia_problem, Assembly, DofKind, Inertial, Instance, Joint, JointType, Material, Shape,
-    DEFAULT_DENSITY, DEFAULT_FRICTION, DEFAULT_GRAVITY, DEFAULT_RESTITUTION, MM_PER_M,
+    Site, DEFAULT_DENSITY, DEFAULT_FRICTION, DEFAULT_GRAVITY, DEFAULT_RESTITUTION, MM_PER_M,
 };
+pub use sites::MAX_SITES;
 pub use validate::validate;
 
 /// Parses and validates a document from JSON text.

@@ -287,6 +287,17 @@ impl Joint {
     }
 }
 
+/// A named point of an instance (see [`crate::SiteDef`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Site {
+    /// The site's name.
+    pub name: String,
+    /// Index of its instance in [`Assembly::instances`].
+    pub instance: usize,
+    /// The point in the instance's frame, mm.
+    pub point: [f64; 3],
+}
+
 /// A validated assembly: instances, then joints in document order.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Assembly {
@@ -307,9 +318,16 @@ pub struct Assembly {
     /// Whether the first instance is free (six DOFs that no action drives, observed as the
     /// base's pose and velocity) instead of grounded.
     pub floating_base: bool,
+    /// Named points of instances, in document order.
+    pub sites: Vec<Site>,
 }
 
 impl Assembly {
+    /// Index of the site with this name.
+    pub fn site_index(&self, name: &str) -> Option<usize> {
+        self.sites.iter().position(|s| s.name == name)
+    }
+
     /// Index of the instance with this name.
     pub fn instance_index(&self, name: &str) -> Option<usize> {
         self.instances.iter().position(|i| i.name == name)

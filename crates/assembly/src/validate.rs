@@ -46,6 +46,8 @@ pub fn validate(doc: &Document) -> Result<Assembly> {
         floating_base,
     );
     let (gravity, dt) = v.simulation(doc.simulation.as_ref());
+    let (sites, site_issues) = crate::sites::sites(&doc.assembly.sites, &doc.assembly.instances);
+    v.issues.extend(site_issues);
     if v.issues.is_empty() {
         Ok(Assembly {
             instances,
@@ -54,6 +56,7 @@ pub fn validate(doc: &Document) -> Result<Assembly> {
             gravity,
             dt,
             floating_base,
+            sites,
         })
     } else {
         Err(AssemblyError::Invalid { issues: v.issues })

@@ -13,7 +13,7 @@ use crate::error::{EnvError, Result};
 use crate::observation::{Observation, POSE_LEN};
 use crate::state::Origin;
 use crate::task::ActiveTask;
-use crate::terms::{Context, Dist};
+use crate::terms::{ActiveSet, Context, Dist};
 
 /// Why an episode terminated.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -79,8 +79,9 @@ pub struct StepResult {
 pub struct RobotEnv {
     pub(crate) world: RobotWorld,
     pub(crate) spec: EnvSpec,
-    /// Instance index of each end effector.
-    end_effectors: Vec<usize>,
+    /// Each end effector: an instance (its centre of mass), or a site (the instance and
+    /// the point, mm in its frame).
+    end_effectors: Vec<(usize, Option<[f64; 3]>)>,
     pub(crate) elapsed: u32,
     pub(crate) seed: u64,
     /// The episode random stream: seeded from `seed`, drawn from by each reset.
@@ -91,6 +92,8 @@ pub struct RobotEnv {
     /// document's: its draws are converted), and velocity offsets.
     position_noise: Option<(Dist, Units)>,
     velocity_noise: Option<Dist>,
+    /// Joints set to drawn positions at each reset (a terms task's `reset_noise.set`).
+    sets: Vec<ActiveSet>,
     /// Scratch for the per-DOF reset offsets (deg or mm) and velocities (`units`).
     offsets: Vec<f64>,
     start_velocities: Vec<f64>,
@@ -139,8 +142,16 @@ impl RobotEnv {
             .iter()
             .enumerate()
             .map(|(index, id)| {
+                // An instance by that name, else a site by that name.
+                let site = || {
+                    assembly
+                        .site_index(id)
+                        .map(|k| (assembly.sites[k].instance, Some(assembly.sites[k].point)))
+                };
                 assembly
                     .instance_index(id)
+                    .map(|i| (i, None))
+                    .or_else(site)
                     .ok_or_else(|| EnvError::UnknownEndEffector {
                         index,
                         id: gymfleet_assembly::quoted(id),
@@ -182,6 +193,7 @@ impl RobotEnv {
             position_noise = Some((dist, config.units));
         }
         let velocity_noise = terms.and_then(|t| t.velocity_noise);
+        let sets = terms.map(|t| t.sets.clone()).unwrap_or_default();
         let segment = task
             .as_ref()
             .and_then(|t| t.observation_name().map(|name| (name, t.observation_dim())));
@@ -208,6 +220,7 @@ impl RobotEnv {
             units: config.units,
             position_noise,
             velocity_noise,
+            sets,
             offsets: vec![0.0; spec.num_dofs],
             start_velocities: vec![0.0; spec.num_dofs],
             term_values: vec![0.0; spec.term_names.len()],
@@ -276,6 +289,18 @@ impl RobotEnv {
                 *v = dist.draw(&mut self.rng);
             }
         }
+        let mut drawn = [0.0; crate::terms::MAX_TERMS];
+        for set in &self.sets {
+            let values = &mut drawn[..set.dofs.len()];
+            set.draw(&mut self.rng, values);
+            for (&k, &value) in set.dofs.iter().zip(values.iter()) {
+                let dof = &self.spec.dofs[k];
+                // Drawn as observed (with the reference); offsets are from the start.
+                self.offsets[k] =
+                    self.units.to_document(dof.kind, value) - dof.reference - dof.initial;
+                self.start_velocities[k] = 0.0;
+            }
+        }
         if let Some(r) = &self.randomize {
             let draws = draw(
                 &mut self.rng,
@@ -289,7 +314,7 @@ impl RobotEnv {
         if let Some(draws) = &self.draws {
             self.world.apply_draws(draws);
         }
-        if self.position_noise.is_some() {
+        if self.position_noise.is_some() || !self.sets.is_empty() {
             self.world.offset_dofs(&self.offsets);
         }
         if self.velocity_noise.is_some() {
@@ -439,8 +464,8 @@ impl RobotEnv {
             rest
         };
         let (poses, task) = rest.split_at_mut(POSE_LEN * self.end_effectors.len());
-        for (pose, &instance) in poses.chunks_exact_mut(POSE_LEN).zip(&self.end_effectors) {
-            pose.copy_from_slice(&self.world.body_pose(self.units, instance));
+        for (pose, &ee) in poses.chunks_exact_mut(POSE_LEN).zip(&self.end_effectors) {
+            pose.copy_from_slice(&self.end_effector_pose(self.units, ee));
         }
         if let Some(t) = &self.task {
             t.observe(task);
@@ -487,6 +512,23 @@ pub struct Scene {
 }
 
 impl RobotEnv {
+    /// An end effector's pose: its instance's centre of mass, or its site's point, with
+    /// the instance's orientation.
+    fn end_effector_pose(
+        &self,
+        units: Units,
+        (instance, point): (usize, Option<[f64; 3]>),
+    ) -> [f32; 7] {
+        let mut pose = self.world.body_pose(units, instance);
+        if let Some(point) = point {
+            let p = self.world.point_position(units, instance, point);
+            for k in 0..3 {
+                pose[k] = p[k] as f32;
+            }
+        }
+        pose
+    }
+
     /// The env's [`Scene`] as it is now.
     pub fn scene(&self) -> Scene {
         Scene {
@@ -496,8 +538,8 @@ impl RobotEnv {
             end_effectors: self
                 .end_effectors
                 .iter()
-                .map(|&i| {
-                    let p = self.world.body_pose(Units::Document, i);
+                .map(|&ee| {
+                    let p = self.end_effector_pose(Units::Document, ee);
                     [p[0], p[1], p[2]]
                 })
                 .collect(),

@@ -97,7 +97,8 @@ pub enum Axis {
 
 /// A scalar read from the state: a joint's position or velocity (`joint`,
 /// `joint_velocity`), or one world coordinate (`axis`) of a point of an instance
-/// (`instance`, `point`) or of the whole robot's centre of mass (`center_of_mass`).
+/// (`instance`, `point`), of a site (`site`) or of the whole robot's centre of mass
+/// (`center_of_mass`).
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Quantity {
@@ -113,6 +114,9 @@ pub struct Quantity {
     /// The instance's point, mm in its frame; `None`: its centre of mass.
     #[serde(default)]
     pub point: Option<[f64; 3]>,
+    /// A site (the document's `assembly.sites`) whose coordinate is read (needs `axis`).
+    #[serde(default)]
+    pub site: Option<String>,
     /// The whole robot's centre of mass (needs `axis`).
     #[serde(default)]
     pub center_of_mass: bool,
@@ -121,15 +125,20 @@ pub struct Quantity {
     pub axis: Option<Axis>,
 }
 
-/// A point of an instance: `point` (mm in its frame) or its centre of mass.
+/// A point: a site, or a point of an instance (`point`, mm in its frame; default its
+/// centre of mass).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Point {
     /// The instance.
-    pub instance: String,
+    #[serde(default)]
+    pub instance: Option<String>,
     /// The point, mm in the instance's frame; `None`: its centre of mass.
     #[serde(default)]
     pub point: Option<[f64; 3]>,
+    /// A site of the document (instead of `instance` and `point`).
+    #[serde(default)]
+    pub site: Option<String>,
 }
 
 /// The healthy conditions: every range holds strictly, and every observed position
@@ -175,8 +184,9 @@ pub struct StateRange {
     pub skip_positions: usize,
 }
 
-/// How each DOF's start is drawn: an offset of its position and of its velocity.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+/// How each DOF's start is drawn: an offset of its position and of its velocity, then
+/// the positions some joints are set to (a goal, an object).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ResetNoise {
     /// Position offsets (clamped into the joint's limits).
@@ -185,6 +195,67 @@ pub struct ResetNoise {
     /// Velocity offsets (from rest).
     #[serde(default)]
     pub velocity: Option<Noise>,
+    /// Joints set to drawn positions (as observed), at rest, after the noise.
+    #[serde(default)]
+    pub set: Vec<SetJoints>,
+}
+
+/// Positions drawn for some joints: uniform in the box `[low, high]`, drawn again until
+/// the vector's norm lies in `[min_norm, max_norm]` (Gymnasium's Reacher draws its goal in
+/// a disk, Pusher its object away from the goal). After 1000 rejected draws the last one
+/// is scaled radially into the range. The joints start at rest.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SetJoints {
+    /// The joints (one DOF each), in the order of `low` and `high`.
+    pub joints: Vec<String>,
+    /// Lower corner of the box, one value per joint (the env's units).
+    pub low: Vec<f64>,
+    /// Upper corner.
+    pub high: Vec<f64>,
+    /// Smallest norm accepted (default 0).
+    #[serde(default)]
+    pub min_norm: Option<f64>,
+    /// Largest norm accepted (default none).
+    #[serde(default)]
+    pub max_norm: Option<f64>,
+}
+
+/// A [`SetJoints`] resolved: DOF indices and bounds.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct ActiveSet {
+    pub(crate) dofs: Vec<usize>,
+    low: Vec<f64>,
+    high: Vec<f64>,
+    min_norm: f64,
+    max_norm: f64,
+}
+
+/// Draws before a set's last draw is scaled into its norm range.
+const MAX_SET_DRAWS: usize = 1000;
+
+impl ActiveSet {
+    /// Draws the joints' positions (the env's units) into `out`.
+    pub(crate) fn draw(&self, rng: &mut Xoshiro256PlusPlus, out: &mut [f64]) {
+        for _ in 0..MAX_SET_DRAWS {
+            for (k, o) in out.iter_mut().enumerate() {
+                *o = if self.low[k] < self.high[k] {
+                    rng.random_range(self.low[k]..=self.high[k])
+                } else {
+                    self.low[k]
+                };
+            }
+            let norm = out.iter().map(|v| v * v).sum::<f64>().sqrt();
+            if norm >= self.min_norm && norm <= self.max_norm {
+                return;
+            }
+        }
+        let norm = out.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let target = norm.clamp(self.min_norm, self.max_norm);
+        if norm > 0.0 {
+            out.iter_mut().for_each(|v| *v *= target / norm);
+        }
+    }
 }
 
 /// One distribution: exactly one of `uniform` (on `[-s, s]`) or `normal` (σ = s).
@@ -309,6 +380,7 @@ pub(crate) struct ActiveTerms {
     dt: f64,
     pub(crate) position_noise: Option<Dist>,
     pub(crate) velocity_noise: Option<Dist>,
+    pub(crate) sets: Vec<ActiveSet>,
 }
 
 /// What the resolver needs from the env.
@@ -351,6 +423,54 @@ impl Context<'_> {
         crate::task::instance(self.assembly, path, name)
     }
 
+    /// A site's instance and point.
+    fn site(&self, path: &str, name: &str) -> Result<(usize, [f64; 3])> {
+        match self.assembly.site_index(name) {
+            Some(k) => {
+                let site = &self.assembly.sites[k];
+                Ok((site.instance, site.point))
+            }
+            None => {
+                let names: Vec<&str> = self
+                    .assembly
+                    .sites
+                    .iter()
+                    .map(|s| s.name.as_str())
+                    .collect();
+                Err(bad(
+                    path,
+                    format!(
+                        "unknown site {} (sites: {})",
+                        gymfleet_assembly::quoted(name),
+                        if names.is_empty() {
+                            "none: the document has no assembly.sites".to_string()
+                        } else {
+                            gymfleet_assembly::quoted_list(&names)
+                        }
+                    ),
+                ))
+            }
+        }
+    }
+
+    /// A distance term's point.
+    fn end(&self, path: &str, p: &Point) -> Result<(usize, Option<[f64; 3]>)> {
+        match (&p.instance, &p.site) {
+            (Some(name), None) => Ok((
+                self.instance(&format!("{path}.instance"), name)?,
+                self.point(&format!("{path}.point"), p.point)?,
+            )),
+            (None, Some(name)) if p.point.is_none() => {
+                let (body, point) = self.site(&format!("{path}.site"), name)?;
+                Ok((body, Some(point)))
+            }
+            _ => Err(bad(
+                path,
+                "expected a site, or an instance (with an optional point)",
+            )),
+        }
+    }
+
     fn point(&self, path: &str, point: Option<[f64; 3]>) -> Result<Option<[f64; 3]>> {
         if let Some(p) = point {
             for (k, c) in p.iter().enumerate() {
@@ -365,13 +485,14 @@ impl Context<'_> {
             q.joint.is_some(),
             q.joint_velocity.is_some(),
             q.instance.is_some(),
+            q.site.is_some(),
             q.center_of_mass,
         ];
         if set.iter().filter(|s| **s).count() != 1 {
             return Err(bad(
                 path,
-                "expected exactly one of joint, joint_velocity, instance (with axis) or \
-                 center_of_mass (with axis)",
+                "expected exactly one of joint, joint_velocity, instance, site or \
+                 center_of_mass (the last three with an axis)",
             ));
         }
         let axis = || {
@@ -386,7 +507,7 @@ impl Context<'_> {
             if q.axis.is_some() || q.point.is_some() {
                 return Err(bad(
                     path,
-                    format!("a {what} takes no axis or point (they are for instance and center_of_mass)"),
+                    format!("a {what} takes no axis or point (they are for instance, site and center_of_mass)"),
                 ));
             }
             Ok(())
@@ -411,10 +532,88 @@ impl Context<'_> {
         if q.point.is_some() {
             return Err(bad(
                 format!("{path}.point"),
-                "the robot's centre of mass takes no point",
+                "a point belongs to an instance: a site and the robot's centre of mass take none",
             ));
         }
+        if let Some(name) = &q.site {
+            let (body, point) = self.site(&format!("{path}.site"), name)?;
+            return Ok(Q::Point {
+                body,
+                point: Some(point),
+                axis: axis()?,
+            });
+        }
         Ok(Q::CenterOfMass(axis()?))
+    }
+
+    fn set(&self, path: &str, set: &SetJoints, seen: &mut Vec<usize>) -> Result<ActiveSet> {
+        let n = set.joints.len();
+        if n == 0 || n > MAX_TERMS {
+            return Err(bad(
+                format!("{path}.joints"),
+                format!("expected 1 to {MAX_TERMS} joints, got {n}"),
+            ));
+        }
+        if set.low.len() != n || set.high.len() != n {
+            return Err(bad(
+                path,
+                format!(
+                    "expected one low and one high per joint ({n}), got {} and {}",
+                    set.low.len(),
+                    set.high.len()
+                ),
+            ));
+        }
+        let mut dofs = Vec::with_capacity(n);
+        for (k, name) in set.joints.iter().enumerate() {
+            let at = format!("{path}.joints[{k}]");
+            let dof = self.joint(&at, name)?;
+            if self.dofs.iter().filter(|d| d.joint_name == *name).count() != 1 {
+                return Err(bad(
+                    at,
+                    "expected a joint with one DOF (revolute or prismatic)",
+                ));
+            }
+            if seen.contains(&dof) {
+                return Err(bad(at, "the joint is set by an earlier entry too"));
+            }
+            seen.push(dof);
+            dofs.push(dof);
+            let lo = bounded(&format!("{path}.low[{k}]"), set.low[k], "position")?;
+            let hi = bounded(&format!("{path}.high[{k}]"), set.high[k], "position")?;
+            if lo > hi {
+                return Err(bad(
+                    format!("{path}.high[{k}]"),
+                    format!("expected high >= low = {}, got {}", shown(lo), shown(hi)),
+                ));
+            }
+        }
+        let min_norm = bounded(
+            &format!("{path}.min_norm"),
+            set.min_norm.unwrap_or(0.0),
+            "norm",
+        )?;
+        let max_norm = match set.max_norm {
+            Some(m) => bounded(&format!("{path}.max_norm"), m, "norm")?,
+            None => f64::INFINITY,
+        };
+        if min_norm < 0.0 || max_norm < min_norm {
+            return Err(bad(
+                format!("{path}.max_norm"),
+                format!(
+                    "expected 0 <= min_norm <= max_norm, got {} and {}",
+                    shown(min_norm),
+                    shown(max_norm)
+                ),
+            ));
+        }
+        Ok(ActiveSet {
+            dofs,
+            low: set.low.clone(),
+            high: set.high.clone(),
+            min_norm,
+            max_norm,
+        })
     }
 
     fn noise(&self, path: &str, noise: Option<Noise>) -> Result<Option<Dist>> {
@@ -505,14 +704,10 @@ impl TermsTask {
                 Kind::Healthy
             } else {
                 let [a, b] = t.distance.as_ref().expect("one kind is set");
-                let point = |k: usize, p: &Point| -> Result<(usize, Option<[f64; 3]>)> {
-                    let at = format!("{path}.distance[{k}]");
-                    Ok((
-                        cx.instance(&format!("{at}.instance"), &p.instance)?,
-                        cx.point(&format!("{at}.point"), p.point)?,
-                    ))
-                };
-                Kind::Distance([point(0, a)?, point(1, b)?])
+                Kind::Distance([
+                    cx.end(&format!("{path}.distance[0]"), a)?,
+                    cx.end(&format!("{path}.distance[1]"), b)?,
+                ])
             };
             terms.push((weight, kind));
         }
@@ -580,8 +775,14 @@ impl TermsTask {
                 })
             }
         };
-        let noise = self.reset_noise.unwrap_or_default();
+        let noise = self.reset_noise.clone().unwrap_or_default();
+        let mut sets = Vec::with_capacity(noise.set.len());
+        let mut seen: Vec<usize> = Vec::new();
+        for (i, set) in noise.set.iter().enumerate() {
+            sets.push(cx.set(&format!("task.terms.reset_noise.set[{i}]"), set, &mut seen)?);
+        }
         Ok(ActiveTerms {
+            sets,
             previous: vec![0.0; terms.len()],
             terms,
             healthy,

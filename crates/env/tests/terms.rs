@@ -370,7 +370,7 @@ fn each_bad_terms_task_gets_its_own_error() {
         ),
         (
             r#"{"terms": [{"name": "a", "value": {"joint": "upper", "axis": "x"}}]}"#,
-            "task.terms.terms[0].value: a joint position takes no axis or point (they are for instance and center_of_mass)",
+            "task.terms.terms[0].value: a joint position takes no axis or point (they are for instance, site and center_of_mass)",
         ),
         (
             r#"{"terms": [{"name": "a", "value": {"instance": "hand", "axis": "x"}}]}"#,
@@ -399,6 +399,26 @@ fn each_bad_terms_task_gets_its_own_error() {
         (
             r#"{"terms": [{"name": "a", "speed": {}}]}"#,
             "task.terms.terms[0].speed: unknown field `speed`, expected one of `name`, `weight`",
+        ),
+        (
+            r#"{"terms": [{"name": "a", "value": {"site": "tip", "axis": "x"}}]}"#,
+            "task.terms.terms[0].value.site: unknown site \"tip\" (sites: none: the document has no assembly.sites)",
+        ),
+        (
+            r#"{"terms": [{"name": "a", "distance": [{"site": "tip", "instance": "upper"}, {"instance": "upper"}]}]}"#,
+            "task.terms.terms[0].distance[0]: expected a site, or an instance (with an optional point)",
+        ),
+        (
+            r#"{"terms": [], "reset_noise": {"set": [{"joints": ["upper"], "low": [0.1], "high": [0.0]}]}}"#,
+            "task.terms.reset_noise.set[0].high[0]: expected high >= low = 0.1, got 0",
+        ),
+        (
+            r#"{"terms": [], "reset_noise": {"set": [{"joints": ["upper"], "low": [0], "high": [0]}, {"joints": ["upper"], "low": [0], "high": [0]}]}}"#,
+            "task.terms.reset_noise.set[1].joints[0]: the joint is set by an earlier entry too",
+        ),
+        (
+            r#"{"terms": [], "reset_noise": {"set": [{"joints": ["upper", "forearm"], "low": [0], "high": [0]}]}}"#,
+            "task.terms.reset_noise.set[0]: expected one low and one high per joint (2), got 1 and 1",
         ),
         (
             r#"{"terms": [{"name": "", "ctrl_cost": {}}]}"#,
@@ -446,4 +466,84 @@ fn si_units_refuse_the_document_unit_tasks_and_noise_is_set_once() {
         err.to_string(),
         "reset_noise: the task draws the positions (task.terms.reset_noise.position); set one of the two"
     );
+}
+
+/// An arm2 whose forearm carries a site at its far end (the arm's links are 40 mm long
+/// along their local z in the seed model; the site is checked against the instance's
+/// point, whatever the frame).
+fn arm2_with_site() -> String {
+    let mut doc: serde_json::Value = serde_json::from_str(ARM2).expect("json");
+    doc["assembly"]["sites"] = serde_json::json!([{"name": "tip", "instance": "forearm", "point": {"x": 1, "y": 2, "z": 30}}]);
+    doc.to_string()
+}
+
+#[test]
+fn a_site_is_a_named_point_of_its_instance() {
+    let json = r#"{"terms": [
+        {"name": "site_z", "weight": 0, "value": {"site": "tip", "axis": "z"}},
+        {"name": "point_z", "weight": 0, "value": {"instance": "forearm", "point": [1, 2, 30], "axis": "z"}},
+        {"name": "gap", "weight": 0, "distance": [{"site": "tip"}, {"instance": "forearm", "point": [1, 2, 30]}]},
+        {"name": "reach", "weight": 0, "distance": [{"site": "tip"}, {"instance": "base", "point": [0, 0, 0]}]}
+    ]}"#;
+    // An end effector may name a site: its point is observed, with its instance's
+    // orientation.
+    let config = EnvConfig {
+        units: Units::Si,
+        task: Some(task(json)),
+        end_effector_ids: vec!["tip".into(), "forearm".into()],
+        ..EnvConfig::default()
+    };
+    let mut env = RobotEnv::from_json(&arm2_with_site(), config).expect("env");
+    for _ in 0..30 {
+        let obs = env
+            .step(ActionType::Torque, &[0.0004, -0.0003])
+            .expect("steps")
+            .observation;
+        let v = env.term_values();
+        assert_eq!(v[0], v[1], "the site is the instance's point");
+        assert_eq!(obs.end_effector_poses[0][2], v[0], "the site's z, observed");
+        assert_eq!(
+            obs.end_effector_poses[0][3..],
+            obs.end_effector_poses[1][3..]
+        );
+        assert_eq!(v[2], 0.0);
+        assert!(v[3] > 0.0);
+    }
+    // A document whose site names an unknown instance is refused by the validator.
+    let bad = arm2_with_site().replace("\"instance\":\"forearm\"", "\"instance\":\"hand\"");
+    let err = RobotEnv::from_json(&bad, EnvConfig::default())
+        .err()
+        .expect("refused");
+    assert!(
+        err.to_string()
+            .contains("assembly.sites[0].instance: unknown instance \"hand\""),
+        "{err}"
+    );
+}
+
+#[test]
+fn set_joints_start_where_drawn_at_rest() {
+    // The shoulder drawn in a ring 0.2 <= |q| <= 0.3 rad of a box [-0.5, 0.5]; the noise on
+    // the other joint stays as drawn.
+    let json = r#"{"terms": [], "reset_noise": {
+        "velocity": {"uniform": 0.5},
+        "set": [{"joints": ["upper"], "low": [-0.5], "high": [0.5], "min_norm": 0.2, "max_norm": 0.3}]
+    }}"#;
+    let mut env = arm2(json, Units::Si);
+    let mut signs = [0, 0];
+    for seed in 0..200 {
+        let obs = env.reset(Some(seed));
+        let q = obs.joint_positions[0].abs();
+        assert!((0.2 - 1e-6..=0.3 + 1e-6).contains(&q), "seed {seed}: {q}");
+        assert_eq!(obs.joint_velocities[0], 0.0, "set joints start at rest");
+        signs[usize::from(obs.joint_positions[0] > 0.0)] += 1;
+        assert!(obs.joint_velocities[1] != 0.0);
+    }
+    assert!(signs[0] > 50 && signs[1] > 50, "{signs:?}");
+    // The same seed, the same draw; a fixed value is set exactly.
+    assert_eq!(env.reset(Some(4)), env.reset(Some(4)));
+    let fixed = r#"{"terms": [], "reset_noise": {"set": [{"joints": ["forearm"], "low": [-0.25], "high": [-0.25]}]}}"#;
+    let mut env = arm2(fixed, Units::Si);
+    let q = env.reset(Some(1)).joint_positions[1];
+    assert!((q + 0.25).abs() < 1e-6, "{q}");
 }

@@ -115,6 +115,9 @@ struct Converter<'a, 'i> {
     joints: Vec<Value>,
     names: Names,
     joint_names: Names,
+    /// Named points: every named body's origin and every `<site>` in a body.
+    sites: Vec<Value>,
+    site_names: Names,
     /// Joint names with a DOF, in document (tree) order.
     moving_joints: Vec<String>,
     /// The instance of the first body with a free joint: the floating base.
@@ -152,6 +155,8 @@ impl<'a, 'i> Converter<'a, 'i> {
             joints: Vec::new(),
             names: Names::default(),
             joint_names: Names::default(),
+            sites: Vec::new(),
+            site_names: Names::default(),
             moving_joints: Vec::new(),
             floating: None,
             total_mass: None,
@@ -638,6 +643,20 @@ impl<'a, 'i> Converter<'a, 'i> {
         name
     }
 
+    /// A named point at `at` (world, m) on instance `instance`, in its frame.
+    fn site(&mut self, wanted: &str, instance: &str, at: DVec3) {
+        let Some(frame) = self.frames.get(instance) else {
+            return;
+        };
+        let local = frame.rotation.inverse() * (at - frame.translation) * MM;
+        let name = self.site_names.unique(wanted);
+        self.sites.push(json!({
+            "name": name,
+            "instance": instance,
+            "point": {"x": local.x, "y": local.y, "z": local.z}
+        }));
+    }
+
     fn joint_name(&mut self, wanted: &str) -> String {
         self.joint_names.unique(wanted)
     }
@@ -722,6 +741,10 @@ impl<'a, 'i> Converter<'a, 'i> {
         if let Some(i) = inertial.filter(|_| use_inertial) {
             self.inertial(i, &frame, &main)?;
         }
+        // The body's origin, by the body's name (what MuJoCo's body xpos reports).
+        if let Some(name) = node.attribute("name") {
+            self.site(name, &main, frame.translation);
+        }
 
         // Joints: parent → (helpers) → the body's instance.
         let joints: Vec<Node<'a, 'i>> = elements(node)
@@ -775,7 +798,15 @@ impl<'a, 'i> Converter<'a, 'i> {
             match child.tag_name().name() {
                 "geom" | "joint" | "freejoint" | "inertial" => {}
                 "body" => self.body(child, &frame, Some(&main), class)?,
-                "site" | "camera" | "light" => {
+                "site" => {
+                    // A site is kept as a named point of the body's instance.
+                    let at = frame.then(&self.local_frame(child, class)?).translation;
+                    let name = child
+                        .attribute("name")
+                        .map_or_else(|| format!("{body_name}_site"), str::to_string);
+                    self.site(&name, &main, at);
+                }
+                "camera" | "light" => {
                     self.warn(child, "ignored (no effect on the dynamics)".into())
                 }
                 other => {
@@ -1242,6 +1273,9 @@ impl<'a, 'i> Converter<'a, 'i> {
             "parts": self.parts,
             "assembly": {"instances": self.instances, "joints": self.joints}
         });
+        if !self.sites.is_empty() {
+            document["assembly"]["sites"] = Value::Array(std::mem::take(&mut self.sites));
+        }
         if self.floating.is_some() {
             document["floating_base"] = json!(true);
         }

@@ -63,6 +63,7 @@ class _Setup:
             "substeps": self.frame_skip,
             "max_steps": int(max_steps),
             "task": self.plan.task,
+            "end_effector_ids": list(self.plan.end_effectors),
             "render_mode": self.kw["render_mode"],
             "render_options": {"width": int(self.kw["width"]), "height": int(self.kw["height"])},
         }
@@ -84,8 +85,10 @@ class _Setup:
         return spaces.Box(-np.inf, np.inf, shape=(self.plan.observation_dim,), dtype=np.float32)
 
 
-def _split(raw: np.ndarray, dofs: int) -> Tuple[np.ndarray, np.ndarray]:
-    return raw[:, :dofs], raw[:, dofs : 2 * dofs]
+def _split(raw: np.ndarray, dofs: int) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Positions, velocities and the end effectors' positions of raw rows (n, dim)."""
+    poses = raw[:, 2 * dofs :].reshape(len(raw), -1, 7)
+    return raw[:, :dofs], raw[:, dofs : 2 * dofs], poses[:, :, :3]
 
 
 class SuiteEnv(gym.Env):
@@ -116,13 +119,13 @@ class SuiteEnv(gym.Env):
     ) -> Tuple[np.ndarray, Dict[str, Any]]:
         super().reset(seed=seed)
         raw, _ = self._env.reset(seed=seed)
-        q, v = _split(raw[None, :], self._dofs)
+        q, v, ee = _split(raw[None, :], self._dofs)
         info = {k: float(x[0]) for k, x in self._setup.plan.reset_info(q.astype(np.float64)).items()}
-        return self._setup.plan.observe(q, v)[0].astype(np.float32), info
+        return self._setup.plan.observe(q, v, ee)[0].astype(np.float32), info
 
     def step(self, action: Any) -> Tuple[np.ndarray, float, bool, bool, Dict[str, Any]]:
         raw, reward, terminated, truncated, raw_info = self._env.step(action)
-        q, v = _split(raw[None, :], self._dofs)
+        q, v, ee = _split(raw[None, :], self._dofs)
         terms = {
             name: np.array([raw_info[name]], dtype=np.float64)
             for name in self._env.env_info["term_names"]
@@ -131,7 +134,7 @@ class SuiteEnv(gym.Env):
             k: float(x[0])
             for k, x in self._setup.plan.step_info(q.astype(np.float64), terms).items()
         }
-        obs = self._setup.plan.observe(q, v)[0].astype(np.float32)
+        obs = self._setup.plan.observe(q, v, ee)[0].astype(np.float32)
         return obs, float(reward), bool(terminated), bool(truncated), info
 
     def render(self) -> Optional[np.ndarray]:
@@ -194,8 +197,7 @@ class SuiteVectorEnv(VectorEnv):
         return self._envs
 
     def _observe(self, raw: np.ndarray) -> np.ndarray:
-        q, v = _split(raw, self._dofs)
-        return self._setup.plan.observe(q, v).astype(np.float32)
+        return self._setup.plan.observe(*_split(raw, self._dofs)).astype(np.float32)
 
     def _infos(self, values: Dict[str, np.ndarray]) -> Dict[str, Any]:
         every = np.ones(self.num_envs, dtype=np.bool_)
@@ -214,7 +216,7 @@ class SuiteVectorEnv(VectorEnv):
         if seed is not None and isinstance(seed, (int, np.integer)):
             super().reset(seed=int(seed))
         raw, _ = self._envs.reset(seed=seed, options=options)
-        q, _ = _split(raw, self._dofs)
+        q, _, _ = _split(raw, self._dofs)
         return self._observe(raw), self._infos(self._setup.plan.reset_info(q.astype(np.float64)))
 
     def step(
@@ -231,7 +233,7 @@ class SuiteVectorEnv(VectorEnv):
             rows = raw.copy()
             for env in np.flatnonzero(raw_infos["_final_obs"]):
                 rows[env] = raw_infos["final_obs"][env]
-        q, _ = _split(rows, self._dofs)
+        q, _, _ = _split(rows, self._dofs)
         values = self._setup.plan.step_info(q.astype(np.float64), terms)
         infos = self._infos(values)
         if "final_obs" in raw_infos:
@@ -242,7 +244,7 @@ class SuiteVectorEnv(VectorEnv):
             for env in np.flatnonzero(has_final):
                 final[env] = self._observe(raw_infos["final_obs"][env][None, :])[0]
             final_info = {k: (v & has_final if k.startswith("_") else v) for k, v in infos.items()}
-            q_now, _ = _split(raw, self._dofs)
+            q_now, _, _ = _split(raw, self._dofs)
             for key, value in self._setup.plan.reset_info(q_now.astype(np.float64)).items():
                 if key in values:
                     infos[key] = np.where(has_final, value, infos[key])

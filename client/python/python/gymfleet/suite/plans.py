@@ -103,8 +103,9 @@ class Plan:
 
     #: The terms task (``gymfleet.make(..., task=...)``).
     task: Dict[str, Any]
-    #: The observation from the positions and velocities (n, dof) each, in SI.
-    observe: Callable[[np.ndarray, np.ndarray], np.ndarray]
+    #: The observation from the positions and velocities (n, dof) each, and the end
+    #: effectors' positions (n, len(end_effectors), 3), in SI.
+    observe: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]
     #: The observation's length.
     observation_dim: int
     #: The step's info from the positions and the term values.
@@ -113,12 +114,17 @@ class Plan:
     reset_info: Callable[[Positions], Dict[str, np.ndarray]] = field(
         default=lambda q: {}
     )
+    #: Sites (or instances) observed as end effectors: MuJoCo's body positions (xpos)
+    #: that the observation holds.
+    end_effectors: List[str] = field(default_factory=list)
 
 
-def _joint_state(skip: int, clip: Optional[float]) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
+def _joint_state(
+    skip: int, clip: Optional[float]
+) -> Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]:
     """Gymnasium's ``concatenate(qpos[skip:], qvel)``, the velocities clipped to ±clip."""
 
-    def observe(q: np.ndarray, v: np.ndarray) -> np.ndarray:
+    def observe(q: np.ndarray, v: np.ndarray, ee: np.ndarray) -> np.ndarray:
         if clip is not None:
             v = np.clip(v, -clip, clip)
         return np.concatenate([q[:, skip:], v], axis=1)
@@ -304,6 +310,76 @@ def _inverted_pendulum(model: Model, kw: Mapping[str, Any]) -> Plan:
     return Plan(task, _joint_state(0, None), 2 * n, step_info)
 
 
+def _reacher(model: Model, kw: Mapping[str, Any]) -> Plan:
+    """The fingertip to a goal drawn in a disk of 0.2 m; bodies' positions as sites."""
+    wd, wc = float(kw["reward_dist_weight"]), float(kw["reward_control_weight"])
+    goal = model.joints[2:4]
+    task = {
+        "terms": [
+            {"name": "distance", "weight": -wd,
+             "distance": [{"site": "fingertip"}, {"site": "target"}]},
+            {"name": "ctrl_cost", "weight": -wc, "ctrl_cost": {}},
+        ],
+        "reset_noise": {
+            "position": {"uniform": 0.1},
+            "velocity": {"uniform": 0.005},
+            # Gymnasium draws the goal until its norm is under 0.2; it starts at rest.
+            "set": [{"joints": goal, "low": [-0.2, -0.2], "high": [0.2, 0.2], "max_norm": 0.2}],
+        },
+    }
+
+    def observe(q: np.ndarray, v: np.ndarray, ee: np.ndarray) -> np.ndarray:
+        theta = q[:, :2]
+        return np.concatenate(
+            [np.cos(theta), np.sin(theta), q[:, 2:], v[:, :2], (ee[:, 0] - ee[:, 1])[:, :2]],
+            axis=1,
+        )
+
+    def step_info(q: Positions, t: Terms) -> Dict[str, np.ndarray]:
+        return {"reward_dist": -wd * t["distance"], "reward_ctrl": -wc * t["ctrl_cost"]}
+
+    return Plan(task, observe, 10, step_info, end_effectors=["fingertip", "target"])
+
+
+def _pusher(model: Model, kw: Mapping[str, Any]) -> Plan:
+    """The arm's tip pushes the object to the goal; the object is placed away from it."""
+    wn, wd, wc = (
+        float(kw["reward_near_weight"]),
+        float(kw["reward_dist_weight"]),
+        float(kw["reward_control_weight"]),
+    )
+    obj, goal = model.joints[-4:-2], model.joints[-2:]
+    task = {
+        "terms": [
+            {"name": "near", "weight": -wn,
+             "distance": [{"site": "object"}, {"site": "tips_arm"}]},
+            {"name": "distance", "weight": -wd,
+             "distance": [{"site": "object"}, {"site": "goal"}]},
+            {"name": "ctrl_cost", "weight": -wc, "ctrl_cost": {}},
+        ],
+        "reset_noise": {
+            "velocity": {"uniform": 0.005},
+            "set": [
+                # Gymnasium draws the object until it is more than 0.17 from the goal.
+                {"joints": obj, "low": [-0.3, -0.2], "high": [0.0, 0.2], "min_norm": 0.17},
+                {"joints": goal, "low": [0.0, 0.0], "high": [0.0, 0.0]},
+            ],
+        },
+    }
+
+    def observe(q: np.ndarray, v: np.ndarray, ee: np.ndarray) -> np.ndarray:
+        return np.concatenate([q[:, :7], v[:, :7], ee.reshape(len(ee), -1)], axis=1)
+
+    def step_info(q: Positions, t: Terms) -> Dict[str, np.ndarray]:
+        return {
+            "reward_dist": -wd * t["distance"],
+            "reward_ctrl": -wc * t["ctrl_cost"],
+            "reward_near": -wn * t["near"],
+        }
+
+    return Plan(task, observe, 23, step_info, end_effectors=["tips_arm", "object", "goal"])
+
+
 @dataclass
 class SuiteSpec:
     """One registered env: its Gymnasium name, defaults and plan."""
@@ -364,6 +440,24 @@ SUITE: Dict[str, SuiteSpec] = {
             950.0,
             {"reset_noise_scale": 0.01},
             _inverted_pendulum,
+        ),
+        SuiteSpec(
+            "Reacher",
+            "reacher.xml",
+            2,
+            50,
+            -3.75,
+            {"reward_dist_weight": 1.0, "reward_control_weight": 1.0},
+            _reacher,
+        ),
+        SuiteSpec(
+            "Pusher",
+            "pusher_v5.xml",
+            5,
+            100,
+            0.0,
+            {"reward_near_weight": 0.5, "reward_dist_weight": 1.0, "reward_control_weight": 0.1},
+            _pusher,
         ),
         SuiteSpec(
             "HalfCheetah",

@@ -1,0 +1,75 @@
+//! Sites: named points of instances (MJCF `<site>`s and body origins, kept by the MJCF
+//! import), which tasks refer to by name (`{"site": "fingertip"}`). Each is a point in its
+//! instance's frame, in mm, so it moves with the instance.
+
+use std::collections::HashSet;
+
+use crate::document::{InstanceDef, SiteDef};
+use crate::error::{quoted, quoted_list, Issue};
+use crate::model::Site;
+
+/// Most sites in one document.
+pub const MAX_SITES: usize = 4096;
+/// Largest magnitude of a site's coordinate, mm (100 km).
+const MAX_MM: f64 = 1e8;
+
+/// The document's sites, checked against its instances; every problem is an issue.
+pub(crate) fn sites(defs: &[SiteDef], instances: &[InstanceDef]) -> (Vec<Site>, Vec<Issue>) {
+    let mut issues = Vec::new();
+    let mut out = Vec::with_capacity(defs.len());
+    if defs.len() > MAX_SITES {
+        issues.push(Issue::new(
+            "assembly.sites",
+            format!("expected at most {MAX_SITES} sites, got {}", defs.len()),
+        ));
+        return (out, issues);
+    }
+    let mut names: HashSet<&str> = HashSet::new();
+    for (k, def) in defs.iter().enumerate() {
+        let path = format!("assembly.sites[{k}]");
+        let before = issues.len();
+        if def.name.is_empty() {
+            issues.push(Issue::new(
+                format!("{path}.name"),
+                "expected a non-empty name",
+            ));
+        } else if !names.insert(def.name.as_str()) {
+            issues.push(Issue::new(
+                format!("{path}.name"),
+                format!(
+                    "{} names an earlier site too; site names must be unique",
+                    quoted(&def.name)
+                ),
+            ));
+        }
+        let instance = instances.iter().position(|i| i.name == def.instance);
+        if instance.is_none() {
+            let known: Vec<&str> = instances.iter().map(|i| i.name.as_str()).collect();
+            issues.push(Issue::new(
+                format!("{path}.instance"),
+                format!(
+                    "unknown instance {} (known: {})",
+                    quoted(&def.instance),
+                    quoted_list(&known)
+                ),
+            ));
+        }
+        let point = def.point.to_array();
+        for (axis, c) in ["x", "y", "z"].iter().zip(point) {
+            if !(c.is_finite() && c.abs() <= MAX_MM) {
+                issues.push(Issue::new(
+                    format!("{path}.point.{axis}"),
+                    format!("expected a finite coordinate within ±1e8 mm, got {c:e}"),
+                ));
+            }
+        }
+        if let (Some(instance), true) = (instance, issues.len() == before) {
+            out.push(Site {
+                name: def.name.clone(),
+                instance,
+                point,
+            });
+        }
+    }
+    (out, issues)
+}
