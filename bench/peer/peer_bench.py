@@ -150,7 +150,7 @@ def reacher(args):
         for substeps in args.reacher_substeps:
             a, b = same_model_rounds(
                 args, ["--model", xml, "--end-effector", "fingertip", "--dt", "0.02",
-                       "--substeps", str(substeps), "--amplitude", "200"],
+                       "--substeps", str(substeps), "--amplitude", "1"],
                 "Reacher-v5", n_envs)
             print(f"Reacher, {n_envs} envs, 2 threads, 0.02 s per env step: gymfleet remote "
                   f"StepBatch ({substeps} Euler substeps) {a:9.0f} env-steps/s, EnvPool "
@@ -158,12 +158,12 @@ def reacher(args):
                   f"s/s {a * 0.02:.0f} vs {b * 0.02:.0f}")
 
 
-# Gymnasium's locomotion models, the same file on both sides: (file, EnvPool task, motor
-# gear: gymfleet's torque amplitude for actions as EnvPool's uniform [-1, 1] ctrl, env step
-# in s = frame_skip x timestep).
+# Gymnasium's locomotion models, the same file on both sides: (file, EnvPool task, env
+# step in s = frame_skip x timestep). Actions on both sides are MuJoCo's ctrl, uniform in
+# [-1, 1] (the converted motors keep their gear).
 LOCOMOTION = {
-    "half_cheetah": ("half_cheetah.xml", "HalfCheetah-v5", 120.0, 0.05),
-    "ant": ("ant.xml", "Ant-v5", 150.0, 0.05),
+    "half_cheetah": ("half_cheetah.xml", "HalfCheetah-v5", 0.05),
+    "ant": ("ant.xml", "Ant-v5", 0.05),
 }
 
 
@@ -178,12 +178,12 @@ def locomotion(args):
     import gymnasium
     assets = os.path.join(os.path.dirname(gymnasium.__file__), "envs", "mujoco", "assets")
     for name in args.locomotion_models:
-        xml, task, gear, dt = LOCOMOTION[name]
+        xml, task, dt = LOCOMOTION[name]
         for n_envs in args.reacher_envs:
             for substeps in args.locomotion_substeps:
                 a, b = same_model_rounds(
                     args, ["--model", os.path.join(assets, xml), "--dt", str(dt),
-                           "--substeps", str(substeps), "--amplitude", str(gear)],
+                           "--substeps", str(substeps), "--amplitude", "1"],
                     task, n_envs)
                 print(f"{name}, {n_envs} envs, 2 threads, {dt} s per env step: gymfleet "
                       f"remote StepBatch ({substeps} Euler substeps) {a:9.0f} env-steps/s, "

@@ -43,7 +43,9 @@ def mujoco_trajectory(dt, steps):
 def gymfleet_trajectory(dt, substeps, steps):
     env = gymfleet.make(REACHER, end_effector_ids=["fingertip"], dt=dt, substeps=substeps)
     env.reset(seed=0)
-    out = [np.radians(env.step(torque(k * dt).astype(np.float32))[0][:2]) for k in range(steps)]
+    # Actions are MuJoCo's ctrl on both sides: torque / gear 200.
+    ctrl = [(torque(k * dt) / 200.0).astype(np.float32) for k in range(steps)]
+    out = [np.radians(env.step(ctrl[k])[0][:2]) for k in range(steps)]
     env.close()
     return np.array(out)
 

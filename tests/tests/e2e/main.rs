@@ -13,6 +13,7 @@ mod security;
 mod states;
 mod structure;
 mod tasks;
+mod terms;
 mod transport;
 mod walkthrough;
 
