@@ -38,7 +38,10 @@ async fn a_single_env_reports_each_term_in_si_units() {
     assert_eq!(env.info().term_names, ["speed", "effort", "alive", "tip_z"]);
     assert_eq!(env.info().units, Units::Si);
     let first = env.reset(Some(1)).await.expect("reset");
-    assert!(first.joint_positions.iter().all(|q| q.abs() <= 0.05 + 1e-6), "rad");
+    assert!(
+        first.joint_positions.iter().all(|q| q.abs() <= 0.05 + 1e-6),
+        "rad"
+    );
     let mut before = first.joint_positions[0];
     for _ in 0..20 {
         let step = env
@@ -52,10 +55,17 @@ async fn a_single_env_reports_each_term_in_si_units() {
         let expected = (step.observation.joint_positions[0] - before) / dt;
         assert!((speed - expected).abs() < 1e-3 * expected.abs().max(1.0));
         assert!((effort - (0.0004f32.powi(2) + 0.0002f32.powi(2))).abs() < 1e-12);
-        assert_eq!(alive, 1.0);
+        // Healthy while the forearm is above −1 rad; it falls under gravity.
+        let healthy = step.observation.joint_positions[1] > -1.0;
+        assert_eq!(alive, f32::from(u8::from(healthy)));
+        assert_eq!(step.terminated, !healthy);
         assert!(tip_z.abs() < 1.0, "metres: {tip_z}");
         let reward = speed - 0.5 * effort + alive;
         assert!((step.reward - reward).abs() < 1e-4 * reward.abs().max(1.0));
+        if step.terminated {
+            assert_eq!(step.termination_reason.as_deref(), Some("unhealthy"));
+            break;
+        }
         before = step.observation.joint_positions[0];
     }
 }
@@ -100,10 +110,7 @@ async fn term_values_are_bitwise_equal_however_a_batch_is_sharded() {
             acts[2 * env + 1] = -0.004;
         }
         let x = batch.step(ActionType::Torque, &acts).await.expect("step");
-        let y = sharded
-            .step(ActionType::Torque, &acts)
-            .await
-            .expect("step");
+        let y = sharded.step(ActionType::Torque, &acts).await.expect("step");
         assert_eq!(x.terms().len(), N * 4);
         assert_eq!(bits(x.terms()), bits(y.terms()), "step {t}");
         assert_eq!(bits(x.rewards()), bits(y.rewards()), "step {t}");
@@ -130,7 +137,7 @@ async fn bad_terms_tasks_and_units_are_invalid_argument_with_their_paths() {
         ),
         (
             EnvOptions::new(PENDULUM).task(Task::terms("{\"terms\": [")),
-            "task.terms: EOF while parsing a list at line 1 column 11",
+            "task.terms.terms: EOF while parsing a list at line 1 column 11",
         ),
         (
             EnvOptions::new(PENDULUM).units(Units::Si).task(Task::from(gymfleet_client::UprightTask {
