@@ -53,9 +53,12 @@ class EnvHandle:
         """Resets (reseeding first when a seed is given); the observation."""
     def step(
         self, action_type_name: str, action: npt.NDArray[np.float32]
-    ) -> Tuple[npt.NDArray[np.float32], float, bool, bool, Optional[str], int]:
+    ) -> Tuple[
+        npt.NDArray[np.float32], float, bool, bool, Optional[str], int, npt.NDArray[np.float32]
+    ]:
         """``(observation, reward, terminated, truncated, termination_reason,
-        episode_step)``; ``action`` is 1-D float32, one value per DOF."""
+        episode_step, terms)``; ``action`` is 1-D float32, one value per DOF; ``terms``
+        a terms task's values (``info["term_names"]`` order; empty without one)."""
     def observe(self) -> npt.NDArray[np.float32]:
         """The current observation, without stepping."""
     def save_state(self) -> bytes:
@@ -116,11 +119,12 @@ class BatchHandle:
         npt.NDArray[np.uint32],
         npt.NDArray[np.float32],
         Dict[int, str],
+        npt.NDArray[np.float32],
     ]:
         """Steps every env with ``actions`` ``(n_envs, action_dim)``: observations,
         rewards, terminated, truncated, the envs reset within the step (same-step
-        autoreset) and their final observations ``(k, observation_dim)``, and the
-        termination reasons by env."""
+        autoreset) and their final observations ``(k, observation_dim)``, the
+        termination reasons by env, and a terms task's values ``(n_envs, len(term_names))``."""
     def observe(self) -> npt.NDArray[np.float32]:
         """Every env's current observation."""
     def save_states(
