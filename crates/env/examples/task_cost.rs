@@ -1,6 +1,7 @@
 //! What a task adds to an arm2 env step, measured interleaved: rounds of 2000 zero-torque
-//! steps of an env with no task, with a reach task and with a track task, in rotating
-//! order, so that this machine's drift hits all three alike. Prints each one's median
+//! steps of an env with no task, with a reach task, with a track task and with a terms
+//! task as Gymnasium's Hopper writes its reward (forward velocity, control cost, healthy
+//! ranges and state range, two reported coordinates), in rotating order, so that this machine's drift hits all three alike. Prints each one's median
 //! step time over the rounds and the ratios to no task.
 //!
 //! `cargo run --release -p gymfleet-env --example task_cost -- 200`
@@ -8,7 +9,7 @@
 
 use std::time::Instant;
 
-use gymfleet_env::{ActionType, EnvConfig, ReachTarget, RobotEnv, TaskKind, TaskSpec};
+use gymfleet_env::{ActionType, EnvConfig, ReachTarget, RobotEnv, TaskKind, TaskSpec, TermsTask};
 
 const ARM2: &str = include_str!("../../../models/arm2.json");
 const STEPS: u32 = 2000;
@@ -45,16 +46,35 @@ fn main() {
         tolerance: 1.0,
         terminate_on_success: false,
     };
-    let mut envs = [env(None), env(Some(reach)), env(Some(track))];
-    let names = ["none", "reach", "track"];
-    let mut times: [Vec<f64>; 3] = Default::default();
+    let terms = TaskKind::Terms(
+        TermsTask::from_json(
+            r#"{"terms": [
+                {"name": "x_velocity", "weight": 1.0, "velocity": {"joint": "upper"}},
+                {"name": "ctrl_cost", "weight": -0.001, "ctrl_cost": {}},
+                {"name": "healthy", "weight": 1.0, "healthy": {}},
+                {"name": "tip_z", "weight": 0.0, "value": {"instance": "forearm", "axis": "z"}},
+                {"name": "com_x", "weight": 0.0, "value": {"center_of_mass": true, "axis": "x"}}
+            ],
+            "healthy": {"ranges": [{"of": {"joint": "forearm"}, "min": -200.0}],
+                        "state_range": {"min": -1e6, "max": 1e6, "skip_positions": 1}}}"#,
+        )
+        .expect("terms"),
+    );
+    let mut envs = [
+        env(None),
+        env(Some(reach)),
+        env(Some(track)),
+        env(Some(terms)),
+    ];
+    let names = ["none", "reach", "track", "terms"];
+    let mut times: [Vec<f64>; 4] = Default::default();
     let mut obs: Vec<Vec<f32>> = envs
         .iter()
         .map(|e| vec![0.0; e.spec().observation_dim])
         .collect();
     for round in 0..rounds {
-        for k in 0..3 {
-            let i = (round + k) % 3;
+        for k in 0..4 {
+            let i = (round + k) % 4;
             let start = Instant::now();
             for _ in 0..STEPS {
                 let flags = envs[i]
