@@ -39,6 +39,27 @@ pub enum Target {
     },
 }
 
+/// The units of observations and of a terms task (`--units`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum UnitsArg {
+    /// The document's: deg, mm.
+    #[default]
+    Document,
+    /// SI: rad, m.
+    Si,
+}
+
+impl UnitsArg {
+    /// The client's units.
+    pub fn client(self) -> gymfleet_client::Units {
+        match self {
+            UnitsArg::Document => gymfleet_client::Units::Document,
+            UnitsArg::Si => gymfleet_client::Units::Si,
+        }
+    }
+}
+
 /// Which RPCs carry the steps.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
@@ -137,6 +158,10 @@ pub struct LoadConfig {
     pub max_steps: Option<u32>,
     /// Seed of the envs and of the actions.
     pub seed: u64,
+    /// A terms task's JSON (`--task FILE`), given to every env; `None`: no task.
+    pub task: Option<String>,
+    /// The units of observations and of the task.
+    pub units: UnitsArg,
     /// Where to write the JSON results.
     pub json: Option<PathBuf>,
     /// Where to write an HTML replay of one env, and how many steps it records.
@@ -171,6 +196,8 @@ impl LoadConfig {
             dt: None,
             max_steps: None,
             seed: 0,
+            task: None,
+            units: UnitsArg::Document,
             json: None,
             replay: None,
             quiet: true,
@@ -214,7 +241,7 @@ impl LoadConfig {
             "clients"
         };
         format!(
-            "model {} · {} {envs} × {} {clients} · {api} · {} ±{} · substeps {} · dt {} · seed {} · {stop} after {warmup} warmup",
+            "model {} · {} {envs} × {} {clients} · {api} · {} ±{} · substeps {} · dt {} · seed {}{} · {stop} after {warmup} warmup",
             self.model.name,
             self.n_envs,
             self.clients,
@@ -223,6 +250,12 @@ impl LoadConfig {
             self.substeps.map_or("default".into(), |s| s.to_string()),
             self.dt.map_or("default".into(), |s| format!("{s} s")),
             self.seed,
+            match (&self.task, self.units) {
+                (None, UnitsArg::Document) => String::new(),
+                (None, UnitsArg::Si) => " · units si".to_string(),
+                (Some(_), UnitsArg::Document) => " · terms task".to_string(),
+                (Some(_), UnitsArg::Si) => " · terms task · units si".to_string(),
+            },
         )
     }
 }

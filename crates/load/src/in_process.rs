@@ -8,10 +8,13 @@
 use std::time::Instant;
 
 use gymfleet_batch::{Autoreset, BatchStepOutput, EnvBatch, StepPool};
-use gymfleet_env::{ActionType, EnvConfig, RobotEnv, DEFAULT_MAX_STEPS, DEFAULT_SUBSTEPS};
+use gymfleet_env::{
+    ActionType, EnvConfig, RobotEnv, TaskKind, TaskSpec, TermsTask, Units, DEFAULT_MAX_STEPS,
+    DEFAULT_SUBSTEPS,
+};
 
 use crate::actions::{ActionKind, ActionPlan};
-use crate::config::{Api, LoadConfig};
+use crate::config::{Api, LoadConfig, UnitsArg};
 use crate::error::{LoadError, Result};
 use crate::meter::{Meter, Schedule, Tally};
 use crate::progress::Progress;
@@ -108,6 +111,21 @@ fn template(config: &LoadConfig) -> Result<RobotEnv> {
         substeps: config.substeps.unwrap_or(DEFAULT_SUBSTEPS),
         max_steps: config.max_steps.unwrap_or(DEFAULT_MAX_STEPS),
         seed: config.seed,
+        task: config
+            .task
+            .as_deref()
+            .map(|json| {
+                TermsTask::from_json(json).map(|t| TaskSpec {
+                    kind: TaskKind::Terms(t),
+                    action_cost: 0.0,
+                })
+            })
+            .transpose()
+            .map_err(|e| LoadError::setup("in-process: the --task file", e))?,
+        units: match config.units {
+            UnitsArg::Document => Units::Document,
+            UnitsArg::Si => Units::Si,
+        },
         // Gains, reset noise and the rest: the defaults, as the server's CreateBatch
         // without them.
         ..EnvConfig::default()

@@ -231,7 +231,10 @@ fn env_options(config: &LoadConfig, document: String, seed: u64) -> EnvOptions {
     if let Some(m) = config.max_steps {
         options = options.max_steps(m);
     }
-    options
+    if let Some(task) = &config.task {
+        options = options.task(gymfleet_client::Task::terms(task.clone()));
+    }
+    options.units(config.units.client())
 }
 
 /// Each DOF's `(min, max)` where both are set, in DOF order; all `None` if the joint

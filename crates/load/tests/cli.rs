@@ -320,3 +320,24 @@ fn clap_refuses_malformed_values() {
         );
     }
 }
+
+#[test]
+fn task_and_units_flags() {
+    let err = error(&["--task", "/no/such/task.json"]);
+    assert!(
+        err.starts_with("--task cannot read '/no/such/task.json': "),
+        "{err}"
+    );
+    assert_eq!(
+        resolve(&[]).unwrap().units,
+        gymfleet_load::UnitsArg::Document
+    );
+    assert_eq!(
+        resolve(&["--units", "si"]).unwrap().units,
+        gymfleet_load::UnitsArg::Si
+    );
+    scrub_gymfleet_env();
+    let refused =
+        Cli::try_parse_from(["gymfleet-load", "--units", "furlongs"]).expect_err("clap refuses it");
+    assert_eq!(refused.kind(), ErrorKind::InvalidValue);
+}

@@ -497,3 +497,46 @@ fn replay_writes_an_html_page_of_one_env() {
         .expect_err("nothing to record");
     assert_eq!(err.to_string(), "--replay-steps must be at least 1, got 0");
 }
+
+/// `--task FILE` gives every env a terms task (its terms computed in each step) and
+/// `--units si` its units, on the embedded server and in process; a task the server
+/// refuses fails the setup with the server's message.
+#[test]
+fn a_terms_task_from_a_file_runs_remote_and_in_process() {
+    let task = tmp("effort_task.json");
+    std::fs::write(
+        &task,
+        r#"{"terms": [{"name": "effort", "weight": -1, "ctrl_cost": {}},
+                      {"name": "speed", "velocity": {"joint": "upper"}}]}"#,
+    )
+    .expect("write the task");
+    let task = task.to_str().expect("utf-8 path");
+    for target in [&[][..], &["--in-process"][..]] {
+        let mut args = vec![
+            "--task", task, "--units", "si", "--n-envs", "4", "--steps", "10",
+        ];
+        args.extend_from_slice(target);
+        let report = run_flags(&args);
+        assert_counts(&report.runs[0], 4, 10, 1);
+    }
+    let summary = config(&["--task", task, "--units", "si"]).summary();
+    assert!(
+        summary.ends_with("· terms task · units si · 10 s after 1 s warmup"),
+        "{summary}"
+    );
+
+    let bad = tmp("bad_task.json");
+    std::fs::write(
+        &bad,
+        r#"{"terms": [{"name": "a", "value": {"joint": "elbow"}}]}"#,
+    )
+    .expect("write the task");
+    let bad = bad.to_str().expect("utf-8 path");
+    let expected = "task.terms.terms[0].value.joint: unknown joint \"elbow\" (joints with a DOF: \"upper\", \"forearm\")";
+    for target in [&[][..], &["--in-process"][..]] {
+        let mut args = vec!["--task", bad, "--steps", "2"];
+        args.extend_from_slice(target);
+        let err = run(&config(&args)).expect_err("refused");
+        assert!(err.to_string().contains(expected), "{err}");
+    }
+}
