@@ -9,67 +9,18 @@ use rand::{RngExt, SeedableRng};
 
 use crate::action::{self, ActionType};
 use crate::config::{EnvConfig, EnvSpec, Randomization};
+use crate::episode::{StepFlags, StepResult, Termination};
 use crate::error::{EnvError, Result};
 use crate::observation::{Observation, POSE_LEN};
-use crate::state::Origin;
 use crate::task::ActiveTask;
 use crate::terms::{ActiveSet, Context, Dist};
 
-/// Why an episode terminated.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Termination {
-    /// The simulation produced a non-finite or absurd state. The observation returned
-    /// with it is the last finite one; the env must be reset.
-    PhysicsDiverged,
-    /// The task's goal was reached (reach or track, with `terminate_on_success`).
-    GoalReached,
-    /// An upright task's instance tilted past its bound.
-    Fell,
-    /// A terms task's healthy conditions failed (with `terminate`).
-    Unhealthy,
-}
-
-impl Termination {
-    /// A short machine-readable reason: `physics_diverged`, `goal_reached`, `fell`,
-    /// `unhealthy`.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Termination::PhysicsDiverged => "physics_diverged",
-            Termination::GoalReached => "goal_reached",
-            Termination::Fell => "fell",
-            Termination::Unhealthy => "unhealthy",
-        }
-    }
-}
-
-/// The flags of one step, without the observation (written in place by
-/// [`RobotEnv::step_into`]).
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct StepFlags {
-    /// The task's reward for the step (see [`crate::TaskSpec`]); 0.0 without a task.
-    pub reward: f32,
-    /// The episode ended for a task or physics reason.
-    pub terminated: bool,
-    /// The episode reached `max_steps`.
-    pub truncated: bool,
-    /// Why it terminated, if it did.
-    pub termination: Option<Termination>,
-}
-
-impl StepFlags {
-    /// `terminated || truncated`.
-    pub fn done(&self) -> bool {
-        self.terminated || self.truncated
-    }
-}
-
-/// The result of one step, structured.
-#[derive(Debug, Clone, PartialEq)]
-pub struct StepResult {
-    /// The observation after the step.
-    pub observation: Observation,
-    /// Flags and reward.
-    pub flags: StepFlags,
+/// The document and options an env was built from: what its saved states carry. Shared by
+/// the copies of a batch.
+#[derive(Debug)]
+pub(crate) struct Origin {
+    pub(crate) document: std::sync::Arc<str>,
+    pub(crate) config: EnvConfig,
 }
 
 /// A robot environment: reset, step, observe.

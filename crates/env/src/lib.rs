@@ -19,6 +19,7 @@
 mod action;
 mod config;
 mod env;
+mod episode;
 mod error;
 mod observation;
 mod state;
@@ -29,7 +30,8 @@ pub use action::ActionType;
 pub use config::{
     EnvConfig, EnvSpec, Randomization, DEFAULT_DT, DEFAULT_MAX_STEPS, DEFAULT_SUBSTEPS,
 };
-pub use env::{DrawReport, RobotEnv, Scene, StepFlags, StepResult, Termination};
+pub use env::{DrawReport, RobotEnv, Scene};
+pub use episode::{StepFlags, StepResult, Termination};
 pub use error::{EnvError, Result};
 pub use gymfleet_assembly::{AssemblyError, DofKind, JointType};
 pub use gymfleet_physics::Units;

@@ -27,8 +27,6 @@
 //! [`EnvConfig`] and its parts, or in `gymfleet_physics::DynamicState`) changes the format:
 //! bump [`STATE_VERSION`].
 
-use std::sync::Arc;
-
 use gymfleet_physics::{Draws, DynamicState};
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::Rng;
@@ -326,14 +324,6 @@ impl RobotEnv {
         self.observe_into(&mut obs);
         self.start_task(&obs);
     }
-}
-
-/// The document and options an env was built from: what its saved states carry. Shared by
-/// the copies of a batch.
-#[derive(Debug)]
-pub(crate) struct Origin {
-    pub(crate) document: Arc<str>,
-    pub(crate) config: EnvConfig,
 }
 
 #[cfg(test)]

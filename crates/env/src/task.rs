@@ -8,14 +8,13 @@
 //! That keeps rewards, targets, radii and observations in one unit system, and expresses
 //! the seed guide's reaching loop (`reward = −distance` to a target in mm) exactly.
 
-use gymfleet_assembly::Assembly;
 use gymfleet_physics::{RobotWorld, Units};
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::RngExt;
 
-use crate::env::Termination;
+use crate::episode::Termination;
 use crate::error::{EnvError, Result};
-use crate::terms::{ActiveTerms, Context, TermsTask};
+use crate::terms::{instance, ActiveTerms, Context, TermsTask};
 
 /// Where a reach target comes from.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -143,30 +142,6 @@ fn non_negative(path: &str, value: f64, unit: &str) -> Result<()> {
             format!("expected a finite value >= 0 ({unit}), got {value}"),
         ))
     }
-}
-
-pub(crate) fn instance(assembly: &Assembly, path: &str, name: &str) -> Result<usize> {
-    assembly.instance_index(name).ok_or_else(|| {
-        let names: Vec<String> = assembly
-            .instances
-            .iter()
-            .map(|i| format!("{:?}", i.name))
-            .collect();
-        let shown = names.len().min(16);
-        let more = if names.len() > shown {
-            format!(" and {} more", names.len() - shown)
-        } else {
-            String::new()
-        };
-        let name: String = name.chars().take(64).collect();
-        bad(
-            path,
-            format!(
-                "unknown instance {name:?} (known: {}{more})",
-                names[..shown].join(", ")
-            ),
-        )
-    })
 }
 
 impl TaskSpec {

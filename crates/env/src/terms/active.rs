@@ -1,0 +1,194 @@
+//! A terms task resolved against one env ([`ActiveTerms`]): its terms evaluated after
+//! every step, and the reset's draws ([`Dist`], [`ActiveSet`]).
+
+use gymfleet_physics::{RobotWorld, Units};
+use rand::rngs::Xoshiro256PlusPlus;
+use rand::RngExt;
+
+use crate::episode::Termination;
+
+/// A [`SetJoints`] resolved: DOF indices and bounds.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct ActiveSet {
+    pub(crate) dofs: Vec<usize>,
+    pub(super) low: Vec<f64>,
+    pub(super) high: Vec<f64>,
+    pub(super) min_norm: f64,
+    pub(super) max_norm: f64,
+}
+
+/// Draws before a set's last draw is scaled into its norm range.
+const MAX_SET_DRAWS: usize = 1000;
+
+impl ActiveSet {
+    /// Draws the joints' positions (the env's units) into `out`.
+    pub(crate) fn draw(&self, rng: &mut Xoshiro256PlusPlus, out: &mut [f64]) {
+        for _ in 0..MAX_SET_DRAWS {
+            for (k, o) in out.iter_mut().enumerate() {
+                *o = if self.low[k] < self.high[k] {
+                    rng.random_range(self.low[k]..=self.high[k])
+                } else {
+                    self.low[k]
+                };
+            }
+            let norm = out.iter().map(|v| v * v).sum::<f64>().sqrt();
+            if norm >= self.min_norm && norm <= self.max_norm {
+                return;
+            }
+        }
+        let norm = out.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let target = norm.clamp(self.min_norm, self.max_norm);
+        if norm > 0.0 {
+            out.iter_mut().for_each(|v| *v *= target / norm);
+        }
+    }
+}
+
+/// A distribution as drawn.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Dist {
+    Uniform(f64),
+    Normal(f64),
+}
+
+impl Dist {
+    /// One draw from the env's stream.
+    pub(crate) fn draw(self, rng: &mut Xoshiro256PlusPlus) -> f64 {
+        match self {
+            Dist::Uniform(s) => rng.random_range(-s..=s),
+            Dist::Normal(s) => {
+                // Box–Muller: u1 in (0, 1] keeps the logarithm finite.
+                let u1: f64 = 1.0 - rng.random::<f64>();
+                let u2: f64 = rng.random::<f64>();
+                s * (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+            }
+        }
+    }
+}
+
+/// A quantity resolved against the env.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Q {
+    Position(usize),
+    Velocity(usize),
+    Point {
+        body: usize,
+        point: Option<[f64; 3]>,
+        axis: usize,
+    },
+    CenterOfMass(usize),
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub(super) enum Kind {
+    Velocity(Q),
+    Value(Q),
+    CtrlCost,
+    Healthy,
+    Distance([(usize, Option<[f64; 3]>); 2]),
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct ActiveHealthy {
+    pub(super) ranges: Vec<(Q, f64, f64)>,
+    pub(super) state: Option<(f64, f64, usize)>,
+    pub(super) terminate: bool,
+}
+
+/// A terms task resolved against one env.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct ActiveTerms {
+    pub(super) terms: Vec<(f64, Kind)>,
+    pub(super) healthy: Option<ActiveHealthy>,
+    /// Each velocity term's coordinate at the end of the last step (or reset).
+    pub(super) previous: Vec<f64>,
+    pub(super) units: Units,
+    pub(super) dt: f64,
+    pub(crate) position_noise: Option<Dist>,
+    pub(crate) velocity_noise: Option<Dist>,
+    pub(crate) sets: Vec<ActiveSet>,
+}
+
+impl ActiveTerms {
+    fn read(&self, q: Q, world: &RobotWorld, positions: &[f32], velocities: &[f32]) -> f64 {
+        match q {
+            Q::Position(k) => f64::from(positions[k]),
+            Q::Velocity(k) => f64::from(velocities[k]),
+            Q::Point { body, point, axis } => match point {
+                Some(p) => world.point_position(self.units, body, p)[axis],
+                None => world.center_of_mass(self.units, body)[axis],
+            },
+            Q::CenterOfMass(axis) => world.robot_center_of_mass(self.units)[axis],
+        }
+    }
+
+    fn point(&self, world: &RobotWorld, (body, point): (usize, Option<[f64; 3]>)) -> [f64; 3] {
+        match point {
+            Some(p) => world.point_position(self.units, body, p),
+            None => world.center_of_mass(self.units, body),
+        }
+    }
+
+    /// A new episode (or a state put back): the velocity terms' coordinates now.
+    pub(crate) fn start(&mut self, world: &RobotWorld, positions: &[f32], velocities: &[f32]) {
+        for k in 0..self.terms.len() {
+            if let Kind::Velocity(q) = self.terms[k].1 {
+                self.previous[k] = self.read(q, world, positions, velocities);
+            }
+        }
+    }
+
+    fn is_healthy(&self, world: &RobotWorld, positions: &[f32], velocities: &[f32]) -> bool {
+        let Some(h) = &self.healthy else { return true };
+        let ranges = h.ranges.iter().all(|&(q, lo, hi)| {
+            let v = self.read(q, world, positions, velocities);
+            lo < v && v < hi
+        });
+        let state = h.state.is_none_or(|(lo, hi, skip)| {
+            positions[skip..]
+                .iter()
+                .chain(velocities)
+                .all(|&v| lo < f64::from(v) && f64::from(v) < hi)
+        });
+        ranges && state
+    }
+
+    /// After a step: writes every term's value into `values`, and returns the reward
+    /// (Σ weight · value) and the `unhealthy` termination if the task calls for it.
+    pub(crate) fn evaluate(
+        &mut self,
+        world: &RobotWorld,
+        positions: &[f32],
+        velocities: &[f32],
+        action: &[f32],
+        values: &mut [f32],
+    ) -> (f64, Option<Termination>) {
+        let healthy = self.is_healthy(world, positions, velocities);
+        let mut reward = 0.0;
+        for (k, slot) in values.iter_mut().enumerate().take(self.terms.len()) {
+            let (weight, kind) = &self.terms[k];
+            let value = match kind {
+                Kind::Velocity(q) => {
+                    let now = self.read(*q, world, positions, velocities);
+                    let rate = (now - self.previous[k]) / self.dt;
+                    self.previous[k] = now;
+                    rate
+                }
+                Kind::Value(q) => self.read(*q, world, positions, velocities),
+                Kind::CtrlCost => action.iter().map(|&a| f64::from(a) * f64::from(a)).sum(),
+                Kind::Healthy => f64::from(u8::from(healthy)),
+                Kind::Distance([a, b]) => {
+                    let (a, b) = (self.point(world, *a), self.point(world, *b));
+                    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+                }
+            };
+            *slot = value as f32;
+            reward += weight * value;
+        }
+        let terminate = self.healthy.as_ref().is_some_and(|h| h.terminate);
+        (
+            reward,
+            (terminate && !healthy).then_some(Termination::Unhealthy),
+        )
+    }
+}

@@ -1,0 +1,287 @@
+//! The terms task: a reward made of weighted, named terms that any robot can carry
+//! (PRODUCT.md §6.1 as extended by the Gymnasium suite): the velocity of a coordinate
+//! over the env step (forward reward), a healthy reward with healthy ranges and
+//! termination (`unhealthy`), the control cost on the action, distances between points
+//! of instances, and plain coordinates to report (`x_position`). Each step reports every
+//! term's unweighted value; the reward is `Σ weight · value`.
+//!
+//! Values are in the env's [`Units`] (SI: m, rad, m/s, rad/s; document: mm, deg): the
+//! healthy ranges and the reset noise are given in them too. Points inside an instance
+//! are document geometry, so they are written in mm in the instance's frame, as a reach
+//! task's are.
+//!
+//! A task may also say how an episode starts: `reset_noise` draws every DOF's position
+//! and velocity offset, uniform or normal, from the env's seeded stream, then sets some
+//! joints to drawn positions (a goal, an object). Points may be the document's sites.
+//!
+//! `mod.rs` holds the task as written (serde, JSON); `resolve.rs` checks it against one
+//! env; `active.rs` evaluates it after every step and draws the reset.
+
+mod active;
+mod resolve;
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{EnvError, Result};
+
+pub(crate) use active::{ActiveSet, ActiveTerms, Dist};
+pub(crate) use resolve::{instance, Context};
+
+/// Most terms (and most healthy ranges) in one task.
+pub const MAX_TERMS: usize = 64;
+/// Longest term name, in characters.
+const MAX_NAME: usize = 64;
+/// Largest magnitude of a weight, a range bound or a noise scale.
+const MAX_VALUE: f64 = 1e9;
+
+/// A reward of weighted terms, optional healthy conditions and the reset's noise.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TermsTask {
+    /// The terms, in the order their values are reported.
+    pub terms: Vec<Term>,
+    /// When the robot is healthy: the `healthy` term's value, and the `unhealthy`
+    /// termination.
+    #[serde(default)]
+    pub healthy: Option<Healthy>,
+    /// How each episode's start is drawn. `None`: the env's `reset_noise`, if any.
+    #[serde(default)]
+    pub reset_noise: Option<ResetNoise>,
+}
+
+/// One named, weighted term: exactly one of its kinds is set.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Term {
+    /// The name its value is reported under (e.g. `reward_forward`, `x_position`).
+    pub name: String,
+    /// Its weight in the reward (default 1; 0: reported only).
+    #[serde(default = "one")]
+    pub weight: f64,
+    /// The rate of change of a coordinate over the env step: (after − before) / dt.
+    #[serde(default)]
+    pub velocity: Option<Quantity>,
+    /// A coordinate after the step.
+    #[serde(default)]
+    pub value: Option<Quantity>,
+    /// The control cost: Σ a² over the step's action values.
+    #[serde(default)]
+    pub ctrl_cost: Option<Empty>,
+    /// 1 when the robot is healthy after the step (see [`TermsTask::healthy`]), else 0.
+    #[serde(default)]
+    pub healthy: Option<Empty>,
+    /// The distance between two points after the step.
+    #[serde(default)]
+    pub distance: Option<[Point; 2]>,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+fn yes() -> bool {
+    true
+}
+
+/// An empty JSON object: `{}`.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Empty {}
+
+/// A world axis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Axis {
+    /// World x.
+    X,
+    /// World y.
+    Y,
+    /// World z.
+    Z,
+}
+
+/// A scalar read from the state: a joint's position or velocity (`joint`,
+/// `joint_velocity`), or one world coordinate (`axis`) of a point of an instance
+/// (`instance`, `point`), of a site (`site`) or of the whole robot's centre of mass
+/// (`center_of_mass`).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Quantity {
+    /// A joint's position (its first DOF), as observed.
+    #[serde(default)]
+    pub joint: Option<String>,
+    /// A joint's velocity (its first DOF), as observed.
+    #[serde(default)]
+    pub joint_velocity: Option<String>,
+    /// An instance whose point's coordinate is read (needs `axis`).
+    #[serde(default)]
+    pub instance: Option<String>,
+    /// The instance's point, mm in its frame; `None`: its centre of mass.
+    #[serde(default)]
+    pub point: Option<[f64; 3]>,
+    /// A site (the document's `assembly.sites`) whose coordinate is read (needs `axis`).
+    #[serde(default)]
+    pub site: Option<String>,
+    /// The whole robot's centre of mass (needs `axis`).
+    #[serde(default)]
+    pub center_of_mass: bool,
+    /// The world coordinate read from a point.
+    #[serde(default)]
+    pub axis: Option<Axis>,
+}
+
+/// A point: a site, or a point of an instance (`point`, mm in its frame; default its
+/// centre of mass).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Point {
+    /// The instance.
+    #[serde(default)]
+    pub instance: Option<String>,
+    /// The point, mm in the instance's frame; `None`: its centre of mass.
+    #[serde(default)]
+    pub point: Option<[f64; 3]>,
+    /// A site of the document (instead of `instance` and `point`).
+    #[serde(default)]
+    pub site: Option<String>,
+}
+
+/// The healthy conditions: every range holds strictly, and every observed position
+/// (after the first `skip_positions`) and velocity lies strictly inside `state_range`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Healthy {
+    /// Quantities and their open ranges.
+    #[serde(default)]
+    pub ranges: Vec<Range>,
+    /// Bounds on the whole observed joint state.
+    #[serde(default)]
+    pub state_range: Option<StateRange>,
+    /// End the episode (`unhealthy`) when a condition fails (default true).
+    #[serde(default = "yes")]
+    pub terminate: bool,
+}
+
+/// `min < of < max`; a missing bound is no bound.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Range {
+    /// The quantity.
+    pub of: Quantity,
+    /// Lower bound (exclusive).
+    #[serde(default)]
+    pub min: Option<f64>,
+    /// Upper bound (exclusive).
+    #[serde(default)]
+    pub max: Option<f64>,
+}
+
+/// Bounds on every observed position (but the first `skip_positions`) and velocity.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StateRange {
+    /// Lower bound (exclusive).
+    pub min: f64,
+    /// Upper bound (exclusive).
+    pub max: f64,
+    /// Leading positions left out (Gymnasium's Hopper leaves out x and z: 2).
+    #[serde(default)]
+    pub skip_positions: usize,
+}
+
+/// How each DOF's start is drawn: an offset of its position and of its velocity, then
+/// the positions some joints are set to (a goal, an object).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ResetNoise {
+    /// Position offsets (clamped into the joint's limits).
+    #[serde(default)]
+    pub position: Option<Noise>,
+    /// Velocity offsets (from rest).
+    #[serde(default)]
+    pub velocity: Option<Noise>,
+    /// Joints set to drawn positions (as observed), at rest, after the noise.
+    #[serde(default)]
+    pub set: Vec<SetJoints>,
+}
+
+/// Positions drawn for some joints: uniform in the box `[low, high]`, drawn again until
+/// the vector's norm lies in `[min_norm, max_norm]` (Gymnasium's Reacher draws its goal in
+/// a disk, Pusher its object away from the goal). After 1000 rejected draws the last one
+/// is scaled radially into the range. The joints start at rest.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SetJoints {
+    /// The joints (one DOF each), in the order of `low` and `high`.
+    pub joints: Vec<String>,
+    /// Lower corner of the box, one value per joint (the env's units).
+    pub low: Vec<f64>,
+    /// Upper corner.
+    pub high: Vec<f64>,
+    /// Smallest norm accepted (default 0).
+    #[serde(default)]
+    pub min_norm: Option<f64>,
+    /// Largest norm accepted (default none).
+    #[serde(default)]
+    pub max_norm: Option<f64>,
+}
+
+/// One distribution: exactly one of `uniform` (on `[-s, s]`) or `normal` (σ = s).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Noise {
+    /// Half-width of a uniform draw.
+    #[serde(default)]
+    pub uniform: Option<f64>,
+    /// Standard deviation of a normal draw.
+    #[serde(default)]
+    pub normal: Option<f64>,
+}
+
+impl TermsTask {
+    /// Reads a terms task from JSON; errors name the JSON path (`task.terms[1].weight`).
+    pub fn from_json(text: &str) -> Result<Self> {
+        let de = &mut serde_json::Deserializer::from_str(text);
+        serde_path_to_error::deserialize(de).map_err(|e| {
+            let path = e.path().to_string();
+            let path = if path == "." {
+                "task.terms".to_string()
+            } else {
+                format!("task.terms.{path}")
+            };
+            let reason: String = e.inner().to_string().chars().take(300).collect();
+            bad(path, reason)
+        })
+    }
+}
+
+fn bad(path: impl Into<String>, reason: impl Into<String>) -> EnvError {
+    EnvError::BadTask {
+        path: path.into(),
+        reason: reason.into(),
+    }
+}
+
+/// A number as a message shows it: short whatever its size (`1e300`, not 301 digits).
+fn shown(value: f64) -> String {
+    if value.is_finite() && value.abs() < 1e9 {
+        format!("{value}")
+    } else {
+        format!("{value:e}")
+    }
+}
+
+fn bounded(path: &str, value: f64, what: &str) -> Result<f64> {
+    if value.is_finite() && value.abs() <= MAX_VALUE {
+        Ok(value)
+    } else {
+        Err(bad(
+            path,
+            format!(
+                "expected a finite {what} within ±{}, got {}",
+                shown(MAX_VALUE),
+                shown(value)
+            ),
+        ))
+    }
+}

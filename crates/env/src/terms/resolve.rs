@@ -1,0 +1,448 @@
+//! A [`TermsTask`] checked against one env ([`Context`]): names into indices, bounds
+//! into ranges, with an error naming the JSON path of each mistake.
+
+use gymfleet_assembly::Assembly;
+use gymfleet_physics::{JointDof, Units};
+
+use super::active::{ActiveHealthy, ActiveSet, ActiveTerms, Dist, Kind, Q};
+use super::{
+    bad, bounded, shown, Noise, Point, Quantity, SetJoints, TermsTask, MAX_NAME, MAX_TERMS,
+    MAX_VALUE,
+};
+use crate::error::Result;
+
+/// What the resolver needs from the env.
+pub(crate) struct Context<'a> {
+    pub(crate) assembly: &'a Assembly,
+    pub(crate) dofs: &'a [JointDof],
+    pub(crate) units: Units,
+    pub(crate) dt: f64,
+}
+
+/// The index of instance `name`, or an error at `path` listing the known ones.
+pub(crate) fn instance(assembly: &Assembly, path: &str, name: &str) -> Result<usize> {
+    assembly.instance_index(name).ok_or_else(|| {
+        let names: Vec<String> = assembly
+            .instances
+            .iter()
+            .map(|i| format!("{:?}", i.name))
+            .collect();
+        let shown = names.len().min(16);
+        let more = if names.len() > shown {
+            format!(" and {} more", names.len() - shown)
+        } else {
+            String::new()
+        };
+        let name: String = name.chars().take(64).collect();
+        bad(
+            path,
+            format!(
+                "unknown instance {name:?} (known: {}{more})",
+                names[..shown].join(", ")
+            ),
+        )
+    })
+}
+
+impl Context<'_> {
+    fn joint(&self, path: &str, name: &str) -> Result<usize> {
+        if let Some(k) = self.dofs.iter().position(|d| d.joint_name == name) {
+            return Ok(k);
+        }
+        let mut names: Vec<String> = Vec::new();
+        for d in self.dofs {
+            let quoted = format!("{:?}", d.joint_name);
+            if !names.contains(&quoted) {
+                names.push(quoted);
+            }
+        }
+        let shown = names.len().min(16);
+        let more = if names.len() > shown {
+            format!(" and {} more", names.len() - shown)
+        } else {
+            String::new()
+        };
+        let name: String = name.chars().take(64).collect();
+        Err(bad(
+            path,
+            format!(
+                "unknown joint {name:?} (joints with a DOF: {}{more})",
+                names[..shown].join(", ")
+            ),
+        ))
+    }
+
+    fn instance(&self, path: &str, name: &str) -> Result<usize> {
+        instance(self.assembly, path, name)
+    }
+
+    /// A site's instance and point.
+    fn site(&self, path: &str, name: &str) -> Result<(usize, [f64; 3])> {
+        match self.assembly.site_index(name) {
+            Some(k) => {
+                let site = &self.assembly.sites[k];
+                Ok((site.instance, site.point))
+            }
+            None => {
+                let names: Vec<&str> = self
+                    .assembly
+                    .sites
+                    .iter()
+                    .map(|s| s.name.as_str())
+                    .collect();
+                Err(bad(
+                    path,
+                    format!(
+                        "unknown site {} (sites: {})",
+                        gymfleet_assembly::quoted(name),
+                        if names.is_empty() {
+                            "none: the document has no assembly.sites".to_string()
+                        } else {
+                            gymfleet_assembly::quoted_list(&names)
+                        }
+                    ),
+                ))
+            }
+        }
+    }
+
+    /// A distance term's point.
+    fn end(&self, path: &str, p: &Point) -> Result<(usize, Option<[f64; 3]>)> {
+        match (&p.instance, &p.site) {
+            (Some(name), None) => Ok((
+                self.instance(&format!("{path}.instance"), name)?,
+                self.point(&format!("{path}.point"), p.point)?,
+            )),
+            (None, Some(name)) if p.point.is_none() => {
+                let (body, point) = self.site(&format!("{path}.site"), name)?;
+                Ok((body, Some(point)))
+            }
+            _ => Err(bad(
+                path,
+                "expected a site, or an instance (with an optional point)",
+            )),
+        }
+    }
+
+    fn point(&self, path: &str, point: Option<[f64; 3]>) -> Result<Option<[f64; 3]>> {
+        if let Some(p) = point {
+            for (k, c) in p.iter().enumerate() {
+                bounded(&format!("{path}[{k}]"), *c, "coordinate (mm)")?;
+            }
+        }
+        Ok(point)
+    }
+
+    fn quantity(&self, path: &str, q: &Quantity) -> Result<Q> {
+        let set = [
+            q.joint.is_some(),
+            q.joint_velocity.is_some(),
+            q.instance.is_some(),
+            q.site.is_some(),
+            q.center_of_mass,
+        ];
+        if set.iter().filter(|s| **s).count() != 1 {
+            return Err(bad(
+                path,
+                "expected exactly one of joint, joint_velocity, instance, site or \
+                 center_of_mass (the last three with an axis)",
+            ));
+        }
+        let axis = || {
+            q.axis.map(|a| a as usize).ok_or_else(|| {
+                bad(
+                    format!("{path}.axis"),
+                    "a point's coordinate needs an axis: \"x\", \"y\" or \"z\"",
+                )
+            })
+        };
+        let no_geometry = |what: &str| -> Result<()> {
+            if q.axis.is_some() || q.point.is_some() {
+                return Err(bad(
+                    path,
+                    format!("a {what} takes no axis or point (they are for instance, site and center_of_mass)"),
+                ));
+            }
+            Ok(())
+        };
+        if let Some(name) = &q.joint {
+            no_geometry("joint position")?;
+            return Ok(Q::Position(self.joint(&format!("{path}.joint"), name)?));
+        }
+        if let Some(name) = &q.joint_velocity {
+            no_geometry("joint velocity")?;
+            return Ok(Q::Velocity(
+                self.joint(&format!("{path}.joint_velocity"), name)?,
+            ));
+        }
+        if let Some(name) = &q.instance {
+            return Ok(Q::Point {
+                body: self.instance(&format!("{path}.instance"), name)?,
+                point: self.point(&format!("{path}.point"), q.point)?,
+                axis: axis()?,
+            });
+        }
+        if q.point.is_some() {
+            return Err(bad(
+                format!("{path}.point"),
+                "a point belongs to an instance: a site and the robot's centre of mass take none",
+            ));
+        }
+        if let Some(name) = &q.site {
+            let (body, point) = self.site(&format!("{path}.site"), name)?;
+            return Ok(Q::Point {
+                body,
+                point: Some(point),
+                axis: axis()?,
+            });
+        }
+        Ok(Q::CenterOfMass(axis()?))
+    }
+
+    fn set(&self, path: &str, set: &SetJoints, seen: &mut Vec<usize>) -> Result<ActiveSet> {
+        let n = set.joints.len();
+        if n == 0 || n > MAX_TERMS {
+            return Err(bad(
+                format!("{path}.joints"),
+                format!("expected 1 to {MAX_TERMS} joints, got {n}"),
+            ));
+        }
+        if set.low.len() != n || set.high.len() != n {
+            return Err(bad(
+                path,
+                format!(
+                    "expected one low and one high per joint ({n}), got {} and {}",
+                    set.low.len(),
+                    set.high.len()
+                ),
+            ));
+        }
+        let mut dofs = Vec::with_capacity(n);
+        for (k, name) in set.joints.iter().enumerate() {
+            let at = format!("{path}.joints[{k}]");
+            let dof = self.joint(&at, name)?;
+            if self.dofs.iter().filter(|d| d.joint_name == *name).count() != 1 {
+                return Err(bad(
+                    at,
+                    "expected a joint with one DOF (revolute or prismatic)",
+                ));
+            }
+            if seen.contains(&dof) {
+                return Err(bad(at, "the joint is set by an earlier entry too"));
+            }
+            seen.push(dof);
+            dofs.push(dof);
+            let lo = bounded(&format!("{path}.low[{k}]"), set.low[k], "position")?;
+            let hi = bounded(&format!("{path}.high[{k}]"), set.high[k], "position")?;
+            if lo > hi {
+                return Err(bad(
+                    format!("{path}.high[{k}]"),
+                    format!("expected high >= low = {}, got {}", shown(lo), shown(hi)),
+                ));
+            }
+        }
+        let min_norm = bounded(
+            &format!("{path}.min_norm"),
+            set.min_norm.unwrap_or(0.0),
+            "norm",
+        )?;
+        let max_norm = match set.max_norm {
+            Some(m) => bounded(&format!("{path}.max_norm"), m, "norm")?,
+            None => f64::INFINITY,
+        };
+        if min_norm < 0.0 || max_norm < min_norm {
+            return Err(bad(
+                format!("{path}.max_norm"),
+                format!(
+                    "expected 0 <= min_norm <= max_norm, got {} and {}",
+                    shown(min_norm),
+                    shown(max_norm)
+                ),
+            ));
+        }
+        Ok(ActiveSet {
+            dofs,
+            low: set.low.clone(),
+            high: set.high.clone(),
+            min_norm,
+            max_norm,
+        })
+    }
+
+    fn noise(&self, path: &str, noise: Option<Noise>) -> Result<Option<Dist>> {
+        let Some(n) = noise else { return Ok(None) };
+        let dist =
+            match (n.uniform, n.normal) {
+                (Some(s), None) => Dist::Uniform(s),
+                (None, Some(s)) => Dist::Normal(s),
+                _ => return Err(bad(
+                    path,
+                    "expected exactly one of uniform (half-width) or normal (standard deviation)",
+                )),
+            };
+        let (Dist::Uniform(s) | Dist::Normal(s)) = dist;
+        if !(0.0..=MAX_VALUE).contains(&s) {
+            return Err(bad(
+                path,
+                format!(
+                    "expected a scale 0 <= s <= {} (the env's units), got {}",
+                    shown(MAX_VALUE),
+                    shown(s)
+                ),
+            ));
+        }
+        Ok((s > 0.0).then_some(dist))
+    }
+}
+
+impl TermsTask {
+    pub(crate) fn resolve(&self, cx: &Context<'_>) -> Result<ActiveTerms> {
+        if self.terms.len() > MAX_TERMS {
+            return Err(bad(
+                "task.terms.terms",
+                format!(
+                    "expected at most {MAX_TERMS} terms, got {}",
+                    self.terms.len()
+                ),
+            ));
+        }
+        let mut terms = Vec::with_capacity(self.terms.len());
+        let mut names: Vec<&str> = Vec::new();
+        for (i, t) in self.terms.iter().enumerate() {
+            let path = format!("task.terms.terms[{i}]");
+            if t.name.is_empty()
+                || t.name.chars().count() > MAX_NAME
+                || t.name.chars().any(char::is_control)
+            {
+                return Err(bad(
+                    format!("{path}.name"),
+                    format!("expected a name of 1 to {MAX_NAME} printable characters"),
+                ));
+            }
+            if names.contains(&t.name.as_str()) {
+                let name: String = t.name.chars().take(MAX_NAME).collect();
+                return Err(bad(
+                    format!("{path}.name"),
+                    format!("{name:?} names an earlier term too; names must be unique"),
+                ));
+            }
+            names.push(&t.name);
+            let weight = bounded(&format!("{path}.weight"), t.weight, "weight")?;
+            let set = [
+                t.velocity.is_some(),
+                t.value.is_some(),
+                t.ctrl_cost.is_some(),
+                t.healthy.is_some(),
+                t.distance.is_some(),
+            ];
+            if set.iter().filter(|s| **s).count() != 1 {
+                return Err(bad(
+                    path,
+                    "expected exactly one of velocity, value, ctrl_cost, healthy or distance",
+                ));
+            }
+            let kind = if let Some(q) = &t.velocity {
+                Kind::Velocity(cx.quantity(&format!("{path}.velocity"), q)?)
+            } else if let Some(q) = &t.value {
+                Kind::Value(cx.quantity(&format!("{path}.value"), q)?)
+            } else if t.ctrl_cost.is_some() {
+                Kind::CtrlCost
+            } else if t.healthy.is_some() {
+                if self.healthy.is_none() {
+                    return Err(bad(
+                        format!("{path}.healthy"),
+                        "a healthy term needs the task's healthy conditions (task.terms.healthy)",
+                    ));
+                }
+                Kind::Healthy
+            } else {
+                let [a, b] = t.distance.as_ref().expect("one kind is set");
+                Kind::Distance([
+                    cx.end(&format!("{path}.distance[0]"), a)?,
+                    cx.end(&format!("{path}.distance[1]"), b)?,
+                ])
+            };
+            terms.push((weight, kind));
+        }
+        let healthy = match &self.healthy {
+            None => None,
+            Some(h) => {
+                if h.ranges.len() > MAX_TERMS {
+                    return Err(bad(
+                        "task.terms.healthy.ranges",
+                        format!(
+                            "expected at most {MAX_TERMS} ranges, got {}",
+                            h.ranges.len()
+                        ),
+                    ));
+                }
+                let mut ranges = Vec::with_capacity(h.ranges.len());
+                for (i, r) in h.ranges.iter().enumerate() {
+                    let path = format!("task.terms.healthy.ranges[{i}]");
+                    let q = cx.quantity(&format!("{path}.of"), &r.of)?;
+                    let lo = match r.min {
+                        Some(v) => bounded(&format!("{path}.min"), v, "bound")?,
+                        None => f64::NEG_INFINITY,
+                    };
+                    let hi = match r.max {
+                        Some(v) => bounded(&format!("{path}.max"), v, "bound")?,
+                        None => f64::INFINITY,
+                    };
+                    if lo >= hi {
+                        return Err(bad(
+                            format!("{path}.max"),
+                            format!("expected max > min = {}, got {}", shown(lo), shown(hi)),
+                        ));
+                    }
+                    ranges.push((q, lo, hi));
+                }
+                let state = match &h.state_range {
+                    None => None,
+                    Some(s) => {
+                        let path = "task.terms.healthy.state_range";
+                        let lo = bounded(&format!("{path}.min"), s.min, "bound")?;
+                        let hi = bounded(&format!("{path}.max"), s.max, "bound")?;
+                        if lo >= hi {
+                            return Err(bad(
+                                format!("{path}.max"),
+                                format!("expected max > min = {}, got {}", shown(lo), shown(hi)),
+                            ));
+                        }
+                        if s.skip_positions > cx.dofs.len() {
+                            return Err(bad(
+                                format!("{path}.skip_positions"),
+                                format!(
+                                    "expected at most the number of DOFs ({}), got {}",
+                                    cx.dofs.len(),
+                                    s.skip_positions
+                                ),
+                            ));
+                        }
+                        Some((lo, hi, s.skip_positions))
+                    }
+                };
+                Some(ActiveHealthy {
+                    ranges,
+                    state,
+                    terminate: h.terminate,
+                })
+            }
+        };
+        let noise = self.reset_noise.clone().unwrap_or_default();
+        let mut sets = Vec::with_capacity(noise.set.len());
+        let mut seen: Vec<usize> = Vec::new();
+        for (i, set) in noise.set.iter().enumerate() {
+            sets.push(cx.set(&format!("task.terms.reset_noise.set[{i}]"), set, &mut seen)?);
+        }
+        Ok(ActiveTerms {
+            sets,
+            previous: vec![0.0; terms.len()],
+            terms,
+            healthy,
+            units: cx.units,
+            dt: cx.dt,
+            position_noise: cx.noise("task.terms.reset_noise.position", noise.position)?,
+            velocity_noise: cx.noise("task.terms.reset_noise.velocity", noise.velocity)?,
+        })
+    }
+}

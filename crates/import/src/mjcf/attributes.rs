@@ -1,0 +1,301 @@
+//! Reading MJCF attributes: default classes and childclasses resolved per attribute,
+//! numbers, flags and vectors, the compiler's angle unit and settings, `<default>`,
+//! `<option>` (gravity and timestep), and frames from `pos` and the orientation attributes.
+
+use super::*;
+
+impl<'a, 'i> Converter<'a, 'i> {
+    /// Whether `joint` (a `<freejoint>` or `<joint>` of a body of class `class`) is free.
+    pub(super) fn is_free(&self, joint: Node<'a, 'i>, class: Option<&str>) -> bool {
+        joint.tag_name().name() == "freejoint" || self.attr(joint, class, "type") == Some("free")
+    }
+
+    // --- attributes, with default classes ---------------------------------------------
+
+    /// `node`'s attribute `name`, or its class chain's (`class` attribute, else the
+    /// enclosing `childclass`, else the top-level default).
+    pub(super) fn attr(
+        &self,
+        node: Node<'a, 'i>,
+        class: Option<&str>,
+        name: &str,
+    ) -> Option<&'a str> {
+        if let Some(v) = node.attribute(name) {
+            return Some(v);
+        }
+        let tag = node.tag_name().name();
+        let mut current = node
+            .attribute("class")
+            .map(str::to_string)
+            .or_else(|| class.map(str::to_string))
+            .or_else(|| Some("main".to_string()));
+        while let Some(name_of_class) = current {
+            let class = self.classes.get(&name_of_class)?;
+            if let Some(v) = class.attributes.get(tag).and_then(|a| a.get(name)) {
+                return Some(v);
+            }
+            current = class.parent.clone();
+        }
+        None
+    }
+
+    pub(super) fn numbers(
+        &self,
+        node: Node<'a, 'i>,
+        class: Option<&str>,
+        name: &str,
+    ) -> Result<Option<Vec<f64>>> {
+        let Some(text) = self.attr(node, class, name) else {
+            return Ok(None);
+        };
+        text.split_whitespace()
+            .map(|t| {
+                t.parse::<f64>()
+                    .ok()
+                    .filter(|v| v.is_finite())
+                    .ok_or_else(|| {
+                        self.bad(node, name, format!("expected finite numbers, got {text:?}"))
+                    })
+            })
+            .collect::<Result<Vec<_>>>()
+            .map(Some)
+    }
+
+    /// Exactly `n` numbers, if the attribute is there.
+    pub(super) fn exactly<const N: usize>(
+        &self,
+        node: Node<'a, 'i>,
+        class: Option<&str>,
+        name: &str,
+    ) -> Result<Option<[f64; N]>> {
+        match self.numbers(node, class, name)? {
+            None => Ok(None),
+            Some(v) => v.clone().try_into().map(Some).map_err(|_| {
+                self.bad(node, name, format!("expected {N} numbers, got {}", v.len()))
+            }),
+        }
+    }
+
+    pub(super) fn number(
+        &self,
+        node: Node<'a, 'i>,
+        class: Option<&str>,
+        name: &str,
+    ) -> Result<Option<f64>> {
+        Ok(self.exactly::<1>(node, class, name)?.map(|[v]| v))
+    }
+
+    pub(super) fn flag(
+        &self,
+        node: Node<'a, 'i>,
+        class: Option<&str>,
+        name: &str,
+    ) -> Result<Option<bool>> {
+        match self.attr(node, class, name) {
+            None | Some("auto") => Ok(None),
+            Some("true") => Ok(Some(true)),
+            Some("false") => Ok(Some(false)),
+            Some(other) => Err(self.bad(
+                node,
+                name,
+                format!("expected true, false or auto, got {other:?}"),
+            )),
+        }
+    }
+
+    pub(super) fn int(
+        &self,
+        node: Node<'a, 'i>,
+        class: Option<&str>,
+        name: &str,
+        default: u32,
+    ) -> Result<u32> {
+        match self.attr(node, class, name) {
+            None => Ok(default),
+            Some(t) => t.trim().parse::<u32>().map_err(|_| {
+                self.bad(
+                    node,
+                    name,
+                    format!("expected a non-negative integer, got {t:?}"),
+                )
+            }),
+        }
+    }
+
+    pub(super) fn angle(&self, value: f64) -> f64 {
+        if self.radian {
+            value
+        } else {
+            value.to_radians()
+        }
+    }
+
+    // --- settings ------------------------------------------------------------------------
+
+    pub(super) fn compiler(&mut self, node: Node<'a, 'i>) -> Result<()> {
+        for a in node.attributes() {
+            match (a.name(), a.value()) {
+                ("angle", "radian") => self.radian = true,
+                ("angle", "degree") => self.radian = false,
+                ("inertiafromgeom", "true") => self.inertia_from_geom = InertiaFromGeom::True,
+                ("inertiafromgeom", "false") => self.inertia_from_geom = InertiaFromGeom::False,
+                ("inertiafromgeom", "auto") => self.inertia_from_geom = InertiaFromGeom::Auto,
+                ("settotalmass", value) => {
+                    let total: f64 = value.trim().parse().map_err(|_| {
+                        self.bad(
+                            node,
+                            "settotalmass",
+                            format!("expected a number, got {value:?}"),
+                        )
+                    })?;
+                    if !total.is_finite() {
+                        return Err(self.bad(
+                            node,
+                            "settotalmass",
+                            format!("expected a finite mass, got {value:?}"),
+                        ));
+                    }
+                    // MuJoCo: a positive value rescales every body; others do nothing.
+                    self.total_mass = (total > 0.0).then_some(total);
+                }
+                ("eulerseq", "xyz") | ("coordinate", "local") | ("autolimits", "true") => {}
+                ("meshdir" | "texturedir" | "assetdir" | "discardvisual" | "strippath", _) => {}
+                (name @ ("angle" | "inertiafromgeom"), value) => {
+                    return Err(self.bad(node, name, format!("unexpected value {value:?}")))
+                }
+                (name, value) => {
+                    return Err(
+                        self.unsupported(node, format!("{name}=\"{value}\" is not supported yet"))
+                    )
+                }
+            }
+        }
+        Ok(())
+    }
+
+    pub(super) fn defaults(&mut self, node: Node<'a, 'i>, parent: Option<&str>) -> Result<()> {
+        let name = match (node.attribute("class"), parent) {
+            (Some(n), _) => n.to_string(),
+            (None, None) => "main".to_string(),
+            (None, Some(_)) => {
+                return Err(self.bad(
+                    node,
+                    "class",
+                    "a nested <default> needs a class name".into(),
+                ))
+            }
+        };
+        let mut class = Class {
+            parent: parent.map(str::to_string),
+            attributes: HashMap::new(),
+        };
+        for child in elements(node) {
+            let tag = child.tag_name().name();
+            if tag == "default" {
+                continue;
+            }
+            let map = class.attributes.entry(tag).or_default();
+            for a in child.attributes() {
+                map.insert(a.name(), a.value());
+            }
+        }
+        self.classes.insert(name.clone(), class);
+        for child in elements(node).filter(|c| c.tag_name().name() == "default") {
+            self.defaults(child, Some(&name))?;
+        }
+        Ok(())
+    }
+
+    /// `<option>`: gravity and timestep become the document's `simulation` (one env step
+    /// of the default `dt` is one MuJoCo step); the rest is the engine's own.
+    pub(super) fn option(&mut self, node: Node<'a, 'i>) -> Result<()> {
+        if let Some(g) = self.exactly::<3>(node, None, "gravity")? {
+            self.simulation
+                .insert("gravity".into(), json!({"x": g[0], "y": g[1], "z": g[2]}));
+        }
+        if let Some(t) = self.number(node, None, "timestep")? {
+            if !(t > 0.0 && t <= 1.0) {
+                return Err(self.bad(node, "timestep", format!("expected (0, 1] s, got {t}")));
+            }
+            self.simulation.insert("dt".into(), json!(t));
+        }
+        for a in node.attributes() {
+            if !matches!(a.name(), "timestep" | "gravity") {
+                self.warn(node, format!("{}=\"{}\" ignored", a.name(), a.value()));
+            }
+        }
+        if elements(node).next().is_some() {
+            self.warn(node, "its flags are ignored".into());
+        }
+        Ok(())
+    }
+
+    /// A frame from `pos` and one of `quat`, `euler`, `axisangle` (MuJoCo's defaults).
+    pub(super) fn local_frame(&self, node: Node<'a, 'i>, class: Option<&str>) -> Result<Frame> {
+        let p = self.exactly::<3>(node, class, "pos")?.unwrap_or([0.0; 3]);
+        let given: Vec<&str> = ["quat", "euler", "axisangle", "xyaxes", "zaxis"]
+            .into_iter()
+            .filter(|a| node.attribute(*a).is_some())
+            .collect();
+        if given.len() > 1 {
+            return Err(self.bad(
+                node,
+                given[1],
+                format!("an orientation is given twice ({})", given.join(", ")),
+            ));
+        }
+        let rotation = match given.first().copied() {
+            None => DQuat::IDENTITY,
+            Some("quat") => {
+                let [w, x, y, z] = self
+                    .exactly::<4>(node, class, "quat")?
+                    .unwrap_or([1.0, 0.0, 0.0, 0.0]);
+                let q = DQuat::from_xyzw(x, y, z, w);
+                if q.length() < 1e-9 {
+                    return Err(self.bad(
+                        node,
+                        "quat",
+                        "the zero quaternion is no rotation".into(),
+                    ));
+                }
+                q.normalize()
+            }
+            Some("euler") => {
+                // MuJoCo's default eulerseq "xyz": intrinsic x, then y, then z.
+                let [a, b, c] = self.exactly::<3>(node, class, "euler")?.unwrap_or([0.0; 3]);
+                DQuat::from_rotation_x(self.angle(a))
+                    * DQuat::from_rotation_y(self.angle(b))
+                    * DQuat::from_rotation_z(self.angle(c))
+            }
+            Some("axisangle") => {
+                let [x, y, z, angle] = self
+                    .exactly::<4>(node, class, "axisangle")?
+                    .unwrap_or([0.0, 0.0, 1.0, 0.0]);
+                let axis = DVec3::new(x, y, z);
+                if axis.length() < 1e-12 {
+                    return Err(self.bad(node, "axisangle", "the axis is the zero vector".into()));
+                }
+                DQuat::from_axis_angle(axis.normalize(), self.angle(angle))
+            }
+            Some("zaxis") => {
+                let [x, y, z] = self
+                    .exactly::<3>(node, class, "zaxis")?
+                    .unwrap_or([0.0, 0.0, 1.0]);
+                let axis = DVec3::new(x, y, z);
+                if axis.length() < 1e-12 {
+                    return Err(self.bad(node, "zaxis", "the axis is the zero vector".into()));
+                }
+                z_onto(axis.normalize())
+            }
+            Some(other) => {
+                return Err(
+                    self.unsupported(node, format!("{other} orientations are not supported yet"))
+                )
+            }
+        };
+        Ok(Frame {
+            translation: DVec3::from_array(p),
+            rotation,
+        })
+    }
+}

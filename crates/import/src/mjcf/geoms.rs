@@ -1,0 +1,189 @@
+//! One `<geom>` as an instance with its own part: the primitive (or `fromto`), its frame,
+//! its mass (volume × density, or `mass`), friction and collision bits.
+
+use super::*;
+
+impl<'a, 'i> Converter<'a, 'i> {
+    /// One geom as an instance; `None` for a plane that collides with nothing (dropped).
+    /// `given_mass`: the body's mass comes from `<inertial>`; the geom then weighs this.
+    pub(super) fn geom(
+        &mut self,
+        node: Node<'a, 'i>,
+        body: &Frame,
+        class: Option<&str>,
+        body_name: &str,
+        given_mass: Option<f64>,
+    ) -> Result<Option<String>> {
+        let kind = self.attr(node, class, "type").unwrap_or("sphere");
+        let contype = self.int(node, class, "contype", 1)?;
+        let conaffinity = self.int(node, class, "conaffinity", 1)?;
+        let size = self.numbers(node, class, "size")?.unwrap_or_default();
+        let fromto = self.exactly::<6>(node, class, "fromto")?;
+        let size_at = |k: usize, what: &str| -> Result<f64> {
+            size.get(k).copied().filter(|v| *v > 0.0).ok_or_else(|| {
+                self.bad(
+                    node,
+                    "size",
+                    format!("a {kind} needs a positive {what} (size[{k}])"),
+                )
+            })
+        };
+        // The geom's frame in the body; `fromto` gives the centre and the z axis.
+        let (local, half_length) = match fromto {
+            Some(f) if matches!(kind, "capsule" | "cylinder") => {
+                let (a, b) = (DVec3::new(f[0], f[1], f[2]), DVec3::new(f[3], f[4], f[5]));
+                let axis = b - a;
+                if axis.length() < 1e-12 {
+                    return Err(self.bad(node, "fromto", "the two ends are the same point".into()));
+                }
+                (
+                    Frame {
+                        translation: (a + b) / 2.0,
+                        rotation: z_onto(axis.normalize()),
+                    },
+                    Some(axis.length() / 2.0),
+                )
+            }
+            Some(_) => {
+                return Err(
+                    self.unsupported(node, format!("fromto on a {kind} is not supported yet"))
+                )
+            }
+            None => (self.local_frame(node, class)?, None),
+        };
+        let world = body.then(&local);
+        let (primitive, corner) = match kind {
+            "plane" => {
+                if contype == 0 && conaffinity == 0 {
+                    self.warn(node, "a plane that collides with nothing: dropped".into());
+                    return Ok(None);
+                }
+                if body_name != "world" || !self.instances.is_empty() {
+                    return Err(self.unsupported(
+                        node,
+                        "a colliding plane (a ground) must be the world's, and only one".into(),
+                    ));
+                }
+                (json!({"type": "plane"}), DVec3::ZERO)
+            }
+            "sphere" => {
+                let r = size_at(0, "radius")?;
+                (json!({"type": "sphere", "radius": r * MM}), DVec3::ZERO)
+            }
+            "capsule" | "cylinder" => {
+                let r = size_at(0, "radius")?;
+                let half = match half_length {
+                    Some(h) => h,
+                    None => size_at(1, "half-length")?,
+                };
+                if kind == "capsule" {
+                    (
+                        json!({"type": "capsule", "radius": r * MM, "height": 2.0 * (half + r) * MM}),
+                        DVec3::new(0.0, 0.0, half + r),
+                    )
+                } else {
+                    (
+                        json!({"type": "cylinder", "radius": r * MM, "height": 2.0 * half * MM}),
+                        DVec3::new(0.0, 0.0, half),
+                    )
+                }
+            }
+            "box" => {
+                let h = DVec3::new(
+                    size_at(0, "x half-size")?,
+                    size_at(1, "y half-size")?,
+                    size_at(2, "z half-size")?,
+                );
+                (
+                    json!({"type": "cube", "size": {"x": 2.0 * h.x * MM, "y": 2.0 * h.y * MM, "z": 2.0 * h.z * MM}}),
+                    h,
+                )
+            }
+            "mesh" | "hfield" | "sdf" => {
+                return Err(self.unsupported(node, format!("{kind} geoms are not converted yet")))
+            }
+            other => {
+                return Err(self.unsupported(node, format!("{other} geoms are not supported yet")))
+            }
+        };
+        // Our primitives start at a corner (box) or their base (cylinder, capsule).
+        let origin_m = world.point(-corner);
+        let origin = origin_m * MM;
+        let rotation = euler_xyz_degrees(world.rotation);
+        let name = match node.attribute("name") {
+            Some(n) => self.unique(n),
+            None => self.unique(&format!("{body_name}_geom")),
+        };
+        for attr in [
+            "condim", "solref", "solimp", "margin", "gap", "priority", "solmix",
+        ] {
+            if self.attr(node, class, attr).is_some() {
+                self.warn(node, format!("{attr} ignored (gymfleet's contact model)"));
+            }
+        }
+        let friction = self
+            .numbers(node, class, "friction")?
+            .and_then(|f| f.first().copied());
+        let mut material = Map::new();
+        if let Some(f) = friction {
+            material.insert("friction".into(), json!(f));
+        }
+        let mut instance = Map::new();
+        instance.insert("part".into(), json!(name));
+        instance.insert("name".into(), json!(name));
+        instance.insert(
+            "position".into(),
+            json!({"x": origin.x, "y": origin.y, "z": origin.z}),
+        );
+        instance.insert(
+            "rotation".into(),
+            json!({"x": rotation[0], "y": rotation[1], "z": rotation[2]}),
+        );
+        if (contype, conaffinity) != (1, 1) {
+            instance.insert(
+                "collision".into(),
+                json!({"group": contype, "mask": conaffinity}),
+            );
+        }
+        match (
+            given_mass,
+            self.number(node, class, "mass")?,
+            self.number(node, class, "density")?,
+        ) {
+            (Some(m), _, _) => {
+                instance.insert("inertial".into(), json!({"mass": m}));
+            }
+            (None, Some(m), _) => {
+                if m <= 0.0 {
+                    return Err(self.bad(
+                        node,
+                        "mass",
+                        format!("expected a positive mass, got {m}"),
+                    ));
+                }
+                instance.insert("inertial".into(), json!({"mass": m}));
+            }
+            (None, None, Some(d)) if d != DEFAULT_DENSITY => {
+                material.insert("density".into(), json!(d));
+            }
+            _ => {}
+        }
+        if !material.is_empty() {
+            instance.insert("material".into(), json!(name));
+        }
+        self.frames.insert(
+            name.clone(),
+            Frame {
+                translation: origin_m,
+                rotation: world.rotation,
+            },
+        );
+        self.parts
+            .push(json!({"name": name, "primitive": primitive}));
+        if !material.is_empty() {
+            self.materials.insert(name.clone(), Value::Object(material));
+        }
+        self.instances.push(Value::Object(instance));
+        Ok(Some(name))
+    }
+}

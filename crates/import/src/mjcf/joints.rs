@@ -1,0 +1,197 @@
+//! One `<joint>` (hinge, slide, ball) between two instances: anchor, axis, range and
+//! `ref`, damping, armature, friction, springs, and the motor that drives it.
+
+use super::*;
+
+impl<'a, 'i> Converter<'a, 'i> {
+    pub(super) fn joint(
+        &mut self,
+        node: Node<'a, 'i>,
+        body: &Frame,
+        class: Option<&str>,
+        body_name: &str,
+        parent: &str,
+        child: &str,
+    ) -> Result<()> {
+        let kind = if node.tag_name().name() == "freejoint" {
+            "free"
+        } else {
+            self.attr(node, class, "type").unwrap_or("hinge")
+        };
+        let our = match kind {
+            "hinge" => "revolute",
+            "slide" => "prismatic",
+            "ball" => "ball",
+            "free" => {
+                return Err(self.unsupported(
+                    node,
+                    "a free joint must be its body's only joint, in a top-level body".into(),
+                ))
+            }
+            other => return Err(self.bad(node, "type", format!("unknown joint type {other:?}"))),
+        };
+        if self
+            .numbers(node, class, "springdamper")?
+            .is_some_and(|v| v.iter().any(|x| *x != 0.0))
+        {
+            return Err(self.unsupported(
+                node,
+                "springdamper (a spring-damper by time constant) is not supported yet".into(),
+            ));
+        }
+        let friction = self
+            .number(node, class, "frictionloss")?
+            .filter(|f| *f != 0.0);
+        if let Some(f) = friction.filter(|f| *f < 0.0) {
+            return Err(self.bad(
+                node,
+                "frictionloss",
+                format!("expected a friction >= 0, got {f}"),
+            ));
+        }
+        let stiffness = self.number(node, class, "stiffness")?.filter(|k| *k != 0.0);
+        if stiffness.is_some() && our == "ball" {
+            return Err(self.unsupported(
+                node,
+                "stiffness on a ball joint (a rotational spring) is not supported yet".into(),
+            ));
+        }
+        // MuJoCo's joint value is `ref` at the model's pose; gymfleet measures limits from
+        // that pose, so a range (given in MuJoCo's values) shifts by −ref, and reports
+        // positions with the `reference` added back.
+        let reference = self.number(node, class, "ref")?.unwrap_or(0.0);
+        let pos = DVec3::from_array(self.exactly::<3>(node, class, "pos")?.unwrap_or([0.0; 3]));
+        let axis = DVec3::from_array(
+            self.exactly::<3>(node, class, "axis")?
+                .unwrap_or([0.0, 0.0, 1.0]),
+        );
+        if our != "ball" && axis.length() < 1e-12 {
+            return Err(self.bad(node, "axis", "the axis is the zero vector".into()));
+        }
+        let anchor = body.point(pos) * MM;
+        let name = node
+            .attribute("name")
+            .map_or_else(|| format!("{body_name}_joint"), str::to_string);
+        let name = self.joint_name(&name);
+        let mut j = Map::new();
+        j.insert("type".into(), json!(our));
+        j.insert("name".into(), json!(name));
+        j.insert("parent".into(), json!(parent));
+        j.insert("child".into(), json!(child));
+        j.insert(
+            "anchor".into(),
+            json!({"x": anchor.x, "y": anchor.y, "z": anchor.z}),
+        );
+        if our != "ball" {
+            let a = body.direction(axis.normalize());
+            j.insert("axis".into(), json!({"x": a.x, "y": a.y, "z": a.z}));
+        }
+        let range = self.exactly::<2>(node, class, "range")?;
+        let limited = self.flag(node, class, "limited")?;
+        if let (Some([lo, hi]), Some(true) | None) = (range, limited) {
+            if our == "ball" {
+                return Err(self.unsupported(
+                    node,
+                    "a ball joint's range (a cone) is not supported yet".into(),
+                ));
+            }
+            if lo < hi {
+                let (lo, hi) = (lo - reference, hi - reference);
+                let (lo, hi) = if our == "revolute" {
+                    (self.angle(lo).to_degrees(), self.angle(hi).to_degrees())
+                } else {
+                    (lo * MM, hi * MM)
+                };
+                j.insert("min".into(), json!(lo));
+                j.insert("max".into(), json!(hi));
+                // The model's pose (qpos = ref) breaks the range: start at the nearest
+                // limit, where MuJoCo's limit constraint would push it.
+                if lo > 0.0 || hi < 0.0 {
+                    let start = 0.0f64.clamp(lo, hi);
+                    j.insert("initial".into(), json!(start));
+                    self.warn(
+                        node,
+                        format!(
+                            "joint {name:?} starts at {} {}, the end of its range nearest to the model's pose, which the range excludes",
+                            (start * 1e6).round() / 1e6,
+                            if our == "revolute" { "deg" } else { "mm" }
+                        ),
+                    );
+                }
+            } else if limited == Some(true) {
+                return Err(self.bad(
+                    node,
+                    "range",
+                    format!("a limited joint needs min < max, got {lo} {hi}"),
+                ));
+            }
+        } else if limited == Some(true) {
+            return Err(self.bad(node, "range", "limited=\"true\" without a range".into()));
+        }
+        if let Some(d) = self.number(node, class, "damping")?.filter(|d| *d != 0.0) {
+            j.insert("damping".into(), json!(d));
+        }
+        if let Some(a) = self.number(node, class, "armature")?.filter(|a| *a != 0.0) {
+            j.insert("armature".into(), json!(a));
+        }
+        if let Some(f) = friction {
+            j.insert("friction".into(), json!(f));
+        }
+        if let Some(k) = stiffness {
+            if k < 0.0 {
+                return Err(self.bad(
+                    node,
+                    "stiffness",
+                    format!("expected a stiffness >= 0, got {k}"),
+                ));
+            }
+            j.insert("stiffness".into(), json!(k));
+            // MuJoCo's spring pulls qpos to `springref`; positions here are qpos − ref.
+            let rest = self.number(node, class, "springref")?.unwrap_or(0.0) - reference;
+            if rest != 0.0 {
+                let rest = if our == "revolute" {
+                    self.angle(rest).to_degrees()
+                } else {
+                    rest * MM
+                };
+                j.insert("spring_rest".into(), json!(rest));
+            }
+        }
+        if reference != 0.0 {
+            // Observed positions are MuJoCo's qpos: the document's pose reports `ref`.
+            let reference = if our == "revolute" {
+                self.angle(reference).to_degrees()
+            } else {
+                reference * MM
+            };
+            j.insert("reference".into(), json!(reference));
+        }
+        match self.motors.get(&name).copied() {
+            Some(motor) => {
+                if let Some(e) = motor.max_effort {
+                    j.insert("max_effort".into(), json!(e));
+                }
+                if motor.gear != 1.0 {
+                    if our == "revolute" || our == "prismatic" {
+                        // Actions are MuJoCo's ctrl: the effort is gear × ctrl.
+                        j.insert("gear".into(), json!(motor.gear));
+                    } else {
+                        self.warn(
+                            node,
+                            format!(
+                                "gear {} is folded into max_effort: a {our} joint's actions are torques (N·m)",
+                                motor.gear
+                            ),
+                        );
+                    }
+                }
+            }
+            None => {
+                j.insert("actuated".into(), json!(false));
+            }
+        }
+        self.moving_joints.push(name);
+        self.joints.push(Value::Object(j));
+        Ok(())
+    }
+}

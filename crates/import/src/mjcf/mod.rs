@@ -1,0 +1,315 @@
+//! MJCF (MuJoCo's XML) → assembly JSON. See the crate documentation for the subset.
+//!
+//! The mapping: every geom becomes an instance (its own part, placed in world mm with the
+//! document's Euler angles); a body's first geom is the body's instance and its other geoms
+//! are welded to it with fixed joints. A body's joints connect its parent's instance to its
+//! instance, through helper instances (1 mg spheres that collide with nothing) when it has
+//! several; a body without joints is welded to its parent. The world's geoms are the
+//! grounded instance and parts welded to it. Masses come from the geoms (volume × density,
+//! as MuJoCo's `inertiafromgeom`), or from `<inertial>` on the body's instance.
+
+use std::collections::{HashMap, HashSet};
+
+use glam::{DMat3, DQuat, DVec3};
+use roxmltree::Node;
+use serde_json::{json, Map, Value};
+
+use crate::frame::{euler_xyz_degrees, inertial_json, z_onto, Frame};
+use crate::xml::{elements, Names, Warnings, XmlReader};
+use crate::{Converted, ImportError, Result};
+
+mod actuators;
+mod attributes;
+mod bodies;
+mod geoms;
+mod joints;
+
+/// Millimetres per metre.
+const MM: f64 = 1000.0;
+/// The mass of the helper instances the conversion adds (kg): between two joints of one
+/// body, or for a body without geoms; small beside any real link, large enough for the
+/// solver.
+const HELPER_MASS: f64 = 1e-6;
+/// A helper instance's radius (mm).
+const HELPER_RADIUS: f64 = 1.0;
+/// MuJoCo's default geom density, kg/m³.
+const DEFAULT_DENSITY: f64 = 1000.0;
+
+/// Converts an MJCF document into gymfleet's assembly JSON.
+pub fn mjcf_to_document(xml: &str) -> Result<Converted> {
+    let doc = roxmltree::Document::parse(xml).map_err(|e| ImportError::Xml(e.to_string()))?;
+    let root = doc.root_element();
+    let mut c = Converter::new(&doc);
+    if root.tag_name().name() != "mujoco" {
+        return Err(c.unsupported(root, "the root element must be <mujoco>".into()));
+    }
+    // Settings first: they change how the rest reads.
+    for child in elements(root) {
+        match child.tag_name().name() {
+            "compiler" => c.compiler(child)?,
+            "default" => c.defaults(child, None)?,
+            _ => {}
+        }
+    }
+    for child in elements(root) {
+        match child.tag_name().name() {
+            "compiler" | "default" | "worldbody" => {}
+            "option" => c.option(child)?,
+            "actuator" => c.actuators(child)?,
+            "size" | "visual" | "statistic" | "keyframe" | "sensor" | "custom" => {
+                c.warn(child, "ignored (no effect on the dynamics)".into());
+            }
+            "asset" => c.assets(child)?,
+            "tendon" | "contact" | "equality" if elements(child).next().is_none() => {
+                c.warn(child, "empty, ignored".into());
+            }
+            other => return Err(c.unsupported(child, format!("<{other}> is not supported yet"))),
+        }
+    }
+    let world = elements(root)
+        .find(|n| n.tag_name().name() == "worldbody")
+        .ok_or_else(|| c.unsupported(root, "no <worldbody>".into()))?;
+    c.worldbody(world)?;
+    c.finish()
+}
+
+/// How a body's mass is found (`compiler inertiafromgeom`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum InertiaFromGeom {
+    /// From `<inertial>` where a body has one, else from its geoms (MuJoCo's default).
+    Auto,
+    /// Always from the geoms.
+    True,
+    /// Always from `<inertial>`.
+    False,
+}
+
+/// One default class: its parent and its attributes per element kind.
+#[derive(Debug, Default)]
+struct Class<'a> {
+    parent: Option<String>,
+    attributes: HashMap<&'a str, HashMap<&'a str, &'a str>>,
+}
+
+/// A motor's effect on its joint.
+#[derive(Debug, Clone, Copy)]
+struct Motor {
+    /// Effort bound, N·m or N, if the motor bounds it.
+    max_effort: Option<f64>,
+    /// The motor's gear: actions are MuJoCo's ctrl, the effort gear × ctrl.
+    gear: f64,
+    /// The motor's position among the actuators.
+    order: usize,
+    /// Its line.
+    line: u32,
+}
+
+struct Converter<'a, 'i> {
+    doc: &'a roxmltree::Document<'i>,
+    radian: bool,
+    inertia_from_geom: InertiaFromGeom,
+    classes: HashMap<String, Class<'a>>,
+    warnings: Warnings,
+    motors: HashMap<String, Motor>,
+    parts: Vec<Value>,
+    materials: Map<String, Value>,
+    /// The document's `simulation` (gravity, dt) from `<option>`.
+    simulation: Map<String, Value>,
+    instances: Vec<Value>,
+    /// Each instance's frame in the world (m), as written into its `position`/`rotation`.
+    frames: HashMap<String, Frame>,
+    joints: Vec<Value>,
+    names: Names,
+    joint_names: Names,
+    /// Named points: every named body's origin and every `<site>` in a body.
+    sites: Vec<Value>,
+    site_names: Names,
+    /// Joint names with a DOF, in document (tree) order.
+    moving_joints: Vec<String>,
+    /// The instance of the first body with a free joint: the floating base.
+    floating: Option<String>,
+    /// `compiler settotalmass`: every body's mass and inertia scaled to this total (kg).
+    total_mass: Option<f64>,
+    /// Instances that are not bodies' own mass: the world's geoms and helpers.
+    massless: HashSet<String>,
+}
+
+impl<'i> XmlReader<'i> for Converter<'_, 'i> {
+    fn document(&self) -> &roxmltree::Document<'i> {
+        self.doc
+    }
+
+    fn warnings(&mut self) -> &mut Warnings {
+        &mut self.warnings
+    }
+}
+
+impl<'a, 'i> Converter<'a, 'i> {
+    fn new(doc: &'a roxmltree::Document<'i>) -> Self {
+        Converter {
+            doc,
+            radian: false,
+            inertia_from_geom: InertiaFromGeom::Auto,
+            classes: HashMap::new(),
+            warnings: Warnings::default(),
+            motors: HashMap::new(),
+            parts: Vec::new(),
+            materials: Map::new(),
+            simulation: Map::new(),
+            instances: Vec::new(),
+            frames: HashMap::new(),
+            joints: Vec::new(),
+            names: Names::default(),
+            joint_names: Names::default(),
+            sites: Vec::new(),
+            site_names: Names::default(),
+            moving_joints: Vec::new(),
+            floating: None,
+            total_mass: None,
+            massless: HashSet::new(),
+        }
+    }
+
+    fn assets(&mut self, node: Node<'a, 'i>) -> Result<()> {
+        for child in elements(node) {
+            match child.tag_name().name() {
+                "texture" | "material" => self.warn(child, "ignored (appearance only)".into()),
+                "mesh" | "hfield" | "skin" => {
+                    return Err(self.unsupported(child, "meshes are not converted yet".into()))
+                }
+                other => {
+                    return Err(self.unsupported(child, format!("<{other}> is not supported yet")))
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn unique(&mut self, wanted: &str) -> String {
+        self.names.unique(wanted)
+    }
+
+    fn finish(mut self) -> Result<Converted> {
+        let materials = std::mem::take(&mut self.materials);
+        // Motors name joints that exist.
+        let known: HashSet<&String> = self.moving_joints.iter().collect();
+        let mut unknown: Vec<(&String, &Motor)> = self
+            .motors
+            .iter()
+            .filter(|(j, _)| !known.contains(j))
+            .collect();
+        unknown.sort_by_key(|(_, m)| m.order);
+        if let Some((j, m)) = unknown.first() {
+            return Err(ImportError::BadAttribute {
+                element: "motor".into(),
+                attribute: "joint".into(),
+                line: m.line,
+                reason: format!("no hinge, slide or ball joint is named {j:?}"),
+            });
+        }
+        // Actions follow the joints' order; say so when the actuators are in another.
+        let mut by_actuator: Vec<(&String, usize)> = self
+            .moving_joints
+            .iter()
+            .filter_map(|j| self.motors.get(j).map(|m| (j, m.order)))
+            .collect();
+        let tree_order: Vec<&String> = by_actuator.iter().map(|(j, _)| *j).collect();
+        by_actuator.sort_by_key(|(_, o)| *o);
+        if by_actuator.iter().map(|(j, _)| *j).collect::<Vec<_>>() != tree_order {
+            self.warnings.push(format!(
+                "actions follow the joints' order ({}), not the actuators' order",
+                tree_order
+                    .iter()
+                    .map(|j| j.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ));
+        }
+        // The floating base is the first instance.
+        if let Some(base) = &self.floating {
+            if let Some(at) = self.instances.iter().position(|i| i["name"] == *base) {
+                let instance = self.instances.remove(at);
+                self.instances.insert(0, instance);
+            }
+        }
+        let mut document = json!({
+            "parts": self.parts,
+            "assembly": {"instances": self.instances, "joints": self.joints}
+        });
+        if !self.sites.is_empty() {
+            document["assembly"]["sites"] = Value::Array(std::mem::take(&mut self.sites));
+        }
+        if self.floating.is_some() {
+            document["floating_base"] = json!(true);
+        }
+
+        if !materials.is_empty() {
+            document["materials"] = Value::Object(materials);
+        }
+        if !self.simulation.is_empty() {
+            document["simulation"] = Value::Object(std::mem::take(&mut self.simulation));
+        }
+        if let Some(total) = self.total_mass {
+            scale_total_mass(&mut document, total, &self.massless);
+        }
+        Ok(Converted {
+            document,
+            warnings: self.warnings.into_vec(),
+        })
+    }
+}
+
+/// MuJoCo's `compiler settotalmass`: scales every body's mass and inertia (the world's geoms
+/// and the conversion's helpers excepted) so that they add up to `total` kg. A geom's mass
+/// from its volume scales through its material's density, a given one (`inertial`) with
+/// its tensor. A document that does not validate is left as it is: its own parse reports
+/// why.
+fn scale_total_mass(document: &mut Value, total: f64, massless: &HashSet<String>) {
+    let Ok(assembly) = gymfleet_assembly::from_value(document.clone()) else {
+        return;
+    };
+    let bodies: Vec<(usize, f64)> = assembly
+        .instances
+        .iter()
+        .enumerate()
+        .filter(|(_, i)| !massless.contains(&i.name))
+        .map(|(k, i)| {
+            let mass = i
+                .inertial
+                .map_or(i.shape.volume() * i.material.density, |given| given.mass);
+            (k, mass)
+        })
+        .collect();
+    let sum: f64 = bodies.iter().map(|(_, m)| m).sum();
+    if !(sum.is_finite() && sum > 0.0) {
+        return;
+    }
+    let factor = total / sum;
+    for (k, _) in bodies {
+        let instance = &mut document["assembly"]["instances"][k];
+        if let Some(inertial) = instance.get_mut("inertial") {
+            let mass = inertial["mass"].as_f64().unwrap_or(0.0);
+            inertial["mass"] = json!(mass * factor);
+            if let Some(Value::Object(inertia)) = inertial.get_mut("inertia") {
+                for value in inertia.values_mut() {
+                    *value = json!(value.as_f64().unwrap_or(0.0) * factor);
+                }
+            }
+            continue;
+        }
+        let density = assembly.instances[k].material.density * factor;
+        let name = assembly.instances[k].name.clone();
+        instance["material"] = json!(name);
+        let materials = document
+            .as_object_mut()
+            .expect("a document is an object")
+            .entry("materials")
+            .or_insert_with(|| json!({}));
+        let material = materials
+            .as_object_mut()
+            .expect("materials are an object")
+            .entry(name)
+            .or_insert_with(|| json!({}));
+        material["density"] = json!(density);
+    }
+}
