@@ -7,7 +7,9 @@ use std::path::PathBuf;
 use clap::Parser;
 
 use crate::actions::ActionKind;
-use crate::config::{threads_or_cores, Api, LoadConfig, Mode, StopRule, Target, UnitsArg, Warmup};
+use crate::config::{
+    threads_or_cores, Api, LoadConfig, Mode, StopRule, Target, TaskFile, UnitsArg, Warmup,
+};
 use crate::error::{LoadError, Result};
 use crate::model::Model;
 
@@ -99,11 +101,13 @@ pub struct Cli {
     /// Seed of the envs and of the actions.
     #[arg(long, env = "GYMFLEET_SEED", default_value_t = 0)]
     pub seed: u64,
-    /// A file holding a terms task's JSON (the README's "Terms tasks"), given to every env:
-    /// its reward terms are computed in each step, so the run measures them too.
+    /// A terms task's JSON file (README: "Terms tasks"), the reward of every env: its terms
+    /// are computed in each step, so the run measures them too. Remote: sent as the
+    /// request's task; --in-process: parsed here.
     #[arg(long, value_name = "FILE", env = "GYMFLEET_TASK")]
     pub task: Option<PathBuf>,
-    /// The units of observations and of the task's values.
+    /// Units of observations and of the task's values, ranges and noise (actions keep
+    /// theirs).
     #[arg(long, value_enum, env = "GYMFLEET_UNITS", default_value_t = UnitsArg::Document)]
     pub units: UnitsArg,
     /// Step-pool threads of the embedded server, --in-process and --compare; 0 = one
@@ -304,12 +308,7 @@ impl Cli {
             dt: self.dt,
             max_steps: self.max_steps,
             seed: self.seed,
-            task: match &self.task {
-                None => None,
-                Some(path) => Some(std::fs::read_to_string(path).map_err(|e| {
-                    LoadError::bad_flag("--task", format!("cannot read '{}': {e}", path.display()))
-                })?),
-            },
+            task: self.task.map(TaskFile::read).transpose()?,
             units: self.units,
             json: self.json,
             replay: self.replay.map(|path| (path, self.replay_steps)),

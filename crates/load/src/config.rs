@@ -8,6 +8,7 @@ use std::path::PathBuf;
 use serde::Serialize;
 
 use crate::actions::{ActionKind, ActionPlan};
+use crate::error::{LoadError, Result};
 use crate::model::Model;
 
 /// Where the workload runs.
@@ -39,14 +40,15 @@ pub enum Target {
     },
 }
 
-/// The units of observations and of a terms task (`--units`).
+/// The units of observations and of a terms task's values (`--units`). Actions keep
+/// theirs (N·m, deg, deg/s) in both.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum UnitsArg {
-    /// The document's: deg, mm.
+    /// The document's: deg and mm (and per second).
     #[default]
     Document,
-    /// SI: rad, m.
+    /// SI, as MuJoCo and Gymnasium report them: rad and m (and per second).
     Si,
 }
 
@@ -56,6 +58,30 @@ impl UnitsArg {
         match self {
             UnitsArg::Document => gymfleet_client::Units::Document,
             UnitsArg::Si => gymfleet_client::Units::Si,
+        }
+    }
+}
+
+/// A terms task read from `--task FILE`: its file (for messages and the report) and its
+/// JSON, sent as it is (remote) or parsed by the env crate (in process).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TaskFile {
+    /// The file as given.
+    pub file: PathBuf,
+    /// Its text: the terms task's JSON (the README's "Terms tasks").
+    pub json: String,
+}
+
+impl TaskFile {
+    /// Reads `file`; an unreadable file is a `--task` error naming it.
+    pub fn read(file: impl Into<PathBuf>) -> Result<Self> {
+        let file = file.into();
+        match std::fs::read_to_string(&file) {
+            Ok(json) => Ok(TaskFile { file, json }),
+            Err(e) => Err(LoadError::bad_flag(
+                "--task",
+                format!("cannot read '{}': {e}", file.display()),
+            )),
         }
     }
 }
@@ -158,9 +184,9 @@ pub struct LoadConfig {
     pub max_steps: Option<u32>,
     /// Seed of the envs and of the actions.
     pub seed: u64,
-    /// A terms task's JSON (`--task FILE`), given to every env; `None`: no task.
-    pub task: Option<String>,
-    /// The units of observations and of the task.
+    /// A terms task (`--task FILE`), given to every env; `None`: no task.
+    pub task: Option<TaskFile>,
+    /// The units of observations and of the task's values.
     pub units: UnitsArg,
     /// Where to write the JSON results.
     pub json: Option<PathBuf>,
@@ -241,7 +267,7 @@ impl LoadConfig {
             "clients"
         };
         format!(
-            "model {} · {} {envs} × {} {clients} · {api} · {} ±{} · substeps {} · dt {} · seed {}{} · {stop} after {warmup} warmup",
+            "model {} · {} {envs} × {} {clients} · {api} · {} ±{} · substeps {} · dt {} · seed {}{}{} · {stop} after {warmup} warmup",
             self.model.name,
             self.n_envs,
             self.clients,
@@ -250,11 +276,13 @@ impl LoadConfig {
             self.substeps.map_or("default".into(), |s| s.to_string()),
             self.dt.map_or("default".into(), |s| format!("{s} s")),
             self.seed,
-            match (&self.task, self.units) {
-                (None, UnitsArg::Document) => String::new(),
-                (None, UnitsArg::Si) => " · units si".to_string(),
-                (Some(_), UnitsArg::Document) => " · terms task".to_string(),
-                (Some(_), UnitsArg::Si) => " · terms task · units si".to_string(),
+            match &self.task {
+                None => String::new(),
+                Some(task) => format!(" · task {}", task.file.display()),
+            },
+            match self.units {
+                UnitsArg::Document => "",
+                UnitsArg::Si => " · units si",
             },
         )
     }

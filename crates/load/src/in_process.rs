@@ -9,8 +9,8 @@ use std::time::Instant;
 
 use gymfleet_batch::{Autoreset, BatchStepOutput, EnvBatch, StepPool};
 use gymfleet_env::{
-    ActionType, EnvConfig, RobotEnv, TaskKind, TaskSpec, TermsTask, Units, DEFAULT_MAX_STEPS,
-    DEFAULT_SUBSTEPS,
+    ActionType, EnvConfig, EnvError, RobotEnv, TaskKind, TaskSpec, TermsTask, Units,
+    DEFAULT_MAX_STEPS, DEFAULT_SUBSTEPS,
 };
 
 use crate::actions::{ActionKind, ActionPlan};
@@ -102,8 +102,21 @@ pub(crate) fn run(config: &LoadConfig, threads: usize) -> Result<RunResult> {
     Ok(result)
 }
 
-/// The env every batch clones, configured as the server would configure it.
+/// The env every batch clones, configured as the server would configure it. A task
+/// that does not parse, or that does not fit the model, is a setup error naming its file.
 fn template(config: &LoadConfig) -> Result<RobotEnv> {
+    let task_stage = |file: &std::path::Path| format!("in-process: --task '{}'", file.display());
+    let task = match &config.task {
+        None => None,
+        Some(task) => Some(TaskSpec {
+            kind: TaskKind::Terms(
+                TermsTask::from_json(&task.json)
+                    .map_err(|e| LoadError::setup(task_stage(&task.file), e))?,
+            ),
+            // As a request's terms task without `action_cost` (`Task::terms`).
+            action_cost: 0.0,
+        }),
+    };
     let env_config = EnvConfig {
         end_effector_ids: config.end_effectors.clone(),
         // 0: the document's `simulation.dt`, else the default, as on a server.
@@ -111,17 +124,7 @@ fn template(config: &LoadConfig) -> Result<RobotEnv> {
         substeps: config.substeps.unwrap_or(DEFAULT_SUBSTEPS),
         max_steps: config.max_steps.unwrap_or(DEFAULT_MAX_STEPS),
         seed: config.seed,
-        task: config
-            .task
-            .as_deref()
-            .map(|json| {
-                TermsTask::from_json(json).map(|t| TaskSpec {
-                    kind: TaskKind::Terms(t),
-                    action_cost: 0.0,
-                })
-            })
-            .transpose()
-            .map_err(|e| LoadError::setup("in-process: the --task file", e))?,
+        task,
         units: match config.units {
             UnitsArg::Document => Units::Document,
             UnitsArg::Si => Units::Si,
@@ -130,8 +133,14 @@ fn template(config: &LoadConfig) -> Result<RobotEnv> {
         // without them.
         ..EnvConfig::default()
     };
-    RobotEnv::from_json(&config.model.document, env_config)
-        .map_err(|e| LoadError::setup(format!("in-process: load model {}", config.model.name), e))
+    RobotEnv::from_json(&config.model.document, env_config).map_err(|e| {
+        let stage = match (&e, &config.task) {
+            // The task names what the model lacks (a joint, an instance, a site).
+            (EnvError::BadTask { .. }, Some(task)) => task_stage(&task.file),
+            _ => format!("in-process: load model {}", config.model.name),
+        };
+        LoadError::setup(stage, e)
+    })
 }
 
 /// Each DOF's hard limits, as the server reports them.

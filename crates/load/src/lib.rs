@@ -41,7 +41,9 @@ mod rss;
 
 pub use actions::{ActionKind, ActionPlan};
 pub use cli::{Cli, DEFAULT_DURATION_SECS, DEFAULT_N_ENVS, DEFAULT_WARMUP_SECS};
-pub use config::{threads_or_cores, Api, LoadConfig, Mode, StopRule, Target, UnitsArg, Warmup};
+pub use config::{
+    threads_or_cores, Api, LoadConfig, Mode, StopRule, Target, TaskFile, UnitsArg, Warmup,
+};
 #[cfg(feature = "embedded")]
 pub use embedded::EmbeddedServer;
 pub use error::{LoadError, Result};

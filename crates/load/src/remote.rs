@@ -216,8 +216,10 @@ async fn setup(config: &LoadConfig, c: usize, server: String) -> Result<Session>
     })
 }
 
-/// The env configuration every client uses: the model's end effectors, `seed`, and the
-/// step settings given on the command line (the server's defaults otherwise).
+/// The env configuration every client uses: the model's end effectors, `seed`, the
+/// step settings given on the command line (the server's defaults otherwise), the
+/// `--task` (the server checks it: a bad one fails `CreateBatch`/`CreateEnv` with its
+/// `INVALID_ARGUMENT`) and the `--units`.
 fn env_options(config: &LoadConfig, document: String, seed: u64) -> EnvOptions {
     let mut options = EnvOptions::new(document)
         .end_effectors(config.end_effectors.clone())
@@ -232,7 +234,7 @@ fn env_options(config: &LoadConfig, document: String, seed: u64) -> EnvOptions {
         options = options.max_steps(m);
     }
     if let Some(task) = &config.task {
-        options = options.task(gymfleet_client::Task::terms(task.clone()));
+        options = options.task(gymfleet_client::Task::terms(task.json.clone()));
     }
     options.units(config.units.client())
 }

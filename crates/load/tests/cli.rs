@@ -6,8 +6,8 @@
 use clap::error::ErrorKind;
 use clap::Parser;
 use gymfleet_load::{
-    threads_or_cores, ActionKind, Api, Cli, LoadConfig, LoadError, Mode, StopRule, Target, Warmup,
-    DEFAULT_N_ENVS,
+    threads_or_cores, ActionKind, Api, Cli, LoadConfig, LoadError, Mode, StopRule, Target,
+    TaskFile, UnitsArg, Warmup, DEFAULT_N_ENVS,
 };
 
 /// Clears the `GYMFLEET_*` variables, so that the caller's environment does not change
@@ -323,21 +323,58 @@ fn clap_refuses_malformed_values() {
 
 #[test]
 fn task_and_units_flags() {
-    let err = error(&["--task", "/no/such/task.json"]);
+    let defaults = resolve(&[]).unwrap();
+    assert_eq!(defaults.task, None);
+    assert_eq!(defaults.units, UnitsArg::Document);
+
+    let path = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_effort_task.json");
+    let json = r#"{"terms": [{"name": "effort", "weight": -1, "ctrl_cost": {}}]}"#;
+    std::fs::write(&path, json).unwrap();
+    let config = resolve(&["--task", path.to_str().unwrap(), "--units", "si"]).unwrap();
+    assert_eq!(
+        config.task,
+        Some(TaskFile {
+            file: path.clone(),
+            json: json.to_string()
+        })
+    );
+    assert_eq!(config.units, UnitsArg::Si);
+    // The task and the units are in the summary line.
     assert!(
-        err.starts_with("--task cannot read '/no/such/task.json': "),
-        "{err}"
+        config.summary().ends_with(&format!(
+            "· seed 0 · task {} · units si · 10 s after 1 s warmup",
+            path.display()
+        )),
+        "{}",
+        config.summary()
     );
     assert_eq!(
-        resolve(&[]).unwrap().units,
-        gymfleet_load::UnitsArg::Document
+        resolve(&["--units", "document"]).unwrap().units,
+        UnitsArg::Document
     );
+    // Remote servers check the task themselves: nothing is parsed here.
+    let remote = resolve(&["--server", "h:1", "--task", path.to_str().unwrap()]).unwrap();
+    assert_eq!(remote.task.map(|t| t.json), Some(json.to_string()));
+
     assert_eq!(
-        resolve(&["--units", "si"]).unwrap().units,
-        gymfleet_load::UnitsArg::Si
+        error(&["--task", "/no/such/task.json"]),
+        "--task cannot read '/no/such/task.json': No such file or directory (os error 2)"
     );
+    let dir = env!("CARGO_TARGET_TMPDIR");
+    let message = error(&["--task", dir]);
+    assert!(
+        message.starts_with(&format!("--task cannot read '{dir}': ")),
+        "{message}"
+    );
+
     scrub_gymfleet_env();
     let refused =
         Cli::try_parse_from(["gymfleet-load", "--units", "furlongs"]).expect_err("clap refuses it");
     assert_eq!(refused.kind(), ErrorKind::InvalidValue);
+    assert!(
+        refused
+            .to_string()
+            .starts_with("error: invalid value 'furlongs' for '--units <UNITS>'"),
+        "{refused}"
+    );
 }

@@ -2,10 +2,14 @@
 //! because the variables are process-wide.
 
 use clap::Parser;
-use gymfleet_load::{ActionKind, Api, Cli, Mode, StopRule, Target, Warmup};
+use gymfleet_load::{ActionKind, Api, Cli, Mode, StopRule, Target, UnitsArg, Warmup};
 
 #[test]
 fn flags_read_gymfleet_variables() {
+    let task = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_env_task.json");
+    let task_json = r#"{"terms": [{"name": "effort", "weight": -1, "ctrl_cost": {}}]}"#;
+    std::fs::write(&task, task_json).unwrap();
+    std::env::set_var("GYMFLEET_TASK", &task);
     let vars = [
         ("GYMFLEET_SERVER", "127.0.0.1:7001,127.0.0.1:7002"),
         ("GYMFLEET_MODEL", "pendulum"),
@@ -23,6 +27,7 @@ fn flags_read_gymfleet_variables() {
         ("GYMFLEET_DT", "0.005"),
         ("GYMFLEET_MAX_STEPS", "64"),
         ("GYMFLEET_SEED", "11"),
+        ("GYMFLEET_UNITS", "si"),
         ("GYMFLEET_JSON", "results.json"),
         ("GYMFLEET_QUIET", "true"),
         ("GYMFLEET_REPORT_RSS", "true"),
@@ -64,6 +69,9 @@ fn flags_read_gymfleet_variables() {
         Some(std::path::Path::new("results.json"))
     );
     assert!(config.quiet && config.report_rss);
+    let read = config.task.expect("GYMFLEET_TASK");
+    assert_eq!((read.file, read.json.as_str()), (task, task_json));
+    assert_eq!(config.units, UnitsArg::Si);
 
     // A flag on the command line wins over its variable.
     let config = Cli::try_parse_from(["gymfleet-load", "--n-envs", "9"])
