@@ -703,6 +703,36 @@ mod tests {
     }
 
     #[test]
+    fn units_and_terms_tasks_are_read_and_checked() {
+        let r = EnvRequest::try_from(pb::CreateEnvRequest {
+            units: pb::Units::Si as i32,
+            task: Some(pb::Task {
+                kind: Some(pb::task::Kind::Terms(pb::TermsTask {
+                    json: r#"{"terms": [{"name": "c", "ctrl_cost": {}}]}"#.into(),
+                })),
+                action_cost: 0.0,
+            }),
+            ..Default::default()
+        })
+        .unwrap();
+        assert_eq!(r.config.units, Units::Si);
+        assert!(matches!(
+            r.config.task.map(|t| t.kind),
+            Some(TaskKind::Terms(t)) if t.terms.len() == 1
+        ));
+        let err = EnvRequest::try_from(pb::CreateEnvRequest {
+            units: 7,
+            ..Default::default()
+        })
+        .err()
+        .expect("refused");
+        assert_eq!(
+            err.to_string(),
+            "units: expected UNITS_DOCUMENT or UNITS_SI, got unknown value 7"
+        );
+    }
+
+    #[test]
     fn given_values_pass_through() {
         let r = EnvRequest::try_from(pb::CreateEnvRequest {
             end_effector_ids: vec!["arm".into()],

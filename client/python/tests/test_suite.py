@@ -221,7 +221,7 @@ def test_keyword_arguments_change_what_gymnasiums_do():
     env.close()
 
 
-def test_an_unknown_keyword_names_the_known_ones():
+def test_an_unknown_keyword_names_the_known_ones(pendulum):
     with pytest.raises(gymfleet.InvalidArgument) as e:
         gymnasium.make("gymfleet/Hopper-v5", forward_weight=2.0)
     message = str(e.value)
@@ -231,6 +231,17 @@ def test_an_unknown_keyword_names_the_known_ones():
         gymnasium.make("gymfleet/Hopper-v5", frame_skip=0)
     with pytest.raises(gymfleet.InvalidArgument, match="does not exist"):
         gymnasium.make("gymfleet/Hopper-v5", xml_file="no_such_robot.xml")
+    with pytest.raises(
+        gymfleet.InvalidArgument,
+        match=r"render_mode: 'human' is not supported \(render_modes: \['rgb_array'\]\)",
+    ):
+        gymnasium.make("gymfleet/Hopper-v5", render_mode="human")
+    with pytest.raises(gymfleet.InvalidArgument, match=r"healthy_z_range: expected \(min, max\), got 0.7"):
+        gymnasium.make("gymfleet/Hopper-v5", healthy_z_range=0.7)
+    with pytest.raises(gymfleet.InvalidArgument, match='units: expected "document" or "si", got \'furlongs\''):
+        gymfleet.make(pendulum, units="furlongs")
+    with pytest.raises(gymfleet.InvalidArgument, match=r"task: unknown field\(s\) reach beside terms"):
+        gymfleet.make(pendulum, task={"terms": [], "reach": {}})
 
 
 def test_gymnasiums_env_checker_passes():

@@ -11,6 +11,20 @@ const MAX_ISSUE_CHARS: usize = 1000;
 /// Most issues an [`AssemblyError::Invalid`] message shows (all stay in `issues`).
 const MAX_SHOWN_ISSUES: usize = 20;
 
+/// A number as a message shows it: short whatever its size.
+///
+/// ```
+/// assert_eq!(gymfleet_assembly::shown(-2.5), "-2.5");
+/// assert_eq!(gymfleet_assembly::shown(1e300), "1e300");
+/// ```
+pub fn shown(value: f64) -> String {
+    if value.is_finite() && value.abs() < 1e9 {
+        format!("{value}")
+    } else {
+        format!("{value:e}")
+    }
+}
+
 /// `name` quoted as messages echo it: in full when short, else its start and its length,
 /// so that no document can make an error message large.
 ///

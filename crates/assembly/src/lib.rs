@@ -20,7 +20,7 @@ pub use document::{
     JointDef, MaterialDef, MeshDef, PartDef, Primitive, SiteDef, Vec3,
 };
 pub use error::{
-    quoted, quoted_list, AssemblyError, Issue, Result, MAX_ECHOED_CHARS, MAX_LISTED_NAMES,
+    quoted, quoted_list, shown, AssemblyError, Issue, Result, MAX_ECHOED_CHARS, MAX_LISTED_NAMES,
 };
 pub use mesh::{
     ConvexParts, ConvexPiece, MAX_CONVEX_PARTS, MAX_DECOMPOSED_TRIANGLES, MAX_MESH_TRIANGLES,

@@ -5,7 +5,7 @@
 use std::collections::HashSet;
 
 use crate::document::{InstanceDef, SiteDef};
-use crate::error::{quoted, quoted_list, Issue};
+use crate::error::{quoted, quoted_list, shown, Issue};
 use crate::model::Site;
 
 /// Most sites in one document.
@@ -59,7 +59,10 @@ pub(crate) fn sites(defs: &[SiteDef], instances: &[InstanceDef]) -> (Vec<Site>, 
             if !(c.is_finite() && c.abs() <= MAX_MM) {
                 issues.push(Issue::new(
                     format!("{path}.point.{axis}"),
-                    format!("expected a finite coordinate within ±1e8 mm, got {c:e}"),
+                    format!(
+                        "expected a finite coordinate within ±1e8 mm, got {}",
+                        shown(c)
+                    ),
                 ));
             }
         }

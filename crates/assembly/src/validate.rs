@@ -8,7 +8,7 @@ use crate::document::{
     ConvexMode, Document, InertialDef, InstanceDef, JointDef, MaterialDef, MeshDef, PartDef,
     Primitive, SimulationDef, Vec3,
 };
-use crate::error::{quoted, quoted_list, AssemblyError, Issue, Result};
+use crate::error::{quoted, quoted_list, shown, AssemblyError, Issue, Result};
 use crate::mesh::{ConvexParts, MAX_MESH_TRIANGLES, MAX_MESH_VERTICES};
 use crate::model::{
     Assembly, Inertial, Instance, Joint, JointType, Material, Shape, DEFAULT_GRAVITY, MM_PER_M,
@@ -776,7 +776,10 @@ impl Validator {
             if !(g.is_finite() && g != 0.0 && g.abs() <= 1e9) {
                 self.push(
                     format!("{path}.gear"),
-                    format!("expected a finite, non-zero gear within ±1e9, got {g}"),
+                    format!(
+                        "expected a finite, non-zero gear within ±1e9, got {}",
+                        shown(g)
+                    ),
                 );
             } else if !one_dof {
                 self.push(
@@ -802,7 +805,10 @@ impl Validator {
             if !(r.is_finite() && r.abs() <= 1e9) {
                 self.push(
                     format!("{path}.reference"),
-                    format!("expected a finite position within ±1e9 (deg or mm), got {r}"),
+                    format!(
+                        "expected a finite position within ±1e9 (deg or mm), got {}",
+                        shown(r)
+                    ),
                 );
             } else if !one_dof {
                 self.push(

@@ -338,6 +338,79 @@ fn friction_errors_name_the_field() {
 }
 
 #[test]
+fn gear_and_reference_errors_name_the_field() {
+    assert_issue(
+        with_joint_field("gear", json!(0)),
+        "assembly.joints[0].gear: expected a finite, non-zero gear within ±1e9, got 0",
+    );
+    assert_issue(
+        with_joint_field("gear", json!(1e300)),
+        "assembly.joints[0].gear: expected a finite, non-zero gear within ±1e9, got 1e300",
+    );
+    let mut doc = with_joint_type("ball");
+    doc["assembly"]["joints"][0]["gear"] = json!(2);
+    assert_issue(
+        doc,
+        "assembly.joints[0].gear: a gear needs a revolute or prismatic joint, not a ball joint",
+    );
+    let mut doc = with_joint_field("gear", json!(2));
+    doc["assembly"]["joints"][0]["actuated"] = json!(false);
+    assert_issue(
+        doc,
+        "assembly.joints[0].gear: a passive joint (\"actuated\": false) has no motor to gear; remove gear or the actuated flag",
+    );
+    assert_issue(
+        with_joint_field("reference", json!(-2e9)),
+        "assembly.joints[0].reference: expected a finite position within ±1e9 (deg or mm), got -2e9",
+    );
+    let mut doc = with_joint_type("fixed");
+    doc["assembly"]["joints"][0]["reference"] = json!(1);
+    assert_issue(
+        doc,
+        "assembly.joints[0].reference: a reference position needs a revolute or prismatic joint, not a fixed joint",
+    );
+    let mut doc = with_joint_field("gear", json!(-120));
+    doc["assembly"]["joints"][0]["reference"] = json!(30);
+    let a = common::ok(doc);
+    assert_eq!((a.joints[0].gear, a.joints[0].reference), (-120.0, 30.0));
+}
+
+#[test]
+fn site_errors_name_the_site() {
+    let mut doc = with_joint_field("damping", json!(0));
+    let instance = doc["assembly"]["instances"][1]["name"].clone();
+    doc["assembly"]["sites"] = json!([
+        {"name": "tip", "instance": instance, "point": {"x": 0, "y": 0, "z": 10}},
+        {"name": "tip", "instance": instance, "point": {"x": 0, "y": 0, "z": 1}}
+    ]);
+    assert_issue(
+        doc.clone(),
+        "assembly.sites[1].name: \"tip\" names an earlier site too; site names must be unique",
+    );
+    doc["assembly"]["sites"][1] =
+        json!({"name": "toe", "instance": "hand", "point": {"x": 0, "y": 0, "z": 1e9}});
+    let e = err(doc.clone()).to_string();
+    assert!(
+        e.contains("assembly.sites[1].instance: unknown instance \"hand\" (known: ")
+            && e.contains(
+                "assembly.sites[1].point.z: expected a finite coordinate within ±1e8 mm, got 1e9"
+            ),
+        "{e}"
+    );
+    doc["assembly"]["sites"]
+        .as_array_mut()
+        .expect("sites")
+        .pop();
+    let a = common::ok(doc);
+    assert_eq!(a.sites.len(), 1);
+    assert_eq!(
+        (a.sites[0].instance, a.sites[0].point),
+        (1, [0.0, 0.0, 10.0])
+    );
+    assert_eq!(a.site_index("tip"), Some(0));
+}
+
+#[test]
 fn spring_errors_name_the_field() {
     assert_issue(
         with_joint_field("stiffness", json!(-1)),

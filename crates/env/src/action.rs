@@ -72,3 +72,8 @@ pub(crate) fn validate(values: &[f32], action_dim: usize) -> Result<()> {
     }
     Ok(())
 }
+
+/// Σ a² over an action's values, in f64: the action cost of every task.
+pub(crate) fn sum_of_squares(values: &[f32]) -> f64 {
+    values.iter().map(|&a| f64::from(a) * f64::from(a)).sum()
+}

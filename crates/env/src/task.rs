@@ -411,11 +411,7 @@ impl ActiveTask {
         values: &mut [f32],
     ) -> (f64, Option<Termination>) {
         let cost = if self.action_cost > 0.0 {
-            self.action_cost
-                * action
-                    .iter()
-                    .map(|&a| f64::from(a) * f64::from(a))
-                    .sum::<f64>()
+            self.action_cost * crate::action::sum_of_squares(action)
         } else {
             0.0
         };

@@ -17,7 +17,28 @@ mod terms;
 mod transport;
 mod walkthrough;
 
-use gymfleet_client::ClientError;
+use gymfleet_client::{ClientError, Fleet, FleetEndpoints};
+use gymfleet_e2e::TestServer;
+use gymfleet_server::ServerConfig;
+
+/// A fleet of two servers, with 1 and 2 pool threads, for sharding a batch that must step
+/// bitwise as it does on one server. Keep the servers alive as long as the fleet.
+async fn two_server_fleet() -> (Vec<TestServer>, Fleet) {
+    let mut servers = Vec::new();
+    for threads in [1, 2] {
+        servers.push(
+            TestServer::start(ServerConfig {
+                threads,
+                ..ServerConfig::default()
+            })
+            .await,
+        );
+    }
+    let endpoints =
+        FleetEndpoints::new(servers.iter().map(|s| s.addr().to_string())).expect("endpoints");
+    let fleet = Fleet::connect(endpoints).await.expect("fleet");
+    (servers, fleet)
+}
 
 /// Asserts that `a` and `b` have the same length and agree within `tol`.
 #[track_caller]

@@ -7,7 +7,6 @@ use gymfleet_client::{
     Task, TrackTask,
 };
 use gymfleet_e2e::{TestServer, ARM2, PENDULUM};
-use gymfleet_server::ServerConfig;
 
 use crate::{actions, bits};
 
@@ -81,19 +80,7 @@ async fn task_rewards_are_bitwise_equal_however_a_batch_is_sharded() {
         .create_batch(options())
         .await
         .expect("one");
-    let mut servers = Vec::new();
-    for threads in [1, 2] {
-        servers.push(
-            TestServer::start(ServerConfig {
-                threads,
-                ..ServerConfig::default()
-            })
-            .await,
-        );
-    }
-    let endpoints =
-        FleetEndpoints::new(servers.iter().map(|s| s.addr().to_string())).expect("endpoints");
-    let fleet = Fleet::connect(endpoints).await.expect("fleet");
+    let (_servers, fleet) = crate::two_server_fleet().await;
     let mut sharded = fleet.create_batch(options()).await.expect("sharded");
     assert_eq!(
         sharded.info().observation_layout,

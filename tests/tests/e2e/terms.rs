@@ -3,12 +3,8 @@
 //! the step before a same-step autoreset), the `unhealthy` reason, and the proto-level
 //! errors.
 
-use gymfleet_client::{
-    ActionType, Autoreset, BatchOptions, ClientError, EnvOptions, Fleet, FleetEndpoints, Task,
-    Units,
-};
+use gymfleet_client::{ActionType, Autoreset, BatchOptions, ClientError, EnvOptions, Task, Units};
 use gymfleet_e2e::{TestServer, ARM2, PENDULUM};
-use gymfleet_server::ServerConfig;
 
 use crate::{actions, bits};
 
@@ -87,19 +83,7 @@ async fn term_values_are_bitwise_equal_however_a_batch_is_sharded() {
         .create_batch(options())
         .await
         .expect("one");
-    let mut servers = Vec::new();
-    for threads in [1, 2] {
-        servers.push(
-            TestServer::start(ServerConfig {
-                threads,
-                ..ServerConfig::default()
-            })
-            .await,
-        );
-    }
-    let endpoints =
-        FleetEndpoints::new(servers.iter().map(|s| s.addr().to_string())).expect("endpoints");
-    let fleet = Fleet::connect(endpoints).await.expect("fleet");
+    let (_servers, fleet) = crate::two_server_fleet().await;
     let mut sharded = fleet.create_batch(options()).await.expect("sharded");
     assert_eq!(sharded.info().term_names, batch.info().term_names);
     let mut unhealthy = 0;

@@ -175,7 +175,7 @@ impl ActiveTerms {
                     rate
                 }
                 Kind::Value(q) => self.read(*q, world, positions, velocities),
-                Kind::CtrlCost => action.iter().map(|&a| f64::from(a) * f64::from(a)).sum(),
+                Kind::CtrlCost => crate::action::sum_of_squares(action),
                 Kind::Healthy => f64::from(u8::from(healthy)),
                 Kind::Distance([a, b]) => {
                     let (a, b) = (self.point(world, *a), self.point(world, *b));

@@ -20,6 +20,7 @@
 mod active;
 mod resolve;
 
+pub(crate) use gymfleet_assembly::shown;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{EnvError, Result};
@@ -259,15 +260,6 @@ fn bad(path: impl Into<String>, reason: impl Into<String>) -> EnvError {
     EnvError::BadTask {
         path: path.into(),
         reason: reason.into(),
-    }
-}
-
-/// A number as a message shows it: short whatever its size (`1e300`, not 301 digits).
-fn shown(value: f64) -> String {
-    if value.is_finite() && value.abs() < 1e9 {
-        format!("{value}")
-    } else {
-        format!("{value:e}")
     }
 }
 

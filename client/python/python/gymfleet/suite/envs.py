@@ -40,7 +40,7 @@ class _Setup:
         self.suite: SuiteSpec = SUITE[env_id]
         self.kw = self.suite.kwargs(kwargs)
         for name in IGNORED_KWARGS:
-            if self.kw[name] is not None and name in kwargs and name != "max_geom":
+            if name in kwargs:
                 gym.logger.warn(
                     f"{env_id}: {name} is ignored (gymfleet renders with its own renderer)"
                 )
@@ -240,19 +240,20 @@ class SuiteVectorEnv(VectorEnv):
             # As gymnasium's SyncVectorEnv in same-step mode: a finished env's info is its
             # reset's, and its step's info is in `final_info`.
             has_final = raw_infos["_final_obs"]
+            ended = np.flatnonzero(has_final)
             final = np.full(self.num_envs, None, dtype=object)
-            for env in np.flatnonzero(has_final):
-                final[env] = self._observe(raw_infos["final_obs"][env][None, :])[0]
+            for env, row in zip(ended, self._observe(rows[ended])):
+                final[env] = row
             final_info = {k: (v & has_final if k.startswith("_") else v) for k, v in infos.items()}
             q_now, _, _ = _split(raw, self._dofs)
-            for key, value in self._setup.plan.reset_info(q_now.astype(np.float64)).items():
-                if key in values:
-                    infos[key] = np.where(has_final, value, infos[key])
-                else:
-                    infos[key], infos["_" + key] = value, has_final.copy()
+            reset = self._setup.plan.reset_info(q_now.astype(np.float64))
             for key in values:
-                if key not in self._setup.plan.reset_info(q_now[:0]):
+                if key in reset:
+                    infos[key] = np.where(has_final, reset[key], infos[key])
+                else:
                     infos["_" + key] = ~has_final
+            for key in reset.keys() - values.keys():
+                infos[key], infos["_" + key] = reset[key], has_final.copy()
             infos["final_obs"], infos["_final_obs"] = final, has_final
             infos["final_info"], infos["_final_info"] = final_info, has_final.copy()
         return self._observe(raw), rewards.astype(np.float64), terminated, truncated, infos

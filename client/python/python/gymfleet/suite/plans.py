@@ -53,6 +53,8 @@ class Model:
     path: str
     text: str
     joints: List[str]
+    #: Each joint's ``ref`` as written (MuJoCo's qpos0; metres for slide joints).
+    refs: List[float]
     timestep: float
 
     def index(self, name: str) -> int:
@@ -87,13 +89,15 @@ def read_model(xml_file: str) -> Model:
         raise InvalidArgument(f"xml_file: {path!r} is not XML: {e}") from None
     world = root.find("worldbody")
     joints: List[str] = []
+    refs: List[float] = []
     if world is not None:
         for j in world.iter():
             if j.tag in ("joint", "freejoint"):
                 joints.append(j.get("name", ""))
+                refs.append(float(j.get("ref", 0.0)))
     option = root.find("option")
     timestep = float(option.get("timestep", 0.002)) if option is not None else 0.002
-    return Model(path=path, text=text, joints=joints, timestep=timestep)
+    return Model(path=path, text=text, joints=joints, refs=refs, timestep=timestep)
 
 
 @dataclass
@@ -193,7 +197,7 @@ def _walker(model: Model, kw: Mapping[str, Any], with_state_range: bool) -> Plan
     ix, iz = model.index(x), model.index(z)
     skip = 1 if _exclude(kw) else 0
     # MuJoCo's init_qpos is each joint's ref: what the server reports at the pose.
-    z0 = _references(model)[iz]
+    z0 = model.refs[iz]
 
     def reset_info(q: Positions) -> Dict[str, np.ndarray]:
         return {"x_position": q[:, ix], "z_distance_from_origin": q[:, iz] - z0}
@@ -209,19 +213,6 @@ def _walker(model: Model, kw: Mapping[str, Any], with_state_range: bool) -> Plan
 
     n = len(model.joints)
     return Plan(task, _joint_state(skip, 10.0), 2 * n - skip, step_info, reset_info)
-
-
-def _references(model: Model) -> List[float]:
-    """Each joint's ``ref`` (MuJoCo's qpos0) as written: metres for slide joints (the
-    walkers' refs are on their rootz slides)."""
-    root = ET.fromstring(model.text)
-    refs = []
-    world = root.find("worldbody")
-    assert world is not None
-    for j in world.iter():
-        if j.tag in ("joint", "freejoint"):
-            refs.append(float(j.get("ref", 0.0)))
-    return refs
 
 
 def _hopper(model: Model, kw: Mapping[str, Any]) -> Plan:
@@ -391,7 +382,7 @@ class SuiteSpec:
     reward_threshold: Optional[float]
     defaults: Dict[str, Any]
     plan: Callable[[Model, Mapping[str, Any]], Plan]
-    #: MuJoCo's own joint names in qpos order, checked against the converted robot's.
+    #: What differs from Gymnasium's env, if anything (Swimmer: no fluid yet).
     note: str = ""
 
     @property
