@@ -720,12 +720,12 @@ mod tests {
             r.config.task.map(|t| t.kind),
             Some(TaskKind::Terms(t)) if t.terms.len() == 1
         ));
-        let err = EnvRequest::try_from(pb::CreateEnvRequest {
+        let Err(err) = EnvRequest::try_from(pb::CreateEnvRequest {
             units: 7,
             ..Default::default()
-        })
-        .err()
-        .expect("refused");
+        }) else {
+            panic!("an unknown units value is refused")
+        };
         assert_eq!(
             err.to_string(),
             "units: expected UNITS_DOCUMENT or UNITS_SI, got unknown value 7"
