@@ -20,7 +20,15 @@ NAMES = [spec.name for spec in SUITE.values()]
 #: Gymnasium defines x_velocity as Δx_position / dt for these.
 WITH_X_VELOCITY = {"HalfCheetah", "Hopper", "Walker2d", "Swimmer"}
 #: The reward as the sum of its info terms (Gymnasium's `_get_rew`).
-REWARD_TERMS = ("reward_forward", "reward_ctrl", "reward_survive", "reward_dist", "reward_near")
+REWARD_TERMS = (
+    "reward_forward",
+    "reward_ctrl",
+    "reward_survive",
+    "reward_dist",
+    "reward_near",
+    "distance_penalty",
+    "velocity_penalty",
+)
 
 
 #: Reacher and Pusher draw their goals at every reset; they take no reset_noise_scale.
@@ -86,7 +94,10 @@ def test_info_keys_and_every_reward_term_recomputed(name):
                 spec.defaults["forward_reward_weight"] * info["x_velocity"], rel=1e-6
             )
         if "reward_survive" in info:
-            assert info["reward_survive"] == (0.0 if terminated else 1.0)
+            alive = spec.defaults.get("healthy_reward", 1.0)
+            assert info["reward_survive"] == (0.0 if terminated else alive)
+        if name == "InvertedDoublePendulum":
+            _check_double_pendulum_penalties(obs, info)
         if name in WITH_X_VELOCITY:
             assert info["x_velocity"] == pytest.approx(
                 (info["x_position"] - previous_x) / dt, abs=2e-3
@@ -103,11 +114,29 @@ def test_info_keys_and_every_reward_term_recomputed(name):
     theirs.close()
 
 
+def _check_double_pendulum_penalties(obs, info):
+    """The penalties recomputed from the observation: the tip (0.6 m links above the
+    cart) from the angles' sines and cosines, the hinges' speeds."""
+    x, s1, s2, c1, c2 = (float(v) for v in obs[:5])
+    # sin and cos of θ1 + θ2.
+    s12, c12 = s1 * c2 + c1 * s2, c1 * c2 - s1 * s2
+    tip_x, tip_z = x + 0.6 * (s1 + s12), 0.6 * (c1 + c12)
+    assert info["distance_penalty"] == pytest.approx(
+        -(0.01 * tip_x**2 + (tip_z - 2.0) ** 2), rel=1e-4, abs=1e-5
+    )
+    v1, v2 = float(obs[6]), float(obs[7])
+    if max(abs(v1), abs(v2)) < 10.0:  # the observation clips them
+        assert info["velocity_penalty"] == pytest.approx(
+            -(1e-3 * v1**2 + 5e-3 * v2**2), rel=1e-4, abs=1e-6
+        )
+
+
 #: A fixed action sequence per env. Each drives the robot (a slow topple from a balanced
 #: stance is chaotic: Walker2d under a constant 0.3 ends at step 59 here and 241 in MuJoCo,
 #: under zero torque at 181 and 135; see BENCHMARKS "Fidelity of the suite").
 SEQUENCES = {
     "InvertedPendulum": lambda k: np.array([0.5]),
+    "InvertedDoublePendulum": lambda k: np.array([0.2 * np.sin(0.3 * k)]),
     "Hopper": lambda k: np.array([0.4, -0.3, 0.2]) * np.sin(0.05 * k),
     "Walker2d": lambda k: np.sin(0.1 * k + np.arange(6)),
     "HalfCheetah": lambda k: np.sin(0.1 * k + np.arange(6)),
@@ -176,6 +205,40 @@ def test_reacher_and_pusher_measure_mujocos_bodies():
         _, reward, _, _, info = env.step(np.zeros(2, dtype=np.float32))
     env.close()
     theirs.close()
+
+
+def test_the_double_pendulums_cart_stop_force_is_mujocos(tmp_path):
+    """The observation's last value is MuJoCo's constraint force on the cart, clipped to
+    ±10: its slider's stop pushing back. With the poles held upright (hinge limits of
+    ±0.01 rad, so the episode does not end) the cart is driven into its stop at 1 m and
+    then let go."""
+    from gymfleet.suite.plans import assets_dir
+
+    text = (assets_dir() / "inverted_double_pendulum.xml").read_text()
+    for hinge in ("hinge", "hinge2"):
+        text = text.replace(
+            f'name="{hinge}" pos="0 0 0" type="hinge"',
+            f'name="{hinge}" pos="0 0 0" type="hinge" limited="true" range="-0.01 0.01"',
+        )
+    held = tmp_path / "held.xml"
+    held.write_text(text)
+    runs = {}
+    for name in ("InvertedDoublePendulum", "gymfleet/InvertedDoublePendulum"):
+        env = gymnasium.make(f"{name}-v5", reset_noise_scale=0.0, xml_file=str(held))
+        env.reset(seed=0)
+        runs[name] = [
+            env.step(np.array([0.3 if k < 20 else -0.02], dtype=np.float32))[0]
+            for k in range(30)
+        ]
+        env.close()
+    ours, theirs = (np.array(runs[n]) for n in ("gymfleet/InvertedDoublePendulum", "InvertedDoublePendulum"))
+    # Both reach the stop at the same step, push against it, and leave it.
+    assert np.flatnonzero(ours[:, -1])[0] == np.flatnonzero(theirs[:, -1])[0]
+    np.testing.assert_array_equal(ours[14:20, -1], -10.0)
+    np.testing.assert_array_equal(theirs[14:20, -1], -10.0)
+    np.testing.assert_array_equal(ours[22:, -1], 0.0)
+    np.testing.assert_array_equal(theirs[22:, -1], 0.0)
+    np.testing.assert_allclose(ours[14:20, 0], theirs[14:20, 0], atol=0.015)
 
 
 def test_reset_noise_has_gymnasiums_distributions():

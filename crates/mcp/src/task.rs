@@ -108,8 +108,10 @@ pub(crate) struct TaskParam {
     /// Keep an instance upright.
     upright: Option<UprightParam>,
     /// A reward of weighted terms any robot can carry (the Gymnasium suite's): {"terms":
-    /// [{"name", "weight", and one of "velocity", "value" (a coordinate: {"joint"} or
-    /// {"instance", "axis"}), "ctrl_cost": {}, "healthy": {}, "distance": [point, point]}],
+    /// [{"name", "weight", and one of "velocity", "value" (a coordinate: {"joint"},
+    /// {"joint_velocity"}, {"joint_limit_force"}, {"site", "axis"} or {"instance",
+    /// "axis"}), "ctrl_cost": {}, "healthy": {}, "distance": [point, point], "square":
+    /// {"of", "center"}}],
     /// "healthy": {"ranges": [{"of", "min", "max"}], "terminate"}, "reset_noise":
     /// {"position": {"uniform"}, "velocity": {"normal"}}}, in the document's units (mm,
     /// deg). Each step reports every term's value in "terms".

@@ -69,6 +69,35 @@ impl RobotWorld {
         }
     }
 
+    /// The generalized force the joint's limits applied to DOF `dof` over the last step
+    /// (its mean: the limits' impulse over `dt`), N on a linear DOF and N·m on an angular
+    /// one in every unit system; negative at an upper limit. MuJoCo's `qfrc_constraint` of a
+    /// limited joint in a robot with no contacts on that DOF's bodies. Zero for ball joints
+    /// (their cones are not hard stops) and after a reset.
+    pub fn limit_force(&self, dof: usize) -> f64 {
+        let Some(slot) = self
+            .joints
+            .iter()
+            .find(|s| s.first_dof <= dof && dof < s.first_dof + s.kind.dof())
+        else {
+            return 0.0;
+        };
+        if slot.kind == JointType::Ball {
+            return 0.0;
+        }
+        let Some(mb) = self.live.multibody_joints.get_multibody(slot.multibody) else {
+            return 0.0;
+        };
+        let Some(link) = mb.link(slot.link) else {
+            return 0.0;
+        };
+        let impulse = mb
+            .hard_limit_impulses(link)
+            .nth(dof - slot.first_dof)
+            .unwrap_or(0.0);
+        f64::from(impulse) / self.dt()
+    }
+
     /// The pose of an instance's centre of mass: `[x, y, z]` in world mm (m in
     /// [`Units::Si`]) and the world orientation as `[qw, qx, qy, qz]`.
     pub fn body_pose(&self, units: Units, instance: usize) -> [f32; 7] {

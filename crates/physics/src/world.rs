@@ -211,6 +211,7 @@ impl RobotWorld {
     /// (ball joints under position or velocity targets): it depends on the state, so it is
     /// recomputed before every substep, and each substep is then a pipeline step of its own.
     pub fn step(&mut self) {
+        self.clear_limit_impulses();
         if self.has_state_dependent_efforts() {
             for _ in 0..self.substeps {
                 self.apply_efforts();
@@ -219,6 +220,25 @@ impl RobotWorld {
         } else {
             self.apply_efforts();
             self.pipeline_step(false);
+        }
+    }
+
+    /// Starts the step's accumulation of the hard limits' impulses
+    /// ([`RobotWorld::limit_force`]).
+    fn clear_limit_impulses(&mut self) {
+        let mut last = None;
+        for slot in &self.joints {
+            if slot.kind.dof() == 0 || last == Some(slot.multibody) {
+                continue;
+            }
+            last = Some(slot.multibody);
+            if let Some(mb) = self
+                .live
+                .multibody_joints
+                .get_multibody_mut_internal(slot.multibody)
+            {
+                mb.clear_hard_limit_impulses();
+            }
         }
     }
 

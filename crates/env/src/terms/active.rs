@@ -71,6 +71,7 @@ impl Dist {
 pub(super) enum Q {
     Position(usize),
     Velocity(usize),
+    LimitForce(usize),
     Point {
         body: usize,
         point: Option<[f64; 3]>,
@@ -86,6 +87,7 @@ pub(super) enum Kind {
     CtrlCost,
     Healthy,
     Distance([(usize, Option<[f64; 3]>); 2]),
+    Square(Q, f64),
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -114,6 +116,7 @@ impl ActiveTerms {
         match q {
             Q::Position(k) => f64::from(positions[k]),
             Q::Velocity(k) => f64::from(velocities[k]),
+            Q::LimitForce(k) => world.limit_force(k),
             Q::Point { body, point, axis } => match point {
                 Some(p) => world.point_position(self.units, body, p)[axis],
                 None => world.center_of_mass(self.units, body)[axis],
@@ -180,6 +183,9 @@ impl ActiveTerms {
                 Kind::Distance([a, b]) => {
                     let (a, b) = (self.point(world, *a), self.point(world, *b));
                     ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+                }
+                Kind::Square(q, center) => {
+                    (self.read(*q, world, positions, velocities) - center).powi(2)
                 }
             };
             *slot = value as f32;

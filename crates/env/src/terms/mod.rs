@@ -74,6 +74,21 @@ pub struct Term {
     /// The distance between two points after the step.
     #[serde(default)]
     pub distance: Option<[Point; 2]>,
+    /// The square of a coordinate's offset from a centre after the step: `(of − center)²`
+    /// (Gymnasium's InvertedDoublePendulum penalties).
+    #[serde(default)]
+    pub square: Option<Square>,
+}
+
+/// `(of − center)²`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Square {
+    /// The coordinate.
+    pub of: Quantity,
+    /// The centre (default 0), in the coordinate's units.
+    #[serde(default)]
+    pub center: f64,
 }
 
 fn one() -> f64 {
@@ -102,9 +117,9 @@ pub enum Axis {
 }
 
 /// A scalar read from the state: a joint's position or velocity (`joint`,
-/// `joint_velocity`), or one world coordinate (`axis`) of a point of an instance
-/// (`instance`, `point`), of a site (`site`) or of the whole robot's centre of mass
-/// (`center_of_mass`).
+/// `joint_velocity`), the force its limits applied over the step (`joint_limit_force`),
+/// or one world coordinate (`axis`) of a point of an instance (`instance`, `point`), of a
+/// site (`site`) or of the whole robot's centre of mass (`center_of_mass`).
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Quantity {
@@ -114,6 +129,11 @@ pub struct Quantity {
     /// A joint's velocity (its first DOF), as observed.
     #[serde(default)]
     pub joint_velocity: Option<String>,
+    /// The generalized force a joint's limits applied to its first DOF, averaged over the
+    /// step: N or N·m in every unit system, negative at the upper limit (MuJoCo's
+    /// `qfrc_constraint` of a limited joint; 0 after a reset).
+    #[serde(default)]
+    pub joint_limit_force: Option<String>,
     /// An instance whose point's coordinate is read (needs `axis`).
     #[serde(default)]
     pub instance: Option<String>,

@@ -137,6 +137,7 @@ impl Context<'_> {
         let set = [
             q.joint.is_some(),
             q.joint_velocity.is_some(),
+            q.joint_limit_force.is_some(),
             q.instance.is_some(),
             q.site.is_some(),
             q.center_of_mass,
@@ -144,8 +145,8 @@ impl Context<'_> {
         if set.iter().filter(|s| **s).count() != 1 {
             return Err(bad(
                 path,
-                "expected exactly one of joint, joint_velocity, instance, site or \
-                 center_of_mass (the last three with an axis)",
+                "expected exactly one of joint, joint_velocity, joint_limit_force, instance, \
+                 site or center_of_mass (the last three with an axis)",
             ));
         }
         let axis = || {
@@ -173,6 +174,12 @@ impl Context<'_> {
             no_geometry("joint velocity")?;
             return Ok(Q::Velocity(
                 self.joint(&format!("{path}.joint_velocity"), name)?,
+            ));
+        }
+        if let Some(name) = &q.joint_limit_force {
+            no_geometry("joint limit force")?;
+            return Ok(Q::LimitForce(
+                self.joint(&format!("{path}.joint_limit_force"), name)?,
             ));
         }
         if let Some(name) = &q.instance {
@@ -334,17 +341,22 @@ impl TermsTask {
                 t.ctrl_cost.is_some(),
                 t.healthy.is_some(),
                 t.distance.is_some(),
+                t.square.is_some(),
             ];
             if set.iter().filter(|s| **s).count() != 1 {
                 return Err(bad(
                     path,
-                    "expected exactly one of velocity, value, ctrl_cost, healthy or distance",
+                    "expected exactly one of velocity, value, ctrl_cost, healthy, distance or \
+                     square",
                 ));
             }
             let kind = if let Some(q) = &t.velocity {
                 Kind::Velocity(cx.quantity(&format!("{path}.velocity"), q)?)
             } else if let Some(q) = &t.value {
                 Kind::Value(cx.quantity(&format!("{path}.value"), q)?)
+            } else if let Some(sq) = &t.square {
+                let center = bounded(&format!("{path}.square.center"), sq.center, "centre")?;
+                Kind::Square(cx.quantity(&format!("{path}.square.of"), &sq.of)?, center)
             } else if t.ctrl_cost.is_some() {
                 Kind::CtrlCost
             } else if t.healthy.is_some() {

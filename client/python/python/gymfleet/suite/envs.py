@@ -85,6 +85,11 @@ class _Setup:
         return spaces.Box(-np.inf, np.inf, shape=(self.plan.observation_dim,), dtype=np.float32)
 
 
+def _zeros(names: Sequence[str], n: int) -> Dict[str, np.ndarray]:
+    """Term values at a reset: zeros."""
+    return {name: np.zeros(n, dtype=np.float64) for name in names}
+
+
 def _split(raw: np.ndarray, dofs: int) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Positions, velocities and the end effectors' positions of raw rows (n, dim)."""
     poses = raw[:, 2 * dofs :].reshape(len(raw), -1, 7)
@@ -121,7 +126,8 @@ class SuiteEnv(gym.Env):
         raw, _ = self._env.reset(seed=seed)
         q, v, ee = _split(raw[None, :], self._dofs)
         info = {k: float(x[0]) for k, x in self._setup.plan.reset_info(q.astype(np.float64)).items()}
-        return self._setup.plan.observe(q, v, ee)[0].astype(np.float32), info
+        terms = _zeros(self._env.env_info["term_names"], 1)
+        return self._setup.plan.observe(q, v, ee, terms)[0].astype(np.float32), info
 
     def step(self, action: Any) -> Tuple[np.ndarray, float, bool, bool, Dict[str, Any]]:
         raw, reward, terminated, truncated, raw_info = self._env.step(action)
@@ -134,7 +140,7 @@ class SuiteEnv(gym.Env):
             k: float(x[0])
             for k, x in self._setup.plan.step_info(q.astype(np.float64), terms).items()
         }
-        obs = self._setup.plan.observe(q, v, ee)[0].astype(np.float32)
+        obs = self._setup.plan.observe(q, v, ee, terms)[0].astype(np.float32)
         return obs, float(reward), bool(terminated), bool(truncated), info
 
     def render(self) -> Optional[np.ndarray]:
@@ -196,8 +202,9 @@ class SuiteVectorEnv(VectorEnv):
         """The server-side batch underneath."""
         return self._envs
 
-    def _observe(self, raw: np.ndarray) -> np.ndarray:
-        return self._setup.plan.observe(*_split(raw, self._dofs)).astype(np.float32)
+    def _observe(self, raw: np.ndarray, terms: Dict[str, np.ndarray]) -> np.ndarray:
+        q, v, ee = _split(raw, self._dofs)
+        return self._setup.plan.observe(q, v, ee, terms).astype(np.float32)
 
     def _infos(self, values: Dict[str, np.ndarray]) -> Dict[str, Any]:
         every = np.ones(self.num_envs, dtype=np.bool_)
@@ -217,7 +224,10 @@ class SuiteVectorEnv(VectorEnv):
             super().reset(seed=int(seed))
         raw, _ = self._envs.reset(seed=seed, options=options)
         q, _, _ = _split(raw, self._dofs)
-        return self._observe(raw), self._infos(self._setup.plan.reset_info(q.astype(np.float64)))
+        terms = _zeros(self._envs.batch_info["term_names"], len(raw))
+        return self._observe(raw, terms), self._infos(
+            self._setup.plan.reset_info(q.astype(np.float64))
+        )
 
     def step(
         self, actions: Any
@@ -236,14 +246,19 @@ class SuiteVectorEnv(VectorEnv):
         q, _, _ = _split(rows, self._dofs)
         values = self._setup.plan.step_info(q.astype(np.float64), terms)
         infos = self._infos(values)
+        # The returned rows' term values: an env reset in this step starts from zeros (the
+        # server's, in next-step mode; here, in same-step mode).
+        now = terms
         if "final_obs" in raw_infos:
             # As gymnasium's SyncVectorEnv in same-step mode: a finished env's info is its
             # reset's, and its step's info is in `final_info`.
             has_final = raw_infos["_final_obs"]
             ended = np.flatnonzero(has_final)
             final = np.full(self.num_envs, None, dtype=object)
-            for env, row in zip(ended, self._observe(rows[ended])):
+            ended_terms = {name: value[ended] for name, value in terms.items()}
+            for env, row in zip(ended, self._observe(rows[ended], ended_terms)):
                 final[env] = row
+            now = {name: np.where(has_final, 0.0, value) for name, value in terms.items()}
             final_info = {k: (v & has_final if k.startswith("_") else v) for k, v in infos.items()}
             q_now, _, _ = _split(raw, self._dofs)
             reset = self._setup.plan.reset_info(q_now.astype(np.float64))
@@ -256,7 +271,7 @@ class SuiteVectorEnv(VectorEnv):
                 infos[key], infos["_" + key] = reset[key], has_final.copy()
             infos["final_obs"], infos["_final_obs"] = final, has_final
             infos["final_info"], infos["_final_info"] = final_info, has_final.copy()
-        return self._observe(raw), rewards.astype(np.float64), terminated, truncated, infos
+        return self._observe(raw, now), rewards.astype(np.float64), terminated, truncated, infos
 
     def render(self) -> Optional[Tuple[np.ndarray, ...]]:
         return self._envs.render()

@@ -107,9 +107,10 @@ class Plan:
 
     #: The terms task (``gymfleet.make(..., task=...)``).
     task: Dict[str, Any]
-    #: The observation from the positions and velocities (n, dof) each, and the end
-    #: effectors' positions (n, len(end_effectors), 3), in SI.
-    observe: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]
+    #: The observation from the positions and velocities (n, dof) each, the end
+    #: effectors' positions (n, len(end_effectors), 3), in SI, and the term values (zeros
+    #: at a reset).
+    observe: Callable[[np.ndarray, np.ndarray, np.ndarray, Terms], np.ndarray]
     #: The observation's length.
     observation_dim: int
     #: The step's info from the positions and the term values.
@@ -125,10 +126,10 @@ class Plan:
 
 def _joint_state(
     skip: int, clip: Optional[float]
-) -> Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]:
+) -> Callable[[np.ndarray, np.ndarray, np.ndarray, Terms], np.ndarray]:
     """Gymnasium's ``concatenate(qpos[skip:], qvel)``, the velocities clipped to ±clip."""
 
-    def observe(q: np.ndarray, v: np.ndarray, ee: np.ndarray) -> np.ndarray:
+    def observe(q: np.ndarray, v: np.ndarray, ee: np.ndarray, t: Terms) -> np.ndarray:
         if clip is not None:
             v = np.clip(v, -clip, clip)
         return np.concatenate([q[:, skip:], v], axis=1)
@@ -301,6 +302,51 @@ def _inverted_pendulum(model: Model, kw: Mapping[str, Any]) -> Plan:
     return Plan(task, _joint_state(0, None), 2 * n, step_info)
 
 
+def _inverted_double_pendulum(model: Model, kw: Mapping[str, Any]) -> Plan:
+    """The tip held high: penalties on its offset from (0, 2) m and on the hinges'
+    speeds, a survival bonus while it is above 1 m; the cart's limit force observed."""
+    cart, hinge, hinge2 = model.joints[:3]
+    tip = {"site": "tip"}
+    task = {
+        "terms": [
+            {"name": "alive", "weight": float(kw["healthy_reward"]), "healthy": {}},
+            {"name": "tip_x2", "weight": -0.01, "square": {"of": {**tip, "axis": "x"}}},
+            {"name": "tip_dz2", "weight": -1.0,
+             "square": {"of": {**tip, "axis": "z"}, "center": 2.0}},
+            {"name": "v1_2", "weight": -1e-3, "square": {"of": {"joint_velocity": hinge}}},
+            {"name": "v2_2", "weight": -5e-3, "square": {"of": {"joint_velocity": hinge2}}},
+            # MuJoCo's qfrc_constraint[0]: the slider's stops.
+            {"name": "cart_limit", "weight": 0.0, "value": {"joint_limit_force": cart}},
+        ],
+        # Gymnasium ends the episode once the tip is at or below 1 m.
+        "healthy": {"ranges": [{"of": {**tip, "axis": "z"}, "min": 1.0}]},
+        "reset_noise": _noise("uniform", "normal", float(kw["reset_noise_scale"])),
+    }
+    hw = float(kw["healthy_reward"])
+
+    def observe(q: np.ndarray, v: np.ndarray, ee: np.ndarray, t: Terms) -> np.ndarray:
+        return np.concatenate(
+            [
+                q[:, :1],
+                np.sin(q[:, 1:]),
+                np.cos(q[:, 1:]),
+                np.clip(v, -10.0, 10.0),
+                np.clip(np.asarray(t["cart_limit"], dtype=q.dtype), -10.0, 10.0)[:, None],
+            ],
+            axis=1,
+        )
+
+    def step_info(q: Positions, t: Terms) -> Dict[str, np.ndarray]:
+        return {
+            "reward_survive": hw * t["alive"],
+            "distance_penalty": -(0.01 * t["tip_x2"] + t["tip_dz2"]),
+            "velocity_penalty": -(1e-3 * t["v1_2"] + 5e-3 * t["v2_2"]),
+        }
+
+    n = len(model.joints)
+    return Plan(task, observe, 3 * n, step_info)
+
+
 def _reacher(model: Model, kw: Mapping[str, Any]) -> Plan:
     """The fingertip to a goal drawn in a disk of 0.2 m; bodies' positions as sites."""
     wd, wc = float(kw["reward_dist_weight"]), float(kw["reward_control_weight"])
@@ -319,7 +365,7 @@ def _reacher(model: Model, kw: Mapping[str, Any]) -> Plan:
         },
     }
 
-    def observe(q: np.ndarray, v: np.ndarray, ee: np.ndarray) -> np.ndarray:
+    def observe(q: np.ndarray, v: np.ndarray, ee: np.ndarray, t: Terms) -> np.ndarray:
         theta = q[:, :2]
         return np.concatenate(
             [np.cos(theta), np.sin(theta), q[:, 2:], v[:, :2], (ee[:, 0] - ee[:, 1])[:, :2]],
@@ -358,7 +404,7 @@ def _pusher(model: Model, kw: Mapping[str, Any]) -> Plan:
         },
     }
 
-    def observe(q: np.ndarray, v: np.ndarray, ee: np.ndarray) -> np.ndarray:
+    def observe(q: np.ndarray, v: np.ndarray, ee: np.ndarray, t: Terms) -> np.ndarray:
         return np.concatenate([q[:, :7], v[:, :7], ee.reshape(len(ee), -1)], axis=1)
 
     def step_info(q: Positions, t: Terms) -> Dict[str, np.ndarray]:
@@ -431,6 +477,15 @@ SUITE: Dict[str, SuiteSpec] = {
             950.0,
             {"reset_noise_scale": 0.01},
             _inverted_pendulum,
+        ),
+        SuiteSpec(
+            "InvertedDoublePendulum",
+            "inverted_double_pendulum.xml",
+            5,
+            1000,
+            9100.0,
+            {"healthy_reward": 10.0, "reset_noise_scale": 0.1},
+            _inverted_double_pendulum,
         ),
         SuiteSpec(
             "Reacher",

@@ -199,6 +199,10 @@ pub struct Multibody {
     self_contacts_enabled: bool,
     /// Whether joint limits are hard stops: see [`Multibody::set_hard_limits`].
     hard_limits: bool,
+    /// The generalized impulses the hard limits applied to each DoF since the last
+    /// [`Multibody::clear_hard_limit_impulses`] (gymfleet patch 17, see `PATCHES.md`); empty
+    /// until a limit first stops a DoF, zeroed when the DoF count changes.
+    hard_limit_impulses: DVector,
 
     /// Holonomic couplings between two of this multibody's generalized
     /// coordinates (`q2 = coeff·q1 + offset`), e.g. MuJoCo's
@@ -239,6 +243,7 @@ impl Multibody {
             frictions: DVector::zeros(0),
             applied_forces: DVector::zeros(0),
             accelerations: DVector::zeros(0),
+            hard_limit_impulses: DVector::zeros(0),
             body_jacobians: Vec::new(),
             augmented_mass: DMatrix::zeros(0, 0),
             inv_augmented_mass: MassMatrixLu::default(),
@@ -1832,12 +1837,34 @@ impl Multibody {
             .with_rearranged_rows_mut(response, |r| solved = lu.solve_mut(r));
         let inv_inertia = response[dof];
         if solved && inv_inertia > 0.0 && inv_inertia.is_finite() {
-            self.velocities.axpy(-v / inv_inertia, response, 1.0);
+            let impulse = -v / inv_inertia;
+            self.velocities.axpy(impulse, response, 1.0);
+            // gymfleet patch 17 (see `PATCHES.md`): kept for the constraint-force readout.
+            if self.hard_limit_impulses.len() != self.ndofs {
+                self.hard_limit_impulses = DVector::zeros(self.ndofs);
+            }
+            self.hard_limit_impulses[dof] += impulse;
         } else {
             // A singular mass matrix: stop this DoF alone.
             self.velocities[dof] = 0.0;
         }
         true
+    }
+
+    /// The generalized impulse (N·s on a linear DoF, N·m·s on an angular one) the hard
+    /// limits (see [`Multibody::set_hard_limits`]) applied to the DoFs of `link`'s joint
+    /// since the last [`Multibody::clear_hard_limit_impulses`]: divided by the time elapsed,
+    /// the limits' generalized constraint force (MuJoCo's `qfrc_constraint` of a limited
+    /// joint). Zeros where no limit stopped a DoF (gymfleet patch 17, see `PATCHES.md`).
+    pub fn hard_limit_impulses(&self, link: &MultibodyLink) -> impl Iterator<Item = Real> + '_ {
+        let ndofs = link.joint().ndofs();
+        (link.assembly_id..link.assembly_id + ndofs)
+            .map(|i| self.hard_limit_impulses.get(i).copied().unwrap_or(0.0))
+    }
+
+    /// Starts a new accumulation of [`Multibody::hard_limit_impulses`] (gymfleet patch 17).
+    pub fn clear_hard_limit_impulses(&mut self) {
+        self.hard_limit_impulses.fill(0.0);
     }
 
     /// Apply displacements, in generalized coordinates, to this multibody.
