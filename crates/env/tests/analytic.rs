@@ -364,26 +364,6 @@ fn a_ground_plane_catches_a_falling_ball() {
     assert_eq!(obs[2], 100.0, "the grounded ball moved");
 }
 
-/// A 10×10×10 mm block (m = 1e-3 kg) sliding along +X on a grounded base.
-fn slider(joint_extra: serde_json::Value) -> serde_json::Value {
-    let mut joint = json!({"type": "prismatic", "parent": "base", "child": "block",
-                           "anchor": {"x": 5, "y": 10, "z": 10}, "axis": {"x": 1, "y": 0, "z": 0}});
-    merge(&mut joint, joint_extra);
-    json!({
-        "parts": [
-            {"name": "Base", "primitive": {"type": "cube", "size": {"x": 100, "y": 20, "z": 5}}},
-            {"name": "Block", "primitive": {"type": "cube", "size": {"x": 10, "y": 10, "z": 10}}}
-        ],
-        "assembly": {
-            "instances": [
-                {"part": "Base", "name": "base"},
-                {"part": "Block", "name": "block", "position": {"x": 0, "y": 5, "z": 5}}
-            ],
-            "joints": [joint]
-        }
-    })
-}
-
 #[test]
 fn prismatic_displacement_under_a_known_force_matches_f_equals_m_a() {
     let mut env = env(&slider(json!({})), &["block"]);

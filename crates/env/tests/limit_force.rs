@@ -4,31 +4,15 @@
 
 mod common;
 
-use common::{env_with, merge};
+use common::env_with;
 use gymfleet_env::{
     ActionType, DofKind, EnvConfig, RobotEnv, TaskKind, TaskSpec, TermsTask, Units,
 };
 use serde_json::json;
 
-/// A 10×10×10 mm block (m = 1e-3 kg) sliding along +X on a grounded base between stops
-/// at -5 and +20 mm, on the joint `slide`.
+/// The common slider block between stops at -5 and +20 mm, on the joint `slide`.
 fn slider() -> serde_json::Value {
-    let mut joint = json!({"type": "prismatic", "parent": "base", "child": "block",
-                           "anchor": {"x": 5, "y": 10, "z": 10}, "axis": {"x": 1, "y": 0, "z": 0}});
-    merge(&mut joint, json!({"name": "slide", "min": -5, "max": 20}));
-    json!({
-        "parts": [
-            {"name": "Base", "primitive": {"type": "cube", "size": {"x": 100, "y": 20, "z": 5}}},
-            {"name": "Block", "primitive": {"type": "cube", "size": {"x": 10, "y": 10, "z": 10}}}
-        ],
-        "assembly": {
-            "instances": [
-                {"part": "Base", "name": "base"},
-                {"part": "Block", "name": "block", "position": {"x": 0, "y": 5, "z": 5}}
-            ],
-            "joints": [joint]
-        }
-    })
+    common::slider(json!({"name": "slide", "min": -5, "max": 20}))
 }
 
 fn slider_env(task: &str, units: Units) -> RobotEnv {

@@ -32,6 +32,26 @@ pub fn hanging_pendulum(joint_extra: Value) -> Value {
     })
 }
 
+/// A 10×10×10 mm block (m = 1e-3 kg) sliding along +X on a grounded base.
+pub fn slider(joint_extra: serde_json::Value) -> serde_json::Value {
+    let mut joint = json!({"type": "prismatic", "parent": "base", "child": "block",
+                           "anchor": {"x": 5, "y": 10, "z": 10}, "axis": {"x": 1, "y": 0, "z": 0}});
+    merge(&mut joint, joint_extra);
+    json!({
+        "parts": [
+            {"name": "Base", "primitive": {"type": "cube", "size": {"x": 100, "y": 20, "z": 5}}},
+            {"name": "Block", "primitive": {"type": "cube", "size": {"x": 10, "y": 10, "z": 10}}}
+        ],
+        "assembly": {
+            "instances": [
+                {"part": "Base", "name": "base"},
+                {"part": "Block", "name": "block", "position": {"x": 0, "y": 5, "z": 5}}
+            ],
+            "joints": [joint]
+        }
+    })
+}
+
 /// Merges the fields of `extra` (an object) into `target`.
 pub fn merge(target: &mut Value, extra: Value) {
     if let (Some(t), Value::Object(e)) = (target.as_object_mut(), extra) {
