@@ -119,13 +119,17 @@ def test_each_status_raises_its_class_with_the_servers_message(code, cls, base):
 def test_a_server_that_requires_a_token_gets_it_from_gymfleet_token(arm2, tmp_path, monkeypatch):
     tokens = tmp_path / "tokens"
     tokens.write_text("# tenant token\npython-team py-token-0123456789abcdef\n")
-    with gymfleet.Server(threads=1, auth_tokens=str(tokens)) as server:
-        # Without GYMFLEET_TOKEN: refused. (The connection is cached per address, so the
-        # variable is set before the first connection to the second address below.)
+    # The connection is cached per address, so the variable is set before the first
+    # connection to the second server, which runs beside the first: a second server
+    # started after the first stopped could get its port, and its cached connection.
+    with gymfleet.Server(threads=1, auth_tokens=str(tokens)) as first, gymfleet.Server(
+        threads=1, auth_tokens=str(tokens)
+    ) as server:
+        assert first.address != server.address
+        # Without GYMFLEET_TOKEN: refused.
         monkeypatch.delenv("GYMFLEET_TOKEN", raising=False)
         with pytest.raises(gymfleet.Unauthenticated, match="this server requires a token"):
-            gymfleet.make(arm2, server=server.address)
-    with gymfleet.Server(threads=1, auth_tokens=str(tokens)) as server:
+            gymfleet.make(arm2, server=first.address)
         monkeypatch.setenv("GYMFLEET_TOKEN", "py-token-0123456789abcdef")
         env = gymfleet.make(arm2, server=server.address)
         env.reset(seed=0)

@@ -18,7 +18,7 @@ pytest.importorskip("mujoco")
 
 NAMES = [spec.name for spec in SUITE.values()]
 #: Gymnasium defines x_velocity as Δx_position / dt for these.
-WITH_X_VELOCITY = {"HalfCheetah", "Hopper", "Walker2d", "Swimmer"}
+WITH_X_VELOCITY = {"HalfCheetah", "Hopper", "Walker2d", "Swimmer", "Ant"}
 #: The reward as the sum of its info terms (Gymnasium's `_get_rew`).
 REWARD_TERMS = (
     "reward_forward",
@@ -26,6 +26,7 @@ REWARD_TERMS = (
     "reward_survive",
     "reward_dist",
     "reward_near",
+    "reward_contact",
     "distance_penalty",
     "velocity_penalty",
 )
@@ -60,6 +61,13 @@ def test_spaces_and_a_noiseless_reset_match_gymnasium(name):
     # The same contents in the same order and units (metres, radians): MuJoCo's qpos0.
     obs, info = ours.reset(seed=0)
     ref, ref_info = theirs.reset(seed=0)
+    if name == "Ant":
+        # MuJoCo's pose has the ankles at 0, which their ranges (30° to 70°) exclude: the
+        # conversion starts them at the nearest end, where MuJoCo's limits push them.
+        ankles = [6, 8, 10, 12]
+        np.testing.assert_allclose(np.abs(obs[ankles]), np.radians(30.0), rtol=1e-6)
+        assert np.all(ref[ankles] == 0.0)
+        obs, ref = np.delete(obs, ankles), np.delete(ref, ankles)
     if name not in RANDOM_GOALS:  # their goals are checked in their own test below
         np.testing.assert_allclose(obs, ref, atol=1e-6)
     assert set(info) == set(ref_info)
@@ -98,6 +106,10 @@ def test_info_keys_and_every_reward_term_recomputed(name):
             assert info["reward_survive"] == (0.0 if terminated else alive)
         if name == "InvertedDoublePendulum":
             _check_double_pendulum_penalties(obs, info)
+        if name == "Ant":
+            # The contact cost from the observed (clipped) contact wrenches.
+            expected = -5e-4 * float(np.sum(np.square(obs[27:].astype(np.float64))))
+            assert info["reward_contact"] == pytest.approx(expected, rel=1e-4, abs=1e-9)
         if name in WITH_X_VELOCITY:
             assert info["x_velocity"] == pytest.approx(
                 (info["x_position"] - previous_x) / dt, abs=2e-3
@@ -108,6 +120,10 @@ def test_info_keys_and_every_reward_term_recomputed(name):
             skip = 2 if name == "Swimmer" else 1
             q = ours.unwrapped.gymfleet_env.observe()
             assert obs[0] == pytest.approx(q[skip], abs=1e-6)
+        if name == "Ant":
+            # z, the orientation, then the joints: x and y left out.
+            pose = ours.unwrapped.gymfleet_env.observe()[16:23]
+            np.testing.assert_allclose(obs[:5], pose[2:], atol=1e-6)
         if terminated or truncated:
             break
     ours.close()
@@ -137,6 +153,7 @@ def _check_double_pendulum_penalties(obs, info):
 SEQUENCES = {
     "InvertedPendulum": lambda k: np.array([0.5]),
     "InvertedDoublePendulum": lambda k: np.array([0.2 * np.sin(0.3 * k)]),
+    "Ant": lambda k: 0.5 * np.sin(0.1 * k + np.arange(8)),
     "Hopper": lambda k: np.array([0.4, -0.3, 0.2]) * np.sin(0.05 * k),
     "Walker2d": lambda k: np.sin(0.1 * k + np.arange(6)),
     "HalfCheetah": lambda k: np.sin(0.1 * k + np.arange(6)),
@@ -241,6 +258,35 @@ def test_the_double_pendulums_cart_stop_force_is_mujocos(tmp_path):
     np.testing.assert_allclose(ours[14:20, 0], theirs[14:20, 0], atol=0.015)
 
 
+def test_a_standing_ant_is_held_up_by_its_feet_as_in_mujoco():
+    """The Ant at rest on its four feet: the observed contact wrenches (unclipped here)
+    are on the feet only, they carry its weight, and each foot's load matches MuJoCo's
+    within the two engines' differences in how a splayed stance shares it."""
+    wide = {"reset_noise_scale": 0.0, "contact_force_range": (-1e3, 1e3)}
+    ours, theirs = pair("Ant", **wide)
+    ours.reset(seed=0)
+    theirs.reset(seed=0)
+    for _ in range(60):
+        obs, *_ = ours.step(np.zeros(8, dtype=np.float32))
+        ref, *_ = theirs.step(np.zeros(8))
+    ours_w, ref_w = obs[27:].reshape(13, 6), ref[27:].reshape(13, 6)
+    feet = [3, 6, 9, 12]  # the ankle bodies (the fifth body of each leg counts from 0)
+    others = [b for b in range(13) if b not in feet]
+    assert np.all(ref_w[others] == 0.0)
+    assert np.abs(ours_w[others]).max() < 1e-6
+    weight = float(np.sum(theirs.unwrapped.model.body_mass)) * 9.81
+    assert ours_w[feet, 5].sum() == pytest.approx(weight, rel=0.03)
+    # Four feet hold a rigid body up in a statically indeterminate way: each engine shares
+    # the load by its own contact compliance (MuJoCo's is even, ours within 10 % of it).
+    np.testing.assert_allclose(ours_w[feet, 5], ref_w[feet, 5], rtol=0.12)
+    # The torques about the centre of mass have MuJoCo's signs; their sizes differ with
+    # the stance: MuJoCo's ankles, pushed into their ranges by soft limits from 0, overshoot
+    # and land at 54° (torso at 0.56 m), ours start at the 30° stop and stay (0.36 m).
+    np.testing.assert_array_equal(np.sign(ours_w[feet, :2]), np.sign(ref_w[feet, :2]))
+    ours.close()
+    theirs.close()
+
+
 def test_reset_noise_has_gymnasiums_distributions():
     # Hopper: uniform ±0.005 on positions and velocities.
     env = gymnasium.make("gymfleet/Hopper-v5")
@@ -256,6 +302,17 @@ def test_reset_noise_has_gymnasiums_distributions():
     assert velocities.std() == pytest.approx(0.1, rel=0.1)
     assert np.abs(velocities).max() > 0.2  # a uniform ±0.1 draw never gets there
     assert np.abs(starts[:, :8]).max() <= 0.1 + 1e-6
+    env.close()
+    # Ant: the free joint too: z uniform ±0.1 about 0.75, the orientation's components
+    # noised (then normalized), the base's velocities normal σ = 0.1.
+    env = gymnasium.make("gymfleet/Ant-v5", include_cfrc_ext_in_observation=False)
+    starts = np.array([env.reset(seed=s)[0] for s in range(200)])
+    assert starts.shape == (200, 27)
+    assert np.abs(starts[:, 0] - 0.75).max() <= 0.1 + 0.02  # the COM turns with the torso
+    assert starts[:, 0].std() == pytest.approx(0.1 / np.sqrt(3), rel=0.2)
+    np.testing.assert_allclose(np.linalg.norm(starts[:, 1:5], axis=1), 1.0, atol=1e-5)
+    assert 0.01 < starts[:, 2].std() < 0.1
+    assert starts[:, 13:19].std() == pytest.approx(0.1, rel=0.15)
     env.close()
 
 

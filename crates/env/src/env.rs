@@ -2,7 +2,7 @@
 
 use gymfleet_assembly::Assembly;
 use gymfleet_physics::{
-    Draws, RobotWorld, SceneJoint, ScenePart, Units, WorldOptions, BASE_STATE_LEN,
+    Draws, RobotWorld, SceneJoint, ScenePart, Units, WorldOptions, BASE_NOISE_LEN, BASE_STATE_LEN,
 };
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
@@ -43,6 +43,10 @@ pub struct RobotEnv {
     /// document's: its draws are converted), and velocity offsets.
     position_noise: Option<(Dist, Units)>,
     velocity_noise: Option<Dist>,
+    /// The floating base's noise: position (and orientation) and velocity distributions,
+    /// and this episode's draws.
+    base_noise: Option<(Option<Dist>, Option<Dist>)>,
+    base_draws: [f64; BASE_NOISE_LEN],
     /// Joints set to drawn positions at each reset (a terms task's `reset_noise.set`).
     sets: Vec<ActiveSet>,
     /// Scratch for the per-DOF reset offsets (deg or mm) and velocities (`units`).
@@ -127,6 +131,7 @@ impl RobotEnv {
             dofs: world.dofs(),
             units: config.units,
             dt: config.dt,
+            groups: Default::default(),
         };
         let task = config.task.as_ref().map(|t| t.resolve(&cx)).transpose()?;
         let terms = task.as_ref().and_then(|t| t.terms());
@@ -144,6 +149,9 @@ impl RobotEnv {
             position_noise = Some((dist, config.units));
         }
         let velocity_noise = terms.and_then(|t| t.velocity_noise);
+        let base_noise = terms
+            .filter(|t| t.base_noise)
+            .map(|t| (t.position_noise, t.velocity_noise));
         let sets = terms.map(|t| t.sets.clone()).unwrap_or_default();
         let segment = task
             .as_ref()
@@ -171,6 +179,8 @@ impl RobotEnv {
             units: config.units,
             position_noise,
             velocity_noise,
+            base_noise,
+            base_draws: [0.0; BASE_NOISE_LEN],
             sets,
             offsets: vec![0.0; spec.num_dofs],
             start_velocities: vec![0.0; spec.num_dofs],
@@ -240,6 +250,14 @@ impl RobotEnv {
                 *v = dist.draw(&mut self.rng);
             }
         }
+        if let Some((position, velocity)) = self.base_noise {
+            let (poses, speeds) = self.base_draws.split_at_mut(7);
+            for (values, dist) in [(poses, position), (speeds, velocity)] {
+                for v in values.iter_mut() {
+                    *v = dist.map_or(0.0, |d| d.draw(&mut self.rng));
+                }
+            }
+        }
         let mut drawn = [0.0; crate::terms::MAX_TERMS];
         for set in &self.sets {
             let values = &mut drawn[..set.dofs.len()];
@@ -271,6 +289,9 @@ impl RobotEnv {
         if self.velocity_noise.is_some() {
             self.world
                 .set_dof_velocities(self.units, &self.start_velocities);
+        }
+        if self.base_noise.is_some() {
+            self.world.perturb_base(&self.base_draws);
         }
         if let Some(task) = &mut self.task {
             task.reset(&mut self.rng);

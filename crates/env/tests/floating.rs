@@ -250,3 +250,92 @@ fn a_lone_floating_base_is_observed_as_it_falls() {
     assert!((vz / (-9.81 * 0.1 * 1000.0) - 1.0).abs() < 1e-4, "vz {vz}");
     assert!(o.base_pose[2] < 510.0 - 40.0, "z {}", o.base_pose[2]);
 }
+
+fn base_noise_env(units: gymfleet_env::Units, task: &str, doc: &Value) -> Result<RobotEnv, String> {
+    let config = EnvConfig {
+        units,
+        task: Some(gymfleet_env::TaskSpec {
+            kind: gymfleet_env::TaskKind::Terms(
+                gymfleet_env::TermsTask::from_json(task).expect("a terms task"),
+            ),
+            action_cost: 0.0,
+        }),
+        ..EnvConfig::default()
+    };
+    RobotEnv::from_json(&doc.to_string(), config).map_err(|e| e.to_string())
+}
+
+fn std_dev(values: &[f64]) -> f64 {
+    let mean = values.iter().sum::<f64>() / values.len() as f64;
+    (values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / values.len() as f64).sqrt()
+}
+
+/// `reset_noise.base`: MuJoCo's free-joint noise. The base's frame moves by the position
+/// distribution on each axis, its quaternion's components get the same noise (then are
+/// normalized), and its velocity is drawn from the velocity distribution.
+#[test]
+fn base_noise_moves_and_spins_the_floating_base() {
+    use gymfleet_env::Units;
+    let task = r#"{"terms": [], "reset_noise": {"position": {"uniform": 0.1}, "velocity": {"normal": 0.1}, "base": true}}"#;
+    let mut env = base_noise_env(Units::Si, task, &robot(0.0)).expect("env");
+    let still = base_noise_env(Units::Si, r#"{"terms": []}"#, &robot(0.0))
+        .expect("env")
+        .reset(Some(0));
+    let (mut dx, mut wx, mut vz) = (Vec::new(), Vec::new(), Vec::new());
+    for seed in 0..400 {
+        let o = env.reset(Some(seed));
+        let (p, q) = (&o.base_pose[..3], &o.base_pose[3..]);
+        let norm = q.iter().map(|c| f64::from(*c).powi(2)).sum::<f64>().sqrt();
+        assert!((norm - 1.0).abs() < 1e-5, "seed {seed}: |q| = {norm}");
+        assert!(q[0] > 0.9, "seed {seed}: a small turn, q = {q:?}");
+        // The centre of mass moves with the frame (±0.1 m) and the turn (≤ ~0.03 m here).
+        for (k, (now, start)) in p.iter().zip(&still.base_pose).enumerate() {
+            let d = f64::from(now - start);
+            assert!(d.abs() < 0.1 + 0.04, "seed {seed}: axis {k} moved {d} m");
+        }
+        dx.push(f64::from(p[0] - still.base_pose[0]));
+        wx.push(f64::from(o.base_velocity[3]));
+        vz.push(f64::from(o.base_velocity[2]));
+    }
+    // Uniform ±0.1: σ = 0.1/√3 (the turn adds a little); normal σ = 0.1.
+    let s = std_dev(&dx);
+    assert!(
+        (s - 0.1 / 3f64.sqrt()).abs() < 0.15 * 0.1 / 3f64.sqrt(),
+        "σ(x) = {s}"
+    );
+    let s = std_dev(&wx);
+    assert!((s - 0.1).abs() < 0.015, "σ(ωx) = {s}");
+    let s = std_dev(&vz);
+    assert!((s - 0.1).abs() < 0.02, "σ(vz) = {s}");
+    assert_eq!(
+        env.reset(Some(7)),
+        env.reset(Some(7)),
+        "the seed decides the draw"
+    );
+    // The drawn velocities move the base: a free, gravity-free body coasts.
+    let start = env.reset(Some(3));
+    let after = obs(&mut env, 0.0);
+    assert_ne!(start.base_pose, after.base_pose);
+}
+
+#[test]
+fn base_noise_needs_a_floating_base_and_si_units() {
+    use gymfleet_env::Units;
+    let task = r#"{"terms": [], "reset_noise": {"position": {"uniform": 0.1}, "base": true}}"#;
+    let err = base_noise_env(Units::Document, task, &robot(0.0))
+        .err()
+        .expect("refused");
+    assert_eq!(
+        err,
+        "task.terms.reset_noise.base: a floating base's noise is drawn in SI units (metres, radians, a quaternion's components): create the env with units \"si\""
+    );
+    let mut grounded = robot(0.0);
+    grounded["floating_base"] = json!(false);
+    let err = base_noise_env(Units::Si, task, &grounded)
+        .err()
+        .expect("refused");
+    assert_eq!(
+        err,
+        "task.terms.reset_noise.base: the document has no floating base"
+    );
+}

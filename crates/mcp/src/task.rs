@@ -109,9 +109,10 @@ pub(crate) struct TaskParam {
     upright: Option<UprightParam>,
     /// A reward of weighted terms any robot can carry (the Gymnasium suite's): {"terms":
     /// [{"name", "weight", and one of "velocity", "value" (a coordinate: {"joint"},
-    /// {"joint_velocity"}, {"joint_limit_force"}, {"site", "axis"} or {"instance",
-    /// "axis"}), "ctrl_cost": {}, "healthy": {}, "distance": [point, point], "square":
-    /// {"of", "center"}}],
+    /// {"joint_velocity"}, {"joint_limit_force"}, {"contact_wrench": [instances],
+    /// "component"}, {"site", "axis"} or {"instance", "axis"}), "ctrl_cost": {}, "healthy":
+    /// {}, "distance": [point, point], "square": {"of", "center"}, "contact_cost":
+    /// {"groups", "min", "max"}}],
     /// "healthy": {"ranges": [{"of", "min", "max"}], "terminate"}, "reset_noise":
     /// {"position": {"uniform"}, "velocity": {"normal"}}}, in the document's units (mm,
     /// deg). Each step reports every term's value in "terms".

@@ -18,6 +18,7 @@
 mod actuation;
 mod build;
 mod command;
+mod contacts;
 mod error;
 mod perturb;
 mod randomize;
@@ -28,7 +29,9 @@ mod units;
 mod world;
 
 pub use command::{ActionMode, PdGains, DEFAULT_PD_FREQUENCY_HZ};
+pub use contacts::WRENCH_LEN;
 pub use error::{PhysicsError, Result};
+pub use perturb::BASE_NOISE_LEN;
 pub use randomize::Draws;
 pub use readout::BASE_STATE_LEN;
 pub use scene::{SceneJoint, ScenePart, SceneShape};

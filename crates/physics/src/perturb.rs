@@ -104,3 +104,74 @@ impl RobotWorld {
         }
     }
 }
+
+/// Floats in a floating base's perturbation ([`RobotWorld::perturb_base`]).
+pub const BASE_NOISE_LEN: usize = 13;
+
+impl RobotWorld {
+    /// Moves a floating base away from where it is, as MuJoCo's free joint noise does:
+    /// `noise[0..3]` offsets the position of its frame (m, world), `noise[3..7]` is added to
+    /// its orientation quaternion `[w, x, y, z]` (then normalized), `noise[7..10]` is its
+    /// frame origin's linear velocity (m/s, world) and `noise[10..13]` its angular velocity
+    /// in its own frame (rad/s; MuJoCo's free-joint `qvel`). The tree's joints keep their
+    /// coordinates and follow. Nothing happens without a floating base.
+    pub fn perturb_base(&mut self, noise: &[f64; BASE_NOISE_LEN]) {
+        if !self.floating_base {
+            return;
+        }
+        let handle = self.bodies[0];
+        let pose = *self.live.bodies[handle].position();
+        let q = pose.rotation;
+        let (w, x, y, z) = (
+            f64::from(q.w) + noise[3],
+            f64::from(q.x) + noise[4],
+            f64::from(q.y) + noise[5],
+            f64::from(q.z) + noise[6],
+        );
+        let norm = (w * w + x * x + y * y + z * z).sqrt();
+        let rotation = if norm > 0.0 && norm.is_finite() {
+            Rotation::from_xyzw(
+                (x / norm) as Real,
+                (y / norm) as Real,
+                (z / norm) as Real,
+                (w / norm) as Real,
+            )
+        } else {
+            q
+        };
+        let t = pose.translation;
+        let translation = Vector::new(
+            t.x + noise[0] as Real,
+            t.y + noise[1] as Real,
+            t.z + noise[2] as Real,
+        );
+        self.live.bodies[handle].set_position(Pose::from_parts(translation, rotation), true);
+        let linear = Vector::new(noise[7] as Real, noise[8] as Real, noise[9] as Real);
+        let angular =
+            rotation * Vector::new(noise[10] as Real, noise[11] as Real, noise[12] as Real);
+        let root = self
+            .free_roots
+            .first()
+            .filter(|r| r.instance == 0)
+            .map(|r| r.multibody);
+        match root {
+            Some(index) => {
+                if let Some(mb) = self.live.multibody_joints.get_multibody_mut(index) {
+                    let mut v = mb.generalized_velocity_mut();
+                    for k in 0..3 {
+                        v[k] = linear[k];
+                        v[3 + k] = angular[k];
+                    }
+                }
+                self.sync_bodies(&[index]);
+            }
+            None => {
+                // A base nothing is jointed to: its velocity is its centre of mass's.
+                let rb = &mut self.live.bodies[handle];
+                let arm = rb.center_of_mass() - translation;
+                rb.set_linvel(linear + angular.cross(arm), true);
+                rb.set_angvel(angular, true);
+            }
+        }
+    }
+}

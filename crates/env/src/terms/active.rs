@@ -1,7 +1,7 @@
 //! A terms task resolved against one env ([`ActiveTerms`]): its terms evaluated after
 //! every step, and the reset's draws ([`Dist`], [`ActiveSet`]).
 
-use gymfleet_physics::{RobotWorld, Units};
+use gymfleet_physics::{RobotWorld, Units, WRENCH_LEN};
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::RngExt;
 
@@ -72,6 +72,11 @@ pub(super) enum Q {
     Position(usize),
     Velocity(usize),
     LimitForce(usize),
+    /// A component of a group's contact wrench ([`ActiveTerms::groups`]).
+    ContactWrench {
+        group: usize,
+        component: usize,
+    },
     Point {
         body: usize,
         point: Option<[f64; 3]>,
@@ -88,6 +93,11 @@ pub(super) enum Kind {
     Healthy,
     Distance([(usize, Option<[f64; 3]>); 2]),
     Square(Q, f64),
+    ContactCost {
+        groups: Vec<usize>,
+        lo: f64,
+        hi: f64,
+    },
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -106,7 +116,14 @@ pub(crate) struct ActiveTerms {
     pub(super) previous: Vec<f64>,
     pub(super) units: Units,
     pub(super) dt: f64,
+    /// Groups of instances whose contact wrenches some term reads.
+    pub(super) groups: Vec<Vec<usize>>,
+    /// Each instance's contact wrench after the last step (scratch, read when `groups`
+    /// is not empty).
+    pub(super) wrenches: Vec<[f64; WRENCH_LEN]>,
     pub(crate) position_noise: Option<Dist>,
+    /// Whether the noise moves the floating base too ([`super::ResetNoise::base`]).
+    pub(crate) base_noise: bool,
     pub(crate) velocity_noise: Option<Dist>,
     pub(crate) sets: Vec<ActiveSet>,
 }
@@ -117,6 +134,7 @@ impl ActiveTerms {
             Q::Position(k) => f64::from(positions[k]),
             Q::Velocity(k) => f64::from(velocities[k]),
             Q::LimitForce(k) => world.limit_force(k),
+            Q::ContactWrench { group, component } => self.group_wrench(group)[component],
             Q::Point { body, point, axis } => match point {
                 Some(p) => world.point_position(self.units, body, p)[axis],
                 None => world.center_of_mass(self.units, body)[axis],
@@ -132,8 +150,23 @@ impl ActiveTerms {
         }
     }
 
+    /// The summed contact wrench of group `g`.
+    fn group_wrench(&self, g: usize) -> [f64; WRENCH_LEN] {
+        let mut sum = [0.0; WRENCH_LEN];
+        for &i in &self.groups[g] {
+            // None before the first step of an episode: no contact yet.
+            if let Some(w) = self.wrenches.get(i) {
+                for (s, w) in sum.iter_mut().zip(w) {
+                    *s += w;
+                }
+            }
+        }
+        sum
+    }
+
     /// A new episode (or a state put back): the velocity terms' coordinates now.
     pub(crate) fn start(&mut self, world: &RobotWorld, positions: &[f32], velocities: &[f32]) {
+        self.wrenches.clear();
         for k in 0..self.terms.len() {
             if let Kind::Velocity(q) = self.terms[k].1 {
                 self.previous[k] = self.read(q, world, positions, velocities);
@@ -166,6 +199,11 @@ impl ActiveTerms {
         action: &[f32],
         values: &mut [f32],
     ) -> (f64, Option<Termination>) {
+        if !self.groups.is_empty() {
+            // MuJoCo's cfrc_ext is about the root's subtree centre of mass.
+            let about = world.robot_center_of_mass(Units::Si);
+            world.contact_wrenches(about, &mut self.wrenches);
+        }
         let healthy = self.is_healthy(world, positions, velocities);
         let mut reward = 0.0;
         for (k, slot) in values.iter_mut().enumerate().take(self.terms.len()) {
@@ -187,6 +225,11 @@ impl ActiveTerms {
                 Kind::Square(q, center) => {
                     (self.read(*q, world, positions, velocities) - center).powi(2)
                 }
+                Kind::ContactCost { groups, lo, hi } => groups
+                    .iter()
+                    .flat_map(|&g| self.group_wrench(g))
+                    .map(|w| w.clamp(*lo, *hi).powi(2))
+                    .sum(),
             };
             *slot = value as f32;
             reward += weight * value;

@@ -29,7 +29,7 @@ pub(crate) use active::{ActiveSet, ActiveTerms, Dist};
 pub(crate) use resolve::{instance, Context};
 
 /// Most terms (and most healthy ranges) in one task.
-pub const MAX_TERMS: usize = 64;
+pub const MAX_TERMS: usize = 128;
 /// Longest term name, in characters.
 const MAX_NAME: usize = 64;
 /// Largest magnitude of a weight, a range bound or a noise scale.
@@ -78,6 +78,23 @@ pub struct Term {
     /// (Gymnasium's InvertedDoublePendulum penalties).
     #[serde(default)]
     pub square: Option<Square>,
+    /// The contact cost: Σ over groups of instances and over the six components of each
+    /// group's contact wrench (see [`Quantity::contact_wrench`]) of the component clipped
+    /// to `[min, max]`, squared (Gymnasium's Ant `contact_cost`).
+    #[serde(default)]
+    pub contact_cost: Option<ContactCost>,
+}
+
+/// Σ clip(wrench component, min, max)² over groups of instances.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactCost {
+    /// The groups: each the instances of one body (a MuJoCo body's geoms), summed.
+    pub groups: Vec<Vec<String>>,
+    /// Lower clip (N and N·m).
+    pub min: f64,
+    /// Upper clip.
+    pub max: f64,
 }
 
 /// `(of − center)²`.
@@ -118,8 +135,9 @@ pub enum Axis {
 
 /// A scalar read from the state: a joint's position or velocity (`joint`,
 /// `joint_velocity`), the force its limits applied over the step (`joint_limit_force`),
-/// or one world coordinate (`axis`) of a point of an instance (`instance`, `point`), of a
-/// site (`site`) or of the whole robot's centre of mass (`center_of_mass`).
+/// one component of the contact wrench on a group of instances (`contact_wrench`,
+/// `component`), or one world coordinate (`axis`) of a point of an instance (`instance`,
+/// `point`), of a site (`site`) or of the whole robot's centre of mass (`center_of_mass`).
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Quantity {
@@ -134,6 +152,15 @@ pub struct Quantity {
     /// `qfrc_constraint` of a limited joint; 0 after a reset).
     #[serde(default)]
     pub joint_limit_force: Option<String>,
+    /// Instances whose contact wrenches over the step are summed (needs `component`): the
+    /// external force the contacts applied to them and its torque about the robot's centre
+    /// of mass, MuJoCo's `cfrc_ext` of the body the instances make up. N and N·m in every
+    /// unit system; 0 after a reset.
+    #[serde(default)]
+    pub contact_wrench: Option<Vec<String>>,
+    /// The wrench component: 0–2 the torque about world x, y, z; 3–5 the force.
+    #[serde(default)]
+    pub component: Option<usize>,
     /// An instance whose point's coordinate is read (needs `axis`).
     #[serde(default)]
     pub instance: Option<String>,
@@ -224,6 +251,12 @@ pub struct ResetNoise {
     /// Joints set to drawn positions (as observed), at rest, after the noise.
     #[serde(default)]
     pub set: Vec<SetJoints>,
+    /// Whether the noise moves the floating base too, as MuJoCo's free joint noise does
+    /// (SI units only): `position`'s distribution offsets its frame's x, y, z (m) and each
+    /// component of its orientation quaternion (then normalized), `velocity`'s draws its
+    /// linear (world, m/s) and angular (its own frame, rad/s) velocity.
+    #[serde(default)]
+    pub base: bool,
 }
 
 /// Positions drawn for some joints: uniform in the box `[low, high]`, drawn again until

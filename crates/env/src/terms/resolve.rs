@@ -1,15 +1,18 @@
 //! A [`TermsTask`] checked against one env ([`Context`]): names into indices, bounds
 //! into ranges, with an error naming the JSON path of each mistake.
 
+use std::cell::RefCell;
+
 use gymfleet_assembly::Assembly;
 use gymfleet_physics::{JointDof, Units};
 
 use super::active::{ActiveHealthy, ActiveSet, ActiveTerms, Dist, Kind, Q};
 use super::{
-    bad, bounded, shown, Noise, Point, Quantity, SetJoints, TermsTask, MAX_NAME, MAX_TERMS,
-    MAX_VALUE,
+    bad, bounded, shown, ContactCost, Noise, Point, Quantity, SetJoints, TermsTask, MAX_NAME,
+    MAX_TERMS, MAX_VALUE,
 };
 use crate::error::Result;
+use gymfleet_physics::WRENCH_LEN;
 
 /// What the resolver needs from the env.
 pub(crate) struct Context<'a> {
@@ -17,6 +20,8 @@ pub(crate) struct Context<'a> {
     pub(crate) dofs: &'a [JointDof],
     pub(crate) units: Units,
     pub(crate) dt: f64,
+    /// The groups of instances contact terms read, collected while resolving.
+    pub(crate) groups: RefCell<Vec<Vec<usize>>>,
 }
 
 /// The index of instance `name`, or an error at `path` listing the known ones.
@@ -138,6 +143,7 @@ impl Context<'_> {
             q.joint.is_some(),
             q.joint_velocity.is_some(),
             q.joint_limit_force.is_some(),
+            q.contact_wrench.is_some(),
             q.instance.is_some(),
             q.site.is_some(),
             q.center_of_mass,
@@ -145,8 +151,9 @@ impl Context<'_> {
         if set.iter().filter(|s| **s).count() != 1 {
             return Err(bad(
                 path,
-                "expected exactly one of joint, joint_velocity, joint_limit_force, instance, \
-                 site or center_of_mass (the last three with an axis)",
+                "expected exactly one of joint, joint_velocity, joint_limit_force, \
+                 contact_wrench (with a component), instance, site or center_of_mass (the \
+                 last three with an axis)",
             ));
         }
         let axis = || {
@@ -157,6 +164,12 @@ impl Context<'_> {
                 )
             })
         };
+        if q.component.is_some() && q.contact_wrench.is_none() {
+            return Err(bad(
+                format!("{path}.component"),
+                "a component belongs to a contact_wrench",
+            ));
+        }
         let no_geometry = |what: &str| -> Result<()> {
             if q.axis.is_some() || q.point.is_some() {
                 return Err(bad(
@@ -182,6 +195,23 @@ impl Context<'_> {
                 self.joint(&format!("{path}.joint_limit_force"), name)?,
             ));
         }
+        if let Some(names) = &q.contact_wrench {
+            no_geometry("contact wrench")?;
+            let component = match q.component {
+                Some(c) if c < WRENCH_LEN => c,
+                other => {
+                    return Err(bad(
+                        format!("{path}.component"),
+                        format!(
+                            "expected a component 0 to 5 (torque x, y, z, force x, y, z), got {}",
+                            other.map_or("none".to_string(), |c| c.to_string())
+                        ),
+                    ))
+                }
+            };
+            let group = self.group(&format!("{path}.contact_wrench"), names)?;
+            return Ok(Q::ContactWrench { group, component });
+        }
         if let Some(name) = &q.instance {
             return Ok(Q::Point {
                 body: self.instance(&format!("{path}.instance"), name)?,
@@ -204,6 +234,62 @@ impl Context<'_> {
             });
         }
         Ok(Q::CenterOfMass(axis()?))
+    }
+
+    /// Registers a group of instances whose contact wrenches are summed; returns its index.
+    fn group(&self, path: &str, names: &[String]) -> Result<usize> {
+        if names.len() > self.assembly.instances.len() {
+            return Err(bad(
+                path,
+                format!(
+                    "expected at most the number of instances ({}), got {}",
+                    self.assembly.instances.len(),
+                    names.len()
+                ),
+            ));
+        }
+        let mut group = Vec::with_capacity(names.len());
+        for (k, name) in names.iter().enumerate() {
+            let i = self.instance(&format!("{path}[{k}]"), name)?;
+            if group.contains(&i) {
+                return Err(bad(format!("{path}[{k}]"), "the instance is listed twice"));
+            }
+            group.push(i);
+        }
+        let mut groups = self.groups.borrow_mut();
+        if let Some(g) = groups.iter().position(|g| *g == group) {
+            return Ok(g);
+        }
+        groups.push(group);
+        Ok(groups.len() - 1)
+    }
+
+    fn contact_cost(&self, path: &str, c: &ContactCost) -> Result<(Vec<usize>, f64, f64)> {
+        if c.groups.len() > self.assembly.instances.len() {
+            return Err(bad(
+                format!("{path}.groups"),
+                format!(
+                    "expected at most the number of instances ({}) groups, got {}",
+                    self.assembly.instances.len(),
+                    c.groups.len()
+                ),
+            ));
+        }
+        let lo = bounded(&format!("{path}.min"), c.min, "bound")?;
+        let hi = bounded(&format!("{path}.max"), c.max, "bound")?;
+        if lo > hi {
+            return Err(bad(
+                format!("{path}.max"),
+                format!("expected max >= min = {}, got {}", shown(lo), shown(hi)),
+            ));
+        }
+        let groups = c
+            .groups
+            .iter()
+            .enumerate()
+            .map(|(k, g)| self.group(&format!("{path}.groups[{k}]"), g))
+            .collect::<Result<Vec<_>>>()?;
+        Ok((groups, lo, hi))
     }
 
     fn set(&self, path: &str, set: &SetJoints, seen: &mut Vec<usize>) -> Result<ActiveSet> {
@@ -342,12 +428,13 @@ impl TermsTask {
                 t.healthy.is_some(),
                 t.distance.is_some(),
                 t.square.is_some(),
+                t.contact_cost.is_some(),
             ];
             if set.iter().filter(|s| **s).count() != 1 {
                 return Err(bad(
                     path,
-                    "expected exactly one of velocity, value, ctrl_cost, healthy, distance or \
-                     square",
+                    "expected exactly one of velocity, value, ctrl_cost, healthy, distance, \
+                     square or contact_cost",
                 ));
             }
             let kind = if let Some(q) = &t.velocity {
@@ -357,6 +444,9 @@ impl TermsTask {
             } else if let Some(sq) = &t.square {
                 let center = bounded(&format!("{path}.square.center"), sq.center, "centre")?;
                 Kind::Square(cx.quantity(&format!("{path}.square.of"), &sq.of)?, center)
+            } else if let Some(c) = &t.contact_cost {
+                let (groups, lo, hi) = cx.contact_cost(&format!("{path}.contact_cost"), c)?;
+                Kind::ContactCost { groups, lo, hi }
             } else if t.ctrl_cost.is_some() {
                 Kind::CtrlCost
             } else if t.healthy.is_some() {
@@ -441,18 +531,34 @@ impl TermsTask {
             }
         };
         let noise = self.reset_noise.clone().unwrap_or_default();
+        if noise.base {
+            let path = "task.terms.reset_noise.base";
+            if !cx.assembly.floating_base {
+                return Err(bad(path, "the document has no floating base"));
+            }
+            if cx.units != Units::Si {
+                return Err(bad(
+                    path,
+                    "a floating base's noise is drawn in SI units (metres, radians, a \
+                     quaternion's components): create the env with units \"si\"",
+                ));
+            }
+        }
         let mut sets = Vec::with_capacity(noise.set.len());
         let mut seen: Vec<usize> = Vec::new();
         for (i, set) in noise.set.iter().enumerate() {
             sets.push(cx.set(&format!("task.terms.reset_noise.set[{i}]"), set, &mut seen)?);
         }
         Ok(ActiveTerms {
+            groups: cx.groups.take(),
+            wrenches: Vec::new(),
             sets,
             previous: vec![0.0; terms.len()],
             terms,
             healthy,
             units: cx.units,
             dt: cx.dt,
+            base_noise: noise.base,
             position_noise: cx.noise("task.terms.reset_noise.position", noise.position)?,
             velocity_noise: cx.noise("task.terms.reset_noise.velocity", noise.velocity)?,
         })

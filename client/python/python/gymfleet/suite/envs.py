@@ -68,9 +68,10 @@ class _Setup:
             "render_options": {"width": int(self.kw["width"]), "height": int(self.kw["height"])},
         }
 
-    def check(self, info: Dict[str, Any]) -> int:
-        """The converted robot's joints must be MuJoCo's, in qpos order, one DOF each;
-        returns the number of DOFs."""
+    def check(self, info: Dict[str, Any]) -> Tuple[int, bool]:
+        """The converted robot's joints must be MuJoCo's, in qpos order, one DOF each,
+        and its floating base MuJoCo's free joint; returns the number of DOFs and whether
+        the base is observed."""
         names = [j["name"] for j in info["joints"]]
         dofs = sum(j["dof"] for j in info["joints"])
         if names != self.model.joints or dofs != len(names):
@@ -78,7 +79,14 @@ class _Setup:
                 f"{self.suite.id}: {self.model.path} converts to joints {names} ({dofs} DOFs); "
                 f"the env needs MuJoCo's {self.model.joints}, one DOF each"
             )
-        return dofs
+        base = any(name == "base_pose" for name, _ in info["observation_layout"])
+        if base != (self.model.free is not None):
+            raise InvalidArgument(
+                f"{self.suite.id}: {self.model.path} converts "
+                f"{'with' if base else 'without'} a floating base; MuJoCo's model has "
+                f"{'a' if self.model.free is not None else 'no'} free joint"
+            )
+        return dofs, base
 
     def observation_space(self) -> spaces.Box:
         # float32 where Gymnasium's is float64: the server's values are float32.
@@ -90,10 +98,30 @@ def _zeros(names: Sequence[str], n: int) -> Dict[str, np.ndarray]:
     return {name: np.zeros(n, dtype=np.float64) for name in names}
 
 
-def _split(raw: np.ndarray, dofs: int) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Positions, velocities and the end effectors' positions of raw rows (n, dim)."""
-    poses = raw[:, 2 * dofs :].reshape(len(raw), -1, 7)
-    return raw[:, :dofs], raw[:, dofs : 2 * dofs], poses[:, :, :3]
+def _in_body_frame(quat: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """World vectors ``w`` (n, 3) in the frames of orientations ``quat`` (n, 4; w, x,
+    y, z): rotated by each conjugate."""
+    s, u = quat[:, :1], quat[:, 1:]
+    return w - 2.0 * s * np.cross(u, w) + 2.0 * np.cross(u, np.cross(u, w))
+
+
+def _split(
+    raw: np.ndarray, dofs: int, base: bool = False
+) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """MuJoCo's qpos and qvel, and the end effectors' positions, of raw rows (n, dim).
+    With a floating base, qpos starts with its position and orientation (w, x, y, z) and
+    qvel with its linear velocity (world) and angular velocity (its own frame), as
+    MuJoCo's free joint has them. The base's position and linear velocity are its centre
+    of mass's: MuJoCo's free joint's where its body's frame is at its centre of mass (the
+    Ant's torso)."""
+    q, v, rest = raw[:, :dofs], raw[:, dofs : 2 * dofs], raw[:, 2 * dofs :]
+    if base:
+        pose, velocity, rest = rest[:, :7], rest[:, 7:13], rest[:, 13:]
+        spin = _in_body_frame(pose[:, 3:7].astype(np.float64), velocity[:, 3:6].astype(np.float64))
+        q = np.concatenate([pose, q], axis=1)
+        v = np.concatenate([velocity[:, :3], spin.astype(raw.dtype), v], axis=1)
+    poses = rest.reshape(len(raw), -1, 7)
+    return q, v, poses[:, :, :3]
 
 
 class SuiteEnv(gym.Env):
@@ -106,7 +134,7 @@ class SuiteEnv(gym.Env):
         setup = _Setup(env_id, kwargs)
         self._setup = setup
         self._env = GymfleetEnv(setup.model.text, **setup.options(_NO_LIMIT))
-        self._dofs = setup.check(self._env.env_info)
+        self._dofs, self._base = setup.check(self._env.env_info)
         self.render_mode = setup.kw["render_mode"]
         self.frame_skip = setup.frame_skip
         self.dt = setup.dt
@@ -124,14 +152,14 @@ class SuiteEnv(gym.Env):
     ) -> Tuple[np.ndarray, Dict[str, Any]]:
         super().reset(seed=seed)
         raw, _ = self._env.reset(seed=seed)
-        q, v, ee = _split(raw[None, :], self._dofs)
+        q, v, ee = _split(raw[None, :], self._dofs, self._base)
         info = {k: float(x[0]) for k, x in self._setup.plan.reset_info(q.astype(np.float64)).items()}
         terms = _zeros(self._env.env_info["term_names"], 1)
         return self._setup.plan.observe(q, v, ee, terms)[0].astype(np.float32), info
 
     def step(self, action: Any) -> Tuple[np.ndarray, float, bool, bool, Dict[str, Any]]:
         raw, reward, terminated, truncated, raw_info = self._env.step(action)
-        q, v, ee = _split(raw[None, :], self._dofs)
+        q, v, ee = _split(raw[None, :], self._dofs, self._base)
         terms = {
             name: np.array([raw_info[name]], dtype=np.float64)
             for name in self._env.env_info["term_names"]
@@ -183,7 +211,7 @@ class SuiteVectorEnv(VectorEnv):
             autoreset_mode=autoreset_mode,
             **setup.options(limit),
         )
-        self._dofs = setup.check(self._envs.batch_info)
+        self._dofs, self._base = setup.check(self._envs.batch_info)
         self.num_envs = self._envs.num_envs
         self.render_mode = setup.kw["render_mode"]
         self.dt = setup.dt
@@ -203,7 +231,7 @@ class SuiteVectorEnv(VectorEnv):
         return self._envs
 
     def _observe(self, raw: np.ndarray, terms: Dict[str, np.ndarray]) -> np.ndarray:
-        q, v, ee = _split(raw, self._dofs)
+        q, v, ee = _split(raw, self._dofs, self._base)
         return self._setup.plan.observe(q, v, ee, terms).astype(np.float32)
 
     def _infos(self, values: Dict[str, np.ndarray]) -> Dict[str, Any]:
@@ -223,7 +251,7 @@ class SuiteVectorEnv(VectorEnv):
         if seed is not None and isinstance(seed, (int, np.integer)):
             super().reset(seed=int(seed))
         raw, _ = self._envs.reset(seed=seed, options=options)
-        q, _, _ = _split(raw, self._dofs)
+        q, _, _ = _split(raw, self._dofs, self._base)
         terms = _zeros(self._envs.batch_info["term_names"], len(raw))
         return self._observe(raw, terms), self._infos(
             self._setup.plan.reset_info(q.astype(np.float64))
@@ -243,7 +271,7 @@ class SuiteVectorEnv(VectorEnv):
             rows = raw.copy()
             for env in np.flatnonzero(raw_infos["_final_obs"]):
                 rows[env] = raw_infos["final_obs"][env]
-        q, _, _ = _split(rows, self._dofs)
+        q, _, _ = _split(rows, self._dofs, self._base)
         values = self._setup.plan.step_info(q.astype(np.float64), terms)
         infos = self._infos(values)
         # The returned rows' term values: an env reset in this step starts from zeros (the
@@ -260,7 +288,7 @@ class SuiteVectorEnv(VectorEnv):
                 final[env] = row
             now = {name: np.where(has_final, 0.0, value) for name, value in terms.items()}
             final_info = {k: (v & has_final if k.startswith("_") else v) for k, v in infos.items()}
-            q_now, _, _ = _split(raw, self._dofs)
+            q_now, _, _ = _split(raw, self._dofs, self._base)
             reset = self._setup.plan.reset_info(q_now.astype(np.float64))
             for key in values:
                 if key in reset:

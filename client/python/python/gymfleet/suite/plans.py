@@ -47,15 +47,22 @@ IGNORED_KWARGS = ("camera_id", "camera_name", "default_camera_config", "max_geom
 
 @dataclass
 class Model:
-    """What the plans read from the XML file: MuJoCo's joints in qpos order and its
+    """What the plans read from the XML file: MuJoCo's joints in qpos order (a free
+    joint apart: it is the converted robot's floating base), its bodies and its
     timestep."""
 
     path: str
     text: str
+    #: The joints with one DOF each, in qpos order.
     joints: List[str]
     #: Each joint's ``ref`` as written (MuJoCo's qpos0; metres for slide joints).
     refs: List[float]
     timestep: float
+    #: The free joint's name, if the first body has one (qpos[0:7], qvel[0:6]).
+    free: Optional[str] = None
+    #: MuJoCo's bodies but the world, in body order: each name and its geoms' names
+    #: (the instances the conversion makes of it).
+    bodies: List[Tuple[str, List[str]]] = field(default_factory=list)
 
     def index(self, name: str) -> int:
         return self.joints.index(name)
@@ -90,14 +97,31 @@ def read_model(xml_file: str) -> Model:
     world = root.find("worldbody")
     joints: List[str] = []
     refs: List[float] = []
+    free: Optional[str] = None
+    bodies: List[Tuple[str, List[str]]] = []
     if world is not None:
         for j in world.iter():
+            if j.tag == "body":
+                geoms = [g.get("name", "") for g in j.findall("geom")]
+                bodies.append((j.get("name", ""), geoms))
+            if j.tag == "freejoint" or (j.tag == "joint" and j.get("type") == "free"):
+                if free is None and not joints:
+                    free = j.get("name", "")
+                    continue
             if j.tag in ("joint", "freejoint"):
                 joints.append(j.get("name", ""))
                 refs.append(float(j.get("ref", 0.0)))
     option = root.find("option")
     timestep = float(option.get("timestep", 0.002)) if option is not None else 0.002
-    return Model(path=path, text=text, joints=joints, refs=refs, timestep=timestep)
+    return Model(
+        path=path,
+        text=text,
+        joints=joints,
+        refs=refs,
+        timestep=timestep,
+        free=free,
+        bodies=bodies,
+    )
 
 
 @dataclass
@@ -347,6 +371,100 @@ def _inverted_double_pendulum(model: Model, kw: Mapping[str, Any]) -> Plan:
     return Plan(task, observe, 3 * n, step_info)
 
 
+#: A wrench's components, MuJoCo's cfrc_ext order: torque x, y, z, then force x, y, z.
+_WRENCH = 6
+
+
+def _ant(model: Model, kw: Mapping[str, Any]) -> Plan:
+    """A quadruped on a free joint: forward reward from the main body's displacement, a
+    healthy torso height, control and contact costs; the observation is MuJoCo's qpos
+    (x, y left out), qvel and each body's clipped contact wrench (cfrc_ext)."""
+    if model.free is None:
+        raise InvalidArgument(f"xml_file: {model.path} has no free joint; Ant needs one")
+    unnamed = [name or f"body {k + 1}" for k, (name, geoms) in enumerate(model.bodies) if "" in geoms]
+    if unnamed:
+        raise InvalidArgument(
+            f"xml_file: every geom needs a name (its body's contact forces are read from "
+            f"it); {', '.join(unnamed)} has an unnamed geom"
+        )
+    main = kw["main_body"]
+    names = [name for name, _ in model.bodies]
+    if isinstance(main, (int, np.integer)) and not isinstance(main, bool):
+        if not 1 <= main <= len(names):
+            raise InvalidArgument(f"main_body: expected a body index 1 to {len(names)}, got {main}")
+        main_name = names[main - 1]
+    elif isinstance(main, str) and main in names:
+        main_name = main
+    else:
+        raise InvalidArgument(f"main_body: expected a body name or index, got {main!r}")
+    if not main_name:
+        raise InvalidArgument("main_body: the body has no name (its position is read as a site)")
+    root = names[0]
+    fw, cw, ccw, hw = (
+        float(kw["forward_reward_weight"]),
+        float(kw["ctrl_cost_weight"]),
+        float(kw["contact_cost_weight"]),
+        float(kw["healthy_reward"]),
+    )
+    lo, hi = _range(kw["contact_force_range"], "contact_force_range")
+    lo = -1e9 if lo is None else lo
+    hi = 1e9 if hi is None else hi
+    groups = [geoms for _, geoms in model.bodies]
+    with_cfrc = bool(kw["include_cfrc_ext_in_observation"])
+    cfrc = [f"cfrc_ext_{b}_{k}" for b in range(len(groups)) for k in range(_WRENCH)]
+    terms: List[Dict[str, Any]] = [
+        {"name": "x_velocity", "weight": fw, "velocity": {"site": main_name, "axis": "x"}},
+        {"name": "y_velocity", "weight": 0.0, "velocity": {"site": main_name, "axis": "y"}},
+        {"name": "healthy", "weight": hw, "healthy": {}},
+        {"name": "ctrl_cost", "weight": -cw, "ctrl_cost": {}},
+        {"name": "contact_cost", "weight": -ccw,
+         "contact_cost": {"groups": groups, "min": lo, "max": hi}},
+    ]
+    if with_cfrc:
+        terms += [
+            {"name": name, "weight": 0.0,
+             "value": {"contact_wrench": groups[b], "component": k}}
+            for name, (b, k) in zip(cfrc, ((b, k) for b in range(len(groups)) for k in range(_WRENCH)))
+        ]
+    task = {
+        "terms": terms,
+        "healthy": {
+            "ranges": [_bound({"site": root, "axis": "z"}, kw["healthy_z_range"], "healthy_z_range")],
+            "terminate": bool(kw["terminate_when_unhealthy"]),
+        },
+        "reset_noise": {**_noise("uniform", "normal", float(kw["reset_noise_scale"])), "base": True},
+    }
+    skip = 2 if _exclude(kw) else 0
+
+    def observe(q: np.ndarray, v: np.ndarray, ee: np.ndarray, t: Terms) -> np.ndarray:
+        parts = [q[:, skip:], v]
+        if with_cfrc:
+            forces = np.stack([np.asarray(t[name], dtype=q.dtype) for name in cfrc], axis=1)
+            parts.append(np.clip(forces, lo, hi))
+        return np.concatenate(parts, axis=1)
+
+    def reset_info(q: Positions) -> Dict[str, np.ndarray]:
+        return {
+            "x_position": q[:, 0],
+            "y_position": q[:, 1],
+            "distance_from_origin": np.hypot(q[:, 0], q[:, 1]),
+        }
+
+    def step_info(q: Positions, t: Terms) -> Dict[str, np.ndarray]:
+        return {
+            **reset_info(q),
+            "x_velocity": t["x_velocity"],
+            "y_velocity": t["y_velocity"],
+            "reward_forward": fw * t["x_velocity"],
+            "reward_ctrl": -cw * t["ctrl_cost"],
+            "reward_contact": -ccw * t["contact_cost"],
+            "reward_survive": hw * t["healthy"],
+        }
+
+    dim = 7 + 6 + 2 * len(model.joints) - skip + (len(cfrc) if with_cfrc else 0)
+    return Plan(task, observe, dim, step_info, reset_info)
+
+
 def _reacher(model: Model, kw: Mapping[str, Any]) -> Plan:
     """The fingertip to a goal drawn in a disk of 0.2 m; bodies' positions as sites."""
     wd, wc = float(kw["reward_dist_weight"]), float(kw["reward_control_weight"])
@@ -545,6 +663,29 @@ SUITE: Dict[str, SuiteSpec] = {
                 "healthy_angle_range": (-1.0, 1.0),
             },
             _walker2d,
+        ),
+        SuiteSpec(
+            "Ant",
+            "ant.xml",
+            5,
+            1000,
+            6000.0,
+            {
+                "forward_reward_weight": 1.0,
+                "ctrl_cost_weight": 0.5,
+                "contact_cost_weight": 5e-4,
+                "healthy_reward": 1.0,
+                "main_body": 1,
+                "terminate_when_unhealthy": True,
+                "healthy_z_range": (0.2, 1.0),
+                "contact_force_range": (-1.0, 1.0),
+                "reset_noise_scale": 0.1,
+                "exclude_current_positions_from_observation": True,
+                "include_cfrc_ext_in_observation": True,
+            },
+            _ant,
+            note="the ankles start at the ends of their ranges nearest MuJoCo's pose (0, "
+            "which their ranges exclude), where MuJoCo's limits push them",
         ),
         SuiteSpec(
             "Swimmer",
