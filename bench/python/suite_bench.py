@@ -27,7 +27,17 @@ import numpy as np
 
 import gymfleet  # noqa: F401  (registers the gymfleet/<Name>-v5 ids)
 
-NAMES = ["InvertedPendulum", "Reacher", "Pusher", "HalfCheetah", "Hopper", "Walker2d", "Swimmer"]
+NAMES = [
+    "InvertedPendulum",
+    "InvertedDoublePendulum",
+    "Reacher",
+    "Pusher",
+    "HalfCheetah",
+    "Hopper",
+    "Walker2d",
+    "Ant",
+    "Swimmer",
+]
 
 
 def rate(step: Callable[[np.ndarray], None], sample: Callable[[], np.ndarray], n: int, seconds: float) -> float:

@@ -88,3 +88,78 @@ fn a_dropped_ball_rebounds_to_e_squared_of_its_height() {
     println!("{}", report.join("\n"));
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// A 20 mm cube (its local frame at a corner) on a plane tilted `tilt_deg` about x, both of
+/// friction `mu`; returns the cube's positions (mm) along the observation, every step.
+fn cube_on_ramp(tilt_deg: f64, mu: f64, steps: usize) -> Vec<[f64; 3]> {
+    let t = tilt_deg.to_radians();
+    // The cube rests on the ramp: its bottom face on the plane, turned with it.
+    let (s, c) = (t.sin(), t.cos());
+    let lift = 0.2; // mm above the plane
+    let doc = json!({
+        "materials": {"ramp": {"friction": mu}},
+        "parts": [
+            {"name": "Ground", "primitive": {"type": "plane"}, "material": "ramp"},
+            {"name": "Cube", "primitive": {"type": "cube", "size": {"x": 20, "y": 20, "z": 20}},
+             "material": "ramp"}
+        ],
+        "assembly": {"instances": [
+            {"part": "Ground", "name": "ground", "rotation": {"x": tilt_deg, "y": 0, "z": 0}},
+            {"part": "Cube", "name": "cube", "rotation": {"x": tilt_deg, "y": 0, "z": 0},
+             "position": {"x": -10, "y": -lift * s, "z": lift * c}}
+        ]}
+    });
+    let mut env = env_with(&doc, EnvConfig::with_end_effectors(["cube"]));
+    (0..steps)
+        .map(|_| {
+            let o = env
+                .step(ActionType::Torque, &[])
+                .expect("steps")
+                .observation
+                .to_flat();
+            [f64::from(o[0]), f64::from(o[1]), f64::from(o[2])]
+        })
+        .collect()
+}
+
+/// Sliding down a 20° ramp of friction 0.2: the acceleration along the slope is
+/// g(sin θ − μ cos θ) within 5 % (issue S).
+#[test]
+fn a_cube_slides_down_a_ramp_at_g_sin_minus_mu_g_cos() {
+    let (tilt, mu) = (20f64, 0.2);
+    let dt = 1.0 / 240.0;
+    let path = cube_on_ramp(tilt, mu, 240);
+    // Distance along the slope (mm) from the position at step 24 (after landing) to 240.
+    let along = |p: [f64; 3], q: [f64; 3]| {
+        let (d_y, d_z) = (q[1] - p[1], q[2] - p[2]);
+        (d_y * d_y + d_z * d_z).sqrt() / 1000.0
+    };
+    let (k0, k1, k2) = (24usize, 132usize, 239usize);
+    let t1 = (k1 - k0) as f64 * dt;
+    let t2 = (k2 - k0) as f64 * dt;
+    let (s1, s2) = (along(path[k0], path[k1]), along(path[k0], path[k2]));
+    // s = v0·t + a·t²/2 at two times: solve for a.
+    let a = 2.0 * (s2 / t2 - s1 / t1) / (t2 - t1);
+    let t = tilt.to_radians();
+    let expected = 9.81 * (t.sin() - mu * t.cos());
+    println!("slides at {a:.4} m/s², expected {expected:.4}");
+    assert!(
+        (a - expected).abs() < 0.05 * expected,
+        "slides at {a:.3} m/s², g(sin θ − μ cos θ) = {expected:.3}"
+    );
+    assert!(path[k2][1] < path[k0][1], "it slides down (−y)");
+}
+
+/// A cube at rest on the floor stays put: it moves less than 0.01 mm in 10 s (issue S).
+#[test]
+fn a_cube_at_rest_on_the_floor_stays_put() {
+    let path = cube_on_ramp(0.0, 0.5, 2640);
+    let settled = path[239];
+    let last = path[2639];
+    let moved = ((last[0] - settled[0]).powi(2)
+        + (last[1] - settled[1]).powi(2)
+        + (last[2] - settled[2]).powi(2))
+    .sqrt();
+    println!("moved {moved:e} mm in 10 s, resting at z = {} mm", last[2]);
+    assert!(moved < 0.01, "moved {moved} mm in 10 s");
+}
