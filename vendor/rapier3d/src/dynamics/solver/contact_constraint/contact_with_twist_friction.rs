@@ -296,6 +296,7 @@ impl ContactWithTwistFrictionBuilder<SimdReal> {
             out_builder.infos[k].local_p2 = poses2.inverse_transform_point(world_com2 + dp2);
             out_builder.infos[k].dist = dist - (point - (world_com2 + dp2)).gdot(force_dir1);
             out_builder.infos[k].restitution_seed = restitution_seed;
+            out_constraint.restitution_seed[k] = restitution_seed;
         }
 
         /*
@@ -469,12 +470,35 @@ impl ContactWithTwistFrictionBuilder<SimdReal> {
 
         let solved_dt = SimdReal::splat(solved_dt);
         let tangent_delta = self.tangent_vel * solved_dt;
+        // gymfleet patch 18 (see `PATCHES.md`): a bouncy point that has not pushed yet this
+        // step takes its restitution target from the approach velocity this substep
+        // integrates with (gravity's increment included): the velocity at impact if it
+        // closes now.
+        let bouncy_vels = self.has_bouncy_seed(constraint.num_contacts).then(|| {
+            (
+                bodies.gather_vels(constraint.solver_vel1),
+                bodies.gather_vels(constraint.solver_vel2),
+            )
+        });
+        let seeds = &mut constraint.restitution_seed;
 
-        for (info, normal_part) in all_infos.iter().zip(normal_parts.iter_mut()) {
+        for (k, (info, normal_part)) in all_infos.iter().zip(normal_parts.iter_mut()).enumerate() {
             // NOTE: the tangent velocity is equivalent to an additional movement of the first body’s surface.
             let p1 = poses1.transform_point(info.local_p1) + tangent_delta;
             let p2 = poses2.transform_point(info.local_p2);
             let dist = info.dist + (p1 - p2).gdot(constraint.dir1);
+            if let Some((vel1, vel2)) = &bouncy_vels {
+                let dir1 = constraint.dir1;
+                let approach = dir1.gdot(vel1.linear) + normal_part.torque_dir1.gdot(vel1.angular)
+                    - dir1.gdot(vel2.linear)
+                    + normal_part.torque_dir2.gdot(vel2.angular);
+                let seed = &mut seeds[k];
+                // Until the point first pushes (no impulse yet this step).
+                let refresh = normal_part.total_impulse().simd_le(SimdReal::zero())
+                    & seed.simd_lt(SimdReal::zero())
+                    & approach.simd_lt(SimdReal::zero());
+                *seed = (self.restitution * approach).select(refresh, *seed);
+            }
 
             // Normal part.
             {
@@ -578,12 +602,12 @@ impl ContactWithTwistFrictionBuilder<SimdReal> {
         let mut solver_vel2 = bodies.gather_vels(constraint.solver_vel2);
 
         let num = constraint.num_contacts as usize;
-        for (info, normal_part) in self.infos[..num]
+        for (seed, normal_part) in constraint.restitution_seed[..num]
             .iter()
             .zip(constraint.normal_part[..num].iter_mut())
         {
             normal_part.solve_restitution(
-                info.restitution_seed,
+                *seed,
                 &constraint.dir1,
                 &constraint.im1,
                 &constraint.im2,
@@ -621,6 +645,11 @@ pub(crate) struct ContactWithTwistFriction<N: ScalarType> {
     pub twist_part: ContactConstraintTwistPartSlim<N>,
     // Distances between the friction center and the contact point.
     pub twist_dists: [N; MAX_MANIFOLD_POINTS],
+    /// Each point's restitution target `restitution * approach_velocity`, as
+    /// `apply_restitution` uses it: captured at prepare time, then refreshed by every
+    /// substep's `update` until the point first pushes (gymfleet patch 18, see
+    /// `PATCHES.md`), so it is the approach velocity at impact, not at the step's start.
+    pub restitution_seed: [N; MAX_MANIFOLD_POINTS],
 
     pub solver_vel1: [u32; SIMD_WIDTH],
     pub solver_vel2: [u32; SIMD_WIDTH],
