@@ -143,11 +143,12 @@ fn template(config: &LoadConfig) -> Result<RobotEnv> {
     })
 }
 
-/// Each DOF's hard limits, as the server reports them.
+/// Each actuated DOF's hard limits (one per action value), as the server reports them.
 fn dof_limits(env: &RobotEnv) -> Vec<Option<(f64, f64)>> {
     env.spec()
         .dofs
         .iter()
+        .filter(|d| d.actuated)
         .map(|d| d.limits.map(|[min, max]| (min, max)))
         .collect()
 }

@@ -4,43 +4,12 @@
 //! failed, and that the JSON file holds the figures. Never checks timings.
 #![cfg(feature = "embedded")]
 
-use std::path::PathBuf;
-
 use clap::Parser;
-use gymfleet_load::{run, Cli, LoadConfig, Report, RunResult};
+use gymfleet_load::{run, Cli};
 
-fn config(args: &[&str]) -> LoadConfig {
-    let mut argv = vec!["gymfleet-load", "--quiet", "--threads", "2"];
-    argv.extend_from_slice(args);
-    Cli::try_parse_from(argv)
-        .expect("flags parse")
-        .resolve()
-        .expect("flags are valid")
-}
+mod common;
 
-fn run_flags(args: &[&str]) -> Report {
-    run(&config(args)).expect("the run completes")
-}
-
-#[track_caller]
-fn assert_counts(run: &RunResult, n_envs: u64, steps: u64, clients: u64) {
-    assert_eq!(run.errors, 0, "first error: {:?}", run.first_error);
-    assert_eq!(run.first_error, None);
-    assert_eq!(run.calls, steps * clients, "{run:?}");
-    assert_eq!(run.env_steps, n_envs * steps * clients, "{run:?}");
-    assert_eq!(run.calls_per_client, vec![steps; clients as usize]);
-    assert_eq!(run.terminations, 0, "no env diverged");
-    assert!(run.env_steps_per_s > 0.0 && run.calls_per_s > 0.0);
-    let l = run.latency_us;
-    assert!(
-        0 < l.p50 && l.p50 <= l.p90 && l.p90 <= l.p99 && l.p99 <= l.max,
-        "{l:?}"
-    );
-}
-
-fn tmp(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name)
-}
+use common::*;
 
 #[test]
 fn unary_batches_on_the_embedded_server() {
@@ -496,126 +465,4 @@ fn replay_writes_an_html_page_of_one_env() {
         .resolve()
         .expect_err("nothing to record");
     assert_eq!(err.to_string(), "--replay-steps must be at least 1, got 0");
-}
-
-/// `--task FILE` gives every env a terms task (its terms computed in each step) and
-/// `--units si` its units, the same on both sides: `--compare` runs it in process, then on
-/// the embedded server; single envs take it too. The report names the file and holds its
-/// JSON.
-#[test]
-fn a_terms_task_from_a_file_runs_remote_and_in_process() {
-    let task = tmp("effort_task.json");
-    let json = r#"{"terms": [{"name": "effort", "weight": -1, "ctrl_cost": {}},
-                      {"name": "speed", "velocity": {"joint": "upper"}}]}"#;
-    std::fs::write(&task, json).expect("write the task");
-    let task = task.to_str().expect("utf-8 path");
-    let report_path = tmp("task_report.json");
-    let _ = std::fs::remove_file(&report_path);
-    let report = run_flags(&[
-        "--compare",
-        "--task",
-        task,
-        "--units",
-        "si",
-        "--n-envs",
-        "4",
-        "--steps",
-        "10",
-        "--json",
-        report_path.to_str().unwrap(),
-    ]);
-    assert_eq!(report.runs.len(), 2);
-    assert_eq!(report.runs[0].label, "in-process");
-    assert_eq!(report.runs[1].label, "remote unary");
-    for r in &report.runs {
-        assert_counts(r, 4, 10, 1);
-    }
-    assert!(
-        report.summary.ends_with(&format!(
-            "· task {task} · units si · 10 steps after 0 steps warmup"
-        )),
-        "{}",
-        report.summary
-    );
-    let written: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&report_path).unwrap()).unwrap();
-    assert_eq!(written["config"]["task"]["file"], task);
-    assert_eq!(written["config"]["task"]["json"], json);
-    assert_eq!(written["config"]["units"], "si");
-
-    for target in [&[][..], &["--in-process"][..]] {
-        let mut args = vec![
-            "--api", "env", "--model", "pendulum", "--task", task, "--steps", "5",
-        ];
-        args.extend_from_slice(target);
-        // The pendulum has no joint "upper".
-        let err = run(&config(&args)).expect_err("the pendulum has no joint upper");
-        assert!(err.to_string().contains("unknown joint \"upper\""), "{err}");
-    }
-    let pendulum = tmp("pendulum_effort_task.json");
-    std::fs::write(
-        &pendulum,
-        r#"{"terms": [{"name": "effort", "weight": -1, "ctrl_cost": {}}]}"#,
-    )
-    .unwrap();
-    for target in [&[][..], &["--in-process"][..]] {
-        let mut args = vec![
-            "--api",
-            "env",
-            "--model",
-            "pendulum",
-            "--task",
-            pendulum.to_str().unwrap(),
-            "--steps",
-            "5",
-        ];
-        args.extend_from_slice(target);
-        assert_counts(&run_flags(&args).runs[0], 1, 5, 1);
-    }
-}
-
-/// A task the model cannot have, or that does not read as a terms task: in process a
-/// setup error naming the file; remote the server's `INVALID_ARGUMENT`, as for any bad
-/// option of `CreateBatch`, with the same path and reason.
-#[test]
-fn a_bad_task_fails_the_setup_with_its_path() {
-    let cases = [
-        (
-            "unknown_joint_task.json",
-            r#"{"terms": [{"name": "a", "value": {"joint": "elbow"}}]}"#,
-            "task.terms.terms[0].value.joint: unknown joint \"elbow\" (joints with a DOF: \
-             \"upper\", \"forearm\")",
-        ),
-        (
-            "bad_weight_task.json",
-            r#"{"terms": [{"name": "a", "weight": "heavy", "ctrl_cost": {}}]}"#,
-            "task.terms.terms[0].weight: invalid type: string \"heavy\", expected f64 at line 1 \
-             column 42",
-        ),
-    ];
-    for (name, json, reason) in cases {
-        let path = tmp(name);
-        std::fs::write(&path, json).expect("write the task");
-        let file = path.to_str().expect("utf-8 path");
-
-        let err = run(&config(&["--in-process", "--task", file, "--steps", "2"]))
-            .expect_err("refused in process");
-        assert!(!err.is_usage());
-        assert_eq!(
-            err.to_string(),
-            format!("setup failed (in-process: --task '{file}'): {reason}")
-        );
-
-        let err = run(&config(&["--task", file, "--steps", "2"])).expect_err("refused remote");
-        assert!(!err.is_usage());
-        let message = err.to_string();
-        assert!(
-            message.starts_with("setup failed (client 0: CreateBatch on 127.0.0.1:"),
-            "{message}"
-        );
-        assert!(
-            message.ends_with(&format!("): invalid argument: {reason}")),
-            "{message}"
-        );
-    }
 }
