@@ -42,12 +42,15 @@ async fn main() -> Result<(), Box<dyn std::error::Error>> {
         "after 0.25 s: {:.2} deg at {:.2} deg/s",
         now.joint_positions[0], now.joint_velocities[0]
     );
-    // A picture of it, from the front: a PNG.
+    // A picture of it, from the front: a PNG, written under target/ (cargo's build folder,
+    // which git ignores) rather than into the repository.
     let picture = env
         .render(&Camera::preset(CameraPreset::Front), 0, 0)
         .await?;
-    std::fs::write("pendulum.png", &picture.png)?;
-    println!("pendulum.png: {}", picture.description);
+    let path = std::path::Path::new("target").join("pendulum.png");
+    std::fs::create_dir_all("target")?;
+    std::fs::write(&path, &picture.png)?;
+    println!("{}: {}", path.display(), picture.description);
     env.close().await?;
 
     // A batch of 16 two-joint arms: actions are n_envs × action_dim floats, row-major.

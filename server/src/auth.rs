@@ -176,7 +176,7 @@ impl Authenticator {
         };
         let Some(value) = request.metadata().get("authorization") else {
             return Err(Status::unauthenticated(
-                "this server requires a token: send `authorization: Bearer <token>` metadata",
+                "this server requires a token: send `authorization: Bearer <token>` metadata (gymfleet's clients and tools read it from the GYMFLEET_TOKEN variable or --token)",
             ));
         };
         let token = value
@@ -295,7 +295,7 @@ mod tests {
         for (header, message) in [
             (
                 None,
-                "this server requires a token: send `authorization: Bearer <token>` metadata",
+                "this server requires a token: send `authorization: Bearer <token>` metadata (gymfleet's clients and tools read it from the GYMFLEET_TOKEN variable or --token)",
             ),
             (Some(TOKEN_A), "authorization: expected `Bearer <token>`"),
             (Some("Bearer wrong"), "authorization: unknown token"),

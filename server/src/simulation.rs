@@ -232,11 +232,11 @@ impl Simulation {
         for (tenant, n) in self.batches.count_by_owner() {
             counts.entry(tenant).or_default().batches = n;
         }
+        // Every tenant that has had a quota (it created something) keeps its series: a
+        // tenant whose last env closed reads 0 rather than vanishing from the gauges.
         let quotas = self.quotas.lock().unwrap_or_else(PoisonError::into_inner);
         for (tenant, quota) in quotas.iter() {
-            if let Some(open) = counts.get_mut(tenant) {
-                open.batch_envs = quota.batch_envs();
-            }
+            counts.entry(tenant.clone()).or_default().batch_envs = quota.batch_envs();
         }
         let mut counts: Vec<_> = counts.into_iter().collect();
         counts.sort_by(|a, b| a.0.cmp(&b.0));

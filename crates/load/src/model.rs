@@ -15,6 +15,17 @@ pub const PENDULUM: &str = include_str!("../../../models/pendulum.json");
 pub const ARM2: &str = include_str!("../../../models/arm2.json");
 /// A 6-DOF arm: base yaw, shoulder and elbow pitch, wrist roll, pitch and roll.
 pub const ARM6: &str = include_str!("../../../models/arm6.json");
+/// A chain of 20 revolute links.
+pub const CHAIN20: &str = include_str!("../../../models/chain20.json");
+
+/// The built-in models, one per file of `models/`: name (the file's stem), document, tip
+/// instance (the default end effector) and torque amplitude (N·m).
+pub const BUILTINS: [(&str, &str, &str, f32); 4] = [
+    ("pendulum", PENDULUM, "arm", 1e-4),
+    ("arm2", ARM2, "forearm", 1e-4),
+    ("arm6", ARM6, "tool", 2e-2),
+    ("chain20", CHAIN20, "link20", 1e-3),
+];
 
 /// Torque amplitude for documents of unknown mass: suits the seed-sized parts (grams,
 /// centimetres), whose gravity torques are about 1e-4 N·m.
@@ -23,7 +34,7 @@ pub const DEFAULT_TORQUE_AMPLITUDE: f32 = 1e-4;
 /// An assembly document to load, and how to drive it.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Model {
-    /// `pendulum`, `arm2`, `arm6`, or the file path as given.
+    /// A built-in model's name ([`BUILTINS`]), or the file path as given.
     pub name: String,
     /// Whether it is one of the built-in models.
     pub builtin: bool,
@@ -39,18 +50,14 @@ pub struct Model {
 impl Model {
     /// Resolves `--model`: a built-in name, else a path to a document file.
     pub fn resolve(name: &str) -> Result<Self> {
-        let builtin = |document: &str, tip: &str, torque: f32| Model {
-            name: name.to_string(),
-            builtin: true,
-            document: document.to_string(),
-            default_end_effectors: vec![tip.to_string()],
-            torque_amplitude: torque,
-        };
-        match name {
-            "pendulum" => return Ok(builtin(PENDULUM, "arm", 1e-4)),
-            "arm2" => return Ok(builtin(ARM2, "forearm", 1e-4)),
-            "arm6" => return Ok(builtin(ARM6, "tool", 2e-2)),
-            _ => {}
+        if let Some(&(_, document, tip, torque)) = BUILTINS.iter().find(|b| b.0 == name) {
+            return Ok(Model {
+                name: name.to_string(),
+                builtin: true,
+                document: document.to_string(),
+                default_end_effectors: vec![tip.to_string()],
+                torque_amplitude: torque,
+            });
         }
         let path = Path::new(name);
         if !path.exists() {

@@ -281,7 +281,7 @@ fn bad_flags_have_exact_messages() {
         (&["--server", "h:1,,h:2"], "--server address 2 is empty"),
         (
             &["--model", "foo"],
-            "unknown model 'foo': not pendulum|arm2|arm6 and no such file",
+            "unknown model 'foo': not pendulum|arm2|arm6|chain20 and no such file",
         ),
     ];
     for (args, message) in cases {
@@ -377,4 +377,37 @@ fn task_and_units_flags() {
             .starts_with("error: invalid value 'furlongs' for '--units <UNITS>'"),
         "{refused}"
     );
+}
+
+/// Every file of `models/` is a built-in model by its name, with the file's text, and the
+/// unknown-model message lists them all.
+#[test]
+fn every_file_of_models_is_a_builtin_by_its_name() {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../models");
+    let mut stems = Vec::new();
+    for entry in std::fs::read_dir(dir).expect("models/") {
+        let path = entry.expect("entry").path();
+        if path.extension().and_then(|e| e.to_str()) != Some("json") {
+            continue;
+        }
+        let stem = path.file_stem().unwrap().to_str().unwrap().to_string();
+        let model = gymfleet_load::Model::resolve(&stem).expect("a built-in");
+        assert!(model.builtin, "{stem}");
+        assert_eq!(
+            model.document,
+            std::fs::read_to_string(&path).unwrap(),
+            "{stem}"
+        );
+        stems.push(stem);
+    }
+    stems.sort();
+    let mut builtins: Vec<&str> = gymfleet_load::BUILTINS.iter().map(|b| b.0).collect();
+    builtins.sort_unstable();
+    assert_eq!(stems, builtins);
+    let message = gymfleet_load::Model::resolve("foo")
+        .unwrap_err()
+        .to_string();
+    for stem in &stems {
+        assert!(message.contains(stem.as_str()), "{message} lacks {stem}");
+    }
 }

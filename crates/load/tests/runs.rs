@@ -328,7 +328,8 @@ fn a_server_that_requires_a_token_gets_it_from_token() {
     assert!(
         err.to_string().contains(
             "unauthenticated: this server requires a token: send `authorization: Bearer \
-             <token>` metadata"
+             <token>` metadata (gymfleet's clients and tools read it from the GYMFLEET_TOKEN \
+             variable or --token)"
         ),
         "{err}"
     );

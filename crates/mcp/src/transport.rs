@@ -78,6 +78,21 @@ async fn require_token(
     }
 }
 
+/// Answers a session's `DELETE` (its end) with 204 No Content where rmcp answers 202
+/// Accepted: MCP clients (the official Python SDK among them) take 200 or 204 as the
+/// session ended, and warn on 202.
+async fn session_end_no_content(
+    request: axum::extract::Request,
+    next: axum::middleware::Next,
+) -> axum::response::Response {
+    let ending = request.method() == axum::http::Method::DELETE;
+    let mut response = next.run(request).await;
+    if ending && response.status() == axum::http::StatusCode::ACCEPTED {
+        *response.status_mut() = axum::http::StatusCode::NO_CONTENT;
+    }
+    response
+}
+
 /// Compares without stopping at the first difference, so timing says nothing about
 /// how much of a guess was right.
 fn constant_time_eq(a: &[u8], b: &[u8]) -> bool {
@@ -105,7 +120,9 @@ pub(crate) async fn serve_http(
         Arc::new(LocalSessionManager::default()),
         config,
     );
-    let mut router = axum::Router::new().nest_service("/mcp", service);
+    let mut router = axum::Router::new()
+        .nest_service("/mcp", service)
+        .layer(axum::middleware::from_fn(session_end_no_content));
     if let Some(token) = token {
         router = router.layer(axum::middleware::from_fn_with_state(
             Arc::<str>::from(token),

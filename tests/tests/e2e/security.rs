@@ -82,7 +82,7 @@ async fn every_call_but_health_needs_a_known_token() {
     let err = anonymous.server_info().await.unwrap_err();
     assert_unauthenticated(
         &err,
-        "this server requires a token: send `authorization: Bearer <token>` metadata",
+        "this server requires a token: send `authorization: Bearer <token>` metadata (gymfleet's clients and tools read it from the GYMFLEET_TOKEN variable or --token)",
     );
     let err = anonymous
         .create_env(EnvOptions::new(PENDULUM))
@@ -90,7 +90,7 @@ async fn every_call_but_health_needs_a_known_token() {
         .unwrap_err();
     assert_unauthenticated(
         &err,
-        "this server requires a token: send `authorization: Bearer <token>` metadata",
+        "this server requires a token: send `authorization: Bearer <token>` metadata (gymfleet's clients and tools read it from the GYMFLEET_TOKEN variable or --token)",
     );
     let wrong = as_tenant(&server, "not-a-token-of-this-server").await;
     let err = wrong.server_info().await.unwrap_err();
@@ -553,12 +553,10 @@ async fn metrics_count_steps_open_envs_calls_and_refusals_per_tenant() {
         "OpenMetrics text ends with # EOF"
     );
 
-    // Closing shows in the gauges: team-a's series goes.
+    // Closing shows in the gauges: team-a's series reads 0 (it does not vanish, so a
+    // dashboard or an alert on it keeps a value).
     env.close().await.expect("close");
     let text = scrape(metrics_addr).await;
-    assert!(
-        !text.contains("gymfleet_envs_open{tenant=\"team-a\"}"),
-        "{text}"
-    );
+    assert_eq!(sample(&text, "gymfleet_envs_open{tenant=\"team-a\"}"), 0.0);
     server.stop().await.expect("clean shutdown");
 }

@@ -173,3 +173,100 @@ async fn tools_over_streamable_http() {
         server.stop().await;
     }
 }
+
+/// Sends one HTTP/1.1 request to the adapter at `url` and returns the status code and the
+/// headers (lower-cased names); the body is not read.
+async fn http_request(
+    url: &str,
+    method: &str,
+    headers: &[(&str, &str)],
+    body: &str,
+) -> (u16, Vec<(String, String)>) {
+    use tokio::io::{AsyncReadExt, AsyncWriteExt};
+    let authority = url
+        .strip_prefix("http://")
+        .and_then(|rest| rest.split('/').next())
+        .expect("an http URL");
+    let mut stream = tokio::net::TcpStream::connect(authority)
+        .await
+        .expect("connect to the adapter");
+    let mut request = format!(
+        "{method} /mcp HTTP/1.1\r\nhost: {authority}\r\ncontent-length: {}\r\nconnection: close\r\n",
+        body.len()
+    );
+    for (name, value) in headers {
+        request.push_str(&format!("{name}: {value}\r\n"));
+    }
+    request.push_str("\r\n");
+    request.push_str(body);
+    stream.write_all(request.as_bytes()).await.expect("send");
+    // The headers end at the first blank line; an SSE body may stay open, so stop there.
+    let mut head = Vec::new();
+    let mut byte = [0u8; 1];
+    while !head.ends_with(b"\r\n\r\n") {
+        let n = stream.read(&mut byte).await.expect("read the answer");
+        assert!(n == 1, "the connection closed in the headers");
+        head.push(byte[0]);
+    }
+    let text = String::from_utf8(head).expect("ASCII headers");
+    let mut lines = text.split("\r\n");
+    let status = lines
+        .next()
+        .and_then(|l| l.split(' ').nth(1))
+        .and_then(|c| c.parse().ok())
+        .expect("a status line");
+    let headers = lines
+        .filter_map(|l| l.split_once(':'))
+        .map(|(n, v)| (n.trim().to_ascii_lowercase(), v.trim().to_string()))
+        .collect();
+    (status, headers)
+}
+
+/// Ending a session with `DELETE` is answered 204 No Content (MCP clients take 200 or 204
+/// as ended; rmcp's own answer, 202, makes the official Python SDK warn), and the session
+/// is gone afterwards.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn ending_a_session_with_delete_answers_no_content() {
+    let mut args = vec!["--http", "127.0.0.1:0"];
+    let server = if cfg!(feature = "embedded") {
+        args.extend(["--threads", "1"]);
+        None
+    } else {
+        Some(crate::TestServer::start().await)
+    };
+    let server_addr = server.as_ref().map(|s| s.addr());
+    if let Some(addr) = &server_addr {
+        args.extend(["--server", addr.as_str()]);
+    }
+    let (mut child, url) = spawn_http(&args).await;
+    let initialize = json!({
+        "jsonrpc": "2.0", "id": 1, "method": "initialize",
+        "params": {"protocolVersion": "2025-03-26", "capabilities": {},
+                   "clientInfo": {"name": "raw-http", "version": "0"}}
+    })
+    .to_string();
+    let json_and_sse = [
+        ("content-type", "application/json"),
+        ("accept", "application/json, text/event-stream"),
+    ];
+    let (status, headers) = http_request(&url, "POST", &json_and_sse, &initialize).await;
+    assert_eq!(status, 200, "{headers:?}");
+    let session = headers
+        .iter()
+        .find(|(n, _)| n == "mcp-session-id")
+        .map(|(_, v)| v.clone())
+        .expect("a session id");
+    let (status, _) = http_request(&url, "DELETE", &[("mcp-session-id", &session)], "").await;
+    assert_eq!(status, 204, "the session's end");
+    // The session is gone: a request in it is refused.
+    let ping = json!({"jsonrpc": "2.0", "id": 2, "method": "ping"}).to_string();
+    let mut in_session = json_and_sse.to_vec();
+    in_session.push(("mcp-session-id", &session));
+    let (status, _) = http_request(&url, "POST", &in_session, &ping).await;
+    assert!(status >= 400, "a request in an ended session: {status}");
+    child.start_kill().expect("stop the adapter");
+    child.wait().await.expect("adapter exited");
+    if let Some(server) = server {
+        server.stop().await;
+    }
+}
