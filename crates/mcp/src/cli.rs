@@ -114,6 +114,30 @@ mod tests {
             .for_each(|key| std::env::remove_var(key));
     }
 
+    /// Every flag (and its variable) is in the README's flag table.
+    #[test]
+    fn the_readme_lists_every_flag() {
+        use clap::CommandFactory;
+        let readme = include_str!("../README.md");
+        for arg in Cli::command().get_arguments() {
+            let Some(long) = arg.get_long() else { continue };
+            if matches!(long, "help" | "version") {
+                continue;
+            }
+            assert!(
+                readme.contains(&format!("| `--{long}")),
+                "crates/mcp/README.md's flag table lacks --{long}"
+            );
+            if let Some(var) = arg.get_env() {
+                let var = var.to_string_lossy();
+                assert!(
+                    readme.contains(&format!("`{var}`")),
+                    "the README lacks {var}"
+                );
+            }
+        }
+    }
+
     #[test]
     fn servers_are_repeated_or_comma_separated() {
         scrub_gymfleet_env();

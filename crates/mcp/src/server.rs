@@ -17,15 +17,25 @@ use serde_json::Value;
 
 use crate::fleet::Fleet;
 
-/// What an agent is told about this server when it connects.
+/// What an agent is told about this server when it connects. It names every tool (a
+/// test checks it against the router, and the READMEs' tool tables too).
 const INSTRUCTIONS: &str = "gymfleet: physics (Rapier) gym environments built from robot \
-assembly documents (JSON parts, instances and joints; lengths in mm, angles in degrees, Z up, \
-gravity -Z). Single environment: create_robot_env -> env_id, then gym_reset, gym_step \
-(action_type torque [N·m or N] | position [deg or mm] | velocity [deg/s or mm/s], exactly \
-action_dim values), gym_observe, and gym_close when done. Many at once: batch_create_envs -> \
+documents: assembly JSON (parts, instances, joints; lengths in mm, angles in degrees, Z up, \
+gravity -Z), or MJCF or URDF text, converted (meshes as assets_base64), or a model of the \
+server's library by name (list_models, then model instead of document). Single environment: \
+create_robot_env -> env_id, then gym_reset, gym_step (action_type torque [N·m or N] | \
+position [deg or mm] | velocity [deg/s or mm/s], exactly action_dim values), gym_observe, \
+gym_render (a PNG and a description of the view), gym_save_state and gym_load_state (try \
+actions, then take them back), and gym_close when done. Many at once: batch_create_envs -> \
 batch_id, then batch_step with one array of action_dim values per env, batch_reset, \
 batch_close. Observations are {joint_positions, joint_velocities, end_effector_poses}, each \
-pose [x, y, z, qw, qx, qy, qz] in mm. reward is 0.0: compute your own from the observation. Scale torques to the parts: masses come from volume x density (default 1000 kg/m^3), so a 40 mm arm weighs under a gram and 1e-4 N·m already swings it; position targets are the easiest way to move a small robot.";
+pose [x, y, z, qw, qx, qy, qz] in mm, plus target with a reach task and base_pose, \
+base_velocity for a floating base. Rewards come from the task given to the create tools \
+(reach a target, track joint targets, stay upright, or weighted terms whose values each step \
+reports in terms); without a task the reward is 0.0. randomize draws masses, friction, \
+damping and gains at every reset. Scale torques to the parts: masses come from volume x \
+density (default 1000 kg/m^3), so a 40 mm arm weighs under a gram and 1e-4 N·m already \
+swings it; position targets are the easiest way to move a small robot.";
 
 /// The gym tools, served to one MCP session; every session shares one [`Fleet`].
 #[derive(Debug, Clone)]
@@ -164,5 +174,41 @@ mod tests {
                 }
             })
         );
+    }
+
+    /// Every tool the router serves is named in the instructions and has a row in both
+    /// READMEs' tool tables, and no row names a tool that does not exist.
+    #[test]
+    fn the_instructions_and_the_readmes_name_every_tool() {
+        let router = GymTools::env_router() + GymTools::batch_router();
+        let mut names: Vec<String> = router
+            .list_all()
+            .iter()
+            .map(|t| t.name.to_string())
+            .collect();
+        names.sort();
+        for (file, text) in [
+            ("crates/mcp/README.md", include_str!("../README.md")),
+            ("README.md", include_str!("../../../README.md")),
+        ] {
+            let mut rows: Vec<String> = text
+                .lines()
+                .filter_map(|l| l.strip_prefix("| `"))
+                .filter_map(|l| l.split_once("` |").map(|(name, _)| name.to_string()))
+                .filter(|name| {
+                    name.starts_with("gym_") || name.starts_with("batch_") || names.contains(name)
+                })
+                .filter(|name| !name.starts_with("gymfleet"))
+                .collect();
+            rows.sort();
+            rows.dedup();
+            assert_eq!(rows, names, "{file}'s tool table");
+        }
+        for name in &names {
+            assert!(
+                INSTRUCTIONS.contains(name.as_str()),
+                "the instructions lack {name}"
+            );
+        }
     }
 }
