@@ -137,3 +137,13 @@ def test_server_info_has_an_instance_id_per_server_process():
     finally:
         a.stop()
         b.stop()
+
+
+def test_the_package_exports_its_own_names_only():
+    """`dir(gymfleet)` holds `__all__`, the submodules and dunder names: no `typing` names,
+    no helpers the package's code was written with."""
+    import types
+
+    extra = [n for n in dir(gymfleet) if not n.startswith("_") and n not in gymfleet.__all__]
+    assert all(isinstance(getattr(gymfleet, n), types.ModuleType) for n in extra), extra
+    assert not {"Any", "Optional", "Dict", "json", "gymnasium"} & set(dir(gymfleet))

@@ -141,3 +141,30 @@ def test_a_server_that_requires_a_token_gets_it_from_gymfleet_token(arm2, tmp_pa
         bad = tmp_path / "bad"
         bad.write_text("lonely\n")
         gymfleet.Server(auth_tokens=str(bad))
+
+
+def test_a_document_read_from_a_file_names_the_file_in_its_errors(tmp_path):
+    bad = tmp_path / "robot.json"
+    bad.write_text('{"parts": [], "assembly": {"instances": [{"part": "X", "name": "x"}]}}')
+    for make in (gymfleet.make, lambda d: gymfleet.make_vec(d, 2)):
+        for document in (str(bad), bad):
+            with pytest.raises(gymfleet.InvalidArgument) as e:
+                make(document)
+            assert str(e.value) == (
+                f"{bad}: assembly.instances[0].part: unknown part \"X\" (known: none)"
+            )
+    # Given as text, the document has no file to name.
+    with pytest.raises(gymfleet.InvalidArgument) as e:
+        gymfleet.make(bad.read_text())
+    assert str(e.value) == 'assembly.instances[0].part: unknown part "X" (known: none)'
+
+
+def test_an_unexpected_option_lists_every_keyword(arm2):
+    with pytest.raises(TypeError) as e:
+        gymfleet.make(arm2, colour=1)
+    message = str(e.value)
+    assert message.startswith("unexpected option(s) colour; the options are end_effector_ids")
+    assert message.endswith("timeout, render_mode and render_options")
+    with pytest.raises(TypeError) as e:
+        gymfleet.make_vec(arm2, 2, colour=1)
+    assert str(e.value).endswith("render_mode, render_options and autoreset_mode")

@@ -11,14 +11,16 @@ running one; ``"a:50051,b:50051"`` shards batches over a fleet.
 
 from __future__ import annotations
 
-import json
+import json as _json
 from typing import Any, Dict, List, Optional, Tuple, Union
 
-import gymnasium
-from gymnasium.vector import AutoresetMode
+import gymnasium as _gymnasium
+from gymnasium.vector import AutoresetMode as _AutoresetMode
 
 from . import _core
-from ._common import assets_bytes, Document, document_json
+from ._common import Document as _Document
+from ._common import assets_bytes as _assets_bytes
+from ._common import document_json as _document_json
 from .env import GymfleetEnv
 from .errors import (
     DeadlineExceeded,
@@ -32,8 +34,8 @@ from .errors import (
     Unauthenticated,
     Unavailable,
 )
-from .registration import register_envs
-from .suite import register_suite
+from .registration import register_envs as _register_envs
+from .suite import register_suite as _register_suite
 from .vector import GymfleetVectorEnv
 
 __version__: str = _core.__version__
@@ -66,7 +68,7 @@ __all__ = [
 
 
 def make(
-    document: Optional[Document] = None,
+    document: Optional[_Document] = None,
     *,
     server: Optional[str] = None,
     end_effector_ids: Optional[List[str]] = None,
@@ -88,7 +90,7 @@ def make(
     """
     if _registered(document):
         _only_gymnasium_keywords(document, end_effector_ids, dt, substeps, max_steps, seed, reset_noise, action_type)
-        return gymnasium.make(document, server=server, **kwargs)
+        return _gymnasium.make(document, server=server, **kwargs)
     return GymfleetEnv(
         document,
         server=server,
@@ -104,11 +106,11 @@ def make(
 
 
 def make_vec(
-    document: Optional[Document] = None,
+    document: Optional[_Document] = None,
     num_envs: int = 1,
     *,
     server: Optional[str] = None,
-    autoreset_mode: Union[AutoresetMode, str] = AutoresetMode.NEXT_STEP,
+    autoreset_mode: Union[_AutoresetMode, str] = _AutoresetMode.NEXT_STEP,
     end_effector_ids: Optional[List[str]] = None,
     dt: Optional[float] = None,
     substeps: Optional[int] = None,
@@ -126,7 +128,7 @@ def make_vec(
     """
     if _registered(document):
         _only_gymnasium_keywords(document, end_effector_ids, dt, substeps, max_steps, seed, reset_noise, action_type)
-        return gymnasium.make_vec(
+        return _gymnasium.make_vec(
             document,
             num_envs,
             vectorization_mode="vector_entry_point",
@@ -152,7 +154,7 @@ def make_vec(
 
 def _registered(document: Any) -> bool:
     """Whether ``document`` is a gymfleet id registered with gymnasium."""
-    return isinstance(document, str) and document.startswith("gymfleet/") and document in gymnasium.registry
+    return isinstance(document, str) and document.startswith("gymfleet/") and document in _gymnasium.registry
 
 
 def _only_gymnasium_keywords(env_id: str, *given: Any) -> None:
@@ -178,15 +180,15 @@ def server_info(server: Optional[str] = None) -> Any:
 
 
 def convert(
-    document: Document, server: Optional[str] = None, assets: Any = None
+    document: _Document, server: Optional[str] = None, assets: Any = None
 ) -> Tuple[Dict[str, Any], List[str]]:
     """The assembly JSON (as a dict) a server builds from ``document`` (MJCF or URDF text
     or a path to an ``.xml``/``.urdf`` file; JSON is checked and returned), and what the
     conversion ignored. ``assets``: the mesh files, as for :func:`make` (their hulls are
     read into the JSON). ``make``/``make_vec`` take MJCF and URDF directly; this shows
     (and lets you edit) what they build."""
-    text, warnings = _core.convert_document(document_json(document), server, assets_bytes(assets))
-    return json.loads(text), list(warnings)
+    text, warnings = _core.convert_document(_document_json(document), server, _assets_bytes(assets))
+    return _json.loads(text), list(warnings)
 
 
 class FleetEndpoints:
@@ -205,5 +207,9 @@ class FleetEndpoints:
         return ",".join(_core.stateful_set(name, service, namespace, replicas, port))
 
 
-register_envs()
-register_suite()
+_register_envs()
+_register_suite()
+
+# The names the package's own code was written with (typing's among them) are not part of
+# it: only `__all__`, the submodules and `__version__` are.
+del annotations, Any, Dict, List, Optional, Tuple, Union

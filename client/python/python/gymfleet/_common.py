@@ -7,7 +7,7 @@ import io
 import json
 import os
 import zipfile
-from typing import Any, Dict, List, Mapping, Optional, Tuple, Union
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 from gymnasium import spaces
@@ -69,6 +69,29 @@ def document_json(document: Optional[Document], model: Optional[str] = None) -> 
     )
 
 
+def document_path(document: Optional[Document]) -> Optional[str]:
+    """The path ``document`` was read from, if it was given as one."""
+    if isinstance(document, os.PathLike):
+        return os.fspath(document)
+    if isinstance(document, str) and not document.lstrip().startswith(("{", "<")):
+        return document
+    return None
+
+
+def located(err: InvalidArgument, document: Optional[Document]) -> InvalidArgument:
+    """``err`` of a creation, saying ``document`` (not the request's ``document_json``
+    field) and, when the document was read from a file, which file."""
+    message = str(err)
+    if message.startswith("document_json"):
+        message = "document" + message[len("document_json"):]
+    path = document_path(document)
+    if path is not None:
+        message = f"{path}: {message}"
+    located_err = type(err)(message)
+    located_err.server = err.server
+    return located_err
+
+
 def assets_bytes(assets: Any) -> Optional[bytes]:
     """The ``assets`` option as the archive the server reads: bytes as they are, a zip,
     tar or tar.gz file's bytes, or a folder zipped in memory (its hidden files left out)."""
@@ -97,13 +120,29 @@ def assets_bytes(assets: Any) -> Optional[bytes]:
     )
 
 
-def create_options(options: Dict[str, Any]) -> Dict[str, Any]:
-    """The options as the extension takes them (every key present, None when unset)."""
+#: The keywords of ``make`` besides the creation options (``make_vec`` adds
+#: ``autoreset_mode``).
+ENV_KEYWORDS = (
+    "server",
+    "action_type",
+    "normalize_actions",
+    "timeout",
+    "render_mode",
+    "render_options",
+)
+
+
+def create_options(
+    options: Dict[str, Any], keywords: Sequence[str] = ENV_KEYWORDS
+) -> Dict[str, Any]:
+    """The options as the extension takes them (every key present, None when unset); an
+    unknown one is a ``TypeError`` listing every keyword the caller takes."""
     unknown = sorted(set(options) - set(OPTION_NAMES))
     if unknown:
+        known = [*OPTION_NAMES, *keywords]
         raise TypeError(
             f"unexpected option(s) {', '.join(unknown)}; the options are "
-            f"{', '.join(OPTION_NAMES)}, server, action_type, normalize_actions and timeout"
+            f"{', '.join(known[:-1])} and {known[-1]}"
         )
     ids = options.get("end_effector_ids")
     if isinstance(ids, str):

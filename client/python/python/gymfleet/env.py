@@ -9,6 +9,7 @@ import numpy as np
 from gymnasium.envs.registration import EnvSpec
 
 from . import _core
+from .errors import InvalidArgument
 from ._common import (
     ActionMap,
     HandleOwner,
@@ -16,6 +17,7 @@ from ._common import (
     check_action_type,
     create_options,
     document_json,
+    located,
     observation_space,
     seed_or_none,
     state_bytes,
@@ -54,7 +56,10 @@ class GymfleetEnv(HandleOwner, gym.Env):
         self.render_options: Dict[str, Any] = dict(render_options or {})
         self.action_type = check_action_type(action_type)
         text = document_json(document, options.get("model"))
-        self._handle = _core.EnvHandle.create(server, text, create_options(options), timeout)
+        try:
+            self._handle = _core.EnvHandle.create(server, text, create_options(options), timeout)
+        except InvalidArgument as err:
+            raise located(err, document) from None
         # gymnasium.make sets the spec of registered envs; one made here gets its own, so
         # `gymnasium.make(env.spec)` (and gymnasium's tools that use it) re-create it.
         self.spec = EnvSpec(

@@ -10,6 +10,7 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from . import _core
+from .errors import InvalidArgument
 from ._common import (
     ActionMap,
     HandleOwner,
@@ -17,6 +18,8 @@ from ._common import (
     check_action_type,
     create_options,
     document_json,
+    ENV_KEYWORDS,
+    located,
     observation_space,
     state_bytes,
 )
@@ -83,14 +86,17 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
         self.render_options: Dict[str, Any] = dict(render_options or {})
         mode = globals()["autoreset_mode"](autoreset_mode)
         self.action_type = check_action_type(action_type)
-        self._handle = _core.BatchHandle.create(
-            server,
-            document_json(document, options.get("model")),
-            int(num_envs),
-            _MODES[mode],
-            create_options(options),
-            timeout,
-        )
+        try:
+            self._handle = _core.BatchHandle.create(
+                server,
+                document_json(document, options.get("model")),
+                int(num_envs),
+                _MODES[mode],
+                create_options(options, (*ENV_KEYWORDS, "autoreset_mode")),
+                timeout,
+            )
+        except InvalidArgument as err:
+            raise located(err, document) from None
         self._info: Dict[str, Any] = self._handle.info
         self.num_envs = self._info["n_envs"]
         self.metadata = {**type(self).metadata, "autoreset_mode": mode}
