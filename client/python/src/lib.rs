@@ -31,6 +31,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(servers::stateful_set, m)?)?;
     m.add_function(wrap_pyfunction!(servers::server_info, m)?)?;
     m.add_function(wrap_pyfunction!(servers::convert_document, m)?)?;
+    m.add_function(wrap_pyfunction!(servers::list_models, m)?)?;
     m.add_function(wrap_pyfunction!(models::seed_model, m)?)?;
     m.add_function(wrap_pyfunction!(errors::_raise_status, m)?)?;
     Ok(())

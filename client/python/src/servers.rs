@@ -291,6 +291,40 @@ pub(crate) fn server_info(py: Python<'_>, server: Option<&str>) -> PyResult<Py<P
     }
 }
 
+/// The server's model library (`--models DIR`): one dict per model, `{name, format,
+/// dofs, action_dim}`, sorted by name; empty without a library. For a fleet, the first
+/// server's (every server of a fleet is meant to hold the same library).
+#[pyfunction]
+#[pyo3(signature = (server=None))]
+pub(crate) fn list_models<'py>(
+    py: Python<'py>,
+    server: Option<&str>,
+) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    let client = match resolve(py, server)? {
+        Target::One(client) => client,
+        Target::Fleet(fleet) => fleet.clients()[0].clone(),
+    };
+    let models = wait(py, None, || async move { client.list_models().await })?;
+    models
+        .iter()
+        .map(|m| {
+            let d = PyDict::new(py);
+            d.set_item("name", &m.name)?;
+            let format = match m.format {
+                gymfleet_client::DocumentFormat::Mjcf => "mjcf",
+                gymfleet_client::DocumentFormat::Urdf => "urdf",
+                gymfleet_client::DocumentFormat::Json | gymfleet_client::DocumentFormat::Detect => {
+                    "json"
+                }
+            };
+            d.set_item("format", format)?;
+            d.set_item("dofs", m.dofs)?;
+            d.set_item("action_dim", m.action_dim)?;
+            Ok(d)
+        })
+        .collect()
+}
+
 /// A description (MJCF text, or assembly JSON) as the assembly JSON `server` builds from
 /// it, and the conversion's warnings (`ConvertDocument`).
 #[pyfunction]

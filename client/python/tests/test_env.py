@@ -147,3 +147,52 @@ def test_the_package_exports_its_own_names_only():
     extra = [n for n in dir(gymfleet) if not n.startswith("_") and n not in gymfleet.__all__]
     assert all(isinstance(getattr(gymfleet, n), types.ModuleType) for n in extra), extra
     assert not {"Any", "Optional", "Dict", "json", "gymnasium"} & set(dir(gymfleet))
+
+
+def test_a_fork_continues_from_the_same_state_on_its_own(arm2):
+    env = gymfleet.make(arm2, end_effector_ids=["forearm"], reset_noise=5.0)
+    env.reset(seed=3)
+    for _ in range(5):
+        env.step(np.array([2e-4, -1e-4], dtype=np.float32))
+    twin = env.fork()
+    assert twin.env_id != env.env_id
+    np.testing.assert_array_equal(twin.observe(), env.observe())
+    for _ in range(10):
+        a = env.step(np.array([-1e-4, 2e-4], dtype=np.float32))
+        b = twin.step(np.array([-1e-4, 2e-4], dtype=np.float32))
+        np.testing.assert_array_equal(a[0], b[0])
+        assert a[1:4] == b[1:4]
+    # Independent: stepping one leaves the other where it was.
+    before = twin.observe()
+    env.step(np.array([1e-3, 1e-3], dtype=np.float32))
+    np.testing.assert_array_equal(twin.observe(), before)
+    twin.close()
+    env.close()
+
+
+def test_a_forked_batch_continues_every_env(arm2):
+    envs = gymfleet.make_vec(arm2, 3, end_effector_ids=["forearm"], reset_noise=5.0)
+    envs.reset(seed=1)
+    actions = np.full((3, 2), 1e-4, dtype=np.float32)
+    envs.step(actions)
+    twin = envs.fork()
+    assert twin.num_envs == 3
+    for _ in range(5):
+        np.testing.assert_array_equal(envs.step(actions)[0], twin.step(actions)[0])
+    twin.close()
+    envs.close()
+
+
+def test_list_models_shows_the_servers_library(tmp_path):
+    for name in ("arm2", "pendulum"):
+        (tmp_path / f"{name}.json").write_text((MODELS / f"{name}.json").read_text())
+    with gymfleet.Server(threads=1, models=str(tmp_path)) as server:
+        assert gymfleet.list_models(server.address) == [
+            {"name": "arm2", "format": "json", "dofs": 2, "action_dim": 2},
+            {"name": "pendulum", "format": "json", "dofs": 1, "action_dim": 1},
+        ]
+        env = gymfleet.make(model="arm2", server=server.address)
+        assert env.action_space.shape == (2,)
+        env.close()
+    # The embedded server has no library.
+    assert gymfleet.list_models() == []

@@ -54,6 +54,7 @@ __all__ = [
     "embedded_server_address",
     "server_info",
     "convert",
+    "list_models",
     "GymfleetError",
     "InvalidArgument",
     "NotFound",
@@ -189,6 +190,13 @@ def convert(
     (and lets you edit) what they build."""
     text, warnings = _core.convert_document(_document_json(document), server, _assets_bytes(assets))
     return _json.loads(text), list(warnings)
+
+
+def list_models(server: Optional[str] = None) -> List[Dict[str, Any]]:
+    """The server's model library (``--models DIR``; ``gymfleet.Server(models=DIR)``):
+    ``[{"name", "format", "dofs", "action_dim"}]`` sorted by name, each name what
+    ``make(model=NAME)`` takes instead of a document; empty without a library."""
+    return list(_core.list_models(server))
 
 
 class FleetEndpoints:

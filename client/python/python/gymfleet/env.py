@@ -176,6 +176,19 @@ class GymfleetEnv(HandleOwner, gym.Env):
         or format version, or corrupted bytes; the env is then unchanged."""
         return self._handle.load_state(state_bytes("state", state))
 
+    def fork(self) -> "GymfleetEnv":
+        """A new env on the same server, made with this env's document and options and
+        put in its state now (episode, task target, random generator, draws): the two then
+        run independently, and the same actions give both the same observations. The
+        caller closes it. ``FailedPrecondition`` for a diverged env."""
+        twin = GymfleetEnv(**self.spec.kwargs)
+        try:
+            twin.load_state(self.save_state())
+        except BaseException:
+            twin.close()
+            raise
+        return twin
+
     def close(self) -> None:
         """Frees the env on its server (again: nothing). A server that is gone has
         nothing left to free, so that is not an error."""

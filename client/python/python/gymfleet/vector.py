@@ -82,6 +82,19 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
                 f"render_mode: {render_mode!r} is not supported (render_modes: ['rgb_array'])"
             )
         self.render_mode = render_mode
+        # What made this batch, for `fork()`.
+        self._creation: Dict[str, Any] = {
+            "document": document,
+            "num_envs": num_envs,
+            "server": server,
+            "autoreset_mode": autoreset_mode,
+            "action_type": action_type,
+            "normalize_actions": normalize_actions,
+            "timeout": timeout,
+            "render_mode": render_mode,
+            "render_options": render_options,
+            **options,
+        }
         # Camera and size for `render()`, as for `GymfleetEnv`.
         self.render_options: Dict[str, Any] = dict(render_options or {})
         mode = globals()["autoreset_mode"](autoreset_mode)
@@ -272,6 +285,18 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
         if env_indices is not None and len(env_indices) == 0 and not blobs:
             return self.observe()
         return self._handle.load_states(blobs, self._indices(env_indices))
+
+    def fork(self) -> "GymfleetVectorEnv":
+        """A new batch on the same server(s), made with this batch's document and options
+        and put in its envs' states now (see :meth:`GymfleetEnv.fork`): the two then run
+        independently. The caller closes it."""
+        twin = GymfleetVectorEnv(**self._creation)
+        try:
+            twin.load_states(self.save_states())
+        except BaseException:
+            twin.close()
+            raise
+        return twin
 
     @staticmethod
     def _indices(env_indices: Optional[Sequence[int]]) -> Optional[np.ndarray]:
