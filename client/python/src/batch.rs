@@ -190,7 +190,10 @@ impl BatchHandle {
     /// Creates `n_envs` envs of `document_json` on `server` (see `resolve`), with
     /// `autoreset` one of `"disabled"`, `"same_step"`, `"next_step"`.
     #[staticmethod]
-    #[pyo3(signature = (server, document_json, n_envs, autoreset, options, timeout_s=None))]
+    #[pyo3(signature = (
+        server, document_json, n_envs, autoreset, options, timeout_s=None, token=None
+    ))]
+    #[allow(clippy::too_many_arguments)]
     fn create(
         py: Python<'_>,
         server: Option<&str>,
@@ -199,6 +202,7 @@ impl BatchHandle {
         autoreset: &str,
         options: CreateOptions,
         timeout_s: Option<f64>,
+        token: Option<&str>,
     ) -> PyResult<Self> {
         let timeout = timeout(timeout_s)?;
         let mode = match autoreset {
@@ -215,7 +219,7 @@ impl BatchHandle {
         let options = options
             .batch_options(document_json, n_envs)?
             .autoreset(mode);
-        let shards = match resolve(py, server)? {
+        let shards = match resolve(py, server, token)? {
             Target::One(client) => Shards::One(wait(py, timeout, || async move {
                 client.create_batch(options).await
             })?),

@@ -49,17 +49,18 @@ impl EnvHandle {
 
     /// Creates an env of `document_json` on `server` (see `resolve`).
     #[staticmethod]
-    #[pyo3(signature = (server, document_json, options, timeout_s=None))]
+    #[pyo3(signature = (server, document_json, options, timeout_s=None, token=None))]
     fn create(
         py: Python<'_>,
         server: Option<&str>,
         document_json: String,
         options: CreateOptions,
         timeout_s: Option<f64>,
+        token: Option<&str>,
     ) -> PyResult<Self> {
         let timeout = timeout(timeout_s)?;
         let options = options.env_options(document_json)?;
-        let env = match resolve(py, server)? {
+        let env = match resolve(py, server, token)? {
             Target::One(client) => {
                 wait(
                     py,

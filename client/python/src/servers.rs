@@ -27,9 +27,15 @@ pub(crate) enum Target {
 }
 
 /// The connection for `server` (`None`: the embedded server, started on first use; a
-/// comma-separated list: a fleet).
-pub(crate) fn resolve(py: Python<'_>, server: Option<&str>) -> PyResult<Target> {
+/// comma-separated list: a fleet), sending `token` (instead of `GYMFLEET_TOKEN`) when
+/// given.
+pub(crate) fn resolve(
+    py: Python<'_>,
+    server: Option<&str>,
+    token: Option<&str>,
+) -> PyResult<Target> {
     let addr = match server {
+        // The embedded server: plain TCP on loopback, no token.
         None => {
             let addr = embedded_address(py)?;
             return cached(py, &addr, Client::builder(addr.clone())).map(Target::One);
@@ -39,7 +45,7 @@ pub(crate) fn resolve(py: Python<'_>, server: Option<&str>) -> PyResult<Target> 
             let clients = endpoints
                 .addrs()
                 .iter()
-                .map(|a| client(py, a))
+                .map(|a| client(py, a, token))
                 .collect::<PyResult<Vec<_>>>()?;
             return Fleet::from_clients(clients)
                 .map(Target::Fleet)
@@ -47,13 +53,27 @@ pub(crate) fn resolve(py: Python<'_>, server: Option<&str>) -> PyResult<Target> 
         }
         Some(addr) => addr.trim().to_string(),
     };
-    client(py, &addr).map(Target::One)
+    client(py, &addr, token).map(Target::One)
 }
 
 /// The cached connection to the server at `addr`, with the token and TLS settings of
-/// the `GYMFLEET_*` variables the command-line tools read too ([`from_environment`]).
-fn client(py: Python<'_>, addr: &str) -> PyResult<Client> {
-    cached(py, addr, from_environment(addr)?)
+/// the `GYMFLEET_*` variables the command-line tools read too ([`from_environment`]);
+/// `token` replaces `GYMFLEET_TOKEN` (a connection per address and token).
+fn client(py: Python<'_>, addr: &str, token: Option<&str>) -> PyResult<Client> {
+    let mut settings = from_environment(addr)?;
+    let key = match token {
+        Some(token) => {
+            if token.is_empty() {
+                return Err(crate::options::invalid(
+                    "token: expected a non-empty bearer token".to_string(),
+                ));
+            }
+            settings = settings.token(token);
+            format!("{addr}\u{0}{token}")
+        }
+        None => addr.to_string(),
+    };
+    cached(py, &key, settings)
 }
 
 /// Connection settings for `addr` from the environment: `GYMFLEET_TOKEN` (bearer
@@ -273,9 +293,13 @@ pub(crate) fn stateful_set(
 /// What a server says about itself (version, threads, envs and batches open, limits);
 /// for a fleet, a list with one per server.
 #[pyfunction]
-#[pyo3(signature = (server=None))]
-pub(crate) fn server_info(py: Python<'_>, server: Option<&str>) -> PyResult<Py<PyAny>> {
-    match resolve(py, server)? {
+#[pyo3(signature = (server=None, token=None))]
+pub(crate) fn server_info(
+    py: Python<'_>,
+    server: Option<&str>,
+    token: Option<&str>,
+) -> PyResult<Py<PyAny>> {
+    match resolve(py, server, token)? {
         Target::One(client) => {
             let info = wait(py, None, || async move { client.server_info().await })?;
             Ok(info_dict(py, &info)?.into_any().unbind())
@@ -295,12 +319,13 @@ pub(crate) fn server_info(py: Python<'_>, server: Option<&str>) -> PyResult<Py<P
 /// dofs, action_dim}`, sorted by name; empty without a library. For a fleet, the first
 /// server's (every server of a fleet is meant to hold the same library).
 #[pyfunction]
-#[pyo3(signature = (server=None))]
+#[pyo3(signature = (server=None, token=None))]
 pub(crate) fn list_models<'py>(
     py: Python<'py>,
     server: Option<&str>,
+    token: Option<&str>,
 ) -> PyResult<Vec<Bound<'py, PyDict>>> {
-    let client = match resolve(py, server)? {
+    let client = match resolve(py, server, token)? {
         Target::One(client) => client,
         Target::Fleet(fleet) => fleet.clients()[0].clone(),
     };
@@ -328,14 +353,15 @@ pub(crate) fn list_models<'py>(
 /// A description (MJCF text, or assembly JSON) as the assembly JSON `server` builds from
 /// it, and the conversion's warnings (`ConvertDocument`).
 #[pyfunction]
-#[pyo3(signature = (document, server=None, assets=None))]
+#[pyo3(signature = (document, server=None, assets=None, token=None))]
 pub(crate) fn convert_document(
     py: Python<'_>,
     document: String,
     server: Option<&str>,
     assets: Option<Vec<u8>>,
+    token: Option<&str>,
 ) -> PyResult<(String, Vec<String>)> {
-    let client = match resolve(py, server)? {
+    let client = match resolve(py, server, token)? {
         Target::One(client) => client,
         Target::Fleet(fleet) => fleet.clients()[0].clone(),
     };

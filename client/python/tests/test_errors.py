@@ -164,7 +164,33 @@ def test_an_unexpected_option_lists_every_keyword(arm2):
         gymfleet.make(arm2, colour=1)
     message = str(e.value)
     assert message.startswith("unexpected option(s) colour; the options are end_effector_ids")
-    assert message.endswith("timeout, render_mode and render_options")
+    assert message.endswith("timeout, render_mode, render_options and token")
     with pytest.raises(TypeError) as e:
         gymfleet.make_vec(arm2, 2, colour=1)
-    assert str(e.value).endswith("render_mode, render_options and autoreset_mode")
+    assert str(e.value).endswith("render_options, token and autoreset_mode")
+
+
+def test_a_token_argument_reaches_a_server_that_requires_one(arm2, tmp_path, monkeypatch):
+    token = "py-token-0123456789abcdef"
+    tokens = tmp_path / "tokens"
+    tokens.write_text(f"python-team {token}\n")
+    monkeypatch.delenv("GYMFLEET_TOKEN", raising=False)
+    with gymfleet.Server(threads=1, auth_tokens=str(tokens)) as server:
+        with pytest.raises(gymfleet.Unauthenticated, match="GYMFLEET_TOKEN"):
+            gymfleet.server_info(server.address)
+        assert gymfleet.server_info(server.address, token=token)["tenant"] == "python-team"
+        assert gymfleet.list_models(server.address, token=token) == []
+        env = gymfleet.make(arm2, server=server.address, token=token)
+        env.reset(seed=0)
+        # The token stays out of the spec, which gets printed and logged; a fork keeps it.
+        assert token not in repr(env.spec)
+        twin = env.fork()
+        twin.close()
+        envs = gymfleet.make_vec(arm2, 2, server=server.address, token=token)
+        envs.reset(seed=0)
+        envs.fork().close()
+        envs.close()
+        assert gymfleet.server_info(server.address, token=token)["envs"] == 1
+        env.close()
+        with pytest.raises(gymfleet.InvalidArgument, match="token: expected a non-empty bearer token"):
+            gymfleet.make(arm2, server=server.address, token="")

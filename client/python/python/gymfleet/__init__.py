@@ -86,6 +86,7 @@ def make(
     ``gymnasium.make(id, server=server, **kwargs)``. Options are the proto's ``CreateEnvRequest`` fields; unset
     ones take the server's defaults (dt 1/240 s, 5 substeps, 1000 steps, seed 0).
     Other keywords: ``pd_gains``, ``normalize_actions``, ``timeout`` (seconds per call),
+    ``token`` (the bearer token of a server that requires one; default ``GYMFLEET_TOKEN``),
     ``model`` (a name of the server's ``--models`` library, instead of ``document``) and
     ``assets`` (the description's mesh files: a folder, a zip/tar file, or its bytes).
     """
@@ -173,30 +174,36 @@ def embedded_server_address() -> str:
     return _core.embedded_address()
 
 
-def server_info(server: Optional[str] = None) -> Any:
+def server_info(server: Optional[str] = None, token: Optional[str] = None) -> Any:
     """What a server says about itself: ``version``, ``threads``, open ``envs``,
     ``batches`` and ``batch_envs``, and its ``limits``. ``server=None``: this process's
-    embedded server; a comma-separated list: a list, one per server."""
-    return _core.server_info(server)
+    embedded server; a comma-separated list: a list, one per server. ``token``: the
+    bearer token for a server that requires one (default: ``GYMFLEET_TOKEN``)."""
+    return _core.server_info(server, token)
 
 
 def convert(
-    document: _Document, server: Optional[str] = None, assets: Any = None
+    document: _Document,
+    server: Optional[str] = None,
+    assets: Any = None,
+    token: Optional[str] = None,
 ) -> Tuple[Dict[str, Any], List[str]]:
     """The assembly JSON (as a dict) a server builds from ``document`` (MJCF or URDF text
     or a path to an ``.xml``/``.urdf`` file; JSON is checked and returned), and what the
     conversion ignored. ``assets``: the mesh files, as for :func:`make` (their hulls are
     read into the JSON). ``make``/``make_vec`` take MJCF and URDF directly; this shows
     (and lets you edit) what they build."""
-    text, warnings = _core.convert_document(_document_json(document), server, _assets_bytes(assets))
+    text, warnings = _core.convert_document(
+        _document_json(document), server, _assets_bytes(assets), token
+    )
     return _json.loads(text), list(warnings)
 
 
-def list_models(server: Optional[str] = None) -> List[Dict[str, Any]]:
+def list_models(server: Optional[str] = None, token: Optional[str] = None) -> List[Dict[str, Any]]:
     """The server's model library (``--models DIR``; ``gymfleet.Server(models=DIR)``):
     ``[{"name", "format", "dofs", "action_dim"}]`` sorted by name, each name what
     ``make(model=NAME)`` takes instead of a document; empty without a library."""
-    return list(_core.list_models(server))
+    return list(_core.list_models(server, token))
 
 
 class FleetEndpoints:

@@ -129,6 +129,7 @@ ENV_KEYWORDS = (
     "timeout",
     "render_mode",
     "render_options",
+    "token",
 )
 
 

@@ -44,6 +44,7 @@ class GymfleetEnv(HandleOwner, gym.Env):
         timeout: Optional[float] = None,
         render_mode: Optional[str] = None,
         render_options: Optional[Dict[str, Any]] = None,
+        token: Optional[str] = None,
         **options: Any,
     ) -> None:
         if render_mode not in (None, "rgb_array"):
@@ -57,7 +58,9 @@ class GymfleetEnv(HandleOwner, gym.Env):
         self.action_type = check_action_type(action_type)
         text = document_json(document, options.get("model"))
         try:
-            self._handle = _core.EnvHandle.create(server, text, create_options(options), timeout)
+            self._handle = _core.EnvHandle.create(
+                server, text, create_options(options), timeout, token
+            )
         except InvalidArgument as err:
             raise located(err, document) from None
         # gymnasium.make sets the spec of registered envs; one made here gets its own, so
@@ -76,6 +79,8 @@ class GymfleetEnv(HandleOwner, gym.Env):
                 **options,
             },
         )
+        # The token stays out of the spec (which gets printed and logged).
+        self._token = token
         self._info: Dict[str, Any] = self._handle.info
         self._actions = ActionMap(self._info, action_type, normalize_actions)
         self.action_space = self._actions.space
@@ -181,7 +186,7 @@ class GymfleetEnv(HandleOwner, gym.Env):
         put in its state now (episode, task target, random generator, draws): the two then
         run independently, and the same actions give both the same observations. The
         caller closes it. ``FailedPrecondition`` for a diverged env."""
-        twin = GymfleetEnv(**self.spec.kwargs)
+        twin = GymfleetEnv(**self.spec.kwargs, token=self._token)
         try:
             twin.load_state(self.save_state())
         except BaseException:

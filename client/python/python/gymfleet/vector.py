@@ -75,6 +75,7 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
         timeout: Optional[float] = None,
         render_mode: Optional[str] = None,
         render_options: Optional[Dict[str, Any]] = None,
+        token: Optional[str] = None,
         **options: Any,
     ) -> None:
         if render_mode not in (None, "rgb_array"):
@@ -93,6 +94,7 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
             "timeout": timeout,
             "render_mode": render_mode,
             "render_options": render_options,
+            "token": token,
             **options,
         }
         # Camera and size for `render()`, as for `GymfleetEnv`.
@@ -107,6 +109,7 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
                 _MODES[mode],
                 create_options(options, (*ENV_KEYWORDS, "autoreset_mode")),
                 timeout,
+                token,
             )
         except InvalidArgument as err:
             raise located(err, document) from None

@@ -58,6 +58,7 @@ class _Setup:
         return {
             "server": self.kw["server"],
             "timeout": self.kw["timeout"],
+            "token": self.kw["token"],
             "units": "si",
             "dt": self.dt,
             "substeps": self.frame_skip,

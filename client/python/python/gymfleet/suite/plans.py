@@ -25,7 +25,7 @@ Terms = Mapping[str, np.ndarray]
 
 #: Keywords every suite env takes besides its own: Gymnasium's ``MujocoEnv`` ones (the
 #: renderer's are accepted and ignored but ``render_mode``, ``width`` and ``height``) and
-#: gymfleet's (``server``, ``timeout``).
+#: gymfleet's (``server``, ``timeout``, ``token``).
 COMMON_KWARGS: Dict[str, Any] = {
     "xml_file": None,
     "frame_skip": None,
@@ -39,6 +39,7 @@ COMMON_KWARGS: Dict[str, Any] = {
     "visual_options": None,
     "server": None,
     "timeout": None,
+    "token": None,
 }
 
 #: The renderer options gymfleet cannot honour (its pictures come from its own renderer).
