@@ -80,7 +80,13 @@ def test_randomized_envs_report_their_draws(pendulum, arm2):
         env = gymfleet.make(pendulum, randomize={"mass_scale": [factor, factor]})
         env.reset()
         turns.append(env.step([1e-4])[0][0])
-        assert env.randomization()["instances"][1] == ("arm", factor, 1.0)
+        draw = env.randomization()["instances"][1]
+        assert draw == ("arm", factor, 1.0)
+        assert (draw.name, draw.mass_scale, draw.friction_scale) == ("arm", factor, 1.0)
+        assert isinstance(draw, gymfleet.InstanceDraw)
+        joint = env.randomization()["joints"][0]
+        assert isinstance(joint, gymfleet.JointDraw)
+        assert (joint.damping_scale, joint.gain_scale) == (1.0, 1.0)
         env.close()
     assert turns[1] == pytest.approx(turns[0] / 2, rel=0.01)
     env = gymfleet.make(pendulum)

@@ -19,6 +19,7 @@ from gymnasium.vector import AutoresetMode as _AutoresetMode
 
 from . import _core
 from ._common import Document as _Document
+from ._common import InstanceDraw, JointDraw
 from ._common import assets_bytes as _assets_bytes
 from ._common import document_json as _document_json
 from .env import GymfleetEnv
@@ -55,6 +56,8 @@ __all__ = [
     "server_info",
     "convert",
     "list_models",
+    "InstanceDraw",
+    "JointDraw",
     "GymfleetError",
     "InvalidArgument",
     "NotFound",

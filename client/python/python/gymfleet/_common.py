@@ -7,7 +7,7 @@ import io
 import json
 import os
 import zipfile
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, List, Mapping, NamedTuple, Optional, Sequence, Tuple, Union
 
 import numpy as np
 from gymnasium import spaces
@@ -67,6 +67,31 @@ def document_json(document: Optional[Document], model: Optional[str] = None) -> 
     raise TypeError(
         f"document: expected a dict, a JSON string or a path, got {type(document).__name__}"
     )
+
+
+class InstanceDraw(NamedTuple):
+    """The domain-randomisation factors an instance drew at the last reset."""
+
+    name: str
+    mass_scale: float
+    friction_scale: float
+
+
+class JointDraw(NamedTuple):
+    """The domain-randomisation factors a joint drew at the last reset."""
+
+    name: str
+    damping_scale: float
+    gain_scale: float
+
+
+def named_draws(raw: Mapping[str, Any]) -> Dict[str, Any]:
+    """The extension's draws with named fields (still tuples: ``name, mass, friction =
+    draw`` unpacks them as before)."""
+    return {
+        "instances": [InstanceDraw(*d) for d in raw["instances"]],
+        "joints": [JointDraw(*d) for d in raw["joints"]],
+    }
 
 
 def document_path(document: Optional[Document]) -> Optional[str]:

@@ -18,6 +18,7 @@ from ._common import (
     create_options,
     document_json,
     located,
+    named_draws,
     observation_space,
     seed_or_none,
     state_bytes,
@@ -127,9 +128,10 @@ class GymfleetEnv(HandleOwner, gym.Env):
 
     def randomization(self) -> Dict[str, Any]:
         """The domain-randomisation factors drawn at the last reset:
-        ``{"instances": [(name, mass, friction)], "joints": [(name, damping, gain)]}``.
+        ``{"instances": [InstanceDraw(name, mass_scale, friction_scale)], "joints":
+        [JointDraw(name, damping_scale, gain_scale)]}`` (named tuples).
         ``FailedPrecondition`` if the env was made without ``randomize``."""
-        return self._handle.randomization()
+        return named_draws(self._handle.randomization())
 
     def render(self) -> Optional[np.ndarray]:
         """With ``render_mode="rgb_array"``: a picture of the env as it is now, a

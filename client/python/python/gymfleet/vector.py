@@ -20,6 +20,7 @@ from ._common import (
     document_json,
     ENV_KEYWORDS,
     located,
+    named_draws,
     observation_space,
     state_bytes,
 )
@@ -236,7 +237,7 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
     def randomization(self, env_index: int) -> Dict[str, Any]:
         """Env ``env_index``'s domain-randomisation factors drawn at its last reset (see
         :meth:`GymfleetEnv.randomization`)."""
-        return self._handle.randomization(int(env_index))
+        return named_draws(self._handle.randomization(int(env_index)))
 
     def render(self) -> Optional[Tuple[np.ndarray, ...]]:
         """With ``render_mode="rgb_array"``: one picture per env (a ``height x width x 3``
