@@ -8,9 +8,9 @@ use common::env_with;
 use gymfleet_env::{ActionType, EnvConfig, RobotEnv, TaskKind, TaskSpec, TermsTask, Units};
 use serde_json::json;
 
-/// A 20 mm cube (8 g at 1000 kg/m³) dropped from 1 mm onto a plane, with a terms task.
-fn cube_on_plane(task: &str) -> RobotEnv {
-    let doc = json!({
+/// A 20 mm cube (8 g at 1000 kg/m³) 1 mm above a plane.
+fn cube_doc() -> serde_json::Value {
+    json!({
         "parts": [
             {"name": "Ground", "primitive": {"type": "plane"}},
             {"name": "Cube", "primitive": {"type": "cube", "size": {"x": 20, "y": 20, "z": 20}}}
@@ -19,7 +19,12 @@ fn cube_on_plane(task: &str) -> RobotEnv {
             {"part": "Ground", "name": "ground"},
             {"part": "Cube", "name": "cube", "position": {"x": -10, "y": -10, "z": 1}}
         ]}
-    });
+    })
+}
+
+/// The cube dropped onto the plane, with a terms task.
+fn cube_on_plane(task: &str) -> RobotEnv {
+    let doc = cube_doc();
     let config = EnvConfig {
         units: Units::Si,
         task: Some(TaskSpec {
@@ -132,17 +137,7 @@ fn bad_contact_terms_get_their_own_errors() {
             }),
             ..EnvConfig::default()
         };
-        let doc = json!({
-            "parts": [
-                {"name": "Ground", "primitive": {"type": "plane"}},
-                {"name": "Cube", "primitive": {"type": "cube", "size": {"x": 20, "y": 20, "z": 20}}}
-            ],
-            "assembly": {"instances": [
-                {"part": "Ground", "name": "ground"},
-                {"part": "Cube", "name": "cube", "position": {"x": -10, "y": -10, "z": 1}}
-            ]}
-        });
-        let err = RobotEnv::from_json(&doc.to_string(), config)
+        let err = RobotEnv::from_json(&cube_doc().to_string(), config)
             .err()
             .expect("refused")
             .to_string();

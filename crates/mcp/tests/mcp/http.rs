@@ -39,6 +39,24 @@ async fn spawn_http(args: &[&str]) -> (tokio::process::Child, String) {
     (child, url)
 }
 
+/// The adapter on HTTP without a token: with its embedded server (`embedded` feature),
+/// or against a test server started here (returned, to stop at the end).
+async fn spawn_plain_http() -> (tokio::process::Child, String, Option<crate::TestServer>) {
+    let server = if cfg!(feature = "embedded") {
+        None
+    } else {
+        Some(crate::TestServer::start().await)
+    };
+    let mut args: Vec<String> = vec!["--http".into(), "127.0.0.1:0".into()];
+    match &server {
+        None => args.extend(["--threads".into(), "1".into()]),
+        Some(s) => args.extend(["--server".into(), s.addr()]),
+    }
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let (child, url) = spawn_http(&args).await;
+    (child, url, server)
+}
+
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn an_http_token_guards_the_adapter_and_a_server_token_reaches_the_server() {
     use rmcp::transport::streamable_http_client::StreamableHttpClientTransportConfig;
@@ -106,20 +124,7 @@ async fn an_http_token_guards_the_adapter_and_a_server_token_reaches_the_server(
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn tools_over_streamable_http() {
-    let mut args = vec!["--http", "127.0.0.1:0"];
-    if cfg!(feature = "embedded") {
-        args.extend(["--threads", "1"]);
-    }
-    let server = if cfg!(feature = "embedded") {
-        None
-    } else {
-        Some(crate::TestServer::start().await)
-    };
-    let server_addr = server.as_ref().map(|s| s.addr());
-    if let Some(addr) = &server_addr {
-        args.extend(["--server", addr.as_str()]);
-    }
-    let (mut child, url) = spawn_http(&args).await;
+    let (mut child, url, server) = spawn_plain_http().await;
 
     let session =
         ().serve(StreamableHttpClientTransport::from_uri(url))
@@ -227,18 +232,7 @@ async fn http_request(
 /// is gone afterwards.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn ending_a_session_with_delete_answers_no_content() {
-    let mut args = vec!["--http", "127.0.0.1:0"];
-    let server = if cfg!(feature = "embedded") {
-        args.extend(["--threads", "1"]);
-        None
-    } else {
-        Some(crate::TestServer::start().await)
-    };
-    let server_addr = server.as_ref().map(|s| s.addr());
-    if let Some(addr) = &server_addr {
-        args.extend(["--server", addr.as_str()]);
-    }
-    let (mut child, url) = spawn_http(&args).await;
+    let (mut child, url, server) = spawn_plain_http().await;
     let initialize = json!({
         "jsonrpc": "2.0", "id": 1, "method": "initialize",
         "params": {"protocolVersion": "2025-03-26", "capabilities": {},

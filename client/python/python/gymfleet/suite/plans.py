@@ -277,19 +277,11 @@ def _half_cheetah(model: Model, kw: Mapping[str, Any]) -> Plan:
     return Plan(task, _joint_state(skip, None), 2 * n - skip, step_info, reset_info)
 
 
-def _swimmer(model: Model, kw: Mapping[str, Any]) -> Plan:
-    x, y = model.joints[0], model.joints[1]
-    fw, cw = float(kw["forward_reward_weight"]), float(kw["ctrl_cost_weight"])
-    task = {
-        "terms": [
-            {"name": "x_velocity", "weight": fw, "velocity": {"joint": x}},
-            {"name": "y_velocity", "weight": 0.0, "velocity": {"joint": y}},
-            {"name": "ctrl_cost", "weight": -cw, "ctrl_cost": {}},
-        ],
-        "reset_noise": _noise("uniform", "uniform", float(kw["reset_noise_scale"])),
-    }
-    ix, iy = model.index(x), model.index(y)
-    skip = 2 if _exclude(kw) else 0
+def _xy_infos(
+    ix: int, iy: int, fw: float, cw: float
+) -> Tuple[Callable[[Positions], Dict[str, np.ndarray]], Callable[[Positions, Terms], Dict[str, np.ndarray]]]:
+    """The reset and step infos of a robot moving in the plane (Swimmer, Ant): its x and y
+    (positions ``ix``, ``iy``), their rates, and the forward and control rewards."""
 
     def reset_info(q: Positions) -> Dict[str, np.ndarray]:
         return {
@@ -306,6 +298,23 @@ def _swimmer(model: Model, kw: Mapping[str, Any]) -> Plan:
             "reward_forward": fw * t["x_velocity"],
             "reward_ctrl": -cw * t["ctrl_cost"],
         }
+
+    return reset_info, step_info
+
+
+def _swimmer(model: Model, kw: Mapping[str, Any]) -> Plan:
+    x, y = model.joints[0], model.joints[1]
+    fw, cw = float(kw["forward_reward_weight"]), float(kw["ctrl_cost_weight"])
+    task = {
+        "terms": [
+            {"name": "x_velocity", "weight": fw, "velocity": {"joint": x}},
+            {"name": "y_velocity", "weight": 0.0, "velocity": {"joint": y}},
+            {"name": "ctrl_cost", "weight": -cw, "ctrl_cost": {}},
+        ],
+        "reset_noise": _noise("uniform", "uniform", float(kw["reset_noise_scale"])),
+    }
+    skip = 2 if _exclude(kw) else 0
+    reset_info, step_info = _xy_infos(model.index(x), model.index(y), fw, cw)
 
     n = len(model.joints)
     return Plan(task, _joint_state(skip, None), 2 * n - skip, step_info, reset_info)
@@ -444,20 +453,12 @@ def _ant(model: Model, kw: Mapping[str, Any]) -> Plan:
             parts.append(np.clip(forces, lo, hi))
         return np.concatenate(parts, axis=1)
 
-    def reset_info(q: Positions) -> Dict[str, np.ndarray]:
-        return {
-            "x_position": q[:, 0],
-            "y_position": q[:, 1],
-            "distance_from_origin": np.hypot(q[:, 0], q[:, 1]),
-        }
+    # MuJoCo's qpos starts with the free joint's x and y.
+    reset_info, planar_step_info = _xy_infos(0, 1, fw, cw)
 
     def step_info(q: Positions, t: Terms) -> Dict[str, np.ndarray]:
         return {
-            **reset_info(q),
-            "x_velocity": t["x_velocity"],
-            "y_velocity": t["y_velocity"],
-            "reward_forward": fw * t["x_velocity"],
-            "reward_ctrl": -cw * t["ctrl_cost"],
+            **planar_step_info(q, t),
             "reward_contact": -ccw * t["contact_cost"],
             "reward_survive": hw * t["healthy"],
         }
