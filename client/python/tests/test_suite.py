@@ -442,4 +442,21 @@ def test_remote_server_and_fleet(remote_server):
         np.testing.assert_array_equal(fleet.reset(seed=9)[0], local.reset(seed=9)[0])
         np.testing.assert_array_equal(fleet.step(actions)[0], local.step(actions)[0])
         fleet.close()
+        # The Ant's observation holds 78 term values (its contact wrenches): sharded, each
+        # env's come back with its rows.
+        ants = [
+            gymfleet.make_vec("gymfleet/Ant-v5", 4, server=s)
+            for s in (f"{remote_server},{other.address}", None)
+        ]
+        starts = [a.reset(seed=5)[0] for a in ants]
+        np.testing.assert_array_equal(starts[0], starts[1])
+        push = np.tile(0.3 * np.sin(np.arange(8, dtype=np.float32)), (4, 1))
+        for _ in range(12):
+            (o0, r0, *_, i0), (o1, r1, *_, i1) = (a.step(push) for a in ants)
+            np.testing.assert_array_equal(o0, o1)
+            np.testing.assert_array_equal(r0, r1)
+            np.testing.assert_array_equal(i0["reward_contact"], i1["reward_contact"])
+        assert np.abs(o0[:, 27:]).max() > 0, "the feet touch the floor"
+        for a in ants:
+            a.close()
     local.close()

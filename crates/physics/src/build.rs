@@ -6,9 +6,9 @@ use rapier3d::prelude::*;
 use crate::actuation::resolve_gains;
 use crate::command::{Command, ResolvedGains};
 use crate::error::{PhysicsError, Result};
-use crate::randomize::BaseValues;
 use crate::world::{
-    length_unit, FreeRoot, JointDof, JointSlot, PipelineCell, RobotWorld, Sets, WorldOptions,
+    length_unit, BaseValues, FreeRoot, JointDof, JointSlot, PipelineCell, RobotWorld, Sets,
+    WorldOptions,
 };
 
 impl RobotWorld {

@@ -34,21 +34,6 @@ impl Draws {
     }
 }
 
-/// The document's values the factors scale, kept from the build.
-#[derive(Debug, Clone, Default)]
-pub(crate) struct BaseValues {
-    /// Per instance: its collider's density and friction.
-    pub(crate) density: Vec<Real>,
-    /// Per instance: its given mass properties (`inertial`), which a mass factor scales
-    /// instead of the density.
-    pub(crate) given: Vec<Option<MassProperties>>,
-    pub(crate) friction: Vec<Real>,
-    /// Per DOF: the document's damping, and the gains resolved at build.
-    pub(crate) damping: Vec<Real>,
-    pub(crate) kp: Vec<f64>,
-    pub(crate) kd: Vec<f64>,
-}
-
 impl RobotWorld {
     /// Applies an episode's factors. Call right after [`RobotWorld::reset`] (before any
     /// start offsets), so that default gains are recomputed at the initial pose.

@@ -134,7 +134,23 @@ pub struct RobotWorld {
     pub(crate) command: Command,
     pub(crate) pipeline: PipelineCell,
     /// The document's values that domain randomisation scales.
-    pub(crate) base: crate::randomize::BaseValues,
+    pub(crate) base: BaseValues,
+}
+
+/// The document's values domain randomisation scales (`randomize.rs`), kept from the
+/// build.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct BaseValues {
+    /// Per instance: its collider's density and friction.
+    pub(crate) density: Vec<Real>,
+    /// Per instance: its given mass properties (`inertial`), which a mass factor scales
+    /// instead of the density.
+    pub(crate) given: Vec<Option<MassProperties>>,
+    pub(crate) friction: Vec<Real>,
+    /// Per DOF: the document's damping, and the gains resolved at build.
+    pub(crate) damping: Vec<Real>,
+    pub(crate) kp: Vec<f64>,
+    pub(crate) kd: Vec<f64>,
 }
 
 /// The solver pipeline holds only scratch buffers, so a clone starts a fresh one.
