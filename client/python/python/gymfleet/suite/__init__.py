@@ -20,7 +20,7 @@ from typing import Any
 import gymnasium
 
 from .envs import SuiteEnv, SuiteVectorEnv
-from .plans import SUITE
+from .specs import SUITE
 
 __all__ = ["SuiteEnv", "SuiteVectorEnv", "SUITE", "register_suite"]
 

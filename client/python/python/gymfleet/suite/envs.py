@@ -22,7 +22,8 @@ from gymnasium.vector.utils import batch_space
 from ..env import GymfleetEnv
 from ..errors import InvalidArgument
 from ..vector import GymfleetVectorEnv
-from .plans import IGNORED_KWARGS, SUITE, Model, Plan, SuiteSpec, read_model
+from .plans import Model, Plan, read_model
+from .specs import IGNORED_KWARGS, SUITE, SuiteSpec
 
 #: A single env's server-side episode limit: none that matters; gymnasium's TimeLimit
 #: (``max_episode_steps`` on the spec) truncates.

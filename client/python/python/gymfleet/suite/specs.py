@@ -1,0 +1,219 @@
+"""The registered ids: for each of Gymnasium's MuJoCo v5 environments, its name, XML file,
+frame skip, episode length, keyword arguments with Gymnasium's defaults (``defaults``),
+and the plan that builds it (``plans.py``); and the keywords every suite env takes.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Callable, Dict, Mapping, Optional
+
+import numpy as np
+
+from ..errors import InvalidArgument
+from .plans import (
+    _ant,
+    _half_cheetah,
+    _hopper,
+    _inverted_double_pendulum,
+    _inverted_pendulum,
+    _pusher,
+    _reacher,
+    _swimmer,
+    _walker2d,
+    Model,
+    Plan,
+)
+
+#: Keywords every suite env takes besides its own: Gymnasium's ``MujocoEnv`` ones (the
+#: renderer's are accepted and ignored but ``render_mode``, ``width`` and ``height``) and
+#: gymfleet's (``server``, ``timeout``, ``token``).
+COMMON_KWARGS: Dict[str, Any] = {
+    "xml_file": None,
+    "frame_skip": None,
+    "render_mode": None,
+    "width": 480,
+    "height": 480,
+    "camera_id": None,
+    "camera_name": None,
+    "default_camera_config": None,
+    "max_geom": 1000,
+    "visual_options": None,
+    "server": None,
+    "timeout": None,
+    "token": None,
+}
+
+#: The renderer options gymfleet cannot honour (its pictures come from its own renderer).
+IGNORED_KWARGS = ("camera_id", "camera_name", "default_camera_config", "max_geom", "visual_options")
+
+
+@dataclass
+class SuiteSpec:
+    """One registered env: its Gymnasium name, defaults and plan."""
+
+    name: str
+    xml_file: str
+    frame_skip: int
+    max_episode_steps: int
+    reward_threshold: Optional[float]
+    defaults: Dict[str, Any]
+    plan: Callable[[Model, Mapping[str, Any]], Plan]
+    #: What differs from Gymnasium's env, if anything (Swimmer: no fluid yet).
+    note: str = ""
+
+    @property
+    def id(self) -> str:
+        return f"gymfleet/{self.name}-v5"
+
+    def kwargs(self, given: Mapping[str, Any]) -> Dict[str, Any]:
+        """Gymnasium's defaults updated with ``given``; an unknown keyword is an
+        ``InvalidArgument`` naming the known ones."""
+        known = {**COMMON_KWARGS, **self.defaults}
+        unknown = sorted(set(given) - set(known))
+        if unknown:
+            raise InvalidArgument(
+                f"{self.id}: unknown keyword argument(s) {', '.join(unknown)}; the keywords "
+                f"are {', '.join(sorted(known))}"
+            )
+        out = dict(known)
+        out.update(given)
+        if out["xml_file"] is None:
+            out["xml_file"] = self.xml_file
+        if out["frame_skip"] is None:
+            out["frame_skip"] = self.frame_skip
+        frame_skip = out["frame_skip"]
+        if isinstance(frame_skip, bool) or not isinstance(frame_skip, (int, np.integer)) or frame_skip < 1:
+            raise InvalidArgument(f"frame_skip: expected an integer >= 1, got {frame_skip!r}")
+        return out
+
+
+_WALKER_DEFAULTS = {
+    "forward_reward_weight": 1.0,
+    "ctrl_cost_weight": 1e-3,
+    "healthy_reward": 1.0,
+    "terminate_when_unhealthy": True,
+    "reset_noise_scale": 5e-3,
+    "exclude_current_positions_from_observation": True,
+}
+
+SUITE: Dict[str, SuiteSpec] = {
+    s.id: s
+    for s in [
+        SuiteSpec(
+            "InvertedPendulum",
+            "inverted_pendulum.xml",
+            2,
+            1000,
+            950.0,
+            {"reset_noise_scale": 0.01},
+            _inverted_pendulum,
+        ),
+        SuiteSpec(
+            "InvertedDoublePendulum",
+            "inverted_double_pendulum.xml",
+            5,
+            1000,
+            9100.0,
+            {"healthy_reward": 10.0, "reset_noise_scale": 0.1},
+            _inverted_double_pendulum,
+        ),
+        SuiteSpec(
+            "Reacher",
+            "reacher.xml",
+            2,
+            50,
+            -3.75,
+            {"reward_dist_weight": 1.0, "reward_control_weight": 1.0},
+            _reacher,
+        ),
+        SuiteSpec(
+            "Pusher",
+            "pusher_v5.xml",
+            5,
+            100,
+            0.0,
+            {"reward_near_weight": 0.5, "reward_dist_weight": 1.0, "reward_control_weight": 0.1},
+            _pusher,
+        ),
+        SuiteSpec(
+            "HalfCheetah",
+            "half_cheetah.xml",
+            5,
+            1000,
+            4800.0,
+            {
+                "forward_reward_weight": 1.0,
+                "ctrl_cost_weight": 0.1,
+                "reset_noise_scale": 0.1,
+                "exclude_current_positions_from_observation": True,
+            },
+            _half_cheetah,
+        ),
+        SuiteSpec(
+            "Hopper",
+            "hopper.xml",
+            4,
+            1000,
+            3800.0,
+            {
+                **_WALKER_DEFAULTS,
+                "healthy_state_range": (-100.0, 100.0),
+                "healthy_z_range": (0.7, float("inf")),
+                "healthy_angle_range": (-0.2, 0.2),
+            },
+            _hopper,
+        ),
+        SuiteSpec(
+            "Walker2d",
+            "walker2d_v5.xml",
+            4,
+            1000,
+            None,
+            {
+                **_WALKER_DEFAULTS,
+                "healthy_z_range": (0.8, 2.0),
+                "healthy_angle_range": (-1.0, 1.0),
+            },
+            _walker2d,
+        ),
+        SuiteSpec(
+            "Ant",
+            "ant.xml",
+            5,
+            1000,
+            6000.0,
+            {
+                "forward_reward_weight": 1.0,
+                "ctrl_cost_weight": 0.5,
+                "contact_cost_weight": 5e-4,
+                "healthy_reward": 1.0,
+                "main_body": 1,
+                "terminate_when_unhealthy": True,
+                "healthy_z_range": (0.2, 1.0),
+                "contact_force_range": (-1.0, 1.0),
+                "reset_noise_scale": 0.1,
+                "exclude_current_positions_from_observation": True,
+                "include_cfrc_ext_in_observation": True,
+            },
+            _ant,
+            note="the ankles start at the ends of their ranges nearest MuJoCo's pose (0, "
+            "which their ranges exclude), where MuJoCo's limits push them",
+        ),
+        SuiteSpec(
+            "Swimmer",
+            "swimmer.xml",
+            4,
+            1000,
+            360.0,
+            {
+                "forward_reward_weight": 1.0,
+                "ctrl_cost_weight": 1e-4,
+                "reset_noise_scale": 0.1,
+                "exclude_current_positions_from_observation": True,
+            },
+            _swimmer,
+            note="MuJoCo's fluid (the XML's viscosity) is not simulated yet: the swimmer cannot swim",
+        ),
+    ]
+}
