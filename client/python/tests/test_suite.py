@@ -287,6 +287,35 @@ def test_a_standing_ant_is_held_up_by_its_feet_as_in_mujoco():
     theirs.close()
 
 
+def _swim(env, steps=400) -> np.ndarray:
+    """A travelling wave down the body (period 1 s, the tail a quarter period behind),
+    tracked by a PD on the joint angles; the torso's x, y per step."""
+    obs, _ = env.reset(seed=0)
+    path = []
+    for k in range(steps):
+        phase = 2 * np.pi * k * 0.04  # one wave per second at dt = 0.04 s
+        target = 0.8 * np.sin([phase, phase - np.pi / 2])
+        action = np.clip(2.0 * (target - obs[1:3]) - 0.2 * obs[6:8], -1, 1)
+        obs, _, _, _, info = env.step(action.astype(np.float32))
+        path.append((info["x_position"], info["y_position"]))
+    return np.array(path)
+
+
+def test_the_swimmer_swims_at_mujocos_speed_in_its_fluid():
+    """Swimmer's `<option density viscosity>` is MuJoCo's inertia-box fluid: under the same
+    gait both swim forward at the same speed (after 4 s of start-up, over 12 s)."""
+    ours, theirs = pair("Swimmer", reset_noise_scale=0.0)
+    speeds = []
+    for env in (ours, theirs):
+        path = _swim(env)
+        speeds.append((path[-1] - path[99]) / (300 * 0.04))
+        env.close()
+    (ours_v, theirs_v) = speeds
+    assert theirs_v[0] > 0.2, f"MuJoCo's swimmer moves forward: {theirs_v}"
+    assert abs(ours_v[0] / theirs_v[0] - 1) < 0.1, f"ours {ours_v} m/s, MuJoCo's {theirs_v} m/s"
+    assert abs(ours_v[1]) < 0.02, f"and straight: {ours_v}"
+
+
 def test_reset_noise_has_gymnasiums_distributions():
     # Hopper: uniform ±0.005 on positions and velocities.
     env = gymnasium.make("gymfleet/Hopper-v5")

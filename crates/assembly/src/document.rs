@@ -39,6 +39,22 @@ pub struct SimulationDef {
     /// The env step in s that requests get when they leave `dt` unset; default 1/240.
     #[serde(default)]
     pub dt: Option<f64>,
+    /// The fluid the bodies move in (MJCF's `<option density viscosity>`); default none.
+    #[serde(default)]
+    pub fluid: Option<FluidDef>,
+}
+
+/// *(ext)* A still fluid around every body: MuJoCo's inertia-box drag (each body feels the
+/// drag of the box with its mass and principal inertia).
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FluidDef {
+    /// Density in kg/m³ (quadratic drag); default 0.
+    #[serde(default)]
+    pub density: Option<f64>,
+    /// Dynamic viscosity in Pa·s (linear drag); default 0.
+    #[serde(default)]
+    pub viscosity: Option<f64>,
 }
 
 /// A part: a named primitive shape with an optional material.

@@ -12,6 +12,7 @@ mod document;
 mod error;
 mod mesh;
 mod model;
+mod simulation;
 mod sites;
 mod validate;
 
@@ -27,9 +28,10 @@ pub use mesh::{
     MAX_MESH_VERTICES,
 };
 pub use model::{
-    inertia_problem, Assembly, DofKind, Inertial, Instance, Joint, JointType, Material, Shape,
+    inertia_problem, Assembly, DofKind, Fluid, Inertial, Instance, Joint, JointType, Material, Shape,
     Site, DEFAULT_DENSITY, DEFAULT_FRICTION, DEFAULT_GRAVITY, DEFAULT_RESTITUTION, MM_PER_M,
 };
+pub use simulation::{MAX_FLUID_DENSITY, MAX_FLUID_VISCOSITY};
 pub use sites::MAX_SITES;
 pub use validate::validate;
 

@@ -320,6 +320,19 @@ pub struct Assembly {
     pub floating_base: bool,
     /// Named points of instances, in document order.
     pub sites: Vec<Site>,
+    /// The still fluid the bodies move in (the document's `simulation.fluid`), if any.
+    pub fluid: Option<Fluid>,
+}
+
+/// A still fluid around every body, as MuJoCo's inertia-box model has it: each rigid
+/// body (instances welded together count as one) feels the drag of the box that has its
+/// mass and principal moments of inertia.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Fluid {
+    /// Density, kg/m³: drag quadratic in the velocity.
+    pub density: f64,
+    /// Dynamic viscosity, Pa·s: drag linear in the velocity.
+    pub viscosity: f64,
 }
 
 impl Assembly {

@@ -6,22 +6,18 @@ use std::collections::{BTreeMap, HashMap};
 
 use crate::document::{
     ConvexMode, Document, InertialDef, InstanceDef, JointDef, MaterialDef, MeshDef, PartDef,
-    Primitive, SimulationDef, Vec3,
+    Primitive, Vec3,
 };
 use crate::error::{quoted, quoted_list, shown, AssemblyError, Issue, Result};
 use crate::mesh::{ConvexParts, MAX_MESH_TRIANGLES, MAX_MESH_VERTICES};
 use crate::model::{
-    Assembly, Inertial, Instance, Joint, JointType, Material, Shape, DEFAULT_GRAVITY, MM_PER_M,
+    Assembly, Inertial, Instance, Joint, JointType, Material, Shape, MM_PER_M,
 };
 
 /// Largest mass an instance's `inertial` may give, kg.
 const MAX_MASS_KG: f64 = 1e6;
 /// Farthest an instance's given centre of mass may lie from its origin, mm (1 km).
 const MAX_COM_MM: f64 = 1e6;
-/// Largest gravity component, m/s² (about 100 g).
-const MAX_GRAVITY: f64 = 1000.0;
-/// Longest env step a document may ask for, s (an env's own bound may be tighter).
-const MAX_DT: f64 = 1.0;
 
 /// Validates a parsed document and converts it to SI units.
 ///
@@ -45,7 +41,8 @@ pub fn validate(doc: &Document) -> Result<Assembly> {
         &planes,
         floating_base,
     );
-    let (gravity, dt) = v.simulation(doc.simulation.as_ref());
+    let (simulation, simulation_issues) = crate::simulation::simulation(doc.simulation.as_ref());
+    v.issues.extend(simulation_issues);
     let (sites, site_issues) = crate::sites::sites(&doc.assembly.sites, &doc.assembly.instances);
     v.issues.extend(site_issues);
     if v.issues.is_empty() {
@@ -53,10 +50,11 @@ pub fn validate(doc: &Document) -> Result<Assembly> {
             instances,
             joints,
             source: std::sync::Arc::from(""),
-            gravity,
-            dt,
+            gravity: simulation.gravity,
+            dt: simulation.dt,
             floating_base,
             sites,
+            fluid: simulation.fluid,
         })
     } else {
         Err(AssemblyError::Invalid { issues: v.issues })
@@ -248,31 +246,6 @@ impl Validator {
             }
         };
         (self.issues.len() == before).then_some(shape)
-    }
-
-    /// The document's `simulation`: gravity (m/s²) and the env step it asks for.
-    fn simulation(&mut self, def: Option<&SimulationDef>) -> ([f64; 3], Option<f64>) {
-        let Some(def) = def else {
-            return (DEFAULT_GRAVITY, None);
-        };
-        let gravity = match def.gravity {
-            Some(g) => self.components(
-                "simulation.gravity",
-                g,
-                |v| v.is_finite() && v.abs() <= MAX_GRAVITY,
-                |v| format!("expected a component within ±{MAX_GRAVITY} m/s², got {v}"),
-            ),
-            None => DEFAULT_GRAVITY,
-        };
-        if let Some(dt) = def.dt {
-            if !(dt.is_finite() && dt > 0.0 && dt <= MAX_DT) {
-                self.push(
-                    "simulation.dt",
-                    format!("expected an env step in (0, {MAX_DT}] s, got {dt}"),
-                );
-            }
-        }
-        (gravity, def.dt)
     }
 
     /// A mesh primitive made convex (`None` after an issue).

@@ -186,9 +186,9 @@ impl RobotWorld {
     }
 
     /// Whether some effort depends on the state within a step (the explicit PD of ball
-    /// joints under targets), so that it must be recomputed every substep.
+    /// joints under targets, a fluid's drag), so that it must be recomputed every substep.
     pub(crate) fn has_state_dependent_efforts(&self) -> bool {
-        self.command.mode != ActionMode::Torque && self.has_ball_joints
+        (self.command.mode != ActionMode::Torque && self.has_ball_joints) || self.fluid.is_some()
     }
 
     /// Writes the held joint-space efforts into the multibodies: torque-mode efforts on

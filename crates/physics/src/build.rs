@@ -243,7 +243,9 @@ impl RobotWorld {
             kp: dofs.iter().map(|d| d.kp).collect(),
             kd: dofs.iter().map(|d| d.kd).collect(),
         };
+        let fluid = crate::fluid::FluidDrag::new(assembly, &bodies, &sets);
         let mut world = RobotWorld {
+            fluid,
             initial: std::sync::Arc::new(sets.clone()),
             live: sets,
             pipeline_params: params,

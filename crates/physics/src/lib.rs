@@ -20,6 +20,7 @@ mod build;
 mod command;
 mod contacts;
 mod error;
+mod fluid;
 mod perturb;
 mod randomize;
 mod readout;

@@ -135,6 +135,8 @@ pub struct RobotWorld {
     pub(crate) pipeline: PipelineCell,
     /// The document's values that domain randomisation scales.
     pub(crate) base: BaseValues,
+    /// The fluid's drag, when the document has a fluid (`fluid.rs`).
+    pub(crate) fluid: Option<crate::fluid::FluidDrag>,
 }
 
 /// The document's values domain randomisation scales (`randomize.rs`), kept from the
@@ -224,13 +226,15 @@ impl RobotWorld {
     /// The step is one Rapier pipeline step (collision detection once, then `substeps`
     /// solver substeps, each integrating the multibody dynamics with the joint efforts,
     /// motors, contacts and hard stops). The one exception is an explicit ball-joint PD
-    /// (ball joints under position or velocity targets): it depends on the state, so it is
-    /// recomputed before every substep, and each substep is then a pipeline step of its own.
+    /// (ball joints under position or velocity targets) and a fluid's drag: they depend on
+    /// the state, so they are recomputed before every substep, and each substep is then a
+    /// pipeline step of its own.
     pub fn step(&mut self) {
         self.clear_limit_impulses();
         if self.has_state_dependent_efforts() {
             for _ in 0..self.substeps {
                 self.apply_efforts();
+                self.apply_fluid();
                 self.pipeline_step(true);
             }
         } else {

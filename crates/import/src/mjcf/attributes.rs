@@ -207,7 +207,8 @@ impl<'a, 'i> Converter<'a, 'i> {
     }
 
     /// `<option>`: gravity and timestep become the document's `simulation` (one env step
-    /// of the default `dt` is one MuJoCo step); the rest is the engine's own.
+    /// of the default `dt` is one MuJoCo step), and density and viscosity its `fluid`
+    /// (MuJoCo's inertia-box model); the rest is the engine's own.
     pub(super) fn option(&mut self, node: Node<'a, 'i>) -> Result<()> {
         if let Some(g) = self.exactly::<3>(node, None, "gravity")? {
             self.simulation
@@ -219,8 +220,27 @@ impl<'a, 'i> Converter<'a, 'i> {
             }
             self.simulation.insert("dt".into(), json!(t));
         }
+        let mut fluid = serde_json::Map::new();
+        for name in ["density", "viscosity"] {
+            if let Some(v) = self.number(node, None, name)? {
+                if !(v.is_finite() && v >= 0.0) {
+                    return Err(self.bad(node, name, format!("expected a number ≥ 0, got {v}")));
+                }
+                if v > 0.0 {
+                    fluid.insert(name.into(), json!(v));
+                }
+            }
+        }
+        if !fluid.is_empty() {
+            self.simulation.insert("fluid".into(), Value::Object(fluid));
+        }
+        if let Some(w) = self.exactly::<3>(node, None, "wind")? {
+            if w != [0.0; 3] {
+                return Err(self.unsupported(node, "wind is not supported yet".into()));
+            }
+        }
         for a in node.attributes() {
-            if !matches!(a.name(), "timestep" | "gravity") {
+            if !matches!(a.name(), "timestep" | "gravity" | "density" | "viscosity" | "wind") {
                 self.warn(node, format!("{}=\"{}\" ignored", a.name(), a.value()));
             }
         }

@@ -114,6 +114,12 @@ impl<'a, 'i> Converter<'a, 'i> {
             Some(n) => self.unique(n),
             None => self.unique(&format!("{body_name}_geom")),
         };
+        if let Some(shape) = self.attr(node, class, "fluidshape").filter(|v| *v != "none") {
+            return Err(self.unsupported(
+                node,
+                format!("fluidshape=\"{shape}\" (MuJoCo's ellipsoid fluid model) is not supported yet; the inertia-box model of <option density viscosity> is"),
+            ));
+        }
         for attr in [
             "condim", "solref", "solimp", "margin", "gap", "priority", "solmix",
         ] {
