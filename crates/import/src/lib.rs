@@ -15,7 +15,9 @@
 //!   springs (`stiffness`, `springref`) and `frictionloss`, a top-level body's free joint
 //!   (the floating base), bodies without joints (welded), explicit `<inertial>`,
 //!   `contype`/`conaffinity`, motors (`gear`, `ctrlrange` → `max_effort`; joints without
-//!   a motor are passive).
+//!   a motor are passive), a fluid (`<option density viscosity>`), mesh geoms
+//!   (`<asset><mesh file scale>` under `compiler meshdir`, or inline `vertex`) and
+//!   `<include file>` ([`expand_includes`]: from the assets, or beside a converted file).
 //! - **URDF** ([`urdf_to_document`]): links with `<collision>` boxes, cylinders, spheres,
 //!   capsules and meshes, `<inertial>`, revolute/continuous/prismatic/fixed joints with
 //!   limits, effort, damping and friction, a `floating` joint from the world (the floating
@@ -39,7 +41,7 @@ pub use assets::{Assets, MAX_ASSET_BYTES, MAX_ASSET_FILES};
 pub use meshes::{
     inline_mesh_files, load as load_mesh, with_mesh_files, MeshData, MAX_FILE_VERTICES,
 };
-pub use mjcf::mjcf_to_document;
+pub use mjcf::{expand_includes, mjcf_to_document, MAX_INCLUDED_BYTES, MAX_INCLUDE_DEPTH};
 pub use urdf::urdf_to_document;
 
 /// `s` quoted, cut to a readable length (names and paths echoed in errors).
@@ -116,20 +118,36 @@ pub fn to_json(
                 Err(_) => return Ok((text.to_string(), Vec::new())),
             }
         }
-        Format::Mjcf => mjcf_to_document(text)?,
+        Format::Mjcf => match assets {
+            Some(assets) => mjcf_to_document(&expand_includes(text, &mut |file| {
+                let bytes = assets.get(file).map_err(|e| e.to_string())?;
+                String::from_utf8(bytes.to_vec()).map_err(|_| "not UTF-8 text".to_string())
+            })?)?,
+            None => mjcf_to_document(text)?,
+        },
         Format::Urdf => urdf_to_document(text)?,
     };
     inline_mesh_files(&mut converted.document, assets)?;
     Ok((converted.document.to_string(), converted.warnings))
 }
 
-/// A description file as assembly JSON text, with the conversion's warnings. Mesh files it
-/// references are read from the folder that holds it, or else from the folders above (up
-/// to three: a ROS package keeps `urdf/` beside `meshes/`), the first that has them all.
+/// A description file as assembly JSON text, with the conversion's warnings. An MJCF
+/// file's includes are read from its folder. Mesh files it references are read from the
+/// folder that holds it, or else from the folders above (up to three: a ROS package keeps
+/// `urdf/` beside `meshes/`), the first that has them all.
 pub fn convert_file(path: &std::path::Path) -> Result<(String, Vec<String>)> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| ImportError::Assets(format!("{}: {e}", path.display())))?;
     let format = Format::detect(&text)?;
+    // MuJoCo reads includes from the main model's folder.
+    let text = if format == Format::Mjcf {
+        let folder = path.parent().unwrap_or(std::path::Path::new("."));
+        expand_includes(&text, &mut |file| {
+            std::fs::read_to_string(folder.join(file)).map_err(|e| e.to_string())
+        })?
+    } else {
+        text
+    };
     let (plain, warnings) = to_json(&text, format, None)?;
     let Some(document) = with_mesh_files(&plain) else {
         return Ok((plain, warnings));

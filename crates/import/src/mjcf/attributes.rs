@@ -159,7 +159,12 @@ impl<'a, 'i> Converter<'a, 'i> {
                     self.total_mass = (total > 0.0).then_some(total);
                 }
                 ("eulerseq", "xyz") | ("coordinate", "local") | ("autolimits", "true") => {}
-                ("meshdir" | "texturedir" | "assetdir" | "discardvisual" | "strippath", _) => {}
+                ("meshdir", dir) => self.mesh_dir = Some(dir.to_string()),
+                ("assetdir", dir) => {
+                    self.mesh_dir.get_or_insert_with(|| dir.to_string());
+                }
+                ("strippath", "true") => self.strip_path = true,
+                ("texturedir" | "discardvisual" | "strippath", _) => {}
                 (name @ ("angle" | "inertiafromgeom"), value) => {
                     return Err(self.bad(node, name, format!("unexpected value {value:?}")))
                 }

@@ -52,6 +52,17 @@ impl<'a, 'i> Converter<'a, 'i> {
             None => (self.local_frame(node, class)?, None),
         };
         let world = body.then(&local);
+        if kind != "mesh" && self.attr(node, class, "mesh").is_some() {
+            return Err(self.unsupported(
+                node,
+                format!("a {kind} fitted to a mesh is not supported yet"),
+            ));
+        }
+        // A geom with no mass and no collisions only shows (MuJoCo's visual meshes).
+        if contype == 0 && conaffinity == 0 && self.number(node, class, "mass")? == Some(0.0) {
+            self.warn(node, "a massless geom that collides with nothing: dropped".into());
+            return Ok(None);
+        }
         let (primitive, corner) = match kind {
             "plane" => {
                 if contype == 0 && conaffinity == 0 {
@@ -99,7 +110,8 @@ impl<'a, 'i> Converter<'a, 'i> {
                     h,
                 )
             }
-            "mesh" | "hfield" | "sdf" => {
+            "mesh" => (self.mesh_primitive(node, class)?, DVec3::ZERO),
+            "hfield" | "sdf" => {
                 return Err(self.unsupported(node, format!("{kind} geoms are not converted yet")))
             }
             other => {

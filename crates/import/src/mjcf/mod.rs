@@ -22,7 +22,11 @@ mod actuators;
 mod attributes;
 mod bodies;
 mod geoms;
+mod include;
 mod joints;
+mod meshes;
+
+pub use include::{expand_includes, MAX_INCLUDED_BYTES, MAX_INCLUDE_DEPTH};
 
 /// Millimetres per metre.
 const MM: f64 = 1000.0;
@@ -42,6 +46,12 @@ pub fn mjcf_to_document(xml: &str) -> Result<Converted> {
     let mut c = Converter::new(&doc);
     if root.tag_name().name() != "mujoco" {
         return Err(c.unsupported(root, "the root element must be <mujoco>".into()));
+    }
+    if let Some(include) = doc.descendants().find(|n| n.tag_name().name() == "include") {
+        return Err(c.unsupported(
+            include,
+            "the included file is not at hand: send the model's files as assets (or convert the model by its path)".into(),
+        ));
     }
     // Settings first: they change how the rest reads.
     for child in elements(root) {
@@ -132,6 +142,12 @@ struct Converter<'a, 'i> {
     total_mass: Option<f64>,
     /// Instances that are not bodies' own mass: the world's geoms and helpers.
     massless: HashSet<String>,
+    /// `compiler meshdir` (else `assetdir`): where mesh files are, from the model's folder.
+    mesh_dir: Option<String>,
+    /// `compiler strippath="true"`: mesh file names lose their folders.
+    strip_path: bool,
+    /// `<asset><mesh>`s by name.
+    meshes: HashMap<String, meshes::MeshAsset>,
 }
 
 impl<'i> XmlReader<'i> for Converter<'_, 'i> {
@@ -167,6 +183,9 @@ impl<'a, 'i> Converter<'a, 'i> {
             floating: None,
             total_mass: None,
             massless: HashSet::new(),
+            mesh_dir: None,
+            strip_path: false,
+            meshes: HashMap::new(),
         }
     }
 
@@ -174,8 +193,9 @@ impl<'a, 'i> Converter<'a, 'i> {
         for child in elements(node) {
             match child.tag_name().name() {
                 "texture" | "material" => self.warn(child, "ignored (appearance only)".into()),
-                "mesh" | "hfield" | "skin" => {
-                    return Err(self.unsupported(child, "meshes are not converted yet".into()))
+                "mesh" => self.mesh_asset(child)?,
+                "hfield" | "skin" => {
+                    return Err(self.unsupported(child, "is not converted yet".into()))
                 }
                 other => {
                     return Err(self.unsupported(child, format!("<{other}> is not supported yet")))
