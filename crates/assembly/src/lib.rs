@@ -28,8 +28,8 @@ pub use mesh::{
     MAX_MESH_VERTICES,
 };
 pub use model::{
-    inertia_problem, Assembly, DofKind, Fluid, Inertial, Instance, Joint, JointType, Material, Shape,
-    Site, DEFAULT_DENSITY, DEFAULT_FRICTION, DEFAULT_GRAVITY, DEFAULT_RESTITUTION, MM_PER_M,
+    inertia_problem, Assembly, DofKind, Fluid, Inertial, Instance, Joint, JointType, Material,
+    Shape, Site, DEFAULT_DENSITY, DEFAULT_FRICTION, DEFAULT_GRAVITY, DEFAULT_RESTITUTION, MM_PER_M,
 };
 pub use simulation::{MAX_FLUID_DENSITY, MAX_FLUID_VISCOSITY};
 pub use sites::MAX_SITES;

@@ -10,9 +10,7 @@ use crate::document::{
 };
 use crate::error::{quoted, quoted_list, shown, AssemblyError, Issue, Result};
 use crate::mesh::{ConvexParts, MAX_MESH_TRIANGLES, MAX_MESH_VERTICES};
-use crate::model::{
-    Assembly, Inertial, Instance, Joint, JointType, Material, Shape, MM_PER_M,
-};
+use crate::model::{Assembly, Inertial, Instance, Joint, JointType, Material, Shape, MM_PER_M};
 
 /// Largest mass an instance's `inertial` may give, kg.
 const MAX_MASS_KG: f64 = 1e6;

@@ -24,10 +24,13 @@ fn sphere_box_edge() -> f64 {
 
 /// A free sphere (the floating base) falling from 10 m in the fluid.
 fn falling(fluid: Value, welded_twin: bool) -> Value {
-    let mut instances = vec![json!({"part": "Ball", "name": "ball", "position": {"x": 0, "y": 0, "z": 10000}})];
+    let mut instances =
+        vec![json!({"part": "Ball", "name": "ball", "position": {"x": 0, "y": 0, "z": 10000}})];
     let mut joints = vec![];
     if welded_twin {
-        instances.push(json!({"part": "Ball", "name": "twin", "position": {"x": 100, "y": 0, "z": 10000}}));
+        instances.push(
+            json!({"part": "Ball", "name": "twin", "position": {"x": 100, "y": 0, "z": 10000}}),
+        );
         joints.push(json!({"type": "fixed", "name": "weld", "parent": "ball", "child": "twin"}));
     }
     json!({
@@ -172,12 +175,15 @@ fn a_bad_fluid_is_refused_with_its_path() {
     };
     let message = bad(json!({"density": -1.0}));
     assert!(
-        message.contains("simulation.fluid.density: expected a density in [0, 100000] kg/m³, got -1"),
+        message
+            .contains("simulation.fluid.density: expected a density in [0, 100000] kg/m³, got -1"),
         "{message}"
     );
     let message = bad(json!({"viscosity": 1e9}));
     assert!(
-        message.contains("simulation.fluid.viscosity: expected a viscosity in [0, 1000] Pa·s, got 1000000000"),
+        message.contains(
+            "simulation.fluid.viscosity: expected a viscosity in [0, 1000] Pa·s, got 1000000000"
+        ),
         "{message}"
     );
     let message = bad(json!({"wind": 1.0}));

@@ -8,8 +8,12 @@ use serde_json::Value;
 const MESHES: &str = "tests/data/example-robot-data/robots/ur_description/meshes/ur5/collision";
 
 fn mesh_file(name: &str) -> Vec<u8> {
-    std::fs::read(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(MESHES).join(name))
-        .expect("the test data")
+    std::fs::read(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join(MESHES)
+            .join(name),
+    )
+    .expect("the test data")
 }
 
 /// A two-link arm of UR5 meshes: the base on the ground, the shoulder on a hinge.
@@ -35,7 +39,10 @@ const ARM: &str = r#"<mujoco model="ur">
 fn arm_assets() -> Assets {
     Assets::from_files([
         ("meshes/ur5/base.stl".to_string(), mesh_file("base.stl")),
-        ("meshes/ur5/shoulder.stl".to_string(), mesh_file("shoulder.stl")),
+        (
+            "meshes/ur5/shoulder.stl".to_string(),
+            mesh_file("shoulder.stl"),
+        ),
     ])
 }
 
@@ -66,12 +73,21 @@ fn a_mesh_geom_is_its_files_hull_scaled_where_the_file_puts_it() {
     // The world's helper, the base, the shoulder: the massless visual copy is dropped.
     assert_eq!(parts.len(), 3, "{}", document["parts"]);
     assert!(
-        warnings.iter().any(|w| w.contains("a massless geom that collides with nothing: dropped")),
+        warnings
+            .iter()
+            .any(|w| w.contains("a massless geom that collides with nothing: dropped")),
         "{warnings:?}"
     );
-    for (part, file, scale) in [(&parts[1], "base.stl", [1.0, 1.0, 1.0]), (&parts[2], "shoulder.stl", [1.0, 1.0, 2.0])] {
+    for (part, file, scale) in [
+        (&parts[1], "base.stl", [1.0, 1.0, 1.0]),
+        (&parts[2], "shoulder.stl", [1.0, 1.0, 2.0]),
+    ] {
         let (points, _) = load_mesh(&mesh_file(file), file).expect("reads");
-        let expected = bounds(points.iter().map(|p| [0, 1, 2].map(|k| f64::from(p[k]) * 1000.0 * scale[k])));
+        let expected = bounds(
+            points
+                .iter()
+                .map(|p| [0, 1, 2].map(|k| f64::from(p[k]) * 1000.0 * scale[k])),
+        );
         let got = bounds(vertices(part));
         for side in 0..2 {
             for k in 0..3 {
@@ -104,13 +120,20 @@ fn includes_are_spliced_from_the_assets() {
         ("ur/arm.xml".to_string(), arm.as_bytes().to_vec()),
     ];
     files.push(("meshes/ur5/base.stl".to_string(), mesh_file("base.stl")));
-    files.push(("meshes/ur5/shoulder.stl".to_string(), mesh_file("shoulder.stl")));
-    let (json, _) = to_json(main, Format::Mjcf, Some(&Assets::from_files(files))).expect("converts");
+    files.push((
+        "meshes/ur5/shoulder.stl".to_string(),
+        mesh_file("shoulder.stl"),
+    ));
+    let (json, _) =
+        to_json(main, Format::Mjcf, Some(&Assets::from_files(files))).expect("converts");
     let spliced: Value = serde_json::from_str(&json).unwrap();
     let (inline, _) = to_json(ARM, Format::Mjcf, Some(&arm_assets())).expect("converts");
     let inline: Value = serde_json::from_str(&inline).unwrap();
     assert_eq!(spliced["parts"], inline["parts"]);
-    assert_eq!(spliced["assembly"]["instances"], inline["assembly"]["instances"]);
+    assert_eq!(
+        spliced["assembly"]["instances"],
+        inline["assembly"]["instances"]
+    );
 }
 
 #[test]
@@ -131,9 +154,14 @@ fn error(xml: &str, assets: Option<&Assets>) -> String {
 
 #[test]
 fn mesh_and_include_errors_name_what_is_missing() {
-    let model = |inner: &str| format!("<mujoco>\n<asset><mesh file=\"a.stl\"/></asset>\n<worldbody>\n{inner}\n</worldbody>\n</mujoco>");
+    let model = |inner: &str| {
+        format!("<mujoco>\n<asset><mesh file=\"a.stl\"/></asset>\n<worldbody>\n{inner}\n</worldbody>\n</mujoco>")
+    };
     assert_eq!(
-        error(&model(r#"<body><joint/><geom type="mesh" mesh="b"/></body>"#), None),
+        error(
+            &model(r#"<body><joint/><geom type="mesh" mesh="b"/></body>"#),
+            None
+        ),
         r#"line 4: <geom mesh=…>: no <asset><mesh> is named "b" (there are 1: "a")"#
     );
     assert_eq!(
@@ -141,16 +169,28 @@ fn mesh_and_include_errors_name_what_is_missing() {
         "line 4: <geom mesh=…>: missing: a mesh geom names an <asset><mesh>"
     );
     assert_eq!(
-        error(&model(r#"<body><joint/><geom type="box" size="1 1 1" mesh="a"/></body>"#), None),
+        error(
+            &model(r#"<body><joint/><geom type="box" size="1 1 1" mesh="a"/></body>"#),
+            None
+        ),
         "line 4: <geom>: a box fitted to a mesh is not supported yet"
     );
     let missing = error(
         &model(r#"<body><joint/><geom type="mesh" mesh="a"/></body>"#),
-        Some(&Assets::from_files([("other.stl".to_string(), mesh_file("base.stl"))])),
+        Some(&Assets::from_files([(
+            "other.stl".to_string(),
+            mesh_file("base.stl"),
+        )])),
     );
-    assert!(missing.starts_with("parts[1].primitive.file: assets: no file \"a.stl\""), "{missing}");
+    assert!(
+        missing.starts_with("parts[1].primitive.file: assets: no file \"a.stl\""),
+        "{missing}"
+    );
     assert_eq!(
-        error("<mujoco>\n<asset><mesh/></asset><worldbody/></mujoco>", None),
+        error(
+            "<mujoco>\n<asset><mesh/></asset><worldbody/></mujoco>",
+            None
+        ),
         "line 2: <mesh file=…>: missing (or vertex)"
     );
     // Includes.
@@ -161,13 +201,22 @@ fn mesh_and_include_errors_name_what_is_missing() {
     );
     let assets = Assets::from_files([("y.xml".to_string(), b"<mujoco/>".to_vec())]);
     let message = error(with_include, Some(&assets));
-    assert!(message.starts_with("line 2: <include>: \"x.xml\": assets: no file \"x.xml\""), "{message}");
+    assert!(
+        message.starts_with("line 2: <include>: \"x.xml\": assets: no file \"x.xml\""),
+        "{message}"
+    );
     let wrong_root = Assets::from_files([("x.xml".to_string(), b"<robot/>".to_vec())]);
     assert_eq!(
         error(with_include, Some(&wrong_root)),
         "line 2: <include>: \"x.xml\": the root element must be <mujoco> or <mujocoinclude>, got <robot>"
     );
-    let mut cycle = |_: &str| Ok("<mujocoinclude><include file=\"x.xml\"/></mujocoinclude>".to_string());
-    let message = expand_includes(with_include, &mut cycle).unwrap_err().to_string();
-    assert!(message.ends_with("includes nest deeper than 8 (a cycle?)"), "{message}");
+    let mut cycle =
+        |_: &str| Ok("<mujocoinclude><include file=\"x.xml\"/></mujocoinclude>".to_string());
+    let message = expand_includes(with_include, &mut cycle)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        message.ends_with("includes nest deeper than 8 (a cycle?)"),
+        "{message}"
+    );
 }

@@ -35,7 +35,11 @@ pub(crate) struct FluidDrag {
 
 impl FluidDrag {
     /// The assembly's fluid over its moving rigid groups; `None` without a fluid.
-    pub(crate) fn new(assembly: &Assembly, bodies: &[RigidBodyHandle], sets: &Sets) -> Option<Self> {
+    pub(crate) fn new(
+        assembly: &Assembly,
+        bodies: &[RigidBodyHandle],
+        sets: &Sets,
+    ) -> Option<Self> {
         let fluid = assembly.fluid?;
         let mut parent: Vec<usize> = (0..bodies.len()).collect();
         fn root(parent: &mut [usize], mut i: usize) -> usize {
@@ -45,8 +49,15 @@ impl FluidDrag {
             }
             i
         }
-        for joint in assembly.joints.iter().filter(|j| j.kind == JointType::Fixed) {
-            let (a, b) = (root(&mut parent, joint.parent), root(&mut parent, joint.child));
+        for joint in assembly
+            .joints
+            .iter()
+            .filter(|j| j.kind == JointType::Fixed)
+        {
+            let (a, b) = (
+                root(&mut parent, joint.parent),
+                root(&mut parent, joint.child),
+            );
             parent[a.max(b)] = a.min(b);
         }
         let mut groups: Vec<Vec<RigidBodyHandle>> = Vec::new();
@@ -98,7 +109,10 @@ impl FluidDrag {
         let mut props = first.mass_properties().local_mprops;
         for &h in &group[1..] {
             let relative = pose.inverse() * *bodies[h].position();
-            props += bodies[h].mass_properties().local_mprops.transform_by(&relative);
+            props += bodies[h]
+                .mass_properties()
+                .local_mprops
+                .transform_by(&relative);
         }
         let mass = props.mass();
         if !(mass > 0.0 && mass.is_finite()) {
@@ -106,7 +120,11 @@ impl FluidDrag {
         }
         let i = props.principal_inertia();
         let edge = |a: Real, b: Real, c: Real| ((b + c - a).max(MIN_VALUE) / mass * 6.0).sqrt();
-        let size = Vector::new(edge(i.x, i.y, i.z), edge(i.y, i.x, i.z), edge(i.z, i.x, i.y));
+        let size = Vector::new(
+            edge(i.x, i.y, i.z),
+            edge(i.y, i.x, i.z),
+            edge(i.z, i.x, i.y),
+        );
         let axes = pose.rotation * props.principal_inertia_local_frame;
         let com = pose.transform_point(props.local_com);
         let angvel = first.angvel();
@@ -127,7 +145,11 @@ impl FluidDrag {
             let area = Vector::new(s.y * s.z, s.x * s.z, s.x * s.y);
             force -= 0.5 * rho * area * v.abs() * v;
             let s4 = s * s * s * s;
-            let arm = Vector::new(s.x * (s4.y + s4.z), s.y * (s4.x + s4.z), s.z * (s4.x + s4.y));
+            let arm = Vector::new(
+                s.x * (s4.y + s4.z),
+                s.y * (s4.x + s4.z),
+                s.z * (s4.x + s4.y),
+            );
             torque -= rho / 64.0 * arm * w.abs() * w;
         }
         let force = axes * force;

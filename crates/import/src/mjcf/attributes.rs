@@ -245,7 +245,10 @@ impl<'a, 'i> Converter<'a, 'i> {
             }
         }
         for a in node.attributes() {
-            if !matches!(a.name(), "timestep" | "gravity" | "density" | "viscosity" | "wind") {
+            if !matches!(
+                a.name(),
+                "timestep" | "gravity" | "density" | "viscosity" | "wind"
+            ) {
                 self.warn(node, format!("{}=\"{}\" ignored", a.name(), a.value()));
             }
         }

@@ -60,7 +60,10 @@ impl<'a, 'i> Converter<'a, 'i> {
         }
         // A geom with no mass and no collisions only shows (MuJoCo's visual meshes).
         if contype == 0 && conaffinity == 0 && self.number(node, class, "mass")? == Some(0.0) {
-            self.warn(node, "a massless geom that collides with nothing: dropped".into());
+            self.warn(
+                node,
+                "a massless geom that collides with nothing: dropped".into(),
+            );
             return Ok(None);
         }
         let (primitive, corner) = match kind {
@@ -126,7 +129,10 @@ impl<'a, 'i> Converter<'a, 'i> {
             Some(n) => self.unique(n),
             None => self.unique(&format!("{body_name}_geom")),
         };
-        if let Some(shape) = self.attr(node, class, "fluidshape").filter(|v| *v != "none") {
+        if let Some(shape) = self
+            .attr(node, class, "fluidshape")
+            .filter(|v| *v != "none")
+        {
             return Err(self.unsupported(
                 node,
                 format!("fluidshape=\"{shape}\" (MuJoCo's ellipsoid fluid model) is not supported yet; the inertia-box model of <option density viscosity> is"),

@@ -50,17 +50,20 @@ fn expand(
     let mut at = 0;
     for node in includes {
         let line = doc.text_pos_at(node.range().start).row;
-        let file = node.attribute("file").ok_or_else(|| ImportError::BadAttribute {
-            element: "include".into(),
-            attribute: "file".into(),
-            line,
-            reason: "missing".into(),
-        })?;
+        let file = node
+            .attribute("file")
+            .ok_or_else(|| ImportError::BadAttribute {
+                element: "include".into(),
+                attribute: "file".into(),
+                line,
+                reason: "missing".into(),
+            })?;
         let included = read(file).map_err(|e| unsupported(node, format!("{file:?}: {e}")))?;
         children_text(&included).map_err(|e| unsupported(node, format!("{file:?}: {e}")))?;
         let included = expand(&included, read, depth + 1)
             .map_err(|e| unsupported(node, format!("in {file:?}: {e}")))?;
-        let inner = children_text(&included).map_err(|e| unsupported(node, format!("{file:?}: {e}")))?;
+        let inner =
+            children_text(&included).map_err(|e| unsupported(node, format!("{file:?}: {e}")))?;
         out.push_str(&text[at..node.range().start]);
         out.push_str(inner);
         at = node.range().end;

@@ -25,7 +25,14 @@ enum MeshSource {
 impl<'a, 'i> Converter<'a, 'i> {
     /// `<asset><mesh>`: named by `name`, else by its file's name without the extension.
     pub(super) fn mesh_asset(&mut self, node: Node<'a, 'i>) -> Result<()> {
-        for attr in ["refpos", "refquat", "face", "normal", "texcoord", "content_type"] {
+        for attr in [
+            "refpos",
+            "refquat",
+            "face",
+            "normal",
+            "texcoord",
+            "content_type",
+        ] {
             if node.attribute(attr).is_some() {
                 return Err(self.unsupported(node, format!("{attr} is not supported yet")));
             }
@@ -76,11 +83,18 @@ impl<'a, 'i> Converter<'a, 'i> {
             }
         };
         let Some(name) = node.attribute("name").map(str::to_string).or(stem) else {
-            return Err(self.bad(node, "name", "missing (a mesh given by vertex needs one)".into()));
+            return Err(self.bad(
+                node,
+                "name",
+                "missing (a mesh given by vertex needs one)".into(),
+            ));
         };
         for attr in ["smoothnormal", "maxhullvert", "inertia"] {
             if node.attribute(attr).is_some() {
-                self.warn(node, format!("{attr} ignored (meshes are simulated as their hull)"));
+                self.warn(
+                    node,
+                    format!("{attr} ignored (meshes are simulated as their hull)"),
+                );
             }
         }
         if self
@@ -88,16 +102,24 @@ impl<'a, 'i> Converter<'a, 'i> {
             .insert(name.clone(), MeshAsset { source, scale })
             .is_some()
         {
-            return Err(self.bad(node, "name", format!("a mesh named {name:?} is defined twice")));
+            return Err(self.bad(
+                node,
+                "name",
+                format!("a mesh named {name:?} is defined twice"),
+            ));
         }
         Ok(())
     }
 
     /// A mesh geom's primitive, in the geom's frame (mm).
     pub(super) fn mesh_primitive(&self, node: Node<'a, 'i>, class: Option<&str>) -> Result<Value> {
-        let name = self
-            .attr(node, class, "mesh")
-            .ok_or_else(|| self.bad(node, "mesh", "missing: a mesh geom names an <asset><mesh>".into()))?;
+        let name = self.attr(node, class, "mesh").ok_or_else(|| {
+            self.bad(
+                node,
+                "mesh",
+                "missing: a mesh geom names an <asset><mesh>".into(),
+            )
+        })?;
         let Some(mesh) = self.meshes.get(name) else {
             let mut known: Vec<&String> = self.meshes.keys().collect();
             known.sort();
@@ -107,7 +129,12 @@ impl<'a, 'i> Converter<'a, 'i> {
                 format!(
                     "no <asset><mesh> is named {name:?} (there are {}: {})",
                     known.len(),
-                    known.iter().take(8).map(|k| format!("{k:?}")).collect::<Vec<_>>().join(", ")
+                    known
+                        .iter()
+                        .take(8)
+                        .map(|k| format!("{k:?}"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
                 ),
             ));
         };
