@@ -731,7 +731,7 @@ fn simulation_settings_are_checked_and_default_to_z_up_gravity() {
     let message = common::err(doc).to_string();
     assert!(
         message
-            .contains("simulation.timestep: unknown field `timestep`, expected `gravity` or `dt`"),
+            .contains("simulation.timestep: unknown field `timestep`, expected one of `gravity`, `dt`, `fluid`"),
         "{message}"
     );
 }

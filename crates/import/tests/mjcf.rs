@@ -205,8 +205,8 @@ fn unsupported_constructs_name_their_element_and_line() {
         "line 4: <geom>: a colliding plane (a ground) must be the world's, and only one"
     );
     assert_eq!(
-        error("<mujoco>\n<asset><mesh file=\"arm.stl\"/></asset>\n<worldbody/>\n</mujoco>"),
-        "line 2: <mesh>: meshes are not converted yet"
+        error("<mujoco>\n<asset><hfield file=\"terrain.png\"/></asset>\n<worldbody/>\n</mujoco>"),
+        "line 2: <hfield>: is not converted yet"
     );
     assert_eq!(
         error(&model(
