@@ -324,6 +324,41 @@ pub struct AssemblyDef {
     /// *(ext)* Named points of instances (MJCF sites and body origins), for tasks.
     #[serde(default)]
     pub sites: Vec<SiteDef>,
+    /// *(ext)* Fixed tendons: named linear combinations of joint positions (MJCF's
+    /// `<tendon><fixed>`), observable and optionally springy.
+    #[serde(default)]
+    pub tendons: Vec<TendonDef>,
+}
+
+/// *(ext)* A fixed tendon: its length is Σ coef · position over its joints, in SI (rad or
+/// m, each joint's position as observed, its `reference` included), as MuJoCo defines it.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TendonDef {
+    /// The tendon's name (unique among tendons).
+    pub name: String,
+    /// Its joints (revolute or prismatic) and their coefficients.
+    pub joints: Vec<TendonJointDef>,
+    /// A spring on the length: force −stiffness · (length − spring_length), N or N·m per
+    /// unit length, on each joint times its coefficient; default 0.
+    #[serde(default)]
+    pub stiffness: Option<f64>,
+    /// A damper on the length's rate, per unit rate; default 0.
+    #[serde(default)]
+    pub damping: Option<f64>,
+    /// The spring's rest length; default the length at the document's pose.
+    #[serde(default)]
+    pub spring_length: Option<f64>,
+}
+
+/// One joint of a fixed tendon.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TendonJointDef {
+    /// The joint's name.
+    pub joint: String,
+    /// Its coefficient in the length.
+    pub coef: f64,
 }
 
 /// *(ext)* A named point of an instance, which moves with it.

@@ -14,11 +14,12 @@ mod mesh;
 mod model;
 mod simulation;
 mod sites;
+mod tendons;
 mod validate;
 
 pub use document::{
     AssemblyDef, CollisionDef, ConvexMode, Document, InertiaDef, InertialDef, InstanceDef,
-    JointDef, MaterialDef, MeshDef, PartDef, Primitive, SiteDef, Vec3,
+    JointDef, MaterialDef, MeshDef, PartDef, Primitive, SiteDef, TendonDef, TendonJointDef, Vec3,
 };
 pub use error::{
     quoted, quoted_list, shown, AssemblyError, Issue, Result, MAX_ECHOED_CHARS, MAX_LISTED_NAMES,
@@ -29,10 +30,12 @@ pub use mesh::{
 };
 pub use model::{
     inertia_problem, Assembly, DofKind, Fluid, Inertial, Instance, Joint, JointType, Material,
-    Shape, Site, DEFAULT_DENSITY, DEFAULT_FRICTION, DEFAULT_GRAVITY, DEFAULT_RESTITUTION, MM_PER_M,
+    Shape, Site, Tendon, DEFAULT_DENSITY, DEFAULT_FRICTION, DEFAULT_GRAVITY, DEFAULT_RESTITUTION,
+    MM_PER_M,
 };
 pub use simulation::{MAX_FLUID_DENSITY, MAX_FLUID_VISCOSITY};
 pub use sites::MAX_SITES;
+pub use tendons::{MAX_TENDONS, MAX_TENDON_JOINTS};
 pub use validate::validate;
 
 /// Parses and validates a document from JSON text.

@@ -322,6 +322,24 @@ pub struct Assembly {
     pub sites: Vec<Site>,
     /// The still fluid the bodies move in (the document's `simulation.fluid`), if any.
     pub fluid: Option<Fluid>,
+    /// Fixed tendons, in document order.
+    pub tendons: Vec<Tendon>,
+}
+
+/// A fixed tendon: length Σ coef · position (SI, positions as observed), with an optional
+/// spring and damper on it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Tendon {
+    /// Its name.
+    pub name: String,
+    /// (joint index in document order, coefficient); each joint is revolute or prismatic.
+    pub joints: Vec<(usize, f64)>,
+    /// Spring stiffness per unit length (N or N·m per m or rad), ≥ 0.
+    pub stiffness: f64,
+    /// Damping per unit length rate, ≥ 0.
+    pub damping: f64,
+    /// The spring's rest length; `None`: the length at the document's pose.
+    pub spring_length: Option<f64>,
 }
 
 /// A still fluid around every body, as MuJoCo's inertia-box model has it: each rigid

@@ -43,6 +43,8 @@ pub fn validate(doc: &Document) -> Result<Assembly> {
     v.issues.extend(simulation_issues);
     let (sites, site_issues) = crate::sites::sites(&doc.assembly.sites, &doc.assembly.instances);
     v.issues.extend(site_issues);
+    let (tendons, tendon_issues) = crate::tendons::tendons(&doc.assembly.tendons, &joints);
+    v.issues.extend(tendon_issues);
     if v.issues.is_empty() {
         Ok(Assembly {
             instances,
@@ -53,6 +55,7 @@ pub fn validate(doc: &Document) -> Result<Assembly> {
             floating_base,
             sites,
             fluid: simulation.fluid,
+            tendons,
         })
     } else {
         Err(AssemblyError::Invalid { issues: v.issues })

@@ -452,6 +452,59 @@ fn option_density_and_viscosity_become_the_documents_fluid() {
 }
 
 #[test]
+fn fixed_tendons_become_the_documents_tendons() {
+    let body = |name: &str| {
+        format!(
+            "<body name=\"{name}\"><joint name=\"{name}\" type=\"hinge\" axis=\"0 1 0\"/><geom type=\"capsule\" fromto=\"0 0 0 0 0 -0.1\" size=\"0.01\"/>"
+        )
+    };
+    let xml = format!(
+        "<mujoco><worldbody>{}{}</body></body></worldbody>\n<tendon>\n\
+         <fixed name=\"t\" stiffness=\"3\" damping=\"0.5\" springlength=\"0.1\"><joint joint=\"j1\" coef=\"-1\"/><joint joint=\"j2\" coef=\"2\"/></fixed>\n\
+         <fixed><joint joint=\"j2\" coef=\"1\"/></fixed>\n</tendon></mujoco>",
+        body("j1"),
+        body("j2")
+    );
+    let converted = mjcf_to_document(&xml).expect("converts");
+    assert_eq!(
+        converted.document["assembly"]["tendons"],
+        serde_json::json!([
+            {"name": "t", "joints": [{"joint": "j1", "coef": -1.0}, {"joint": "j2", "coef": 2.0}],
+             "stiffness": 3.0, "damping": 0.5, "spring_length": 0.1},
+            {"name": "tendon1", "joints": [{"joint": "j2", "coef": 1.0}]}
+        ])
+    );
+    let assembly = gymfleet_assembly::parse(&converted.document.to_string()).expect("parses");
+    assert_eq!(assembly.tendons[0].joints, vec![(0, -1.0), (1, 2.0)]);
+    let refused = |tendon: &str| {
+        error(&format!(
+            "<mujoco><worldbody>{}</body></worldbody>\n<tendon>\n{tendon}\n</tendon></mujoco>",
+            body("j1")
+        ))
+    };
+    assert_eq!(
+        refused(r#"<fixed range="0 1"><joint joint="j1" coef="1"/></fixed>"#),
+        "line 3: <fixed>: a tendon's range limits are not supported yet (its length, stiffness and damping are)"
+    );
+    assert_eq!(
+        refused(r#"<fixed frictionloss="1"><joint joint="j1" coef="1"/></fixed>"#),
+        "line 3: <fixed>: a tendon's frictionloss is not supported yet"
+    );
+    assert_eq!(
+        refused(r#"<spatial><site site="s"/></spatial>"#),
+        "line 3: <spatial>: spatial tendons are not supported yet (fixed tendons are)"
+    );
+    assert_eq!(
+        refused(r#"<fixed><joint joint="j9" coef="1"/></fixed>"#),
+        "line 3: <joint joint=…>: no hinge or slide joint is named \"j9\""
+    );
+    assert_eq!(
+        refused(r#"<fixed><joint joint="j1"/></fixed>"#),
+        "line 3: <joint coef=…>: missing"
+    );
+}
+
+#[test]
 fn a_colliding_world_plane_is_the_grounded_instance() {
     let converted = mjcf_to_document(
         "<mujoco><worldbody>\

@@ -109,7 +109,8 @@ pub(crate) struct TaskParam {
     upright: Option<UprightParam>,
     /// A reward of weighted terms any robot can carry (the Gymnasium suite's): {"terms":
     /// [{"name", "weight", and one of "velocity", "value" (a coordinate: {"joint"},
-    /// {"joint_velocity"}, {"joint_limit_force"}, {"contact_wrench": [instances],
+    /// {"joint_velocity"}, {"joint_limit_force"}, {"tendon_length"}, {"tendon_velocity"},
+    /// {"contact_wrench": [instances],
     /// "component"}, {"site", "axis"} or {"instance", "axis"}), "ctrl_cost": {}, "healthy":
     /// {}, "distance": [point, point], "square": {"of", "center"}, "contact_cost":
     /// {"groups", "min", "max"}}],

@@ -246,6 +246,7 @@ impl RobotWorld {
         let fluid = crate::fluid::FluidDrag::new(assembly, &bodies, &sets);
         let mut world = RobotWorld {
             fluid,
+            tendons: Vec::new(),
             initial: std::sync::Arc::new(sets.clone()),
             live: sets,
             pipeline_params: params,
@@ -273,6 +274,12 @@ impl RobotWorld {
             pipeline: PipelineCell(PhysicsPipeline::new()),
             base,
         };
+        let first_dof: Vec<usize> = world.joints.iter().map(|j| j.first_dof).collect();
+        world.tendons = crate::tendons::tendon_slots(
+            assembly,
+            &first_dof,
+            &crate::tendons::references_si(&world),
+        );
         world.reset();
         Ok(world)
     }

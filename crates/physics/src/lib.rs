@@ -26,6 +26,7 @@ mod randomize;
 mod readout;
 mod scene;
 mod state;
+mod tendons;
 mod units;
 mod world;
 

@@ -137,6 +137,8 @@ pub struct RobotWorld {
     pub(crate) base: BaseValues,
     /// The fluid's drag, when the document has a fluid (`fluid.rs`).
     pub(crate) fluid: Option<crate::fluid::FluidDrag>,
+    /// Fixed tendons, in document order (`tendons.rs`).
+    pub(crate) tendons: Vec<crate::tendons::TendonSlot>,
 }
 
 /// The document's values domain randomisation scales (`randomize.rs`), kept from the

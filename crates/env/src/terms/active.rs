@@ -72,6 +72,8 @@ pub(super) enum Q {
     Position(usize),
     Velocity(usize),
     LimitForce(usize),
+    TendonLength(usize),
+    TendonVelocity(usize),
     /// A component of a group's contact wrench ([`ActiveTerms::groups`]).
     ContactWrench {
         group: usize,
@@ -134,6 +136,8 @@ impl ActiveTerms {
             Q::Position(k) => f64::from(positions[k]),
             Q::Velocity(k) => f64::from(velocities[k]),
             Q::LimitForce(k) => world.limit_force(k),
+            Q::TendonLength(k) => world.tendon_state(k).0,
+            Q::TendonVelocity(k) => world.tendon_state(k).1,
             Q::ContactWrench { group, component } => self.group_wrench(group)[component],
             Q::Point { body, point, axis } => match point {
                 Some(p) => world.point_position(self.units, body, p)[axis],

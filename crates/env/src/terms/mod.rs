@@ -134,7 +134,8 @@ pub enum Axis {
 }
 
 /// A scalar read from the state: a joint's position or velocity (`joint`,
-/// `joint_velocity`), the force its limits applied over the step (`joint_limit_force`),
+/// `joint_velocity`), the force its limits applied over the step (`joint_limit_force`), a
+/// fixed tendon's length or rate (`tendon_length`, `tendon_velocity`),
 /// one component of the contact wrench on a group of instances (`contact_wrench`,
 /// `component`), or one world coordinate (`axis`) of a point of an instance (`instance`,
 /// `point`), of a site (`site`) or of the whole robot's centre of mass (`center_of_mass`).
@@ -152,6 +153,13 @@ pub struct Quantity {
     /// `qfrc_constraint` of a limited joint; 0 after a reset).
     #[serde(default)]
     pub joint_limit_force: Option<String>,
+    /// A fixed tendon's length (the document's `assembly.tendons`): Σ coef · position,
+    /// SI (m or rad) in every unit system, MuJoCo's `ten_length`.
+    #[serde(default)]
+    pub tendon_length: Option<String>,
+    /// A fixed tendon's rate of change, SI in every unit system (`ten_velocity`).
+    #[serde(default)]
+    pub tendon_velocity: Option<String>,
     /// Instances whose contact wrenches over the step are summed (needs `component`): the
     /// external force the contacts applied to them and its torque about the robot's centre
     /// of mass, MuJoCo's `cfrc_ext` of the body the instances make up. N and N·m in every

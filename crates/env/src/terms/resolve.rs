@@ -50,6 +50,35 @@ pub(crate) fn instance(assembly: &Assembly, path: &str, name: &str) -> Result<us
 }
 
 impl Context<'_> {
+    fn tendon(&self, path: &str, name: &str) -> Result<usize> {
+        let tendons = &self.assembly.tendons;
+        if let Some(k) = tendons.iter().position(|t| t.name == name) {
+            return Ok(k);
+        }
+        let names: Vec<String> = tendons
+            .iter()
+            .take(16)
+            .map(|t| format!("{:?}", t.name))
+            .collect();
+        let more = if tendons.len() > names.len() {
+            format!(" and {} more", tendons.len() - names.len())
+        } else {
+            String::new()
+        };
+        let name: String = name.chars().take(64).collect();
+        Err(bad(
+            path,
+            if tendons.is_empty() {
+                format!("unknown tendon {name:?} (the document has no tendons)")
+            } else {
+                format!(
+                    "unknown tendon {name:?} (tendons: {}{more})",
+                    names.join(", ")
+                )
+            },
+        ))
+    }
+
     fn joint(&self, path: &str, name: &str) -> Result<usize> {
         if let Some(k) = self.dofs.iter().position(|d| d.joint_name == name) {
             return Ok(k);
@@ -143,6 +172,8 @@ impl Context<'_> {
             q.joint.is_some(),
             q.joint_velocity.is_some(),
             q.joint_limit_force.is_some(),
+            q.tendon_length.is_some(),
+            q.tendon_velocity.is_some(),
             q.contact_wrench.is_some(),
             q.instance.is_some(),
             q.site.is_some(),
@@ -152,7 +183,7 @@ impl Context<'_> {
             return Err(bad(
                 path,
                 "expected exactly one of joint, joint_velocity, joint_limit_force, \
-                 contact_wrench (with a component), instance, site or center_of_mass (the \
+                 tendon_length, tendon_velocity, contact_wrench (with a component), instance, site or center_of_mass (the \
                  last three with an axis)",
             ));
         }
@@ -193,6 +224,18 @@ impl Context<'_> {
             no_geometry("joint limit force")?;
             return Ok(Q::LimitForce(
                 self.joint(&format!("{path}.joint_limit_force"), name)?,
+            ));
+        }
+        if let Some(name) = &q.tendon_length {
+            no_geometry("tendon length")?;
+            return Ok(Q::TendonLength(
+                self.tendon(&format!("{path}.tendon_length"), name)?,
+            ));
+        }
+        if let Some(name) = &q.tendon_velocity {
+            no_geometry("tendon velocity")?;
+            return Ok(Q::TendonVelocity(
+                self.tendon(&format!("{path}.tendon_velocity"), name)?,
             ));
         }
         if let Some(names) = &q.contact_wrench {

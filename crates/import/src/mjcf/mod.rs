@@ -25,6 +25,7 @@ mod geoms;
 mod include;
 mod joints;
 mod meshes;
+mod tendons;
 
 pub use include::{expand_includes, MAX_INCLUDED_BYTES, MAX_INCLUDE_DEPTH};
 
@@ -70,7 +71,8 @@ pub fn mjcf_to_document(xml: &str) -> Result<Converted> {
                 c.warn(child, "ignored (no effect on the dynamics)".into());
             }
             "asset" => c.assets(child)?,
-            "tendon" | "contact" | "equality" if elements(child).next().is_none() => {
+            "tendon" => c.tendons(child)?,
+            "contact" | "equality" if elements(child).next().is_none() => {
                 c.warn(child, "empty, ignored".into());
             }
             other => return Err(c.unsupported(child, format!("<{other}> is not supported yet"))),
@@ -148,6 +150,8 @@ struct Converter<'a, 'i> {
     strip_path: bool,
     /// `<asset><mesh>`s by name.
     meshes: HashMap<String, meshes::MeshAsset>,
+    /// `<tendon><fixed>`s, in document order.
+    tendons: Vec<tendons::FixedTendon>,
 }
 
 impl<'i> XmlReader<'i> for Converter<'_, 'i> {
@@ -186,6 +190,7 @@ impl<'a, 'i> Converter<'a, 'i> {
             mesh_dir: None,
             strip_path: false,
             meshes: HashMap::new(),
+            tendons: Vec::new(),
         }
     }
 
@@ -258,6 +263,9 @@ impl<'a, 'i> Converter<'a, 'i> {
         });
         if !self.sites.is_empty() {
             document["assembly"]["sites"] = Value::Array(std::mem::take(&mut self.sites));
+        }
+        if !self.tendons.is_empty() {
+            document["assembly"]["tendons"] = Value::Array(self.tendons_json()?);
         }
         if self.floating.is_some() {
             document["floating_base"] = json!(true);

@@ -1,0 +1,84 @@
+"""Fixed tendons (`<tendon><fixed>`) against MuJoCo: a springy, damped tendon coupling a
+double pendulum's joints follows MuJoCo's trajectory, its length and rate read as terms;
+Gymnasium's Humanoid converts with its two tendons."""
+
+from __future__ import annotations
+
+import pathlib
+
+import numpy as np
+import pytest
+
+import gymfleet
+
+gymnasium = pytest.importorskip("gymnasium")
+mujoco = pytest.importorskip("mujoco")
+
+XML = """<mujoco>
+  <option timestep="0.002"/>
+  <worldbody>
+    <geom type="plane" size="1 1 0.1" contype="0" conaffinity="0"/>
+    <body name="upper" pos="0 0 1">
+      <joint name="shoulder" type="hinge" axis="0 1 0"/>
+      <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03"/>
+      <body name="lower" pos="0.3 0 0">
+        <joint name="elbow" type="hinge" axis="0 1 0"/>
+        <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03"/>
+      </body>
+    </body>
+  </worldbody>
+  <tendon>
+    <fixed name="coupling" stiffness="8" damping="0.3" springlength="0.2">
+      <joint joint="shoulder" coef="1"/><joint joint="elbow" coef="-0.5"/>
+    </fixed>
+  </tendon>
+</mujoco>"""
+
+TASK = {
+    "terms": [
+        {"name": "length", "weight": 0, "value": {"tendon_length": "coupling"}},
+        {"name": "rate", "weight": 0, "value": {"tendon_velocity": "coupling"}},
+    ]
+}
+
+
+def test_a_springy_tendon_follows_mujocos_trajectory():
+    env = gymfleet.make(XML, units="si", task=TASK, dt=0.002)
+    env.reset(seed=0)
+    model = mujoco.MjModel.from_xml_string(XML)
+    data = mujoco.MjData(model)
+    worst_angle = worst_length = 0.0
+    for _ in range(500):  # 1 s: the pendulum swings through large angles
+        obs, _, _, _, info = env.step(np.zeros(env.action_space.shape, np.float32))
+        mujoco.mj_step(model, data)
+        worst_angle = max(worst_angle, float(np.abs(obs[:2] - data.qpos).max()))
+        worst_length = max(worst_length, abs(info["length"] - data.ten_length[0]))
+        # The terms are the length and rate of the observed joints (SI).
+        assert info["length"] == pytest.approx(obs[0] - 0.5 * obs[1], abs=1e-5)
+        assert info["rate"] == pytest.approx(obs[2] - 0.5 * obs[3], abs=1e-4)
+    assert worst_angle < 0.02, f"joint angles {worst_angle} rad from MuJoCo's"
+    assert worst_length < 0.01, f"tendon length {worst_length} from MuJoCo's"
+    # Without the tendon the same pendulum moves quite differently: the test can tell.
+    free = gymfleet.make(XML.replace('stiffness="8" damping="0.3"', ""), units="si", dt=0.002)
+    free.reset(seed=0)
+    for _ in range(500):
+        free_obs, *_ = free.step(np.zeros(free.action_space.shape, np.float32))
+    assert np.abs(free_obs[:2] - data.qpos).max() > 0.3
+
+
+def test_the_humanoid_converts_with_its_tendons():
+    path = pathlib.Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets" / "humanoid.xml"
+    document, _ = gymfleet.convert(str(path))
+    tendons = {t["name"]: t["joints"] for t in document["assembly"]["tendons"]}
+    assert tendons == {
+        "left_hipknee": [{"joint": "left_hip_y", "coef": -1.0}, {"joint": "left_knee", "coef": 1.0}],
+        "right_hipknee": [{"joint": "right_hip_y", "coef": -1.0}, {"joint": "right_knee", "coef": 1.0}],
+    }
+    task = {"terms": [{"name": "l", "weight": 0, "value": {"tendon_length": "left_hipknee"}}]}
+    env = gymfleet.make(str(path), units="si", task=task)
+    obs, _ = env.reset(seed=0)
+    names = [j["name"] for j in env.env_info["joints"]]
+    for _ in range(5):
+        obs, _, _, _, info = env.step(np.zeros(env.action_space.shape, np.float32))
+    q = dict(zip(names, obs[: len(names)]))
+    assert info["l"] == pytest.approx(q["left_knee"] - q["left_hip_y"], abs=1e-5)

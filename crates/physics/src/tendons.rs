@@ -1,0 +1,121 @@
+//! Fixed tendons: a length Σ coef · q over revolute and prismatic joints (SI, positions as
+//! observed: `reference` included), as MuJoCo's `<tendon><fixed>`. A tendon with stiffness
+//! or damping pulls on its joints: the force f = −k·(length − rest) − b·rate acts on each
+//! joint as coef · f (MuJoCo's passive tendon force through the tendon's Jacobian). It
+//! depends on the state, so a world with such a tendon recomputes it before every substep.
+
+use gymfleet_assembly::Assembly;
+use rapier3d::math::Real;
+
+use crate::units::to_si;
+use crate::world::RobotWorld;
+
+/// One tendon as the world uses it.
+#[derive(Debug, Clone)]
+pub(crate) struct TendonSlot {
+    /// (DOF index, coefficient).
+    dofs: Vec<(usize, f64)>,
+    stiffness: f64,
+    damping: f64,
+    /// The spring's rest length (SI).
+    rest: f64,
+}
+
+impl TendonSlot {
+    pub(crate) fn has_force(&self) -> bool {
+        self.stiffness > 0.0 || self.damping > 0.0
+    }
+}
+
+/// The assembly's tendons over the world's DOFs (`first_dof` of each document joint).
+pub(crate) fn tendon_slots(
+    assembly: &Assembly,
+    first_dof: &[usize],
+    references_si: &[f64],
+) -> Vec<TendonSlot> {
+    assembly
+        .tendons
+        .iter()
+        .map(|t| {
+            let dofs: Vec<(usize, f64)> =
+                t.joints.iter().map(|&(j, c)| (first_dof[j], c)).collect();
+            let at_pose: f64 = dofs.iter().map(|&(d, c)| c * references_si[d]).sum();
+            TendonSlot {
+                stiffness: t.stiffness,
+                damping: t.damping,
+                rest: t.spring_length.unwrap_or(at_pose),
+                dofs,
+            }
+        })
+        .collect()
+}
+
+/// Each DOF's `reference` in SI (rad or m).
+pub(crate) fn references_si(world: &RobotWorld) -> Vec<f64> {
+    world
+        .dofs
+        .iter()
+        .map(|d| to_si(d.kind, d.reference))
+        .collect()
+}
+
+impl RobotWorld {
+    /// Number of fixed tendons.
+    pub fn num_tendons(&self) -> usize {
+        self.tendons.len()
+    }
+
+    /// Tendon `k`'s length and rate of change, SI (MuJoCo's `ten_length`, `ten_velocity`).
+    pub fn tendon_state(&self, k: usize) -> (f64, f64) {
+        let mut length = 0.0;
+        let mut rate = 0.0;
+        for &(dof, coef) in &self.tendons[k].dofs {
+            let (q, v) = self.scalar_dof_si(dof);
+            length += coef * q;
+            rate += coef * v;
+        }
+        (length, rate)
+    }
+
+    /// A revolute or prismatic DOF's position (its reference included) and velocity, SI.
+    fn scalar_dof_si(&self, dof: usize) -> (f64, f64) {
+        let d = &self.dofs[dof];
+        let slot = &self.joints[d.joint];
+        let Some(mb) = self.live.multibody_joints.get_multibody(slot.multibody) else {
+            return (0.0, 0.0);
+        };
+        let Some(link) = mb.link(slot.link) else {
+            return (0.0, 0.0);
+        };
+        let coords = link.joint().coords();
+        let q = match slot.kind {
+            gymfleet_assembly::JointType::Revolute => coords[3],
+            _ => coords[0],
+        };
+        let v = mb.joint_velocity(link)[0];
+        (f64::from(q) + to_si(d.kind, d.reference), f64::from(v))
+    }
+
+    /// Adds every springy tendon's pull to its joints' generalized forces (after
+    /// [`RobotWorld::apply_efforts`] has written the commanded ones).
+    pub(crate) fn apply_tendon_forces(&mut self) {
+        for k in 0..self.tendons.len() {
+            if !self.tendons[k].has_force() {
+                continue;
+            }
+            let (length, rate) = self.tendon_state(k);
+            let t = &self.tendons[k];
+            let force = -t.stiffness * (length - t.rest) - t.damping * rate;
+            for &(dof, coef) in &t.dofs {
+                let slot = &self.joints[self.dofs[dof].joint];
+                let Some(mb) = self.live.multibody_joints.get_multibody_mut(slot.multibody) else {
+                    continue;
+                };
+                let Some(first) = mb.link(slot.link).map(|link| link.assembly_id()) else {
+                    continue;
+                };
+                mb.applied_forces_mut()[first] += (coef * force) as Real;
+            }
+        }
+    }
+}
