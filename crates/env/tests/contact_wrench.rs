@@ -99,6 +99,37 @@ fn a_resting_cube_is_held_up_by_its_weight_and_the_plane_gets_it_back() {
 }
 
 #[test]
+fn a_contact_costs_sum_is_clipped_at_sum_max() {
+    // Unclipped components: the sum is (m·g)²; `sum_max` at half of it caps it there.
+    let weight: f64 = 0.008 * 9.81;
+    let cap = weight * weight / 2.0;
+    let task = format!(
+        r#"{{"terms": [
+            {{"name": "open", "weight": 0, "contact_cost": {{"groups": [["cube"]], "min": -1e9, "max": 1e9}}}},
+            {{"name": "capped", "weight": -1, "contact_cost": {{"groups": [["cube"]], "min": -1e9, "max": 1e9, "sum_max": {cap}}}}}
+        ]}}"#
+    );
+    let mut env = cube_on_plane(&task);
+    let mut reward = 0.0;
+    for _ in 0..240 {
+        reward = env
+            .step(ActionType::Torque, &[])
+            .expect("steps")
+            .flags
+            .reward;
+    }
+    let v = env.term_values();
+    let open = f64::from(v[0]);
+    assert!(
+        (open / (weight * weight) - 1.0).abs() < 0.02,
+        "{open} vs {}",
+        weight * weight
+    );
+    assert!((f64::from(v[1]) - cap).abs() < 1e-9, "{} vs {cap}", v[1]);
+    assert!((f64::from(reward) + cap).abs() < 1e-7);
+}
+
+#[test]
 fn bad_contact_terms_get_their_own_errors() {
     for (json, expected) in [
         (
@@ -111,7 +142,7 @@ fn bad_contact_terms_get_their_own_errors() {
         ),
         (
             r#"{"terms": [{"name": "a", "value": {"joint_velocity": "x", "component": 1}}]}"#,
-            "task.terms.terms[0].value.component: a component belongs to a contact_wrench",
+            "task.terms.terms[0].value.component: a component belongs to a contact_wrench, body_inertia or body_velocity",
         ),
         (
             r#"{"terms": [{"name": "a", "value": {"contact_wrench": ["cube", "cube"], "component": 1}}]}"#,

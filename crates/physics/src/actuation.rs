@@ -89,7 +89,7 @@ fn motor_axes(kind: JointType) -> &'static [JointAxis] {
     }
 }
 
-fn clamp_effort(value: f64, max_effort: Option<f64>) -> f64 {
+pub(crate) fn clamp_effort(value: f64, max_effort: Option<f64>) -> f64 {
     match max_effort {
         Some(m) => value.clamp(-m, m),
         None => value,

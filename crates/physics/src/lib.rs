@@ -16,6 +16,7 @@
 //! state and targets, N·m and N for efforts, millimetres for poses. Inside, all is SI.
 
 mod actuation;
+mod bodies;
 mod build;
 mod command;
 mod contacts;
@@ -30,6 +31,7 @@ mod tendons;
 mod units;
 mod world;
 
+pub use bodies::{INERTIA_LEN, VELOCITY_LEN};
 pub use command::{ActionMode, PdGains, DEFAULT_PD_FREQUENCY_HZ};
 pub use contacts::WRENCH_LEN;
 pub use error::{PhysicsError, Result};

@@ -243,6 +243,28 @@ impl RobotWorld {
             self.apply_efforts();
             self.pipeline_step(false);
         }
+        self.refresh_body_velocities();
+    }
+
+    /// The links' body velocities from the final generalized velocities (vendored patch
+    /// 19: the solver leaves them one substep old).
+    fn refresh_body_velocities(&mut self) {
+        let s = &mut self.live;
+        let mut last = None;
+        for slot in self
+            .joints
+            .iter()
+            .map(|j| j.multibody)
+            .chain(self.free_roots.iter().map(|r| r.multibody))
+        {
+            if last == Some(slot) {
+                continue;
+            }
+            last = Some(slot);
+            if let Some(mb) = s.multibody_joints.get_multibody_mut_internal(slot) {
+                mb.update_rigid_body_velocities(&mut s.bodies);
+            }
+        }
     }
 
     /// Starts the step's accumulation of the hard limits' impulses

@@ -74,6 +74,17 @@ pub(super) enum Q {
     LimitForce(usize),
     TendonLength(usize),
     TendonVelocity(usize),
+    ActuatorForce(usize),
+    /// A component of a group's `cinert` ([`ActiveTerms::groups`]).
+    BodyInertia {
+        group: usize,
+        component: usize,
+    },
+    /// A component of a group's `cvel`.
+    BodyVelocity {
+        group: usize,
+        component: usize,
+    },
     /// A component of a group's contact wrench ([`ActiveTerms::groups`]).
     ContactWrench {
         group: usize,
@@ -99,6 +110,7 @@ pub(super) enum Kind {
         groups: Vec<usize>,
         lo: f64,
         hi: f64,
+        sum_max: f64,
     },
 }
 
@@ -138,6 +150,15 @@ impl ActiveTerms {
             Q::LimitForce(k) => world.limit_force(k),
             Q::TendonLength(k) => world.tendon_state(k).0,
             Q::TendonVelocity(k) => world.tendon_state(k).1,
+            Q::ActuatorForce(k) => world.actuator_force(k),
+            Q::BodyInertia { group, component } => {
+                let about = world.robot_center_of_mass(Units::Si);
+                world.group_inertia(&self.groups[group], about)[component]
+            }
+            Q::BodyVelocity { group, component } => {
+                let about = world.robot_center_of_mass(Units::Si);
+                world.group_velocity(&self.groups[group], about)[component]
+            }
             Q::ContactWrench { group, component } => self.group_wrench(group)[component],
             Q::Point { body, point, axis } => match point {
                 Some(p) => world.point_position(self.units, body, p)[axis],
@@ -229,11 +250,17 @@ impl ActiveTerms {
                 Kind::Square(q, center) => {
                     (self.read(*q, world, positions, velocities) - center).powi(2)
                 }
-                Kind::ContactCost { groups, lo, hi } => groups
+                Kind::ContactCost {
+                    groups,
+                    lo,
+                    hi,
+                    sum_max,
+                } => groups
                     .iter()
                     .flat_map(|&g| self.group_wrench(g))
                     .map(|w| w.clamp(*lo, *hi).powi(2))
-                    .sum(),
+                    .sum::<f64>()
+                    .min(*sum_max),
             };
             *slot = value as f32;
             reward += weight * value;

@@ -29,7 +29,7 @@ pub(crate) use active::{ActiveSet, ActiveTerms, Dist};
 pub(crate) use resolve::{instance, Context};
 
 /// Most terms (and most healthy ranges) in one task.
-pub const MAX_TERMS: usize = 128;
+pub const MAX_TERMS: usize = 512;
 /// Longest term name, in characters.
 const MAX_NAME: usize = 64;
 /// Largest magnitude of a weight, a range bound or a noise scale.
@@ -95,6 +95,10 @@ pub struct ContactCost {
     pub min: f64,
     /// Upper clip.
     pub max: f64,
+    /// The sum's own upper clip, applied before the weight (Gymnasium's Humanoid clips its
+    /// weighted contact cost at 10: `sum_max` = 10 / weight); default none.
+    #[serde(default)]
+    pub sum_max: Option<f64>,
 }
 
 /// `(of − center)²`.
@@ -135,7 +139,8 @@ pub enum Axis {
 
 /// A scalar read from the state: a joint's position or velocity (`joint`,
 /// `joint_velocity`), the force its limits applied over the step (`joint_limit_force`), a
-/// fixed tendon's length or rate (`tendon_length`, `tendon_velocity`),
+/// fixed tendon's length or rate (`tendon_length`, `tendon_velocity`), a body's inertia or
+/// velocity (`body_inertia`, `body_velocity`), a joint's actuator force (`actuator_force`),
 /// one component of the contact wrench on a group of instances (`contact_wrench`,
 /// `component`), or one world coordinate (`axis`) of a point of an instance (`instance`,
 /// `point`), of a site (`site`) or of the whole robot's centre of mass (`center_of_mass`).
@@ -166,7 +171,24 @@ pub struct Quantity {
     /// unit system; 0 after a reset.
     #[serde(default)]
     pub contact_wrench: Option<Vec<String>>,
-    /// The wrench component: 0–2 the torque about world x, y, z; 3–5 the force.
+    /// Instances that make up one body (a MuJoCo body's geoms), whose inertia about the
+    /// robot's centre of mass is read (needs `component`): MuJoCo's `cinert`, 0–5 the
+    /// inertia tensor (xx, yy, zz, xy, xz, yz; kg·m²), 6–8 mass × the body's centre's
+    /// offset (kg·m), 9 the mass (kg), world axes, SI in every unit system.
+    #[serde(default)]
+    pub body_inertia: Option<Vec<String>>,
+    /// Instances that make up one (rigid) body, whose velocity is read (needs
+    /// `component`): MuJoCo's `cvel`, 0–2 the angular velocity (rad/s), 3–5 the velocity
+    /// of the body-fixed point at the robot's centre of mass (m/s), SI in every unit system.
+    #[serde(default)]
+    pub body_velocity: Option<Vec<String>>,
+    /// The generalized force the torque-mode command applies to a joint's first DOF
+    /// (gear × action, clamped by `max_effort`; N or N·m in every unit system): MuJoCo's
+    /// `qfrc_actuator`; 0 for a passive joint and under position or velocity targets.
+    #[serde(default)]
+    pub actuator_force: Option<String>,
+    /// The component of a `contact_wrench` (0–2 the torque about world x, y, z; 3–5 the
+    /// force), a `body_inertia` (0–9) or a `body_velocity` (0–5).
     #[serde(default)]
     pub component: Option<usize>,
     /// An instance whose point's coordinate is read (needs `axis`).

@@ -12,7 +12,7 @@ use super::{
     MAX_TERMS, MAX_VALUE,
 };
 use crate::error::Result;
-use gymfleet_physics::WRENCH_LEN;
+use gymfleet_physics::{INERTIA_LEN, VELOCITY_LEN, WRENCH_LEN};
 
 /// What the resolver needs from the env.
 pub(crate) struct Context<'a> {
@@ -174,7 +174,10 @@ impl Context<'_> {
             q.joint_limit_force.is_some(),
             q.tendon_length.is_some(),
             q.tendon_velocity.is_some(),
+            q.actuator_force.is_some(),
             q.contact_wrench.is_some(),
+            q.body_inertia.is_some(),
+            q.body_velocity.is_some(),
             q.instance.is_some(),
             q.site.is_some(),
             q.center_of_mass,
@@ -183,8 +186,9 @@ impl Context<'_> {
             return Err(bad(
                 path,
                 "expected exactly one of joint, joint_velocity, joint_limit_force, \
-                 tendon_length, tendon_velocity, contact_wrench (with a component), instance, site or center_of_mass (the \
-                 last three with an axis)",
+                 tendon_length, tendon_velocity, actuator_force, contact_wrench, body_inertia, \
+                 body_velocity (the last three with a component), instance, site or \
+                 center_of_mass (the last three with an axis)",
             ));
         }
         let axis = || {
@@ -195,10 +199,14 @@ impl Context<'_> {
                 )
             })
         };
-        if q.component.is_some() && q.contact_wrench.is_none() {
+        if q.component.is_some()
+            && q.contact_wrench.is_none()
+            && q.body_inertia.is_none()
+            && q.body_velocity.is_none()
+        {
             return Err(bad(
                 format!("{path}.component"),
-                "a component belongs to a contact_wrench",
+                "a component belongs to a contact_wrench, body_inertia or body_velocity",
             ));
         }
         let no_geometry = |what: &str| -> Result<()> {
@@ -237,6 +245,48 @@ impl Context<'_> {
             return Ok(Q::TendonVelocity(
                 self.tendon(&format!("{path}.tendon_velocity"), name)?,
             ));
+        }
+        if let Some(name) = &q.actuator_force {
+            no_geometry("actuator force")?;
+            return Ok(Q::ActuatorForce(
+                self.joint(&format!("{path}.actuator_force"), name)?,
+            ));
+        }
+        for (field, names, len, what) in [
+            (
+                "body_inertia",
+                &q.body_inertia,
+                INERTIA_LEN,
+                "inertia (xx, yy, zz, xy, xz, yz), mass × offset (x, y, z), mass",
+            ),
+            (
+                "body_velocity",
+                &q.body_velocity,
+                VELOCITY_LEN,
+                "angular velocity (x, y, z), linear velocity (x, y, z)",
+            ),
+        ] {
+            let Some(names) = names else { continue };
+            no_geometry(field)?;
+            let component = match q.component {
+                Some(c) if c < len => c,
+                other => {
+                    return Err(bad(
+                        format!("{path}.component"),
+                        format!(
+                            "expected a component 0 to {} ({what}), got {}",
+                            len - 1,
+                            other.map_or("none".to_string(), |c| c.to_string())
+                        ),
+                    ))
+                }
+            };
+            let group = self.group(&format!("{path}.{field}"), names)?;
+            return Ok(if field == "body_inertia" {
+                Q::BodyInertia { group, component }
+            } else {
+                Q::BodyVelocity { group, component }
+            });
         }
         if let Some(names) = &q.contact_wrench {
             no_geometry("contact wrench")?;
@@ -307,7 +357,7 @@ impl Context<'_> {
         Ok(groups.len() - 1)
     }
 
-    fn contact_cost(&self, path: &str, c: &ContactCost) -> Result<(Vec<usize>, f64, f64)> {
+    fn contact_cost(&self, path: &str, c: &ContactCost) -> Result<(Vec<usize>, f64, f64, f64)> {
         if c.groups.len() > self.assembly.instances.len() {
             return Err(bad(
                 format!("{path}.groups"),
@@ -332,7 +382,11 @@ impl Context<'_> {
             .enumerate()
             .map(|(k, g)| self.group(&format!("{path}.groups[{k}]"), g))
             .collect::<Result<Vec<_>>>()?;
-        Ok((groups, lo, hi))
+        let sum_max = match c.sum_max {
+            Some(m) => bounded(&format!("{path}.sum_max"), m, "bound")?,
+            None => f64::INFINITY,
+        };
+        Ok((groups, lo, hi, sum_max))
     }
 
     fn set(&self, path: &str, set: &SetJoints, seen: &mut Vec<usize>) -> Result<ActiveSet> {
@@ -488,8 +542,14 @@ impl TermsTask {
                 let center = bounded(&format!("{path}.square.center"), sq.center, "centre")?;
                 Kind::Square(cx.quantity(&format!("{path}.square.of"), &sq.of)?, center)
             } else if let Some(c) = &t.contact_cost {
-                let (groups, lo, hi) = cx.contact_cost(&format!("{path}.contact_cost"), c)?;
-                Kind::ContactCost { groups, lo, hi }
+                let (groups, lo, hi, sum_max) =
+                    cx.contact_cost(&format!("{path}.contact_cost"), c)?;
+                Kind::ContactCost {
+                    groups,
+                    lo,
+                    hi,
+                    sum_max,
+                }
             } else if t.ctrl_cost.is_some() {
                 Kind::CtrlCost
             } else if t.healthy.is_some() {

@@ -8,9 +8,10 @@ noise and keyword arguments), built at run time from the XML files of the instal
 >>> env = gymnasium.make("gymfleet/Hopper-v5")           # was: gymnasium.make("Hopper-v5")
 >>> envs = gymnasium.make_vec("gymfleet/Hopper-v5", 64)  # one server-side batch
 
-Registered: InvertedPendulum, HalfCheetah, Hopper, Walker2d and Swimmer (its fluid is not
-simulated yet). The rest of the suite (InvertedDoublePendulum, Reacher, Pusher, Ant,
-Humanoid, HumanoidStandup) needs what the server does not compute yet; see the README.
+Registered: all eleven of Gymnasium's MuJoCo v5 envs (InvertedPendulum,
+InvertedDoublePendulum, Reacher, Pusher, HalfCheetah, Hopper, Walker2d, Ant, Swimmer,
+Humanoid, HumanoidStandup). What still differs from MuJoCo's is in each spec's ``note``
+and in the README.
 """
 
 from __future__ import annotations

@@ -22,7 +22,7 @@ from gymnasium.vector.utils import batch_space
 from ..env import GymfleetEnv
 from ..errors import InvalidArgument
 from ..vector import GymfleetVectorEnv
-from .plans import Model, Plan, read_model
+from .plans import Model, Plan, Terms, read_model
 from .specs import IGNORED_KWARGS, SUITE, SuiteSpec
 
 #: A single env's server-side episode limit: none that matters; gymnasium's TimeLimit
@@ -90,6 +90,22 @@ class _Setup:
             )
         return dofs, base
 
+    def action_order(self, info: Dict[str, Any], space: spaces.Box) -> Tuple[Optional[np.ndarray], spaces.Box]:
+        """Gymnasium's actions are MuJoCo's ctrl, in actuator order; the server's are in
+        joint order. Returns where each actuator's value goes in the server's action
+        (``None`` when the orders agree) and the action space in actuator order."""
+        actuated = [j["name"] for j in info["joints"] if j.get("actuated", True)]
+        if sorted(actuated) != sorted(self.model.actuators):
+            raise InvalidArgument(
+                f"{self.suite.id}: {self.model.path}'s actuators drive {self.model.actuators}; "
+                f"the converted robot's actuated joints are {actuated}"
+            )
+        order = np.array([actuated.index(j) for j in self.model.actuators], dtype=np.intp)
+        if (order == np.arange(len(order))).all():
+            return None, space
+        low, high = space.low[order], space.high[order]
+        return order, spaces.Box(low, high, dtype=space.dtype)
+
     def observation_space(self) -> spaces.Box:
         # float32 where Gymnasium's is float64: the server's values are float32.
         return spaces.Box(-np.inf, np.inf, shape=(self.plan.observation_dim,), dtype=np.float32)
@@ -105,6 +121,33 @@ def _in_body_frame(quat: np.ndarray, w: np.ndarray) -> np.ndarray:
     y, z): rotated by each conjugate."""
     s, u = quat[:, :1], quat[:, 1:]
     return w - 2.0 * s * np.cross(u, w) + 2.0 * np.cross(u, np.cross(u, w))
+
+
+def _first(x: np.ndarray) -> Any:
+    """One env's info value from (1, ...) rows: a float, or an array (the tendons')."""
+    return float(x[0]) if np.ndim(x) == 1 else np.asarray(x[0], dtype=np.float64)
+
+
+def _reset_values(plan: Plan, q: np.ndarray, v: np.ndarray) -> Dict[str, np.ndarray]:
+    q64, v64 = q.astype(np.float64), v.astype(np.float64)
+    return {**plan.reset_info(q64), **plan.tendon_info(q64, v64)}
+
+
+def _step_values(plan: Plan, q: np.ndarray, v: np.ndarray, terms: Terms) -> Dict[str, np.ndarray]:
+    q64, v64 = q.astype(np.float64), v.astype(np.float64)
+    return {**plan.step_info(q64, terms), **plan.tendon_info(q64, v64)}
+
+
+def _in_joint_order(action: Any, order: Optional[np.ndarray]) -> Any:
+    """Actions in MuJoCo's actuator order (last axis) into the server's joint order."""
+    if order is None:
+        return action
+    given = np.asarray(action, dtype=np.float32)
+    if given.ndim == 0 or given.shape[-1] != len(order):
+        return action  # the server says what is wrong with it
+    out = np.empty_like(given)
+    out[..., order] = given
+    return out
 
 
 def _split(
@@ -140,7 +183,7 @@ class SuiteEnv(gym.Env):
         self.render_mode = setup.kw["render_mode"]
         self.frame_skip = setup.frame_skip
         self.dt = setup.dt
-        self.action_space = self._env.action_space
+        self._order, self.action_space = setup.action_order(self._env.env_info, self._env.action_space)
         self.observation_space = setup.observation_space()
         self.metadata = {**type(self).metadata, "render_fps": int(np.round(1.0 / self.dt))}
 
@@ -155,21 +198,18 @@ class SuiteEnv(gym.Env):
         super().reset(seed=seed)
         raw, _ = self._env.reset(seed=seed)
         q, v, ee = _split(raw[None, :], self._dofs, self._base)
-        info = {k: float(x[0]) for k, x in self._setup.plan.reset_info(q.astype(np.float64)).items()}
+        info = {k: _first(x) for k, x in _reset_values(self._setup.plan, q, v).items()}
         terms = _zeros(self._env.env_info["term_names"], 1)
         return self._setup.plan.observe(q, v, ee, terms)[0].astype(np.float32), info
 
     def step(self, action: Any) -> Tuple[np.ndarray, float, bool, bool, Dict[str, Any]]:
-        raw, reward, terminated, truncated, raw_info = self._env.step(action)
+        raw, reward, terminated, truncated, raw_info = self._env.step(_in_joint_order(action, self._order))
         q, v, ee = _split(raw[None, :], self._dofs, self._base)
         terms = {
             name: np.array([raw_info[name]], dtype=np.float64)
             for name in self._env.env_info["term_names"]
         }
-        info = {
-            k: float(x[0])
-            for k, x in self._setup.plan.step_info(q.astype(np.float64), terms).items()
-        }
+        info = {k: _first(x) for k, x in _step_values(self._setup.plan, q, v, terms).items()}
         obs = self._setup.plan.observe(q, v, ee, terms)[0].astype(np.float32)
         return obs, float(reward), bool(terminated), bool(truncated), info
 
@@ -222,7 +262,9 @@ class SuiteVectorEnv(VectorEnv):
             "render_fps": int(np.round(1.0 / self.dt)),
             "autoreset_mode": self._envs.metadata["autoreset_mode"],
         }
-        self.single_action_space = self._envs.single_action_space
+        self._order, self.single_action_space = setup.action_order(
+            self._envs.batch_info, self._envs.single_action_space
+        )
         self.single_observation_space = setup.observation_space()
         self.action_space = batch_space(self.single_action_space, self.num_envs)
         self.observation_space = batch_space(self.single_observation_space, self.num_envs)
@@ -253,16 +295,16 @@ class SuiteVectorEnv(VectorEnv):
         if seed is not None and isinstance(seed, (int, np.integer)):
             super().reset(seed=int(seed))
         raw, _ = self._envs.reset(seed=seed, options=options)
-        q, _, _ = _split(raw, self._dofs, self._base)
+        q, v, _ = _split(raw, self._dofs, self._base)
         terms = _zeros(self._envs.batch_info["term_names"], len(raw))
-        return self._observe(raw, terms), self._infos(
-            self._setup.plan.reset_info(q.astype(np.float64))
-        )
+        return self._observe(raw, terms), self._infos(_reset_values(self._setup.plan, q, v))
 
     def step(
         self, actions: Any
     ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
-        raw, rewards, terminated, truncated, raw_infos = self._envs.step(actions)
+        raw, rewards, terminated, truncated, raw_infos = self._envs.step(
+            _in_joint_order(actions, self._order)
+        )
         names = self._envs.batch_info["term_names"]
         terms = {name: np.asarray(raw_infos[name], dtype=np.float64) for name in names}
         # The step's values come from the rows the step produced; with same-step autoreset
@@ -273,8 +315,8 @@ class SuiteVectorEnv(VectorEnv):
             rows = raw.copy()
             for env in np.flatnonzero(raw_infos["_final_obs"]):
                 rows[env] = raw_infos["final_obs"][env]
-        q, _, _ = _split(rows, self._dofs, self._base)
-        values = self._setup.plan.step_info(q.astype(np.float64), terms)
+        q, v, _ = _split(rows, self._dofs, self._base)
+        values = _step_values(self._setup.plan, q, v, terms)
         infos = self._infos(values)
         # The returned rows' term values: an env reset in this step starts from zeros (the
         # server's, in next-step mode; here, in same-step mode).
@@ -290,11 +332,12 @@ class SuiteVectorEnv(VectorEnv):
                 final[env] = row
             now = {name: np.where(has_final, 0.0, value) for name, value in terms.items()}
             final_info = {k: (v & has_final if k.startswith("_") else v) for k, v in infos.items()}
-            q_now, _, _ = _split(raw, self._dofs, self._base)
-            reset = self._setup.plan.reset_info(q_now.astype(np.float64))
+            q_now, v_now, _ = _split(raw, self._dofs, self._base)
+            reset = _reset_values(self._setup.plan, q_now, v_now)
             for key in values:
                 if key in reset:
-                    infos[key] = np.where(has_final, reset[key], infos[key])
+                    mask = has_final.reshape((-1,) + (1,) * (np.ndim(reset[key]) - 1))
+                    infos[key] = np.where(mask, reset[key], infos[key])
                 else:
                     infos["_" + key] = ~has_final
             for key in reset.keys() - values.keys():

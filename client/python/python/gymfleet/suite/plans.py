@@ -42,6 +42,12 @@ class Model:
     #: MuJoCo's bodies but the world, in body order: each name and its geoms' names
     #: (the instances the conversion makes of it).
     bodies: List[Tuple[str, List[str]]] = field(default_factory=list)
+    #: The joint each actuator drives, in actuator (ctrl) order.
+    actuators: List[str] = field(default_factory=list)
+    #: Fixed tendons: each name and its (joint, coef) pairs.
+    tendons: List[Tuple[str, List[Tuple[str, float]]]] = field(default_factory=list)
+    #: The first body's height as written (MuJoCo's init_qpos[2] with a free joint).
+    root_z: float = 0.0
 
     def index(self, name: str) -> int:
         return self.joints.index(name)
@@ -90,6 +96,14 @@ def read_model(xml_file: str) -> Model:
             if j.tag in ("joint", "freejoint"):
                 joints.append(j.get("name", ""))
                 refs.append(float(j.get("ref", 0.0)))
+    tendons: List[Tuple[str, List[Tuple[str, float]]]] = []
+    for k, fixed in enumerate(root.iter("fixed")):
+        pairs = [(j.get("joint", ""), float(j.get("coef", 0.0))) for j in fixed.findall("joint")]
+        tendons.append((fixed.get("name", f"tendon{k}"), pairs))
+    first = world.find("body") if world is not None else None
+    root_z = float((first.get("pos") or "0 0 0").split()[2]) if first is not None else 0.0
+    actuator = root.find("actuator")
+    actuators = [a.get("joint", "") for a in actuator] if actuator is not None else []
     option = root.find("option")
     timestep = float(option.get("timestep", 0.002)) if option is not None else 0.002
     return Model(
@@ -100,6 +114,9 @@ def read_model(xml_file: str) -> Model:
         timestep=timestep,
         free=free,
         bodies=bodies,
+        actuators=actuators,
+        tendons=tendons,
+        root_z=root_z,
     )
 
 
@@ -125,6 +142,17 @@ class Plan:
     #: Sites (or instances) observed as end effectors: MuJoCo's body positions (xpos)
     #: that the observation holds.
     end_effectors: List[str] = field(default_factory=list)
+    #: Fixed tendons reported in ``info["tendon_length"]``/``["tendon_velocity"]`` (at
+    #: resets and steps): each as (qpos index, qvel index, coef) per joint.
+    tendons: List[List[Tuple[int, int, float]]] = field(default_factory=list)
+
+    def tendon_info(self, q: np.ndarray, v: np.ndarray) -> Dict[str, np.ndarray]:
+        """MuJoCo's ``ten_length`` and ``ten_velocity`` (n, tendons) from qpos and qvel."""
+        if not self.tendons:
+            return {}
+        length = np.stack([sum(c * q[:, i] for i, _, c in t) for t in self.tendons], axis=1)
+        rate = np.stack([sum(c * v[:, j] for _, j, c in t) for t in self.tendons], axis=1)
+        return {"tendon_length": length.astype(np.float64), "tendon_velocity": rate.astype(np.float64)}
 
 
 def _joint_state(

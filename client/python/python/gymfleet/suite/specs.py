@@ -11,6 +11,7 @@ from typing import Any, Callable, Dict, Mapping, Optional
 import numpy as np
 
 from ..errors import InvalidArgument
+from .humanoid import _humanoid, _humanoid_standup
 from .plans import (
     _ant,
     _half_cheetah,
@@ -59,7 +60,7 @@ class SuiteSpec:
     reward_threshold: Optional[float]
     defaults: Dict[str, Any]
     plan: Callable[[Model, Mapping[str, Any]], Plan]
-    #: What differs from Gymnasium's env, if anything (Swimmer: no fluid yet).
+    #: What differs from Gymnasium's env, if anything (the Ant's ankles' start).
     note: str = ""
 
     @property
@@ -96,6 +97,20 @@ _WALKER_DEFAULTS = {
     "reset_noise_scale": 5e-3,
     "exclude_current_positions_from_observation": True,
 }
+
+#: Humanoid's and HumanoidStandup's observation switches.
+_BODY_PARTS = {
+    "exclude_current_positions_from_observation": True,
+    "include_cinert_in_observation": True,
+    "include_cvel_in_observation": True,
+    "include_qfrc_actuator_in_observation": True,
+    "include_cfrc_ext_in_observation": True,
+}
+
+_KNEES = (
+    "the knees start at -2 degrees, the end of their ranges nearest MuJoCo's pose (0, which "
+    "their ranges exclude), where MuJoCo's soft limits push them"
+)
 
 SUITE: Dict[str, SuiteSpec] = {
     s.id: s
@@ -213,7 +228,43 @@ SUITE: Dict[str, SuiteSpec] = {
                 "exclude_current_positions_from_observation": True,
             },
             _swimmer,
-            note="MuJoCo's fluid (the XML's viscosity) is not simulated yet: the swimmer cannot swim",
+        ),
+        SuiteSpec(
+            "Humanoid",
+            "humanoid.xml",
+            5,
+            1000,
+            None,
+            {
+                "forward_reward_weight": 1.25,
+                "ctrl_cost_weight": 0.1,
+                "contact_cost_weight": 5e-7,
+                "contact_cost_range": (-np.inf, 10.0),
+                "healthy_reward": 5.0,
+                "terminate_when_unhealthy": True,
+                "healthy_z_range": (1.0, 2.0),
+                "reset_noise_scale": 1e-2,
+                **_BODY_PARTS,
+            },
+            _humanoid,
+            note=_KNEES,
+        ),
+        SuiteSpec(
+            "HumanoidStandup",
+            "humanoidstandup.xml",
+            5,
+            1000,
+            None,
+            {
+                "uph_cost_weight": 1.0,
+                "ctrl_cost_weight": 0.1,
+                "impact_cost_weight": 0.5e-6,
+                "impact_cost_range": (-np.inf, 10.0),
+                "reset_noise_scale": 1e-2,
+                **_BODY_PARTS,
+            },
+            _humanoid_standup,
+            note=_KNEES,
         ),
     ]
 }

@@ -979,6 +979,15 @@ impl Multibody {
         }
     }
 
+    /// Sets the rigid-body velocities of this multibody's links from its generalized
+    /// velocities (gymfleet patch, see `PATCHES.md`). The solver does this at the start of
+    /// every substep, so after a pipeline step the bodies' velocities are those before the
+    /// last substep; call this after the step to read the final ones. The dynamics do not
+    /// depend on it (the next substep recomputes them).
+    pub fn update_rigid_body_velocities(&mut self, bodies: &mut RigidBodySet) {
+        self.update_velocities(bodies);
+    }
+
     /// Computes the constant terms of the dynamics.
     #[profiling::function]
     pub(crate) fn update_velocities(&mut self, bodies: &mut RigidBodySet) {
