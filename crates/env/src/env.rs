@@ -299,8 +299,9 @@ impl RobotEnv {
         self.elapsed = 0;
         self.diverged = false;
         self.observe_into(out);
-        self.last_obs.copy_from_slice(out);
         self.start_task(out);
+        self.observe_task_into(out);
+        self.last_obs.copy_from_slice(out);
     }
 
     /// A terms task's velocity terms start from the observation `obs`; the term values
@@ -375,6 +376,8 @@ impl RobotEnv {
             ),
             None => (0.0, None),
         };
+        self.observe_task_into(out);
+        self.last_obs.copy_from_slice(out);
         Ok(StepFlags {
             reward: reward as f32,
             terminated: termination.is_some(),
@@ -435,13 +438,22 @@ impl RobotEnv {
         } else {
             rest
         };
-        let (poses, task) = rest.split_at_mut(POSE_LEN * self.end_effectors.len());
+        let (poses, _) = rest.split_at_mut(POSE_LEN * self.end_effectors.len());
         for (pose, &ee) in poses.chunks_exact_mut(POSE_LEN).zip(&self.end_effectors) {
             pose.copy_from_slice(&self.end_effector_pose(self.units, ee));
         }
-        if let Some(t) = &self.task {
-            t.observe(task);
-        }
+        self.observe_task_into(out);
+    }
+
+    /// Writes the task's part of the flat observation `out` (whose joint state is
+    /// written): after a step's terms are evaluated and after a reset's start, so that
+    /// observed contact wrenches are the step's (0 after a reset).
+    fn observe_task_into(&self, out: &mut [f32]) {
+        let Some(t) = &self.task else { return };
+        let dof = self.spec.num_dofs;
+        let at = out.len() - t.observation_dim();
+        let (state, task) = out.split_at_mut(at);
+        t.observe(&self.world, &state[..dof], &state[dof..2 * dof], task);
     }
 }
 

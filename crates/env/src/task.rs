@@ -306,16 +306,18 @@ impl ActiveTask {
     }
 
     pub(crate) fn observation_dim(&self) -> usize {
-        match self.kind {
+        match &self.kind {
             Active::Reach { .. } => 3,
-            Active::Track { .. } | Active::Upright { .. } | Active::Terms(_) => 0,
+            Active::Terms(t) => t.observation_dim(),
+            Active::Track { .. } | Active::Upright { .. } => 0,
         }
     }
 
     /// The name of the observation segment the task appends, if any.
     pub(crate) fn observation_name(&self) -> Option<&'static str> {
-        match self.kind {
+        match &self.kind {
             Active::Reach { .. } => Some("target"),
+            Active::Terms(t) if t.observation_dim() > 0 => Some("terms"),
             Active::Track { .. } | Active::Upright { .. } | Active::Terms(_) => None,
         }
     }
@@ -375,11 +377,23 @@ impl ActiveTask {
     }
 
     /// Writes the task's observation (see [`ActiveTask::observation_dim`]).
-    pub(crate) fn observe(&self, out: &mut [f32]) {
-        if let Active::Reach { .. } = self.kind {
-            for (o, t) in out.iter_mut().zip(self.target) {
-                *o = t as f32;
+    /// Writes the task's part of the observation: a reach task's target, a terms task's
+    /// observed terms (from `world` and the observed joint state).
+    pub(crate) fn observe(
+        &self,
+        world: &RobotWorld,
+        positions: &[f32],
+        velocities: &[f32],
+        out: &mut [f32],
+    ) {
+        match &self.kind {
+            Active::Reach { .. } => {
+                for (o, t) in out.iter_mut().zip(self.target) {
+                    *o = t as f32;
+                }
             }
+            Active::Terms(t) => t.observe(world, positions, velocities, out),
+            Active::Track { .. } | Active::Upright { .. } => {}
         }
     }
 

@@ -261,3 +261,58 @@ fn bad_body_terms_get_their_own_errors() {
         );
     }
 }
+
+#[test]
+fn observed_terms_are_the_observations_terms_segment_at_resets_and_steps() {
+    let mut terms = components("body_velocity", &["a"], 6);
+    for t in terms.iter_mut() {
+        t["observe"] = json!(true);
+    }
+    terms.insert(
+        0,
+        json!({"name": "spin", "weight": 1, "velocity": {"joint": "spin_a"}}),
+    );
+    terms.push(json!({"name": "mass", "weight": 0, "observe": true, "value": {"body_inertia": ["a"], "component": 9}}));
+    let mut env = with_task(&turntables(), terms, Units::Si);
+    let spec = env.spec();
+    assert_eq!(
+        spec.observation_layout.last().map(|s| (s.name, s.size)),
+        Some(("terms", 7))
+    );
+    // At a reset: read from the state (at rest: no velocity; the mass is there).
+    let o = env.reset(Some(0));
+    let mass = 1000.0 * 4.0 / 3.0 * std::f64::consts::PI * 0.05f64.powi(3);
+    assert_eq!(&o.task[..6], &[0.0; 6]);
+    assert!(
+        (f64::from(o.task[6]) / mass - 1.0).abs() < 1e-5,
+        "{:?}",
+        o.task
+    );
+    assert!(
+        env.term_values().iter().all(|v| *v == 0.0),
+        "term values stay 0 until a step"
+    );
+    // After a step: the step's term values, in term order.
+    for _ in 0..5 {
+        let r = env.step(ActionType::Torque, &[0.002]).expect("steps");
+        assert_eq!(r.observation.task, env.term_values()[1..]);
+    }
+    // Only value terms can be observed.
+    let bad = json!({"terms": [{"name": "x", "observe": true, "velocity": {"joint": "spin_a"}}]})
+        .to_string();
+    let config = EnvConfig {
+        task: Some(TaskSpec {
+            kind: TaskKind::Terms(TermsTask::from_json(&bad).expect("a terms task")),
+            action_cost: 0.0,
+        }),
+        ..EnvConfig::default()
+    };
+    let message = RobotEnv::from_json(&turntables().to_string(), config)
+        .err()
+        .expect("refused")
+        .to_string();
+    assert!(
+        message.contains("task.terms.terms[0].observe: only a value term can be observed (its coordinate is read from the state)"),
+        "{message}"
+    );
+}

@@ -175,3 +175,82 @@ fn bad_contact_terms_get_their_own_errors() {
         assert_eq!(err, expected);
     }
 }
+
+/// Two overlapping bars in zero gravity: `a` on a hinge to the ground, `b` hinged to `a`
+/// through a helper (1 mg, colliding with nothing when `helper_collides` is false), as an
+/// MJCF body with two joints becomes. `a` also carries a welded cube that `b` overlaps.
+fn overlapping(helper_collides: bool) -> serde_json::Value {
+    let helper_collision = if helper_collides {
+        json!({"group": 1, "mask": 1})
+    } else {
+        json!({"group": 0, "mask": 0})
+    };
+    json!({
+        "simulation": {"gravity": {"x": 0, "y": 0, "z": 0}},
+        "parts": [
+            {"name": "Ground", "primitive": {"type": "cube", "size": {"x": 10, "y": 10, "z": 10}}},
+            {"name": "Bar", "primitive": {"type": "cube", "size": {"x": 100, "y": 20, "z": 20}}},
+            {"name": "Dot", "primitive": {"type": "sphere", "radius": 1}},
+            {"name": "Cube", "primitive": {"type": "cube", "size": {"x": 20, "y": 20, "z": 20}}}
+        ],
+        "assembly": {
+            "instances": [
+                {"part": "Ground", "name": "ground", "position": {"x": -5, "y": -5, "z": -200}},
+                {"part": "Bar", "name": "a", "position": {"x": 0, "y": 0, "z": 0}},
+                {"part": "Cube", "name": "a_cube", "position": {"x": 80, "y": 0, "z": 10}},
+                {"part": "Dot", "name": "helper", "position": {"x": 50, "y": 10, "z": 10},
+                 "collision": helper_collision, "inertial": {"mass": 1e-6}},
+                {"part": "Bar", "name": "b", "position": {"x": 40, "y": 0, "z": 10}}
+            ],
+            "joints": [
+                {"type": "revolute", "name": "root", "parent": "ground", "child": "a",
+                 "anchor": {"x": 0, "y": 10, "z": 10}, "axis": {"x": 0, "y": 0, "z": 1}},
+                {"type": "fixed", "name": "weld", "parent": "a", "child": "a_cube"},
+                {"type": "revolute", "name": "j1", "parent": "a", "child": "helper",
+                 "anchor": {"x": 50, "y": 10, "z": 10}, "axis": {"x": 0, "y": 0, "z": 1}},
+                {"type": "revolute", "name": "j2", "parent": "helper", "child": "b",
+                 "anchor": {"x": 50, "y": 10, "z": 10}, "axis": {"x": 0, "y": 1, "z": 0}}
+            ]
+        }
+    })
+}
+
+#[test]
+fn a_body_does_not_collide_with_its_parent_through_helpers_nor_its_welded_parts() {
+    let task = format!(
+        r#"{{"terms": [{}]}}"#,
+        (0..6)
+            .map(|k| component(&format!("b{k}"), "\"b\"", k))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    let run = |helper_collides: bool| -> f64 {
+        let config = EnvConfig {
+            units: Units::Si,
+            task: Some(TaskSpec {
+                kind: TaskKind::Terms(TermsTask::from_json(&task).expect("a terms task")),
+                action_cost: 0.0,
+            }),
+            ..EnvConfig::default()
+        };
+        let mut env = env_with(&overlapping(helper_collides), config);
+        let mut most = 0.0f64;
+        for _ in 0..20 {
+            env.step(ActionType::Torque, &[0.0, 0.0, 0.0])
+                .expect("steps");
+            most = env
+                .term_values()
+                .iter()
+                .fold(most, |m, v| m.max(f64::from(v.abs())));
+        }
+        most
+    };
+    // MuJoCo's rule: b's parent body is a (the helper between them collides with
+    // nothing), so b touches neither a nor a's welded cube.
+    assert_eq!(run(false), 0.0, "b is kept apart from its parent body");
+    // A helper that collides makes b a grandchild: then they collide (the control).
+    assert!(
+        run(true) > 0.0,
+        "b and a collide when they are not parent and child"
+    );
+}

@@ -244,8 +244,10 @@ impl RobotWorld {
             kd: dofs.iter().map(|d| d.kd).collect(),
         };
         let fluid = crate::fluid::FluidDrag::new(assembly, &bodies, &sets);
+        let contact_filter = crate::contact_filter::contact_filter(assembly, &bodies, &mut sets);
         let mut world = RobotWorld {
             fluid,
+            contact_filter,
             tendons: Vec::new(),
             initial: std::sync::Arc::new(sets.clone()),
             live: sets,

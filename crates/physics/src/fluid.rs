@@ -15,7 +15,7 @@
 
 use std::f32::consts::PI;
 
-use gymfleet_assembly::{Assembly, JointType};
+use gymfleet_assembly::Assembly;
 use rapier3d::prelude::*;
 
 use crate::world::{RobotWorld, Sets};
@@ -41,34 +41,16 @@ impl FluidDrag {
         sets: &Sets,
     ) -> Option<Self> {
         let fluid = assembly.fluid?;
-        let mut parent: Vec<usize> = (0..bodies.len()).collect();
-        fn root(parent: &mut [usize], mut i: usize) -> usize {
-            while parent[i] != i {
-                parent[i] = parent[parent[i]];
-                i = parent[i];
-            }
-            i
-        }
-        for joint in assembly
-            .joints
-            .iter()
-            .filter(|j| j.kind == JointType::Fixed)
-        {
-            let (a, b) = (
-                root(&mut parent, joint.parent),
-                root(&mut parent, joint.child),
-            );
-            parent[a.max(b)] = a.min(b);
-        }
+        let group = crate::contact_filter::rigid_groups(assembly);
         let mut groups: Vec<Vec<RigidBodyHandle>> = Vec::new();
-        let mut group_of_root = vec![usize::MAX; bodies.len()];
+        let mut index = vec![usize::MAX; bodies.len()];
         for (k, &body) in bodies.iter().enumerate() {
-            let r = root(&mut parent, k);
-            if group_of_root[r] == usize::MAX {
-                group_of_root[r] = groups.len();
+            let g = group[k];
+            if index[g] == usize::MAX {
+                index[g] = groups.len();
                 groups.push(Vec::new());
             }
-            groups[group_of_root[r]].push(body);
+            groups[index[g]].push(body);
         }
         // A group welded to the ground does not move through the fluid.
         groups.retain(|g| g.iter().all(|&h| sets.bodies[h].is_dynamic()));

@@ -19,6 +19,7 @@ mod actuation;
 mod bodies;
 mod build;
 mod command;
+mod contact_filter;
 mod contacts;
 mod error;
 mod fluid;

@@ -139,6 +139,8 @@ pub struct RobotWorld {
     pub(crate) fluid: Option<crate::fluid::FluidDrag>,
     /// Fixed tendons, in document order (`tendons.rs`).
     pub(crate) tendons: Vec<crate::tendons::TendonSlot>,
+    /// The body pairs kept from colliding (`contact_filter.rs`).
+    pub(crate) contact_filter: crate::contact_filter::ContactFilter,
 }
 
 /// The document's values domain randomisation scales (`randomize.rs`), kept from the
@@ -305,7 +307,7 @@ impl RobotWorld {
             &mut s.multibody_joints,
             &mut s.soft_bodies,
             &mut s.ccd,
-            &(),
+            &self.contact_filter,
             &(),
         );
     }

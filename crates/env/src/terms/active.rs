@@ -125,6 +125,8 @@ pub(super) struct ActiveHealthy {
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct ActiveTerms {
     pub(super) terms: Vec<(f64, Kind)>,
+    /// The observed terms (all `value` terms), in term order.
+    pub(super) observed: Vec<usize>,
     pub(super) healthy: Option<ActiveHealthy>,
     /// Each velocity term's coordinate at the end of the last step (or reset).
     pub(super) previous: Vec<f64>,
@@ -187,6 +189,26 @@ impl ActiveTerms {
             }
         }
         sum
+    }
+
+    /// Floats the observed terms add to the observation.
+    pub(crate) fn observation_dim(&self) -> usize {
+        self.observed.len()
+    }
+
+    /// The observed terms' values from the state now (contact wrenches: the last step's).
+    pub(crate) fn observe(
+        &self,
+        world: &RobotWorld,
+        positions: &[f32],
+        velocities: &[f32],
+        out: &mut [f32],
+    ) {
+        for (o, &k) in out.iter_mut().zip(&self.observed) {
+            if let Kind::Value(q) = self.terms[k].1 {
+                *o = self.read(q, world, positions, velocities) as f32;
+            }
+        }
     }
 
     /// A new episode (or a state put back): the velocity terms' coordinates now.

@@ -83,6 +83,11 @@ pub struct Term {
     /// to `[min, max]`, squared (Gymnasium's Ant `contact_cost`).
     #[serde(default)]
     pub contact_cost: Option<ContactCost>,
+    /// A `value` term that is also part of the observation (its `terms` segment, in term
+    /// order), read from the state at resets as at steps (a contact wrench: 0 after a
+    /// reset); default false.
+    #[serde(default)]
+    pub observe: bool,
 }
 
 /// Σ clip(wrench component, min, max)² over groups of instances.

@@ -534,6 +534,12 @@ impl TermsTask {
                      square or contact_cost",
                 ));
             }
+            if t.observe && t.value.is_none() {
+                return Err(bad(
+                    format!("{path}.observe"),
+                    "only a value term can be observed (its coordinate is read from the state)",
+                ));
+            }
             let kind = if let Some(q) = &t.velocity {
                 Kind::Velocity(cx.quantity(&format!("{path}.velocity"), q)?)
             } else if let Some(q) = &t.value {
@@ -652,7 +658,15 @@ impl TermsTask {
         for (i, set) in noise.set.iter().enumerate() {
             sets.push(cx.set(&format!("task.terms.reset_noise.set[{i}]"), set, &mut seen)?);
         }
+        let observed = self
+            .terms
+            .iter()
+            .enumerate()
+            .filter(|(_, t)| t.observe)
+            .map(|(k, _)| k)
+            .collect();
         Ok(ActiveTerms {
+            observed,
             groups: cx.groups.take(),
             wrenches: Vec::new(),
             sets,

@@ -47,6 +47,8 @@ class _Setup:
                 )
         self.model: Model = read_model(str(self.kw["xml_file"]))
         self.plan: Plan = self.suite.plan(self.model, self.kw)
+        #: The terms the server observes (the observation's tail), in order.
+        self.observed = [t["name"] for t in self.plan.task.get("terms", []) if t.get("observe")]
         self.frame_skip = int(self.kw["frame_skip"])
         self.dt = self.model.timestep * self.frame_skip
         render_mode = self.kw["render_mode"]
@@ -82,6 +84,7 @@ class _Setup:
                 f"the env needs MuJoCo's {self.model.joints}, one DOF each"
             )
         base = any(name == "base_pose" for name, _ in info["observation_layout"])
+        self.dofs, self.base = dofs, base
         if base != (self.model.free is not None):
             raise InvalidArgument(
                 f"{self.suite.id}: {self.model.path} converts "
@@ -106,6 +109,11 @@ class _Setup:
         low, high = space.low[order], space.high[order]
         return order, spaces.Box(low, high, dtype=space.dtype)
 
+    def split(self, raw: np.ndarray) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """MuJoCo's qpos and qvel and the end effectors' positions of raw rows (after
+        ``check``)."""
+        return _split(raw, self.dofs, self.base, len(self.observed), self.model.root_geom)
+
     def observation_space(self) -> spaces.Box:
         # float32 where Gymnasium's is float64: the server's values are float32.
         return spaces.Box(-np.inf, np.inf, shape=(self.plan.observation_dim,), dtype=np.float32)
@@ -114,6 +122,19 @@ class _Setup:
 def _zeros(names: Sequence[str], n: int) -> Dict[str, np.ndarray]:
     """Term values at a reset: zeros."""
     return {name: np.zeros(n, dtype=np.float64) for name in names}
+
+
+def _quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Hamilton products of (n, 4) and (4,) quaternions (w, x, y, z)."""
+    w1, v1 = a[:, :1], a[:, 1:]
+    w2, v2 = b[0], b[1:]
+    return np.concatenate([w1 * w2 - v1 @ v2[:, None], w1 * v2 + w2 * v1 + np.cross(v1, v2)], axis=1)
+
+
+def _rotate(quat: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """Vectors ``x`` (n, 3) turned by orientations ``quat`` (n, 4; w, x, y, z)."""
+    s, u = quat[:, :1], quat[:, 1:]
+    return x + 2.0 * s * np.cross(u, x) + 2.0 * np.cross(u, np.cross(u, x))
 
 
 def _in_body_frame(quat: np.ndarray, w: np.ndarray) -> np.ndarray:
@@ -151,22 +172,42 @@ def _in_joint_order(action: Any, order: Optional[np.ndarray]) -> Any:
 
 
 def _split(
-    raw: np.ndarray, dofs: int, base: bool = False
+    raw: np.ndarray,
+    dofs: int,
+    base: bool = False,
+    observed: int = 0,
+    root_geom: Optional[Tuple[np.ndarray, np.ndarray]] = None,
 ) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
     """MuJoCo's qpos and qvel, and the end effectors' positions, of raw rows (n, dim).
-    With a floating base, qpos starts with its position and orientation (w, x, y, z) and
-    qvel with its linear velocity (world) and angular velocity (its own frame), as
-    MuJoCo's free joint has them. The base's position and linear velocity are its centre
-    of mass's: MuJoCo's free joint's where its body's frame is at its centre of mass (the
-    Ant's torso)."""
+    With a floating base, qpos starts with its body's position and orientation (w, x, y,
+    z) and qvel with the linear velocity of the body's origin (world) and its angular
+    velocity (its own frame), as MuJoCo's free joint has them. The server observes the
+    base instance, the body's first geom: its centre of mass and its frame, which
+    ``root_geom`` (the geom's centre and orientation in the body's frame) takes back to
+    the body's."""
     q, v, rest = raw[:, :dofs], raw[:, dofs : 2 * dofs], raw[:, 2 * dofs :]
     if base:
         pose, velocity, rest = rest[:, :7], rest[:, 7:13], rest[:, 13:]
-        spin = _in_body_frame(pose[:, 3:7].astype(np.float64), velocity[:, 3:6].astype(np.float64))
-        q = np.concatenate([pose, q], axis=1)
-        v = np.concatenate([velocity[:, :3], spin.astype(raw.dtype), v], axis=1)
-    poses = rest.reshape(len(raw), -1, 7)
+        position, quat = pose[:, :3].astype(np.float64), pose[:, 3:7].astype(np.float64)
+        linear, angular = velocity[:, :3].astype(np.float64), velocity[:, 3:6].astype(np.float64)
+        if root_geom is not None:
+            centre, geom_quat = root_geom
+            quat = _quat_mul(quat, np.array([geom_quat[0], *(-geom_quat[1:])]))
+            arm = _rotate(quat, np.broadcast_to(centre, position.shape))
+            position = position - arm
+            linear = linear - np.cross(angular, arm)
+        spin = _in_body_frame(quat, angular)
+        q = np.concatenate([position.astype(raw.dtype), quat.astype(raw.dtype), q], axis=1)
+        v = np.concatenate([linear.astype(raw.dtype), spin.astype(raw.dtype), v], axis=1)
+    poses = rest[:, : rest.shape[1] - observed].reshape(len(raw), -1, 7)
     return q, v, poses[:, :, :3]
+
+
+def _observed_terms(raw: np.ndarray, names: Sequence[str]) -> Dict[str, np.ndarray]:
+    """The observed terms' values, the rows' last ``len(names)`` floats (the server reads
+    them from the state at resets too, where the step's term values are not sent)."""
+    tail = raw[:, raw.shape[1] - len(names) :]
+    return {name: tail[:, k].astype(np.float64) for k, name in enumerate(names)}
 
 
 class SuiteEnv(gym.Env):
@@ -197,14 +238,15 @@ class SuiteEnv(gym.Env):
     ) -> Tuple[np.ndarray, Dict[str, Any]]:
         super().reset(seed=seed)
         raw, _ = self._env.reset(seed=seed)
-        q, v, ee = _split(raw[None, :], self._dofs, self._base)
+        q, v, ee = self._setup.split(raw[None, :])
         info = {k: _first(x) for k, x in _reset_values(self._setup.plan, q, v).items()}
         terms = _zeros(self._env.env_info["term_names"], 1)
+        terms.update(_observed_terms(raw[None, :], self._setup.observed))
         return self._setup.plan.observe(q, v, ee, terms)[0].astype(np.float32), info
 
     def step(self, action: Any) -> Tuple[np.ndarray, float, bool, bool, Dict[str, Any]]:
         raw, reward, terminated, truncated, raw_info = self._env.step(_in_joint_order(action, self._order))
-        q, v, ee = _split(raw[None, :], self._dofs, self._base)
+        q, v, ee = self._setup.split(raw[None, :])
         terms = {
             name: np.array([raw_info[name]], dtype=np.float64)
             for name in self._env.env_info["term_names"]
@@ -275,7 +317,8 @@ class SuiteVectorEnv(VectorEnv):
         return self._envs
 
     def _observe(self, raw: np.ndarray, terms: Dict[str, np.ndarray]) -> np.ndarray:
-        q, v, ee = _split(raw, self._dofs, self._base)
+        q, v, ee = self._setup.split(raw)
+        terms = {**terms, **_observed_terms(raw, self._setup.observed)}
         return self._setup.plan.observe(q, v, ee, terms).astype(np.float32)
 
     def _infos(self, values: Dict[str, np.ndarray]) -> Dict[str, Any]:
@@ -295,8 +338,9 @@ class SuiteVectorEnv(VectorEnv):
         if seed is not None and isinstance(seed, (int, np.integer)):
             super().reset(seed=int(seed))
         raw, _ = self._envs.reset(seed=seed, options=options)
-        q, v, _ = _split(raw, self._dofs, self._base)
+        q, v, _ = self._setup.split(raw)
         terms = _zeros(self._envs.batch_info["term_names"], len(raw))
+        terms.update(_observed_terms(raw, self._setup.observed))
         return self._observe(raw, terms), self._infos(_reset_values(self._setup.plan, q, v))
 
     def step(
@@ -315,7 +359,7 @@ class SuiteVectorEnv(VectorEnv):
             rows = raw.copy()
             for env in np.flatnonzero(raw_infos["_final_obs"]):
                 rows[env] = raw_infos["final_obs"][env]
-        q, v, _ = _split(rows, self._dofs, self._base)
+        q, v, _ = self._setup.split(rows)
         values = _step_values(self._setup.plan, q, v, terms)
         infos = self._infos(values)
         # The returned rows' term values: an env reset in this step starts from zeros (the
@@ -332,7 +376,7 @@ class SuiteVectorEnv(VectorEnv):
                 final[env] = row
             now = {name: np.where(has_final, 0.0, value) for name, value in terms.items()}
             final_info = {k: (v & has_final if k.startswith("_") else v) for k, v in infos.items()}
-            q_now, v_now, _ = _split(raw, self._dofs, self._base)
+            q_now, v_now, _ = self._setup.split(raw)
             reset = _reset_values(self._setup.plan, q_now, v_now)
             for key in values:
                 if key in reset:

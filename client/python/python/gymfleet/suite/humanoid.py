@@ -42,7 +42,7 @@ def _body_terms(model: Model, kw: Mapping[str, Any], env: str) -> Tuple[List[Dic
 
     def add(part: str, names: List[str], values: List[Dict[str, Any]]) -> None:
         parts.append((part, names))
-        terms.extend({"name": n, "weight": 0.0, "value": v} for n, v in zip(names, values))
+        terms.extend({"name": n, "weight": 0.0, "value": v, "observe": True} for n, v in zip(names, values))
 
     body_parts = [
         ("cinert", "include_cinert_in_observation", "body_inertia", _CINERT),

@@ -48,6 +48,10 @@ class Model:
     tendons: List[Tuple[str, List[Tuple[str, float]]]] = field(default_factory=list)
     #: The first body's height as written (MuJoCo's init_qpos[2] with a free joint).
     root_z: float = 0.0
+    #: The first body's first geom (what the server observes as a floating base): its
+    #: centre and orientation (w, x, y, z) in the body's frame; ``None`` when it is at the
+    #: body's origin, unturned.
+    root_geom: Optional[Tuple[np.ndarray, np.ndarray]] = None
 
     def index(self, name: str) -> int:
         return self.joints.index(name)
@@ -102,6 +106,8 @@ def read_model(xml_file: str) -> Model:
         tendons.append((fixed.get("name", f"tendon{k}"), pairs))
     first = world.find("body") if world is not None else None
     root_z = float((first.get("pos") or "0 0 0").split()[2]) if first is not None else 0.0
+    geom = first.find("geom") if first is not None else None
+    root_geom = _geom_frame(geom, path) if free is not None and geom is not None else None
     actuator = root.find("actuator")
     actuators = [a.get("joint", "") for a in actuator] if actuator is not None else []
     option = root.find("option")
@@ -117,7 +123,49 @@ def read_model(xml_file: str) -> Model:
         actuators=actuators,
         tendons=tendons,
         root_z=root_z,
+        root_geom=root_geom,
     )
+
+
+def _geom_frame(geom: ET.Element, path: str) -> Optional[Tuple[np.ndarray, np.ndarray]]:
+    """A geom's centre and orientation in its body's frame, as the conversion places its
+    instance: ``fromto``'s midpoint and the shortest turn of z onto its axis, or ``pos``
+    and ``quat``; ``None`` for the body's own frame."""
+
+    def numbers(name: str, n: int) -> Optional[np.ndarray]:
+        text = geom.get(name)
+        if text is None:
+            return None
+        values = np.array([float(x) for x in text.split()])
+        if len(values) != n:
+            raise InvalidArgument(f"xml_file: {path}: the first geom's {name} needs {n} numbers")
+        return values
+
+    unsupported = [a for a in ("euler", "axisangle", "xyaxes", "zaxis") if geom.get(a) is not None]
+    if unsupported:
+        raise InvalidArgument(
+            f"xml_file: {path}: the free body's first geom is turned by {unsupported[0]}; "
+            "the suite reads the body's frame from a geom placed by fromto or pos and quat"
+        )
+    fromto = numbers("fromto", 6)
+    if fromto is not None:
+        a, b = fromto[:3], fromto[3:]
+        axis = (b - a) / np.linalg.norm(b - a)
+        d = axis[2]
+        if d < -1.0 + 1e-9:
+            quat = np.array([0.0, 1.0, 0.0, 0.0])  # half a turn about x
+        else:
+            quat = np.array([1.0 + d, -axis[1], axis[0], 0.0])  # w = 1 + z·axis, z × axis
+            quat /= np.linalg.norm(quat)
+        centre = (a + b) / 2.0
+    else:
+        centre = numbers("pos", 3)
+        centre = np.zeros(3) if centre is None else centre
+        quat = numbers("quat", 4)
+        quat = np.array([1.0, 0.0, 0.0, 0.0]) if quat is None else quat / np.linalg.norm(quat)
+    if np.allclose(centre, 0.0) and np.allclose(quat, [1.0, 0.0, 0.0, 0.0]):
+        return None
+    return centre, quat
 
 
 @dataclass

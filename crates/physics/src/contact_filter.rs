@@ -1,0 +1,136 @@
+//! MuJoCo's contact exclusions: geoms of one body never collide, nor do a body's and its
+//! parent's (`filterparent`), unless the parent is the world. Here a body is a rigid
+//! group (instances welded by fixed joints), and a group's parent is the group a joint
+//! connects it to, looking through groups that collide with nothing (the helper instances
+//! an MJCF body with several joints becomes). Directly jointed instances are already kept
+//! apart by their joint (`contacts_enabled`); this adds the rest as a contact-pair hook.
+
+use std::collections::HashSet;
+use std::sync::Arc;
+
+use gymfleet_assembly::{Assembly, JointType};
+use rapier3d::prelude::*;
+
+use crate::world::Sets;
+
+/// The body pairs that do not collide, ordered by handle.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct ContactFilter {
+    excluded: Arc<HashSet<(RigidBodyHandle, RigidBodyHandle)>>,
+}
+
+fn key(a: RigidBodyHandle, b: RigidBodyHandle) -> (RigidBodyHandle, RigidBodyHandle) {
+    if a.into_raw_parts() <= b.into_raw_parts() {
+        (a, b)
+    } else {
+        (b, a)
+    }
+}
+
+impl PhysicsHooks for ContactFilter {
+    fn filter_contact_pair(&self, context: &PairFilterContext) -> Option<SolverFlags> {
+        match (context.rigid_body1, context.rigid_body2) {
+            (Some(a), Some(b)) if self.excluded.contains(&key(a, b)) => None,
+            _ => Some(SolverFlags::default()),
+        }
+    }
+}
+
+/// Each instance's rigid group: instances welded by fixed joints share one, numbered by
+/// their first instance.
+pub(crate) fn rigid_groups(assembly: &Assembly) -> Vec<usize> {
+    let mut parent: Vec<usize> = (0..assembly.instances.len()).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    for joint in assembly
+        .joints
+        .iter()
+        .filter(|j| j.kind == JointType::Fixed)
+    {
+        let (a, b) = (
+            root(&mut parent, joint.parent),
+            root(&mut parent, joint.child),
+        );
+        parent[a.max(b)] = a.min(b);
+    }
+    (0..parent.len()).map(|i| root(&mut parent, i)).collect()
+}
+
+/// The exclusions of `assembly` (built on `bodies`), with the hook flag set on the
+/// colliders they concern.
+pub(crate) fn contact_filter(
+    assembly: &Assembly,
+    bodies: &[RigidBodyHandle],
+    sets: &mut Sets,
+) -> ContactFilter {
+    let group = rigid_groups(assembly);
+    let n = assembly.instances.len();
+    let collides = |i: usize| assembly.instances[i].collision != (0, 0);
+    let mut grounded_group = vec![false; n];
+    let mut colliding_group = vec![false; n];
+    for i in 0..n {
+        grounded_group[group[i]] |= assembly.instances[i].grounded;
+        colliding_group[group[i]] |= collides(i);
+    }
+    let grounded = |g: usize| grounded_group[g];
+    let transparent = |g: usize| !colliding_group[g];
+    // Joints between groups (fixed joints are inside them).
+    let mut edges: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for j in assembly
+        .joints
+        .iter()
+        .filter(|j| j.kind != JointType::Fixed)
+    {
+        let (a, b) = (group[j.parent], group[j.child]);
+        edges[a].push(b);
+        edges[b].push(a);
+    }
+    let mut pairs: HashSet<(usize, usize)> = HashSet::new();
+    for g in (0..n).filter(|&g| group[g] == g && !transparent(g) && !grounded(g)) {
+        pairs.insert((g, g));
+        // The colliding groups one joint away, through groups that collide with nothing.
+        let mut seen = vec![false; n];
+        seen[g] = true;
+        let mut stack = edges[g].clone();
+        while let Some(h) = stack.pop() {
+            if std::mem::replace(&mut seen[h], true) {
+                continue;
+            }
+            if transparent(h) {
+                stack.extend(edges[h].iter().copied());
+            } else if !grounded(h) {
+                pairs.insert((g.min(h), g.max(h)));
+            }
+        }
+    }
+    // Each group's colliding instances.
+    let mut members: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for i in (0..n).filter(|&i| collides(i)) {
+        members[group[i]].push(i);
+    }
+    let mut excluded = HashSet::new();
+    let mut hooked = HashSet::new();
+    for &(g, h) in &pairs {
+        for &i in &members[g] {
+            for &j in members[h].iter().filter(|&&j| j != i) {
+                excluded.insert(key(bodies[i], bodies[j]));
+                hooked.extend([bodies[i], bodies[j]]);
+            }
+        }
+    }
+    for body in hooked {
+        for &c in sets.bodies[body].colliders() {
+            if let Some(collider) = sets.colliders.get_mut(c) {
+                collider.set_active_hooks(ActiveHooks::FILTER_CONTACT_PAIRS);
+            }
+        }
+    }
+    ContactFilter {
+        excluded: Arc::new(excluded),
+    }
+}
