@@ -141,3 +141,41 @@ fn join(issues: &[Issue]) -> String {
 
 /// Result alias for this crate.
 pub type Result<T, E = AssemblyError> = std::result::Result<T, E>;
+
+/// Checks a list of named definitions at `list` (e.g. `assembly.sites`): at most `max`, and
+/// each name (`{list}[k].name`) non-empty and unique among the `kind`s. Returns whether
+/// the count is within `max` (past it nothing else is checked); the problems go to
+/// `issues`, and `named[k]` says whether definition `k`'s name is fine.
+pub(crate) fn check_names(
+    list: &str,
+    kind: &str,
+    names: &[&str],
+    max: usize,
+    issues: &mut Vec<Issue>,
+) -> bool {
+    if names.len() > max {
+        issues.push(Issue::new(
+            list,
+            format!("expected at most {max} {kind}s, got {}", names.len()),
+        ));
+        return false;
+    }
+    let mut seen: std::collections::HashSet<&str> = std::collections::HashSet::new();
+    for (k, name) in names.iter().enumerate() {
+        if name.is_empty() {
+            issues.push(Issue::new(
+                format!("{list}[{k}].name"),
+                "expected a non-empty name",
+            ));
+        } else if !seen.insert(name) {
+            issues.push(Issue::new(
+                format!("{list}[{k}].name"),
+                format!(
+                    "{} names an earlier {kind} too; {kind} names must be unique",
+                    quoted(name)
+                ),
+            ));
+        }
+    }
+    true
+}

@@ -2,10 +2,8 @@
 //! import), which tasks refer to by name (`{"site": "fingertip"}`). Each is a point in its
 //! instance's frame, in mm, so it moves with the instance.
 
-use std::collections::HashSet;
-
 use crate::document::{InstanceDef, SiteDef};
-use crate::error::{quoted, quoted_list, shown, Issue};
+use crate::error::{check_names, quoted, quoted_list, shown, Issue};
 use crate::model::Site;
 
 /// Most sites in one document.
@@ -17,31 +15,13 @@ const MAX_MM: f64 = 1e8;
 pub(crate) fn sites(defs: &[SiteDef], instances: &[InstanceDef]) -> (Vec<Site>, Vec<Issue>) {
     let mut issues = Vec::new();
     let mut out = Vec::with_capacity(defs.len());
-    if defs.len() > MAX_SITES {
-        issues.push(Issue::new(
-            "assembly.sites",
-            format!("expected at most {MAX_SITES} sites, got {}", defs.len()),
-        ));
+    let names: Vec<&str> = defs.iter().map(|d| d.name.as_str()).collect();
+    if !check_names("assembly.sites", "site", &names, MAX_SITES, &mut issues) {
         return (out, issues);
     }
-    let mut names: HashSet<&str> = HashSet::new();
     for (k, def) in defs.iter().enumerate() {
         let path = format!("assembly.sites[{k}]");
         let before = issues.len();
-        if def.name.is_empty() {
-            issues.push(Issue::new(
-                format!("{path}.name"),
-                "expected a non-empty name",
-            ));
-        } else if !names.insert(def.name.as_str()) {
-            issues.push(Issue::new(
-                format!("{path}.name"),
-                format!(
-                    "{} names an earlier site too; site names must be unique",
-                    quoted(&def.name)
-                ),
-            ));
-        }
         let instance = instances.iter().position(|i| i.name == def.instance);
         if instance.is_none() {
             let known: Vec<&str> = instances.iter().map(|i| i.name.as_str()).collect();

@@ -1,10 +1,8 @@
 //! Fixed tendons *(ext)*: named linear combinations of joint positions (MJCF's
 //! `<tendon><fixed>`), checked against the document's joints.
 
-use std::collections::HashSet;
-
 use crate::document::TendonDef;
-use crate::error::{quoted, Issue};
+use crate::error::{check_names, quoted, Issue};
 use crate::model::{Joint, JointType, Tendon};
 
 /// Most tendons in one document.
@@ -22,31 +20,19 @@ const MAX_LENGTH: f64 = 1e6;
 pub(crate) fn tendons(defs: &[TendonDef], joints: &[Joint]) -> (Vec<Tendon>, Vec<Issue>) {
     let mut issues = Vec::new();
     let mut out = Vec::with_capacity(defs.len());
-    if defs.len() > MAX_TENDONS {
-        issues.push(Issue::new(
-            "assembly.tendons",
-            format!("expected at most {MAX_TENDONS} tendons, got {}", defs.len()),
-        ));
+    let names: Vec<&str> = defs.iter().map(|d| d.name.as_str()).collect();
+    if !check_names(
+        "assembly.tendons",
+        "tendon",
+        &names,
+        MAX_TENDONS,
+        &mut issues,
+    ) {
         return (out, issues);
     }
-    let mut names: HashSet<&str> = HashSet::new();
     for (k, def) in defs.iter().enumerate() {
         let path = format!("assembly.tendons[{k}]");
         let before = issues.len();
-        if def.name.is_empty() {
-            issues.push(Issue::new(
-                format!("{path}.name"),
-                "expected a non-empty name",
-            ));
-        } else if !names.insert(def.name.as_str()) {
-            issues.push(Issue::new(
-                format!("{path}.name"),
-                format!(
-                    "{} names an earlier tendon too; tendon names must be unique",
-                    quoted(&def.name)
-                ),
-            ));
-        }
         if def.joints.is_empty() || def.joints.len() > MAX_TENDON_JOINTS {
             issues.push(Issue::new(
                 format!("{path}.joints"),

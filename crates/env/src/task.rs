@@ -299,12 +299,13 @@ impl TaskSpec {
 }
 
 impl ActiveTask {
-    /// Floats the task appends to the observation: the reach target (x, y, z mm).
     /// A reach task's current target, world mm.
     pub(crate) fn reach_target(&self) -> Option<[f64; 3]> {
         matches!(self.kind, Active::Reach { .. }).then_some(self.target)
     }
 
+    /// Floats the task appends to the observation: a reach task's target (x, y, z mm), a
+    /// terms task's observed terms.
     pub(crate) fn observation_dim(&self) -> usize {
         match &self.kind {
             Active::Reach { .. } => 3,
@@ -376,8 +377,7 @@ impl ActiveTask {
         }
     }
 
-    /// Writes the task's observation (see [`ActiveTask::observation_dim`]).
-    /// Writes the task's part of the observation: a reach task's target, a terms task's
+    /// Writes the task's part of the observation (see [`ActiveTask::observation_dim`]): a reach task's target, a terms task's
     /// observed terms (from `world` and the observed joint state).
     pub(crate) fn observe(
         &self,
