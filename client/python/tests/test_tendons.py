@@ -82,3 +82,46 @@ def test_the_humanoid_converts_with_its_tendons():
         obs, _, _, _, info = env.step(np.zeros(env.action_space.shape, np.float32))
     q = dict(zip(names, obs[: len(names)]))
     assert info["l"] == pytest.approx(q["left_knee"] - q["left_hip_y"], abs=1e-5)
+
+
+RANGED = """<mujoco>
+  <option timestep="0.002"/>
+  <worldbody>
+    <geom type="plane" size="1 1 0.1" contype="0" conaffinity="0"/>
+    <body name="arm" pos="0 0 1">
+      <joint name="hinge" type="hinge" axis="0 1 0"/>
+      <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03"/>
+      <body name="forearm" pos="0.3 0 0">
+        <joint name="elbow" type="hinge" axis="0 1 0"/>
+        <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03"/>
+      </body>
+    </body>
+  </worldbody>
+  <tendon>
+    <fixed name="stop" range="-0.4 0.6"><joint joint="hinge" coef="1"/><joint joint="elbow" coef="0.5"/></fixed>
+  </tendon>
+</mujoco>"""
+
+
+def test_a_ranged_tendon_stops_the_fall_where_mujocos_does():
+    """A horizontal double pendulum falls until hinge + elbow/2 reaches the tendon's 0.6:
+    gymfleet's stop is hard (never past it), MuJoCo's soft (slightly past, then back);
+    both come to rest on it."""
+    task = {"terms": [{"name": "length", "weight": 0, "value": {"tendon_length": "stop"}}]}
+    env = gymfleet.make(RANGED, units="si", task=task, dt=0.002)
+    env.reset(seed=0)
+    model = mujoco.MjModel.from_xml_string(RANGED)
+    data = mujoco.MjData(model)
+    ours, theirs = [], []
+    for _ in range(1500):
+        _, _, _, _, info = env.step(np.zeros(env.action_space.shape, np.float32))
+        mujoco.mj_step(model, data)
+        ours.append(info["length"])
+        theirs.append(data.ten_length[0])
+    ours, theirs = np.array(ours), np.array(theirs)
+    assert ours.max() <= 0.6 + 1e-4, "a hard stop"
+    assert theirs.max() > 0.6, "MuJoCo's soft limit lets it past a little"
+    # Both reach it at about the same time and rest on it at the end.
+    assert abs(np.argmax(ours > 0.59) - np.argmax(theirs > 0.59)) <= 10
+    assert ours[-1] == pytest.approx(0.6, abs=1e-3)
+    assert theirs[-1] == pytest.approx(0.6, abs=0.01)

@@ -349,6 +349,9 @@ pub struct TendonDef {
     /// The spring's rest length; default the length at the document's pose.
     #[serde(default)]
     pub spring_length: Option<f64>,
+    /// Hard limits on the length, `[min, max]` (m or rad); default none.
+    #[serde(default)]
+    pub range: Option<[f64; 2]>,
 }
 
 /// One joint of a fixed tendon.

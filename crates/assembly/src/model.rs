@@ -340,6 +340,8 @@ pub struct Tendon {
     pub damping: f64,
     /// The spring's rest length; `None`: the length at the document's pose.
     pub spring_length: Option<f64>,
+    /// Hard limits on the length, `[min, max]`, if any.
+    pub range: Option<[f64; 2]>,
 }
 
 /// A still fluid around every body, as MuJoCo's inertia-box model has it: each rigid

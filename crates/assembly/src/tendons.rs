@@ -98,6 +98,19 @@ pub(crate) fn tendons(defs: &[TendonDef], joints: &[Joint]) -> (Vec<Tendon>, Vec
                 ));
             }
         }
+        if let Some([lo, hi]) = def.range {
+            if !(lo.is_finite()
+                && hi.is_finite()
+                && lo.abs() <= MAX_LENGTH
+                && hi.abs() <= MAX_LENGTH
+                && lo < hi)
+            {
+                issues.push(Issue::new(
+                    format!("{path}.range"),
+                    format!("expected [min, max] with min < max, each within ±{MAX_LENGTH} (m or rad), got [{lo}, {hi}]"),
+                ));
+            }
+        }
         if issues.len() == before {
             out.push(Tendon {
                 name: def.name.clone(),
@@ -105,6 +118,7 @@ pub(crate) fn tendons(defs: &[TendonDef], joints: &[Joint]) -> (Vec<Tendon>, Vec
                 stiffness,
                 damping,
                 spring_length: def.spring_length,
+                range: def.range,
             });
         }
     }

@@ -222,3 +222,43 @@ fn a_bad_tendon_is_refused_with_its_path() {
         "{message}"
     );
 }
+
+#[test]
+fn a_ranged_tendon_stops_its_joints_at_the_range() {
+    // Driven by a torque, joint a stops where 2·θa − 0.5·θb reaches the range's end.
+    let tendon = json!({"name": "t", "joints": [{"joint": "a", "coef": 2.0}, {"joint": "b", "coef": -0.5}],
+                        "range": [-0.3, 0.2]});
+    let mut e = env(&turntables(tendon, 0.0), Units::Si);
+    for (torque, bound) in [(0.01f32, 0.2), (-0.01, -0.3)] {
+        for _ in 0..200 {
+            e.step(ActionType::Torque, &[torque, 0.0]).expect("steps");
+            let length = f64::from(e.term_values()[0]);
+            let (lo, hi) = (-0.3 - 1e-4, 0.2 + 1e-4);
+            assert!(
+                lo <= length && length <= hi,
+                "the length {length} left the range"
+            );
+        }
+        let length = f64::from(e.term_values()[0]);
+        assert!(
+            (length - bound).abs() < 1e-4,
+            "at rest on the stop: {length} vs {bound}"
+        );
+        let rate = f64::from(e.term_values()[1]);
+        assert!(rate.abs() < 1e-3, "and still: {rate}");
+    }
+    // Without the range the same push goes far past it.
+    let free =
+        json!({"name": "t", "joints": [{"joint": "a", "coef": 2.0}, {"joint": "b", "coef": -0.5}]});
+    let mut e = env(&turntables(free, 0.0), Units::Si);
+    for _ in 0..200 {
+        e.step(ActionType::Torque, &[0.01, 0.0]).expect("steps");
+    }
+    assert!(f64::from(e.term_values()[0]) > 1.0);
+    let message =
+        refused(json!({"name": "t", "joints": [{"joint": "a", "coef": 1}], "range": [1, 0]}));
+    assert!(
+        message.contains("assembly.tendons[0].range: expected [min, max] with min < max, each within ±1000000 (m or rad), got [1, 0]"),
+        "{message}"
+    );
+}

@@ -460,7 +460,7 @@ fn fixed_tendons_become_the_documents_tendons() {
     };
     let xml = format!(
         "<mujoco><worldbody>{}{}</body></body></worldbody>\n<tendon>\n\
-         <fixed name=\"t\" stiffness=\"3\" damping=\"0.5\" springlength=\"0.1\"><joint joint=\"j1\" coef=\"-1\"/><joint joint=\"j2\" coef=\"2\"/></fixed>\n\
+         <fixed name=\"t\" stiffness=\"3\" damping=\"0.5\" springlength=\"0.1\" range=\"-0.5 0.5\"><joint joint=\"j1\" coef=\"-1\"/><joint joint=\"j2\" coef=\"2\"/></fixed>\n\
          <fixed><joint joint=\"j2\" coef=\"1\"/></fixed>\n</tendon></mujoco>",
         body("j1"),
         body("j2")
@@ -470,7 +470,7 @@ fn fixed_tendons_become_the_documents_tendons() {
         converted.document["assembly"]["tendons"],
         serde_json::json!([
             {"name": "t", "joints": [{"joint": "j1", "coef": -1.0}, {"joint": "j2", "coef": 2.0}],
-             "stiffness": 3.0, "damping": 0.5, "spring_length": 0.1},
+             "stiffness": 3.0, "damping": 0.5, "spring_length": 0.1, "range": [-0.5, 0.5]},
             {"name": "tendon1", "joints": [{"joint": "j2", "coef": 1.0}]}
         ])
     );
@@ -483,8 +483,12 @@ fn fixed_tendons_become_the_documents_tendons() {
         ))
     };
     assert_eq!(
-        refused(r#"<fixed range="0 1"><joint joint="j1" coef="1"/></fixed>"#),
-        "line 3: <fixed>: a tendon's range limits are not supported yet (its length, stiffness and damping are)"
+        refused(r#"<fixed range="1 0"><joint joint="j1" coef="1"/></fixed>"#),
+        "line 3: <fixed range=…>: expected min < max, got 1 0"
+    );
+    assert_eq!(
+        refused(r#"<fixed limited="true"><joint joint="j1" coef="1"/></fixed>"#),
+        "line 3: <fixed range=…>: missing: a limited tendon needs a range"
     );
     assert_eq!(
         refused(r#"<fixed frictionloss="1"><joint joint="j1" coef="1"/></fixed>"#),

@@ -245,10 +245,17 @@ impl RobotWorld {
         };
         let fluid = crate::fluid::FluidDrag::new(assembly, &bodies, &sets);
         let contact_filter = crate::contact_filter::contact_filter(assembly, &bodies, &mut sets);
+        let references: Vec<f64> = dofs
+            .iter()
+            .map(|d| crate::units::to_si(d.kind, d.reference))
+            .collect();
+        let first_dof: Vec<usize> = joints.iter().map(|j: &JointSlot| j.first_dof).collect();
+        let tendons = crate::tendons::tendon_slots(assembly, &first_dof, &references);
+        crate::tendons::set_tendon_limits(assembly, &joints, &references, &mut sets)?;
         let mut world = RobotWorld {
             fluid,
             contact_filter,
-            tendons: Vec::new(),
+            tendons,
             initial: std::sync::Arc::new(sets.clone()),
             live: sets,
             pipeline_params: params,
@@ -276,12 +283,6 @@ impl RobotWorld {
             pipeline: PipelineCell(PhysicsPipeline::new()),
             base,
         };
-        let first_dof: Vec<usize> = world.joints.iter().map(|j| j.first_dof).collect();
-        world.tendons = crate::tendons::tendon_slots(
-            assembly,
-            &first_dof,
-            &crate::tendons::references_si(&world),
-        );
         world.reset();
         Ok(world)
     }

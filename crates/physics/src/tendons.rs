@@ -3,12 +3,18 @@
 //! or damping pulls on its joints: the force f = −k·(length − rest) − b·rate acts on each
 //! joint as coef · f (MuJoCo's passive tendon force through the tendon's Jacobian). It
 //! depends on the state, so a world with such a tendon recomputes it before every substep.
+//! A tendon's range is a hard limit on its length, enforced with the joints' hard stops
+//! (vendored patch 20; MuJoCo's limit is soft).
+
+use std::collections::HashMap;
 
 use gymfleet_assembly::Assembly;
+use rapier3d::dynamics::{MultibodyIndex, MultibodyLinearLimit};
 use rapier3d::math::Real;
 
+use crate::error::{PhysicsError, Result};
 use crate::units::to_si;
-use crate::world::RobotWorld;
+use crate::world::{JointSlot, RobotWorld, Sets};
 
 /// One tendon as the world uses it.
 #[derive(Debug, Clone)]
@@ -50,13 +56,52 @@ pub(crate) fn tendon_slots(
         .collect()
 }
 
-/// Each DOF's `reference` in SI (rad or m).
-pub(crate) fn references_si(world: &RobotWorld) -> Vec<f64> {
-    world
-        .dofs
-        .iter()
-        .map(|d| to_si(d.kind, d.reference))
-        .collect()
+/// Puts each ranged tendon's limits on its multibody (vendored patch 20: enforced after
+/// every substep with the joints' hard stops): bounds on Σ coef · coordinate, the
+/// references taken off. A tendon's joints must be in one kinematic tree.
+pub(crate) fn set_tendon_limits(
+    assembly: &Assembly,
+    joints: &[JointSlot],
+    references_si: &[f64],
+    sets: &mut Sets,
+) -> Result<()> {
+    let mut by_multibody: HashMap<MultibodyIndex, Vec<MultibodyLinearLimit>> = HashMap::new();
+    for t in &assembly.tendons {
+        let Some([lo, hi]) = t.range else { continue };
+        let first = joints[t.joints[0].0].multibody;
+        if t.joints.iter().any(|&(j, _)| joints[j].multibody != first) {
+            return Err(PhysicsError::BadOption {
+                field: "assembly.tendons",
+                reason: format!(
+                    "tendon {:?} has a range, and its joints are in different kinematic trees; a ranged tendon's joints must share one",
+                    t.name
+                ),
+            });
+        }
+        let offset: f64 = t
+            .joints
+            .iter()
+            .map(|&(j, c)| c * references_si[joints[j].first_dof])
+            .sum();
+        by_multibody
+            .entry(first)
+            .or_default()
+            .push(MultibodyLinearLimit {
+                dofs: t
+                    .joints
+                    .iter()
+                    .map(|&(j, c)| (joints[j].link, 0, c as Real))
+                    .collect(),
+                min: (lo - offset) as Real,
+                max: (hi - offset) as Real,
+            });
+    }
+    for (multibody, limits) in by_multibody {
+        if let Some(mb) = sets.multibody_joints.get_multibody_mut(multibody) {
+            mb.set_linear_limits(limits);
+        }
+    }
+    Ok(())
 }
 
 impl RobotWorld {

@@ -1,6 +1,7 @@
 //! `<tendon><fixed>`: a fixed tendon (a linear combination of joint positions) becomes an
 //! entry of the document's `assembly.tendons`, with its stiffness, damping and spring
-//! length. Range limits, friction loss and spatial tendons are refused with their line.
+//! length and range (a hard limit here, soft in MuJoCo). Friction loss and spatial tendons
+//! are refused with their line.
 
 use super::*;
 
@@ -13,6 +14,7 @@ pub(super) struct FixedTendon {
     stiffness: f64,
     damping: f64,
     spring_length: Option<f64>,
+    range: Option<[f64; 2]>,
 }
 
 impl<'a, 'i> Converter<'a, 'i> {
@@ -39,13 +41,27 @@ impl<'a, 'i> Converter<'a, 'i> {
     fn fixed_tendon(&mut self, node: Node<'a, 'i>) -> Result<()> {
         let class = node.attribute("class");
         let limited = self.attr(node, class, "limited").unwrap_or("auto");
-        let ranged = self.attr(node, class, "range").is_some();
-        if limited == "true" || (limited == "auto" && ranged) {
-            return Err(self.unsupported(
-                node,
-                "a tendon's range limits are not supported yet (its length, stiffness and damping are)".into(),
-            ));
-        }
+        let range = self.exactly::<2>(node, class, "range")?;
+        let range = match (limited, range) {
+            ("true", None) => {
+                return Err(self.bad(
+                    node,
+                    "range",
+                    "missing: a limited tendon needs a range".into(),
+                ))
+            }
+            ("true" | "auto", Some([lo, hi])) => {
+                if !(lo < hi) {
+                    return Err(self.bad(
+                        node,
+                        "range",
+                        format!("expected min < max, got {lo} {hi}"),
+                    ));
+                }
+                Some([lo, hi])
+            }
+            _ => None,
+        };
         if self
             .number(node, class, "frictionloss")?
             .is_some_and(|f| f != 0.0)
@@ -108,6 +124,7 @@ impl<'a, 'i> Converter<'a, 'i> {
             stiffness,
             damping,
             spring_length,
+            range,
         });
         Ok(())
     }
@@ -139,6 +156,9 @@ impl<'a, 'i> Converter<'a, 'i> {
             }
             if let Some(l) = t.spring_length {
                 tendon["spring_length"] = json!(l);
+            }
+            if let Some(r) = t.range {
+                tendon["range"] = json!(r);
             }
             out.push(tendon);
         }

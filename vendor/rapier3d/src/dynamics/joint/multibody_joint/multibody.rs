@@ -149,6 +149,19 @@ pub struct MultibodyDofCoupling {
     pub offset: Real,
 }
 
+/// A hard limit on a linear combination of one-coordinate DoFs (gymfleet patch 20, see
+/// `PATCHES.md`): `min ≤ Σ coefᵢ·qᵢ ≤ max`, MuJoCo's range of a fixed tendon.
+#[cfg_attr(feature = "serde-serialize", derive(Serialize, Deserialize))]
+#[derive(Clone, Debug, PartialEq)]
+pub struct MultibodyLinearLimit {
+    /// The DoFs: (internal link id, local free-DoF index in that link, coefficient).
+    pub dofs: Vec<(usize, usize, Real)>,
+    /// The lower bound of the combination.
+    pub min: Real,
+    /// The upper bound.
+    pub max: Real,
+}
+
 /// An articulated body simulated using the reduced-coordinates approach.
 #[cfg_attr(feature = "serde-serialize", derive(Serialize, Deserialize))]
 #[derive(Clone, Debug)]
@@ -208,6 +221,9 @@ pub struct Multibody {
     /// coordinates (`q2 = coeff·q1 + offset`), e.g. MuJoCo's
     /// `<equality><joint>`. Resolved as velocity constraints each step.
     couplings: Vec<MultibodyDofCoupling>,
+    /// Hard limits on linear combinations of DoFs (gymfleet patch 20), enforced with the
+    /// hard limits; cleared when the multibody is split.
+    linear_limits: Vec<MultibodyLinearLimit>,
 
     /*
      * Workspaces.
@@ -265,6 +281,7 @@ impl Multibody {
             self_contacts_enabled,
             hard_limits: false,
             couplings: Vec::new(),
+            linear_limits: Vec::new(),
             // solver_workspace: Some(SolverWorkspace::new()),
         }
     }
@@ -436,6 +453,16 @@ impl Multibody {
         self.ndofs = self.velocities.len();
         self.workspace.resize(self.links.len(), self.ndofs);
 
+        // gymfleet patch 20: the rhs linear limits follow its links, but those on its root.
+        self.linear_limits.extend(
+            rhs.linear_limits
+                .iter()
+                .filter(|l| l.dofs.iter().all(|&(link, _, _)| link != 0))
+                .map(|l| MultibodyLinearLimit {
+                    dofs: l.dofs.iter().map(|&(link, k, c)| (link + base_internal_id, k, c)).collect(),
+                    ..l.clone()
+                }),
+        );
         // The rhs couplings follow its links, except the ones on its root whose joint was replaced.
         self.couplings.extend(
             rhs.couplings
@@ -680,6 +707,16 @@ impl Multibody {
     #[inline]
     pub fn set_hard_limits(&mut self, enabled: bool) {
         self.hard_limits = enabled;
+    }
+
+    /// Hard limits on linear combinations of one-coordinate DoFs (gymfleet patch 20):
+    /// enforced, when [`Multibody::hard_limits`] is on, after the per-DoF stops of every
+    /// substep: a combination found past a bound is put back on it by moving its own DoFs
+    /// along its coefficients, and its outward rate is removed by an inelastic generalized
+    /// impulse `Δv = M⁻¹·Jᵀ·λ`, `λ = −J·v / (J·M⁻¹·Jᵀ)`. Set them once the tree is complete;
+    /// splitting the multibody clears them.
+    pub fn set_linear_limits(&mut self, limits: Vec<MultibodyLinearLimit>) {
+        self.linear_limits = limits;
     }
 
     pub(crate) fn add_link(
@@ -1821,7 +1858,70 @@ impl Multibody {
                 velocity_changed |= self.stop_outward_velocity(this_dof, outward);
             }
         }
+        for k in 0..self.linear_limits.len() {
+            velocity_changed |= self.project_linear_limit(k);
+        }
         velocity_changed
+    }
+
+    /// The coordinate axis of a link's `local`-th free DoF.
+    fn free_axis(&self, link: usize, local: usize) -> Option<usize> {
+        let locked = self.links.get(link)?.joint.data.locked_axes.bits();
+        (0..SPATIAL_DIM)
+            .filter(|axis| locked & (1 << axis) == 0)
+            .nth(local)
+    }
+
+    /// Linear limit `k` (gymfleet patch 20): see [`Multibody::set_linear_limits`].
+    fn project_linear_limit(&mut self, k: usize) -> bool {
+        let limit = &self.linear_limits[k];
+        let mut value = 0.0;
+        let mut norm2 = 0.0;
+        for &(link, local, coef) in &limit.dofs {
+            let Some(axis) = self.free_axis(link, local) else {
+                return false;
+            };
+            value += coef * self.links[link].joint.coords[axis];
+            norm2 += coef * coef;
+        }
+        let (bound, outward) = if value > limit.max {
+            (limit.max, 1.0)
+        } else if value < limit.min {
+            (limit.min, -1.0)
+        } else {
+            return false;
+        };
+        if norm2 <= 0.0 {
+            return false;
+        }
+        // Back on the bound along the combination's own coefficients.
+        let shift = (bound - value) / norm2;
+        let dofs = limit.dofs.clone();
+        for &(link, local, coef) in &dofs {
+            let axis = self.free_axis(link, local).expect("checked above");
+            let q = self.links[link].joint.coords[axis];
+            self.links[link].joint.set_single_coord(axis, q + shift * coef);
+        }
+        // The outward rate removed through the mass matrix.
+        let mut j = DVector::zeros(self.ndofs);
+        for &(link, local, coef) in &dofs {
+            j[self.links[link].assembly_id + local] += coef;
+        }
+        let rate = j.dot(&self.velocities);
+        if rate * outward <= 0.0 {
+            return false;
+        }
+        self.factorize_inv_augmented_mass();
+        let mut response = j.clone();
+        let lu = &self.inv_augmented_mass;
+        let mut solved = false;
+        self.augmented_mass_indices
+            .with_rearranged_rows_mut(&mut response, |r| solved = lu.solve_mut(r));
+        let inv_mass = j.dot(&response);
+        if solved && inv_mass > 0.0 && inv_mass.is_finite() {
+            self.velocities.axpy(-rate / inv_mass, &response, 1.0);
+        }
+        true
     }
 
     /// If DoF `dof` moves in direction `outward`, applies the generalized impulse along it that
