@@ -51,7 +51,7 @@ impl<'a, 'i> Converter<'a, 'i> {
                 ))
             }
             ("true" | "auto", Some([lo, hi])) => {
-                if !(lo < hi) {
+                if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
                     return Err(self.bad(
                         node,
                         "range",
