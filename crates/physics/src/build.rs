@@ -1,9 +1,10 @@
 //! Building a [`RobotWorld`] from an [`Assembly`]: bodies, colliders, the multibody tree.
 
-use gymfleet_assembly::{Assembly, DofKind, Instance, Joint, JointType, Shape};
+use gymfleet_assembly::{Assembly, DofKind, Joint, JointType, Shape};
 use rapier3d::prelude::*;
 
 use crate::actuation::resolve_gains;
+use crate::colliders::{assembly_reach, given_mass_properties, insert_body};
 use crate::command::{Command, ResolvedGains};
 use crate::error::{PhysicsError, Result};
 use crate::world::{
@@ -243,7 +244,7 @@ impl RobotWorld {
             kp: dofs.iter().map(|d| d.kp).collect(),
             kd: dofs.iter().map(|d| d.kd).collect(),
         };
-        let fluid = crate::fluid::FluidDrag::new(assembly, &bodies, &sets);
+        let fluid = crate::world::FluidDrag::new(assembly, &bodies, &sets);
         let contact_filter = crate::contact_filter::contact_filter(assembly, &bodies, &mut sets);
         let references: Vec<f64> = dofs
             .iter()
@@ -309,153 +310,6 @@ fn free_roots(sets: &Sets, bodies: &[RigidBodyHandle]) -> Vec<FreeRoot> {
 fn first_collider(sets: &Sets, body: RigidBodyHandle) -> Option<&Collider> {
     let handle = *sets.bodies.get(body)?.colliders().first()?;
     sets.colliders.get(handle)
-}
-
-fn instance_pose(inst: &Instance) -> Pose {
-    let [x, y, z] = inst.position.map(|c| c as Real);
-    let [rx, ry, rz] = inst.rotation.map(|c| c as Real);
-    // X, then Y, then Z about fixed axes: R = Rz · Ry · Rx.
-    let rotation = Rotation::from_rotation_z(rz)
-        * Rotation::from_rotation_y(ry)
-        * Rotation::from_rotation_x(rx);
-    Pose::from_parts(Vector::new(x, y, z), rotation)
-}
-
-fn insert_body(sets: &mut Sets, inst: &Instance) -> RigidBodyHandle {
-    let builder = if inst.grounded {
-        RigidBodyBuilder::fixed()
-    } else {
-        RigidBodyBuilder::dynamic().can_sleep(false)
-    };
-    let handle = sets
-        .bodies
-        .insert(builder.pose(instance_pose(inst)).build());
-    let (group, mask) = inst.collision;
-    // Given mass properties replace the collider's: its density is then 0.
-    let density = if inst.inertial.is_some() {
-        0.0
-    } else {
-        inst.material.density as Real
-    };
-    let collider = collider(&inst.shape)
-        .density(density)
-        .friction(inst.material.friction as Real)
-        .restitution(inst.material.restitution as Real)
-        // MuJoCo's rule: `a.group & b.mask` or `b.group & a.mask` (see `Instance::collision`).
-        .collision_groups(InteractionGroups::new(
-            Group::from_bits_retain(group),
-            Group::from_bits_retain(mask),
-            InteractionTestMode::Or,
-        ))
-        .build();
-    if let Some(inertial) = &inst.inertial {
-        let props = given_mass_properties(inertial, &inst.shape);
-        sets.bodies[handle].set_additional_mass_properties(props, false);
-    }
-    sets.colliders
-        .insert_with_parent(collider, handle, &mut sets.bodies);
-    handle
-}
-
-/// An instance's given mass properties in its body's frame: its inertia matrix, or the
-/// shape's own inertia scaled to the given mass, about the given centre of mass.
-pub(crate) fn given_mass_properties(
-    inertial: &gymfleet_assembly::Inertial,
-    shape: &Shape,
-) -> MassProperties {
-    let c = inertial.center_of_mass.map(|v| v as Real);
-    let com = Vector::new(c[0], c[1], c[2]);
-    let mass = inertial.mass as Real;
-    match inertial.inertia {
-        Some(m) => {
-            let m = m.map(|row| row.map(|v| v as Real));
-            let matrix = Mat3::from_cols(
-                Vector::new(m[0][0], m[1][0], m[2][0]),
-                Vector::new(m[0][1], m[1][1], m[2][1]),
-                Vector::new(m[0][2], m[1][2], m[2][2]),
-            );
-            MassProperties::with_inertia_matrix(com, mass, matrix)
-        }
-        None => {
-            // The shape's own, at unit density, placed as the collider is, then scaled.
-            let unit = collider(shape).density(1.0).build();
-            let own = unit
-                .shape()
-                .mass_properties(1.0)
-                .transform_by(unit.position_wrt_parent().unwrap_or(&Pose::IDENTITY));
-            let mut props = MassProperties::with_principal_inertia_frame(
-                com,
-                own.mass(),
-                own.principal_inertia(),
-                own.principal_inertia_local_frame,
-            );
-            props.set_mass(mass, true);
-            props
-        }
-    }
-}
-
-/// The exact primitive, placed in the part's frame (cube corner, cylinder and capsule base
-/// at the origin; Rapier's cylinder and capsule run along Y, ours along Z).
-fn collider(shape: &Shape) -> ColliderBuilder {
-    match *shape {
-        Shape::Cuboid { size } => {
-            let half = size.map(|c| (c / 2.0) as Real);
-            ColliderBuilder::cuboid(half[0], half[1], half[2])
-                .translation(Vector::new(half[0], half[1], half[2]))
-        }
-        Shape::Cylinder { radius, height } => {
-            let half_height = (height / 2.0) as Real;
-            ColliderBuilder::cylinder(half_height, radius as Real).position(Pose::from_parts(
-                Vector::new(0.0, 0.0, half_height),
-                Rotation::from_rotation_x(std::f32::consts::FRAC_PI_2),
-            ))
-        }
-        Shape::Sphere { radius } => ColliderBuilder::ball(radius as Real),
-        Shape::Capsule { radius, height } => {
-            let half_segment = ((height / 2.0 - radius).max(0.0)) as Real;
-            ColliderBuilder::capsule_y(half_segment, radius as Real).position(Pose::from_parts(
-                Vector::new(0.0, 0.0, (height / 2.0) as Real),
-                Rotation::from_rotation_x(std::f32::consts::FRAC_PI_2),
-            ))
-        }
-        Shape::Plane => ColliderBuilder::halfspace(rapier3d::na::Unit::new_unchecked(Vector::Z)),
-        Shape::Convex(ref parts) => {
-            let mut shapes: Vec<(Pose, SharedShape)> = parts
-                .pieces
-                .iter()
-                .map(|piece| {
-                    let vertices = piece
-                        .vertices
-                        .iter()
-                        .map(|v| Vector::new(v[0] as Real, v[1] as Real, v[2] as Real))
-                        .collect();
-                    let shape = SharedShape::convex_mesh(vertices, &piece.triangles)
-                        .expect("gymfleet_assembly built this polyhedron from these very points");
-                    (Pose::IDENTITY, shape)
-                })
-                .collect();
-            if shapes.len() == 1 {
-                ColliderBuilder::new(shapes.remove(0).1)
-            } else {
-                ColliderBuilder::compound(shapes)
-            }
-        }
-    }
-}
-
-/// The diagonal of the box that holds every collider at the initial pose, in m.
-fn assembly_reach(colliders: &ColliderSet) -> Real {
-    let mut all: Option<Aabb> = None;
-    // A ground plane is unbounded: the robot's size is its other parts'.
-    for (_, co) in colliders
-        .iter()
-        .filter(|(_, co)| co.shape().as_halfspace().is_none())
-    {
-        let aabb = co.compute_aabb();
-        all = Some(all.map_or(aabb, |a| a.merged(&aabb)));
-    }
-    all.map_or(1.0, |a| (a.maxs - a.mins).length())
 }
 
 /// Depth of each instance in the joint forest (roots are 0).

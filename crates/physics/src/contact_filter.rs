@@ -11,13 +11,7 @@ use std::sync::Arc;
 use gymfleet_assembly::{Assembly, JointType};
 use rapier3d::prelude::*;
 
-use crate::world::Sets;
-
-/// The body pairs that do not collide, ordered by handle.
-#[derive(Debug, Clone, Default)]
-pub(crate) struct ContactFilter {
-    excluded: Arc<HashSet<(RigidBodyHandle, RigidBodyHandle)>>,
-}
+use crate::world::{ContactFilter, Sets};
 
 fn key(a: RigidBodyHandle, b: RigidBodyHandle) -> (RigidBodyHandle, RigidBodyHandle) {
     if a.into_raw_parts() <= b.into_raw_parts() {

@@ -18,20 +18,10 @@ use std::f32::consts::PI;
 use gymfleet_assembly::Assembly;
 use rapier3d::prelude::*;
 
-use crate::world::{RobotWorld, Sets};
+use crate::world::{FluidDrag, RobotWorld, Sets};
 
 /// MuJoCo's `mjMINVAL`: the floor of a box's squared edge before the square root.
 const MIN_VALUE: Real = 1e-15;
-
-/// The fluid and the bodies it acts on.
-#[derive(Debug, Clone)]
-pub(crate) struct FluidDrag {
-    density: Real,
-    viscosity: Real,
-    /// Each moving rigid group (instances welded by fixed joints), in document order of
-    /// its first instance, which carries the group's force and torque.
-    groups: Vec<Vec<RigidBodyHandle>>,
-}
 
 impl FluidDrag {
     /// The assembly's fluid over its moving rigid groups; `None` without a fluid.

@@ -18,6 +18,7 @@
 mod actuation;
 mod bodies;
 mod build;
+mod colliders;
 mod command;
 mod contact_filter;
 mod contacts;

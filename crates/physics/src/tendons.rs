@@ -14,18 +14,7 @@ use rapier3d::math::Real;
 
 use crate::error::{PhysicsError, Result};
 use crate::units::to_si;
-use crate::world::{JointSlot, RobotWorld, Sets};
-
-/// One tendon as the world uses it.
-#[derive(Debug, Clone)]
-pub(crate) struct TendonSlot {
-    /// (DOF index, coefficient).
-    dofs: Vec<(usize, f64)>,
-    stiffness: f64,
-    damping: f64,
-    /// The spring's rest length (SI).
-    rest: f64,
-}
+use crate::world::{JointSlot, RobotWorld, Sets, TendonSlot};
 
 impl TendonSlot {
     pub(crate) fn has_force(&self) -> bool {

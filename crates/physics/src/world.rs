@@ -136,11 +136,40 @@ pub struct RobotWorld {
     /// The document's values that domain randomisation scales.
     pub(crate) base: BaseValues,
     /// The fluid's drag, when the document has a fluid (`fluid.rs`).
-    pub(crate) fluid: Option<crate::fluid::FluidDrag>,
+    pub(crate) fluid: Option<FluidDrag>,
     /// Fixed tendons, in document order (`tendons.rs`).
-    pub(crate) tendons: Vec<crate::tendons::TendonSlot>,
+    pub(crate) tendons: Vec<TendonSlot>,
     /// The body pairs kept from colliding (`contact_filter.rs`).
-    pub(crate) contact_filter: crate::contact_filter::ContactFilter,
+    pub(crate) contact_filter: ContactFilter,
+}
+
+/// The fluid and the bodies it acts on (`fluid.rs` computes the drag).
+#[derive(Debug, Clone)]
+pub(crate) struct FluidDrag {
+    pub(crate) density: Real,
+    pub(crate) viscosity: Real,
+    /// Each moving rigid group (instances welded by fixed joints), in document order of
+    /// its first instance, which carries the group's force and torque.
+    pub(crate) groups: Vec<Vec<RigidBodyHandle>>,
+}
+
+/// One fixed tendon as the world uses it (`tendons.rs`).
+#[derive(Debug, Clone)]
+pub(crate) struct TendonSlot {
+    /// (DOF index, coefficient).
+    pub(crate) dofs: Vec<(usize, f64)>,
+    pub(crate) stiffness: f64,
+    pub(crate) damping: f64,
+    /// The spring's rest length (SI).
+    pub(crate) rest: f64,
+}
+
+/// The body pairs that do not collide, ordered by handle (`contact_filter.rs`: the hook
+/// and how the pairs are chosen).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct ContactFilter {
+    pub(crate) excluded:
+        std::sync::Arc<std::collections::HashSet<(RigidBodyHandle, RigidBodyHandle)>>,
 }
 
 /// The document's values domain randomisation scales (`randomize.rs`), kept from the
