@@ -499,6 +499,13 @@ fn fixed_tendons_become_the_documents_tendons() {
         "line 3: <spatial>: spatial tendons are not supported yet (fixed tendons are)"
     );
     assert_eq!(
+        error(&format!(
+            "<mujoco><worldbody>{}</body></worldbody>\n<tendon><fixed name=\"t\"><joint joint=\"j1\" coef=\"1\"/></fixed></tendon>\n<actuator>\n<motor tendon=\"t\"/>\n</actuator></mujoco>",
+            body("j1")
+        )),
+        "line 4: <motor>: a motor must drive a joint (tendon, site and body transmissions are not supported)"
+    );
+    assert_eq!(
         refused(r#"<fixed><joint joint="j9" coef="1"/></fixed>"#),
         "line 3: <joint joint=…>: no hinge or slide joint is named \"j9\""
     );
