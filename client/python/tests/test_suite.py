@@ -514,3 +514,28 @@ def test_remote_server_and_fleet(remote_server):
         for a in ants:
             a.close()
     local.close()
+
+
+def _moved_joint(env_id: str, action: np.ndarray) -> int:
+    """The joint (index into qpos[7:]) that ``action``, held for 3 steps from the
+    noiseless start, moves most beyond what zero action does."""
+
+    def joints(a):
+        env = gymnasium.make(env_id, reset_noise_scale=0.0)
+        env.reset(seed=0)
+        for _ in range(3):
+            obs, *_ = env.step(a.astype(np.float32))
+        env.close()
+        return obs[5:13]
+
+    return int(np.argmax(np.abs(joints(action) - joints(np.zeros_like(action)))))
+
+
+def test_actions_are_mujocos_ctrl_in_actuator_order():
+    """Gymnasium's action k drives MuJoCo's actuator k: the Ant's actuators are hip_4,
+    ankle_4, hip_1, … while its joints are hip_1, ankle_1, …. Each hip actuator moves the
+    same joint here as in MuJoCo (the ankles start at their stops here, see above)."""
+    for k in (0, 2, 4, 6):  # hip_4, hip_1, hip_2, hip_3
+        action = np.zeros(8)
+        action[k] = 1.0
+        assert _moved_joint("gymfleet/Ant-v5", action) == _moved_joint("Ant-v5", action), k
