@@ -14,7 +14,9 @@ import gymfleet
 gymnasium = pytest.importorskip("gymnasium")
 mujoco = pytest.importorskip("mujoco")
 
-XML = """<mujoco>
+def _double_pendulum(tendon: str) -> str:
+    """A horizontal double pendulum (hinges `shoulder` and `elbow` about y) with `tendon`."""
+    return f"""<mujoco>
   <option timestep="0.002"/>
   <worldbody>
     <geom type="plane" size="1 1 0.1" contype="0" conaffinity="0"/>
@@ -28,11 +30,16 @@ XML = """<mujoco>
     </body>
   </worldbody>
   <tendon>
-    <fixed name="coupling" stiffness="8" damping="0.3" springlength="0.2">
-      <joint joint="shoulder" coef="1"/><joint joint="elbow" coef="-0.5"/>
-    </fixed>
+    {tendon}
   </tendon>
 </mujoco>"""
+
+
+XML = _double_pendulum(
+    """<fixed name="coupling" stiffness="8" damping="0.3" springlength="0.2">
+      <joint joint="shoulder" coef="1"/><joint joint="elbow" coef="-0.5"/>
+    </fixed>"""
+)
 
 TASK = {
     "terms": [
@@ -84,27 +91,14 @@ def test_the_humanoid_converts_with_its_tendons():
     assert info["l"] == pytest.approx(q["left_knee"] - q["left_hip_y"], abs=1e-5)
 
 
-RANGED = """<mujoco>
-  <option timestep="0.002"/>
-  <worldbody>
-    <geom type="plane" size="1 1 0.1" contype="0" conaffinity="0"/>
-    <body name="arm" pos="0 0 1">
-      <joint name="hinge" type="hinge" axis="0 1 0"/>
-      <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03"/>
-      <body name="forearm" pos="0.3 0 0">
-        <joint name="elbow" type="hinge" axis="0 1 0"/>
-        <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03"/>
-      </body>
-    </body>
-  </worldbody>
-  <tendon>
-    <fixed name="stop" range="-0.4 0.6"><joint joint="hinge" coef="1"/><joint joint="elbow" coef="0.5"/></fixed>
-  </tendon>
-</mujoco>"""
+RANGED = _double_pendulum(
+    '<fixed name="stop" range="-0.4 0.6"><joint joint="shoulder" coef="1"/>'
+    '<joint joint="elbow" coef="0.5"/></fixed>'
+)
 
 
 def test_a_ranged_tendon_stops_the_fall_where_mujocos_does():
-    """A horizontal double pendulum falls until hinge + elbow/2 reaches the tendon's 0.6:
+    """A horizontal double pendulum falls until shoulder + elbow/2 reaches the tendon's 0.6:
     gymfleet's stop is hard (never past it), MuJoCo's soft (slightly past, then back);
     both come to rest on it."""
     task = {"terms": [{"name": "length", "weight": 0, "value": {"tendon_length": "stop"}}]}

@@ -1,6 +1,8 @@
 //! A terms task resolved against one env ([`ActiveTerms`]): its terms evaluated after
 //! every step, and the reset's draws ([`Dist`], [`ActiveSet`]).
 
+use std::cell::OnceCell;
+
 use gymfleet_physics::{RobotWorld, Units, WRENCH_LEN};
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::RngExt;
@@ -144,8 +146,37 @@ pub(crate) struct ActiveTerms {
     pub(crate) sets: Vec<ActiveSet>,
 }
 
+/// What terms read at one moment: the world, the observed joint state, and the robot's
+/// centre of mass (SI; what body-level terms are taken about), computed once, when first
+/// needed.
+struct Now<'a> {
+    world: &'a RobotWorld,
+    positions: &'a [f32],
+    velocities: &'a [f32],
+    com: OnceCell<[f64; 3]>,
+}
+
+impl<'a> Now<'a> {
+    fn new(world: &'a RobotWorld, positions: &'a [f32], velocities: &'a [f32]) -> Self {
+        Now {
+            world,
+            positions,
+            velocities,
+            com: OnceCell::new(),
+        }
+    }
+
+    /// The robot's centre of mass, m (MuJoCo's root subtree centre of mass).
+    fn com(&self) -> [f64; 3] {
+        *self
+            .com
+            .get_or_init(|| self.world.robot_center_of_mass(Units::Si))
+    }
+}
+
 impl ActiveTerms {
-    fn read(&self, q: Q, world: &RobotWorld, positions: &[f32], velocities: &[f32]) -> f64 {
+    fn read(&self, q: Q, now: &Now) -> f64 {
+        let (world, positions, velocities) = (now.world, now.positions, now.velocities);
         match q {
             Q::Position(k) => f64::from(positions[k]),
             Q::Velocity(k) => f64::from(velocities[k]),
@@ -154,12 +185,10 @@ impl ActiveTerms {
             Q::TendonVelocity(k) => world.tendon_state(k).1,
             Q::ActuatorForce(k) => world.actuator_force(k),
             Q::BodyInertia { group, component } => {
-                let about = world.robot_center_of_mass(Units::Si);
-                world.group_inertia(&self.groups[group], about)[component]
+                world.group_inertia(&self.groups[group], now.com())[component]
             }
             Q::BodyVelocity { group, component } => {
-                let about = world.robot_center_of_mass(Units::Si);
-                world.group_velocity(&self.groups[group], about)[component]
+                world.group_velocity(&self.groups[group], now.com())[component]
             }
             Q::ContactWrench { group, component } => self.group_wrench(group)[component],
             Q::Point { body, point, axis } => match point {
@@ -204,9 +233,10 @@ impl ActiveTerms {
         velocities: &[f32],
         out: &mut [f32],
     ) {
+        let now = Now::new(world, positions, velocities);
         for (o, &k) in out.iter_mut().zip(&self.observed) {
             if let Kind::Value(q) = self.terms[k].1 {
-                *o = self.read(q, world, positions, velocities) as f32;
+                *o = self.read(q, &now) as f32;
             }
         }
     }
@@ -214,23 +244,24 @@ impl ActiveTerms {
     /// A new episode (or a state put back): the velocity terms' coordinates now.
     pub(crate) fn start(&mut self, world: &RobotWorld, positions: &[f32], velocities: &[f32]) {
         self.wrenches.clear();
+        let now = Now::new(world, positions, velocities);
         for k in 0..self.terms.len() {
             if let Kind::Velocity(q) = self.terms[k].1 {
-                self.previous[k] = self.read(q, world, positions, velocities);
+                self.previous[k] = self.read(q, &now);
             }
         }
     }
 
-    fn is_healthy(&self, world: &RobotWorld, positions: &[f32], velocities: &[f32]) -> bool {
+    fn is_healthy(&self, now: &Now) -> bool {
         let Some(h) = &self.healthy else { return true };
         let ranges = h.ranges.iter().all(|&(q, lo, hi)| {
-            let v = self.read(q, world, positions, velocities);
+            let v = self.read(q, now);
             lo < v && v < hi
         });
         let state = h.state.is_none_or(|(lo, hi, skip)| {
-            positions[skip..]
+            now.positions[skip..]
                 .iter()
-                .chain(velocities)
+                .chain(now.velocities)
                 .all(|&v| lo < f64::from(v) && f64::from(v) < hi)
         });
         ranges && state
@@ -246,32 +277,30 @@ impl ActiveTerms {
         action: &[f32],
         values: &mut [f32],
     ) -> (f64, Option<Termination>) {
+        let now = Now::new(world, positions, velocities);
         if !self.groups.is_empty() {
             // MuJoCo's cfrc_ext is about the root's subtree centre of mass.
-            let about = world.robot_center_of_mass(Units::Si);
-            world.contact_wrenches(about, &mut self.wrenches);
+            world.contact_wrenches(now.com(), &mut self.wrenches);
         }
-        let healthy = self.is_healthy(world, positions, velocities);
+        let healthy = self.is_healthy(&now);
         let mut reward = 0.0;
         for (k, slot) in values.iter_mut().enumerate().take(self.terms.len()) {
             let (weight, kind) = &self.terms[k];
             let value = match kind {
                 Kind::Velocity(q) => {
-                    let now = self.read(*q, world, positions, velocities);
-                    let rate = (now - self.previous[k]) / self.dt;
-                    self.previous[k] = now;
+                    let value = self.read(*q, &now);
+                    let rate = (value - self.previous[k]) / self.dt;
+                    self.previous[k] = value;
                     rate
                 }
-                Kind::Value(q) => self.read(*q, world, positions, velocities),
+                Kind::Value(q) => self.read(*q, &now),
                 Kind::CtrlCost => crate::action::sum_of_squares(action),
                 Kind::Healthy => f64::from(u8::from(healthy)),
                 Kind::Distance([a, b]) => {
                     let (a, b) = (self.point(world, *a), self.point(world, *b));
                     ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
                 }
-                Kind::Square(q, center) => {
-                    (self.read(*q, world, positions, velocities) - center).powi(2)
-                }
+                Kind::Square(q, center) => (self.read(*q, &now) - center).powi(2),
                 Kind::ContactCost {
                     groups,
                     lo,
