@@ -18,6 +18,7 @@
 //! env; `active.rs` evaluates it after every step and draws the reset.
 
 mod active;
+mod quantity;
 mod resolve;
 
 pub(crate) use gymfleet_assembly::shown;
