@@ -2879,12 +2879,24 @@ mod composite_tests {
 
     const DT: Real = 1.0 / 1200.0;
 
-    /// A fixed base and a tree: revolute Z, prismatic X, revolute Y on one branch, then a
-    /// welded link and a revolute about a skew axis; a revolute X on a second branch. Every
-    /// link's centre of mass is off its joint and the joints start displaced and moving.
-    fn tree() -> (PhysicsWorld, MultibodyJointHandle) {
+    /// A tree: revolute Z, prismatic X, revolute Y on one branch, then a welded link and a
+    /// revolute about a skew axis; a revolute X on a second branch. Every link's centre of
+    /// mass is off its joint and the joints start displaced and moving. On a fixed base or, with `free_root`, on a free (dynamic) base whose centre of mass is
+    /// off its origin, moving and turned (six more DoFs, first).
+    fn tree_on(free_root: bool) -> (PhysicsWorld, MultibodyJointHandle) {
         let mut world = PhysicsWorld::new();
-        let base = world.insert_body(RigidBodyBuilder::fixed().translation(Vector::new(0.2, 1.0, -0.1)));
+        let base = if free_root {
+            world
+                .insert(
+                    RigidBodyBuilder::dynamic().translation(Vector::new(0.2, 1.0, -0.1)),
+                    ColliderBuilder::cuboid(0.1, 0.05, 0.08)
+                        .translation(Vector::new(0.03, -0.02, 0.04))
+                        .density(900.0),
+                )
+                .0
+        } else {
+            world.insert_body(RigidBodyBuilder::fixed().translation(Vector::new(0.2, 1.0, -0.1)))
+        };
         let link = |world: &mut PhysicsWorld, at: Vector, half: Vector| {
             world
                 .insert(
@@ -2917,14 +2929,27 @@ mod composite_tests {
         }
         let handle = handle.unwrap();
         let mb = world.multibody_joints.get_mut(handle).unwrap().0;
-        // The root collapses from a free joint to a fixed one here.
+        // A fixed root collapses from a free joint to a fixed one here.
         mb.forward_kinematics(&world.bodies, false);
-        assert_eq!(mb.ndofs(), 5);
-        mb.apply_displacements(&[0.4, 0.05, -0.6, 0.9, 0.3]);
-        mb.forward_kinematics(&world.bodies, false);
-        // World inertias and centres of mass of the displaced links, as the solver keeps them.
-        mb.update_rigid_bodies(&mut world.bodies, true);
-        mb.velocities.copy_from_slice(&[1.3, -0.7, 2.1, 0.4, -1.9]);
+        let joints = [0.4, 0.05, -0.6, 0.9, 0.3];
+        let joint_velocities = [1.3, -0.7, 2.1, 0.4, -1.9];
+        if free_root {
+            assert_eq!(mb.ndofs(), 11);
+            let root = [0.1, -0.2, 0.05, 0.3, -0.5, 0.7];
+            mb.apply_displacements(&[&root[..], &joints[..]].concat());
+            mb.forward_kinematics(&world.bodies, false);
+            mb.update_rigid_bodies(&mut world.bodies, true);
+            let root_velocity = [0.8, -0.3, 1.1, -1.4, 0.6, 2.2];
+            mb.velocities
+                .copy_from_slice(&[&root_velocity[..], &joint_velocities[..]].concat());
+        } else {
+            assert_eq!(mb.ndofs(), 5);
+            mb.apply_displacements(&joints);
+            mb.forward_kinematics(&world.bodies, false);
+            // World inertias and centres of mass of the displaced links, as the solver keeps them.
+            mb.update_rigid_bodies(&mut world.bodies, true);
+            mb.velocities.copy_from_slice(&joint_velocities);
+        }
         mb.update_velocities(&mut world.bodies);
         mb.update_mass_matrix(DT, &world.bodies);
         (world, handle)
@@ -2990,7 +3015,16 @@ mod composite_tests {
 
     #[test]
     fn a_tree_of_one_dof_joints_builds_both_matrices_by_composite_bodies() {
-        let (mut world, handle) = tree();
+        composite_matches_the_link_by_link_mass_and_the_forces_derivative(false);
+    }
+
+    #[test]
+    fn a_tree_on_a_free_root_builds_both_matrices_by_composite_bodies() {
+        composite_matches_the_link_by_link_mass_and_the_forces_derivative(true);
+    }
+
+    fn composite_matches_the_link_by_link_mass_and_the_forces_derivative(free_root: bool) {
+        let (mut world, handle) = tree_on(free_root);
         let derivative = velocity_derivative(&mut world, handle);
         let bodies = &world.bodies;
         let mb = world.multibody_joints.get_mut(handle).unwrap().0;
@@ -3024,15 +3058,45 @@ mod composite_tests {
         assert!((&derivative - derivative.transpose()).amax() > 0.1 * derivative.amax());
     }
 
-    #[test]
-    fn a_free_root_or_a_ball_joint_keeps_the_link_by_link_construction() {
-        let (mut world, handle) = tree();
-        let root = world.multibody_joints.get(handle).unwrap().0.links[0].rigid_body;
-        world.bodies.get_mut(root).unwrap().set_body_type(RigidBodyType::Dynamic, true);
-        let mb = world.multibody_joints.get_mut(handle).unwrap().0;
-        mb.forward_kinematics(&world.bodies, false);
-        assert!(!mb.composite_applies(&world.bodies));
+    /// Kinetic energy and linear momentum of every dynamic body.
+    fn energy_and_momentum(world: &PhysicsWorld) -> (Real, Vector) {
+        let (mut energy, mut momentum) = (0.0, Vector::ZERO);
+        for (_, rb) in world.bodies.iter() {
+            let (m, v, w) = (rb.mass(), rb.linvel(), rb.angvel());
+            let inertia = rb.mprops.effective_world_inv_inertia.inverse_unchecked();
+            energy += 0.5 * (m * v.length_squared() + w.dot(inertia * w));
+            momentum += v * m;
+        }
+        (energy, momentum)
+    }
 
+    /// A free tree tumbling without gravity, contacts or damping for 2 s (480 steps): its
+    /// linear momentum stays within 0.5 % and its energy never grows; the semi-implicit
+    /// velocity terms dissipate some of it, as with the link-by-link construction (measured:
+    /// 5.097 → 4.554 here, 5.097 → 4.558 link by link; momentum 0.38 % and 0.33 % off).
+    #[test]
+    fn a_free_tree_tumbling_without_gravity_keeps_its_momentum_and_gains_no_energy() {
+        let (mut world, handle) = tree_on(true);
+        world.gravity = Vector::ZERO;
+        world.integration_parameters.dt = 1.0 / 240.0;
+        world.integration_parameters.num_solver_iterations = 4;
+        for (_, collider) in world.colliders.iter_mut() {
+            collider.set_collision_groups(InteractionGroups::none());
+        }
+        world.step();
+        assert!(world.multibody_joints.get(handle).unwrap().0.composite_applies(&world.bodies));
+        let (energy0, momentum0) = energy_and_momentum(&world);
+        for _ in 0..480 {
+            world.step();
+            let (energy, momentum) = energy_and_momentum(&world);
+            assert!(energy < energy0 * 1.001 && energy > 0.85 * energy0, "{energy} from {energy0}");
+            let drift = (momentum - momentum0).length() / momentum0.length();
+            assert!(drift < 0.005, "momentum {momentum:?} from {momentum0:?}");
+        }
+    }
+
+    #[test]
+    fn a_ball_joint_keeps_the_link_by_link_construction() {
         let mut world = PhysicsWorld::new();
         let base = world.insert_body(RigidBodyBuilder::fixed());
         let ball = world.insert_body(RigidBodyBuilder::dynamic().additional_mass(1.0));

@@ -3,9 +3,10 @@
 //! `Multibody::update_mass_matrix` builds `M = Σᵢ Jᵢᵀ·diag(mᵢ, Iᵢ)·Jᵢ` and the velocity terms of
 //! the semi-implicit matrix, `D = ∂τ_bias/∂q̇` (the derivative of the coriolis, centrifugal and
 //! gyroscopic generalized forces), link by link: for a chain of `n` links that is `O(n³)` work.
-//! For a multibody whose root is not dynamic and whose joints have at most one DoF each (arms,
-//! chains, and the slide/hinge roots MJCF imports use), this module builds the same two
-//! matrices in `O(n·depth)` with spatial algebra:
+//! For a multibody whose root is fixed or free and whose other joints have at most one DoF each
+//! (arms, chains, the slide/hinge roots MJCF imports use, and floating robots such as the Ant
+//! and the Humanoid), this module builds the same two matrices in `O(n·depth)` with spatial
+//! algebra:
 //!
 //! - every spatial vector is taken at one point `p₀` (the root link's centre of mass) in world
 //!   axes, in `f64` so that the lever arms of a long chain cost no precision; a motion vector is
@@ -20,6 +21,10 @@
 //!   over a subtree `K` to `Î_K·(2V_λ×S_c) + B̂_K·S_c + S_c×*Ĥ_K`, with `Ĥ_K = Σ IᵢVᵢ` and
 //!   `B̂_K = Σ ([Vᵢ×*]·Iᵢ − Iᵢ·[Vᵢ×])` (symmetric). `D[a, c]` is `S_a` dotted with it, over the
 //!   subtree of the deeper of the two links.
+//! - a free root's six DoFs move the whole multibody: the velocity of the root's body-frame
+//!   origin `o` and its rotation about `o`. As `o` moves, a rotation's motion at `p₀` changes,
+//!   so the root adds the bias acceleration `(0, v_o × ω)`; in the sum above its DoF `c` has
+//!   `V_root × S_c + ∂(0, v_o × ω)/∂q̇_c` where a hinge has `2V_λ × S_c`.
 //!
 //! `composite_tests` (in `multibody.rs`) checks `M` against the link-by-link construction and
 //! `D` against the derivative, by central differences, of the forces `update_acceleration`
@@ -132,14 +137,12 @@ pub(crate) struct CompositeWorkspace {
     composites: Vec<Composite>,
     velocities: Vec<Spatial>,
     dofs: Vec<CompositeDof>,
-    /// Per link: its parent, its DoF (`NO_DOF` for a welded link) and its centre of mass
-    /// relative to `p₀`.
+    /// Per link: its parent, its DoFs (none for a welded link or a fixed root) and its
+    /// centre of mass relative to `p₀`.
     parents: Vec<usize>,
     offsets: Vec<DVec3>,
-    link_dofs: Vec<usize>,
+    link_dofs: Vec<core::ops::Range<usize>>,
 }
-
-const NO_DOF: usize = usize::MAX;
 
 fn dvec3_at(slice: &[Real], at: usize) -> DVec3 {
     DVec3::new(
@@ -156,17 +159,20 @@ fn symmetric_cross_product(a: DVec3, b: DVec3) -> DMat3 {
 }
 
 impl Multibody {
-    /// Whether [`Multibody::composite_mass_matrices`] applies: a root that is not dynamic (no
-    /// free root joint), joints of at most one DoF, none kinematic, and links whose effective
-    /// mass is the same along every axis.
+    /// Whether [`Multibody::composite_mass_matrices`] applies: a root that is fixed or free
+    /// (all six DoFs, none locked), other joints of at most one DoF, none kinematic, and
+    /// links whose effective mass is the same along every axis.
     pub(super) fn composite_applies(&self, bodies: &RigidBodySet) -> bool {
-        !self.root_is_dynamic
+        let isotropic = |link: &super::MultibodyLink| {
+            let mass = bodies[link.rigid_body].mprops.effective_mass();
+            mass.x == mass.y && mass.y == mass.z
+        };
+        let root = &self.links[0];
+        let root_fits = !self.root_is_dynamic
+            || (root.joint.ndofs() == SPATIAL_DIM && !root.joint.kinematic && isotropic(root));
+        root_fits
             && self.links.iter().skip(1).all(|link| {
-                let mass = bodies[link.rigid_body].mprops.effective_mass();
-                link.joint.ndofs() <= 1
-                    && !link.joint.kinematic
-                    && mass.x == mass.y
-                    && mass.y == mass.z
+                link.joint.ndofs() <= 1 && !link.joint.kinematic && isotropic(link)
             })
     }
 
@@ -201,17 +207,14 @@ impl Multibody {
         for link in self.links.iter() {
             ws.offsets.push(com(link) - p0);
             ws.parents.push(link.parent_internal_id);
-            ws.link_dofs.push(if link.joint.ndofs() == 1 {
-                link.assembly_id
-            } else {
-                NO_DOF
-            });
+            ws.link_dofs
+                .push(link.assembly_id..link.assembly_id + link.joint.ndofs());
         }
+        // A fixed root is moved by no DoF: it adds to no composite that a DoF reads.
+        let first_moving = if self.root_is_dynamic { 0 } else { 1 };
 
-
-        // Each link's own inertia, velocity, momentum and `B` at `p₀`. The root is not moved
-        // by any DoF: it adds to no composite that a DoF reads.
-        for i in 1..nlinks {
+        // Each moving link's own inertia, velocity, momentum and `B` at `p₀`.
+        for i in first_moving..nlinks {
             let rb = &bodies[self.links[i].rigid_body];
             let mass = f64::from(rb.mprops.effective_mass().x);
             let r = ws.offsets[i];
@@ -247,84 +250,109 @@ impl Multibody {
         }
 
         // Subtree sums, children (which come after their parents) first.
-        for i in (2..nlinks).rev() {
+        for i in (1..nlinks).rev() {
             let parent = self.links[i].parent_internal_id;
-            if parent != 0 {
-                let child = ws.composites[i];
-                ws.composites[parent].accumulate(&child);
+            let child = ws.composites[i];
+            ws.composites[parent].accumulate(&child);
+        }
+
+        // A free root's DoFs: the velocity of its body frame's origin along the axes `b_j`
+        // and its rotation about that origin along `a_k` (`root_shift23`). The origin moves,
+        // so a rotation's motion at `p₀` changes with the linear DoFs: the root adds the
+        // bias acceleration `(0, v_o × ω)` (`v_o = Σ b_j·q̇_j`, `ω = Σ a_k·q̇_k`), whose
+        // derivative is `(0, b_j × ω)` for a linear DoF and `(0, v_o × a_k)` for a rotation.
+        let (mut root_origin_velocity, mut root_angvel) = (DVec3::ZERO, DVec3::ZERO);
+        if self.root_is_dynamic && velocity_terms {
+            let jacobian = self.body_jacobians[0].as_slice();
+            for c in ws.link_dofs[0].clone() {
+                let jv = dvec3_at(jacobian, c * SPATIAL_DIM);
+                let jw = dvec3_at(jacobian, c * SPATIAL_DIM + DIM);
+                let qdot = f64::from(self.velocities[c]);
+                if jw == DVec3::ZERO {
+                    root_origin_velocity += jv * qdot;
+                } else {
+                    root_angvel += jw * qdot;
+                }
             }
         }
 
         // Per DoF: its motion and the products every pair reads.
-        for i in 1..nlinks {
+        for i in first_moving..nlinks {
             let link = &self.links[i];
-            let c = ws.link_dofs[i];
-            if c == NO_DOF {
-                continue;
-            }
             let jacobian = self.body_jacobians[i].as_slice();
-            let jv = dvec3_at(jacobian, c * SPATIAL_DIM);
-            let jw = dvec3_at(jacobian, c * SPATIAL_DIM + DIM);
             let r = ws.offsets[i];
-            let motion = Spatial::new(jw, jv - jw.cross(r));
             let composite = &ws.composites[i];
-            let mut dof = CompositeDof {
-                motion,
-                inertia_motion: composite.inertia_times(motion),
-                ..CompositeDof::default()
-            };
-            if velocity_terms {
-                let parent_velocity = ws.velocities[link.parent_internal_id];
-                let coriolis_motion = Spatial::new(
-                    parent_velocity.ang * 2.0,
-                    parent_velocity.lin * 2.0,
-                )
-                .cross_motion(motion);
-                let b_motion = composite.b_times(motion);
-                let motion_momentum = motion.cross_force(composite.momentum);
-                dof.coriolis_motion = coriolis_motion;
-                dof.velocity_force = composite
-                    .inertia_times(coriolis_motion)
-                    .add(b_motion)
-                    .add(motion_momentum);
-                dof.velocity_force_below = b_motion.sub(motion_momentum);
+            for c in ws.link_dofs[i].clone() {
+                let jv = dvec3_at(jacobian, c * SPATIAL_DIM);
+                let jw = dvec3_at(jacobian, c * SPATIAL_DIM + DIM);
+                let motion = Spatial::new(jw, jv - jw.cross(r));
+                let mut dof = CompositeDof {
+                    motion,
+                    inertia_motion: composite.inertia_times(motion),
+                    ..CompositeDof::default()
+                };
+                if velocity_terms {
+                    let coriolis_motion = if i == 0 {
+                        // `V_root × S + ∂(0, v_o × ω)/∂q̇_c`.
+                        let root_bias = if jw == DVec3::ZERO {
+                            jv.cross(root_angvel)
+                        } else {
+                            root_origin_velocity.cross(jw)
+                        };
+                        let turned = ws.velocities[0].cross_motion(motion);
+                        Spatial::new(turned.ang, turned.lin + root_bias)
+                    } else {
+                        let parent_velocity = ws.velocities[link.parent_internal_id];
+                        Spatial::new(parent_velocity.ang * 2.0, parent_velocity.lin * 2.0)
+                            .cross_motion(motion)
+                    };
+                    let b_motion = composite.b_times(motion);
+                    let motion_momentum = motion.cross_force(composite.momentum);
+                    dof.coriolis_motion = coriolis_motion;
+                    dof.velocity_force = composite
+                        .inertia_times(coriolis_motion)
+                        .add(b_motion)
+                        .add(motion_momentum);
+                    dof.velocity_force_below = b_motion.sub(motion_momentum);
+                }
+                ws.dofs[c] = dof;
             }
-            ws.dofs[c] = dof;
         }
 
         // Every pair of DoFs on one path from the root: `a` on link `k`, `c` on link `L`, `k`
-        // an ancestor of `L` or `L` itself (so `a ≤ c`).
+        // an ancestor of `L` or `L` itself (and then `a ≤ c`), so `a ≤ c` always.
         let n = self.ndofs;
         let mass = self.augmented_mass.as_mut_slice();
         let acc = self.acc_augmented_mass.as_mut_slice();
         let dt = f64::from(dt);
-        for i in 1..nlinks {
-            let c = ws.link_dofs[i];
-            if c == NO_DOF {
-                continue;
-            }
-            let below = ws.dofs[c];
-            let mut k = i;
-            while k != 0 {
-                let a = ws.link_dofs[k];
-                if a != NO_DOF {
-                    let above = ws.dofs[a];
-                    mass[a + c * n] = above.motion.dot(below.inertia_motion) as Real;
-                    if velocity_terms {
-                        acc[a + c * n] = (dt * above.motion.dot(below.velocity_force)) as Real;
-                        if a != c {
-                            acc[c + a * n] = (dt
-                                * (below.inertia_motion.dot(above.coriolis_motion)
-                                    + below.velocity_force_below.dot(above.motion)))
-                                as Real;
+        for i in first_moving..nlinks {
+            for c in ws.link_dofs[i].clone() {
+                let below = ws.dofs[c];
+                let mut k = i;
+                loop {
+                    let upto = if k == i { c + 1 } else { ws.link_dofs[k].end };
+                    for a in ws.link_dofs[k].start..upto {
+                        let above = ws.dofs[a];
+                        mass[a + c * n] = above.motion.dot(below.inertia_motion) as Real;
+                        if velocity_terms {
+                            acc[a + c * n] =
+                                (dt * above.motion.dot(below.velocity_force)) as Real;
+                            if a != c {
+                                acc[c + a * n] = (dt
+                                    * (below.inertia_motion.dot(above.coriolis_motion)
+                                        + below.velocity_force_below.dot(above.motion)))
+                                    as Real;
+                            }
                         }
                     }
+                    if k == 0 {
+                        break;
+                    }
+                    k = ws.parents[k];
                 }
-                k = ws.parents[k];
             }
         }
 
         self.composite_workspace = ws;
     }
 }
-
