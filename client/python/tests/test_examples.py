@@ -32,3 +32,32 @@ def test_the_ur5_import_example_reaches_its_target(capsys, monkeypatch):
     assert "converted: 11 instances, 6 moving joints" in out, out
     error = float(out.split("largest error ")[1].split(" deg")[0])
     assert error < 1.0, out
+
+
+def _run_learning_example(name, argv, capsys, monkeypatch, tmp_path):
+    """A learning example for a few thousand steps: it prints its curve's end and writes the
+    PNG. Needs torch and matplotlib, which CI never installs (so it runs where they are)."""
+    import pytest
+
+    pytest.importorskip("torch")
+    pytest.importorskip("matplotlib")
+    script = REPO / "client" / "python" / "examples" / name
+    png = tmp_path / "curve.png"
+    monkeypatch.setattr(sys, "argv", [str(script), *argv, "--plot", str(png)])
+    runpy.run_path(str(script), run_name="__main__")
+    out = capsys.readouterr().out
+    assert "final return" in out and "steps/s" in out, out
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    return out
+
+
+def test_the_sb3_ppo_hopper_example_runs(capsys, monkeypatch, tmp_path):
+    pytest = __import__("pytest")
+    pytest.importorskip("stable_baselines3")
+    out = _run_learning_example("sb3_ppo_hopper.py", ["--steps", "1024", "--envs", "4"], capsys, monkeypatch, tmp_path)
+    assert "gymfleet/Hopper-v5: 1024 steps" in out
+
+
+def test_the_cleanrl_ppo_halfcheetah_example_runs(capsys, monkeypatch, tmp_path):
+    out = _run_learning_example("cleanrl_ppo_halfcheetah.py", ["--steps", "2048", "--envs", "4"], capsys, monkeypatch, tmp_path)
+    assert "gymfleet/HalfCheetah-v5: 2048 steps" in out
