@@ -139,15 +139,23 @@ def main() -> None:
     args = p.parse_args()
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    results: List[Dict[str, Any]] = []
+    # Runs are kept as they finish; a run already in runs.json (same env, side, seed and
+    # steps) is not repeated, so an interrupted benchmark resumes.
+    saved = out / "runs.json"
+    results: List[Dict[str, Any]] = json.loads(saved.read_text()) if saved.exists() else []
     for name in args.names:
         for seed in args.seeds:
             for side in args.sides:
-                r = run(name, side, seed, args.steps)
-                results.append(r)
+                key = (name, side, seed, args.steps)
+                done = [r for r in results if (r["name"], r["side"], r["seed"], r["steps"]) == key]
+                r = done[0] if done else run(name, side, seed, args.steps)
+                if not done:
+                    results.append(r)
+                    saved.write_text(json.dumps(results))
                 print(f"{name:<24} {side:<9} seed {seed}: final return {r['final_return']:9.1f}, "
                       f"{r['wall_s']:7.1f} s, {len(r['episodes'])} episodes", flush=True)
-    (out / "runs.json").write_text(json.dumps(results))
+    results = [r for r in results if r["name"] in args.names and r["steps"] == args.steps
+               and r["side"] in args.sides and r["seed"] in args.seeds]
     print("\n| env | side | final return (mean ± sd over seeds) | min .. max | wall s (mean) |")
     print("|---|---|---|---|---|")
     for name in args.names:

@@ -224,6 +224,9 @@ pub struct JointInfo {
     pub gear: f64,
     /// The position the joint reports at the document's pose (deg or mm).
     pub reference: f64,
+    /// One per DOF: the bound of a torque action value (`max_effort / |gear|`, or the
+    /// server's model-derived default without a `max_effort`); empty from older servers.
+    pub action_bounds: Vec<f64>,
 }
 
 impl From<pb::JointInfo> for JointInfo {
@@ -248,6 +251,7 @@ impl From<pb::JointInfo> for JointInfo {
             // Servers before gears sent nothing: 0 reads as 1.
             gear: if j.gear == 0.0 { 1.0 } else { j.gear },
             reference: j.reference,
+            action_bounds: j.action_bounds,
         }
     }
 }

@@ -551,10 +551,12 @@ pub(crate) fn joints(spec: &EnvSpec, links: &JointLinks) -> Vec<pb::JointInfo> {
                 actuated: dof.actuated,
                 gear: dof.gear,
                 reference: dof.reference,
+                action_bounds: Vec::new(),
             });
         }
         if let Some(joint) = joints.last_mut() {
             joint.dof += 1;
+            joint.action_bounds.push(dof.action_bound);
             joint.limits.push(pb::DofLimit {
                 unit: match dof.kind {
                     DofKind::Angular => "deg",

@@ -16,6 +16,7 @@ fn joint<'py>(py: Python<'py>, j: &JointInfo) -> PyResult<Bound<'py, PyDict>> {
     d.set_item("actuated", j.actuated)?;
     d.set_item("gear", j.gear)?;
     d.set_item("reference", j.reference)?;
+    d.set_item("action_bounds", j.action_bounds.clone())?;
     let limits = j
         .limits
         .iter()

@@ -54,10 +54,16 @@ def test_spaces_come_from_the_envs_limits(arm2):
     env = gymfleet.make(arm2, end_effector_ids=["forearm"])
     assert env.observation_space.shape == (2 + 2 + 7,)
     assert env.observation_space.dtype == np.float32
-    np.testing.assert_array_equal(env.action_space.low, np.float32([-0.002, -np.inf]))
-    np.testing.assert_array_equal(env.action_space.high, np.float32([0.002, np.inf]))
+    # The clamp bounds the first joint; the second has none, so the server derives its
+    # bound from the model (twice the torque that holds the forearm level).
+    forearm = env.env_info["joints"][1]
+    assert forearm["max_effort"] is None
+    derived = forearm["action_bounds"][0]
+    assert 1e-6 < derived < 1e-3
+    np.testing.assert_array_equal(env.action_space.low, np.float32([-0.002, -derived]))
+    np.testing.assert_array_equal(env.action_space.high, np.float32([0.002, derived]))
     assert env.env_info["joints"][0]["max_effort"] == 0.002
-    assert env.env_info["joints"][1]["max_effort"] is None
+    assert env.env_info["joints"][0]["action_bounds"] == [0.002]
     env.close()
     env = gymfleet.make(arm2, action_type="position")
     np.testing.assert_array_equal(env.action_space.low, [-90, -120])
@@ -78,8 +84,37 @@ def test_normalize_actions_maps_minus_one_to_one_onto_the_range(arm2):
         # [-1, 1] onto [-90, 90] and [-120, 0]
         target = [90 * a[0], -60 + 60 * a[1]]
         assert np.array_equal(env.step(a)[0], raw.step(target)[0])
-    with pytest.raises(gymfleet.InvalidArgument, match="normalize_actions: every DOF needs a finite torque range, but upper, forearm has none"):
-        gymfleet.make(arm2, normalize_actions=True)
+    with pytest.raises(gymfleet.InvalidArgument, match="normalize_actions: velocity targets have no range"):
+        gymfleet.make(arm2, action_type="velocity", normalize_actions=True)
+
+
+def test_a_document_without_max_effort_gets_sensible_torque_actions():
+    """The seed arm, loaded by path, has no max_effort: its action space is still finite,
+    sampled torques move it like a motor, not a cannon, and normalised torques work."""
+    env = gymfleet.make(MODELS / "arm2.json", end_effector_ids=["forearm"], substeps=5)
+    bounds = env.action_space.high
+    assert np.all(np.isfinite(bounds)) and np.all(bounds > 0)
+    np.testing.assert_array_equal(env.action_space.low, -bounds)
+    # The shoulder holds the whole arm, the elbow the forearm alone.
+    assert bounds[0] > bounds[1]
+    env.action_space.seed(0)
+    env.reset(seed=0)
+    speeds = []
+    for _ in range(60):
+        obs, *_ = env.step(env.action_space.sample())
+        speeds.append(np.abs(obs[2:4]).max())
+    # deg/s: under a sampled torque within twice the gravity torque, the arm swings at
+    # hundreds of deg/s at most (a 1 N·m sample used to reach ~1.4e6 deg/s).
+    assert 1.0 < max(speeds) < 5000.0, max(speeds)
+    env.close()
+    normalized = gymfleet.make(MODELS / "arm2.json", normalize_actions=True)
+    raw = gymfleet.make(MODELS / "arm2.json")
+    normalized.reset(seed=1)
+    raw.reset(seed=1)
+    for a in ([1.0, -1.0], [0.25, 0.5]):
+        np.testing.assert_array_equal(normalized.step(a)[0], raw.step(np.float32(a) * bounds)[0])
+    normalized.close()
+    raw.close()
 
 
 def test_a_document_is_a_dict_a_json_string_or_a_path(arm2):

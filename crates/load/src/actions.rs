@@ -3,6 +3,7 @@
 //! and the DOF), so in-process and remote runs of one configuration send identical
 //! values, and the arms keep moving instead of settling.
 
+use crate::model::DEFAULT_TORQUE_AMPLITUDE;
 use serde::Serialize;
 
 /// How action values are interpreted; the same three modes as the server's.
@@ -27,13 +28,13 @@ impl ActionKind {
         }
     }
 
-    /// The default amplitude: `torque` for torque actions (the model's scale), 30° for
-    /// position targets and 45°/s for velocity targets.
-    pub fn default_amplitude(self, torque: f32) -> f32 {
+    /// The default amplitude: none for torque actions (each DOF swings within its own
+    /// action bound), 30° for position targets and 45°/s for velocity targets.
+    pub fn default_amplitude(self) -> Option<f32> {
         match self {
-            ActionKind::Torque => torque,
-            ActionKind::Position => 30.0,
-            ActionKind::Velocity => 45.0,
+            ActionKind::Torque => None,
+            ActionKind::Position => Some(30.0),
+            ActionKind::Velocity => Some(45.0),
         }
     }
 
@@ -62,14 +63,34 @@ pub struct ActionPlan {
 }
 
 impl ActionPlan {
-    /// A plan for DOFs with these hard limits (deg or mm, `None` where unlimited).
-    /// Position targets stay inside `[min, max]`, centred in the range, with at most
-    /// `amplitude` and at most 80 % of the half-range; other modes swing `±amplitude`.
-    pub fn new(kind: ActionKind, amplitude: f32, limits: &[Option<(f64, f64)>], seed: u64) -> Self {
-        let amplitude = f64::from(amplitude);
+    /// A plan for DOFs with these hard limits (deg or mm, `None` where unlimited) and
+    /// torque action bounds (one per DOF; empty where the server reports none). Position
+    /// targets stay inside `[min, max]`, centred in the range, with at most `amplitude` and
+    /// at most 80 % of the half-range; other modes swing `±amplitude`, and without one each
+    /// DOF swings within its bound ([`DEFAULT_TORQUE_AMPLITUDE`] where there is none).
+    pub fn new(
+        kind: ActionKind,
+        amplitude: Option<f32>,
+        limits: &[Option<(f64, f64)>],
+        bounds: &[f64],
+        seed: u64,
+    ) -> Self {
         let waves = limits
             .iter()
-            .map(|limit| match (kind, limit) {
+            .enumerate()
+            .map(|(dof, limit)| {
+                let amplitude = amplitude.map_or_else(
+                    || {
+                        bounds
+                            .get(dof)
+                            .copied()
+                            .unwrap_or(f64::from(DEFAULT_TORQUE_AMPLITUDE))
+                    },
+                    f64::from,
+                );
+                (amplitude, limit)
+            })
+            .map(|(amplitude, limit)| match (kind, limit) {
                 (ActionKind::Position, Some((min, max))) => DofWave {
                     centre: (min + max) / 2.0,
                     amplitude: amplitude.min(0.8 * (max - min) / 2.0),
@@ -121,7 +142,7 @@ mod tests {
     #[test]
     fn position_targets_stay_within_limits() {
         let limits = [Some((-120.0, 0.0)), None];
-        let plan = ActionPlan::new(ActionKind::Position, 90.0, &limits, 7);
+        let plan = ActionPlan::new(ActionKind::Position, Some(90.0), &limits, &[], 7);
         let mut out = vec![0.0; 2 * 50];
         for step in 0..300 {
             plan.fill(step, 0, &mut out);
@@ -134,7 +155,7 @@ mod tests {
 
     #[test]
     fn actions_depend_on_global_env_index_only() {
-        let plan = ActionPlan::new(ActionKind::Torque, 1e-3, &[None, None], 3);
+        let plan = ActionPlan::new(ActionKind::Torque, Some(1e-3), &[None, None], &[], 3);
         let mut whole = vec![0.0; 2 * 8];
         plan.fill(5, 0, &mut whole);
         let mut tail = vec![0.0; 2 * 4];
@@ -142,5 +163,26 @@ mod tests {
         assert_eq!(whole[8..], tail[..]);
         assert!(whole.iter().all(|v| v.abs() <= 1e-3));
         assert_ne!(whole[0], whole[2], "envs differ");
+    }
+
+    #[test]
+    fn torque_actions_without_an_amplitude_swing_within_each_dofs_bound() {
+        let plan = ActionPlan::new(ActionKind::Torque, None, &[None, None], &[2.0, 0.01], 3);
+        let mut out = vec![0.0; 2 * 16];
+        let mut largest = [0.0f32; 2];
+        for step in 0..300 {
+            plan.fill(step, 0, &mut out);
+            for pair in out.chunks_exact(2) {
+                largest[0] = largest[0].max(pair[0].abs());
+                largest[1] = largest[1].max(pair[1].abs());
+            }
+        }
+        assert!(largest[0] <= 2.0 && largest[0] > 1.9, "{largest:?}");
+        assert!(largest[1] <= 0.01 && largest[1] > 0.0095, "{largest:?}");
+        // Without bounds (a server before them): the default amplitude.
+        let plan = ActionPlan::new(ActionKind::Torque, None, &[None], &[], 3);
+        let mut one = vec![0.0; 16];
+        plan.fill(7, 0, &mut one);
+        assert!(one.iter().all(|v| v.abs() <= DEFAULT_TORQUE_AMPLITUDE));
     }
 }

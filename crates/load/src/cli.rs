@@ -86,8 +86,8 @@ pub struct Cli {
     /// How action values are read.
     #[arg(long, value_enum, env = "GYMFLEET_ACTION_TYPE", default_value_t = ActionKind::Torque)]
     pub action_type: ActionKind,
-    /// Action amplitude: N·m for torque [default: the model's scale, 1e-4 for the seed
-    /// models and files, 0.02 for arm6], deg for position [30], deg/s for velocity [45].
+    /// Action amplitude: N·m for torque [default: each DOF's own action bound, which the
+    /// server derives from the model], deg for position [30], deg/s for velocity [45].
     #[arg(long, value_name = "A", env = "GYMFLEET_AMPLITUDE")]
     pub amplitude: Option<f32>,
     /// Integration substeps per step [default: the server's, 5].
@@ -291,7 +291,7 @@ impl Cli {
         };
         let amplitude = self
             .amplitude
-            .unwrap_or_else(|| self.action_type.default_amplitude(model.torque_amplitude));
+            .or_else(|| self.action_type.default_amplitude());
         Ok(LoadConfig {
             target,
             model,

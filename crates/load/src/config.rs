@@ -173,8 +173,9 @@ pub struct LoadConfig {
     pub window: usize,
     /// How action values are read.
     pub action_type: ActionKind,
-    /// Action amplitude (N·m, deg or deg/s).
-    pub amplitude: f32,
+    /// Action amplitude (N·m, deg or deg/s) for every DOF; `None` (torque actions only):
+    /// each DOF's own action bound, as the server reports it.
+    pub amplitude: Option<f32>,
     /// Integration substeps per step; `None` is the server's default (5).
     pub substeps: Option<u32>,
     /// Seconds per step; `None` is the server's default (1/240).
@@ -208,7 +209,7 @@ impl LoadConfig {
         LoadConfig {
             target: Target::Embedded { threads: 0 },
             end_effectors: model.default_end_effectors.clone(),
-            amplitude: model.torque_amplitude,
+            amplitude: None,
             model,
             n_envs,
             clients: 1,
@@ -232,9 +233,10 @@ impl LoadConfig {
         }
     }
 
-    /// The action plan for DOFs with these limits (same for every target).
-    pub fn action_plan(&self, limits: &[Option<(f64, f64)>]) -> ActionPlan {
-        ActionPlan::new(self.action_type, self.amplitude, limits, self.seed)
+    /// The action plan for DOFs with these limits and torque action bounds (same for every
+    /// target).
+    pub fn action_plan(&self, limits: &[Option<(f64, f64)>], bounds: &[f64]) -> ActionPlan {
+        ActionPlan::new(self.action_type, self.amplitude, limits, bounds, self.seed)
     }
 
     /// The first global env index of client `client`: clients' envs are numbered
@@ -272,7 +274,7 @@ impl LoadConfig {
             self.n_envs,
             self.clients,
             self.action_type.as_str(),
-            self.amplitude,
+            self.amplitude.map_or("each DOF's bound".to_string(), |a| a.to_string()),
             self.substeps.map_or("default".into(), |s| s.to_string()),
             self.dt.map_or("default".into(), |s| format!("{s} s")),
             self.seed,

@@ -38,7 +38,7 @@ pub(crate) fn run(config: &LoadConfig, threads: usize) -> Result<RunResult> {
         ),
     );
     let template = template(config)?;
-    let plan = config.action_plan(&dof_limits(&template));
+    let plan = config.action_plan(&dof_limits(&template), &action_bounds(&template));
     let pool =
         StepPool::new(threads).map_err(|e| LoadError::setup("in-process: start the pool", e))?;
     let target = format!("StepPool ({} threads), no network", pool.threads());
@@ -150,6 +150,15 @@ fn dof_limits(env: &RobotEnv) -> Vec<Option<(f64, f64)>> {
         .iter()
         .filter(|d| d.actuated)
         .map(|d| d.limits.map(|[min, max]| (min, max)))
+        .collect()
+}
+
+fn action_bounds(env: &RobotEnv) -> Vec<f64> {
+    env.spec()
+        .dofs
+        .iter()
+        .filter(|d| d.actuated)
+        .map(|d| d.action_bound)
         .collect()
 }
 

@@ -20,15 +20,16 @@ pub const CHAIN20: &str = include_str!("../../../models/chain20.json");
 
 /// The built-in models, one per file of `models/`: name (the file's stem), document, tip
 /// instance (the default end effector) and torque amplitude (N·m).
-pub const BUILTINS: [(&str, &str, &str, f32); 4] = [
-    ("pendulum", PENDULUM, "arm", 1e-4),
-    ("arm2", ARM2, "forearm", 1e-4),
-    ("arm6", ARM6, "tool", 2e-2),
-    ("chain20", CHAIN20, "link20", 1e-3),
+pub const BUILTINS: [(&str, &str, &str); 4] = [
+    ("pendulum", PENDULUM, "arm"),
+    ("arm2", ARM2, "forearm"),
+    ("arm6", ARM6, "tool"),
+    ("chain20", CHAIN20, "link20"),
 ];
 
-/// Torque amplitude for documents of unknown mass: suits the seed-sized parts (grams,
-/// centimetres), whose gravity torques are about 1e-4 N·m.
+/// Torque amplitude (N·m) where a server reports no action bounds (servers before them):
+/// suits the seed-sized parts (grams, centimetres), whose gravity torques are about 1e-4 N·m.
+/// Otherwise each DOF swings within its own bound (`JointInfo.action_bounds`).
 pub const DEFAULT_TORQUE_AMPLITUDE: f32 = 1e-4;
 
 /// An assembly document to load, and how to drive it.
@@ -43,20 +44,17 @@ pub struct Model {
     pub document: String,
     /// The instances observed by default: the built-ins' tips, or a file's last instance.
     pub default_end_effectors: Vec<String>,
-    /// Default torque-action amplitude, N·m: about the model's gravity torques.
-    pub torque_amplitude: f32,
 }
 
 impl Model {
     /// Resolves `--model`: a built-in name, else a path to a document file.
     pub fn resolve(name: &str) -> Result<Self> {
-        if let Some(&(_, document, tip, torque)) = BUILTINS.iter().find(|b| b.0 == name) {
+        if let Some(&(_, document, tip)) = BUILTINS.iter().find(|b| b.0 == name) {
             return Ok(Model {
                 name: name.to_string(),
                 builtin: true,
                 document: document.to_string(),
                 default_end_effectors: vec![tip.to_string()],
-                torque_amplitude: torque,
             });
         }
         let path = Path::new(name);
@@ -79,7 +77,6 @@ impl Model {
             builtin: false,
             default_end_effectors: last_instance(&document).into_iter().collect(),
             document,
-            torque_amplitude: DEFAULT_TORQUE_AMPLITUDE,
         })
     }
 }

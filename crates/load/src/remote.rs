@@ -141,7 +141,8 @@ async fn record_replay(
         .map_err(|e| LoadError::setup(stage("CreateEnv"), e))?;
     let recorded = async {
         env.reset(Some(config.seed)).await?;
-        let plan = config.action_plan(&dof_limits(&env.info().joints, env.info().action_dim));
+        let (joints, dim) = (&env.info().joints, env.info().action_dim);
+        let plan = config.action_plan(&dof_limits(joints, dim), &action_bounds(joints, dim));
         let mut replay = Replay::new(config.model.name.clone(), env.info().dt);
         replay.capture(&env).await?;
         let mut action = vec![0.0; plan.action_dim()];
@@ -211,7 +212,10 @@ async fn setup(config: &LoadConfig, c: usize, server: String) -> Result<Session>
         client,
         server,
         handle,
-        plan: config.action_plan(&dof_limits(&joints, action_dim)),
+        plan: config.action_plan(
+            &dof_limits(&joints, action_dim),
+            &action_bounds(&joints, action_dim),
+        ),
         first_env,
     })
 }
@@ -239,11 +243,12 @@ fn env_options(config: &LoadConfig, document: String, seed: u64) -> EnvOptions {
     options.units(config.units.client())
 }
 
-/// Each DOF's `(min, max)` where both are set, in DOF order; all `None` if the joint
-/// list does not add up to `action_dim` DOFs.
+/// Each actuated DOF's `(min, max)` where both are set, in action order; all `None` if
+/// the actuated joints do not add up to `action_dim` DOFs.
 pub(crate) fn dof_limits(joints: &[JointInfo], action_dim: usize) -> Vec<Option<(f64, f64)>> {
     let limits: Vec<_> = joints
         .iter()
+        .filter(|j| j.actuated)
         .flat_map(|j| j.limits.iter())
         .map(|l| l.min.zip(l.max))
         .collect();
@@ -251,6 +256,21 @@ pub(crate) fn dof_limits(joints: &[JointInfo], action_dim: usize) -> Vec<Option<
         limits
     } else {
         vec![None; action_dim]
+    }
+}
+
+/// The actuated DOFs' torque action bounds, in action order; empty where the server sent
+/// none (older servers), so that the plan falls back to its default amplitude.
+pub(crate) fn action_bounds(joints: &[JointInfo], action_dim: usize) -> Vec<f64> {
+    let bounds: Vec<f64> = joints
+        .iter()
+        .filter(|j| j.actuated)
+        .flat_map(|j| j.action_bounds.iter().copied())
+        .collect();
+    if bounds.len() == action_dim {
+        bounds
+    } else {
+        Vec::new()
     }
 }
 

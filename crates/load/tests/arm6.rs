@@ -51,13 +51,15 @@ fn arm6_has_six_limited_revolute_joints() {
 
 #[test]
 fn arm6_steps_stably_in_every_action_mode() {
+    // Torque: each DOF within its own action bound (the load client's default).
     for (kind, action_type, amplitude) in [
-        (ActionKind::Torque, ActionType::Torque, 0.02),
-        (ActionKind::Position, ActionType::Position, 30.0),
-        (ActionKind::Velocity, ActionType::Velocity, 45.0),
+        (ActionKind::Torque, ActionType::Torque, None),
+        (ActionKind::Position, ActionType::Position, Some(30.0)),
+        (ActionKind::Velocity, ActionType::Velocity, Some(45.0)),
     ] {
         let mut env = arm6();
-        let plan = ActionPlan::new(kind, amplitude, &limits(&env), 1);
+        let bounds: Vec<f64> = env.spec().dofs.iter().map(|d| d.action_bound).collect();
+        let plan = ActionPlan::new(kind, amplitude, &limits(&env), &bounds, 1);
         let mut action = vec![0.0; 6];
         let mut obs = vec![0.0; 19];
         for step in 0..400 {

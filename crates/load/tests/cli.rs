@@ -55,7 +55,8 @@ fn defaults_are_a_ten_second_arm2_run_on_an_embedded_server() {
         (Api::Batch, Mode::Unary, 4)
     );
     assert_eq!(config.action_type, ActionKind::Torque);
-    assert_eq!(config.amplitude, 1e-4);
+    // Torque: each DOF's own action bound, as the server reports it.
+    assert_eq!(config.amplitude, None);
     assert_eq!(
         (config.substeps, config.dt, config.max_steps),
         (None, None, None)
@@ -123,7 +124,7 @@ fn every_flag_parses() {
     assert_eq!((config.mode, config.window), (Mode::Stream, 8));
     assert_eq!(
         (config.action_type, config.amplitude),
-        (ActionKind::Velocity, 10.0)
+        (ActionKind::Velocity, Some(10.0))
     );
     assert_eq!(
         (config.substeps, config.dt, config.max_steps, config.seed),
@@ -166,13 +167,13 @@ fn per_mode_defaults() {
     assert_eq!((env.n_envs, env.warmup), (1, Warmup::Steps(0)));
     assert_eq!(env.end_effectors, ["arm"]);
     let position = resolve(&["--action-type", "position"]).unwrap();
-    assert_eq!(position.amplitude, 30.0);
+    assert_eq!(position.amplitude, Some(30.0));
     let velocity = resolve(&["--action-type", "velocity"]).unwrap();
-    assert_eq!(velocity.amplitude, 45.0);
+    assert_eq!(velocity.amplitude, Some(45.0));
     let arm6 = resolve(&["--model", "arm6"]).unwrap();
     assert_eq!(
         (arm6.amplitude, arm6.end_effectors.as_slice()),
-        (0.02, &["tool".to_string()][..])
+        (None, &["tool".to_string()][..])
     );
     let timed = resolve(&["--duration", "2.5", "--warmup", "0"]).unwrap();
     assert_eq!(

@@ -58,7 +58,7 @@ fn flags_read_gymfleet_variables() {
     );
     assert_eq!(
         (config.action_type, config.amplitude),
-        (ActionKind::Position, 12.5)
+        (ActionKind::Position, Some(12.5))
     );
     assert_eq!(
         (config.substeps, config.dt, config.max_steps, config.seed),

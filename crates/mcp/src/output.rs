@@ -140,6 +140,9 @@ pub(crate) struct JointOut {
     pub(crate) child: String,
     /// One entry per DOF.
     pub(crate) limits: Vec<DofLimitOut>,
+    /// One per DOF: the largest sensible torque action value (N·m, N for a linear DOF, over
+    /// the gear), the joint's max_effort, else twice what holds its subtree against gravity.
+    pub(crate) torque_bounds: Vec<f64>,
 }
 
 fn joints(joints: &[JointInfo]) -> Vec<JointOut> {
@@ -160,6 +163,7 @@ fn joints(joints: &[JointInfo]) -> Vec<JointOut> {
                     max: l.max,
                 })
                 .collect(),
+            torque_bounds: j.action_bounds.clone(),
         })
         .collect()
 }

@@ -187,6 +187,12 @@ impl RobotWorld {
             dofs.extend(joint_dofs(j, joint));
         }
         let overridden = resolve_gains(&mut dofs, &inertia, options.gains.as_ref())?;
+        let gravity = Vector::new(
+            assembly.gravity[0] as Real,
+            assembly.gravity[1] as Real,
+            assembly.gravity[2] as Real,
+        );
+        crate::action_bound::set_action_bounds(&sets, &joints, &mut dofs, &inertia, gravity);
         let free_roots = free_roots(&sets, &bodies);
 
         // One step is one pipeline step whose solver substeps are the integration substeps:
@@ -262,11 +268,7 @@ impl RobotWorld {
             pipeline_params: params,
             substep_params,
             substeps: options.substeps,
-            gravity: Vector::new(
-                assembly.gravity[0] as Real,
-                assembly.gravity[1] as Real,
-                assembly.gravity[2] as Real,
-            ),
+            gravity,
             bodies,
             joints,
             dofs,
@@ -393,6 +395,7 @@ fn joint_dofs(j: usize, joint: &Joint) -> impl Iterator<Item = JointDof> + '_ {
         initial: crate::units::from_si(kind, joint.initial),
         max_effort: joint.max_effort,
         gear: joint.gear,
+        action_bound: 0.0,
         reference: joint.reference,
         actuated: joint.actuated,
         kp: 0.0,

@@ -15,6 +15,7 @@
 //! Units at this crate's boundary are the user's: degrees and millimetres for joint
 //! state and targets, N·m and N for efforts, millimetres for poses. Inside, all is SI.
 
+mod action_bound;
 mod actuation;
 mod bodies;
 mod build;
@@ -33,6 +34,7 @@ mod tendons;
 mod units;
 mod world;
 
+pub use action_bound::{FALLBACK_ACCELERATION, GRAVITY_MULTIPLE};
 pub use bodies::{INERTIA_LEN, VELOCITY_LEN};
 pub use command::{ActionMode, PdGains, DEFAULT_PD_FREQUENCY_HZ};
 pub use contacts::WRENCH_LEN;

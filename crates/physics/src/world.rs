@@ -54,6 +54,10 @@ pub struct JointDof {
     /// Torque-mode action values are control signals: the effort is `gear ×` the value
     /// (1: N·m or N), so the action's bound is `max_effort / |gear|`.
     pub gear: f64,
+    /// The bound of a torque-mode action value (effort over `|gear|`): `max_effort / |gear|`
+    /// with a `max_effort`, else a default derived from the model (see `action_bound.rs`).
+    /// It shapes action spaces only; it never clamps an effort.
+    pub action_bound: f64,
     /// The position reported at the document's pose, deg or mm (added to every observed
     /// position; MuJoCo's `ref`).
     pub reference: f64,

@@ -340,18 +340,24 @@ def check_action_type(action_type: str) -> str:
 
 
 def action_bounds(info: Mapping[str, Any], action_type: str) -> Tuple[np.ndarray, np.ndarray]:
-    """Each actuated DOF's action range: ±max_effort / |gear| for torque (a geared motor's
-    action is its control signal), the joint limits (shifted by the joint's reference,
-    as positions are observed) for position, unbounded for velocity (and wherever the
-    document sets no bound). Passive joints take no action."""
+    """Each actuated DOF's action range: for torque, ±the server's action bound
+    (``max_effort / |gear|`` where the document sets a clamp, else a default the server
+    derives from the model: twice the effort that holds the joint's subtree against
+    gravity, over the gear); the joint limits (shifted by the joint's reference, as
+    positions are observed) for position; unbounded for velocity (and wherever there is no
+    bound). Passive joints take no action."""
     low: List[float] = []
     high: List[float] = []
     for joint in info["joints"]:
         if not joint["actuated"]:
             continue
-        for limit in joint["limits"]:
+        torque_bounds = joint.get("action_bounds") or []
+        for k, limit in enumerate(joint["limits"]):
             lo, hi = -np.inf, np.inf
-            if action_type == "torque" and joint["max_effort"] is not None:
+            if action_type == "torque" and len(torque_bounds) == joint["dof"]:
+                lo, hi = -torque_bounds[k], torque_bounds[k]
+            elif action_type == "torque" and joint["max_effort"] is not None:
+                # A server before action bounds: the clamp alone.
                 bound = joint["max_effort"] / abs(joint.get("gear") or 1.0)
                 lo, hi = -bound, bound
             elif action_type == "position":
@@ -385,6 +391,12 @@ class ActionMap:
                 for name, lo, hi in zip(dof_names(info), self.low, self.high)
                 if not (np.isfinite(lo) and np.isfinite(hi))
             ]
+            if unbounded and action_type == "velocity":
+                raise InvalidArgument(
+                    "normalize_actions: velocity targets have no range to normalise; use "
+                    'action_type="torque" (bounded by each joint\'s action bound) or '
+                    '"position" (by its limits)'
+                )
             if unbounded:
                 what = "max_effort" if action_type == "torque" else "joint limits"
                 raise InvalidArgument(

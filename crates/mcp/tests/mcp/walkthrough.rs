@@ -147,6 +147,17 @@ async fn two_dof_arm() {
     );
     let limits = &created["joints"][0]["limits"][0];
     assert_eq!(limits, &json!({"unit": "deg", "min": -90.0, "max": 90.0}));
+    // The seed arm has no max_effort: each joint still tells an agent what torque is
+    // sensible (twice what holds its subtree level), the shoulder more than the elbow.
+    let bound = |j: usize| {
+        created["joints"][j]["torque_bounds"][0]
+            .as_f64()
+            .expect("a bound")
+    };
+    assert!(
+        bound(0) > bound(1) && bound(1) > 0.0 && bound(0) < 1e-2,
+        "{created}"
+    );
 
     let first = adapter.ok("gym_reset", json!({"env_id": "sim_1"})).await;
     assert_eq!(first["joint_positions"], json!([0.0, 0.0]));
