@@ -36,7 +36,6 @@
 //! # }
 //! ```
 
-#[cfg(feature = "cli")]
 mod args;
 mod batch;
 mod client;
@@ -57,7 +56,6 @@ mod stream;
 mod task;
 mod types;
 
-#[cfg(feature = "cli")]
 pub use args::ConnectArgs;
 pub use batch::{Batch, BatchObservations, BatchStep};
 pub use client::{

@@ -96,10 +96,13 @@ pub struct ServerConfig {
     pub sweep_interval: Option<Duration>,
     /// The clock idle times are measured on: the system's, or one a test moves by hand.
     pub clock: Clock,
-    /// Fault injection for the panic-containment test (only with the test-only
-    /// `fault-injection` feature): a `Step` or `StepBatch` whose first action value is
-    /// exactly this number panics inside its pool job instead of stepping.
-    #[cfg(feature = "fault-injection")]
+    /// Fault injection for the panic-containment test, in debug builds only (never in a
+    /// release build, which is what ships): a `Step` or `StepBatch` whose first action
+    /// value is exactly this number panics inside its pool job instead of stepping. (Not a
+    /// cargo feature: a feature the tests turn on would make every build that includes a
+    /// test or an example compile this crate twice over; README, "Build once".)
+    #[cfg(debug_assertions)]
+    #[doc(hidden)]
     pub panic_on_action: Option<f32>,
 }
 
@@ -124,7 +127,7 @@ impl Default for ServerConfig {
             idle_ttl: DEFAULT_IDLE_TTL,
             sweep_interval: None,
             clock: Clock::system(),
-            #[cfg(feature = "fault-injection")]
+            #[cfg(debug_assertions)]
             panic_on_action: None,
         }
     }

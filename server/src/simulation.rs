@@ -309,16 +309,16 @@ impl Simulation {
         Ok(())
     }
 
-    /// Test-only fault injection (`ServerConfig::panic_on_action`, with the
-    /// `fault-injection` feature): whether this action must panic in its pool job.
-    #[cfg(feature = "fault-injection")]
+    /// Test-only fault injection (`ServerConfig::panic_on_action`, debug builds only):
+    /// whether this action must panic in its pool job.
+    #[cfg(debug_assertions)]
     fn injected_panic(&self, action: &Action) -> bool {
         self.config
             .panic_on_action
             .is_some_and(|v| action.values.first() == Some(&v))
     }
 
-    #[cfg(not(feature = "fault-injection"))]
+    #[cfg(not(debug_assertions))]
     fn injected_panic(&self, _action: &Action) -> bool {
         false
     }

@@ -1,7 +1,7 @@
-//! A panic inside a pool job (here injected with `ServerConfig::panic_on_action`, from the
-//! test-only `fault-injection` feature) must not kill the server: the call gets INTERNAL
-//! with the panic message, the env or batch it ran on is closed, and everyone else is
-//! still served.
+//! A panic inside a pool job (here injected with `ServerConfig::panic_on_action`, which only
+//! debug builds have) must not kill the server: the call gets INTERNAL with the panic
+//! message, the env or batch it ran on is closed, and everyone else is still served.
+#![cfg(debug_assertions)]
 
 use gymfleet_proto::v1 as pb;
 use gymfleet_server::{LocalServer, ServerConfig};
