@@ -164,3 +164,77 @@ fn a_cube_at_rest_on_the_floor_stays_put() {
     println!("moved {moved:e} mm in 10 s, resting at z = {} mm", last[2]);
     assert!(moved < 0.01, "moved {moved} mm in 10 s");
 }
+
+/// A 100 mm cube (1 kg) on MuJoCo's planar root: a slide along x from the floor, a slide
+/// along z and a hinge about y at the cube's centre, through two 1 mg helper frames (what the
+/// MJCF converter builds for HalfCheetah, Hopper and Walker2d). Pushed along x with `force`
+/// N for 0.5 s, then let go; returns the x velocities (m/s), every step.
+fn planar_box_velocities(force: f32) -> Vec<f64> {
+    let helper = |name: &str| {
+        json!({"part": "Helper", "name": name, "position": {"x": 0, "y": 0, "z": 50.5},
+               "inertial": {"mass": 1e-6}, "collision": {"group": 0, "mask": 0}})
+    };
+    let joint = |name: &str, kind: &str, parent: &str, child: &str, axis: [f64; 3]| {
+        json!({"name": name, "type": kind, "parent": parent, "child": child,
+               "anchor": {"x": 0, "y": 0, "z": 50.5},
+               "axis": {"x": axis[0], "y": axis[1], "z": axis[2]}})
+    };
+    let doc = json!({
+        "materials": {"m": {"friction": 0.4}},
+        "parts": [
+            {"name": "Floor", "primitive": {"type": "plane"}, "material": "m"},
+            {"name": "Helper", "primitive": {"type": "sphere", "radius": 1}},
+            {"name": "Box", "primitive": {"type": "cube", "size": {"x": 100, "y": 100, "z": 100}},
+             "material": "m"}
+        ],
+        "assembly": {
+            "instances": [
+                {"part": "Floor", "name": "floor"},
+                helper("slid"), helper("lifted"),
+                {"part": "Box", "name": "box", "position": {"x": -50, "y": -50, "z": 0.5}}
+            ],
+            "joints": [
+                joint("rootx", "prismatic", "floor", "slid", [1.0, 0.0, 0.0]),
+                joint("rootz", "prismatic", "slid", "lifted", [0.0, 0.0, 1.0]),
+                joint("rooty", "revolute", "lifted", "box", [0.0, 1.0, 0.0])
+            ]
+        }
+    });
+    let mut env = env_with(&doc, EnvConfig::with_end_effectors(["box"]));
+    let (actions, dofs) = (env.spec().action_dim, env.spec().num_dofs);
+    (0..240)
+        .map(|k| {
+            let mut a = vec![0.0f32; actions];
+            a[0] = if k < 120 { force } else { 0.0 };
+            let o = env.step(ActionType::Torque, &a).expect("steps").observation.to_flat();
+            f64::from(o[dofs]) / 1000.0
+        })
+        .collect()
+}
+
+/// Regression (vendored Rapier patch 21): friction on a planar chain. The contact's friction
+/// row across the plane (along y, where the chain cannot move) had an effective mass of
+/// rounding noise inverted to 1e18; its impulse filled the friction cone both rows share, so
+/// the cube kept a tenth of its Coulomb friction (it slid at −0.41 m/s² instead of −3.92,
+/// and was pushed at 19.7 m/s² instead of 16.1), and PPO learned a HalfCheetah gait at 19 m/s
+/// on it. Pushed with 12 N and sliding free, it now accelerates at F/m − μg and slows at μg,
+/// both within 2 %.
+#[test]
+fn a_box_on_a_planar_chain_slides_with_coulomb_friction() {
+    let (force, mu, g, dt) = (12.0, 0.4, 9.81, 1.0 / 240.0);
+    let v = planar_box_velocities(force as f32);
+    // From step 24 (settled on the floor) to 119 while pushed; 143 to 239 while sliding free.
+    let pushed = (v[119] - v[23]) / (96.0 * dt);
+    let sliding = (v[239] - v[143]) / (96.0 * dt);
+    let (expect_pushed, expect_sliding) = (force - mu * g, -mu * g);
+    println!("pushed {pushed:.3} m/s² (F/m − μg = {expect_pushed:.3}); sliding {sliding:.3} (−μg = {expect_sliding:.3})");
+    assert!(v[239] > 0.1, "still sliding at the end: {} m/s", v[239]);
+    assert!(
+        (pushed - expect_pushed).abs() < 0.02 * expect_pushed,
+        "pushed at {pushed:.3} m/s², expected {expect_pushed:.3}"
+    );
+    assert!(
+        (sliding - expect_sliding).abs() < 0.02 * expect_sliding.abs(),
+        "slides at {sliding:.3} m/s², expected {expect_sliding:.3}"
+    );
+}

@@ -3,7 +3,7 @@ use crate::dynamics::{IntegrationParameters, MultibodyJointSet, RigidBodySet};
 use crate::geometry::ContactManifold;
 #[cfg(feature = "dim3")]
 use crate::math::TangentImpulse;
-use crate::math::{DIM, DVector, MAX_MANIFOLD_POINTS, Real};
+use crate::math::{AngVector, DIM, DVector, MAX_MANIFOLD_POINTS, Real};
 use crate::utils::{self, AngularInertiaOps, CrossProduct, DotProduct};
 
 use super::{ContactConstraintNormalPart, ContactConstraintTangentPart};
@@ -218,7 +218,23 @@ impl GenericContactConstraintBuilder {
                     0.0
                 };
 
-                let r = crate::utils::inv(inv_r1 + inv_r2);
+                // NOTE (gymfleet patch 21, see `PATCHES.md`): a row the multibody cannot move
+                //       along gets no effective mass (see `generic_row_mass`).
+                let free1 = free_inv_r(
+                    type1.is_dynamic_or_kinematic(),
+                    mprops1.effective_inv_mass,
+                    force_dir1,
+                    ii_torque_dir1,
+                    torque_dir1,
+                );
+                let free2 = free_inv_r(
+                    type2.is_dynamic_or_kinematic(),
+                    mprops2.effective_inv_mass,
+                    force_dir1,
+                    ii_torque_dir2,
+                    torque_dir2,
+                );
+                let r = generic_row_mass(inv_r1 + inv_r2, free1 + free2);
 
                 // Warm-start impulses and contact newness come from the manifold
                 // point (they are not duplicated on the solver contacts).
@@ -322,7 +338,22 @@ impl GenericContactConstraintBuilder {
                         0.0
                     };
 
-                    let r = crate::utils::inv(inv_r1 + inv_r2);
+                    // NOTE (gymfleet patch 21): see the normal part.
+                    let free1 = free_inv_r(
+                        type1.is_dynamic_or_kinematic(),
+                        mprops1.effective_inv_mass,
+                        tangent_glam,
+                        ii_torque_dir1,
+                        torque_dir1,
+                    );
+                    let free2 = free_inv_r(
+                        type2.is_dynamic_or_kinematic(),
+                        mprops2.effective_inv_mass,
+                        tangent_glam,
+                        ii_torque_dir2,
+                        torque_dir2,
+                    );
+                    let r = generic_row_mass(inv_r1 + inv_r2, free1 + free2);
                     let rhs_wo_bias = manifold_point.tangent_velocity.gdot(tangents1[j]);
 
                     out_constraint.tangent_part[k].rhs_wo_bias[j] = rhs_wo_bias;
@@ -738,5 +769,46 @@ impl GenericContactConstraint {
         for tangent_part in &mut self.tangent_part {
             tangent_part.rhs = tangent_part.rhs_wo_bias;
         }
+    }
+}
+
+/// A generic contact row's effective mass `1 / (J·M⁻¹·Jᵀ)` (gymfleet patch 21, see
+/// `PATCHES.md`), or zero when the row cannot move the bodies.
+///
+/// A multibody constrained to a plane (MuJoCo's planar walkers: two slides and a hinge at the
+/// root) cannot move along the plane's normal, so a contact's friction row along it has
+/// `J·M⁻¹·Jᵀ` of pure rounding noise (1e-18 where the same row on free bodies gives 2.5).
+/// Inverted, that is an effective mass of 1e18: the row's impulse saturates the friction cone,
+/// which both rows share (`cap_magnitude`), and starves the row along the sliding direction.
+/// A sliding box on such a chain kept 10 % of its Coulomb friction, and a learner found a
+/// gait that exploits it. A row whose `J·M⁻¹·Jᵀ` is at most [`DEGENERATE_ROW`] of what it
+/// would be for the same bodies moving freely (`free_inv_r`) is treated as one that cannot
+/// move: it gets no impulse, as an exactly zero row does.
+fn generic_row_mass(inv_r: Real, free_inv_r: Real) -> Real {
+    if inv_r <= free_inv_r * DEGENERATE_ROW {
+        0.0
+    } else {
+        crate::utils::inv(inv_r)
+    }
+}
+
+/// How small a generic row's `J·M⁻¹·Jᵀ` may be, relative to the same row on the bodies moving
+/// freely, before it counts as a direction the multibody cannot move in: an effective mass a
+/// billion times the bodies' own. Rounding noise sits near 1e-14 of it in `f32`.
+const DEGENERATE_ROW: Real = 1.0e-9;
+
+/// `dir·M⁻¹·dir + (I⁻¹·τ)·τ` of one side as a free rigid body (zero for a fixed one): the
+/// scale [`generic_row_mass`] compares a generic row with.
+fn free_inv_r(
+    moves: bool,
+    inv_mass: Vector,
+    dir: Vector,
+    ii_torque_dir: AngVector,
+    torque_dir: AngVector,
+) -> Real {
+    if moves {
+        dir.dot(inv_mass * dir) + ii_torque_dir.gdot(torque_dir)
+    } else {
+        0.0
     }
 }
