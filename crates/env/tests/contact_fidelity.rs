@@ -206,7 +206,11 @@ fn planar_box_velocities(force: f32) -> Vec<f64> {
         .map(|k| {
             let mut a = vec![0.0f32; actions];
             a[0] = if k < 120 { force } else { 0.0 };
-            let o = env.step(ActionType::Torque, &a).expect("steps").observation.to_flat();
+            let o = env
+                .step(ActionType::Torque, &a)
+                .expect("steps")
+                .observation
+                .to_flat();
             f64::from(o[dofs]) / 1000.0
         })
         .collect()
