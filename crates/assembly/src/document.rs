@@ -505,6 +505,11 @@ pub struct JointDef {
     /// value and has no motor). Default `true`.
     #[serde(default)]
     pub actuated: Option<bool>,
+    /// *(ext)* `false`: the joint only keeps a kinematic loop closed (MJCF's
+    /// `<equality><connect>`): it adds no position or velocity to observations. Only a
+    /// loop-closing joint may be unobserved. Default `true`.
+    #[serde(default)]
+    pub observed: Option<bool>,
     /// *(ext)* Armature (a rotor's reflected inertia, MuJoCo's `armature`): added to the
     /// joint-space inertia of each of the joint's DOFs, in kg·m² (angular) or kg
     /// (linear); default 0.

@@ -15,6 +15,7 @@ mod model;
 mod simulation;
 mod sites;
 mod tendons;
+mod topology;
 mod validate;
 
 pub use document::{

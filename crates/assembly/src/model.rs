@@ -263,6 +263,33 @@ pub struct Joint {
     /// The position reported at the document's pose, deg or mm as written (added to
     /// observed positions; 0 for joints other than revolute and prismatic).
     pub reference: f64,
+    /// Whether the joint closes a kinematic loop: it is not an edge of the spanning tree
+    /// (`topology.rs` chooses the tree) but a constraint between two bodies of it, passive.
+    pub closes_loop: bool,
+    /// Whether its DOFs are observed (`false` only for a loop-closing joint that stands
+    /// for an MJCF equality constraint).
+    pub observed: bool,
+}
+
+impl Joint {
+    /// The DOFs it adds to observations (and to the DOF list): its kind's, or none when
+    /// unobserved.
+    pub fn observed_dof(&self) -> usize {
+        if self.observed {
+            self.kind.dof()
+        } else {
+            0
+        }
+    }
+
+    /// The DOFs it adds to the multibody trees: none for a loop-closing joint.
+    pub fn tree_dof(&self) -> usize {
+        if self.closes_loop {
+            0
+        } else {
+            self.kind.dof()
+        }
+    }
 }
 
 /// The kind of one degree of freedom, which fixes its units.
@@ -366,9 +393,10 @@ impl Assembly {
         self.instances.iter().position(|i| i.name == name)
     }
 
-    /// Total degrees of freedom over all joints.
+    /// Total observed degrees of freedom over all joints, loop-closing ones included
+    /// (unobserved ones excluded).
     pub fn total_dof(&self) -> usize {
-        self.joints.iter().map(|j| j.kind.dof()).sum()
+        self.joints.iter().map(Joint::observed_dof).sum()
     }
 
     /// Degrees of freedom of the actuated joints: values per action.
@@ -380,8 +408,13 @@ impl Assembly {
             .sum()
     }
 
-    /// Number of joints that have at least one DOF.
+    /// Number of tree joints that have at least one DOF (a saved state's joints).
     pub fn num_movable_joints(&self) -> usize {
-        self.joints.iter().filter(|j| j.kind.dof() > 0).count()
+        self.joints.iter().filter(|j| j.tree_dof() > 0).count()
+    }
+
+    /// Whether any joint closes a kinematic loop.
+    pub fn has_loops(&self) -> bool {
+        self.joints.iter().any(|j| j.closes_loop)
     }
 }

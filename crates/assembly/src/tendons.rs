@@ -62,6 +62,13 @@ pub(crate) fn tendons(defs: &[TendonDef], joints: &[Joint]) -> (Vec<Tendon>, Vec
                         ),
                     ))
                 }
+                Some(i) if joints[i].closes_loop => issues.push(Issue::new(
+                    format!("{at}.joint"),
+                    format!(
+                        "{} closes a kinematic loop; a tendon's joints are joints of the tree",
+                        quoted(&member.joint)
+                    ),
+                )),
                 Some(i) if members.iter().any(|(m, _)| *m == i) => issues.push(Issue::new(
                     format!("{at}.joint"),
                     format!("{} is listed twice", quoted(&member.joint)),

@@ -11,6 +11,7 @@ use crate::document::{
 use crate::error::{quoted, quoted_list, shown, AssemblyError, Issue, Result};
 use crate::mesh::{ConvexParts, MAX_MESH_TRIANGLES, MAX_MESH_VERTICES};
 use crate::model::{Assembly, Inertial, Instance, Joint, JointType, Material, Shape, MM_PER_M};
+use crate::topology::{Edge, Role, Topology};
 
 /// Largest mass an instance's `inertial` may give, kg.
 const MAX_MASS_KG: f64 = 1e6;
@@ -464,10 +465,35 @@ impl Validator {
         for (i, inst) in instances.iter().enumerate() {
             index.entry(inst.name.as_str()).or_insert(i);
         }
-        let mut parent_of: HashMap<usize, usize> = HashMap::new();
         let mut names: HashMap<String, usize> = HashMap::new();
-        let mut forest = UnionFind::new(instances.len());
         let mut out = Vec::with_capacity(defs.len());
+        // The spanning tree and the loops, from the joints whose instances resolve (the
+        // references are reported below, joint by joint).
+        let edges: Vec<Option<Edge>> = defs
+            .iter()
+            .map(|def| {
+                Some(Edge {
+                    parent: *index.get(def.parent.as_str())?,
+                    child: *index.get(def.child.as_str())?,
+                    actuated: def.actuated.unwrap_or(true),
+                    observed: def.observed.unwrap_or(true),
+                })
+            })
+            .collect();
+        let roots: Vec<bool> = (0..instances.len())
+            .map(|i| i == 0 || planes.get(i).copied().unwrap_or(false))
+            .collect();
+        let topology = crate::topology::choose(&edges, &roots);
+        // Each joint on a loop's path, with the joint that closes that loop.
+        let mut on_loop: Vec<Option<usize>> = vec![None; defs.len()];
+        for (j, edge) in edges.iter().enumerate() {
+            if let (Some(Role::Loop), Some(e)) = (topology.roles[j], edge) {
+                on_loop[j].get_or_insert(j);
+                for k in topology.path(e.parent, e.child) {
+                    on_loop[k].get_or_insert(j);
+                }
+            }
+        }
 
         for (j, def) in defs.iter().enumerate() {
             let path = format!("assembly.joints[{j}]");
@@ -479,7 +505,9 @@ impl Validator {
                 // A defaulted name clashes with a joint of the same child: that is a
                 // child with two parents, which `topology` reports on `child`.
                 Entry::Occupied(first)
-                    if def.name.is_none() && defs[*first.get()].child == def.child => {}
+                    if def.name.is_none()
+                        && defs[*first.get()].child == def.child
+                        && topology.roles[j].is_none() => {}
                 Entry::Occupied(first) => self.push(
                     format!("{path}.name"),
                     format!(
@@ -536,7 +564,20 @@ impl Validator {
                 "a friction >= 0 (N·m or N)",
                 "to resist with friction",
             );
-            let actuated = def.actuated.unwrap_or(true);
+            let role = topology.roles[j];
+            // A loop-closing joint is passive (a driven one is refused in `topology`).
+            let actuated = def.actuated.unwrap_or(true) && role != Some(Role::Loop);
+            let observed = def.observed.unwrap_or(true);
+            if let (Some(closer), true) = (on_loop[j], initial != 0.0) {
+                self.push(
+                    format!("{path}.initial"),
+                    format!(
+                        "joint {} is on the kinematic loop that joint {} closes; an initial position would open the loop (loops start at the document's pose): remove \"initial\"",
+                        quoted(def.name.as_deref().unwrap_or(&def.child)),
+                        quoted(defs[closer].name.as_deref().unwrap_or(&defs[closer].child))
+                    ),
+                );
+            }
             let (gear, reference) = self.gear_and_reference(&path, def, actuated);
             if !actuated && max_effort.is_some() {
                 self.push(
@@ -552,16 +593,7 @@ impl Validator {
                     planes,
                     floating_base,
                 };
-                self.topology(
-                    &path,
-                    def,
-                    p,
-                    c,
-                    &mut parent_of,
-                    &mut forest,
-                    instances,
-                    roots,
-                );
+                self.topology(&path, def, (p, c), role, &topology, instances, roots);
             }
             if self.issues.len() == before {
                 if let (Some(parent), Some(child)) = (parent, child) {
@@ -584,6 +616,8 @@ impl Validator {
                         friction: friction.unwrap_or(0.0),
                         gear,
                         reference,
+                        closes_loop: role == Some(Role::Loop),
+                        observed,
                     });
                 }
             }
@@ -937,23 +971,52 @@ impl Validator {
         Some(v)
     }
 
+    /// Reports a joint the tree and the loops could not place, and the rules of loops:
+    /// a loop-closing joint is not explicitly driven, an unobserved joint closes a loop.
     #[allow(clippy::too_many_arguments)]
     fn topology(
         &mut self,
         path: &str,
         def: &JointDef,
-        parent: usize,
-        child: usize,
-        parent_of: &mut HashMap<usize, usize>,
-        forest: &mut UnionFind,
+        (parent, child): (usize, usize),
+        role: Option<Role>,
+        topology: &Topology,
         instances: &[InstanceDef],
         roots: Roots<'_>,
     ) {
+        match role {
+            Some(Role::Tree) => return,
+            Some(Role::Loop) => {
+                if def.actuated == Some(true) {
+                    self.push(
+                        format!("{path}.actuated"),
+                        format!(
+                            "joint {} -> {} closes a kinematic loop, and a loop-closing joint is passive; remove \"actuated\": true, or mark another joint of the loop \"actuated\": false so that this one joins the tree (the tree takes actuated joints first)",
+                            quoted(&def.parent),
+                            quoted(&def.child)
+                        ),
+                    );
+                }
+                return;
+            }
+            None => {}
+        }
         if parent == child {
             self.push(
                 format!("{path}.child"),
                 format!(
                     "joint connects instance {} to itself; parent and child must differ",
+                    quoted(&def.child)
+                ),
+            );
+            return;
+        }
+        if def.observed == Some(false) {
+            self.push(
+                format!("{path}.observed"),
+                format!(
+                    "only a joint that closes a kinematic loop may be unobserved, and {} and {} are not otherwise joined; remove \"observed\": false",
+                    quoted(&def.parent),
                     quoted(&def.child)
                 ),
             );
@@ -984,29 +1047,18 @@ impl Validator {
             );
             return;
         }
-        if let Some(&existing) = parent_of.get(&child) {
+        if let Some((existing, _)) = topology.parent[child] {
             self.push(
                 format!("{path}.child"),
                 format!(
-                    "instance {} already has parent {}; a child can have only one parent",
+                    "instance {} already has parent {}; a second parent is only for a joint that closes a kinematic loop, and {} is not otherwise joined to {}",
                     quoted(&def.child),
-                    quoted(&instances[existing].name)
-                ),
-            );
-            return;
-        }
-        if !forest.union(parent, child) {
-            self.push(
-                path,
-                format!(
-                    "joint {} -> {} closes a kinematic loop; loops are not supported",
+                    quoted(&instances[existing].name),
                     quoted(&def.parent),
                     quoted(&def.child)
                 ),
             );
-            return;
         }
-        parent_of.insert(child, parent);
     }
 }
 
@@ -1020,37 +1072,6 @@ struct Roots<'a> {
 
 fn list(names: &[&str]) -> String {
     quoted_list(names)
-}
-
-/// Disjoint sets over instance indices, to find kinematic loops.
-struct UnionFind {
-    parent: Vec<usize>,
-}
-
-impl UnionFind {
-    fn new(n: usize) -> Self {
-        UnionFind {
-            parent: (0..n).collect(),
-        }
-    }
-
-    fn find(&mut self, mut x: usize) -> usize {
-        while self.parent[x] != x {
-            self.parent[x] = self.parent[self.parent[x]];
-            x = self.parent[x];
-        }
-        x
-    }
-
-    /// Joins the sets of `a` and `b`; false when they were already one set (a loop).
-    fn union(&mut self, a: usize, b: usize) -> bool {
-        let (ra, rb) = (self.find(a), self.find(b));
-        if ra == rb {
-            return false;
-        }
-        self.parent[rb] = ra;
-        true
-    }
 }
 
 /// The factor from a limit as written (deg, or mm for prismatic joints) to SI.

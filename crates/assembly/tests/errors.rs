@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{assert_issue, base_doc, blocks_doc, err, revolute};
+use common::{assert_issue, base_doc, blocks_doc, err, ok, revolute};
 use serde_json::{json, Value};
 
 /// `blocks_doc(names)` with the given joints.
@@ -212,22 +212,62 @@ fn non_positive_sizes() {
 
 #[test]
 fn child_with_two_parents() {
+    // "b" is a free body, not otherwise joined to "a": the second parent closes no loop.
     let doc = jointed(
         &["g", "a", "b"],
         vec![revolute("g", "a"), revolute("b", "a")],
     );
     assert_issue(
         doc,
-        r#"assembly.joints[1].child: instance "a" already has parent "g"; a child can have only one parent"#,
+        r#"assembly.joints[1].child: instance "a" already has parent "g"; a second parent is only for a joint that closes a kinematic loop, and "b" is not otherwise joined to "a""#,
     );
 }
 
 #[test]
-fn kinematic_loop() {
-    let joints = vec![revolute("a", "b"), revolute("b", "c"), revolute("c", "a")];
+fn a_kinematic_loop_is_accepted_and_closed_by_the_joint_the_tree_cannot_take() {
+    let mut joints = vec![revolute("g", "a"), revolute("a", "b"), revolute("b", "c")];
+    joints.push(revolute("c", "a"));
+    joints[1]["actuated"] = json!(false);
+    joints[3]["name"] = json!("c_a");
+    let a = ok(jointed(&["g", "a", "b", "c"], joints));
+    let closes: Vec<bool> = a.joints.iter().map(|j| j.closes_loop).collect();
+    // The tree takes the actuated joints first: "g" -> "a", "b" -> "c" ("c" -> "a" would
+    // give "a" a second parent), then the passive "a" -> "b". "c" -> "a" closes the loop.
+    assert_eq!(closes, [false, false, false, true]);
+    assert!(!a.joints[3].actuated, "a loop-closing joint is passive");
+    assert_eq!(a.total_dof(), 4, "every joint is observed");
+    assert_eq!(a.num_movable_joints(), 3, "three tree joints");
+}
+
+#[test]
+fn a_loop_closing_joint_that_is_driven_is_refused() {
+    let mut joints = vec![revolute("g", "a"), revolute("a", "b"), revolute("g", "b")];
+    joints[2]["actuated"] = json!(true);
+    joints[2]["name"] = json!("closer");
     assert_issue(
-        jointed(&["g", "a", "b", "c"], joints),
-        r#"assembly.joints[2]: joint "c" -> "a" closes a kinematic loop; loops are not supported"#,
+        jointed(&["g", "a", "b"], joints),
+        r#"assembly.joints[2].actuated: joint "g" -> "b" closes a kinematic loop, and a loop-closing joint is passive; remove "actuated": true, or mark another joint of the loop "actuated": false so that this one joins the tree (the tree takes actuated joints first)"#,
+    );
+}
+
+#[test]
+fn a_joint_on_a_loop_starts_at_the_document_pose() {
+    let mut joints = vec![revolute("g", "a"), revolute("a", "b"), revolute("g", "b")];
+    joints[1]["initial"] = json!(10.0);
+    joints[2]["name"] = json!("closer");
+    assert_issue(
+        jointed(&["g", "a", "b"], joints),
+        r#"assembly.joints[1].initial: joint "b" is on the kinematic loop that joint "closer" closes; an initial position would open the loop (loops start at the document's pose): remove "initial""#,
+    );
+}
+
+#[test]
+fn only_a_loop_closing_joint_may_be_unobserved() {
+    let mut joints = vec![revolute("g", "a")];
+    joints[0]["observed"] = json!(false);
+    assert_issue(
+        jointed(&["g", "a"], joints),
+        r#"assembly.joints[0].observed: only a joint that closes a kinematic loop may be unobserved, and "g" and "a" are not otherwise joined; remove "observed": false"#,
     );
 }
 

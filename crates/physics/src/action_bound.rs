@@ -37,6 +37,9 @@ pub(crate) fn set_action_bounds(
 ) {
     let g = gravity;
     for slot in joints {
+        if slot.closing.is_some() {
+            continue; // Loop-closing joints are passive (`loops.rs`).
+        }
         let frame = sets.bodies[slot.parent].position() * slot.frame1;
         let anchor = frame.translation;
         let (mass, com) = subtree_mass(sets, slot);

@@ -101,6 +101,9 @@ impl RobotWorld {
     pub(crate) fn configure_motors(&mut self) {
         let mode = self.command.mode;
         for slot in &self.joints {
+            if slot.closing.is_some() {
+                continue; // A loop-closing joint (`loops.rs`).
+            }
             let axes = motor_axes(slot.kind);
             if axes.is_empty() {
                 continue;
@@ -200,6 +203,9 @@ impl RobotWorld {
     pub(crate) fn apply_efforts(&mut self) {
         let mode = self.command.mode;
         for slot in &self.joints {
+            if slot.closing.is_some() {
+                continue; // A loop-closing joint (`loops.rs`).
+            }
             let n = slot.kind.dof();
             let efforts: [Real; 3] = match (slot.kind, mode) {
                 (JointType::Fixed, _) => continue,

@@ -25,6 +25,7 @@ mod contact_filter;
 mod contacts;
 mod error;
 mod fluid;
+mod loops;
 mod perturb;
 mod randomize;
 mod readout;

@@ -35,8 +35,8 @@ impl RobotWorld {
         let mut touched = Vec::new();
         for slot in &self.joints {
             let n = slot.kind.dof();
-            if n == 0 {
-                continue;
+            if n == 0 || slot.closing.is_some() {
+                continue; // Loop-closing joints follow their loops (`loops.rs`).
             }
             let Some(mb) = self.live.multibody_joints.get_multibody_mut(slot.multibody) else {
                 continue;
@@ -74,8 +74,8 @@ impl RobotWorld {
         assert_eq!(velocities.len(), self.dofs.len(), "one velocity per DOF");
         for slot in &self.joints {
             let n = slot.kind.dof();
-            if n == 0 {
-                continue;
+            if n == 0 || slot.closing.is_some() {
+                continue; // Loop-closing joints follow their loops (`loops.rs`).
             }
             let Some(mb) = self.live.multibody_joints.get_multibody_mut(slot.multibody) else {
                 continue;

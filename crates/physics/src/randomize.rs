@@ -74,6 +74,9 @@ impl RobotWorld {
         let mut inertia = vec![0.0; self.dofs.len()];
         let mut inverse_inertias: Vec<(MultibodyIndex, DVector)> = Vec::new();
         for (j, slot) in self.joints.iter().enumerate() {
+            if slot.closing.is_some() {
+                continue; // A loop-closing joint (`loops.rs`).
+            }
             let n = slot.kind.dof();
             let Some(mb) = self.live.multibody_joints.get_multibody_mut(slot.multibody) else {
                 continue;
@@ -105,6 +108,9 @@ impl RobotWorld {
             }
         }
         for (j, slot) in self.joints.iter().enumerate() {
+            if slot.closing.is_some() {
+                continue; // Passive: no gains.
+            }
             for k in 0..slot.kind.dof() {
                 let d = slot.first_dof + k;
                 let (kp, kd) = if self.gains.overridden {

@@ -19,7 +19,7 @@ impl RobotWorld {
     pub fn joint_state(&self, units: Units, positions: &mut [f32], velocities: &mut [f32]) {
         for slot in &self.joints {
             let first = slot.first_dof;
-            let n = slot.kind.dof();
+            let n = slot.observed_dofs;
             if n == 0 {
                 continue;
             }
@@ -27,6 +27,10 @@ impl RobotWorld {
                 &mut positions[first..first + n],
                 &mut velocities[first..first + n],
             );
+            if let Some(handle) = slot.closing {
+                self.loop_joint_state(slot, handle, units, pos, vel);
+                continue;
+            }
             if slot.kind == JointType::Ball {
                 let (rotation, w) = self.ball_state(slot);
                 let rv = rotation.to_scaled_axis();
@@ -78,10 +82,13 @@ impl RobotWorld {
         let Some(slot) = self
             .joints
             .iter()
-            .find(|s| s.first_dof <= dof && dof < s.first_dof + s.kind.dof())
+            .find(|s| s.first_dof <= dof && dof < s.first_dof + s.observed_dofs)
         else {
             return 0.0;
         };
+        if slot.closing.is_some() {
+            return 0.0; // A loop's constraint force is not a limit's.
+        }
         if slot.kind == JointType::Ball {
             return 0.0;
         }

@@ -117,7 +117,9 @@ fn quat(q: [f32; 4]) -> Rotation {
 impl RobotWorld {
     /// Joints with at least one DOF and the multibody link each one moves.
     fn moving_joints(&self) -> impl Iterator<Item = &crate::world::JointSlot> {
-        self.joints.iter().filter(|slot| slot.kind.dof() > 0)
+        self.joints
+            .iter()
+            .filter(|slot| slot.kind.dof() > 0 && slot.closing.is_none())
     }
 
     /// The world's dynamic state now.
@@ -373,6 +375,11 @@ impl RobotWorld {
             }
         }
         self.sync_bodies(&touched);
+        // A loop's constraint starts afresh, as contacts do: without the last step's
+        // impulses as a first guess, so that every world restored from `state` is alike.
+        for (_, joint) in self.live.impulse_joints.iter_mut() {
+            joint.impulses = Default::default();
+        }
         for (&h, saved) in self.bodies.iter().zip(&state.bodies) {
             let in_multibody = self.live.multibody_joints.rigid_body_link(h).is_some();
             let rb = &mut self.live.bodies[h];

@@ -96,6 +96,13 @@ pub(crate) struct JointSlot {
     pub(crate) frame1: Pose,
     /// Index of the joint's first DOF in [`RobotWorld::dofs`].
     pub(crate) first_dof: usize,
+    /// A loop-closing joint: its impulse joint between `parent` and `child` (`loops.rs`).
+    /// Its `multibody` and `link` are then the child's own tree link, which this joint
+    /// does not move: every pass over the tree's joints skips it.
+    pub(crate) closing: Option<ImpulseJointHandle>,
+    /// How many DOFs it has in [`RobotWorld::dofs`] (0 for an unobserved loop-closing
+    /// joint).
+    pub(crate) observed_dofs: usize,
 }
 
 /// The root of a kinematic tree whose root body is dynamic: Rapier gives it a free joint
@@ -289,6 +296,7 @@ impl RobotWorld {
         for slot in self
             .joints
             .iter()
+            .filter(|j| j.closing.is_none())
             .map(|j| j.multibody)
             .chain(self.free_roots.iter().map(|r| r.multibody))
         {
@@ -307,7 +315,7 @@ impl RobotWorld {
     fn clear_limit_impulses(&mut self) {
         let mut last = None;
         for slot in &self.joints {
-            if slot.kind.dof() == 0 || last == Some(slot.multibody) {
+            if slot.kind.dof() == 0 || slot.closing.is_some() || last == Some(slot.multibody) {
                 continue;
             }
             last = Some(slot.multibody);
