@@ -269,6 +269,9 @@ pub struct Joint {
     /// Whether its DOFs are observed (`false` only for a loop-closing joint that stands
     /// for an MJCF equality constraint).
     pub observed: bool,
+    /// Whether it is on a kinematic loop (it closes one, or it is a tree joint on one's
+    /// path): reset noise leaves it alone, so that every reset starts with its loops closed.
+    pub on_loop: bool,
 }
 
 impl Joint {

@@ -618,6 +618,7 @@ impl Validator {
                         reference,
                         closes_loop: role == Some(Role::Loop),
                         observed,
+                        on_loop: on_loop[j].is_some(),
                     });
                 }
             }

@@ -320,3 +320,102 @@ fn a_four_bar_under_a_hundred_times_its_gravity_torque_stays_closed_and_finite()
     assert!(worst.0 < 0.01, "the loop opened by {} mm", worst.0);
     assert!(worst.1 < 0.01, "the loop twisted by {}°", worst.1);
 }
+
+/// Reset noise moves the joints off the loops and leaves the loop's joints at the
+/// document's pose, so that every reset starts with the loop closed.
+#[test]
+fn reset_noise_leaves_a_loop_closed() {
+    let mut doc = four_bar(true);
+    let t = CRANK0.to_radians();
+    let a = crank_pin(t);
+    doc["assembly"]["instances"]
+        .as_array_mut()
+        .expect("instances")
+        .push(ball("tail", [a[0] / 2.0, a[1] / 2.0 - 30.0]));
+    doc["assembly"]["joints"]
+        .as_array_mut()
+        .expect("joints")
+        .push(pin("tail", "crank", "tail", [a[0] / 2.0, a[1] / 2.0], true));
+    let config = EnvConfig {
+        reset_noise: 5.0,
+        ..EnvConfig::with_end_effectors(["coupler"])
+    };
+    let mut env = env_with(&doc, config);
+    let mut moved_tail = 0.0f32;
+    for seed in 0..20 {
+        let obs = env.reset(Some(seed));
+        let q = &obs.joint_positions;
+        assert_eq!(
+            &q[..4],
+            &[0.0; 4],
+            "seed {seed}: the loop's joints start at the document's pose"
+        );
+        moved_tail = moved_tail.max(q[4].abs());
+        assert!(obs.joint_velocities[..4].iter().all(|&v| v == 0.0));
+    }
+    assert!(
+        moved_tail > 1.0,
+        "the tail, off the loop, takes the noise: {moved_tail}°"
+    );
+}
+
+const FOURBAR: &str = include_str!("../../../models/fourbar.json");
+
+/// The four-bar of `models/` (the same link lengths, as bars): driven through two turns,
+/// its rocker swings between the closed form's extremes and its loop stays closed.
+#[test]
+fn the_shipped_four_bar_swings_its_rocker_through_the_closed_forms_range() {
+    let doc: Value = serde_json::from_str(FOURBAR).expect("json");
+    let t0 = CRANK0.to_radians();
+    let rocker0 = heading([D, 0.0], pin_b(t0));
+    // The rocker's range over a turn, by the closed form (deg from the document's pose).
+    let closed: Vec<f64> = (0..3600)
+        .map(|k| {
+            (heading([D, 0.0], pin_b(f64::from(k).to_radians() / 10.0)) - rocker0).to_degrees()
+        })
+        .collect();
+    let (lo, hi) = closed
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(l, h), &v| (l.min(v), h.max(v)));
+    let mut env = env_with(&doc, EnvConfig::with_end_effectors(["coupler"]));
+    let (mut seen_lo, mut seen_hi) = (f64::MAX, f64::MIN);
+    for _ in 0..600 {
+        let q = env
+            .step(ActionType::Velocity, &[360.0])
+            .expect("steps")
+            .observation
+            .joint_positions;
+        seen_lo = seen_lo.min(f64::from(q[2]));
+        seen_hi = seen_hi.max(f64::from(q[2]));
+    }
+    let assembly = gymfleet_assembly::parse(FOURBAR).expect("valid");
+    assert_eq!(assembly.joints.iter().filter(|j| j.closes_loop).count(), 1);
+    println!("rocker swings [{seen_lo:.3}, {seen_hi:.3}]°; closed form [{lo:.3}, {hi:.3}]°");
+    assert!((seen_lo - lo).abs() < 0.05 && (seen_hi - hi).abs() < 0.05);
+}
+
+/// A moving four-bar saved and loaded continues bitwise like the env it was saved from.
+#[test]
+fn a_saved_moving_four_bar_continues_bitwise() {
+    let doc: Value = serde_json::from_str(FOURBAR).expect("json");
+    let mut env = env_with(&doc, EnvConfig::with_end_effectors(["coupler"]));
+    for _ in 0..50 {
+        env.step(ActionType::Velocity, &[360.0]).expect("steps");
+    }
+    let bytes = env.save().expect("saves").encode();
+    let state = gymfleet_env::SavedState::decode(&bytes).expect("decodes");
+    let mut loaded = gymfleet_env::RobotEnv::from_state(&state).expect("loads");
+    for k in 0..200 {
+        let action = [if k < 100 { 360.0 } else { -180.0 }];
+        let a = env.step(ActionType::Velocity, &action).expect("steps");
+        let b = loaded.step(ActionType::Velocity, &action).expect("steps");
+        let bits = |o: &gymfleet_env::Observation| -> Vec<u32> {
+            o.to_flat().iter().map(|v| v.to_bits()).collect()
+        };
+        assert_eq!(
+            bits(&a.observation),
+            bits(&b.observation),
+            "step {k} after the load"
+        );
+    }
+}

@@ -42,7 +42,7 @@ pub struct Cli {
     /// How to reach --server servers that require a token or TLS.
     #[command(flatten)]
     pub connect: gymfleet_client::ConnectArgs,
-    /// pendulum, arm2, arm6, chain20 (the files of models/), or the path of an assembly
+    /// pendulum, arm2, arm6, chain20, fourbar (the files of models/), or the path of an assembly
     /// document (JSON, MJCF or URDF).
     #[arg(long, env = "GYMFLEET_MODEL", default_value = "arm2")]
     pub model: String,

@@ -24,7 +24,7 @@ pub enum LoadError {
         reason: String,
     },
     /// `--model` names neither a built-in model nor an existing file.
-    #[error("unknown model '{name}': not pendulum|arm2|arm6|chain20 and no such file")]
+    #[error("unknown model '{name}': not pendulum|arm2|arm6|chain20|fourbar and no such file")]
     UnknownModel {
         /// The name as given.
         name: String,

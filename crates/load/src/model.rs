@@ -17,14 +17,17 @@ pub const ARM2: &str = include_str!("../../../models/arm2.json");
 pub const ARM6: &str = include_str!("../../../models/arm6.json");
 /// A chain of 20 revolute links.
 pub const CHAIN20: &str = include_str!("../../../models/chain20.json");
+/// A crank-rocker four-bar linkage: a closed kinematic chain, its crank driven.
+pub const FOURBAR: &str = include_str!("../../../models/fourbar.json");
 
 /// The built-in models, one per file of `models/`: name (the file's stem), document, tip
 /// instance (the default end effector) and torque amplitude (N·m).
-pub const BUILTINS: [(&str, &str, &str); 4] = [
+pub const BUILTINS: [(&str, &str, &str); 5] = [
     ("pendulum", PENDULUM, "arm"),
     ("arm2", ARM2, "forearm"),
     ("arm6", ARM6, "tool"),
     ("chain20", CHAIN20, "link20"),
+    ("fourbar", FOURBAR, "coupler"),
 ];
 
 /// Torque amplitude (N·m) where a server reports no action bounds (servers before them):

@@ -282,7 +282,7 @@ fn bad_flags_have_exact_messages() {
         (&["--server", "h:1,,h:2"], "--server address 2 is empty"),
         (
             &["--model", "foo"],
-            "unknown model 'foo': not pendulum|arm2|arm6|chain20 and no such file",
+            "unknown model 'foo': not pendulum|arm2|arm6|chain20|fourbar and no such file",
         ),
     ];
     for (args, message) in cases {

@@ -158,6 +158,7 @@ impl RobotWorld {
                     first_dof: dofs.len(),
                     closing: Some(handle),
                     observed_dofs: joint.observed_dof(),
+                    on_loop: true,
                 });
                 if joint.observed {
                     // Passive: its inertia only feeds default gains, which it never uses.
@@ -223,6 +224,7 @@ impl RobotWorld {
                 first_dof: dofs.len(),
                 closing: None,
                 observed_dofs: joint.kind.dof(),
+                on_loop: joint.on_loop,
             });
             dofs.extend(joint_dofs(j, joint));
         }

@@ -10,7 +10,8 @@ impl RobotWorld {
     /// [`RobotWorld::reset`], then offsets every DOF's position by `offsets[k]` (deg or
     /// mm, in [`RobotWorld::dofs`] order; a rotation vector in deg for ball joints), the
     /// position it reaches (from the joint's initial one) clamped into the DOF's limits. Velocities stay zero. Offsets of zero leave the
-    /// state bit-for-bit as a plain reset does.
+    /// state bit-for-bit as a plain reset does. Joints on a kinematic loop keep the
+    /// document's pose (their offsets are ignored), so that the loop starts closed.
     ///
     /// # Panics
     ///
@@ -35,8 +36,10 @@ impl RobotWorld {
         let mut touched = Vec::new();
         for slot in &self.joints {
             let n = slot.kind.dof();
-            if n == 0 || slot.closing.is_some() {
-                continue; // Loop-closing joints follow their loops (`loops.rs`).
+            if n == 0 || slot.on_loop {
+                // A joint on a kinematic loop keeps the document's pose and rest: moved
+                // alone, it would open the loop (`loops.rs`).
+                continue;
             }
             let Some(mb) = self.live.multibody_joints.get_multibody_mut(slot.multibody) else {
                 continue;
@@ -65,7 +68,8 @@ impl RobotWorld {
 
     /// Sets every DOF's velocity (in [`RobotWorld::dofs`] order; deg/s or mm/s, rad/s or
     /// m/s in [`Units::Si`]; a ball joint's angular velocity in its joint frame), e.g. to
-    /// start an episode moving. The links' velocities follow at the next substep.
+    /// start an episode moving. The links' velocities follow at the next substep. Joints on
+    /// a kinematic loop keep theirs (a loop moves as one).
     ///
     /// # Panics
     ///
@@ -74,8 +78,10 @@ impl RobotWorld {
         assert_eq!(velocities.len(), self.dofs.len(), "one velocity per DOF");
         for slot in &self.joints {
             let n = slot.kind.dof();
-            if n == 0 || slot.closing.is_some() {
-                continue; // Loop-closing joints follow their loops (`loops.rs`).
+            if n == 0 || slot.on_loop {
+                // A joint on a kinematic loop keeps the document's pose and rest: moved
+                // alone, it would open the loop (`loops.rs`).
+                continue;
             }
             let Some(mb) = self.live.multibody_joints.get_multibody_mut(slot.multibody) else {
                 continue;

@@ -103,6 +103,8 @@ pub(crate) struct JointSlot {
     /// How many DOFs it has in [`RobotWorld::dofs`] (0 for an unobserved loop-closing
     /// joint).
     pub(crate) observed_dofs: usize,
+    /// On a kinematic loop (closing it or on its path): reset noise leaves it alone.
+    pub(crate) on_loop: bool,
 }
 
 /// The root of a kinematic tree whose root body is dynamic: Rapier gives it a free joint
