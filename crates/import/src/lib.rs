@@ -16,8 +16,9 @@
 //!   (the floating base), bodies without joints (welded), explicit `<inertial>`,
 //!   `contype`/`conaffinity`, motors (`gear`, `ctrlrange` → `max_effort`; joints without
 //!   a motor are passive), a fluid (`<option density viscosity>`), mesh geoms
-//!   (`<asset><mesh file scale>` under `compiler meshdir`, or inline `vertex`) and
-//!   `<include file>` ([`expand_includes`]: from the assets, or beside a converted file).
+//!   (`<asset><mesh file scale>` under `compiler meshdir`, or inline `vertex`),
+//!   `<include file>` ([`expand_includes`]: from the assets, or beside a converted file),
+//!   and `<equality>` `<connect>`/`<weld>` between bodies (loop-closing joints, unobserved).
 //! - **URDF** ([`urdf_to_document`]): links with `<collision>` boxes, cylinders, spheres,
 //!   capsules and meshes, `<inertial>`, revolute/continuous/prismatic/fixed joints with
 //!   limits, effort, damping and friction, a `floating` joint from the world (the floating

@@ -47,10 +47,17 @@ pub(crate) fn add_loop_joints(
                     joint.damping as Real,
                 );
             }
-            Some(
-                sets.impulse_joints
-                    .insert(bodies[joint.parent], bodies[joint.child], data, true),
-            )
+            let (parent, child) = (bodies[joint.parent], bodies[joint.child]);
+            // Rapier solves a joint whose second body is fixed (the ground, a multibody's
+            // root) wrongly: a weld from a link to the ground let the link spin. With the
+            // fixed body first it holds, so such a joint is inserted the other way round
+            // (`loop_frames` reads it back).
+            if !sets.bodies[child].is_dynamic() {
+                data.local_frame1 = f2;
+                data.local_frame2 = f1;
+                return Some(sets.impulse_joints.insert(child, parent, data, true));
+            }
+            Some(sets.impulse_joints.insert(parent, child, data, true))
         })
         .collect()
 }
@@ -61,10 +68,13 @@ impl RobotWorld {
         let joint = self.live.impulse_joints.get(handle)?;
         let p = self.live.bodies.get(slot.parent)?;
         let c = self.live.bodies.get(slot.child)?;
-        Some((
-            *p.position() * joint.data.local_frame1,
-            *c.position() * joint.data.local_frame2,
-        ))
+        // Inserted the other way round when the child is fixed (`add_loop_joints`).
+        let (f1, f2) = if joint.body1() == slot.parent {
+            (joint.data.local_frame1, joint.data.local_frame2)
+        } else {
+            (joint.data.local_frame2, joint.data.local_frame1)
+        };
+        Some((*p.position() * f1, *c.position() * f2))
     }
 
     /// Writes a loop-closing joint's observed position and velocity (as

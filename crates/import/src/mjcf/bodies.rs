@@ -44,6 +44,10 @@ impl<'a, 'i> Converter<'a, 'i> {
             None if floating => None,
             None => Some(self.helper("world", &Frame::IDENTITY)),
         };
+        if let Some(g) = &ground {
+            self.bodies
+                .insert("world".into(), (g.clone(), Frame::IDENTITY));
+        }
         for child in elements(world) {
             match child.tag_name().name() {
                 "geom" => {}
@@ -238,6 +242,7 @@ impl<'a, 'i> Converter<'a, 'i> {
         // The body's origin, by the body's name (what MuJoCo's body xpos reports).
         if let Some(name) = node.attribute("name") {
             self.site(name, &main, frame.translation);
+            self.bodies.insert(name.to_string(), (main.clone(), frame));
         }
 
         // Joints: parent → (helpers) → the body's instance.

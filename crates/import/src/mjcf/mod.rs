@@ -21,6 +21,7 @@ use crate::{Converted, ImportError, Result};
 mod actuators;
 mod attributes;
 mod bodies;
+mod equality;
 mod geoms;
 mod include;
 mod joints;
@@ -75,6 +76,7 @@ pub fn mjcf_to_document(xml: &str) -> Result<Converted> {
             "contact" | "equality" if elements(child).next().is_none() => {
                 c.warn(child, "empty, ignored".into());
             }
+            "equality" => {} // After the bodies it names.
             other => return Err(c.unsupported(child, format!("<{other}> is not supported yet"))),
         }
     }
@@ -82,6 +84,9 @@ pub fn mjcf_to_document(xml: &str) -> Result<Converted> {
         .find(|n| n.tag_name().name() == "worldbody")
         .ok_or_else(|| c.unsupported(root, "no <worldbody>".into()))?;
     c.worldbody(world)?;
+    for equality in elements(root).filter(|n| n.tag_name().name() == "equality") {
+        c.equalities(equality)?;
+    }
     c.finish()
 }
 
@@ -152,6 +157,9 @@ struct Converter<'a, 'i> {
     meshes: HashMap<String, meshes::MeshAsset>,
     /// `<tendon><fixed>`s, in document order.
     tendons: Vec<tendons::FixedTendon>,
+    /// Each named body's instance and world frame (m), and the world's as "world", for
+    /// `<equality>`.
+    bodies: HashMap<String, (String, Frame)>,
 }
 
 impl<'i> XmlReader<'i> for Converter<'_, 'i> {
@@ -191,6 +199,7 @@ impl<'a, 'i> Converter<'a, 'i> {
             strip_path: false,
             meshes: HashMap::new(),
             tendons: Vec::new(),
+            bodies: HashMap::new(),
         }
     }
 
