@@ -16,16 +16,24 @@ fn run(
     chunk_size: usize,
     autoreset: Autoreset,
 ) -> Vec<impl PartialEq + std::fmt::Debug> {
-    let pool = StepPool::new(threads).unwrap();
     // Seeded reset noise: env i's start must depend on its seed only, not on the chunking.
-    let template = noisy_arm2(7, 5.0);
-    let mut batch = EnvBatch::with_chunk_size(&template, N_ENVS, autoreset, chunk_size).unwrap();
+    run_template(&noisy_arm2(7, 5.0), threads, chunk_size, autoreset)
+}
+
+fn run_template(
+    template: &RobotEnv,
+    threads: usize,
+    chunk_size: usize,
+    autoreset: Autoreset,
+) -> Vec<impl PartialEq + std::fmt::Debug> {
+    let pool = StepPool::new(threads).unwrap();
+    let mut batch = EnvBatch::with_chunk_size(template, N_ENVS, autoreset, chunk_size).unwrap();
     let mut obs = Vec::new();
     batch.reset(&pool, Some(42), 0, &mut obs).unwrap();
     let mut out = BatchStepOutput::default();
     let mut trace = Vec::new();
     for t in 0..STEPS {
-        let (action_type, values) = actions(t, N_ENVS, 2);
+        let (action_type, values) = actions(t, N_ENVS, template.spec().action_dim);
         batch.step(&pool, action_type, &values, &mut out).unwrap();
         trace.push(output_bits(&out));
     }
@@ -47,6 +55,27 @@ fn results_are_identical_for_any_thread_count_and_chunk_size() {
                     "{autoreset:?}: {threads} threads, chunk size {chunk_size} differ from 1 thread, chunk size 1"
                 );
             }
+        }
+    }
+}
+
+/// A closed chain (the four-bar of `models/`, its loop an impulse joint solved with the
+/// tree) steps alike on any thread count and chunking too.
+#[test]
+fn a_four_bar_batch_is_identical_for_any_thread_count_and_chunk_size() {
+    let config = gymfleet_env::EnvConfig {
+        max_steps: 7,
+        ..gymfleet_env::EnvConfig::with_end_effectors(["coupler"])
+    };
+    let template = RobotEnv::from_json(include_str!("../../../models/fourbar.json"), config)
+        .expect("the four-bar is valid");
+    let reference = run_template(&template, 1, 1, Autoreset::SameStep);
+    for threads in [2, 4] {
+        for chunk_size in [1, 3] {
+            assert!(
+                run_template(&template, threads, chunk_size, Autoreset::SameStep) == reference,
+                "{threads} threads, chunk size {chunk_size} differ from 1 thread, chunk size 1"
+            );
         }
     }
 }
@@ -74,7 +103,7 @@ fn a_batch_equals_its_envs_stepped_one_by_one() {
 
     let mut out = BatchStepOutput::default();
     for t in 0..60 {
-        let (action_type, values) = actions(t, N_ENVS, 2);
+        let (action_type, values) = actions(t, N_ENVS, template.spec().action_dim);
         batch.step(&pool, action_type, &values, &mut out).unwrap();
         for (i, env) in envs.iter_mut().enumerate() {
             let row = &mut expected[i * dim..(i + 1) * dim];
