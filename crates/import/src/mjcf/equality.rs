@@ -18,12 +18,14 @@ impl<'a, 'i> Converter<'a, 'i> {
             let kind = child.tag_name().name();
             match kind {
                 "connect" | "weld" => {}
-                "joint" | "tendon" | "flex" | "distance" => return Err(self.unsupported(
-                    child,
-                    format!(
+                "joint" | "tendon" | "flex" | "distance" => {
+                    return Err(self.unsupported(
+                        child,
+                        format!(
                         "<{kind}> equality constraints are not supported (connect and weld are)"
                     ),
-                )),
+                    ))
+                }
                 other => {
                     return Err(self
                         .unsupported(child, format!("<{other}> in <equality> is not supported")))
