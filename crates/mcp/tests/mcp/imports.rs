@@ -198,3 +198,40 @@ async fn the_embedded_server_takes_a_model_library() {
     adapter.stop().await;
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+const FOURBAR: &str = include_str!("../../../../models/fourbar.json");
+
+/// A closed chain through the adapter: the four-bar's four joints are observed (the loop's
+/// closing pin too), one is driven, and driving it swings the rocker through the loop.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_four_bar_is_driven_through_its_loop() {
+    let adapter = Adapter::embedded().await;
+    let created = adapter
+        .ok(
+            "create_robot_env",
+            json!({"document": FOURBAR, "end_effector_ids": ["coupler"]}),
+        )
+        .await;
+    assert_eq!(created["action_dim"], 1, "{created}");
+    let env_id = created["env_id"].clone();
+    let mut stepped = json!(null);
+    for _ in 0..30 {
+        stepped = adapter
+            .ok(
+                "gym_step",
+                json!({"env_id": env_id, "action_type": "velocity", "values": [360]}),
+            )
+            .await;
+    }
+    let positions = stepped["observation"]["joint_positions"]
+        .as_array()
+        .expect("joint positions")
+        .clone();
+    assert_eq!(positions.len(), 4, "{stepped}");
+    let rocker = positions[2].as_f64().expect("a number");
+    assert!(
+        rocker.abs() > 1.0,
+        "the rocker swings with the crank: {stepped}"
+    );
+    adapter.stop().await;
+}
