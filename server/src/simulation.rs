@@ -137,10 +137,12 @@ fn build_env(
             .map(|inst| inst.name.clone())
             .unwrap_or_default()
     };
+    // One entry per joint with an observed DOF, as `convert::joints` lists them (an
+    // unobserved loop-closing joint has none).
     let links = assembly
         .joints
         .iter()
-        .filter(|j| j.kind.dof() > 0)
+        .filter(|j| j.observed_dof() > 0)
         .map(|j| (name(j.parent), name(j.child)))
         .collect();
     Ok((env, JointLinks(links)))

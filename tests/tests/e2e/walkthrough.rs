@@ -147,3 +147,51 @@ async fn arm2_walkthrough() {
     env.close().await.expect("close");
     server.stop().await.expect("clean shutdown");
 }
+
+/// A closed chain through the server: the four-bar's joints are described in document
+/// order with their own parent and child, an unobserved loop-closing joint in their midst
+/// takes no entry, and the rocker turns with the driven crank.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_four_bar_with_an_unobserved_loop_joint_is_described_joint_by_joint() {
+    let server = TestServer::start_default().await;
+    let client = server.client().await;
+    let mut doc: serde_json::Value =
+        serde_json::from_str(include_str!("../../../models/fourbar.json")).expect("json");
+    // The closing pin first and unobserved: a constraint only.
+    let joints = doc["assembly"]["joints"].as_array_mut().expect("joints");
+    let mut pin = joints.pop().expect("the pin");
+    pin["observed"] = serde_json::json!(false);
+    joints.insert(1, pin);
+    let env = client
+        .create_env(EnvOptions::new(doc.to_string()).end_effectors(["coupler"]))
+        .await
+        .expect("create the four-bar");
+    let info = env.info().clone();
+    let described: Vec<(&str, &str, &str)> = info
+        .joints
+        .iter()
+        .map(|j| (j.name.as_str(), j.parent.as_str(), j.child.as_str()))
+        .collect();
+    assert_eq!(
+        described,
+        [
+            ("crank", "frame", "crank"),
+            ("elbow", "crank", "coupler"),
+            ("rocker", "frame", "rocker")
+        ]
+    );
+    assert_eq!(info.action_dim, 1);
+    env.reset(None).await.expect("reset");
+    let mut rocker = 0.0;
+    for _ in 0..30 {
+        let stepped = env
+            .step(ActionType::Velocity, &[360.0])
+            .await
+            .expect("step");
+        rocker = stepped.observation.joint_positions[2];
+    }
+    assert!(
+        rocker.abs() > 1.0,
+        "the rocker turns with the crank: {rocker}"
+    );
+}
