@@ -48,7 +48,9 @@ pub use config::{
 pub use embedded::EmbeddedServer;
 pub use error::{LoadError, Result};
 pub use meter::MAX_CONSECUTIVE_ERRORS;
-pub use model::{Model, ARM2, ARM6, BUILTINS, CHAIN20, DEFAULT_TORQUE_AMPLITUDE, PENDULUM};
+pub use model::{
+    Model, ARM2, ARM6, BUILTINS, CHAIN20, DEFAULT_TORQUE_AMPLITUDE, FOURBAR, PENDULUM,
+};
 pub use report::{render_table, to_json, Latency, Report, RunResult};
 pub use rss::Memory;
 
