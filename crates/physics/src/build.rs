@@ -133,7 +133,11 @@ impl RobotWorld {
         }
 
         // The loops' constraints, between bodies the trees now place.
-        let closing = crate::loops::add_loop_joints(&mut sets, assembly, &bodies, &frames);
+        // Their bodies do not collide.
+        let closing =
+            crate::loops::add_loop_joints(&mut sets, assembly, &bodies, &frames, |j, f1, f2| {
+                generic_joint(j, f1, f2, false)
+            });
 
         // Look the links up only once the tree is complete: insertion may renumber.
         let mut joints = Vec::with_capacity(assembly.joints.len());
@@ -400,7 +404,7 @@ fn joint_frames(
 }
 
 /// `contacts`: whether the two instances still collide (a ground plane and what hangs on it).
-pub(crate) fn generic_joint(joint: &Joint, f1: Pose, f2: Pose, contacts: bool) -> GenericJoint {
+fn generic_joint(joint: &Joint, f1: Pose, f2: Pose, contacts: bool) -> GenericJoint {
     let locked = match joint.kind {
         JointType::Revolute => JointAxesMask::LOCKED_REVOLUTE_AXES,
         JointType::Prismatic => JointAxesMask::LOCKED_PRISMATIC_AXES,

@@ -7,20 +7,22 @@
 //! It is observed like a tree joint, from the two bodies' relative pose: a revolute
 //! joint's angle is the rotation of the child's joint frame about the parent's joint axis.
 
-use gymfleet_assembly::{Assembly, JointType};
+use gymfleet_assembly::{Assembly, Joint, JointType};
 use rapier3d::prelude::*;
 
 use crate::units::Units;
 use crate::world::{JointSlot, RobotWorld, Sets};
 
 /// Adds every loop-closing joint of `assembly` as an impulse joint, with the joint frames
-/// `frames` (parent's, child's) computed at the document's pose; returns each joint's
-/// handle (`None` for tree joints).
+/// `frames` (parent's, child's) computed at the document's pose, its locked axes and limits
+/// as `describe` gives them (the tree's own joint description, `build.rs`); returns each
+/// joint's handle (`None` for tree joints).
 pub(crate) fn add_loop_joints(
     sets: &mut Sets,
     assembly: &Assembly,
     bodies: &[RigidBodyHandle],
     frames: &[(Pose, Pose)],
+    describe: impl Fn(&Joint, Pose, Pose) -> GenericJoint,
 ) -> Vec<Option<ImpulseJointHandle>> {
     assembly
         .joints
@@ -31,7 +33,7 @@ pub(crate) fn add_loop_joints(
                 return None;
             }
             let (f1, f2) = frames[j];
-            let mut data = crate::build::generic_joint(joint, f1, f2, false);
+            let mut data = describe(joint, f1, f2);
             let axis = match joint.kind {
                 JointType::Revolute => Some(JointAxis::AngX),
                 JointType::Prismatic => Some(JointAxis::LinX),
