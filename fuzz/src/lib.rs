@@ -1,0 +1,3 @@
+//! gymfleet's fuzz targets: see `targets.rs` and `README.md`.
+
+pub mod targets;

@@ -1,0 +1,134 @@
+//! The fuzz targets' bodies (issue R2), shared by the libFuzzer binaries in
+//! `fuzz/fuzz_targets/` and by `tests/tests/fuzz_corpora.rs`, which replays the committed
+//! corpora through them in every `cargo test` (no instrumentation needed).
+//!
+//! Each takes untrusted bytes through one door of the server and asserts more than "no
+//! panic": errors stay under their bound, a document that validates also builds and steps,
+//! a state that loads also steps. Each returns how far the input got, so that a replay can
+//! report the share of inputs that got past parsing.
+
+use gymfleet_env::{ActionType, EnvConfig, RobotEnv, SavedState};
+
+/// The longest error message any door may return, bytes: 20 issues of at most 1 000
+/// characters (`gymfleet_assembly`'s bounds) with their paths, and some margin.
+pub const MAX_ERROR_BYTES: usize = 32 * 1024;
+
+/// How far an input got.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Reached {
+    /// Refused while parsing (not UTF-8, not JSON/XML, a malformed field).
+    Parsing,
+    /// Parsed, refused by validation or conversion.
+    Validation,
+    /// Built into an env, and stepped.
+    Stepping,
+}
+
+fn bounded(error: &dyn std::fmt::Display) {
+    let text = error.to_string();
+    assert!(
+        text.len() <= MAX_ERROR_BYTES,
+        "an error of {} bytes: {}…",
+        text.len(),
+        text.chars().take(200).collect::<String>()
+    );
+}
+
+/// Builds an env of a validated document and steps it a few times with zero torque; both
+/// must succeed.
+fn build_and_step(document: &str) -> Reached {
+    let assembly = match gymfleet_assembly::parse(document) {
+        Ok(a) => a,
+        Err(e) => {
+            bounded(&e);
+            return if matches!(e, gymfleet_assembly::AssemblyError::Malformed { .. }) {
+                Reached::Parsing
+            } else {
+                Reached::Validation
+            };
+        }
+    };
+    let config = EnvConfig {
+        max_steps: 5,
+        ..EnvConfig::default()
+    };
+    let mut env = match RobotEnv::new(&assembly, config) {
+        Ok(env) => env,
+        Err(e) => panic!("a document that validates must build: {e}"),
+    };
+    let zeros = vec![0.0f32; env.spec().action_dim];
+    for _ in 0..3 {
+        if let Err(e) = env.step(ActionType::Torque, &zeros) {
+            bounded(&e);
+            break;
+        }
+    }
+    Reached::Stepping
+}
+
+/// The assembly document door (`CreateEnv`'s JSON): parse, validate, build, step.
+pub fn assembly_document(data: &[u8]) -> Reached {
+    match std::str::from_utf8(data) {
+        Ok(text) => build_and_step(text),
+        Err(_) => Reached::Parsing,
+    }
+}
+
+/// The MJCF door: convert, then the document's own door.
+pub fn mjcf(data: &[u8]) -> Reached {
+    let Ok(text) = std::str::from_utf8(data) else {
+        return Reached::Parsing;
+    };
+    match gymfleet_import::mjcf_to_document(text) {
+        Ok(converted) => build_and_step(&converted.document.to_string()).max(Reached::Validation),
+        Err(e) => {
+            bounded(&e);
+            if matches!(e, gymfleet_import::ImportError::Xml(_)) {
+                Reached::Parsing
+            } else {
+                Reached::Validation
+            }
+        }
+    }
+}
+
+/// The URDF door: convert, then the document's own door.
+pub fn urdf(data: &[u8]) -> Reached {
+    let Ok(text) = std::str::from_utf8(data) else {
+        return Reached::Parsing;
+    };
+    match gymfleet_import::urdf_to_document(text) {
+        Ok(converted) => build_and_step(&converted.document.to_string()).max(Reached::Validation),
+        Err(e) => {
+            bounded(&e);
+            if matches!(e, gymfleet_import::ImportError::Xml(_)) {
+                Reached::Parsing
+            } else {
+                Reached::Validation
+            }
+        }
+    }
+}
+
+/// The saved-state door (`LoadState`, `Fork`): decode, load into an env, step.
+pub fn saved_state(data: &[u8]) -> Reached {
+    let state = match SavedState::decode(data) {
+        Ok(s) => s,
+        Err(e) => {
+            bounded(&e);
+            return Reached::Parsing;
+        }
+    };
+    let mut env = match RobotEnv::from_state(&state) {
+        Ok(env) => env,
+        Err(e) => {
+            bounded(&e);
+            return Reached::Validation;
+        }
+    };
+    let zeros = vec![0.0f32; env.spec().action_dim];
+    if let Err(e) = env.step(ActionType::Torque, &zeros) {
+        bounded(&e);
+    }
+    Reached::Stepping
+}
