@@ -76,28 +76,23 @@ pub fn assembly_document(data: &[u8]) -> Reached {
 
 /// The MJCF door: convert, then the document's own door.
 pub fn mjcf(data: &[u8]) -> Reached {
-    let Ok(text) = std::str::from_utf8(data) else {
-        return Reached::Parsing;
-    };
-    match gymfleet_import::mjcf_to_document(text) {
-        Ok(converted) => build_and_step(&converted.document.to_string()).max(Reached::Validation),
-        Err(e) => {
-            bounded(&e);
-            if matches!(e, gymfleet_import::ImportError::Xml(_)) {
-                Reached::Parsing
-            } else {
-                Reached::Validation
-            }
-        }
-    }
+    converted(data, gymfleet_import::mjcf_to_document)
 }
 
 /// The URDF door: convert, then the document's own door.
 pub fn urdf(data: &[u8]) -> Reached {
+    converted(data, gymfleet_import::urdf_to_document)
+}
+
+/// A description door: `convert` the text, then the document's own door.
+fn converted(
+    data: &[u8],
+    convert: fn(&str) -> gymfleet_import::Result<gymfleet_import::Converted>,
+) -> Reached {
     let Ok(text) = std::str::from_utf8(data) else {
         return Reached::Parsing;
     };
-    match gymfleet_import::urdf_to_document(text) {
+    match convert(text) {
         Ok(converted) => build_and_step(&converted.document.to_string()).max(Reached::Validation),
         Err(e) => {
             bounded(&e);

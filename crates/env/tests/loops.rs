@@ -103,6 +103,28 @@ fn wrap_deg(d: f64) -> f64 {
     }
 }
 
+/// Drives the crank of a four-bar env (the crank-rocker's link lengths, its crank at
+/// `CRANK0` in the document's pose) at one turn per second for `steps` steps; returns the
+/// last joint positions and the largest error of the rocker (joint 2) against the closed
+/// form at the measured crank angle, deg.
+fn drive_and_check_rocker(env: &mut gymfleet_env::RobotEnv, steps: usize) -> (Vec<f32>, f64) {
+    let t0 = CRANK0.to_radians();
+    let rocker0 = heading([D, 0.0], pin_b(t0));
+    let mut worst = 0.0f64;
+    let mut q = Vec::new();
+    for _ in 0..steps {
+        q = env
+            .step(ActionType::Velocity, &[360.0])
+            .expect("steps")
+            .observation
+            .joint_positions;
+        let theta = t0 + f64::from(q[0]).to_radians();
+        let rocker = (heading([D, 0.0], pin_b(theta)) - rocker0).to_degrees();
+        worst = worst.max(wrap_deg(f64::from(q[2]) - rocker).abs());
+    }
+    (q, worst)
+}
+
 #[test]
 fn a_driven_crank_rocker_follows_its_closed_form_position_solution() {
     let t0 = CRANK0.to_radians();
@@ -476,8 +498,6 @@ fn a_weld_to_the_ground_holds_whichever_body_is_its_parent() {
 /// crank angle.
 #[test]
 fn a_randomised_four_bar_keeps_its_kinematics() {
-    let t0 = CRANK0.to_radians();
-    let rocker0 = heading([D, 0.0], pin_b(t0));
     let config = EnvConfig {
         randomize: Some(gymfleet_env::Randomization {
             mass_scale: Some([0.5, 2.0]),
@@ -492,17 +512,8 @@ fn a_randomised_four_bar_keeps_its_kinematics() {
     let mut cranks = Vec::new();
     for seed in 0..4 {
         env.reset(Some(seed));
-        let mut q = Vec::new();
-        for _ in 0..120 {
-            q = env
-                .step(ActionType::Velocity, &[360.0])
-                .expect("steps")
-                .observation
-                .joint_positions;
-            let theta = t0 + f64::from(q[0]).to_radians();
-            let rocker = (heading([D, 0.0], pin_b(theta)) - rocker0).to_degrees();
-            worst = worst.max(wrap_deg(f64::from(q[2]) - rocker).abs());
-        }
+        let (q, off) = drive_and_check_rocker(&mut env, 120);
+        worst = worst.max(off);
         cranks.push(q[0]);
     }
     println!(
@@ -535,20 +546,8 @@ fn the_bodies_a_loop_joins_do_not_collide() {
             .expect("object")
             .remove("collision");
     }
-    let t0 = CRANK0.to_radians();
-    let rocker0 = heading([D, 0.0], pin_b(t0));
     let mut env = env_with(&doc, EnvConfig::with_end_effectors(["coupler"]));
-    let mut worst = 0.0f64;
-    for _ in 0..480 {
-        let q = env
-            .step(ActionType::Velocity, &[360.0])
-            .expect("steps")
-            .observation
-            .joint_positions;
-        let theta = t0 + f64::from(q[0]).to_radians();
-        let rocker = (heading([D, 0.0], pin_b(theta)) - rocker0).to_degrees();
-        worst = worst.max(wrap_deg(f64::from(q[2]) - rocker).abs());
-    }
+    let (_, worst) = drive_and_check_rocker(&mut env, 480);
     println!("colliding bars: rocker within {worst:.5}° of the closed form");
     assert!(worst < 0.01, "rocker off by {worst}°");
 }
