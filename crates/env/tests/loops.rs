@@ -551,3 +551,21 @@ fn the_bodies_a_loop_joins_do_not_collide() {
     println!("colliding bars: rocker within {worst:.5}° of the closed form");
     assert!(worst < 0.01, "rocker off by {worst}°");
 }
+
+/// A tendon takes tree joints only: one over a loop-closing joint is refused with its path.
+#[test]
+fn a_tendon_over_a_loop_closing_joint_is_refused() {
+    let mut doc = four_bar(true);
+    doc["assembly"]["tendons"] =
+        json!([{"name": "t", "joints": [{"joint": "closer", "coef": 1.0}]}]);
+    let refused = gymfleet_env::RobotEnv::from_json(&doc.to_string(), EnvConfig::default())
+        .err()
+        .expect("refused")
+        .to_string();
+    assert!(
+        refused.contains(
+            "assembly.tendons[0].joints[0].joint: \"closer\" closes a kinematic loop; a tendon's joints are joints of the tree"
+        ),
+        "{refused}"
+    );
+}
