@@ -1,0 +1,125 @@
+/**
+ * The errors of gymfleet: one class per status class the server answers with, all under
+ * {@link GymfleetError}, the same classes as the Python package's (`gymfleet.errors`) and
+ * the same classification as the Rust client's `ClientError`.
+ *
+ * Every error's `message` is the server's message, which names the offending field (with
+ * its JSON path for documents), id or limit; `code` is the gRPC status code it came with
+ * (a {@link Code}, e.g. `Code.NotFound` = 5). Arguments this client refuses before
+ * calling (an unknown action type, a non-finite action value) are {@link InvalidArgument}
+ * with `Code.InvalidArgument`, as the server would answer.
+ */
+
+import { Code, ConnectError } from "@connectrpc/connect";
+
+export { Code };
+
+/** Base class of every error a gymfleet call throws. */
+export class GymfleetError extends Error {
+  /** The gRPC status code. */
+  readonly code: Code;
+
+  constructor(message: string, code: Code, options?: { cause?: unknown }) {
+    super(message, options);
+    this.code = code;
+    this.name = new.target.name;
+  }
+}
+
+/** INVALID_ARGUMENT (or OUT_OF_RANGE for a value): a bad document, option or action;
+ * nothing was created or stepped. */
+export class InvalidArgument extends GymfleetError {}
+
+/** NOT_FOUND: the env or batch id is unknown on the server: closed, reclaimed after
+ * idling, another tenant's, or the server restarted. */
+export class NotFound extends GymfleetError {}
+
+/** RESOURCE_EXHAUSTED: a server limit (envs, batch size, message size) was hit; the
+ * message names the limit and how to raise it. */
+export class ResourceExhausted extends GymfleetError {}
+
+/** FAILED_PRECONDITION: the call is not possible in the env's state, e.g. stepping an env
+ * whose physics diverged before resetting it. */
+export class FailedPrecondition extends GymfleetError {}
+
+/** UNAUTHENTICATED: the server requires a token (`--auth-tokens`) and got none, or a bad
+ * one: pass `token` to `connect`, or set `GYMFLEET_TOKEN`. */
+export class Unauthenticated extends GymfleetError {}
+
+/** DEADLINE_EXCEEDED: no reply within the call's deadline (`timeoutMs`). Whether the
+ * server did the work is unknown (a batch may have stepped some envs): reset before going
+ * on. */
+export class DeadlineExceeded extends GymfleetError {}
+
+/** UNAVAILABLE, CANCELLED or ABORTED: the server cannot be reached (refused, TLS
+ * handshake failed), is shutting down, or the call was cut short. Retrying may help. */
+export class Unavailable extends GymfleetError {}
+
+/** INTERNAL, UNKNOWN or DATA_LOSS: a server bug; also a status this client does not
+ * expect from a gymfleet server (ALREADY_EXISTS, PERMISSION_DENIED, UNIMPLEMENTED). */
+export class Internal extends GymfleetError {}
+
+/** The class for each gRPC status code, as the Rust client classifies them. */
+function classOf(code: Code): typeof GymfleetError {
+  switch (code) {
+    case Code.InvalidArgument:
+      return InvalidArgument;
+    case Code.NotFound:
+      return NotFound;
+    // tonic reports an over-size message as OUT_OF_RANGE.
+    case Code.ResourceExhausted:
+    case Code.OutOfRange:
+      return ResourceExhausted;
+    case Code.FailedPrecondition:
+      return FailedPrecondition;
+    case Code.Unauthenticated:
+      return Unauthenticated;
+    case Code.DeadlineExceeded:
+      return DeadlineExceeded;
+    case Code.Unavailable:
+    case Code.Canceled:
+    case Code.Aborted:
+      return Unavailable;
+    case Code.Internal:
+    case Code.Unknown:
+    case Code.DataLoss:
+    case Code.AlreadyExists:
+    case Code.PermissionDenied:
+    case Code.Unimplemented:
+      return Internal;
+  }
+}
+
+/** Whether `err` is a failure to connect that Connect reports as INTERNAL: not the
+ * server's answer (which has no cause), but a Node error with a code (a TLS handshake or
+ * certificate failure, a peer that does not speak TLS) somewhere in its causes. */
+function isConnectFailure(err: ConnectError): boolean {
+  if (err.code !== Code.Internal) {
+    return false;
+  }
+  const seen = new Set<unknown>();
+  for (let cause = err.cause; cause instanceof Error && !seen.has(cause); cause = cause.cause) {
+    if (typeof (cause as { code?: unknown }).code === "string") {
+      return true;
+    }
+    seen.add(cause);
+  }
+  return false;
+}
+
+/** `reason` (what a Connect call threw) as a {@link GymfleetError}; one already is stays
+ * as it is. The original error is kept as `cause`. */
+export function toGymfleetError(reason: unknown): GymfleetError {
+  if (reason instanceof GymfleetError) {
+    return reason;
+  }
+  const err = ConnectError.from(reason);
+  const code = isConnectFailure(err) ? Code.Unavailable : err.code;
+  const Class = classOf(code);
+  return new Class(err.rawMessage, code, { cause: reason });
+}
+
+/** An {@link InvalidArgument} found by this client before any call. */
+export function invalid(message: string): InvalidArgument {
+  return new InvalidArgument(message, Code.InvalidArgument);
+}
