@@ -119,6 +119,9 @@ pub fn try_convex_hull(
     let mut undecidable_points = Vec::new();
     let mut silhouette_loop_facets_and_idx = Vec::new();
     let mut removed_facets = Vec::new();
+    // gymfleet patch (vendor/parry3d/PATCHES.md, 1): one workspace for every iteration of
+    // `fix_silhouette_topology`, all zeros between them.
+    let mut silhouette_workspace = vec![0u32; points.len()];
 
     let mut triangles;
 
@@ -175,6 +178,7 @@ pub fn try_convex_hull(
                 &mut silhouette_loop_facets_and_idx,
                 &mut removed_facets,
                 &mut triangles[..],
+                &mut silhouette_workspace,
             )?;
 
             // Check that the silhouette is valid.
@@ -299,9 +303,13 @@ fn fix_silhouette_topology(
     out_facets_and_idx: &mut Vec<(usize, usize)>,
     removed_facets: &mut Vec<usize>,
     triangles: &mut [TriangleFacet],
+    workspace: &mut [u32],
 ) -> Result<(), ConvexHullError> {
-    // TODO: don't allocate this everytime.
-    let mut workspace = vec![0; points.len()];
+    // gymfleet patch (vendor/parry3d/PATCHES.md, 1): `workspace` (one counter per point,
+    // all zeros) is the caller's, allocated once per hull instead of once per iteration;
+    // the counters touched here are put back to zero before returning. Allocating and
+    // zeroing `points.len()` counters per added hull vertex made the hull quadratic in
+    // the number of points.
     let mut needs_fixing = false;
 
     // NOTE: we wore with the second_point_from_edge instead
@@ -318,73 +326,100 @@ fn fix_silhouette_topology(
 
     // We detected a topological problem, i.e., we have
     // multiple loops.
-    if needs_fixing {
-        // First, we need to know which loop is the one we
-        // need to keep.
-        let mut loop_start = 0;
-        for (facet, adj_id) in &*out_facets_and_idx {
-            let p1 = points[triangles[*facet].second_point_from_edge(*adj_id)];
-            let p2 = points[triangles[*facet].first_point_from_edge(*adj_id)];
-            let supp = indexed_support_point_nth(
-                p2 - p1,
-                points,
-                out_facets_and_idx
-                    .iter()
-                    .map(|(f, ai)| triangles[*f].second_point_from_edge(*ai)),
-            )
-            .ok_or(ConvexHullError::MissingSupportPoint)?;
-            let selected = &out_facets_and_idx[supp];
-            if workspace[triangles[selected.0].second_point_from_edge(selected.1)] == 1 {
-                // This is a valid point to start with.
-                loop_start = supp;
-                break;
-            }
-        }
-
-        let mut removing = None;
+    let result = if needs_fixing {
         let old_facets_and_idx = core::mem::take(out_facets_and_idx);
+        let result = keep_one_silhouette_loop(
+            points,
+            &old_facets_and_idx,
+            out_facets_and_idx,
+            removed_facets,
+            triangles,
+            workspace,
+        );
+        clear_workspace(&old_facets_and_idx, triangles, workspace);
+        result
+    } else {
+        clear_workspace(out_facets_and_idx, triangles, workspace);
+        Ok(())
+    };
 
-        for i in 0..old_facets_and_idx.len() {
-            let facet_id = (loop_start + i) % old_facets_and_idx.len();
-            let (facet, adj_id) = old_facets_and_idx[facet_id];
+    result
+}
 
-            match removing {
-                Some(p) => {
-                    let p1 = triangles[facet].second_point_from_edge(adj_id);
-                    if p == p1 {
-                        removing = None;
-                    }
-                }
-                _ => {
-                    let p1 = triangles[facet].second_point_from_edge(adj_id);
-                    if workspace[p1] > 1 {
-                        removing = Some(p1);
-                    }
+/// gymfleet patch (vendor/parry3d/PATCHES.md, 1): zeroes the counters
+/// `fix_silhouette_topology` set for the silhouette `facets_and_idx`.
+fn clear_workspace(
+    facets_and_idx: &[(usize, usize)],
+    triangles: &[TriangleFacet],
+    workspace: &mut [u32],
+) {
+    for (facet, adj_id) in facets_and_idx {
+        workspace[triangles[*facet].second_point_from_edge(*adj_id)] = 0;
+    }
+}
+
+/// The body of `fix_silhouette_topology` when the silhouette has several loops
+/// (unchanged, moved here by gymfleet patch 1): keeps one loop of `old_facets_and_idx` in
+/// `out_facets_and_idx`, and removes the facets of the others.
+fn keep_one_silhouette_loop(
+    points: &[Vector3],
+    old_facets_and_idx: &[(usize, usize)],
+    out_facets_and_idx: &mut Vec<(usize, usize)>,
+    removed_facets: &mut Vec<usize>,
+    triangles: &mut [TriangleFacet],
+    workspace: &[u32],
+) -> Result<(), ConvexHullError> {
+    // First, we need to know which loop is the one we
+    // need to keep.
+    let mut loop_start = 0;
+    for (facet, adj_id) in old_facets_and_idx {
+        let p1 = points[triangles[*facet].second_point_from_edge(*adj_id)];
+        let p2 = points[triangles[*facet].first_point_from_edge(*adj_id)];
+        let supp = indexed_support_point_nth(
+            p2 - p1,
+            points,
+            old_facets_and_idx
+                .iter()
+                .map(|(f, ai)| triangles[*f].second_point_from_edge(*ai)),
+        )
+        .ok_or(ConvexHullError::MissingSupportPoint)?;
+        let selected = &old_facets_and_idx[supp];
+        if workspace[triangles[selected.0].second_point_from_edge(selected.1)] == 1 {
+            // This is a valid point to start with.
+            loop_start = supp;
+            break;
+        }
+    }
+
+    let mut removing = None;
+
+    for i in 0..old_facets_and_idx.len() {
+        let facet_id = (loop_start + i) % old_facets_and_idx.len();
+        let (facet, adj_id) = old_facets_and_idx[facet_id];
+
+        match removing {
+            Some(p) => {
+                let p1 = triangles[facet].second_point_from_edge(adj_id);
+                if p == p1 {
+                    removing = None;
                 }
             }
-
-            if removing.is_some() {
-                if triangles[facet].valid {
-                    triangles[facet].valid = false;
-                    removed_facets.push(facet);
+            _ => {
+                let p1 = triangles[facet].second_point_from_edge(adj_id);
+                if workspace[p1] > 1 {
+                    removing = Some(p1);
                 }
-            } else {
-                out_facets_and_idx.push((facet, adj_id));
             }
-
-            // // Debug
-            // {
-            //     let p1 = triangles[facet].second_point_from_edge(adj_id);
-            //     let p2 = triangles[facet].first_point_from_edge(adj_id);
-            //     if removing.is_some() {
-            //         print!("/{}, {}\\ ", p1, p2);
-            //     } else {
-            //         print!("[{}, {}] ", p1, p2);
-            //     }
-            // }
         }
 
-        // println!();
+        if removing.is_some() {
+            if triangles[facet].valid {
+                triangles[facet].valid = false;
+                removed_facets.push(facet);
+            }
+        } else {
+            out_facets_and_idx.push((facet, adj_id));
+        }
     }
 
     Ok(())
