@@ -18,4 +18,4 @@ mod pool;
 
 pub use batch::{default_chunk_size, Autoreset, BatchStepOutput, EnvBatch, MAX_DEFAULT_CHUNK_SIZE};
 pub use error::{BatchError, Result};
-pub use pool::{panic_message, JobQueueStats, StepPool, POOL_NICENESS};
+pub use pool::{panic_message, JobQueueStats, StepPool, POOL_NICENESS, POOL_STACK_BYTES};

@@ -19,6 +19,13 @@ use std::time::Instant;
 
 use crate::error::{BatchError, Result};
 
+/// Stack of each pool thread, bytes. Documents are converted and validated on the pool,
+/// some of it recursively over the body tree (bounded by
+/// `gymfleet_import::MAX_BODY_DEPTH`); Rust's default of 2 MiB holds about 300 nested
+/// bodies in a debug build. The stack is reserved, not committed: untouched pages cost
+/// no memory.
+pub const POOL_STACK_BYTES: usize = 16 << 20;
+
 /// A pool of step threads shared by many batches, scheduled fairly across them.
 ///
 /// Cloning gives another handle to the same pool. The threads stop once the last
@@ -86,6 +93,7 @@ impl StepPool {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .thread_name(|i| format!("gymfleet-step-{i}"))
+            .stack_size(POOL_STACK_BYTES)
             .start_handler(|_| lower_priority())
             // The default hook has already printed the panic; without a handler a
             // panic in a `spawn`ed closure would abort the whole process.

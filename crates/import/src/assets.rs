@@ -78,7 +78,8 @@ impl Assets {
                         .join("/");
                     let file = std::fs::File::open(&path)
                         .map_err(|e| bad(format!("assets: {}: {e}", path.display())))?;
-                    out.add(name, file)?;
+                    let declared = file.metadata().map_or(0, |m| m.len());
+                    out.add(name, declared, file)?;
                 }
             }
         }
@@ -100,7 +101,8 @@ impl Assets {
                 .name()
                 .map_err(|e| bad(format!("assets: zip entry {i}'s name: {e}")))?
                 .into_owned();
-            out.add(name, entry)?;
+            let declared = entry.size();
+            out.add(name, declared, entry)?;
         }
         Ok(out.assets)
     }
@@ -121,7 +123,8 @@ impl Assets {
                 .map_err(|e| bad(format!("assets: tar entry name: {e}")))?
                 .to_string_lossy()
                 .into_owned();
-            out.add(name, entry)?;
+            let declared = entry.header().size().unwrap_or(0);
+            out.add(name, declared, entry)?;
         }
         Ok(out.assets)
     }
@@ -203,7 +206,8 @@ struct Budget {
 }
 
 impl Budget {
-    fn add(&mut self, name: String, entry: impl Read) -> Result<()> {
+    /// Reads one file of `declared` bytes (the archive's word, a hint only).
+    fn add(&mut self, name: String, declared: u64, entry: impl Read) -> Result<()> {
         if name.starts_with('/') || name.split(['/', '\\']).any(|p| p == "..") {
             return Err(bad(format!(
                 "assets: {} escapes the archive's root (absolute, or with ..)",
@@ -216,7 +220,11 @@ impl Budget {
             )));
         }
         let left = MAX_ASSET_BYTES - self.bytes;
-        let mut data = Vec::new();
+        // Sized by the archive's word, but never past the budget: a decompression bomb
+        // that declares its size fills one buffer of at most the budget instead of
+        // doubling a growing one past it (tests/tests/alloc_bounds.rs).
+        let hint = usize::try_from(declared.min(left + 1)).unwrap_or(0);
+        let mut data = Vec::with_capacity(hint);
         entry
             .take(left + 1)
             .read_to_end(&mut data)
@@ -229,6 +237,7 @@ impl Budget {
             )));
         }
         self.bytes += data.len() as u64;
+        data.shrink_to_fit();
         self.assets.files.insert(normal(&name), data);
         Ok(())
     }

@@ -42,7 +42,9 @@ pub use assets::{Assets, MAX_ASSET_BYTES, MAX_ASSET_FILES};
 pub use meshes::{
     inline_mesh_files, load as load_mesh, with_mesh_files, MeshData, MAX_FILE_VERTICES,
 };
-pub use mjcf::{expand_includes, mjcf_to_document, MAX_INCLUDED_BYTES, MAX_INCLUDE_DEPTH};
+pub use mjcf::{
+    expand_includes, mjcf_to_document, MAX_BODY_DEPTH, MAX_INCLUDED_BYTES, MAX_INCLUDE_DEPTH,
+};
 pub use urdf::urdf_to_document;
 
 /// `s` quoted, cut to a readable length (names and paths echoed in errors).

@@ -7,6 +7,7 @@ mod errors;
 mod fleet;
 mod imports;
 mod lifecycle;
+mod regressions;
 mod render;
 mod replay;
 mod security;

@@ -174,6 +174,19 @@ impl<'a, 'i> Converter<'a, 'i> {
         parent: Option<&str>,
         class: Option<&str>,
     ) -> Result<()> {
+        // Bounded before recursing further: a hostile tree of nested bodies would
+        // otherwise overflow the converting thread's stack.
+        let nested = node
+            .ancestors()
+            .filter(|n| n.has_tag_name("body"))
+            .take(MAX_BODY_DEPTH + 1)
+            .count();
+        if nested > MAX_BODY_DEPTH {
+            return Err(self.unsupported(
+                node,
+                format!("bodies nested more than {MAX_BODY_DEPTH} deep are not supported"),
+            ));
+        }
         let body_name = node.attribute("name").unwrap_or("body").to_string();
         let class_owned = node
             .attribute("childclass")

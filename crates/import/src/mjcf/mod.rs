@@ -30,6 +30,12 @@ mod tendons;
 
 pub use include::{expand_includes, MAX_INCLUDED_BYTES, MAX_INCLUDE_DEPTH};
 
+/// Deepest nesting of `<body>` elements converted (the server's default cap on instances
+/// is as large). The tree is converted recursively; deeper trees are refused, so that no
+/// document can overflow the converting thread's stack (about 6 KiB per level in a debug
+/// build: 3 MiB at this depth, within the step pool's 16 MiB threads).
+pub const MAX_BODY_DEPTH: usize = 512;
+
 /// Millimetres per metre.
 const MM: f64 = 1000.0;
 /// The mass of the helper instances the conversion adds (kg): between two joints of one
