@@ -127,3 +127,77 @@ pub fn saved_state(data: &[u8]) -> Reached {
     }
     Reached::Stepping
 }
+
+/// The MJCF model the assets target reads its archives against: two mesh files (STL and
+/// OBJ) and an include, all looked up in the archive.
+const ASSETS_MJCF: &str = r#"<mujoco model="assets">
+  <include file="extra.xml"/>
+  <asset>
+    <mesh name="a" file="a.stl"/>
+    <mesh name="b" file="meshes/b.obj"/>
+  </asset>
+  <worldbody>
+    <body name="link" pos="0 0 0.5">
+      <joint name="hinge" type="hinge" axis="0 1 0"/>
+      <geom type="mesh" mesh="a"/>
+      <geom type="mesh" mesh="b" pos="0.1 0 0"/>
+    </body>
+  </worldbody>
+  <actuator><motor joint="hinge" gear="1"/></actuator>
+</mujoco>"#;
+
+/// The URDF model the assets target reads its archives against: a COLLADA mesh by
+/// `package://` URI.
+const ASSETS_URDF: &str = r#"<robot name="assets">
+  <link name="base"/>
+  <link name="arm">
+    <inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>
+    <collision><geometry><mesh filename="package://p/meshes/c.dae" scale="0.1 0.1 0.1"/></geometry></collision>
+  </link>
+  <joint name="hinge" type="revolute">
+    <parent link="base"/><child link="arm"/><axis xyz="0 1 0"/>
+    <limit lower="-1" upper="1" effort="10" velocity="1"/>
+  </joint>
+</robot>"#;
+
+/// The assets door (`CreateEnv`'s `assets`): the bytes as a zip, tar or tar.gz archive,
+/// read against an MJCF model (STL, OBJ, an include) and a URDF model (DAE); each model
+/// that converts must build and step. Reports the furthest either got.
+pub fn assets_archive(data: &[u8]) -> Reached {
+    let assets = match gymfleet_import::Assets::from_archive(data) {
+        Ok(assets) => assets,
+        Err(e) => {
+            bounded(&e);
+            return Reached::Parsing;
+        }
+    };
+    [
+        (ASSETS_MJCF, gymfleet_import::Format::Mjcf),
+        (ASSETS_URDF, gymfleet_import::Format::Urdf),
+    ]
+    .into_iter()
+    .map(
+        |(text, format)| match gymfleet_import::to_json(text, format, Some(&assets)) {
+            Ok((json, _warnings)) => build_and_step(&json).max(Reached::Validation),
+            Err(e) => {
+                bounded(&e);
+                Reached::Validation
+            }
+        },
+    )
+    .max()
+    .unwrap_or(Reached::Validation)
+}
+
+/// The saved-state door past its checksum: the bytes are a state's fields (the payload
+/// after the 12-byte header), sealed with the magic, [`gymfleet_env::STATE_VERSION`] and
+/// their CRC-32 before decoding, so that mutations reach the field checks and the loader
+/// instead of stopping at the checksum.
+pub fn saved_state_fields(payload: &[u8]) -> Reached {
+    let mut sealed = Vec::with_capacity(12 + payload.len());
+    sealed.extend_from_slice(b"GFST");
+    sealed.extend_from_slice(&gymfleet_env::STATE_VERSION.to_le_bytes());
+    sealed.extend_from_slice(&crc32fast::hash(payload).to_le_bytes());
+    sealed.extend_from_slice(payload);
+    saved_state(&sealed)
+}

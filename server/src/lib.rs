@@ -21,6 +21,7 @@ mod cli;
 mod clock;
 mod config;
 mod convert;
+mod direct;
 mod domain;
 mod error;
 mod listen;
@@ -41,6 +42,7 @@ pub use config::{
     DEFAULT_MAX_DOFS, DEFAULT_MAX_END_EFFECTORS, DEFAULT_MAX_ENVS, DEFAULT_MAX_INSTANCES,
     DEFAULT_MAX_JOINTS, DEFAULT_MAX_MESSAGE_BYTES, DEFAULT_MAX_STEP_WORK,
 };
+pub use direct::DirectService;
 pub use error::{EntityKind, Result, ServerError, MAX_STATUS_MESSAGE_BYTES};
 pub use listen::{ListenAddr, Listener, SocketFile};
 pub use local::LocalServer;

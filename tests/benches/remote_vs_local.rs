@@ -7,6 +7,10 @@
 //!   it waits, as any in-process caller does);
 //! - `local_on_pool`: the same call made from a `StepPool::spawn` job, answered through
 //!   a channel — the server's execution model without the network;
+//! - `direct`: the server's own service called without a network
+//!   (`gymfleet_server::DirectService`): edge conversion, registry, pool hand-off and
+//!   reply, with no encoding, HTTP/2 or client; `local_on_pool` → `direct` is the
+//!   service's own cost, `direct` → `remote` the transport's;
 //! - `remote`: unary `StepBatch`;
 //! - `remote_stream`: `StreamBatch` with 4 steps in flight;
 //! - `rpc_roundtrip`: one `GetServerInfo` call, the floor of the remote overhead.
@@ -23,7 +27,9 @@ use gymfleet_batch::{Autoreset, BatchStepOutput, EnvBatch, StepPool};
 use gymfleet_client::BatchOptions;
 use gymfleet_e2e::{TestServer, ARM2};
 use gymfleet_env::{ActionType, EnvConfig, RobotEnv};
-use gymfleet_server::ServerConfig;
+use gymfleet_proto::v1 as pb;
+use gymfleet_server::{DirectService, ServerConfig, Tenant};
+use pb::simulator_server::Simulator;
 
 const SIZES: [usize; 3] = [16, 256, 1024];
 const THREADS: [usize; 2] = [1, 2];
@@ -60,6 +66,15 @@ fn bench_remote_vs_local(c: &mut Criterion) {
             ..EnvConfig::with_end_effectors(["forearm"])
         };
         let template = RobotEnv::from_json(ARM2, config).expect("arm2");
+        let direct = rt
+            .block_on(async {
+                DirectService::new(ServerConfig {
+                    threads,
+                    ..ServerConfig::default()
+                })
+            })
+            .expect("direct service");
+        let tenant = Tenant::anonymous();
 
         // The cost of one round trip with no simulation: the floor of remote overhead.
         group.throughput(Throughput::Elements(1));
@@ -115,6 +130,44 @@ fn bench_remote_vs_local(c: &mut Criterion) {
                     })
                 },
             );
+
+            let create = pb::CreateBatchRequest {
+                document_json: ARM2.into(),
+                end_effector_ids: vec!["forearm".into()],
+                max_steps: MAX_STEPS,
+                n_envs: n_envs as u32,
+                autoreset: pb::Autoreset::SameStep as i32,
+                ..Default::default()
+            };
+            let direct_batch = rt
+                .block_on(
+                    direct
+                        .simulator()
+                        .create_batch(DirectService::request(create, &tenant)),
+                )
+                .expect("direct batch")
+                .into_inner()
+                .batch_id;
+            group.bench_function(BenchmarkId::new(format!("direct/{label}"), n_envs), |b| {
+                b.iter_custom(|iters| {
+                    rt.block_on(async {
+                        let start = Instant::now();
+                        for _ in 0..iters {
+                            let step = pb::StepBatchRequest {
+                                batch_id: direct_batch.clone(),
+                                action_type: pb::ActionType::Torque as i32,
+                                actions: acts.clone(),
+                            };
+                            direct
+                                .simulator()
+                                .step_batch(DirectService::request(step, &tenant))
+                                .await
+                                .expect("direct step");
+                        }
+                        start.elapsed()
+                    })
+                })
+            });
 
             let options = BatchOptions::new(ARM2, n_envs)
                 .end_effectors(["forearm"])
