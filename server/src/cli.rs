@@ -90,6 +90,11 @@ pub struct Cli {
     /// on a private port), e.g. 0.0.0.0:9090.
     #[arg(long, env = "GYMFLEET_METRICS_LISTEN", value_name = "ADDR")]
     pub metrics_listen: Option<std::net::SocketAddr>,
+    /// Serve a read-only dashboard at http://ADDR/ (envs, batches, rates, the pool, a
+    /// live 3D view), e.g. 127.0.0.1:8080. Plain HTTP; an address other than loopback
+    /// needs --auth-tokens (the page then asks for a token and shows that tenant's).
+    #[arg(long, env = "GYMFLEET_DASHBOARD_LISTEN", value_name = "ADDR")]
+    pub dashboard_listen: Option<std::net::SocketAddr>,
     /// Require bearer tokens: a file of `TENANT TOKEN` lines (`#` comments). Each tenant
     /// sees only its own envs and batches. Health checks stay open.
     #[arg(long, env = "GYMFLEET_AUTH_TOKENS", value_name = "FILE")]
@@ -137,6 +142,10 @@ impl Cli {
             Some(path) => Some(Arc::new(TokenTable::load(path)?)),
             None => None,
         };
+        if let Some(addr) = self.dashboard_listen {
+            crate::dashboard::check_listen(addr, auth_tokens.is_some())
+                .map_err(|e| e.to_string())?;
+        }
         let models = match &self.models {
             Some(dir) => Some(Arc::new(
                 crate::models::ModelLibrary::load(dir).map_err(|e| e.to_string())?,
@@ -156,6 +165,7 @@ impl Cli {
             max_step_work: self.max_step_work,
             tls,
             metrics_listen: self.metrics_listen,
+            dashboard_listen: self.dashboard_listen,
             auth_tokens,
             models,
             tenant_max_envs: self.tenant_max_envs,
@@ -226,6 +236,30 @@ mod tests {
         assert_eq!(config.max_batch_size, 10);
         assert_eq!(config.idle_ttl(), None);
         assert_eq!(cli.log_format, LogFormat::Json);
+    }
+
+    #[test]
+    fn a_dashboard_off_loopback_needs_auth() {
+        scrub_gymfleet_env();
+        let cli = Cli::try_parse_from(["gymfleet-server", "--dashboard-listen", "127.0.0.1:0"])
+            .expect("flags parse");
+        let config = cli.server_config().unwrap();
+        assert_eq!(config.dashboard_listen, Some(([127, 0, 0, 1], 0).into()));
+        assert_eq!(
+            ServerConfig::default().dashboard_listen,
+            None,
+            "off by default"
+        );
+
+        let cli = Cli::try_parse_from(["gymfleet-server", "--dashboard-listen", "0.0.0.0:8080"])
+            .expect("flags parse");
+        assert_eq!(
+            cli.server_config().unwrap_err(),
+            "cannot listen on 0.0.0.0:8080: a dashboard on an address other than loopback \
+             needs --auth-tokens (GYMFLEET_AUTH_TOKENS): without tokens, anyone who reaches \
+             the port sees every env; serve it on 127.0.0.1 (through an SSH tunnel, say) or \
+             turn auth on"
+        );
     }
 
     #[test]

@@ -82,6 +82,10 @@ pub struct ServerConfig {
     pub tls: Option<TlsConfig>,
     /// Where to serve Prometheus metrics (`GET /metrics`, plain HTTP); `None` = nowhere.
     pub metrics_listen: Option<std::net::SocketAddr>,
+    /// Where to serve the read-only dashboard page and its JSON API (plain HTTP);
+    /// `None` = nowhere. A non-loopback address needs `auth_tokens` (the server refuses
+    /// to start otherwise).
+    pub dashboard_listen: Option<std::net::SocketAddr>,
     /// Bearer tokens and their tenants (`--auth-tokens`); `None` = auth off, every caller
     /// is the anonymous tenant.
     pub auth_tokens: Option<Arc<TokenTable>>,
@@ -121,6 +125,7 @@ impl Default for ServerConfig {
             max_step_work: DEFAULT_MAX_STEP_WORK,
             tls: None,
             metrics_listen: None,
+            dashboard_listen: None,
             auth_tokens: None,
             tenant_max_envs: 0,
             models: None,

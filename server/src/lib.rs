@@ -21,6 +21,7 @@ mod cli;
 mod clock;
 mod config;
 mod convert;
+mod dashboard;
 mod direct;
 mod domain;
 mod error;

@@ -25,6 +25,7 @@ use crate::listen::{ListenAddr, Listener};
 #[derive(Debug)]
 pub struct LocalServer {
     addr: ListenAddr,
+    dashboard: Option<std::net::SocketAddr>,
     stop: Option<oneshot::Sender<()>>,
     task: Option<JoinHandle<Result<()>>>,
 }
@@ -45,13 +46,21 @@ impl LocalServer {
             reason: e.to_string(),
         })?;
         let addr = listener.local_addr()?;
+        // Bound here, so that its address is known before serving starts.
+        let dashboard_listener = crate::dashboard::bind(&config).await?;
+        let dashboard = dashboard_listener
+            .as_ref()
+            .map(tokio::net::TcpListener::local_addr)
+            .transpose()?;
         let (stop, stopped) = oneshot::channel::<()>();
-        let task = tokio::spawn(crate::serve(listener, config, async move {
+        let serving = crate::serve::serve_bound(listener, dashboard_listener, config, async move {
             // A dropped sender stops the server too.
             let _ = stopped.await;
-        }));
+        });
+        let task = tokio::spawn(serving);
         Ok(LocalServer {
             addr,
+            dashboard,
             stop: Some(stop),
             task: Some(task),
         })
@@ -60,6 +69,12 @@ impl LocalServer {
     /// Where it listens.
     pub fn addr(&self) -> &ListenAddr {
         &self.addr
+    }
+
+    /// Where the dashboard listens (`ServerConfig::dashboard_listen`, its port resolved
+    /// when it was 0), if it is on.
+    pub fn dashboard_addr(&self) -> Option<std::net::SocketAddr> {
+        self.dashboard
     }
 
     /// The address a client connects to: `127.0.0.1:<port>` or `unix:/path`.

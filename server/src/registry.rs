@@ -5,6 +5,9 @@
 //! while calls on different envs run in parallel. The mutex holds an `Option`: `None`
 //! means the entry was closed (by `Close`, the idle sweeper, or a panic) while a call was
 //! queued on it, and that call answers NOT_FOUND.
+//!
+//! Each entry also has an [`Activity`]: counters its step jobs add to with atomics (no
+//! lock on the step path), which the dashboard reads without taking the entry's lock.
 
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
@@ -17,6 +20,9 @@ use crate::auth::Tenant;
 use crate::clock::Clock;
 
 use crate::error::{EntityKind, Result, ServerError};
+
+mod activity;
+pub(crate) use activity::{clear_done, Activity, Facts, Rates};
 
 /// Counts held environments against `--max-envs` (the server's capacity) or against
 /// `--tenant-max-envs` (one tenant's).
@@ -155,6 +161,14 @@ impl<T> Held<T> {
     }
 }
 
+/// An entry as the dashboard lists it: read without its lock, and without marking it used.
+#[derive(Debug, Clone)]
+pub(crate) struct Watched {
+    pub(crate) id: String,
+    pub(crate) activity: Arc<Activity>,
+    pub(crate) idle: Duration,
+}
+
 /// The lock guard of an entry: `None` once closed.
 pub(crate) type Slot<T> = OwnedMutexGuard<Option<Held<T>>>;
 
@@ -168,6 +182,7 @@ pub(crate) struct Entry<T> {
     /// Milliseconds on the registry's clock at the last call.
     last_used_ms: AtomicU64,
     clock: Clock,
+    activity: Arc<Activity>,
 }
 
 impl<T> Entry<T> {
@@ -237,7 +252,20 @@ impl<T> Registry<T> {
     }
 
     /// Adds a value owned by `owner` and returns its new id.
+    #[cfg(test)]
     pub(crate) fn insert(&self, owner: &Tenant, value: T, reservation: Reservation) -> String {
+        self.insert_with(owner, value, reservation, Activity::new(Facts::default()))
+    }
+
+    /// Adds a value owned by `owner`, whose step jobs count in `activity`, and returns
+    /// its new id.
+    pub(crate) fn insert_with(
+        &self,
+        owner: &Tenant,
+        value: T,
+        reservation: Reservation,
+        activity: Arc<Activity>,
+    ) -> String {
         let id = format!(
             "{}_{}",
             self.prefix,
@@ -252,6 +280,7 @@ impl<T> Registry<T> {
             }))),
             last_used_ms: AtomicU64::new(millis(&self.clock)),
             clock: self.clock.clone(),
+            activity,
         });
         self.map().insert(id.clone(), entry);
         id
@@ -260,17 +289,41 @@ impl<T> Registry<T> {
     /// Looks up an id of `owner`'s and marks it used; NOT_FOUND names the id. Another
     /// tenant's id is NOT_FOUND too, with the same message as an id that never existed.
     pub(crate) fn get(&self, owner: &Tenant, id: &str) -> Result<Arc<Entry<T>>> {
-        let entry = self
-            .map()
+        let entry = self.peek(owner, id)?;
+        entry.touch();
+        Ok(entry)
+    }
+
+    /// Looks up an id of `owner`'s without marking it used (watching is not using: the
+    /// dashboard must not keep an abandoned env from being reclaimed).
+    pub(crate) fn peek(&self, owner: &Tenant, id: &str) -> Result<Arc<Entry<T>>> {
+        self.map()
             .get(id)
             .filter(|entry| entry.owner == *owner)
             .cloned()
             .ok_or_else(|| ServerError::NotFound {
                 kind: self.kind,
                 id: id.to_string(),
-            })?;
-        entry.touch();
-        Ok(entry)
+            })
+    }
+
+    /// `owner`'s entries in id order (`sim_2` before `sim_10`), at most `limit` of them,
+    /// and how many `owner` has; none is marked used.
+    pub(crate) fn watch(&self, owner: &Tenant, limit: usize) -> (usize, Vec<Watched>) {
+        let mut mine: Vec<Watched> = self
+            .map()
+            .values()
+            .filter(|e| e.owner == *owner)
+            .map(|e| Watched {
+                id: e.id.clone(),
+                activity: Arc::clone(&e.activity),
+                idle: e.idle_for(),
+            })
+            .collect();
+        mine.sort_by(|a, b| (a.id.len(), &a.id).cmp(&(b.id.len(), &b.id)));
+        let total = mine.len();
+        mine.truncate(limit);
+        (total, mine)
     }
 
     /// Forgets an id. Calls already queued on its lock find the slot empty once the
@@ -390,6 +443,36 @@ mod tests {
         assert_eq!(ids, [idle.as_str()]);
         assert_eq!(registry.len_of(&anon), 1);
         assert!(registry.take_idle(Duration::from_secs(3600)).is_empty());
+    }
+
+    #[test]
+    fn watching_lists_an_owners_entries_in_id_order_without_using_them() {
+        let capacity = EnvCapacity::new(0);
+        let clock = Clock::manual();
+        let registry = Registry::new(EntityKind::Env, "sim", clock.clone());
+        let (a, b) = (Tenant::named("a"), Tenant::named("b"));
+        let mut ids = Vec::new();
+        for i in 0..11 {
+            let owner = if i == 3 { &b } else { &a };
+            let held = capacity.reserve(1, EntityKind::Env).unwrap();
+            ids.push(registry.insert(owner, (), held));
+        }
+        clock.advance(Duration::from_secs(5));
+        let (total, first) = registry.watch(&a, 9);
+        assert_eq!(total, 10);
+        let listed: Vec<&str> = first.iter().map(|w| w.id.as_str()).collect();
+        assert_eq!(
+            listed,
+            ["sim_1", "sim_2", "sim_3", "sim_5", "sim_6", "sim_7", "sim_8", "sim_9", "sim_10"]
+        );
+        assert_eq!(first[0].idle, Duration::from_secs(5));
+        assert!(registry.peek(&a, &ids[0]).is_ok());
+        assert!(matches!(
+            registry.peek(&a, &ids[3]),
+            Err(ServerError::NotFound { .. })
+        ));
+        // Neither watching nor peeking marked anything used: all of them are idle.
+        assert_eq!(registry.take_idle(Duration::from_secs(5)).len(), 11);
     }
 
     #[tokio::test]

@@ -1,5 +1,6 @@
 //! [`serve`]: wires the pool, the services (simulator, health, reflection), the idle
-//! sweeper and graceful shutdown around one listener.
+//! sweeper, the metrics and dashboard listeners, and graceful shutdown around one
+//! listener.
 
 use std::future::Future;
 use std::sync::Arc;
@@ -26,7 +27,9 @@ use crate::simulation::Simulation;
 ///
 /// Also serves `grpc.health.v1.Health` (with `gymfleet.v1.Simulator` SERVING) and gRPC
 /// reflection v1 and v1alpha. Accepted TCP connections get `TCP_NODELAY`. With
-/// `config.auth_tokens`, every service but health needs a bearer token.
+/// `config.auth_tokens`, every service but health needs a bearer token. With
+/// `config.dashboard_listen`, also serves the dashboard there (refused on an address other
+/// than loopback without auth tokens), and stops it with the rest.
 ///
 /// ```no_run
 /// # async fn demo() -> gymfleet_server::Result<()> {
@@ -48,7 +51,18 @@ pub async fn serve(
     config: ServerConfig,
     shutdown: impl Future<Output = ()>,
 ) -> Result<()> {
-    let listener = listener.into();
+    let dashboard = crate::dashboard::bind(&config).await?;
+    serve_bound(listener.into(), dashboard, config, shutdown).await
+}
+
+/// [`serve`] with the dashboard's listener (if `config.dashboard_listen` is set) already
+/// bound, so that [`crate::LocalServer`] knows its address before serving.
+pub(crate) async fn serve_bound(
+    listener: Listener,
+    dashboard: Option<tokio::net::TcpListener>,
+    config: ServerConfig,
+    shutdown: impl Future<Output = ()>,
+) -> Result<()> {
     let pool = StepPool::new(config.threads)?;
     let threads = pool.threads();
     let sim = Arc::new(Simulation::new(config.clone(), pool));
@@ -88,6 +102,18 @@ pub async fn serve(
             Some(tokio::spawn(crate::metrics::serve_metrics(
                 listener,
                 Arc::clone(&sim),
+            )))
+        }
+        None => None,
+    };
+    let dashboard = match dashboard {
+        Some(listener) => {
+            tracing::info!(addr = %listener.local_addr()?, "serving the dashboard at /");
+            Some(tokio::spawn(crate::dashboard::serve_dashboard(
+                listener,
+                Arc::clone(&sim),
+                config.clone(),
+                stop_rx.clone(),
             )))
         }
         None => None,
@@ -149,6 +175,11 @@ pub async fn serve(
     };
     if let Some(metrics) = metrics {
         metrics.abort();
+    }
+    if let Some(dashboard) = dashboard {
+        // It watches the same stop signal (or sees it dropped, if serving failed) and
+        // returns once its requests in flight are answered.
+        let _ = dashboard.await;
     }
     if let Some(sweeper) = sweeper {
         // It watches the same stop signal; it has stopped or stops at its next wake-up.

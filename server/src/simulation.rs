@@ -3,9 +3,9 @@
 
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, PoisonError};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
-use gymfleet_batch::{BatchStepOutput, EnvBatch, StepPool};
+use gymfleet_batch::{Autoreset, BatchStepOutput, EnvBatch, StepPool};
 use gymfleet_env::{DrawReport, EnvError, RobotEnv, SavedState};
 
 use crate::auth::Tenant;
@@ -17,11 +17,16 @@ use crate::domain::{
 use crate::error::{EntityKind, Result, ServerError};
 use crate::metrics::{Metrics, OpenCounts};
 use crate::pool::{self, Lane};
-use crate::registry::{EnvCapacity, Held, Registry, Reservation};
+use crate::registry::{clear_done, Activity, EnvCapacity, Facts, Held, Registry, Reservation};
+
+pub(crate) mod watch;
 
 /// One open single environment.
 pub(crate) struct OpenEnv {
     env: RobotEnv,
+    /// Its step counters (see [`Activity::record_step`] for `was_done`).
+    activity: Arc<Activity>,
+    was_done: Vec<bool>,
 }
 
 /// One open batch, with its reusable step output.
@@ -29,6 +34,8 @@ pub(crate) struct OpenBatch {
     batch: EnvBatch,
     out: BatchStepOutput,
     steps: u64,
+    activity: Arc<Activity>,
+    was_done: Vec<bool>,
 }
 
 /// The server's state.
@@ -375,7 +382,13 @@ impl Simulation {
         })
         .await?;
         let spec = env.spec().clone();
-        let id = self.envs.insert(tenant, OpenEnv { env }, reservation);
+        let activity = Activity::new(Facts::of(&spec, 1));
+        let open = OpenEnv {
+            env,
+            activity: Arc::clone(&activity),
+            was_done: Vec::new(),
+        };
+        let id = self.envs.insert_with(tenant, open, reservation, activity);
         tracing::info!(env_id = %id, action_dim = spec.action_dim, "created env");
         Ok(Created {
             id,
@@ -396,6 +409,7 @@ impl Simulation {
             let (dim, split) = (spec.observation_dim, ObsSplit::of(spec));
             let mut obs = vec![0.0; dim];
             open.env.reset_into(seed, &mut obs);
+            open.was_done.fill(false);
             Ok((obs, split))
         })
         .await
@@ -408,6 +422,7 @@ impl Simulation {
                 if inject {
                     panic!("injected panic (ServerConfig::panic_on_action)");
                 }
+                let started = Instant::now();
                 let spec = open.env.spec();
                 let (dim, split) = (spec.observation_dim, ObsSplit::of(spec));
                 let mut observation = vec![0.0; dim];
@@ -416,6 +431,13 @@ impl Simulation {
                     &step.action.values,
                     &mut observation,
                 )?;
+                open.activity.record_step(
+                    started.elapsed(),
+                    &[flags.terminated],
+                    &[flags.truncated],
+                    false,
+                    &mut open.was_done,
+                );
                 Ok(EnvStepOutcome {
                     observation,
                     flags,
@@ -519,12 +541,17 @@ impl Simulation {
         let spec = batch.spec().clone();
         let n_envs = batch.n_envs();
         let autoreset = batch.autoreset();
+        let activity = Activity::new(Facts::of(&spec, n_envs));
         let open = OpenBatch {
             batch,
             out: BatchStepOutput::default(),
             steps: 0,
+            activity: Arc::clone(&activity),
+            was_done: Vec::new(),
         };
-        let id = self.batches.insert(tenant, open, reservation);
+        let id = self
+            .batches
+            .insert_with(tenant, open, reservation, activity);
         tracing::info!(batch_id = %id, n_envs, "{what}");
         Created {
             id,
@@ -550,6 +577,7 @@ impl Simulation {
             let only = (!env_indices.is_empty()).then_some(&env_indices[..]);
             open.batch
                 .reset_envs(&pool, seed, seed_offset, only, &mut observations)?;
+            clear_done(&mut open.was_done, only);
             Ok(batch_observation(batch_id, &open.batch, observations))
         })
         .await
@@ -572,9 +600,17 @@ impl Simulation {
                     action_type,
                     values,
                 } = step.action;
+                let started = Instant::now();
                 open.batch
                     .step(&pool, action_type, &values, &mut open.out)?;
                 open.steps += 1;
+                open.activity.record_step(
+                    started.elapsed(),
+                    &open.out.terminated,
+                    &open.out.truncated,
+                    open.batch.autoreset() != Autoreset::Disabled,
+                    &mut open.was_done,
+                );
                 Ok(BatchStepped {
                     batch_id: step.batch_id,
                     step_index: open.steps,
@@ -700,6 +736,7 @@ impl Simulation {
         self.on_env(tenant, id, "LoadState", move |open| {
             let state = SavedState::decode(&state)?;
             open.env.load(&state)?;
+            open.was_done.fill(false);
             let spec = open.env.spec();
             let (dim, split) = (spec.observation_dim, ObsSplit::of(spec));
             let mut obs = vec![0.0; dim];
@@ -761,6 +798,7 @@ impl Simulation {
                 })
                 .collect::<Result<Vec<_>>>()?;
             open.batch.load_states(&env_indices, &decoded)?;
+            clear_done(&mut open.was_done, Some(&env_indices));
             let mut observations = Vec::new();
             open.batch.observe(&mut observations);
             Ok(batch_observation(batch_id, &open.batch, observations))

@@ -3,6 +3,7 @@
 
 mod adversarial;
 mod batches;
+mod dashboard;
 mod errors;
 mod fleet;
 mod imports;
