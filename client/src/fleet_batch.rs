@@ -1,6 +1,13 @@
 //! [`FleetBatch`]: one logical batch sharded across the servers of a [`crate::Fleet`],
-//! stepped as one, with lost servers reported per env and dropped on request (or rebuilt
-//! from a checkpoint: `fleet_recovery.rs`).
+//! stepped as one, with lost servers reported per env (`losses.rs`) and dropped on request
+//! or rebuilt from a checkpoint (`recovery.rs`); the shards' replies are merged into one
+//! (`merge.rs`).
+
+mod losses;
+mod merge;
+pub(crate) mod recovery;
+
+use merge::merge_steps;
 
 use gymfleet_proto::v1 as pb;
 use std::ops::Range;
@@ -68,7 +75,7 @@ impl Shard {
 ///
 /// Instead of going on without them, a batch that checkpoints
 /// ([`FleetBatch::checkpoint_every`]) can rebuild the lost envs on the survivors or a
-/// replacement server ([`FleetBatch::recover`], `fleet_recovery.rs`) and go on with all of
+/// replacement server ([`FleetBatch::recover`], `fleet_batch/recovery.rs`) and go on with all of
 /// them, bitwise as if nothing had been lost.
 ///
 /// A call that fails on some shard for another reason (e.g. INTERNAL) returns
@@ -81,8 +88,8 @@ pub struct FleetBatch {
     env_indices: Vec<usize>,
     interrupted: Option<BatchStep>,
     /// With [`FleetBatch::checkpoint_every`]: the last checkpoint and what was done since
-    /// (`fleet_recovery.rs`).
-    pub(crate) checkpoints: Option<crate::fleet_recovery::Checkpoints>,
+    /// (`fleet_batch/recovery.rs`).
+    pub(crate) checkpoints: Option<recovery::Checkpoints>,
 }
 
 impl FleetBatch {
@@ -160,122 +167,6 @@ impl FleetBatch {
         self.shards.iter().map(|s| &s.batch)
     }
 
-    /// Forgets the shards of lost servers and returns their original env indices,
-    /// ascending (empty if none was lost). The batch then holds the survivors only.
-    ///
-    /// Nothing is sent to a lost server: if it comes back with the shard still open, its
-    /// idle TTL reclaims it.
-    pub fn drop_lost(&mut self) -> Vec<usize> {
-        let (lost, kept): (Vec<Shard>, Vec<Shard>) = std::mem::take(&mut self.shards)
-            .into_iter()
-            .partition(|s| s.lost.is_some());
-        self.shards = kept;
-        self.refresh();
-        if !lost.is_empty() {
-            // The checkpoint's states and log are by position, which just changed.
-            self.checkpoints = None;
-        }
-        // The survivors' replies to the step that found the loss, if they all stepped.
-        let replies: Option<Vec<pb::BatchStepResult>> = self
-            .shards
-            .iter_mut()
-            .map(|s| s.interrupted.take())
-            .collect();
-        self.interrupted = match replies {
-            Some(replies) if !lost.is_empty() && !self.shards.is_empty() => {
-                let lens: Vec<usize> = self.shards.iter().map(|s| s.envs.len()).collect();
-                BatchStep::new(merge_steps(replies, &lens), &self.info).ok()
-            }
-            _ => None,
-        };
-        lost.into_iter().flat_map(|s| s.envs).collect()
-    }
-
-    /// After [`FleetBatch::drop_lost`]: the survivors' result of the step that failed
-    /// with [`ClientError::ServerLost`], in the survivors' order. They took that step
-    /// (their servers did not fail), so a caller going on with them uses this result as
-    /// that step's. `None` if the loss was not found by a step, or once taken.
-    pub fn take_interrupted_step(&mut self) -> Option<BatchStep> {
-        self.interrupted.take()
-    }
-
-    /// Fails with the first lost server's error, if one was lost.
-    pub(crate) fn check_not_lost(&self) -> Result<()> {
-        if self.shards.is_empty() {
-            return Err(ClientError::Fleet {
-                message: "every server of this fleet batch was lost; create a new one".into(),
-            });
-        }
-        match self
-            .shards
-            .iter()
-            .find_map(|s| s.lost.clone().map(|r| s.lost_error(r)))
-        {
-            Some(err) => Err(err),
-            None => Ok(()),
-        }
-    }
-
-    /// A server that fails a call without a clear status (a dropped connection can come
-    /// back as UNKNOWN) is asked for its info: if that fails too, the server is lost.
-    pub(crate) async fn confirm_losses<T>(&self, mut results: Vec<Result<T>>) -> Vec<Result<T>> {
-        for (shard, result) in self.shards.iter().zip(results.iter_mut()) {
-            let Err(err @ ClientError::Internal { .. }) = result else {
-                continue;
-            };
-            let first = err.to_string();
-            if let Err(probe) = shard.batch.client().server_info().await {
-                if is_loss(&probe) {
-                    *result = Err(ClientError::Unavailable {
-                        message: format!("{first}; then {probe}"),
-                        code: tonic::Code::Unavailable,
-                    });
-                }
-            }
-        }
-        results
-    }
-
-    /// Sorts the shards' outcomes: marks the lost servers (unreachable, or no longer
-    /// knowing the shard) and returns the first error, a loss first.
-    pub(crate) fn settle<T>(&mut self, results: Vec<Result<T>>) -> Result<Vec<T>> {
-        self.settle_keeping(results, |_, _| {})
-    }
-
-    /// [`FleetBatch::settle`], handing each shard's value to `keep` if a server was lost.
-    fn settle_keeping<T>(
-        &mut self,
-        results: Vec<Result<T>>,
-        mut keep: impl FnMut(&mut Shard, T),
-    ) -> Result<Vec<T>> {
-        let mut values = Vec::with_capacity(results.len());
-        let mut lost = None;
-        let mut other = None;
-        for (shard, result) in self.shards.iter_mut().zip(results) {
-            match result {
-                Ok(value) => values.push((shard, value)),
-                Err(err) if is_loss(&err) => {
-                    let reason = err.to_string();
-                    shard.lost = Some(reason.clone());
-                    lost.get_or_insert_with(|| shard.lost_error(reason));
-                }
-                Err(err) => {
-                    other.get_or_insert_with(|| on_server(shard.batch.client(), err));
-                }
-            }
-        }
-        if let Some(err) = lost {
-            for (shard, value) in values {
-                keep(shard, value);
-            }
-            return Err(err);
-        }
-        match other {
-            Some(err) => Err(err),
-            None => Ok(values.into_iter().map(|(_, value)| value).collect()),
-        }
-    }
-
     /// Steps every env once. `actions` holds `n_envs × action_dim` values, row-major, in
     /// the current env order. Wrong lengths and non-finite values are refused before any
     /// server is called, so no shard steps alone.
@@ -301,7 +192,7 @@ impl FleetBatch {
                 ),
             });
         }
-        self.log(|| crate::fleet_recovery::Logged::Step {
+        self.log(|| recovery::Logged::Step {
             action_type,
             actions: actions.to_vec(),
         });
@@ -355,7 +246,7 @@ impl FleetBatch {
         if let Some(indices) = env_indices {
             check_positions(indices, self.n_envs())?;
         }
-        self.log(|| crate::fleet_recovery::Logged::Reset {
+        self.log(|| recovery::Logged::Reset {
             seed,
             seed_offset,
             env_indices: env_indices.map(<[u32]>::to_vec),
@@ -603,126 +494,4 @@ pub(crate) fn check_positions(indices: &[u32], n_envs: usize) -> Result<()> {
         });
     }
     Ok(())
-}
-
-/// Errors that mean the shard's envs are gone: the server is unreachable or going away,
-/// no longer knows the batch (it restarted, or reclaimed it), or did not answer in time
-/// (the shard's state is then unknown).
-fn is_loss(err: &ClientError) -> bool {
-    matches!(
-        err,
-        ClientError::Unavailable { .. }
-            | ClientError::DeadlineExceeded { .. }
-            | ClientError::NotFound { .. }
-            | ClientError::Connect { .. }
-    )
-}
-
-/// The shards' checked replies (of `lens` envs each) as one reply: rows concatenated in
-/// shard order, per-env indices shifted by the shard's first position. The first reply's
-/// vectors are reused, so a one-shard batch copies nothing.
-pub(crate) fn merge_steps(
-    replies: Vec<pb::BatchStepResult>,
-    lens: &[usize],
-) -> pb::BatchStepResult {
-    let mut replies = replies.into_iter();
-    let mut merged = replies.next().unwrap_or_default();
-    let mut position = lens.first().copied().unwrap_or(0);
-    for (reply, len) in replies.zip(lens.iter().skip(1)) {
-        let shift = u32::try_from(position).unwrap_or(u32::MAX);
-        merged.observations.extend_from_slice(&reply.observations);
-        merged.rewards.extend_from_slice(&reply.rewards);
-        merged.terms.extend_from_slice(&reply.terms);
-        merged.terminated.extend_from_slice(&reply.terminated);
-        merged.truncated.extend_from_slice(&reply.truncated);
-        merged
-            .final_env_indices
-            .extend(reply.final_env_indices.iter().map(|i| i + shift));
-        merged
-            .final_observations
-            .extend_from_slice(&reply.final_observations);
-        merged.termination_reasons.extend(
-            reply
-                .termination_reasons
-                .into_iter()
-                .map(|(i, reason)| (i + shift, reason)),
-        );
-        position += len;
-    }
-    merged
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn reply(n: usize, dim: usize, base: f32, finished: &[u32]) -> pb::BatchStepResult {
-        pb::BatchStepResult {
-            batch_id: "batch_1".into(),
-            step_index: 3,
-            observations: (0..n * dim).map(|v| base + v as f32).collect(),
-            rewards: vec![base; n],
-            terminated: (0..n).map(|i| i == 0).collect(),
-            truncated: vec![false; n],
-            final_env_indices: finished.to_vec(),
-            final_observations: finished
-                .iter()
-                .flat_map(|&i| vec![-base - i as f32; dim])
-                .collect(),
-            termination_reasons: finished
-                .iter()
-                .map(|&i| (i, format!("reason {base} {i}")))
-                .collect(),
-            terms: Vec::new(),
-        }
-    }
-
-    #[test]
-    fn merged_replies_keep_env_order_and_shift_per_env_indices() {
-        let merged = merge_steps(
-            vec![
-                reply(2, 3, 0.0, &[1]),
-                reply(1, 3, 100.0, &[]),
-                reply(3, 3, 200.0, &[0, 2]),
-            ],
-            &[2, 1, 3],
-        );
-        let info = BatchInfo {
-            n_envs: 6,
-            observation_dim: 3,
-            ..BatchInfo::default()
-        };
-        let step = BatchStep::new(merged, &info).expect("a well-formed merged reply");
-        assert_eq!(step.step_index(), 3);
-        assert_eq!(step.obs(0), [0.0, 1.0, 2.0]);
-        assert_eq!(step.obs(2), [100.0, 101.0, 102.0]);
-        assert_eq!(step.obs(5), [206.0, 207.0, 208.0]);
-        assert_eq!(step.rewards(), [0.0, 0.0, 100.0, 200.0, 200.0, 200.0]);
-        assert_eq!(step.terminated(), [true, false, true, true, false, false]);
-        assert_eq!(step.final_env_indices(), [1, 3, 5]);
-        assert_eq!(step.final_observation(1), Some(&[-1.0; 3][..]));
-        assert_eq!(step.final_observation(3), Some(&[-200.0; 3][..]));
-        assert_eq!(step.final_observation(5), Some(&[-202.0; 3][..]));
-        assert_eq!(step.final_observation(4), None);
-        assert_eq!(step.termination_reason(5), Some("reason 200 2"));
-        assert_eq!(step.termination_reason(1), Some("reason 0 1"));
-        assert_eq!(step.termination_reason(2), None);
-    }
-
-    #[test]
-    fn only_lost_servers_and_unknown_batches_count_as_losses() {
-        let message = String::from("x");
-        assert!(is_loss(&ClientError::Unavailable {
-            message: message.clone(),
-            code: tonic::Code::Unavailable,
-        }));
-        assert!(is_loss(&ClientError::NotFound {
-            message: message.clone()
-        }));
-        assert!(!is_loss(&ClientError::Internal {
-            message: message.clone(),
-            code: tonic::Code::Internal,
-        }));
-        assert!(!is_loss(&ClientError::InvalidArgument { message }));
-    }
 }

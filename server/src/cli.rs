@@ -9,13 +9,13 @@ use std::time::Duration;
 use clap::{Parser, ValueEnum};
 use tracing_subscriber::EnvFilter;
 
-use crate::auth::TokenTable;
 use crate::config::{
     ServerConfig, TlsConfig, DEFAULT_MAX_BATCH_SIZE, DEFAULT_MAX_DOCUMENT_BYTES, DEFAULT_MAX_DOFS,
     DEFAULT_MAX_END_EFFECTORS, DEFAULT_MAX_ENVS, DEFAULT_MAX_INSTANCES, DEFAULT_MAX_JOINTS,
     DEFAULT_MAX_MESSAGE_BYTES, DEFAULT_MAX_STEP_WORK,
 };
 use crate::listen::ListenAddr;
+use crate::tenant::TokenTable;
 
 /// How log lines are written (to stderr).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]

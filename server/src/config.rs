@@ -4,8 +4,8 @@
 use std::sync::Arc;
 use std::time::Duration;
 
-use crate::auth::TokenTable;
 use crate::clock::Clock;
+use crate::tenant::TokenTable;
 
 /// Default largest gRPC message, decoded or encoded: 64 MiB (tonic's own default is 4 MiB).
 pub const DEFAULT_MAX_MESSAGE_BYTES: usize = 64 * 1024 * 1024;

@@ -1,21 +1,27 @@
 //! The edge between the wire and the domain: `TryFrom` proto requests into domain
 //! requests (validating what the domain cannot see, such as unset enums), and domain
 //! results into proto replies. Proto types go no further than this module and
-//! `service.rs`.
+//! `service.rs`. This file holds the requests; `replies.rs` the replies.
 
 use gymfleet_batch::Autoreset;
 use gymfleet_env::{
-    ActionType, DofKind, DrawReport, EnvConfig, EnvSpec, PdGains, Randomization, ReachTarget,
-    TaskKind, TaskSpec, TermsTask, Units, POSE_LEN,
+    ActionType, EnvConfig, PdGains, Randomization, ReachTarget, TaskKind, TaskSpec, TermsTask,
+    Units,
 };
 use gymfleet_proto::v1 as pb;
 use gymfleet_render::{Camera, CameraPreset};
 
 use crate::domain::{
-    Action, BatchObservations, BatchRequest, BatchStep, BatchStepped, DrawsOf, EnvRequest, EnvStep,
-    ForkRequest, JointLinks, ObsSplit, RenderOf, Rendered, ServerStatus,
+    Action, BatchRequest, BatchStep, DrawsOf, EnvRequest, EnvStep, ForkRequest, RenderOf,
 };
 use crate::error::{Result, ServerError};
+
+mod replies;
+
+pub(crate) use replies::{
+    batch_info, batch_observation, batch_step_result, env_info, format_to_proto, image,
+    observation, randomization_draws, scene, server_info,
+};
 
 fn action_type(raw: i32) -> Result<ActionType> {
     let expected = "expected ACTION_TYPE_TORQUE, ACTION_TYPE_POSITION or ACTION_TYPE_VELOCITY";
@@ -63,15 +69,6 @@ pub(crate) fn document_format(raw: i32) -> Result<Option<gymfleet_import::Format
                 "expected DOCUMENT_FORMAT_UNSPECIFIED, _JSON, _URDF or _MJCF, got unknown value {raw}"
             ),
         }),
-    }
-}
-
-/// A format as the wire writes it.
-pub(crate) fn format_to_proto(format: gymfleet_import::Format) -> pb::DocumentFormat {
-    match format {
-        gymfleet_import::Format::Json => pb::DocumentFormat::Json,
-        gymfleet_import::Format::Urdf => pb::DocumentFormat::Urdf,
-        gymfleet_import::Format::Mjcf => pb::DocumentFormat::Mjcf,
     }
 }
 
@@ -161,41 +158,8 @@ fn units_of(raw: i32) -> Result<Units> {
     }
 }
 
-/// Units as the wire writes them.
-fn units_to_proto(units: Units) -> i32 {
-    let units = match units {
-        Units::Document => pb::Units::Document,
-        Units::Si => pb::Units::Si,
-    };
-    units as i32
-}
-
 /// Longest terms task JSON accepted, bytes.
 const MAX_TERMS_JSON: usize = 64 * 1024;
-
-/// An env's draws as the proto's.
-pub(crate) fn randomization_draws(report: DrawReport) -> pb::RandomizationDraws {
-    pb::RandomizationDraws {
-        instances: report
-            .instances
-            .into_iter()
-            .map(|(name, mass_scale, friction_scale)| pb::InstanceDraw {
-                name,
-                mass_scale,
-                friction_scale,
-            })
-            .collect(),
-        joints: report
-            .joints
-            .into_iter()
-            .map(|(name, damping_scale, gain_scale)| pb::JointDraw {
-                name,
-                damping_scale,
-                gain_scale,
-            })
-            .collect(),
-    }
-}
 
 fn vec3(v: pb::Vec3) -> [f64; 3] {
     [v.x, v.y, v.z]
@@ -392,87 +356,6 @@ impl TryFrom<pb::RenderRequest> for RenderOf {
     }
 }
 
-/// An env's scene on the wire.
-pub(crate) fn scene(scene: gymfleet_env::Scene) -> pb::Scene {
-    let v = |p: [f32; 3]| pb::Vec3 {
-        x: f64::from(p[0]),
-        y: f64::from(p[1]),
-        z: f64::from(p[2]),
-    };
-    let shape = |s: &gymfleet_env::SceneShape| {
-        use pb::scene_shape::Kind;
-        let kind = match *s {
-            gymfleet_env::SceneShape::Cuboid { half_extents } => {
-                Kind::BoxHalfExtents(v(half_extents))
-            }
-            gymfleet_env::SceneShape::Cylinder {
-                radius,
-                half_height,
-            } => Kind::Cylinder(pb::SceneCylinder {
-                radius: f64::from(radius),
-                half_height: f64::from(half_height),
-            }),
-            gymfleet_env::SceneShape::Ball { radius } => Kind::SphereRadius(f64::from(radius)),
-            gymfleet_env::SceneShape::Capsule {
-                radius,
-                half_segment,
-            } => Kind::Capsule(pb::SceneCapsule {
-                radius: f64::from(radius),
-                half_segment: f64::from(half_segment),
-            }),
-            gymfleet_env::SceneShape::Mesh {
-                ref vertices,
-                ref triangles,
-            } => Kind::Mesh(pb::SceneMesh {
-                vertices: vertices.iter().flatten().copied().collect(),
-                triangles: triangles.iter().flatten().copied().collect(),
-            }),
-        };
-        pb::SceneShape { kind: Some(kind) }
-    };
-    pb::Scene {
-        bodies: scene
-            .parts
-            .iter()
-            .map(|part| {
-                let [qw, qx, qy, qz] = part.rotation.map(f64::from);
-                pb::SceneBody {
-                    name: scene.instance_names[part.instance].clone(),
-                    shape: Some(shape(&part.shape)),
-                    pose: Some(pb::ScenePose {
-                        position: Some(v(part.position)),
-                        qw,
-                        qx,
-                        qy,
-                        qz,
-                    }),
-                }
-            })
-            .collect(),
-        joints: scene
-            .joints
-            .iter()
-            .map(|j| pb::SceneJoint {
-                anchor: Some(v(j.anchor)),
-                axis: Some(v(j.axis)),
-            })
-            .collect(),
-        end_effectors: scene.end_effectors.iter().map(|&p| v(p)).collect(),
-        target: scene.target.map(v),
-    }
-}
-
-/// A picture on the wire.
-pub(crate) fn image(r: Rendered) -> pb::Image {
-    pb::Image {
-        png: r.png,
-        width: r.width,
-        height: r.height,
-        description: r.description,
-        grid_mm: r.grid_mm,
-    }
-}
-
 impl TryFrom<pb::StepRequest> for EnvStep {
     type Error = ServerError;
 
@@ -501,189 +384,12 @@ impl TryFrom<pb::StepBatchRequest> for BatchStep {
     }
 }
 
-/// Splits a flat observation of `dof` DOFs into its proto form.
-pub(crate) fn observation(flat: &[f32], split: ObsSplit) -> pb::Observation {
-    let (positions, rest) = flat.split_at(split.dof.min(flat.len()));
-    let (velocities, rest) = rest.split_at(split.dof.min(rest.len()));
-    let (base, rest) = rest.split_at(split.base.min(rest.len()));
-    let (base_pose, base_velocity) = base.split_at(POSE_LEN.min(base.len()));
-    let (poses, task) = rest.split_at(split.poses.min(rest.len()));
-    pb::Observation {
-        joint_positions: positions.to_vec(),
-        joint_velocities: velocities.to_vec(),
-        end_effector_poses: poses.to_vec(),
-        task_observation: task.to_vec(),
-        base_pose: base_pose.to_vec(),
-        base_velocity: base_velocity.to_vec(),
-    }
-}
-
-fn observation_layout(spec: &EnvSpec) -> Vec<pb::ObservationSegment> {
-    spec.observation_layout
-        .iter()
-        .map(|s| pb::ObservationSegment {
-            name: s.name.to_string(),
-            size: to_u32(s.size),
-        })
-        .collect()
-}
-
-fn to_u32(n: usize) -> u32 {
-    u32::try_from(n).unwrap_or(u32::MAX)
-}
-
-/// The proto description of each non-fixed joint, from the spec's DOFs.
-pub(crate) fn joints(spec: &EnvSpec, links: &JointLinks) -> Vec<pb::JointInfo> {
-    let mut joints: Vec<pb::JointInfo> = Vec::with_capacity(spec.num_joints);
-    let mut last = None;
-    for dof in &spec.dofs {
-        if last != Some(dof.joint) {
-            last = Some(dof.joint);
-            let (parent, child) = links.0.get(joints.len()).cloned().unwrap_or_default();
-            joints.push(pb::JointInfo {
-                name: dof.joint_name.clone(),
-                r#type: dof.joint_type.as_str().to_string(),
-                dof: 0,
-                limits: Vec::new(),
-                parent,
-                child,
-                max_effort: dof.max_effort,
-                actuated: dof.actuated,
-                gear: dof.gear,
-                reference: dof.reference,
-                action_bounds: Vec::new(),
-            });
-        }
-        if let Some(joint) = joints.last_mut() {
-            joint.dof += 1;
-            joint.action_bounds.push(dof.action_bound);
-            joint.limits.push(pb::DofLimit {
-                unit: match dof.kind {
-                    DofKind::Angular => "deg",
-                    DofKind::Linear => "mm",
-                }
-                .to_string(),
-                min: dof.limits.map(|l| l[0]),
-                max: dof.limits.map(|l| l[1]),
-            });
-        }
-    }
-    joints
-}
-
-/// The proto `EnvInfo` of a created env.
-pub(crate) fn env_info(env_id: String, spec: &EnvSpec, links: &JointLinks) -> pb::EnvInfo {
-    pb::EnvInfo {
-        env_id,
-        num_joints: to_u32(spec.num_joints),
-        action_dim: to_u32(spec.action_dim),
-        observation_dim: to_u32(spec.observation_dim),
-        end_effector_ids: spec.end_effector_ids.clone(),
-        dt: spec.dt,
-        substeps: spec.substeps,
-        max_steps: spec.max_steps,
-        joints: joints(spec, links),
-        observation_layout: observation_layout(spec),
-        units: units_to_proto(spec.units),
-        term_names: spec.term_names.clone(),
-    }
-}
-
-/// The proto `BatchInfo` of a created batch.
-pub(crate) fn batch_info(
-    batch_id: String,
-    n_envs: usize,
-    autoreset: Autoreset,
-    spec: &EnvSpec,
-    links: &JointLinks,
-) -> pb::BatchInfo {
-    pb::BatchInfo {
-        batch_id,
-        n_envs: to_u32(n_envs),
-        action_dim: to_u32(spec.action_dim),
-        observation_dim: to_u32(spec.observation_dim),
-        num_joints: to_u32(spec.num_joints),
-        end_effector_ids: spec.end_effector_ids.clone(),
-        dt: spec.dt,
-        substeps: spec.substeps,
-        max_steps: spec.max_steps,
-        autoreset: match autoreset {
-            Autoreset::Disabled => pb::Autoreset::Disabled,
-            Autoreset::SameStep => pb::Autoreset::SameStep,
-            Autoreset::NextStep => pb::Autoreset::NextStep,
-        } as i32,
-        joints: joints(spec, links),
-        observation_layout: observation_layout(spec),
-        units: units_to_proto(spec.units),
-        term_names: spec.term_names.clone(),
-    }
-}
-
-/// The proto result of a batch step.
-pub(crate) fn batch_step_result(stepped: BatchStepped) -> pb::BatchStepResult {
-    let BatchStepped {
-        batch_id,
-        step_index,
-        out,
-    } = stepped;
-    pb::BatchStepResult {
-        batch_id,
-        step_index,
-        observations: out.observations,
-        rewards: out.rewards,
-        terminated: out.terminated,
-        truncated: out.truncated,
-        final_env_indices: out.final_env_indices,
-        final_observations: out.final_observations,
-        termination_reasons: out.termination_reasons,
-        terms: out.terms,
-    }
-}
-
-/// The proto observations of a batch.
-pub(crate) fn batch_observation(batch: BatchObservations) -> pb::BatchObservation {
-    pb::BatchObservation {
-        batch_id: batch.batch_id,
-        n_envs: to_u32(batch.n_envs),
-        observation_dim: to_u32(batch.observation_dim),
-        observations: batch.observations,
-    }
-}
-
-/// The proto `ServerInfo`.
-pub(crate) fn server_info(status: &ServerStatus<'_>) -> pb::ServerInfo {
-    let c = status.config;
-    let u64_of = |n: usize| u64::try_from(n).unwrap_or(u64::MAX);
-    pb::ServerInfo {
-        version: env!("CARGO_PKG_VERSION").to_string(),
-        threads: to_u32(status.threads),
-        envs: u64_of(status.envs),
-        batches: u64_of(status.batches),
-        batch_envs: u64_of(status.batch_envs),
-        limits: Some(pb::ServerLimits {
-            max_envs: u64_of(c.max_envs),
-            max_batch_size: u64_of(c.max_batch_size),
-            max_document_bytes: u64_of(c.max_document_bytes),
-            max_message_bytes: u64_of(c.max_message_bytes),
-            idle_ttl_seconds: c.idle_ttl.as_secs(),
-            max_instances: u64_of(c.max_instances),
-            max_joints: u64_of(c.max_joints),
-            max_dofs: u64_of(c.max_dofs),
-            max_end_effectors: u64_of(c.max_end_effectors),
-            tenant_max_envs: u64_of(c.tenant_max_envs),
-            max_step_work: u64_of(c.max_step_work),
-        }),
-        tenant: status.tenant.name().to_string(),
-        auth_required: c.auth_tokens.is_some(),
-        instance_id: status.instance_id.to_string(),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use gymfleet_env::{DEFAULT_MAX_STEPS, DEFAULT_SUBSTEPS};
 
     use super::*;
+    use crate::domain::ObsSplit;
 
     #[test]
     fn zero_means_the_default() {

@@ -12,11 +12,11 @@ use gymfleet_proto::v1::simulator_server::Simulator;
 use tokio::sync::watch;
 use tonic::Request;
 
-use crate::auth::Tenant;
 use crate::config::ServerConfig;
 use crate::error::Result;
 use crate::service::SimulatorService;
 use crate::simulation::Simulation;
+use crate::tenant::Tenant;
 
 /// A simulator service of its own (its own pool and registries), called directly.
 /// Its calls need a tokio runtime, as a served one's do.

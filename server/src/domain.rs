@@ -121,7 +121,7 @@ pub(crate) struct ServerStatus<'a> {
     pub(crate) instance_id: &'a str,
     pub(crate) threads: usize,
     /// The caller.
-    pub(crate) tenant: crate::auth::Tenant,
+    pub(crate) tenant: crate::tenant::Tenant,
     pub(crate) envs: usize,
     pub(crate) batches: usize,
     pub(crate) batch_envs: usize,

@@ -10,7 +10,7 @@ use gymfleet_batch::BatchError;
 use gymfleet_env::EnvError;
 use tonic::{Code, Status};
 
-use crate::auth::Tenant;
+use crate::tenant::Tenant;
 
 /// Longest status message the server sends: anything longer is cut here, whatever
 /// built it (the sources shorten what they echo; this is the guarantee).

@@ -34,8 +34,8 @@ mod registry;
 mod serve;
 mod service;
 mod simulation;
+mod tenant;
 
-pub use auth::{Tenant, TokenTable, MIN_TOKEN_CHARS};
 pub use cli::{init_tracing, Cli, LogFormat};
 pub use clock::Clock;
 pub use config::{
@@ -49,3 +49,4 @@ pub use listen::{ListenAddr, Listener, SocketFile};
 pub use local::LocalServer;
 pub use models::{LibraryModel, ModelLibrary};
 pub use serve::serve;
+pub use tenant::{Tenant, TokenTable, MIN_TOKEN_CHARS};

@@ -25,9 +25,10 @@ use prometheus_client::registry::Registry;
 use tokio::net::TcpListener;
 use tonic::Code;
 
-use crate::auth::Tenant;
+use gymfleet_batch::JobQueueStats;
+
 use crate::error::ServerError;
-use crate::simulation::Simulation;
+use crate::tenant::Tenant;
 
 #[derive(Clone, Debug, Hash, PartialEq, Eq, EncodeLabelSet)]
 struct TenantLabel {
@@ -185,21 +186,21 @@ impl Metrics {
             .inc();
     }
 
-    /// The text of `/metrics`, with the gauges read from `sim` now.
-    pub(crate) fn encode(&self, sim: &Simulation) -> String {
+    /// The text of `/metrics`, with the gauges set from `gauges`, read from the server
+    /// now (`Simulation::gauges`).
+    pub(crate) fn encode(&self, gauges: &Gauges) -> String {
         // One scrape at a time: the gauges are cleared and refilled, and the pool
         // counters catch up by difference, which two scrapes at once would do twice.
         let _one_scrape = self
             .scrape
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner);
-        let counts = sim.open_by_tenant();
         for family in [&self.envs_open, &self.batches_open, &self.batch_envs_open] {
             family.clear();
         }
         let as_gauge = |n: usize| i64::try_from(n).unwrap_or(i64::MAX);
-        for (tenant, open) in counts {
-            let label = TenantLabel::of(&tenant);
+        for (tenant, open) in &gauges.open {
+            let label = TenantLabel::of(tenant);
             self.envs_open
                 .get_or_create(&label)
                 .set(as_gauge(open.envs));
@@ -210,7 +211,7 @@ impl Metrics {
                 .get_or_create(&label)
                 .set(as_gauge(open.batch_envs));
         }
-        let jobs = sim.job_queue();
+        let jobs = &gauges.jobs;
         self.pool_queue_depth.set(as_gauge(jobs.waiting));
         // Counters only go up: add what is new since the last scrape.
         let started = jobs.started.saturating_sub(self.pool_jobs.get());
@@ -224,6 +225,15 @@ impl Metrics {
         let _ = prometheus_client::encoding::text::encode(&mut text, &self.registry);
         text
     }
+}
+
+/// What the gauges of `/metrics` show, read from the server at a scrape.
+#[derive(Debug, Default, Clone)]
+pub(crate) struct Gauges {
+    /// What each tenant holds.
+    pub(crate) open: Vec<(Tenant, OpenCounts)>,
+    /// The pool's job queue.
+    pub(crate) jobs: JobQueueStats,
 }
 
 /// What one tenant holds.
@@ -278,17 +288,21 @@ fn code_name(code: Code) -> &'static str {
     }
 }
 
-/// Serves `GET /metrics` on `listener` until the task is aborted.
-pub(crate) async fn serve_metrics(listener: TcpListener, sim: Arc<Simulation>) {
+/// Serves `GET /metrics` on `listener` until the task is aborted; each request's text
+/// comes from `scrape` (`Metrics::encode` of the server's gauges), run off the async workers.
+pub(crate) async fn serve_metrics(
+    listener: TcpListener,
+    scrape: Arc<dyn Fn() -> String + Send + Sync>,
+) {
     use axum::http::header::CONTENT_TYPE;
     let app = axum::Router::new().route(
         "/metrics",
         axum::routing::get(move || {
-            let sim = Arc::clone(&sim);
+            let scrape = Arc::clone(&scrape);
             async move {
                 // Reading the registries is quick, but keep it off the async workers'
                 // hot path all the same.
-                let text = tokio::task::spawn_blocking(move || sim.metrics().encode(&sim))
+                let text = tokio::task::spawn_blocking(move || scrape())
                     .await
                     .unwrap_or_default();
                 (

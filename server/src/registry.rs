@@ -16,8 +16,8 @@ use std::time::Duration;
 
 use tokio::sync::OwnedMutexGuard;
 
-use crate::auth::Tenant;
 use crate::clock::Clock;
+use crate::tenant::Tenant;
 
 use crate::error::{EntityKind, Result, ServerError};
 

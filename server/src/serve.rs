@@ -99,9 +99,10 @@ pub(crate) async fn serve_bound(
                         reason: e.to_string(),
                     })?;
             tracing::info!(addr = %listener.local_addr()?, "serving metrics at /metrics");
+            let sim = Arc::clone(&sim);
+            let scrape = Arc::new(move || sim.metrics().encode(&sim.gauges()));
             Some(tokio::spawn(crate::metrics::serve_metrics(
-                listener,
-                Arc::clone(&sim),
+                listener, scrape,
             )))
         }
         None => None,
@@ -148,7 +149,7 @@ pub(crate) async fn serve_bound(
         let _ = stop_tx.send(true);
     };
     // Everything but health answers only callers with a token when auth is on.
-    let auth = Authenticator::new(config.auth_tokens.clone(), Arc::clone(&sim));
+    let auth = Authenticator::new(config.auth_tokens.clone(), sim.shared_metrics());
     let mut builder = Server::builder();
     if let Some(tls) = &config.tls {
         builder = builder

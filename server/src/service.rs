@@ -11,13 +11,14 @@ use tokio::sync::{mpsc, watch};
 use tokio_stream::wrappers::ReceiverStream;
 use tonic::{Request, Response, Status, Streaming};
 
-use crate::auth::{tenant_of, Tenant};
+use crate::auth::tenant_of;
 use crate::convert;
 use crate::domain::{
     BatchRequest, BatchStep, Created, DrawsOf, EnvRequest, EnvStep, ForkRequest, RenderOf,
 };
 use crate::error::{Result, ServerError};
 use crate::simulation::Simulation;
+use crate::tenant::Tenant;
 
 /// Results buffered per StreamBatch stream before the server waits for the client.
 const STREAM_BUFFER: usize = 8;

@@ -16,9 +16,9 @@ use serde_json::{json, Value};
 use super::json as wire;
 use super::session;
 use super::state::{Dashboard, MAX_LISTED, RATE_WINDOW};
-use crate::auth::Tenant;
 use crate::domain::DrawsOf;
 use crate::error::{Echo, ServerError};
+use crate::tenant::Tenant;
 
 /// Largest accepted login body.
 const MAX_LOGIN_BYTES: usize = 4096;

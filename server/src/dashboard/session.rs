@@ -9,8 +9,8 @@ use std::time::Duration;
 use axum::http::header::COOKIE;
 use axum::http::HeaderMap;
 
-use crate::auth::Tenant;
 use crate::clock::Clock;
+use crate::tenant::Tenant;
 
 /// The session cookie's name.
 pub(super) const COOKIE_NAME: &str = "gymfleet_dashboard";

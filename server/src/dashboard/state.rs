@@ -8,10 +8,10 @@ use std::time::Duration;
 use gymfleet_batch::JobQueueStats;
 
 use super::session::Sessions;
-use crate::auth::TokenTable;
 use crate::clock::Clock;
 use crate::config::ServerConfig;
 use crate::simulation::Simulation;
+use crate::tenant::TokenTable;
 
 /// Rates are measured over windows at least this long (on the server's clock).
 pub(super) const RATE_WINDOW: Duration = Duration::from_secs(1);

@@ -6,11 +6,11 @@
 use gymfleet_env::Scene;
 
 use super::Simulation;
-use crate::auth::Tenant;
 use crate::domain::DrawsOf;
 use crate::error::{EntityKind, Result, ServerError};
 use crate::pool::{self, Lane};
 use crate::registry::Watched;
+use crate::tenant::Tenant;
 
 /// The open envs and batches of one tenant: how many of each, and the first of each in
 /// id order.

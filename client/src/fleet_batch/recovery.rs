@@ -11,10 +11,11 @@
 //! solved afresh at the next step, so a run with checkpoints matches a run with the same
 //! checkpoints, bit for bit, and one without them only where nothing touches.
 
+use super::merge::merge_steps;
+use super::FleetBatch;
 use crate::batch::{Batch, BatchStep};
 use crate::client::Client;
 use crate::error::{ClientError, Result};
-use crate::fleet_batch::{merge_steps, FleetBatch};
 use crate::state::EnvState;
 use crate::types::ActionType;
 

@@ -1,0 +1,127 @@
+//! Documents: conversion of MJCF, URDF and assembly JSON (with an assets archive) to
+//! assembly JSON, building one env from a request, and the `--models` library.
+
+use gymfleet_env::{EnvError, RobotEnv};
+
+use crate::config::ServerConfig;
+use crate::domain::{EnvRequest, JointLinks};
+use crate::error::{Result, ServerError};
+use crate::pool::{self, Lane};
+
+use super::limits::{check_step_work, check_structure};
+use super::Simulation;
+
+/// Parses, checks against the structural limits (for `n_envs` copies), and builds one
+/// env; names the bodies of its non-fixed joints.
+pub(super) fn build_env(
+    request: EnvRequest,
+    config: &ServerConfig,
+    n_envs: usize,
+) -> Result<(RobotEnv, JointLinks)> {
+    let (document, _warnings) =
+        convert_document(&request.document, request.format, &request.assets)?;
+    let assembly = gymfleet_assembly::parse(&document).map_err(EnvError::Document)?;
+    check_structure(config, &assembly, request.config.end_effector_ids.len())?;
+    let substeps = request.config.substeps;
+    // Options are checked first (a substep count out of range is a bad argument, not a
+    // large request); building one env is cheap, its copies are not made yet.
+    let env = RobotEnv::new(&assembly, request.config)?;
+    check_step_work(config, n_envs, substeps, assembly.total_dof())?;
+    let name = |i: usize| {
+        assembly
+            .instances
+            .get(i)
+            .map(|inst| inst.name.clone())
+            .unwrap_or_default()
+    };
+    // One entry per joint with an observed DOF, as `convert::replies::joints` lists them (an
+    // unobserved loop-closing joint has none).
+    let links = assembly
+        .joints
+        .iter()
+        .filter(|j| j.observed_dof() > 0)
+        .map(|j| (name(j.parent), name(j.child)))
+        .collect();
+    Ok((env, JointLinks(links)))
+}
+
+/// A document of `format` (`None`: detect) as assembly JSON text, its mesh files read from
+/// `assets` (an archive; empty: none), with the conversion's warnings.
+pub(crate) fn convert_document(
+    document: &str,
+    format: Option<gymfleet_import::Format>,
+    assets: &[u8],
+) -> Result<(String, Vec<String>)> {
+    let format = match format {
+        Some(f) => f,
+        None => gymfleet_import::Format::detect(document)?,
+    };
+    let assets = if assets.is_empty() {
+        None
+    } else {
+        Some(gymfleet_import::Assets::from_archive(assets)?)
+    };
+    Ok(gymfleet_import::to_json(document, format, assets.as_ref())?)
+}
+
+impl Simulation {
+    /// A request naming a library model, with that model's document in its place.
+    pub(super) fn resolve_model(&self, mut request: EnvRequest) -> Result<EnvRequest> {
+        let Some(name) = request.model.take() else {
+            return Ok(request);
+        };
+        let library = self.config.models.as_deref();
+        match library.and_then(|l| l.get(&name)) {
+            Some(model) => {
+                request.document = model.document.clone();
+                request.format = Some(gymfleet_import::Format::Json);
+                Ok(request)
+            }
+            None => {
+                let known = match library {
+                    Some(l) if !l.is_empty() => {
+                        let names: Vec<String> =
+                            l.iter().take(16).map(|(n, _)| format!("{n:?}")).collect();
+                        let more = l.len().saturating_sub(16);
+                        if more > 0 {
+                            format!("{} and {more} more", names.join(", "))
+                        } else {
+                            names.join(", ")
+                        }
+                    }
+                    _ => "none: start the server with --models DIR".to_string(),
+                };
+                Err(ServerError::UnknownModel { name, known })
+            }
+        }
+    }
+
+    /// The library's models: name, format, DOFs, action length.
+    pub(crate) fn models(&self) -> Vec<(String, gymfleet_import::Format, usize, usize)> {
+        self.config.models.as_deref().map_or_else(Vec::new, |l| {
+            l.iter()
+                .map(|(n, m)| (n.to_string(), m.format, m.dofs, m.action_dim))
+                .collect()
+        })
+    }
+
+    /// A description as assembly JSON (checked by parsing it), its warnings and format.
+    pub(crate) async fn convert(
+        &self,
+        document: String,
+        format: Option<gymfleet_import::Format>,
+        assets: Vec<u8>,
+    ) -> Result<(String, Vec<String>, gymfleet_import::Format)> {
+        self.check_document(&document)?;
+        pool::run(&self.pool, Lane::Env, "ConvertDocument", move || {
+            let format = match format {
+                Some(f) => f,
+                None => gymfleet_import::Format::detect(&document)?,
+            };
+            let (json, warnings) = convert_document(&document, Some(format), &assets)?;
+            gymfleet_assembly::parse(&json).map_err(EnvError::Document)?;
+            Ok((json, warnings, format))
+        })
+        .await
+    }
+}
