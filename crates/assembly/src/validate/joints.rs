@@ -1,0 +1,300 @@
+//! Joints: each joint's ends, its place in the tree or a loop (the topology's rules), and
+//! its terms through `joint_terms.rs`.
+
+use std::collections::hash_map::Entry;
+use std::collections::HashMap;
+
+use crate::document::{InstanceDef, JointDef};
+use crate::error::quoted;
+use crate::model::{Joint, JointType, MM_PER_M};
+use crate::topology::{Edge, Role, Topology};
+
+use super::{limit_to_si, list, Roots, Validator};
+
+impl Validator {
+    pub(super) fn joints(
+        &mut self,
+        defs: &[JointDef],
+        instances: &[InstanceDef],
+        planes: &[bool],
+        floating_base: bool,
+    ) -> Vec<Joint> {
+        // Look names up in the document's instances, so that one bad instance does not
+        // turn every joint that names it into a second, misleading error.
+        let mut index: HashMap<&str, usize> = HashMap::new();
+        for (i, inst) in instances.iter().enumerate() {
+            index.entry(inst.name.as_str()).or_insert(i);
+        }
+        let mut names: HashMap<String, usize> = HashMap::new();
+        let mut out = Vec::with_capacity(defs.len());
+        // The spanning tree and the loops, from the joints whose instances resolve (the
+        // references are reported below, joint by joint).
+        let edges: Vec<Option<Edge>> = defs
+            .iter()
+            .map(|def| {
+                Some(Edge {
+                    parent: *index.get(def.parent.as_str())?,
+                    child: *index.get(def.child.as_str())?,
+                    actuated: def.actuated.unwrap_or(true),
+                    observed: def.observed.unwrap_or(true),
+                })
+            })
+            .collect();
+        let roots: Vec<bool> = (0..instances.len())
+            .map(|i| i == 0 || planes.get(i).copied().unwrap_or(false))
+            .collect();
+        let topology = crate::topology::choose(&edges, &roots);
+        // Each joint on a loop's path, with the joint that closes that loop.
+        let mut on_loop: Vec<Option<usize>> = vec![None; defs.len()];
+        for (j, edge) in edges.iter().enumerate() {
+            if let (Some(Role::Loop), Some(e)) = (topology.roles[j], edge) {
+                on_loop[j].get_or_insert(j);
+                for k in topology.path(e.parent, e.child) {
+                    on_loop[k].get_or_insert(j);
+                }
+            }
+        }
+
+        for (j, def) in defs.iter().enumerate() {
+            let path = format!("assembly.joints[{j}]");
+            let before = self.issues.len();
+            let parent = self.instance_ref(&format!("{path}.parent"), &def.parent, &index);
+            let child = self.instance_ref(&format!("{path}.child"), &def.child, &index);
+            let name = def.name.clone().unwrap_or_else(|| def.child.clone());
+            match names.entry(name.clone()) {
+                // A defaulted name clashes with a joint of the same child: that is a
+                // child with two parents, which `topology` reports on `child`.
+                Entry::Occupied(first)
+                    if def.name.is_none()
+                        && defs[*first.get()].child == def.child
+                        && topology.roles[j].is_none() => {}
+                Entry::Occupied(first) => self.push(
+                    format!("{path}.name"),
+                    format!(
+                        "duplicate joint name {} (also assembly.joints[{}]); give one of them a \"name\"",
+                        quoted(&name),
+                        first.get()
+                    ),
+                ),
+                Entry::Vacant(slot) => {
+                    slot.insert(j);
+                }
+            }
+
+            let anchor = match def.anchor {
+                Some(a) => self
+                    .vec3(&format!("{path}.anchor"), a)
+                    .map(|c| c / MM_PER_M),
+                None if def.kind == JointType::Fixed => [0.0; 3],
+                None => {
+                    self.push(
+                        format!("{path}.anchor"),
+                        format!(
+                            "missing field `anchor`: a {} joint needs an anchor (world mm)",
+                            def.kind.as_str()
+                        ),
+                    );
+                    [0.0; 3]
+                }
+            };
+            let axis = self.axis(&path, def);
+            let document_limits = self.limits(&path, def);
+            let initial = self.initial(&path, def, document_limits);
+            let damping = self.non_negative(&format!("{path}.damping"), def.damping, "damping");
+            let max_effort = def.max_effort.inspect(|&e| {
+                if !(e.is_finite() && e > 0.0) {
+                    self.push(
+                        format!("{path}.max_effort"),
+                        format!("expected a positive effort in N·m or N, got {e}"),
+                    );
+                }
+            });
+            let armature = self.dof_quantity(
+                &path,
+                def,
+                ("armature", def.armature),
+                "an armature >= 0 (kg·m² or kg)",
+                "to add armature to",
+            );
+            let (stiffness, spring_rest) = self.spring(&path, def);
+            let friction = self.dof_quantity(
+                &path,
+                def,
+                ("friction", def.friction),
+                "a friction >= 0 (N·m or N)",
+                "to resist with friction",
+            );
+            let role = topology.roles[j];
+            // A loop-closing joint is passive (a driven one is refused in `topology`).
+            let actuated = def.actuated.unwrap_or(true) && role != Some(Role::Loop);
+            let observed = def.observed.unwrap_or(true);
+            if let (Some(closer), true) = (on_loop[j], initial != 0.0) {
+                self.push(
+                    format!("{path}.initial"),
+                    format!(
+                        "joint {} is on the kinematic loop that joint {} closes; an initial position would open the loop (loops start at the document's pose): remove \"initial\"",
+                        quoted(def.name.as_deref().unwrap_or(&def.child)),
+                        quoted(defs[closer].name.as_deref().unwrap_or(&defs[closer].child))
+                    ),
+                );
+            }
+            let (gear, reference) = self.gear_and_reference(&path, def, actuated);
+            if !actuated && max_effort.is_some() {
+                self.push(
+                    format!("{path}.max_effort"),
+                    "a passive joint (\"actuated\": false) takes no effort to clamp; \
+                     remove max_effort or the actuated flag"
+                        .to_string(),
+                );
+            }
+
+            if let (Some(p), Some(c)) = (parent, child) {
+                let roots = Roots {
+                    planes,
+                    floating_base,
+                };
+                self.topology(&path, def, (p, c), role, &topology, instances, roots);
+            }
+            if self.issues.len() == before {
+                if let (Some(parent), Some(child)) = (parent, child) {
+                    out.push(Joint {
+                        name,
+                        kind: def.kind,
+                        parent,
+                        child,
+                        anchor,
+                        axis,
+                        limits: document_limits.map(|l| l.map(|v| v * limit_to_si(def.kind))),
+                        document_limits,
+                        damping: damping.unwrap_or(0.0),
+                        max_effort,
+                        actuated,
+                        armature: armature.unwrap_or(0.0),
+                        initial: initial * limit_to_si(def.kind),
+                        stiffness,
+                        spring_rest: spring_rest * limit_to_si(def.kind),
+                        friction: friction.unwrap_or(0.0),
+                        gear,
+                        reference,
+                        closes_loop: role == Some(Role::Loop),
+                        observed,
+                        on_loop: on_loop[j].is_some(),
+                    });
+                }
+            }
+        }
+        out
+    }
+
+    pub(super) fn instance_ref(
+        &mut self,
+        path: &str,
+        name: &str,
+        index: &HashMap<&str, usize>,
+    ) -> Option<usize> {
+        let found = index.get(name).copied();
+        if found.is_none() {
+            let mut known: Vec<&str> = index.keys().copied().collect();
+            known.sort_unstable();
+            self.push(
+                path,
+                format!(
+                    "unknown instance {} (known: {})",
+                    quoted(name),
+                    list(&known)
+                ),
+            );
+        }
+        found
+    }
+
+    /// Reports a joint the tree and the loops could not place, and the rules of loops:
+    /// a loop-closing joint is not explicitly driven, an unobserved joint closes a loop.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn topology(
+        &mut self,
+        path: &str,
+        def: &JointDef,
+        (parent, child): (usize, usize),
+        role: Option<Role>,
+        topology: &Topology,
+        instances: &[InstanceDef],
+        roots: Roots<'_>,
+    ) {
+        match role {
+            Some(Role::Tree) => return,
+            Some(Role::Loop) => {
+                if def.actuated == Some(true) {
+                    self.push(
+                        format!("{path}.actuated"),
+                        format!(
+                            "joint {} -> {} closes a kinematic loop, and a loop-closing joint is passive; remove \"actuated\": true, or mark another joint of the loop \"actuated\": false so that this one joins the tree (the tree takes actuated joints first)",
+                            quoted(&def.parent),
+                            quoted(&def.child)
+                        ),
+                    );
+                }
+                return;
+            }
+            None => {}
+        }
+        if parent == child {
+            self.push(
+                format!("{path}.child"),
+                format!(
+                    "joint connects instance {} to itself; parent and child must differ",
+                    quoted(&def.child)
+                ),
+            );
+            return;
+        }
+        if def.observed == Some(false) {
+            self.push(
+                format!("{path}.observed"),
+                format!(
+                    "only a joint that closes a kinematic loop may be unobserved, and {} and {} are not otherwise joined; remove \"observed\": false",
+                    quoted(&def.parent),
+                    quoted(&def.child)
+                ),
+            );
+            return;
+        }
+        if child == 0 {
+            let what = if roots.floating_base {
+                "the floating base (the first instance), the root of the tree,"
+            } else {
+                "grounded (the first instance)"
+            };
+            self.push(
+                format!("{path}.child"),
+                format!(
+                    "instance {} is {what} and cannot be a joint child; swap parent and child",
+                    quoted(&def.child)
+                ),
+            );
+            return;
+        }
+        if roots.planes.get(child).copied().unwrap_or(false) {
+            self.push(
+                format!("{path}.child"),
+                format!(
+                    "instance {} is a plane, a ground fixed to the world, and cannot be a joint child; swap parent and child",
+                    quoted(&def.child)
+                ),
+            );
+            return;
+        }
+        if let Some((existing, _)) = topology.parent[child] {
+            self.push(
+                format!("{path}.child"),
+                format!(
+                    "instance {} already has parent {}; a second parent is only for a joint that closes a kinematic loop, and {} is not otherwise joined to {}",
+                    quoted(&def.child),
+                    quoted(&instances[existing].name),
+                    quoted(&def.parent),
+                    quoted(&def.child)
+                ),
+            );
+        }
+    }
+}
