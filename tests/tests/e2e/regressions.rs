@@ -77,3 +77,50 @@ async fn mjcf_bodies_nested_past_the_bound_are_refused_not_a_stack_overflow() {
         .await
         .expect("a pendulum after the refusals");
 }
+
+/// Found by the `assets_archive` fuzz target (issue R2): a COLLADA mesh whose `<p>` indices
+/// point past its positions made mesh-loader index out of bounds while building the mesh
+/// (a panic on the pool: INTERNAL, where the document is at fault). The vendored
+/// mesh-loader (`vendor/mesh-loader/PATCHES.md` §1) checks every index read from the
+/// document and answers with an error naming the index.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_collada_index_past_its_positions_is_a_bad_mesh_not_a_panic() {
+    let archive = std::fs::read(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../fuzz/corpus/assets_archive/collada_index_out_of_range.tar"),
+    )
+    .expect("the fuzzer's input, kept in the corpus");
+    let server = TestServer::start_default().await;
+    let mut raw = SimulatorClient::connect(server.url())
+        .await
+        .expect("connect");
+    let urdf = r#"<robot name="assets">
+  <link name="base"/>
+  <link name="arm">
+    <inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>
+    <collision><geometry><mesh filename="package://p/meshes/c.dae" scale="0.1 0.1 0.1"/></geometry></collision>
+  </link>
+  <joint name="hinge" type="revolute">
+    <parent link="base"/><child link="arm"/><axis xyz="0 1 0"/>
+    <limit lower="-1" upper="1" effort="10" velocity="1"/>
+  </joint>
+</robot>"#;
+    let refused = raw
+        .create_env(pb::CreateEnvRequest {
+            document_json: urdf.to_string(),
+            assets: archive,
+            ..Default::default()
+        })
+        .await
+        .expect_err("a broken mesh");
+    assert_eq!(refused.code(), Code::InvalidArgument, "{refused:?}");
+    assert_eq!(
+        refused.message(),
+        "document_json: parts[1].primitive.file: \"package://p/meshes/c.dae\" is not a readable \
+         mesh: position index 2 is out of range: the geometry has 2 positions"
+    );
+    // The server is still serving.
+    raw.create_env(create(PENDULUM.to_string()))
+        .await
+        .expect("a pendulum after the refusal");
+}

@@ -3,7 +3,9 @@ use std::path::PathBuf;
 use super::*;
 use crate::ShadingModel;
 
-pub(super) fn build(doc: &mut Document<'_>, dir: Option<&Path>) -> common::Scene {
+// gymfleet patch: `build` and `build_mesh` return an error for a document whose indices
+// point past its data, instead of panicking (index out of bounds, `panic!()`).
+pub(super) fn build(doc: &mut Document<'_>, dir: Option<&Path>) -> io::Result<common::Scene> {
     let mut meshes = Vec::with_capacity(doc.library_geometries.geometries.len());
     let mut materials = Vec::with_capacity(doc.library_geometries.geometries.len());
     let mut instance_geometry_map = HashMap::new();
@@ -79,9 +81,9 @@ pub(super) fn build(doc: &mut Document<'_>, dir: Option<&Path>) -> common::Scene
     }
     for geometry in doc.library_geometries.geometries.values() {
         if let Some(&transform) = instance_geometry_map.get(geometry.id) {
-            meshes.push(build_mesh(doc, geometry, transform));
+            meshes.push(build_mesh(doc, geometry, transform)?);
         } else {
-            meshes.push(build_mesh(doc, geometry, None));
+            meshes.push(build_mesh(doc, geometry, None)?);
         }
         let mut material = None;
         for mat in geometry.mesh.primitives.iter().filter_map(|m| m.material) {
@@ -97,14 +99,24 @@ pub(super) fn build(doc: &mut Document<'_>, dir: Option<&Path>) -> common::Scene
         }
     }
 
-    common::Scene { materials, meshes }
+    Ok(common::Scene { materials, meshes })
+}
+
+/// `data[index]`, or an error naming `what` when the document's index points past it.
+fn at<T: Copy>(data: &[T], index: u32, what: &str) -> io::Result<T> {
+    data.get(index as usize).copied().ok_or_else(|| {
+        format_err!(
+            "{what} index {index} is out of range: the geometry has {} {what}s",
+            data.len()
+        )
+    })
 }
 
 fn build_mesh(
     doc: &Document<'_>,
     geometry: &Geometry<'_>,
     transform: Option<Matrix4x4>,
-) -> common::Mesh {
+) -> io::Result<common::Mesh> {
     let mut mesh = common::Mesh {
         name: geometry.id.to_owned(),
         ..Default::default()
@@ -125,51 +137,35 @@ fn build_mesh(
 
         for vertex_idx in positions_indices {
             for vertex_idx in vertex_idx {
-                let mut v = [
-                    p[vertex_idx as usize][0],
-                    p[vertex_idx as usize][1],
-                    p[vertex_idx as usize][2],
-                ];
+                let mut v = at(&p, vertex_idx, "position")?;
                 if let Some(transform) = transform {
                     v *= transform;
                 }
                 mesh.vertices.push(v);
             }
             if !n.is_empty() {
-                if let Some(normal_idx) = normal_indices.next() {
-                    for normal_idx in normal_idx {
-                        mesh.normals.push([
-                            n[normal_idx as usize][0],
-                            n[normal_idx as usize][1],
-                            n[normal_idx as usize][2],
-                        ]);
-                    }
-                } else {
-                    panic!()
+                let normal_idx = normal_indices
+                    .next()
+                    .ok_or_else(|| format_err!("fewer normal indices than vertices"))?;
+                for normal_idx in normal_idx {
+                    mesh.normals.push(at(&n, normal_idx, "normal")?);
                 }
             }
             if !t.is_empty() {
-                if let Some(texcoord_idx) = texcoord_indices.next() {
-                    for texcoord_idx in texcoord_idx {
-                        mesh.texcoords[0]
-                            .push([t[texcoord_idx as usize][0], t[texcoord_idx as usize][1]]);
-                    }
-                } else {
-                    panic!()
+                let texcoord_idx = texcoord_indices
+                    .next()
+                    .ok_or_else(|| format_err!("fewer texture coordinate indices than vertices"))?;
+                for texcoord_idx in texcoord_idx {
+                    mesh.texcoords[0].push(at(&t, texcoord_idx, "texture coordinate")?);
                 }
             }
             if !c.is_empty() {
-                if let Some(rgb_idx) = color_indices.next() {
-                    for rgb_idx in rgb_idx {
-                        mesh.colors[0].push([
-                            c[rgb_idx as usize][0],
-                            c[rgb_idx as usize][1],
-                            c[rgb_idx as usize][2],
-                            1.,
-                        ]);
-                    }
-                } else {
-                    panic!()
+                let rgb_idx = color_indices
+                    .next()
+                    .ok_or_else(|| format_err!("fewer color indices than vertices"))?;
+                for rgb_idx in rgb_idx {
+                    let [r, g, b] = at(&c, rgb_idx, "color")?;
+                    mesh.colors[0].push([r, g, b, 1.]);
                 }
             }
             mesh.faces.push([
@@ -181,7 +177,7 @@ fn build_mesh(
         }
     }
 
-    mesh
+    Ok(mesh)
 }
 
 fn build_material(

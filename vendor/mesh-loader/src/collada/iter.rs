@@ -58,47 +58,66 @@ impl<'a> Primitive<'a> {
         };
         if self.mesh.xml.mesh.vertices.id == input.vertex.source {
             let position = &self.mesh.xml.mesh.vertices.input.position;
-            let acc = &self.mesh.doc[&position.source];
-            let data = self.mesh.doc[&acc.source].as_float().unwrap();
+            let acc = match self.mesh.doc.get(&position.source) {
+                Some(acc) => acc,
+                None => return Positions(None),
+            };
+            let data = match self.mesh.doc.get(&acc.source).and_then(|d| d.as_float()) {
+                Some(data) => data,
+                None => return Positions(None),
+            };
             // ["X", "Y", "Z"]
             if acc.stride < 3 || acc.params.len() < 3 || acc.params.iter().any(|p| p.ty != "float")
             {
                 // TODO: error?
                 return Positions(None);
             }
-            assert!((acc.count * acc.stride) as usize <= data.len());
+            if (acc.count as usize).saturating_mul(acc.stride as usize) > data.len() {
+                return Positions(None);
+            }
             Positions(Some((acc.count, data.chunks(acc.stride as usize))))
         } else {
             // TODO: search other mesh's vertices
-            todo!()
+            return Positions(None);
         }
     }
 
     pub(super) fn normals(&self) -> Normals<'a> {
         let acc = match &self.xml.input {
             Some(input) => match &input.normal {
-                Some(normal) => &self.mesh.doc[&normal.source],
+                Some(normal) => match self.mesh.doc.get(&normal.source) {
+                    Some(acc) => acc,
+                    None => return Positions(None),
+                },
                 None => {
                     if self.mesh.xml.mesh.vertices.id == input.vertex.source {
                         match &self.mesh.xml.mesh.vertices.input.normal {
-                            Some(normal) => &self.mesh.doc[&normal.source],
+                            Some(normal) => match self.mesh.doc.get(&normal.source) {
+                                Some(acc) => acc,
+                                None => return Positions(None),
+                            },
                             None => return Positions(None),
                         }
                     } else {
                         // TODO: search other mesh's vertices
-                        todo!()
+                        return Positions(None);
                     }
                 }
             },
             None => return Positions(None),
         };
-        let data = self.mesh.doc[&acc.source].as_float().unwrap();
+        let data = match self.mesh.doc.get(&acc.source).and_then(|d| d.as_float()) {
+            Some(data) => data,
+            None => return Positions(None),
+        };
         // ["X", "Y", "Z"]
         if acc.stride < 3 || acc.params.len() < 3 || acc.params.iter().any(|p| p.ty != "float") {
             // TODO: error?
             return Positions(None);
         }
-        assert!((acc.count * acc.stride) as usize <= data.len());
+        if (acc.count as usize).saturating_mul(acc.stride as usize) > data.len() {
+            return Positions(None);
+        }
         Positions(Some((acc.count, data.chunks(acc.stride as usize))))
     }
 
@@ -106,16 +125,22 @@ impl<'a> Primitive<'a> {
         let acc = match &self.xml.input {
             Some(input) => {
                 if let Some(texcoord) = input.texcoord.get(set) {
-                    &self.mesh.doc[&texcoord.source]
+                    match self.mesh.doc.get(&texcoord.source) {
+                        Some(acc) => acc,
+                        None => return Texcoords(None),
+                    }
                 } else if set == 0 {
                     if self.mesh.xml.mesh.vertices.id == input.vertex.source {
                         match &self.mesh.xml.mesh.vertices.input.texcoord {
-                            Some(texcoord) => &self.mesh.doc[&texcoord.source],
+                            Some(texcoord) => match self.mesh.doc.get(&texcoord.source) {
+                                Some(acc) => acc,
+                                None => return Texcoords(None),
+                            },
                             None => return Texcoords(None),
                         }
                     } else {
                         // TODO: search other mesh's vertices
-                        todo!()
+                        return Texcoords(None);
                     }
                 } else {
                     return Texcoords(None);
@@ -123,43 +148,60 @@ impl<'a> Primitive<'a> {
             }
             None => return Texcoords(None),
         };
-        let data = self.mesh.doc[&acc.source].as_float().unwrap();
+        let data = match self.mesh.doc.get(&acc.source).and_then(|d| d.as_float()) {
+            Some(data) => data,
+            None => return Texcoords(None),
+        };
         // ["S", "T"] or ["S", "T", "P"]
         if acc.stride < 2 || acc.params.len() < 2 || acc.params.iter().any(|p| p.ty != "float") {
             // TODO: error?
             return Texcoords(None);
         }
-        assert!((acc.count * acc.stride) as usize <= data.len());
+        if (acc.count as usize).saturating_mul(acc.stride as usize) > data.len() {
+            return Texcoords(None);
+        }
+        let len = acc.count as usize * acc.stride as usize;
         Texcoords(Some(TexcoordsInner {
-            iter: data.chunks(acc.stride as usize),
+            iter: data[..len].chunks(acc.stride as usize),
         }))
     }
 
     pub(super) fn colors(&self) -> Colors<'a> {
         let acc = match &self.xml.input {
             Some(input) => match &input.color {
-                Some(color) => &self.mesh.doc[&color.source],
+                Some(color) => match self.mesh.doc.get(&color.source) {
+                    Some(acc) => acc,
+                    None => return Positions(None),
+                },
                 None => {
                     if self.mesh.xml.mesh.vertices.id == input.vertex.source {
                         match &self.mesh.xml.mesh.vertices.input.color {
-                            Some(color) => &self.mesh.doc[&color.source],
+                            Some(color) => match self.mesh.doc.get(&color.source) {
+                                Some(acc) => acc,
+                                None => return Positions(None),
+                            },
                             None => return Positions(None),
                         }
                     } else {
                         // TODO: search other mesh's vertices
-                        todo!()
+                        return Positions(None);
                     }
                 }
             },
             None => return Positions(None),
         };
-        let data = self.mesh.doc[&acc.source].as_float().unwrap();
+        let data = match self.mesh.doc.get(&acc.source).and_then(|d| d.as_float()) {
+            Some(data) => data,
+            None => return Positions(None),
+        };
         // ["R", "G", "B"] or ["R", "G", "B", "A"]
         if acc.stride < 3 || acc.params.len() < 3 || acc.params.iter().any(|p| p.ty != "float") {
             // TODO: error?
             return Positions(None);
         }
-        assert!((acc.count * acc.stride) as usize <= data.len());
+        if (acc.count as usize).saturating_mul(acc.stride as usize) > data.len() {
+            return Positions(None);
+        }
         Positions(Some((acc.count, data.chunks(acc.stride as usize))))
     }
 
@@ -197,12 +239,13 @@ impl<'a> Primitive<'a> {
                 .xml
                 .vcount
                 .iter()
-                .map(|count| if *count >= 3 { count - 2 } else { 0 })
-                .sum(),
+                .fold(0u32, |n, count| n.saturating_add(count.saturating_sub(2))),
             ast::PrimitiveType::Triangles => self.xml.count,
-            ast::PrimitiveType::TriStrips | ast::PrimitiveType::TriFans => {
-                self.xml.vcount.iter().map(|&count| count - 2).sum()
-            }
+            ast::PrimitiveType::TriStrips | ast::PrimitiveType::TriFans => self
+                .xml
+                .vcount
+                .iter()
+                .fold(0u32, |n, count| n.saturating_add(count.saturating_sub(2))),
             ast::PrimitiveType::Lines => 0,
             ast::PrimitiveType::LineStrips => 0,
         }
@@ -232,7 +275,7 @@ impl<'a> Primitive<'a> {
                         }
                     } else {
                         // TODO: search other mesh's vertices
-                        todo!()
+                        return VertexIndices::none();
                     }
                 }
             },
@@ -257,7 +300,7 @@ impl<'a> Primitive<'a> {
                         }
                     } else {
                         // TODO: search other mesh's vertices
-                        todo!()
+                        return VertexIndices::none();
                     }
                 }
             },
@@ -282,7 +325,7 @@ impl<'a> Primitive<'a> {
                         }
                     } else {
                         // TODO: search other mesh's vertices
-                        todo!()
+                        return VertexIndices::none();
                     }
                 }
             },
@@ -302,7 +345,11 @@ impl Iterator for Positions<'_> {
 
     fn next(&mut self) -> Option<Self::Item> {
         let (count, iter) = self.0.as_mut()?;
-        let v = iter.next().unwrap();
+        if *count == 0 {
+            self.0 = None;
+            return None;
+        }
+        let v = iter.next()?;
         *count -= 1;
         if *count == 0 {
             self.0 = None;
@@ -397,82 +444,90 @@ impl VertexIndices<'_> {
 impl Iterator for VertexIndices<'_> {
     type Item = Face;
 
+    // gymfleet patch: a loop instead of recursion for skipped polygons (a document with
+    // many of them overflowed the stack), checked index reads (`None` ends the faces
+    // when the document's indices run out), and a polygon of fewer than three vertices
+    // (skipped, as before) now moves past its own indices.
     fn next(&mut self) -> Option<Self::Item> {
-        if self.remaining == 0 {
-            return None;
-        }
-        self.remaining -= 1;
+        loop {
+            if self.remaining == 0 {
+                return None;
+            }
+            self.remaining -= 1;
 
-        match &mut self.inner {
-            IndicesInner::Polylist {
-                offset,
-                indices,
-                stride,
-                index,
-                vcount,
-                range,
-            }
-            | IndicesInner::TriStrips {
-                offset,
-                indices,
-                stride,
-                index,
-                vcount,
-                range,
-            } => {
-                let offset = *offset as usize;
-                let stride = *stride as usize;
-                if let Some(r) = range {
-                    if let Some(k) = r.next() {
-                        let x = *index + offset;
-                        let y = *index + offset + stride * k as usize;
-                        let z = *index + offset + stride * (k as usize + 1);
-                        let value = [indices[x], indices[y], indices[z]];
-                        // NOTE: Do *not* increment index until range ends.
-                        return Some(value);
-                    }
-                    let vc = r.end + 1;
-                    *index += stride * vc as usize;
-                    *range = None;
+            match &mut self.inner {
+                IndicesInner::Polylist {
+                    offset,
+                    indices,
+                    stride,
+                    index,
+                    vcount,
+                    range,
                 }
-                let vc = *vcount.next()?;
-                match vc {
-                    3 => {
-                        let x = *index + offset;
-                        let y = *index + offset + stride;
-                        let z = *index + offset + stride * 2;
-                        let value = [indices[x], indices[y], indices[z]];
+                | IndicesInner::TriStrips {
+                    offset,
+                    indices,
+                    stride,
+                    index,
+                    vcount,
+                    range,
+                } => {
+                    let offset = *offset as usize;
+                    let stride = *stride as usize;
+                    if let Some(r) = range {
+                        if let Some(k) = r.next() {
+                            let x = *index + offset;
+                            let y = *index + offset + stride * k as usize;
+                            let z = *index + offset + stride * (k as usize + 1);
+                            let value = [*indices.get(x)?, *indices.get(y)?, *indices.get(z)?];
+                            // NOTE: Do *not* increment index until range ends.
+                            return Some(value);
+                        }
+                        let vc = r.end + 1;
                         *index += stride * vc as usize;
-                        Some(value)
+                        *range = None;
                     }
-                    1..=2 => self.next(),
-                    0 => unreachable!(),
-                    _ => {
-                        let mut ri = 1..vc - 1;
-                        let k = ri.next().unwrap();
-                        let x = *index + offset;
-                        let y = *index + offset + stride * k as usize;
-                        let z = *index + offset + stride * (k as usize + 1);
-                        let value = [indices[x], indices[y], indices[z]];
-                        // Set range for next call.
-                        // NOTE: Do *not* increment index until range ends.
-                        *range = Some(ri);
-                        Some(value)
+                    let vc = *vcount.next()?;
+                    match vc {
+                        3 => {
+                            let x = *index + offset;
+                            let y = *index + offset + stride;
+                            let z = *index + offset + stride * 2;
+                            let value = [*indices.get(x)?, *indices.get(y)?, *indices.get(z)?];
+                            *index += stride * vc as usize;
+                            return Some(value);
+                        }
+                        0..=2 => {
+                            *index += stride * vc as usize;
+                        }
+                        _ => {
+                            let mut ri = 1..vc - 1;
+                            let k = ri.next()?;
+                            let x = *index + offset;
+                            let y = *index + offset + stride * k as usize;
+                            let z = *index + offset + stride * (k as usize + 1);
+                            let value = [*indices.get(x)?, *indices.get(y)?, *indices.get(z)?];
+                            // Set range for next call.
+                            // NOTE: Do *not* increment index until range ends.
+                            *range = Some(ri);
+                            return Some(value);
+                        }
                     }
                 }
+                IndicesInner::Triangles { offset, indices } => {
+                    let offset = *offset as usize;
+                    let indices1 = indices.next()?;
+                    let indices2 = indices.next()?;
+                    let indices3 = indices.next()?;
+                    return Some([
+                        *indices1.get(offset)?,
+                        *indices2.get(offset)?,
+                        *indices3.get(offset)?,
+                    ]);
+                }
+                IndicesInner::Skip => {}
+                IndicesInner::None => return None,
             }
-            IndicesInner::Triangles { offset, indices } => {
-                let indices1 = indices.next().unwrap();
-                let indices2 = indices.next().unwrap();
-                let indices3 = indices.next().unwrap();
-                Some([
-                    indices1[*offset as usize],
-                    indices2[*offset as usize],
-                    indices3[*offset as usize],
-                ])
-            }
-            IndicesInner::Skip => self.next(),
-            IndicesInner::None => unreachable!(),
         }
     }
 

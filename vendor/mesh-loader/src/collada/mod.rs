@@ -57,7 +57,7 @@ pub(crate) fn from_slice_internal(bytes: &[u8], path: Option<&Path>) -> io::Resu
 pub(crate) fn from_str_internal(s: &str, path: Option<&Path>) -> io::Result<common::Scene> {
     let xml = xml::Document::parse(s).map_err(crate::error::invalid_data)?;
     let mut collada = Document::parse(&xml)?;
-    Ok(instance::build(&mut collada, path.and_then(Path::parent)))
+    instance::build(&mut collada, path.and_then(Path::parent))
 }
 
 // Inspired by gltf-json's `Get` trait.
