@@ -108,7 +108,7 @@ test("server errors: INVALID_ARGUMENT with the JSON path, NOT_FOUND, RESOURCE_EX
   const env = await createRobotEnv({ document: model("pendulum") }, client);
   await invalid(
     () => gymStep({ ...env, action_type: "torque", values: [1, 2] }, client),
-    "values: expected 1 action values (one per actuated DOF), got 2",
+    "values: expected 1 action value (one per actuated DOF), got 2",
   );
   await fails(
     () => gymReset({ env_id: "sim_999" }, client),

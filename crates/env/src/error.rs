@@ -40,7 +40,10 @@ pub enum EnvError {
         reason: String,
     },
     /// The action has the wrong number of values.
-    #[error("values: expected {expected} action values (one per actuated DOF), got {got}")]
+    #[error(
+        "values: expected {expected} action {} (one per actuated DOF), got {got}",
+        if *expected == 1 { "value" } else { "values" }
+    )]
     ActionLength {
         /// The env's `action_dim`.
         expected: usize,

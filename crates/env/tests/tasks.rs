@@ -368,7 +368,7 @@ fn a_passive_joint_is_observed_but_takes_no_action() {
     let err = env.step(ActionType::Torque, &[0.0, 0.0]).unwrap_err();
     assert_eq!(
         err.to_string(),
-        "values: expected 1 action values (one per actuated DOF), got 2"
+        "values: expected 1 action value (one per actuated DOF), got 2"
     );
     // Pushing the cart along +X tips the free pole back (a negative angle about +Y)
     // until it falls past 12°.
