@@ -148,17 +148,7 @@ const ASSETS_MJCF: &str = r#"<mujoco model="assets">
 
 /// The URDF model the assets target reads its archives against: a COLLADA mesh by
 /// `package://` URI.
-const ASSETS_URDF: &str = r#"<robot name="assets">
-  <link name="base"/>
-  <link name="arm">
-    <inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>
-    <collision><geometry><mesh filename="package://p/meshes/c.dae" scale="0.1 0.1 0.1"/></geometry></collision>
-  </link>
-  <joint name="hinge" type="revolute">
-    <parent link="base"/><child link="arm"/><axis xyz="0 1 0"/>
-    <limit lower="-1" upper="1" effort="10" velocity="1"/>
-  </joint>
-</robot>"#;
+const ASSETS_URDF: &str = include_str!("assets.urdf");
 
 /// The assets door (`CreateEnv`'s `assets`): the bytes as a zip, tar or tar.gz archive,
 /// read against an MJCF model (STL, OBJ, an include) and a URDF model (DAE); each model

@@ -39,6 +39,21 @@ pub(crate) struct OpenEnv {
     was_done: Vec<bool>,
 }
 
+impl OpenEnv {
+    /// A zeroed observation of the env's size, and how its floats split into parts.
+    fn observation_buffer(&self) -> (Vec<f32>, ObsSplit) {
+        let spec = self.env.spec();
+        (vec![0.0; spec.observation_dim], ObsSplit::of(spec))
+    }
+
+    /// The env's observation now.
+    fn observation(&self) -> (Vec<f32>, ObsSplit) {
+        let (mut obs, split) = self.observation_buffer();
+        self.env.observe_into(&mut obs);
+        (obs, split)
+    }
+}
+
 /// One open batch, with its reusable step output.
 pub(crate) struct OpenBatch {
     batch: EnvBatch,
@@ -216,9 +231,7 @@ impl Simulation {
         seed: Option<u64>,
     ) -> Result<(Vec<f32>, ObsSplit)> {
         self.on_env(tenant, id, "Reset", move |open| {
-            let spec = open.env.spec();
-            let (dim, split) = (spec.observation_dim, ObsSplit::of(spec));
-            let mut obs = vec![0.0; dim];
+            let (mut obs, split) = open.observation_buffer();
             open.env.reset_into(seed, &mut obs);
             open.was_done.fill(false);
             Ok((obs, split))
@@ -234,9 +247,7 @@ impl Simulation {
                     panic!("injected panic (ServerConfig::panic_on_action)");
                 }
                 let started = Instant::now();
-                let spec = open.env.spec();
-                let (dim, split) = (spec.observation_dim, ObsSplit::of(spec));
-                let mut observation = vec![0.0; dim];
+                let (mut observation, split) = open.observation_buffer();
                 let flags = open.env.step_into(
                     step.action.action_type,
                     &step.action.values,
@@ -269,14 +280,8 @@ impl Simulation {
         tenant: &Tenant,
         id: &str,
     ) -> Result<(Vec<f32>, ObsSplit)> {
-        self.on_env(tenant, id, "Observe", move |open| {
-            let spec = open.env.spec();
-            let (dim, split) = (spec.observation_dim, ObsSplit::of(spec));
-            let mut obs = vec![0.0; dim];
-            open.env.observe_into(&mut obs);
-            Ok((obs, split))
-        })
-        .await
+        self.on_env(tenant, id, "Observe", move |open| Ok(open.observation()))
+            .await
     }
 
     /// Takes a value out of its registry for good, waiting for calls in flight on it.

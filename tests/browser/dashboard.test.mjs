@@ -12,6 +12,7 @@
 // which `cargo test` builds)
 
 import { chromium } from 'playwright-core';
+import { check } from './check.mjs';
 import { spawn } from 'node:child_process';
 import { existsSync } from 'node:fs';
 import { createInterface } from 'node:readline';
@@ -26,15 +27,6 @@ if (!existsSync(fixture_path)) {
 }
 const executablePath = process.env.CHROMIUM ?? '/usr/bin/chromium';
 const HOSTILE = '<script>alert(1)</script>';
-
-function check(ok, message) {
-  if (!ok) {
-    console.error(`FAIL: ${message}`);
-    process.exitCode = 1;
-    throw new Error(message);
-  }
-  console.log(`ok: ${message}`);
-}
 
 // The fixture: its first line describes the server; later lines answer `step N`.
 const fixture = spawn(fixture_path, [], { stdio: ['pipe', 'pipe', 'inherit'] });

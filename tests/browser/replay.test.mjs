@@ -8,6 +8,7 @@
 // Usage: node replay.test.mjs [PAGE] (default: ../../target/tmp/replay/pendulum.html)
 
 import { chromium } from 'playwright-core';
+import { check } from './check.mjs';
 import { existsSync } from 'node:fs';
 import { fileURLToPath, pathToFileURL } from 'node:url';
 import path from 'node:path';
@@ -19,15 +20,6 @@ if (!existsSync(page_path)) {
   process.exit(1);
 }
 const executablePath = process.env.CHROMIUM ?? '/usr/bin/chromium';
-
-function check(ok, message) {
-  if (!ok) {
-    console.error(`FAIL: ${message}`);
-    process.exitCode = 1;
-    throw new Error(message);
-  }
-  console.log(`ok: ${message}`);
-}
 
 const browser = await chromium.launch({
   executablePath,

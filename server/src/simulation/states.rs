@@ -34,11 +34,7 @@ impl Simulation {
             let state = SavedState::decode(&state)?;
             open.env.load(&state)?;
             open.was_done.fill(false);
-            let spec = open.env.spec();
-            let (dim, split) = (spec.observation_dim, ObsSplit::of(spec));
-            let mut obs = vec![0.0; dim];
-            open.env.observe_into(&mut obs);
-            Ok((obs, split))
+            Ok(open.observation())
         })
         .await
     }

@@ -94,17 +94,8 @@ async fn a_collada_index_past_its_positions_is_a_bad_mesh_not_a_panic() {
     let mut raw = SimulatorClient::connect(server.url())
         .await
         .expect("connect");
-    let urdf = r#"<robot name="assets">
-  <link name="base"/>
-  <link name="arm">
-    <inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>
-    <collision><geometry><mesh filename="package://p/meshes/c.dae" scale="0.1 0.1 0.1"/></geometry></collision>
-  </link>
-  <joint name="hinge" type="revolute">
-    <parent link="base"/><child link="arm"/><axis xyz="0 1 0"/>
-    <limit lower="-1" upper="1" effort="10" velocity="1"/>
-  </joint>
-</robot>"#;
+    // The `assets_archive` target's URDF model, whose link's mesh is the archive's DAE.
+    let urdf = include_str!("../../../fuzz/src/assets.urdf");
     let refused = raw
         .create_env(pb::CreateEnvRequest {
             document_json: urdf.to_string(),
