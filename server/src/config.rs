@@ -108,6 +108,11 @@ pub struct ServerConfig {
     #[cfg(debug_assertions)]
     #[doc(hidden)]
     pub panic_on_action: Option<f32>,
+    /// Test-only gate on the pool's jobs, in debug builds only, for the same reason: see
+    /// [`crate::JobGate`].
+    #[cfg(debug_assertions)]
+    #[doc(hidden)]
+    pub job_gate: Option<crate::JobGate>,
 }
 
 impl Default for ServerConfig {
@@ -134,6 +139,8 @@ impl Default for ServerConfig {
             clock: Clock::system(),
             #[cfg(debug_assertions)]
             panic_on_action: None,
+            #[cfg(debug_assertions)]
+            job_gate: None,
         }
     }
 }

@@ -48,5 +48,8 @@ pub use error::{EntityKind, Result, ServerError, MAX_STATUS_MESSAGE_BYTES};
 pub use listen::{ListenAddr, Listener, SocketFile};
 pub use local::LocalServer;
 pub use models::{LibraryModel, ModelLibrary};
+#[cfg(debug_assertions)]
+#[doc(hidden)]
+pub use pool::JobGate;
 pub use serve::serve;
 pub use tenant::{Tenant, TokenTable, MIN_TOKEN_CHARS};

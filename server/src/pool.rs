@@ -15,6 +15,7 @@
 //! pool thread ([`Lane::Batch`]).
 
 use gymfleet_batch::{panic_message, BatchError, StepPool};
+use std::ops::Deref;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use tokio::sync::oneshot;
 
@@ -31,26 +32,134 @@ pub(crate) enum Lane {
     Batch,
 }
 
-fn spawn(pool: &StepPool, lane: Lane, job: impl FnOnce() + Send + 'static) {
-    match lane {
-        Lane::Env => pool.spawn_fair(job),
-        Lane::Batch => pool.spawn(job),
+/// The simulation pool as the server's jobs use it: the [`StepPool`] (which it derefs
+/// to) and, in debug builds only, the test gate of `ServerConfig::job_gate`.
+#[derive(Clone)]
+pub(crate) struct Jobs {
+    pool: StepPool,
+    #[cfg(debug_assertions)]
+    gate: Option<JobGate>,
+}
+
+impl Jobs {
+    pub(crate) fn new(pool: StepPool, config: &crate::ServerConfig) -> Self {
+        #[cfg(not(debug_assertions))]
+        let _ = config;
+        Jobs {
+            pool,
+            #[cfg(debug_assertions)]
+            gate: config.job_gate.clone(),
+        }
+    }
+
+    fn spawn_in(&self, lane: Lane, job: impl FnOnce() + Send + 'static) {
+        match lane {
+            Lane::Env => self.pool.spawn_fair(job),
+            Lane::Batch => self.pool.spawn(job),
+        }
+    }
+
+    /// What a job does before it looks whether its caller is still there.
+    fn hold(&self) -> Hold {
+        Hold {
+            #[cfg(debug_assertions)]
+            gate: self.gate.clone(),
+        }
+    }
+}
+
+impl Deref for Jobs {
+    type Target = StepPool;
+
+    fn deref(&self) -> &StepPool {
+        &self.pool
+    }
+}
+
+/// Nothing in a release build; in a debug build, waits at the test gate if there is one.
+struct Hold {
+    #[cfg(debug_assertions)]
+    gate: Option<JobGate>,
+}
+
+impl Hold {
+    fn wait<T>(&self, _caller: &oneshot::Sender<T>) {
+        #[cfg(debug_assertions)]
+        if let Some(gate) = &self.gate {
+            gate.hold(_caller);
+        }
+    }
+}
+
+/// Test-only, in debug builds (`ServerConfig::job_gate`): while the gate is closed, every
+/// pool job waits, before it starts, until the gate opens or its caller has gone (the
+/// call's deadline passed or it was cancelled). [`JobGate::abandoned`] counts the jobs
+/// let go because their caller had gone. Tests of abandoned work wait on these events
+/// instead of racing the clock with sleeps and deadlines.
+#[cfg(debug_assertions)]
+#[doc(hidden)]
+#[derive(Clone, Debug, Default)]
+pub struct JobGate(std::sync::Arc<GateState>);
+
+/// Two handles are equal when they are the same gate.
+#[cfg(debug_assertions)]
+impl PartialEq for JobGate {
+    fn eq(&self, other: &Self) -> bool {
+        std::sync::Arc::ptr_eq(&self.0, &other.0)
+    }
+}
+
+#[cfg(debug_assertions)]
+#[derive(Debug, Default)]
+struct GateState {
+    closed: std::sync::atomic::AtomicBool,
+    abandoned: std::sync::atomic::AtomicUsize,
+}
+
+#[cfg(debug_assertions)]
+impl JobGate {
+    /// Holds the jobs that start from now on.
+    pub fn close(&self) {
+        self.0
+            .closed
+            .store(true, std::sync::atomic::Ordering::SeqCst);
+    }
+
+    /// Lets every job go.
+    pub fn open(&self) {
+        self.0
+            .closed
+            .store(false, std::sync::atomic::Ordering::SeqCst);
+    }
+
+    /// How many held jobs were let go because their caller had gone.
+    pub fn abandoned(&self) -> usize {
+        self.0.abandoned.load(std::sync::atomic::Ordering::SeqCst)
+    }
+
+    fn hold<T>(&self, caller: &oneshot::Sender<T>) {
+        use std::sync::atomic::Ordering::SeqCst;
+        while self.0.closed.load(SeqCst) {
+            if caller.is_closed() {
+                self.0.abandoned.fetch_add(1, SeqCst);
+                return;
+            }
+            // A test gate: how soon a held job notices does not change what it does.
+            std::thread::sleep(std::time::Duration::from_millis(1));
+        }
     }
 }
 
 /// Runs `job` on the pool and waits for its answer.
-pub(crate) async fn run<R, F>(
-    pool: &StepPool,
-    lane: Lane,
-    operation: &'static str,
-    job: F,
-) -> Result<R>
+pub(crate) async fn run<R, F>(jobs: &Jobs, lane: Lane, operation: &'static str, job: F) -> Result<R>
 where
     R: Send + 'static,
     F: FnOnce() -> Result<R> + Send + 'static,
 {
     let (tx, rx) = oneshot::channel();
-    spawn(pool, lane, move || {
+    let hold = jobs.hold();
+    jobs.spawn_in(lane, move || {
+        hold.wait(&tx);
         if tx.is_closed() {
             // The caller has gone: nobody would see the answer.
             return;
@@ -76,7 +185,7 @@ where
 /// Locks `entry`, runs `job` on its value on the pool, and waits for the answer. The lock
 /// is held until the job ends, even if the caller goes away meanwhile.
 pub(crate) async fn run_locked<T, R, F>(
-    pool: &StepPool,
+    jobs: &Jobs,
     lane: Lane,
     registry: &Registry<T>,
     entry: &Entry<T>,
@@ -92,7 +201,9 @@ where
     let kind = registry.kind();
     let id = entry.id().to_string();
     let (tx, rx) = oneshot::channel();
-    spawn(pool, lane, move || {
+    let hold = jobs.hold();
+    jobs.spawn_in(lane, move || {
+        hold.wait(&tx);
         if tx.is_closed() {
             // The caller has gone: leave the env as it is (the lock goes with `slot`).
             return;

@@ -18,7 +18,7 @@ use crate::config::ServerConfig;
 use crate::domain::{Action, Created, EnvRequest, EnvStep, EnvStepOutcome, ObsSplit, ServerStatus};
 use crate::error::{EntityKind, Result};
 use crate::metrics::{Gauges, Metrics, OpenCounts};
-use crate::pool::{self, Lane};
+use crate::pool::{self, Jobs, Lane};
 use crate::registry::{Activity, EnvCapacity, Facts, Held, Registry};
 use crate::tenant::Tenant;
 
@@ -68,7 +68,7 @@ pub(crate) struct Simulation {
     /// 32 random hex digits, new at every start (`ServerInfo.instance_id`).
     instance_id: String,
     config: ServerConfig,
-    pool: StepPool,
+    pool: Jobs,
     capacity: Arc<EnvCapacity>,
     /// Each tenant's quota, made on its first request (at most one per token-file tenant,
     /// or the anonymous one).
@@ -101,8 +101,8 @@ impl Simulation {
             metrics: Arc::new(Metrics::new()),
             envs: Registry::new(EntityKind::Env, "sim", config.clock.clone()),
             batches: Registry::new(EntityKind::Batch, "batch", config.clock.clone()),
+            pool: Jobs::new(pool, &config),
             config,
-            pool,
         }
     }
 

@@ -363,77 +363,95 @@ async fn mutual_tls_admits_only_clients_with_a_certificate_from_its_ca() {
     server.stop().await.expect("clean shutdown");
 }
 
-#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn a_call_past_its_deadline_fails_as_deadline_exceeded() {
-    let server = TestServer::start_default().await;
-    let hurried = Client::builder(server.addr().to_string())
-        .timeout(Duration::from_millis(1))
-        .connect()
+/// Deadlines, with the server's test gate on its pool jobs (debug builds only, as the
+/// gate is): the held jobs make each deadline pass whatever the machine's speed.
+#[cfg(debug_assertions)]
+mod deadlines {
+    use super::*;
+    use gymfleet_server::JobGate;
+
+    /// A server whose pool jobs wait at `gate` while it is closed (debug builds).
+    async fn gated_server(gate: &JobGate) -> TestServer {
+        TestServer::start(ServerConfig {
+            job_gate: Some(gate.clone()),
+            ..ServerConfig::default()
+        })
         .await
-        .expect("connect");
-    // Creating 2 000 arms takes far longer than a millisecond.
-    let err = hurried
-        .create_batch(BatchOptions::new(ARM2, 2000))
+    }
+
+    /// Waits until a held job has seen that its caller has gone. Not a race: the gate holds
+    /// it until then, however long the server takes to drop the call.
+    async fn until_abandoned(gate: &JobGate, jobs: usize) {
+        tokio::time::timeout(Duration::from_secs(60), async {
+            while gate.abandoned() < jobs {
+                tokio::time::sleep(Duration::from_millis(1)).await;
+            }
+        })
+        .await
+        .expect("the server drops a call past its deadline");
+    }
+
+    #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+    async fn a_call_past_its_deadline_fails_as_deadline_exceeded() {
+        let gate = JobGate::default();
+        let server = gated_server(&gate).await;
+        let hurried = Client::builder(server.addr().to_string())
+            .timeout(Duration::from_millis(1))
+            .connect()
+            .await
+            .expect("connect");
+        // The creation's job is held on the pool until its caller has gone, so the
+        // millisecond passes whatever the machine's speed.
+        gate.close();
+        let err = hurried
+            .create_batch(BatchOptions::new(ARM2, 2000))
+            .await
+            .unwrap_err();
+        assert!(
+            matches!(err, ClientError::DeadlineExceeded { .. }),
+            "{err:?}"
+        );
+        assert_eq!(err.code(), Some(Code::DeadlineExceeded));
+        until_abandoned(&gate, 1).await;
+        gate.open();
+        // The server is fine, and nothing was built or reserved for nobody.
+        let client = server.client().await;
+        let info = client.server_info().await.expect("info");
+        assert_eq!((info.batches, info.batch_envs), (0, 0), "{info:?}");
+        steps(&client).await;
+        server.stop().await.expect("clean shutdown");
+    }
+
+    #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+    async fn work_for_a_caller_that_has_gone_is_not_started() {
+        let gate = JobGate::default();
+        let server = gated_server(&gate).await;
+        let client = server.client().await;
+        let short = client
+            .create_batch(BatchOptions::new(ARM2, 1))
+            .await
+            .expect("short batch");
+        // The step waits for a thread (held at the gate) and its caller gives up; its
+        // deadline went out as `grpc-timeout` (`with_deadline`), so the server drops the call.
+        gate.close();
+        let err = gymfleet_client::with_deadline(
+            Duration::from_millis(20),
+            short.step(ActionType::Torque, &[0.0, 0.0]),
+        )
         .await
         .unwrap_err();
-    assert!(
-        matches!(err, ClientError::DeadlineExceeded { .. }),
-        "{err:?}"
-    );
-    assert_eq!(err.code(), Some(Code::DeadlineExceeded));
-    // The server is fine, and whatever it built for nobody is not left held forever.
-    let client = server.client().await;
-    steps(&client).await;
-    server.stop().await.expect("clean shutdown");
-}
-
-#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn work_for_a_caller_that_has_gone_is_not_started() {
-    // One pool thread, kept busy by a long batch step of one client while a hurried
-    // client's step on another batch waits for it and passes its deadline.
-    let server = TestServer::start(ServerConfig {
-        threads: 1,
-        ..ServerConfig::default()
-    })
-    .await;
-    let patient = server.client().await;
-    let long = patient
-        .create_batch(BatchOptions::new(ARM2, 2000))
-        .await
-        .expect("long batch");
-    let short = patient
-        .create_batch(BatchOptions::new(ARM2, 1))
-        .await
-        .expect("short batch");
-    let actions = vec![0.1_f32; 2000 * 2];
-    let busy = tokio::spawn(async move {
-        let mut steps = 0;
-        for _ in 0..3 {
-            long.step(ActionType::Torque, &actions)
-                .await
-                .expect("long step");
-            steps += 1;
-        }
-        steps
-    });
-    tokio::time::sleep(Duration::from_millis(30)).await;
-    // The hurried step on `short` waits behind the long steps and gives up; its deadline
-    // went out as `grpc-timeout` (`with_deadline`), so the server drops the queued job.
-    let err = gymfleet_client::with_deadline(
-        Duration::from_millis(20),
-        short.step(ActionType::Torque, &[0.0, 0.0]),
-    )
-    .await
-    .unwrap_err();
-    assert_eq!(err.code(), Some(Code::DeadlineExceeded), "{err:?}");
-    assert_eq!(busy.await.unwrap(), 3);
-    // Had the abandoned step run, this would be the short batch's second step.
-    let step = short
-        .step(ActionType::Torque, &[0.0, 0.0])
-        .await
-        .expect("step");
-    assert_eq!(step.step_index(), 1, "the abandoned step never ran");
-    server.stop().await.expect("clean shutdown");
+        assert_eq!(err.code(), Some(Code::DeadlineExceeded), "{err:?}");
+        // The held job saw its caller gone before starting; then the pool is free again.
+        until_abandoned(&gate, 1).await;
+        gate.open();
+        // Had the abandoned step run, this would be the short batch's second step.
+        let step = short
+            .step(ActionType::Torque, &[0.0, 0.0])
+            .await
+            .expect("step");
+        assert_eq!(step.step_index(), 1, "the abandoned step never ran");
+        server.stop().await.expect("clean shutdown");
+    }
 }
 
 /// `GET /metrics` over a plain HTTP/1.0 connection: the body.
