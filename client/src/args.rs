@@ -5,26 +5,30 @@
 use std::path::PathBuf;
 
 use crate::client::{Client, ClientBuilder};
+use crate::environment::{
+    ENV_TLS_CA, ENV_TLS_CLIENT_CERT, ENV_TLS_CLIENT_KEY, ENV_TLS_DOMAIN, ENV_TOKEN,
+};
 
 /// How to reach servers that require a token or TLS. Flatten it into a tool's flags
-/// (`#[command(flatten)]`); each flag also reads a `GYMFLEET_*` variable.
+/// (`#[command(flatten)]`); each flag also reads its `GYMFLEET_*` variable, the same ones
+/// [`ClientBuilder::from_env`] reads.
 #[derive(Clone, Default, PartialEq, Eq, clap::Args)]
 pub struct ConnectArgs {
     /// Bearer token sent to every server (servers run with --auth-tokens).
     #[arg(
         long,
-        env = "GYMFLEET_TOKEN",
+        env = ENV_TOKEN,
         value_name = "TOKEN",
         hide_env_values = true
     )]
     pub token: Option<String>,
     /// Connect with TLS, trusting this CA certificate (PEM).
-    #[arg(long, env = "GYMFLEET_TLS_CA", value_name = "FILE")]
+    #[arg(long, env = ENV_TLS_CA, value_name = "FILE")]
     pub tls_ca: Option<PathBuf>,
     /// Mutual TLS: this client's certificate (PEM); needs --tls-client-key.
     #[arg(
         long,
-        env = "GYMFLEET_TLS_CLIENT_CERT",
+        env = ENV_TLS_CLIENT_CERT,
         value_name = "FILE",
         requires = "tls_client_key"
     )]
@@ -32,13 +36,13 @@ pub struct ConnectArgs {
     /// Mutual TLS: the key (PEM) of --tls-client-cert.
     #[arg(
         long,
-        env = "GYMFLEET_TLS_CLIENT_KEY",
+        env = ENV_TLS_CLIENT_KEY,
         value_name = "FILE",
         requires = "tls_client_cert"
     )]
     pub tls_client_key: Option<PathBuf>,
     /// The name the servers' certificates carry, when it is not the host connected to.
-    #[arg(long, env = "GYMFLEET_TLS_DOMAIN", value_name = "NAME")]
+    #[arg(long, env = ENV_TLS_DOMAIN, value_name = "NAME")]
     pub tls_domain: Option<String>,
 }
 

@@ -42,6 +42,7 @@ mod client;
 mod document;
 mod endpoints;
 mod env;
+mod environment;
 mod error;
 mod fanout;
 mod fleet;
@@ -64,6 +65,9 @@ pub use client::{
 pub use document::{ConvertedDocument, DocumentFormat, ModelInfo};
 pub use endpoints::FleetEndpoints;
 pub use env::Env;
+pub use environment::{
+    ENV_TLS_CA, ENV_TLS_CLIENT_CERT, ENV_TLS_CLIENT_KEY, ENV_TLS_DOMAIN, ENV_TOKEN,
+};
 pub use error::{ClientError, Result};
 pub use fleet::Fleet;
 pub use fleet_batch::recovery::CheckpointStatus;

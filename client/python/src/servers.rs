@@ -57,10 +57,10 @@ pub(crate) fn resolve(
 }
 
 /// The cached connection to the server at `addr`, with the token and TLS settings of
-/// the `GYMFLEET_*` variables the command-line tools read too ([`from_environment`]);
+/// the `GYMFLEET_*` variables the command-line tools read too (`ClientBuilder::from_env`);
 /// `token` replaces `GYMFLEET_TOKEN` (a connection per address and token).
 fn client(py: Python<'_>, addr: &str, token: Option<&str>) -> PyResult<Client> {
-    let mut settings = from_environment(addr)?;
+    let mut settings = ClientBuilder::from_env(addr).map_err(to_py_err)?;
     let key = match token {
         Some(token) => {
             if token.is_empty() {
@@ -74,40 +74,6 @@ fn client(py: Python<'_>, addr: &str, token: Option<&str>) -> PyResult<Client> {
         None => addr.to_string(),
     };
     cached(py, &key, settings)
-}
-
-/// Connection settings for `addr` from the environment: `GYMFLEET_TOKEN` (bearer
-/// token), `GYMFLEET_TLS_CA` (connect with TLS, trusting this CA file),
-/// `GYMFLEET_TLS_CLIENT_CERT` and `GYMFLEET_TLS_CLIENT_KEY` (mutual TLS),
-/// `GYMFLEET_TLS_DOMAIN` (the name on the server's certificate). Read when an address is
-/// first connected to.
-fn from_environment(addr: &str) -> PyResult<ClientBuilder> {
-    let var = |name: &str| std::env::var(name).ok().filter(|v| !v.is_empty());
-    let mut builder = Client::builder(addr);
-    if let Some(token) = var("GYMFLEET_TOKEN") {
-        builder = builder.token(token);
-    }
-    if let Some(ca) = var("GYMFLEET_TLS_CA") {
-        builder = builder.tls_ca_file(ca);
-    }
-    match (
-        var("GYMFLEET_TLS_CLIENT_CERT"),
-        var("GYMFLEET_TLS_CLIENT_KEY"),
-    ) {
-        (Some(cert), Some(key)) => builder = builder.tls_identity_files(cert, key),
-        (None, None) => {}
-        _ => {
-            return Err(crate::options::invalid(
-                "GYMFLEET_TLS_CLIENT_CERT and GYMFLEET_TLS_CLIENT_KEY go together: set both \
-                 or neither"
-                    .to_string(),
-            ))
-        }
-    }
-    if let Some(domain) = var("GYMFLEET_TLS_DOMAIN") {
-        builder = builder.tls_domain(domain);
-    }
-    Ok(builder)
 }
 
 /// The cached connection to `addr`, connecting with `settings` on first use. A
