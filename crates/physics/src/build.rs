@@ -1,6 +1,6 @@
 //! Building a [`RobotWorld`] from an [`Assembly`]: bodies, colliders, the multibody tree.
 
-use gymfleet_assembly::{Assembly, DofKind, Joint, JointType, Shape};
+use gymfleet_assembly::{Assembly, DofKind, Joint, JointType};
 use rapier3d::prelude::*;
 
 use crate::actuation::resolve_gains;
@@ -15,6 +15,12 @@ use crate::world::{
 /// Gauss–Seidel passes per substep for a world with kinematic loops (Rapier's default, 1,
 /// otherwise).
 const LOOP_PGS_ITERATIONS: usize = 4;
+
+mod trees;
+
+use trees::{
+    apply_initial_positions, generic_joint, held_fixed, insert_trees, place_floating_trees,
+};
 
 impl RobotWorld {
     /// Builds the world: one body per instance (the first fixed, the others dynamic),
@@ -35,10 +41,12 @@ impl RobotWorld {
             ccd: CCDSolver::new(),
         };
 
+        let held = held_fixed(assembly);
         let bodies: Vec<RigidBodyHandle> = assembly
             .instances
             .iter()
-            .map(|inst| insert_body(&mut sets, inst))
+            .zip(&held)
+            .map(|(inst, &fixed)| insert_body(&mut sets, inst, fixed))
             .collect();
         // Collision detection runs once per step, so contacts must be predicted: soft CCD
         // widens each pair's contact prediction by how far its colliders' points can move in
@@ -50,7 +58,7 @@ impl RobotWorld {
             }
         }
 
-        let frames = insert_trees(&mut sets, assembly, &bodies)?;
+        let frames = insert_trees(&mut sets, assembly, &bodies, &held)?;
 
         place_floating_trees(&mut sets);
 
@@ -164,6 +172,25 @@ fn joint_slots(
             }
             continue;
         }
+        if joint.kind == JointType::Fixed && !sets.bodies[child].is_dynamic() {
+            // Welded to the ground (`held_fixed`): no link, no DOF.
+            joints.push(JointSlot {
+                kind: joint.kind,
+                parent: bodies[joint.parent],
+                child,
+                multibody: MultibodyIndex(rapier3d::data::Index::from_raw_parts(
+                    u32::MAX,
+                    u32::MAX,
+                )),
+                link: 0,
+                frame1: frames[j].0,
+                first_dof: dofs.len(),
+                closing: None,
+                observed_dofs: 0,
+                on_loop: joint.on_loop,
+            });
+            continue;
+        }
         let link_id = *sets
             .multibody_joints
             .rigid_body_link(child)
@@ -247,11 +274,11 @@ fn base_values(
             .collect(),
         density: bodies
             .iter()
-            .map(|&b| first_collider(&sets, b).map_or(0.0, |c| c.density()))
+            .map(|&b| first_collider(sets, b).map_or(0.0, |c| c.density()))
             .collect(),
         friction: bodies
             .iter()
-            .map(|&b| first_collider(&sets, b).map_or(0.0, |c| c.friction()))
+            .map(|&b| first_collider(sets, b).map_or(0.0, |c| c.friction()))
             .collect(),
         damping: assembly
             .joints
@@ -279,63 +306,6 @@ fn check_options(options: &WorldOptions) -> Result<()> {
         });
     }
     Ok(())
-}
-
-/// Inserts every joint that does not close a loop into the multibody trees, parents
-/// before children (each insertion appends one link); returns every joint's two frames.
-fn insert_trees(
-    sets: &mut Sets,
-    assembly: &Assembly,
-    bodies: &[RigidBodyHandle],
-) -> Result<Vec<(Pose, Pose)>> {
-    // Parents before children, so each insertion appends one link to a tree.
-    let mut order: Vec<usize> = (0..assembly.joints.len()).collect();
-    let depth = depths(assembly);
-    order.sort_by_key(|&j| depth[assembly.joints[j].child]);
-    let mut frames = vec![(Pose::IDENTITY, Pose::IDENTITY); assembly.joints.len()];
-    for &j in &order {
-        let joint = &assembly.joints[j];
-        let (parent, child) = (bodies[joint.parent], bodies[joint.child]);
-        let (f1, f2) = joint_frames(&sets.bodies, parent, child, joint);
-        frames[j] = (f1, f2);
-        if joint.closes_loop {
-            continue; // Added once the trees are complete (`loops.rs`).
-        }
-        // A ground plane collides with what is jointed to it too (MuJoCo never filters
-        // the world body's geoms): only the plane stops a link from falling through.
-        let contacts = assembly.instances[joint.parent].shape == Shape::Plane;
-        let data = generic_joint(joint, f1, f2, contacts);
-        sets.multibody_joints
-            .insert(parent, child, data, true)
-            .ok_or_else(|| PhysicsError::BadOption {
-                field: "assembly.joints",
-                reason: format!(
-                    "joint {:?} could not be added to the multibody tree",
-                    joint.name
-                ),
-            })?;
-    }
-    Ok(frames)
-}
-
-/// Runs forward kinematics once on every tree: one on a dynamic root (a floating base)
-/// sits at Rapier's origin until a step reads the root body's pose.
-fn place_floating_trees(sets: &mut Sets) {
-    // A tree whose root is dynamic (a floating base) starts as Rapier's free root at the
-    // origin until a step reads the root body's pose: read it now, so that everything
-    // below (initial positions, gains) sees the tree where the document places it.
-    let trees: Vec<MultibodyIndex> = sets
-        .multibody_joints
-        .multibodies()
-        .map(|mb| mb.root().rigid_body_handle())
-        .filter_map(|root| Some(sets.multibody_joints.rigid_body_link(root)?.multibody))
-        .collect();
-    for &index in &trees {
-        if let Some(mb) = sets.multibody_joints.get_multibody_mut(index) {
-            mb.forward_kinematics(&sets.bodies, true);
-            mb.update_rigid_bodies(&mut sets.bodies, true);
-        }
-    }
 }
 
 /// Each joint's armature on its DOFs.
@@ -429,71 +399,6 @@ fn first_collider(sets: &Sets, body: RigidBodyHandle) -> Option<&Collider> {
     sets.colliders.get(handle)
 }
 
-/// Depth of each instance in the joint forest (roots are 0).
-fn depths(assembly: &Assembly) -> Vec<usize> {
-    let mut parent = vec![None; assembly.instances.len()];
-    for joint in assembly.joints.iter().filter(|j| !j.closes_loop) {
-        parent[joint.child] = Some(joint.parent);
-    }
-    (0..assembly.instances.len())
-        .map(|mut i| {
-            let mut d = 0;
-            while let Some(p) = parent[i] {
-                d += 1;
-                i = p;
-                if d > parent.len() {
-                    break; // Validation rules out loops; never spin regardless.
-                }
-            }
-            d
-        })
-        .collect()
-}
-
-/// The joint frame (origin at the anchor, X along the axis) in each body's local frame.
-fn joint_frames(
-    bodies: &RigidBodySet,
-    parent: RigidBodyHandle,
-    child: RigidBodyHandle,
-    joint: &Joint,
-) -> (Pose, Pose) {
-    let [ax, ay, az] = joint.axis.map(|c| c as Real);
-    let [px, py, pz] = joint.anchor.map(|c| c as Real);
-    let rotation = Rotation::from_rotation_arc(Vector::X, Vector::new(ax, ay, az).normalize());
-    let world = Pose::from_parts(Vector::new(px, py, pz), rotation);
-    let f1 = bodies[parent].position().inverse() * world;
-    let f2 = bodies[child].position().inverse() * world;
-    (f1, f2)
-}
-
-/// `contacts`: whether the two instances still collide (a ground plane and what hangs on it).
-fn generic_joint(joint: &Joint, f1: Pose, f2: Pose, contacts: bool) -> GenericJoint {
-    let locked = match joint.kind {
-        JointType::Revolute => JointAxesMask::LOCKED_REVOLUTE_AXES,
-        JointType::Prismatic => JointAxesMask::LOCKED_PRISMATIC_AXES,
-        JointType::Cylindrical => {
-            JointAxesMask::LIN_Y
-                | JointAxesMask::LIN_Z
-                | JointAxesMask::ANG_Y
-                | JointAxesMask::ANG_Z
-        }
-        JointType::Ball => JointAxesMask::LOCKED_SPHERICAL_AXES,
-        JointType::Fixed => JointAxesMask::LOCKED_FIXED_AXES,
-    };
-    let mut builder = GenericJointBuilder::new(locked)
-        .local_frame1(f1)
-        .local_frame2(f2)
-        .contacts_enabled(contacts);
-    if let Some([min, max]) = joint.limits {
-        let axis = match joint.kind {
-            JointType::Prismatic => JointAxis::LinX,
-            _ => JointAxis::AngX,
-        };
-        builder = builder.limits(axis, [min as Real, max as Real]);
-    }
-    builder.build()
-}
-
 fn joint_dofs(j: usize, joint: &Joint) -> impl Iterator<Item = JointDof> + '_ {
     // As the document wrote them: -120° reads -120, not -119.99999999999999.
     let user_limits = joint.document_limits;
@@ -518,53 +423,92 @@ fn joint_dofs(j: usize, joint: &Joint) -> impl Iterator<Item = JointDof> + '_ {
     })
 }
 
-/// Moves every joint with an `initial` position there (from the document's pose, where
-/// the multibodies were built), so that the world's initial state, which every reset
-/// restores, starts there; rigid bodies and their colliders follow.
-fn apply_initial_positions(
-    sets: &mut Sets,
-    assembly: &Assembly,
-    bodies: &[RigidBodyHandle],
-) -> Result<()> {
-    let mut touched: Vec<MultibodyIndex> = Vec::new();
-    for joint in assembly.joints.iter().filter(|j| j.initial != 0.0) {
-        let link = sets
-            .multibody_joints
-            .rigid_body_link(bodies[joint.child])
-            .copied()
-            .ok_or_else(|| PhysicsError::BadOption {
-                field: "assembly.joints",
-                reason: format!("joint {:?} has no multibody link", joint.name),
-            })?;
-        let Some(mb) = sets.multibody_joints.get_multibody_mut(link.multibody) else {
-            continue;
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{ActionMode, Units};
+
+    /// The seed pendulum, tilted 10°, its arm's pivot 98 mm above the base (out of the
+    /// base's reach as it swings); with `plate`, the arm hangs from a plate held there by
+    /// a weld to the base instead of from the base itself (the plate touches neither:
+    /// welded to one, jointed to the other).
+    fn pendulum(plate: bool) -> Assembly {
+        let (parent, plate_instance, weld) = if plate {
+            (
+                "plate",
+                r#", { "part": "Plate", "name": "plate", "position": { "x": 0, "y": 0, "z": 100 } }"#,
+                r#", { "type": "fixed", "parent": "base", "child": "plate",
+                       "anchor": { "x": 10, "y": 10, "z": 103 } }"#,
+            )
+        } else {
+            ("base", "", "")
         };
-        let Some(first) = mb.link(link.id).map(|l| l.assembly_id()) else {
-            continue;
+        let doc = format!(
+            r#"{{
+  "parts": [
+    {{ "name": "Base", "primitive": {{ "type": "cube", "size": {{ "x": 20, "y": 20, "z": 5 }} }} }},
+    {{ "name": "Arm", "primitive": {{ "type": "cube", "size": {{ "x": 4, "y": 4, "z": 40 }} }} }},
+    {{ "name": "Plate", "primitive": {{ "type": "cube", "size": {{ "x": 20, "y": 20, "z": 3 }} }} }}
+  ],
+  "assembly": {{
+    "instances": [
+      {{ "part": "Base", "name": "base" }},
+      {{ "part": "Arm", "name": "arm", "position": {{ "x": 8, "y": 8, "z": 103 }} }}{plate_instance}
+    ],
+    "joints": [
+      {{ "type": "revolute", "parent": "{parent}", "child": "arm", "initial": 10,
+         "anchor": {{ "x": 10, "y": 10, "z": 103 }}, "axis": {{ "x": 0, "y": 1, "z": 0 }} }}{weld}
+    ]
+  }}
+}}"#
+        );
+        gymfleet_assembly::parse(&doc).unwrap()
+    }
+
+    fn swing(world: &mut RobotWorld, steps: usize) -> Vec<[f32; 2]> {
+        world.set_command(ActionMode::Torque, &[0.0]);
+        (0..steps)
+            .map(|_| {
+                world.step();
+                let (mut q, mut v) = ([0.0], [0.0]);
+                world.joint_state(Units::Si, &mut q, &mut v);
+                [q[0], v[0]]
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_weld_to_the_ground_is_a_fixed_body_outside_the_tree_and_changes_no_motion() {
+        let options = WorldOptions::default();
+        let mut plain = RobotWorld::new(&pendulum(false), &options).unwrap();
+        let mut welded = RobotWorld::new(&pendulum(true), &options).unwrap();
+
+        // The plate is a fixed body, the fixed root of the arm's tree; the base is in no
+        // tree. Two links, as the base's and the arm's are without the plate.
+        let (base, plate) = (welded.bodies[0], welded.bodies[2]);
+        assert!(welded.live.bodies[plate].is_fixed());
+        let root = welded.live.multibody_joints.rigid_body_link(plate);
+        assert_eq!(root.map(|l| l.id), Some(0));
+        assert!(welded.live.multibody_joints.rigid_body_link(base).is_none());
+        let links = |w: &RobotWorld| -> usize {
+            w.live
+                .multibody_joints
+                .multibodies()
+                .map(|mb| mb.num_links())
+                .sum()
         };
-        let mut disp = vec![0.0; mb.ndofs()];
-        disp[first] = joint.initial as Real;
-        mb.apply_displacements(&disp);
-        if !touched.contains(&link.multibody) {
-            touched.push(link.multibody);
+        assert_eq!((links(&plain), links(&welded)), (2, 2));
+        assert_eq!(welded.joints.len(), 2);
+        assert_eq!(welded.dofs().len(), 1);
+
+        // The arm falls from 10° exactly as it does hung from the base.
+        let (a, b) = (swing(&mut plain, 300), swing(&mut welded, 300));
+        assert!(a[299][0].abs() > 0.5, "the arm fell: {:?}", a[299]);
+        for (k, (x, y)) in a.iter().zip(&b).enumerate() {
+            assert!(
+                (x[0] - y[0]).abs() < 1e-6 && (x[1] - y[1]).abs() < 1e-5,
+                "step {k}: {x:?} against {y:?}"
+            );
         }
     }
-    if touched.is_empty() {
-        return Ok(());
-    }
-    for index in touched {
-        if let Some(mb) = sets.multibody_joints.get_multibody_mut(index) {
-            mb.forward_kinematics(&sets.bodies, true);
-            mb.update_rigid_bodies(&mut sets.bodies, true);
-        }
-    }
-    // Colliders follow their bodies now, not at the first step: a scene drawn before it
-    // shows the robot where it is.
-    for (_, co) in sets.colliders.iter_mut() {
-        if let Some(parent) = co.parent() {
-            let wrt = co.position_wrt_parent().copied().unwrap_or(Pose::IDENTITY);
-            co.set_position(*sets.bodies[parent].position() * wrt);
-        }
-    }
-    Ok(())
 }

@@ -17,8 +17,8 @@ pub(crate) fn instance_pose(inst: &Instance) -> Pose {
     Pose::from_parts(Vector::new(x, y, z), rotation)
 }
 
-pub(crate) fn insert_body(sets: &mut Sets, inst: &Instance) -> RigidBodyHandle {
-    let builder = if inst.grounded {
+pub(crate) fn insert_body(sets: &mut Sets, inst: &Instance, fixed: bool) -> RigidBodyHandle {
+    let builder = if fixed {
         RigidBodyBuilder::fixed()
     } else {
         RigidBodyBuilder::dynamic().can_sleep(false)

@@ -1,0 +1,211 @@
+//! The multibody trees of a [`crate::RobotWorld`]: which instances are held fixed, the
+//! joints' frames and Rapier descriptions, inserting the trees parents first, placing
+//! floating ones, and the joints' initial positions.
+
+use gymfleet_assembly::{Assembly, Joint, JointType, Shape};
+use rapier3d::prelude::*;
+
+use crate::error::{PhysicsError, Result};
+use crate::world::Sets;
+
+/// Inserts every joint that does not close a loop into the multibody trees, parents
+/// before children (each insertion appends one link); returns every joint's two frames.
+pub(super) fn insert_trees(
+    sets: &mut Sets,
+    assembly: &Assembly,
+    bodies: &[RigidBodyHandle],
+    held: &[bool],
+) -> Result<Vec<(Pose, Pose)>> {
+    // Parents before children, so each insertion appends one link to a tree.
+    let mut order: Vec<usize> = (0..assembly.joints.len()).collect();
+    let depth = depths(assembly);
+    order.sort_by_key(|&j| depth[assembly.joints[j].child]);
+    let mut frames = vec![(Pose::IDENTITY, Pose::IDENTITY); assembly.joints.len()];
+    for &j in &order {
+        let joint = &assembly.joints[j];
+        let (parent, child) = (bodies[joint.parent], bodies[joint.child]);
+        let (f1, f2) = joint_frames(&sets.bodies, parent, child, joint);
+        frames[j] = (f1, f2);
+        if joint.closes_loop {
+            continue; // Added once the trees are complete (`loops.rs`).
+        }
+        if held[joint.child] {
+            continue; // A weld to the ground: its child is a fixed body of its own.
+        }
+        // A ground plane collides with what is jointed to it too (MuJoCo never filters
+        // the world body's geoms): only the plane stops a link from falling through.
+        let contacts = assembly.instances[joint.parent].shape == Shape::Plane;
+        let data = generic_joint(joint, f1, f2, contacts);
+        sets.multibody_joints
+            .insert(parent, child, data, true)
+            .ok_or_else(|| PhysicsError::BadOption {
+                field: "assembly.joints",
+                reason: format!(
+                    "joint {:?} could not be added to the multibody tree",
+                    joint.name
+                ),
+            })?;
+    }
+    Ok(frames)
+}
+
+/// Runs forward kinematics once on every tree: one on a dynamic root (a floating base)
+/// sits at Rapier's origin until a step reads the root body's pose.
+pub(super) fn place_floating_trees(sets: &mut Sets) {
+    // A tree whose root is dynamic (a floating base) starts as Rapier's free root at the
+    // origin until a step reads the root body's pose: read it now, so that everything
+    // below (initial positions, gains) sees the tree where the document places it.
+    let trees: Vec<MultibodyIndex> = sets
+        .multibody_joints
+        .multibodies()
+        .map(|mb| mb.root().rigid_body_handle())
+        .filter_map(|root| Some(sets.multibody_joints.rigid_body_link(root)?.multibody))
+        .collect();
+    for &index in &trees {
+        if let Some(mb) = sets.multibody_joints.get_multibody_mut(index) {
+            mb.forward_kinematics(&sets.bodies, true);
+            mb.update_rigid_bodies(&mut sets.bodies, true);
+        }
+    }
+}
+
+/// Which instances are fixed bodies: the grounded ones, and those welded to one by a
+/// fixed joint of a tree, transitively (a URDF's base on its `world` link, MuJoCo bodies
+/// without joints under the world body, such as Reacher's arena). A weld to the ground
+/// never moves; as a link of a tree it would still cost kinematics and mass-matrix work
+/// every substep. Its pose, collider and readouts are the same either way.
+pub(super) fn held_fixed(assembly: &Assembly) -> Vec<bool> {
+    let mut held: Vec<bool> = assembly.instances.iter().map(|i| i.grounded).collect();
+    loop {
+        let mut changed = false;
+        for joint in &assembly.joints {
+            if joint.kind == JointType::Fixed
+                && !joint.closes_loop
+                && held[joint.parent]
+                && !held[joint.child]
+            {
+                held[joint.child] = true;
+                changed = true;
+            }
+        }
+        if !changed {
+            return held;
+        }
+    }
+}
+
+/// Depth of each instance in the joint forest (roots are 0).
+fn depths(assembly: &Assembly) -> Vec<usize> {
+    let mut parent = vec![None; assembly.instances.len()];
+    for joint in assembly.joints.iter().filter(|j| !j.closes_loop) {
+        parent[joint.child] = Some(joint.parent);
+    }
+    (0..assembly.instances.len())
+        .map(|mut i| {
+            let mut d = 0;
+            while let Some(p) = parent[i] {
+                d += 1;
+                i = p;
+                if d > parent.len() {
+                    break; // Validation rules out loops; never spin regardless.
+                }
+            }
+            d
+        })
+        .collect()
+}
+
+/// The joint frame (origin at the anchor, X along the axis) in each body's local frame.
+fn joint_frames(
+    bodies: &RigidBodySet,
+    parent: RigidBodyHandle,
+    child: RigidBodyHandle,
+    joint: &Joint,
+) -> (Pose, Pose) {
+    let [ax, ay, az] = joint.axis.map(|c| c as Real);
+    let [px, py, pz] = joint.anchor.map(|c| c as Real);
+    let rotation = Rotation::from_rotation_arc(Vector::X, Vector::new(ax, ay, az).normalize());
+    let world = Pose::from_parts(Vector::new(px, py, pz), rotation);
+    let f1 = bodies[parent].position().inverse() * world;
+    let f2 = bodies[child].position().inverse() * world;
+    (f1, f2)
+}
+
+/// `contacts`: whether the two instances still collide (a ground plane and what hangs on it).
+pub(super) fn generic_joint(joint: &Joint, f1: Pose, f2: Pose, contacts: bool) -> GenericJoint {
+    let locked = match joint.kind {
+        JointType::Revolute => JointAxesMask::LOCKED_REVOLUTE_AXES,
+        JointType::Prismatic => JointAxesMask::LOCKED_PRISMATIC_AXES,
+        JointType::Cylindrical => {
+            JointAxesMask::LIN_Y
+                | JointAxesMask::LIN_Z
+                | JointAxesMask::ANG_Y
+                | JointAxesMask::ANG_Z
+        }
+        JointType::Ball => JointAxesMask::LOCKED_SPHERICAL_AXES,
+        JointType::Fixed => JointAxesMask::LOCKED_FIXED_AXES,
+    };
+    let mut builder = GenericJointBuilder::new(locked)
+        .local_frame1(f1)
+        .local_frame2(f2)
+        .contacts_enabled(contacts);
+    if let Some([min, max]) = joint.limits {
+        let axis = match joint.kind {
+            JointType::Prismatic => JointAxis::LinX,
+            _ => JointAxis::AngX,
+        };
+        builder = builder.limits(axis, [min as Real, max as Real]);
+    }
+    builder.build()
+}
+
+/// Moves every joint with an `initial` position there (from the document's pose, where
+/// the multibodies were built), so that the world's initial state, which every reset
+/// restores, starts there; rigid bodies and their colliders follow.
+pub(super) fn apply_initial_positions(
+    sets: &mut Sets,
+    assembly: &Assembly,
+    bodies: &[RigidBodyHandle],
+) -> Result<()> {
+    let mut touched: Vec<MultibodyIndex> = Vec::new();
+    for joint in assembly.joints.iter().filter(|j| j.initial != 0.0) {
+        let link = sets
+            .multibody_joints
+            .rigid_body_link(bodies[joint.child])
+            .copied()
+            .ok_or_else(|| PhysicsError::BadOption {
+                field: "assembly.joints",
+                reason: format!("joint {:?} has no multibody link", joint.name),
+            })?;
+        let Some(mb) = sets.multibody_joints.get_multibody_mut(link.multibody) else {
+            continue;
+        };
+        let Some(first) = mb.link(link.id).map(|l| l.assembly_id()) else {
+            continue;
+        };
+        let mut disp = vec![0.0; mb.ndofs()];
+        disp[first] = joint.initial as Real;
+        mb.apply_displacements(&disp);
+        if !touched.contains(&link.multibody) {
+            touched.push(link.multibody);
+        }
+    }
+    if touched.is_empty() {
+        return Ok(());
+    }
+    for index in touched {
+        if let Some(mb) = sets.multibody_joints.get_multibody_mut(index) {
+            mb.forward_kinematics(&sets.bodies, true);
+            mb.update_rigid_bodies(&mut sets.bodies, true);
+        }
+    }
+    // Colliders follow their bodies now, not at the first step: a scene drawn before it
+    // shows the robot where it is.
+    for (_, co) in sets.colliders.iter_mut() {
+        if let Some(parent) = co.parent() {
+            let wrt = co.position_wrt_parent().copied().unwrap_or(Pose::IDENTITY);
+            co.set_position(*sets.bodies[parent].position() * wrt);
+        }
+    }
+    Ok(())
+}
