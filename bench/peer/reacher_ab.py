@@ -1,0 +1,63 @@
+#!/usr/bin/env python3
+"""Two builds of the load client against EnvPool on Gymnasium's reacher.xml, alternated.
+
+Each round runs the `--before` build, the `--after` build (each a `gymfleet-load` binary:
+remote StepBatch on a 2-thread embedded server, 2 Euler substeps of 0.01 s per 0.02 s env
+step, ctrl uniform in [-1, 1]) and EnvPool's Reacher-v5 (sync, 2 threads), and prints the
+medians and ratios. Setup as in peer_bench.py (mujoco, envpool==1.2.5, gymnasium):
+
+  cp target/release/gymfleet-load /tmp/load_before   # build the old commit first
+  cargo build --release -p gymfleet-load
+  /tmp/peer/bin/python bench/peer/reacher_ab.py --before /tmp/load_before \\
+      --after target/release/gymfleet-load
+"""
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import mujoco_side  # noqa: E402
+
+
+def load_steps_per_s(binary, xml, n_envs, seconds):
+    with tempfile.TemporaryDirectory() as tmp:
+        report = os.path.join(tmp, "report.json")
+        subprocess.run([binary, "--model", xml, "--end-effector", "fingertip", "--dt", "0.02",
+                        "--substeps", "2", "--amplitude", "1", "--n-envs", str(n_envs),
+                        "--threads", "2", "--duration", str(seconds), "--warmup", "1",
+                        "--quiet", "--json", report], check=True, capture_output=True)
+        with open(report) as f:
+            return json.load(f)["runs"][0]["env_steps_per_s"]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--before", required=True)
+    ap.add_argument("--after", required=True)
+    ap.add_argument("--envs", type=int, nargs="*", default=[64, 256])
+    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--seconds", type=float, default=3.0)
+    args = ap.parse_args()
+    import gymnasium
+    xml = os.path.join(os.path.dirname(gymnasium.__file__), "envs", "mujoco", "assets",
+                       "reacher.xml")
+    for n in args.envs:
+        runs = {"before": [], "after": [], "envpool": []}
+        for _ in range(args.rounds):
+            runs["before"].append(load_steps_per_s(args.before, xml, n, args.seconds))
+            runs["after"].append(load_steps_per_s(args.after, xml, n, args.seconds))
+            runs["envpool"].append(mujoco_side.envpool_steps_per_s(
+                "Reacher-v5", num_envs=n, num_threads=2, seconds=args.seconds))
+        b, a, e = (statistics.median(runs[k]) for k in ("before", "after", "envpool"))
+        print(f"Reacher, {n} envs, 2 threads, 2 Euler substeps of 0.01 s: gymfleet remote "
+              f"StepBatch before {b:9.0f}, after {a:9.0f} ({a / b:.2f}x); EnvPool Reacher-v5 "
+              f"sync {e:9.0f}: ratio before {b / e:.2f}, after {a / e:.2f}")
+        print("   rounds:", {k: [round(x) for x in v] for k, v in runs.items()})
+
+
+if __name__ == "__main__":
+    main()
