@@ -5,7 +5,7 @@ use std::fmt;
 use std::num::NonZeroUsize;
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 
-use gymfleet_env::{ActionType, EnvSpec, RobotEnv, SavedState};
+use gymfleet_env::{ActionType, EnvSpec, RobotEnv, SavedState, Termination};
 
 use crate::chunk::{Chunk, ChunkOp};
 use crate::error::{BatchError, Result};
@@ -48,8 +48,9 @@ pub struct BatchStepOutput {
     pub final_env_indices: Vec<u32>,
     /// Their final observations, `observation_dim` floats each, in the same order.
     pub final_observations: Vec<f32>,
-    /// Env index → [`gymfleet_env::Termination::as_str`], for envs terminated for a reason.
-    pub termination_reasons: BTreeMap<u32, String>,
+    /// Env index → why it terminated, for envs terminated for a reason (typed up to the
+    /// edges: [`gymfleet_env::Termination::as_str`] is the wire form).
+    pub termination_reasons: BTreeMap<u32, Termination>,
 }
 
 /// Most envs per chunk under the default rule.
@@ -301,8 +302,7 @@ impl EnvBatch {
             for (i, termination) in chunk.terminations.iter().enumerate() {
                 if let Some(termination) = termination {
                     let env = (chunk.first_env + i) as u32;
-                    out.termination_reasons
-                        .insert(env, termination.as_str().to_string());
+                    out.termination_reasons.insert(env, *termination);
                 }
             }
             if error.is_none() {

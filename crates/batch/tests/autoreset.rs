@@ -4,7 +4,7 @@ mod common;
 
 use common::*;
 use gymfleet_batch::{Autoreset, BatchStepOutput, EnvBatch, StepPool};
-use gymfleet_env::{ActionType, RobotEnv};
+use gymfleet_env::{ActionType, RobotEnv, Termination};
 
 const N: usize = 3;
 /// Torque (N·m) that blows the pendulum up in one step.
@@ -115,13 +115,13 @@ fn disabled_reports_a_diverged_env_without_failing_the_batch() {
     step(&mut batch, &pool, [PUSH, HUGE, PUSH], &mut out);
     assert_eq!(out.terminated, [false, true, false]);
     assert_eq!(out.termination_reasons.len(), 1);
-    assert_eq!(out.termination_reasons[&1], "physics_diverged");
+    assert_eq!(out.termination_reasons[&1], Termination::PhysicsDiverged);
     // The last finite observation: the initial one.
     assert_eq!(row(&out, 1), bits(&lone[0]));
     for t in 2..=4 {
         step(&mut batch, &pool, [PUSH; N], &mut out);
         assert_eq!(out.terminated, [false, true, false], "step {t}");
-        assert_eq!(out.termination_reasons[&1], "physics_diverged");
+        assert_eq!(out.termination_reasons[&1], Termination::PhysicsDiverged);
         assert_eq!(row(&out, 1), bits(&lone[0]), "step {t}");
         assert_eq!(row(&out, 0), bits(&lone[t]), "step {t}");
         assert_eq!(row(&out, 2), bits(&lone[t]), "step {t}");
@@ -144,7 +144,7 @@ fn same_step_resets_a_diverged_env_at_once() {
     assert_eq!(out.terminated, [false, false, true]);
     assert_eq!(out.final_env_indices, [2]);
     assert_eq!(bits(&out.final_observations), bits(&lone[0]));
-    assert_eq!(out.termination_reasons[&2], "physics_diverged");
+    assert_eq!(out.termination_reasons[&2], Termination::PhysicsDiverged);
     step(&mut batch, &pool, [PUSH; N], &mut out);
     assert_eq!(out.terminated, [false; N]);
     assert_eq!(row(&out, 2), bits(&lone[1]));
@@ -157,7 +157,7 @@ fn next_step_resets_a_diverged_env_on_the_following_step() {
     let mut out = BatchStepOutput::default();
     step(&mut batch, &pool, [HUGE, PUSH, PUSH], &mut out);
     assert_eq!(out.terminated, [true, false, false]);
-    assert_eq!(out.termination_reasons[&0], "physics_diverged");
+    assert_eq!(out.termination_reasons[&0], Termination::PhysicsDiverged);
     step(&mut batch, &pool, [HUGE, PUSH, PUSH], &mut out);
     assert_eq!(out.terminated, [false; N]);
     assert!(out.termination_reasons.is_empty());

@@ -266,7 +266,11 @@ pub(crate) fn batch_step_result(stepped: BatchStepped) -> pb::BatchStepResult {
         truncated: out.truncated,
         final_env_indices: out.final_env_indices,
         final_observations: out.final_observations,
-        termination_reasons: out.termination_reasons,
+        termination_reasons: out
+            .termination_reasons
+            .into_iter()
+            .map(|(env, why)| (env, why.as_str().to_string()))
+            .collect(),
         terms: out.terms,
     }
 }
