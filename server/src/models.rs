@@ -86,9 +86,9 @@ impl ModelLibrary {
         text: &str,
         assets: &mut Option<gymfleet_import::Assets>,
     ) -> Result<LibraryModel> {
-        let format = Format::detect(text).map_err(|e| library_error(path, e.to_string()))?;
-        let (mut document, _warnings) = gymfleet_import::to_json(text, format, None)
+        let converted = gymfleet_import::convert(text, None, None)
             .map_err(|e| library_error(path, e.to_string()))?;
+        let (mut document, format) = (converted.json, converted.format);
         if let Some(mut value) = gymfleet_import::with_mesh_files(&document) {
             if assets.is_none() {
                 *assets = Some(

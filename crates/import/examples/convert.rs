@@ -13,7 +13,7 @@
 use std::path::Path;
 use std::process::ExitCode;
 
-use gymfleet_import::{Assets, Format};
+use gymfleet_import::Assets;
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -34,8 +34,9 @@ fn main() -> ExitCode {
                     Assets::from_archive(&bytes)
                 }
                 .map_err(|e| e.to_string())?;
-                let format = Format::detect(&text).map_err(|e| e.to_string())?;
-                gymfleet_import::to_json(&text, format, Some(&assets)).map_err(|e| e.to_string())
+                gymfleet_import::convert(&text, None, Some(&assets))
+                    .map(|c| (c.json, c.warnings))
+                    .map_err(|e| e.to_string())
             }),
     };
     match result {

@@ -99,6 +99,34 @@ impl Format {
     }
 }
 
+/// A description as assembly JSON: what [`convert`] returns.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Conversion {
+    /// The assembly JSON text.
+    pub json: String,
+    /// What the conversion left out, one line each (see [`Converted::warnings`]).
+    pub warnings: Vec<String>,
+    /// The description's format, as given or detected.
+    pub format: Format,
+}
+
+/// `text` as assembly JSON: the one way a description becomes a document (the server's
+/// requests and model library, [`convert_file`]). Its format is `format`, or detected
+/// ([`Format::detect`]) when `None`; its mesh files are read from `assets`
+/// ([`to_json`]).
+pub fn convert(text: &str, format: Option<Format>, assets: Option<&Assets>) -> Result<Conversion> {
+    let format = match format {
+        Some(format) => format,
+        None => Format::detect(text)?,
+    };
+    let (json, warnings) = to_json(text, format, assets)?;
+    Ok(Conversion {
+        json,
+        warnings,
+        format,
+    })
+}
+
 /// `text` in `format` as assembly JSON text, with the conversion's warnings, its mesh
 /// files read from `assets` into the document ([`inline_mesh_files`]). JSON without mesh
 /// files passes through unchanged (its checks are `gymfleet_assembly::parse`'s).
@@ -151,7 +179,11 @@ pub fn convert_file(path: &std::path::Path) -> Result<(String, Vec<String>)> {
     } else {
         text
     };
-    let (plain, warnings) = to_json(&text, format, None)?;
+    let Conversion {
+        json: plain,
+        warnings,
+        ..
+    } = convert(&text, Some(format), None)?;
     let Some(document) = with_mesh_files(&plain) else {
         return Ok((plain, warnings));
     };

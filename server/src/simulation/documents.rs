@@ -18,9 +18,8 @@ pub(super) fn build_env(
     config: &ServerConfig,
     n_envs: usize,
 ) -> Result<(RobotEnv, JointLinks)> {
-    let (document, _warnings) =
-        convert_document(&request.document, request.format, &request.assets)?;
-    let assembly = gymfleet_assembly::parse(&document).map_err(EnvError::Document)?;
+    let converted = convert_document(&request.document, request.format, &request.assets)?;
+    let assembly = gymfleet_assembly::parse(&converted.json).map_err(EnvError::Document)?;
     check_structure(config, &assembly, request.config.end_effector_ids.len())?;
     let substeps = request.config.substeps;
     // Options are checked first (a substep count out of range is a bad argument, not a
@@ -45,23 +44,19 @@ pub(super) fn build_env(
     Ok((env, JointLinks(links)))
 }
 
-/// A document of `format` (`None`: detect) as assembly JSON text, its mesh files read from
-/// `assets` (an archive; empty: none), with the conversion's warnings.
+/// A document of `format` (`None`: detect) converted to assembly JSON, its mesh files read
+/// from `assets` (an archive; empty: none).
 pub(crate) fn convert_document(
     document: &str,
     format: Option<gymfleet_import::Format>,
     assets: &[u8],
-) -> Result<(String, Vec<String>)> {
-    let format = match format {
-        Some(f) => f,
-        None => gymfleet_import::Format::detect(document)?,
-    };
+) -> Result<gymfleet_import::Conversion> {
     let assets = if assets.is_empty() {
         None
     } else {
         Some(gymfleet_import::Assets::from_archive(assets)?)
     };
-    Ok(gymfleet_import::to_json(document, format, assets.as_ref())?)
+    Ok(gymfleet_import::convert(document, format, assets.as_ref())?)
 }
 
 impl Simulation {
@@ -114,13 +109,9 @@ impl Simulation {
     ) -> Result<(String, Vec<String>, gymfleet_import::Format)> {
         self.check_document(&document)?;
         pool::run(&self.pool, Lane::Env, "ConvertDocument", move || {
-            let format = match format {
-                Some(f) => f,
-                None => gymfleet_import::Format::detect(&document)?,
-            };
-            let (json, warnings) = convert_document(&document, Some(format), &assets)?;
-            gymfleet_assembly::parse(&json).map_err(EnvError::Document)?;
-            Ok((json, warnings, format))
+            let converted = convert_document(&document, format, &assets)?;
+            gymfleet_assembly::parse(&converted.json).map_err(EnvError::Document)?;
+            Ok((converted.json, converted.warnings, converted.format))
         })
         .await
     }
