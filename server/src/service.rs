@@ -36,6 +36,26 @@ impl SimulatorService {
 }
 
 impl SimulatorService {
+    /// One unary call, the same way for every RPC: the caller's tenant (set by the
+    /// authenticator), then `call` on the request's message, then [`Self::finish`]. (Not
+    /// a tower layer: the refusal counter needs the typed [`ServerError`], which a layer
+    /// would see only as a status.) `StreamBatch` records each of its steps the same way.
+    async fn unary<Req, T, F, Fut>(
+        &self,
+        method: &'static str,
+        request: Request<Req>,
+        call: F,
+    ) -> Result<Response<T>, Status>
+    where
+        F: FnOnce(Tenant, Req) -> Fut,
+        Fut: std::future::Future<Output = Result<T>>,
+    {
+        let start = Instant::now();
+        let tenant = tenant_of(&request)?;
+        let result = call(tenant, request.into_inner()).await;
+        self.finish(method, start, result)
+    }
+
     /// The answer to a call: records its duration and status code, counts a refusal,
     /// and turns the error into its status.
     fn finish<T>(
@@ -86,38 +106,30 @@ impl Simulator for SimulatorService {
         &self,
         request: Request<pb::CreateEnvRequest>,
     ) -> Result<Response<pb::EnvInfo>, Status> {
-        let start = Instant::now();
-        let tenant = tenant_of(&request)?;
-        let result = async {
-            let request = EnvRequest::try_from(request.into_inner())?;
+        self.unary("CreateEnv", request, |tenant, r| async move {
+            let request = EnvRequest::try_from(r)?;
             self.sim.create_env(&tenant, request).await.map(env_info)
-        };
-        self.finish("CreateEnv", start, result.await)
+        })
+        .await
     }
 
     async fn reset(
         &self,
         request: Request<pb::ResetRequest>,
     ) -> Result<Response<pb::Observation>, Status> {
-        let start = Instant::now();
-        let tenant = tenant_of(&request)?;
-        let r = request.into_inner();
-        let result = self.sim.reset_env(&tenant, &r.env_id, r.seed).await;
-        self.finish(
-            "Reset",
-            start,
-            result.map(|(obs, split)| convert::observation(&obs, split)),
-        )
+        self.unary("Reset", request, |tenant, r| async move {
+            let (obs, split) = self.sim.reset_env(&tenant, &r.env_id, r.seed).await?;
+            Ok(convert::observation(&obs, split))
+        })
+        .await
     }
 
     async fn step(
         &self,
         request: Request<pb::StepRequest>,
     ) -> Result<Response<pb::StepResult>, Status> {
-        let start = Instant::now();
-        let tenant = tenant_of(&request)?;
-        let result = async {
-            let step = EnvStep::try_from(request.into_inner())?;
+        self.unary("Step", request, |tenant, r| async move {
+            let step = EnvStep::try_from(r)?;
             let outcome = self.sim.step_env(&tenant, step).await?;
             let flags = outcome.flags;
             Ok(pb::StepResult {
@@ -130,200 +142,155 @@ impl Simulator for SimulatorService {
                 episode_step: outcome.episode_step,
                 terms: outcome.terms,
             })
-        };
-        self.finish("Step", start, result.await)
+        })
+        .await
     }
 
     async fn observe(
         &self,
         request: Request<pb::EnvRef>,
     ) -> Result<Response<pb::Observation>, Status> {
-        let start = Instant::now();
-        let tenant = tenant_of(&request)?;
-        let r = request.into_inner();
-        let result = self.sim.observe_env(&tenant, &r.env_id).await;
-        self.finish(
-            "Observe",
-            start,
-            result.map(|(obs, split)| convert::observation(&obs, split)),
-        )
+        self.unary("Observe", request, |tenant, r| async move {
+            let (obs, split) = self.sim.observe_env(&tenant, &r.env_id).await?;
+            Ok(convert::observation(&obs, split))
+        })
+        .await
     }
 
     async fn close(
         &self,
         request: Request<pb::EnvRef>,
     ) -> Result<Response<pb::CloseEnvResponse>, Status> {
-        let start = Instant::now();
-        let tenant = tenant_of(&request)?;
-        let r = request.into_inner();
-        self.finish(
-            "Close",
-            start,
-            self.sim
-                .close_env(&tenant, &r.env_id)
-                .await
-                .map(|()| pb::CloseEnvResponse {}),
-        )
+        self.unary("Close", request, |tenant, r| async move {
+            self.sim.close_env(&tenant, &r.env_id).await?;
+            Ok(pb::CloseEnvResponse {})
+        })
+        .await
     }
 
     async fn create_batch(
         &self,
         request: Request<pb::CreateBatchRequest>,
     ) -> Result<Response<pb::BatchInfo>, Status> {
-        let start = Instant::now();
-        let tenant = tenant_of(&request)?;
-        let result = async {
-            let request = BatchRequest::try_from(request.into_inner())?;
+        self.unary("CreateBatch", request, |tenant, r| async move {
+            let request = BatchRequest::try_from(r)?;
             self.sim
                 .create_batch(&tenant, request)
                 .await
                 .map(batch_info)
-        };
-        self.finish("CreateBatch", start, result.await)
+        })
+        .await
     }
 
     async fn reset_batch(
         &self,
         request: Request<pb::ResetBatchRequest>,
     ) -> Result<Response<pb::BatchObservation>, Status> {
-        let start = Instant::now();
-        let tenant = tenant_of(&request)?;
-        let r = request.into_inner();
-        self.finish(
-            "ResetBatch",
-            start,
+        self.unary("ResetBatch", request, |tenant, r| async move {
             self.sim
                 .reset_batch(&tenant, &r.batch_id, r.seed, r.seed_offset, r.env_indices)
                 .await
-                .map(convert::batch_observation),
-        )
+                .map(convert::batch_observation)
+        })
+        .await
     }
 
     async fn step_batch(
         &self,
         request: Request<pb::StepBatchRequest>,
     ) -> Result<Response<pb::BatchStepResult>, Status> {
-        let start = Instant::now();
-        let tenant = tenant_of(&request)?;
-        self.finish(
-            "StepBatch",
-            start,
-            stream_step(&self.sim, &tenant, request.into_inner()).await,
-        )
+        self.unary("StepBatch", request, |tenant, r| async move {
+            stream_step(&self.sim, &tenant, r).await
+        })
+        .await
     }
 
     async fn get_randomization(
         &self,
         request: Request<pb::RandomizationRequest>,
     ) -> Result<Response<pb::RandomizationDraws>, Status> {
-        let start = Instant::now();
-        let tenant = tenant_of(&request)?;
-        let result = async {
-            let target = DrawsOf::try_from(request.into_inner())?;
-            self.sim.randomization(&tenant, target).await
-        };
-        self.finish(
-            "GetRandomization",
-            start,
-            result.await.map(convert::randomization_draws),
-        )
+        self.unary("GetRandomization", request, |tenant, r| async move {
+            let target = DrawsOf::try_from(r)?;
+            self.sim
+                .randomization(&tenant, target)
+                .await
+                .map(convert::randomization_draws)
+        })
+        .await
     }
 
     async fn get_scene(&self, request: Request<pb::EnvRef>) -> Result<Response<pb::Scene>, Status> {
-        let start = Instant::now();
-        let tenant = tenant_of(&request)?;
-        let env_id = request.into_inner().env_id;
-        let result = self.sim.scene(&tenant, &env_id).await;
-        self.finish("GetScene", start, result.map(convert::scene))
+        self.unary("GetScene", request, |tenant, r| async move {
+            self.sim.scene(&tenant, &r.env_id).await.map(convert::scene)
+        })
+        .await
     }
 
     async fn save_state(
         &self,
         request: Request<pb::EnvRef>,
     ) -> Result<Response<pb::EnvState>, Status> {
-        let start = Instant::now();
-        let tenant = tenant_of(&request)?;
-        let env_id = request.into_inner().env_id;
-        let result = self.sim.save_state(&tenant, &env_id).await;
-        self.finish(
-            "SaveState",
-            start,
-            result.map(|state| pb::EnvState { state }),
-        )
+        self.unary("SaveState", request, |tenant, r| async move {
+            let state = self.sim.save_state(&tenant, &r.env_id).await?;
+            Ok(pb::EnvState { state })
+        })
+        .await
     }
 
     async fn load_state(
         &self,
         request: Request<pb::LoadStateRequest>,
     ) -> Result<Response<pb::Observation>, Status> {
-        let start = Instant::now();
-        let tenant = tenant_of(&request)?;
-        let r = request.into_inner();
-        let result = self.sim.load_state(&tenant, &r.env_id, r.state).await;
-        self.finish(
-            "LoadState",
-            start,
-            result.map(|(obs, split)| convert::observation(&obs, split)),
-        )
+        self.unary("LoadState", request, |tenant, r| async move {
+            let (obs, split) = self.sim.load_state(&tenant, &r.env_id, r.state).await?;
+            Ok(convert::observation(&obs, split))
+        })
+        .await
     }
 
     async fn save_batch_state(
         &self,
         request: Request<pb::BatchStateRequest>,
     ) -> Result<Response<pb::BatchState>, Status> {
-        let start = Instant::now();
-        let tenant = tenant_of(&request)?;
-        let r = request.into_inner();
-        let result = self
-            .sim
-            .save_batch_state(&tenant, &r.batch_id, r.env_indices)
-            .await;
-        self.finish(
-            "SaveBatchState",
-            start,
-            result.map(|states| pb::BatchState { states }),
-        )
+        self.unary("SaveBatchState", request, |tenant, r| async move {
+            let states = self
+                .sim
+                .save_batch_state(&tenant, &r.batch_id, r.env_indices)
+                .await?;
+            Ok(pb::BatchState { states })
+        })
+        .await
     }
 
     async fn load_batch_state(
         &self,
         request: Request<pb::LoadBatchStateRequest>,
     ) -> Result<Response<pb::BatchObservation>, Status> {
-        let start = Instant::now();
-        let tenant = tenant_of(&request)?;
-        let r = request.into_inner();
-        let result = self
-            .sim
-            .load_batch_state(&tenant, &r.batch_id, r.env_indices, r.states)
-            .await;
-        self.finish(
-            "LoadBatchState",
-            start,
-            result.map(convert::batch_observation),
-        )
+        self.unary("LoadBatchState", request, |tenant, r| async move {
+            self.sim
+                .load_batch_state(&tenant, &r.batch_id, r.env_indices, r.states)
+                .await
+                .map(convert::batch_observation)
+        })
+        .await
     }
 
     async fn fork(
         &self,
         request: Request<pb::ForkRequest>,
     ) -> Result<Response<pb::BatchInfo>, Status> {
-        let start = Instant::now();
-        let tenant = tenant_of(&request)?;
-        let result = async {
-            let request = ForkRequest::try_from(request.into_inner())?;
+        self.unary("Fork", request, |tenant, r| async move {
+            let request = ForkRequest::try_from(r)?;
             self.sim.fork(&tenant, request).await.map(batch_info)
-        };
-        self.finish("Fork", start, result.await)
+        })
+        .await
     }
 
     async fn convert_document(
         &self,
         request: Request<pb::ConvertDocumentRequest>,
     ) -> Result<Response<pb::ConvertedDocument>, Status> {
-        let start = Instant::now();
-        let _tenant = tenant_of(&request)?;
-        let result = async {
-            let r = request.into_inner();
+        self.unary("ConvertDocument", request, |_tenant, r| async move {
             let format = convert::document_format(r.format)?;
             let (document_json, warnings, format) =
                 self.sim.convert(r.document_json, format, r.assets).await?;
@@ -332,75 +299,64 @@ impl Simulator for SimulatorService {
                 warnings,
                 format: convert::format_to_proto(format) as i32,
             })
-        };
-        self.finish("ConvertDocument", start, result.await)
+        })
+        .await
     }
 
     async fn list_models(
         &self,
         request: Request<pb::ListModelsRequest>,
     ) -> Result<Response<pb::ModelList>, Status> {
-        let start = Instant::now();
-        let _tenant = tenant_of(&request)?;
-        let models = self
-            .sim
-            .models()
-            .into_iter()
-            .map(|(name, format, dofs, action_dim)| pb::ModelInfo {
-                name,
-                format: convert::format_to_proto(format) as i32,
-                dofs: u32::try_from(dofs).unwrap_or(u32::MAX),
-                action_dim: u32::try_from(action_dim).unwrap_or(u32::MAX),
-            })
-            .collect();
-        self.finish("ListModels", start, Ok(pb::ModelList { models }))
+        self.unary("ListModels", request, |_tenant, _r| async move {
+            let models = self
+                .sim
+                .models()
+                .into_iter()
+                .map(|(name, format, dofs, action_dim)| pb::ModelInfo {
+                    name,
+                    format: convert::format_to_proto(format) as i32,
+                    dofs: u32::try_from(dofs).unwrap_or(u32::MAX),
+                    action_dim: u32::try_from(action_dim).unwrap_or(u32::MAX),
+                })
+                .collect();
+            Ok(pb::ModelList { models })
+        })
+        .await
     }
 
     async fn render(
         &self,
         request: Request<pb::RenderRequest>,
     ) -> Result<Response<pb::Image>, Status> {
-        let start = Instant::now();
-        let tenant = tenant_of(&request)?;
-        let result = async {
-            let target = RenderOf::try_from(request.into_inner())?;
-            self.sim.render(&tenant, target).await
-        };
-        self.finish("Render", start, result.await.map(convert::image))
+        self.unary("Render", request, |tenant, r| async move {
+            let target = RenderOf::try_from(r)?;
+            self.sim.render(&tenant, target).await.map(convert::image)
+        })
+        .await
     }
 
     async fn observe_batch(
         &self,
         request: Request<pb::BatchRef>,
     ) -> Result<Response<pb::BatchObservation>, Status> {
-        let start = Instant::now();
-        let tenant = tenant_of(&request)?;
-        let r = request.into_inner();
-        self.finish(
-            "ObserveBatch",
-            start,
+        self.unary("ObserveBatch", request, |tenant, r| async move {
             self.sim
                 .observe_batch(&tenant, &r.batch_id)
                 .await
-                .map(convert::batch_observation),
-        )
+                .map(convert::batch_observation)
+        })
+        .await
     }
 
     async fn close_batch(
         &self,
         request: Request<pb::BatchRef>,
     ) -> Result<Response<pb::CloseBatchResponse>, Status> {
-        let start = Instant::now();
-        let tenant = tenant_of(&request)?;
-        let r = request.into_inner();
-        self.finish(
-            "CloseBatch",
-            start,
-            self.sim
-                .close_batch(&tenant, &r.batch_id)
-                .await
-                .map(|()| pb::CloseBatchResponse {}),
-        )
+        self.unary("CloseBatch", request, |tenant, r| async move {
+            self.sim.close_batch(&tenant, &r.batch_id).await?;
+            Ok(pb::CloseBatchResponse {})
+        })
+        .await
     }
 
     type StreamBatchStream = ReceiverStream<Result<pb::BatchStepResult, Status>>;
@@ -463,9 +419,9 @@ impl Simulator for SimulatorService {
         &self,
         request: Request<pb::GetServerInfoRequest>,
     ) -> Result<Response<pb::ServerInfo>, Status> {
-        let tenant = tenant_of(&request)?;
-        Ok(Response::new(convert::server_info(
-            &self.sim.status(&tenant),
-        )))
+        self.unary("GetServerInfo", request, |tenant, _r| async move {
+            Ok(convert::server_info(&self.sim.status(&tenant)))
+        })
+        .await
     }
 }

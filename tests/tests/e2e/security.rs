@@ -517,6 +517,7 @@ async fn metrics_count_steps_open_envs_calls_and_refusals_per_tenant() {
         .unwrap_err();
     assert_eq!(err.code(), Some(Code::ResourceExhausted));
     server.client().await.server_info().await.unwrap_err();
+    a.server_info().await.expect("info");
 
     let text = scrape(metrics_addr).await;
     assert_eq!(
@@ -547,6 +548,14 @@ async fn metrics_count_steps_open_envs_calls_and_refusals_per_tenant() {
         sample(
             &text,
             "gymfleet_rpc_duration_seconds_count{method=\"CreateBatch\",code=\"RESOURCE_EXHAUSTED\"}"
+        ),
+        1.0
+    );
+    // Every unary call is timed, GetServerInfo too (the refused one never reached it).
+    assert_eq!(
+        sample(
+            &text,
+            "gymfleet_rpc_duration_seconds_count{method=\"GetServerInfo\",code=\"OK\"}"
         ),
         1.0
     );
