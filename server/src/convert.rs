@@ -74,7 +74,9 @@ pub(crate) fn document_format(raw: i32) -> Result<Option<gymfleet_import::Format
 
 /// The shared fields of `CreateEnvRequest` and `CreateBatchRequest`.
 #[allow(clippy::too_many_arguments)]
-fn env_request(
+/// The fields `CreateEnvRequest` and `CreateBatchRequest` share, as they come off the
+/// wire: one options type for both requests (`env_fields!` lists the fields once).
+struct EnvFields {
     document: String,
     format: i32,
     model: String,
@@ -89,7 +91,48 @@ fn env_request(
     task: Option<pb::Task>,
     randomize: Option<pb::Randomization>,
     units: i32,
-) -> Result<EnvRequest> {
+}
+
+/// The [`EnvFields`] of a `CreateEnvRequest` or `CreateBatchRequest` (the two messages
+/// have the same field names; the proto keeps them flat).
+macro_rules! env_fields {
+    ($r:ident) => {
+        EnvFields {
+            document: $r.document_json,
+            format: $r.format,
+            model: $r.model,
+            assets: $r.assets,
+            end_effector_ids: $r.end_effector_ids,
+            dt: $r.dt,
+            substeps: $r.substeps,
+            max_steps: $r.max_steps,
+            seed: $r.seed,
+            pd_gains: $r.pd_gains,
+            reset_noise: $r.reset_noise,
+            task: $r.task,
+            randomize: $r.randomize,
+            units: $r.units,
+        }
+    };
+}
+
+fn env_request(fields: EnvFields) -> Result<EnvRequest> {
+    let EnvFields {
+        document,
+        format,
+        model,
+        assets,
+        end_effector_ids,
+        dt,
+        substeps,
+        max_steps,
+        seed,
+        pd_gains,
+        reset_noise,
+        task,
+        randomize,
+        units,
+    } = fields;
     let defaults = EnvConfig::default();
     let pd_gains = pd_gains
         .filter(|g| !(g.kp.is_empty() && g.kd.is_empty()))
@@ -227,22 +270,7 @@ impl TryFrom<pb::CreateEnvRequest> for EnvRequest {
     type Error = ServerError;
 
     fn try_from(r: pb::CreateEnvRequest) -> Result<Self> {
-        env_request(
-            r.document_json,
-            r.format,
-            r.model,
-            r.assets,
-            r.end_effector_ids,
-            r.dt,
-            r.substeps,
-            r.max_steps,
-            r.seed,
-            r.pd_gains,
-            r.reset_noise,
-            r.task,
-            r.randomize,
-            r.units,
-        )
+        env_request(env_fields!(r))
     }
 }
 
@@ -257,27 +285,13 @@ impl TryFrom<pb::CreateBatchRequest> for BatchRequest {
             });
         }
         let autoreset = autoreset(r.autoreset)?;
+        let (seed, n_envs, seed_offset) = (r.seed, r.n_envs, r.seed_offset);
         Ok(BatchRequest {
-            seed: r.seed,
-            env: env_request(
-                r.document_json,
-                r.format,
-                r.model,
-                r.assets,
-                r.end_effector_ids,
-                r.dt,
-                r.substeps,
-                r.max_steps,
-                r.seed,
-                r.pd_gains,
-                r.reset_noise,
-                r.task,
-                r.randomize,
-                r.units,
-            )?,
-            n_envs: usize::try_from(r.n_envs).unwrap_or(usize::MAX),
+            seed,
+            env: env_request(env_fields!(r))?,
+            n_envs: usize::try_from(n_envs).unwrap_or(usize::MAX),
             autoreset,
-            seed_offset: r.seed_offset,
+            seed_offset,
         })
     }
 }
