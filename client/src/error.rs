@@ -135,7 +135,58 @@ fn format_ranges(ranges: &[Range<usize>]) -> String {
     }
 }
 
+/// What kind of failure a [`ClientError`] is: a plain enum to match exhaustively, where
+/// the error itself is `#[non_exhaustive]` (an error variant added later maps to one of
+/// these, or adds one here, which then fails to compile wherever a match misses it).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ErrorKind {
+    /// [`ClientError::Connect`].
+    Connect,
+    /// [`ClientError::NotFound`].
+    NotFound,
+    /// [`ClientError::InvalidArgument`].
+    InvalidArgument,
+    /// [`ClientError::FailedPrecondition`].
+    FailedPrecondition,
+    /// [`ClientError::ResourceExhausted`].
+    ResourceExhausted,
+    /// [`ClientError::Unavailable`].
+    Unavailable,
+    /// [`ClientError::DeadlineExceeded`].
+    DeadlineExceeded,
+    /// [`ClientError::Unauthenticated`].
+    Unauthenticated,
+    /// [`ClientError::Internal`].
+    Internal,
+    /// [`ClientError::Protocol`].
+    Protocol,
+    /// [`ClientError::ServerLost`].
+    ServerLost,
+    /// [`ClientError::Fleet`].
+    Fleet,
+}
+
 impl ClientError {
+    /// What kind of failure this is; a fleet call's failure on one server
+    /// ([`ClientError::OnServer`]) is the kind of that server's error.
+    pub fn kind(&self) -> ErrorKind {
+        match self {
+            ClientError::Connect { .. } => ErrorKind::Connect,
+            ClientError::NotFound { .. } => ErrorKind::NotFound,
+            ClientError::InvalidArgument { .. } => ErrorKind::InvalidArgument,
+            ClientError::FailedPrecondition { .. } => ErrorKind::FailedPrecondition,
+            ClientError::ResourceExhausted { .. } => ErrorKind::ResourceExhausted,
+            ClientError::Unavailable { .. } => ErrorKind::Unavailable,
+            ClientError::DeadlineExceeded { .. } => ErrorKind::DeadlineExceeded,
+            ClientError::Unauthenticated { .. } => ErrorKind::Unauthenticated,
+            ClientError::Internal { .. } => ErrorKind::Internal,
+            ClientError::Protocol { .. } => ErrorKind::Protocol,
+            ClientError::ServerLost { .. } => ErrorKind::ServerLost,
+            ClientError::Fleet { .. } => ErrorKind::Fleet,
+            ClientError::OnServer { error, .. } => error.kind(),
+        }
+    }
+
     /// The message carried by the error (the server's, for server errors).
     pub fn message(&self) -> &str {
         match self {
@@ -276,6 +327,8 @@ mod tests {
             );
             assert!(err.message().contains("sim_3 says hi"));
             assert_eq!(err.code(), Some(code), "{err:?} keeps its code");
+            // The kind names the variant.
+            assert_eq!(format!("{:?}", err.kind()), variant, "{err:?}");
         }
         let err = ClientError::from(Status::new(Code::Cancelled, "Timeout expired"));
         assert!(
@@ -283,6 +336,26 @@ mod tests {
             "{err:?}"
         );
         assert_eq!(err.code(), Some(Code::DeadlineExceeded));
+    }
+
+    #[test]
+    fn a_failure_on_one_server_of_a_fleet_is_of_that_failure_s_kind() {
+        let inner = ClientError::from(Status::new(Code::NotFound, "no batch_7"));
+        let err = ClientError::OnServer {
+            server: "h:1".to_string(),
+            error: Box::new(inner),
+        };
+        assert_eq!(err.kind(), ErrorKind::NotFound);
+        let fleet = ClientError::Fleet {
+            message: "no endpoints".to_string(),
+        };
+        assert_eq!(fleet.kind(), ErrorKind::Fleet);
+        let lost = ClientError::ServerLost {
+            server: "h:1".to_string(),
+            envs: vec![0..4],
+            reason: "gone".to_string(),
+        };
+        assert_eq!(lost.kind(), ErrorKind::ServerLost);
     }
 
     #[test]

@@ -68,7 +68,7 @@ pub use env::Env;
 pub use environment::{
     ENV_TLS_CA, ENV_TLS_CLIENT_CERT, ENV_TLS_CLIENT_KEY, ENV_TLS_DOMAIN, ENV_TOKEN,
 };
-pub use error::{ClientError, Result};
+pub use error::{ClientError, ErrorKind, Result};
 pub use fleet::Fleet;
 pub use fleet_batch::recovery::CheckpointStatus;
 pub use fleet_batch::{FleetBatch, ShardPlacement};
