@@ -24,7 +24,8 @@ impl RobotWorld {
         let mut out = [0.0; INERTIA_LEN];
         for &instance in group {
             let rb = &self.live.bodies[self.bodies[instance]];
-            let props = &rb.mass_properties().local_mprops;
+            // The instance's own mass (a body may carry folded instances' too).
+            let props = &self.own_mass_properties(instance);
             let m = f64::from(props.mass());
             if !(m > 0.0 && m.is_finite()) {
                 continue;
@@ -43,7 +44,7 @@ impl RobotWorld {
                     }
                 }
             }
-            let com = rb.center_of_mass();
+            let com = self.own_center_of_mass(instance);
             let d = [
                 f64::from(com.x) - about[0],
                 f64::from(com.y) - about[1],

@@ -4,7 +4,10 @@ use gymfleet_assembly::{Assembly, DofKind, Joint, JointType};
 use rapier3d::prelude::*;
 
 use crate::actuation::resolve_gains;
-use crate::colliders::{assembly_reach, given_mass_properties, insert_body};
+use crate::colliders::{
+    assembly_reach, attach_collider, given_mass_properties, insert_body, instance_pose,
+    set_given_masses,
+};
 use crate::command::{Command, ResolvedGains};
 use crate::error::{PhysicsError, Result};
 use crate::world::{
@@ -19,7 +22,8 @@ const LOOP_PGS_ITERATIONS: usize = 4;
 mod trees;
 
 use trees::{
-    apply_initial_positions, generic_joint, held_fixed, insert_trees, place_floating_trees,
+    apply_initial_positions, fold_owners, generic_joint, held_fixed, insert_trees,
+    place_floating_trees,
 };
 
 impl RobotWorld {
@@ -42,11 +46,37 @@ impl RobotWorld {
         };
 
         let held = held_fixed(assembly);
-        let bodies: Vec<RigidBodyHandle> = assembly
+        let owners = fold_owners(assembly, &held);
+        let n = assembly.instances.len();
+        // Instances a weld took out of the trees: held fixed on their own, or folded.
+        let welded_away: Vec<bool> = (0..n)
+            .map(|i| (held[i] && !assembly.instances[i].grounded) || owners[i] != i)
+            .collect();
+        let mut bodies = vec![RigidBodyHandle::invalid(); n];
+        let mut colliders = vec![ColliderHandle::invalid(); n];
+        let mut placements = vec![Pose::IDENTITY; n];
+        for i in (0..n).filter(|&i| owners[i] == i) {
+            (bodies[i], colliders[i]) = insert_body(&mut sets, &assembly.instances[i], held[i]);
+        }
+        for i in (0..n).filter(|&i| owners[i] != i) {
+            let owner = owners[i];
+            placements[i] = instance_pose(&assembly.instances[owner]).inverse()
+                * instance_pose(&assembly.instances[i]);
+            bodies[i] = bodies[owner];
+            colliders[i] =
+                attach_collider(&mut sets, &assembly.instances[i], bodies[i], placements[i]);
+        }
+        let given: Vec<Option<MassProperties>> = assembly
             .instances
             .iter()
-            .zip(&held)
-            .map(|(inst, &fixed)| insert_body(&mut sets, inst, fixed))
+            .map(|i| {
+                i.inertial
+                    .map(|given| given_mass_properties(&given, &i.shape))
+            })
+            .collect();
+        set_given_masses(&mut sets, &bodies, &owners, &placements, &given, false);
+        let shared: Vec<bool> = (0..n)
+            .map(|i| owners[i] != i || owners.iter().enumerate().any(|(j, &o)| o == i && j != i))
             .collect();
         // Collision detection runs once per step, so contacts must be predicted: soft CCD
         // widens each pair's contact prediction by how far its colliders' points can move in
@@ -58,7 +88,7 @@ impl RobotWorld {
             }
         }
 
-        let frames = insert_trees(&mut sets, assembly, &bodies, &held)?;
+        let frames = insert_trees(&mut sets, assembly, &bodies, &welded_away)?;
 
         place_floating_trees(&mut sets);
 
@@ -74,8 +104,14 @@ impl RobotWorld {
                 generic_joint(j, f1, f2, false)
             });
 
-        let (joints, mut dofs, inertia) =
-            joint_slots(&mut sets, assembly, &bodies, &frames, &closing)?;
+        let (joints, mut dofs, inertia) = joint_slots(
+            &mut sets,
+            assembly,
+            &bodies,
+            &frames,
+            &closing,
+            &welded_away,
+        )?;
         let overridden = resolve_gains(&mut dofs, &inertia, options.gains.as_ref())?;
         let gravity = Vector::new(
             assembly.gravity[0] as Real,
@@ -83,12 +119,12 @@ impl RobotWorld {
             assembly.gravity[2] as Real,
         );
         crate::action_bound::set_action_bounds(&sets, &joints, &mut dofs, &inertia, gravity);
-        let free_roots = free_roots(&sets, &bodies);
+        let free_roots = free_roots(&sets, &bodies, &owners);
 
         let (params, substep_params) = integration_parameters(assembly, options);
 
         let n_dofs = dofs.len();
-        let base = base_values(assembly, &bodies, &sets, &dofs);
+        let base = base_values(assembly, &colliders, &sets, &dofs, given.clone());
         let fluid = crate::world::FluidDrag::new(assembly, &bodies, &sets);
         let contact_filter = crate::contact_filter::contact_filter(assembly, &bodies, &mut sets);
         let references: Vec<f64> = dofs
@@ -109,6 +145,11 @@ impl RobotWorld {
             substeps: options.substeps,
             gravity,
             bodies,
+            colliders,
+            placements,
+            owners,
+            shared,
+            given_now: given,
             joints,
             dofs,
             free_roots,
@@ -140,6 +181,7 @@ fn joint_slots(
     bodies: &[RigidBodyHandle],
     frames: &[(Pose, Pose)],
     closing: &[Option<ImpulseJointHandle>],
+    welded_away: &[bool],
 ) -> Result<(Vec<JointSlot>, Vec<JointDof>, Vec<f64>)> {
     let mut joints = Vec::with_capacity(assembly.joints.len());
     let mut dofs = Vec::with_capacity(assembly.total_dof());
@@ -172,8 +214,8 @@ fn joint_slots(
             }
             continue;
         }
-        if joint.kind == JointType::Fixed && !sets.bodies[child].is_dynamic() {
-            // Welded to the ground (`held_fixed`): no link, no DOF.
+        if welded_away[joint.child] {
+            // Held fixed or folded (`held_fixed`, `fold_owners`): no link, no DOF.
             joints.push(JointSlot {
                 kind: joint.kind,
                 parent: bodies[joint.parent],
@@ -259,26 +301,20 @@ fn joint_slots(
 /// and gains.
 fn base_values(
     assembly: &Assembly,
-    bodies: &[RigidBodyHandle],
+    colliders: &[ColliderHandle],
     sets: &Sets,
     dofs: &[JointDof],
+    given: Vec<Option<MassProperties>>,
 ) -> BaseValues {
     BaseValues {
-        given: assembly
-            .instances
+        given,
+        density: colliders
             .iter()
-            .map(|i| {
-                i.inertial
-                    .map(|given| given_mass_properties(&given, &i.shape))
-            })
+            .map(|&c| sets.colliders.get(c).map_or(0.0, |c| c.density()))
             .collect(),
-        density: bodies
+        friction: colliders
             .iter()
-            .map(|&b| first_collider(sets, b).map_or(0.0, |c| c.density()))
-            .collect(),
-        friction: bodies
-            .iter()
-            .map(|&b| first_collider(sets, b).map_or(0.0, |c| c.friction()))
+            .map(|&c| sets.colliders.get(c).map_or(0.0, |c| c.friction()))
             .collect(),
         damping: assembly
             .joints
@@ -379,11 +415,11 @@ fn integration_parameters(
 /// The instances at the root of a tree with a dynamic root (a floating base, or a free
 /// body that others are jointed to), in document order: each has six free coordinates
 /// that no document joint owns.
-fn free_roots(sets: &Sets, bodies: &[RigidBodyHandle]) -> Vec<FreeRoot> {
+fn free_roots(sets: &Sets, bodies: &[RigidBodyHandle], owners: &[usize]) -> Vec<FreeRoot> {
     bodies
         .iter()
         .enumerate()
-        .filter(|&(_, &h)| sets.bodies[h].is_dynamic())
+        .filter(|&(i, &h)| owners[i] == i && sets.bodies[h].is_dynamic())
         .filter_map(|(instance, &h)| {
             let link = sets.multibody_joints.rigid_body_link(h)?;
             (link.id == 0).then_some(FreeRoot {
@@ -392,11 +428,6 @@ fn free_roots(sets: &Sets, bodies: &[RigidBodyHandle]) -> Vec<FreeRoot> {
             })
         })
         .collect()
-}
-
-fn first_collider(sets: &Sets, body: RigidBodyHandle) -> Option<&Collider> {
-    let handle = *sets.bodies.get(body)?.colliders().first()?;
-    sets.colliders.get(handle)
 }
 
 fn joint_dofs(j: usize, joint: &Joint) -> impl Iterator<Item = JointDof> + '_ {
@@ -510,5 +541,103 @@ mod tests {
                 "step {k}: {x:?} against {y:?}"
             );
         }
+    }
+    /// The seed pendulum with an 8 mm cube welded on top of its arm.
+    fn pendulum_with_a_tip() -> Assembly {
+        let doc = r#"{
+  "parts": [
+    { "name": "Base", "primitive": { "type": "cube", "size": { "x": 20, "y": 20, "z": 5 } } },
+    { "name": "Arm", "primitive": { "type": "cube", "size": { "x": 4, "y": 4, "z": 40 } } },
+    { "name": "Tip", "primitive": { "type": "cube", "size": { "x": 8, "y": 8, "z": 8 } } }
+  ],
+  "assembly": {
+    "instances": [
+      { "part": "Base", "name": "base" },
+      { "part": "Arm", "name": "arm", "position": { "x": 8, "y": 8, "z": 5 } },
+      { "part": "Tip", "name": "tip", "position": { "x": 6, "y": 6, "z": 45 } }
+    ],
+    "joints": [
+      { "type": "revolute", "parent": "base", "child": "arm", "initial": 10,
+        "anchor": { "x": 10, "y": 10, "z": 5 }, "axis": { "x": 0, "y": 1, "z": 0 } },
+      { "type": "fixed", "parent": "arm", "child": "tip",
+        "anchor": { "x": 10, "y": 10, "z": 45 } }
+    ]
+  }
+}"#;
+        gymfleet_assembly::parse(doc).unwrap()
+    }
+
+    #[test]
+    fn a_weld_to_a_moving_body_folds_the_instance_into_it() {
+        let assembly = pendulum_with_a_tip();
+        let mut world = RobotWorld::new(&assembly, &WorldOptions::default()).unwrap();
+        // The tip rides on the arm's body with a collider of its own; no link for it.
+        let (arm, tip) = (1, 2);
+        assert_eq!(world.bodies[tip], world.bodies[arm]);
+        assert_ne!(world.colliders[tip], world.colliders[arm]);
+        assert_eq!(world.owners, [0, 1, 1]);
+        let links: usize = world
+            .live
+            .multibody_joints
+            .multibodies()
+            .map(|mb| mb.num_links())
+            .sum();
+        assert_eq!(links, 2);
+        assert_eq!((world.joints.len(), world.dofs().len()), (2, 1));
+
+        // Each instance is still where it is, whole: the tip's own centre at its cube's
+        // centre, turned 10° about the hinge with the arm; one scene part per instance.
+        let turn = |p: [f64; 3]| {
+            let (s, c) = 10f64.to_radians().sin_cos();
+            let (x, z) = (p[0] - 10.0, p[2] - 5.0);
+            [10.0 + c * x + s * z, p[1], 5.0 - s * x + c * z]
+        };
+        let close = |a: [f64; 3], b: [f64; 3]| a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-3);
+        let tip_centre = world.center_of_mass(Units::Document, tip);
+        assert!(
+            close(tip_centre, turn([10.0, 10.0, 49.0])),
+            "{tip_centre:?}"
+        );
+        let arm_centre = world.center_of_mass(Units::Document, arm);
+        assert!(
+            close(arm_centre, turn([10.0, 10.0, 25.0])),
+            "{arm_centre:?}"
+        );
+        let parts = world.scene_parts();
+        assert_eq!(
+            parts.iter().map(|p| p.instance).collect::<Vec<_>>(),
+            [0, 1, 2]
+        );
+
+        // The body carries both masses once a step has applied them: the group's mass is
+        // the body's, and the robot's centre of mass counts each instance once.
+        world.step();
+        let volume = |mm: f64| (mm * 1e-3).powi(3);
+        let density = assembly.instances[arm].material.density;
+        let arm_mass = density * 4e-3 * 4e-3 * 40e-3;
+        let tip_mass = density * volume(8.0);
+        let body = world.live.bodies[world.bodies[arm]].mass();
+        assert!(
+            (f64::from(body) - (arm_mass + tip_mass)).abs() < 1e-9,
+            "{body} kg"
+        );
+        let group = world.group_inertia(&[arm, tip], [0.0; 3]);
+        assert!(
+            (group[9] - (arm_mass + tip_mass)).abs() < 1e-9,
+            "{}",
+            group[9]
+        );
+        let robot = world.robot_center_of_mass(Units::Document);
+        let (a, t) = (
+            world.center_of_mass(Units::Document, arm),
+            world.center_of_mass(Units::Document, tip),
+        );
+        let weighted: Vec<f64> = (0..3)
+            .map(|k| (arm_mass * a[k] + tip_mass * t[k]) / (arm_mass + tip_mass))
+            .collect();
+        assert!(
+            close(robot, [weighted[0], weighted[1], weighted[2]]),
+            "{robot:?}"
+        );
     }
 }

@@ -17,7 +17,13 @@ pub(crate) fn instance_pose(inst: &Instance) -> Pose {
     Pose::from_parts(Vector::new(x, y, z), rotation)
 }
 
-pub(crate) fn insert_body(sets: &mut Sets, inst: &Instance, fixed: bool) -> RigidBodyHandle {
+/// Inserts an instance's body (fixed or dynamic) at its document pose, with its collider;
+/// returns both. Its given mass properties are set by [`set_given_masses`].
+pub(crate) fn insert_body(
+    sets: &mut Sets,
+    inst: &Instance,
+    fixed: bool,
+) -> (RigidBodyHandle, ColliderHandle) {
     let builder = if fixed {
         RigidBodyBuilder::fixed()
     } else {
@@ -26,6 +32,18 @@ pub(crate) fn insert_body(sets: &mut Sets, inst: &Instance, fixed: bool) -> Rigi
     let handle = sets
         .bodies
         .insert(builder.pose(instance_pose(inst)).build());
+    let collider = attach_collider(sets, inst, handle, Pose::IDENTITY);
+    (handle, collider)
+}
+
+/// Attaches an instance's collider to `body`, the instance's frame at `frame` in the
+/// body's frame (the identity on a body of its own).
+pub(crate) fn attach_collider(
+    sets: &mut Sets,
+    inst: &Instance,
+    body: RigidBodyHandle,
+    frame: Pose,
+) -> ColliderHandle {
     let (group, mask) = inst.collision;
     // Given mass properties replace the collider's: its density is then 0.
     let density = if inst.inertial.is_some() {
@@ -33,7 +51,7 @@ pub(crate) fn insert_body(sets: &mut Sets, inst: &Instance, fixed: bool) -> Rigi
     } else {
         inst.material.density as Real
     };
-    let collider = collider(&inst.shape)
+    let mut collider = collider(&inst.shape)
         .density(density)
         .friction(inst.material.friction as Real)
         .restitution(inst.material.restitution as Real)
@@ -42,15 +60,42 @@ pub(crate) fn insert_body(sets: &mut Sets, inst: &Instance, fixed: bool) -> Rigi
             Group::from_bits_retain(group),
             Group::from_bits_retain(mask),
             InteractionTestMode::Or,
-        ))
-        .build();
-    if let Some(inertial) = &inst.inertial {
-        let props = given_mass_properties(inertial, &inst.shape);
-        sets.bodies[handle].set_additional_mass_properties(props, false);
-    }
+        ));
+    collider.position = frame * collider.position;
     sets.colliders
-        .insert_with_parent(collider, handle, &mut sets.bodies);
-    handle
+        .insert_with_parent(collider.build(), body, &mut sets.bodies)
+}
+
+/// Sets each body's additional mass properties: the sum of the given ones (`given`, each
+/// in its instance's frame) of the instances on it, placed by `placements`. Bodies whose
+/// instances give none keep their colliders'. With `recompute`, each body's mass is
+/// recomputed from them now; else Rapier applies them at the next step, as it always
+/// has at build (the default gains are resolved before that step).
+pub(crate) fn set_given_masses(
+    sets: &mut Sets,
+    bodies: &[RigidBodyHandle],
+    owners: &[usize],
+    placements: &[Pose],
+    given: &[Option<MassProperties>],
+    recompute: bool,
+) {
+    for owner in (0..bodies.len()).filter(|&i| owners[i] == i) {
+        let mut sum: Option<MassProperties> = None;
+        for i in (0..bodies.len()).filter(|&i| owners[i] == owner) {
+            if let Some(props) = &given[i] {
+                let placed = props.transform_by(&placements[i]);
+                sum = Some(sum.map_or(placed, |s| s + placed));
+            }
+        }
+        if let Some(rb) = sets.bodies.get_mut(bodies[owner]) {
+            if let Some(sum) = sum {
+                rb.set_additional_mass_properties(sum, false);
+            }
+            if recompute {
+                rb.recompute_mass_properties_from_colliders(&sets.colliders);
+            }
+        }
+    }
 }
 
 /// An instance's given mass properties in its body's frame: its inertia matrix, or the

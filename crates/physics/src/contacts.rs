@@ -25,10 +25,7 @@ impl RobotWorld {
         out.resize(self.bodies.len(), [0.0; WRENCH_LEN]);
         let s = &self.live;
         let inv_dt = 1.0 / self.dt();
-        let instance_of = |collider| {
-            let body = s.colliders.get(collider)?.parent()?;
-            self.bodies.iter().position(|&b| b == body)
-        };
+        let instance_of = |collider| self.colliders.iter().position(|&c| c == collider);
         let multibody = |collider| {
             s.colliders
                 .get(collider)

@@ -40,7 +40,10 @@ impl FluidDrag {
                 index[g] = groups.len();
                 groups.push(Vec::new());
             }
-            groups[index[g]].push(body);
+            // Folded instances share their owner's body: each body once.
+            if !groups[index[g]].contains(&body) {
+                groups[index[g]].push(body);
+            }
         }
         // A group welded to the ground does not move through the fluid.
         groups.retain(|g| g.iter().all(|&h| sets.bodies[h].is_dynamic()));

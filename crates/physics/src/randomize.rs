@@ -52,25 +52,25 @@ impl RobotWorld {
             self.joints.len(),
             "one damping factor per joint"
         );
-        for (i, &body) in self.bodies.iter().enumerate() {
-            let Some(rb) = self.live.bodies.get(body) else {
-                continue;
-            };
-            for &handle in rb.colliders() {
-                if let Some(collider) = self.live.colliders.get_mut(handle) {
-                    collider.set_density(self.base.density[i] * draws.mass[i] as Real);
-                    collider.set_friction(self.base.friction[i] * draws.friction[i] as Real);
-                }
+        for (i, &handle) in self.colliders.iter().enumerate() {
+            if let Some(collider) = self.live.colliders.get_mut(handle) {
+                collider.set_density(self.base.density[i] * draws.mass[i] as Real);
+                collider.set_friction(self.base.friction[i] * draws.friction[i] as Real);
             }
-            if let Some(rb) = self.live.bodies.get_mut(body) {
-                if let Some(given) = &self.base.given[i] {
-                    let mut scaled = *given;
-                    scaled.set_mass(given.mass() * draws.mass[i] as Real, true);
-                    rb.set_additional_mass_properties(scaled, false);
-                }
-                rb.recompute_mass_properties_from_colliders(&self.live.colliders);
-            }
+            self.given_now[i] = self.base.given[i].map(|given| {
+                let mut scaled = given;
+                scaled.set_mass(given.mass() * draws.mass[i] as Real, true);
+                scaled
+            });
         }
+        crate::colliders::set_given_masses(
+            &mut self.live,
+            &self.bodies,
+            &self.owners,
+            &self.placements,
+            &self.given_now,
+            true,
+        );
         let mut inertia = vec![0.0; self.dofs.len()];
         let mut inverse_inertias: Vec<(MultibodyIndex, DVector)> = Vec::new();
         for (j, slot) in self.joints.iter().enumerate() {

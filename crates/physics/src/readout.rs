@@ -3,7 +3,8 @@
 //! Everything here is read from the simulated bodies and the multibody's generalized
 //! coordinates; motor targets are never reported.
 
-use rapier3d::math::{Real, Rotation, Vector};
+use rapier3d::math::{Pose, Real, Rotation, Vector};
+use rapier3d::parry::mass_properties::MassProperties;
 
 use crate::units::{to_m, Units};
 use crate::world::{JointSlot, RobotWorld};
@@ -105,12 +106,45 @@ impl RobotWorld {
         f64::from(impulse) / self.dt()
     }
 
+    /// An instance's own mass properties in its body's frame: the body's, when the body is
+    /// its alone; else its collider's and its given ones (a body that folded instances
+    /// share carries all of theirs).
+    pub(crate) fn own_mass_properties(&self, instance: usize) -> MassProperties {
+        let rb = &self.live.bodies[self.bodies[instance]];
+        if !self.shared[instance] {
+            return rb.mass_properties().local_mprops;
+        }
+        let mut props = MassProperties::default();
+        if let Some(co) = self.live.colliders.get(self.colliders[instance]) {
+            let at = co.position_wrt_parent().copied().unwrap_or(Pose::IDENTITY);
+            props += co.mass_properties().transform_by(&at);
+        }
+        if let Some(given) = &self.given_now[instance] {
+            props += given.transform_by(&self.placements[instance]);
+        }
+        props
+    }
+
+    /// An instance's own centre of mass, world m.
+    pub(crate) fn own_center_of_mass(&self, instance: usize) -> Vector {
+        let rb = &self.live.bodies[self.bodies[instance]];
+        if !self.shared[instance] {
+            return rb.center_of_mass();
+        }
+        rb.position()
+            .transform_point(self.own_mass_properties(instance).local_com)
+    }
+
+    /// An instance's frame in the world: its body's, placed by its placement.
+    pub(crate) fn instance_frame(&self, instance: usize) -> Pose {
+        *self.live.bodies[self.bodies[instance]].position() * self.placements[instance]
+    }
+
     /// The pose of an instance's centre of mass: `[x, y, z]` in world mm (m in
     /// [`Units::Si`]) and the world orientation as `[qw, qx, qy, qz]`.
     pub fn body_pose(&self, units: Units, instance: usize) -> [f32; 7] {
-        let rb = &self.live.bodies[self.bodies[instance]];
-        let c = rb.center_of_mass();
-        let q = rb.rotation();
+        let c = self.own_center_of_mass(instance);
+        let q = self.instance_frame(instance).rotation;
         let l = units.length(1.0) as f32;
         [c.x * l, c.y * l, c.z * l, q.w, q.x, q.y, q.z]
     }
@@ -143,11 +177,14 @@ impl RobotWorld {
             Some(mb) => {
                 let q = mb.generalized_velocity();
                 let w = Vector::new(q[3], q[4], q[5]);
-                let arm = rb.center_of_mass() - rb.position().translation;
+                let arm = self.own_center_of_mass(0) - rb.position().translation;
                 (Vector::new(q[0], q[1], q[2]) + w.cross(arm), w)
             }
             // A base nothing is jointed to is a plain rigid body.
-            None => (rb.linvel(), rb.angvel()),
+            None => {
+                let arm = self.own_center_of_mass(0) - rb.center_of_mass();
+                (rb.linvel() + rb.angvel().cross(arm), rb.angvel())
+            }
         };
         for k in 0..3 {
             out[7 + k] = units.length(f64::from(v[k])) as f32;
@@ -158,7 +195,7 @@ impl RobotWorld {
 
     /// An instance's centre of mass, world mm (m in [`Units::Si`]).
     pub fn center_of_mass(&self, units: Units, instance: usize) -> [f64; 3] {
-        let c = self.live.bodies[self.bodies[instance]].center_of_mass();
+        let c = self.own_center_of_mass(instance);
         [c.x, c.y, c.z].map(|v| units.length(f64::from(v)))
     }
 
@@ -167,7 +204,13 @@ impl RobotWorld {
     /// mm (m in [`Units::Si`]); the first instance's own if nothing moves.
     pub fn robot_center_of_mass(&self, units: Units) -> [f64; 3] {
         let (mut sum, mut mass) = ([0.0f64; 3], 0.0f64);
-        for &h in &self.bodies {
+        // Each body once (folded instances share their owner's, which carries their mass).
+        for (_, &h) in self
+            .bodies
+            .iter()
+            .enumerate()
+            .filter(|&(i, _)| self.owners[i] == i)
+        {
             let rb = &self.live.bodies[h];
             if !rb.is_dynamic() {
                 continue;
@@ -189,7 +232,7 @@ impl RobotWorld {
     /// A point given in an instance's frame (mm; the frame its document placement
     /// defines), in world mm (m in [`Units::Si`]).
     pub fn point_position(&self, units: Units, instance: usize, local_mm: [f64; 3]) -> [f64; 3] {
-        let pose = self.live.bodies[self.bodies[instance]].position();
+        let pose = self.instance_frame(instance);
         let local = local_mm.map(|v| to_m(v) as Real);
         let p = pose.transform_point(Vector::new(local[0], local[1], local[2]));
         [p.x, p.y, p.z].map(|v| units.length(f64::from(v)))
@@ -198,8 +241,8 @@ impl RobotWorld {
     /// A direction given in an instance's frame, in world coordinates (rotated, not
     /// rescaled).
     pub fn direction(&self, instance: usize, local: [f64; 3]) -> [f64; 3] {
-        let q = self.live.bodies[self.bodies[instance]].rotation();
-        let v = *q * Vector::new(local[0] as Real, local[1] as Real, local[2] as Real);
+        let q = self.instance_frame(instance).rotation;
+        let v = q * Vector::new(local[0] as Real, local[1] as Real, local[2] as Real);
         [v.x, v.y, v.z].map(f64::from)
     }
 

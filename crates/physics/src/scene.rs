@@ -125,21 +125,21 @@ impl RobotWorld {
     /// convex parts). Shapes gymfleet does not build (none today) are left out.
     pub fn scene_parts(&self) -> Vec<ScenePart> {
         let mut parts = Vec::with_capacity(self.bodies.len());
-        for (instance, &handle) in self.bodies.iter().enumerate() {
-            for &co in self.live.bodies[handle].colliders() {
-                let co = &self.live.colliders[co];
-                match co.shape().as_compound() {
-                    Some(compound) => {
-                        for (pose, piece) in compound.shapes() {
-                            if let Some(shape) = scene_shape(&**piece) {
-                                parts.push(to_part(instance, shape, &(*co.position() * *pose)));
-                            }
+        for (instance, &co) in self.colliders.iter().enumerate() {
+            let Some(co) = self.live.colliders.get(co) else {
+                continue;
+            };
+            match co.shape().as_compound() {
+                Some(compound) => {
+                    for (pose, piece) in compound.shapes() {
+                        if let Some(shape) = scene_shape(&**piece) {
+                            parts.push(to_part(instance, shape, &(*co.position() * *pose)));
                         }
                     }
-                    None => {
-                        if let Some(shape) = scene_shape(co.shape()) {
-                            parts.push(to_part(instance, shape, co.position()));
-                        }
+                }
+                None => {
+                    if let Some(shape) = scene_shape(co.shape()) {
+                        parts.push(to_part(instance, shape, co.position()));
                     }
                 }
             }

@@ -133,8 +133,23 @@ pub struct RobotWorld {
     pub(crate) substep_params: IntegrationParameters,
     pub(crate) substeps: u32,
     pub(crate) gravity: Vector,
-    /// One body per instance, in document order.
+    /// Each instance's body, in document order. An instance welded to a moving one
+    /// shares that one's body (see `owners`).
     pub(crate) bodies: Vec<RigidBodyHandle>,
+    /// Each instance's collider (an instance has exactly one), in document order.
+    pub(crate) colliders: Vec<ColliderHandle>,
+    /// Each instance's frame in its body's frame: the identity for an instance with a body
+    /// of its own; a folded instance's placement on the body it was welded into.
+    pub(crate) placements: Vec<Pose>,
+    /// The instance whose body each instance is part of: itself, or for an instance welded
+    /// to a moving one, the first of its weld chain (`build/trees.rs`, `fold_owners`).
+    pub(crate) owners: Vec<usize>,
+    /// Whether an instance's body carries other instances' colliders too (it owns a
+    /// folded one, or is folded): its own mass is then not its body's.
+    pub(crate) shared: Vec<bool>,
+    /// Each instance's given mass properties (`inertial`) as now scaled by randomisation,
+    /// in its own frame.
+    pub(crate) given_now: Vec<Option<MassProperties>>,
     pub(crate) joints: Vec<JointSlot>,
     pub(crate) dofs: Vec<JointDof>,
     /// Trees with a dynamic root, in document order of their roots.

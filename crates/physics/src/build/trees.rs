@@ -14,7 +14,7 @@ pub(super) fn insert_trees(
     sets: &mut Sets,
     assembly: &Assembly,
     bodies: &[RigidBodyHandle],
-    held: &[bool],
+    welded_away: &[bool],
 ) -> Result<Vec<(Pose, Pose)>> {
     // Parents before children, so each insertion appends one link to a tree.
     let mut order: Vec<usize> = (0..assembly.joints.len()).collect();
@@ -29,8 +29,8 @@ pub(super) fn insert_trees(
         if joint.closes_loop {
             continue; // Added once the trees are complete (`loops.rs`).
         }
-        if held[joint.child] {
-            continue; // A weld to the ground: its child is a fixed body of its own.
+        if welded_away[joint.child] {
+            continue; // Held fixed or folded: no link of its own.
         }
         // A ground plane collides with what is jointed to it too (MuJoCo never filters
         // the world body's geoms): only the plane stops a link from falling through.
@@ -90,6 +90,33 @@ pub(super) fn held_fixed(assembly: &Assembly) -> Vec<bool> {
         }
         if !changed {
             return held;
+        }
+    }
+}
+
+/// The instance whose body each instance is part of. An instance welded (by a fixed joint
+/// of a tree) to a moving one is folded into that one's body, transitively: its collider
+/// rides on the body of the first instance of its weld chain, and no tree link is spent
+/// on a joint that never moves (MuJoCo's multi-geom bodies come as such welds: a
+/// Humanoid's head, hands and feet, the Ant's leg roots, Pusher's arm). Every other
+/// instance owns its body. Welds to the ground are [`held_fixed`]'s.
+pub(super) fn fold_owners(assembly: &Assembly, held: &[bool]) -> Vec<usize> {
+    let mut owners: Vec<usize> = (0..assembly.instances.len()).collect();
+    loop {
+        let mut changed = false;
+        for joint in &assembly.joints {
+            if joint.kind == JointType::Fixed
+                && !joint.closes_loop
+                && !held[joint.parent]
+                && !held[joint.child]
+                && owners[joint.child] != owners[joint.parent]
+            {
+                owners[joint.child] = owners[joint.parent];
+                changed = true;
+            }
+        }
+        if !changed {
+            return owners;
         }
     }
 }
