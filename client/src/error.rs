@@ -352,7 +352,7 @@ mod tests {
         assert_eq!(fleet.kind(), ErrorKind::Fleet);
         let lost = ClientError::ServerLost {
             server: "h:1".to_string(),
-            envs: vec![0..4],
+            envs: vec![0..4, 8..12],
             reason: "gone".to_string(),
         };
         assert_eq!(lost.kind(), ErrorKind::ServerLost);
