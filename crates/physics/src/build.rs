@@ -150,6 +150,7 @@ impl RobotWorld {
             owners,
             shared,
             given_now: given,
+            own_props: Vec::new(),
             joints,
             dofs,
             free_roots,
@@ -166,6 +167,7 @@ impl RobotWorld {
             pipeline: PipelineCell(PhysicsPipeline::new()),
             base,
         };
+        world.update_own_props();
         world.reset();
         Ok(world)
     }

@@ -71,6 +71,7 @@ impl RobotWorld {
             &self.given_now,
             true,
         );
+        self.update_own_props();
         let mut inertia = vec![0.0; self.dofs.len()];
         let mut inverse_inertias: Vec<(MultibodyIndex, DVector)> = Vec::new();
         for (j, slot) in self.joints.iter().enumerate() {

@@ -110,19 +110,31 @@ impl RobotWorld {
     /// its alone; else its collider's and its given ones (a body that folded instances
     /// share carries all of theirs).
     pub(crate) fn own_mass_properties(&self, instance: usize) -> MassProperties {
-        let rb = &self.live.bodies[self.bodies[instance]];
         if !self.shared[instance] {
+            let rb = &self.live.bodies[self.bodies[instance]];
             return rb.mass_properties().local_mprops;
         }
-        let mut props = MassProperties::default();
-        if let Some(co) = self.live.colliders.get(self.colliders[instance]) {
-            let at = co.position_wrt_parent().copied().unwrap_or(Pose::IDENTITY);
-            props += co.mass_properties().transform_by(&at);
-        }
-        if let Some(given) = &self.given_now[instance] {
-            props += given.transform_by(&self.placements[instance]);
-        }
-        props
+        self.own_props[instance]
+    }
+
+    /// Recomputes [`RobotWorld::own_props`] from the colliders and the given masses.
+    pub(crate) fn update_own_props(&mut self) {
+        self.own_props = (0..self.colliders.len())
+            .map(|i| {
+                let mut props = MassProperties::default();
+                if !self.shared[i] {
+                    return props;
+                }
+                if let Some(co) = self.live.colliders.get(self.colliders[i]) {
+                    let at = co.position_wrt_parent().copied().unwrap_or(Pose::IDENTITY);
+                    props += co.mass_properties().transform_by(&at);
+                }
+                if let Some(given) = &self.given_now[i] {
+                    props += given.transform_by(&self.placements[i]);
+                }
+                props
+            })
+            .collect();
     }
 
     /// An instance's own centre of mass, world m.

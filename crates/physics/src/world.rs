@@ -150,6 +150,10 @@ pub struct RobotWorld {
     /// Each instance's given mass properties (`inertial`) as now scaled by randomisation,
     /// in its own frame.
     pub(crate) given_now: Vec<Option<MassProperties>>,
+    /// For an instance on a shared body: its own mass properties in the body's frame (its
+    /// collider's and its given ones), kept up to date by randomisation; terms read them
+    /// every step.
+    pub(crate) own_props: Vec<MassProperties>,
     pub(crate) joints: Vec<JointSlot>,
     pub(crate) dofs: Vec<JointDof>,
     /// Trees with a dynamic root, in document order of their roots.

@@ -1,9 +1,9 @@
 //! A terms task resolved against one env ([`ActiveTerms`]): its terms evaluated after
 //! every step, and the reset's draws ([`Dist`], [`ActiveSet`]).
 
-use std::cell::OnceCell;
+use std::cell::{OnceCell, RefCell};
 
-use gymfleet_physics::{RobotWorld, Units, WRENCH_LEN};
+use gymfleet_physics::{RobotWorld, Units, INERTIA_LEN, VELOCITY_LEN, WRENCH_LEN};
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::RngExt;
 
@@ -148,12 +148,15 @@ pub(crate) struct ActiveTerms {
 
 /// What terms read at one moment: the world, the observed joint state, and the robot's
 /// centre of mass (SI; what body-level terms are taken about), computed once, when first
-/// needed.
+/// needed; likewise each group's inertia and velocity, which a body's ten and six terms
+/// share.
 struct Now<'a> {
     world: &'a RobotWorld,
     positions: &'a [f32],
     velocities: &'a [f32],
     com: OnceCell<[f64; 3]>,
+    inertia: RefCell<Vec<(usize, [f64; INERTIA_LEN])>>,
+    velocity: RefCell<Vec<(usize, [f64; VELOCITY_LEN])>>,
 }
 
 impl<'a> Now<'a> {
@@ -163,7 +166,29 @@ impl<'a> Now<'a> {
             positions,
             velocities,
             com: OnceCell::new(),
+            inertia: RefCell::new(Vec::new()),
+            velocity: RefCell::new(Vec::new()),
         }
+    }
+
+    /// `group`'s `cinert` about the centre of mass, computed once per group.
+    fn inertia(&self, group: usize, members: &[usize]) -> [f64; INERTIA_LEN] {
+        if let Some((_, value)) = self.inertia.borrow().iter().find(|(g, _)| *g == group) {
+            return *value;
+        }
+        let value = self.world.group_inertia(members, self.com());
+        self.inertia.borrow_mut().push((group, value));
+        value
+    }
+
+    /// `group`'s `cvel` at the centre of mass, computed once per group.
+    fn velocity(&self, group: usize, members: &[usize]) -> [f64; VELOCITY_LEN] {
+        if let Some((_, value)) = self.velocity.borrow().iter().find(|(g, _)| *g == group) {
+            return *value;
+        }
+        let value = self.world.group_velocity(members, self.com());
+        self.velocity.borrow_mut().push((group, value));
+        value
     }
 
     /// The robot's centre of mass, m (MuJoCo's root subtree centre of mass).
@@ -185,10 +210,10 @@ impl ActiveTerms {
             Q::TendonVelocity(k) => world.tendon_state(k).1,
             Q::ActuatorForce(k) => world.actuator_force(k),
             Q::BodyInertia { group, component } => {
-                world.group_inertia(&self.groups[group], now.com())[component]
+                now.inertia(group, &self.groups[group])[component]
             }
             Q::BodyVelocity { group, component } => {
-                world.group_velocity(&self.groups[group], now.com())[component]
+                now.velocity(group, &self.groups[group])[component]
             }
             Q::ContactWrench { group, component } => self.group_wrench(group)[component],
             Q::Point { body, point, axis } => match point {
