@@ -75,9 +75,12 @@ impl RobotWorld {
             })
             .collect();
         set_given_masses(&mut sets, &bodies, &owners, &placements, &given, false);
-        let shared: Vec<bool> = (0..n)
-            .map(|i| owners[i] != i || owners.iter().enumerate().any(|(j, &o)| o == i && j != i))
-            .collect();
+        // A body is shared when an instance is folded into it: the folded one and its owner.
+        let mut shared = vec![false; n];
+        for (i, &owner) in owners.iter().enumerate().filter(|&(i, &o)| o != i) {
+            shared[i] = true;
+            shared[owner] = true;
+        }
         // Collision detection runs once per step, so contacts must be predicted: soft CCD
         // widens each pair's contact prediction by how far its colliders' points can move in
         // a step (centre-of-mass speed plus spin times radius, capped at the robot's size).

@@ -79,16 +79,18 @@ pub(crate) fn set_given_masses(
     given: &[Option<MassProperties>],
     recompute: bool,
 ) {
-    for owner in (0..bodies.len()).filter(|&i| owners[i] == i) {
-        let mut sum: Option<MassProperties> = None;
-        for i in (0..bodies.len()).filter(|&i| owners[i] == owner) {
-            if let Some(props) = &given[i] {
-                let placed = props.transform_by(&placements[i]);
-                sum = Some(sum.map_or(placed, |s| s + placed));
-            }
+    // Each owner's sum, in one pass over the instances.
+    let mut sums: Vec<Option<MassProperties>> = vec![None; bodies.len()];
+    for (i, props) in given.iter().enumerate() {
+        if let Some(props) = props {
+            let placed = props.transform_by(&placements[i]);
+            let sum = &mut sums[owners[i]];
+            *sum = Some(sum.map_or(placed, |s| s + placed));
         }
+    }
+    for owner in (0..bodies.len()).filter(|&i| owners[i] == i) {
         if let Some(rb) = sets.bodies.get_mut(bodies[owner]) {
-            if let Some(sum) = sum {
+            if let Some(sum) = sums[owner] {
                 rb.set_additional_mass_properties(sum, false);
             }
             if recompute {

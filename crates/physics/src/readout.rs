@@ -217,12 +217,10 @@ impl RobotWorld {
     pub fn robot_center_of_mass(&self, units: Units) -> [f64; 3] {
         let (mut sum, mut mass) = ([0.0f64; 3], 0.0f64);
         // Each body once (folded instances share their owner's, which carries their mass).
-        for (_, &h) in self
-            .bodies
-            .iter()
-            .enumerate()
-            .filter(|&(i, _)| self.owners[i] == i)
-        {
+        for (i, &h) in self.bodies.iter().enumerate() {
+            if self.owners[i] != i {
+                continue;
+            }
             let rb = &self.live.bodies[h];
             if !rb.is_dynamic() {
                 continue;

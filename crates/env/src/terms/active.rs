@@ -173,22 +173,16 @@ impl<'a> Now<'a> {
 
     /// `group`'s `cinert` about the centre of mass, computed once per group.
     fn inertia(&self, group: usize, members: &[usize]) -> [f64; INERTIA_LEN] {
-        if let Some((_, value)) = self.inertia.borrow().iter().find(|(g, _)| *g == group) {
-            return *value;
-        }
-        let value = self.world.group_inertia(members, self.com());
-        self.inertia.borrow_mut().push((group, value));
-        value
+        once_per_group(&self.inertia, group, || {
+            self.world.group_inertia(members, self.com())
+        })
     }
 
     /// `group`'s `cvel` at the centre of mass, computed once per group.
     fn velocity(&self, group: usize, members: &[usize]) -> [f64; VELOCITY_LEN] {
-        if let Some((_, value)) = self.velocity.borrow().iter().find(|(g, _)| *g == group) {
-            return *value;
-        }
-        let value = self.world.group_velocity(members, self.com());
-        self.velocity.borrow_mut().push((group, value));
-        value
+        once_per_group(&self.velocity, group, || {
+            self.world.group_velocity(members, self.com())
+        })
     }
 
     /// The robot's centre of mass, m (MuJoCo's root subtree centre of mass).
@@ -197,6 +191,20 @@ impl<'a> Now<'a> {
             .com
             .get_or_init(|| self.world.robot_center_of_mass(Units::Si))
     }
+}
+
+/// `group`'s value in `cache`, computed by `compute` the first time it is asked for.
+fn once_per_group<const N: usize>(
+    cache: &RefCell<Vec<(usize, [f64; N])>>,
+    group: usize,
+    compute: impl FnOnce() -> [f64; N],
+) -> [f64; N] {
+    if let Some((_, value)) = cache.borrow().iter().find(|(g, _)| *g == group) {
+        return *value;
+    }
+    let value = compute();
+    cache.borrow_mut().push((group, value));
+    value
 }
 
 impl ActiveTerms {
