@@ -645,4 +645,25 @@ mod tests {
             "{robot:?}"
         );
     }
+    #[test]
+    fn randomising_a_folded_instance_scales_its_own_mass_on_the_shared_body() {
+        let assembly = pendulum_with_a_tip();
+        let mut world = RobotWorld::new(&assembly, &WorldOptions::default()).unwrap();
+        let (arm, tip) = (1, 2);
+        let mut draws = crate::Draws::identity(3, 2);
+        draws.mass = vec![1.0, 2.0, 3.0];
+        world.apply_draws(&draws);
+        let density = assembly.instances[arm].material.density;
+        let (arm_mass, tip_mass) = (density * 4e-3 * 4e-3 * 40e-3, density * 8e-3_f64.powi(3));
+        let body = f64::from(world.live.bodies[world.bodies[arm]].mass());
+        assert!(
+            (body - (2.0 * arm_mass + 3.0 * tip_mass)).abs() < 1e-9,
+            "{body} kg"
+        );
+        // Each instance's own mass is its own share, scaled by its own factor.
+        let tip_own = f64::from(world.own_mass_properties(tip).mass());
+        assert!((tip_own - 3.0 * tip_mass).abs() < 1e-9, "{tip_own} kg");
+        let group = world.group_inertia(&[tip], [0.0; 3]);
+        assert!((group[9] - 3.0 * tip_mass).abs() < 1e-9, "{}", group[9]);
+    }
 }
