@@ -89,25 +89,48 @@ pub struct Observation {
 }
 
 impl Observation {
-    /// The flat layout of batches: positions, velocities, a floating base's pose and
-    /// velocity, the poses, the task's part.
-    pub fn to_flat(&self) -> Vec<f32> {
-        let mut out = Vec::with_capacity(
-            self.joint_positions.len() * 2
-                + self.base_pose.len()
-                + self.base_velocity.len()
-                + self.end_effector_poses.len() * POSE_LEN
-                + self.task_observation.len(),
-        );
-        out.extend_from_slice(&self.joint_positions);
-        out.extend_from_slice(&self.joint_velocities);
-        out.extend_from_slice(&self.base_pose);
-        out.extend_from_slice(&self.base_velocity);
-        for pose in &self.end_effector_poses {
-            out.extend_from_slice(pose);
+    /// The flat row, segment by segment in `layout`'s order: the env's own layout, as
+    /// [`EnvInfo::observation_layout`] and [`BatchInfo::observation_layout`] carry it.
+    /// A segment of another name is the task's.
+    pub fn to_flat(&self, layout: &[(String, usize)]) -> Vec<f32> {
+        let mut out = Vec::with_capacity(layout.iter().map(|(_, size)| size).sum());
+        for (name, _) in layout {
+            out.extend_from_slice(match name.as_str() {
+                "joint_positions" => &self.joint_positions,
+                "joint_velocities" => &self.joint_velocities,
+                "base_pose" => &self.base_pose,
+                "base_velocity" => &self.base_velocity,
+                "end_effector_poses" => self.end_effector_poses.as_flattened(),
+                _ => &self.task_observation,
+            });
         }
-        out.extend_from_slice(&self.task_observation);
         out
+    }
+
+    /// One flat row (of a batch's observations) read back, segment by segment as
+    /// `layout` names them; a segment past the row's end is cut short.
+    pub fn from_flat(row: &[f32], layout: &[(String, usize)]) -> Self {
+        let mut o = Observation::default();
+        let mut rest = row;
+        for (name, size) in layout {
+            let (part, tail) = rest.split_at((*size).min(rest.len()));
+            rest = tail;
+            let part = part.to_vec();
+            match name.as_str() {
+                "joint_positions" => o.joint_positions = part,
+                "joint_velocities" => o.joint_velocities = part,
+                "base_pose" => o.base_pose = part,
+                "base_velocity" => o.base_velocity = part,
+                "end_effector_poses" => {
+                    o.end_effector_poses = part
+                        .chunks_exact(POSE_LEN)
+                        .map(|c| std::array::from_fn(|i| c[i]))
+                        .collect();
+                }
+                _ => o.task_observation = part,
+            }
+        }
+        o
     }
 }
 
@@ -519,6 +542,10 @@ impl From<pb::ServerInfo> for ServerInfo {
 mod tests {
     use super::*;
 
+    fn layout_of(segments: &[(&str, usize)]) -> Vec<(String, usize)> {
+        segments.iter().map(|&(n, s)| (n.to_string(), s)).collect()
+    }
+
     #[test]
     fn observations_unpack_poses() {
         let o = Observation::try_from(pb::Observation {
@@ -534,7 +561,15 @@ mod tests {
             [[10.0, 10.0, 25.0, 1.0, 0.0, 0.0, 0.0]]
         );
         assert_eq!(o.task_observation, [20.0, 0.0, 40.0]);
-        assert_eq!(o.to_flat().len(), 12);
+        let layout = layout_of(&[
+            ("joint_positions", 1),
+            ("joint_velocities", 1),
+            ("end_effector_poses", 7),
+            ("target", 3),
+        ]);
+        let flat = o.to_flat(&layout);
+        assert_eq!(flat.len(), 12);
+        assert_eq!(Observation::from_flat(&flat, &layout), o);
         let bad = pb::Observation {
             end_effector_poses: vec![0.0; 8],
             ..Default::default()
@@ -556,10 +591,24 @@ mod tests {
             ..Default::default()
         })
         .unwrap();
-        let flat = o.to_flat();
+        // The order is the layout's (the server's), not this crate's.
+        let layout = layout_of(&[
+            ("joint_positions", 1),
+            ("joint_velocities", 1),
+            ("base_pose", 7),
+            ("base_velocity", 6),
+            ("end_effector_poses", 7),
+        ]);
+        let flat = o.to_flat(&layout);
         assert_eq!(flat.len(), 2 + 13 + 7);
         assert_eq!(flat[2..4], [3.0, 4.0]);
         assert_eq!(flat[15], 10.0);
+        assert_eq!(Observation::from_flat(&flat, &layout), o);
+        let reversed: Vec<_> = layout.iter().rev().cloned().collect();
+        assert_eq!(
+            o.to_flat(&reversed)[..7],
+            [10.0, 10.0, 25.0, 1.0, 0.0, 0.0, 0.0]
+        );
         let bad = pb::Observation {
             base_pose: vec![0.0; 7],
             base_velocity: vec![0.0; 3],

@@ -9,11 +9,8 @@ use std::time::Duration;
 use clap::{Parser, ValueEnum};
 use tracing_subscriber::EnvFilter;
 
-use crate::config::{
-    ServerConfig, TlsConfig, DEFAULT_MAX_BATCH_SIZE, DEFAULT_MAX_DOCUMENT_BYTES, DEFAULT_MAX_DOFS,
-    DEFAULT_MAX_END_EFFECTORS, DEFAULT_MAX_ENVS, DEFAULT_MAX_INSTANCES, DEFAULT_MAX_JOINTS,
-    DEFAULT_MAX_MESSAGE_BYTES, DEFAULT_MAX_STEP_WORK,
-};
+use crate::config::{ServerConfig, TlsConfig};
+use crate::limit::Limit;
 use crate::listen::ListenAddr;
 use crate::tenant::TokenTable;
 
@@ -39,28 +36,60 @@ pub struct Cli {
     #[arg(long, env = "GYMFLEET_THREADS", default_value_t = 0)]
     pub threads: usize,
     /// Most environments held at once (single envs plus batch members); 0 = no limit.
-    #[arg(long, env = "GYMFLEET_MAX_ENVS", default_value_t = DEFAULT_MAX_ENVS)]
+    #[arg(
+        long = Limit::Envs.flag(),
+        env = Limit::Envs.var(),
+        default_value_t = Limit::Envs.default_value()
+    )]
     pub max_envs: usize,
     /// Most environments in one batch; 0 = no limit.
-    #[arg(long, env = "GYMFLEET_MAX_BATCH_SIZE", default_value_t = DEFAULT_MAX_BATCH_SIZE)]
+    #[arg(
+        long = Limit::BatchSize.flag(),
+        env = Limit::BatchSize.var(),
+        default_value_t = Limit::BatchSize.default_value()
+    )]
     pub max_batch_size: usize,
     /// Largest accepted assembly document, bytes; 0 = no limit.
-    #[arg(long, env = "GYMFLEET_MAX_DOCUMENT_BYTES", default_value_t = DEFAULT_MAX_DOCUMENT_BYTES)]
+    #[arg(
+        long = Limit::DocumentBytes.flag(),
+        env = Limit::DocumentBytes.var(),
+        default_value_t = Limit::DocumentBytes.default_value()
+    )]
     pub max_document_bytes: usize,
     /// Largest gRPC message decoded or encoded, bytes; 0 = tonic's 4 MiB default.
-    #[arg(long, env = "GYMFLEET_MAX_MESSAGE_BYTES", default_value_t = DEFAULT_MAX_MESSAGE_BYTES)]
+    #[arg(
+        long = Limit::MessageBytes.flag(),
+        env = Limit::MessageBytes.var(),
+        default_value_t = Limit::MessageBytes.default_value()
+    )]
     pub max_message_bytes: usize,
     /// Most instances (bodies) per document; 0 = no limit.
-    #[arg(long, env = "GYMFLEET_MAX_INSTANCES", default_value_t = DEFAULT_MAX_INSTANCES)]
+    #[arg(
+        long = Limit::Instances.flag(),
+        env = Limit::Instances.var(),
+        default_value_t = Limit::Instances.default_value()
+    )]
     pub max_instances: usize,
     /// Most joints per document, fixed ones included; 0 = no limit.
-    #[arg(long, env = "GYMFLEET_MAX_JOINTS", default_value_t = DEFAULT_MAX_JOINTS)]
+    #[arg(
+        long = Limit::Joints.flag(),
+        env = Limit::Joints.var(),
+        default_value_t = Limit::Joints.default_value()
+    )]
     pub max_joints: usize,
     /// Most degrees of freedom per document (a step's cost grows with them); 0 = no limit.
-    #[arg(long, env = "GYMFLEET_MAX_DOFS", default_value_t = DEFAULT_MAX_DOFS)]
+    #[arg(
+        long = Limit::Dofs.flag(),
+        env = Limit::Dofs.var(),
+        default_value_t = Limit::Dofs.default_value()
+    )]
     pub max_dofs: usize,
     /// Most observed end effectors per env; 0 = no limit.
-    #[arg(long, env = "GYMFLEET_MAX_END_EFFECTORS", default_value_t = DEFAULT_MAX_END_EFFECTORS)]
+    #[arg(
+        long = Limit::EndEffectors.flag(),
+        env = Limit::EndEffectors.var(),
+        default_value_t = Limit::EndEffectors.default_value()
+    )]
     pub max_end_effectors: usize,
     /// Serve TLS with this certificate chain (PEM); needs --tls-key.
     #[arg(
@@ -106,11 +135,19 @@ pub struct Cli {
     pub models: Option<PathBuf>,
     /// Most environments one tenant (or, with auth off, all callers together) holds at
     /// once; 0 = no limit beyond --max-envs.
-    #[arg(long, env = "GYMFLEET_TENANT_MAX_ENVS", default_value_t = 0)]
+    #[arg(
+        long = Limit::TenantEnvs.flag(),
+        env = Limit::TenantEnvs.var(),
+        default_value_t = Limit::TenantEnvs.default_value()
+    )]
     pub tenant_max_envs: usize,
     /// Most work one step call may ask for, in DOF-substeps (envs × substeps × DOFs of a
     /// batch or env); 0 = no limit.
-    #[arg(long, env = "GYMFLEET_MAX_STEP_WORK", default_value_t = DEFAULT_MAX_STEP_WORK)]
+    #[arg(
+        long = Limit::StepWork.flag(),
+        env = Limit::StepWork.var(),
+        default_value_t = Limit::StepWork.default_value()
+    )]
     pub max_step_work: usize,
     /// Close envs and batches untouched for this many seconds; 0 = never.
     #[arg(long, env = "GYMFLEET_IDLE_TTL_SECS", default_value_t = 600)]
@@ -209,9 +246,22 @@ mod tests {
         assert_eq!(cli.listen, "127.0.0.1:50051".parse::<ListenAddr>().unwrap());
         let config = cli.server_config().unwrap();
         assert_eq!(config.threads, 0);
-        assert_eq!(config.max_message_bytes, DEFAULT_MAX_MESSAGE_BYTES);
+        for limit in Limit::ALL {
+            assert_eq!(limit.of(&config), limit.default_value(), "{limit:?}");
+        }
         assert_eq!(config.idle_ttl, Duration::from_secs(600));
         assert_eq!(cli.log_format, LogFormat::Text);
+    }
+
+    #[test]
+    fn every_limit_is_set_by_its_flag() {
+        scrub_gymfleet_env();
+        for limit in Limit::ALL {
+            let flag = format!("--{}", limit.flag());
+            let cli = Cli::try_parse_from(["gymfleet-server", &flag, "3"]).expect("parses");
+            let config = cli.server_config().unwrap();
+            assert_eq!(limit.of(&config), 3, "{flag}");
+        }
     }
 
     #[test]

@@ -403,7 +403,7 @@ mod tests {
     use gymfleet_env::{DEFAULT_MAX_STEPS, DEFAULT_SUBSTEPS};
 
     use super::*;
-    use crate::domain::ObsSplit;
+    use crate::domain::Observed;
 
     #[test]
     fn zero_means_the_default() {
@@ -529,17 +529,24 @@ mod tests {
     }
 
     #[test]
-    fn observations_split_into_parts() {
-        let o = observation(
-            &[
+    fn observations_split_into_parts_along_the_env_layout() {
+        let observed = |flat: Vec<f32>, floating_base, task| Observed {
+            flat,
+            layout: gymfleet_env::observation_layout(
+                if floating_base { 1 } else { 2 },
+                floating_base,
+                1,
+                task,
+            )
+            .into(),
+        };
+        let o = observation(&observed(
+            vec![
                 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0, 10.0, 11.0, 20.0, 0.0, 40.0,
             ],
-            ObsSplit {
-                dof: 2,
-                base: 0,
-                poses: 7,
-            },
-        );
+            false,
+            Some(("target", 3)),
+        ));
         assert_eq!(o.joint_positions, [1.0, 2.0]);
         assert_eq!(o.joint_velocities, [3.0, 4.0]);
         assert_eq!(o.end_effector_poses.len(), 7);
@@ -547,14 +554,7 @@ mod tests {
         assert!(o.base_pose.is_empty() && o.base_velocity.is_empty());
         // A floating base's 13 floats come between the joints and the poses.
         let flat: Vec<f32> = (0..(1 + 1 + 13 + 7)).map(|v| v as f32).collect();
-        let o = observation(
-            &flat,
-            ObsSplit {
-                dof: 1,
-                base: 13,
-                poses: 7,
-            },
-        );
+        let o = observation(&observed(flat, true, None));
         assert_eq!(o.base_pose, [2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0]);
         assert_eq!(o.base_velocity, [9.0, 10.0, 11.0, 12.0, 13.0, 14.0]);
         assert_eq!(o.end_effector_poses[0], 15.0);

@@ -3,7 +3,9 @@
 //! `convert.rs` to encode. Both modules sit above this one.
 
 use gymfleet_batch::{Autoreset, BatchStepOutput};
-use gymfleet_env::{ActionType, EnvConfig, EnvSpec, StepFlags, BASE_VELOCITY_LEN, POSE_LEN};
+use std::sync::Arc;
+
+use gymfleet_env::{ActionType, EnvConfig, EnvSpec, ObservationSegment, StepFlags};
 
 use crate::config::ServerConfig;
 
@@ -64,36 +66,18 @@ pub(crate) struct BatchStep {
 #[derive(Debug, Clone, Default)]
 pub(crate) struct JointLinks(pub(crate) Vec<(String, String)>);
 
-/// How a single env's flat observation splits into the proto `Observation`'s fields:
-/// `dof` positions, `dof` velocities, `poses` pose floats, then the task's floats.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct ObsSplit {
-    pub(crate) dof: usize,
-    /// A floating base's pose and velocity: 13 floats, or none.
-    pub(crate) base: usize,
-    pub(crate) poses: usize,
-}
-
-impl ObsSplit {
-    pub(crate) fn of(spec: &EnvSpec) -> Self {
-        ObsSplit {
-            dof: spec.num_dofs,
-            base: if spec.floating_base {
-                POSE_LEN + BASE_VELOCITY_LEN
-            } else {
-                0
-            },
-            poses: POSE_LEN * spec.end_effector_ids.len(),
-        }
-    }
+/// A single env's flat observation, with the env's own layout to split it along.
+#[derive(Debug, Clone)]
+pub(crate) struct Observed {
+    pub(crate) flat: Vec<f32>,
+    pub(crate) layout: Arc<[ObservationSegment]>,
 }
 
 /// The outcome of a single-env step.
 pub(crate) struct EnvStepOutcome {
-    pub(crate) observation: Vec<f32>,
+    pub(crate) observation: Observed,
     pub(crate) flags: StepFlags,
     pub(crate) episode_step: u32,
-    pub(crate) split: ObsSplit,
     /// A terms task's values of the step.
     pub(crate) terms: Vec<f32>,
 }

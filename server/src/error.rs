@@ -10,6 +10,7 @@ use gymfleet_batch::BatchError;
 use gymfleet_env::EnvError;
 use tonic::{Code, Status};
 
+use crate::limit::Limit;
 use crate::tenant::Tenant;
 
 /// Longest status message the server sends: anything longer is cut here, whatever
@@ -111,7 +112,7 @@ pub enum ServerError {
     },
     /// A document (or env) larger than a structural limit: refused before anything is
     /// built.
-    #[error("{what}: {count} exceeds the server's limit of {max}; raise it with {flag} ({var})")]
+    #[error("{what}: {count} exceeds the server's limit of {max}; raise it with {limit}")]
     TooComplex {
         /// What was counted, e.g. `assembly.joints`.
         what: &'static str,
@@ -119,16 +120,15 @@ pub enum ServerError {
         count: usize,
         /// The limit.
         max: usize,
-        /// The flag that raises it, e.g. `--max-joints`.
-        flag: &'static str,
-        /// Its environment variable.
-        var: &'static str,
+        /// The limit, e.g. [`Limit::Joints`].
+        limit: Limit,
     },
     /// Envs whose every step would cost more than `--max-step-work`.
     #[error(
         "a step of {n_envs} env(s) × {substeps} substeps × {dofs} DOFs is {work} DOF-substeps \
          of work, over the server's limit of {max} per call; use fewer envs or substeps, or \
-         raise --max-step-work (GYMFLEET_MAX_STEP_WORK)"
+         raise {}",
+        Limit::StepWork
     )]
     TooMuchWork {
         /// `n_envs × substeps × dofs`.
@@ -146,7 +146,8 @@ pub enum ServerError {
     #[error(
         "n_envs: a step of {n_envs} envs × {observation_dim} observation values can need \
          {bytes} bytes, over the server's message limit of {max}; use smaller batches, or \
-         raise --max-message-bytes (GYMFLEET_MAX_MESSAGE_BYTES) on the server and the client"
+         raise {} on the server and the client",
+        Limit::MessageBytes
     )]
     ReplyTooLarge {
         /// The largest reply a step could need.
@@ -161,8 +162,8 @@ pub enum ServerError {
     /// Creating would exceed `--max-envs`.
     #[error(
         "too many environments: this request needs {requested} more, {held} of the server's \
-         limit of {max} are held; close some, or raise the limit with --max-envs \
-         (GYMFLEET_MAX_ENVS)"
+         limit of {max} are held; close some, or raise the limit with {}",
+        Limit::Envs
     )]
     TooManyEnvs {
         /// Environments the request would add.
@@ -176,7 +177,8 @@ pub enum ServerError {
     #[error(
         "too many environments for tenant {tenant}: this request needs {requested} more, \
          {held} of its quota of {max} are held; close some, or ask the operator to raise \
-         --tenant-max-envs (GYMFLEET_TENANT_MAX_ENVS)"
+         {}",
+        Limit::TenantEnvs
     )]
     TenantQuota {
         /// The tenant.
@@ -191,7 +193,8 @@ pub enum ServerError {
     /// A batch larger than `--max-batch-size`.
     #[error(
         "n_envs: {n_envs} exceeds the server's max batch size of {max}; split the batch, or \
-         raise the limit with --max-batch-size (GYMFLEET_MAX_BATCH_SIZE)"
+         raise the limit with {}",
+        Limit::BatchSize
     )]
     BatchTooLarge {
         /// The requested size.
@@ -202,8 +205,9 @@ pub enum ServerError {
     /// The states a `SaveBatchState` would return exceed the message limit.
     #[error(
         "env_indices: the {count} states come to {bytes} bytes, over the server's message \
-         limit of {max}; save fewer envs per call, or raise --max-message-bytes \
-         (GYMFLEET_MAX_MESSAGE_BYTES) on the server and the client"
+         limit of {max}; save fewer envs per call, or raise {} on the server and the \
+         client",
+        Limit::MessageBytes
     )]
     StatesTooLarge {
         /// The states' total size.
@@ -216,7 +220,8 @@ pub enum ServerError {
     /// A document larger than `--max-document-bytes`.
     #[error(
         "{field}: {bytes} bytes exceeds the server's limit of {max} bytes; raise it \
-         with --max-document-bytes (GYMFLEET_MAX_DOCUMENT_BYTES)"
+         with {}",
+        Limit::DocumentBytes
     )]
     DocumentTooLarge {
         /// `document_json`, or `state.document` for a state's document.
@@ -335,6 +340,22 @@ impl From<ServerError> for Status {
 }
 
 impl ServerError {
+    /// The limit this error refused a call for, if it is a limit's refusal.
+    pub fn limit(&self) -> Option<Limit> {
+        Some(match self {
+            ServerError::TooManyEnvs { .. } => Limit::Envs,
+            ServerError::TenantQuota { .. } => Limit::TenantEnvs,
+            ServerError::BatchTooLarge { .. } => Limit::BatchSize,
+            ServerError::DocumentTooLarge { .. } => Limit::DocumentBytes,
+            ServerError::ReplyTooLarge { .. } | ServerError::StatesTooLarge { .. } => {
+                Limit::MessageBytes
+            }
+            ServerError::TooMuchWork { .. } => Limit::StepWork,
+            ServerError::TooComplex { limit, .. } => *limit,
+            _ => return None,
+        })
+    }
+
     /// The status code this error goes out with.
     pub(crate) fn code(&self) -> Code {
         match self {

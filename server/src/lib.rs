@@ -25,6 +25,7 @@ mod dashboard;
 mod direct;
 mod domain;
 mod error;
+mod limit;
 mod listen;
 mod local;
 mod metrics;
@@ -45,6 +46,7 @@ pub use config::{
 };
 pub use direct::DirectService;
 pub use error::{EntityKind, Result, ServerError, MAX_STATUS_MESSAGE_BYTES};
+pub use limit::Limit;
 pub use listen::{ListenAddr, Listener, SocketFile};
 pub use local::LocalServer;
 pub use models::{LibraryModel, ModelLibrary};

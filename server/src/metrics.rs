@@ -173,7 +173,7 @@ impl Metrics {
     /// Counts a call refused before any work, if `err` is such a refusal.
     pub(crate) fn rejected(&self, err: &ServerError) {
         if let Some(reason) = rejection_reason(err) {
-            self.reject(&reason);
+            self.reject(reason);
         }
     }
 
@@ -244,26 +244,13 @@ pub(crate) struct OpenCounts {
     pub(crate) batch_envs: usize,
 }
 
-/// Why `err` refused a call before any work: the limit's flag without its dashes
-/// (`max_batch_size`), or `invalid_argument`; `None` for other errors.
-fn rejection_reason(err: &ServerError) -> Option<String> {
-    let reason = match err {
-        ServerError::TooManyEnvs { .. } => "max_envs",
-        ServerError::TenantQuota { .. } => "tenant_max_envs",
-        ServerError::BatchTooLarge { .. } => "max_batch_size",
-        ServerError::DocumentTooLarge { .. } => "max_document_bytes",
-        ServerError::ReplyTooLarge { .. } | ServerError::StatesTooLarge { .. } => {
-            "max_message_bytes"
-        }
-        ServerError::TooMuchWork { .. } => "max_step_work",
-        // Each structural limit names its own flag, e.g. `--max-joints`.
-        ServerError::TooComplex { flag, .. } => {
-            return Some(flag.trim_start_matches("--").replace('-', "_"))
-        }
-        _ if err.code() == Code::InvalidArgument => "invalid_argument",
-        _ => return None,
-    };
-    Some(reason.to_string())
+/// Why `err` refused a call before any work: its limit's name (`max_batch_size`), or
+/// `invalid_argument`; `None` for other errors.
+fn rejection_reason(err: &ServerError) -> Option<&'static str> {
+    match err.limit() {
+        Some(limit) => Some(limit.name()),
+        None => (err.code() == Code::InvalidArgument).then_some("invalid_argument"),
+    }
 }
 
 fn code_name(code: Code) -> &'static str {
@@ -330,15 +317,11 @@ mod tests {
             what: "assembly.joints",
             count: 9,
             max: 8,
-            flag: "--max-joints",
-            var: "GYMFLEET_MAX_JOINTS",
+            limit: crate::Limit::Joints,
         };
-        assert_eq!(
-            rejection_reason(&too_complex).as_deref(),
-            Some("max_joints")
-        );
+        assert_eq!(rejection_reason(&too_complex), Some("max_joints"));
         let batch = ServerError::BatchTooLarge { n_envs: 9, max: 8 };
-        assert_eq!(rejection_reason(&batch).as_deref(), Some("max_batch_size"));
+        assert_eq!(rejection_reason(&batch), Some("max_batch_size"));
         assert_eq!(rejection_reason(&ServerError::ShuttingDown), None);
     }
 }

@@ -20,6 +20,7 @@ use crate::clock::Clock;
 use crate::tenant::Tenant;
 
 use crate::error::{EntityKind, Result, ServerError};
+use crate::limit::Limit;
 
 mod activity;
 pub(crate) use activity::{clear_done, Activity, Facts, Rates};
@@ -61,7 +62,7 @@ impl EnvCapacity {
         let mut held = self.held.load(Ordering::Relaxed);
         loop {
             let next = held.saturating_add(n);
-            if self.max != 0 && next > self.max {
+            if Limit::exceeded(self.max, next) {
                 return Err(match &self.tenant {
                     None => ServerError::TooManyEnvs {
                         requested: n,

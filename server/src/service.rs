@@ -118,8 +118,8 @@ impl Simulator for SimulatorService {
         request: Request<pb::ResetRequest>,
     ) -> Result<Response<pb::Observation>, Status> {
         self.unary("Reset", request, |tenant, r| async move {
-            let (obs, split) = self.sim.reset_env(&tenant, &r.env_id, r.seed).await?;
-            Ok(convert::observation(&obs, split))
+            let obs = self.sim.reset_env(&tenant, &r.env_id, r.seed).await?;
+            Ok(convert::observation(&obs))
         })
         .await
     }
@@ -133,7 +133,7 @@ impl Simulator for SimulatorService {
             let outcome = self.sim.step_env(&tenant, step).await?;
             let flags = outcome.flags;
             Ok(pb::StepResult {
-                observation: Some(convert::observation(&outcome.observation, outcome.split)),
+                observation: Some(convert::observation(&outcome.observation)),
                 reward: flags.reward,
                 terminated: flags.terminated,
                 truncated: flags.truncated,
@@ -151,8 +151,8 @@ impl Simulator for SimulatorService {
         request: Request<pb::EnvRef>,
     ) -> Result<Response<pb::Observation>, Status> {
         self.unary("Observe", request, |tenant, r| async move {
-            let (obs, split) = self.sim.observe_env(&tenant, &r.env_id).await?;
-            Ok(convert::observation(&obs, split))
+            let obs = self.sim.observe_env(&tenant, &r.env_id).await?;
+            Ok(convert::observation(&obs))
         })
         .await
     }
@@ -242,8 +242,8 @@ impl Simulator for SimulatorService {
         request: Request<pb::LoadStateRequest>,
     ) -> Result<Response<pb::Observation>, Status> {
         self.unary("LoadState", request, |tenant, r| async move {
-            let (obs, split) = self.sim.load_state(&tenant, &r.env_id, r.state).await?;
-            Ok(convert::observation(&obs, split))
+            let obs = self.sim.load_state(&tenant, &r.env_id, r.state).await?;
+            Ok(convert::observation(&obs))
         })
         .await
     }

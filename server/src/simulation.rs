@@ -12,10 +12,10 @@ use std::sync::{Arc, Mutex, PoisonError};
 use std::time::{Duration, Instant};
 
 use gymfleet_batch::{BatchStepOutput, EnvBatch, StepPool};
-use gymfleet_env::RobotEnv;
+use gymfleet_env::{ObservationSegment, RobotEnv};
 
 use crate::config::ServerConfig;
-use crate::domain::{Action, Created, EnvRequest, EnvStep, EnvStepOutcome, ObsSplit, ServerStatus};
+use crate::domain::{Action, Created, EnvRequest, EnvStep, EnvStepOutcome, Observed, ServerStatus};
 use crate::error::{EntityKind, Result};
 use crate::metrics::{Gauges, Metrics, OpenCounts};
 use crate::pool::{self, Jobs, Lane};
@@ -37,20 +37,34 @@ pub(crate) struct OpenEnv {
     /// Its step counters (see [`Activity::record_step`] for `was_done`).
     activity: Arc<Activity>,
     was_done: Vec<bool>,
+    /// The env's observation layout, shared by every observation it returns.
+    layout: Arc<[ObservationSegment]>,
 }
 
 impl OpenEnv {
-    /// A zeroed observation of the env's size, and how its floats split into parts.
-    fn observation_buffer(&self) -> (Vec<f32>, ObsSplit) {
-        let spec = self.env.spec();
-        (vec![0.0; spec.observation_dim], ObsSplit::of(spec))
+    fn new(env: RobotEnv, activity: Arc<Activity>) -> Self {
+        let layout = env.spec().observation_layout.as_slice().into();
+        OpenEnv {
+            env,
+            activity,
+            was_done: Vec::new(),
+            layout,
+        }
+    }
+
+    /// A zeroed observation of the env's size and layout.
+    fn observation_buffer(&self) -> Observed {
+        Observed {
+            flat: vec![0.0; self.env.spec().observation_dim],
+            layout: Arc::clone(&self.layout),
+        }
     }
 
     /// The env's observation now.
-    fn observation(&self) -> (Vec<f32>, ObsSplit) {
-        let (mut obs, split) = self.observation_buffer();
-        self.env.observe_into(&mut obs);
-        (obs, split)
+    fn observation(&self) -> Observed {
+        let mut obs = self.observation_buffer();
+        self.env.observe_into(&mut obs.flat);
+        obs
     }
 }
 
@@ -209,11 +223,7 @@ impl Simulation {
         .await?;
         let spec = env.spec().clone();
         let activity = Activity::new(Facts::of(&spec, 1));
-        let open = OpenEnv {
-            env,
-            activity: Arc::clone(&activity),
-            was_done: Vec::new(),
-        };
+        let open = OpenEnv::new(env, Arc::clone(&activity));
         let id = self.envs.insert_with(tenant, open, reservation, activity);
         tracing::info!(env_id = %id, action_dim = spec.action_dim, "created env");
         Ok(Created {
@@ -229,12 +239,12 @@ impl Simulation {
         tenant: &Tenant,
         id: &str,
         seed: Option<u64>,
-    ) -> Result<(Vec<f32>, ObsSplit)> {
+    ) -> Result<Observed> {
         self.on_env(tenant, id, "Reset", move |open| {
-            let (mut obs, split) = open.observation_buffer();
-            open.env.reset_into(seed, &mut obs);
+            let mut obs = open.observation_buffer();
+            open.env.reset_into(seed, &mut obs.flat);
             open.was_done.fill(false);
-            Ok((obs, split))
+            Ok(obs)
         })
         .await
     }
@@ -247,11 +257,11 @@ impl Simulation {
                     panic!("injected panic (ServerConfig::panic_on_action)");
                 }
                 let started = Instant::now();
-                let (mut observation, split) = open.observation_buffer();
+                let mut observation = open.observation_buffer();
                 let flags = open.env.step_into(
                     step.action.action_type,
                     &step.action.values,
-                    &mut observation,
+                    &mut observation.flat,
                 )?;
                 open.activity.record_step(
                     started.elapsed(),
@@ -264,7 +274,6 @@ impl Simulation {
                     observation,
                     flags,
                     episode_step: open.env.elapsed_steps(),
-                    split,
                     terms: open.env.term_values().to_vec(),
                 })
             })
@@ -275,11 +284,7 @@ impl Simulation {
         outcome
     }
 
-    pub(crate) async fn observe_env(
-        &self,
-        tenant: &Tenant,
-        id: &str,
-    ) -> Result<(Vec<f32>, ObsSplit)> {
+    pub(crate) async fn observe_env(&self, tenant: &Tenant, id: &str) -> Result<Observed> {
         self.on_env(tenant, id, "Observe", move |open| Ok(open.observation()))
             .await
     }

@@ -103,7 +103,10 @@ impl EnvHandle {
             self.timeout.get(),
             || async move { env.reset(seed).await },
         )?;
-        Ok(PyArray1::from_vec(py, observation.to_flat()))
+        Ok(PyArray1::from_vec(
+            py,
+            observation.to_flat(&self.env.info().observation_layout),
+        ))
     }
 
     /// One step: `(observation, reward, terminated, truncated, termination_reason,
@@ -130,7 +133,10 @@ impl EnvHandle {
             env.step(action_type, &values).await
         })?;
         Ok((
-            PyArray1::from_vec(py, r.observation.to_flat()),
+            PyArray1::from_vec(
+                py,
+                r.observation.to_flat(&self.env.info().observation_layout),
+            ),
             r.reward,
             r.terminated,
             r.truncated,
@@ -148,7 +154,10 @@ impl EnvHandle {
             self.timeout.get(),
             || async move { env.observe().await },
         )?;
-        Ok(PyArray1::from_vec(py, observation.to_flat()))
+        Ok(PyArray1::from_vec(
+            py,
+            observation.to_flat(&self.env.info().observation_layout),
+        ))
     }
 
     /// The env's saved state, as `bytes` (the env is re-seated from it).
@@ -173,7 +182,10 @@ impl EnvHandle {
         let observation = wait(py, self.timeout.get(), || async move {
             env.load_state(&state).await
         })?;
-        Ok(PyArray1::from_vec(py, observation.to_flat()))
+        Ok(PyArray1::from_vec(
+            py,
+            observation.to_flat(&self.env.info().observation_layout),
+        ))
     }
 
     /// The domain-randomisation factors drawn at the last reset.

@@ -3,7 +3,7 @@
 use gymfleet_physics::{JointDof, PdGains, Units};
 
 use crate::error::{EnvError, Result};
-use crate::observation::{ObservationSegment, BASE_VELOCITY_LEN, POSE_LEN};
+use crate::observation::{self, ObservationSegment};
 use crate::task::TaskSpec;
 
 /// Default step length: 1/240 s.
@@ -229,35 +229,12 @@ impl EnvSpec {
                 last = Some(dof.joint);
             }
         }
-        let mut observation_layout = vec![
-            ObservationSegment {
-                name: "joint_positions",
-                size: dofs.len(),
-            },
-            ObservationSegment {
-                name: "joint_velocities",
-                size: dofs.len(),
-            },
-        ];
-        if floating_base {
-            observation_layout.extend([
-                ObservationSegment {
-                    name: "base_pose",
-                    size: POSE_LEN,
-                },
-                ObservationSegment {
-                    name: "base_velocity",
-                    size: BASE_VELOCITY_LEN,
-                },
-            ]);
-        }
-        observation_layout.push(ObservationSegment {
-            name: "end_effector_poses",
-            size: POSE_LEN * config.end_effector_ids.len(),
-        });
-        if let Some((name, size)) = task {
-            observation_layout.push(ObservationSegment { name, size });
-        }
+        let observation_layout = observation::layout(
+            dofs.len(),
+            floating_base,
+            config.end_effector_ids.len(),
+            task,
+        );
         EnvSpec {
             num_joints: joint_names.len(),
             action_dim: dofs.iter().filter(|d| d.actuated).count(),

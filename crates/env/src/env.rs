@@ -406,12 +406,7 @@ impl RobotEnv {
     }
 
     fn structured(&self, flat: &[f32]) -> Observation {
-        Observation::from_flat(
-            flat,
-            self.spec.num_dofs,
-            self.spec.floating_base,
-            self.end_effectors.len(),
-        )
+        Observation::from_flat(flat, &self.spec.observation_layout)
     }
 
     /// The current observation, without stepping.

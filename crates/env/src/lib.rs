@@ -36,7 +36,10 @@ pub use error::{EnvError, Result};
 pub use gymfleet_assembly::{AssemblyError, DofKind, JointType};
 pub use gymfleet_physics::Units;
 pub use gymfleet_physics::{JointDof, PdGains, SceneJoint, ScenePart, SceneShape};
-pub use observation::{Observation, ObservationSegment, BASE_VELOCITY_LEN, POSE_LEN};
+pub use observation::{
+    layout as observation_layout, segment, Observation, ObservationParts, ObservationSegment,
+    BASE_VELOCITY_LEN, POSE_LEN,
+};
 pub use state::{SavedState, STATE_VERSION};
 pub use task::{ReachTarget, TaskKind, TaskSpec};
 pub use terms::TermsTask;

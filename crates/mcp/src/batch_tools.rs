@@ -57,7 +57,7 @@ impl GymTools {
             .step(p.action_type.into(), &flat)
             .await
             .map_err(|err| self.fleet.batch_failed(&placed, &err))?;
-        let (dof, floating) = (info.num_dofs(), info.floating_base());
+        let layout = &info.observation_layout;
         let k = info.term_names.len();
         let results = (0..step.n_envs())
             .map(|env| {
@@ -65,7 +65,7 @@ impl GymTools {
                 let truncated = step.truncated()[env];
                 EnvStepOut {
                     env_index: env,
-                    observation: ObservationOut::from_row(step.obs(env), dof, floating),
+                    observation: ObservationOut::from_row(step.obs(env), layout),
                     reward: crate::output::clean(step.rewards()[env]),
                     done: terminated || truncated,
                     terminated,
@@ -73,7 +73,7 @@ impl GymTools {
                     termination_reason: step.termination_reason(env).map(str::to_string),
                     final_observation: step
                         .final_observation(env)
-                        .map(|row| ObservationOut::from_row(row, dof, floating)),
+                        .map(|row| ObservationOut::from_row(row, layout)),
                     terms: crate::output::terms(
                         &info.term_names,
                         step.terms().get(env * k..(env + 1) * k).unwrap_or_default(),
@@ -104,9 +104,9 @@ impl GymTools {
             .await
             .map_err(|err| self.fleet.batch_failed(&placed, &err))?;
         let info = placed.handle.info();
-        let (dof, floating) = (info.num_dofs(), info.floating_base());
+        let layout = &info.observation_layout;
         let observations = (0..observations.n_envs())
-            .map(|env| ObservationOut::from_row(observations.obs(env), dof, floating))
+            .map(|env| ObservationOut::from_row(observations.obs(env), layout))
             .collect();
         Ok(Json(BatchObservationsOut {
             batch_id: placed.id,

@@ -83,29 +83,9 @@ impl From<&Observation> for ObservationOut {
 }
 
 impl ObservationOut {
-    /// One row of a batch's flat observations: positions, velocities, a floating base's
-    /// pose and velocity (`floating_base`), the poses, then the task's part (a reach
-    /// target's 3 floats, shorter than a pose).
-    pub(crate) fn from_row(row: &[f32], dof: usize, floating_base: bool) -> Self {
-        let dof = dof.min(row.len() / 2);
-        let (positions, rest) = row.split_at(dof);
-        let (velocities, rest) = rest.split_at(dof);
-        let base_len = if floating_base { POSE_LEN + 6 } else { 0 };
-        let (base_values, poses) = rest.split_at(base_len.min(rest.len()));
-        let (base_pose, base_velocity) = base_values.split_at(POSE_LEN.min(base_values.len()));
-        let (base_pose, base_velocity) = base(base_pose, base_velocity);
-        let poses = poses.chunks_exact(POSE_LEN);
-        let task = poses.remainder();
-        ObservationOut {
-            base_pose,
-            base_velocity,
-            joint_positions: clean_all(positions),
-            joint_velocities: clean_all(velocities),
-            end_effector_poses: poses
-                .map(|c| std::array::from_fn(|i| clean(c[i])))
-                .collect(),
-            target: target(task),
-        }
+    /// One row of a batch's flat observations, split along the batch's own layout.
+    pub(crate) fn from_row(row: &[f32], layout: &[(String, usize)]) -> Self {
+        ObservationOut::from(&Observation::from_flat(row, layout))
     }
 }
 
@@ -423,10 +403,23 @@ mod tests {
         assert_eq!(text, "[24.997,0.999]");
     }
 
+    /// A one-DOF arm's layout with one end effector, or a floating base and none.
+    fn layout(floating_base: bool) -> Vec<(String, usize)> {
+        let mut segments = vec![("joint_positions", 1), ("joint_velocities", 1)];
+        if floating_base {
+            segments.extend([("base_pose", 7), ("base_velocity", 6)]);
+        }
+        segments.push(("end_effector_poses", if floating_base { 0 } else { 7 }));
+        segments
+            .into_iter()
+            .map(|(n, s)| (n.to_string(), s))
+            .collect()
+    }
+
     #[test]
     fn rows_split_into_the_guide_layout() {
         let row = [0.12, 28.6, 10.042, 10.0, 24.997, 0.999, 0.0, 0.001, 0.0];
-        let obs = ObservationOut::from_row(&row, 1, false);
+        let obs = ObservationOut::from_row(&row, &layout(false));
         let text = serde_json::to_string(&obs).unwrap();
         assert_eq!(
             text,
@@ -439,7 +432,7 @@ mod tests {
         let mut row = vec![0.5, -1.0];
         row.extend([50.0, 50.0, 510.0, 1.0, 0.0, 0.0, 0.0]);
         row.extend([0.0, 0.0, -981.0, 0.0, 0.0, 0.0]);
-        let obs = ObservationOut::from_row(&row, 1, true);
+        let obs = ObservationOut::from_row(&row, &layout(true));
         let text = serde_json::to_string(&obs).unwrap();
         assert_eq!(
             text,

@@ -2,11 +2,11 @@
 //! randomization draws and the server's info.
 
 use gymfleet_batch::Autoreset;
-use gymfleet_env::{DofKind, DrawReport, EnvSpec, Units, POSE_LEN};
+use gymfleet_env::{DofKind, DrawReport, EnvSpec, ObservationParts, Units};
 use gymfleet_proto::v1 as pb;
 
 use crate::domain::{
-    BatchObservations, BatchStepped, JointLinks, ObsSplit, Rendered, ServerStatus,
+    BatchObservations, BatchStepped, JointLinks, Observed, Rendered, ServerStatus,
 };
 
 /// A format as the wire writes it.
@@ -132,20 +132,16 @@ pub(crate) fn image(r: Rendered) -> pb::Image {
     }
 }
 
-/// Splits a flat observation of `dof` DOFs into its proto form.
-pub(crate) fn observation(flat: &[f32], split: ObsSplit) -> pb::Observation {
-    let (positions, rest) = flat.split_at(split.dof.min(flat.len()));
-    let (velocities, rest) = rest.split_at(split.dof.min(rest.len()));
-    let (base, rest) = rest.split_at(split.base.min(rest.len()));
-    let (base_pose, base_velocity) = base.split_at(POSE_LEN.min(base.len()));
-    let (poses, task) = rest.split_at(split.poses.min(rest.len()));
+/// A single env's observation in its proto form, split along the env's layout.
+pub(crate) fn observation(observed: &Observed) -> pb::Observation {
+    let parts = ObservationParts::split(&observed.layout, &observed.flat);
     pb::Observation {
-        joint_positions: positions.to_vec(),
-        joint_velocities: velocities.to_vec(),
-        end_effector_poses: poses.to_vec(),
-        task_observation: task.to_vec(),
-        base_pose: base_pose.to_vec(),
-        base_velocity: base_velocity.to_vec(),
+        joint_positions: parts.joint_positions.to_vec(),
+        joint_velocities: parts.joint_velocities.to_vec(),
+        end_effector_poses: parts.end_effector_poses.to_vec(),
+        task_observation: parts.task.to_vec(),
+        base_pose: parts.base_pose.to_vec(),
+        base_velocity: parts.base_velocity.to_vec(),
     }
 }
 

@@ -9,6 +9,7 @@ use crate::domain::{
     Action, BatchObservations, BatchRequest, BatchStep, BatchStepped, Created, JointLinks,
 };
 use crate::error::{EntityKind, Result, ServerError};
+use crate::limit::Limit;
 use crate::pool::{self, Lane};
 use crate::registry::{clear_done, Activity, Facts, Reservation};
 use crate::tenant::Tenant;
@@ -36,8 +37,8 @@ impl Simulation {
         tenant: &Tenant,
         request: BatchRequest,
     ) -> Result<Created> {
-        let max = self.config.max_batch_size;
-        if max != 0 && request.n_envs > max {
+        let max = Limit::BatchSize.of(&self.config);
+        if Limit::exceeded(max, request.n_envs) {
             return Err(ServerError::BatchTooLarge {
                 n_envs: request.n_envs,
                 max,

@@ -6,6 +6,7 @@ use std::sync::{Arc, PoisonError};
 
 use crate::config::ServerConfig;
 use crate::error::{EntityKind, Result, ServerError};
+use crate::limit::Limit;
 use crate::registry::{EnvCapacity, Reservation};
 use crate::tenant::Tenant;
 
@@ -21,40 +22,20 @@ pub(super) fn check_structure(
         (
             "assembly.instances",
             assembly.instances.len(),
-            config.max_instances,
-            "--max-instances",
-            "GYMFLEET_MAX_INSTANCES",
+            Limit::Instances,
         ),
-        (
-            "assembly.joints",
-            assembly.joints.len(),
-            config.max_joints,
-            "--max-joints",
-            "GYMFLEET_MAX_JOINTS",
-        ),
-        (
-            "degrees of freedom",
-            assembly.total_dof(),
-            config.max_dofs,
-            "--max-dofs",
-            "GYMFLEET_MAX_DOFS",
-        ),
-        (
-            "end_effector_ids",
-            end_effectors,
-            config.max_end_effectors,
-            "--max-end-effectors",
-            "GYMFLEET_MAX_END_EFFECTORS",
-        ),
+        ("assembly.joints", assembly.joints.len(), Limit::Joints),
+        ("degrees of freedom", assembly.total_dof(), Limit::Dofs),
+        ("end_effector_ids", end_effectors, Limit::EndEffectors),
     ];
-    for (what, count, max, flag, var) in checks {
-        if max != 0 && count > max {
+    for (what, count, limit) in checks {
+        let max = limit.of(config);
+        if Limit::exceeded(max, count) {
             return Err(ServerError::TooComplex {
                 what,
                 count,
                 max,
-                flag,
-                var,
+                limit,
             });
         }
     }
@@ -69,10 +50,10 @@ pub(super) fn check_step_work(
     substeps: u32,
     dofs: usize,
 ) -> Result<()> {
-    let max = config.max_step_work;
+    let max = Limit::StepWork.of(config);
     let substeps = usize::try_from(substeps).unwrap_or(usize::MAX);
     let work = n_envs.saturating_mul(substeps).saturating_mul(dofs.max(1));
-    if max != 0 && work > max {
+    if Limit::exceeded(max, work) {
         return Err(ServerError::TooMuchWork {
             work,
             n_envs,
@@ -92,12 +73,12 @@ pub(super) fn check_reply_size(
     n_envs: usize,
     observation_dim: usize,
 ) -> Result<()> {
-    let max = config.max_message_bytes;
+    let max = Limit::MessageBytes.of(config);
     let bytes = n_envs
         .saturating_mul(observation_dim)
         .saturating_mul(2 * 4)
         .saturating_add(n_envs.saturating_mul(4 + 4 + 2));
-    if max != 0 && bytes > max {
+    if Limit::exceeded(max, bytes) {
         return Err(ServerError::ReplyTooLarge {
             bytes,
             max,
@@ -113,7 +94,7 @@ impl Simulation {
     pub(super) fn quota(&self, tenant: &Tenant) -> Arc<EnvCapacity> {
         let mut quotas = self.quotas.lock().unwrap_or_else(PoisonError::into_inner);
         let quota = quotas.entry(tenant.clone()).or_insert_with(|| {
-            EnvCapacity::for_tenant(self.config.tenant_max_envs, tenant.clone())
+            EnvCapacity::for_tenant(Limit::TenantEnvs.of(&self.config), tenant.clone())
         });
         Arc::clone(quota)
     }
@@ -134,8 +115,8 @@ impl Simulation {
 
     /// [`Simulation::check_document`] for a document found in `field`.
     pub(super) fn check_document_in(&self, field: &'static str, document: &str) -> Result<()> {
-        let max = self.config.max_document_bytes;
-        if max != 0 && document.len() > max {
+        let max = Limit::DocumentBytes.of(&self.config);
+        if Limit::exceeded(max, document.len()) {
             return Err(ServerError::DocumentTooLarge {
                 field,
                 bytes: document.len(),

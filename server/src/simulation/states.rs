@@ -3,8 +3,9 @@
 use gymfleet_batch::EnvBatch;
 use gymfleet_env::SavedState;
 
-use crate::domain::{BatchObservations, Created, EnvRequest, ForkRequest, ObsSplit};
+use crate::domain::{BatchObservations, Created, EnvRequest, ForkRequest, Observed};
 use crate::error::{EntityKind, Result, ServerError};
+use crate::limit::Limit;
 use crate::pool::{self, Lane};
 use crate::registry::clear_done;
 use crate::tenant::Tenant;
@@ -29,7 +30,7 @@ impl Simulation {
         tenant: &Tenant,
         id: &str,
         state: Vec<u8>,
-    ) -> Result<(Vec<f32>, ObsSplit)> {
+    ) -> Result<Observed> {
         self.on_env(tenant, id, "LoadState", move |open| {
             let state = SavedState::decode(&state)?;
             open.env.load(&state)?;
@@ -107,8 +108,8 @@ impl Simulation {
             n_envs,
             autoreset,
         } = request;
-        let max = self.config.max_batch_size;
-        if max != 0 && n_envs > max {
+        let max = Limit::BatchSize.of(&self.config);
+        if Limit::exceeded(max, n_envs) {
             return Err(ServerError::BatchTooLarge { n_envs, max });
         }
         // Decoding checksums the whole state: CPU work, so on the pool.

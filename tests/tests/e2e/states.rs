@@ -32,6 +32,7 @@ async fn a_state_forks_and_loads_on_another_server_and_continues_bitwise() {
     );
     let (ca, cb) = (a.client().await, b.client().await);
     let env = ca.create_env(arm2()).await.expect("create");
+    let layout = env.info().observation_layout.clone();
     for t in 0..20 {
         env.step(ActionType::Torque, &actions(t, 2, 0.05))
             .await
@@ -45,8 +46,8 @@ async fn a_state_forks_and_loads_on_another_server_and_continues_bitwise() {
     let other = cb.create_env(arm2().seed(77)).await.expect("create");
     let loaded = other.load_state(&state).await.expect("load");
     assert_eq!(
-        bits(&loaded.to_flat()),
-        bits(&env.observe().await.expect("observe").to_flat())
+        bits(&loaded.to_flat(&layout)),
+        bits(&env.observe().await.expect("observe").to_flat(&layout))
     );
 
     // 40 steps: past the episode's end at 30, so resets draw from the carried generator.
@@ -57,15 +58,15 @@ async fn a_state_forks_and_loads_on_another_server_and_continues_bitwise() {
         let copies: Vec<f32> = action.iter().cycle().take(6).copied().collect();
         let forked = fork.step(ActionType::Torque, &copies).await.expect("step");
         assert_eq!(
-            bits(&same.observation.to_flat()),
-            bits(&original.observation.to_flat())
+            bits(&same.observation.to_flat(&layout)),
+            bits(&original.observation.to_flat(&layout))
         );
         for i in 0..3 {
             // The fork autoresets in the step; the single envs are reset by hand.
             let row = forked.final_observation(i).unwrap_or(forked.obs(i));
             assert_eq!(
                 bits(row),
-                bits(&original.observation.to_flat()),
+                bits(&original.observation.to_flat(&layout)),
                 "copy {i}, step {t}"
             );
         }
@@ -75,7 +76,7 @@ async fn a_state_forks_and_loads_on_another_server_and_continues_bitwise() {
             for i in 0..3 {
                 assert_eq!(
                     bits(forked.obs(i)),
-                    bits(&first.to_flat()),
+                    bits(&first.to_flat(&layout)),
                     "copy {i} reset"
                 );
             }

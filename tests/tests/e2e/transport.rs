@@ -21,6 +21,7 @@ async fn rollout(client: &Client) -> Vec<Vec<f32>> {
         .create_env(EnvOptions::new(ARM2).end_effectors(["forearm"]).seed(3))
         .await
         .expect("create env");
+    let layout = env.info().observation_layout.clone();
     let mut rows = Vec::new();
     for k in 0..30u64 {
         let step = batch
@@ -32,7 +33,7 @@ async fn rollout(client: &Client) -> Vec<Vec<f32>> {
             .step(ActionType::Torque, &actions(k, 2, 2e-3))
             .await
             .expect("env step");
-        rows.push(single.observation.to_flat());
+        rows.push(single.observation.to_flat(&layout));
     }
     batch.close().await.expect("close batch");
     env.close().await.expect("close env");

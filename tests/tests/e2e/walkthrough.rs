@@ -15,6 +15,7 @@ async fn pendulum_walkthrough() {
         .create_env(EnvOptions::new(PENDULUM).end_effectors(["arm"]))
         .await
         .expect("create the pendulum");
+    let layout = env.info().observation_layout.clone();
     let info = env.info().clone();
     assert_eq!(
         (info.num_joints, info.action_dim, info.observation_dim),
@@ -68,7 +69,11 @@ async fn pendulum_walkthrough() {
             .await
             .expect("free step");
         assert_eq!(next.episode_step, step);
-        assert!(next.observation.to_flat().iter().all(|v| v.is_finite()));
+        assert!(next
+            .observation
+            .to_flat(&layout)
+            .iter()
+            .all(|v| v.is_finite()));
         assert!(
             next.observation.joint_positions[0] > last.observation.joint_positions[0],
             "the pendulum keeps falling"
@@ -77,7 +82,10 @@ async fn pendulum_walkthrough() {
     }
 
     let observed = env.observe().await.expect("observe");
-    assert_eq!(bits(&observed.to_flat()), bits(&last.observation.to_flat()));
+    assert_eq!(
+        bits(&observed.to_flat(&layout)),
+        bits(&last.observation.to_flat(&layout))
+    );
 
     env.close().await.expect("close");
     let id = info.env_id.as_str();
@@ -99,6 +107,7 @@ async fn arm2_walkthrough() {
         .create_env(EnvOptions::new(ARM2).end_effectors(["forearm"]).seed(3))
         .await
         .expect("create the arm");
+    let layout = env.info().observation_layout.clone();
     let info = env.info();
     assert_eq!(
         (info.num_joints, info.action_dim, info.observation_dim),
@@ -129,7 +138,7 @@ async fn arm2_walkthrough() {
             .step(ActionType::Position, &[30.0, -30.0])
             .await
             .expect("step");
-        assert_eq!(step.observation.to_flat().len(), 11);
+        assert_eq!(step.observation.to_flat(&layout).len(), 11);
     }
     let moved = env.observe().await.expect("observe");
     assert!(
@@ -143,7 +152,7 @@ async fn arm2_walkthrough() {
 
     // Reset is exact.
     let again = env.reset(None).await.expect("reset again");
-    assert_eq!(bits(&again.to_flat()), bits(&first.to_flat()));
+    assert_eq!(bits(&again.to_flat(&layout)), bits(&first.to_flat(&layout)));
     env.close().await.expect("close");
     server.stop().await.expect("clean shutdown");
 }

@@ -83,7 +83,9 @@ class _Setup:
                 f"{self.suite.id}: {self.model.path} converts to joints {names} ({dofs} DOFs); "
                 f"the env needs MuJoCo's {self.model.joints}, one DOF each"
             )
-        base = any(name == "base_pose" for name, _ in info["observation_layout"])
+        #: Where each of the server's observation segments lies in a row, by name.
+        self.segments = segments(info["observation_layout"])
+        base = "base_pose" in self.segments
         self.dofs, self.base = dofs, base
         if base != (self.model.free is not None):
             raise InvalidArgument(
@@ -112,7 +114,7 @@ class _Setup:
     def split(self, raw: np.ndarray) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
         """MuJoCo's qpos and qvel and the end effectors' positions of raw rows (after
         ``check``)."""
-        return _split(raw, self.dofs, self.base, len(self.observed), self.model.root_geom)
+        return _split(raw, self.segments, self.model.root_geom)
 
     def observation_space(self) -> spaces.Box:
         # float32 where Gymnasium's is float64: the server's values are float32.
@@ -171,23 +173,31 @@ def _in_joint_order(action: Any, order: Optional[np.ndarray]) -> Any:
     return out
 
 
+def segments(layout: Sequence[Tuple[str, int]]) -> Dict[str, slice]:
+    """Where each segment of the server's ``observation_layout`` lies in a flat row: the
+    env's own layout, read, never restated here."""
+    out, start = {}, 0
+    for name, size in layout:
+        out[name] = slice(start, start + size)
+        start += size
+    return out
+
+
 def _split(
     raw: np.ndarray,
-    dofs: int,
-    base: bool = False,
-    observed: int = 0,
+    segments: Dict[str, slice],
     root_geom: Optional[Tuple[np.ndarray, np.ndarray]] = None,
 ) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """MuJoCo's qpos and qvel, and the end effectors' positions, of raw rows (n, dim).
-    With a floating base, qpos starts with its body's position and orientation (w, x, y,
-    z) and qvel with the linear velocity of the body's origin (world) and its angular
-    velocity (its own frame), as MuJoCo's free joint has them. The server observes the
-    base instance, the body's first geom: its centre of mass and its frame, which
-    ``root_geom`` (the geom's centre and orientation in the body's frame) takes back to
-    the body's."""
-    q, v, rest = raw[:, :dofs], raw[:, dofs : 2 * dofs], raw[:, 2 * dofs :]
-    if base:
-        pose, velocity, rest = rest[:, :7], rest[:, 7:13], rest[:, 13:]
+    """MuJoCo's qpos and qvel, and the end effectors' positions, of raw rows (n, dim),
+    split along the server's layout (``segments``). With a floating base, qpos starts
+    with its body's position and orientation (w, x, y, z) and qvel with the linear
+    velocity of the body's origin (world) and its angular velocity (its own frame), as
+    MuJoCo's free joint has them. The server observes the base instance, the body's
+    first geom: its centre of mass and its frame, which ``root_geom`` (the geom's centre
+    and orientation in the body's frame) takes back to the body's."""
+    q, v = raw[:, segments["joint_positions"]], raw[:, segments["joint_velocities"]]
+    if "base_pose" in segments:
+        pose, velocity = raw[:, segments["base_pose"]], raw[:, segments["base_velocity"]]
         position, quat = pose[:, :3].astype(np.float64), pose[:, 3:7].astype(np.float64)
         linear, angular = velocity[:, :3].astype(np.float64), velocity[:, 3:6].astype(np.float64)
         if root_geom is not None:
@@ -199,15 +209,17 @@ def _split(
         spin = _in_body_frame(quat, angular)
         q = np.concatenate([position.astype(raw.dtype), quat.astype(raw.dtype), q], axis=1)
         v = np.concatenate([linear.astype(raw.dtype), spin.astype(raw.dtype), v], axis=1)
-    poses = rest[:, : rest.shape[1] - observed].reshape(len(raw), -1, 7)
+    poses = raw[:, segments["end_effector_poses"]].reshape(len(raw), -1, 7)
     return q, v, poses[:, :, :3]
 
 
-def _observed_terms(raw: np.ndarray, names: Sequence[str]) -> Dict[str, np.ndarray]:
-    """The observed terms' values, the rows' last ``len(names)`` floats (the server reads
-    them from the state at resets too, where the step's term values are not sent)."""
-    tail = raw[:, raw.shape[1] - len(names) :]
-    return {name: tail[:, k].astype(np.float64) for k, name in enumerate(names)}
+def _observed_terms(raw: np.ndarray, setup: "_Setup") -> Dict[str, np.ndarray]:
+    """The observed terms' values: the rows' ``terms`` segment (the server reads them from
+    the state at resets too, where the step's term values are not sent)."""
+    if not setup.observed:
+        return {}
+    values = raw[:, setup.segments["terms"]]
+    return {name: values[:, k].astype(np.float64) for k, name in enumerate(setup.observed)}
 
 
 class SuiteEnv(gym.Env):
@@ -241,7 +253,7 @@ class SuiteEnv(gym.Env):
         q, v, ee = self._setup.split(raw[None, :])
         info = {k: _first(x) for k, x in _reset_values(self._setup.plan, q, v).items()}
         terms = _zeros(self._env.env_info["term_names"], 1)
-        terms.update(_observed_terms(raw[None, :], self._setup.observed))
+        terms.update(_observed_terms(raw[None, :], self._setup))
         return self._setup.plan.observe(q, v, ee, terms)[0].astype(np.float32), info
 
     def step(self, action: Any) -> Tuple[np.ndarray, float, bool, bool, Dict[str, Any]]:
@@ -318,7 +330,7 @@ class SuiteVectorEnv(VectorEnv):
 
     def _observe(self, raw: np.ndarray, terms: Dict[str, np.ndarray]) -> np.ndarray:
         q, v, ee = self._setup.split(raw)
-        terms = {**terms, **_observed_terms(raw, self._setup.observed)}
+        terms = {**terms, **_observed_terms(raw, self._setup)}
         return self._setup.plan.observe(q, v, ee, terms).astype(np.float32)
 
     def _infos(self, values: Dict[str, np.ndarray]) -> Dict[str, Any]:
@@ -340,7 +352,7 @@ class SuiteVectorEnv(VectorEnv):
         raw, _ = self._envs.reset(seed=seed, options=options)
         q, v, _ = self._setup.split(raw)
         terms = _zeros(self._envs.batch_info["term_names"], len(raw))
-        terms.update(_observed_terms(raw, self._setup.observed))
+        terms.update(_observed_terms(raw, self._setup))
         return self._observe(raw, terms), self._infos(_reset_values(self._setup.plan, q, v))
 
     def step(
