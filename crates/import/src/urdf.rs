@@ -19,7 +19,8 @@
 //! mass, bad numbers. Ignored with a warning: `<visual>`, `<material>`, `<gazebo>`,
 //! `<transmission>`, joint `velocity` limits, calibration and safety controllers.
 //!
-//! This file walks the document and the tree; `urdf/links.rs` converts links (collisions,
+//! This file holds the converter and its readers; `urdf/tree.rs` reads the document into
+//! the kinematic tree and walks it, `urdf/links.rs` converts links (collisions,
 //! inertials, contacts, helpers) and `urdf/joints.rs` joints.
 
 use std::collections::HashMap;
@@ -34,6 +35,7 @@ use crate::{Converted, ImportError, Result};
 
 mod joints;
 mod links;
+mod tree;
 
 /// Millimetres per metre.
 const MM: f64 = 1000.0;
@@ -58,162 +60,13 @@ pub fn urdf_to_document(xml: &str) -> Result<Converted> {
         joints: Vec::new(),
         names: Names::default(),
     };
-    let root = doc.root_element();
-    if root.tag_name().name() != "robot" {
-        return Err(c.unsupported(root, "the root element must be <robot>".into()));
+    let robot = doc.root_element();
+    if robot.tag_name().name() != "robot" {
+        return Err(c.unsupported(robot, "the root element must be <robot>".into()));
     }
-    let mut links: HashMap<&str, Node<'_, '_>> = HashMap::new();
-    let mut joints: Vec<Node<'_, '_>> = Vec::new();
-    for child in elements(root) {
-        match child.tag_name().name() {
-            "link" => {
-                let name = c.required(child, "name")?;
-                if links.insert(name, child).is_some() {
-                    return Err(c.bad(
-                        child,
-                        "name",
-                        format!("a second link named {}", crate::quote(name)),
-                    ));
-                }
-            }
-            "joint" => joints.push(child),
-            "material" | "gazebo" | "transmission" | "ros2_control" => {
-                c.warn(child, "ignored (no effect on the dynamics)".into())
-            }
-            other => return Err(c.unsupported(child, format!("<{other}> is not supported"))),
-        }
-    }
-    // The tree: each link is at most one joint's child, and one link is nobody's.
-    let mut parent_of: HashMap<&str, Node<'_, '_>> = HashMap::new();
-    let mut children: HashMap<&str, Vec<Node<'_, '_>>> = HashMap::new();
-    for &joint in &joints {
-        let parent = c.link_ref(joint, "parent", &links)?;
-        let child = c.link_ref(joint, "child", &links)?;
-        if let Some(first) = parent_of.insert(child, joint) {
-            return Err(c.unsupported(
-                joint,
-                format!(
-                    "link {} is already the child of joint {} (line {}): URDF is a tree",
-                    crate::quote(child),
-                    crate::quote(first.attribute("name").unwrap_or("?")),
-                    c.line(first)
-                ),
-            ));
-        }
-        children.entry(parent).or_default().push(joint);
-    }
-    let mut roots: Vec<Node<'_, '_>> = links
-        .iter()
-        .filter(|(name, _)| !parent_of.contains_key(*name))
-        .map(|(_, node)| *node)
-        .collect();
-    roots.sort_by_key(|n| n.range().start);
-    let root_link = match roots.as_slice() {
-        [one] => *one,
-        [] if links.is_empty() => return Err(c.unsupported(root, "no <link>".into())),
-        [] => {
-            return Err(c.unsupported(
-                root,
-                "every link is some joint's child: the joints form a cycle".into(),
-            ))
-        }
-        [first, ..] => {
-            let names: Vec<String> = roots
-                .iter()
-                .take(5)
-                .map(|n| crate::quote(n.attribute("name").unwrap_or("?")))
-                .collect();
-            return Err(c.unsupported(
-                *first,
-                format!(
-                    "{} links are no joint's child ({}): a robot has one root link",
-                    roots.len(),
-                    names.join(", ")
-                ),
-            ));
-        }
-    };
-    // A floating joint hangs the robot's base from the world: the base is then the first
-    // instance (a floating base) and the world link, an empty frame, is dropped.
-    let floating: Vec<Node<'_, '_>> = joints
-        .iter()
-        .copied()
-        .filter(|j| j.attribute("type") == Some("floating"))
-        .collect();
-    let (start, start_frame, visited) = match floating.as_slice() {
-        [] => (root_link, Frame::IDENTITY, 0usize),
-        [joint] => {
-            let world = root_link.attribute("name").unwrap_or_default();
-            if c.link_ref(*joint, "parent", &links)? != world {
-                return Err(c.unsupported(
-                    *joint,
-                    format!(
-                        "a floating joint must hang the robot from the root link, the world (here {})",
-                        crate::quote(world)
-                    ),
-                ));
-            }
-            if elements(root_link).any(|n| matches!(n.tag_name().name(), "collision" | "inertial"))
-            {
-                return Err(c.unsupported(
-                    root_link,
-                    format!(
-                        "the root link {} holds a floating joint, so it is the world: it may have no <collision> or <inertial>",
-                        crate::quote(world)
-                    ),
-                ));
-            }
-            if children.get(world).map_or(0, Vec::len) > 1 {
-                return Err(c.unsupported(
-                    root_link,
-                    format!(
-                        "the world link {} holds a floating joint and other joints: nothing is fixed to the world beside a floating base",
-                        crate::quote(world)
-                    ),
-                ));
-            }
-            for attr in ["dynamics", "limit"] {
-                if let Some(n) = child(*joint, attr) {
-                    c.warn(
-                        n,
-                        "ignored on a floating joint (the base's six DOFs take none)".into(),
-                    );
-                }
-            }
-            let base = c.link_ref(*joint, "child", &links)?;
-            (links[base], c.origin(*joint)?, 1)
-        }
-        [_, second, ..] => {
-            return Err(c.unsupported(
-                *second,
-                "a second floating joint: one floating base is supported".into(),
-            ))
-        }
-    };
-    // Depth first from the root: the root link's instance comes first (grounded, or the
-    // floating base).
-    let mut stack = vec![(start, start_frame, None::<(Node<'_, '_>, String)>)];
-    let mut visited = visited;
-    while let Some((link, frame, via)) = stack.pop() {
-        visited += 1;
-        let instance = c.link(link, &frame)?;
-        if let Some((joint, parent)) = via {
-            c.joint(joint, &frame, &parent, &instance)?;
-        }
-        let name = link.attribute("name").unwrap_or_default();
-        for &joint in children.get(name).into_iter().flatten().rev() {
-            let child_name = c.link_ref(joint, "child", &links)?;
-            let local = c.origin(joint)?;
-            stack.push((
-                links[child_name],
-                frame.then(&local),
-                Some((joint, instance.clone())),
-            ));
-        }
-    }
-    if visited != links.len() {
-        return Err(c.unsupported(root, "some links are not connected to the root link".into()));
-    }
+    let tree = c.tree(robot)?;
+    let start = c.start(&tree)?;
+    c.walk(&tree, &start)?;
     let mut document = json!({
         "parts": c.parts,
         "assembly": {"instances": c.instances, "joints": c.joints}
@@ -221,7 +74,7 @@ pub fn urdf_to_document(xml: &str) -> Result<Converted> {
     if !c.materials.is_empty() {
         document["materials"] = Value::Object(c.materials);
     }
-    if !floating.is_empty() {
+    if start.floating {
         document["floating_base"] = json!(true);
     }
     Ok(Converted {
