@@ -1,6 +1,6 @@
 //! Building a [`RobotWorld`] from an [`Assembly`]: bodies, colliders, the multibody tree.
 
-use gymfleet_assembly::{Assembly, DofKind, Joint, JointType};
+use gymfleet_assembly::{Assembly, JointType};
 use rapier3d::prelude::*;
 
 use crate::actuation::resolve_gains;
@@ -19,8 +19,10 @@ use crate::world::{
 /// otherwise).
 const LOOP_PGS_ITERATIONS: usize = 4;
 
+mod slots;
 mod trees;
 
+use slots::{joint_slots, set_armatures};
 use trees::{
     apply_initial_positions, fold_owners, generic_joint, held_fixed, insert_trees,
     place_floating_trees,
@@ -176,132 +178,6 @@ impl RobotWorld {
     }
 }
 
-/// Each joint's slot (its link in a tree, or its loop constraint), its DOFs, and each
-/// DOF's apparent inertia (for default gains). Also gives the trees their joint damping,
-/// friction, springs, hard limits and self-contacts. Links are looked up only once the
-/// trees are complete: insertion may renumber them.
-fn joint_slots(
-    sets: &mut Sets,
-    assembly: &Assembly,
-    bodies: &[RigidBodyHandle],
-    frames: &[(Pose, Pose)],
-    closing: &[Option<ImpulseJointHandle>],
-    welded_away: &[bool],
-) -> Result<(Vec<JointSlot>, Vec<JointDof>, Vec<f64>)> {
-    let mut joints = Vec::with_capacity(assembly.joints.len());
-    let mut dofs = Vec::with_capacity(assembly.total_dof());
-    let mut inertia = Vec::with_capacity(assembly.total_dof());
-    let mut inverse_inertias = std::collections::HashMap::new();
-    for (j, joint) in assembly.joints.iter().enumerate() {
-        let child = bodies[joint.child];
-        if let Some(handle) = closing[j] {
-            let link_id = sets.multibody_joints.rigid_body_link(child).copied();
-            joints.push(JointSlot {
-                kind: joint.kind,
-                parent: bodies[joint.parent],
-                child,
-                // A child in no tree (the ground): no multibody.
-                multibody: link_id.map_or(
-                    MultibodyIndex(rapier3d::data::Index::from_raw_parts(u32::MAX, u32::MAX)),
-                    |l| l.multibody,
-                ),
-                link: link_id.map_or(0, |l| l.id),
-                frame1: frames[j].0,
-                first_dof: dofs.len(),
-                closing: Some(handle),
-                observed_dofs: joint.observed_dof(),
-                on_loop: true,
-            });
-            if joint.observed {
-                // Passive: its inertia only feeds default gains, which it never uses.
-                inertia.extend(std::iter::repeat_n(0.0, joint.kind.dof()));
-                dofs.extend(joint_dofs(j, joint));
-            }
-            continue;
-        }
-        if welded_away[joint.child] {
-            // Held fixed or folded (`held_fixed`, `fold_owners`): no link, no DOF.
-            joints.push(JointSlot {
-                kind: joint.kind,
-                parent: bodies[joint.parent],
-                child,
-                multibody: MultibodyIndex(rapier3d::data::Index::from_raw_parts(
-                    u32::MAX,
-                    u32::MAX,
-                )),
-                link: 0,
-                frame1: frames[j].0,
-                first_dof: dofs.len(),
-                closing: None,
-                observed_dofs: 0,
-                on_loop: joint.on_loop,
-            });
-            continue;
-        }
-        let link_id = *sets
-            .multibody_joints
-            .rigid_body_link(child)
-            .ok_or_else(|| PhysicsError::BadOption {
-                field: "assembly.joints",
-                reason: format!("joint {:?} has no multibody link", joint.name),
-            })?;
-        let mb = sets
-            .multibody_joints
-            .get_multibody_mut(link_id.multibody)
-            .expect("a link's multibody exists");
-        let inv = inverse_inertias
-            .entry(link_id.multibody)
-            .or_insert_with(|| {
-                mb.set_self_contacts_enabled(true);
-                // Limits are hard stops: a DOF past its limit is put back on it after
-                // every substep (Rapier's own limit engages only once it is past).
-                mb.set_hard_limits(true);
-                // Rapier gives angular DOFs a default damping of 0.1: remove it, so
-                // that a free pendulum keeps its energy unless the document says not.
-                mb.damping_mut().fill(0.0);
-                mb.dof_inverse_inertia(&sets.bodies)
-            })
-            .clone();
-        let assembly_id = mb.link(link_id.id).expect("link exists").assembly_id();
-        // A passive spring (MuJoCo's joint stiffness): Rapier's implicit joint spring on
-        // the joint's one free axis (a revolute joint's angle is angular X, a prismatic
-        // joint's displacement linear X), its rest measured like the joint's coordinate.
-        // The default gains above exclude springs, so setting it here changes nothing
-        // for them.
-        let spring_axis = match joint.kind {
-            JointType::Revolute => Some(3),
-            JointType::Prismatic => Some(0),
-            _ => None,
-        };
-        if let (Some(axis), true) = (spring_axis, joint.stiffness > 0.0) {
-            if let Some(link) = mb.link_mut(link_id.id) {
-                link.joint
-                    .set_spring(axis, joint.stiffness as Real, joint.spring_rest as Real);
-            }
-        }
-        for k in 0..joint.kind.dof() {
-            mb.damping_mut()[assembly_id + k] = joint.damping as Real;
-            mb.frictions_mut()[assembly_id + k] = joint.friction as Real;
-            let inv_i = f64::from(inv[assembly_id + k]);
-            inertia.push(if inv_i > 0.0 { 1.0 / inv_i } else { 0.0 });
-        }
-        joints.push(JointSlot {
-            kind: joint.kind,
-            parent: bodies[joint.parent],
-            child,
-            multibody: link_id.multibody,
-            link: link_id.id,
-            frame1: frames[j].0,
-            first_dof: dofs.len(),
-            closing: None,
-            observed_dofs: joint.kind.dof(),
-            on_loop: joint.on_loop,
-        });
-        dofs.extend(joint_dofs(j, joint));
-    }
-    Ok((joints, dofs, inertia))
-}
-
 /// What randomisation scales from: the document's masses, densities, frictions, damping
 /// and gains.
 fn base_values(
@@ -347,32 +223,6 @@ fn check_options(options: &WorldOptions) -> Result<()> {
         });
     }
     Ok(())
-}
-
-/// Each joint's armature on its DOFs.
-fn set_armatures(sets: &mut Sets, assembly: &Assembly, bodies: &[RigidBodyHandle]) {
-    // Armature first: the default PD gains below follow each DOF's apparent inertia,
-    // which includes it.
-    for joint in assembly
-        .joints
-        .iter()
-        .filter(|j| j.armature > 0.0 && !j.closes_loop)
-    {
-        let link = sets
-            .multibody_joints
-            .rigid_body_link(bodies[joint.child])
-            .copied();
-        if let Some(mb) = link.and_then(|l| {
-            let mb = sets.multibody_joints.get_multibody_mut(l.multibody)?;
-            let first = mb.link(l.id)?.assembly_id();
-            Some((mb, first))
-        }) {
-            let (mb, first) = mb;
-            for k in 0..joint.kind.dof() {
-                mb.armature_mut()[first + k] = joint.armature as Real;
-            }
-        }
-    }
 }
 
 /// The pipeline's parameters for a whole step, and for one substep.
@@ -433,30 +283,6 @@ fn free_roots(sets: &Sets, bodies: &[RigidBodyHandle], owners: &[usize]) -> Vec<
             })
         })
         .collect()
-}
-
-fn joint_dofs(j: usize, joint: &Joint) -> impl Iterator<Item = JointDof> + '_ {
-    // As the document wrote them: -120° reads -120, not -119.99999999999999.
-    let user_limits = joint.document_limits;
-    joint.dof_kinds().iter().map(move |&kind| JointDof {
-        joint: j,
-        joint_name: joint.name.clone(),
-        joint_type: joint.kind,
-        kind,
-        limits: if kind == DofKind::Linear || joint.kind == JointType::Revolute {
-            user_limits
-        } else {
-            None
-        },
-        initial: crate::units::from_si(kind, joint.initial),
-        max_effort: joint.max_effort,
-        gear: joint.gear,
-        action_bound: 0.0,
-        reference: joint.reference,
-        actuated: joint.actuated,
-        kp: 0.0,
-        kd: 0.0,
-    })
 }
 
 #[cfg(test)]
