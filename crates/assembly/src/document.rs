@@ -7,58 +7,58 @@
 use std::collections::BTreeMap;
 
 use serde::de::{self, DeserializeSeed, Deserializer, IgnoredAny, MapAccess, Visitor};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// A whole assembly document: part definitions, materials and the assembly itself.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Document {
     /// Part definitions, referenced by instances through their `name`.
     pub parts: Vec<PartDef>,
     /// *(ext)* Named materials, referenced by parts and instances.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub materials: BTreeMap<String, MaterialDef>,
     /// The placed instances and the joints between them.
     pub assembly: AssemblyDef,
     /// *(ext)* The world's gravity and the env step the description was made for.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub simulation: Option<SimulationDef>,
     /// *(ext)* Whether the first instance is free (a floating base: a legged robot, a
     /// drone) instead of grounded; default `false`.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub floating_base: Option<bool>,
 }
 
 /// *(ext)* World settings a description carries (MJCF's `<option gravity timestep>`).
-#[derive(Debug, Clone, Copy, Deserialize)]
+#[derive(Debug, Clone, Copy, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SimulationDef {
     /// Gravity in m/s², world frame; default `{0, 0, -9.81}`.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gravity: Option<Vec3>,
     /// The env step in s that requests get when they leave `dt` unset; default 1/240.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub dt: Option<f64>,
     /// The fluid the bodies move in (MJCF's `<option density viscosity>`); default none.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fluid: Option<FluidDef>,
 }
 
 /// *(ext)* A still fluid around every body: MuJoCo's inertia-box drag (each body feels the
 /// drag of the box with its mass and principal inertia).
-#[derive(Debug, Clone, Copy, Deserialize)]
+#[derive(Debug, Clone, Copy, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct FluidDef {
     /// Density in kg/m³ (quadratic drag); default 0.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub density: Option<f64>,
     /// Dynamic viscosity in Pa·s (linear drag); default 0.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub viscosity: Option<f64>,
 }
 
 /// A part: a named primitive shape with an optional material.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct PartDef {
     /// The part's name, unique within the document.
@@ -66,7 +66,7 @@ pub struct PartDef {
     /// The part's geometry.
     pub primitive: Primitive,
     /// *(ext)* The name of a material in `materials`.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub material: Option<String>,
 }
 
@@ -76,7 +76,8 @@ pub struct PartDef {
 /// `"capsule"`, `"mesh"` or `"plane"`) with
 /// the variant's fields beside the tag. Its `Deserialize` is written by hand (see below)
 /// so that errors inside it keep their exact JSON path, e.g. `parts[0].primitive.size.z`.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize)]
+#[serde(tag = "type", rename_all = "lowercase")]
 pub enum Primitive {
     /// A box with one corner at the origin, spanning `[0,x]×[0,y]×[0,z]`.
     Cube {
@@ -112,22 +113,27 @@ pub enum Primitive {
 
 /// *(ext)* A mesh primitive as the document writes it: inline `vertices` (+ `indices`), or a
 /// `file` of the request's assets that the import step replaces with them.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, Serialize)]
 pub struct MeshDef {
     /// Vertex positions in mm, in the part's frame.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub vertices: Option<Vec<[f64; 3]>>,
     /// Triangles as three indices into `vertices`; needed for a decomposition.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub indices: Option<Vec<[u32; 3]>>,
     /// How the mesh is made convex; default [`ConvexMode::Hull`].
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub convex: Option<ConvexMode>,
     /// A file of the request's assets (STL, OBJ or DAE), resolved before validation.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub file: Option<String>,
     /// Per-axis scale of the file's coordinates into mm (default 1: the file is in mm).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub scale: Option<Vec3>,
 }
 
 /// How a mesh becomes the convex shapes the physics engine collides.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum ConvexMode {
     /// One convex hull of all the vertices.
@@ -297,22 +303,22 @@ impl<'de> Visitor<'de> for PrimitiveVisitor {
 }
 
 /// *(ext)* Physical material properties.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct MaterialDef {
     /// Density in kg/m³ (default 1000).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub density: Option<f64>,
     /// Coulomb friction coefficient (default 0.5).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub friction: Option<f64>,
     /// Restitution coefficient in [0, 1] (default 0).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub restitution: Option<f64>,
 }
 
 /// The assembly: instances of parts and the joints that connect them.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct AssemblyDef {
     /// Placed parts. The first one is grounded (fixed to the world), unless the document
@@ -322,17 +328,17 @@ pub struct AssemblyDef {
     #[serde(default)]
     pub joints: Vec<JointDef>,
     /// *(ext)* Named points of instances (MJCF sites and body origins), for tasks.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub sites: Vec<SiteDef>,
     /// *(ext)* Fixed tendons: named linear combinations of joint positions (MJCF's
     /// `<tendon><fixed>`), observable and optionally springy.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub tendons: Vec<TendonDef>,
 }
 
 /// *(ext)* A fixed tendon: its length is Σ coef · position over its joints, in SI (rad or
 /// m, each joint's position as observed, its `reference` included), as MuJoCo defines it.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct TendonDef {
     /// The tendon's name (unique among tendons).
@@ -341,21 +347,21 @@ pub struct TendonDef {
     pub joints: Vec<TendonJointDef>,
     /// A spring on the length: force −stiffness · (length − spring_length), N or N·m per
     /// unit length, on each joint times its coefficient; default 0.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stiffness: Option<f64>,
     /// A damper on the length's rate, per unit rate; default 0.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub damping: Option<f64>,
     /// The spring's rest length; default the length at the document's pose.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub spring_length: Option<f64>,
     /// Hard limits on the length, `[min, max]` (m or rad); default none.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub range: Option<[f64; 2]>,
 }
 
 /// One joint of a fixed tendon.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct TendonJointDef {
     /// The joint's name.
@@ -365,7 +371,7 @@ pub struct TendonJointDef {
 }
 
 /// *(ext)* A named point of an instance, which moves with it.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SiteDef {
     /// The site's name (unique among sites).
@@ -377,7 +383,7 @@ pub struct SiteDef {
 }
 
 /// A placed copy of a part.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct InstanceDef {
     /// The part this instance places.
@@ -385,40 +391,40 @@ pub struct InstanceDef {
     /// The instance id, unique within the assembly.
     pub name: String,
     /// Translation of the part's local frame, in mm (default origin).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub position: Option<Vec3>,
     /// *(ext)* Rotation in degrees, applied about X, then Y, then Z (default none).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rotation: Option<Vec3>,
     /// *(ext)* Overrides the part's material.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub material: Option<String>,
     /// *(ext)* Which other instances it collides with (see [`CollisionDef`]).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub collision: Option<CollisionDef>,
     /// *(ext)* Mass properties given outright, instead of the shape's volume × density.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub inertial: Option<InertialDef>,
 }
 
 /// *(ext)* An instance's mass properties, as URDF's `<inertial>` and MJCF's `<inertial>`
 /// give them.
-#[derive(Debug, Clone, Copy, Deserialize)]
+#[derive(Debug, Clone, Copy, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct InertialDef {
     /// Mass in kg.
     pub mass: f64,
     /// Centre of mass in mm, in the instance's frame; default the shape's centroid.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub center_of_mass: Option<Vec3>,
     /// Inertia tensor about the centre of mass, in kg·m², along the instance's axes;
     /// default the shape's own, for this mass (uniform density).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub inertia: Option<InertiaDef>,
 }
 
 /// *(ext)* A symmetric inertia tensor's six entries, kg·m².
-#[derive(Debug, Clone, Copy, Deserialize)]
+#[derive(Debug, Clone, Copy, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct InertiaDef {
     /// `Ixx`.
@@ -442,19 +448,19 @@ pub struct InertiaDef {
 /// connected by a joint collide when `a.group & b.mask` or `b.group & a.mask` is non-zero.
 /// Both default to 1, so by default everything collides; `{"group": 0, "mask": 0}`
 /// collides with nothing.
-#[derive(Debug, Clone, Copy, Deserialize)]
+#[derive(Debug, Clone, Copy, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct CollisionDef {
     /// The instance's own bits (32 of them); default 1.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub group: Option<u32>,
     /// The bits of the instances it collides with; default 1.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mask: Option<u32>,
 }
 
 /// The kind of a joint.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum JointType {
     /// One rotational DOF about `axis`.
@@ -470,85 +476,144 @@ pub enum JointType {
 }
 
 /// A joint between a parent and a child instance.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct JointDef {
     /// The joint's kind.
     #[serde(rename = "type")]
     pub kind: JointType,
     /// *(ext)* A name for the joint; defaults to the child instance's name.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub name: Option<String>,
     /// The parent instance id.
     pub parent: String,
     /// The child instance id.
     pub child: String,
     /// The joint origin in world mm, in the initial configuration.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub anchor: Option<Vec3>,
     /// The joint axis in world coordinates (normalised on load).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub axis: Option<Vec3>,
     /// Lower limit in deg or mm.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub min: Option<f64>,
     /// Upper limit in deg or mm.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max: Option<f64>,
     /// *(ext)* Viscous damping per DOF in SI (N·m·s/rad or N·s/m); default 0.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub damping: Option<f64>,
     /// *(ext)* Clamp on the torque (N·m) or force (N) of every action mode.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_effort: Option<f64>,
     /// *(ext)* `false`: a passive joint, observed but not driven (it takes no action
     /// value and has no motor). Default `true`.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub actuated: Option<bool>,
     /// *(ext)* `false`: the joint only keeps a kinematic loop closed (MJCF's
     /// `<equality><connect>`): it adds no position or velocity to observations. Only a
     /// loop-closing joint may be unobserved. Default `true`.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub observed: Option<bool>,
     /// *(ext)* Armature (a rotor's reflected inertia, MuJoCo's `armature`): added to the
     /// joint-space inertia of each of the joint's DOFs, in kg·m² (angular) or kg
     /// (linear); default 0.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub armature: Option<f64>,
     /// *(ext)* Where the joint starts (every reset), in deg or mm from the document's
     /// pose (revolute and prismatic joints); default 0. Observed positions are measured
     /// from the document's pose, so a reset observes this value.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub initial: Option<f64>,
     /// *(ext)* A passive spring (MuJoCo's joint `stiffness`): a torque or force
     /// `-stiffness·(q − spring_rest)` on a revolute or prismatic joint, in N·m/rad or N/m;
     /// default 0 (none).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stiffness: Option<f64>,
     /// *(ext)* The spring's rest position, in deg or mm from the document's pose (as
     /// observed positions are); default 0. Needs a `stiffness`.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub spring_rest: Option<f64>,
     /// *(ext)* Dry (Coulomb) friction on each DOF (MuJoCo's `frictionloss`, URDF's
     /// `<dynamics friction>`): the largest torque or force, N·m or N, that resists the
     /// joint's motion; default 0.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub friction: Option<f64>,
     /// *(ext)* The motor's gear (MuJoCo's motor `gear`): in torque mode an action value
     /// is a control signal and the joint's torque or force is `gear × value`, clamped to
     /// `max_effort`, so the action's bound is `max_effort / gear`. Default 1 (actions in
     /// N·m or N).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gear: Option<f64>,
     /// *(ext)* The position the joint reports at the document's pose (MuJoCo's joint
     /// `ref`), in deg or mm: added to every observed position. Limits, `initial` and
     /// `spring_rest` stay measured from the document's pose. Default 0.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reference: Option<f64>,
 }
 
+impl InstanceDef {
+    /// An instance `name` of part `part` at the part's own frame, every option unset.
+    pub fn new(part: impl Into<String>, name: impl Into<String>) -> Self {
+        InstanceDef {
+            part: part.into(),
+            name: name.into(),
+            position: None,
+            rotation: None,
+            material: None,
+            collision: None,
+            inertial: None,
+        }
+    }
+}
+
+impl JointDef {
+    /// A joint of `kind` from `parent` to `child`, every option unset.
+    pub fn new(kind: JointType, parent: impl Into<String>, child: impl Into<String>) -> Self {
+        JointDef {
+            kind,
+            name: None,
+            parent: parent.into(),
+            child: child.into(),
+            anchor: None,
+            axis: None,
+            min: None,
+            max: None,
+            damping: None,
+            max_effort: None,
+            actuated: None,
+            observed: None,
+            armature: None,
+            initial: None,
+            stiffness: None,
+            spring_rest: None,
+            friction: None,
+            gear: None,
+            reference: None,
+        }
+    }
+}
+
+impl InertialDef {
+    /// A mass alone: the centre of mass and inertia are the shape's.
+    pub fn mass(mass: f64) -> Self {
+        InertialDef {
+            mass,
+            center_of_mass: None,
+            inertia: None,
+        }
+    }
+}
+
+impl From<[f64; 3]> for Vec3 {
+    fn from([x, y, z]: [f64; 3]) -> Self {
+        Vec3 { x, y, z }
+    }
+}
+
 /// A 3-vector with named components, as the documents write it.
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Vec3 {
     /// X component.

@@ -2,6 +2,7 @@
 //! placements, and writing a rotation as the document's Euler angles.
 
 use glam::{DMat3, DQuat, DVec3, EulerRot};
+use gymfleet_assembly::{InertiaDef, InertialDef, Vec3};
 use serde_json::{json, Value};
 
 /// A pose: `p_world = translation + rotation · p_local`.
@@ -51,6 +52,32 @@ pub(crate) fn z_onto(axis: DVec3) -> DQuat {
 /// A document's `inertial` for an instance placed at `instance` (m): `mass` (kg) with its
 /// centre of mass at `at`'s origin and `tensor` (kg·m², about the centre of mass along
 /// `at`'s axes), moved into the instance's frame (centre of mass in mm: `mm` per metre).
+pub(crate) fn inertial_def(
+    mass: f64,
+    at: &Frame,
+    tensor: DMat3,
+    instance: &Frame,
+    mm: f64,
+) -> InertialDef {
+    let back = instance.rotation.inverse();
+    let com = back * (at.translation - instance.translation) * mm;
+    let relative = DMat3::from_quat(back * at.rotation);
+    let c = (relative * tensor * relative.transpose()).to_cols_array_2d();
+    InertialDef {
+        mass,
+        center_of_mass: Some(vec3(com)),
+        inertia: Some(InertiaDef {
+            xx: c[0][0],
+            yy: c[1][1],
+            zz: c[2][2],
+            xy: c[1][0],
+            xz: c[2][0],
+            yz: c[2][1],
+        }),
+    }
+}
+
+/// [`inertial_def`] as JSON, for converters that still build JSON values.
 pub(crate) fn inertial_json(
     mass: f64,
     at: &Frame,
@@ -58,15 +85,16 @@ pub(crate) fn inertial_json(
     instance: &Frame,
     mm: f64,
 ) -> Value {
-    let back = instance.rotation.inverse();
-    let com = back * (at.translation - instance.translation) * mm;
-    let relative = DMat3::from_quat(back * at.rotation);
-    let c = (relative * tensor * relative.transpose()).to_cols_array_2d();
-    json!({
-        "mass": mass,
-        "center_of_mass": {"x": com.x, "y": com.y, "z": com.z},
-        "inertia": {"xx": c[0][0], "yy": c[1][1], "zz": c[2][2], "xy": c[1][0], "xz": c[2][0], "yz": c[2][1]}
-    })
+    json!(inertial_def(mass, at, tensor, instance, mm))
+}
+
+/// A vector as a document writes it.
+pub(crate) fn vec3(v: DVec3) -> Vec3 {
+    Vec3 {
+        x: v.x,
+        y: v.y,
+        z: v.z,
+    }
 }
 
 #[cfg(test)]

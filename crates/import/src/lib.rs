@@ -215,6 +215,17 @@ pub struct Converted {
     pub warnings: Vec<String>,
 }
 
+impl Converted {
+    /// A typed document as the converted JSON, with the conversion's warnings.
+    pub(crate) fn of(document: &gymfleet_assembly::Document, warnings: Vec<String>) -> Self {
+        Converted {
+            // A document's fields are strings, numbers, arrays and maps: always JSON.
+            document: serde_json::to_value(document).expect("a document serialises"),
+            warnings,
+        }
+    }
+}
+
 /// Why a description could not be converted. Every error names the element and its line
 /// (or, for assets, the archive entry or the document path).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

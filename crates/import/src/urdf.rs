@@ -26,8 +26,9 @@
 use std::collections::HashMap;
 
 use glam::{DQuat, DVec3};
+use gymfleet_assembly::{AssemblyDef, Document, InstanceDef, JointDef, MaterialDef, PartDef};
 use roxmltree::Node;
-use serde_json::{json, Map, Value};
+use std::collections::BTreeMap;
 
 use crate::frame::Frame;
 use crate::xml::{elements, Names, Warnings, XmlReader};
@@ -54,7 +55,7 @@ pub fn urdf_to_document(xml: &str) -> Result<Converted> {
         doc: &doc,
         warnings: Warnings::default(),
         parts: Vec::new(),
-        materials: Map::new(),
+        materials: BTreeMap::new(),
         instances: Vec::new(),
         frames: HashMap::new(),
         joints: Vec::new(),
@@ -67,20 +68,19 @@ pub fn urdf_to_document(xml: &str) -> Result<Converted> {
     let tree = c.tree(robot)?;
     let start = c.start(&tree)?;
     c.walk(&tree, &start)?;
-    let mut document = json!({
-        "parts": c.parts,
-        "assembly": {"instances": c.instances, "joints": c.joints}
-    });
-    if !c.materials.is_empty() {
-        document["materials"] = Value::Object(c.materials);
-    }
-    if start.floating {
-        document["floating_base"] = json!(true);
-    }
-    Ok(Converted {
-        document,
-        warnings: c.warnings.into_vec(),
-    })
+    let document = Document {
+        parts: c.parts,
+        materials: c.materials,
+        assembly: AssemblyDef {
+            instances: c.instances,
+            joints: c.joints,
+            sites: Vec::new(),
+            tendons: Vec::new(),
+        },
+        simulation: None,
+        floating_base: start.floating.then_some(true),
+    };
+    Ok(Converted::of(&document, c.warnings.into_vec()))
 }
 
 fn child<'a, 'i>(node: Node<'a, 'i>, tag: &str) -> Option<Node<'a, 'i>> {
@@ -90,12 +90,12 @@ fn child<'a, 'i>(node: Node<'a, 'i>, tag: &str) -> Option<Node<'a, 'i>> {
 struct Converter<'a, 'i> {
     doc: &'a roxmltree::Document<'i>,
     warnings: Warnings,
-    parts: Vec<Value>,
-    materials: Map<String, Value>,
-    instances: Vec<Value>,
+    parts: Vec<PartDef>,
+    materials: BTreeMap<String, MaterialDef>,
+    instances: Vec<InstanceDef>,
     /// Each instance's frame in the world (m), as written into its `position`/`rotation`.
     frames: HashMap<String, Frame>,
-    joints: Vec<Value>,
+    joints: Vec<JointDef>,
     names: Names,
 }
 
@@ -188,7 +188,7 @@ impl<'a, 'i> Converter<'a, 'i> {
     fn index_of(&self, instance: &str) -> usize {
         self.instances
             .iter()
-            .position(|i| i["name"] == instance)
+            .position(|i| i.name == instance)
             .unwrap_or_default()
     }
 }

@@ -2,10 +2,10 @@
 //! (anchor and axis in world coordinates, limits in deg or mm).
 
 use glam::DVec3;
+use gymfleet_assembly::{JointDef, JointType};
 use roxmltree::Node;
-use serde_json::{json, Map, Value};
 
-use crate::frame::Frame;
+use crate::frame::{vec3, Frame};
 use crate::xml::XmlReader;
 use crate::Result;
 
@@ -32,10 +32,10 @@ impl<'a, 'i> Converter<'a, 'i> {
                 ),
             ));
         }
-        let (json_kind, linear) = match kind {
-            "revolute" | "continuous" => ("revolute", false),
-            "prismatic" => ("prismatic", true),
-            "fixed" => ("fixed", false),
+        let (joint_type, linear) = match kind {
+            "revolute" | "continuous" => (JointType::Revolute, false),
+            "prismatic" => (JointType::Prismatic, true),
+            "fixed" => (JointType::Fixed, false),
             "floating" => {
                 return Err(self.unsupported(
                     node,
@@ -50,18 +50,13 @@ impl<'a, 'i> Converter<'a, 'i> {
                 ))
             }
         };
-        let mut j = Map::new();
-        j.insert("type".into(), json!(json_kind));
-        j.insert("name".into(), json!(self.unique(&name)));
-        j.insert("parent".into(), json!(parent));
-        j.insert("child".into(), json!(child_instance));
-        let anchor = frame.translation * MM;
-        j.insert(
-            "anchor".into(),
-            json!({"x": anchor.x, "y": anchor.y, "z": anchor.z}),
-        );
-        if json_kind == "fixed" {
-            self.joints.push(Value::Object(j));
+        let mut j = JointDef {
+            name: Some(self.unique(&name)),
+            anchor: Some(vec3(frame.translation * MM)),
+            ..JointDef::new(joint_type, parent, child_instance)
+        };
+        if joint_type == JointType::Fixed {
+            self.joints.push(j);
             return Ok(());
         }
         let axis_node = child(node, "axis");
@@ -76,11 +71,7 @@ impl<'a, 'i> Converter<'a, 'i> {
                 "the axis is the zero vector".into(),
             ));
         }
-        let axis = frame.direction(axis.normalize());
-        j.insert(
-            "axis".into(),
-            json!({"x": axis.x, "y": axis.y, "z": axis.z}),
-        );
+        j.axis = Some(vec3(frame.direction(axis.normalize())));
         let limit = child(node, "limit");
         match (kind, limit) {
             ("continuous", _) => {}
@@ -97,13 +88,13 @@ impl<'a, 'i> Converter<'a, 'i> {
                     return Err(self.bad(l, "lower", format!("lower {lower} is above upper {upper}")));
                 }
                 let unit = |v: f64| if linear { v * MM } else { v.to_degrees() };
-                j.insert("min".into(), json!(unit(lower)));
-                j.insert("max".into(), json!(unit(upper)));
+                j.min = Some(unit(lower));
+                j.max = Some(unit(upper));
                 // The zero pose breaks these limits (Panda's joint 4, Kinova's joint 2):
                 // start at the nearest limit, where MuJoCo's limit would push it.
                 if lower > 0.0 || upper < 0.0 {
                     let start = 0.0f64.clamp(lower, upper);
-                    j.insert("initial".into(), json!(unit(start)));
+                    j.initial = Some(unit(start));
                     self.warn(
                         l,
                         format!(
@@ -118,9 +109,7 @@ impl<'a, 'i> Converter<'a, 'i> {
         }
         if let Some(l) = limit {
             match self.number(l, "effort")? {
-                Some(e) if e > 0.0 => {
-                    j.insert("max_effort".into(), json!(e));
-                }
+                Some(e) if e > 0.0 => j.max_effort = Some(e),
                 Some(e) if e < 0.0 => {
                     return Err(self.bad(l, "effort", format!("expected an effort ≥ 0, got {e}")))
                 }
@@ -146,16 +135,14 @@ impl<'a, 'i> Converter<'a, 'i> {
                     ));
                 }
                 if damping > 0.0 {
-                    j.insert("damping".into(), json!(damping));
+                    j.damping = Some(damping);
                 }
             }
             if let Some(f) = self.number(d, "friction")?.filter(|f| *f != 0.0) {
                 if f < 0.0 {
                     return Err(self.bad(d, "friction", format!("expected friction ≥ 0, got {f}")));
                 }
-                if json_kind != "fixed" {
-                    j.insert("friction".into(), json!(f));
-                }
+                j.friction = Some(f);
             }
         }
         for other in ["calibration", "safety_controller"] {
@@ -163,7 +150,7 @@ impl<'a, 'i> Converter<'a, 'i> {
                 self.warn(n, "ignored (no effect on the dynamics)".into());
             }
         }
-        self.joints.push(Value::Object(j));
+        self.joints.push(j);
         Ok(())
     }
 }

@@ -2,10 +2,13 @@
 //! to it), its `<inertial>` and PyBullet `<contact>`, and massless links as helpers.
 
 use glam::{DMat3, DVec3};
+use gymfleet_assembly::{
+    CollisionDef, InertialDef, InstanceDef, JointDef, JointType, MaterialDef, MeshDef, PartDef,
+    Primitive, Vec3,
+};
 use roxmltree::Node;
-use serde_json::{json, Map, Value};
 
-use crate::frame::{euler_xyz_degrees, inertial_json, Frame};
+use crate::frame::{euler_xyz_degrees, inertial_def, vec3, Frame};
 use crate::xml::{elements, XmlReader};
 use crate::Result;
 
@@ -105,11 +108,15 @@ impl<'a, 'i> Converter<'a, 'i> {
         link_name: &str,
         shapes: std::ops::Range<usize>,
     ) -> Result<()> {
-        let mut material = Map::new();
+        let mut material = MaterialDef {
+            density: None,
+            friction: None,
+            restitution: None,
+        };
         for item in elements(node) {
             let key = match item.tag_name().name() {
-                "lateral_friction" => "friction",
-                "restitution" => "restitution",
+                "lateral_friction" => &mut material.friction,
+                "restitution" => &mut material.restitution,
                 other => {
                     self.warn(
                         item,
@@ -121,16 +128,16 @@ impl<'a, 'i> Converter<'a, 'i> {
             let value = self
                 .number(item, "value")?
                 .ok_or_else(|| self.bad(item, "value", "missing".into()))?;
-            material.insert(key.into(), json!(value));
+            *key = Some(value);
         }
-        if material.is_empty() {
+        if material.friction.is_none() && material.restitution.is_none() {
             return Ok(());
         }
         let name = format!("{link_name}_contact");
         for instance in &mut self.instances[shapes] {
-            instance["material"] = json!(name);
+            instance.material = Some(name.clone());
         }
-        self.materials.insert(name, Value::Object(material));
+        self.materials.insert(name, material);
         Ok(())
     }
 
@@ -173,7 +180,7 @@ impl<'a, 'i> Converter<'a, 'i> {
                     ),
                 );
                 let index = self.index_of(instance);
-                self.instances[index]["inertial"] = json!({"mass": mass});
+                self.instances[index].inertial = Some(InertialDef::mass(mass));
                 return Ok(());
             }
             return Err(self.unsupported(
@@ -183,35 +190,41 @@ impl<'a, 'i> Converter<'a, 'i> {
         }
         let tensor = DMat3::from_cols_array(&[xx, xy, xz, xy, yy, yz, xz, yz, zz]);
         let index = self.index_of(instance);
-        self.instances[index]["inertial"] =
-            inertial_json(mass, &at, tensor, &self.frames[instance], MM);
+        self.instances[index].inertial =
+            Some(inertial_def(mass, &at, tensor, &self.frames[instance], MM));
         Ok(())
     }
 
     /// A helper instance: a small sphere of `HELPER_MASS` that collides with nothing.
     pub(super) fn helper(&mut self, wanted: &str, at: &Frame) -> String {
         let name = self.unique(wanted);
-        self.parts.push(json!({
-            "name": name,
-            "primitive": {"type": "sphere", "radius": HELPER_RADIUS}
-        }));
-        let p = at.translation * MM;
-        let r = euler_xyz_degrees(at.rotation);
-        self.instances.push(json!({
-            "part": name, "name": name,
-            "position": {"x": p.x, "y": p.y, "z": p.z},
-            "rotation": {"x": r[0], "y": r[1], "z": r[2]},
-            "collision": {"group": 0, "mask": 0},
-            "inertial": {"mass": HELPER_MASS}
-        }));
+        self.parts.push(PartDef {
+            name: name.clone(),
+            primitive: Primitive::Sphere {
+                radius: HELPER_RADIUS,
+            },
+            material: None,
+        });
+        self.instances.push(InstanceDef {
+            position: Some(vec3(at.translation * MM)),
+            rotation: Some(euler_xyz_degrees(at.rotation).into()),
+            collision: Some(CollisionDef {
+                group: Some(0),
+                mask: Some(0),
+            }),
+            inertial: Some(InertialDef::mass(HELPER_MASS)),
+            ..InstanceDef::new(&name, &name)
+        });
         self.frames.insert(name.clone(), *at);
         name
     }
 
     pub(super) fn weld(&mut self, parent: &str, child: &str) {
         let name = self.unique(&format!("{child}_weld"));
-        self.joints
-            .push(json!({"type": "fixed", "name": name, "parent": parent, "child": child}));
+        self.joints.push(JointDef {
+            name: Some(name),
+            ..JointDef::new(JointType::Fixed, parent, child)
+        });
     }
 
     /// One `<collision>` as an instance, placed in the world.
@@ -250,26 +263,36 @@ impl<'a, 'i> Converter<'a, 'i> {
                     ));
                 }
                 (
-                    json!({"type": "cube", "size": {"x": s[0] * MM, "y": s[1] * MM, "z": s[2] * MM}}),
+                    Primitive::Cube {
+                        size: vec3(DVec3::from_array(s) * MM),
+                    },
                     DVec3::from_array(s) / 2.0,
                 )
             }
             "cylinder" => {
                 let (r, l) = (positive(self, "radius")?, positive(self, "length")?);
                 (
-                    json!({"type": "cylinder", "radius": r * MM, "height": l * MM}),
+                    Primitive::Cylinder {
+                        radius: r * MM,
+                        height: l * MM,
+                    },
                     DVec3::new(0.0, 0.0, l / 2.0),
                 )
             }
             "capsule" => {
                 let (r, l) = (positive(self, "radius")?, positive(self, "length")?);
                 (
-                    json!({"type": "capsule", "radius": r * MM, "height": (l + 2.0 * r) * MM}),
+                    Primitive::Capsule {
+                        radius: r * MM,
+                        height: (l + 2.0 * r) * MM,
+                    },
                     DVec3::new(0.0, 0.0, l / 2.0 + r),
                 )
             }
             "sphere" => (
-                json!({"type": "sphere", "radius": positive(self, "radius")? * MM}),
+                Primitive::Sphere {
+                    radius: positive(self, "radius")? * MM,
+                },
                 DVec3::ZERO,
             ),
             "mesh" => {
@@ -283,8 +306,12 @@ impl<'a, 'i> Converter<'a, 'i> {
                     ));
                 }
                 (
-                    json!({"type": "mesh", "file": file, "convex": "hull",
-                           "scale": {"x": s[0] * MM, "y": s[1] * MM, "z": s[2] * MM}}),
+                    Primitive::Mesh(MeshDef {
+                        file: Some(file.to_string()),
+                        convex: Some(gymfleet_assembly::ConvexMode::Hull),
+                        scale: Some(vec3(DVec3::from_array(s) * MM)),
+                        ..MeshDef::default()
+                    }),
                     DVec3::ZERO,
                 )
             }
@@ -301,23 +328,17 @@ impl<'a, 'i> Converter<'a, 'i> {
             (false, None) => format!("{link_name}_collision"),
         };
         let name = self.unique(&wanted);
-        let mut instance = Map::new();
-        instance.insert("part".into(), json!(name));
-        instance.insert("name".into(), json!(name));
-        instance.insert(
-            "position".into(),
-            json!({"x": origin.x, "y": origin.y, "z": origin.z}),
-        );
-        instance.insert(
-            "rotation".into(),
-            json!({"x": rotation[0], "y": rotation[1], "z": rotation[2]}),
-        );
-        if let Some(m) = weight {
-            instance.insert("inertial".into(), json!({"mass": m}));
-        }
-        self.parts
-            .push(json!({"name": name, "primitive": primitive}));
-        self.instances.push(Value::Object(instance));
+        self.parts.push(PartDef {
+            name: name.clone(),
+            primitive,
+            material: None,
+        });
+        self.instances.push(InstanceDef {
+            position: Some(vec3(origin)),
+            rotation: Some(Vec3::from(rotation)),
+            inertial: weight.map(InertialDef::mass),
+            ..InstanceDef::new(&name, &name)
+        });
         self.frames.insert(
             name.clone(),
             Frame {
