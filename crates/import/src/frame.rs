@@ -3,7 +3,6 @@
 
 use glam::{DMat3, DQuat, DVec3, EulerRot};
 use gymfleet_assembly::{InertiaDef, InertialDef, Vec3};
-use serde_json::{json, Value};
 
 /// A pose: `p_world = translation + rotation · p_local`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -75,17 +74,6 @@ pub(crate) fn inertial_def(
             yz: c[2][1],
         }),
     }
-}
-
-/// [`inertial_def`] as JSON, for converters that still build JSON values.
-pub(crate) fn inertial_json(
-    mass: f64,
-    at: &Frame,
-    tensor: DMat3,
-    instance: &Frame,
-    mm: f64,
-) -> Value {
-    json!(inertial_def(mass, at, tensor, instance, mm))
 }
 
 /// A vector as a document writes it.

@@ -6,7 +6,9 @@
 //! text (with `roxmltree`), archives (`zip`, `tar`, `flate2`) and mesh files
 //! (`mesh-loader`), and writes a JSON document; it knows nothing of physics or networks,
 //! and the document it writes still goes through `gymfleet_assembly::parse` like any
-//! other.
+//! other. The converters build the typed document (`gymfleet_assembly::Document` and its
+//! `*Def` parts, serialised once at the end), never JSON by field name; only
+//! [`inline_mesh_files`], which also serves documents users write in JSON, edits JSON.
 //!
 //! - **MJCF** ([`mjcf_to_document`]): the subset MuJoCo's classic models use — default
 //!   classes, `compiler` angle units, `inertiafromgeom` and `settotalmass`, bodies with

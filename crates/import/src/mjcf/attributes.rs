@@ -216,28 +216,34 @@ impl<'a, 'i> Converter<'a, 'i> {
     /// (MuJoCo's inertia-box model); the rest is the engine's own.
     pub(super) fn option(&mut self, node: Node<'a, 'i>) -> Result<()> {
         if let Some(g) = self.exactly::<3>(node, None, "gravity")? {
-            self.simulation
-                .insert("gravity".into(), json!({"x": g[0], "y": g[1], "z": g[2]}));
+            self.simulation.gravity = Some(Vec3::from(g));
         }
         if let Some(t) = self.number(node, None, "timestep")? {
             if !(t > 0.0 && t <= 1.0) {
                 return Err(self.bad(node, "timestep", format!("expected (0, 1] s, got {t}")));
             }
-            self.simulation.insert("dt".into(), json!(t));
+            self.simulation.dt = Some(t);
         }
-        let mut fluid = serde_json::Map::new();
+        let mut fluid = FluidDef {
+            density: None,
+            viscosity: None,
+        };
         for name in ["density", "viscosity"] {
             if let Some(v) = self.number(node, None, name)? {
                 if !(v.is_finite() && v >= 0.0) {
                     return Err(self.bad(node, name, format!("expected a number ≥ 0, got {v}")));
                 }
                 if v > 0.0 {
-                    fluid.insert(name.into(), json!(v));
+                    let slot = match name {
+                        "density" => &mut fluid.density,
+                        _ => &mut fluid.viscosity,
+                    };
+                    *slot = Some(v);
                 }
             }
         }
-        if !fluid.is_empty() {
-            self.simulation.insert("fluid".into(), Value::Object(fluid));
+        if fluid.density.is_some() || fluid.viscosity.is_some() {
+            self.simulation.fluid = Some(fluid);
         }
         if let Some(w) = self.exactly::<3>(node, None, "wind")? {
             if w != [0.0; 3] {

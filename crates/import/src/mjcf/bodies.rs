@@ -116,17 +116,22 @@ impl<'a, 'i> Converter<'a, 'i> {
     ) -> String {
         let name = self.unique(wanted);
         self.massless.insert(name.clone());
-        self.parts.push(json!({
-            "name": name,
-            "primitive": {"type": "sphere", "radius": HELPER_RADIUS}
-        }));
-        let p = at.translation * MM;
-        let instance = json!({
-            "part": name, "name": name,
-            "position": {"x": p.x, "y": p.y, "z": p.z},
-            "collision": {"group": 0, "mask": 0},
-            "inertial": {"mass": HELPER_MASS}
+        self.parts.push(PartDef {
+            name: name.clone(),
+            primitive: Primitive::Sphere {
+                radius: HELPER_RADIUS,
+            },
+            material: None,
         });
+        let instance = InstanceDef {
+            position: Some(vec3(at.translation * MM)),
+            collision: Some(CollisionDef {
+                group: Some(0),
+                mask: Some(0),
+            }),
+            inertial: Some(InertialDef::mass(HELPER_MASS)),
+            ..InstanceDef::new(&name, &name)
+        };
         self.frames.insert(
             name.clone(),
             Frame {
@@ -134,7 +139,7 @@ impl<'a, 'i> Converter<'a, 'i> {
                 rotation: DQuat::IDENTITY,
             },
         );
-        match before.and_then(|b| self.instances.iter().position(|i| i["name"] == b)) {
+        match before.and_then(|b| self.instances.iter().position(|i| i.name == b)) {
             Some(index) => self.instances.insert(index, instance),
             None => self.instances.push(instance),
         }
@@ -148,11 +153,11 @@ impl<'a, 'i> Converter<'a, 'i> {
         };
         let local = frame.rotation.inverse() * (at - frame.translation) * MM;
         let name = self.site_names.unique(wanted);
-        self.sites.push(json!({
-            "name": name,
-            "instance": instance,
-            "point": {"x": local.x, "y": local.y, "z": local.z}
-        }));
+        self.sites.push(SiteDef {
+            name,
+            instance: instance.to_string(),
+            point: vec3(local),
+        });
     }
 
     pub(super) fn joint_name(&mut self, wanted: &str) -> String {
@@ -161,8 +166,10 @@ impl<'a, 'i> Converter<'a, 'i> {
 
     pub(super) fn weld(&mut self, parent: String, child: String) {
         let name = self.joint_name(&format!("{child}_weld"));
-        self.joints
-            .push(json!({"type": "fixed", "name": name, "parent": parent, "child": child}));
+        self.joints.push(JointDef {
+            name: Some(name),
+            ..JointDef::new(JointType::Fixed, parent, child)
+        });
     }
 
     /// One body, its geoms, joints and children. `parent` is the instance it hangs from;
@@ -362,10 +369,15 @@ impl<'a, 'i> Converter<'a, 'i> {
         let index = self
             .instances
             .iter()
-            .position(|i| i["name"] == instance)
+            .position(|i| i.name == instance)
             .expect("the body's instance exists");
-        self.instances[index]["inertial"] =
-            inertial_json(mass, &world, principal, &self.frames[instance], MM);
+        self.instances[index].inertial = Some(inertial_def(
+            mass,
+            &world,
+            principal,
+            &self.frames[instance],
+            MM,
+        ));
         Ok(())
     }
 }

@@ -72,9 +72,13 @@ impl<'a, 'i> Converter<'a, 'i> {
                     .exactly::<3>(child, class, "anchor")?
                     .ok_or_else(|| self.bad(child, "anchor", "missing".into()))?;
                 let at = frame1.translation + frame1.rotation * DVec3::from(anchor);
-                json!({"type": "ball", "name": name, "parent": first, "child": second,
-                       "anchor": {"x": at.x * MM, "y": at.y * MM, "z": at.z * MM},
-                       "actuated": false, "observed": false})
+                JointDef {
+                    name: Some(name),
+                    anchor: Some(vec3(at * MM)),
+                    actuated: Some(false),
+                    observed: Some(false),
+                    ..JointDef::new(JointType::Ball, first, second)
+                }
             } else {
                 if let Some(t) = self.number(child, class, "torquescale")? {
                     if t != 1.0 {
@@ -103,8 +107,11 @@ impl<'a, 'i> Converter<'a, 'i> {
                         }
                     }
                 }
-                json!({"type": "fixed", "name": name, "parent": first, "child": second,
-                       "actuated": false})
+                JointDef {
+                    name: Some(name),
+                    actuated: Some(false),
+                    ..JointDef::new(JointType::Fixed, first, second)
+                }
             };
             self.joints.push(joint);
         }

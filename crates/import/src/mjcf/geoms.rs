@@ -78,11 +78,11 @@ impl<'a, 'i> Converter<'a, 'i> {
                         "a colliding plane (a ground) must be the world's, and only one".into(),
                     ));
                 }
-                (json!({"type": "plane"}), DVec3::ZERO)
+                (Primitive::Plane, DVec3::ZERO)
             }
             "sphere" => {
                 let r = size_at(0, "radius")?;
-                (json!({"type": "sphere", "radius": r * MM}), DVec3::ZERO)
+                (Primitive::Sphere { radius: r * MM }, DVec3::ZERO)
             }
             "capsule" | "cylinder" => {
                 let r = size_at(0, "radius")?;
@@ -92,12 +92,18 @@ impl<'a, 'i> Converter<'a, 'i> {
                 };
                 if kind == "capsule" {
                     (
-                        json!({"type": "capsule", "radius": r * MM, "height": 2.0 * (half + r) * MM}),
+                        Primitive::Capsule {
+                            radius: r * MM,
+                            height: 2.0 * (half + r) * MM,
+                        },
                         DVec3::new(0.0, 0.0, half + r),
                     )
                 } else {
                     (
-                        json!({"type": "cylinder", "radius": r * MM, "height": 2.0 * half * MM}),
+                        Primitive::Cylinder {
+                            radius: r * MM,
+                            height: 2.0 * half * MM,
+                        },
                         DVec3::new(0.0, 0.0, half),
                     )
                 }
@@ -109,7 +115,9 @@ impl<'a, 'i> Converter<'a, 'i> {
                     size_at(2, "z half-size")?,
                 );
                 (
-                    json!({"type": "cube", "size": {"x": 2.0 * h.x * MM, "y": 2.0 * h.y * MM, "z": 2.0 * h.z * MM}}),
+                    Primitive::Cube {
+                        size: vec3(2.0 * h * MM),
+                    },
                     h,
                 )
             }
@@ -148,35 +156,26 @@ impl<'a, 'i> Converter<'a, 'i> {
         let friction = self
             .numbers(node, class, "friction")?
             .and_then(|f| f.first().copied());
-        let mut material = Map::new();
-        if let Some(f) = friction {
-            material.insert("friction".into(), json!(f));
-        }
-        let mut instance = Map::new();
-        instance.insert("part".into(), json!(name));
-        instance.insert("name".into(), json!(name));
-        instance.insert(
-            "position".into(),
-            json!({"x": origin.x, "y": origin.y, "z": origin.z}),
-        );
-        instance.insert(
-            "rotation".into(),
-            json!({"x": rotation[0], "y": rotation[1], "z": rotation[2]}),
-        );
-        if (contype, conaffinity) != (1, 1) {
-            instance.insert(
-                "collision".into(),
-                json!({"group": contype, "mask": conaffinity}),
-            );
-        }
+        let mut material = MaterialDef {
+            density: None,
+            friction,
+            restitution: None,
+        };
+        let mut instance = InstanceDef {
+            position: Some(vec3(origin)),
+            rotation: Some(Vec3::from(rotation)),
+            collision: ((contype, conaffinity) != (1, 1)).then_some(CollisionDef {
+                group: Some(contype),
+                mask: Some(conaffinity),
+            }),
+            ..InstanceDef::new(&name, &name)
+        };
         match (
             given_mass,
             self.number(node, class, "mass")?,
             self.number(node, class, "density")?,
         ) {
-            (Some(m), _, _) => {
-                instance.insert("inertial".into(), json!({"mass": m}));
-            }
+            (Some(m), _, _) => instance.inertial = Some(InertialDef::mass(m)),
             (None, Some(m), _) => {
                 if m <= 0.0 {
                     return Err(self.bad(
@@ -185,15 +184,14 @@ impl<'a, 'i> Converter<'a, 'i> {
                         format!("expected a positive mass, got {m}"),
                     ));
                 }
-                instance.insert("inertial".into(), json!({"mass": m}));
+                instance.inertial = Some(InertialDef::mass(m));
             }
-            (None, None, Some(d)) if d != DEFAULT_DENSITY => {
-                material.insert("density".into(), json!(d));
-            }
+            (None, None, Some(d)) if d != DEFAULT_DENSITY => material.density = Some(d),
             _ => {}
         }
-        if !material.is_empty() {
-            instance.insert("material".into(), json!(name));
+        let has_material = material.friction.is_some() || material.density.is_some();
+        if has_material {
+            instance.material = Some(name.clone());
         }
         self.frames.insert(
             name.clone(),
@@ -202,12 +200,15 @@ impl<'a, 'i> Converter<'a, 'i> {
                 rotation: world.rotation,
             },
         );
-        self.parts
-            .push(json!({"name": name, "primitive": primitive}));
-        if !material.is_empty() {
-            self.materials.insert(name.clone(), Value::Object(material));
+        self.parts.push(PartDef {
+            name: name.clone(),
+            primitive,
+            material: None,
+        });
+        if has_material {
+            self.materials.insert(name.clone(), material);
         }
-        self.instances.push(Value::Object(instance));
+        self.instances.push(instance);
         Ok(Some(name))
     }
 }

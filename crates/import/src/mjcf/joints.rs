@@ -18,10 +18,10 @@ impl<'a, 'i> Converter<'a, 'i> {
         } else {
             self.attr(node, class, "type").unwrap_or("hinge")
         };
-        let our = match kind {
-            "hinge" => "revolute",
-            "slide" => "prismatic",
-            "ball" => "ball",
+        let (our, joint_type) = match kind {
+            "hinge" => ("revolute", JointType::Revolute),
+            "slide" => ("prismatic", JointType::Prismatic),
+            "ball" => ("ball", JointType::Ball),
             "free" => {
                 return Err(self.unsupported(
                     node,
@@ -73,19 +73,12 @@ impl<'a, 'i> Converter<'a, 'i> {
             .attribute("name")
             .map_or_else(|| format!("{body_name}_joint"), str::to_string);
         let name = self.joint_name(&name);
-        let mut j = Map::new();
-        j.insert("type".into(), json!(our));
-        j.insert("name".into(), json!(name));
-        j.insert("parent".into(), json!(parent));
-        j.insert("child".into(), json!(child));
-        j.insert(
-            "anchor".into(),
-            json!({"x": anchor.x, "y": anchor.y, "z": anchor.z}),
-        );
-        if our != "ball" {
-            let a = body.direction(axis.normalize());
-            j.insert("axis".into(), json!({"x": a.x, "y": a.y, "z": a.z}));
-        }
+        let mut j = JointDef {
+            name: Some(name.clone()),
+            anchor: Some(vec3(anchor)),
+            axis: (our != "ball").then(|| vec3(body.direction(axis.normalize()))),
+            ..JointDef::new(joint_type, parent, child)
+        };
         let range = self.exactly::<2>(node, class, "range")?;
         let limited = self.flag(node, class, "limited")?;
         if let (Some([lo, hi]), Some(true) | None) = (range, limited) {
@@ -102,13 +95,13 @@ impl<'a, 'i> Converter<'a, 'i> {
                 } else {
                     (lo * MM, hi * MM)
                 };
-                j.insert("min".into(), json!(lo));
-                j.insert("max".into(), json!(hi));
+                j.min = Some(lo);
+                j.max = Some(hi);
                 // The model's pose (qpos = ref) breaks the range: start at the nearest
                 // limit, where MuJoCo's limit constraint would push it.
                 if lo > 0.0 || hi < 0.0 {
                     let start = 0.0f64.clamp(lo, hi);
-                    j.insert("initial".into(), json!(start));
+                    j.initial = Some(start);
                     self.warn(
                         node,
                         format!(
@@ -128,15 +121,9 @@ impl<'a, 'i> Converter<'a, 'i> {
         } else if limited == Some(true) {
             return Err(self.bad(node, "range", "limited=\"true\" without a range".into()));
         }
-        if let Some(d) = self.number(node, class, "damping")?.filter(|d| *d != 0.0) {
-            j.insert("damping".into(), json!(d));
-        }
-        if let Some(a) = self.number(node, class, "armature")?.filter(|a| *a != 0.0) {
-            j.insert("armature".into(), json!(a));
-        }
-        if let Some(f) = friction {
-            j.insert("friction".into(), json!(f));
-        }
+        j.damping = self.number(node, class, "damping")?.filter(|d| *d != 0.0);
+        j.armature = self.number(node, class, "armature")?.filter(|a| *a != 0.0);
+        j.friction = friction;
         if let Some(k) = stiffness {
             if k < 0.0 {
                 return Err(self.bad(
@@ -145,7 +132,7 @@ impl<'a, 'i> Converter<'a, 'i> {
                     format!("expected a stiffness >= 0, got {k}"),
                 ));
             }
-            j.insert("stiffness".into(), json!(k));
+            j.stiffness = Some(k);
             // MuJoCo's spring pulls qpos to `springref`; positions here are qpos − ref.
             let rest = self.number(node, class, "springref")?.unwrap_or(0.0) - reference;
             if rest != 0.0 {
@@ -154,7 +141,7 @@ impl<'a, 'i> Converter<'a, 'i> {
                 } else {
                     rest * MM
                 };
-                j.insert("spring_rest".into(), json!(rest));
+                j.spring_rest = Some(rest);
             }
         }
         if reference != 0.0 {
@@ -164,17 +151,15 @@ impl<'a, 'i> Converter<'a, 'i> {
             } else {
                 reference * MM
             };
-            j.insert("reference".into(), json!(reference));
+            j.reference = Some(reference);
         }
         match self.motors.get(&name).copied() {
             Some(motor) => {
-                if let Some(e) = motor.max_effort {
-                    j.insert("max_effort".into(), json!(e));
-                }
+                j.max_effort = motor.max_effort;
                 if motor.gear != 1.0 {
                     if our == "revolute" || our == "prismatic" {
                         // Actions are MuJoCo's ctrl: the effort is gear × ctrl.
-                        j.insert("gear".into(), json!(motor.gear));
+                        j.gear = Some(motor.gear);
                     } else {
                         self.warn(
                             node,
@@ -186,12 +171,10 @@ impl<'a, 'i> Converter<'a, 'i> {
                     }
                 }
             }
-            None => {
-                j.insert("actuated".into(), json!(false));
-            }
+            None => j.actuated = Some(false),
         }
         self.moving_joints.push(name);
-        self.joints.push(Value::Object(j));
+        self.joints.push(j);
         Ok(())
     }
 }

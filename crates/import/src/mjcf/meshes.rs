@@ -112,7 +112,11 @@ impl<'a, 'i> Converter<'a, 'i> {
     }
 
     /// A mesh geom's primitive, in the geom's frame (mm).
-    pub(super) fn mesh_primitive(&self, node: Node<'a, 'i>, class: Option<&str>) -> Result<Value> {
+    pub(super) fn mesh_primitive(
+        &self,
+        node: Node<'a, 'i>,
+        class: Option<&str>,
+    ) -> Result<Primitive> {
         let name = self.attr(node, class, "mesh").ok_or_else(|| {
             self.bad(
                 node,
@@ -140,16 +144,21 @@ impl<'a, 'i> Converter<'a, 'i> {
         };
         let s = mesh.scale;
         Ok(match &mesh.source {
-            MeshSource::File(file) => json!({
-                "type": "mesh", "file": file, "convex": "hull",
-                "scale": {"x": s[0] * MM, "y": s[1] * MM, "z": s[2] * MM}
+            MeshSource::File(file) => Primitive::Mesh(MeshDef {
+                file: Some(file.clone()),
+                convex: Some(gymfleet_assembly::ConvexMode::Hull),
+                scale: Some(vec3(DVec3::from_array(s) * MM)),
+                ..MeshDef::default()
             }),
             MeshSource::Inline(points) => {
                 let vertices: Vec<[f64; 3]> = points
                     .iter()
                     .map(|p| [p[0] * s[0] * MM, p[1] * s[1] * MM, p[2] * s[2] * MM])
                     .collect();
-                json!({"type": "mesh", "vertices": vertices})
+                Primitive::Mesh(MeshDef {
+                    vertices: Some(vertices),
+                    ..MeshDef::default()
+                })
             }
         })
     }

@@ -8,13 +8,17 @@
 //! grounded instance and parts welded to it. Masses come from the geoms (volume × density,
 //! as MuJoCo's `inertiafromgeom`), or from `<inertial>` on the body's instance.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::{BTreeMap, HashMap, HashSet};
 
 use glam::{DMat3, DQuat, DVec3};
+use gymfleet_assembly::{
+    AssemblyDef, CollisionDef, Document, FluidDef, InertialDef, InstanceDef, JointDef, JointType,
+    MaterialDef, MeshDef, PartDef, Primitive, SimulationDef, SiteDef, TendonDef, TendonJointDef,
+    Vec3,
+};
 use roxmltree::Node;
-use serde_json::{json, Map, Value};
 
-use crate::frame::{euler_xyz_degrees, inertial_json, z_onto, Frame};
+use crate::frame::{euler_xyz_degrees, inertial_def, vec3, z_onto, Frame};
 use crate::xml::{elements, Names, Warnings, XmlReader};
 use crate::{Converted, ImportError, Result};
 
@@ -134,18 +138,18 @@ struct Converter<'a, 'i> {
     classes: HashMap<String, Class<'a>>,
     warnings: Warnings,
     motors: HashMap<String, Motor>,
-    parts: Vec<Value>,
-    materials: Map<String, Value>,
-    /// The document's `simulation` (gravity, dt) from `<option>`.
-    simulation: Map<String, Value>,
-    instances: Vec<Value>,
+    parts: Vec<PartDef>,
+    materials: BTreeMap<String, MaterialDef>,
+    /// The document's `simulation` (gravity, dt, fluid) from `<option>`.
+    simulation: SimulationDef,
+    instances: Vec<InstanceDef>,
     /// Each instance's frame in the world (m), as written into its `position`/`rotation`.
     frames: HashMap<String, Frame>,
-    joints: Vec<Value>,
+    joints: Vec<JointDef>,
     names: Names,
     joint_names: Names,
     /// Named points: every named body's origin and every `<site>` in a body.
-    sites: Vec<Value>,
+    sites: Vec<SiteDef>,
     site_names: Names,
     /// Joint names with a DOF, in document (tree) order.
     moving_joints: Vec<String>,
@@ -188,8 +192,12 @@ impl<'a, 'i> Converter<'a, 'i> {
             warnings: Warnings::default(),
             motors: HashMap::new(),
             parts: Vec::new(),
-            materials: Map::new(),
-            simulation: Map::new(),
+            materials: BTreeMap::new(),
+            simulation: SimulationDef {
+                gravity: None,
+                dt: None,
+                fluid: None,
+            },
             instances: Vec::new(),
             frames: HashMap::new(),
             joints: Vec::new(),
@@ -230,7 +238,6 @@ impl<'a, 'i> Converter<'a, 'i> {
     }
 
     fn finish(mut self) -> Result<Converted> {
-        let materials = std::mem::take(&mut self.materials);
         // Motors name joints that exist.
         let known: HashSet<&String> = self.moving_joints.iter().collect();
         let mut unknown: Vec<(&String, &Motor)> = self
@@ -267,38 +274,31 @@ impl<'a, 'i> Converter<'a, 'i> {
         }
         // The floating base is the first instance.
         if let Some(base) = &self.floating {
-            if let Some(at) = self.instances.iter().position(|i| i["name"] == *base) {
+            if let Some(at) = self.instances.iter().position(|i| i.name == *base) {
                 let instance = self.instances.remove(at);
                 self.instances.insert(0, instance);
             }
         }
-        let mut document = json!({
-            "parts": self.parts,
-            "assembly": {"instances": self.instances, "joints": self.joints}
-        });
-        if !self.sites.is_empty() {
-            document["assembly"]["sites"] = Value::Array(std::mem::take(&mut self.sites));
-        }
-        if !self.tendons.is_empty() {
-            document["assembly"]["tendons"] = Value::Array(self.tendons_json()?);
-        }
-        if self.floating.is_some() {
-            document["floating_base"] = json!(true);
-        }
-
-        if !materials.is_empty() {
-            document["materials"] = Value::Object(materials);
-        }
-        if !self.simulation.is_empty() {
-            document["simulation"] = Value::Object(std::mem::take(&mut self.simulation));
-        }
+        let tendons = self.tendon_defs()?;
+        let s = &self.simulation;
+        let simulation =
+            (s.gravity.is_some() || s.dt.is_some() || s.fluid.is_some()).then_some(self.simulation);
+        let mut document = Document {
+            parts: self.parts,
+            materials: self.materials,
+            assembly: AssemblyDef {
+                instances: self.instances,
+                joints: self.joints,
+                sites: self.sites,
+                tendons,
+            },
+            simulation,
+            floating_base: self.floating.is_some().then_some(true),
+        };
         if let Some(total) = self.total_mass {
             scale_total_mass(&mut document, total, &self.massless);
         }
-        Ok(Converted {
-            document,
-            warnings: self.warnings.into_vec(),
-        })
+        Ok(Converted::of(&document, self.warnings.into_vec()))
     }
 }
 
@@ -307,8 +307,8 @@ impl<'a, 'i> Converter<'a, 'i> {
 /// from its volume scales through its material's density, a given one (`inertial`) with
 /// its tensor. A document that does not validate is left as it is: its own parse reports
 /// why.
-fn scale_total_mass(document: &mut Value, total: f64, massless: &HashSet<String>) {
-    let Ok(assembly) = gymfleet_assembly::from_value(document.clone()) else {
+fn scale_total_mass(document: &mut Document, total: f64, massless: &HashSet<String>) {
+    let Ok(assembly) = gymfleet_assembly::validate(document) else {
         return;
     };
     let bodies: Vec<(usize, f64)> = assembly
@@ -329,30 +329,29 @@ fn scale_total_mass(document: &mut Value, total: f64, massless: &HashSet<String>
     }
     let factor = total / sum;
     for (k, _) in bodies {
-        let instance = &mut document["assembly"]["instances"][k];
-        if let Some(inertial) = instance.get_mut("inertial") {
-            let mass = inertial["mass"].as_f64().unwrap_or(0.0);
-            inertial["mass"] = json!(mass * factor);
-            if let Some(Value::Object(inertia)) = inertial.get_mut("inertia") {
-                for value in inertia.values_mut() {
-                    *value = json!(value.as_f64().unwrap_or(0.0) * factor);
+        let instance = &mut document.assembly.instances[k];
+        if let Some(inertial) = &mut instance.inertial {
+            inertial.mass *= factor;
+            if let Some(i) = &mut inertial.inertia {
+                for value in [
+                    &mut i.xx, &mut i.yy, &mut i.zz, &mut i.xy, &mut i.xz, &mut i.yz,
+                ] {
+                    *value *= factor;
                 }
             }
             continue;
         }
         let density = assembly.instances[k].material.density * factor;
         let name = assembly.instances[k].name.clone();
-        instance["material"] = json!(name);
-        let materials = document
-            .as_object_mut()
-            .expect("a document is an object")
-            .entry("materials")
-            .or_insert_with(|| json!({}));
-        let material = materials
-            .as_object_mut()
-            .expect("materials are an object")
+        instance.material = Some(name.clone());
+        document
+            .materials
             .entry(name)
-            .or_insert_with(|| json!({}));
-        material["density"] = json!(density);
+            .or_insert(MaterialDef {
+                density: None,
+                friction: None,
+                restitution: None,
+            })
+            .density = Some(density);
     }
 }

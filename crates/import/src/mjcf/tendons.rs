@@ -131,7 +131,7 @@ impl<'a, 'i> Converter<'a, 'i> {
 
     /// The tendons as the document's `assembly.tendons`, their joints checked to be hinge
     /// or slide joints of the model.
-    pub(super) fn tendons_json(&self) -> Result<Vec<Value>> {
+    pub(super) fn tendon_defs(&self) -> Result<Vec<TendonDef>> {
         let known: HashSet<&String> = self.moving_joints.iter().collect();
         let mut out = Vec::with_capacity(self.tendons.len());
         for t in &self.tendons {
@@ -145,22 +145,19 @@ impl<'a, 'i> Converter<'a, 'i> {
                         reason: format!("no hinge or slide joint is named {joint:?}"),
                     });
                 }
-                joints.push(json!({"joint": joint, "coef": coef}));
+                joints.push(TendonJointDef {
+                    joint: joint.clone(),
+                    coef: *coef,
+                });
             }
-            let mut tendon = json!({"name": t.name, "joints": joints});
-            if t.stiffness > 0.0 {
-                tendon["stiffness"] = json!(t.stiffness);
-            }
-            if t.damping > 0.0 {
-                tendon["damping"] = json!(t.damping);
-            }
-            if let Some(l) = t.spring_length {
-                tendon["spring_length"] = json!(l);
-            }
-            if let Some(r) = t.range {
-                tendon["range"] = json!(r);
-            }
-            out.push(tendon);
+            out.push(TendonDef {
+                name: t.name.clone(),
+                joints,
+                stiffness: (t.stiffness > 0.0).then_some(t.stiffness),
+                damping: (t.damping > 0.0).then_some(t.damping),
+                spring_length: t.spring_length,
+                range: t.range,
+            });
         }
         Ok(out)
     }
