@@ -247,7 +247,7 @@ mod tests {
         let config = cli.server_config().unwrap();
         assert_eq!(config.threads, 0);
         for limit in Limit::ALL {
-            assert_eq!(limit.of(&config), limit.default_value(), "{limit:?}");
+            assert_eq!(config.limit(limit), limit.default_value(), "{limit:?}");
         }
         assert_eq!(config.idle_ttl, Duration::from_secs(600));
         assert_eq!(cli.log_format, LogFormat::Text);
@@ -260,7 +260,7 @@ mod tests {
             let flag = format!("--{}", limit.flag());
             let cli = Cli::try_parse_from(["gymfleet-server", &flag, "3"]).expect("parses");
             let config = cli.server_config().unwrap();
-            assert_eq!(limit.of(&config), 3, "{flag}");
+            assert_eq!(config.limit(limit), 3, "{flag}");
         }
     }
 

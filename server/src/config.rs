@@ -5,30 +5,13 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use crate::clock::Clock;
+use crate::limit::{
+    Limit, DEFAULT_MAX_BATCH_SIZE, DEFAULT_MAX_DOCUMENT_BYTES, DEFAULT_MAX_DOFS,
+    DEFAULT_MAX_END_EFFECTORS, DEFAULT_MAX_ENVS, DEFAULT_MAX_INSTANCES, DEFAULT_MAX_JOINTS,
+    DEFAULT_MAX_MESSAGE_BYTES, DEFAULT_MAX_STEP_WORK,
+};
 use crate::tenant::TokenTable;
 
-/// Default largest gRPC message, decoded or encoded: 64 MiB (tonic's own default is 4 MiB).
-pub const DEFAULT_MAX_MESSAGE_BYTES: usize = 64 * 1024 * 1024;
-/// Default largest `document_json`: 8 MiB.
-pub const DEFAULT_MAX_DOCUMENT_BYTES: usize = 8 * 1024 * 1024;
-/// Default most environments held at once, single envs and batch members together.
-pub const DEFAULT_MAX_ENVS: usize = 65_536;
-/// Default most environments in one batch.
-pub const DEFAULT_MAX_BATCH_SIZE: usize = 16_384;
-/// Default most instances (bodies) per document: far more than a real robot has.
-pub const DEFAULT_MAX_INSTANCES: usize = 512;
-/// Default most joints per document, fixed ones included.
-pub const DEFAULT_MAX_JOINTS: usize = 512;
-/// Default most DOFs per document: a humanoid has ~30–60. A step's cost grows faster
-/// than linearly with the DOFs of a chain (a 20-DOF chain costs ~160 µs a step, a few
-/// hundred cost seconds), so this bounds the work one env step can ask for.
-pub const DEFAULT_MAX_DOFS: usize = 128;
-/// Default most work one step call may ask for, in DOF-substeps (envs × substeps ×
-/// DOFs): 10 million, e.g. 16 384 six-DOF arms at 100 substeps, or 16 384 humanoids of
-/// 60 DOFs at 10. At ~1–2 µs per DOF-substep that bounds a call to seconds, not hours.
-pub const DEFAULT_MAX_STEP_WORK: usize = 10_000_000;
-/// Default most observed end effectors per env.
-pub const DEFAULT_MAX_END_EFFECTORS: usize = 64;
 /// Default idle time after which an untouched env or batch is closed: 10 minutes.
 pub const DEFAULT_IDLE_TTL: Duration = Duration::from_secs(600);
 
@@ -146,6 +129,22 @@ impl Default for ServerConfig {
 }
 
 impl ServerConfig {
+    /// The value of `limit` here; 0 = no limit.
+    pub fn limit(&self, limit: Limit) -> usize {
+        match limit {
+            Limit::Envs => self.max_envs,
+            Limit::TenantEnvs => self.tenant_max_envs,
+            Limit::BatchSize => self.max_batch_size,
+            Limit::DocumentBytes => self.max_document_bytes,
+            Limit::MessageBytes => self.max_message_bytes,
+            Limit::Instances => self.max_instances,
+            Limit::Joints => self.max_joints,
+            Limit::Dofs => self.max_dofs,
+            Limit::EndEffectors => self.max_end_effectors,
+            Limit::StepWork => self.max_step_work,
+        }
+    }
+
     /// The idle TTL, if reclaiming is enabled.
     pub fn idle_ttl(&self) -> Option<Duration> {
         (!self.idle_ttl.is_zero()).then_some(self.idle_ttl)

@@ -39,14 +39,14 @@ mod tenant;
 
 pub use cli::{init_tracing, Cli, LogFormat};
 pub use clock::Clock;
-pub use config::{
-    ServerConfig, TlsConfig, DEFAULT_IDLE_TTL, DEFAULT_MAX_BATCH_SIZE, DEFAULT_MAX_DOCUMENT_BYTES,
-    DEFAULT_MAX_DOFS, DEFAULT_MAX_END_EFFECTORS, DEFAULT_MAX_ENVS, DEFAULT_MAX_INSTANCES,
-    DEFAULT_MAX_JOINTS, DEFAULT_MAX_MESSAGE_BYTES, DEFAULT_MAX_STEP_WORK,
-};
+pub use config::{ServerConfig, TlsConfig, DEFAULT_IDLE_TTL};
 pub use direct::DirectService;
 pub use error::{EntityKind, Result, ServerError, MAX_STATUS_MESSAGE_BYTES};
-pub use limit::Limit;
+pub use limit::{
+    Limit, DEFAULT_MAX_BATCH_SIZE, DEFAULT_MAX_DOCUMENT_BYTES, DEFAULT_MAX_DOFS,
+    DEFAULT_MAX_END_EFFECTORS, DEFAULT_MAX_ENVS, DEFAULT_MAX_INSTANCES, DEFAULT_MAX_JOINTS,
+    DEFAULT_MAX_MESSAGE_BYTES, DEFAULT_MAX_STEP_WORK,
+};
 pub use listen::{ListenAddr, Listener, SocketFile};
 pub use local::LocalServer;
 pub use models::{LibraryModel, ModelLibrary};

@@ -1,14 +1,32 @@
 //! The server's limits, each written once: its name (the `ServerConfig` field, the
 //! `ServerLimits` field on the wire and the refusal metric's `reason` label), its flag, its
-//! environment variable, and what 0 means (no limit).
+//! environment variable, its default, and what 0 means (no limit). A leaf: a
+//! `ServerConfig` holds each limit's value (`ServerConfig::limit`).
 
 use std::fmt;
 
-use crate::config::{
-    ServerConfig, DEFAULT_MAX_BATCH_SIZE, DEFAULT_MAX_DOCUMENT_BYTES, DEFAULT_MAX_DOFS,
-    DEFAULT_MAX_END_EFFECTORS, DEFAULT_MAX_ENVS, DEFAULT_MAX_INSTANCES, DEFAULT_MAX_JOINTS,
-    DEFAULT_MAX_MESSAGE_BYTES, DEFAULT_MAX_STEP_WORK,
-};
+/// Default largest gRPC message, decoded or encoded: 64 MiB (tonic's own default is 4 MiB).
+pub const DEFAULT_MAX_MESSAGE_BYTES: usize = 64 * 1024 * 1024;
+/// Default largest `document_json`: 8 MiB.
+pub const DEFAULT_MAX_DOCUMENT_BYTES: usize = 8 * 1024 * 1024;
+/// Default most environments held at once, single envs and batch members together.
+pub const DEFAULT_MAX_ENVS: usize = 65_536;
+/// Default most environments in one batch.
+pub const DEFAULT_MAX_BATCH_SIZE: usize = 16_384;
+/// Default most instances (bodies) per document: far more than a real robot has.
+pub const DEFAULT_MAX_INSTANCES: usize = 512;
+/// Default most joints per document, fixed ones included.
+pub const DEFAULT_MAX_JOINTS: usize = 512;
+/// Default most DOFs per document: a humanoid has ~30–60. A step's cost grows faster
+/// than linearly with the DOFs of a chain (a 20-DOF chain costs ~160 µs a step, a few
+/// hundred cost seconds), so this bounds the work one env step can ask for.
+pub const DEFAULT_MAX_DOFS: usize = 128;
+/// Default most work one step call may ask for, in DOF-substeps (envs × substeps ×
+/// DOFs): 10 million, e.g. 16 384 six-DOF arms at 100 substeps, or 16 384 humanoids of
+/// 60 DOFs at 10. At ~1–2 µs per DOF-substep that bounds a call to seconds, not hours.
+pub const DEFAULT_MAX_STEP_WORK: usize = 10_000_000;
+/// Default most observed end effectors per env.
+pub const DEFAULT_MAX_END_EFFECTORS: usize = 64;
 
 /// One of the server's limits. Every one is a count; 0 means "no limit".
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -119,22 +137,6 @@ impl Limit {
         }
     }
 
-    /// Its value in `config`; 0 = no limit.
-    pub fn of(self, config: &ServerConfig) -> usize {
-        match self {
-            Limit::Envs => config.max_envs,
-            Limit::TenantEnvs => config.tenant_max_envs,
-            Limit::BatchSize => config.max_batch_size,
-            Limit::DocumentBytes => config.max_document_bytes,
-            Limit::MessageBytes => config.max_message_bytes,
-            Limit::Instances => config.max_instances,
-            Limit::Joints => config.max_joints,
-            Limit::Dofs => config.max_dofs,
-            Limit::EndEffectors => config.max_end_effectors,
-            Limit::StepWork => config.max_step_work,
-        }
-    }
-
     /// Whether `count` is over the limit `max` (0 = no limit, never over).
     pub fn exceeded(max: usize, count: usize) -> bool {
         max != 0 && count > max
@@ -174,15 +176,15 @@ mod tests {
         assert!(!Limit::exceeded(0, usize::MAX));
         assert!(!Limit::exceeded(4, 4));
         assert!(Limit::exceeded(4, 5));
-        let config = ServerConfig {
+        let config = crate::ServerConfig {
             max_joints: 7,
-            ..ServerConfig::default()
+            ..crate::ServerConfig::default()
         };
-        assert_eq!(Limit::Joints.of(&config), 7);
+        assert_eq!(config.limit(Limit::Joints), 7);
         // The defaults of a server built in code are the command line's.
-        let config = ServerConfig::default();
+        let config = crate::ServerConfig::default();
         for limit in Limit::ALL {
-            assert_eq!(limit.of(&config), limit.default_value(), "{limit:?}");
+            assert_eq!(config.limit(limit), limit.default_value(), "{limit:?}");
         }
     }
 }

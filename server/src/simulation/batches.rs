@@ -37,7 +37,7 @@ impl Simulation {
         tenant: &Tenant,
         request: BatchRequest,
     ) -> Result<Created> {
-        let max = Limit::BatchSize.of(&self.config);
+        let max = self.config.limit(Limit::BatchSize);
         if Limit::exceeded(max, request.n_envs) {
             return Err(ServerError::BatchTooLarge {
                 n_envs: request.n_envs,

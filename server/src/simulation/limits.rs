@@ -29,7 +29,7 @@ pub(super) fn check_structure(
         ("end_effector_ids", end_effectors, Limit::EndEffectors),
     ];
     for (what, count, limit) in checks {
-        let max = limit.of(config);
+        let max = config.limit(limit);
         if Limit::exceeded(max, count) {
             return Err(ServerError::TooComplex {
                 what,
@@ -50,7 +50,7 @@ pub(super) fn check_step_work(
     substeps: u32,
     dofs: usize,
 ) -> Result<()> {
-    let max = Limit::StepWork.of(config);
+    let max = config.limit(Limit::StepWork);
     let substeps = usize::try_from(substeps).unwrap_or(usize::MAX);
     let work = n_envs.saturating_mul(substeps).saturating_mul(dofs.max(1));
     if Limit::exceeded(max, work) {
@@ -73,7 +73,7 @@ pub(super) fn check_reply_size(
     n_envs: usize,
     observation_dim: usize,
 ) -> Result<()> {
-    let max = Limit::MessageBytes.of(config);
+    let max = config.limit(Limit::MessageBytes);
     let bytes = n_envs
         .saturating_mul(observation_dim)
         .saturating_mul(2 * 4)
@@ -94,7 +94,7 @@ impl Simulation {
     pub(super) fn quota(&self, tenant: &Tenant) -> Arc<EnvCapacity> {
         let mut quotas = self.quotas.lock().unwrap_or_else(PoisonError::into_inner);
         let quota = quotas.entry(tenant.clone()).or_insert_with(|| {
-            EnvCapacity::for_tenant(Limit::TenantEnvs.of(&self.config), tenant.clone())
+            EnvCapacity::for_tenant(self.config.limit(Limit::TenantEnvs), tenant.clone())
         });
         Arc::clone(quota)
     }
@@ -115,7 +115,7 @@ impl Simulation {
 
     /// [`Simulation::check_document`] for a document found in `field`.
     pub(super) fn check_document_in(&self, field: &'static str, document: &str) -> Result<()> {
-        let max = Limit::DocumentBytes.of(&self.config);
+        let max = self.config.limit(Limit::DocumentBytes);
         if Limit::exceeded(max, document.len()) {
             return Err(ServerError::DocumentTooLarge {
                 field,

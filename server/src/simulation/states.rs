@@ -108,7 +108,7 @@ impl Simulation {
             n_envs,
             autoreset,
         } = request;
-        let max = Limit::BatchSize.of(&self.config);
+        let max = self.config.limit(Limit::BatchSize);
         if Limit::exceeded(max, n_envs) {
             return Err(ServerError::BatchTooLarge { n_envs, max });
         }
