@@ -14,6 +14,7 @@ use tonic::transport::server::TcpIncoming;
 use tonic::transport::{Certificate, Identity, Server, ServerTlsConfig};
 
 use crate::auth::Authenticator;
+use crate::clock::Clock;
 use crate::config::{ServerConfig, TlsConfig};
 use crate::error::{Result, ServerError};
 use crate::listen::Listener;
@@ -124,6 +125,7 @@ pub(crate) async fn serve_bound(
             Arc::clone(&sim),
             ttl,
             config.sweep_interval(),
+            config.clock.clone(),
             stop_rx.clone(),
         ))
     });
@@ -212,19 +214,30 @@ fn error_chain(err: &(dyn std::error::Error + 'static)) -> String {
     text
 }
 
-/// Every `interval`, closes the envs and batches idle for at least `ttl`.
+/// Every `interval`, and whenever a manual `clock` moves, closes the envs and batches
+/// idle for at least `ttl`.
 async fn sweep_idle(
     sim: Arc<Simulation>,
     ttl: Duration,
     interval: Duration,
+    clock: Clock,
     mut stop: watch::Receiver<bool>,
 ) {
     let mut ticks = tokio::time::interval(interval);
     ticks.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
+    let mut moves = clock.moves();
     loop {
+        let moved = async {
+            match &mut moves {
+                Some(moves) => moves.changed().await.is_ok(),
+                None => std::future::pending().await,
+            }
+        };
         tokio::select! {
             _ = stop.wait_for(|stop| *stop) => return,
-            _ = ticks.tick() => sim.reclaim_idle(ttl),
+            _ = ticks.tick() => {}
+            true = moved => {}
         }
+        clock.sweep(|| sim.reclaim_idle(ttl));
     }
 }

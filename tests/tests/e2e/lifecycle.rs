@@ -147,29 +147,14 @@ async fn held(client: &gymfleet_client::Client) -> (u64, u64, u64) {
     (info.envs, info.batches, info.batch_envs)
 }
 
-/// Waits (polling; server info touches nothing) until the server holds `want`; bounded.
-async fn wait_until_held(client: &gymfleet_client::Client, want: (u64, u64, u64)) {
-    for _ in 0..500 {
-        if held(client).await == want {
-            return;
-        }
-        tokio::time::sleep(Duration::from_millis(10)).await;
-    }
-    panic!(
-        "the server still holds {:?}, not {want:?}",
-        held(client).await
-    );
-}
-
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn idle_ttl_reclaims_abandoned_envs_and_batches() {
-    // Idleness is measured on a clock the test moves: nothing depends on how long the
-    // test takes, only on the sweeper running (every 10 ms).
+    // Idleness is measured on a clock the test moves, and the sweeper sweeps whenever it
+    // moves (`Clock::swept` waits for that sweep): nothing depends on time passing.
     let clock = Clock::manual();
     let server = TestServer::start(ServerConfig {
         threads: 2,
         idle_ttl: Duration::from_secs(60),
-        sweep_interval: Some(Duration::from_millis(10)),
         clock: clock.clone(),
         ..ServerConfig::default()
     })
@@ -188,21 +173,24 @@ async fn idle_ttl_reclaims_abandoned_envs_and_batches() {
         .await
         .expect("env");
 
-    // However long the sweeper runs, nothing is idle before the clock moves.
-    for _ in 0..5 {
-        tokio::time::sleep(Duration::from_millis(20)).await;
-        assert_eq!(held(&client).await, (2, 1, 3));
-    }
+    // A sweep before the clock moves finds nothing idle.
+    clock.advance(Duration::ZERO);
+    crate::swept(&clock).await;
+    assert_eq!(held(&client).await, (2, 1, 3));
     clock.advance(Duration::from_secs(59));
+    crate::swept(&clock).await;
+    assert_eq!(held(&client).await, (2, 1, 3), "59 s is not idle enough");
     kept.observe().await.expect("a call touches the env");
     clock.advance(Duration::from_secs(1));
+    crate::swept(&clock).await;
     // Now `env` and `batch` have been idle 60 s, `kept` only 1 s.
-    wait_until_held(&client, (1, 0, 0)).await;
+    assert_eq!(held(&client).await, (1, 0, 0));
     assert_not_found(&env.observe().await.unwrap_err(), &[env.id()]);
     assert_not_found(&batch.observe().await.unwrap_err(), &[batch.id()]);
     kept.observe().await.expect("the touched env is kept");
     clock.advance(Duration::from_secs(60));
-    wait_until_held(&client, (0, 0, 0)).await;
+    crate::swept(&clock).await;
+    assert_eq!(held(&client).await, (0, 0, 0));
     server.stop().await.expect("clean shutdown");
 }
 

@@ -94,3 +94,12 @@ fn actions(seed: u64, len: usize, amplitude: f32) -> Vec<f32> {
         })
         .collect()
 }
+
+/// Waits for the idle sweeper to sweep at a manual clock's present time
+/// ([`gymfleet_server::Clock::swept`]); the minute's bound only turns a sweeper that
+/// never runs (a bug) into a failure instead of a hang.
+async fn swept(clock: &gymfleet_server::Clock) {
+    tokio::time::timeout(std::time::Duration::from_secs(60), clock.swept())
+        .await
+        .expect("the idle sweeper swept after the clock moved");
+}
