@@ -17,13 +17,18 @@ pub(crate) fn on_server(client: &Client, err: ClientError) -> ClientError {
 }
 
 /// Runs the futures concurrently (each as a task, so their encoding and decoding can use
-/// every runtime thread) and returns their outputs in order. A panicking future panics
-/// the caller; tasks still running when the returned future is dropped are aborted.
+/// every runtime thread; one alone runs in the caller, with nothing to overlap) and
+/// returns their outputs in order. A panicking future panics the caller; tasks still
+/// running when the returned future is dropped are aborted.
 pub(crate) async fn join_all<T, F>(futures: impl IntoIterator<Item = F>) -> Vec<Result<T>>
 where
     F: Future<Output = Result<T>> + Send + 'static,
     T: Send + 'static,
 {
+    let mut futures: Vec<F> = futures.into_iter().collect();
+    if futures.len() == 1 {
+        return vec![futures.remove(0).await];
+    }
     let mut set = JoinSet::new();
     let mut count = 0;
     for (i, future) in futures.into_iter().enumerate() {

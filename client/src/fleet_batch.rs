@@ -81,6 +81,11 @@ impl Shard {
 /// A call that fails on some shard for another reason (e.g. INTERNAL) returns
 /// [`ClientError::OnServer`]; the other shards have done the call, so the shards may be
 /// out of step until the next reset.
+///
+/// A one-server [`Batch`] becomes a fleet batch of one shard with `FleetBatch::from`
+/// (the Python package drives every batch so): its calls go straight to that server, and
+/// its errors are the server's own, unwrapped (no shard can step alone, so nothing is
+/// checked on this side first, and no error counts as a lost server).
 #[derive(Debug)]
 pub struct FleetBatch {
     pub(crate) shards: Vec<Shard>,
@@ -90,6 +95,18 @@ pub struct FleetBatch {
     /// With [`FleetBatch::checkpoint_every`]: the last checkpoint and what was done since
     /// (`fleet_batch/recovery.rs`).
     pub(crate) checkpoints: Option<recovery::Checkpoints>,
+    /// Made from one server's batch (`From<Batch>`): errors pass through as given.
+    pub(crate) single: bool,
+}
+
+impl From<Batch> for FleetBatch {
+    fn from(batch: Batch) -> Self {
+        let n_envs = batch.info().n_envs;
+        let mut one = FleetBatch::new(vec![Shard::new(batch, 0..n_envs)])
+            .unwrap_or_else(|_| unreachable!("one shard agrees with itself"));
+        one.single = true;
+        one
+    }
 }
 
 impl FleetBatch {
@@ -119,6 +136,7 @@ impl FleetBatch {
             env_indices: Vec::new(),
             interrupted: None,
             checkpoints: None,
+            single: false,
         };
         batch.refresh();
         Ok(batch)
@@ -172,34 +190,25 @@ impl FleetBatch {
     /// server is called, so no shard steps alone.
     pub async fn step(&mut self, action_type: ActionType, actions: &[f32]) -> Result<BatchStep> {
         self.check_not_lost()?;
-        let dim = self.info.action_dim;
-        let expected = self.info.n_envs * dim;
-        if actions.len() != expected {
-            return Err(ClientError::InvalidArgument {
-                message: format!(
-                    "actions: expected {expected} values ({} envs × {dim}), got {}",
-                    self.info.n_envs,
-                    actions.len()
-                ),
-            });
-        }
-        if let Some(k) = actions.iter().position(|a| !a.is_finite()) {
-            return Err(ClientError::InvalidArgument {
-                message: format!(
-                    "actions[{k}] (env {}): expected a finite value, got {}",
-                    self.env_indices[k / dim.max(1)],
-                    actions[k]
-                ),
-            });
+        if !self.single {
+            self.check_actions(actions)?;
         }
         self.log(|| recovery::Logged::Step {
             action_type,
             actions: actions.to_vec(),
         });
+        let dim = self.info.action_dim;
+        let one_shard = self.shards.len() == 1;
         let mut position = 0;
         let stepping = self.shards.iter().map(|shard| {
             let n = shard.envs.len();
-            let part = actions[position * dim..(position + n) * dim].to_vec();
+            // One shard takes every value as given (the server checks them when this
+            // side did not); several take their checked slices.
+            let part = if one_shard {
+                actions.to_vec()
+            } else {
+                actions[position * dim..(position + n) * dim].to_vec()
+            };
             position += n;
             let batch = shard.batch.clone();
             async move { batch.step_raw(action_type, part).await }
@@ -214,6 +223,37 @@ impl FleetBatch {
         let step = BatchStep::new(merge_steps(replies, &lens), &self.info)?;
         self.checkpoint_if_due().await;
         Ok(step)
+    }
+
+    /// Refuses wrong lengths and non-finite values before any server is called, so that
+    /// no shard steps alone. The messages are the server's, with original env indices.
+    fn check_actions(&self, actions: &[f32]) -> Result<()> {
+        let dim = self.info.action_dim;
+        let n_envs = self.info.n_envs;
+        let expected = n_envs * dim;
+        if actions.len() != expected {
+            let plural =
+                |n: usize, one: &str, many: &str| if n == 1 { one } else { many }.to_string();
+            return Err(ClientError::InvalidArgument {
+                message: format!(
+                    "actions: expected {expected} {} ({n_envs} {} × {dim} DOF), got {}",
+                    plural(expected, "value", "values"),
+                    plural(n_envs, "env", "envs"),
+                    actions.len()
+                ),
+            });
+        }
+        match actions.iter().position(|a| !a.is_finite()) {
+            Some(k) => Err(ClientError::InvalidArgument {
+                message: format!(
+                    "actions[{k}] (env {}, value {}): expected a finite number, got {}",
+                    self.env_indices[k / dim.max(1)],
+                    k % dim.max(1),
+                    actions[k]
+                ),
+            }),
+            None => Ok(()),
+        }
     }
 
     /// Resets every env; with `seed`, the env of original index `i` is reseeded with
@@ -400,8 +440,12 @@ impl FleetBatch {
 
     pub(crate) fn combine_observations(
         &self,
-        parts: Vec<BatchObservations>,
+        mut parts: Vec<BatchObservations>,
     ) -> Result<BatchObservations> {
+        // One shard's observations are the batch's: no copy.
+        if parts.len() == 1 {
+            return Ok(parts.remove(0));
+        }
         let mut observations = Vec::with_capacity(self.info.n_envs * self.info.observation_dim);
         for part in parts {
             observations.extend_from_slice(part.observations());
@@ -459,11 +503,13 @@ impl FleetBatch {
             .filter(|s| s.lost.is_none())
             .map(|shard| {
                 let batch = shard.batch.clone();
+                let single = self.single;
                 async move {
-                    batch
-                        .close()
-                        .await
-                        .map_err(|e| on_server(batch.client(), e))
+                    let closed = batch.close().await;
+                    if single {
+                        return closed;
+                    }
+                    closed.map_err(|e| on_server(batch.client(), e))
                 }
             });
         join_all(closing.collect::<Vec<_>>())

@@ -2,9 +2,7 @@
 //! `gymfleet.GymfleetVectorEnv`. Replies become numpy arrays without per-element
 //! Python objects: observations take over the reply's decoded vector.
 
-use gymfleet_client::{
-    Autoreset, Batch, BatchObservations, BatchStep, EnvState, FleetBatch, Result,
-};
+use gymfleet_client::{Autoreset, BatchStep, EnvState, FleetBatch};
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
@@ -14,89 +12,6 @@ use crate::info::batch_info;
 use crate::options::{invalid, seed, timeout, CreateOptions};
 use crate::runtime::{wait, Deadline};
 use crate::servers::{resolve, Target};
-
-/// The batch, on one server or sharded.
-enum Shards {
-    One(Batch),
-    Fleet(FleetBatch),
-}
-
-impl Shards {
-    async fn step(
-        &mut self,
-        action_type: gymfleet_client::ActionType,
-        actions: &[f32],
-    ) -> Result<BatchStep> {
-        match self {
-            Shards::One(b) => b.step(action_type, actions).await,
-            Shards::Fleet(f) => f.step(action_type, actions).await,
-        }
-    }
-
-    async fn reset(
-        &mut self,
-        seed: Option<u64>,
-        env_indices: Option<&[u32]>,
-    ) -> Result<BatchObservations> {
-        match (self, env_indices) {
-            (Shards::One(b), None) => b.reset(seed).await,
-            (Shards::One(b), Some(indices)) => b.reset_envs(seed, 0, indices).await,
-            (Shards::Fleet(f), indices) => f.reset_envs(seed, 0, indices).await,
-        }
-    }
-
-    async fn observe(&mut self) -> Result<BatchObservations> {
-        match self {
-            Shards::One(b) => b.observe().await,
-            Shards::Fleet(f) => f.observe().await,
-        }
-    }
-
-    async fn randomization(&self, env: usize) -> Result<gymfleet_client::RandomizationDraws> {
-        match self {
-            Shards::One(b) => b.randomization(env).await,
-            Shards::Fleet(f) => f.randomization(env).await,
-        }
-    }
-
-    async fn render(
-        &self,
-        env: usize,
-        camera: &gymfleet_client::Camera,
-        width: u32,
-        height: u32,
-    ) -> Result<gymfleet_client::Image> {
-        match self {
-            Shards::One(b) => b.render(env, camera, width, height).await,
-            Shards::Fleet(f) => f.render(env, camera, width, height).await,
-        }
-    }
-
-    async fn save_states(&mut self, env_indices: &[u32]) -> Result<Vec<EnvState>> {
-        match self {
-            Shards::One(b) => b.save_states(env_indices).await,
-            Shards::Fleet(f) => f.save_states(env_indices).await,
-        }
-    }
-
-    async fn load_states(
-        &mut self,
-        env_indices: &[u32],
-        states: &[EnvState],
-    ) -> Result<BatchObservations> {
-        match self {
-            Shards::One(b) => b.load_states(env_indices, states).await,
-            Shards::Fleet(f) => f.load_states(env_indices, states).await,
-        }
-    }
-
-    async fn close(&self) -> Result<()> {
-        match self {
-            Shards::One(b) => b.close().await,
-            Shards::Fleet(f) => f.close().await,
-        }
-    }
-}
 
 /// One batch step's results, taken out of the reply before the GIL is taken back.
 struct StepRows {
@@ -164,8 +79,9 @@ type StepTuple<'py> = (
 /// A batch of identical envs; its calls block (GIL released) until every shard answered.
 #[pyclass(module = "gymfleet._core", frozen)]
 pub(crate) struct BatchHandle {
-    /// An async lock: a call holds it across its network round trip.
-    shards: tokio::sync::Mutex<Shards>,
+    /// The batch, on one server (a fleet batch of one shard, `FleetBatch::from`) or
+    /// sharded. An async lock: a call holds it across its network round trip.
+    batch: tokio::sync::Mutex<FleetBatch>,
     info: gymfleet_client::BatchInfo,
     /// `(server, batch_id, start, stop)` per shard.
     placement: Vec<(String, String, usize, usize)>,
@@ -219,34 +135,31 @@ impl BatchHandle {
         let options = options
             .batch_options(document_json, n_envs)?
             .autoreset(mode);
-        let shards = match resolve(py, server, token)? {
-            Target::One(client) => Shards::One(wait(py, timeout, || async move {
-                client.create_batch(options).await
-            })?),
-            Target::Fleet(fleet) => Shards::Fleet(wait(py, timeout, || async move {
-                fleet.create_batch(options).await
-            })?),
+        let batch: FleetBatch = match resolve(py, server, token)? {
+            Target::One(client) => {
+                wait(
+                    py,
+                    timeout,
+                    || async move { client.create_batch(options).await },
+                )?
+                .into()
+            }
+            Target::Fleet(fleet) => {
+                wait(
+                    py,
+                    timeout,
+                    || async move { fleet.create_batch(options).await },
+                )?
+            }
         };
-        let (info, placement) = match &shards {
-            Shards::One(b) => (
-                b.info().clone(),
-                vec![(
-                    b.server().to_string(),
-                    b.id().to_string(),
-                    0,
-                    b.info().n_envs,
-                )],
-            ),
-            Shards::Fleet(f) => (
-                f.info().clone(),
-                f.placement()
-                    .into_iter()
-                    .map(|p| (p.server, p.batch_id, p.envs.start, p.envs.end))
-                    .collect(),
-            ),
-        };
+        let info = batch.info().clone();
+        let placement = batch
+            .placement()
+            .into_iter()
+            .map(|p| (p.server, p.batch_id, p.envs.start, p.envs.end))
+            .collect();
         Ok(BatchHandle {
-            shards: tokio::sync::Mutex::new(shards),
+            batch: tokio::sync::Mutex::new(batch),
             info,
             placement,
             timeout: Deadline::new(timeout),
@@ -273,10 +186,10 @@ impl BatchHandle {
         let seed = seed_value.map(|s| seed("seed", s)).transpose()?;
         let indices: Option<Vec<u32>> = env_indices.map(|a| a.as_array().to_vec());
         let observations = wait(py, self.timeout.get(), || async move {
-            self.shards
+            self.batch
                 .lock()
                 .await
-                .reset(seed, indices.as_deref())
+                .reset_envs(seed, 0, indices.as_deref())
                 .await
         })?;
         matrix(
@@ -296,7 +209,7 @@ impl BatchHandle {
     ) -> PyResult<Vec<Bound<'py, PyBytes>>> {
         let indices: Vec<u32> = env_indices.map_or_else(Vec::new, |a| a.as_array().to_vec());
         let states = wait(py, self.timeout.get(), || async move {
-            self.shards.lock().await.save_states(&indices).await
+            self.batch.lock().await.save_states(&indices).await
         })?;
         Ok(states
             .iter()
@@ -316,11 +229,7 @@ impl BatchHandle {
         let indices: Vec<u32> = env_indices.map_or_else(Vec::new, |a| a.as_array().to_vec());
         let states: Vec<EnvState> = states.into_iter().map(EnvState::from_bytes).collect();
         let observations = wait(py, self.timeout.get(), || async move {
-            self.shards
-                .lock()
-                .await
-                .load_states(&indices, &states)
-                .await
+            self.batch.lock().await.load_states(&indices, &states).await
         })?;
         matrix(
             py,
@@ -342,7 +251,7 @@ impl BatchHandle {
             Err(_) => actions.as_array().iter().copied().collect(),
         };
         let rows = wait(py, self.timeout.get(), || async move {
-            self.shards
+            self.batch
                 .lock()
                 .await
                 .step(action_type, &values)
@@ -370,7 +279,7 @@ impl BatchHandle {
     /// Every env's current observation, without stepping.
     fn observe<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f32>>> {
         let observations = wait(py, self.timeout.get(), || async move {
-            self.shards.lock().await.observe().await
+            self.batch.lock().await.observe().await
         })?;
         matrix(
             py,
@@ -386,7 +295,7 @@ impl BatchHandle {
         env_index: usize,
     ) -> PyResult<Bound<'py, PyDict>> {
         let d = wait(py, self.timeout.get(), || async move {
-            self.shards.lock().await.randomization(env_index).await
+            self.batch.lock().await.randomization(env_index).await
         })?;
         crate::info::draws(py, d)
     }
@@ -408,7 +317,7 @@ impl BatchHandle {
     ) -> PyResult<Bound<'py, numpy::PyArray3<u8>>> {
         let camera = crate::render::camera(camera, eye, target, fov_deg, orthographic)?;
         let image = wait(py, self.timeout.get(), || async move {
-            self.shards
+            self.batch
                 .lock()
                 .await
                 .render(env_index, &camera, width, height)
@@ -424,7 +333,7 @@ impl BatchHandle {
             return Ok(false);
         }
         wait(py, self.timeout.get(), || async move {
-            self.shards.lock().await.close().await
+            self.batch.lock().await.close().await
         })?;
         Ok(true)
     }

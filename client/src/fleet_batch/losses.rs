@@ -69,7 +69,11 @@ impl FleetBatch {
 
     /// A server that fails a call without a clear status (a dropped connection can come
     /// back as UNKNOWN) is asked for its info: if that fails too, the server is lost.
+    /// A single server's batch (`From<Batch>`) keeps its errors as they are.
     pub(crate) async fn confirm_losses<T>(&self, mut results: Vec<Result<T>>) -> Vec<Result<T>> {
+        if self.single {
+            return results;
+        }
         for (shard, result) in self.shards.iter().zip(results.iter_mut()) {
             let Err(err @ ClientError::Internal { .. }) = result else {
                 continue;
@@ -99,6 +103,10 @@ impl FleetBatch {
         results: Vec<Result<T>>,
         mut keep: impl FnMut(&mut Shard, T),
     ) -> Result<Vec<T>> {
+        if self.single {
+            // One server's errors are its own: not a loss, not wrapped.
+            return results.into_iter().collect();
+        }
         let mut values = Vec::with_capacity(results.len());
         let mut lost = None;
         let mut other = None;

@@ -184,7 +184,11 @@ async fn a_fleet_batch_is_split_by_threads_and_steps_like_one_server_bitwise() {
     let mut bad = vec![0.0; N_ENVS * ACTION_DIM];
     bad[2 * 50 + 1] = f32::NAN;
     let err = batch.step(ActionType::Torque, &bad).await.unwrap_err();
-    assert!(err.message().contains("env 50"), "{err}");
+    assert_eq!(
+        err.message(),
+        "actions[101] (env 50, value 1): expected a finite number, got NaN",
+        "the server's wording, with the fleet's env index"
+    );
     let after = batch.observe().await.expect("observe");
     assert_eq!(bits(after.observations()), bits(observed.observations()));
 
@@ -613,4 +617,68 @@ async fn a_lost_server_is_recovered_onto_a_replacement() {
         }
     }
     batch.close().await.expect("close");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn one_servers_batch_as_a_fleet_batch_steps_alike_and_keeps_the_servers_errors() {
+    let server = TestServer::start_default().await;
+    let client = server.client().await;
+    let options = BatchOptions::new(ARM2, 3)
+        .end_effectors(["forearm"])
+        .autoreset(Autoreset::SameStep)
+        .max_steps(25)
+        .seed(5);
+    let reference = client.create_batch(options.clone()).await.expect("batch");
+    let batch = client.create_batch(options).await.expect("batch");
+    let id = batch.id().to_string();
+    let mut one = FleetBatch::from(batch);
+    assert_eq!(one.info().batch_id, id, "one shard: the server's own id");
+    assert_eq!(one.placement().len(), 1);
+    for t in 0..40 {
+        let action = actions(t, 3 * ACTION_DIM, 0.05);
+        let a = one.step(ActionType::Torque, &action).await.expect("step");
+        let b = reference
+            .step(ActionType::Torque, &action)
+            .await
+            .expect("step");
+        assert_eq!(bits(a.observations()), bits(b.observations()), "step {t}");
+        assert_eq!(bits(a.rewards()), bits(b.rewards()));
+        assert_eq!(a.final_env_indices(), b.final_env_indices());
+    }
+    let (a, b) = (one.reset(Some(9)).await, reference.reset(Some(9)).await);
+    assert_eq!(
+        bits(a.expect("reset").observations()),
+        bits(b.expect("reset").observations())
+    );
+
+    // Refusals are the server's own, unwrapped.
+    let err = one.step(ActionType::Torque, &[0.0; 5]).await.unwrap_err();
+    assert!(
+        matches!(err, ClientError::InvalidArgument { .. }),
+        "{err:?}"
+    );
+    assert_eq!(
+        err.message(),
+        "actions: expected 6 values (3 envs × 2 DOF), got 5"
+    );
+    let mut bad = vec![0.0; 3 * ACTION_DIM];
+    bad[3] = f32::INFINITY;
+    let err = one.step(ActionType::Torque, &bad).await.unwrap_err();
+    assert_eq!(
+        err.message(),
+        "actions[3] (env 1, value 1): expected a finite number, got inf"
+    );
+    // A batch its server no longer holds is NOT_FOUND, as for the batch itself, not a
+    // lost server.
+    one.close().await.expect("close");
+    let err = one.observe().await.unwrap_err();
+    assert!(matches!(err, ClientError::NotFound { .. }), "{err:?}");
+    let err = reference
+        .step(ActionType::Torque, &[0.0; 5])
+        .await
+        .unwrap_err();
+    assert!(
+        err.message().starts_with("actions: expected 6 values"),
+        "{err}"
+    );
 }
