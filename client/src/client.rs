@@ -10,7 +10,7 @@ use pb::simulator_client::SimulatorClient;
 use tonic::metadata::{Ascii, MetadataValue};
 use tonic::service::interceptor::InterceptedService;
 use tonic::service::Interceptor;
-use tonic::transport::{Certificate, Channel, ClientTlsConfig, Endpoint, Identity};
+use tonic::transport::{Certificate, ClientTlsConfig, Endpoint, Identity};
 use tonic::{Request, Status};
 
 use crate::error::{ClientError, Result};
@@ -25,8 +25,51 @@ pub const DEFAULT_KEEPALIVE_INTERVAL: Duration = Duration::from_secs(5);
 /// Default wait for a keepalive ping's answer before the connection counts as dead: 10 s.
 pub const DEFAULT_KEEPALIVE_TIMEOUT: Duration = Duration::from_secs(10);
 
+/// What a [`Client`] sends its calls through: a network channel, or a simulator service
+/// running in this process ([`ClientBuilder::in_process`]).
+pub type Transport = tower::util::BoxCloneSyncService<
+    tonic::codegen::http::Request<tonic::body::Body>,
+    tonic::codegen::http::Response<tonic::body::Body>,
+    TransportError,
+>;
+
+/// Why a [`Transport`] failed a call (tonic makes a status of it). A named type rather
+/// than a boxed error so that the futures around it stay provably `Send`.
+#[derive(Debug)]
+pub struct TransportError(Box<dyn std::error::Error + Send + Sync>);
+
+impl std::fmt::Display for TransportError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.0.fmt(f)
+    }
+}
+
+impl std::error::Error for TransportError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        self.0.source()
+    }
+}
+
+/// `service` as a [`Transport`].
+fn transport<S>(service: S) -> Transport
+where
+    S: tower::Service<
+            tonic::codegen::http::Request<tonic::body::Body>,
+            Response = tonic::codegen::http::Response<tonic::body::Body>,
+        > + Clone
+        + Send
+        + Sync
+        + 'static,
+    S::Future: Send + 'static,
+    S::Error: Into<Box<dyn std::error::Error + Send + Sync>>,
+{
+    Transport::new(tower::ServiceExt::map_err(service, |e: S::Error| {
+        TransportError(e.into())
+    }))
+}
+
 /// The generated client with this crate's per-call metadata (token, deadline).
-pub(crate) type Rpc = SimulatorClient<InterceptedService<Channel, CallMetadata>>;
+pub(crate) type Rpc = SimulatorClient<InterceptedService<Transport, CallMetadata>>;
 
 /// A connection to a gymfleet server. Cloning is cheap and shares the connection.
 ///
@@ -344,16 +387,7 @@ impl ClientBuilder {
             addr: self.addr.clone(),
             reason,
         };
-        let authorization = match &self.token {
-            Some(token) => Some(
-                format!("Bearer {token}")
-                    .parse::<MetadataValue<Ascii>>()
-                    .map_err(|_| {
-                        connect_error("the token must be printable ASCII without spaces".into())
-                    })?,
-            ),
-            None => None,
-        };
+        let authorization = self.authorization()?;
         let endpoint = self.endpoint().map_err(connect_error)?;
         let channel = if self.lazy {
             endpoint.connect_lazy()
@@ -363,11 +397,55 @@ impl ClientBuilder {
                 .await
                 .map_err(|e| connect_error(error_chain(&e)))?
         };
+        self.over(transport(channel), authorization)
+    }
+
+    /// A client that calls `service`, a `gymfleet.v1.Simulator` service running in this
+    /// process (the server crate's `LocalServer::in_process`), with no socket or HTTP/2
+    /// framing between them: requests and replies are still encoded, checked and limited
+    /// as over a network. The token and message limit apply; the per-call deadline is sent
+    /// but not enforced on this side (the caller's own timeout is); TLS, keepalive and the
+    /// connect settings have nothing to do. [`Client::addr`] is this builder's address.
+    pub fn in_process<S>(self, service: S) -> Result<Client>
+    where
+        S: tower::Service<
+                tonic::codegen::http::Request<tonic::body::Body>,
+                Response = tonic::codegen::http::Response<tonic::body::Body>,
+            > + Clone
+            + Send
+            + Sync
+            + 'static,
+        S::Future: Send + 'static,
+        S::Error: Into<Box<dyn std::error::Error + Send + Sync>>,
+    {
+        let authorization = self.authorization()?;
+        self.over(transport(service), authorization)
+    }
+
+    /// The token as the `authorization` metadata value, if there is one.
+    fn authorization(&self) -> Result<Option<MetadataValue<Ascii>>> {
+        let Some(token) = &self.token else {
+            return Ok(None);
+        };
+        format!("Bearer {token}")
+            .parse::<MetadataValue<Ascii>>()
+            .map(Some)
+            .map_err(|_| ClientError::Connect {
+                addr: self.addr.clone(),
+                reason: "the token must be printable ASCII without spaces".into(),
+            })
+    }
+
+    fn over(
+        self,
+        transport: Transport,
+        authorization: Option<MetadataValue<Ascii>>,
+    ) -> Result<Client> {
         let metadata = CallMetadata(Arc::new(CallSettings {
             authorization,
             deadline: self.timeout,
         }));
-        let inner = SimulatorClient::with_interceptor(channel, metadata)
+        let inner = SimulatorClient::with_interceptor(transport, metadata)
             .max_decoding_message_size(self.max_message_bytes)
             .max_encoding_message_size(self.max_message_bytes);
         Ok(Client {

@@ -187,7 +187,8 @@ impl FleetBatch {
 
     /// Steps every env once. `actions` holds `n_envs × action_dim` values, row-major, in
     /// the current env order. Wrong lengths and non-finite values are refused before any
-    /// server is called, so no shard steps alone.
+    /// server is called, so no shard steps alone (one server's batch, `From<Batch>`,
+    /// leaves that to its server, whose refusal it returns as it is).
     pub async fn step(&mut self, action_type: ActionType, actions: &[f32]) -> Result<BatchStep> {
         self.check_not_lost()?;
         if !self.single {

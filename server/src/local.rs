@@ -1,10 +1,16 @@
 //! [`LocalServer`]: the one way to run a gymfleet server inside another program — the MCP
 //! adapter's and the load client's embedded server, and every test's.
 //! It serves on loopback (`127.0.0.1:0`) or on a Unix-domain socket, and clients reach it
-//! over gRPC like any other server.
+//! over gRPC like any other server, or, in the same process, through
+//! [`LocalServer::in_process`] without a socket.
+
+use std::convert::Infallible;
 
 use tokio::sync::oneshot;
 use tokio::task::JoinHandle;
+use tonic::body::Body;
+use tonic::codegen::http::{Request, Response};
+use tonic::codegen::Service;
 
 use crate::config::ServerConfig;
 use crate::error::{Result, ServerError};
@@ -22,12 +28,12 @@ use crate::listen::{ListenAddr, Listener};
 /// # Ok(())
 /// # }
 /// ```
-#[derive(Debug)]
 pub struct LocalServer {
     addr: ListenAddr,
     dashboard: Option<std::net::SocketAddr>,
     stop: Option<oneshot::Sender<()>>,
     task: Option<JoinHandle<Result<()>>>,
+    in_process: crate::serve::InProcess,
 }
 
 impl LocalServer {
@@ -53,16 +59,39 @@ impl LocalServer {
             .map(tokio::net::TcpListener::local_addr)
             .transpose()?;
         let (stop, stopped) = oneshot::channel::<()>();
-        let serving = crate::serve::serve_bound(listener, dashboard_listener, config, async move {
-            // A dropped sender stops the server too.
-            let _ = stopped.await;
-        });
+        let (ready, service) = oneshot::channel();
+        let serving = crate::serve::serve_bound(
+            listener,
+            dashboard_listener,
+            config,
+            async move {
+                // A dropped sender stops the server too.
+                let _ = stopped.await;
+            },
+            Some(ready),
+        );
         let task = tokio::spawn(serving);
+        let in_process = match service.await {
+            Ok(service) => service,
+            // It failed before serving: its error says why.
+            Err(_) => {
+                return Err(task
+                    .await
+                    .map_err(|e| ServerError::Panicked {
+                        operation: "serve",
+                        id: None,
+                        message: e.to_string(),
+                    })?
+                    .err()
+                    .unwrap_or(ServerError::ShuttingDown))
+            }
+        };
         Ok(LocalServer {
             addr,
             dashboard,
             stop: Some(stop),
             task: Some(task),
+            in_process,
         })
     }
 
@@ -75,6 +104,30 @@ impl LocalServer {
     /// when it was 0), if it is on.
     pub fn dashboard_addr(&self) -> Option<std::net::SocketAddr> {
         self.dashboard
+    }
+
+    /// The simulator service itself, for a client in this process to call without a
+    /// socket (`gymfleet_client::ClientBuilder::in_process`): the same service the
+    /// listener serves, behind the same authenticator and message limits, so every call
+    /// is what it would be over the network, less the transport. For a server that lives
+    /// as long as the clients made this way (the Python package's embedded server):
+    /// after [`LocalServer::stop`] their calls still reach the simulation.
+    pub fn in_process(
+        &self,
+    ) -> impl Service<
+        Request<Body>,
+        Response = Response<Body>,
+        Error = Infallible,
+        Future: Send + 'static,
+    > + Clone
+           + Send
+           + Sync
+           + 'static {
+        // The authenticator wraps reply bodies in its own type; a client wants tonic's.
+        tower::ServiceExt::<Request<Body>>::map_response(
+            self.in_process.clone(),
+            |reply: Response<_>| reply.map(Body::new),
+        )
     }
 
     /// The address a client connects to: `127.0.0.1:<port>` or `unix:/path`.
@@ -96,6 +149,15 @@ impl LocalServer {
             })?,
             None => Ok(()),
         }
+    }
+}
+
+impl std::fmt::Debug for LocalServer {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("LocalServer")
+            .field("addr", &self.addr)
+            .field("dashboard", &self.dashboard)
+            .finish_non_exhaustive()
     }
 }
 

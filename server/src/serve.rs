@@ -8,7 +8,7 @@ use std::time::Duration;
 
 use gymfleet_batch::StepPool;
 use gymfleet_proto::v1::simulator_server::SimulatorServer;
-use tokio::sync::watch;
+use tokio::sync::{oneshot, watch};
 use tonic::service::interceptor::InterceptedService;
 use tonic::transport::server::TcpIncoming;
 use tonic::transport::{Certificate, Identity, Server, ServerTlsConfig};
@@ -53,8 +53,12 @@ pub async fn serve(
     shutdown: impl Future<Output = ()>,
 ) -> Result<()> {
     let dashboard = crate::dashboard::bind(&config).await?;
-    serve_bound(listener.into(), dashboard, config, shutdown).await
+    serve_bound(listener.into(), dashboard, config, shutdown, None).await
 }
+
+/// The simulator service as the network reaches it (behind the authenticator, with the
+/// message limits), for clients in the same process ([`crate::LocalServer::in_process`]).
+pub(crate) type InProcess = InterceptedService<SimulatorServer<SimulatorService>, Authenticator>;
 
 /// [`serve`] with the dashboard's listener (if `config.dashboard_listen` is set) already
 /// bound, so that [`crate::LocalServer`] knows its address before serving.
@@ -63,6 +67,7 @@ pub(crate) async fn serve_bound(
     dashboard: Option<tokio::net::TcpListener>,
     config: ServerConfig,
     shutdown: impl Future<Output = ()>,
+    in_process: Option<oneshot::Sender<InProcess>>,
 ) -> Result<()> {
     let pool = StepPool::new(config.threads)?;
     let threads = pool.threads();
@@ -158,11 +163,16 @@ pub(crate) async fn serve_bound(
             .tls_config(server_tls(tls))
             .map_err(|e| ServerError::Tls(error_chain(&e)))?;
     }
+    let simulator = InterceptedService::new(simulator, auth.clone());
+    if let Some(sender) = in_process {
+        // The caller may have given up waiting; serving goes on regardless.
+        let _ = sender.send(simulator.clone());
+    }
     let router = builder
         .add_service(health_service)
         .add_service(InterceptedService::new(reflection_v1, auth.clone()))
         .add_service(InterceptedService::new(reflection_v1alpha, auth.clone()))
-        .add_service(InterceptedService::new(simulator, auth.clone()));
+        .add_service(simulator);
     let served = match listener {
         Listener::Tcp(listener) => {
             let incoming = TcpIncoming::from(listener).with_nodelay(Some(true));

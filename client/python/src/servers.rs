@@ -35,11 +35,8 @@ pub(crate) fn resolve(
     token: Option<&str>,
 ) -> PyResult<Target> {
     let addr = match server {
-        // The embedded server: plain TCP on loopback, no token.
-        None => {
-            let addr = embedded_address(py)?;
-            return cached(py, &addr, Client::builder(addr.clone())).map(Target::One);
-        }
+        // The embedded server: called in this process (no socket), no token.
+        None => return embedded_client(py).map(Target::One),
         Some(list) if list.contains(',') => {
             let endpoints = FleetEndpoints::parse(list).map_err(to_py_err)?;
             let clients = endpoints
@@ -101,26 +98,44 @@ fn lock<T>(mutex: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
 /// process exits.
 #[pyfunction]
 pub(crate) fn embedded_address(py: Python<'_>) -> PyResult<String> {
+    embedded(py).map(LocalServer::client_addr)
+}
+
+/// The embedded server (see [`embedded_address`]), started on first use.
+fn embedded(py: Python<'_>) -> PyResult<&'static LocalServer> {
     static EMBEDDED: OnceLock<LocalServer> = OnceLock::new();
     static STARTING: Mutex<()> = Mutex::new(());
     if let Some(server) = EMBEDDED.get() {
-        return Ok(server.client_addr());
+        return Ok(server);
     }
     let started = py.detach(|| {
         let _one_at_a_time = lock(&STARTING);
         if let Some(server) = EMBEDDED.get() {
-            return Ok(server.client_addr());
+            return Ok(server);
         }
         let config = ServerConfig {
             idle_ttl: Duration::ZERO,
             ..ServerConfig::default()
         };
         let server = runtime().block_on(LocalServer::start(config))?;
-        let addr = server.client_addr();
-        let _ = EMBEDDED.set(server);
-        Ok(addr)
+        Ok(EMBEDDED.get_or_init(|| server))
     });
     started.map_err(start_error)
+}
+
+/// The connection to the embedded server: its service called in this process, with no
+/// socket or HTTP/2 between (`LocalServer::in_process`). Other processes (and the
+/// dashboard) still reach the server at [`embedded_address`].
+fn embedded_client(py: Python<'_>) -> PyResult<Client> {
+    static CLIENT: OnceLock<Client> = OnceLock::new();
+    if let Some(client) = CLIENT.get() {
+        return Ok(client.clone());
+    }
+    let server = embedded(py)?;
+    let client = Client::builder(server.client_addr())
+        .in_process(server.in_process())
+        .map_err(to_py_err)?;
+    Ok(CLIENT.get_or_init(|| client).clone())
 }
 
 fn start_error(e: gymfleet_server::ServerError) -> PyErr {

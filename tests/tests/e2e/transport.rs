@@ -84,3 +84,79 @@ async fn a_unix_socket_serves_the_same_results_as_tcp_and_is_removed_at_shutdown
     );
     std::fs::remove_dir_all(&dir).expect("remove temp dir");
 }
+
+/// A client in the server's own process (the Python package's embedded server) calls the
+/// service with no socket between: the same results bit for bit, the same refusals, and
+/// the same authenticator in front.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_in_process_client_gets_what_a_tcp_client_gets() {
+    use gymfleet_server::{LocalServer, TokenTable};
+
+    let server = LocalServer::start(ServerConfig {
+        threads: 2,
+        auth_tokens: Some(std::sync::Arc::new(
+            TokenTable::parse("team-a team-a-token-0123456789\n").expect("tokens"),
+        )),
+        ..ServerConfig::default()
+    })
+    .await
+    .expect("start");
+    let in_process = Client::builder(server.client_addr())
+        .token("team-a-token-0123456789")
+        .in_process(server.in_process())
+        .expect("in-process client");
+    assert_eq!(in_process.addr(), server.client_addr());
+    let info = in_process.server_info().await.expect("server info");
+    assert_eq!((info.threads, info.tenant.as_str()), (2, "team-a"));
+    let over_tcp = Client::builder(server.client_addr())
+        .token("team-a-token-0123456789")
+        .connect()
+        .await
+        .expect("tcp client");
+    assert_eq!(
+        rollout(&in_process)
+            .await
+            .iter()
+            .map(|r| bits(r))
+            .collect::<Vec<_>>(),
+        rollout(&over_tcp)
+            .await
+            .iter()
+            .map(|r| bits(r))
+            .collect::<Vec<_>>(),
+        "the transport changes nothing"
+    );
+
+    // The server's refusals, word for word.
+    let env = in_process
+        .create_env(EnvOptions::new(ARM2))
+        .await
+        .expect("env");
+    let refused = env.step(ActionType::Torque, &[0.0; 3]).await.unwrap_err();
+    let tcp_env = over_tcp
+        .create_env(EnvOptions::new(ARM2))
+        .await
+        .expect("env");
+    let over_tcp_refused = tcp_env
+        .step(ActionType::Torque, &[0.0; 3])
+        .await
+        .unwrap_err();
+    assert_eq!(refused.to_string(), over_tcp_refused.to_string());
+    assert!(
+        matches!(
+            refused,
+            gymfleet_client::ClientError::InvalidArgument { .. }
+        ),
+        "{refused:?}"
+    );
+    // The authenticator is in front of it too.
+    let anonymous = Client::builder(server.client_addr())
+        .in_process(server.in_process())
+        .expect("in-process client");
+    let err = anonymous.server_info().await.unwrap_err();
+    assert!(
+        matches!(err, gymfleet_client::ClientError::Unauthenticated { .. }),
+        "{err:?}"
+    );
+    server.stop().await.expect("stops");
+}
