@@ -173,7 +173,9 @@ def _only_gymnasium_keywords(env_id: str, *given: Any) -> None:
 
 def embedded_server_address() -> str:
     """The address of this process's embedded server (started now if not yet), for
-    sharing it, e.g. with ``server=`` of another env or with gymfleet-load."""
+    sharing it, e.g. with gymfleet-load or another process. Envs made with
+    ``server=None`` reach the same server in process, with no socket (faster); this
+    address goes over loopback TCP."""
     return _core.embedded_address()
 
 
