@@ -50,19 +50,36 @@ impl std::error::Error for TransportError {
     }
 }
 
-/// `service` as a [`Transport`].
-fn transport<S>(service: S) -> Transport
-where
+/// What a [`Transport`] can be made of: a service that answers gRPC calls over HTTP
+/// request and reply values (a channel, or a simulator service in this process).
+pub trait CallService:
+    tower::Service<
+        tonic::codegen::http::Request<tonic::body::Body>,
+        Response = tonic::codegen::http::Response<tonic::body::Body>,
+        Error: Into<Box<dyn std::error::Error + Send + Sync>>,
+        Future: Send + 'static,
+    > + Clone
+    + Send
+    + Sync
+    + 'static
+{
+}
+
+impl<S> CallService for S where
     S: tower::Service<
             tonic::codegen::http::Request<tonic::body::Body>,
             Response = tonic::codegen::http::Response<tonic::body::Body>,
+            Error: Into<Box<dyn std::error::Error + Send + Sync>>,
+            Future: Send + 'static,
         > + Clone
         + Send
         + Sync
-        + 'static,
-    S::Future: Send + 'static,
-    S::Error: Into<Box<dyn std::error::Error + Send + Sync>>,
+        + 'static
 {
+}
+
+/// `service` as a [`Transport`].
+fn transport<S: CallService>(service: S) -> Transport {
     Transport::new(tower::ServiceExt::map_err(service, |e: S::Error| {
         TransportError(e.into())
     }))
@@ -406,18 +423,7 @@ impl ClientBuilder {
     /// as over a network. The token and message limit apply; the per-call deadline is sent
     /// but not enforced on this side (the caller's own timeout is); TLS, keepalive and the
     /// connect settings have nothing to do. [`Client::addr`] is this builder's address.
-    pub fn in_process<S>(self, service: S) -> Result<Client>
-    where
-        S: tower::Service<
-                tonic::codegen::http::Request<tonic::body::Body>,
-                Response = tonic::codegen::http::Response<tonic::body::Body>,
-            > + Clone
-            + Send
-            + Sync
-            + 'static,
-        S::Future: Send + 'static,
-        S::Error: Into<Box<dyn std::error::Error + Send + Sync>>,
-    {
+    pub fn in_process(self, service: impl CallService) -> Result<Client> {
         let authorization = self.authorization()?;
         self.over(transport(service), authorization)
     }

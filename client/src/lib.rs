@@ -59,8 +59,9 @@ mod types;
 pub use args::ConnectArgs;
 pub use batch::{Batch, BatchObservations, BatchStep};
 pub use client::{
-    with_deadline, Client, ClientBuilder, Transport, TransportError, DEFAULT_CONNECT_TIMEOUT,
-    DEFAULT_KEEPALIVE_INTERVAL, DEFAULT_KEEPALIVE_TIMEOUT, DEFAULT_MAX_MESSAGE_BYTES,
+    with_deadline, CallService, Client, ClientBuilder, Transport, TransportError,
+    DEFAULT_CONNECT_TIMEOUT, DEFAULT_KEEPALIVE_INTERVAL, DEFAULT_KEEPALIVE_TIMEOUT,
+    DEFAULT_MAX_MESSAGE_BYTES,
 };
 pub use document::{ConvertedDocument, DocumentFormat, ModelInfo};
 pub use endpoints::FleetEndpoints;
