@@ -45,8 +45,9 @@ impl std::fmt::Display for TransportError {
 }
 
 impl std::error::Error for TransportError {
+    /// The transport's own error (tonic finds a status in this chain, e.g. a deadline's).
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
-        self.0.source()
+        Some(&*self.0)
     }
 }
 
@@ -420,12 +421,30 @@ impl ClientBuilder {
     /// A client that calls `service`, a `gymfleet.v1.Simulator` service running in this
     /// process (the server crate's `LocalServer::in_process`), with no socket or HTTP/2
     /// framing between them: requests and replies are still encoded, checked and limited
-    /// as over a network. The token and message limit apply; the per-call deadline is sent
-    /// but not enforced on this side (the caller's own timeout is); TLS, keepalive and the
-    /// connect settings have nothing to do. [`Client::addr`] is this builder's address.
+    /// as over a network. The token, the message limit and the per-call deadline apply
+    /// (a call past it fails with DEADLINE_EXCEEDED and is dropped, so the server drops
+    /// its work as for a caller gone); TLS, keepalive and the connect settings have
+    /// nothing to do. [`Client::addr`] is this builder's address.
     pub fn in_process(self, service: impl CallService) -> Result<Client> {
         let authorization = self.authorization()?;
-        self.over(transport(service), authorization)
+        match self.timeout {
+            // No network layer enforces the deadline here: this side does, as a channel
+            // would, with the server's status for it.
+            Some(deadline) => {
+                let timed = tower::timeout::Timeout::new(service, deadline);
+                let timed = tower::ServiceExt::map_err(timed, move |err| {
+                    if err.is::<tower::timeout::error::Elapsed>() {
+                        Box::new(Status::deadline_exceeded(format!(
+                            "the call took longer than its deadline of {deadline:?}"
+                        ))) as Box<dyn std::error::Error + Send + Sync>
+                    } else {
+                        err
+                    }
+                });
+                self.over(transport(timed), authorization)
+            }
+            None => self.over(transport(service), authorization),
+        }
     }
 
     /// The token as the `authorization` metadata value, if there is one.

@@ -391,6 +391,46 @@ mod deadlines {
         .expect("the server drops a call past its deadline");
     }
 
+    /// In process (the Python package's embedded server) there is no network layer to
+    /// enforce a deadline: the client does, and the server drops the abandoned work.
+    #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+    async fn an_in_process_call_past_its_deadline_fails_as_deadline_exceeded() {
+        let gate = JobGate::default();
+        let server = gymfleet_server::LocalServer::start(ServerConfig {
+            job_gate: Some(gate.clone()),
+            ..ServerConfig::default()
+        })
+        .await
+        .expect("start");
+        let hurried = Client::builder(server.client_addr())
+            .timeout(Duration::from_millis(1))
+            .in_process(server.in_process())
+            .expect("in-process client");
+        gate.close();
+        // The minute only turns a deadline nobody enforces (a bug) into a failure, not a
+        // hang: the gate holds the job until its caller has gone.
+        let err = tokio::time::timeout(
+            Duration::from_secs(60),
+            hurried.create_batch(BatchOptions::new(ARM2, 2000)),
+        )
+        .await
+        .expect("the client enforces the deadline")
+        .unwrap_err();
+        assert!(
+            matches!(err, ClientError::DeadlineExceeded { .. }),
+            "{err:?}"
+        );
+        assert!(err.message().contains("deadline of 1ms"), "{err}");
+        until_abandoned(&gate, 1).await;
+        gate.open();
+        let patient = Client::builder(server.client_addr())
+            .in_process(server.in_process())
+            .expect("in-process client");
+        let info = patient.server_info().await.expect("info");
+        assert_eq!((info.batches, info.batch_envs), (0, 0), "{info:?}");
+        server.stop().await.expect("clean shutdown");
+    }
+
     #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
     async fn a_call_past_its_deadline_fails_as_deadline_exceeded() {
         let gate = JobGate::default();
