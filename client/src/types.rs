@@ -88,6 +88,21 @@ pub struct Observation {
     pub base_velocity: Vec<f32>,
 }
 
+/// The segment names of `observation_layout` on the wire (the env crate writes them;
+/// any other name is the task's segment).
+pub(crate) mod segment {
+    /// Joint positions, one per DOF.
+    pub(crate) const JOINT_POSITIONS: &str = "joint_positions";
+    /// Joint velocities, one per DOF.
+    pub(crate) const JOINT_VELOCITIES: &str = "joint_velocities";
+    /// A floating base's pose.
+    pub(crate) const BASE_POSE: &str = "base_pose";
+    /// A floating base's velocity.
+    pub(crate) const BASE_VELOCITY: &str = "base_velocity";
+    /// The end effectors' poses.
+    pub(crate) const END_EFFECTOR_POSES: &str = "end_effector_poses";
+}
+
 impl Observation {
     /// The flat row, segment by segment in `layout`'s order: the env's own layout, as
     /// [`EnvInfo::observation_layout`] and [`BatchInfo::observation_layout`] carry it.
@@ -96,11 +111,11 @@ impl Observation {
         let mut out = Vec::with_capacity(layout.iter().map(|(_, size)| size).sum());
         for (name, _) in layout {
             out.extend_from_slice(match name.as_str() {
-                "joint_positions" => &self.joint_positions,
-                "joint_velocities" => &self.joint_velocities,
-                "base_pose" => &self.base_pose,
-                "base_velocity" => &self.base_velocity,
-                "end_effector_poses" => self.end_effector_poses.as_flattened(),
+                segment::JOINT_POSITIONS => &self.joint_positions,
+                segment::JOINT_VELOCITIES => &self.joint_velocities,
+                segment::BASE_POSE => &self.base_pose,
+                segment::BASE_VELOCITY => &self.base_velocity,
+                segment::END_EFFECTOR_POSES => self.end_effector_poses.as_flattened(),
                 _ => &self.task_observation,
             });
         }
@@ -117,11 +132,11 @@ impl Observation {
             rest = tail;
             let part = part.to_vec();
             match name.as_str() {
-                "joint_positions" => o.joint_positions = part,
-                "joint_velocities" => o.joint_velocities = part,
-                "base_pose" => o.base_pose = part,
-                "base_velocity" => o.base_velocity = part,
-                "end_effector_poses" => {
+                segment::JOINT_POSITIONS => o.joint_positions = part,
+                segment::JOINT_VELOCITIES => o.joint_velocities = part,
+                segment::BASE_POSE => o.base_pose = part,
+                segment::BASE_VELOCITY => o.base_velocity = part,
+                segment::END_EFFECTOR_POSES => {
                     o.end_effector_poses = part
                         .chunks_exact(POSE_LEN)
                         .map(|c| std::array::from_fn(|i| c[i]))
@@ -340,13 +355,13 @@ impl Units {
 fn observed_dofs(layout: &[(String, usize)], action_dim: usize) -> usize {
     layout
         .iter()
-        .find(|(name, _)| name == "joint_positions")
+        .find(|(name, _)| name == segment::JOINT_POSITIONS)
         .map_or(action_dim, |(_, size)| *size)
 }
 
 /// Whether the layout has a floating base's segments.
 fn floats(layout: &[(String, usize)]) -> bool {
-    layout.iter().any(|(name, _)| name == "base_pose")
+    layout.iter().any(|(name, _)| name == segment::BASE_POSE)
 }
 
 impl EnvInfo {
