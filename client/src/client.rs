@@ -580,6 +580,32 @@ mod tests {
     }
 
     #[tokio::test]
+    async fn a_token_that_is_not_printable_ascii_is_refused_by_both_transports() {
+        let message = |err: ClientError| err.to_string();
+        let bad = || {
+            Client::builder("127.0.0.1:1")
+                .token("bad\ntoken")
+                .lazy(true)
+        };
+        let over_network = message(bad().connect().await.unwrap_err());
+        // Any service does: the token is refused before it is used.
+        let service = tower::service_fn(
+            |_: tonic::codegen::http::Request<tonic::body::Body>| async {
+                Ok::<_, std::convert::Infallible>(tonic::codegen::http::Response::new(
+                    tonic::body::Body::empty(),
+                ))
+            },
+        );
+        let in_process = message(bad().in_process(service).unwrap_err());
+        assert_eq!(over_network, in_process);
+        assert!(
+            in_process.contains("the token must be printable ASCII without spaces"),
+            "{in_process}"
+        );
+        assert!(in_process.contains("127.0.0.1:1"), "{in_process}");
+    }
+
+    #[tokio::test]
     async fn deadlines_go_out_as_grpc_timeout_the_earlier_winning() {
         let none = CallMetadata::default();
         assert_eq!(grpc_timeout(&none), None);
