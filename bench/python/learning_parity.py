@@ -9,22 +9,35 @@ spread of the final returns, the wall time of each run, and the curves as one PN
     python bench/python/learning_parity.py                        # 3 envs x 3 seeds x 300 000 steps x 2 sides
     python bench/python/learning_parity.py --names Hopper --seeds 0 --steps 20000   # a smoke run
     python bench/python/learning_parity.py --report      # the table and PNG of the runs so far
+    python bench/python/learning_parity.py --jobs 12     # 12 runs at a time, one core each
+    python bench/python/learning_parity.py --cross       # each final policy played on both sides
 
 Not a test: torch never runs in CI. The final return of a run is the mean undiscounted return
 of its last 10 finished episodes (SB3's ``Monitor`` on MuJoCo's side, the adapter's own
-``episode`` info on gymfleet's). Runs go one at a time with torch on one thread.
+``episode`` info on gymfleet's). Runs go one at a time with torch on one thread, or with
+``--jobs N`` N at a time, each process pinned to a core of its own (a machine with at least N
+cores). Each run's final policy is exported to ``OUT/policies/<name>-<side>-<seed>.npz``
+(``parity_policies.py``: numpy alone plays it back); ``--cross`` plays every exported policy
+on both sides, which needs no torch.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import multiprocessing
+import os
 import pathlib
 import statistics
+import sys
 import time
-from typing import Any, Dict, List, Tuple
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from typing import Any, Dict, List, Optional, Tuple
 
 import numpy as np
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+import parity_policies  # noqa: E402
 
 #: rl-baselines3-zoo's tuned PPO settings (hyperparams/ppo.yml, the -v3 entries), all with
 #: `normalize: true` and `n_envs: 1`.
@@ -47,7 +60,10 @@ ZOO: Dict[str, Dict[str, Any]] = {
 }
 
 
-def run(name: str, side: str, seed: int, steps: int) -> Dict[str, Any]:
+def run(
+    name: str, side: str, seed: int, steps: int, policies: Optional[pathlib.Path] = None,
+    xml: Optional[str] = None,
+) -> Dict[str, Any]:
     import torch
     from stable_baselines3 import PPO
     from stable_baselines3.common.callbacks import BaseCallback
@@ -61,12 +77,13 @@ def run(name: str, side: str, seed: int, steps: int) -> Dict[str, Any]:
             log_std_init=-2, ortho_init=False, activation_fn=torch.nn.ReLU,
             net_arch=dict(pi=[256, 256], vf=[256, 256]),
         )
+    env_kwargs = {"xml_file": xml} if xml else {}
     if side == "mujoco":
-        venv = make_vec_env(f"{name}-v5", n_envs=1, seed=seed)
+        venv = make_vec_env(f"{name}-v5", n_envs=1, seed=seed, env_kwargs=env_kwargs)
     else:
         from gymfleet.sb3 import make_vec_env as gymfleet_vec_env
 
-        venv = gymfleet_vec_env(f"gymfleet/{name}-v5", n_envs=1, seed=seed)
+        venv = gymfleet_vec_env(f"gymfleet/{name}-v5", n_envs=1, seed=seed, **env_kwargs)
     venv = VecNormalize(venv, gamma=params["gamma"])
     episodes: List[Tuple[int, float]] = []
 
@@ -81,11 +98,30 @@ def run(name: str, side: str, seed: int, steps: int) -> Dict[str, Any]:
     start = time.perf_counter()
     model.learn(total_timesteps=steps, callback=Episodes())
     wall = time.perf_counter() - start
+    if policies is not None:
+        try:
+            stem = f"{name}-{side}-{seed}" + (f"-{pathlib.Path(xml).stem}" if xml else "")
+            parity_policies.export(model, venv, policies / f"{stem}.npz")
+        except Exception as exc:  # the run's returns are worth keeping without its policy
+            print(f"{name} {side} seed {seed}: the policy was not exported: {exc!r}", flush=True)
     venv.close()
     return {
-        "name": name, "side": side, "seed": seed, "steps": steps, "wall_s": round(wall, 1),
-        "episodes": episodes, **finals(episodes, steps),
+        "name": name, "side": side, "seed": seed, "steps": steps, "variant": variant_of(xml),
+        "wall_s": round(wall, 1), "episodes": episodes, **finals(episodes, steps),
     }
+
+
+def variant_of(xml: Optional[str]) -> str:
+    """A run's model: "" for the id's own file, else the name of the file given."""
+    return pathlib.Path(xml).name if xml else ""
+
+
+def key_of(r: Dict[str, Any]) -> Tuple[str, str, int, int, str]:
+    return (r["name"], r["side"], r["seed"], r["steps"], r.get("variant", ""))
+
+
+def label(side: str, variant: str) -> str:
+    return f"{side}, {variant}" if variant else side
 
 
 def finals(episodes: List[Tuple[int, float]], steps: int) -> Dict[str, float]:
@@ -123,14 +159,17 @@ def plot(results: List[Dict[str, Any]], names: List[str], steps: int, path: path
     if not names:
         return
     fig, axes = plt.subplots(1, len(names), figsize=(5 * len(names), 4), squeeze=False)
+    colours = {"mujoco": "tab:blue", "gymfleet": "tab:orange"}
+    others = iter(["tab:green", "tab:red", "tab:purple", "tab:brown"])
     for ax, name in zip(axes[0], names):
-        for side, colour in (("mujoco", "tab:blue"), ("gymfleet", "tab:orange")):
-            runs = [curve(r["episodes"], grid) for r in results if r["name"] == name and r["side"] == side]
-            if not runs:
-                continue
+        for side, variant in sorted({(r["side"], r.get("variant", "")) for r in results if r["name"] == name},
+                                    key=lambda sv: (sv[1], sv[0] != "mujoco")):
+            colour = next(others) if variant else colours[side]
+            runs = [curve(r["episodes"], grid) for r in results
+                    if r["name"] == name and (r["side"], r.get("variant", "")) == (side, variant)]
             runs = np.array(runs)
             mean = np.nanmean(runs, 0)
-            ax.plot(grid, mean, color=colour, label=f"{side} ({len(runs)} seeds)")
+            ax.plot(grid, mean, color=colour, label=f"{label(side, variant)} ({len(runs)} seeds)")
             if len(runs) > 1:
                 ax.fill_between(grid, np.nanmin(runs, 0), np.nanmax(runs, 0), color=colour, alpha=0.2)
         ax.set_title(f"{name}-v5, SB3 PPO (rl-zoo)")
@@ -143,6 +182,61 @@ def plot(results: List[Dict[str, Any]], names: List[str], steps: int, path: path
     print(f"curves written to {path}")
 
 
+def _pin(cores: "multiprocessing.Queue[int]") -> None:
+    """A worker's initializer: it takes a core of its own (where the OS lets it)."""
+    core = cores.get()
+    try:
+        os.sched_setaffinity(0, {core})
+    except (AttributeError, OSError):
+        pass
+
+
+def _run_task(task: Tuple[str, str, int, int, str, Optional[str]]) -> Dict[str, Any]:
+    name, side, seed, steps, policies, xml = task
+    return run(name, side, seed, steps, pathlib.Path(policies), xml)
+
+
+def _cross_task(task: Tuple[str, str, str, int]) -> Dict[str, Any]:
+    path, name, side, episodes = task
+    policy = parity_policies.Policy.load(pathlib.Path(path))
+    return {"policy": pathlib.Path(path).stem, "played_on": side,
+            **parity_policies.evaluate(policy, name, side, episodes)}
+
+
+def in_pool(fn: Any, tasks: List[Any], jobs: int) -> Any:
+    """Yields ``fn(task)`` for each task as it finishes: inline with one job, else in
+    ``jobs`` spawned processes, each pinned to a core of its own."""
+    if jobs <= 1:
+        for task in tasks:
+            yield fn(task)
+        return
+    ctx = multiprocessing.get_context("spawn")
+    cores = ctx.Queue()
+    available = sorted(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else list(range(jobs))
+    for k in range(jobs):
+        cores.put(available[k % len(available)])
+    with ProcessPoolExecutor(jobs, mp_context=ctx, initializer=_pin, initargs=(cores,)) as pool:
+        futures = {pool.submit(fn, task): task for task in tasks}
+        for future in as_completed(futures):
+            try:
+                yield future.result()
+            except Exception as exc:  # one failed run must not lose the others
+                print(f"{futures[future][:3]} failed: {exc!r}", flush=True)
+
+
+def cross(out: pathlib.Path, names: List[str], episodes: int, jobs: int) -> None:
+    """Every exported policy of ``names``, played on both sides."""
+    paths = sorted(p for p in (out / "policies").glob("*.npz") if p.stem.split("-")[0] in names)
+    tasks = [(str(p), p.stem.split("-")[0], side, episodes) for p in paths for side in ("mujoco", "gymfleet")]
+    results = sorted(in_pool(_cross_task, tasks, jobs), key=lambda r: (r["policy"], r["played_on"]))
+    (out / "cross.json").write_text(json.dumps(results))
+    print(f"\n| policy (env-side-seed) | played on | return (mean ± sd over {episodes} episodes) | length | x at the end |")
+    print("|---|---|---|---|---|")
+    for r in results:
+        print(f"| {r['policy']} | {r['played_on']} | {np.mean(r['returns']):.1f} ± {np.std(r['returns']):.1f} | "
+              f"{np.mean(r['lengths']):.0f} | {np.nanmean(r['x_end']):.2f} |")
+
+
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--names", nargs="+", default=list(ZOO), choices=list(ZOO))
@@ -150,44 +244,54 @@ def main() -> None:
     p.add_argument("--steps", type=int, default=300_000)
     p.add_argument("--sides", nargs="+", default=["mujoco", "gymfleet"], choices=["mujoco", "gymfleet"])
     p.add_argument("--out", default="target/learning_parity")
+    p.add_argument("--jobs", type=int, default=1, help="runs at a time, each on a core of its own")
+    p.add_argument("--xml", help="a model file of one's own for every run (the envs' xml_file); "
+                   "give these runs an OUT of their own")
     p.add_argument("--report", action="store_true",
                    help="run nothing: report the runs already in OUT/runs.json")
+    p.add_argument("--cross", action="store_true",
+                   help="train nothing: play each exported policy on both sides (numpy, no torch)")
+    p.add_argument("--episodes", type=int, default=10, help="episodes per policy and side for --cross")
     args = p.parse_args()
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
+    if args.cross:
+        cross(out, args.names, args.episodes, args.jobs)
+        return
     # Runs are kept as they finish; a run already in runs.json (same env, side, seed and
     # steps) is not repeated, so an interrupted benchmark resumes.
     saved = out / "runs.json"
     results: List[Dict[str, Any]] = json.loads(saved.read_text()) if saved.exists() else []
-    for name in args.names:
-        for seed in args.seeds:
-            for side in args.sides:
-                key = (name, side, seed, args.steps)
-                done = [r for r in results if (r["name"], r["side"], r["seed"], r["steps"]) == key]
-                if not done and args.report:
-                    continue
-                r = done[0] if done else run(name, side, seed, args.steps)
-                r.update(finals([tuple(e) for e in r["episodes"]], args.steps))
-                if not done:
-                    results.append(r)
-                    saved.write_text(json.dumps(results))
-                print(f"{name:<24} {side:<9} seed {seed}: final return {r['final_return']:9.1f} "
-                      f"(last sixth {r['late_return']:9.1f}), {r['wall_s']:7.1f} s, "
-                      f"{len(r['episodes'])} episodes", flush=True)
+    # Gymnasium reads a relative xml_file from its own assets folder.
+    xml = str(pathlib.Path(args.xml).resolve()) if args.xml else None
+    variant = variant_of(xml)
+    keys = [(name, side, seed, args.steps, variant)
+            for name in args.names for seed in args.seeds for side in args.sides]
+    have = {key_of(r) for r in results}
+    todo = [] if args.report else [(*key[:4], str(out / "policies"), xml) for key in keys if key not in have]
+    for r in in_pool(_run_task, todo, args.jobs):
+        results.append(r)
+        saved.write_text(json.dumps(results))
+        print(f"finished {r['name']} {r['side']} seed {r['seed']}: {r['wall_s']} s", flush=True)
     results = [r for r in results if r["name"] in args.names and r["steps"] == args.steps
                and r["side"] in args.sides and r["seed"] in args.seeds]
+    for r in sorted(results, key=key_of):
+        r.update(finals([tuple(e) for e in r["episodes"]], args.steps))
+        print(f"{r['name']:<24} {label(r['side'], r.get('variant', '')):<9} seed {r['seed']}: "
+              f"final return {r['final_return']:9.1f} (last sixth {r['late_return']:9.1f}), "
+              f"{r['wall_s']:7.1f} s, {len(r['episodes'])} episodes", flush=True)
     print("\n| env | side | seeds | last 10 episodes (mean ± sd over seeds) | min .. max | "
           "last sixth of the run (mean ± sd) | wall s (mean) |")
     print("|---|---|---|---|---|---|---|")
     for name in args.names:
-        for side in args.sides:
-            mine = [r for r in results if r["name"] == name and r["side"] == side]
-            if not mine:
-                continue
+        groups = sorted({(r["side"], r.get("variant", "")) for r in results if r["name"] == name},
+                        key=lambda sv: (sv[1], sv[0] != "mujoco"))
+        for side, variant in groups:
+            mine = [r for r in results if r["name"] == name and (r["side"], r.get("variant", "")) == (side, variant)]
             last = [r["final_return"] for r in mine]
             late = [r["late_return"] for r in mine]
             sd = lambda xs: statistics.stdev(xs) if len(xs) > 1 else 0.0  # noqa: E731
-            print(f"| {name} | {side} | {len(mine)} | {statistics.mean(last):.1f} ± {sd(last):.1f} | "
+            print(f"| {name} | {label(side, variant)} | {len(mine)} | {statistics.mean(last):.1f} ± {sd(last):.1f} | "
                   f"{min(last):.1f} .. {max(last):.1f} | {statistics.mean(late):.1f} ± {sd(late):.1f} | "
                   f"{statistics.mean(r['wall_s'] for r in mine):.0f} |")
     plot(results, args.names, args.steps, out / "learning_parity.png")
