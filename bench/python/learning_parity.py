@@ -160,8 +160,8 @@ def plot(results: List[Dict[str, Any]], names: List[str], steps: int, path: path
         return
     fig, axes = plt.subplots(1, len(names), figsize=(5 * len(names), 4), squeeze=False)
     colours = {"mujoco": "tab:blue", "gymfleet": "tab:orange"}
-    others = iter(["tab:green", "tab:red", "tab:purple", "tab:brown"])
     for ax, name in zip(axes[0], names):
+        others = iter(["tab:green", "tab:red", "tab:purple", "tab:brown"] * 4)
         for side, variant in sorted({(r["side"], r.get("variant", "")) for r in results if r["name"] == name},
                                     key=lambda sv: (sv[1], sv[0] != "mujoco")):
             colour = next(others) if variant else colours[side]

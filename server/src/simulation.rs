@@ -68,7 +68,7 @@ impl OpenEnv {
     }
 }
 
-/// One open batch, with its reusable step output.
+/// One open batch, with the buffer its next step writes into.
 pub(crate) struct OpenBatch {
     batch: EnvBatch,
     out: BatchStepOutput,

@@ -53,6 +53,27 @@ pub struct BatchStepOutput {
     pub termination_reasons: BTreeMap<u32, Termination>,
 }
 
+impl BatchStepOutput {
+    /// Empties every field and makes room for a whole step of `n_envs` envs, so an
+    /// empty output (one whose buffers a caller took) is filled with one allocation per
+    /// field rather than grown in doublings; an output reused across steps allocates
+    /// nothing.
+    fn clear_for(&mut self, n_envs: usize, observation_dim: usize, n_terms: usize) {
+        fn empty_with_room<T>(v: &mut Vec<T>, room: usize) {
+            v.clear();
+            v.reserve(room);
+        }
+        empty_with_room(&mut self.observations, n_envs * observation_dim);
+        empty_with_room(&mut self.rewards, n_envs);
+        empty_with_room(&mut self.terms, n_envs * n_terms);
+        empty_with_room(&mut self.terminated, n_envs);
+        empty_with_room(&mut self.truncated, n_envs);
+        self.final_env_indices.clear();
+        self.final_observations.clear();
+        self.termination_reasons.clear();
+    }
+}
+
 /// Most envs per chunk under the default rule.
 pub const MAX_DEFAULT_CHUNK_SIZE: usize = 16;
 
@@ -279,14 +300,11 @@ impl EnvBatch {
         }
         self.run(pool, ChunkOp::Step { action_type })?;
 
-        out.observations.clear();
-        out.rewards.clear();
-        out.terms.clear();
-        out.terminated.clear();
-        out.truncated.clear();
-        out.final_env_indices.clear();
-        out.final_observations.clear();
-        out.termination_reasons.clear();
+        out.clear_for(
+            self.n_envs,
+            self.spec.observation_dim,
+            self.spec.term_names.len(),
+        );
         let mut error = None;
         for chunk in self.chunks.iter() {
             let mut chunk = lock(chunk);

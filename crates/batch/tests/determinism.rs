@@ -81,6 +81,36 @@ fn a_four_bar_batch_is_identical_for_any_thread_count_and_chunk_size() {
 }
 
 #[test]
+fn an_output_taken_after_each_step_is_refilled_alike_at_its_exact_size() {
+    // The server hands each step's buffers to its reply (`mem::take`), so every step
+    // writes into an empty output; that must give the same bits as a reused one.
+    let reused = run(2, 3, Autoreset::SameStep);
+    let template = noisy_arm2(7, 5.0);
+    let pool = StepPool::new(2).unwrap();
+    let mut batch = EnvBatch::with_chunk_size(&template, N_ENVS, Autoreset::SameStep, 3).unwrap();
+    let mut obs = Vec::new();
+    batch.reset(&pool, Some(42), 0, &mut obs).unwrap();
+    let mut out = BatchStepOutput::default();
+    let mut taken = Vec::new();
+    for t in 0..STEPS {
+        let (action_type, values) = actions(t, N_ENVS, template.spec().action_dim);
+        batch.step(&pool, action_type, &values, &mut out).unwrap();
+        let step = std::mem::take(&mut out);
+        // One allocation of the whole step's size per field, not growth by doublings.
+        assert_eq!(step.observations.capacity(), step.observations.len());
+        assert_eq!(
+            step.observations.len(),
+            N_ENVS * template.spec().observation_dim
+        );
+        assert_eq!(step.rewards.capacity(), N_ENVS);
+        assert_eq!(step.terminated.capacity(), N_ENVS);
+        taken.push(output_bits(&step));
+    }
+    // Both are the same bits; compared as text since each helper returns its own opaque type.
+    assert_eq!(format!("{taken:?}"), format!("{reused:?}"));
+}
+
+#[test]
 fn a_batch_equals_its_envs_stepped_one_by_one() {
     let pool = StepPool::new(2).unwrap();
     let template = noisy_arm2(1000, 5.0);

@@ -156,7 +156,10 @@ impl Simulation {
                 Ok(BatchStepped {
                     batch_id: step.batch_id,
                     step_index: open.steps,
-                    out: open.out.clone(),
+                    // The reply takes the buffers (they are moved into the protobuf
+                    // message, not copied); the next step allocates them again at
+                    // their exact size (`EnvBatch::step` reserves it).
+                    out: std::mem::take(&mut open.out),
                 })
             })
             .await;
