@@ -12,6 +12,10 @@ use crate::geometry::{
 use crate::math::Real;
 use parry::partitioning::BvhLeafUpdateStatus;
 
+/// Trees with fewer leaves are never incrementally optimized: whatever their shape, a
+/// traversal visits at most `2 × 32 − 1` nodes, less than one binned rebuild costs.
+const MIN_LEAVES_TO_OPTIMIZE: usize = 32;
+
 impl BroadPhaseBvh {
     /// Updates the broad-phase.
     ///
@@ -260,7 +264,11 @@ impl BroadPhaseBvh {
         self.changes_since_optimize = self
             .changes_since_optimize
             .saturating_add(removed_colliders.len() as u32);
+        // A tree of a few leaves is traversed in a few node visits whatever its shape, so
+        // optimizing it buys nothing, and every frame of a small world whose bodies all
+        // move (a robot arm) would otherwise pay for a binned rebuild (gymfleet patch 22).
         let run_optimizer = self.changes_since_optimize > 0
+            && leaf_count >= MIN_LEAVES_TO_OPTIMIZE
             && (num_updated * 16 >= leaf_count
                 || (self.frame_index % 8 == 0
                     && self.changes_since_optimize as usize * 64 >= leaf_count))
