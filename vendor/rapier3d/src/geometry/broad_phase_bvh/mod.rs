@@ -330,4 +330,60 @@ mod test {
             );
         }
     }
+
+    /// `balls` balls falling side by side onto a floor for 60 steps: after each step, the
+    /// broad phase's quality debt (`changes_since_optimize`, reset whenever the optimizer
+    /// is scheduled).
+    fn optimizer_debt_per_step(balls: usize) -> Vec<u32> {
+        let mut bodies = RigidBodySet::new();
+        let mut colliders = ColliderSet::new();
+        let mut impulse_joints = ImpulseJointSet::new();
+        let mut multibody_joints = MultibodyJointSet::new();
+        let mut soft_bodies = SoftBodySet::new();
+        let mut pipeline = PhysicsPipeline::new();
+        let mut islands = IslandManager::new();
+        let mut broad_phase = DefaultBroadPhase::new();
+        let mut narrow_phase = NarrowPhase::new();
+        let mut ccd = CCDSolver::new();
+        colliders.insert(ColliderBuilder::cuboid(100.0, 0.5, 100.0));
+        for i in 0..balls {
+            let at = Vector::new(2.0 * i as f32, 4.0, 0.0);
+            let ball = bodies.insert(RigidBodyBuilder::dynamic().translation(at));
+            colliders.insert_with_parent(ColliderBuilder::ball(0.5), ball, &mut bodies);
+        }
+        let params = IntegrationParameters::default();
+        (0..60)
+            .map(|_| {
+                pipeline.step(
+                    Vector::new(0.0, -9.81, 0.0),
+                    &params,
+                    &mut islands,
+                    &mut broad_phase,
+                    &mut narrow_phase,
+                    &mut bodies,
+                    &mut colliders,
+                    &mut impulse_joints,
+                    &mut multibody_joints,
+                    &mut soft_bodies,
+                    &mut ccd,
+                    &(),
+                    &(),
+                );
+                broad_phase.changes_since_optimize
+            })
+            .collect()
+    }
+
+    /// gymfleet patch 22: a tree of fewer than `MIN_LEAVES_TO_OPTIMIZE` leaves is never
+    /// optimized, so its debt only grows while its leaves move; a larger tree whose leaves
+    /// all move is still optimized (a debt goes back to 0).
+    #[test]
+    fn a_small_tree_is_not_optimized_and_a_large_one_is() {
+        let small = optimizer_debt_per_step(4);
+        assert!(small.windows(2).all(|w| w[1] >= w[0]), "{small:?}");
+        assert!(*small.last().unwrap() >= 8, "{small:?}");
+        let large = optimizer_debt_per_step(40);
+        let paid = large.windows(2).any(|w| w[0] > 0 && w[1] == 0);
+        assert!(paid, "{large:?}");
+    }
 }
