@@ -26,10 +26,7 @@ fn run_template(
     chunk_size: usize,
     autoreset: Autoreset,
 ) -> Vec<impl PartialEq + std::fmt::Debug> {
-    let pool = StepPool::new(threads).unwrap();
-    let mut batch = EnvBatch::with_chunk_size(template, N_ENVS, autoreset, chunk_size).unwrap();
-    let mut obs = Vec::new();
-    batch.reset(&pool, Some(42), 0, &mut obs).unwrap();
+    let (pool, mut batch) = seeded_batch(template, threads, chunk_size, autoreset);
     let mut out = BatchStepOutput::default();
     let mut trace = Vec::new();
     for t in 0..STEPS {
@@ -38,6 +35,20 @@ fn run_template(
         trace.push(output_bits(&out));
     }
     trace
+}
+
+/// A pool of `threads` and a batch of `template` reset with seed 42.
+fn seeded_batch(
+    template: &RobotEnv,
+    threads: usize,
+    chunk_size: usize,
+    autoreset: Autoreset,
+) -> (StepPool, EnvBatch) {
+    let pool = StepPool::new(threads).unwrap();
+    let mut batch = EnvBatch::with_chunk_size(template, N_ENVS, autoreset, chunk_size).unwrap();
+    let mut obs = Vec::new();
+    batch.reset(&pool, Some(42), 0, &mut obs).unwrap();
+    (pool, batch)
 }
 
 #[test]
@@ -86,10 +97,7 @@ fn an_output_taken_after_each_step_is_refilled_alike_at_its_exact_size() {
     // writes into an empty output; that must give the same bits as a reused one.
     let reused = run(2, 3, Autoreset::SameStep);
     let template = noisy_arm2(7, 5.0);
-    let pool = StepPool::new(2).unwrap();
-    let mut batch = EnvBatch::with_chunk_size(&template, N_ENVS, Autoreset::SameStep, 3).unwrap();
-    let mut obs = Vec::new();
-    batch.reset(&pool, Some(42), 0, &mut obs).unwrap();
+    let (pool, mut batch) = seeded_batch(&template, 2, 3, Autoreset::SameStep);
     let mut out = BatchStepOutput::default();
     let mut taken = Vec::new();
     for t in 0..STEPS {
