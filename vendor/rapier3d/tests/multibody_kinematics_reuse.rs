@@ -25,6 +25,12 @@ struct World {
 /// A fixed base and three links on revolute joints about Z, X and Z, each link a capsule
 /// hanging 0.3 m off its joint so that gravity swings the chain.
 fn chain() -> World {
+    chain_of(1.0)
+}
+
+/// [`chain`] with capsules of `density` (at water's, the joints' default damping no longer
+/// holds the links back, and they swing at metres per second).
+fn chain_of(density: Real) -> World {
     let mut bodies = RigidBodySet::new();
     let mut colliders = ColliderSet::new();
     let mut multibody_joints = MultibodyJointSet::new();
@@ -33,15 +39,23 @@ fn chain() -> World {
     let mut links = Vec::new();
     let mut joint = None;
     for (i, axis) in [Vector::Z, Vector::X, Vector::Z].into_iter().enumerate() {
-        let link = bodies.insert(
-            RigidBodyBuilder::dynamic().translation(Vector::new(0.3 * (i + 1) as Real, 0.0, 0.0)),
-        );
+        let link = bodies.insert(RigidBodyBuilder::dynamic().translation(Vector::new(
+            0.3 * (i + 1) as Real,
+            0.0,
+            0.0,
+        )));
         colliders.insert_with_parent(
-            ColliderBuilder::capsule_x(0.1, 0.02).translation(Vector::new(0.1, 0.0, 0.0)),
+            ColliderBuilder::capsule_x(0.1, 0.02)
+                .translation(Vector::new(0.1, 0.0, 0.0))
+                .density(density),
             link,
             &mut bodies,
         );
-        let anchor = if i == 0 { Vector::ZERO } else { Vector::new(0.3, 0.0, 0.0) };
+        let anchor = if i == 0 {
+            Vector::ZERO
+        } else {
+            Vector::new(0.3, 0.0, 0.0)
+        };
         let rev = RevoluteJointBuilder::new(axis).local_anchor1(anchor);
         joint = multibody_joints.insert(parent, link, rev, true);
         links.push(link);
@@ -119,7 +133,10 @@ fn skipping_forward_kinematics_changes_no_bit() {
     assert_eq!(reused.bits(), recomputed.bits());
     // The chain did swing.
     let tip = reused.bodies[reused.links[2]].translation();
-    assert!((tip - Vector::new(0.9, 0.0, 0.0)).length() > 0.1, "tip at {tip:?}");
+    assert!(
+        (tip - Vector::new(0.9, 0.0, 0.0)).length() > 0.1,
+        "tip at {tip:?}"
+    );
 }
 
 #[test]
@@ -135,7 +152,12 @@ fn displacing_joints_between_steps_moves_the_links() {
     a.multibody().apply_displacements(&disp);
     // The explicit way: forward kinematics and the bodies' poses, before stepping.
     b.multibody().apply_displacements(&disp);
-    let World { multibody_joints, bodies, joint, .. } = &mut b;
+    let World {
+        multibody_joints,
+        bodies,
+        joint,
+        ..
+    } = &mut b;
     let mb = multibody_joints.get_mut(*joint).unwrap().0;
     mb.forward_kinematics(bodies, true);
     mb.update_rigid_bodies(bodies, true);
@@ -161,5 +183,53 @@ fn moving_the_fixed_root_moves_the_chain() {
     w.step();
     let after = w.bodies[w.links[2]].translation();
     // One step of 1/240 s moves the tip by millimetres; the root moved it by a metre.
-    assert!(((after - before) - shift).length() < 0.05, "{before:?} -> {after:?}");
+    assert!(
+        ((after - before) - shift).length() < 0.05,
+        "{before:?} -> {after:?}"
+    );
+}
+
+/// The chain stepped at 1/30 s, so that its swinging links count as fast and the CCD sweeps
+/// them every step, above a fixed `floor` collider (patch 23).
+fn fast_chain_over(floor: ColliderBuilder) -> World {
+    let mut w = chain_of(1000.0);
+    w.params.dt = 1.0 / 30.0;
+    w.params.num_solver_iterations = 4;
+    w.colliders.insert(floor);
+    w
+}
+
+/// Steps `reused` and `recomputed` (forward kinematics forced before each step) alike and
+/// asserts the same bits; returns the lowest height the chain's tip reached.
+fn lockstep(mut reused: World, mut recomputed: World, steps: usize) -> Real {
+    let mut lowest = Real::MAX;
+    for _ in 0..steps {
+        reused.step();
+        let _ = recomputed.multibody().link_mut(0);
+        recomputed.step();
+        assert_eq!(reused.bits(), recomputed.bits());
+        lowest = lowest.min(reused.bodies[reused.links[2]].translation().y);
+    }
+    lowest
+}
+
+#[test]
+fn a_step_whose_ccd_only_swept_keeps_the_kinematics_it_left() {
+    // A floor plane 2 m down: the links are fast, the CCD sweeps them, and never clamps.
+    let floor = || {
+        ColliderBuilder::new(SharedShape::halfspace(Vector::Y))
+            .translation(Vector::new(0.0, -2.0, 0.0))
+    };
+    let lowest = lockstep(fast_chain_over(floor()), fast_chain_over(floor()), 60);
+    assert!(lowest < -0.5, "the chain swung down to {lowest}");
+}
+
+#[test]
+fn a_step_whose_ccd_clamped_a_link_recomputes_the_kinematics() {
+    // A 2 mm plate 0.45 m under the chain: the swinging links reach it at metres per second,
+    // and the CCD clamps them at the impact (without the clamp's invalidation this fails).
+    let plate =
+        || ColliderBuilder::cuboid(1.0, 0.001, 1.0).translation(Vector::new(0.5, -0.45, 0.0));
+    let lowest = lockstep(fast_chain_over(plate()), fast_chain_over(plate()), 60);
+    assert!(lowest > -0.5, "the tip passed the plate: {lowest}");
 }

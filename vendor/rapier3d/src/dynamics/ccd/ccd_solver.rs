@@ -163,7 +163,8 @@ impl CCDSolver {
     /// colliders and soft-body collision meshes) first, then bullets sweep every (possibly
     /// already clamped) body; velocities are never modified. Sensor
     /// crossings the narrow phase would miss entirely emit paired `Started`/`Stopped`
-    /// intersection events.
+    /// intersection events. Returns whether any body's `next_position` was clamped (gymfleet
+    /// patch, `PATCHES.md` 23).
     #[profiling::function]
     #[allow(clippy::too_many_arguments)]
     pub fn solve_continuous(
@@ -177,7 +178,7 @@ impl CCDSolver {
         narrow_phase: &NarrowPhase,
         hooks: &dyn PhysicsHooks,
         events: &dyn EventHandler,
-    ) {
+    ) -> bool {
         let dt = params.dt;
         let linear_slop = params.allowed_linear_error();
 
@@ -237,7 +238,7 @@ impl CCDSolver {
             });
             all_results.extend(results);
         }
-        Self::apply_clamps(bodies, &all_results);
+        let mut clamped = Self::apply_clamps(bodies, &all_results);
 
         // Pass 2: bullets vs everything except other bullets. Targets read the (already
         // clamped) `next_position` from pass 1 (deferred bullet stage).
@@ -265,7 +266,7 @@ impl CCDSolver {
                     )
                 })
             };
-            Self::apply_clamps(bodies, &bullet_results);
+            clamped |= Self::apply_clamps(bodies, &bullet_results);
             all_results.extend(bullet_results);
         }
 
@@ -330,13 +331,16 @@ impl CCDSolver {
                 }
             }
         }
+        clamped
     }
 
     /// Clamps each impacted body's `next_position` to the interpolated pose at its impact
-    /// fraction. Pose only — velocities are preserved.
-    fn apply_clamps(bodies: &mut RigidBodySet, results: &[BodyContinuousResult]) {
+    /// fraction. Pose only — velocities are preserved. Returns whether any body was clamped.
+    fn apply_clamps(bodies: &mut RigidBodySet, results: &[BodyContinuousResult]) -> bool {
+        let mut clamped = false;
         for result in results {
             if result.fraction < 1.0 {
+                clamped = true;
                 let rb = bodies.index_mut_internal(result.handle);
                 let sweep = Sweep::from_poses(
                     &rb.pos.position,
@@ -346,5 +350,6 @@ impl CCDSolver {
                 rb.pos.next_position = sweep.transform_at(result.fraction);
             }
         }
+        clamped
     }
 }

@@ -533,6 +533,49 @@ pub(super) enum PseudoHitMode {
     Ignore,
 }
 
+/// A conservative test that a fast collider's sweep cannot reach a half-space (gymfleet patch,
+/// `PATCHES.md` 23). A half-space has no sweep proxy, so every fast collider over a floor plane
+/// took the nonlinear cast of [`fallback_nonlinear_fraction`], whose motion turns the body
+/// about its centre of mass `c` while `c` moves at `ccd_vels.linvel` for `dt`. Every point of
+/// the collider stays within `radius` of `c` (the farthest corner of its start AABB), and the
+/// plane's signed distance to `c` is linear in time, so the cast cannot hit when `c` is
+/// more than `radius + margin` above the plane at both ends of the step.
+struct HalfspaceClearance {
+    center: Vector,
+    displacement: Vector,
+    radius: Real,
+    margin: Real,
+}
+
+impl HalfspaceClearance {
+    fn new(rb: &RigidBody, start_aabb: &Aabb, dt: Real, margin: Real) -> Self {
+        let center = rb.pos.position * rb.mprops.local_mprops.local_com;
+        let radius = start_aabb
+            .vertices()
+            .iter()
+            .map(|corner| (*corner - center).length())
+            .fold(0.0, Real::max);
+        Self {
+            center,
+            displacement: rb.ccd_vels.linvel * dt,
+            radius,
+            margin,
+        }
+    }
+
+    /// Whether the sweep stays clear of `co`, when `co` is a half-space.
+    fn clears(&self, co: &Collider, rb: Option<&RigidBody>) -> bool {
+        let Some(halfspace) = co.shape.as_halfspace() else {
+            return false;
+        };
+        let pose = target_collider_pose(co, rb);
+        let normal = pose.rotation * halfspace.normal;
+        let start = normal.dot(self.center - pose.translation);
+        let end = start + normal.dot(self.displacement);
+        start.min(end) > self.radius + self.margin
+    }
+}
+
 /// Runs the continuous sweep of a single fast body from its current pose to `end_body_pose`:
 /// sweeps each of its colliders through `targets`, keeps the earliest solid impact fraction,
 /// and records sensor crossings in [`PseudoHitMode::Record`] mode. Shared by the continuous
@@ -569,15 +612,19 @@ pub(super) fn sweep_fast_body(
         let local_com = parent1
             .pos_wrt_parent
             .inverse_transform_point(rb1.mprops.local_mprops.local_com);
-        let Some(fast) = FastColliderInfo::new(co1, rb1, &start, &end, local_com) else {
+        if shape_never_ccd_swept(co1.shape.as_ref()) {
             // Never-swept shape (mesh, heightfield, polyline, voxels): no CCD.
             continue;
-        };
+        }
+        // The sweep's description is built for the first target that needs a cast, not for
+        // every fast collider (gymfleet patch: most fast colliders meet no target).
+        let mut fast: Option<Option<FastColliderInfo>> = None;
 
         // Swept box: union of the collider's AABBs at the start and end poses.
         let start_aabb = co1.shape.compute_aabb(&start);
         let end_aabb = co1.shape.compute_aabb(&end);
         let swept_aabb = start_aabb.merged(&end_aabb);
+        let clearance = HalfspaceClearance::new(rb1, &start_aabb, dt, linear_slop);
 
         let mut handle_candidate = |ch2: ColliderHandle, co2: &Collider| {
             if ch2 == *ch1 {
@@ -601,14 +648,22 @@ pub(super) fn sweep_fast_body(
             if is_pseudo && pseudo_mode == PseudoHitMode::Ignore {
                 return;
             }
+            if clearance.clears(co2, rb2) {
+                return;
+            }
             if pair_filtered_out_by_hooks(
                 hooks, bodies, colliders, co1, co2, *ch1, ch2, handle, bh2,
             ) {
                 return;
             }
+            let Some(fast) = fast
+                .get_or_insert_with(|| FastColliderInfo::new(co1, rb1, &start, &end, local_com))
+            else {
+                return;
+            };
             if let Some(hit_fraction) = cast_collider_pair(
                 dispatcher,
-                &fast,
+                fast,
                 co2,
                 rb2,
                 fraction,

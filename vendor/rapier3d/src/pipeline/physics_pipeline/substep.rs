@@ -63,11 +63,11 @@ impl PhysicsPipeline {
         ccd_solver: &mut CCDSolver,
         hooks: &dyn PhysicsHooks,
         events: &dyn EventHandler,
-    ) {
+    ) -> bool {
         self.counters.ccd.toi_computation_time.start();
         // Handle CCD: sweep the fast bodies and clamp their `next_position` to their
         // earliest time of impact (velocities are preserved).
-        ccd_solver.solve_continuous(
+        let clamped = ccd_solver.solve_continuous(
             integration_parameters,
             islands,
             bodies,
@@ -79,6 +79,7 @@ impl PhysicsPipeline {
             events,
         );
         self.counters.ccd.toi_computation_time.pause();
+        clamped
     }
 
     /// `integration_parameters.dt` is the length of the interval the soft-CCD prediction of the
@@ -498,6 +499,8 @@ impl PhysicsPipeline {
         // CCD substeps are only reported when the CCD had to act during the step.
         let mut num_passes = 0;
         let mut any_ccd_active = false;
+        // Whether the CCD moved a body off the pose its solver pass left it at.
+        let mut any_ccd_clamp = false;
         let (ccd_is_enabled, mut remaining_substeps) =
             if integration_parameters.max_ccd_substeps == 0 {
                 (false, 1)
@@ -603,7 +606,7 @@ impl PhysicsPipeline {
                 any_ccd_active |= ccd_active;
                 if ccd_active {
                     self.join_deferred_bvh_optimize(broad_phase);
-                    self.run_ccd_motion_clamping(
+                    any_ccd_clamp |= self.run_ccd_motion_clamping(
                         &integration_parameters,
                         islands,
                         bodies,
@@ -674,8 +677,12 @@ impl PhysicsPipeline {
 
         if any_ccd_active {
             self.counters.ccd.num_substeps = num_passes;
-            // gymfleet patch (see `PATCHES.md`): the CCD may have clamped link bodies' poses
-            // after the solver left their multibodies' kinematics current.
+        }
+        // gymfleet patch (see `PATCHES.md` 14 and 23): a clamp moved link bodies off the poses
+        // their multibodies' kinematics stand for, and a split step re-ran the solver over
+        // them; either way the next step recomputes those kinematics. A fast body the CCD only
+        // swept, never clamped, keeps them current.
+        if any_ccd_clamp || num_passes > 1 {
             for multibody in &mut multibody_joints.multibodies {
                 multibody.1.set_kinematics_current(false);
             }
