@@ -1,5 +1,7 @@
 use crate::alloc_prelude::*;
-use crate::dynamics::{IntegrationParameters, IslandManager, RigidBodySet, SoftBodySet};
+use crate::dynamics::{
+    IntegrationParameters, IslandManager, MultibodyJointSet, RigidBodySet, SoftBodySet,
+};
 use crate::geometry::{
     BroadPhaseBvh, Collider, ColliderHandle, ColliderSet, CollisionEvent, NarrowPhase,
 };
@@ -56,18 +58,25 @@ impl CCDSolver {
         &self,
         islands: &IslandManager,
         bodies: &mut RigidBodySet,
+        multibody_joints: &MultibodyJointSet,
         dt: Real,
         include_forces: bool,
     ) -> bool {
         let mut ccd_active = false;
 
         for handle in islands.active_bodies() {
+            // gymfleet patch (`PATCHES.md` 24): a multibody link below the root is placed by
+            // its multibody's forward kinematics from the joint coordinates, which a clamp of
+            // its body's pose does not change: the next step's kinematics would undo it.
+            let placed_by_its_joint = multibody_joints
+                .rigid_body_link(handle)
+                .is_some_and(|link| link.id != 0);
             let rb = bodies.index_mut_internal(handle);
 
             // Default tier: every fast dynamic body is a CCD origin. `ccd_enabled`
             // no longer gates *activation*, only the sweep *scope* (fixed-only vs all bodies),
             // applied later during pair selection.
-            if rb.is_soft_frame() {
+            if rb.is_soft_frame() || placed_by_its_joint {
                 // A cluster proxy's pose is derived from its particles: it is never swept.
                 rb.ccd.ccd_active = false;
             } else if rb.is_dynamic() {
@@ -351,5 +360,64 @@ impl CCDSolver {
             }
         }
         clamped
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::prelude::*;
+
+    /// gymfleet patch 24: of a free multibody falling fast, the root is a CCD origin (a clamp
+    /// of its body's pose holds: the root's pose is its body's) and the link below it is not
+    /// (its kinematics would undo a clamp at the next step).
+    #[test]
+    fn a_fast_free_multibody_sweeps_its_root_and_not_its_links() {
+        let mut bodies = RigidBodySet::new();
+        let mut colliders = ColliderSet::new();
+        let mut multibody_joints = MultibodyJointSet::new();
+        let root =
+            bodies.insert(RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 50.0, 0.0)));
+        colliders.insert_with_parent(ColliderBuilder::ball(0.05), root, &mut bodies);
+        let arm =
+            bodies.insert(RigidBodyBuilder::dynamic().translation(Vector::new(0.2, 50.0, 0.0)));
+        colliders.insert_with_parent(ColliderBuilder::capsule_x(0.1, 0.02), arm, &mut bodies);
+        let hinge = RevoluteJointBuilder::new(Vector::Z).local_anchor2(Vector::new(-0.2, 0.0, 0.0));
+        multibody_joints.insert(root, arm, hinge, true);
+        let params = IntegrationParameters {
+            dt: 1.0 / 30.0,
+            ..IntegrationParameters::default()
+        };
+        let (mut pipeline, mut islands) = (PhysicsPipeline::new(), IslandManager::new());
+        let (mut broad_phase, mut narrow_phase) = (DefaultBroadPhase::new(), NarrowPhase::new());
+        let (mut impulse_joints, mut soft_bodies) = (ImpulseJointSet::new(), SoftBodySet::new());
+        let mut ccd = CCDSolver::new();
+        // Two seconds of free fall: 20 m/s, 0.65 m per step, thirteen ball diameters.
+        for _ in 0..60 {
+            pipeline.step(
+                Vector::new(0.0, -9.81, 0.0),
+                &params,
+                &mut islands,
+                &mut broad_phase,
+                &mut narrow_phase,
+                &mut bodies,
+                &mut colliders,
+                &mut impulse_joints,
+                &mut multibody_joints,
+                &mut soft_bodies,
+                &mut ccd,
+                &(),
+                &(),
+            );
+        }
+        assert!(
+            bodies[root].linvel().y < -19.0,
+            "{:?}",
+            bodies[root].linvel()
+        );
+        assert!(bodies[root].ccd.ccd_active, "the free root is not swept");
+        assert!(
+            !bodies[arm].ccd.ccd_active,
+            "the link below the root is swept"
+        );
     }
 }

@@ -522,8 +522,13 @@ impl PhysicsPipeline {
             if ccd_is_enabled && remaining_substeps > 1 {
                 // NOTE: Take forces into account when updating the bodies CCD activation flags
                 //       these forces have not been integrated to the body's velocity yet.
-                let ccd_active =
-                    ccd_solver.update_ccd_active_flags(islands, bodies, remaining_time, true);
+                let ccd_active = ccd_solver.update_ccd_active_flags(
+                    islands,
+                    bodies,
+                    multibody_joints,
+                    remaining_time,
+                    true,
+                );
                 any_ccd_active |= ccd_active;
                 self.join_deferred_bvh_optimize(broad_phase);
                 let first_impact = if ccd_active {
@@ -599,6 +604,7 @@ impl PhysicsPipeline {
                     None => ccd_solver.update_ccd_active_flags(
                         islands,
                         bodies,
+                        multibody_joints,
                         integration_parameters.dt,
                         false,
                     ),
