@@ -13,6 +13,23 @@ use simba::simd::SimdValue;
 #[cfg(feature = "block-solver")]
 pub(crate) const BLOCK_SOLVER_MIN_CONDITION: crate::math::Real = 0.01;
 
+/// The velocity along a contact's normal `dir1` at which its two bodies approach each other
+/// (negative when they close), for body velocities (or velocity increments) `vel1`, `vel2`.
+#[inline]
+pub(crate) fn normal_velocity<N: ScalarType>(
+    dir1: &N::Vector,
+    torque_dir1: &N::AngVector,
+    torque_dir2: &N::AngVector,
+    vel1: &SolverVel<N>,
+    vel2: &SolverVel<N>,
+) -> N
+where
+    N::AngVector: DotProduct<N::AngVector, Result = N>,
+{
+    dir1.gdot(vel1.linear) + torque_dir1.gdot(vel1.angular) - dir1.gdot(vel2.linear)
+        + torque_dir2.gdot(vel2.angular)
+}
+
 #[derive(Copy, Clone, Debug)]
 pub(crate) struct ContactConstraintTangentPart<N: ScalarType> {
     pub torque_dir1: [N::AngVector; DIM - 1],
@@ -264,15 +281,16 @@ impl<N: ScalarType> ContactConstraintNormalPart<N> {
         solver_vel2.angular += self.ii_torque_dir2 * dlambda;
     }
 
-    /// End-of-step restitution (box2d-style): drives the relative normal velocity toward
-    /// `-seed` (`restitution * approach_velocity`, captured at prepare), rigidly and AFTER
-    /// all substeps — inside the substep rhs the speculative slack truncates the bounce.
+    /// Restitution (box2d-style): drives the relative normal velocity toward `-seed`
+    /// (`restitution * approach_velocity` at impact), rigidly and after the substep's solve —
+    /// inside the substep rhs the speculative slack truncates the bounce.
     ///
-    /// Gated per lane on the point having applied a normal impulse this step.
+    /// Gated per lane on the point having applied a normal impulse this step; a lane that
+    /// bounces gives up its seed (gymfleet patch 25: once per step, in the substep of impact).
     #[inline]
     pub fn solve_restitution(
         &mut self,
-        seed: N,
+        seed: &mut N,
         dir1: &N::Vector,
         im1: &N::Vector,
         im2: &N::Vector,
@@ -284,8 +302,10 @@ impl<N: ScalarType> ContactConstraintNormalPart<N> {
         let dvel = dir1.gdot(solver_vel1.linear) + self.torque_dir1.gdot(solver_vel1.angular)
             - dir1.gdot(solver_vel2.linear)
             + self.torque_dir2.gdot(solver_vel2.angular)
-            + seed;
+            + *seed;
         let gate = seed.simd_lt(N::zero()) & self.total_impulse().simd_gt(N::zero());
+        // gymfleet patch 25: a point bounces once per step.
+        *seed = N::zero().select(gate, *seed);
         let new_impulse = (self.impulse - self.r * dvel).simd_max(N::zero());
         let new_impulse = new_impulse.select(gate, self.impulse);
         let dlambda = new_impulse - self.impulse;
@@ -507,7 +527,7 @@ where
     #[inline]
     pub fn solve_restitution(
         &mut self,
-        seed: N,
+        seed: &mut N,
         dir1: &N::Vector,
         im1: &N::Vector,
         im2: &N::Vector,
@@ -519,8 +539,10 @@ where
         let dvel = dir1.gdot(solver_vel1.linear) + self.torque_dir1.gdot(solver_vel1.angular)
             - dir1.gdot(solver_vel2.linear)
             + self.torque_dir2.gdot(solver_vel2.angular)
-            + seed;
+            + *seed;
         let gate = seed.simd_lt(N::zero()) & self.total_impulse().simd_gt(N::zero());
+        // gymfleet patch 25: a point bounces once per step.
+        *seed = N::zero().select(gate, *seed);
         let new_impulse = (self.impulse - self.r * dvel).simd_max(N::zero());
         let new_impulse = new_impulse.select(gate, self.impulse);
         let dlambda = new_impulse - self.impulse;

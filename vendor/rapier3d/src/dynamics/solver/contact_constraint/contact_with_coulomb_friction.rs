@@ -1,8 +1,8 @@
-use super::{ContactConstraintNormalPart, ContactConstraintTangentPart};
+use super::{ContactConstraintNormalPart, ContactConstraintTangentPart, normal_velocity};
 #[cfg(feature = "block-solver")]
 use crate::dynamics::solver::contact_constraint::BLOCK_SOLVER_MIN_CONDITION;
 use crate::dynamics::solver::manifold_store::ManifoldStore;
-use crate::dynamics::solver::solver_body::SolverBodies;
+use crate::dynamics::solver::solver_body::{SolverBodies, SolverVel};
 use crate::dynamics::solver::solver_contact_graph::ContactRef;
 use crate::dynamics::{IntegrationParameters, MultibodyJointSet, RigidBodySet};
 use crate::geometry::{ContactManifold, SimdSolverContact};
@@ -426,9 +426,13 @@ impl ContactWithCoulombFrictionBuilder {
             let dist = info.dist + (p1 - p2).gdot(constraint.dir1);
             if let Some((vel1, vel2)) = &bouncy_vels {
                 let dir1 = constraint.dir1;
-                let approach = dir1.gdot(vel1.linear) + normal_part.torque_dir1.gdot(vel1.angular)
-                    - dir1.gdot(vel2.linear)
-                    + normal_part.torque_dir2.gdot(vel2.angular);
+                let approach = normal_velocity(
+                    &dir1,
+                    &normal_part.torque_dir1,
+                    &normal_part.torque_dir2,
+                    vel1,
+                    vel2,
+                );
                 let seed = &mut seeds[k];
                 // Until the point first pushes (no impulse yet this step).
                 let refresh = normal_part.total_impulse().simd_le(SimdReal::zero())
@@ -479,6 +483,42 @@ impl ContactWithCoulombFrictionBuilder {
         constraint.cfm_factor = cfm_factor;
     }
 
+    /// gymfleet patch 25 (see `PATCHES.md`), at a substep's first relax pass, once positions
+    /// were integrated: a bouncy point that has not bounced and did not push in the substep's
+    /// biased solve moved freely through the substep. If the relax pass now pushes it (it would
+    /// cross within the next substep), it bounces where it is, so its target is the approach
+    /// velocity it would meet the surface with in that next substep: its seed takes the
+    /// substep's external velocity increment (gravity's) along the normal. Had the biased solve
+    /// pushed, the seed is already the approach of the substep it met the surface in.
+    pub fn advance_restitution_seeds(
+        &self,
+        constraint: &mut ContactWithCoulombFriction<SimdReal>,
+        increments: &[SolverVel<Real>],
+    ) {
+        let num = constraint.num_contacts as usize;
+        let seeds = &mut constraint.restitution_seed[..num];
+        if !seeds
+            .iter()
+            .any(|seed| seed.simd_lt(SimdReal::zero()).any())
+        {
+            return;
+        }
+        let inc1 = SolverVel::gather(increments, constraint.solver_vel1);
+        let inc2 = SolverVel::gather(increments, constraint.solver_vel2);
+        for (seed, normal_part) in seeds.iter_mut().zip(constraint.normal_part[..num].iter()) {
+            let free = seed.simd_lt(SimdReal::zero())
+                & normal_part.total_impulse().simd_le(SimdReal::zero());
+            let increment = normal_velocity(
+                &constraint.dir1,
+                &normal_part.torque_dir1,
+                &normal_part.torque_dir2,
+                &inc1,
+                &inc2,
+            );
+            *seed = (*seed + self.restitution * increment).select(free, *seed);
+        }
+    }
+
     /// Relax-pass update: recompute the unbiased rhs (speculative term included)
     /// from the CURRENT solver poses and strip softness and penetration bias. See
     /// `ContactWithTwistFrictionBuilder::update_rhs_wo_bias` for why stale separations are unusable.
@@ -523,28 +563,35 @@ impl ContactWithCoulombFrictionBuilder {
             .any(|info| info.restitution_seed.simd_lt(SimdReal::zero()).any())
     }
 
-    /// End-of-step restitution pass (box2d-style): after all substeps, drive each bouncy
-    /// point's normal velocity to its prepare-time `restitution * approach_velocity`, gated
-    /// on the point having applied an impulse. See `ContactConstraintNormalPart::solve_restitution`.
+    /// Restitution pass (box2d-style): drive each bouncy point's normal velocity to its
+    /// seed, `restitution * approach_velocity`, gated on the point having applied an impulse.
+    /// gymfleet patch 25 (see `PATCHES.md`): run after every substep, and a point that bounces
+    /// gives up its seed, so it bounces once, in the substep in which it first pushed. See
+    /// `ContactConstraintNormalPart::solve_restitution`.
     pub fn apply_restitution(
         &self,
         constraint: &mut ContactWithCoulombFriction<SimdReal>,
         bodies: &mut SolverBodies,
     ) {
-        if !self.has_bouncy_seed(constraint.num_contacts) {
+        let num = constraint.num_contacts as usize;
+        // Prepared bouncy (the builder's seeds) and not yet bounced (the constraint's).
+        if !self.has_bouncy_seed(constraint.num_contacts)
+            || !constraint.restitution_seed[..num]
+                .iter()
+                .any(|seed| seed.simd_lt(SimdReal::zero()).any())
+        {
             return;
         }
 
         let mut solver_vel1 = bodies.gather_vels(constraint.solver_vel1);
         let mut solver_vel2 = bodies.gather_vels(constraint.solver_vel2);
 
-        let num = constraint.num_contacts as usize;
         for (seed, normal_part) in constraint.restitution_seed[..num]
-            .iter()
+            .iter_mut()
             .zip(constraint.normal_part[..num].iter_mut())
         {
             normal_part.solve_restitution(
-                *seed,
+                seed,
                 &constraint.dir1,
                 &constraint.im1,
                 &constraint.im2,

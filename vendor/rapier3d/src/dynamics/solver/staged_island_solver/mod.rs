@@ -6,6 +6,7 @@
 mod helpers;
 mod init;
 mod joints;
+mod restitution;
 mod solve;
 mod sync;
 mod worker;

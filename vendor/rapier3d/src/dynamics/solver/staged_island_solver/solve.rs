@@ -5,6 +5,7 @@
 use crate::dynamics::IntegrationParameters;
 use crate::dynamics::solver::JointConstraintsSet;
 use crate::math::Real;
+use core::sync::atomic::Ordering::Relaxed;
 
 use super::{SharedCtx, stage_batch};
 
@@ -134,8 +135,13 @@ pub(super) unsafe fn solve_pass(
             c.solve(&mut vs.solver_bodies);
         }
     };
+    // gymfleet patch 25: at the first relax pass, bouncy points that moved freely through the
+    // substep take its velocity increment into their restitution seed (see
+    // `advance_restitution_seeds`). `soft_update` marks the first pass of its kind.
+    let advance_seeds = wo_bias && soft_update && unsafe { &*ctx.any_bouncy }.load(Relaxed);
     let solve_chunk = |chunk_id: usize| {
         // SAFETY: same argument as `solve_joint`.
+        let increments = unsafe { &(*ctx.velocity_solver).solver_vels_increment };
         let solver_bodies = unsafe { &mut (*ctx.velocity_solver).solver_bodies };
         #[cfg(feature = "dim3")]
         if ctx.use_twist {
@@ -145,6 +151,9 @@ pub(super) unsafe fn solve_pass(
                 // from the current poses (reusing pre-integration separations
                 // destabilizes stack rocking).
                 let builder = unsafe { &*ctx.twist_builders.add(chunk_id) };
+                if advance_seeds {
+                    builder.advance_restitution_seeds(c, increments);
+                }
                 builder.update_rhs_wo_bias(params, solved_dt, solver_bodies, c);
             }
             c.solve(solver_bodies, true, solve_friction);
@@ -153,6 +162,9 @@ pub(super) unsafe fn solve_pass(
             let c = unsafe { &mut *ctx.coulomb_constraints.add(chunk_id) };
             if wo_bias {
                 let builder = unsafe { &*ctx.coulomb_builders.add(chunk_id) };
+                if advance_seeds {
+                    builder.advance_restitution_seeds(c, increments);
+                }
                 builder.update_rhs_wo_bias(params, solved_dt, solver_bodies, c);
             }
             c.solve(solver_bodies, true, solve_friction);

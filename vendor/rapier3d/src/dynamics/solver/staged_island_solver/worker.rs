@@ -18,6 +18,7 @@ use crate::geometry::ContactManifold;
 use crate::math::Real;
 use parry::math::SIMD_WIDTH;
 
+use super::restitution::{RestitutionPass, restitution_pass};
 use super::solve::solve_pass;
 use super::{BODY_BATCH, SharedCtx, chunk_at, stage_batch};
 
@@ -202,7 +203,7 @@ pub(super) unsafe fn run_worker(ctx: &SharedCtx, worker_id: usize) {
     let has_gyroscopic = unsafe { &*ctx.any_gyroscopic }.load(Ordering::Relaxed);
     // Whether any contact constraint captured a restitution seed, published by the
     // constraint-generation barrier so every worker agrees. Bounce-free steps (the common
-    // case) skip the end-of-step restitution stages entirely.
+    // case) skip the restitution stages entirely.
     let has_bouncy = unsafe { &*ctx.any_bouncy }.load(Ordering::Relaxed);
     let has_soft = !unsafe { &*ctx.soft_constraints }.is_empty();
     // Soft bodies solved by the FEM path: their implicit elastic step is one stage per substep,
@@ -726,90 +727,35 @@ pub(super) unsafe fn run_worker(ctx: &SharedCtx, worker_id: usize) {
                     )
                 };
             }
+
+            /*
+             * Stages: restitution (gymfleet patch 25), color by color: a rigid-body contact
+             * point that pushed for the first time in this substep leaves the floor at its
+             * bounce speed from the next substep on. Applied after the substep's last solve:
+             * inside the substep rhs the speculative `dist * inv_dt` slack would truncate the
+             * bounce.
+             */
+            if has_bouncy {
+                stage = unsafe {
+                    restitution_pass(ctx, group_index, worker_id, stage, RestitutionPass::Substep)
+                };
+            }
         }
 
         /*
-         * Stages: end-of-step restitution, color by color (box2d-style). Applied ONCE after
-         * all substeps, gated on the point having applied an impulse: inside the substep rhs
-         * the speculative `dist * inv_dt` slack would truncate the bounce.
+         * Stage: end-of-step restitution of the multibody (generic) contacts. The rigid-body
+         * contacts bounced at the end of the substep in which they first pushed (below).
          */
         if has_bouncy {
-            for (_, color) in &ctx.color_ranges[group.colors.clone()] {
-                let mut done = 0;
-                while let Some(claimed) = sync.claim(
-                    stage,
-                    color,
-                    stage_batch(color.end - color.start, sync.num_workers),
+            stage = unsafe {
+                restitution_pass(
+                    ctx,
+                    group_index,
                     worker_id,
-                ) {
-                    let claimed_len = claimed.len();
-                    for chunk_id in claimed {
-                        // SAFETY: constraints of a same color touch pairwise-disjoint bodies.
-                        let solver_bodies = unsafe { &mut (*ctx.velocity_solver).solver_bodies };
-                        #[cfg(feature = "dim3")]
-                        if ctx.use_twist {
-                            let builder = unsafe { &*ctx.twist_builders.add(chunk_id) };
-                            builder.apply_restitution(
-                                unsafe { &mut *ctx.twist_constraints.add(chunk_id) },
-                                solver_bodies,
-                            );
-                        }
-                        if !ctx.use_twist {
-                            let builder = unsafe { &*ctx.coulomb_builders.add(chunk_id) };
-                            builder.apply_restitution(
-                                unsafe { &mut *ctx.coulomb_constraints.add(chunk_id) },
-                                solver_bodies,
-                            );
-                        }
-                    }
-                    done += claimed_len;
-                }
-                // One completion flush per worker per stage (see the warmstart stages).
-                sync.complete(stage, done, color.len());
-                stage = sync.sync(stage, color.len());
-            }
-
-            // Overflow + generic (multibody) contacts, exclusively on worker 0.
-            if worker_id == 0 {
-                for chunk_id in group.overflow.clone() {
-                    let solver_bodies = unsafe { &mut (*ctx.velocity_solver).solver_bodies };
-                    #[cfg(feature = "dim3")]
-                    if ctx.use_twist {
-                        let builder = unsafe { &*ctx.twist_builders.add(chunk_id) };
-                        builder.apply_restitution(
-                            unsafe { &mut *ctx.twist_constraints.add(chunk_id) },
-                            solver_bodies,
-                        );
-                    }
-                    if !ctx.use_twist {
-                        let builder = unsafe { &*ctx.coulomb_builders.add(chunk_id) };
-                        builder.apply_restitution(
-                            unsafe { &mut *ctx.coulomb_constraints.add(chunk_id) },
-                            solver_bodies,
-                        );
-                    }
-                }
-
-                // Generic constraints exist only on the single-group path.
-                if ctx.groups.len() == 1 {
-                    let contacts = unsafe { &mut *ctx.contact_constraints };
-                    let vs = unsafe { &mut *ctx.velocity_solver };
-                    for (builder, c) in contacts
-                        .generic_velocity_constraints_builder
-                        .iter()
-                        .zip(contacts.generic_velocity_constraints.iter_mut())
-                    {
-                        builder.apply_restitution(
-                            c,
-                            &contacts.generic_jacobians,
-                            &mut vs.solver_bodies,
-                            &mut vs.generic_solver_vels,
-                        );
-                    }
-                }
-                sync.complete(stage, 1, 1);
-            }
-            stage = sync.sync(stage, 1);
+                    stage,
+                    RestitutionPass::EndOfStep,
+                )
+            };
         }
     }
 
