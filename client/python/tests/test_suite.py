@@ -544,3 +544,17 @@ def test_actions_are_mujocos_ctrl_in_actuator_order():
         action = np.zeros(8)
         action[k] = 1.0
         assert _moved_joint("gymfleet/Ant-v5", action) == _moved_joint("Ant-v5", action), k
+
+
+def test_the_batched_cross_product_is_numpys_bit_for_bit():
+    # The suite's floating-base conversions use their own cross product (np.cross's axis
+    # handling cost more than its arithmetic); it must give numpy's bits.
+    from gymfleet.suite.envs import _cross
+
+    rng = np.random.default_rng(3)
+    a, b = rng.normal(size=(64, 3)), rng.normal(size=(64, 3))
+    assert np.array_equal(_cross(a, b), np.cross(a, b))
+    assert np.array_equal(_cross(a, b[0]), np.cross(a, b[0]))
+    f = a.astype(np.float32)
+    assert _cross(f, f[::-1]).dtype == np.float32
+    assert np.array_equal(_cross(f, f[::-1]), np.cross(f, f[::-1]))

@@ -209,8 +209,11 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
         # term name, as gymnasium's vector envs write per-env info.
         if terms.shape[1]:
             every = np.ones(self.num_envs, dtype=np.bool_)
-            for k, name in enumerate(self._info["term_names"]):
-                infos[name] = terms[:, k].astype(np.float64)
+            # One conversion for every term (Humanoid has 308): each name's values are a
+            # row of it.
+            by_term = np.ascontiguousarray(terms.T, dtype=np.float64)
+            for name, values in zip(self._info["term_names"], by_term):
+                infos[name] = values
                 infos["_" + name] = every
         why: Dict[str, Any] = {}
         if reasons:

@@ -13,7 +13,7 @@ from typing import Any, Dict, List, Mapping, Tuple
 import numpy as np
 
 from ..errors import InvalidArgument
-from .plans import Model, Plan, Positions, Terms, _WRENCH, _bound, _exclude, _noise, _range
+from .plans import OBSERVED, Model, Plan, Positions, Terms, _WRENCH, _bound, _exclude, _noise, _range
 
 #: Floats per body in cinert (inertia xx yy zz xy xz yz, mass × offset, mass) and cvel.
 _CINERT = 10
@@ -72,8 +72,9 @@ def _observe(model: Model, kw: Mapping[str, Any], parts: List[Tuple[str, List[st
 
     def observe(q: np.ndarray, v: np.ndarray, ee: np.ndarray, t: Terms) -> np.ndarray:
         out = [q[:, skip:], v]
-        for _, names in parts:
-            out.append(np.stack([np.asarray(t[n], dtype=q.dtype) for n in names], axis=1))
+        if parts:
+            # The parts' terms are the task's observed terms, in the parts' order.
+            out.append(np.asarray(t[OBSERVED], dtype=q.dtype))
         return np.concatenate(out, axis=1)
 
     # qpos (the free joint's 7, x and y left out) and qvel (its 6), then the body parts.
