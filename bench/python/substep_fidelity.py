@@ -24,7 +24,7 @@ import numpy as np
 
 import gymfleet
 from gymfleet.suite import SUITE
-from gymfleet.suite.plans import read_model
+from gymfleet.suite.model import read_model
 
 MODELS = ["HalfCheetah", "Hopper", "Walker2d", "Ant"]
 

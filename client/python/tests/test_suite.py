@@ -253,7 +253,7 @@ def test_the_double_pendulums_cart_stop_force_is_mujocos(tmp_path):
     ±10: its slider's stop pushing back. With the poles held upright (hinge limits of
     ±0.01 rad, so the episode does not end) the cart is driven into its stop at 1 m and
     then let go."""
-    from gymfleet.suite.plans import assets_dir
+    from gymfleet.suite.model import assets_dir
 
     text = (assets_dir() / "inverted_double_pendulum.xml").read_text()
     for hinge in ("hinge", "hinge2"):

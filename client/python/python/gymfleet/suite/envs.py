@@ -22,7 +22,8 @@ from gymnasium.vector.utils import batch_space
 from ..env import GymfleetEnv
 from ..errors import InvalidArgument
 from ..vector import GymfleetVectorEnv
-from .plans import OBSERVED, Model, Plan, Terms, read_model
+from .model import Model, read_model
+from .plans import OBSERVED, Plan, Terms
 from .specs import IGNORED_KWARGS, SUITE, SuiteSpec
 
 #: A single env's server-side episode limit: none that matters; gymnasium's TimeLimit

@@ -13,7 +13,8 @@ from typing import Any, Dict, List, Mapping, Tuple
 import numpy as np
 
 from ..errors import InvalidArgument
-from .plans import OBSERVED, Model, Plan, Positions, Terms, _WRENCH, _bound, _exclude, _noise, _range
+from .model import Model
+from .plans import OBSERVED, Plan, Positions, Terms, _WRENCH, _bound, _exclude, _noise, _range
 
 #: Floats per body in cinert (inertia xx yy zz xy xz yz, mass × offset, mass) and cvel.
 _CINERT = 10

@@ -9,15 +9,13 @@ env (``client/python/tests/test_suite.py``).
 from __future__ import annotations
 
 import math
-import os
-import pathlib
-import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from typing import Any, Callable, Dict, List, Mapping, Optional, Tuple
 
 import numpy as np
 
 from ..errors import InvalidArgument
+from .model import Model
 
 #: Arrays per env: positions (n, dof), and the terms task's values by name (n,) each.
 Positions = np.ndarray
@@ -25,150 +23,6 @@ Terms = Mapping[str, np.ndarray]
 #: The key under which a plan's ``observe`` finds the observed terms' values, (n, k), in the
 #: order the task lists its ``observe`` terms: the rows' ``terms`` segment as it is.
 OBSERVED = "observed terms"
-
-
-@dataclass
-class Model:
-    """What the plans read from the XML file: MuJoCo's joints in qpos order (a free
-    joint apart: it is the converted robot's floating base), its bodies and its
-    timestep."""
-
-    path: str
-    text: str
-    #: The joints with one DOF each, in qpos order.
-    joints: List[str]
-    #: Each joint's ``ref`` as written (MuJoCo's qpos0; metres for slide joints).
-    refs: List[float]
-    timestep: float
-    #: The free joint's name, if the first body has one (qpos[0:7], qvel[0:6]).
-    free: Optional[str] = None
-    #: MuJoCo's bodies but the world, in body order: each name and its geoms' names
-    #: (the instances the conversion makes of it).
-    bodies: List[Tuple[str, List[str]]] = field(default_factory=list)
-    #: The joint each actuator drives, in actuator (ctrl) order.
-    actuators: List[str] = field(default_factory=list)
-    #: Fixed tendons: each name and its (joint, coef) pairs.
-    tendons: List[Tuple[str, List[Tuple[str, float]]]] = field(default_factory=list)
-    #: The first body's height as written (MuJoCo's init_qpos[2] with a free joint).
-    root_z: float = 0.0
-    #: The first body's first geom (what the server observes as a floating base): its
-    #: centre and orientation (w, x, y, z) in the body's frame; ``None`` when it is at the
-    #: body's origin, unturned.
-    root_geom: Optional[Tuple[np.ndarray, np.ndarray]] = None
-
-    def index(self, name: str) -> int:
-        return self.joints.index(name)
-
-
-def assets_dir() -> pathlib.Path:
-    import gymnasium
-
-    return pathlib.Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets"
-
-
-def xml_path(xml_file: str) -> str:
-    """As Gymnasium's ``MujocoEnv`` finds a model: a path starting with ``.``, ``/`` or
-    ``~`` as it is, any other name in the installed gymnasium's assets."""
-    if xml_file.startswith((".", "/")):
-        return xml_file
-    if xml_file.startswith("~"):
-        return os.path.expanduser(xml_file)
-    return str(assets_dir() / xml_file)
-
-
-def read_model(xml_file: str) -> Model:
-    path = xml_path(xml_file)
-    if not os.path.isfile(path):
-        raise InvalidArgument(f"xml_file: {path!r} does not exist")
-    with open(path, encoding="utf-8") as f:
-        text = f.read()
-    try:
-        root = ET.fromstring(text)
-    except ET.ParseError as e:
-        raise InvalidArgument(f"xml_file: {path!r} is not XML: {e}") from None
-    world = root.find("worldbody")
-    joints: List[str] = []
-    refs: List[float] = []
-    free: Optional[str] = None
-    bodies: List[Tuple[str, List[str]]] = []
-    if world is not None:
-        for j in world.iter():
-            if j.tag == "body":
-                geoms = [g.get("name", "") for g in j.findall("geom")]
-                bodies.append((j.get("name", ""), geoms))
-            if j.tag == "freejoint" or (j.tag == "joint" and j.get("type") == "free"):
-                if free is None and not joints:
-                    free = j.get("name", "")
-                    continue
-            if j.tag in ("joint", "freejoint"):
-                joints.append(j.get("name", ""))
-                refs.append(float(j.get("ref", 0.0)))
-    tendons: List[Tuple[str, List[Tuple[str, float]]]] = []
-    for k, fixed in enumerate(root.iter("fixed")):
-        pairs = [(j.get("joint", ""), float(j.get("coef", 0.0))) for j in fixed.findall("joint")]
-        tendons.append((fixed.get("name", f"tendon{k}"), pairs))
-    first = world.find("body") if world is not None else None
-    root_z = float((first.get("pos") or "0 0 0").split()[2]) if first is not None else 0.0
-    geom = first.find("geom") if first is not None else None
-    root_geom = _geom_frame(geom, path) if free is not None and geom is not None else None
-    actuator = root.find("actuator")
-    actuators = [a.get("joint", "") for a in actuator] if actuator is not None else []
-    option = root.find("option")
-    timestep = float(option.get("timestep", 0.002)) if option is not None else 0.002
-    return Model(
-        path=path,
-        text=text,
-        joints=joints,
-        refs=refs,
-        timestep=timestep,
-        free=free,
-        bodies=bodies,
-        actuators=actuators,
-        tendons=tendons,
-        root_z=root_z,
-        root_geom=root_geom,
-    )
-
-
-def _geom_frame(geom: ET.Element, path: str) -> Optional[Tuple[np.ndarray, np.ndarray]]:
-    """A geom's centre and orientation in its body's frame, as the conversion places its
-    instance: ``fromto``'s midpoint and the shortest turn of z onto its axis, or ``pos``
-    and ``quat``; ``None`` for the body's own frame."""
-
-    def numbers(name: str, n: int) -> Optional[np.ndarray]:
-        text = geom.get(name)
-        if text is None:
-            return None
-        values = np.array([float(x) for x in text.split()])
-        if len(values) != n:
-            raise InvalidArgument(f"xml_file: {path}: the first geom's {name} needs {n} numbers")
-        return values
-
-    unsupported = [a for a in ("euler", "axisangle", "xyaxes", "zaxis") if geom.get(a) is not None]
-    if unsupported:
-        raise InvalidArgument(
-            f"xml_file: {path}: the free body's first geom is turned by {unsupported[0]}; "
-            "the suite reads the body's frame from a geom placed by fromto or pos and quat"
-        )
-    fromto = numbers("fromto", 6)
-    if fromto is not None:
-        a, b = fromto[:3], fromto[3:]
-        axis = (b - a) / np.linalg.norm(b - a)
-        d = axis[2]
-        if d < -1.0 + 1e-9:
-            quat = np.array([0.0, 1.0, 0.0, 0.0])  # half a turn about x
-        else:
-            quat = np.array([1.0 + d, -axis[1], axis[0], 0.0])  # w = 1 + z·axis, z × axis
-            quat /= np.linalg.norm(quat)
-        centre = (a + b) / 2.0
-    else:
-        centre = numbers("pos", 3)
-        centre = np.zeros(3) if centre is None else centre
-        quat = numbers("quat", 4)
-        quat = np.array([1.0, 0.0, 0.0, 0.0]) if quat is None else quat / np.linalg.norm(quat)
-    if np.allclose(centre, 0.0) and np.allclose(quat, [1.0, 0.0, 0.0, 0.0]):
-        return None
-    return centre, quat
 
 
 @dataclass

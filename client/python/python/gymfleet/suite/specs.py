@@ -12,6 +12,7 @@ import numpy as np
 
 from ..errors import InvalidArgument
 from .humanoid import _humanoid, _humanoid_standup
+from .model import Model
 from .plans import (
     _ant,
     _half_cheetah,
@@ -22,7 +23,6 @@ from .plans import (
     _reacher,
     _swimmer,
     _walker2d,
-    Model,
     Plan,
 )
 
