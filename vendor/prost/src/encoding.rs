@@ -371,6 +371,10 @@ from_uint64(value) {
     ((value >> 1) as i64) ^ (-((value & 1) as i64))
 });
 
+/// The bytes a packed fixed-width run is encoded through at a time (gymfleet patch, see
+/// `PATCHES.md`).
+const PACKED_BLOCK: usize = 512;
+
 /// Macro which emits a module containing a set of encoding functions for a
 /// fixed width numeric type.
 macro_rules! fixed_width {
@@ -413,12 +417,65 @@ macro_rules! fixed_width {
                 let len = values.len() as u64 * $width;
                 encode_varint(len as u64, buf);
 
-                for value in values {
-                    buf.$put(*value);
+                // gymfleet patch (see `PATCHES.md`): the values' little-endian bytes go
+                // to `buf` a block at a time (`put_slice`) instead of one `put` per value.
+                let mut block = [0u8; PACKED_BLOCK];
+                for group in values.chunks(PACKED_BLOCK / $width) {
+                    let bytes = &mut block[..group.len() * $width];
+                    for (dst, value) in bytes.chunks_exact_mut($width).zip(group) {
+                        dst.copy_from_slice(&value.to_le_bytes());
+                    }
+                    buf.put_slice(bytes);
                 }
             }
 
-            merge_repeated_numeric!($ty, $wire_type, merge, merge_repeated);
+            /// Merges a repeated field: a packed run is read a contiguous chunk of `buf` at
+            /// a time (gymfleet patch, see `PATCHES.md`).
+            pub fn merge_repeated(
+                wire_type: WireType,
+                values: &mut Vec<$ty>,
+                buf: &mut impl Buf,
+                ctx: DecodeContext,
+            ) -> Result<(), DecodeError> {
+                if wire_type != WireType::LengthDelimited {
+                    return merge_repeated_one(wire_type, values, buf, ctx);
+                }
+                // A run that `buf` holds whole and that is a whole number of values;
+                // anything else is left to the value-by-value loop, errors included.
+                let mut peek = buf.chunk();
+                let Ok(len) = decode_varint(&mut peek) else {
+                    return merge_repeated_one(wire_type, values, buf, ctx);
+                };
+                // The length `merge_loop` would read, from the first chunk alone.
+                let len_len = buf.chunk().len() - peek.len();
+                if len % $width != 0 || len > (buf.remaining() - len_len) as u64 {
+                    return merge_repeated_one(wire_type, values, buf, ctx);
+                }
+                let len = len as usize;
+                buf.advance(len_len);
+                values.reserve(len / $width);
+                let mut left = len;
+                while left > 0 {
+                    let chunk = buf.chunk();
+                    let take = chunk.len().min(left) / $width * $width;
+                    if take == 0 {
+                        // A value split between two chunks.
+                        values.push(buf.$get());
+                        left -= $width;
+                        continue;
+                    }
+                    values.extend(chunk[..take].chunks_exact($width).map(|b| {
+                        let mut bytes = [0u8; $width];
+                        bytes.copy_from_slice(b);
+                        <$ty>::from_le_bytes(bytes)
+                    }));
+                    buf.advance(take);
+                    left -= take;
+                }
+                Ok(())
+            }
+
+            merge_repeated_numeric!($ty, $wire_type, merge, merge_repeated_one);
 
             #[inline]
             pub fn encoded_len(tag: u32, _: &$ty) -> usize {
@@ -1458,5 +1515,121 @@ mod test {
             assert_eq!(c.chunk().len(), half_len);
             assert_eq!(v, decode_varint(&mut c).unwrap());
         }
+    }
+}
+
+/// gymfleet patch (see `PATCHES.md`): packed fixed-width runs encoded a block at a time and
+/// decoded a chunk at a time, checked against the value-by-value path they replace.
+#[cfg(test)]
+mod packed_block_tests {
+    use super::*;
+
+    /// The value-by-value encoding the patch replaced.
+    fn encode_one_by_one(tag: u32, values: &[f32], buf: &mut Vec<u8>) {
+        encode_key(tag, WireType::LengthDelimited, buf);
+        encode_varint(values.len() as u64 * 4, buf);
+        for value in values {
+            buf.put_f32_le(*value);
+        }
+    }
+
+    /// `bytes` as a `Buf` of two chunks, split at `at`.
+    fn split(bytes: &[u8], at: usize) -> impl Buf + '_ {
+        let (a, b) = bytes.split_at(at);
+        a.chain(b)
+    }
+
+    fn values(n: usize) -> Vec<f32> {
+        (0..n)
+            .map(|i| f32::from_bits(0x3f80_0000 ^ (i as u32).wrapping_mul(2_654_435_761)))
+            .collect()
+    }
+
+    #[test]
+    fn a_packed_run_encodes_to_the_same_bytes() {
+        for n in [1, 3, 127, 128, 129, 300] {
+            let v = values(n);
+            let (mut blocks, mut one) = (Vec::new(), Vec::new());
+            float::encode_packed(7, &v, &mut blocks);
+            encode_one_by_one(7, &v, &mut one);
+            assert_eq!(blocks, one, "{n} values");
+        }
+        let d: Vec<f64> = values(200).iter().map(|&x| f64::from(x) / 3.0).collect();
+        let mut blocks = Vec::new();
+        double::encode_packed(2, &d, &mut blocks);
+        let mut one = Vec::new();
+        encode_key(2, WireType::LengthDelimited, &mut one);
+        encode_varint(d.len() as u64 * 8, &mut one);
+        for x in &d {
+            one.put_f64_le(*x);
+        }
+        assert_eq!(blocks, one);
+    }
+
+    #[test]
+    fn a_packed_run_decodes_alike_however_its_buffer_is_split() {
+        let v = values(70);
+        let mut bytes = Vec::new();
+        float::encode_packed(1, &v, &mut bytes);
+        // After the key, as a message's merge hands it on; then a trailing field.
+        let body = &bytes[1..];
+        let mut with_tail = body.to_vec();
+        with_tail.extend_from_slice(&[0x10, 0x01]);
+        for at in 0..=with_tail.len() {
+            let mut buf = split(&with_tail, at);
+            let mut out = Vec::new();
+            float::merge_repeated(
+                WireType::LengthDelimited,
+                &mut out,
+                &mut buf,
+                DecodeContext::default(),
+            )
+            .unwrap();
+            assert_eq!(out.len(), v.len(), "split at {at}");
+            assert!(
+                out.iter().zip(&v).all(|(a, b)| a.to_bits() == b.to_bits()),
+                "split at {at}"
+            );
+            assert_eq!(buf.remaining(), 2, "split at {at}: the next field is left");
+        }
+    }
+
+    #[test]
+    fn a_malformed_run_fails_as_before() {
+        // A length that is not a whole number of values, and one past the buffer's end.
+        for body in [&[6u8, 0, 0, 128, 63, 0, 0][..], &[8u8, 0, 0, 128, 63][..]] {
+            for at in 0..=body.len() {
+                let mut fast = split(body, at);
+                let mut slow = split(body, at);
+                let a = float::merge_repeated(
+                    WireType::LengthDelimited,
+                    &mut Vec::new(),
+                    &mut fast,
+                    DecodeContext::default(),
+                );
+                let b = float::merge_repeated_one(
+                    WireType::LengthDelimited,
+                    &mut Vec::new(),
+                    &mut slow,
+                    DecodeContext::default(),
+                );
+                assert!(a.is_err(), "{body:?} split at {at}");
+                assert_eq!(a, b, "{body:?} split at {at}");
+            }
+        }
+    }
+
+    #[test]
+    fn unpacked_values_still_merge_one_at_a_time() {
+        let mut buf = &1.5f32.to_le_bytes()[..];
+        let mut out = Vec::new();
+        float::merge_repeated(
+            WireType::ThirtyTwoBit,
+            &mut out,
+            &mut buf,
+            DecodeContext::default(),
+        )
+        .unwrap();
+        assert_eq!(out, [1.5]);
     }
 }
