@@ -1619,6 +1619,40 @@ mod packed_block_tests {
         }
     }
 
+    proptest::proptest! {
+        /// Any bytes, split anywhere: the chunked decoder and the value-by-value loop agree on
+        /// the result, the values and what is left of the buffer.
+        #[test]
+        fn any_bytes_decode_as_value_by_value(
+            data in proptest::collection::vec(proptest::prelude::any::<u8>(), 0..64),
+            at in 0usize..64,
+        ) {
+            let at = at.min(data.len());
+            for width_is_8 in [false, true] {
+                let (mut fast, mut slow) = (split(&data, at), split(&data, at));
+                if width_is_8 {
+                    let (mut a, mut b) = (Vec::new(), Vec::new());
+                    let ra = double::merge_repeated(WireType::LengthDelimited, &mut a, &mut fast, DecodeContext::default());
+                    let rb = double::merge_repeated_one(WireType::LengthDelimited, &mut b, &mut slow, DecodeContext::default());
+                    proptest::prop_assert_eq!(&ra, &rb);
+                    if ra.is_ok() {
+                        proptest::prop_assert_eq!(a.iter().map(|x| x.to_bits()).collect::<Vec<_>>(), b.iter().map(|x| x.to_bits()).collect::<Vec<_>>());
+                        proptest::prop_assert_eq!(fast.remaining(), slow.remaining());
+                    }
+                } else {
+                    let (mut a, mut b) = (Vec::new(), Vec::new());
+                    let ra = float::merge_repeated(WireType::LengthDelimited, &mut a, &mut fast, DecodeContext::default());
+                    let rb = float::merge_repeated_one(WireType::LengthDelimited, &mut b, &mut slow, DecodeContext::default());
+                    proptest::prop_assert_eq!(&ra, &rb);
+                    if ra.is_ok() {
+                        proptest::prop_assert_eq!(a.iter().map(|x| x.to_bits()).collect::<Vec<_>>(), b.iter().map(|x| x.to_bits()).collect::<Vec<_>>());
+                        proptest::prop_assert_eq!(fast.remaining(), slow.remaining());
+                    }
+                }
+            }
+        }
+    }
+
     #[test]
     fn unpacked_values_still_merge_one_at_a_time() {
         let mut buf = &1.5f32.to_le_bytes()[..];
