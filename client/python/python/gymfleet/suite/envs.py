@@ -367,8 +367,8 @@ class SuiteVectorEnv(VectorEnv):
             super().reset(seed=int(seed))
         raw, _ = self._envs.reset(seed=seed, options=options)
         split = self._setup.split(raw)
+        # `_observe` adds the observed terms.
         terms = _zeros(self._envs.batch_info["term_names"], len(raw))
-        terms.update(_observed_terms(raw, self._setup))
         infos = self._infos(_reset_values(self._setup.plan, split[0], split[1]))
         return self._observe(raw, terms, split), infos
 

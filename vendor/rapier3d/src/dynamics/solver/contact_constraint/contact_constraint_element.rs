@@ -13,6 +13,16 @@ use simba::simd::SimdValue;
 #[cfg(feature = "block-solver")]
 pub(crate) const BLOCK_SOLVER_MIN_CONDITION: crate::math::Real = 0.01;
 
+/// Whether any lane of `seeds` still holds a restitution seed (negative): a bouncy point
+/// that has not bounced this step (gymfleet patch 25).
+#[inline]
+pub(crate) fn any_pending_seed(seeds: &[crate::math::SimdReal]) -> bool {
+    use simba::simd::{SimdBool, SimdPartialOrd};
+    seeds
+        .iter()
+        .any(|seed| seed.simd_lt(num::Zero::zero()).any())
+}
+
 /// The velocity along a contact's normal `dir1` at which its two bodies approach each other
 /// (negative when they close), for body velocities (or velocity increments) `vel1`, `vel2`.
 #[inline]

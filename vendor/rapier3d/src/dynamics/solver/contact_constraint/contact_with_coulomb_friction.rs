@@ -1,4 +1,6 @@
-use super::{ContactConstraintNormalPart, ContactConstraintTangentPart, normal_velocity};
+use super::{
+    ContactConstraintNormalPart, ContactConstraintTangentPart, any_pending_seed, normal_velocity,
+};
 #[cfg(feature = "block-solver")]
 use crate::dynamics::solver::contact_constraint::BLOCK_SOLVER_MIN_CONDITION;
 use crate::dynamics::solver::manifold_store::ManifoldStore;
@@ -497,10 +499,7 @@ impl ContactWithCoulombFrictionBuilder {
     ) {
         let num = constraint.num_contacts as usize;
         let seeds = &mut constraint.restitution_seed[..num];
-        if !seeds
-            .iter()
-            .any(|seed| seed.simd_lt(SimdReal::zero()).any())
-        {
+        if !any_pending_seed(seeds) {
             return;
         }
         let inc1 = SolverVel::gather(increments, constraint.solver_vel1);
@@ -574,12 +573,8 @@ impl ContactWithCoulombFrictionBuilder {
         bodies: &mut SolverBodies,
     ) {
         let num = constraint.num_contacts as usize;
-        // Prepared bouncy (the builder's seeds) and not yet bounced (the constraint's).
-        if !self.has_bouncy_seed(constraint.num_contacts)
-            || !constraint.restitution_seed[..num]
-                .iter()
-                .any(|seed| seed.simd_lt(SimdReal::zero()).any())
-        {
+        // Not yet bounced (a constraint's seed is negative only if its builder's was).
+        if !any_pending_seed(&constraint.restitution_seed[..num]) {
             return;
         }
 
