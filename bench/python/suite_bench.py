@@ -4,7 +4,8 @@
 ``SyncVectorEnv`` over ``gymnasium.make("<Name>-v5")``: env-steps/s with random actions,
 full observations, rewards, terminations and autoreset on every side (so reset cost
 counts). Rounds alternate the sides, so drift on a noisy machine hits all alike; the
-report gives the median of each side and the ratios.
+report gives the median of each side and their ratio, the fastest round of each side and
+theirs (the least disturbed rounds on a shared machine), and each round's own ratio.
 
     pip install ./client/python            # a release build of the extension
     pip install envpool==1.2.5 mujoco
@@ -109,6 +110,10 @@ def main() -> None:
             if runs["sync"]:
                 s = statistics.median(runs["sync"])
                 line += f", gymnasium SyncVectorEnv {s:9.0f} ({g / s:.2f}x)"
+            fg, fe = max(runs["gymfleet"]), max(runs["envpool"])
+            rounds = ", ".join(f"{a / b:.2f}" for a, b in zip(runs["gymfleet"], runs["envpool"]))
+            line += (f"; fastest rounds {fg:9.0f} vs {fe:9.0f} ({fg / fe:.2f}x);"
+                     f" each round vs EnvPool: {rounds}")
             print(line, flush=True)
 
 
