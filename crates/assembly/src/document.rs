@@ -43,6 +43,26 @@ pub struct SimulationDef {
     /// The fluid the bodies move in (MJCF's `<option density viscosity>`); default none.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fluid: Option<FluidDef>,
+    /// How the coriolis, centrifugal and gyroscopic forces of the joint trees enter a
+    /// substep: `"implicit"` (the default: linearized into the substep, MuJoCo's `implicit`)
+    /// or `"euler"` (applied as forces of the substep's start, as MuJoCo's `Euler`
+    /// integrator does; MJCF files that use it convert to it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub integrator: Option<Integrator>,
+}
+
+/// *(ext)* How the coriolis, centrifugal and gyroscopic forces of the joint trees enter a
+/// substep (`simulation.integrator`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Integrator {
+    /// Linearized into the substep's mass matrix (semi-implicit, MuJoCo's `implicit`): stable
+    /// for free chains without damping. The default.
+    #[default]
+    Implicit,
+    /// Applied as forces of the substep's start, joint damping and springs still implicit:
+    /// MuJoCo's `Euler` integrator. Cheaper per substep.
+    Euler,
 }
 
 /// *(ext)* A still fluid around every body: MuJoCo's inertia-box drag (each body feels the

@@ -20,8 +20,8 @@ mod validate;
 
 pub use document::{
     AssemblyDef, CollisionDef, ConvexMode, Document, FluidDef, InertiaDef, InertialDef,
-    InstanceDef, JointDef, MaterialDef, MeshDef, PartDef, Primitive, SimulationDef, SiteDef,
-    TendonDef, TendonJointDef, Vec3,
+    InstanceDef, Integrator, JointDef, MaterialDef, MeshDef, PartDef, Primitive, SimulationDef,
+    SiteDef, TendonDef, TendonJointDef, Vec3,
 };
 pub use error::{
     quoted, quoted_list, shown, AssemblyError, Issue, Result, MAX_ECHOED_CHARS, MAX_LISTED_NAMES,

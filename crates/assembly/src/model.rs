@@ -352,6 +352,9 @@ pub struct Assembly {
     pub sites: Vec<Site>,
     /// The still fluid the bodies move in (the document's `simulation.fluid`), if any.
     pub fluid: Option<Fluid>,
+    /// How the joint trees' velocity terms enter a substep (the document's
+    /// `simulation.integrator`).
+    pub integrator: crate::document::Integrator,
     /// Fixed tendons, in document order.
     pub tendons: Vec<Tendon>,
 }

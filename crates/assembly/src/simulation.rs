@@ -1,7 +1,8 @@
 //! The document's `simulation` *(ext)*: the world's gravity, the env step the description
-//! was made for, and the still fluid the bodies move in.
+//! was made for, the still fluid the bodies move in, and how the joint trees' velocity terms
+//! enter a substep.
 
-use crate::document::{FluidDef, SimulationDef};
+use crate::document::{FluidDef, Integrator, SimulationDef};
 use crate::error::Issue;
 use crate::model::{Fluid, DEFAULT_GRAVITY};
 
@@ -20,6 +21,7 @@ pub(crate) struct Simulation {
     pub(crate) gravity: [f64; 3],
     pub(crate) dt: Option<f64>,
     pub(crate) fluid: Option<Fluid>,
+    pub(crate) integrator: Integrator,
 }
 
 /// The document's `simulation`, checked; every problem is an issue.
@@ -30,6 +32,7 @@ pub(crate) fn simulation(def: Option<&SimulationDef>) -> (Simulation, Vec<Issue>
             gravity: DEFAULT_GRAVITY,
             dt: None,
             fluid: None,
+            integrator: Integrator::Implicit,
         };
         return (defaults, issues);
     };
@@ -60,6 +63,7 @@ pub(crate) fn simulation(def: Option<&SimulationDef>) -> (Simulation, Vec<Issue>
         gravity,
         dt: def.dt,
         fluid,
+        integrator: def.integrator.unwrap_or_default(),
     };
     (simulation, issues)
 }

@@ -59,6 +59,7 @@ pub fn validate(doc: &Document) -> Result<Assembly> {
             floating_base,
             sites,
             fluid: simulation.fluid,
+            integrator: simulation.integrator,
             tendons,
         })
     } else {

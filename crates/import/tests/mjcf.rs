@@ -391,67 +391,6 @@ fn more_bad_descriptions_name_their_element_and_line() {
 }
 
 #[test]
-fn option_gravity_and_timestep_become_the_documents_simulation() {
-    let converted = mjcf_to_document(
-        "<mujoco><option gravity=\"0 0 -1.5\" timestep=\"0.002\"/><worldbody>\
-         <body><joint type=\"hinge\" axis=\"0 1 0\"/><geom type=\"capsule\" fromto=\"0 0 0 0 0 -0.1\" size=\"0.01\"/></body>\
-         </worldbody></mujoco>",
-    )
-    .expect("converts");
-    assert_eq!(
-        converted.document["simulation"],
-        serde_json::json!({"gravity": {"x": 0.0, "y": 0.0, "z": -1.5}, "dt": 0.002})
-    );
-    let assembly = gymfleet_assembly::parse(&converted.document.to_string()).expect("parses");
-    assert_eq!(assembly.gravity, [0.0, 0.0, -1.5]);
-    let env = RobotEnv::new(&assembly, EnvConfig::default()).expect("builds");
-    assert_eq!(env.spec().dt, 0.002);
-    let asked = RobotEnv::new(
-        &assembly,
-        EnvConfig {
-            dt: 0.01,
-            ..EnvConfig::default()
-        },
-    )
-    .expect("builds");
-    assert_eq!(asked.spec().dt, 0.01, "the request's dt wins");
-}
-
-#[test]
-fn option_density_and_viscosity_become_the_documents_fluid() {
-    let converted = mjcf_to_document(
-        "<mujoco><option density=\"4000\" viscosity=\"0.1\" wind=\"0 0 0\"/><worldbody>\
-         <body><joint type=\"hinge\" axis=\"0 1 0\"/><geom type=\"capsule\" fromto=\"0 0 0 0 0 -0.1\" size=\"0.01\"/></body>\
-         </worldbody></mujoco>",
-    )
-    .expect("converts");
-    assert_eq!(
-        converted.document["simulation"],
-        serde_json::json!({"fluid": {"density": 4000.0, "viscosity": 0.1}})
-    );
-    let assembly = gymfleet_assembly::parse(&converted.document.to_string()).expect("parses");
-    assert_eq!(
-        assembly.fluid,
-        Some(gymfleet_assembly::Fluid {
-            density: 4000.0,
-            viscosity: 0.1
-        })
-    );
-    assert_eq!(
-        error("<mujoco>\n<option wind=\"1 0 0\"/>\n<worldbody/></mujoco>"),
-        "line 2: <option>: wind is not supported yet"
-    );
-    assert_eq!(
-        error("<mujoco>\n<option viscosity=\"-1\"/>\n<worldbody/></mujoco>"),
-        "line 2: <option viscosity=…>: expected a number ≥ 0, got -1"
-    );
-    assert_eq!(
-        error(&model(r#"<body><joint type="hinge"/><geom size=".1" fluidshape="ellipsoid"/></body>"#)),
-        "line 4: <geom>: fluidshape=\"ellipsoid\" (MuJoCo's ellipsoid fluid model) is not supported yet; the inertia-box model of <option density viscosity> is"
-    );
-}
-
-#[test]
 fn fixed_tendons_become_the_documents_tendons() {
     let body = |name: &str| {
         format!(

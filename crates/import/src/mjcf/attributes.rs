@@ -212,8 +212,10 @@ impl<'a, 'i> Converter<'a, 'i> {
     }
 
     /// `<option>`: gravity and timestep become the document's `simulation` (one env step
-    /// of the default `dt` is one MuJoCo step), and density and viscosity its `fluid`
-    /// (MuJoCo's inertia-box model); the rest is the engine's own.
+    /// of the default `dt` is one MuJoCo step), density and viscosity its `fluid` (MuJoCo's
+    /// inertia-box model), and `integrator` its `integrator` (`Euler`, MuJoCo's default, as
+    /// `euler`; `implicit` and `implicitfast` as `implicit`, and `RK4`, which gymfleet does
+    /// not have, as `implicit` with a warning); the rest is the engine's own.
     pub(super) fn option(&mut self, node: Node<'a, 'i>) -> Result<()> {
         if let Some(g) = self.exactly::<3>(node, None, "gravity")? {
             self.simulation.gravity = Some(Vec3::from(g));
@@ -245,6 +247,29 @@ impl<'a, 'i> Converter<'a, 'i> {
         if fluid.density.is_some() || fluid.viscosity.is_some() {
             self.simulation.fluid = Some(fluid);
         }
+        if let Some(integrator) = node.attribute("integrator") {
+            self.simulation.integrator = Some(match integrator {
+                "Euler" => Integrator::Euler,
+                "implicit" | "implicitfast" => Integrator::Implicit,
+                "RK4" => {
+                    self.warn(
+                        node,
+                        "integrator=\"RK4\" integrates as \"implicit\" (no RK4 here)".into(),
+                    );
+                    Integrator::Implicit
+                }
+                other => {
+                    return Err(self.bad(
+                        node,
+                        "integrator",
+                        format!(
+                            "expected Euler, RK4, implicit or implicitfast, got {:?}",
+                            other.chars().take(40).collect::<String>()
+                        ),
+                    ))
+                }
+            });
+        }
         if let Some(w) = self.exactly::<3>(node, None, "wind")? {
             if w != [0.0; 3] {
                 return Err(self.unsupported(node, "wind is not supported yet".into()));
@@ -253,7 +278,7 @@ impl<'a, 'i> Converter<'a, 'i> {
         for a in node.attributes() {
             if !matches!(
                 a.name(),
-                "timestep" | "gravity" | "density" | "viscosity" | "wind"
+                "timestep" | "gravity" | "density" | "viscosity" | "wind" | "integrator"
             ) {
                 self.warn(node, format!("{}=\"{}\" ignored", a.name(), a.value()));
             }

@@ -12,9 +12,9 @@ use std::collections::{BTreeMap, HashMap, HashSet};
 
 use glam::{DMat3, DQuat, DVec3};
 use gymfleet_assembly::{
-    AssemblyDef, CollisionDef, Document, FluidDef, InertialDef, InstanceDef, JointDef, JointType,
-    MaterialDef, MeshDef, PartDef, Primitive, SimulationDef, SiteDef, TendonDef, TendonJointDef,
-    Vec3,
+    AssemblyDef, CollisionDef, Document, FluidDef, InertialDef, InstanceDef, Integrator, JointDef,
+    JointType, MaterialDef, MeshDef, PartDef, Primitive, SimulationDef, SiteDef, TendonDef,
+    TendonJointDef, Vec3,
 };
 use roxmltree::Node;
 
@@ -197,6 +197,7 @@ impl<'a, 'i> Converter<'a, 'i> {
                 gravity: None,
                 dt: None,
                 fluid: None,
+                integrator: None,
             },
             instances: Vec::new(),
             frames: HashMap::new(),
@@ -280,9 +281,10 @@ impl<'a, 'i> Converter<'a, 'i> {
             }
         }
         let tendons = self.tendon_defs()?;
-        let s = &self.simulation;
-        let simulation =
-            (s.gravity.is_some() || s.dt.is_some() || s.fluid.is_some()).then_some(self.simulation);
+        // MuJoCo integrates with `Euler` unless `<option integrator>` says otherwise: the
+        // document says so, since its own default is the implicit form.
+        self.simulation.integrator.get_or_insert(Integrator::Euler);
+        let simulation = Some(self.simulation);
         let mut document = Document {
             parts: self.parts,
             materials: self.materials,

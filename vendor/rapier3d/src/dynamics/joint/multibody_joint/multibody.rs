@@ -212,6 +212,10 @@ pub struct Multibody {
     self_contacts_enabled: bool,
     /// Whether joint limits are hard stops: see [`Multibody::set_hard_limits`].
     hard_limits: bool,
+    /// Whether the velocity terms are explicit (gymfleet patch 26): see
+    /// [`Multibody::set_explicit_velocity_terms`].
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    explicit_velocity_terms: bool,
     /// The generalized impulses the hard limits applied to each DoF since the last
     /// [`Multibody::clear_hard_limit_impulses`] (gymfleet patch 17, see `PATCHES.md`); empty
     /// until a limit first stops a DoF, zeroed when the DoF count changes.
@@ -280,6 +284,7 @@ impl Multibody {
             root_is_dynamic: false,
             self_contacts_enabled,
             hard_limits: false,
+            explicit_velocity_terms: false,
             couplings: Vec::new(),
             linear_limits: Vec::new(),
             // solver_workspace: Some(SolverWorkspace::new()),
@@ -315,6 +320,7 @@ impl Multibody {
                 link2mb[i] = result.len();
                 let mut mb = Multibody::with_self_contacts(self.self_contacts_enabled);
                 mb.hard_limits = self.hard_limits;
+                mb.explicit_velocity_terms = self.explicit_velocity_terms;
 
                 result.push(mb);
             } else {
@@ -478,6 +484,8 @@ impl Multibody {
         self.self_contacts_enabled &= rhs.self_contacts_enabled;
         // Hard limits stay enabled for the links of a multibody that had them enabled.
         self.hard_limits |= rhs.hard_limits;
+        // The velocity terms stay implicit unless both multibodies had them explicit.
+        self.explicit_velocity_terms &= rhs.explicit_velocity_terms;
     }
 
     /// Whether self-contacts are enabled on this multibody.
@@ -707,6 +715,27 @@ impl Multibody {
     #[inline]
     pub fn set_hard_limits(&mut self, enabled: bool) {
         self.hard_limits = enabled;
+    }
+
+    /// Whether the coriolis, centrifugal and gyroscopic forces enter each substep explicitly;
+    /// see [`Multibody::set_explicit_velocity_terms`] (gymfleet patch 26).
+    #[inline]
+    pub fn explicit_velocity_terms(&self) -> bool {
+        self.explicit_velocity_terms
+    }
+
+    /// Applies the velocity-dependent forces (coriolis, centrifugal, gyroscopic) explicitly, as
+    /// forces of the substep's start, instead of linearizing them into the substep's mass
+    /// matrix (default: `false`, the semi-implicit form; gymfleet patch 26, see `PATCHES.md`).
+    ///
+    /// This is MuJoCo's `Euler` integrator: joint damping and springs stay implicit, the
+    /// velocity terms do not. It saves building their derivative and a second factorization
+    /// every substep, but a free chain without damping can gain energy and diverge where the
+    /// semi-implicit form (MuJoCo's `implicit`) stays finite: use it where the model was made
+    /// for MuJoCo's `Euler`.
+    #[inline]
+    pub fn set_explicit_velocity_terms(&mut self, explicit: bool) {
+        self.explicit_velocity_terms = explicit;
     }
 
     /// Hard limits on linear combinations of one-coordinate DoFs (gymfleet patch 20):
@@ -1308,10 +1337,13 @@ impl Multibody {
         // change the matrix by a fraction of that size, far below `Real`'s resolution. The
         // links' velocities are those of the DoFs (`update_velocities`: a root that is not
         // dynamic has none), and `!(x < y)` keeps the terms for non-finite velocities.
+        // Explicit velocity terms (patch 26) leave them out always: `update_acceleration`
+        // applies the forces themselves either way.
         #[cfg(feature = "dim3")]
-        let velocity_terms = !(dt * self.velocities.amax() < NEGLIGIBLE_MOTION_PER_SUBSTEP);
+        let velocity_terms = !self.explicit_velocity_terms
+            && !(dt * self.velocities.amax() < NEGLIGIBLE_MOTION_PER_SUBSTEP);
         #[cfg(feature = "dim2")]
-        let velocity_terms = true;
+        let velocity_terms = !self.explicit_velocity_terms;
         self.velocity_terms_skipped = !velocity_terms;
         // gymfleet patch (see `PATCHES.md`): chains and trees of one-DoF joints on a root that
         // is not dynamic build both matrices by composite rigid bodies, after the loop below.
@@ -2848,6 +2880,41 @@ mod still_multibody_tests {
         assert!(!mb.velocity_terms_skipped);
         let share = velocity_terms_share(mb);
         assert!(share > 1.0e-4, "velocity terms at 2-4 rad/s: {share:e} of the matrix");
+    }
+
+    /// gymfleet patch 26: explicit velocity terms leave the derivative out at any speed, and
+    /// the accelerations solve the plain mass matrix against the very forces the
+    /// semi-implicit step solves `M + dt·D` against.
+    #[test]
+    fn explicit_velocity_terms_solve_the_same_forces_with_the_plain_matrix() {
+        let speeds = [2.0, -3.0, 4.0];
+        let (mut world, joint) = chain();
+        assert!(!multibody(&mut world, joint).explicit_velocity_terms());
+        update_at(&mut world, joint, &speeds);
+        let mb = world.multibody_joints.get_mut(joint).unwrap().0;
+        assert!(!mb.velocity_terms_skipped);
+        assert!(velocity_terms_share(mb) > 1.0e-4);
+        mb.update_acceleration(DT, &world.bodies);
+        let semi_implicit_forces = mb.workspace.gen_forces.clone();
+
+        multibody(&mut world, joint).set_explicit_velocity_terms(true);
+        update_at(&mut world, joint, &speeds);
+        let mb = world.multibody_joints.get_mut(joint).unwrap().0;
+        assert!(mb.velocity_terms_skipped);
+        assert_eq!(mb.acc_augmented_mass, mb.augmented_mass);
+        mb.update_acceleration(DT, &world.bodies);
+        let forces = mb.workspace.gen_forces.clone();
+        assert_eq!(
+            forces.len(),
+            3,
+            "the forces were not kept: the test tells nothing"
+        );
+        assert_eq!(forces, semi_implicit_forces);
+        let residual = (&mb.augmented_mass * &mb.accelerations - &forces).amax() / forces.amax();
+        assert!(
+            residual < 1.0e-5,
+            "explicit: M·a misses the forces by {residual:e}"
+        );
     }
 
     #[test]
