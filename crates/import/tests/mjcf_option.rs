@@ -1,20 +1,12 @@
 //! MJCF's `<option>`: gravity, timestep, fluid and integrator become the document's
 //! `simulation`; what gymfleet cannot do is an error or a warning naming its line.
 
+mod common;
+
+use common::{error, model};
 use gymfleet_assembly::Integrator;
 use gymfleet_env::{EnvConfig, RobotEnv};
 use gymfleet_import::mjcf_to_document;
-
-fn error(xml: &str) -> String {
-    match mjcf_to_document(xml) {
-        Err(e) => e.to_string(),
-        Ok(c) => panic!("expected an error, got {}", c.document),
-    }
-}
-
-fn model(inner: &str) -> String {
-    format!("<mujoco>\n<worldbody>\n<geom type=\"sphere\" size=\".1\"/>\n{inner}\n</worldbody>\n</mujoco>")
-}
 
 const PENDULUM: &str = r#"<body><joint type="hinge" axis="0 1 0"/><geom type="capsule" fromto="0 0 0 0 0 -0.1" size="0.01"/></body>"#;
 

@@ -1,0 +1,249 @@
+//! Gymnasium's locomotion models (the Ant, HalfCheetah) convert, stand and settle as
+//! MuJoCo's do; free joints, springs and total masses convert or name their line.
+
+mod common;
+
+use common::{bare, env, error};
+use gymfleet_env::{ActionType, RobotEnv};
+use gymfleet_import::mjcf_to_document;
+
+const ANT: &str = include_str!("data/ant.xml");
+
+/// Gymnasium's Ant: a free joint makes its torso the floating base (the first instance),
+/// its eight motors drive the hips and ankles, and, dropped from 0.75 m with its ankles
+/// at their stops, it lands on its legs and stays there. MuJoCo 3 (this description from
+/// the same pose, 60 s) rests its torso's centre at 382.5 mm with its ankles on the
+/// stops, the capsules held 10 mm off the floor by the description's contact `margin`,
+/// which gymfleet does not model (it warns).
+#[test]
+fn ant_has_a_floating_torso_and_eight_driven_joints() {
+    let converted = mjcf_to_document(ANT).expect("converts");
+    let doc = &converted.document;
+    assert_eq!(doc["floating_base"], true);
+    assert_eq!(doc["assembly"]["instances"][0]["name"], "torso_geom");
+    assert!(
+        converted.warnings.iter().all(|w| !w.contains("free joint")),
+        "the free joint's damping and armature are 0: {:?}",
+        converted.warnings
+    );
+    let (mut env, _) = env(ANT, &["torso_geom"]);
+    let spec = env.spec();
+    assert!(spec.floating_base);
+    assert_eq!(spec.action_dim, 8);
+    assert_eq!(spec.num_dofs, 8);
+    assert_eq!(spec.observation_dim, 2 * 8 + 13 + 7);
+    let names: Vec<&str> = spec.dofs.iter().map(|d| d.joint_name.as_str()).collect();
+    assert_eq!(
+        names,
+        ["hip_1", "ankle_1", "hip_2", "ankle_2", "hip_3", "ankle_3", "hip_4", "ankle_4"]
+    );
+    assert!(spec.dofs.iter().all(|d| d.max_effort == Some(150.0)));
+    let start = env.observe();
+    assert!(
+        (start.base_pose[2] - 750.0).abs() < 1e-3,
+        "{:?}",
+        start.base_pose
+    );
+    let mut run = |steps: usize| {
+        let mut o = None;
+        for _ in 0..steps {
+            o = Some(
+                env.step(ActionType::Torque, &[0.0; 8])
+                    .expect("valid")
+                    .observation,
+            );
+        }
+        o.expect("stepped")
+    };
+    let landed = run(480);
+    let later = run(120);
+    let z = f64::from(landed.base_pose[2]);
+    assert!(
+        (z - 382.5).abs() < 25.0,
+        "the torso's centre rests at {z} mm"
+    );
+    let moved = (0..3)
+        .map(|k| f64::from(later.base_pose[k] - landed.base_pose[k]).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    assert!(moved < 0.5, "the torso still moves: {moved} mm in 0.5 s");
+    let sideways = f64::from(later.base_pose[0]).hypot(f64::from(later.base_pose[1]));
+    assert!(sideways < 20.0, "it slid {sideways} mm sideways");
+    for (k, &angle) in later.joint_positions.iter().enumerate() {
+        let [lo, hi] = spec_limits(&env, k);
+        assert!(
+            angle >= lo as f32 - 1e-3 && angle <= hi as f32 + 1e-3,
+            "joint {k}: {angle}°"
+        );
+    }
+}
+
+fn spec_limits(env: &RobotEnv, dof: usize) -> [f64; 2] {
+    env.spec().dofs[dof]
+        .limits
+        .expect("every Ant joint is limited")
+}
+
+#[test]
+fn free_joints_outside_top_level_bodies_or_beside_other_joints_are_refused() {
+    let nested = bare(
+        r#"<body name="a"><geom size="0.1"/><body name="b"><freejoint/><geom size="0.1"/></body></body>"#,
+    );
+    assert_eq!(
+        error(&nested),
+        "line 3: <freejoint>: a free joint belongs to a top-level body (a child of <worldbody>)"
+    );
+    let beside =
+        bare(r#"<body name="a"><freejoint/><joint type="hinge"/><geom size="0.1"/></body>"#);
+    assert_eq!(
+        error(&beside),
+        "line 3: <freejoint>: a free joint must be its body's only joint"
+    );
+    let no_ground = bare(
+        r#"<geom type="box" size="1 1 0.1"/><body name="a"><freejoint/><geom size="0.1"/></body>"#,
+    );
+    assert_eq!(
+        error(&no_ground),
+        "line 3: <geom>: in a model with a free joint, the world's geoms other than a plane need a ground plane to be fixed to"
+    );
+    let hinged = bare(
+        r#"<body name="a"><freejoint/><geom size="0.1"/></body><body name="door"><joint type="hinge"/><geom size="0.1"/></body>"#,
+    );
+    assert_eq!(
+        error(&hinged),
+        "line 3: <body>: in a model with a free joint, a body fixed or jointed to the world needs a ground plane in <worldbody>"
+    );
+}
+
+const HALF_CHEETAH: &str = include_str!("data/half_cheetah.xml");
+
+/// Gymnasium's HalfCheetah: `settotalmass` scales its bodies to 14 kg, its joints carry
+/// springs (`stiffness`), its root is three passive joints to the world (x, z slides, a
+/// pitch hinge). With frictionless contacts and left alone for 5 s it settles into the pose
+/// MuJoCo settles it into (MuJoCo 4.0.0, the same file with `friction="0 0 0"`, 500 steps of
+/// 0.01 s: root z −128.51 mm, pitch 2.979°, joints [1.959, 3.888, −0.798, −3.378, −8.020,
+/// −7.507]°): springs, gravity and the contacts' normal forces balance the same way. Root x
+/// is not compared: with nothing to hold it, it drifts on both sides.
+///
+/// Why frictionless: MuJoCo's regularized friction lets loaded feet creep, so with the
+/// file's friction (0.4) its cheetah still ends in the frictionless pose (the same joint
+/// angles to 0.002°, z −132.4 mm); gymfleet's Coulomb friction holds the feet where they
+/// land, and the legs stay loaded (bthigh −1.39° against 1.96°, the torso 29 mm higher).
+/// Until vendored Rapier patch 21 our friction was a tenth of Coulomb's on this planar
+/// root, and the feet slid into MuJoCo's pose with the friction on.
+#[test]
+fn half_cheetah_settles_into_mujocos_pose() {
+    let converted = mjcf_to_document(HALF_CHEETAH).expect("converts");
+    let text = converted.document.to_string();
+    let assembly = gymfleet_assembly::parse(&text).expect("valid");
+    let total: f64 = assembly
+        .instances
+        .iter()
+        .filter(|i| !i.grounded)
+        .map(|i| {
+            i.inertial
+                .map_or(i.shape.volume() * i.material.density, |g| g.mass)
+        })
+        .sum();
+    // The two 1 mg helpers between the root's three joints are not bodies of MuJoCo's.
+    assert!((total - 14.0 - 2e-6).abs() < 1e-9, "total mass {total} kg");
+    let frictionless = HALF_CHEETAH.replace("friction=\".4 .1 .1\"", "friction=\"0 0 0\"");
+    let (mut env, _) = env(&frictionless, &[]);
+    let spec = env.spec().clone();
+    assert_eq!(spec.action_dim, 6);
+    assert_eq!(spec.num_dofs, 9);
+    let mut o = env.observe();
+    for _ in 0..500 {
+        o = env
+            .step(ActionType::Torque, &[0.0; 6])
+            .expect("valid")
+            .observation;
+    }
+    let q = &o.joint_positions;
+    let mujoco = [1.959, 3.888, -0.798, -3.378, -8.020, -7.507];
+    for (k, expected) in mujoco.iter().enumerate() {
+        let ours = f64::from(q[3 + k]);
+        assert!(
+            (ours - expected).abs() < 0.01,
+            "{}: {ours}° against MuJoCo's {expected}°",
+            spec.dofs[3 + k].joint_name
+        );
+    }
+    assert!((f64::from(q[2]) - 2.979).abs() < 0.01, "pitch {}°", q[2]);
+    assert!((f64::from(q[1]) + 128.51).abs() < 2.0, "root z {} mm", q[1]);
+}
+
+/// Joint springs: `stiffness` and `springref` (less `ref`, as positions are) become the
+/// joint's `stiffness` and `spring_rest`; bad values name their attribute and line.
+#[test]
+fn springs_and_total_mass_convert_or_name_their_line() {
+    let xml = "<mujoco>\n<compiler angle=\"radian\"/>\n<worldbody>\n<body><joint name=\"j\" type=\"hinge\" stiffness=\"2\" springref=\"0.3\" ref=\"0.1\" range=\"-1 1\"/><geom size=\".1\"/></body>\n<body><joint name=\"s\" type=\"slide\" stiffness=\"5\" frictionloss=\"0.4\"/><geom size=\".1\"/></body>\n</worldbody>\n</mujoco>";
+    let converted = mjcf_to_document(xml).expect("converts");
+    let joints = converted.document["assembly"]["joints"].as_array().unwrap();
+    let hinge = joints.iter().find(|j| j["name"] == "j").unwrap();
+    assert_eq!(hinge["stiffness"], 2.0);
+    let rest = hinge["spring_rest"].as_f64().unwrap();
+    assert!((rest - 0.2f64.to_degrees()).abs() < 1e-9, "{rest}");
+    let slide = joints.iter().find(|j| j["name"] == "s").unwrap();
+    assert_eq!(slide["stiffness"], 5.0);
+    assert!(slide.get("spring_rest").is_none());
+    assert_eq!(
+        slide["friction"], 0.4,
+        "frictionloss is the joint's friction"
+    );
+    assert!(hinge.get("friction").is_none());
+    assert_eq!(
+        error(&bare(
+            r#"<body><joint frictionloss="-1"/><geom size="0.1"/></body>"#
+        )),
+        "line 3: <joint frictionloss=…>: expected a friction >= 0, got -1"
+    );
+    assert_eq!(
+        error("<mujoco>\n<compiler settotalmass=\"heavy\"/>\n<worldbody/>\n</mujoco>"),
+        "line 2: <compiler settotalmass=…>: expected a number, got \"heavy\""
+    );
+    assert_eq!(
+        error(&bare(
+            r#"<body><joint stiffness="-1"/><geom size="0.1"/></body>"#
+        )),
+        "line 3: <joint stiffness=…>: expected a stiffness >= 0, got -1"
+    );
+    assert_eq!(
+        error(&bare(
+            r#"<body><joint type="ball" stiffness="1"/><geom size="0.1"/></body>"#
+        )),
+        "line 3: <joint>: stiffness on a ball joint (a rotational spring) is not supported yet"
+    );
+}
+
+/// What a free joint carries that the base's six DOFs cannot take (damping, armature) is
+/// warned about; a second free body moves freely, and a warning says it is not the
+/// observed base.
+#[test]
+fn free_joint_extras_and_a_second_free_body_are_warned_about() {
+    let xml = bare(
+        r#"<geom type="plane" size="1 1 0.1"/><body name="a"><joint type="free" damping="2" armature="0.1"/><geom size="0.1"/></body><body name="b" pos="1 0 0"><freejoint/><geom size="0.1"/></body>"#,
+    );
+    let converted = mjcf_to_document(&xml).expect("converts");
+    let w = &converted.warnings;
+    assert!(
+        w.iter()
+            .any(|m| m.contains("damping on a free joint ignored (the base's six DOFs take none)")),
+        "{w:?}"
+    );
+    assert!(
+        w.iter()
+            .any(|m| m.contains("armature on a free joint ignored")),
+        "{w:?}"
+    );
+    assert!(
+        w.iter()
+            .any(|m| m.contains("a second free body moves freely, but only the first")),
+        "{w:?}"
+    );
+    assert_eq!(converted.document["floating_base"], true);
+    assert_eq!(
+        converted.document["assembly"]["instances"][0]["name"],
+        "a_geom"
+    );
+}
