@@ -213,7 +213,8 @@ pub struct Converted {
     /// The gymfleet assembly document.
     pub document: serde_json::Value,
     /// Constructs without effect on the dynamics that were ignored (colours, cameras,
-    /// lights, the file's integrator choice …), one line each, with the line number.
+    /// lights …) or approximated (MJCF's `RK4` integrator …), one line each, with the line
+    /// number.
     pub warnings: Vec<String>,
 }
 
