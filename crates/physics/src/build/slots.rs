@@ -100,8 +100,9 @@ pub(super) fn joint_slots(
 
 /// A tree that a loop constraint closes keeps the implicit velocity terms even under
 /// `simulation.integrator: "euler"`: with the explicit ones a four-bar linkage parts from
-/// MuJoCo's (whose `Euler` solves the loop in the same step as the forces) by 0.18 rad
-/// within 0.5 s, against 0.018 rad with the implicit ones (`test_loops.py`).
+/// MuJoCo's `Euler` trajectory by 0.18 rad within 0.5 s, against 0.018 rad with the
+/// implicit ones (`test_loops.py`; measured, the cause not pinned down: both lose energy
+/// alike, the explicit one leaves MuJoCo's path earlier near the dead points).
 fn keep_loops_implicit(
     sets: &mut Sets,
     assembly: &Assembly,
