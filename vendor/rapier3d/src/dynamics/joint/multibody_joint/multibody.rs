@@ -832,8 +832,13 @@ impl Multibody {
         // If there is significant movement, the semi-implicit coriolis term
         // occasionally cause instabilities due to the matrix being near singular.
         // To prevent that, we enable a check that verifies the result and fallbacks
-        // to the explicit term if needed
-        let check_implicit_coriolis_divergence = dt * self.velocities.amax() >= 1.0e-3;
+        // to the explicit term if needed.
+        // gymfleet patch 27 (see `PATCHES.md`): not when the mass matrix left the velocity
+        // terms out (explicit velocity terms, or a still multibody). Both matrices are then
+        // the same, so the fallback would solve the same system with the same factors and
+        // get the same bits; only its last-chance clearing of non-finite results is kept.
+        let significant_motion = dt * self.velocities.amax() >= 1.0e-3;
+        let check_implicit_coriolis_divergence = significant_motion && !self.velocity_terms_skipped;
         // Generalized forces that derive from positions or external inputs
         // (gravity, user forces, spring position terms), kept in a reused buffer
         // (gymfleet patch, see `PATCHES.md`).
@@ -964,6 +969,10 @@ impl Multibody {
 
         if check_implicit_coriolis_divergence {
             self.free_velocity_energy_guard(dt, &gen_forces, &pos_forces);
+        } else if significant_motion && !self.accelerations.iter().all(|x| x.is_finite()) {
+            // The energy guard's last chance, which its fallback would reach with these same
+            // values (patch 27).
+            self.accelerations.fill(0.0);
         }
         self.workspace.pos_forces = pos_forces;
         self.workspace.gen_forces = gen_forces;
@@ -2895,7 +2904,13 @@ mod still_multibody_tests {
         assert!(!mb.velocity_terms_skipped);
         assert!(velocity_terms_share(mb) > 1.0e-4);
         mb.update_acceleration(DT, &world.bodies);
-        let semi_implicit_forces = mb.workspace.gen_forces.clone();
+        // The generalized forces, as the energy guard keeps them.
+        let forces = mb.workspace.gen_forces.clone();
+        assert_eq!(
+            forces.len(),
+            3,
+            "the forces were not kept: the test tells nothing"
+        );
 
         multibody(&mut world, joint).set_explicit_velocity_terms(true);
         update_at(&mut world, joint, &speeds);
@@ -2903,18 +2918,43 @@ mod still_multibody_tests {
         assert!(mb.velocity_terms_skipped);
         assert_eq!(mb.acc_augmented_mass, mb.augmented_mass);
         mb.update_acceleration(DT, &world.bodies);
-        let forces = mb.workspace.gen_forces.clone();
-        assert_eq!(
-            forces.len(),
-            3,
-            "the forces were not kept: the test tells nothing"
-        );
-        assert_eq!(forces, semi_implicit_forces);
         let residual = (&mb.augmented_mass * &mb.accelerations - &forces).amax() / forces.amax();
         assert!(
             residual < 1.0e-5,
             "explicit: M·a misses the forces by {residual:e}"
         );
+    }
+
+    /// gymfleet patch 27: with the velocity terms left out, the energy guard does not run
+    /// (its fallback would solve the same matrix with the same factors): the accelerations
+    /// are the bits of one solve of the plain matrix, and non-finite ones are still cleared.
+    #[test]
+    fn without_velocity_terms_the_energy_guard_is_skipped_and_changes_no_bit() {
+        let speeds = [2.0, -3.0, 4.0];
+        let (mut world, joint) = chain();
+        update_at(&mut world, joint, &speeds);
+        let mb = world.multibody_joints.get_mut(joint).unwrap().0;
+        mb.update_acceleration(DT, &world.bodies);
+        let forces = mb.workspace.gen_forces.clone();
+        assert_eq!(forces.len(), 3, "the guard did not run at 2-4 rad/s");
+
+        multibody(&mut world, joint).set_explicit_velocity_terms(true);
+        update_at(&mut world, joint, &speeds);
+        let mb = world.multibody_joints.get_mut(joint).unwrap().0;
+        mb.workspace.gen_forces = DVector::zeros(0);
+        mb.update_acceleration(DT, &world.bodies);
+        assert_eq!(mb.workspace.gen_forces.len(), 0, "the guard ran");
+        // What the guard's fallback computes: the plain matrix factorized, the forces solved.
+        let mut fresh = super::MassMatrixLu::default();
+        fresh.factorize(&mb.augmented_mass);
+        let mut expected = forces.clone();
+        assert!(fresh.solve_mut(&mut expected));
+        assert_eq!(mb.accelerations, expected);
+
+        // A non-finite force: the accelerations are cleared, as the guard's last chance did.
+        mb.applied_forces_mut()[1] = Real::NAN;
+        mb.update_acceleration(DT, &world.bodies);
+        assert!(mb.accelerations.iter().all(|a| *a == 0.0), "{}", mb.accelerations);
     }
 
     #[test]
