@@ -138,42 +138,68 @@ impl MassMatrixLu {
         if !self.invertible {
             return false;
         }
-        let lu = self.lu.as_slice();
+        // gymfleet patch 28 (see `PATCHES.md`): each column is solved in a contiguous buffer
+        // (on the stack for a multibody of up to `STACK_DOFS` DoFs), not through the
+        // column's strided view, with the same operations in the same order.
+        const STACK_DOFS: usize = 64;
+        let mut stack = [0.0; STACK_DOFS];
+        let mut heap = Vec::new();
+        let x = if n <= STACK_DOFS {
+            &mut stack[..n]
+        } else {
+            heap.resize(n, 0.0);
+            &mut heap[..]
+        };
         for k in 0..b.ncols() {
-            let mut x = b.column_mut(k);
-            for (i, &piv) in self.swaps.iter().enumerate() {
-                if piv != i {
-                    x.swap_rows(i, piv);
-                }
+            let mut column = b.column_mut(k);
+            for (xi, bi) in x.iter_mut().zip(column.iter()) {
+                *xi = *bi;
             }
-            // Forward substitution with the unit lower triangle, column by column.
-            for j in 0..n {
-                let xj = x[j];
-                if xj != 0.0 {
-                    for (i, l) in lu[j * n..(j + 1) * n].iter().enumerate().skip(j + 1) {
-                        x[i] -= l * xj;
-                    }
-                }
-            }
-            // Back substitution with the upper triangle, column by column.
-            for j in (0..n).rev() {
-                let col = &lu[j * n..(j + 1) * n];
-                let xj = x[j] / col[j];
-                x[j] = xj;
-                if xj != 0.0 {
-                    for (i, u) in col.iter().enumerate().take(j) {
-                        x[i] -= u * xj;
-                    }
-                }
+            self.solve_column(x);
+            for (bi, xi) in column.iter_mut().zip(x.iter()) {
+                *bi = *xi;
             }
         }
         true
+    }
+
+    /// `x ← A⁻¹·x` for one contiguous column.
+    fn solve_column(&self, x: &mut [Real]) {
+        let n = x.len();
+        let lu = self.lu.as_slice();
+        for (i, &piv) in self.swaps.iter().enumerate() {
+            if piv != i {
+                x.swap(i, piv);
+            }
+        }
+        // Forward substitution with the unit lower triangle, column by column.
+        for j in 0..n {
+            let xj = x[j];
+            if xj != 0.0 {
+                let below = &lu[j * n + j + 1..(j + 1) * n];
+                for (xi, l) in x[j + 1..].iter_mut().zip(below) {
+                    *xi -= l * xj;
+                }
+            }
+        }
+        // Back substitution with the upper triangle, column by column.
+        for j in (0..n).rev() {
+            let col = &lu[j * n..(j + 1) * n];
+            let xj = x[j] / col[j];
+            x[j] = xj;
+            if xj != 0.0 {
+                for (xi, u) in x[..j].iter_mut().zip(&col[..j]) {
+                    *xi -= u * xj;
+                }
+            }
+        }
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::MassMatrixLu;
+    use crate::alloc_prelude::*;
     use crate::math::{DMatrix, DVector};
 
     #[test]
@@ -185,6 +211,75 @@ mod tests {
         lu.factorize(&a);
         assert!(lu.solve_mut(&mut b));
         assert!((b - x).amax() < 1.0e-5);
+    }
+
+    /// The solve before patch 28: through the column's view, index by index.
+    fn solve_by_index(lu: &MassMatrixLu, x: &mut DVector) {
+        let n = lu.dim();
+        let a = lu.lu.as_slice();
+        for (i, &piv) in lu.swaps.iter().enumerate() {
+            if piv != i {
+                x.swap_rows(i, piv);
+            }
+        }
+        for j in 0..n {
+            let xj = x[j];
+            if xj != 0.0 {
+                for i in j + 1..n {
+                    x[i] -= a[j * n + i] * xj;
+                }
+            }
+        }
+        for j in (0..n).rev() {
+            let xj = x[j] / a[j * n + j];
+            x[j] = xj;
+            if xj != 0.0 {
+                for i in 0..j {
+                    x[i] -= a[j * n + i] * xj;
+                }
+            }
+        }
+    }
+
+    /// gymfleet patch 28: the columns of a strided view, solved in a contiguous buffer, get
+    /// the bits the index-by-index solve gives, for a multibody-sized matrix and one past the
+    /// stack buffer.
+    #[test]
+    fn a_view_solves_to_the_bits_of_the_index_by_index_solve() {
+        for n in [9, 70] {
+            // Dominant off the diagonal (at column `i + 1` of row `i`): every step pivots.
+            let a = DMatrix::from_fn(n, n, |i, j| {
+                let x = ((i * 31 + j * 17) % 23) as f32 / 23.0 - 0.5;
+                if j == (i + 1) % n {
+                    x + 3.0 * (1 + (i % 3)) as f32
+                } else {
+                    x
+                }
+            });
+            let mut lu = MassMatrixLu::default();
+            lu.factorize(&a);
+            let swaps = lu.swaps.iter().enumerate().filter(|(i, p)| i != *p).count();
+            assert!(swaps > n / 2, "n = {n}: {swaps} row swaps");
+            let mut big = DMatrix::from_fn(n + 3, 5, |i, j| ((i * 7 + j * 3) % 11) as f32 - 5.0);
+            let expected: Vec<DVector> = (1..4)
+                .map(|k| {
+                    let mut x = DVector::from_iterator(n, big.column(k).rows(2, n).iter().copied());
+                    solve_by_index(&lu, &mut x);
+                    x
+                })
+                .collect();
+            assert!(lu.solve_mut(&mut big.view_mut((2, 1), (n, 3))));
+            for (k, x) in expected.iter().enumerate() {
+                assert_eq!(
+                    &big.column(k + 1).rows(2, n).into_owned(),
+                    x,
+                    "n = {n}, column {k}"
+                );
+            }
+            // The rows and columns outside the view are untouched.
+            assert_eq!(big[(0, 1)], ((3) % 11) as f32 - 5.0);
+            assert_eq!(big[(2, 0)], ((14) % 11) as f32 - 5.0);
+        }
     }
 
     #[test]
