@@ -196,12 +196,11 @@ pub(crate) struct TendonSlot {
     pub(crate) rest: f64,
 }
 
-/// The body pairs that do not collide, ordered by handle (`contact_filter.rs`: the hook
-/// and how the pairs are chosen).
+/// The body pairs that do not collide, each ordered by handle, sorted and deduplicated
+/// (`contact_filter.rs`: the hook and how the pairs are chosen).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct ContactFilter {
-    pub(crate) excluded:
-        std::sync::Arc<std::collections::HashSet<(RigidBodyHandle, RigidBodyHandle)>>,
+    pub(crate) excluded: std::sync::Arc<[(RigidBodyHandle, RigidBodyHandle)]>,
 }
 
 /// The document's values domain randomisation scales (`randomize.rs`), kept from the
