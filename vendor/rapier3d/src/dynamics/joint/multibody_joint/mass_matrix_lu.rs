@@ -21,6 +21,10 @@ pub struct MassMatrixLu {
     swaps: Vec<usize>,
     /// Whether every pivot is non-zero.
     invertible: bool,
+    /// Whether `lu` holds `L·D·Lᵀ` (gymfleet patch 29): row `j` of `L` (unit diagonal, not
+    /// stored) above the diagonal of column `j`, `D` on the diagonal, nothing below it read,
+    /// and no row swaps.
+    symmetric: bool,
 }
 
 impl Default for MassMatrixLu {
@@ -29,6 +33,7 @@ impl Default for MassMatrixLu {
             lu: DMatrix::zeros(0, 0),
             swaps: Vec::new(),
             invertible: true,
+            symmetric: false,
         }
     }
 }
@@ -55,6 +60,7 @@ impl MassMatrixLu {
         self.swaps.clear();
         self.swaps.extend_from_slice(&other.swaps);
         self.invertible = other.invertible;
+        self.symmetric = other.symmetric;
     }
 
     /// Factorises the square matrix `a`, reusing this factorisation's storage.
@@ -82,10 +88,59 @@ impl MassMatrixLu {
         self.factorize_in_place();
     }
 
+    /// Factorizes the leading `n × n` block of the column-major matrix `a`, known to be
+    /// symmetric (only its upper triangle is read), as `L·D·Lᵀ` (gymfleet patch 29): half
+    /// the multiply-adds of the LU factorization, no pivot search, and every product a
+    /// contiguous dot product (row `j` of `L` is kept in column `j`, above the diagonal, and
+    /// computed from the rows above it). A mass matrix is symmetric positive definite, where
+    /// this needs no pivoting; if a pivot comes out not positive (or not finite), the block
+    /// is factorized by [`Self::factorize_leading`] instead.
+    pub fn factorize_symmetric_leading(&mut self, a: &DMatrix, n: usize) {
+        if self.lu.nrows() != n {
+            self.lu = DMatrix::zeros(n, n);
+        }
+        let rows = a.nrows();
+        let (src, dst) = (a.as_slice(), self.lu.as_mut_slice());
+        for c in 0..n {
+            dst[c * n..c * n + c + 1].copy_from_slice(&src[c * rows..c * rows + c + 1]);
+        }
+        self.swaps.clear();
+        self.invertible = true;
+        self.symmetric = true;
+        let lu = self.lu.as_mut_slice();
+        for j in 0..n {
+            let (done, rest) = lu.split_at_mut(j * n);
+            let col_j = &mut rest[..j + 1];
+            // `y_k = A[k, j] − Σ_{m<k} L[k, m]·y_m`, in place of `A[k, j]`.
+            for k in 0..j {
+                let row_k = &done[k * n..k * n + k];
+                let (ys, y_k) = col_j.split_at_mut(k);
+                let mut y = y_k[0];
+                for (l, ym) in row_k.iter().zip(ys.iter()) {
+                    y -= l * ym;
+                }
+                y_k[0] = y;
+            }
+            // `L[j, k] = y_k / d_k` and `d_j = A[j, j] − Σ_k y_k·L[j, k]`.
+            let mut d = col_j[j];
+            for (k, y) in col_j[..j].iter_mut().enumerate() {
+                let l = *y / done[k * n + k];
+                d -= *y * l;
+                *y = l;
+            }
+            if !(d > 0.0 && d.is_finite()) {
+                self.factorize_leading(a, n);
+                return;
+            }
+            col_j[j] = d;
+        }
+    }
+
     fn factorize_in_place(&mut self) {
         let n = self.lu.nrows();
         self.swaps.clear();
         self.invertible = true;
+        self.symmetric = false;
         // Column-major: column `c` is `lu[c * n..(c + 1) * n]`.
         let lu = self.lu.as_mut_slice();
 
@@ -167,6 +222,32 @@ impl MassMatrixLu {
     fn solve_column(&self, x: &mut [Real]) {
         let n = x.len();
         let lu = self.lu.as_slice();
+        if self.symmetric {
+            // `L·D·Lᵀ`, row `j` of `L` above the diagonal of column `j`: forward with `L`,
+            // scaled by `D⁻¹`, back with `Lᵀ`.
+            for j in 0..n {
+                let row_j = &lu[j * n..j * n + j];
+                let (before, x_j) = x.split_at_mut(j);
+                let mut y = x_j[0];
+                for (l, xk) in row_j.iter().zip(before.iter()) {
+                    y -= l * xk;
+                }
+                x_j[0] = y;
+            }
+            for (j, xj) in x.iter_mut().enumerate() {
+                *xj /= lu[j * n + j];
+            }
+            for i in (0..n).rev() {
+                let (before, x_i) = x.split_at_mut(i);
+                let xi = x_i[0];
+                if xi != 0.0 {
+                    for (xk, l) in before.iter_mut().zip(&lu[i * n..i * n + i]) {
+                        *xk -= l * xi;
+                    }
+                }
+            }
+            return;
+        }
         for (i, &piv) in self.swaps.iter().enumerate() {
             if piv != i {
                 x.swap(i, piv);
@@ -279,6 +360,63 @@ mod tests {
             // The rows and columns outside the view are untouched.
             assert_eq!(big[(0, 1)], ((3) % 11) as f32 - 5.0);
             assert_eq!(big[(2, 0)], ((14) % 11) as f32 - 5.0);
+        }
+    }
+
+    /// A symmetric positive definite `n × n` matrix, `BᵀB + I`, as a mass matrix is.
+    fn mass_like(n: usize) -> DMatrix {
+        let b = DMatrix::from_fn(n, n, |i, j| ((i * 13 + j * 7) % 17) as f32 / 17.0 - 0.4);
+        b.transpose() * &b + DMatrix::identity(n, n)
+    }
+
+    /// gymfleet patch 29: `L·D·Lᵀ` of the leading block of a larger matrix (whose other
+    /// entries it never reads) solves as the pivoted LU does, without a row swap.
+    #[test]
+    fn the_symmetric_factorization_solves_as_the_lu_does() {
+        for n in [1, 9, 23] {
+            let a = mass_like(n);
+            let mut padded = DMatrix::from_element(n + 2, n + 2, f32::NAN);
+            padded.view_mut((0, 0), (n, n)).copy_from(&a);
+            // Below the diagonal is never read either.
+            for c in 0..n {
+                for r in c + 1..n {
+                    padded[(r, c)] = f32::NAN;
+                }
+            }
+            let mut ldl = MassMatrixLu::default();
+            ldl.factorize_symmetric_leading(&padded, n);
+            assert!(ldl.symmetric && ldl.swaps.is_empty(), "n = {n}: fell back");
+            let mut lu = MassMatrixLu::default();
+            lu.factorize(&a);
+            let b = DMatrix::from_fn(n, 2, |i, j| (i as f32 - 3.0) * (j as f32 + 0.5));
+            let (mut x_ldl, mut x_lu) = (b.clone(), b.clone());
+            assert!(ldl.solve_mut(&mut x_ldl) && lu.solve_mut(&mut x_lu));
+            let scale = x_lu.amax();
+            assert!(
+                (&x_ldl - &x_lu).amax() <= 1.0e-5 * scale,
+                "n = {n}: {x_ldl} vs {x_lu}"
+            );
+            assert!(
+                (&a * &x_ldl - &b).amax() <= 1.0e-4 * b.amax(),
+                "n = {n}: residual"
+            );
+        }
+    }
+
+    /// A symmetric matrix that is not positive definite goes to the pivoted LU.
+    #[test]
+    fn an_indefinite_matrix_falls_back_to_the_lu() {
+        for a in [
+            DMatrix::from_row_slice(2, 2, &[0.0, 1.0, 1.0, 0.0]),
+            DMatrix::from_row_slice(3, 3, &[2.0, 1.0, 0.0, 1.0, -3.0, 1.0, 0.0, 1.0, 1.0]),
+        ] {
+            let mut ldl = MassMatrixLu::default();
+            ldl.factorize_symmetric_leading(&a, a.nrows());
+            assert!(!ldl.symmetric, "{a}");
+            let x = DVector::from_fn(a.nrows(), |i, _| 1.0 - i as f32);
+            let mut b = &a * &x;
+            assert!(ldl.solve_mut(&mut b));
+            assert!((b - x).amax() < 1.0e-5);
         }
     }
 

@@ -531,8 +531,9 @@ impl Multibody {
                 let effective_dim = self
                     .augmented_mass_indices
                     .dim_after_removal(self.augmented_mass.nrows());
+                // gymfleet patch 29: the plain matrix is symmetric positive definite.
                 self.inv_augmented_mass
-                    .factorize_leading(&self.augmented_mass, effective_dim);
+                    .factorize_symmetric_leading(&self.augmented_mass, effective_dim);
             }
             self.inv_augmented_mass_stale = false;
         }
@@ -1654,8 +1655,15 @@ impl Multibody {
             .rearrange_columns(&mut self.acc_augmented_mass, true);
         self.augmented_mass_indices
             .rearrange_rows(&mut self.acc_augmented_mass, true);
-        self.acc_inv_augmented_mass
-            .factorize_leading(&self.acc_augmented_mass, effective_dim);
+        if self.velocity_terms_skipped {
+            // gymfleet patch 29: without the velocity terms the matrix is the plain one,
+            // symmetric positive definite.
+            self.acc_inv_augmented_mass
+                .factorize_symmetric_leading(&self.acc_augmented_mass, effective_dim);
+        } else {
+            self.acc_inv_augmented_mass
+                .factorize_leading(&self.acc_augmented_mass, effective_dim);
+        }
         self.augmented_mass_indices
             .rearrange_columns(&mut self.augmented_mass, true);
         self.augmented_mass_indices
@@ -2864,7 +2872,7 @@ mod still_multibody_tests {
         // exactly as its own factorization does.
         mb.factorize_inv_augmented_mass();
         let mut fresh = super::MassMatrixLu::default();
-        fresh.factorize(&mb.augmented_mass);
+        fresh.factorize_symmetric_leading(&mb.augmented_mass, mb.augmented_mass.nrows());
         let mut copied_x = DVector::from_row_slice(&[0.3, -1.0, 2.0]);
         let mut fresh_x = copied_x.clone();
         assert!(mb.inv_augmented_mass().solve_mut(&mut copied_x));
@@ -2946,7 +2954,7 @@ mod still_multibody_tests {
         assert_eq!(mb.workspace.gen_forces.len(), 0, "the guard ran");
         // What the guard's fallback computes: the plain matrix factorized, the forces solved.
         let mut fresh = super::MassMatrixLu::default();
-        fresh.factorize(&mb.augmented_mass);
+        fresh.factorize_symmetric_leading(&mb.augmented_mass, mb.augmented_mass.nrows());
         let mut expected = forces.clone();
         assert!(fresh.solve_mut(&mut expected));
         assert_eq!(mb.accelerations, expected);
