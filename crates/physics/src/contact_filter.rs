@@ -169,7 +169,10 @@ mod tests {
         };
         for w in pairs.windows(2) {
             let (a, b) = (handle(w[0].0, w[0].1), handle(w[1].0, w[1].1));
-            assert!(filter.excludes(a, b) && filter.excludes(b, a), "{a:?} {b:?}");
+            assert!(
+                filter.excludes(a, b) && filter.excludes(b, a),
+                "{a:?} {b:?}"
+            );
         }
         // Same indices, another generation; and a pair of two listed bodies never listed.
         assert!(!filter.excludes(handle(3, 1), handle(1, 0)));

@@ -2962,7 +2962,11 @@ mod still_multibody_tests {
         // A non-finite force: the accelerations are cleared, as the guard's last chance did.
         mb.applied_forces_mut()[1] = Real::NAN;
         mb.update_acceleration(DT, &world.bodies);
-        assert!(mb.accelerations.iter().all(|a| *a == 0.0), "{}", mb.accelerations);
+        assert!(
+            mb.accelerations.iter().all(|a| *a == 0.0),
+            "{}",
+            mb.accelerations
+        );
     }
 
     #[test]
