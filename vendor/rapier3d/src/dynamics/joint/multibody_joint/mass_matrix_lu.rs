@@ -4,18 +4,22 @@
 //! substep. nalgebra's `LU::new` takes an owned matrix and allocates its permutation, so each
 //! factorisation cost two allocations (plus the `into_owned` copy of the matrix view) and ran
 //! nalgebra's generic view code on matrices of a few rows. This type factorises in place into
-//! storage it keeps, with the same algorithm (Doolittle with partial row pivoting).
+//! storage it keeps, with the same algorithm (Doolittle with partial row pivoting). A matrix
+//! known to be symmetric positive definite (the plain mass matrix) can be factorized as
+//! `L·D·Lᵀ` instead (gymfleet patch 29).
 
 use crate::alloc_prelude::*;
 use crate::math::{DMatrix, Real};
 use na::{Dim, Dyn, Matrix, Storage, StorageMut};
 
-/// LU factorisation with partial (row) pivoting of a square matrix, `P·A = L·U`, kept in
-/// storage that is reused by the next factorisation of the same dimension.
+/// LU factorisation with partial (row) pivoting of a square matrix, `P·A = L·U`, or, for a
+/// symmetric positive definite one, `A = L·D·Lᵀ` ([`MassMatrixLu::factorize_symmetric_leading`]),
+/// kept in storage that is reused by the next factorisation of the same dimension.
 #[cfg_attr(feature = "serde-serialize", derive(Serialize, Deserialize))]
 #[derive(Clone, Debug)]
 pub struct MassMatrixLu {
-    /// `L` (unit diagonal, not stored) below the diagonal, `U` on and above it.
+    /// `L` (unit diagonal, not stored) below the diagonal, `U` on and above it; for
+    /// `L·D·Lᵀ`, see `symmetric`.
     lu: DMatrix,
     /// Row `i` was swapped with row `swaps[i] >= i` at step `i`.
     swaps: Vec<usize>,
@@ -89,12 +93,12 @@ impl MassMatrixLu {
     }
 
     /// Factorizes the leading `n × n` block of the column-major matrix `a`, known to be
-    /// symmetric (only its upper triangle is read), as `L·D·Lᵀ` (gymfleet patch 29): half
-    /// the multiply-adds of the LU factorization, no pivot search, and every product a
-    /// contiguous dot product (row `j` of `L` is kept in column `j`, above the diagonal, and
-    /// computed from the rows above it). A mass matrix is symmetric positive definite, where
+    /// symmetric (only its upper triangle is read, unless it falls back), as `L·D·Lᵀ`
+    /// (gymfleet patch 29): half the multiply-adds of the LU factorization, no pivot search,
+    /// and every product a contiguous dot product (row `j` of `L` is kept in column `j`,
+    /// above the diagonal, and computed from the rows above it). A mass matrix is symmetric positive definite, where
     /// this needs no pivoting; if a pivot comes out not positive (or not finite), the block
-    /// is factorized by [`Self::factorize_leading`] instead.
+    /// is factorized by [`Self::factorize_leading`] instead, which reads all of it.
     pub fn factorize_symmetric_leading(&mut self, a: &DMatrix, n: usize) {
         if self.lu.nrows() != n {
             self.lu = DMatrix::zeros(n, n);
