@@ -19,6 +19,8 @@ pub const DEFAULT_DURATION_SECS: f64 = 10.0;
 pub const DEFAULT_WARMUP_SECS: f64 = 1.0;
 /// Envs per batch with `--api batch`, unless `--n-envs` says otherwise.
 pub const DEFAULT_N_ENVS: usize = 256;
+/// The most `--compare` rounds one run takes (each builds its envs twice).
+pub const MAX_ROUNDS: u32 = 100;
 
 /// gymfleet-load: drives gymfleet batches or single envs and reports throughput and
 /// per-call latency.
@@ -121,6 +123,10 @@ pub struct Cli {
     /// Run in process, then remote, and report the throughput ratio remote / in-process.
     #[arg(long, env = "GYMFLEET_COMPARE")]
     pub compare: bool,
+    /// With --compare: run the two this many times, alternating which goes first, and
+    /// report each round's ratio and their median [default: 1].
+    #[arg(long, value_name = "K", env = "GYMFLEET_ROUNDS")]
+    pub rounds: Option<u32>,
     /// Write the configuration and figures as JSON to this file.
     #[arg(long, value_name = "FILE", env = "GYMFLEET_JSON")]
     pub json: Option<PathBuf>,
@@ -183,6 +189,21 @@ impl Cli {
         }
         if self.in_process && self.mode == Mode::Stream {
             return conflict("--mode stream", "--in-process");
+        }
+        if self.rounds.is_some() && !self.compare {
+            return Err(LoadError::bad_flag(
+                "--rounds",
+                "needs --compare (it alternates the in-process and remote runs)",
+            ));
+        }
+        if let Some(rounds) = self.rounds {
+            at_least_one("--rounds", u64::from(rounds))?;
+            if rounds > MAX_ROUNDS {
+                return Err(LoadError::bad_flag(
+                    "--rounds",
+                    format!("must be at most {MAX_ROUNDS}, got {rounds}"),
+                ));
+            }
         }
 
         let n_envs = match (self.api, self.n_envs) {
@@ -266,7 +287,11 @@ impl Cli {
         let target = if self.in_process {
             Target::InProcess { threads }
         } else if self.compare {
-            Target::Compare { threads, servers }
+            Target::Compare {
+                threads,
+                servers,
+                rounds: self.rounds.unwrap_or(1),
+            }
         } else if servers.is_empty() {
             Target::Embedded { threads }
         } else {

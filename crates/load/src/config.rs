@@ -30,13 +30,17 @@ pub enum Target {
         /// The pool's threads.
         threads: usize,
     },
-    /// In process first, then remote (the given servers, or an embedded server with
-    /// the same thread count), and the throughput ratio remote / in-process.
+    /// In process and remote (the given servers, or an embedded server with the same
+    /// thread count), `rounds` times, and the throughput ratio remote / in-process: each
+    /// round's, and their median. Odd rounds run in process first, even rounds remote
+    /// first, so a machine that drifts during the run weighs on both sides alike.
     Compare {
         /// The in-process pool's (and embedded server's) threads.
         threads: usize,
         /// Remote servers; empty means an embedded server.
         servers: Vec<String>,
+        /// Rounds of the two runs (at least 1).
+        rounds: u32,
     },
 }
 

@@ -40,7 +40,7 @@ mod report;
 mod rss;
 
 pub use actions::{ActionKind, ActionPlan};
-pub use cli::{Cli, DEFAULT_DURATION_SECS, DEFAULT_N_ENVS, DEFAULT_WARMUP_SECS};
+pub use cli::{Cli, DEFAULT_DURATION_SECS, DEFAULT_N_ENVS, DEFAULT_WARMUP_SECS, MAX_ROUNDS};
 pub use config::{
     threads_or_cores, Api, LoadConfig, Mode, StopRule, Target, TaskFile, UnitsArg, Warmup,
 };
@@ -64,6 +64,7 @@ pub fn run(config: &LoadConfig) -> Result<Report> {
         .map_err(|e| LoadError::setup("tokio runtime", e))?;
     let mut runs = Vec::new();
     let mut ratio = None;
+    let mut round_ratios = Vec::new();
     match &config.target {
         Target::Remote { servers } => {
             runs.push(runtime.block_on(remote::run(config, servers, "server"))?);
@@ -72,18 +73,38 @@ pub fn run(config: &LoadConfig) -> Result<Report> {
             runs.push(runtime.block_on(run_embedded(config, *threads))?)
         }
         Target::InProcess { threads } => runs.push(run_in_process(config, *threads)?),
-        Target::Compare { threads, servers } => {
-            let local = run_in_process(config, *threads)?;
-            let remote = if servers.is_empty() {
-                runtime.block_on(run_embedded(config, *threads))?
-            } else {
-                runtime.block_on(remote::run(config, servers, "server"))?
+        Target::Compare {
+            threads,
+            servers,
+            rounds,
+        } => {
+            let run_remote = || {
+                if servers.is_empty() {
+                    runtime.block_on(run_embedded(config, *threads))
+                } else {
+                    runtime.block_on(remote::run(config, servers, "server"))
+                }
             };
-            if local.env_steps_per_s > 0.0 {
-                ratio = Some(remote.env_steps_per_s / local.env_steps_per_s);
+            for round in 1..=*rounds {
+                // Odd rounds in process first, even rounds remote first.
+                let (mut local, mut remote) = if round % 2 == 1 {
+                    let local = run_in_process(config, *threads)?;
+                    (local, run_remote()?)
+                } else {
+                    let remote = run_remote()?;
+                    (run_in_process(config, *threads)?, remote)
+                };
+                if local.env_steps_per_s > 0.0 {
+                    round_ratios.push(remote.env_steps_per_s / local.env_steps_per_s);
+                }
+                if *rounds > 1 {
+                    local.label = format!("{} #{round}", local.label);
+                    remote.label = format!("{} #{round}", remote.label);
+                }
+                runs.push(local);
+                runs.push(remote);
             }
-            runs.push(local);
-            runs.push(remote);
+            ratio = median(&round_ratios);
         }
     }
     let report = Report {
@@ -91,6 +112,7 @@ pub fn run(config: &LoadConfig) -> Result<Report> {
         summary: config.summary(),
         runs,
         ratio_remote_to_in_process: ratio,
+        round_ratios,
         memory_baseline,
         memory_end: config.report_rss.then(Memory::current).flatten(),
     };
@@ -101,6 +123,18 @@ pub fn run(config: &LoadConfig) -> Result<Report> {
         })?;
     }
     Ok(report)
+}
+
+/// The median of `values` (the mean of the middle two for an even count); `None` if empty.
+fn median(values: &[f64]) -> Option<f64> {
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let n = sorted.len();
+    match n {
+        0 => None,
+        _ if n % 2 == 1 => Some(sorted[n / 2]),
+        _ => Some((sorted[n / 2 - 1] + sorted[n / 2]) / 2.0),
+    }
 }
 
 #[cfg(feature = "embedded")]

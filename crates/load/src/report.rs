@@ -124,10 +124,13 @@ pub struct Report {
     pub config: LoadConfig,
     /// One line describing it.
     pub summary: String,
-    /// One result per target: in process first, then remote, for `--compare`.
+    /// One result per target; `--compare`: in process, then remote, for each round.
     pub runs: Vec<RunResult>,
-    /// `--compare`: remote env-steps/s divided by in-process env-steps/s.
+    /// `--compare`: remote env-steps/s divided by in-process env-steps/s; the median
+    /// of [`Report::round_ratios`] with `--rounds`.
     pub ratio_remote_to_in_process: Option<f64>,
+    /// `--compare`: each round's ratio, in order (one with a single round).
+    pub round_ratios: Vec<f64>,
     /// `--report-rss`: this process's memory before setup.
     pub memory_baseline: Option<Memory>,
     /// `--report-rss`: this process's memory at the end (VmHWM is the peak).
@@ -195,8 +198,27 @@ pub fn render_table(report: &Report) -> String {
             let _ = writeln!(out, "first error ({}): {first}", r.label);
         }
     }
-    if let Some(ratio) = report.ratio_remote_to_in_process {
-        let _ = writeln!(out, "remote / in-process env-steps/s: {ratio:.3}");
+    match (report.ratio_remote_to_in_process, report.round_ratios.len()) {
+        (Some(ratio), 0 | 1) => {
+            let _ = writeln!(out, "remote / in-process env-steps/s: {ratio:.3}");
+        }
+        (Some(ratio), rounds) => {
+            let each: Vec<String> = report
+                .round_ratios
+                .iter()
+                .map(|r| format!("{r:.3}"))
+                .collect();
+            let _ = writeln!(
+                out,
+                "remote / in-process env-steps/s, each round: {}",
+                each.join(" ")
+            );
+            let _ = writeln!(
+                out,
+                "remote / in-process env-steps/s, median of {rounds} rounds: {ratio:.3}"
+            );
+        }
+        (None, _) => {}
     }
     for (what, memory) in [
         ("before setup", report.memory_baseline),

@@ -149,14 +149,24 @@ fn targets_follow_the_flags() {
         with(&["--compare", "--threads", "2"]),
         Target::Compare {
             threads: 2,
-            servers: vec![]
+            servers: vec![],
+            rounds: 1
+        }
+    );
+    assert_eq!(
+        with(&["--compare", "--threads", "2", "--rounds", "3"]),
+        Target::Compare {
+            threads: 2,
+            servers: vec![],
+            rounds: 3
         }
     );
     assert_eq!(
         with(&["--compare", "--threads", "1", "--server", "h:1"]),
         Target::Compare {
             threads: 1,
-            servers: vec!["h:1".into()]
+            servers: vec!["h:1".into()],
+            rounds: 1
         }
     );
 }
@@ -280,6 +290,18 @@ fn bad_flags_have_exact_messages() {
             "--amplitude must be a finite number ≥ 0, got NaN",
         ),
         (&["--server", "h:1,,h:2"], "--server address 2 is empty"),
+        (
+            &["--rounds", "3"],
+            "--rounds needs --compare (it alternates the in-process and remote runs)",
+        ),
+        (
+            &["--compare", "--rounds", "0"],
+            "--rounds must be at least 1, got 0",
+        ),
+        (
+            &["--compare", "--rounds", "101"],
+            "--rounds must be at most 100, got 101",
+        ),
         (
             &["--model", "foo"],
             "unknown model 'foo': not pendulum|arm2|arm6|chain20|fourbar and no such file",

@@ -467,3 +467,50 @@ fn replay_writes_an_html_page_of_one_env() {
         .expect_err("nothing to record");
     assert_eq!(err.to_string(), "--replay-steps must be at least 1, got 0");
 }
+
+#[test]
+fn compare_rounds_report_each_ratio_and_their_median() {
+    let report = run_flags(&[
+        "--compare",
+        "--rounds",
+        "2",
+        "--model",
+        "pendulum",
+        "--n-envs",
+        "2",
+        "--steps",
+        "5",
+    ]);
+    let labels: Vec<&str> = report.runs.iter().map(|r| r.label.as_str()).collect();
+    assert_eq!(
+        labels,
+        [
+            "in-process #1",
+            "remote unary #1",
+            "in-process #2",
+            "remote unary #2"
+        ]
+    );
+    for r in &report.runs {
+        assert_counts(r, 2, 5, 1);
+    }
+    assert_eq!(report.round_ratios.len(), 2);
+    for (round, ratio) in report.round_ratios.iter().enumerate() {
+        let (local, remote) = (&report.runs[2 * round], &report.runs[2 * round + 1]);
+        assert_eq!(*ratio, remote.env_steps_per_s / local.env_steps_per_s);
+    }
+    let median = (report.round_ratios[0] + report.round_ratios[1]) / 2.0;
+    assert_eq!(report.ratio_remote_to_in_process, Some(median));
+    let table = gymfleet_load::render_table(&report);
+    let each = format!(
+        "remote / in-process env-steps/s, each round: {:.3} {:.3}",
+        report.round_ratios[0], report.round_ratios[1]
+    );
+    assert!(table.contains(&each), "{table}");
+    assert!(
+        table.contains(&format!(
+            "remote / in-process env-steps/s, median of 2 rounds: {median:.3}"
+        )),
+        "{table}"
+    );
+}
