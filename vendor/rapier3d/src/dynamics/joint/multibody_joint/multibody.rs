@@ -1355,10 +1355,11 @@ impl Multibody {
         #[cfg(feature = "dim2")]
         let velocity_terms = !self.explicit_velocity_terms;
         self.velocity_terms_skipped = !velocity_terms;
-        // gymfleet patch (see `PATCHES.md`): chains and trees of one-DoF joints on a root that
-        // is not dynamic build both matrices by composite rigid bodies, after the loop below.
+        // gymfleet patch (see `PATCHES.md`): chains and trees of one-DoF joints on a fixed or free
+        // root build both matrices by composite rigid bodies, after the loop below; without the
+        // velocity terms, trees of joints of any number of DoFs build `M` so (patch 30).
         #[cfg(feature = "dim3")]
-        let composite = self.composite_applies(bodies);
+        let composite = self.composite_applies(bodies, velocity_terms);
 
         // Resize coriolis workspaces if the link count or number of DOFs change.
         let coriolis_ndofs = self.coriolis_v.first().map(|m| m.ncols());
@@ -3147,7 +3148,7 @@ mod composite_tests {
         let derivative = velocity_derivative(&mut world, handle);
         let bodies = &world.bodies;
         let mb = world.multibody_joints.get_mut(handle).unwrap().0;
-        assert!(mb.composite_applies(bodies));
+        assert!(mb.composite_applies(bodies, true));
         // `update_mass_matrix` (which `velocity_derivative` left at the tree's velocities)
         // takes this construction: its two matrices differ by exactly `dt·D`.
         let update_velocity = &mb.acc_augmented_mass - &mb.augmented_mass;
@@ -3203,7 +3204,8 @@ mod composite_tests {
             collider.set_collision_groups(InteractionGroups::none());
         }
         world.step();
-        assert!(world.multibody_joints.get(handle).unwrap().0.composite_applies(&world.bodies));
+        let mb = world.multibody_joints.get(handle).unwrap().0;
+        assert!(mb.composite_applies(&world.bodies, true));
         let (energy0, momentum0) = energy_and_momentum(&world);
         for _ in 0..480 {
             world.step();
@@ -3214,15 +3216,129 @@ mod composite_tests {
         }
     }
 
+    /// A planar root (slides along X and Z, a hinge about Y: MJCF's slide/slide/hinge roots as
+    /// one joint), a revolute and a ball joint on it, and a cylindrical joint below the ball,
+    /// displaced and moving. Without the velocity terms `M` is built by composite bodies, the
+    /// same as link by link (gymfleet patch 30); with them the link-by-link construction stays.
     #[test]
-    fn a_ball_joint_keeps_the_link_by_link_construction() {
+    fn joints_of_several_dofs_build_the_mass_matrix_by_composite_bodies_without_velocity_terms() {
         let mut world = PhysicsWorld::new();
-        let base = world.insert_body(RigidBodyBuilder::fixed());
-        let ball = world.insert_body(RigidBodyBuilder::dynamic().additional_mass(1.0));
-        let handle = world
-            .insert_multibody_joint(base, ball, SphericalJointBuilder::new())
-            .unwrap();
+        let base =
+            world.insert_body(RigidBodyBuilder::fixed().translation(Vector::new(0.0, 0.0, 0.6)));
+        let link = |world: &mut PhysicsWorld, at: Vector, half: Vector| {
+            world
+                .insert(
+                    RigidBodyBuilder::dynamic().translation(at),
+                    ColliderBuilder::cuboid(half.x, half.y, half.z)
+                        .translation(Vector::new(half.x, 0.02, -0.01))
+                        .density(700.0 + 100.0 * at.x),
+                )
+                .0
+        };
+        let torso = link(
+            &mut world,
+            Vector::new(0.0, 0.0, 0.6),
+            Vector::new(0.3, 0.05, 0.04),
+        );
+        let thigh = link(
+            &mut world,
+            Vector::new(0.5, 0.0, 0.6),
+            Vector::new(0.1, 0.02, 0.04),
+        );
+        let arm = link(
+            &mut world,
+            Vector::new(0.0, 0.1, 0.6),
+            Vector::new(0.12, 0.03, 0.03),
+        );
+        let hand = link(
+            &mut world,
+            Vector::new(0.24, 0.1, 0.6),
+            Vector::new(0.06, 0.02, 0.03),
+        );
+        let planar = GenericJointBuilder::new(
+            JointAxesMask::LIN_Y | JointAxesMask::ANG_X | JointAxesMask::ANG_Z,
+        );
+        let cylindrical = GenericJointBuilder::new(
+            JointAxesMask::LIN_Y
+                | JointAxesMask::LIN_Z
+                | JointAxesMask::ANG_Y
+                | JointAxesMask::ANG_Z,
+        );
+        let joints: [(RigidBodyHandle, RigidBodyHandle, GenericJoint, Vector); 4] = [
+            (base, torso, planar.into(), Vector::ZERO),
+            (
+                torso,
+                thigh,
+                RevoluteJointBuilder::new(Vector::Y).into(),
+                Vector::new(0.5, 0.0, 0.0),
+            ),
+            (
+                torso,
+                arm,
+                SphericalJointBuilder::new().into(),
+                Vector::new(0.0, 0.1, 0.0),
+            ),
+            (arm, hand, cylindrical.into(), Vector::new(0.24, 0.0, 0.0)),
+        ];
+        let mut handle = None;
+        for (parent, child, mut joint, anchor) in joints {
+            joint.set_local_anchor1(anchor);
+            handle = world.insert_multibody_joint(parent, child, joint);
+        }
+        let handle = handle.unwrap();
         let mb = world.multibody_joints.get_mut(handle).unwrap().0;
-        assert!(!mb.composite_applies(&world.bodies));
+        mb.forward_kinematics(&world.bodies, false);
+        assert_eq!(mb.ndofs(), 3 + 1 + 3 + 2);
+        mb.apply_displacements(&[0.1, -0.05, 0.3, 0.6, 0.2, -0.4, 0.5, 0.03, 0.8]);
+        mb.forward_kinematics(&world.bodies, false);
+        mb.update_rigid_bodies(&mut world.bodies, true);
+        mb.velocities
+            .copy_from_slice(&[1.2, -0.4, 2.0, -1.5, 0.7, 1.1, -0.9, 0.3, 2.4]);
+        mb.update_velocities(&mut world.bodies);
+        // Sizes the matrices (moving: the link-by-link construction).
+        mb.update_mass_matrix(DT, &world.bodies);
+        let bodies = &world.bodies;
+        assert!(!mb.composite_applies(bodies, true));
+        assert!(mb.composite_applies(bodies, false));
+        let (mass, _) = matrices(mb, |mb| mb.composite_mass_matrices(DT, false, bodies));
+        let (link_mass, _) = matrices(mb, |mb| {
+            for i in 0..mb.links.len() {
+                let span = mb.links[i].assembly_id + mb.links[i].joint.ndofs();
+                mb.accumulate_link_mass_3d(i, span, DT, false, bodies);
+            }
+        });
+        let mass_error = relative_error(&mass, &link_mass);
+        assert!(
+            mass_error < 1.0e-6,
+            "M: {mass_error:e}\n{mass}\n{link_mass}"
+        );
+        // The joints' own DoFs couple (a planar hinge with its slides, a ball's three axes).
+        assert!(link_mass[(0, 2)].abs() > 1.0e-3 * link_mass.amax());
+        assert!(link_mass[(4, 5)].abs() > 1.0e-3 * link_mass.amax());
+
+        // `update_mass_matrix` takes the composite path when the velocity terms are explicit
+        // (gymfleet patch 26) and builds the same `M`, in both triangles.
+        mb.set_explicit_velocity_terms(true);
+        mb.update_mass_matrix(DT, bodies);
+        let full = mb.augmented_mass.clone();
+        for a in 0..full.nrows() {
+            for c in a..full.ncols() {
+                let (entry, reference) = (full[(a, c)], link_mass[(a, c)] + diagonal(mb, a, c));
+                assert!(
+                    (entry - reference).abs() <= 1.0e-6 * link_mass.amax(),
+                    "M[{a},{c}]"
+                );
+                assert_eq!(full[(c, a)], entry);
+            }
+        }
+    }
+
+    /// What `update_mass_matrix` adds to `M[a, c]` besides the links: damping and armature.
+    fn diagonal(mb: &Multibody, a: usize, c: usize) -> Real {
+        if a == c {
+            mb.damping[a] * DT + mb.armature[a]
+        } else {
+            0.0
+        }
     }
 }

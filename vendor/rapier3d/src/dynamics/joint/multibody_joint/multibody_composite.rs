@@ -6,7 +6,8 @@
 //! For a multibody whose root is fixed or free and whose other joints have at most one DoF each
 //! (arms, chains, the slide/hinge roots MJCF imports use, and floating robots such as the Ant
 //! and the Humanoid), this module builds the same two matrices in `O(n·depth)` with spatial
-//! algebra:
+//! algebra; where the velocity terms are left out, it builds `M` for joints of any number of
+//! DoFs (ball, cylindrical, planar):
 //!
 //! - every spatial vector is taken at one point `p₀` (the root link's centre of mass) in world
 //!   axes, in `f64` so that the lever arms of a long chain cost no precision; a motion vector is
@@ -161,8 +162,12 @@ fn symmetric_cross_product(a: DVec3, b: DVec3) -> DMat3 {
 impl Multibody {
     /// Whether [`Multibody::composite_mass_matrices`] applies: a root that is fixed or free
     /// (all six DoFs, none locked), other joints of at most one DoF, none kinematic, and
-    /// links whose effective mass is the same along every axis.
-    pub(super) fn composite_applies(&self, bodies: &RigidBodySet) -> bool {
+    /// links whose effective mass is the same along every axis. Without `velocity_terms` (only
+    /// `M` is built) the other joints may have several DoFs (gymfleet patch 30): each DoF's
+    /// motion is its column of the link's body jacobian whatever the joint, so `M` needs no
+    /// more; the velocity terms of a joint of several DoFs (its columns change with its own
+    /// motion) are not derived here, and keep the link-by-link construction.
+    pub(super) fn composite_applies(&self, bodies: &RigidBodySet, velocity_terms: bool) -> bool {
         let isotropic = |link: &super::MultibodyLink| {
             let mass = bodies[link.rigid_body].mprops.effective_mass();
             mass.x == mass.y && mass.y == mass.z
@@ -172,7 +177,9 @@ impl Multibody {
             || (root.joint.ndofs() == SPATIAL_DIM && !root.joint.kinematic && isotropic(root));
         root_fits
             && self.links.iter().skip(1).all(|link| {
-                link.joint.ndofs() <= 1 && !link.joint.kinematic && isotropic(link)
+                (link.joint.ndofs() <= 1 || !velocity_terms)
+                    && !link.joint.kinematic
+                    && isotropic(link)
             })
     }
 
