@@ -179,15 +179,7 @@ fn compare_runs_in_process_then_remote_and_writes_json() {
 
 #[test]
 fn table_shows_the_figures_and_the_ratio() {
-    let report = run_flags(&[
-        "--compare",
-        "--model",
-        "pendulum",
-        "--n-envs",
-        "2",
-        "--steps",
-        "5",
-    ]);
+    let report = compare_pendulum(&[]);
     let table = gymfleet_load::render_table(&report);
     let lines: Vec<&str> = table.lines().collect();
     assert_eq!(lines[0], report.summary);
@@ -470,17 +462,7 @@ fn replay_writes_an_html_page_of_one_env() {
 
 #[test]
 fn compare_rounds_report_each_ratio_and_their_median() {
-    let report = run_flags(&[
-        "--compare",
-        "--rounds",
-        "2",
-        "--model",
-        "pendulum",
-        "--n-envs",
-        "2",
-        "--steps",
-        "5",
-    ]);
+    let report = compare_pendulum(&["--rounds", "2"]);
     let labels: Vec<&str> = report.runs.iter().map(|r| r.label.as_str()).collect();
     assert_eq!(
         labels,
@@ -513,4 +495,18 @@ fn compare_rounds_report_each_ratio_and_their_median() {
         )),
         "{table}"
     );
+}
+
+/// `--compare` of 2 pendulum envs for 5 steps, with `extra` flags.
+fn compare_pendulum(extra: &[&str]) -> gymfleet_load::Report {
+    let flags = [
+        "--compare",
+        "--model",
+        "pendulum",
+        "--n-envs",
+        "2",
+        "--steps",
+        "5",
+    ];
+    run_flags(&[&flags[..], extra].concat())
 }
