@@ -137,7 +137,7 @@ fn cheetah(planar: bool) -> (PhysicsWorld, MultibodyJointHandle) {
     // As gymfleet builds a document's multibody (`crates/physics/src/build/slots.rs`): links
     // touch each other but not their parents, limits are hard stops, explicit velocity terms
     // for an Euler file, no default damping.
-    mb.set_self_contacts_enabled(std::env::var("SELF").is_ok());
+    mb.set_self_contacts_enabled(true);
     mb.set_hard_limits(true);
     mb.set_explicit_velocity_terms(true);
     mb.damping_mut().fill(0.0);
@@ -174,7 +174,6 @@ fn main() {
     // The same torques on both sides: an LCG's uniform draws in [-1, 1] times the gears.
     let seed: u64 = args.get(3).map_or(0, |s| s.parse().expect("a seed"));
     let mut state: u64 = 0x2545_f491_4f6c_dd1d ^ seed;
-    let verbose = std::env::var("VERBOSE").is_ok();
     let started = Instant::now();
     for _ in 0..steps {
         let mb = world.multibody_joints.get_mut(handle).unwrap().0;
@@ -187,24 +186,11 @@ fn main() {
             forces[3 + k] = gear * (2.0 * u - 1.0);
         }
         world.step();
-        if verbose {
-            let mb = world.multibody_joints.get(handle).unwrap().0;
-            let v: Vec<String> = mb
-                .generalized_velocity()
-                .iter()
-                .map(|x| format!("{x:.2}"))
-                .collect();
-            println!("{}", v.join(" "));
-        }
     }
     let elapsed = started.elapsed().as_secs_f64();
     let mb = world.multibody_joints.get(handle).unwrap().0;
-    let torso = mb
-        .links()
-        .last()
-        .map(|_| ())
-        .and(mb.link(if planar { 1 } else { 3 }))
-        .unwrap();
+    // The torso is the link before the six legs.
+    let torso = mb.link(mb.num_links() - 7).unwrap();
     let pose = world.bodies[torso.rigid_body_handle()].position();
     println!(
         "{}: {} links, {} DoFs; after {steps} steps torso at ({:.4}, {:.4}) m, pitch {:.4}; {:.2} µs per step",
