@@ -40,7 +40,7 @@ pub(crate) fn set_action_bounds(
         if slot.closing.is_some() {
             continue; // Loop-closing joints are passive (`loops.rs`).
         }
-        let frame = sets.bodies[slot.parent].position() * slot.frame1;
+        let frame = crate::world::joint_frame(sets, slot);
         let anchor = frame.translation;
         let (mass, com) = subtree_mass(sets, slot);
         let axes = [Vector::X, Vector::Y, Vector::Z].map(|v| frame.rotation * v);

@@ -80,12 +80,10 @@ pub(crate) fn resolve_gains(
 }
 
 /// The Rapier axis of each DOF of a joint whose Rapier motors are used.
-fn motor_axes(kind: JointType) -> &'static [JointAxis] {
-    match kind {
-        JointType::Revolute => &[JointAxis::AngX],
-        JointType::Prismatic => &[JointAxis::LinX],
-        JointType::Cylindrical => &[JointAxis::LinX, JointAxis::AngX],
+fn motor_axes(slot: &JointSlot) -> &'static [JointAxis] {
+    match slot.kind {
         JointType::Ball | JointType::Fixed => &[],
+        _ => slot.axes(),
     }
 }
 
@@ -104,7 +102,7 @@ impl RobotWorld {
             if slot.closing.is_some() {
                 continue; // A loop-closing joint (`loops.rs`).
             }
-            let axes = motor_axes(slot.kind);
+            let axes = motor_axes(slot);
             if axes.is_empty() {
                 continue;
             }
@@ -228,7 +226,7 @@ impl RobotWorld {
                 continue;
             };
             mb.applied_forces_mut()
-                .rows_mut(first, n)
+                .rows_mut(slot.link_dof(first, 0), n)
                 .copy_from_slice(&efforts[..n]);
         }
         self.apply_tendon_forces();

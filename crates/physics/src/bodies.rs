@@ -23,7 +23,7 @@ impl RobotWorld {
     pub fn group_inertia(&self, group: &[usize], about: [f64; 3]) -> [f64; INERTIA_LEN] {
         let mut out = [0.0; INERTIA_LEN];
         for &instance in group {
-            let rb = &self.live.bodies[self.bodies[instance]];
+            let body = self.body_frame(instance);
             // The instance's own mass (a body may carry folded instances' too).
             let props = &self.own_mass_properties(instance);
             let m = f64::from(props.mass());
@@ -31,7 +31,7 @@ impl RobotWorld {
                 continue;
             }
             // R·diag(I)·Rᵀ: the principal inertia turned into world axes.
-            let axes = rb.rotation() * props.principal_inertia_local_frame;
+            let axes = body.rotation * props.principal_inertia_local_frame;
             let principal = props.principal_inertia();
             let mut rotated = [[0.0f64; 3]; 3];
             let columns: [Vector; 3] = [axes * Vector::X, axes * Vector::Y, axes * Vector::Z];
@@ -70,6 +70,11 @@ impl RobotWorld {
         let Some(&first) = group.first() else {
             return [0.0; VELOCITY_LEN];
         };
+        if let Some(helper) = self.planar_helper(first) {
+            // A fused planar root's helper slides without turning.
+            let v = self.helper_motion(helper).1;
+            return [0.0, 0.0, 0.0, v.x, v.y, v.z].map(f64::from);
+        }
         let rb = &self.live.bodies[self.bodies[first]];
         let w = rb.angvel();
         let arm =

@@ -19,6 +19,7 @@ use crate::world::{
 /// otherwise).
 const LOOP_PGS_ITERATIONS: usize = 4;
 
+mod planar;
 mod slots;
 mod trees;
 
@@ -48,7 +49,12 @@ impl RobotWorld {
         };
 
         let held = held_fixed(assembly);
-        let owners = fold_owners(assembly, &held);
+        let mut owners = fold_owners(assembly, &held);
+        // Slide, slide and hinge through two helpers, as one joint: the helpers fold into
+        // the body below (`build/planar.rs`).
+        let roots = planar::planar_roots(assembly, &held);
+        planar::fold_helpers(&roots, &mut owners);
+        let lanes = planar::lanes(assembly, &roots);
         let n = assembly.instances.len();
         // Instances a weld took out of the trees: held fixed on their own, or folded.
         let welded_away: Vec<bool> = (0..n)
@@ -93,14 +99,14 @@ impl RobotWorld {
             }
         }
 
-        let frames = insert_trees(&mut sets, assembly, &bodies, &welded_away)?;
+        let frames = insert_trees(&mut sets, assembly, &bodies, &welded_away, &roots)?;
 
         place_floating_trees(&mut sets);
 
         // The joints' initial positions, before anything reads the pose (gains, snapshot).
-        apply_initial_positions(&mut sets, assembly, &bodies)?;
+        apply_initial_positions(&mut sets, assembly, &bodies, &lanes)?;
 
-        set_armatures(&mut sets, assembly, &bodies);
+        set_armatures(&mut sets, assembly, &bodies, &lanes);
 
         // The loops' constraints, between bodies the trees now place.
         // Their bodies do not collide.
@@ -109,14 +115,21 @@ impl RobotWorld {
                 generic_joint(j, f1, f2, false)
             });
 
-        let (joints, mut dofs, inertia) = joint_slots(
+        let (mut joints, mut dofs, inertia) = joint_slots(
             &mut sets,
             assembly,
             &bodies,
             &frames,
             &closing,
             &welded_away,
+            &lanes,
         )?;
+        // A fused planar root's joints hang from the fixed instance above the chain.
+        for root in &roots {
+            for &j in &root.joints {
+                joints[j].parent = bodies[root.parent];
+            }
+        }
         let overridden = resolve_gains(&mut dofs, &inertia, options.gains.as_ref())?;
         let gravity = Vector::new(
             assembly.gravity[0] as Real,
@@ -139,7 +152,11 @@ impl RobotWorld {
         let first_dof: Vec<usize> = joints.iter().map(|j: &JointSlot| j.first_dof).collect();
         let tendons = crate::tendons::tendon_slots(assembly, &first_dof, &references);
         crate::tendons::set_tendon_limits(assembly, &joints, &references, &mut sets)?;
+        let first_slides: Vec<usize> = roots.iter().map(|r| r.joints[0]).collect();
+        let instance_poses: Vec<Pose> = assembly.instances.iter().map(instance_pose).collect();
+        let planar_helpers = planar::helpers(&roots, &first_slides, &instance_poses);
         let mut world = RobotWorld {
+            planar_helpers,
             fluid,
             contact_filter,
             tendons,

@@ -56,7 +56,7 @@ impl RobotWorld {
                 if let Some([min, max]) = dof.limits {
                     offset = (dof.initial + offset).clamp(min, max) - dof.initial;
                 }
-                disp[first + k] = to_si(dof.kind, offset) as Real;
+                disp[slot.link_dof(first, k)] = to_si(dof.kind, offset) as Real;
             }
             mb.apply_displacements(&disp);
             if !touched.contains(&slot.multibody) {
@@ -92,7 +92,8 @@ impl RobotWorld {
             let mut all = mb.generalized_velocity_mut();
             for k in 0..n {
                 let dof = &self.dofs[slot.first_dof + k];
-                all[first + k] = units.to_si(dof.kind, velocities[slot.first_dof + k]) as Real;
+                all[slot.link_dof(first, k)] =
+                    units.to_si(dof.kind, velocities[slot.first_dof + k]) as Real;
             }
         }
     }

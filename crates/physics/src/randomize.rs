@@ -87,7 +87,8 @@ impl RobotWorld {
             };
             for k in 0..n {
                 let dof = slot.first_dof + k;
-                mb.damping_mut()[first + k] = self.base.damping[dof] * draws.damping[j] as Real;
+                mb.damping_mut()[slot.link_dof(first, k)] =
+                    self.base.damping[dof] * draws.damping[j] as Real;
             }
             if !self.gains.overridden && n > 0 {
                 // One factorisation per multibody, shared by all of its joints.
@@ -103,7 +104,7 @@ impl RobotWorld {
                     }
                 };
                 for k in 0..n {
-                    let inv_i = f64::from(inv[first + k]);
+                    let inv_i = f64::from(inv[slot.link_dof(first, k)]);
                     inertia[slot.first_dof + k] = if inv_i > 0.0 { 1.0 / inv_i } else { 0.0 };
                 }
             }

@@ -7,7 +7,7 @@ use rapier3d::math::{Pose, Real, Rotation, Vector};
 use rapier3d::parry::mass_properties::MassProperties;
 
 use crate::units::{to_m, Units};
-use crate::world::{JointSlot, RobotWorld};
+use crate::world::{JointSlot, PlanarHelper, RobotWorld};
 use gymfleet_assembly::JointType;
 
 /// Floats in [`RobotWorld::base_state`]: a pose (7) and a velocity (6).
@@ -50,24 +50,24 @@ impl RobotWorld {
             };
             let coords = link.joint().coords();
             let gen_vel = mb.joint_velocity(link);
-            let lin = units.length(f64::from(coords[0]));
-            let ang = units.angle(f64::from(coords[3]));
+            let q = |k: usize| f64::from(coords[slot.coord(k)]);
+            let v = |k: usize| f64::from(gen_vel[slot.in_link(k)]);
             let dof = &self.dofs[first];
             let reference = units.from_document(dof.kind, dof.reference);
             match slot.kind {
                 JointType::Revolute => {
-                    pos[0] = (ang + reference) as f32;
-                    vel[0] = units.angle(f64::from(gen_vel[0])) as f32;
+                    pos[0] = (units.angle(q(0)) + reference) as f32;
+                    vel[0] = units.angle(v(0)) as f32;
                 }
                 JointType::Prismatic => {
-                    pos[0] = (lin + reference) as f32;
-                    vel[0] = units.length(f64::from(gen_vel[0])) as f32;
+                    pos[0] = (units.length(q(0)) + reference) as f32;
+                    vel[0] = units.length(v(0)) as f32;
                 }
                 JointType::Cylindrical => {
-                    pos[0] = lin as f32;
-                    pos[1] = ang as f32;
-                    vel[0] = units.length(f64::from(gen_vel[0])) as f32;
-                    vel[1] = units.angle(f64::from(gen_vel[1])) as f32;
+                    pos[0] = units.length(q(0)) as f32;
+                    pos[1] = units.angle(q(1)) as f32;
+                    vel[0] = units.length(v(0)) as f32;
+                    vel[1] = units.angle(v(1)) as f32;
                 }
                 JointType::Ball | JointType::Fixed => {}
             }
@@ -101,7 +101,7 @@ impl RobotWorld {
         };
         let impulse = mb
             .hard_limit_impulses(link)
-            .nth(dof - slot.first_dof)
+            .nth(slot.in_link(dof - slot.first_dof))
             .unwrap_or(0.0);
         f64::from(impulse) / self.dt()
     }
@@ -139,17 +139,50 @@ impl RobotWorld {
 
     /// An instance's own centre of mass, world m.
     pub(crate) fn own_center_of_mass(&self, instance: usize) -> Vector {
-        let rb = &self.live.bodies[self.bodies[instance]];
         if !self.shared[instance] {
-            return rb.center_of_mass();
+            return self.live.bodies[self.bodies[instance]].center_of_mass();
         }
-        rb.position()
+        self.body_frame(instance)
             .transform_point(self.own_mass_properties(instance).local_com)
     }
 
     /// An instance's frame in the world: its body's, placed by its placement.
     pub(crate) fn instance_frame(&self, instance: usize) -> Pose {
-        *self.live.bodies[self.bodies[instance]].position() * self.placements[instance]
+        self.body_frame(instance) * self.placements[instance]
+    }
+
+    /// The world frame an instance's placement is on: its body's pose; for a fused planar
+    /// root's helper, the pose that puts the helper where the chain would hold it.
+    pub(crate) fn body_frame(&self, instance: usize) -> Pose {
+        match self.planar_helper(instance) {
+            Some(helper) => self.helper_motion(helper).0 * self.placements[instance].inverse(),
+            None => *self.live.bodies[self.bodies[instance]].position(),
+        }
+    }
+
+    /// The fused planar root's helper that `instance` is, if it is one.
+    pub(crate) fn planar_helper(&self, instance: usize) -> Option<&PlanarHelper> {
+        self.planar_helpers.iter().find(|h| h.instance == instance)
+    }
+
+    /// A fused planar root's helper's frame in the world and its velocity (world m/s; it
+    /// does not turn): its rest frame moved along the slides above it.
+    pub(crate) fn helper_motion(&self, helper: &PlanarHelper) -> (Pose, Vector) {
+        let slot = &self.joints[helper.slot];
+        let (mut q, mut v) = ([0.0; 2], [0.0; 2]);
+        let mb = self.live.multibody_joints.get_multibody(slot.multibody);
+        if let Some((mb, link)) = mb.and_then(|mb| Some((mb, mb.link(slot.link)?))) {
+            let (coords, rates) = (link.joint().coords(), mb.joint_velocity(link));
+            // The fused joint's DOFs: linear X, linear Z, angular Y.
+            q = [coords[0], coords[2]];
+            v = [rates[0], rates[1]];
+        }
+        if helper.slides < 2 {
+            (q[1], v[1]) = (0.0, 0.0);
+        }
+        let shift = Pose::from_parts(Vector::new(q[0], 0.0, q[1]), Rotation::IDENTITY);
+        let velocity = helper.frame.rotation * Vector::new(v[0], 0.0, v[1]);
+        (helper.frame * shift * helper.rest, velocity)
     }
 
     /// The pose of an instance's centre of mass: `[x, y, z]` in world mm (m in

@@ -129,17 +129,27 @@ impl RobotWorld {
             let Some(co) = self.live.colliders.get(co) else {
                 continue;
             };
+            // A fused planar root's helper is drawn where the chain would hold it.
+            let moved;
+            let co_position = match self.planar_helper(instance) {
+                Some(_) => {
+                    let wrt = co.position_wrt_parent().copied().unwrap_or(Pose::IDENTITY);
+                    moved = self.body_frame(instance) * wrt;
+                    &moved
+                }
+                None => co.position(),
+            };
             match co.shape().as_compound() {
                 Some(compound) => {
                     for (pose, piece) in compound.shapes() {
                         if let Some(shape) = scene_shape(&**piece) {
-                            parts.push(to_part(instance, shape, &(*co.position() * *pose)));
+                            parts.push(to_part(instance, shape, &(*co_position * *pose)));
                         }
                     }
                 }
                 None => {
                     if let Some(shape) = scene_shape(co.shape()) {
-                        parts.push(to_part(instance, shape, co.position()));
+                        parts.push(to_part(instance, shape, co_position));
                     }
                 }
             }

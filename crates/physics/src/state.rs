@@ -13,7 +13,7 @@ use serde::{Deserialize, Serialize};
 use crate::command::ActionMode;
 use crate::error::{PhysicsError, Result};
 use crate::units::to_si;
-use crate::world::RobotWorld;
+use crate::world::{kind_axes, RobotWorld};
 
 /// Largest magnitude accepted for a coordinate (rad or m) or a velocity (rad/s or m/s) in
 /// a state: far beyond anything a healthy step produces (the env reports divergence long
@@ -139,14 +139,21 @@ impl RobotWorld {
                 let r = joint.joint_rot();
                 [r.x, r.y, r.z, r.w]
             });
-            joints.push(JointCoords {
-                coords: [c[0], c[1], c[2], c[3], c[4], c[5]],
-                rotation,
-            });
+            let coords = match slot.lane {
+                // One DOF of a fused planar root: saved where its joint alone keeps it, so
+                // that a state reads the same whether the root is fused or not.
+                Some(_) => {
+                    let mut own = [0.0; 6];
+                    own[kind_axes(slot.kind)[0] as usize] = c[slot.coord(0)];
+                    own
+                }
+                None => [c[0], c[1], c[2], c[3], c[4], c[5]],
+            };
+            joints.push(JointCoords { coords, rotation });
             let first = link.assembly_id();
             let all = mb.generalized_velocity();
             for k in 0..slot.kind.dof() {
-                velocities[slot.first_dof + k] = all[first + k];
+                velocities[slot.first_dof + k] = all[slot.link_dof(first, k)];
             }
         }
         let bodies = self
@@ -232,7 +239,11 @@ impl RobotWorld {
                 .and_then(|mb| mb.link(slot.link));
             let Some(link) = link else { continue };
             let joint = link.joint();
-            let locked = joint.data.locked_axes.bits();
+            // The axes its kind leaves free, as a state saves them (see `dynamic_state`).
+            let free = kind_axes(slot.kind)
+                .iter()
+                .fold(0u8, |mask, &a| mask | 1 << a as usize);
+            let locked = !free & 0b11_1111;
             if let Some(axis) = (0..6).find(|&a| locked & (1 << a) != 0 && saved.coords[a] != 0.0) {
                 return Err(bad(
                     format!("{path}.coords[{axis}]"),
@@ -340,13 +351,21 @@ impl RobotWorld {
                 continue;
             };
             if let Some(link) = mb.link_mut(slot.link) {
-                let c = saved.coords;
+                let c = match slot.lane {
+                    // One DOF of a fused planar root: its own coordinate, the others kept.
+                    Some(_) => {
+                        let mut c = link.joint.coords();
+                        c[slot.coord(0)] = saved.coords[kind_axes(slot.kind)[0] as usize];
+                        c
+                    }
+                    None => saved.coords,
+                };
                 let rotation = saved.rotation.map_or(Rotation::IDENTITY, quat);
                 link.joint.set_coords(c, rotation);
             }
             let mut velocities = mb.generalized_velocity_mut();
             for k in 0..slot.kind.dof() {
-                velocities[first + k] = state.velocities[slot.first_dof + k];
+                velocities[slot.link_dof(first, k)] = state.velocities[slot.first_dof + k];
             }
             if !touched.contains(&slot.multibody) {
                 touched.push(slot.multibody);

@@ -79,7 +79,7 @@ pub(crate) fn set_tendon_limits(
                 dofs: t
                     .joints
                     .iter()
-                    .map(|&(j, c)| (joints[j].link, 0, c as Real))
+                    .map(|&(j, c)| (joints[j].link, joints[j].in_link(0), c as Real))
                     .collect(),
                 min: (lo - offset) as Real,
                 max: (hi - offset) as Real,
@@ -121,12 +121,8 @@ impl RobotWorld {
         let Some(link) = mb.link(slot.link) else {
             return (0.0, 0.0);
         };
-        let coords = link.joint().coords();
-        let q = match slot.kind {
-            gymfleet_assembly::JointType::Revolute => coords[3],
-            _ => coords[0],
-        };
-        let v = mb.joint_velocity(link)[0];
+        let q = link.joint().coords()[slot.coord(0)];
+        let v = mb.joint_velocity(link)[slot.in_link(0)];
         (f64::from(q) + to_si(d.kind, d.reference), f64::from(v))
     }
 
@@ -148,7 +144,7 @@ impl RobotWorld {
                 let Some(first) = mb.link(slot.link).map(|link| link.assembly_id()) else {
                     continue;
                 };
-                mb.applied_forces_mut()[first] += (coef * force) as Real;
+                mb.applied_forces_mut()[slot.link_dof(first, 0)] += (coef * force) as Real;
             }
         }
     }

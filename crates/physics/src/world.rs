@@ -105,6 +105,97 @@ pub(crate) struct JointSlot {
     pub(crate) observed_dofs: usize,
     /// On a kinematic loop (closing it or on its path): reset noise leaves it alone.
     pub(crate) on_loop: bool,
+    /// Its one DOF's place in a fused planar root (`build/planar.rs`); `None` for a joint
+    /// that is its link's whole joint.
+    pub(crate) lane: Option<Lane>,
+}
+
+/// Where a joint's one DOF sits in a fused joint: its index among that joint's DOFs, and
+/// the Rapier axis it moves.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Lane {
+    pub(crate) offset: usize,
+    pub(crate) axis: JointAxis,
+}
+
+impl JointSlot {
+    /// The joint's DOFs' axes in its link's Rapier joint, in DOF order.
+    pub(crate) fn axes(&self) -> &'static [JointAxis] {
+        match self.lane.map(|l| l.axis) {
+            None => kind_axes(self.kind),
+            Some(JointAxis::LinX) => &[JointAxis::LinX],
+            Some(JointAxis::LinY) => &[JointAxis::LinY],
+            Some(JointAxis::LinZ) => &[JointAxis::LinZ],
+            Some(JointAxis::AngX) => &[JointAxis::AngX],
+            Some(JointAxis::AngY) => &[JointAxis::AngY],
+            Some(JointAxis::AngZ) => &[JointAxis::AngZ],
+        }
+    }
+
+    /// Index of the joint's DOF `k` among its multibody's DOFs, given its link's first.
+    pub(crate) fn link_dof(&self, link_first: usize, k: usize) -> usize {
+        link_first + self.lane.map_or(0, |l| l.offset) + k
+    }
+
+    /// Index of the joint's DOF `k` among its link's DOFs (its link velocity's row).
+    pub(crate) fn in_link(&self, k: usize) -> usize {
+        self.link_dof(0, k)
+    }
+
+    /// The coordinate (index into its link joint's six) of the joint's DOF `k`.
+    pub(crate) fn coord(&self, k: usize) -> usize {
+        self.axes()[k] as usize
+    }
+}
+
+/// A joint's frame in the world now (origin at its anchor, X along its axis): its parent's
+/// pose times its parent-side frame. One DOF of a fused planar root: the root's frame moved
+/// by the slides before it, turned so that X is the DOF's own axis (every DOF of the root
+/// has the hinge's anchor).
+pub(crate) fn joint_frame(sets: &Sets, slot: &JointSlot) -> Pose {
+    let frame = *sets.bodies[slot.parent].position() * slot.frame1;
+    let Some(lane) = slot.lane else {
+        return frame;
+    };
+    let link = sets
+        .multibody_joints
+        .get_multibody(slot.multibody)
+        .and_then(|mb| mb.link(slot.link));
+    let c = link.map_or([0.0; 6], |l| l.joint().coords());
+    let before = |k: usize| if lane.offset > k { c[2 * k] } else { 0.0 };
+    let turn = match lane.axis {
+        JointAxis::LinZ => Rotation::from_rotation_arc(Vector::X, Vector::Z),
+        JointAxis::AngY => Rotation::from_rotation_arc(Vector::X, Vector::Y),
+        _ => Rotation::IDENTITY,
+    };
+    frame * Pose::from_parts(Vector::new(before(0), 0.0, before(1)), turn)
+}
+
+/// A joint kind's free axes in its own Rapier joint, in DOF order (linear, then angular).
+pub(crate) fn kind_axes(kind: JointType) -> &'static [JointAxis] {
+    match kind {
+        JointType::Revolute => &[JointAxis::AngX],
+        JointType::Prismatic => &[JointAxis::LinX],
+        JointType::Cylindrical => &[JointAxis::LinX, JointAxis::AngX],
+        JointType::Ball => &[JointAxis::AngX, JointAxis::AngY, JointAxis::AngZ],
+        JointType::Fixed => &[],
+    }
+}
+
+/// A helper instance of a fused planar root (`build/planar.rs`): folded into the body the
+/// root moves, yet read out where the chain would hold it, moved by the slides above it
+/// and turned by nothing.
+#[derive(Debug, Clone)]
+pub(crate) struct PlanarHelper {
+    pub(crate) instance: usize,
+    /// The slot of the root's first slide (its link holds the fused joint).
+    pub(crate) slot: usize,
+    /// How many of the root's slides move it: 1 or 2.
+    pub(crate) slides: usize,
+    /// The fused joint's frame in the world (its parent is held fixed).
+    pub(crate) frame: Pose,
+    /// The helper's frame in the joint frame at the document's pose.
+    pub(crate) rest: Pose,
 }
 
 /// The root of a kinematic tree whose root body is dynamic: Rapier gives it a free joint
@@ -173,6 +264,8 @@ pub struct RobotWorld {
     pub(crate) tendons: Vec<TendonSlot>,
     /// The body pairs kept from colliding (`contact_filter.rs`).
     pub(crate) contact_filter: ContactFilter,
+    /// The helper instances of fused planar roots (`build/planar.rs`).
+    pub(crate) planar_helpers: Vec<PlanarHelper>,
 }
 
 /// The fluid and the bodies it acts on (`fluid.rs` computes the drag).
@@ -383,8 +476,7 @@ impl RobotWorld {
     }
 
     pub(crate) fn joint_frame_world(&self, slot: &JointSlot) -> Pose {
-        let parent = &self.live.bodies[slot.parent];
-        *parent.position() * slot.frame1
+        joint_frame(&self.live, slot)
     }
 
     /// Whether every body pose and velocity is finite.

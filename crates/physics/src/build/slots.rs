@@ -6,11 +6,10 @@
 use std::collections::HashMap;
 
 use gymfleet_assembly::{Assembly, DofKind, Integrator, Joint, JointType};
-use rapier3d::dynamics::MultibodyLinkId;
 use rapier3d::prelude::*;
 
 use crate::error::{PhysicsError, Result};
-use crate::world::{JointDof, JointSlot, Sets};
+use crate::world::{JointDof, JointSlot, Lane, Sets};
 
 /// The multibody of a slot in no tree.
 fn no_multibody() -> MultibodyIndex {
@@ -28,6 +27,7 @@ pub(super) fn joint_slots(
     frames: &[(Pose, Pose)],
     closing: &[Option<ImpulseJointHandle>],
     welded_away: &[bool],
+    lanes: &[Option<Lane>],
 ) -> Result<(Vec<JointSlot>, Vec<JointDof>, Vec<f64>)> {
     let mut joints = Vec::with_capacity(assembly.joints.len());
     let mut dofs = Vec::with_capacity(assembly.total_dof());
@@ -49,6 +49,7 @@ pub(super) fn joint_slots(
             closing: None,
             observed_dofs: 0,
             on_loop: joint.on_loop,
+            lane: None,
         };
         if let Some(handle) = closing[j] {
             // A child in no tree (the ground): no multibody.
@@ -66,7 +67,7 @@ pub(super) fn joint_slots(
                 inertia.extend(std::iter::repeat_n(0.0, joint.kind.dof()));
                 dofs.extend(joint_dofs(j, joint));
             }
-        } else if welded_away[joint.child] {
+        } else if welded_away[joint.child] && lanes[j].is_none() {
             joints.push(unlinked);
         } else {
             let link_id = *sets
@@ -76,19 +77,21 @@ pub(super) fn joint_slots(
                     field: "assembly.joints",
                     reason: format!("joint {:?} has no multibody link", joint.name),
                 })?;
-            inertia.extend(configure_tree_joint(
-                sets,
-                joint,
-                link_id,
-                explicit,
-                &mut inverse_inertias,
-            ));
-            joints.push(JointSlot {
+            let slot = JointSlot {
                 multibody: link_id.multibody,
                 link: link_id.id,
                 observed_dofs: joint.kind.dof(),
+                lane: lanes[j],
                 ..unlinked
-            });
+            };
+            inertia.extend(configure_tree_joint(
+                sets,
+                joint,
+                &slot,
+                explicit,
+                &mut inverse_inertias,
+            ));
+            joints.push(slot);
             dofs.extend(joint_dofs(j, joint));
         }
     }
@@ -134,50 +137,49 @@ fn keep_loops_implicit(
 fn configure_tree_joint(
     sets: &mut Sets,
     joint: &Joint,
-    link_id: MultibodyLinkId,
+    slot: &JointSlot,
     explicit: bool,
     inverse_inertias: &mut HashMap<MultibodyIndex, DVector>,
 ) -> Vec<f64> {
     let mb = sets
         .multibody_joints
-        .get_multibody_mut(link_id.multibody)
+        .get_multibody_mut(slot.multibody)
         .expect("a link's multibody exists");
-    let inv = inverse_inertias
-        .entry(link_id.multibody)
-        .or_insert_with(|| {
-            mb.set_self_contacts_enabled(true);
-            // Limits are hard stops: a DOF past its limit is put back on it after
-            // every substep (Rapier's own limit engages only once it is past).
-            mb.set_hard_limits(true);
-            // `simulation.integrator: "euler"`: the velocity terms as forces of the
-            // substep's start (vendored Rapier patch 26), as MuJoCo's Euler integrator.
-            mb.set_explicit_velocity_terms(explicit);
-            // Rapier gives angular DOFs a default damping of 0.1: remove it, so
-            // that a free pendulum keeps its energy unless the document says not.
-            mb.damping_mut().fill(0.0);
-            mb.dof_inverse_inertia(&sets.bodies)
-        });
-    let assembly_id = mb.link(link_id.id).expect("link exists").assembly_id();
+    let inv = inverse_inertias.entry(slot.multibody).or_insert_with(|| {
+        mb.set_self_contacts_enabled(true);
+        // Limits are hard stops: a DOF past its limit is put back on it after
+        // every substep (Rapier's own limit engages only once it is past).
+        mb.set_hard_limits(true);
+        // `simulation.integrator: "euler"`: the velocity terms as forces of the
+        // substep's start (vendored Rapier patch 26), as MuJoCo's Euler integrator.
+        mb.set_explicit_velocity_terms(explicit);
+        // Rapier gives angular DOFs a default damping of 0.1: remove it, so
+        // that a free pendulum keeps its energy unless the document says not.
+        mb.damping_mut().fill(0.0);
+        mb.dof_inverse_inertia(&sets.bodies)
+    });
+    let assembly_id = mb.link(slot.link).expect("link exists").assembly_id();
     // A passive spring (MuJoCo's joint stiffness): Rapier's implicit joint spring on
     // the joint's one free axis (a revolute joint's angle is angular X, a prismatic
-    // joint's displacement linear X), its rest measured like the joint's coordinate.
-    // The default gains exclude springs, so setting it here changes nothing for them.
+    // joint's displacement linear X; its axis in a fused planar root), its rest measured
+    // like the joint's coordinate. The default gains exclude springs, so setting it here
+    // changes nothing for them.
     let spring_axis = match joint.kind {
-        JointType::Revolute => Some(3),
-        JointType::Prismatic => Some(0),
+        JointType::Revolute | JointType::Prismatic => Some(slot.coord(0)),
         _ => None,
     };
     if let (Some(axis), true) = (spring_axis, joint.stiffness > 0.0) {
-        if let Some(link) = mb.link_mut(link_id.id) {
+        if let Some(link) = mb.link_mut(slot.link) {
             link.joint
                 .set_spring(axis, joint.stiffness as Real, joint.spring_rest as Real);
         }
     }
     (0..joint.kind.dof())
         .map(|k| {
-            mb.damping_mut()[assembly_id + k] = joint.damping as Real;
-            mb.frictions_mut()[assembly_id + k] = joint.friction as Real;
-            let inv_i = f64::from(inv[assembly_id + k]);
+            let dof = slot.link_dof(assembly_id, k);
+            mb.damping_mut()[dof] = joint.damping as Real;
+            mb.frictions_mut()[dof] = joint.friction as Real;
+            let inv_i = f64::from(inv[dof]);
             if inv_i > 0.0 {
                 1.0 / inv_i
             } else {
@@ -188,13 +190,19 @@ fn configure_tree_joint(
 }
 
 /// Each joint's armature on its DOFs.
-pub(super) fn set_armatures(sets: &mut Sets, assembly: &Assembly, bodies: &[RigidBodyHandle]) {
+pub(super) fn set_armatures(
+    sets: &mut Sets,
+    assembly: &Assembly,
+    bodies: &[RigidBodyHandle],
+    lanes: &[Option<Lane>],
+) {
     // Armature first: the default PD gains below follow each DOF's apparent inertia,
     // which includes it.
-    for joint in assembly
+    for (joint, lane) in assembly
         .joints
         .iter()
-        .filter(|j| j.armature > 0.0 && !j.closes_loop)
+        .zip(lanes)
+        .filter(|(j, _)| j.armature > 0.0 && !j.closes_loop)
     {
         let link = sets
             .multibody_joints
@@ -202,7 +210,7 @@ pub(super) fn set_armatures(sets: &mut Sets, assembly: &Assembly, bodies: &[Rigi
             .copied();
         if let Some(mb) = link.and_then(|l| {
             let mb = sets.multibody_joints.get_multibody_mut(l.multibody)?;
-            let first = mb.link(l.id)?.assembly_id();
+            let first = mb.link(l.id)?.assembly_id() + lane.map_or(0, |l| l.offset);
             Some((mb, first))
         }) {
             let (mb, first) = mb;

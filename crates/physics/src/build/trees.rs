@@ -5,8 +5,9 @@
 use gymfleet_assembly::{Assembly, Joint, JointType, Shape};
 use rapier3d::prelude::*;
 
+use super::planar::{fused_joint, PlanarRoot};
 use crate::error::{PhysicsError, Result};
-use crate::world::Sets;
+use crate::world::{Lane, Sets};
 
 /// Inserts every joint that does not close a loop into the multibody trees, parents
 /// before children (each insertion appends one link); returns every joint's two frames.
@@ -15,6 +16,7 @@ pub(super) fn insert_trees(
     assembly: &Assembly,
     bodies: &[RigidBodyHandle],
     welded_away: &[bool],
+    roots: &[PlanarRoot],
 ) -> Result<Vec<(Pose, Pose)>> {
     // Parents before children, so each insertion appends one link to a tree.
     let mut order: Vec<usize> = (0..assembly.joints.len()).collect();
@@ -30,12 +32,31 @@ pub(super) fn insert_trees(
             continue; // Added once the trees are complete (`loops.rs`).
         }
         if welded_away[joint.child] {
-            continue; // Held fixed or folded: no link of its own.
+            continue; // Held fixed or folded (a planar root's helper): no link of its own.
         }
+        // A planar root's hinge: the whole root, from the fixed instance above it.
+        let root = roots.iter().find(|r| r.joints[2] == j);
+        let (parent, top) = match root {
+            Some(r) => (bodies[r.parent], r.parent),
+            None => (parent, joint.parent),
+        };
         // A ground plane collides with what is jointed to it too (MuJoCo never filters
         // the world body's geoms): only the plane stops a link from falling through.
-        let contacts = assembly.instances[joint.parent].shape == Shape::Plane;
-        let data = generic_joint(joint, f1, f2, contacts);
+        let contacts = assembly.instances[top].shape == Shape::Plane;
+        let data = match root {
+            Some(r) => {
+                let (parent_pose, body_pose) = (
+                    sets.bodies[parent].position(),
+                    sets.bodies[child].position(),
+                );
+                let data = fused_joint(assembly, r, parent_pose, body_pose, contacts);
+                for &k in &r.joints {
+                    frames[k] = (data.local_frame1, data.local_frame2);
+                }
+                data
+            }
+            None => generic_joint(joint, f1, f2, contacts),
+        };
         sets.multibody_joints
             .insert(parent, child, data, true)
             .ok_or_else(|| PhysicsError::BadOption {
@@ -193,9 +214,15 @@ pub(super) fn apply_initial_positions(
     sets: &mut Sets,
     assembly: &Assembly,
     bodies: &[RigidBodyHandle],
+    lanes: &[Option<Lane>],
 ) -> Result<()> {
     let mut touched: Vec<MultibodyIndex> = Vec::new();
-    for joint in assembly.joints.iter().filter(|j| j.initial != 0.0) {
+    for (joint, lane) in assembly
+        .joints
+        .iter()
+        .zip(lanes)
+        .filter(|(j, _)| j.initial != 0.0)
+    {
         let link = sets
             .multibody_joints
             .rigid_body_link(bodies[joint.child])
@@ -211,7 +238,7 @@ pub(super) fn apply_initial_positions(
             continue;
         };
         let mut disp = vec![0.0; mb.ndofs()];
-        disp[first] = joint.initial as Real;
+        disp[first + lane.map_or(0, |l| l.offset)] = joint.initial as Real;
         mb.apply_displacements(&disp);
         if !touched.contains(&link.multibody) {
             touched.push(link.multibody);

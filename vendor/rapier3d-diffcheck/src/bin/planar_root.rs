@@ -1,8 +1,9 @@
-//! What a planar root joint would save HalfCheetah (a lever measured, not yet used by gymfleet).
+//! What a planar root joint saves HalfCheetah (the measurement that led gymfleet to build one,
+//! `crates/physics/src/build/planar.rs`).
 //!
 //! gymfleet converts MJCF's slide/slide/hinge roots (HalfCheetah, Hopper, Walker2d: `rootx`,
-//! `rootz`, `rooty`) into three one-DoF joints through two 1 mg helper bodies, so every per-link
-//! loop of the multibody runs over two links more. This builds Gymnasium's HalfCheetah
+//! `rootz`, `rooty`) into three one-DoF joints through two 1 mg helper bodies; as links, every
+//! per-link loop of the multibody would run over two links more. This builds Gymnasium's HalfCheetah
 //! (`half_cheetah.xml`: its capsules, density 1000, the plane) on the patched Rapier both ways:
 //!
 //! - `helpers`: fixed base → prismatic X → helper → prismatic Z → helper → revolute Y → torso;
