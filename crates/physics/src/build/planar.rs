@@ -268,6 +268,16 @@ mod tests {
         world
     }
 
+    /// The fused bar and the chain after `steps` steps.
+    fn both_after(steps: usize) -> (RobotWorld, RobotWorld) {
+        let (mut fused, mut chain) = (built(false, "euler"), built(true, "euler"));
+        for _ in 0..steps {
+            fused.step();
+            chain.step();
+        }
+        (fused, chain)
+    }
+
     #[test]
     fn a_chain_of_two_slides_and_a_hinge_through_helpers_is_one_joint() {
         let fused = built(false, "euler");
@@ -302,20 +312,27 @@ mod tests {
         assert_eq!(start[1..], [0.0; 5]);
     }
 
-    #[test]
-    fn a_fused_root_moves_as_its_chain_does() {
-        let (mut fused, mut chain) = (built(false, "euler"), built(true, "euler"));
-        let mut worst = [0.0f32; 6];
+    /// Steps both 480 times; widens `worst` to each state's largest difference; whether the
+    /// fused bar's pitch passed 0.69 rad (the +40° stop).
+    fn step_both(fused: &mut RobotWorld, chain: &mut RobotWorld, worst: &mut [f32; 6]) -> bool {
         let mut stopped = false;
         for _ in 0..480 {
             fused.step();
             chain.step();
-            let (a, b) = (joint_state(&fused), joint_state(&chain));
+            let (a, b) = (joint_state(fused), joint_state(chain));
             for k in 0..6 {
                 worst[k] = worst[k].max((a[k] - b[k]).abs());
             }
-            stopped |= a[2] > 0.69; // At the +40° stop.
+            stopped |= a[2] > 0.69;
         }
+        stopped
+    }
+
+    #[test]
+    fn a_fused_root_moves_as_its_chain_does() {
+        let (mut fused, mut chain) = (built(false, "euler"), built(true, "euler"));
+        let mut worst = [0.0f32; 6];
+        let stopped = step_both(&mut fused, &mut chain, &mut worst);
         let end = joint_state(&fused);
         assert!(stopped, "the bar reached its stop: {end:?}");
         assert!(end[1] < -0.01, "the spring sags under the bar: {end:?}");
@@ -323,14 +340,7 @@ mod tests {
         for world in [&mut fused, &mut chain] {
             world.set_command(ActionMode::Position, &[30.0, -5.0, -20.0]);
         }
-        for _ in 0..480 {
-            fused.step();
-            chain.step();
-            let (a, b) = (joint_state(&fused), joint_state(&chain));
-            for k in 0..6 {
-                worst[k] = worst[k].max((a[k] - b[k]).abs());
-            }
-        }
+        step_both(&mut fused, &mut chain, &mut worst);
         let held = joint_state(&fused);
         assert!((held[0] - 0.030).abs() < 1e-3, "x {held:?}");
         // Less the sag gravity leaves the PD: 0.3 N × 40 mm over 0.44 N·m/rad.
@@ -352,11 +362,7 @@ mod tests {
 
     #[test]
     fn a_fused_roots_helpers_read_out_where_the_chain_holds_them() {
-        let (mut fused, mut chain) = (built(false, "euler"), built(true, "euler"));
-        for _ in 0..120 {
-            fused.step();
-            chain.step();
-        }
+        let (fused, chain) = both_after(120);
         let q = joint_state(&fused);
         assert!(q[1].abs() > 0.005 && q[2].abs() > 0.1, "moved: {q:?}");
         for h in [1, 2] {
@@ -406,11 +412,7 @@ mod tests {
 
     #[test]
     fn a_fused_roots_state_is_saved_as_the_chains_and_restores_its_bits() {
-        let (mut fused, mut chain) = (built(false, "euler"), built(true, "euler"));
-        for _ in 0..60 {
-            fused.step();
-            chain.step();
-        }
+        let (mut fused, chain) = both_after(60);
         let (saved, theirs) = (fused.dynamic_state(), chain.dynamic_state());
         for (a, b) in saved.joints.iter().zip(&theirs.joints) {
             let nonzero = |c: &[f32; 6]| c.map(|v| v != 0.0);
