@@ -10,14 +10,13 @@
 //! changes (under 1e-7 of HalfCheetah's mass). Their readouts stay exact
 //! ([`PlanarHelper`]).
 //!
-//! Only where the mass matrix of such a joint is exact: files integrated with MuJoCo's
-//! `Euler` (explicit velocity terms; vendored Rapier patch 30 builds its mass matrix by
-//! composite bodies). Under implicit velocity terms Rapier's link-by-link terms of a joint
-//! of several DOFs are not exact (`vendor/rapier3d/PATCHES.md`, "Tried and not kept"), so
-//! such files keep the chain. So does any chain whose helpers carry a site or a fluid
-//! acts on, or whose top is not held fixed.
+//! The joint's matrices are built by composite bodies, as the chain's are: its mass matrix
+//! (vendored Rapier patch 30) and, where the velocity terms enter the semi-implicit matrix
+//! (files not integrated with `Euler`), their derivative (patch 31). A chain whose helpers
+//! carry a site, in a world with a fluid (whose drag is per body), or whose top is not held
+//! fixed stays a chain.
 
-use gymfleet_assembly::{Assembly, Integrator, JointType};
+use gymfleet_assembly::{Assembly, JointType};
 use rapier3d::math::Matrix;
 use rapier3d::prelude::*;
 
@@ -47,7 +46,7 @@ pub(crate) struct PlanarRoot {
 
 /// The chains to fuse, each once.
 pub(crate) fn planar_roots(assembly: &Assembly, held: &[bool]) -> Vec<PlanarRoot> {
-    if assembly.integrator != Integrator::Euler || assembly.fluid.is_some() {
+    if assembly.fluid.is_some() {
         return Vec::new();
     }
     let n = assembly.instances.len();
@@ -290,8 +289,8 @@ mod tests {
         );
         assert_eq!(
             links(&built(false, "implicit")),
-            4,
-            "implicit velocity terms keep the chain"
+            2,
+            "implicit velocity terms too (vendored Rapier patch 31)"
         );
         let lanes: Vec<_> = fused
             .joints
@@ -330,7 +329,16 @@ mod tests {
 
     #[test]
     fn a_fused_root_moves_as_its_chain_does() {
-        let (mut fused, mut chain) = (built(false, "euler"), built(true, "euler"));
+        fused_root_moves_as_its_chain_does("euler");
+    }
+
+    #[test]
+    fn a_fused_root_moves_as_its_chain_does_with_implicit_velocity_terms() {
+        fused_root_moves_as_its_chain_does("implicit");
+    }
+
+    fn fused_root_moves_as_its_chain_does(integrator: &str) {
+        let (mut fused, mut chain) = (built(false, integrator), built(true, integrator));
         let mut worst = [0.0f32; 6];
         let stopped = step_both(&mut fused, &mut chain, &mut worst);
         let end = joint_state(&fused);

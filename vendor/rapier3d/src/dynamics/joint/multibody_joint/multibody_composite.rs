@@ -7,7 +7,8 @@
 //! (arms, chains, the slide/hinge roots MJCF imports use, and floating robots such as the Ant
 //! and the Humanoid), this module builds the same two matrices in `O(n·depth)` with spatial
 //! algebra; where the velocity terms are left out, it builds `M` for joints of any number of
-//! DoFs (ball, cylindrical, planar):
+//! DoFs (ball, cylindrical, planar: patch 30), and with them both matrices for planar joints
+//! (patch 31):
 //!
 //! - every spatial vector is taken at one point `p₀` (the root link's centre of mass) in world
 //!   axes, in `f64` so that the lever arms of a long chain cost no precision; a motion vector is
@@ -26,6 +27,13 @@
 //!   origin `o` and its rotation about `o`. As `o` moves, a rotation's motion at `p₀` changes,
 //!   so the root adds the bias acceleration `(0, v_o × ω)`; in the sum above its DoF `c` has
 //!   `V_root × S_c + ∂(0, v_o × ω)/∂q̇_c` where a hinge has `2V_λ × S_c`.
+//! - a joint of several DoFs below the root (Rapier's: slides along axes fixed in the parent,
+//!   then rotations about axes fixed in the parent through the slid anchor) has `U`, the velocity
+//!   its slides give, and `V_L = V_λ + U + W` (`W` its rotations'). A rotation's column then also
+//!   changes with the slides (`Ṡ_c = (V_λ + U) × S_c`), and a slide moves the anchor the joint's
+//!   rotations turn about, so a rotation `c` has `(V_λ + U + V_L) × S_c` where a hinge has
+//!   `2V_λ × S_c`; a slide keeps `2V_λ × S_c`. Only planar joints (two slides or more, one
+//!   rotation at most) take it with the velocity terms (patch 31).
 //!
 //! `composite_tests` (in `multibody.rs`) checks `M` against the link-by-link construction and
 //! `D` against the derivative, by central differences, of the forces `update_acceleration`
@@ -33,7 +41,7 @@
 
 use super::Multibody;
 use crate::alloc_prelude::*;
-use crate::dynamics::RigidBodySet;
+use crate::dynamics::{MultibodyJoint, RigidBodySet};
 use crate::glamx::{DMat3, DVec3};
 use crate::math::{DIM, Real, SPATIAL_DIM};
 use crate::utils::AngularInertiaOps;
@@ -159,14 +167,26 @@ fn symmetric_cross_product(a: DVec3, b: DVec3) -> DMat3 {
     outer(a, b) + outer(b, a) - DMat3::from_diagonal(DVec3::splat(2.0 * a.dot(b)))
 }
 
+/// A joint of at least two slides and at most one rotation (a planar joint: MJCF's
+/// slide/slide/hinge roots as one joint). With the velocity terms, the composite construction
+/// takes these among the joints of several DoFs (patch 31); ball and cylindrical joints keep the
+/// link-by-link one, and with it their trajectories (upstream's terms for them are not the
+/// derivative of the forces either, but moving them is not this patch's business).
+fn is_planar(joint: &MultibodyJoint) -> bool {
+    let locked = joint.data.locked_axes.bits();
+    let free_linear = DIM as u32 - (locked & 0b111).count_ones();
+    let free_angular = DIM as u32 - ((locked >> DIM) & 0b111).count_ones();
+    free_linear >= 2 && free_angular <= 1
+}
+
 impl Multibody {
     /// Whether [`Multibody::composite_mass_matrices`] applies: a root that is fixed or free
     /// (all six DoFs, none locked), other joints of at most one DoF, none kinematic, and
     /// links whose effective mass is the same along every axis. Without `velocity_terms` (only
     /// `M` is built) the other joints may have several DoFs (gymfleet patch 30): each DoF's
-    /// motion is its column of the link's body jacobian whatever the joint, so `M` needs no
-    /// more; the velocity terms of a joint of several DoFs (its columns change with its own
-    /// motion) are not derived here, and keep the link-by-link construction.
+    /// more. With `velocity_terms`, planar joints ([`is_planar`]) may too (gymfleet patch 31:
+    /// their columns change with their own motion, which the module documentation derives);
+    /// ball and cylindrical joints keep the link-by-link construction.
     pub(super) fn composite_applies(&self, bodies: &RigidBodySet, velocity_terms: bool) -> bool {
         let isotropic = |link: &super::MultibodyLink| {
             let mass = bodies[link.rigid_body].mprops.effective_mass();
@@ -177,7 +197,7 @@ impl Multibody {
             || (root.joint.ndofs() == SPATIAL_DIM && !root.joint.kinematic && isotropic(root));
         root_fits
             && self.links.iter().skip(1).all(|link| {
-                (link.joint.ndofs() <= 1 || !velocity_terms)
+                (link.joint.ndofs() <= 1 || !velocity_terms || is_planar(&link.joint))
                     && !link.joint.kinematic
                     && isotropic(link)
             })
@@ -289,6 +309,24 @@ impl Multibody {
             let jacobian = self.body_jacobians[i].as_slice();
             let r = ws.offsets[i];
             let composite = &ws.composites[i];
+            // A planar joint below the root (patch 31, see the module documentation): a rotation
+            // `c` has `(V_λ + U + V_L) × S_c`, `U` the velocity the joint's slides give. For one
+            // DoF that is `2V_λ × S_c`, computed as before so that its bits stay.
+            let several = i != 0 && ws.link_dofs[i].len() > 1;
+            let mut joint_bias = Spatial::default();
+            if several && velocity_terms {
+                let mut slides = DVec3::ZERO;
+                for c in ws.link_dofs[i].clone() {
+                    if dvec3_at(jacobian, c * SPATIAL_DIM + DIM) == DVec3::ZERO {
+                        slides +=
+                            dvec3_at(jacobian, c * SPATIAL_DIM) * f64::from(self.velocities[c]);
+                    }
+                }
+                let parent_velocity = ws.velocities[link.parent_internal_id];
+                joint_bias = parent_velocity
+                    .add(Spatial::new(DVec3::ZERO, slides))
+                    .add(ws.velocities[i]);
+            }
             for c in ws.link_dofs[i].clone() {
                 let jv = dvec3_at(jacobian, c * SPATIAL_DIM);
                 let jw = dvec3_at(jacobian, c * SPATIAL_DIM + DIM);
@@ -308,6 +346,8 @@ impl Multibody {
                         };
                         let turned = ws.velocities[0].cross_motion(motion);
                         Spatial::new(turned.ang, turned.lin + root_bias)
+                    } else if several && jw != DVec3::ZERO {
+                        joint_bias.cross_motion(motion)
                     } else {
                         let parent_velocity = ws.velocities[link.parent_internal_id];
                         Spatial::new(parent_velocity.ang * 2.0, parent_velocity.lin * 2.0)
