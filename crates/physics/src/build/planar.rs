@@ -6,8 +6,9 @@
 //! linear X and Z and angular Y of a frame whose X is the first slide's axis and whose Y is
 //! the hinge's (the second slide must then be Z = X × Y). Rapier orders its DOFs X, Z, Y:
 //! the chain's order. The helpers are folded into the body below, so their 1 mg rides on
-//! it; their centres lie on the hinge's axis, so only their share of the slides' motion
-//! changes (under 1e-7 of HalfCheetah's mass). Their readouts stay exact
+//! it. Where their centres lie on the hinge's axis (the conversion puts them at the body's
+//! frame, where HalfCheetah's, Hopper's and Walker2d's hinges are), only their share of the
+//! slides' motion changes (under 1e-7 of HalfCheetah's mass). Their readouts stay exact
 //! ([`PlanarHelper`]).
 //!
 //! The joint's matrices are built by composite bodies, as the chain's are: its mass matrix
