@@ -92,7 +92,8 @@ pub(crate) struct JointSlot {
     /// Which multibody and which link of it the child is.
     pub(crate) multibody: MultibodyIndex,
     pub(crate) link: usize,
-    /// The joint frame in the parent's local frame (X is the axis).
+    /// The joint frame in the parent's local frame (X is the axis); for a fused planar root's
+    /// DOF, the fused joint's frame (read a joint's world frame with [`joint_frame`]).
     pub(crate) frame1: Pose,
     /// Index of the joint's first DOF in [`RobotWorld::dofs`].
     pub(crate) first_dof: usize,
