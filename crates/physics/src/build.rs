@@ -152,9 +152,8 @@ impl RobotWorld {
         let first_dof: Vec<usize> = joints.iter().map(|j: &JointSlot| j.first_dof).collect();
         let tendons = crate::tendons::tendon_slots(assembly, &first_dof, &references);
         crate::tendons::set_tendon_limits(assembly, &joints, &references, &mut sets)?;
-        let first_slides: Vec<usize> = roots.iter().map(|r| r.joints[0]).collect();
         let instance_poses: Vec<Pose> = assembly.instances.iter().map(instance_pose).collect();
-        let planar_helpers = planar::helpers(&roots, &first_slides, &instance_poses);
+        let planar_helpers = planar::helpers(&roots, &instance_poses);
         let mut world = RobotWorld {
             planar_helpers,
             fluid,

@@ -7,7 +7,7 @@ use rapier3d::math::{Pose, Real, Rotation, Vector};
 use rapier3d::parry::mass_properties::MassProperties;
 
 use crate::units::{to_m, Units};
-use crate::world::{JointSlot, PlanarHelper, RobotWorld};
+use crate::world::{planar_slides, JointSlot, PlanarHelper, RobotWorld};
 use gymfleet_assembly::JointType;
 
 /// Floats in [`RobotWorld::base_state`]: a pose (7) and a velocity (6).
@@ -169,19 +169,17 @@ impl RobotWorld {
     /// does not turn): its rest frame moved along the slides above it.
     pub(crate) fn helper_motion(&self, helper: &PlanarHelper) -> (Pose, Vector) {
         let slot = &self.joints[helper.slot];
-        let (mut q, mut v) = ([0.0; 2], [0.0; 2]);
+        let (mut coords, mut rates) = ([0.0; 6], [0.0; 6]);
         let mb = self.live.multibody_joints.get_multibody(slot.multibody);
         if let Some((mb, link)) = mb.and_then(|mb| Some((mb, mb.link(slot.link)?))) {
-            let (coords, rates) = (link.joint().coords(), mb.joint_velocity(link));
-            // The fused joint's DOFs: linear X, linear Z, angular Y.
-            q = [coords[0], coords[2]];
-            v = [rates[0], rates[1]];
+            coords = link.joint().coords();
+            // The fused joint's DOFs are linear X, linear Z, angular Y: laid out as
+            // coordinates, the two slides' rates are where their positions are.
+            let v = mb.joint_velocity(link);
+            (rates[0], rates[2]) = (v[0], v[1]);
         }
-        if helper.slides < 2 {
-            (q[1], v[1]) = (0.0, 0.0);
-        }
-        let shift = Pose::from_parts(Vector::new(q[0], 0.0, q[1]), Rotation::IDENTITY);
-        let velocity = helper.frame.rotation * Vector::new(v[0], 0.0, v[1]);
+        let shift = Pose::from_parts(planar_slides(&coords, helper.slides), Rotation::IDENTITY);
+        let velocity = helper.frame.rotation * planar_slides(&rates, helper.slides);
         (helper.frame * shift * helper.rest, velocity)
     }
 

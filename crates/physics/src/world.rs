@@ -122,14 +122,17 @@ pub(crate) struct Lane {
 impl JointSlot {
     /// The joint's DOFs' axes in its link's Rapier joint, in DOF order.
     pub(crate) fn axes(&self) -> &'static [JointAxis] {
-        match self.lane.map(|l| l.axis) {
+        static EVERY_AXIS: [JointAxis; 6] = [
+            JointAxis::LinX,
+            JointAxis::LinY,
+            JointAxis::LinZ,
+            JointAxis::AngX,
+            JointAxis::AngY,
+            JointAxis::AngZ,
+        ];
+        match self.lane {
             None => kind_axes(self.kind),
-            Some(JointAxis::LinX) => &[JointAxis::LinX],
-            Some(JointAxis::LinY) => &[JointAxis::LinY],
-            Some(JointAxis::LinZ) => &[JointAxis::LinZ],
-            Some(JointAxis::AngX) => &[JointAxis::AngX],
-            Some(JointAxis::AngY) => &[JointAxis::AngY],
-            Some(JointAxis::AngZ) => &[JointAxis::AngZ],
+            Some(lane) => std::slice::from_ref(&EVERY_AXIS[lane.axis as usize]),
         }
     }
 
@@ -162,14 +165,20 @@ pub(crate) fn joint_frame(sets: &Sets, slot: &JointSlot) -> Pose {
         .multibody_joints
         .get_multibody(slot.multibody)
         .and_then(|mb| mb.link(slot.link));
-    let c = link.map_or([0.0; 6], |l| l.joint().coords());
-    let before = |k: usize| if lane.offset > k { c[2 * k] } else { 0.0 };
+    let coords = link.map_or([0.0; 6], |l| l.joint().coords());
     let turn = match lane.axis {
         JointAxis::LinZ => Rotation::from_rotation_arc(Vector::X, Vector::Z),
         JointAxis::AngY => Rotation::from_rotation_arc(Vector::X, Vector::Y),
         _ => Rotation::IDENTITY,
     };
-    frame * Pose::from_parts(Vector::new(before(0), 0.0, before(1)), turn)
+    frame * Pose::from_parts(planar_slides(&coords, lane.offset), turn)
+}
+
+/// Where the first `slides` of a fused planar root's slides (linear X, then Z) have moved
+/// its frame's origin, in that frame: `coords` are the fused joint's six coordinates.
+pub(crate) fn planar_slides(coords: &[Real; 6], slides: usize) -> Vector {
+    let slid = |k: usize| if slides > k { coords[2 * k] } else { 0.0 };
+    Vector::new(slid(0), 0.0, slid(1))
 }
 
 /// A joint kind's free axes in its own Rapier joint, in DOF order (linear, then angular).

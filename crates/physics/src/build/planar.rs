@@ -28,6 +28,9 @@ use crate::world::{Lane, PlanarHelper};
 const HELPER_MASS_CAP: f64 = 1e-5;
 /// How far from orthogonal (and from X × Y) the chain's axes may be.
 const AXIS_TOLERANCE: f64 = 1e-9;
+/// The fused joint's free axes, in the chain's order (first slide, second slide, hinge),
+/// which is Rapier's DOF order too.
+const FUSED_AXES: [JointAxis; 3] = [JointAxis::LinX, JointAxis::LinZ, JointAxis::AngY];
 
 /// One chain fused into a joint.
 #[derive(Debug, Clone)]
@@ -134,8 +137,7 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 pub(crate) fn lanes(assembly: &Assembly, roots: &[PlanarRoot]) -> Vec<Option<Lane>> {
     let mut lanes = vec![None; assembly.joints.len()];
     for root in roots {
-        let axes = [JointAxis::LinX, JointAxis::LinZ, JointAxis::AngY];
-        for (offset, (&j, axis)) in root.joints.iter().zip(axes).enumerate() {
+        for (offset, (&j, axis)) in root.joints.iter().zip(FUSED_AXES).enumerate() {
             lanes[j] = Some(Lane { offset, axis });
         }
     }
@@ -165,8 +167,7 @@ pub(crate) fn fused_joint(
         .local_frame1(parent_pose.inverse() * root.frame)
         .local_frame2(body_pose.inverse() * root.frame)
         .contacts_enabled(contacts);
-    let axes = [JointAxis::LinX, JointAxis::LinZ, JointAxis::AngY];
-    for (&j, axis) in root.joints.iter().zip(axes) {
+    for (&j, axis) in root.joints.iter().zip(FUSED_AXES) {
         if let Some([min, max]) = assembly.joints[j].limits {
             builder = builder.limits(axis, [min as Real, max as Real]);
         }
@@ -175,18 +176,14 @@ pub(crate) fn fused_joint(
 }
 
 /// The helpers' readouts: each helper moves with the slides above it and keeps the fixed
-/// parent's orientation. `slots[k]`: the slot of `roots[k]`'s first slide.
-pub(crate) fn helpers(
-    roots: &[PlanarRoot],
-    slots: &[usize],
-    instance_poses: &[Pose],
-) -> Vec<PlanarHelper> {
+/// parent's orientation. Slots are in document order, so a joint's slot is its index.
+pub(crate) fn helpers(roots: &[PlanarRoot], instance_poses: &[Pose]) -> Vec<PlanarHelper> {
     let mut out = Vec::new();
-    for (root, &slot) in roots.iter().zip(slots) {
+    for root in roots {
         for (k, &h) in root.helpers.iter().enumerate() {
             out.push(PlanarHelper {
                 instance: h,
-                slot,
+                slot: root.joints[0],
                 slides: k + 1,
                 frame: root.frame,
                 rest: root.frame.inverse() * instance_poses[h],
