@@ -1114,9 +1114,12 @@ impl Multibody {
 
             // NOTE (gymfleet patch, see `PATCHES.md`): a body jacobian is non-zero only on its
             //       link's span (the DoFs of the link and of its ancestors, all before it in
-            //       assembly order), so the shifts below only touch those columns.
+            //       assembly order), so the shifts below only touch those columns, and it is
+            //       written on the contiguous storage: the parent's span copied, the rest
+            //       zeroed, then the link's own columns written in place (they were zero).
             let span = link.assembly_id + link.joint.ndofs();
             let parent_to_world;
+            let mut copied = 0;
 
             if i != 0 {
                 let parent_id = link.parent_internal_id;
@@ -1125,23 +1128,21 @@ impl Multibody {
                 parent_to_world = parent_link.local_to_world;
 
                 let (link_j, parent_j) = self.body_jacobians.index_mut_const(i, parent_id);
-                link_j.copy_from(parent_j);
+                copied = parent_span * SPATIAL_DIM;
+                link_j.as_mut_slice()[..copied].copy_from_slice(&parent_j.as_slice()[..copied]);
                 // Jv += Jw × shift02: the parent's twists, seen at this link's joint.
                 add_angular_cross_to_linear(link_j, parent_span, link.shift02);
             } else {
-                self.body_jacobians[i].fill(0.0);
                 parent_to_world = Pose::IDENTITY;
             }
+            self.body_jacobians[i].as_mut_slice()[copied..].fill(0.0);
 
             let ndofs = link.joint.ndofs();
-            let mut tmp = SMatrix::<Real, SPATIAL_DIM, SPATIAL_DIM>::zeros();
-            let mut link_joint_j = tmp.columns_mut(0, ndofs);
             let mut link_j_part = self.body_jacobians[i].columns_mut(link.assembly_id, ndofs);
             link.joint.jacobian(
                 &(parent_to_world.rotation * link.joint.data.local_frame1.rotation),
-                &mut link_joint_j,
+                &mut link_j_part,
             );
-            link_j_part += link_joint_j;
 
             // Jv += Jw × shift23: from the joint to the link's centre of mass.
             add_angular_cross_to_linear(&mut self.body_jacobians[i], span, link.shift23);

@@ -115,22 +115,22 @@ impl Composite {
         Spatial::new(self.b11 * s.ang + p.cross(s.lin), -p.cross(s.ang))
     }
 
-    fn accumulate(&mut self, other: &Composite) {
+    /// Adds `other`'s inertia, and with the velocity terms its momentum and `B̂`.
+    fn accumulate(&mut self, other: &Composite, velocity_terms: bool) {
         self.mass += other.mass;
         self.moment += other.moment;
         self.inertia += other.inertia;
-        self.momentum = self.momentum.add(other.momentum);
-        self.b11 += other.b11;
+        if velocity_terms {
+            self.momentum = self.momentum.add(other.momentum);
+            self.b11 += other.b11;
+        }
     }
 }
 
-/// What the composite construction needs per DoF.
+/// What the composite construction needs per DoF beyond its motion `S` and `Î_L·S` (`L` the
+/// DoF's link), with the velocity terms only.
 #[derive(Copy, Clone, Debug, Default)]
 pub(super) struct CompositeDof {
-    /// The DoF's motion `S`.
-    motion: Spatial,
-    /// `Î_L·S`, with `L` the DoF's link.
-    inertia_motion: Spatial,
     /// `2·V_λ × S`.
     coriolis_motion: Spatial,
     /// The subtree's force per unit velocity of this DoF:
@@ -145,6 +145,9 @@ pub(super) struct CompositeDof {
 pub(crate) struct CompositeWorkspace {
     composites: Vec<Composite>,
     velocities: Vec<Spatial>,
+    /// Per DoF: its motion `S` and `Î_L·S`, read by every pair, apart from the rest
+    /// ([`CompositeDof`], velocity terms only) so that the pairs of `M` read no more.
+    motions: Vec<(Spatial, Spatial)>,
     dofs: Vec<CompositeDof>,
     /// Per link: its parent, its DoFs (none for a welded link or a fixed root) and its
     /// centre of mass relative to `p₀`.
@@ -216,12 +219,14 @@ impl Multibody {
     ) {
         let nlinks = self.links.len();
         let mut ws = core::mem::take(&mut self.composite_workspace);
-        ws.composites.clear();
+        // Every entry a pass reads is written below, but for a fixed root's, which stay zero:
+        // the buffers are only resized (and zeroed) when the multibody's shape changes.
         ws.composites.resize(nlinks, Composite::default());
-        ws.velocities.clear();
         ws.velocities.resize(nlinks, Spatial::default());
-        ws.dofs.clear();
-        ws.dofs.resize(self.ndofs, CompositeDof::default());
+        ws.motions.resize(self.ndofs, Default::default());
+        if velocity_terms {
+            ws.dofs.resize(self.ndofs, CompositeDof::default());
+        }
         ws.parents.clear();
         ws.link_dofs.clear();
         ws.offsets.clear();
@@ -239,6 +244,16 @@ impl Multibody {
         }
         // A fixed root is moved by no DoF: it adds to no composite that a DoF reads.
         let first_moving = if self.root_is_dynamic { 0 } else { 1 };
+        if first_moving == 1 {
+            ws.composites[0] = Composite::default();
+            ws.velocities[0] = Spatial::default();
+            for c in ws.link_dofs[0].clone() {
+                ws.motions[c] = Default::default();
+                if velocity_terms {
+                    ws.dofs[c] = CompositeDof::default();
+                }
+            }
+        }
 
         // Each moving link's own inertia, velocity, momentum and `B` at `p₀`.
         for i in first_moving..nlinks {
@@ -250,9 +265,6 @@ impl Multibody {
             let inertia = inertia_com
                 + DMat3::from_diagonal(DVec3::splat(mass * r.length_squared()))
                 - DMat3::from_cols(moment * r.x, moment * r.y, moment * r.z);
-            let angvel = rb.vels.angvel.as_dvec3();
-            let velocity = Spatial::new(angvel, rb.vels.linvel.as_dvec3() - angvel.cross(r));
-            ws.velocities[i] = velocity;
             let mut own = Composite {
                 mass,
                 moment,
@@ -260,6 +272,9 @@ impl Multibody {
                 ..Composite::default()
             };
             if velocity_terms {
+                let angvel = rb.vels.angvel.as_dvec3();
+                let velocity = Spatial::new(angvel, rb.vels.linvel.as_dvec3() - angvel.cross(r));
+                ws.velocities[i] = velocity;
                 own.momentum = own.inertia_times(velocity);
                 // B₁₁ = [ω]×·I − I·[ω]× − ([v]×[h]× + [h]×[v]×), where I·[ω]× = −([ω]×·I)ᵀ
                 // since I is symmetric.
@@ -279,8 +294,8 @@ impl Multibody {
         // Subtree sums, children (which come after their parents) first.
         for i in (1..nlinks).rev() {
             let parent = self.links[i].parent_internal_id;
-            let child = ws.composites[i];
-            ws.composites[parent].accumulate(&child);
+            let (above, from_child) = ws.composites.split_at_mut(i);
+            above[parent].accumulate(&from_child[0], velocity_terms);
         }
 
         // A free root's DoFs: the velocity of its body frame's origin along the axes `b_j`
@@ -331,11 +346,7 @@ impl Multibody {
                 let jv = dvec3_at(jacobian, c * SPATIAL_DIM);
                 let jw = dvec3_at(jacobian, c * SPATIAL_DIM + DIM);
                 let motion = Spatial::new(jw, jv - jw.cross(r));
-                let mut dof = CompositeDof {
-                    motion,
-                    inertia_motion: composite.inertia_times(motion),
-                    ..CompositeDof::default()
-                };
+                ws.motions[c] = (motion, composite.inertia_times(motion));
                 if velocity_terms {
                     let coriolis_motion = if i == 0 {
                         // `V_root × S + ∂(0, v_o × ω)/∂q̇_c`.
@@ -355,14 +366,15 @@ impl Multibody {
                     };
                     let b_motion = composite.b_times(motion);
                     let motion_momentum = motion.cross_force(composite.momentum);
-                    dof.coriolis_motion = coriolis_motion;
-                    dof.velocity_force = composite
-                        .inertia_times(coriolis_motion)
-                        .add(b_motion)
-                        .add(motion_momentum);
-                    dof.velocity_force_below = b_motion.sub(motion_momentum);
+                    ws.dofs[c] = CompositeDof {
+                        coriolis_motion,
+                        velocity_force: composite
+                            .inertia_times(coriolis_motion)
+                            .add(b_motion)
+                            .add(motion_momentum),
+                        velocity_force_below: b_motion.sub(motion_momentum),
+                    };
                 }
-                ws.dofs[c] = dof;
             }
         }
 
@@ -374,20 +386,20 @@ impl Multibody {
         let dt = f64::from(dt);
         for i in first_moving..nlinks {
             for c in ws.link_dofs[i].clone() {
-                let below = ws.dofs[c];
+                let below_inertia_motion = ws.motions[c].1;
                 let mut k = i;
                 loop {
                     let upto = if k == i { c + 1 } else { ws.link_dofs[k].end };
                     for a in ws.link_dofs[k].start..upto {
-                        let above = ws.dofs[a];
-                        mass[a + c * n] = above.motion.dot(below.inertia_motion) as Real;
+                        let above_motion = ws.motions[a].0;
+                        mass[a + c * n] = above_motion.dot(below_inertia_motion) as Real;
                         if velocity_terms {
-                            acc[a + c * n] =
-                                (dt * above.motion.dot(below.velocity_force)) as Real;
+                            let (below, above) = (&ws.dofs[c], &ws.dofs[a]);
+                            acc[a + c * n] = (dt * above_motion.dot(below.velocity_force)) as Real;
                             if a != c {
                                 acc[c + a * n] = (dt
-                                    * (below.inertia_motion.dot(above.coriolis_motion)
-                                        + below.velocity_force_below.dot(above.motion)))
+                                    * (below_inertia_motion.dot(above.coriolis_motion)
+                                        + below.velocity_force_below.dot(above_motion)))
                                     as Real;
                             }
                         }
