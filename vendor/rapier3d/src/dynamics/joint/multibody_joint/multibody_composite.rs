@@ -219,8 +219,8 @@ impl Multibody {
     ) {
         let nlinks = self.links.len();
         let mut ws = core::mem::take(&mut self.composite_workspace);
-        // Every entry a pass reads is written below, but for a fixed root's, which stay zero:
-        // the buffers are only resized (and zeroed) when the multibody's shape changes.
+        // Every entry a pass reads is written below (a fixed root's are reset to zero), so the
+        // buffers are only resized, not cleared, from one substep to the next.
         ws.composites.resize(nlinks, Composite::default());
         ws.velocities.resize(nlinks, Spatial::default());
         ws.motions.resize(self.ndofs, Default::default());
