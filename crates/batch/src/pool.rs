@@ -448,19 +448,27 @@ mod tests {
     }
 
     /// A one-off job waits for about one chunk per thread behind a running many-chunk
-    /// step, not for the whole step. No sleeps: every chunk waits at a gate that opens
-    /// only once the job is queued, so at most one chunk per drainer can run before it.
+    /// step, not for the whole step. No sleeps and no reliance on timing: every chunk waits
+    /// at a gate that opens only once the job is queued, and every chunk past the two held
+    /// there (one per drainer) then waits until the job has started. The queue hands the
+    /// job out right after the held chunks and at most one more, so a drainer is always
+    /// left to run it; had it been queued behind more chunks, both drainers would wait
+    /// on chunks of the step and the waits would time out.
     #[test]
     fn a_fair_job_overtakes_a_long_step() {
-        use std::sync::RwLock;
+        use std::sync::{Condvar, RwLock};
+        use std::time::Duration;
         let pool = StepPool::new(1).unwrap();
         let gate = Arc::new(RwLock::new(()));
         let closed = gate.write().unwrap();
+        let fair_started = Arc::new((Mutex::new(false), Condvar::new()));
         let (started_tx, started_rx) = std::sync::mpsc::channel();
-        let (log_tx, log_rx) = std::sync::mpsc::channel::<String>();
+        // Chunks past the held ones that ran without seeing the job started.
+        let overtaken = Arc::new(Mutex::new(Vec::new()));
         let step_pool = pool.clone();
-        let step_log = log_tx.clone();
         let step_gate = Arc::clone(&gate);
+        let step_fair = Arc::clone(&fair_started);
+        let step_overtaken = Arc::clone(&overtaken);
         let step = thread::spawn(move || {
             step_pool
                 .run_chunked(200, move |i| {
@@ -468,15 +476,28 @@ mod tests {
                         started_tx.send(()).unwrap();
                     }
                     drop(step_gate.read().unwrap());
-                    step_log.send(format!("chunk {i}")).unwrap();
+                    // Once one has waited in vain, the rest need not (a failure takes 10 s).
+                    if i >= 2 && step_overtaken.lock().unwrap().is_empty() {
+                        let (started, changed) = &*step_fair;
+                        let guard = started.lock().unwrap();
+                        let (guard, _) = changed
+                            .wait_timeout_while(guard, Duration::from_secs(10), |s| !*s)
+                            .unwrap();
+                        if !*guard {
+                            step_overtaken.lock().unwrap().push(i);
+                        }
+                    }
                 })
                 .unwrap();
         });
         // The step is queued and running (its chunk 0 is held at the gate).
         started_rx.recv().unwrap();
         let (done_tx, done_rx) = std::sync::mpsc::channel();
+        let job_fair = Arc::clone(&fair_started);
         pool.spawn_fair(move || {
-            log_tx.send("fair".to_string()).unwrap();
+            let (started, changed) = &*job_fair;
+            *started.lock().unwrap() = true;
+            changed.notify_all();
             done_tx.send(()).unwrap();
         });
         drop(closed);
@@ -485,12 +506,10 @@ mod tests {
         let jobs = pool.job_queue();
         assert_eq!((jobs.waiting, jobs.started), (0, 1));
         assert!(jobs.waited_ns > 0);
-        let log: Vec<String> = log_rx.try_iter().collect();
-        let at = log.iter().position(|l| l == "fair").unwrap();
-        // Two threads drain (the pool's one and the caller of run_chunked). Each held at
-        // most one chunk when the job was queued behind the step; after those, the step's
-        // next chunk and then the job: at most three chunks before it, of 200.
-        assert!(at <= 3, "the fair job ran after {at} chunks: {log:?}");
-        assert_eq!(log.len(), 201);
+        let overtaken = overtaken.lock().unwrap();
+        assert!(
+            overtaken.is_empty(),
+            "chunks {overtaken:?} ran before the fair job started"
+        );
     }
 }
