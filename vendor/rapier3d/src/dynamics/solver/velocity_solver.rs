@@ -47,6 +47,11 @@ pub(crate) struct VelocitySolver {
     /// multibody's `inv_augmented_mass` is factorized at each substep (gymfleet patch, see
     /// `PATCHES.md`); otherwise only those whose own constraints need it.
     pub multibody_external_constraints: bool,
+    /// Whether the island has impulse joints, whose constraints read the multibodies' body
+    /// jacobians at every substep (gymfleet patch 33, see `PATCHES.md`): otherwise the
+    /// solver's forward kinematics between two substeps updates only the columns the
+    /// dynamics read.
+    pub multibody_impulse_joints: bool,
     /// Per-solver-body gyroscopic parameters (3D), indexed like `solver_bodies`; consumed each
     /// substep by the velocity-increment stage, gated by a global "any gyroscopic body" flag so
     /// gyro-free scenes (the common case) skip the pass entirely.
@@ -63,6 +68,7 @@ impl VelocitySolver {
             generic_solver_vels_increment: DVector::zeros(0),
             multibody_roots: Vec::new(),
             multibody_external_constraints: true,
+            multibody_impulse_joints: true,
             #[cfg(feature = "dim3")]
             solver_gyro: Vec::new(),
         }

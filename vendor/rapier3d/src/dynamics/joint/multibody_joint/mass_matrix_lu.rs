@@ -8,6 +8,7 @@
 //! known to be symmetric positive definite (the plain mass matrix) can be factorized as
 //! `L·D·Lᵀ` instead (gymfleet patch 29).
 
+use super::mass_matrix_fixed::with_fixed_dim;
 use crate::alloc_prelude::*;
 use crate::math::{DMatrix, Real};
 use na::{Dim, Dyn, Matrix, Storage, StorageMut};
@@ -112,31 +113,13 @@ impl MassMatrixLu {
         self.invertible = true;
         self.symmetric = true;
         let lu = self.lu.as_mut_slice();
-        for j in 0..n {
-            let (done, rest) = lu.split_at_mut(j * n);
-            let col_j = &mut rest[..j + 1];
-            // `y_k = A[k, j] − Σ_{m<k} L[k, m]·y_m`, in place of `A[k, j]`.
-            for k in 0..j {
-                let row_k = &done[k * n..k * n + k];
-                let (ys, y_k) = col_j.split_at_mut(k);
-                let mut y = y_k[0];
-                for (l, ym) in row_k.iter().zip(ys.iter()) {
-                    y -= l * ym;
-                }
-                y_k[0] = y;
-            }
-            // `L[j, k] = y_k / d_k` and `d_j = A[j, j] − Σ_k y_k·L[j, k]`.
-            let mut d = col_j[j];
-            for (k, y) in col_j[..j].iter_mut().enumerate() {
-                let l = *y / done[k * n + k];
-                d -= *y * l;
-                *y = l;
-            }
-            if !(d > 0.0 && d.is_finite()) {
-                self.factorize_leading(a, n);
-                return;
-            }
-            col_j[j] = d;
+        // gymfleet patch 34: the same loops for a constant dimension (`mass_matrix_fixed.rs`).
+        let factorized = match with_fixed_dim!(n, factorize_symmetric(lu)) {
+            Some(factorized) => factorized,
+            None => factorize_symmetric_generic(lu, n),
+        };
+        if !factorized {
+            self.factorize_leading(a, n);
         }
     }
 
@@ -147,43 +130,12 @@ impl MassMatrixLu {
         self.symmetric = false;
         // Column-major: column `c` is `lu[c * n..(c + 1) * n]`.
         let lu = self.lu.as_mut_slice();
-
-        for i in 0..n {
-            let col_i = &lu[i * n..(i + 1) * n];
-            let mut piv = i;
-            let mut best = col_i[i].abs();
-            for (r, v) in col_i.iter().enumerate().skip(i + 1) {
-                if v.abs() > best {
-                    best = v.abs();
-                    piv = r;
-                }
-            }
-            self.swaps.push(piv);
-            if best == 0.0 {
-                // No non-zero entry on this column: singular.
-                self.invertible = false;
-                continue;
-            }
-            if piv != i {
-                for c in 0..n {
-                    lu.swap(c * n + i, c * n + piv);
-                }
-            }
-            let (left, right) = lu.split_at_mut((i + 1) * n);
-            let col_i = &mut left[i * n..];
-            let inv_diag = 1.0 / col_i[i];
-            for l in &mut col_i[i + 1..] {
-                *l *= inv_diag;
-            }
-            for col_c in right.chunks_exact_mut(n) {
-                let u = col_c[i];
-                if u != 0.0 {
-                    for (x, l) in col_c[i + 1..].iter_mut().zip(&col_i[i + 1..]) {
-                        *x -= l * u;
-                    }
-                }
-            }
-        }
+        self.swaps.resize(n, 0);
+        // gymfleet patch 34: the same loops for a constant dimension (`mass_matrix_fixed.rs`).
+        self.invertible = match with_fixed_dim!(n, factorize_lu(lu, &mut self.swaps)) {
+            Some(invertible) => invertible,
+            None => factorize_lu_generic(lu, n, &mut self.swaps),
+        };
     }
 
     /// Solves `A·x = b` in place for every column of `b`. Returns `false` (and leaves garbage in
@@ -196,6 +148,9 @@ impl MassMatrixLu {
         assert_eq!(n, b.nrows(), "LU solve matrix dimension mismatch.");
         if !self.invertible {
             return false;
+        }
+        if n == 0 {
+            return true;
         }
         // gymfleet patch 28 (see `PATCHES.md`): each column is solved in a contiguous buffer
         // (on the stack for a multibody of up to `STACK_DOFS` DoFs), not through the
@@ -211,6 +166,16 @@ impl MassMatrixLu {
         };
         for k in 0..b.ncols() {
             let mut column = b.column_mut(k);
+            if column.strides().0 == 1 {
+                // gymfleet patch 34 (see `PATCHES.md`): a column with unit row stride (a
+                // vector, or a column of a column-major matrix or of its views) is solved in
+                // place, without the copies through nalgebra's strided iterators.
+                // SAFETY: its `n` entries are contiguous from its first one, and `column`
+                // borrows them mutably for this block.
+                let x = unsafe { core::slice::from_raw_parts_mut(column.as_mut_ptr(), n) };
+                self.solve_column(x);
+                continue;
+            }
             for (xi, bi) in x.iter_mut().zip(column.iter()) {
                 *xi = *bi;
             }
@@ -226,56 +191,149 @@ impl MassMatrixLu {
     fn solve_column(&self, x: &mut [Real]) {
         let n = x.len();
         let lu = self.lu.as_slice();
+        // gymfleet patch 34: the same loops for a constant dimension (`mass_matrix_fixed.rs`).
         if self.symmetric {
-            // `L·D·Lᵀ`, row `j` of `L` above the diagonal of column `j`: forward with `L`,
-            // scaled by `D⁻¹`, back with `Lᵀ`.
-            for j in 0..n {
-                let row_j = &lu[j * n..j * n + j];
-                let (before, x_j) = x.split_at_mut(j);
-                let mut y = x_j[0];
-                for (l, xk) in row_j.iter().zip(before.iter()) {
-                    y -= l * xk;
-                }
-                x_j[0] = y;
+            if with_fixed_dim!(n, solve_symmetric(lu, x)).is_none() {
+                solve_symmetric_generic(lu, x);
             }
-            for (j, xj) in x.iter_mut().enumerate() {
-                *xj /= lu[j * n + j];
-            }
-            for i in (0..n).rev() {
-                let (before, x_i) = x.split_at_mut(i);
-                let xi = x_i[0];
-                if xi != 0.0 {
-                    for (xk, l) in before.iter_mut().zip(&lu[i * n..i * n + i]) {
-                        *xk -= l * xi;
-                    }
-                }
-            }
-            return;
+        } else if with_fixed_dim!(n, solve_lu(lu, &self.swaps, x)).is_none() {
+            solve_lu_generic(lu, &self.swaps, x);
         }
-        for (i, &piv) in self.swaps.iter().enumerate() {
-            if piv != i {
-                x.swap(i, piv);
+    }
+}
+
+/// `L·D·Lᵀ` of the column-major `n × n` matrix in `lu` (its upper triangle), in place: row
+/// `j` of `L` (unit diagonal, not stored) above the diagonal of column `j`, `D` on the
+/// diagonal; every product a contiguous dot product (row `j` of `L` is computed from the rows
+/// above it). False, with `lu` partly overwritten, if a pivot is not positive (or not
+/// finite). `mass_matrix_fixed::factorize_symmetric` is the same for a constant `n`.
+pub(super) fn factorize_symmetric_generic(lu: &mut [Real], n: usize) -> bool {
+    for j in 0..n {
+        let (done, rest) = lu.split_at_mut(j * n);
+        let col_j = &mut rest[..j + 1];
+        // `y_k = A[k, j] − Σ_{m<k} L[k, m]·y_m`, in place of `A[k, j]`.
+        for k in 0..j {
+            let row_k = &done[k * n..k * n + k];
+            let (ys, y_k) = col_j.split_at_mut(k);
+            let mut y = y_k[0];
+            for (l, ym) in row_k.iter().zip(ys.iter()) {
+                y -= l * ym;
+            }
+            y_k[0] = y;
+        }
+        // `L[j, k] = y_k / d_k` and `d_j = A[j, j] − Σ_k y_k·L[j, k]`.
+        let mut d = col_j[j];
+        for (k, y) in col_j[..j].iter_mut().enumerate() {
+            let l = *y / done[k * n + k];
+            d -= *y * l;
+            *y = l;
+        }
+        if !(d > 0.0 && d.is_finite()) {
+            return false;
+        }
+        col_j[j] = d;
+    }
+    true
+}
+
+/// Doolittle LU with partial row pivoting of the column-major `n × n` matrix in `lu`, in
+/// place: `L` (unit diagonal) below the diagonal, `U` on and above it; `swaps[i]` (of `n`)
+/// becomes the row swapped with row `i` at step `i`. Returns whether every pivot is non-zero.
+/// `mass_matrix_fixed::factorize_lu` is the same for a constant `n`.
+pub(super) fn factorize_lu_generic(lu: &mut [Real], n: usize, swaps: &mut [usize]) -> bool {
+    let mut invertible = true;
+    for i in 0..n {
+        let col_i = &lu[i * n..(i + 1) * n];
+        let mut piv = i;
+        let mut best = col_i[i].abs();
+        for (r, v) in col_i.iter().enumerate().skip(i + 1) {
+            if v.abs() > best {
+                best = v.abs();
+                piv = r;
             }
         }
-        // Forward substitution with the unit lower triangle, column by column.
-        for j in 0..n {
-            let xj = x[j];
-            if xj != 0.0 {
-                let below = &lu[j * n + j + 1..(j + 1) * n];
-                for (xi, l) in x[j + 1..].iter_mut().zip(below) {
-                    *xi -= l * xj;
+        swaps[i] = piv;
+        if best == 0.0 {
+            // No non-zero entry on this column: singular.
+            invertible = false;
+            continue;
+        }
+        if piv != i {
+            for c in 0..n {
+                lu.swap(c * n + i, c * n + piv);
+            }
+        }
+        let (left, right) = lu.split_at_mut((i + 1) * n);
+        let col_i = &mut left[i * n..];
+        let inv_diag = 1.0 / col_i[i];
+        for l in &mut col_i[i + 1..] {
+            *l *= inv_diag;
+        }
+        for col_c in right.chunks_exact_mut(n) {
+            let u = col_c[i];
+            if u != 0.0 {
+                for (x, l) in col_c[i + 1..].iter_mut().zip(&col_i[i + 1..]) {
+                    *x -= l * u;
                 }
             }
         }
-        // Back substitution with the upper triangle, column by column.
-        for j in (0..n).rev() {
-            let col = &lu[j * n..(j + 1) * n];
-            let xj = x[j] / col[j];
-            x[j] = xj;
-            if xj != 0.0 {
-                for (xi, u) in x[..j].iter_mut().zip(&col[..j]) {
-                    *xi -= u * xj;
-                }
+    }
+    invertible
+}
+
+/// `x ← A⁻¹·x` with the factors of [`factorize_symmetric_generic`]: forward with `L`, scaled
+/// by `D⁻¹`, back with `Lᵀ`.
+pub(super) fn solve_symmetric_generic(lu: &[Real], x: &mut [Real]) {
+    let n = x.len();
+    for j in 0..n {
+        let row_j = &lu[j * n..j * n + j];
+        let (before, x_j) = x.split_at_mut(j);
+        let mut y = x_j[0];
+        for (l, xk) in row_j.iter().zip(before.iter()) {
+            y -= l * xk;
+        }
+        x_j[0] = y;
+    }
+    for (j, xj) in x.iter_mut().enumerate() {
+        *xj /= lu[j * n + j];
+    }
+    for i in (0..n).rev() {
+        let (before, x_i) = x.split_at_mut(i);
+        let xi = x_i[0];
+        if xi != 0.0 {
+            for (xk, l) in before.iter_mut().zip(&lu[i * n..i * n + i]) {
+                *xk -= l * xi;
+            }
+        }
+    }
+}
+
+/// `x ← A⁻¹·x` with the factors and row swaps of [`factorize_lu_generic`].
+pub(super) fn solve_lu_generic(lu: &[Real], swaps: &[usize], x: &mut [Real]) {
+    let n = x.len();
+    for (i, &piv) in swaps.iter().enumerate() {
+        if piv != i {
+            x.swap(i, piv);
+        }
+    }
+    // Forward substitution with the unit lower triangle, column by column.
+    for j in 0..n {
+        let xj = x[j];
+        if xj != 0.0 {
+            let below = &lu[j * n + j + 1..(j + 1) * n];
+            for (xi, l) in x[j + 1..].iter_mut().zip(below) {
+                *xi -= l * xj;
+            }
+        }
+    }
+    // Back substitution with the upper triangle, column by column.
+    for j in (0..n).rev() {
+        let col = &lu[j * n..(j + 1) * n];
+        let xj = x[j] / col[j];
+        x[j] = xj;
+        if xj != 0.0 {
+            for (xi, u) in x[..j].iter_mut().zip(&col[..j]) {
+                *xi -= u * xj;
             }
         }
     }
@@ -364,6 +422,24 @@ mod tests {
             // The rows and columns outside the view are untouched.
             assert_eq!(big[(0, 1)], ((3) % 11) as f32 - 5.0);
             assert_eq!(big[(2, 0)], ((14) % 11) as f32 - 5.0);
+            // Every other row (a row stride of 2, solved through the copy, patch 34): the
+            // same bits as the contiguous columns, the rows between untouched.
+            let mut strided = DMatrix::from_fn(2 * n, 3, |i, j| {
+                if i % 2 == 0 {
+                    big[(2 + i / 2, 1 + j)]
+                } else {
+                    7.0
+                }
+            });
+            let mut contiguous = DMatrix::from_fn(n, 3, |i, j| strided[(2 * i, j)]);
+            assert!(lu.solve_mut(&mut strided.rows_with_step_mut(0, n, 1)));
+            assert!(lu.solve_mut(&mut contiguous));
+            for j in 0..3 {
+                for i in 0..n {
+                    assert_eq!(strided[(2 * i, j)], contiguous[(i, j)], "n = {n}");
+                    assert_eq!(strided[(2 * i + 1, j)], 7.0);
+                }
+            }
         }
     }
 

@@ -18,6 +18,8 @@ pub use self::unit_multibody_joint::{
 };
 
 #[cfg(feature = "alloc")]
+mod mass_matrix_fixed;
+#[cfg(feature = "alloc")]
 mod mass_matrix_lu;
 mod multibody;
 mod multibody_joint_handle;

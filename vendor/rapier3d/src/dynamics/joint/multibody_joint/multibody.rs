@@ -24,6 +24,9 @@ use crate::prelude::{GenericJoint, RigidBody};
 #[cfg(feature = "dim3")]
 #[path = "multibody_composite.rs"]
 mod composite;
+#[cfg(all(test, feature = "dim3"))]
+#[path = "multibody_lean_tests.rs"]
+mod lean_tests;
 
 #[repr(C)]
 #[derive(Copy, Clone, Debug, Default)]
@@ -33,6 +36,7 @@ struct Force {
 }
 
 impl Force {
+    #[cfg(feature = "dim2")] // 3D projects link wrenches instead (gymfleet patch 33).
     fn new(linear: Vector, angular: AngVector) -> Self {
         Self { linear, angular }
     }
@@ -62,7 +66,9 @@ pub const NEGLIGIBLE_MOTION_PER_SUBSTEP: Real = 1.0e-12;
 /// length (gymfleet patch: per-substep buffers live in the multibody's workspace).
 fn resize_zeroed(v: &mut DVector, n: usize) {
     if v.len() == n {
-        v.fill(0.0);
+        // On the contiguous storage: nalgebra's element-wise `fill` costs about a hundred
+        // instructions for a vector of six (gymfleet patch 33).
+        v.as_mut_slice().fill(0.0);
     } else {
         *v = DVector::zeros(n);
     }
@@ -181,6 +187,11 @@ pub struct Multibody {
     pub(crate) accelerations: DVector,
 
     body_jacobians: Vec<Jacobian<Real>>,
+    /// Whether the body jacobians hold only each link's own columns, the solver's update
+    /// between two substeps (gymfleet patch 33, see
+    /// [`Multibody::forward_kinematics_between_substeps`]).
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    body_jacobians_partial: bool,
     // NOTE: the mass matrices are dimensioned based on the non-kinematic degrees of
     //       freedoms only. The `Self::augmented_mass_permutation` sequence can be used to
     //       move dofs from/to a format that matches the augmented mass.
@@ -265,6 +276,7 @@ impl Multibody {
             accelerations: DVector::zeros(0),
             hard_limit_impulses: DVector::zeros(0),
             body_jacobians: Vec::new(),
+            body_jacobians_partial: false,
             augmented_mass: DMatrix::zeros(0, 0),
             inv_augmented_mass: MassMatrixLu::default(),
             inv_augmented_mass_stale: false,
@@ -828,7 +840,7 @@ impl Multibody {
             return; // Nothing to do.
         }
 
-        self.accelerations.fill(0.0);
+        self.accelerations.as_mut_slice().fill(0.0);
 
         // If there is significant movement, the semi-implicit coriolis term
         // occasionally cause instabilities due to the matrix being near singular.
@@ -846,6 +858,17 @@ impl Multibody {
         let mut pos_forces = core::mem::take(&mut self.workspace.pos_forces);
         if check_implicit_coriolis_divergence {
             resize_zeroed(&mut pos_forces, self.ndofs);
+        }
+
+        #[cfg(feature = "dim3")]
+        {
+            let nlinks = self.links.len();
+            self.workspace.wrenches.resize(nlinks, [Vector::ZERO; 2]);
+            if check_implicit_coriolis_divergence {
+                self.workspace
+                    .applied_wrenches
+                    .resize(nlinks, [Vector::ZERO; 2]);
+            }
         }
 
         // Eqn 42 to 45
@@ -898,30 +921,43 @@ impl Multibody {
                 gyroscopic = 0.0;
             }
 
-            // The body jacobian is zero past the link's span (see `update_body_jacobians`).
-            let span = link.assembly_id + link.joint.ndofs();
-            let body_jacobian = self.body_jacobians[i].columns(0, span);
-            let external_forces = Force::new(
-                rb.forces.force - rb_mass * acc.linvel,
-                rb.forces.torque - gyroscopic - rb_inertia * acc.angvel,
-            );
-            self.accelerations.rows_mut(0, span).gemv_tr(
-                1.0,
-                &body_jacobian,
-                external_forces.as_vector(),
-                1.0,
-            );
-
-            if check_implicit_coriolis_divergence {
-                let applied_forces = Force::new(rb.forces.force, rb.forces.torque);
-                pos_forces.rows_mut(0, span).gemv_tr(
+            let external_force = rb.forces.force - rb_mass * acc.linvel;
+            let external_torque = rb.forces.torque - gyroscopic - rb_inertia * acc.angvel;
+            // gymfleet patch 33 (see `PATCHES.md`): in 3D, `Jᵀ·f` is summed by the backward
+            // pass below, which reads only each link's own columns of its body jacobian.
+            #[cfg(feature = "dim3")]
+            {
+                self.workspace.wrenches[i] = [external_force, external_torque];
+                if check_implicit_coriolis_divergence {
+                    self.workspace.applied_wrenches[i] = [rb.forces.force, rb.forces.torque];
+                }
+            }
+            #[cfg(feature = "dim2")]
+            {
+                // The body jacobian is zero past the link's span (see `update_body_jacobians`).
+                let span = link.assembly_id + link.joint.ndofs();
+                let body_jacobian = self.body_jacobians[i].columns(0, span);
+                let external_forces = Force::new(external_force, external_torque);
+                self.accelerations.rows_mut(0, span).gemv_tr(
                     1.0,
                     &body_jacobian,
-                    applied_forces.as_vector(),
+                    external_forces.as_vector(),
                     1.0,
                 );
+
+                if check_implicit_coriolis_divergence {
+                    let applied_forces = Force::new(rb.forces.force, rb.forces.torque);
+                    pos_forces.rows_mut(0, span).gemv_tr(
+                        1.0,
+                        &body_jacobian,
+                        applied_forces.as_vector(),
+                        1.0,
+                    );
+                }
             }
         }
+        #[cfg(feature = "dim3")]
+        self.project_link_wrenches(check_implicit_coriolis_divergence, &mut pos_forces);
 
         // Joint-space efforts (see `Self::applied_forces`).
         self.accelerations += &self.applied_forces;
@@ -977,6 +1013,52 @@ impl Multibody {
         }
         self.workspace.pos_forces = pos_forces;
         self.workspace.gen_forces = gen_forces;
+    }
+
+    /// `Jᵀ·f` over the links (gymfleet patch 33, see `PATCHES.md`): `accelerations` (and, if
+    /// `applied`, `pos_forces`) get, for each DoF, the dot product of its column of its own
+    /// link's body jacobian with the wrench at that link's centre of mass of all the forces on
+    /// the link's subtree (`workspace.wrenches`, and `workspace.applied_wrenches`). A column
+    /// of an ancestor's DoF in a descendant's body jacobian is the ancestor's own column
+    /// shifted to the descendant's centre of mass, so moving each wrench to its parent's
+    /// centre of mass (children come after their parents) gives the same sums as the
+    /// per-link `J·ᵀf`, without the ancestors' columns.
+    #[cfg(feature = "dim3")]
+    fn project_link_wrenches(&mut self, applied: bool, pos_forces: &mut DVector) {
+        let ws = &mut self.workspace;
+        let accelerations = self.accelerations.as_mut_slice();
+        let pos_forces = pos_forces.as_mut_slice();
+        for i in (0..self.links.len()).rev() {
+            let link = &self.links[i];
+            let jacobian = self.body_jacobians[i].as_slice();
+            let [force, torque] = ws.wrenches[i];
+            let [applied_force, applied_torque] = if applied {
+                ws.applied_wrenches[i]
+            } else {
+                [Vector::ZERO; 2]
+            };
+            for c in link.assembly_id..link.assembly_id + link.joint.ndofs() {
+                let jv = vec3_at(jacobian, c * SPATIAL_DIM);
+                let jw = vec3_at(jacobian, c * SPATIAL_DIM + DIM);
+                accelerations[c] = jv.dot(force) + jw.dot(torque);
+                if applied {
+                    pos_forces[c] = jv.dot(applied_force) + jw.dot(applied_torque);
+                }
+            }
+            if i != 0 {
+                // From this link's centre of mass to its parent's.
+                let to_parent = link.shift02 + link.shift23;
+                let parent = link.parent_internal_id;
+                let [parent_force, parent_torque] = &mut ws.wrenches[parent];
+                *parent_force += force;
+                *parent_torque += torque + to_parent.cross(force);
+                if applied {
+                    let [parent_force, parent_torque] = &mut ws.applied_wrenches[parent];
+                    *parent_force += applied_force;
+                    *parent_torque += applied_torque + to_parent.cross(applied_force);
+                }
+            }
+        }
     }
 
     // If the semi-implicit coriolis solve introduces more energy than the external
@@ -1147,6 +1229,43 @@ impl Multibody {
             // Jv += Jw × shift23: from the joint to the link's centre of mass.
             add_angular_cross_to_linear(&mut self.body_jacobians[i], span, link.shift23);
         }
+        self.body_jacobians_partial = false;
+    }
+
+    /// Each link's own columns of its body jacobian (those of its joint's DoFs), with the same
+    /// arithmetic as [`Self::update_body_jacobians`], which also writes its ancestors' columns
+    /// (gymfleet patch 33, see `PATCHES.md`). The other columns keep stale values until the
+    /// next full update; `body_jacobians_partial` says so.
+    #[cfg(feature = "dim3")]
+    fn update_own_body_jacobian_columns(&mut self) {
+        for i in 0..self.links.len() {
+            let link = &self.links[i];
+            if self.body_jacobians[i].ncols() != self.ndofs {
+                self.body_jacobians[i] = Jacobian::zeros(self.ndofs);
+            }
+            let parent_to_world = if i != 0 {
+                self.links[link.parent_internal_id].local_to_world
+            } else {
+                Pose::IDENTITY
+            };
+            let (start, ndofs) = (link.assembly_id, link.joint.ndofs());
+            let own = start * SPATIAL_DIM..(start + ndofs) * SPATIAL_DIM;
+            self.body_jacobians[i].as_mut_slice()[own.clone()].fill(0.0);
+            let mut link_j_part = self.body_jacobians[i].columns_mut(start, ndofs);
+            link.joint.jacobian(
+                &(parent_to_world.rotation * link.joint.data.local_frame1.rotation),
+                &mut link_j_part,
+            );
+            let shift = link.shift23;
+            let cols = self.body_jacobians[i].as_mut_slice();
+            for col in cols[own].chunks_exact_mut(SPATIAL_DIM) {
+                let d = Vector::new(col[3], col[4], col[5]).cross(shift);
+                col[0] += d.x;
+                col[1] += d.y;
+                col[2] += d.z;
+            }
+        }
+        self.body_jacobians_partial = true;
     }
 
     /// Adds link `i`'s contributions to the mass matrices (gymfleet patch, see `PATCHES.md`):
@@ -1362,6 +1481,12 @@ impl Multibody {
         // with them, trees whose joints of several DoFs are planar (patch 31).
         #[cfg(feature = "dim3")]
         let composite = self.composite_applies(bodies, velocity_terms);
+        // The link-by-link construction reads the ancestors' columns of the body jacobians
+        // (gymfleet patch 33).
+        #[cfg(feature = "dim3")]
+        if !composite && self.body_jacobians_partial {
+            self.update_body_jacobians();
+        }
 
         // Resize coriolis workspaces if the link count or number of DOFs change.
         let coriolis_ndofs = self.coriolis_v.first().map(|m| m.ncols());
@@ -1854,6 +1979,10 @@ impl Multibody {
     /// The body jacobian for link `link_id` calculated by the last call to [`Multibody::forward_kinematics`].
     #[inline]
     pub fn body_jacobian(&self, link_id: usize) -> &Jacobian<Real> {
+        debug_assert!(
+            !self.body_jacobians_partial,
+            "the body jacobians hold only their own columns (gymfleet patch 33)"
+        );
         &self.body_jacobians[link_id]
     }
 
@@ -2186,6 +2315,28 @@ impl Multibody {
         bodies: &RigidBodySet,
         read_root_pose_from_rigid_body: bool,
     ) {
+        self.update_link_poses(bodies, read_root_pose_from_rigid_body);
+        self.update_body_jacobians();
+    }
+
+    /// The solver's forward kinematics between two substeps (gymfleet patch 33, see
+    /// `PATCHES.md`): the links' poses and shifts, and in 3D only each link's own columns of
+    /// its body jacobian, all that the next substep's dynamics read (the composite pass and
+    /// `update_acceleration`). The solver uses it only when nothing else reads the body
+    /// jacobians before the next full [`Multibody::forward_kinematics`] (no impulse joint in
+    /// the island; the contacts' jacobians are built once per step); the link-by-link
+    /// mass-matrix construction completes them itself.
+    pub(crate) fn forward_kinematics_between_substeps(&mut self, bodies: &RigidBodySet) {
+        self.update_link_poses(bodies, false);
+        #[cfg(feature = "dim3")]
+        self.update_own_body_jacobian_columns();
+        #[cfg(feature = "dim2")]
+        self.update_body_jacobians();
+    }
+
+    /// The links' poses and shifts from the coordinates (the first part of
+    /// [`Multibody::forward_kinematics`]).
+    fn update_link_poses(&mut self, bodies: &RigidBodySet, read_root_pose_from_rigid_body: bool) {
         // Be sure the degrees of freedom match and take the root position if needed.
         self.update_root_type(bodies, read_root_pose_from_rigid_body);
 
@@ -2221,11 +2372,6 @@ impl Multibody {
                 "A rigid-body that is not at the root of a multibody must be dynamic."
             );
         }
-
-        /*
-         * Compute body jacobians.
-         */
-        self.update_body_jacobians();
     }
 
     /// Computes the ids of all the links between the root and the link identified by `link_id`.
@@ -2392,6 +2538,10 @@ impl Multibody {
             angular: unit_torque,
         };
 
+        debug_assert!(
+            !self.body_jacobians_partial,
+            "the body jacobians hold only their own columns (gymfleet patch 33)"
+        );
         let link = &self.links[link_id];
         let mut out_j = jacobians.rows_mut(*j_id, self.ndofs);
         self.body_jacobians[link.internal_id].tr_mul_to(force.as_vector(), &mut out_j);
@@ -2433,6 +2583,10 @@ impl Multibody {
         if self.ndofs == 0 {
             return;
         }
+        debug_assert!(
+            !self.body_jacobians_partial,
+            "the body jacobians hold only their own columns (gymfleet patch 33)"
+        );
 
         let wj_id = *j_id + self.ndofs;
         let force1 = Force {

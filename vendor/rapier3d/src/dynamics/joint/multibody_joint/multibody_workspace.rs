@@ -33,6 +33,15 @@ pub(crate) struct MultibodyWorkspace {
     #[cfg(feature = "dim3")]
     #[cfg_attr(feature = "serde-serialize", serde(skip))]
     pub mass_columns: Vec<MassColumn>,
+    /// Per link, the force and torque at its centre of mass that `update_acceleration`
+    /// projects, summed over its subtree by the backward pass (gymfleet patch 33).
+    #[cfg(feature = "dim3")]
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    pub wrenches: Vec<[Vector; 2]>,
+    /// The same for the applied forces alone, for the energy guard (gymfleet patch 33).
+    #[cfg(feature = "dim3")]
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    pub applied_wrenches: Vec<[Vector; 2]>,
     /// The six rows of a body jacobian, each contiguous (gymfleet patch).
     #[cfg(feature = "dim3")]
     #[cfg_attr(feature = "serde-serialize", serde(skip))]
@@ -54,6 +63,10 @@ impl MultibodyWorkspace {
             guard_m_x: DVector::zeros(0),
             #[cfg(feature = "dim3")]
             mass_columns: Vec::new(),
+            #[cfg(feature = "dim3")]
+            wrenches: Vec::new(),
+            #[cfg(feature = "dim3")]
+            applied_wrenches: Vec::new(),
             #[cfg(feature = "dim3")]
             jacobian_rows: Default::default(),
         }

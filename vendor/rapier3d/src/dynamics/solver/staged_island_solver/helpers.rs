@@ -143,7 +143,14 @@ impl VelocitySolver {
                     .rows_mut(multibody.solver_id as usize, multibody.ndofs())
                     .copy_from(&multibody.velocities);
             }
-            multibody.forward_kinematics(bodies, false);
+            // gymfleet patch 33 (see `PATCHES.md`): between two substeps, without impulse
+            // joints (whose constraints are rebuilt at each substep from the body jacobians),
+            // only the jacobians' columns the next substep's dynamics read.
+            if is_last_substep || self.multibody_impulse_joints {
+                multibody.forward_kinematics(bodies, false);
+            } else {
+                multibody.forward_kinematics_between_substeps(bodies);
+            }
             multibody.update_rigid_bodies_internal(bodies, !is_last_substep, true, false);
             // gymfleet patch (see `PATCHES.md`): after the last substep the links and their
             // bodies' next poses are those of the final coordinates; the pipeline's advance

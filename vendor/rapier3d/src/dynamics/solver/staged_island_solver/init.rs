@@ -160,6 +160,7 @@ impl StagedIslandSolver {
         // constraints.
         self.velocity_solver.multibody_external_constraints =
             !graph.generic().is_empty() || !joint_indices.is_empty();
+        self.velocity_solver.multibody_impulse_joints = !joint_indices.is_empty();
         self.velocity_solver.init_solver_buffers_and_multibodies(
             &params,
             island_bodies,
@@ -202,7 +203,10 @@ impl StagedIslandSolver {
             // NOTE: the twist constraint/builder buffers are NOT cleared: they are
             // the persistent constraint cache, preserved (and resized) further
             // below once the chunk layout is known.
-            set.generic_jacobians.fill(0.0);
+            // On the contiguous storage (gymfleet patch 34, see `PATCHES.md`): nalgebra's
+            // element-wise `fill` cost about six instructions per entry of a buffer that keeps
+            // the largest size any step needed.
+            set.generic_jacobians.as_mut_slice().fill(0.0);
             set.generic_velocity_constraints.clear();
             set.generic_velocity_constraints_builder.clear();
             set.simd_velocity_coulomb_constraints.clear();
