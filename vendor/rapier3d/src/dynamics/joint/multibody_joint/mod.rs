@@ -19,6 +19,8 @@ pub use self::unit_multibody_joint::{
 
 #[cfg(feature = "alloc")]
 mod mass_matrix_fixed;
+#[cfg(all(test, feature = "alloc"))]
+mod mass_matrix_fixed_tests;
 #[cfg(feature = "alloc")]
 mod mass_matrix_lu;
 mod multibody;
