@@ -152,9 +152,22 @@ impl MassMatrixLu {
         if n == 0 {
             return true;
         }
-        // gymfleet patch 28 (see `PATCHES.md`): each column is solved in a contiguous buffer
-        // (on the stack for a multibody of up to `STACK_DOFS` DoFs), not through the
-        // column's strided view, with the same operations in the same order.
+        if b.strides().0 == 1 {
+            // gymfleet patch 34 (see `PATCHES.md`): columns with unit row stride (a vector, or
+            // the columns of a column-major matrix or of its views) are solved in place,
+            // without the copies through nalgebra's strided iterators.
+            for k in 0..b.ncols() {
+                let mut column = b.column_mut(k);
+                // SAFETY: the column's `n` entries are contiguous from its first one (unit
+                // row stride), and `column` borrows them mutably for this block.
+                let x = unsafe { core::slice::from_raw_parts_mut(column.as_mut_ptr(), n) };
+                self.solve_column(x);
+            }
+            return true;
+        }
+        // gymfleet patch 28 (see `PATCHES.md`): otherwise each column is solved in a
+        // contiguous buffer (on the stack for a multibody of up to `STACK_DOFS` DoFs), not
+        // through the column's strided view, with the same operations in the same order.
         const STACK_DOFS: usize = 64;
         let mut stack = [0.0; STACK_DOFS];
         let mut heap = Vec::new();
@@ -166,16 +179,6 @@ impl MassMatrixLu {
         };
         for k in 0..b.ncols() {
             let mut column = b.column_mut(k);
-            if column.strides().0 == 1 {
-                // gymfleet patch 34 (see `PATCHES.md`): a column with unit row stride (a
-                // vector, or a column of a column-major matrix or of its views) is solved in
-                // place, without the copies through nalgebra's strided iterators.
-                // SAFETY: its `n` entries are contiguous from its first one, and `column`
-                // borrows them mutably for this block.
-                let x = unsafe { core::slice::from_raw_parts_mut(column.as_mut_ptr(), n) };
-                self.solve_column(x);
-                continue;
-            }
             for (xi, bi) in x.iter_mut().zip(column.iter()) {
                 *xi = *bi;
             }
