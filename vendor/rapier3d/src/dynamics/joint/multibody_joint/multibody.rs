@@ -27,6 +27,9 @@ mod composite;
 #[cfg(all(test, feature = "dim3"))]
 #[path = "multibody_lean_tests.rs"]
 mod lean_tests;
+#[cfg(all(test, feature = "dim3"))]
+#[path = "multibody_mass_only_tests.rs"]
+mod mass_only_tests;
 
 #[repr(C)]
 #[derive(Copy, Clone, Debug, Default)]
@@ -77,6 +80,22 @@ fn resize_zeroed(v: &mut DVector, n: usize) {
 /// The three components at `slice[at..at + 3]` as a vector.
 #[cfg(feature = "dim3")]
 #[inline]
+/// The free axes of `joint`, in axis order, each with its DoF's index (the first is
+/// `first_dof`): the set bits of its free-axis mask rather than all six axes (gymfleet patch 35).
+fn free_axes(joint: &MultibodyJoint, first_dof: usize) -> impl Iterator<Item = (usize, usize)> {
+    let mut free = !u32::from(joint.data.locked_axes.bits()) & ((1 << SPATIAL_DIM) - 1);
+    let mut dof = first_dof;
+    core::iter::from_fn(move || {
+        if free == 0 {
+            return None;
+        }
+        let axis = free.trailing_zeros() as usize;
+        free &= free - 1;
+        dof += 1;
+        Some((axis, dof - 1))
+    })
+}
+
 fn vec3_at(slice: &[Real], at: usize) -> Vector {
     Vector::new(slice[at], slice[at + 1], slice[at + 2])
 }
@@ -591,11 +610,25 @@ impl Multibody {
         external_constraints: bool,
     ) {
         self.update_velocities(bodies);
-        self.update_mass_matrix(dt, bodies);
+        self.update_link_inertias(bodies);
+        self.update_mass_matrix_with_link_inertias(dt, bodies);
         if external_constraints || self.own_constraints_need_inv_augmented_mass() {
             self.factorize_inv_augmented_mass();
         }
-        self.update_acceleration(dt, bodies);
+        self.update_acceleration_with_link_inertias(dt, bodies);
+    }
+
+    /// Each link's effective mass and world-space angular inertia at the current configuration,
+    /// into `workspace.link_inertias` (gymfleet patch 35): the mass matrices and the
+    /// accelerations of one substep read them, and inverting the world inverse inertia is
+    /// the dearest part of both.
+    fn update_link_inertias(&mut self, bodies: &RigidBodySet) {
+        let inertias = &mut self.workspace.link_inertias;
+        inertias.clear();
+        inertias.extend(self.links.iter().map(|link| {
+            let mprops = &bodies[link.rigid_body].mprops;
+            (mprops.effective_mass(), mprops.effective_angular_inertia())
+        }));
     }
 
     /// Whether this multibody's own velocity constraints need [`Multibody::inv_augmented_mass`]
@@ -844,7 +877,14 @@ impl Multibody {
             .extend((0..num_jacobians).map(|_| Jacobian::zeros(0)));
     }
 
+    #[cfg(test)]
     pub(crate) fn update_acceleration(&mut self, dt: Real, bodies: &RigidBodySet) {
+        self.update_link_inertias(bodies);
+        self.update_acceleration_with_link_inertias(dt, bodies);
+    }
+
+    /// [`Self::update_acceleration`] with `workspace.link_inertias` current.
+    fn update_acceleration_with_link_inertias(&mut self, dt: Real, bodies: &RigidBodySet) {
         if self.ndofs == 0 {
             return; // Nothing to do.
         }
@@ -918,8 +958,7 @@ impl Multibody {
             // TODO: should gyroscopic forces already be computed by the rigid-body itself
             //       (at the same time that we add the gravity force)?
             let gyroscopic;
-            let rb_inertia = rb.mprops.effective_angular_inertia();
-            let rb_mass = rb.mprops.effective_mass();
+            let (rb_mass, rb_inertia) = self.workspace.link_inertias[i];
 
             #[cfg(feature = "dim3")]
             {
@@ -982,22 +1021,18 @@ impl Multibody {
         // Implicit joint springs: backward-Euler at `q⁺ = q + dt·v⁺` gives `-k·(q − rest) − k·dt·v⁺`,
         // with the `v⁺` part implicit via the `dt²·k` mass-matrix diagonal (see `update_mass_matrix`).
         // Consistency requires BOTH `-k·(q − rest)` and `-k·dt·v` here, else the spring is only semi-implicit.
-        for li in 0..self.links.len() {
-            let mut idx = self.links[li].assembly_id;
-            let locked = self.links[li].joint.data.locked_axes.bits();
-            for a in 0..SPATIAL_DIM {
-                if (locked >> a) & 1 == 0 {
-                    let k = self.links[li].joint.spring_stiffness[a];
-                    if k != 0.0 {
-                        let q = self.links[li].joint.coords[a];
-                        let rest = self.links[li].joint.spring_ref[a];
-                        let spring_pos_force = -k * (q - rest);
-                        self.accelerations[idx] += spring_pos_force - k * dt * self.velocities[idx];
-                        if check_implicit_coriolis_divergence {
-                            pos_forces[idx] += spring_pos_force;
-                        }
+        for link in self.links.iter() {
+            let joint = &link.joint;
+            for (a, idx) in free_axes(joint, link.assembly_id) {
+                let k = joint.spring_stiffness[a];
+                if k != 0.0 {
+                    let q = joint.coords[a];
+                    let rest = joint.spring_ref[a];
+                    let spring_pos_force = -k * (q - rest);
+                    self.accelerations[idx] += spring_pos_force - k * dt * self.velocities[idx];
+                    if check_implicit_coriolis_divergence {
+                        pos_forces[idx] += spring_pos_force;
                     }
-                    idx += 1;
                 }
             }
         }
@@ -1300,8 +1335,8 @@ impl Multibody {
         }
         let link = &self.links[i];
         let rb = &bodies[link.rigid_body];
-        let rb_mass = rb.mprops.effective_mass();
-        let rb_inertia = rb.mprops.effective_angular_inertia().into_matrix();
+        let (rb_mass, rb_inertia) = self.workspace.link_inertias[i];
+        let rb_inertia = rb_inertia.into_matrix();
         let angvel = rb.vels.angvel;
 
         /*
@@ -1456,6 +1491,12 @@ impl Multibody {
     }
 
     pub(crate) fn update_mass_matrix(&mut self, dt: Real, bodies: &RigidBodySet) {
+        self.update_link_inertias(bodies);
+        self.update_mass_matrix_with_link_inertias(dt, bodies);
+    }
+
+    /// [`Self::update_mass_matrix`] with `workspace.link_inertias` current.
+    fn update_mass_matrix_with_link_inertias(&mut self, dt: Real, bodies: &RigidBodySet) {
         if self.ndofs == 0 {
             return; // Nothing to do.
         }
@@ -1492,7 +1533,7 @@ impl Multibody {
         // velocity terms, trees of joints of any number of DoFs build `M` so (patch 30), and
         // with them, trees whose joints of several DoFs are planar (patch 31).
         #[cfg(feature = "dim3")]
-        let composite = self.composite_applies(bodies, velocity_terms);
+        let composite = self.composite_applies_at_link_inertias(velocity_terms);
         // The link-by-link construction reads the ancestors' columns of the body jacobians
         // (gymfleet patch 33).
         #[cfg(feature = "dim3")]
@@ -1732,9 +1773,10 @@ impl Multibody {
             self.composite_mass_matrices(dt, velocity_terms, bodies);
         }
 
-        // The 3D path accumulates only the upper triangle of the symmetric mass matrix.
+        // The 3D path accumulates only the upper triangle of the symmetric mass matrix (the
+        // composite construction of `M` alone writes both: gymfleet patch 35).
         #[cfg(feature = "dim3")]
-        {
+        if !composite || velocity_terms {
             let n = self.ndofs;
             let mass = self.augmented_mass.as_mut_slice();
             for b in 0..n {
@@ -1761,16 +1803,11 @@ impl Multibody {
         // keeps a stiff spring on a low-inertia link stable where an explicit position motor injects energy.
         // The spring lives on the link's `MultibodyJoint` so it travels with the link through topology changes.
         let dt2 = dt * dt;
-        for li in 0..self.links.len() {
-            let mut idx = self.links[li].assembly_id;
-            let locked = self.links[li].joint.data.locked_axes.bits();
-            for a in 0..SPATIAL_DIM {
-                if (locked >> a) & 1 == 0 {
-                    let k = self.links[li].joint.spring_stiffness[a];
-                    if k != 0.0 {
-                        self.augmented_mass[(idx, idx)] += k * dt2;
-                    }
-                    idx += 1;
+        for link in self.links.iter() {
+            for (a, idx) in free_axes(&link.joint, link.assembly_id) {
+                let k = link.joint.spring_stiffness[a];
+                if k != 0.0 {
+                    self.augmented_mass[(idx, idx)] += k * dt2;
                 }
             }
         }

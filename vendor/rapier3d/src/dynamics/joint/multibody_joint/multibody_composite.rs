@@ -41,9 +41,9 @@
 
 use super::Multibody;
 use crate::alloc_prelude::*;
-use crate::dynamics::{MultibodyJoint, RigidBodySet};
+use crate::dynamics::{MultibodyJoint, RigidBody, RigidBodySet};
 use crate::glamx::{DMat3, DVec3};
-use crate::math::{DIM, Real, SPATIAL_DIM};
+use crate::math::{AngularInertia, DIM, Real, SPATIAL_DIM, Vector};
 use crate::utils::AngularInertiaOps;
 
 /// A motion `(ω, v)` or a force `(n, f)` at `p₀`.
@@ -88,14 +88,54 @@ impl Spatial {
     }
 }
 
-/// A subtree's spatial inertia at `p₀` (mass, first moment `m·r` and rotational inertia about
-/// `p₀`), its momentum `Ĥ` and its `B̂` (of which only the upper-left block and the linear
-/// momentum, `Ĥ.lin`, are not zero: `B̂ = [[B₁₁, [p]×], [−[p]×, 0]]`).
+/// A subtree's spatial inertia at `p₀`: its mass, first moment `m·r` and rotational inertia
+/// about `p₀`. All that `M` reads.
 #[derive(Copy, Clone, Debug, Default)]
-pub(super) struct Composite {
+pub(super) struct SubtreeInertia {
     mass: f64,
     moment: DVec3,
     inertia: DMat3,
+}
+
+impl SubtreeInertia {
+    /// One link's, its centre of mass at `r` from `p₀`.
+    #[inline(always)]
+    fn of_link((mass, inertia): (Vector, AngularInertia), r: DVec3) -> Self {
+        let mass = f64::from(mass.x);
+        let inertia_com = inertia.into_matrix().as_dmat3();
+        let moment = r * mass;
+        let inertia = inertia_com + DMat3::from_diagonal(DVec3::splat(mass * r.length_squared()))
+            - DMat3::from_cols(moment * r.x, moment * r.y, moment * r.z);
+        Self {
+            mass,
+            moment,
+            inertia,
+        }
+    }
+
+    /// `Î·s`.
+    #[inline(always)]
+    fn times(&self, s: Spatial) -> Spatial {
+        Spatial::new(
+            self.inertia * s.ang + self.moment.cross(s.lin),
+            self.mass * s.lin - self.moment.cross(s.ang),
+        )
+    }
+
+    #[inline(always)]
+    fn accumulate(&mut self, other: &SubtreeInertia) {
+        self.mass += other.mass;
+        self.moment += other.moment;
+        self.inertia += other.inertia;
+    }
+}
+
+/// A subtree's spatial inertia at `p₀` with what the velocity terms read: its momentum `Ĥ` and
+/// its `B̂` (of which only the upper-left block and the linear momentum, `Ĥ.lin`, are not zero:
+/// `B̂ = [[B₁₁, [p]×], [−[p]×, 0]]`).
+#[derive(Copy, Clone, Debug, Default)]
+pub(super) struct Composite {
+    rigid: SubtreeInertia,
     momentum: Spatial,
     b11: DMat3,
 }
@@ -103,10 +143,7 @@ pub(super) struct Composite {
 impl Composite {
     /// `Î·s`.
     fn inertia_times(&self, s: Spatial) -> Spatial {
-        Spatial::new(
-            self.inertia * s.ang + self.moment.cross(s.lin),
-            self.mass * s.lin - self.moment.cross(s.ang),
-        )
+        self.rigid.times(s)
     }
 
     /// `B̂·s`.
@@ -115,15 +152,11 @@ impl Composite {
         Spatial::new(self.b11 * s.ang + p.cross(s.lin), -p.cross(s.ang))
     }
 
-    /// Adds `other`'s inertia, and with the velocity terms its momentum and `B̂`.
-    fn accumulate(&mut self, other: &Composite, velocity_terms: bool) {
-        self.mass += other.mass;
-        self.moment += other.moment;
-        self.inertia += other.inertia;
-        if velocity_terms {
-            self.momentum = self.momentum.add(other.momentum);
-            self.b11 += other.b11;
-        }
+    /// Adds `other`'s inertia, momentum and `B̂`.
+    fn accumulate(&mut self, other: &Composite) {
+        self.rigid.accumulate(&other.rigid);
+        self.momentum = self.momentum.add(other.momentum);
+        self.b11 += other.b11;
     }
 }
 
@@ -144,6 +177,8 @@ pub(super) struct CompositeDof {
 #[derive(Clone, Debug, Default)]
 pub(crate) struct CompositeWorkspace {
     composites: Vec<Composite>,
+    /// The subtrees' inertias alone, where only `M` is built.
+    inertias: Vec<SubtreeInertia>,
     velocities: Vec<Spatial>,
     /// Per DoF: its motion `S` and `Î_L·S`, read by every pair, apart from the rest
     /// ([`CompositeDof`], velocity terms only) so that the pairs of `M` read no more.
@@ -154,6 +189,9 @@ pub(crate) struct CompositeWorkspace {
     parents: Vec<usize>,
     offsets: Vec<DVec3>,
     link_dofs: Vec<core::ops::Range<usize>>,
+    /// Per link, the range in `paths` of its path's DoFs (M alone, patch 35).
+    path_ranges: Vec<core::ops::Range<usize>>,
+    paths: Vec<usize>,
 }
 
 fn dvec3_at(slice: &[Real], at: usize) -> DVec3 {
@@ -190,19 +228,35 @@ impl Multibody {
     /// more. With `velocity_terms`, planar joints ([`is_planar`]) may too (gymfleet patch 31:
     /// their columns change with their own motion, which the module documentation derives);
     /// ball and cylindrical joints keep the link-by-link construction.
+    #[cfg(test)]
     pub(super) fn composite_applies(&self, bodies: &RigidBodySet, velocity_terms: bool) -> bool {
-        let isotropic = |link: &super::MultibodyLink| {
-            let mass = bodies[link.rigid_body].mprops.effective_mass();
+        self.composite_applies_for(velocity_terms, |_, link| {
+            bodies[link.rigid_body].mprops.effective_mass()
+        })
+    }
+
+    /// [`Self::composite_applies`] with `workspace.link_inertias` current (gymfleet patch 35).
+    pub(super) fn composite_applies_at_link_inertias(&self, velocity_terms: bool) -> bool {
+        self.composite_applies_for(velocity_terms, |i, _| self.workspace.link_inertias[i].0)
+    }
+
+    fn composite_applies_for(
+        &self,
+        velocity_terms: bool,
+        mass_of: impl Fn(usize, &super::MultibodyLink) -> Vector,
+    ) -> bool {
+        let isotropic = |i: usize, link: &super::MultibodyLink| {
+            let mass = mass_of(i, link);
             mass.x == mass.y && mass.y == mass.z
         };
         let root = &self.links[0];
         let root_fits = !self.root_is_dynamic
-            || (root.joint.ndofs() == SPATIAL_DIM && !root.joint.kinematic && isotropic(root));
+            || (root.joint.ndofs() == SPATIAL_DIM && !root.joint.kinematic && isotropic(0, root));
         root_fits
-            && self.links.iter().skip(1).all(|link| {
+            && self.links.iter().enumerate().skip(1).all(|(i, link)| {
                 (link.joint.ndofs() <= 1 || !velocity_terms || is_planar(&link.joint))
                     && !link.joint.kinematic
-                    && isotropic(link)
+                    && isotropic(i, link)
             })
     }
 
@@ -217,6 +271,10 @@ impl Multibody {
         velocity_terms: bool,
         bodies: &RigidBodySet,
     ) {
+        if !velocity_terms {
+            self.composite_mass_matrix(bodies);
+            return;
+        }
         let nlinks = self.links.len();
         let mut ws = core::mem::take(&mut self.composite_workspace);
         // Every entry a pass reads is written below (a fixed root's are reset to zero), so the
@@ -224,9 +282,7 @@ impl Multibody {
         ws.composites.resize(nlinks, Composite::default());
         ws.velocities.resize(nlinks, Spatial::default());
         ws.motions.resize(self.ndofs, Default::default());
-        if velocity_terms {
-            ws.dofs.resize(self.ndofs, CompositeDof::default());
-        }
+        ws.dofs.resize(self.ndofs, CompositeDof::default());
         ws.parents.clear();
         ws.link_dofs.clear();
         ws.offsets.clear();
@@ -249,45 +305,33 @@ impl Multibody {
             ws.velocities[0] = Spatial::default();
             for c in ws.link_dofs[0].clone() {
                 ws.motions[c] = Default::default();
-                if velocity_terms {
-                    ws.dofs[c] = CompositeDof::default();
-                }
+                ws.dofs[c] = CompositeDof::default();
             }
         }
 
         // Each moving link's own inertia, velocity, momentum and `B` at `p₀`.
         for i in first_moving..nlinks {
             let rb = &bodies[self.links[i].rigid_body];
-            let mass = f64::from(rb.mprops.effective_mass().x);
             let r = ws.offsets[i];
-            let inertia_com = rb.mprops.effective_angular_inertia().into_matrix().as_dmat3();
-            let moment = r * mass;
-            let inertia = inertia_com
-                + DMat3::from_diagonal(DVec3::splat(mass * r.length_squared()))
-                - DMat3::from_cols(moment * r.x, moment * r.y, moment * r.z);
             let mut own = Composite {
-                mass,
-                moment,
-                inertia,
+                rigid: SubtreeInertia::of_link(self.workspace.link_inertias[i], r),
                 ..Composite::default()
             };
-            if velocity_terms {
-                let angvel = rb.vels.angvel.as_dvec3();
-                let velocity = Spatial::new(angvel, rb.vels.linvel.as_dvec3() - angvel.cross(r));
-                ws.velocities[i] = velocity;
-                own.momentum = own.inertia_times(velocity);
-                // B₁₁ = [ω]×·I − I·[ω]× − ([v]×[h]× + [h]×[v]×), where I·[ω]× = −([ω]×·I)ᵀ
-                // since I is symmetric.
-                let w = angvel;
-                let omega = DMat3::from_cols(
-                    DVec3::new(0.0, w.z, -w.y),
-                    DVec3::new(-w.z, 0.0, w.x),
-                    DVec3::new(w.y, -w.x, 0.0),
-                );
-                let omega_inertia = omega * inertia;
-                own.b11 = omega_inertia + omega_inertia.transpose()
-                    - symmetric_cross_product(velocity.lin, moment);
-            }
+            let angvel = rb.vels.angvel.as_dvec3();
+            let velocity = Spatial::new(angvel, rb.vels.linvel.as_dvec3() - angvel.cross(r));
+            ws.velocities[i] = velocity;
+            own.momentum = own.inertia_times(velocity);
+            // B₁₁ = [ω]×·I − I·[ω]× − ([v]×[h]× + [h]×[v]×), where I·[ω]× = −([ω]×·I)ᵀ
+            // since I is symmetric.
+            let w = angvel;
+            let omega = DMat3::from_cols(
+                DVec3::new(0.0, w.z, -w.y),
+                DVec3::new(-w.z, 0.0, w.x),
+                DVec3::new(w.y, -w.x, 0.0),
+            );
+            let omega_inertia = omega * own.rigid.inertia;
+            own.b11 = omega_inertia + omega_inertia.transpose()
+                - symmetric_cross_product(velocity.lin, own.rigid.moment);
             ws.composites[i] = own;
         }
 
@@ -295,7 +339,7 @@ impl Multibody {
         for i in (1..nlinks).rev() {
             let parent = self.links[i].parent_internal_id;
             let (above, from_child) = ws.composites.split_at_mut(i);
-            above[parent].accumulate(&from_child[0], velocity_terms);
+            above[parent].accumulate(&from_child[0]);
         }
 
         // A free root's DoFs: the velocity of its body frame's origin along the axes `b_j`
@@ -304,7 +348,7 @@ impl Multibody {
         // bias acceleration `(0, v_o × ω)` (`v_o = Σ b_j·q̇_j`, `ω = Σ a_k·q̇_k`), whose
         // derivative is `(0, b_j × ω)` for a linear DoF and `(0, v_o × a_k)` for a rotation.
         let (mut root_origin_velocity, mut root_angvel) = (DVec3::ZERO, DVec3::ZERO);
-        if self.root_is_dynamic && velocity_terms {
+        if self.root_is_dynamic {
             let jacobian = self.body_jacobians[0].as_slice();
             for c in ws.link_dofs[0].clone() {
                 let jv = dvec3_at(jacobian, c * SPATIAL_DIM);
@@ -329,7 +373,7 @@ impl Multibody {
             // DoF that is `2V_λ × S_c`, computed as before so that its bits stay.
             let several = i != 0 && ws.link_dofs[i].len() > 1;
             let mut joint_bias = Spatial::default();
-            if several && velocity_terms {
+            if several {
                 let mut slides = DVec3::ZERO;
                 for c in ws.link_dofs[i].clone() {
                     if dvec3_at(jacobian, c * SPATIAL_DIM + DIM) == DVec3::ZERO {
@@ -347,34 +391,32 @@ impl Multibody {
                 let jw = dvec3_at(jacobian, c * SPATIAL_DIM + DIM);
                 let motion = Spatial::new(jw, jv - jw.cross(r));
                 ws.motions[c] = (motion, composite.inertia_times(motion));
-                if velocity_terms {
-                    let coriolis_motion = if i == 0 {
-                        // `V_root × S + ∂(0, v_o × ω)/∂q̇_c`.
-                        let root_bias = if jw == DVec3::ZERO {
-                            jv.cross(root_angvel)
-                        } else {
-                            root_origin_velocity.cross(jw)
-                        };
-                        let turned = ws.velocities[0].cross_motion(motion);
-                        Spatial::new(turned.ang, turned.lin + root_bias)
-                    } else if several && jw != DVec3::ZERO {
-                        joint_bias.cross_motion(motion)
+                let coriolis_motion = if i == 0 {
+                    // `V_root × S + ∂(0, v_o × ω)/∂q̇_c`.
+                    let root_bias = if jw == DVec3::ZERO {
+                        jv.cross(root_angvel)
                     } else {
-                        let parent_velocity = ws.velocities[link.parent_internal_id];
-                        Spatial::new(parent_velocity.ang * 2.0, parent_velocity.lin * 2.0)
-                            .cross_motion(motion)
+                        root_origin_velocity.cross(jw)
                     };
-                    let b_motion = composite.b_times(motion);
-                    let motion_momentum = motion.cross_force(composite.momentum);
-                    ws.dofs[c] = CompositeDof {
-                        coriolis_motion,
-                        velocity_force: composite
-                            .inertia_times(coriolis_motion)
-                            .add(b_motion)
-                            .add(motion_momentum),
-                        velocity_force_below: b_motion.sub(motion_momentum),
-                    };
-                }
+                    let turned = ws.velocities[0].cross_motion(motion);
+                    Spatial::new(turned.ang, turned.lin + root_bias)
+                } else if several && jw != DVec3::ZERO {
+                    joint_bias.cross_motion(motion)
+                } else {
+                    let parent_velocity = ws.velocities[link.parent_internal_id];
+                    Spatial::new(parent_velocity.ang * 2.0, parent_velocity.lin * 2.0)
+                        .cross_motion(motion)
+                };
+                let b_motion = composite.b_times(motion);
+                let motion_momentum = motion.cross_force(composite.momentum);
+                ws.dofs[c] = CompositeDof {
+                    coriolis_motion,
+                    velocity_force: composite
+                        .inertia_times(coriolis_motion)
+                        .add(b_motion)
+                        .add(motion_momentum),
+                    velocity_force_below: b_motion.sub(motion_momentum),
+                };
             }
         }
 
@@ -393,15 +435,13 @@ impl Multibody {
                     for a in ws.link_dofs[k].start..upto {
                         let above_motion = ws.motions[a].0;
                         mass[a + c * n] = above_motion.dot(below_inertia_motion) as Real;
-                        if velocity_terms {
-                            let (below, above) = (&ws.dofs[c], &ws.dofs[a]);
-                            acc[a + c * n] = (dt * above_motion.dot(below.velocity_force)) as Real;
-                            if a != c {
-                                acc[c + a * n] = (dt
-                                    * (below_inertia_motion.dot(above.coriolis_motion)
-                                        + below.velocity_force_below.dot(above_motion)))
-                                    as Real;
-                            }
+                        let (below, above) = (&ws.dofs[c], &ws.dofs[a]);
+                        acc[a + c * n] = (dt * above_motion.dot(below.velocity_force)) as Real;
+                        if a != c {
+                            acc[c + a * n] = (dt
+                                * (below_inertia_motion.dot(above.coriolis_motion)
+                                    + below.velocity_force_below.dot(above_motion)))
+                                as Real;
                         }
                     }
                     if k == 0 {
@@ -412,6 +452,85 @@ impl Multibody {
             }
         }
 
+        self.composite_workspace = ws;
+    }
+
+    /// `M` alone (no velocity terms), by the same arithmetic as [`Self::composite_mass_matrices`]
+    /// with the velocity terms (the same bits), reading and writing only what `M` needs
+    /// (gymfleet patch 35): the subtrees' inertias without momenta, and no per-link records.
+    fn composite_mass_matrix(&mut self, bodies: &RigidBodySet) {
+        let nlinks = self.links.len();
+        let n = self.ndofs;
+        let mut ws = core::mem::take(&mut self.composite_workspace);
+        ws.inertias.resize(nlinks, SubtreeInertia::default());
+        ws.offsets.resize(nlinks, DVec3::ZERO);
+        ws.motions.resize(n, Default::default());
+        let com = |link: &super::MultibodyLink, rb: &RigidBody| {
+            (link.local_to_world * rb.mprops.local_mprops.local_com).as_dvec3()
+        };
+        let root = &self.links[0];
+        let p0 = com(root, &bodies[root.rigid_body]);
+        // A fixed root is moved by no DoF: its DoFs (if any) have no motion, and no DoF reads its
+        // subtree's inertia.
+        let first_moving = if self.root_is_dynamic { 0 } else { 1 };
+        if first_moving == 1 {
+            for c in root.assembly_id..root.assembly_id + root.joint.ndofs() {
+                ws.motions[c] = Default::default();
+            }
+        }
+        for i in first_moving..nlinks {
+            let link = &self.links[i];
+            let rb = &bodies[link.rigid_body];
+            let r = com(link, rb) - p0;
+            ws.offsets[i] = r;
+            ws.inertias[i] = SubtreeInertia::of_link(self.workspace.link_inertias[i], r);
+        }
+        // Subtree sums, children (which come after their parents) first.
+        for i in (first_moving.max(1)..nlinks).rev() {
+            let parent = self.links[i].parent_internal_id;
+            if parent >= first_moving {
+                let (above, from_child) = ws.inertias.split_at_mut(i);
+                above[parent].accumulate(&from_child[0]);
+            }
+        }
+        for i in first_moving..nlinks {
+            let link = &self.links[i];
+            let jacobian = self.body_jacobians[i].as_slice();
+            let (r, inertia) = (ws.offsets[i], ws.inertias[i]);
+            for c in link.assembly_id..link.assembly_id + link.joint.ndofs() {
+                let jv = dvec3_at(jacobian, c * SPATIAL_DIM);
+                let jw = dvec3_at(jacobian, c * SPATIAL_DIM + DIM);
+                let motion = Spatial::new(jw, jv - jw.cross(r));
+                ws.motions[c] = (motion, inertia.times(motion));
+            }
+        }
+        // Each link's path: its ancestors' DoFs from the root down, then its own.
+        ws.paths.clear();
+        ws.path_ranges.clear();
+        for link in self.links.iter() {
+            let start = ws.paths.len();
+            if let Some(parent) = ws.path_ranges.get(link.parent_internal_id).cloned() {
+                ws.paths.extend_from_within(parent);
+            }
+            ws.paths
+                .extend(link.assembly_id..link.assembly_id + link.joint.ndofs());
+            ws.path_ranges.push(start..ws.paths.len());
+        }
+        // Every pair of DoFs on one path from the root, as in `composite_mass_matrices`, into
+        // both triangles of `M`.
+        let mass = self.augmented_mass.as_mut_slice();
+        for i in first_moving..nlinks {
+            let path = &ws.paths[ws.path_ranges[i].clone()];
+            let own = path.len() - self.links[i].joint.ndofs();
+            for (j, &c) in path.iter().enumerate().skip(own) {
+                let below_inertia_motion = ws.motions[c].1;
+                for &a in &path[..=j] {
+                    let entry = ws.motions[a].0.dot(below_inertia_motion) as Real;
+                    mass[a + c * n] = entry;
+                    mass[c + a * n] = entry;
+                }
+            }
+        }
         self.composite_workspace = ws;
     }
 }

@@ -15,7 +15,7 @@ const DT: Real = 1.0 / 1200.0;
 /// branch and a revolute about a skew axis on another. Every centre of mass is off its
 /// joint; the joints start displaced and moving. Returns the world, the multibody's handle
 /// and the displacement that `moved` applies.
-fn tree(free_root: bool, ball: bool) -> (PhysicsWorld, MultibodyJointHandle, Vec<Real>) {
+pub(super) fn tree(free_root: bool, ball: bool) -> (PhysicsWorld, MultibodyJointHandle, Vec<Real>) {
     let mut world = PhysicsWorld::new();
     let base = if free_root {
         world
@@ -109,11 +109,12 @@ fn tree(free_root: bool, ball: bool) -> (PhysicsWorld, MultibodyJointHandle, Vec
     (world, handle, values(0.1, 3))
 }
 
-fn multibody(world: &mut PhysicsWorld, handle: MultibodyJointHandle) -> &mut Multibody {
+pub(super) fn multibody(world: &mut PhysicsWorld, handle: MultibodyJointHandle) -> &mut Multibody {
     world.multibody_joints.get_mut(handle).unwrap().0
 }
 
-const CASES: [(bool, bool); 4] = [(false, false), (true, false), (false, true), (true, true)];
+pub(super) const CASES: [(bool, bool); 4] =
+    [(false, false), (true, false), (false, true), (true, true)];
 
 /// The backward pass's generalized forces are `Σᵢ Jᵢᵀ·fᵢ` over the links' full body
 /// jacobians, to `f32` rounding, for the forces it projects and for the applied ones.

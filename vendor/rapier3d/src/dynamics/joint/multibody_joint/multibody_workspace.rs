@@ -1,8 +1,7 @@
 use crate::alloc_prelude::*;
 use crate::dynamics::RigidBodyVelocity;
-#[cfg(feature = "dim3")]
 use crate::math::Vector;
-use crate::math::{DVector, Real};
+use crate::math::{AngularInertia, DVector, Real};
 
 /// One column (DoF) of a link's contribution to the mass matrices: the products of its
 /// body-jacobian column the mass matrices are built from (gymfleet patch).
@@ -20,6 +19,11 @@ pub(crate) struct MassColumn {
 #[derive(Clone, Debug)]
 pub(crate) struct MultibodyWorkspace {
     pub accs: Vec<RigidBodyVelocity<Real>>,
+    /// Per link, its effective mass and world-space angular inertia at this substep's
+    /// configuration (`Multibody::update_link_inertias`), computed once for both the mass
+    /// matrices and the accelerations (gymfleet patch 35).
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    pub link_inertias: Vec<(Vector, AngularInertia)>,
     pub ndofs_vec: DVector,
     /// Buffers of `update_acceleration` and its energy guard, reused from one substep to
     /// the next (gymfleet patch).
@@ -53,6 +57,7 @@ impl MultibodyWorkspace {
     pub fn new() -> Self {
         MultibodyWorkspace {
             accs: Vec::new(),
+            link_inertias: Vec::new(),
             ndofs_vec: DVector::zeros(0),
             pos_forces: DVector::zeros(0),
             gen_forces: DVector::zeros(0),
