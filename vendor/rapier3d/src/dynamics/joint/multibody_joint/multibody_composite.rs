@@ -189,9 +189,6 @@ pub(crate) struct CompositeWorkspace {
     parents: Vec<usize>,
     offsets: Vec<DVec3>,
     link_dofs: Vec<core::ops::Range<usize>>,
-    /// Per link, the range in `paths` of its path's DoFs (M alone, patch 35).
-    path_ranges: Vec<core::ops::Range<usize>>,
-    paths: Vec<usize>,
 }
 
 fn dvec3_at(slice: &[Real], at: usize) -> DVec3 {
@@ -457,14 +454,19 @@ impl Multibody {
 
     /// `M` alone (no velocity terms), by the same arithmetic as [`Self::composite_mass_matrices`]
     /// with the velocity terms (the same bits), reading and writing only what `M` needs
-    /// (gymfleet patch 35): the subtrees' inertias without momenta, and no per-link records.
+    /// (gymfleet patch 35): the subtrees' inertias without momenta, no per-DoF velocity records,
+    /// and two passes over the links instead of four. Forward, each link's own inertia at `p₀`
+    /// and its DoFs' motions; backward (children first), each link's subtree is complete when
+    /// it is reached, so it is added to its parent's and its DoFs' columns of `M` are written,
+    /// in both triangles.
     fn composite_mass_matrix(&mut self, bodies: &RigidBodySet) {
         let nlinks = self.links.len();
         let n = self.ndofs;
         let mut ws = core::mem::take(&mut self.composite_workspace);
         ws.inertias.resize(nlinks, SubtreeInertia::default());
-        ws.offsets.resize(nlinks, DVec3::ZERO);
         ws.motions.resize(n, Default::default());
+        ws.parents.clear();
+        ws.link_dofs.clear();
         let com = |link: &super::MultibodyLink, rb: &RigidBody| {
             (link.local_to_world * rb.mprops.local_mprops.local_com).as_dvec3()
         };
@@ -473,61 +475,52 @@ impl Multibody {
         // A fixed root is moved by no DoF: its DoFs (if any) have no motion, and no DoF reads its
         // subtree's inertia.
         let first_moving = if self.root_is_dynamic { 0 } else { 1 };
-        if first_moving == 1 {
-            for c in root.assembly_id..root.assembly_id + root.joint.ndofs() {
-                ws.motions[c] = Default::default();
+        for (i, link) in self.links.iter().enumerate() {
+            let dofs = link.assembly_id..link.assembly_id + link.joint.ndofs();
+            if i < first_moving {
+                for c in dofs.clone() {
+                    ws.motions[c].0 = Spatial::default();
+                }
+            } else {
+                let rb = &bodies[link.rigid_body];
+                let r = com(link, rb) - p0;
+                ws.inertias[i] = SubtreeInertia::of_link(self.workspace.link_inertias[i], r);
+                let jacobian = self.body_jacobians[i].as_slice();
+                for c in dofs.clone() {
+                    let jv = dvec3_at(jacobian, c * SPATIAL_DIM);
+                    let jw = dvec3_at(jacobian, c * SPATIAL_DIM + DIM);
+                    ws.motions[c].0 = Spatial::new(jw, jv - jw.cross(r));
+                }
             }
+            ws.parents.push(link.parent_internal_id);
+            ws.link_dofs.push(dofs);
         }
-        for i in first_moving..nlinks {
-            let link = &self.links[i];
-            let rb = &bodies[link.rigid_body];
-            let r = com(link, rb) - p0;
-            ws.offsets[i] = r;
-            ws.inertias[i] = SubtreeInertia::of_link(self.workspace.link_inertias[i], r);
-        }
-        // Subtree sums, children (which come after their parents) first.
-        for i in (first_moving.max(1)..nlinks).rev() {
-            let parent = self.links[i].parent_internal_id;
-            if parent >= first_moving {
-                let (above, from_child) = ws.inertias.split_at_mut(i);
-                above[parent].accumulate(&from_child[0]);
-            }
-        }
-        for i in first_moving..nlinks {
-            let link = &self.links[i];
-            let jacobian = self.body_jacobians[i].as_slice();
-            let (r, inertia) = (ws.offsets[i], ws.inertias[i]);
-            for c in link.assembly_id..link.assembly_id + link.joint.ndofs() {
-                let jv = dvec3_at(jacobian, c * SPATIAL_DIM);
-                let jw = dvec3_at(jacobian, c * SPATIAL_DIM + DIM);
-                let motion = Spatial::new(jw, jv - jw.cross(r));
-                ws.motions[c] = (motion, inertia.times(motion));
-            }
-        }
-        // Each link's path: its ancestors' DoFs from the root down, then its own.
-        ws.paths.clear();
-        ws.path_ranges.clear();
-        for link in self.links.iter() {
-            let start = ws.paths.len();
-            if let Some(parent) = ws.path_ranges.get(link.parent_internal_id).cloned() {
-                ws.paths.extend_from_within(parent);
-            }
-            ws.paths
-                .extend(link.assembly_id..link.assembly_id + link.joint.ndofs());
-            ws.path_ranges.push(start..ws.paths.len());
-        }
-        // Every pair of DoFs on one path from the root, as in `composite_mass_matrices`, into
-        // both triangles of `M`.
         let mass = self.augmented_mass.as_mut_slice();
-        for i in first_moving..nlinks {
-            let path = &ws.paths[ws.path_ranges[i].clone()];
-            let own = path.len() - self.links[i].joint.ndofs();
-            for (j, &c) in path.iter().enumerate().skip(own) {
-                let below_inertia_motion = ws.motions[c].1;
-                for &a in &path[..=j] {
+        for i in (first_moving..nlinks).rev() {
+            let inertia = ws.inertias[i];
+            let parent = ws.parents[i];
+            if i != 0 && parent >= first_moving {
+                ws.inertias[parent].accumulate(&inertia);
+            }
+            // Every pair of DoFs on one path from the root, `c` on this link: `a ≤ c` on it,
+            // then every DoF of each ancestor.
+            let own = ws.link_dofs[i].clone();
+            for c in own.clone() {
+                let below_inertia_motion = inertia.times(ws.motions[c].0);
+                let mut write = |a: usize| {
                     let entry = ws.motions[a].0.dot(below_inertia_motion) as Real;
                     mass[a + c * n] = entry;
                     mass[c + a * n] = entry;
+                };
+                for a in own.start..=c {
+                    write(a);
+                }
+                let mut k = i;
+                while k != 0 {
+                    k = ws.parents[k];
+                    for a in ws.link_dofs[k].clone() {
+                        write(a);
+                    }
                 }
             }
         }
