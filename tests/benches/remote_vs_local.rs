@@ -15,6 +15,10 @@
 //! - `remote_stream`: `StreamBatch` with 4 steps in flight;
 //! - `rpc_roundtrip`: one `GetServerInfo` call, the floor of the remote overhead.
 //!
+//! `reply_codec/{16,256,1024}` encodes a real batch step's reply (`BatchStepResult`, from an
+//! in-process step of the same arm2 batch) with prost and decodes it again: the payload's own
+//! share of the remote path, apart from HTTP/2 and the wake-ups.
+//!
 //! Both sides use same-step autoreset with 200-step episodes, so they cycle through the
 //! same states however many iterations criterion runs.
 #![allow(missing_docs)]
@@ -30,6 +34,7 @@ use gymfleet_env::{ActionType, EnvConfig, RobotEnv};
 use gymfleet_proto::v1 as pb;
 use gymfleet_server::{DirectService, ServerConfig, Tenant};
 use pb::simulator_server::Simulator;
+use prost::Message;
 
 const SIZES: [usize; 3] = [16, 256, 1024];
 const THREADS: [usize; 2] = [1, 2];
@@ -225,5 +230,43 @@ fn bench_remote_vs_local(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_remote_vs_local);
+fn bench_reply_codec(c: &mut Criterion) {
+    let pool = StepPool::new(1).expect("pool");
+    let config = EnvConfig {
+        max_steps: MAX_STEPS,
+        ..EnvConfig::with_end_effectors(["forearm"])
+    };
+    let template = RobotEnv::from_json(ARM2, config).expect("arm2");
+    let mut group = c.benchmark_group("reply_codec");
+    group.sample_size(20);
+    for n_envs in SIZES {
+        let mut batch = EnvBatch::new(&template, n_envs, Autoreset::SameStep).expect("batch");
+        let mut out = BatchStepOutput::default();
+        batch
+            .step(&pool, ActionType::Torque, &actions(n_envs), &mut out)
+            .expect("step");
+        let reply = pb::BatchStepResult {
+            batch_id: "b-0123456789abcdef".to_string(),
+            step_index: 1,
+            observations: out.observations.clone(),
+            rewards: out.rewards.clone(),
+            terminated: out.terminated.clone(),
+            truncated: out.truncated.clone(),
+            final_env_indices: out.final_env_indices.clone(),
+            final_observations: out.final_observations.clone(),
+            terms: out.terms.clone(),
+            ..Default::default()
+        };
+        group.throughput(Throughput::Bytes(reply.encoded_len() as u64));
+        group.bench_function(BenchmarkId::from_parameter(n_envs), |b| {
+            b.iter(|| {
+                let bytes = reply.encode_to_vec();
+                pb::BatchStepResult::decode(bytes.as_slice()).expect("decode")
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench_remote_vs_local, bench_reply_codec);
 criterion_main!(benches);

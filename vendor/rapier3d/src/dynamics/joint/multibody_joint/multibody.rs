@@ -77,9 +77,6 @@ fn resize_zeroed(v: &mut DVector, n: usize) {
     }
 }
 
-/// The three components at `slice[at..at + 3]` as a vector.
-#[cfg(feature = "dim3")]
-#[inline]
 /// The free axes of `joint`, in axis order, each with its DoF's index (the first is
 /// `first_dof`): the set bits of its free-axis mask rather than all six axes (gymfleet patch 35).
 fn free_axes(joint: &MultibodyJoint, first_dof: usize) -> impl Iterator<Item = (usize, usize)> {
@@ -96,6 +93,9 @@ fn free_axes(joint: &MultibodyJoint, first_dof: usize) -> impl Iterator<Item = (
     })
 }
 
+/// The three components at `slice[at..at + 3]` as a vector.
+#[cfg(feature = "dim3")]
+#[inline]
 fn vec3_at(slice: &[Real], at: usize) -> Vector {
     Vector::new(slice[at], slice[at + 1], slice[at + 2])
 }

@@ -181,7 +181,8 @@ pub(crate) struct CompositeWorkspace {
     inertias: Vec<SubtreeInertia>,
     velocities: Vec<Spatial>,
     /// Per DoF: its motion `S` and `Î_L·S`, read by every pair, apart from the rest
-    /// ([`CompositeDof`], velocity terms only) so that the pairs of `M` read no more.
+    /// ([`CompositeDof`], velocity terms only) so that the pairs of `M` read no more. `M` alone
+    /// writes and reads only `S`.
     motions: Vec<(Spatial, Spatial)>,
     dofs: Vec<CompositeDof>,
     /// Per link: its parent, its DoFs (none for a welded link or a fixed root) and its
@@ -257,11 +258,12 @@ impl Multibody {
             })
     }
 
-    /// Writes the upper triangle of `M` into `augmented_mass` and, if `velocity_terms`, all of
-    /// `dt·D` into `acc_augmented_mass` (both zeroed by the caller), as the link-by-link
-    /// construction would; see the module documentation. Needs the links' poses, body
-    /// jacobians and velocities of this configuration (`forward_kinematics`,
-    /// `update_velocities`).
+    /// Writes the upper triangle of `M` into `augmented_mass` and all of `dt·D` into
+    /// `acc_augmented_mass` (both zeroed by the caller), as the link-by-link construction would;
+    /// without `velocity_terms`, `M` alone in both triangles ([`Self::composite_mass_matrix`]).
+    /// See the module documentation. Needs the links' poses, body jacobians and velocities of
+    /// this configuration (`forward_kinematics`, `update_velocities`), and
+    /// `workspace.link_inertias` current.
     pub(super) fn composite_mass_matrices(
         &mut self,
         dt: Real,
