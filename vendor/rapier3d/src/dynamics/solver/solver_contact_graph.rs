@@ -112,13 +112,27 @@ impl Default for GraphPos {
 #[cfg_attr(feature = "serde-serialize", derive(Serialize, Deserialize))]
 pub(crate) struct SolverContactGraph {
     buckets: Vec<Vec<ContactRef>>,
+    /// Bit `b` set iff bucket `b` is not empty, and the total number of entries (gymfleet
+    /// patch 36, see `PATCHES.md`): [`Self::len`] and [`Self::buckets`] read these instead of
+    /// the 130 bucket headers (49 cache lines), which a small island has almost all empty.
+    occupied: [u64; OCCUPIED_WORDS],
+    len: usize,
 }
+
+/// Words of [`SolverContactGraph::occupied`]: one bit per bucket, the generic list included.
+const OCCUPIED_WORDS: usize = (NUM_BUCKETS + 1).div_ceil(64);
 
 impl SolverContactGraph {
     pub(crate) fn new() -> Self {
         Self {
             buckets: alloc::vec![Vec::new(); NUM_BUCKETS + 1],
+            occupied: [0; OCCUPIED_WORDS],
+            len: 0,
         }
+    }
+
+    fn mark_occupied(&mut self, bucket: usize) {
+        self.occupied[bucket / 64] |= 1 << (bucket % 64);
     }
 
     /// Clears every bucket (used when the graph must be rebuilt from scratch,
@@ -132,6 +146,8 @@ impl SolverContactGraph {
         for b in &mut self.buckets {
             b.clear();
         }
+        self.occupied = [0; OCCUPIED_WORDS];
+        self.len = 0;
     }
 
     /// Inserts a solver-active manifold into its color bucket and returns its
@@ -142,6 +158,8 @@ impl SolverContactGraph {
         let arr = &mut self.buckets[bucket as usize];
         let local = arr.len() as u32;
         arr.push(contact);
+        self.mark_occupied(bucket as usize);
+        self.len += 1;
         GraphPos::new(bucket, local)
     }
 
@@ -152,6 +170,8 @@ impl SolverContactGraph {
         let arr = &mut self.buckets[GENERIC_BUCKET as usize];
         let local = arr.len() as u32;
         arr.push(contact);
+        self.mark_occupied(GENERIC_BUCKET as usize);
+        self.len += 1;
         GraphPos::new(GENERIC_BUCKET, local)
     }
 
@@ -164,6 +184,14 @@ impl SolverContactGraph {
             self.buckets.resize_with(NUM_BUCKETS_WITH_GENERIC, Vec::new);
         }
         debug_assert_eq!(lens.len(), self.buckets.len());
+        self.occupied = [0; OCCUPIED_WORDS];
+        self.len = 0;
+        for (bucket, len) in lens.iter().enumerate() {
+            if *len > 0 {
+                self.mark_occupied(bucket);
+                self.len += *len as usize;
+            }
+        }
         self.buckets
             .iter_mut()
             .zip(lens.iter())
@@ -189,10 +217,16 @@ impl SolverContactGraph {
     #[inline]
     pub(crate) fn remove(&mut self, pos: GraphPos) -> Option<ContactRef> {
         debug_assert!(pos.is_some());
-        let arr = &mut self.buckets[pos.bucket() as usize];
+        let bucket = pos.bucket() as usize;
+        let arr = &mut self.buckets[bucket];
         let local = pos.local() as usize;
         let last = arr.len() - 1;
         arr.swap_remove(local);
+        if last == 0 {
+            self.occupied[bucket / 64] &= !(1 << (bucket % 64));
+        }
+        self.len -= 1;
+        let arr = &self.buckets[bucket];
         if local != last {
             // The previously-last entry now lives at `local`; its owner's
             // back-ref must be fixed to `pos`.
@@ -207,23 +241,33 @@ impl SolverContactGraph {
     // doesn't need totals.
     #[cfg_attr(not(feature = "parallel"), allow(dead_code))]
     pub(crate) fn len(&self) -> usize {
-        self.buckets.iter().map(|b| b.len()).sum()
+        debug_assert_eq!(
+            self.len,
+            self.buckets.iter().map(|b| b.len()).sum::<usize>()
+        );
+        self.len
     }
 
     /// Iterates every non-empty two-body color bucket as `(color, &[ContactRef])`, skipping the
     /// generic list. Colors below [`crate::geometry::SOLVER_COLOR_OVERFLOW`] are body-disjoint;
     /// the overflow color's bucket may share bodies.
     pub(crate) fn buckets(&self) -> impl Iterator<Item = (u8, &[ContactRef])> {
-        self.buckets[..NUM_BUCKETS]
-            .iter()
-            .enumerate()
-            .filter_map(|(id, arr)| {
-                if arr.is_empty() {
-                    None
-                } else {
-                    Some((id as u8, arr.as_slice()))
-                }
+        debug_assert!(self.buckets.iter().enumerate().all(|(id, arr)| {
+            arr.is_empty() != (self.occupied[id / 64] & (1 << (id % 64)) != 0)
+        }));
+        // The set bits below `NUM_BUCKETS`, in increasing order (the order of the buckets).
+        (0..OCCUPIED_WORDS).flat_map(move |word| {
+            let mut bits = self.occupied[word];
+            core::iter::from_fn(move || {
+                (bits != 0).then(|| {
+                    let id = word * 64 + bits.trailing_zeros() as usize;
+                    bits &= bits - 1;
+                    id
+                })
             })
+            .take_while(|id| *id < NUM_BUCKETS)
+            .map(move |id| (id as u8, self.buckets[id].as_slice()))
+        })
     }
 
     /// The generic (multibody-involved) manifold list.
@@ -330,5 +374,39 @@ mod test {
                 }
             }
         }
+    }
+
+    /// The occupancy bits and the count (gymfleet patch 36) follow every insert and
+    /// removal: a bucket emptied leaves [`SolverContactGraph::buckets`], the generic list
+    /// counts in `len` but is no color bucket, and the words past the first are read.
+    #[test]
+    fn occupancy_follows_inserts_and_removals() {
+        let mut g = SolverContactGraph::new();
+        let a = g.insert(1, cref(1));
+        let b = g.insert(70, cref(2));
+        let _c = g.insert(70, cref(3));
+        let overflow = g.insert((NUM_SOLVER_COLORS - 1) as u8, cref(4));
+        let generic = g.insert_generic(cref(5));
+        assert_eq!(g.len(), 5);
+        let colors = |g: &SolverContactGraph| -> alloc::vec::Vec<(u8, usize)> {
+            g.buckets().map(|(color, arr)| (color, arr.len())).collect()
+        };
+        assert_eq!(
+            colors(&g),
+            [(1, 1), (70, 2), ((NUM_SOLVER_COLORS - 1) as u8, 1)]
+        );
+        assert_eq!(g.remove(b), Some(cref(3)));
+        assert_eq!(
+            colors(&g),
+            [(1, 1), (70, 1), ((NUM_SOLVER_COLORS - 1) as u8, 1)]
+        );
+        // The third moved into the second's slot.
+        assert!(g.remove(b).is_none());
+        assert!(g.remove(a).is_none());
+        assert!(g.remove(overflow).is_none());
+        assert!(colors(&g).is_empty());
+        assert_eq!((g.len(), g.generic().len()), (1, 1));
+        assert!(g.remove(generic).is_none());
+        assert_eq!(g.len(), 0);
     }
 }
