@@ -122,6 +122,11 @@ impl Chunk {
             } => self.reset(seed, offset, marked),
             ChunkOp::Step { action_type } => {
                 for i in 0..self.envs.len() {
+                    // The next env's state is fetched while this one steps (`prefetch.rs`
+                    // in gymfleet-physics): with many envs per core it is out of cache.
+                    if let Some(next) = self.envs.get(i + 1) {
+                        next.prefetch();
+                    }
                     self.step_env(i, action_type, autoreset);
                 }
             }

@@ -36,6 +36,8 @@ struct Args {
     variant: String,
     amplitudes: Vec<f32>,
     tilt_deg: f64,
+    envs: usize,
+    prefetch: bool,
 }
 
 fn parse_args() -> Result<Args, String> {
@@ -49,6 +51,8 @@ fn parse_args() -> Result<Args, String> {
         variant: "zero".to_string(),
         amplitudes: Vec::new(),
         tilt_deg: 0.01f64.to_degrees(),
+        envs: 1,
+        prefetch: false,
     };
     let mut it = std::env::args().skip(1);
     while let Some(flag) = it.next() {
@@ -63,6 +67,8 @@ fn parse_args() -> Result<Args, String> {
             "--repeats" => args.repeats = value()?.parse().map_err(|e| bad(&e))?,
             "--variant" => args.variant = value()?,
             "--tilt-deg" => args.tilt_deg = value()?.parse().map_err(|e| bad(&e))?,
+            "--envs" => args.envs = value()?.parse().map_err(|e| bad(&e))?,
+            "--prefetch" => args.prefetch = value()? == "on",
             "--amplitudes" => {
                 args.amplitudes = value()?
                     .split(',')
@@ -139,39 +145,54 @@ fn main() {
         },
         ..EnvConfig::with_end_effectors([args.end_effector.clone()])
     };
-    let mut env = RobotEnv::from_json(&document, config).unwrap_or_else(|e| {
-        eprintln!("peer_step: {e}");
-        std::process::exit(2);
-    });
-    let dofs = env.spec().action_dim;
+    let mut envs = (0..args.envs.max(1))
+        .map(|_| RobotEnv::from_json(&document, config.clone()))
+        .collect::<Result<Vec<_>, _>>()
+        .unwrap_or_else(|e| {
+            eprintln!("peer_step: {e}");
+            std::process::exit(2);
+        });
+    let dofs = envs[0].spec().action_dim;
     let table = torque_table(&args, dofs).unwrap_or_else(|e| {
         eprintln!("peer_step: {e}");
         std::process::exit(2);
     });
-    let mut obs = vec![0.0f32; env.spec().observation_dim];
+    let mut obs = vec![0.0f32; envs[0].spec().observation_dim];
     let mut diverged = 0usize;
-    // FNV-1a over the bits of every observation of the last repeat: two builds that print
-    // the same hash stepped the same trajectory bit for bit.
+    // FNV-1a over the bits of every observation of the first env in the last repeat: two
+    // builds that print the same hash stepped the same trajectory bit for bit.
     let mut obs_hash = 0u64;
+    // With `--envs N`, each row steps N envs one after the other (the same actions, their
+    // own state), as a batch shard steps its envs: the time per env step then includes
+    // fetching each env's state from wherever the other N - 1 left it in the caches.
     let mut run = |rows: &[Vec<f32>]| {
         obs_hash = 0xcbf2_9ce4_8422_2325;
         let start = Instant::now();
         for (i, action) in rows.iter().enumerate() {
-            if i % RESET_EVERY == 0 {
-                env.reset_into(None, &mut obs);
-            }
-            let flags = env
-                .step_into(ActionType::Torque, action, &mut obs)
-                .expect("a valid action");
-            if flags.terminated {
-                diverged += 1;
-                env.reset_into(None, &mut obs);
-            }
-            for x in &obs {
-                obs_hash = (obs_hash ^ u64::from(x.to_bits())).wrapping_mul(0x0100_0000_01b3);
+            for k in 0..envs.len() {
+                if args.prefetch && k + 1 < envs.len() {
+                    envs[k + 1].prefetch();
+                }
+                let env = &mut envs[k];
+                if i % RESET_EVERY == 0 {
+                    env.reset_into(None, &mut obs);
+                }
+                let flags = env
+                    .step_into(ActionType::Torque, action, &mut obs)
+                    .expect("a valid action");
+                if flags.terminated {
+                    diverged += 1;
+                    env.reset_into(None, &mut obs);
+                }
+                if k == 0 {
+                    for x in &obs {
+                        obs_hash =
+                            (obs_hash ^ u64::from(x.to_bits())).wrapping_mul(0x0100_0000_01b3);
+                    }
+                }
             }
         }
-        start.elapsed().as_secs_f64() / rows.len() as f64 * 1e6
+        start.elapsed().as_secs_f64() / (rows.len() * envs.len()) as f64 * 1e6
     };
     run(&table[..table.len().min(200)]); // warm-up
     let mut us: Vec<f64> = (0..args.repeats).map(|_| run(&table)).collect();
@@ -181,7 +202,7 @@ fn main() {
     println!(
         "{{\"document\": {:?}, \"variant\": {:?}, \"substeps\": {}, \"dofs\": {dofs}, \
          \"us_per_env_step\": {median:.3}, \"repeats_us\": {repeats:?}, \"diverged\": {diverged}, \
-         \"obs_hash\": \"{obs_hash:016x}\"}}",
-        args.document, args.variant, args.substeps
+         \"envs\": {}, \"obs_hash\": \"{obs_hash:016x}\"}}",
+        args.document, args.variant, args.substeps, args.envs
     );
 }

@@ -409,6 +409,13 @@ impl RobotEnv {
         Observation::from_flat(flat, &self.spec.observation_layout)
     }
 
+    /// Hints the processor to bring this env's physics state into the core's caches ahead
+    /// of its next step ([`RobotWorld::prefetch`]): a batch shard calls it for the next env
+    /// before stepping the current one. Changes nothing.
+    pub fn prefetch(&self) {
+        self.world.prefetch();
+    }
+
     /// The current observation, without stepping.
     pub fn observe(&self) -> Observation {
         let mut flat = vec![0.0; self.spec.observation_dim];

@@ -156,6 +156,7 @@ impl RobotWorld {
         let planar_helpers = planar::helpers(&roots, &instance_poses);
         let mut world = RobotWorld {
             planar_helpers,
+            hot: Default::default(),
             fluid,
             contact_filter,
             tendons,
@@ -302,7 +303,7 @@ fn free_roots(sets: &Sets, bodies: &[RigidBodyHandle], owners: &[usize]) -> Vec<
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::{ActionMode, Units};
 
@@ -310,7 +311,7 @@ mod tests {
     /// base's reach as it swings); with `plate`, the arm hangs from a plate held there by
     /// a weld to the base instead of from the base itself (the plate touches neither:
     /// welded to one, jointed to the other).
-    fn pendulum(plate: bool) -> Assembly {
+    pub(crate) fn pendulum(plate: bool) -> Assembly {
         let (parent, plate_instance, weld) = if plate {
             (
                 "plate",

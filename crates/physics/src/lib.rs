@@ -27,6 +27,7 @@ mod error;
 mod fluid;
 mod loops;
 mod perturb;
+mod prefetch;
 mod randomize;
 mod readout;
 mod scene;

@@ -276,6 +276,8 @@ pub struct RobotWorld {
     pub(crate) contact_filter: ContactFilter,
     /// The helper instances of fused planar roots (`build/planar.rs`).
     pub(crate) planar_helpers: Vec<PlanarHelper>,
+    /// Where the state a step reads lies, for [`RobotWorld::prefetch`] (`prefetch.rs`).
+    pub(crate) hot: crate::prefetch::HotRanges,
 }
 
 /// The fluid and the bodies it acts on (`fluid.rs` computes the drag).
@@ -409,6 +411,7 @@ impl RobotWorld {
             self.pipeline_step(false);
         }
         self.refresh_body_velocities();
+        self.age_hot_ranges();
     }
 
     /// The links' body velocities from the final generalized velocities (vendored patch
@@ -480,6 +483,7 @@ impl RobotWorld {
     /// The command is reset to zero torque.
     pub fn reset(&mut self) {
         self.live.clone_from(&self.initial);
+        self.hot = Default::default();
         self.command.mode = ActionMode::Torque;
         self.command.values.iter_mut().for_each(|v| *v = 0.0);
         self.configure_motors();
