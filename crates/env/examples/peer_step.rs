@@ -17,6 +17,11 @@
 //! The env is reset every 1000 env steps, inside the timed loop. Prints one JSON object;
 //! its `obs_hash` (of every observation of the last repeat) tells whether two builds step
 //! the same trajectory bit for bit.
+//!
+//! `--envs N` steps N copies of the env in turn for each row of actions, as a batch shard
+//! steps its envs (the time is then per env step, and includes fetching each env's state
+//! back into the caches); `--prefetch on` hints each env's state in while the one before it
+//! steps, as the batch's chunks do (`RobotEnv::prefetch`). The hash is the first env's.
 
 use std::time::Instant;
 
