@@ -9,10 +9,10 @@
 //! land.
 //!
 //! The ranges are the addresses of the Rapier sets' bodies, colliders and their shapes,
-//! joints, multibody links and body jacobians, contact graph and manifolds, and of the
-//! world's own per-DOF tables: what Rapier makes public (its solver's buffers are not). They
-//! are taken after a step and again every [`REFRESH_EVERY`] steps (a set may have moved its
-//! storage since). A range that is stale costs a wasted hint, never a wrong result: a
+//! joints, multibody links, body jacobians and workspaces, contact graph and manifolds, the
+//! solver's per-step buffers (vendored patch 37 lists the last two), and the world's own
+//! per-DOF tables. They are taken after a step and again every [`REFRESH_EVERY`] steps (a set
+//! may have moved its storage since). A range that is stale costs a wasted hint, never a wrong result: a
 //! prefetch cannot fault and reads nothing the program sees.
 
 use core::mem::{size_of, size_of_val};
@@ -125,11 +125,11 @@ impl RobotWorld {
                 hot.push(link);
                 hot.push_slice(multibody.body_jacobian(i).as_slice());
             }
-            hot.push_slice(multibody.generalized_velocity().as_slice());
-            hot.push_slice(multibody.damping().as_slice());
-            hot.push_slice(multibody.armature().as_slice());
-            hot.push_slice(multibody.applied_forces().as_slice());
+            multibody.workspace_buffers(|address, bytes| hot.push_bytes(address, bytes));
         }
+        self.pipeline
+            .0
+            .workspace_buffers(|address, bytes| hot.push_bytes(address, bytes));
         let graph = s.narrow_phase.contact_graph().raw_graph();
         hot.push_slice(graph.raw_nodes());
         hot.push_slice(graph.raw_edges());
@@ -195,7 +195,7 @@ mod tests {
     }
 
     #[test]
-    fn a_step_takes_the_ranges_of_its_bodies_and_a_clone_or_reset_drops_them() {
+    fn a_step_takes_the_ranges_of_its_bodies_and_buffers_and_a_clone_or_reset_drops_them() {
         let mut world = RobotWorld::new(&pendulum(false), &WorldOptions::default()).unwrap();
         assert!(world.hot.ranges.is_empty());
         world.set_command(ActionMode::Torque, &[0.0]);
@@ -214,6 +214,18 @@ mod tests {
         for (_, body) in world.live.bodies.iter() {
             let start = core::ptr::from_ref(body).addr();
             assert!(covered(start) && covered(start + size_of_val(body) - 1));
+        }
+        let mut buffers = Vec::new();
+        world
+            .pipeline
+            .0
+            .workspace_buffers(|a, n| buffers.push((a, n)));
+        for multibody in world.live.multibody_joints.multibodies() {
+            multibody.workspace_buffers(|a, n| buffers.push((a, n)));
+        }
+        assert!(buffers.len() > 10, "{buffers:?}");
+        for (address, bytes) in buffers {
+            assert!(covered(address) && covered(address + bytes - 1));
         }
         assert!(world.clone().hot.ranges.is_empty());
         world.reset();

@@ -16,6 +16,7 @@ pub use physics_hooks::{
 };
 #[cfg(feature = "alloc")]
 pub use physics_pipeline::{PhysicsPipeline, Quarantine};
+pub(crate) use physics_pipeline::slice_span;
 #[cfg(feature = "alloc")]
 pub use physics_world::PhysicsWorld;
 #[cfg(feature = "alloc")]

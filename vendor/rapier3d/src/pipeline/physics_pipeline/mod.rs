@@ -14,6 +14,8 @@ use crate::geometry::{
 use crate::math::Vector;
 use crate::pipeline::{EventHandler, PhysicsHooks};
 
+mod buffers;
+pub(crate) use buffers::slice_span;
 mod quarantine;
 pub use quarantine::Quarantine;
 mod solve;

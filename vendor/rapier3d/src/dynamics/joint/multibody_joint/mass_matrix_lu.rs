@@ -54,6 +54,12 @@ impl MassMatrixLu {
         self.invertible
     }
 
+    /// The factors' storage (gymfleet patch 37, see `PATCHES.md`: for
+    /// [`super::Multibody::workspace_buffers`]).
+    pub(super) fn storage(&self) -> &[Real] {
+        self.lu.as_slice()
+    }
+
     /// Makes this factorisation a copy of `other`, reusing this one's storage (gymfleet patch,
     /// see `PATCHES.md`).
     pub fn copy_from(&mut self, other: &MassMatrixLu) {

@@ -24,6 +24,8 @@ use crate::prelude::{GenericJoint, RigidBody};
 #[cfg(feature = "dim3")]
 #[path = "multibody_composite.rs"]
 mod composite;
+#[path = "multibody_buffers.rs"]
+mod buffers;
 #[cfg(all(test, feature = "dim3"))]
 #[path = "multibody_lean_tests.rs"]
 mod lean_tests;

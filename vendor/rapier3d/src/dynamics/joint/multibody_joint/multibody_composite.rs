@@ -192,6 +192,21 @@ pub(crate) struct CompositeWorkspace {
     link_dofs: Vec<core::ops::Range<usize>>,
 }
 
+impl CompositeWorkspace {
+    /// Calls `f` with each buffer's `(address, bytes)` (gymfleet patch 37, see `PATCHES.md`).
+    pub(super) fn buffers(&self, f: &mut impl FnMut((usize, usize))) {
+        use crate::pipeline::slice_span;
+        f(slice_span(&self.composites));
+        f(slice_span(&self.inertias));
+        f(slice_span(&self.velocities));
+        f(slice_span(&self.motions));
+        f(slice_span(&self.dofs));
+        f(slice_span(&self.parents));
+        f(slice_span(&self.offsets));
+        f(slice_span(&self.link_dofs));
+    }
+}
+
 fn dvec3_at(slice: &[Real], at: usize) -> DVec3 {
     DVec3::new(
         f64::from(slice[at]),
