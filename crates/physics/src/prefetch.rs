@@ -2,45 +2,31 @@
 //!
 //! A batch shard steps its envs one after another, so by the time an env's turn comes
 //! round again the other envs have pushed its state out of the caches: past about 128
-//! HalfCheetahs per core (each step reads some 45 KiB of an env's state) the step waits on
+//! HalfCheetahs per core (each step reads some 47 KiB of an env's state) the step waits on
 //! memory (BENCHMARKS.md, S6). [`RobotWorld::prefetch`] asks the processor to fetch the
 //! memory the next step will read into the core's second-level cache, and the stepper calls
 //! it for env `i + 1` before stepping env `i`, whose step is long enough for the loads to
 //! land.
 //!
-//! The ranges are the addresses of the Rapier sets' bodies, colliders and their shapes,
-//! joints, multibody links, body jacobians and workspaces, contact graph and manifolds, the
-//! solver's per-step buffers (vendored patch 37 lists the last two), and the world's own
-//! per-DOF tables. They are taken after a step and again every [`REFRESH_EVERY`] steps (a set
-//! may have moved its storage since). A range that is stale costs a wasted hint, never a wrong result: a
-//! prefetch cannot fault and reads nothing the program sees.
+//! The ranges (`world.rs`'s `HotRanges`) are the addresses of the Rapier sets' bodies,
+//! colliders and their shapes, joints, multibody links, body jacobians and workspaces, contact
+//! graph and manifolds, the solver's per-step buffers (vendored patch 37 lists the multibody
+//! workspaces and the solver's buffers), and the world's own per-DOF tables. They are taken
+//! after a step and again every [`REFRESH_EVERY`] steps (a set may have moved its storage
+//! since). A stale range costs a wasted hint, never a wrong result: a prefetch cannot fault
+//! and reads nothing the program sees.
 
 use core::mem::{size_of, size_of_val};
 
 use rapier3d::geometry::PairContacts;
 
-use crate::world::RobotWorld;
+use crate::world::{HotRanges, RobotWorld};
 
 /// Steps between two refreshes of a world's ranges.
 const REFRESH_EVERY: u32 = 64;
 /// The most cache lines one call prefetches (a bound on the hint's own cost).
 const MAX_LINES: usize = 2048;
 const LINE: usize = 64;
-
-/// The memory ranges a world's step reads, as `(first line, lines)`.
-#[derive(Debug, Default)]
-pub(crate) struct HotRanges {
-    ranges: Vec<(usize, usize)>,
-    age: u32,
-}
-
-/// A clone's storage is elsewhere: it starts with no ranges and takes its own after its
-/// first step.
-impl Clone for HotRanges {
-    fn clone(&self) -> Self {
-        Self::default()
-    }
-}
 
 impl HotRanges {
     fn push_bytes(&mut self, start: usize, bytes: usize) {

@@ -277,7 +277,23 @@ pub struct RobotWorld {
     /// The helper instances of fused planar roots (`build/planar.rs`).
     pub(crate) planar_helpers: Vec<PlanarHelper>,
     /// Where the state a step reads lies, for [`RobotWorld::prefetch`] (`prefetch.rs`).
-    pub(crate) hot: crate::prefetch::HotRanges,
+    pub(crate) hot: HotRanges,
+}
+
+/// The memory ranges a world's step reads, as `(first cache line, lines)`, and the steps
+/// since they were taken (`prefetch.rs` takes and uses them).
+#[derive(Debug, Default)]
+pub(crate) struct HotRanges {
+    pub(crate) ranges: Vec<(usize, usize)>,
+    pub(crate) age: u32,
+}
+
+/// A clone's storage is elsewhere: it starts with no ranges and takes its own after its
+/// first step.
+impl Clone for HotRanges {
+    fn clone(&self) -> Self {
+        Self::default()
+    }
 }
 
 /// The fluid and the bodies it acts on (`fluid.rs` computes the drag).
