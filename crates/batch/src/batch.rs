@@ -78,6 +78,11 @@ impl BatchStepOutput {
 pub const MAX_DEFAULT_CHUNK_SIZE: usize = 16;
 
 /// The default chunk size for `n_envs` envs on a machine with `threads` cores:
+/// Envs a pool thread steps in turn above which a step prefetches each env's state while
+/// the env before it steps (`RobotEnv::prefetch`; BENCHMARKS S6: one thread kept the
+/// HalfCheetah's step cost up to 128 envs, and two share the last-level cache).
+pub(crate) const PREFETCH_ABOVE_ENVS_PER_THREAD: usize = 64;
+
 /// `ceil(n_envs / (4 × threads))`, clamped to `1..=MAX_DEFAULT_CHUNK_SIZE`.
 ///
 /// Four chunks per thread let the threads even out. The cap keeps one chunk short
@@ -298,7 +303,17 @@ impl EnvBatch {
             let end = start + chunk.len() * action_dim;
             chunk.actions.copy_from_slice(&actions[start..end]);
         }
-        self.run(pool, ChunkOp::Step { action_type })?;
+        // Past this many envs a thread, their states stop fitting in the caches between two
+        // of their steps, and each chunk prefetches its next env's (BENCHMARKS S6); below
+        // it the hints would only cost their own issue (about 1 % at 32 envs a thread).
+        let prefetch = self.n_envs > PREFETCH_ABOVE_ENVS_PER_THREAD * pool.threads();
+        self.run(
+            pool,
+            ChunkOp::Step {
+                action_type,
+                prefetch,
+            },
+        )?;
 
         out.clear_for(
             self.n_envs,

@@ -15,8 +15,12 @@ pub(crate) enum ChunkOp {
         offset: u64,
         marked: bool,
     },
-    /// Step every env with the chunk's action rows.
-    Step { action_type: ActionType },
+    /// Step every env with the chunk's action rows; with `prefetch`, hint each env's state
+    /// into the caches while the env before it steps.
+    Step {
+        action_type: ActionType,
+        prefetch: bool,
+    },
 }
 
 /// Where an env is between steps.
@@ -120,11 +124,14 @@ impl Chunk {
                 offset,
                 marked,
             } => self.reset(seed, offset, marked),
-            ChunkOp::Step { action_type } => {
+            ChunkOp::Step {
+                action_type,
+                prefetch,
+            } => {
                 for i in 0..self.envs.len() {
                     // The next env's state is fetched while this one steps (`prefetch.rs`
                     // in gymfleet-physics): with many envs per core it is out of cache.
-                    if let Some(next) = self.envs.get(i + 1) {
+                    if let Some(next) = self.envs.get(i + 1).filter(|_| prefetch) {
                         next.prefetch();
                     }
                     self.step_env(i, action_type, autoreset);

@@ -70,6 +70,31 @@ fn results_are_identical_for_any_thread_count_and_chunk_size() {
     }
 }
 
+/// Past 64 envs a pool thread, each chunk prefetches its next env's state while the env before
+/// it steps (`RobotEnv::prefetch`): a hint, so the same bits as a batch that does not.
+#[test]
+fn a_batch_large_enough_to_prefetch_steps_the_same_bits_as_one_that_does_not() {
+    const LARGE: usize = 130;
+    let template = noisy_arm2(7, 5.0);
+    // One thread: 130 > 64 envs a thread, prefetched. Four: 130 ≤ 256, not.
+    let trace = |threads: usize| {
+        let pool = StepPool::new(threads).unwrap();
+        let mut batch =
+            EnvBatch::with_chunk_size(&template, LARGE, Autoreset::SameStep, 16).unwrap();
+        let mut obs = Vec::new();
+        batch.reset(&pool, Some(42), 0, &mut obs).unwrap();
+        let mut out = BatchStepOutput::default();
+        (0..8)
+            .map(|t| {
+                let (action_type, values) = actions(t, LARGE, template.spec().action_dim);
+                batch.step(&pool, action_type, &values, &mut out).unwrap();
+                output_bits(&out)
+            })
+            .collect::<Vec<_>>()
+    };
+    assert!(trace(1) == trace(4));
+}
+
 /// A closed chain (the four-bar of `models/`, its loop an impulse joint solved with the
 /// tree) steps alike on any thread count and chunking too.
 #[test]
