@@ -73,7 +73,13 @@ fn parse_args() -> Result<Args, String> {
             "--variant" => args.variant = value()?,
             "--tilt-deg" => args.tilt_deg = value()?.parse().map_err(|e| bad(&e))?,
             "--envs" => args.envs = value()?.parse().map_err(|e| bad(&e))?,
-            "--prefetch" => args.prefetch = value()? == "on",
+            "--prefetch" => {
+                args.prefetch = match value()?.as_str() {
+                    "on" => true,
+                    "off" => false,
+                    other => return Err(format!("--prefetch takes on or off, not {other:?}")),
+                }
+            }
             "--amplitudes" => {
                 args.amplitudes = value()?
                     .split(',')

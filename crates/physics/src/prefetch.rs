@@ -11,12 +11,15 @@
 //! The ranges (`world.rs`'s `HotRanges`) are the addresses of the Rapier sets' bodies,
 //! colliders and their shapes, joints, multibody links, body jacobians and workspaces, contact
 //! graph and manifolds, the solver's per-step buffers (vendored patch 37 lists the multibody
-//! workspaces and the solver's buffers), and the world's own per-DOF tables. They are taken
-//! after a step and again every [`REFRESH_EVERY`] steps (a set may have moved its storage
-//! since). A stale range costs a wasted hint, never a wrong result: a prefetch cannot fault
-//! and reads nothing the program sees.
+//! workspaces and the solver's buffers), and the world's own per-DOF tables. A world takes
+//! them once something prefetches it: after its next step, and again every
+//! [`REFRESH_EVERY`] steps (a set may have moved its storage since); a world nobody
+//! prefetches (a single env, a batch below the threshold) never walks them. A stale range
+//! costs a wasted hint, never a wrong result: a prefetch cannot fault and reads nothing the
+//! program sees.
 
 use core::mem::{size_of, size_of_val};
+use core::sync::atomic::Ordering;
 
 use rapier3d::geometry::PairContacts;
 
@@ -70,9 +73,11 @@ impl HotRanges {
 
 impl RobotWorld {
     /// Hints the processor to bring this world's state into the core's caches ahead of its
-    /// next step (see the module documentation). Changes nothing; a no-op where the target
-    /// has no prefetch instruction, and before the world's first step.
+    /// next step (see the module documentation). Changes nothing the simulation reads; a
+    /// no-op where the target has no prefetch instruction. The first call only marks the
+    /// world: its next step takes the ranges, and later calls hint them.
     pub fn prefetch(&self) {
+        self.hot.wanted.store(true, Ordering::Relaxed);
         for &(first, lines) in &self.hot.ranges {
             for line in first..first + lines {
                 prefetch_line(line * LINE);
@@ -80,9 +85,13 @@ impl RobotWorld {
         }
     }
 
-    /// After a step: takes the ranges again if they are missing or [`REFRESH_EVERY`] steps
-    /// old. The state is in cache then, so walking it is cheap.
+    /// After a step of a world that is prefetched: takes the ranges again if they are missing
+    /// or [`REFRESH_EVERY`] steps old. The state is in cache then, so walking it is cheap.
+    /// Nothing for a world nobody prefetches (a single env, a batch below the threshold).
     pub(crate) fn age_hot_ranges(&mut self) {
+        if !self.hot.wanted.load(Ordering::Relaxed) {
+            return;
+        }
         self.hot.age += 1;
         if self.hot.ranges.is_empty() || self.hot.age >= REFRESH_EVERY {
             self.refresh_hot_ranges();
@@ -181,10 +190,15 @@ mod tests {
     }
 
     #[test]
-    fn a_step_takes_the_ranges_of_its_bodies_and_buffers_and_a_clone_or_reset_drops_them() {
+    fn a_prefetched_world_takes_the_ranges_of_its_bodies_and_buffers_and_a_clone_or_reset_drops_them(
+    ) {
         let mut world = RobotWorld::new(&pendulum(false), &WorldOptions::default()).unwrap();
         assert!(world.hot.ranges.is_empty());
         world.set_command(ActionMode::Torque, &[0.0]);
+        // A world nobody prefetches takes no ranges.
+        world.step();
+        assert!(world.hot.ranges.is_empty());
+        world.prefetch();
         world.step();
         let ranges = world.hot.ranges.clone();
         assert!(
@@ -216,6 +230,9 @@ mod tests {
         assert!(world.clone().hot.ranges.is_empty());
         world.reset();
         assert!(world.hot.ranges.is_empty());
+        // A reset world is still prefetched: its next step takes the ranges again.
+        world.step();
+        assert!(!world.hot.ranges.is_empty());
     }
 
     #[test]

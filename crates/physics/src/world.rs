@@ -280,16 +280,18 @@ pub struct RobotWorld {
     pub(crate) hot: HotRanges,
 }
 
-/// The memory ranges a world's step reads, as `(first cache line, lines)`, and the steps
-/// since they were taken (`prefetch.rs` takes and uses them).
+/// The memory ranges a world's step reads, as `(first cache line, lines)`, the steps since
+/// they were taken, and whether anyone asked to prefetch them (`prefetch.rs` takes and uses
+/// them; a world nobody prefetches never takes them).
 #[derive(Debug, Default)]
 pub(crate) struct HotRanges {
     pub(crate) ranges: Vec<(usize, usize)>,
     pub(crate) age: u32,
+    pub(crate) wanted: std::sync::atomic::AtomicBool,
 }
 
-/// A clone's storage is elsewhere: it starts with no ranges and takes its own after its
-/// first step.
+/// A clone's storage is elsewhere: it starts with no ranges, and takes its own after its
+/// first step once it is prefetched.
 impl Clone for HotRanges {
     fn clone(&self) -> Self {
         Self::default()
@@ -499,7 +501,8 @@ impl RobotWorld {
     /// The command is reset to zero torque.
     pub fn reset(&mut self) {
         self.live.clone_from(&self.initial);
-        self.hot = Default::default();
+        // The clone may have moved the sets' storage: the next step takes the ranges again.
+        self.hot.ranges.clear();
         self.command.mode = ActionMode::Torque;
         self.command.values.iter_mut().for_each(|v| *v = 0.0);
         self.configure_motors();
