@@ -122,3 +122,73 @@ async fn a_panicking_step_is_contained() {
 
     server.stop().await.unwrap();
 }
+
+/// The same on a thread that runs its own calls' pool jobs (`run_jobs_here`, how the Python
+/// package calls its embedded server in process): the step runs on the caller's thread,
+/// and its panic is still an INTERNAL status that closes the env or batch, not an unwinding
+/// of the caller.
+#[test]
+fn a_panicking_step_run_on_the_callers_thread_is_contained() {
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+        .unwrap();
+    let config = ServerConfig {
+        threads: 2,
+        panic_on_action: Some(POISON),
+        ..ServerConfig::default()
+    };
+    let server = runtime.block_on(LocalServer::start(config)).unwrap();
+    let mut client = SimulatorClient::new(server.in_process());
+    fn on<F: std::future::Future>(runtime: &tokio::runtime::Runtime, future: F) -> F::Output {
+        gymfleet_server::run_jobs_here(|| runtime.block_on(future))
+    }
+
+    let create_env = pb::CreateEnvRequest {
+        document_json: PENDULUM.to_string(),
+        end_effector_ids: vec!["arm".into()],
+        ..Default::default()
+    };
+    let victim = on(&runtime, client.create_env(create_env.clone()))
+        .unwrap()
+        .into_inner()
+        .env_id;
+    let status = on(&runtime, client.step(step(&victim, POISON))).unwrap_err();
+    assert_eq!(status.code(), Code::Internal);
+    assert!(status.message().contains("injected panic"), "{}", status.message());
+    let status = on(&runtime, client.observe(pb::EnvRef { env_id: victim })).unwrap_err();
+    assert_eq!(status.code(), Code::NotFound);
+
+    // A batch of one chunk (stepped on this thread) and one of several (on the pool).
+    for n_envs in [1, 16] {
+        let batch_id = on(&runtime, client.create_batch(create(n_envs)))
+            .unwrap()
+            .into_inner()
+            .batch_id;
+        let mut actions = vec![0.5; n_envs as usize];
+        let ok = on(&runtime, client.step_batch(pb::StepBatchRequest {
+            batch_id: batch_id.clone(),
+            action_type: pb::ActionType::Torque as i32,
+            actions: actions.clone(),
+        }))
+        .unwrap()
+        .into_inner();
+        assert_eq!(ok.rewards.len(), n_envs as usize);
+        actions[0] = POISON;
+        let status = on(&runtime, client.step_batch(pb::StepBatchRequest {
+            batch_id: batch_id.clone(),
+            action_type: pb::ActionType::Torque as i32,
+            actions,
+        }))
+        .unwrap_err();
+        assert_eq!(status.code(), Code::Internal, "{n_envs} envs");
+        let status = on(&runtime, client.observe_batch(pb::BatchRef { batch_id })).unwrap_err();
+        assert_eq!(status.code(), Code::NotFound, "{n_envs} envs");
+    }
+    let info = on(&runtime, client.get_server_info(pb::GetServerInfoRequest {}))
+        .unwrap()
+        .into_inner();
+    assert_eq!((info.envs, info.batches), (0, 0));
+    runtime.block_on(server.stop()).unwrap();
+}

@@ -38,30 +38,31 @@ where
 {
     let result = py.detach(move || {
         let call = call();
-        runtime().block_on(async move {
-            match timeout {
-                None => call.await,
-                // The server hears of the deadline too (`grpc-timeout`), so it does not
-                // start work nobody waits for.
-                Some(limit) => {
-                    match tokio::time::timeout(limit, gymfleet_client::with_deadline(limit, call))
-                        .await
-                    {
-                        // The server may say so first (it read the same deadline): one
-                        // message either way.
-                        Ok(Err(ClientError::DeadlineExceeded { .. })) | Err(_) => {
-                            Err(ClientError::DeadlineExceeded {
-                                message: format!(
-                                    "no reply within the timeout of {} s",
-                                    limit.as_secs_f64()
-                                ),
-                            })
-                        }
-                        Ok(result) => result,
+        match timeout {
+            // Nothing can abandon a call without a deadline, so the embedded server's
+            // pool work for it runs on this thread, which would only wait for it (two
+            // thread wake-ups fewer a call); a remote server's is not affected.
+            None => gymfleet_server::run_jobs_here(|| runtime().block_on(call)),
+            // The server hears of the deadline too (`grpc-timeout`), so it does not
+            // start work nobody waits for.
+            Some(limit) => runtime().block_on(async move {
+                match tokio::time::timeout(limit, gymfleet_client::with_deadline(limit, call))
+                    .await
+                {
+                    // The server may say so first (it read the same deadline): one
+                    // message either way.
+                    Ok(Err(ClientError::DeadlineExceeded { .. })) | Err(_) => {
+                        Err(ClientError::DeadlineExceeded {
+                            message: format!(
+                                "no reply within the timeout of {} s",
+                                limit.as_secs_f64()
+                            ),
+                        })
                     }
+                    Ok(result) => result,
                 }
-            }
-        })
+            }),
+        }
     });
     result.map_err(to_py_err)
 }

@@ -12,10 +12,12 @@
 //! hand-off to the pool (e.g. [`StepPool::spawn`] plus a oneshot) belong to the server.
 
 mod batch;
+mod caller;
 mod chunk;
 mod error;
 mod pool;
 
 pub use batch::{default_chunk_size, Autoreset, BatchStepOutput, EnvBatch, MAX_DEFAULT_CHUNK_SIZE};
+pub use caller::run_jobs_here;
 pub use error::{BatchError, Result};
 pub use pool::{panic_message, JobQueueStats, StepPool, POOL_NICENESS, POOL_STACK_BYTES};

@@ -17,6 +17,7 @@ use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 use std::thread::{self, Thread};
 use std::time::Instant;
 
+use crate::caller::runs_jobs_here;
 use crate::error::{BatchError, Result};
 
 /// Stack of each pool thread, bytes. Documents are converted and validated on the pool,
@@ -118,11 +119,18 @@ impl StepPool {
     }
 
     /// Runs `f` on a pool thread (e.g. a whole batch step, whose result `f` hands back
-    /// through a channel). Never blocks the caller. A panic in `f` is printed by the
+    /// through a channel). Never blocks the caller (but see below). A panic in `f` is printed by the
     /// panic hook and otherwise ignored: `f`'s captures are dropped, so a channel
     /// sender in them tells the receiver.
+    ///
+    /// Inside [`crate::run_jobs_here`], `f` runs at once on the calling thread instead.
     pub fn spawn<F: FnOnce() + Send + 'static>(&self, f: F) {
-        self.inner.pool.spawn(self.inner.jobs.track(f));
+        let job = self.inner.jobs.track(f);
+        if runs_jobs_here() {
+            run_caught(job);
+        } else {
+            self.inner.pool.spawn(job);
+        }
     }
 
     /// How many jobs ([`StepPool::spawn`], [`StepPool::spawn_fair`]) wait for a thread,
@@ -142,7 +150,14 @@ impl StepPool {
     /// beside a tenant's 16k-env batches). `f` must not wait on other pool work (no
     /// batch steps inside: use [`StepPool::spawn`] for those). A panic in `f` is
     /// caught and dropped, as with `spawn`.
+    ///
+    /// Inside [`crate::run_jobs_here`], `f` runs at once on the calling thread instead:
+    /// the caller's own thread takes no turn from anyone.
     pub fn spawn_fair<F: FnOnce() + Send + 'static>(&self, f: F) {
+        if runs_jobs_here() {
+            run_caught(self.inner.jobs.track(f));
+            return;
+        }
         let task = Arc::new(OneOff {
             job: Mutex::new(Some(self.inner.jobs.track(f))),
         });
@@ -155,7 +170,8 @@ impl StepPool {
     /// Runs `f` on a pool thread and returns its result, blocking the caller. A step
     /// called this way is worked on by the pool's threads only; called directly from a
     /// thread outside the pool, the caller runs chunks too, one thread more than
-    /// [`StepPool::threads`]. From a thread of this pool, `f` runs in place.
+    /// [`StepPool::threads`] (inside [`crate::run_jobs_here`], only a step of one chunk).
+    /// From a thread of this pool, `f` runs in place.
     pub fn install<R: Send, F: FnOnce() -> R + Send>(&self, f: F) -> R {
         self.inner.pool.install(f)
     }
@@ -171,7 +187,9 @@ impl StepPool {
     ///
     /// Deadlock-free from any thread, pool threads included: the caller runs chunks
     /// itself while some of its own are unclaimed, and blocks only once every one of
-    /// them is running somewhere, and running chunks never wait on anything.
+    /// them is running somewhere, and running chunks never wait on anything. (Inside
+    /// [`crate::run_jobs_here`], from outside the pool, a caller of several chunks only
+    /// waits: the pool's threads take them all.)
     pub(crate) fn run_chunked<W>(&self, n_chunks: usize, work: W) -> Result<(), ChunkPanic>
     where
         W: Fn(usize) + Send + Sync + 'static,
@@ -191,14 +209,24 @@ impl StepPool {
         queue
             .lock()
             .push_back(Arc::clone(&task) as Arc<dyn QueuedTask>);
-        for _ in 0..self.threads().min(n_chunks) {
+        // A caller inside `run_jobs_here` runs a one-chunk task alone and leaves a task
+        // of several chunks to the pool's threads. Running chunks beside them, it would
+        // take a core from one (as many threads as cores); beside one fewer of them, it
+        // would not save that one from being woken: a rayon thread that finds work wakes
+        // a sleeping one, which then spins on the cores the work needs.
+        let (helpers, helps) = match (runs_jobs_here(), n_chunks) {
+            (true, 1) => (0, true),
+            (true, _) => (self.threads().min(n_chunks), false),
+            (false, _) => (self.threads().min(n_chunks), true),
+        };
+        for _ in 0..helpers {
             let queue = Arc::clone(queue);
             self.inner.pool.spawn(move || while queue.run_one() {});
         }
         while task.remaining.load(Ordering::Acquire) != 0 {
             // Help while chunks of ours are unclaimed (taking turns with other tasks);
             // once all are claimed, wait for the threads running them.
-            if task.next.load(Ordering::Acquire) >= n_chunks || !queue.run_one() {
+            if !helps || task.next.load(Ordering::Acquire) >= n_chunks || !queue.run_one() {
                 thread::park();
             }
         }
@@ -218,6 +246,11 @@ impl fmt::Debug for StepPool {
             .field("chunks_run", &self.chunks_run())
             .finish()
     }
+}
+
+/// Runs `job` as a pool thread would: a panic is printed by the panic hook and dropped.
+fn run_caught(job: impl FnOnce()) {
+    let _ = panic::catch_unwind(AssertUnwindSafe(job));
 }
 
 /// The scheduling niceness of the pool's threads (Linux): 10, below the default 0 of

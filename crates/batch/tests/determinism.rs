@@ -70,6 +70,18 @@ fn results_are_identical_for_any_thread_count_and_chunk_size() {
     }
 }
 
+/// A caller that runs its own pool jobs (`run_jobs_here`, the Python package's calls to
+/// its embedded server) steps a batch of one chunk itself and leaves one of several to the
+/// pool: the same bits either way.
+#[test]
+fn a_caller_that_runs_its_jobs_itself_gets_the_same_bits() {
+    let reference = run(2, 3, Autoreset::SameStep);
+    for chunk_size in [3, N_ENVS] {
+        let marked = gymfleet_batch::run_jobs_here(|| run(2, chunk_size, Autoreset::SameStep));
+        assert!(marked == reference, "chunk size {chunk_size}");
+    }
+}
+
 /// Past 64 envs a pool thread, each chunk prefetches its next env's state while the env before
 /// it steps (`RobotEnv::prefetch`): a hint, so the same bits as a batch that does not.
 #[test]
