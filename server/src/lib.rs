@@ -41,12 +41,12 @@ pub use cli::{init_tracing, Cli, LogFormat};
 pub use clock::Clock;
 pub use config::{ServerConfig, TlsConfig, DEFAULT_IDLE_TTL};
 pub use direct::DirectService;
+pub use error::{EntityKind, Result, ServerError, MAX_STATUS_MESSAGE_BYTES};
 /// For a thread that blocks on its calls to an in-process server
 /// ([`LocalServer::in_process`]): inside it, the server's pool work for those calls runs
 /// on that thread, which saves two thread wake-ups a call (the Python package's calls
 /// without a deadline).
 pub use gymfleet_batch::run_jobs_here;
-pub use error::{EntityKind, Result, ServerError, MAX_STATUS_MESSAGE_BYTES};
 pub use limit::{
     Limit, DEFAULT_MAX_BATCH_SIZE, DEFAULT_MAX_DOCUMENT_BYTES, DEFAULT_MAX_DOFS,
     DEFAULT_MAX_END_EFFECTORS, DEFAULT_MAX_ENVS, DEFAULT_MAX_INSTANCES, DEFAULT_MAX_JOINTS,

@@ -156,7 +156,11 @@ fn a_panicking_step_run_on_the_callers_thread_is_contained() {
         .env_id;
     let status = on(&runtime, client.step(step(&victim, POISON))).unwrap_err();
     assert_eq!(status.code(), Code::Internal);
-    assert!(status.message().contains("injected panic"), "{}", status.message());
+    assert!(
+        status.message().contains("injected panic"),
+        "{}",
+        status.message()
+    );
     let status = on(&runtime, client.observe(pb::EnvRef { env_id: victim })).unwrap_err();
     assert_eq!(status.code(), Code::NotFound);
 
@@ -167,28 +171,37 @@ fn a_panicking_step_run_on_the_callers_thread_is_contained() {
             .into_inner()
             .batch_id;
         let mut actions = vec![0.5; n_envs as usize];
-        let ok = on(&runtime, client.step_batch(pb::StepBatchRequest {
-            batch_id: batch_id.clone(),
-            action_type: pb::ActionType::Torque as i32,
-            actions: actions.clone(),
-        }))
+        let ok = on(
+            &runtime,
+            client.step_batch(pb::StepBatchRequest {
+                batch_id: batch_id.clone(),
+                action_type: pb::ActionType::Torque as i32,
+                actions: actions.clone(),
+            }),
+        )
         .unwrap()
         .into_inner();
         assert_eq!(ok.rewards.len(), n_envs as usize);
         actions[0] = POISON;
-        let status = on(&runtime, client.step_batch(pb::StepBatchRequest {
-            batch_id: batch_id.clone(),
-            action_type: pb::ActionType::Torque as i32,
-            actions,
-        }))
+        let status = on(
+            &runtime,
+            client.step_batch(pb::StepBatchRequest {
+                batch_id: batch_id.clone(),
+                action_type: pb::ActionType::Torque as i32,
+                actions,
+            }),
+        )
         .unwrap_err();
         assert_eq!(status.code(), Code::Internal, "{n_envs} envs");
         let status = on(&runtime, client.observe_batch(pb::BatchRef { batch_id })).unwrap_err();
         assert_eq!(status.code(), Code::NotFound, "{n_envs} envs");
     }
-    let info = on(&runtime, client.get_server_info(pb::GetServerInfoRequest {}))
-        .unwrap()
-        .into_inner();
+    let info = on(
+        &runtime,
+        client.get_server_info(pb::GetServerInfoRequest {}),
+    )
+    .unwrap()
+    .into_inner();
     assert_eq!((info.envs, info.batches), (0, 0));
     runtime.block_on(server.stop()).unwrap();
 }

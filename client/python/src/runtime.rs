@@ -46,8 +46,7 @@ where
             // The server hears of the deadline too (`grpc-timeout`), so it does not
             // start work nobody waits for.
             Some(limit) => runtime().block_on(async move {
-                match tokio::time::timeout(limit, gymfleet_client::with_deadline(limit, call))
-                    .await
+                match tokio::time::timeout(limit, gymfleet_client::with_deadline(limit, call)).await
                 {
                     // The server may say so first (it read the same deadline): one
                     // message either way.
