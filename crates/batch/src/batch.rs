@@ -77,12 +77,12 @@ impl BatchStepOutput {
 /// Most envs per chunk under the default rule.
 pub const MAX_DEFAULT_CHUNK_SIZE: usize = 16;
 
-/// The default chunk size for `n_envs` envs on a machine with `threads` cores:
 /// Envs a pool thread steps in turn above which a step prefetches each env's state while
 /// the env before it steps (`RobotEnv::prefetch`; BENCHMARKS S6: one thread kept the
 /// HalfCheetah's step cost up to 128 envs, and two share the last-level cache).
 pub(crate) const PREFETCH_ABOVE_ENVS_PER_THREAD: usize = 64;
 
+/// The default chunk size for `n_envs` envs on a machine with `threads` cores:
 /// `ceil(n_envs / (4 × threads))`, clamped to `1..=MAX_DEFAULT_CHUNK_SIZE`.
 ///
 /// Four chunks per thread let the threads even out. The cap keeps one chunk short
