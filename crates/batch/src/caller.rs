@@ -6,9 +6,11 @@
 //! answer, each several microseconds on a VM. Inside [`run_jobs_here`], the jobs this
 //! thread hands to a pool (`spawn`, `spawn_fair`) run at once on this thread instead. A
 //! batch step of one chunk runs here too; one of several goes to the pool's threads as
-//! before, and its last chunk wakes this thread directly. Nothing else changes: results
-//! are the same bits, a job's panic is caught as on a pool thread, and a pool thread
-//! never runs another caller's job this way.
+//! before, and its last chunk wakes this thread directly. Such a caller steps again soon,
+//! so the pool threads that helped it wait a little for its next step
+//! ([`crate::HELPERS_LINGER`]) before they sleep, and that step wakes none. Nothing else
+//! changes: results are the same bits, a job's panic is caught as on a pool thread, and a
+//! pool thread never runs another caller's job this way.
 
 use std::cell::Cell;
 

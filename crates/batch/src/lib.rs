@@ -16,8 +16,10 @@ mod caller;
 mod chunk;
 mod error;
 mod pool;
+mod queue;
 
 pub use batch::{default_chunk_size, Autoreset, BatchStepOutput, EnvBatch, MAX_DEFAULT_CHUNK_SIZE};
 pub use caller::run_jobs_here;
 pub use error::{BatchError, Result};
-pub use pool::{panic_message, JobQueueStats, StepPool, POOL_NICENESS, POOL_STACK_BYTES};
+pub use pool::{JobQueueStats, StepPool, HELPERS_LINGER, POOL_NICENESS, POOL_STACK_BYTES};
+pub use queue::panic_message;

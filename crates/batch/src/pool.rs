@@ -8,17 +8,17 @@
 //! chunk: a one-chunk task submitted behind a thousand-chunk one waits for about one
 //! chunk per draining thread, not for the whole big task.
 
-use std::collections::VecDeque;
 use std::fmt;
 use std::num::NonZeroUsize;
 use std::panic::{self, AssertUnwindSafe};
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
-use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
-use std::thread::{self, Thread};
+use std::sync::{Arc, Mutex, PoisonError};
+use std::thread;
 use std::time::Instant;
 
 use crate::caller::runs_jobs_here;
 use crate::error::{BatchError, Result};
+use crate::queue::{ChunkPanic, FairQueue, OneOff, QueuedTask, Task};
 
 /// Stack of each pool thread, bytes. Documents are converted and validated on the pool,
 /// some of it recursively over the body tree (bounded by
@@ -162,9 +162,9 @@ impl StepPool {
             job: Mutex::new(Some(self.inner.jobs.track(f))),
         });
         let queue = &self.inner.queue;
-        queue.lock().push_back(task as Arc<dyn QueuedTask>);
+        queue.push(task as Arc<dyn QueuedTask>);
         let queue = Arc::clone(queue);
-        self.inner.pool.spawn(move || while queue.run_one() {});
+        self.inner.pool.spawn(move || queue.drain(None));
     }
 
     /// Runs `f` on a pool thread and returns its result, blocking the caller. A step
@@ -206,22 +206,26 @@ impl StepPool {
             waiter: thread::current(),
         });
         let queue = &self.inner.queue;
-        queue
-            .lock()
-            .push_back(Arc::clone(&task) as Arc<dyn QueuedTask>);
+        queue.push(Arc::clone(&task) as Arc<dyn QueuedTask>);
         // A caller inside `run_jobs_here` runs a one-chunk task alone and leaves a task
         // of several chunks to the pool's threads. Running chunks beside them, it would
         // take a core from one (as many threads as cores); beside one fewer of them, it
         // would not save that one from being woken: a rayon thread that finds work wakes
         // a sleeping one, which then spins on the cores the work needs.
-        let (helpers, helps) = match (runs_jobs_here(), n_chunks) {
+        let here = runs_jobs_here();
+        let (helpers, helps) = match (here, n_chunks) {
             (true, 1) => (0, true),
             (true, _) => (self.threads().min(n_chunks), false),
             (false, _) => (self.threads().min(n_chunks), true),
         };
-        for _ in 0..helpers {
+        // Such a caller steps again soon, so its helpers linger for the next step, and a
+        // helper still lingering from the last one is not woken again. (A caller that
+        // counts a lingering helper pushed its task before it looked: see `drain`.)
+        let linger = here.then_some(HELPERS_LINGER);
+        let awake = queue.lingering.load(Ordering::SeqCst).min(helpers);
+        for _ in awake..helpers {
             let queue = Arc::clone(queue);
-            self.inner.pool.spawn(move || while queue.run_one() {});
+            self.inner.pool.spawn(move || queue.drain(linger));
         }
         while task.remaining.load(Ordering::Acquire) != 0 {
             // Help while chunks of ours are unclaimed (taking turns with other tasks);
@@ -248,6 +252,14 @@ impl fmt::Debug for StepPool {
     }
 }
 
+/// How long a helper of a [`crate::run_jobs_here`] caller's step waits, spinning politely
+/// (`yield_now`), for the caller's next step once the queue is empty, before it goes back
+/// to rayon (which puts it to sleep). The caller's own work between two steps (Python's,
+/// for a `make_vec` of 64 HalfCheetahs about 45 µs) fits in it, so the next step starts
+/// without a thread wake-up: HalfCheetah's 64-env step 574 → 530 µs (BENCHMARKS, "The
+/// calling thread runs its own pool work").
+pub const HELPERS_LINGER: std::time::Duration = std::time::Duration::from_micros(100);
+
 /// Runs `job` as a pool thread would: a panic is printed by the panic hook and dropped.
 fn run_caught(job: impl FnOnce()) {
     let _ = panic::catch_unwind(AssertUnwindSafe(job));
@@ -273,176 +285,12 @@ fn lower_priority() {
     }
 }
 
-/// A chunk that panicked.
-#[derive(Debug)]
-pub(crate) struct ChunkPanic {
-    /// Its index.
-    pub(crate) chunk: usize,
-    /// The panic message, when it was a string.
-    pub(crate) message: String,
-}
-
-/// The round-robin queue of tasks with unclaimed chunks.
-#[derive(Default)]
-struct FairQueue {
-    tasks: Mutex<VecDeque<Arc<dyn QueuedTask>>>,
-    chunks_run: AtomicU64,
-}
-
-impl FairQueue {
-    fn lock(&self) -> MutexGuard<'_, VecDeque<Arc<dyn QueuedTask>>> {
-        // Nothing panics while holding the lock; recover rather than cascade if it did.
-        self.tasks.lock().unwrap_or_else(PoisonError::into_inner)
-    }
-
-    /// Claims and runs one chunk of the front task; false if the queue was empty.
-    fn run_one(&self) -> bool {
-        let (task, index) = {
-            let mut tasks = self.lock();
-            let Some(task) = tasks.pop_front() else {
-                return false;
-            };
-            let (index, more) = task.claim();
-            if more {
-                tasks.push_back(Arc::clone(&task));
-            }
-            (task, index)
-        };
-        task.run(index, &self.chunks_run);
-        true
-    }
-}
-
-/// A task as the queue sees it.
-trait QueuedTask: Send + Sync {
-    /// Claims the next chunk: its index, and whether unclaimed chunks remain.
-    /// Only called under the queue lock, on a task with an unclaimed chunk.
-    fn claim(&self) -> (usize, bool);
-    /// Runs a claimed chunk and records its completion: first in `chunks_run`, then
-    /// towards the task's, so a finished task's chunks are all counted.
-    fn run(&self, index: usize, chunks_run: &AtomicU64);
-}
-
-struct Task<W> {
-    work: W,
-    n_chunks: usize,
-    /// The next unclaimed chunk.
-    next: AtomicUsize,
-    /// Chunks not yet finished.
-    remaining: AtomicUsize,
-    /// The first chunk that panicked.
-    panic: Mutex<Option<ChunkPanic>>,
-    /// The thread blocked in `run_chunked`.
-    waiter: Thread,
-}
-
-impl<W: Fn(usize) + Send + Sync> QueuedTask for Task<W> {
-    fn claim(&self) -> (usize, bool) {
-        let index = self.next.fetch_add(1, Ordering::AcqRel);
-        (index, index + 1 < self.n_chunks)
-    }
-
-    fn run(&self, index: usize, chunks_run: &AtomicU64) {
-        if let Err(payload) = panic::catch_unwind(AssertUnwindSafe(|| (self.work)(index))) {
-            let message = panic_message(payload.as_ref());
-            let mut first = self.panic.lock().unwrap_or_else(PoisonError::into_inner);
-            if first.as_ref().is_none_or(|p| index < p.chunk) {
-                *first = Some(ChunkPanic {
-                    chunk: index,
-                    message,
-                });
-            }
-        }
-        chunks_run.fetch_add(1, Ordering::Relaxed);
-        if self.remaining.fetch_sub(1, Ordering::AcqRel) == 1 {
-            self.waiter.unpark();
-        }
-    }
-}
-
-/// A job of [`StepPool::spawn_fair`]: one chunk, run once.
-struct OneOff<F> {
-    job: Mutex<Option<F>>,
-}
-
-impl<F: FnOnce() + Send> QueuedTask for OneOff<F> {
-    fn claim(&self) -> (usize, bool) {
-        (0, false)
-    }
-
-    fn run(&self, _index: usize, _chunks_run: &AtomicU64) {
-        let job = self
-            .job
-            .lock()
-            .unwrap_or_else(PoisonError::into_inner)
-            .take();
-        if let Some(job) = job {
-            // The panic hook has printed it; the job's captures tell its caller.
-            let _ = panic::catch_unwind(AssertUnwindSafe(job));
-        }
-    }
-}
-
-/// The text of a panic's payload (what `panic!` was given), or a placeholder when it is
-/// not a string.
-pub fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
-    payload
-        .downcast_ref::<&str>()
-        .map(|s| (*s).to_string())
-        .or_else(|| payload.downcast_ref::<String>().cloned())
-        .unwrap_or_else(|| "(non-string panic payload)".to_string())
-}
-
 #[cfg(test)]
 mod tests {
     use std::sync::{Arc, Mutex};
     use std::thread;
 
     use super::*;
-
-    /// A task whose chunks record `(name, index)` when they run.
-    fn recording(
-        name: &'static str,
-        n_chunks: usize,
-        log: &Arc<Mutex<Vec<(&'static str, usize)>>>,
-    ) -> Arc<dyn QueuedTask> {
-        let log = Arc::clone(log);
-        Arc::new(Task {
-            work: move |i| log.lock().unwrap().push((name, i)),
-            n_chunks,
-            next: AtomicUsize::new(0),
-            remaining: AtomicUsize::new(n_chunks),
-            panic: Mutex::new(None),
-            waiter: thread::current(),
-        })
-    }
-
-    /// Tasks take turns chunk by chunk: a one-chunk task queued behind a big one runs
-    /// after one chunk of it, not after all of it, and so does each newcomer.
-    #[test]
-    fn tasks_take_turns_chunk_by_chunk() {
-        let queue = FairQueue::default();
-        let log = Arc::new(Mutex::new(Vec::new()));
-        queue.lock().push_back(recording("big", 5, &log));
-        assert!(queue.run_one());
-        queue.lock().push_back(recording("small", 1, &log));
-        queue.lock().push_back(recording("pair", 2, &log));
-        while queue.run_one() {}
-        assert_eq!(
-            *log.lock().unwrap(),
-            [
-                ("big", 0),
-                ("big", 1),
-                ("small", 0),
-                ("pair", 0),
-                ("big", 2),
-                ("pair", 1),
-                ("big", 3),
-                ("big", 4),
-            ]
-        );
-        assert_eq!(queue.chunks_run.load(Ordering::Relaxed), 8);
-    }
 
     #[test]
     fn a_panicking_chunk_is_reported_and_the_others_still_run() {

@@ -1,0 +1,257 @@
+//! The fair chunk queue a [`crate::StepPool`] shares among its tasks: tasks take turns
+//! chunk by chunk ([`FairQueue::run_one`]), and the pool's drainers run chunks until the
+//! queue is empty ([`FairQueue::drain`]), lingering a little for more when their caller
+//! comes back soon.
+
+use std::collections::VecDeque;
+use std::panic::{self, AssertUnwindSafe};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
+use std::thread::{self, Thread};
+use std::time::{Duration, Instant};
+
+/// A chunk that panicked.
+#[derive(Debug)]
+pub(crate) struct ChunkPanic {
+    /// Its index.
+    pub(crate) chunk: usize,
+    /// The panic message, when it was a string.
+    pub(crate) message: String,
+}
+
+/// The round-robin queue of tasks with unclaimed chunks.
+#[derive(Default)]
+pub(crate) struct FairQueue {
+    tasks: Mutex<VecDeque<Arc<dyn QueuedTask>>>,
+    pub(crate) chunks_run: AtomicU64,
+    /// Whether `tasks` has a task, as of the last change under its lock.
+    nonempty: AtomicBool,
+    /// Drainers waiting a little for more work before they go back to rayon.
+    pub(crate) lingering: AtomicUsize,
+}
+
+impl FairQueue {
+    fn lock(&self) -> MutexGuard<'_, VecDeque<Arc<dyn QueuedTask>>> {
+        // Nothing panics while holding the lock; recover rather than cascade if it did.
+        self.tasks.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// Puts `task` at the back.
+    pub(crate) fn push(&self, task: Arc<dyn QueuedTask>) {
+        let mut tasks = self.lock();
+        tasks.push_back(task);
+        self.nonempty.store(true, Ordering::SeqCst);
+    }
+
+    /// Claims and runs one chunk of the front task; false if the queue was empty.
+    pub(crate) fn run_one(&self) -> bool {
+        let (task, index) = {
+            let mut tasks = self.lock();
+            let Some(task) = tasks.pop_front() else {
+                return false;
+            };
+            let (index, more) = task.claim();
+            if more {
+                tasks.push_back(Arc::clone(&task));
+            }
+            self.nonempty.store(!tasks.is_empty(), Ordering::SeqCst);
+            (task, index)
+        };
+        task.run(index, &self.chunks_run);
+        true
+    }
+
+    /// Runs chunks until the queue is empty; then, with a `linger`, waits up to that long
+    /// for more (a caller that steps again soon finds this thread awake) and goes on if
+    /// some came. A caller that counted this thread among the lingering ones pushed its
+    /// task before it looked, so the look after leaving the count sees it.
+    pub(crate) fn drain(&self, linger: Option<Duration>) {
+        loop {
+            while self.run_one() {}
+            let Some(linger) = linger else { return };
+            self.lingering.fetch_add(1, Ordering::SeqCst);
+            let until = Instant::now() + linger;
+            while !self.nonempty.load(Ordering::Relaxed) && Instant::now() < until {
+                thread::yield_now();
+            }
+            self.lingering.fetch_sub(1, Ordering::SeqCst);
+            if !self.nonempty.load(Ordering::SeqCst) {
+                return;
+            }
+        }
+    }
+}
+
+/// A task as the queue sees it.
+pub(crate) trait QueuedTask: Send + Sync {
+    /// Claims the next chunk: its index, and whether unclaimed chunks remain.
+    /// Only called under the queue lock, on a task with an unclaimed chunk.
+    fn claim(&self) -> (usize, bool);
+    /// Runs a claimed chunk and records its completion: first in `chunks_run`, then
+    /// towards the task's, so a finished task's chunks are all counted.
+    fn run(&self, index: usize, chunks_run: &AtomicU64);
+}
+
+pub(crate) struct Task<W> {
+    pub(crate) work: W,
+    pub(crate) n_chunks: usize,
+    /// The next unclaimed chunk.
+    pub(crate) next: AtomicUsize,
+    /// Chunks not yet finished.
+    pub(crate) remaining: AtomicUsize,
+    /// The first chunk that panicked.
+    pub(crate) panic: Mutex<Option<ChunkPanic>>,
+    /// The thread blocked in `run_chunked`.
+    pub(crate) waiter: Thread,
+}
+
+impl<W: Fn(usize) + Send + Sync> QueuedTask for Task<W> {
+    fn claim(&self) -> (usize, bool) {
+        let index = self.next.fetch_add(1, Ordering::AcqRel);
+        (index, index + 1 < self.n_chunks)
+    }
+
+    fn run(&self, index: usize, chunks_run: &AtomicU64) {
+        if let Err(payload) = panic::catch_unwind(AssertUnwindSafe(|| (self.work)(index))) {
+            let message = panic_message(payload.as_ref());
+            let mut first = self.panic.lock().unwrap_or_else(PoisonError::into_inner);
+            if first.as_ref().is_none_or(|p| index < p.chunk) {
+                *first = Some(ChunkPanic {
+                    chunk: index,
+                    message,
+                });
+            }
+        }
+        chunks_run.fetch_add(1, Ordering::Relaxed);
+        if self.remaining.fetch_sub(1, Ordering::AcqRel) == 1 {
+            self.waiter.unpark();
+        }
+    }
+}
+
+/// A job of [`StepPool::spawn_fair`]: one chunk, run once.
+pub(crate) struct OneOff<F> {
+    pub(crate) job: Mutex<Option<F>>,
+}
+
+impl<F: FnOnce() + Send> QueuedTask for OneOff<F> {
+    fn claim(&self) -> (usize, bool) {
+        (0, false)
+    }
+
+    fn run(&self, _index: usize, _chunks_run: &AtomicU64) {
+        let job = self
+            .job
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .take();
+        if let Some(job) = job {
+            // The panic hook has printed it; the job's captures tell its caller.
+            let _ = panic::catch_unwind(AssertUnwindSafe(job));
+        }
+    }
+}
+
+/// The text of a panic's payload (what `panic!` was given), or a placeholder when it is
+/// not a string.
+pub fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+    payload
+        .downcast_ref::<&str>()
+        .map(|s| (*s).to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "(non-string panic payload)".to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A task whose chunks record `(name, index)` when they run.
+    fn recording(
+        name: &'static str,
+        n_chunks: usize,
+        log: &Arc<Mutex<Vec<(&'static str, usize)>>>,
+    ) -> Arc<dyn QueuedTask> {
+        let log = Arc::clone(log);
+        Arc::new(Task {
+            work: move |i| log.lock().unwrap().push((name, i)),
+            n_chunks,
+            next: AtomicUsize::new(0),
+            remaining: AtomicUsize::new(n_chunks),
+            panic: Mutex::new(None),
+            waiter: thread::current(),
+        })
+    }
+
+    /// Tasks take turns chunk by chunk: a one-chunk task queued behind a big one runs
+    /// after one chunk of it, not after all of it, and so does each newcomer.
+    #[test]
+    fn tasks_take_turns_chunk_by_chunk() {
+        let queue = FairQueue::default();
+        let log = Arc::new(Mutex::new(Vec::new()));
+        queue.push(recording("big", 5, &log));
+        assert!(queue.run_one());
+        queue.push(recording("small", 1, &log));
+        queue.push(recording("pair", 2, &log));
+        while queue.run_one() {}
+        assert_eq!(
+            *log.lock().unwrap(),
+            [
+                ("big", 0),
+                ("big", 1),
+                ("small", 0),
+                ("pair", 0),
+                ("big", 2),
+                ("pair", 1),
+                ("big", 3),
+                ("big", 4),
+            ]
+        );
+        assert_eq!(queue.chunks_run.load(Ordering::Relaxed), 8);
+    }
+
+    /// The hand-over between a caller and a lingering drainer, as `StepPool::run_chunked`
+    /// does it: the caller pushes its task, then starts a drainer only if none lingers. A
+    /// drainer that a caller counted always takes the task, however close to the end of
+    /// its wait the push came: no task is ever left in the queue with nobody to run it.
+    /// The linger is short so that rounds land on every side of its end.
+    #[test]
+    fn a_task_pushed_while_a_drainer_lingers_is_never_left_behind() {
+        let queue = Arc::new(FairQueue::default());
+        let ran = Arc::new(AtomicUsize::new(0));
+        let mut drainers = Vec::new();
+        for round in 0..2000 {
+            // 0–40 µs after the last task ran: before, around and after the drainer's end.
+            let pause = Instant::now();
+            while pause.elapsed() < Duration::from_micros(round as u64 % 41) {
+                std::hint::spin_loop();
+            }
+            let counter = Arc::clone(&ran);
+            queue.push(Arc::new(OneOff {
+                job: Mutex::new(Some(move || {
+                    counter.fetch_add(1, Ordering::SeqCst);
+                })),
+            }));
+            if queue.lingering.load(Ordering::SeqCst) == 0 {
+                let queue = Arc::clone(&queue);
+                drainers.push(thread::spawn(move || {
+                    queue.drain(Some(Duration::from_micros(20)))
+                }));
+            }
+            // A hang guard only: a lost task never runs.
+            let start = Instant::now();
+            while ran.load(Ordering::SeqCst) != round + 1 {
+                assert!(
+                    start.elapsed() < Duration::from_secs(10),
+                    "task {round} was left behind"
+                );
+                thread::yield_now();
+            }
+        }
+        for drainer in drainers {
+            drainer.join().unwrap();
+        }
+        assert_eq!(queue.lingering.load(Ordering::SeqCst), 0);
+        assert!(!queue.nonempty.load(Ordering::SeqCst));
+    }
+}
