@@ -119,9 +119,9 @@ impl StepPool {
     }
 
     /// Runs `f` on a pool thread (e.g. a whole batch step, whose result `f` hands back
-    /// through a channel). Never blocks the caller (but see below). A panic in `f` is printed by the
-    /// panic hook and otherwise ignored: `f`'s captures are dropped, so a channel
-    /// sender in them tells the receiver.
+    /// through a channel). Never blocks the caller (but see below). A panic in `f` is
+    /// printed by the panic hook and otherwise ignored: `f`'s captures are dropped, so a
+    /// channel sender in them tells the receiver.
     ///
     /// Inside [`crate::run_jobs_here`], `f` runs at once on the calling thread instead.
     pub fn spawn<F: FnOnce() + Send + 'static>(&self, f: F) {
@@ -254,10 +254,11 @@ impl fmt::Debug for StepPool {
 
 /// How long a helper of a [`crate::run_jobs_here`] caller's step waits, spinning politely
 /// (`yield_now`), for the caller's next step once the queue is empty, before it goes back
-/// to rayon (which puts it to sleep). The caller's own work between two steps (Python's,
-/// for a `make_vec` of 64 HalfCheetahs about 45 µs) fits in it, so the next step starts
-/// without a thread wake-up: HalfCheetah's 64-env step 574 → 530 µs (BENCHMARKS, "The
-/// calling thread runs its own pool work").
+/// to rayon (which puts it to sleep). The Python package's own work between two
+/// `make_vec` steps fits in it, so the next step starts without a thread wake-up:
+/// HalfCheetah's 64-env step 567.5 → 540.5 and 575.5 → 528 µs, medians of two sets of
+/// eight alternated runs (BENCHMARKS, "The calling thread runs its own pool work"). A
+/// caller that comes back later pays for the wait: up to about 1 % there.
 pub const HELPERS_LINGER: std::time::Duration = std::time::Duration::from_micros(100);
 
 /// Runs `job` as a pool thread would: a panic is printed by the panic hook and dropped.
