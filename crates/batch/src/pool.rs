@@ -155,8 +155,7 @@ impl StepPool {
     /// the caller's own thread takes no turn from anyone.
     pub fn spawn_fair<F: FnOnce() + Send + 'static>(&self, f: F) {
         if runs_jobs_here() {
-            run_caught(self.inner.jobs.track(f));
-            return;
+            return self.spawn(f);
         }
         let task = Arc::new(OneOff {
             job: Mutex::new(Some(self.inner.jobs.track(f))),
