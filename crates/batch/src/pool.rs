@@ -18,7 +18,7 @@ use std::time::Instant;
 
 use crate::caller::runs_jobs_here;
 use crate::error::{BatchError, Result};
-use crate::queue::{ChunkPanic, FairQueue, OneOff, QueuedTask, Task};
+use crate::queue::{ChunkPanic, Claims, FairQueue, OneOff, QueuedTask, Task};
 
 /// Stack of each pool thread, bytes. Documents are converted and validated on the pool,
 /// some of it recursively over the body tree (bounded by
@@ -183,6 +183,8 @@ impl StepPool {
 
     /// Runs `work(0..n_chunks)`, each index once, on the pool and on the calling thread,
     /// and returns when all are done. Chunks of concurrent calls are interleaved fairly.
+    /// Each pool thread takes its own block of the chunks first ([`Claims`]), so a batch's
+    /// envs stay on one core from step to step.
     ///
     /// Deadlock-free from any thread, pool threads included: the caller runs chunks
     /// itself while some of its own are unclaimed, and blocks only once every one of
@@ -198,8 +200,7 @@ impl StepPool {
         }
         let task = Arc::new(Task {
             work,
-            n_chunks,
-            next: AtomicUsize::new(0),
+            claims: Claims::new(n_chunks, self.threads()),
             remaining: AtomicUsize::new(n_chunks),
             panic: Mutex::new(None),
             waiter: thread::current(),
@@ -229,7 +230,7 @@ impl StepPool {
         while task.remaining.load(Ordering::Acquire) != 0 {
             // Help while chunks of ours are unclaimed (taking turns with other tasks);
             // once all are claimed, wait for the threads running them.
-            if !helps || task.next.load(Ordering::Acquire) >= n_chunks || !queue.run_one() {
+            if !helps || task.claims.all_claimed() || !queue.run_one() {
                 thread::park();
             }
         }

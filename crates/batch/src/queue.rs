@@ -1,8 +1,10 @@
 //! The fair chunk queue a [`crate::StepPool`] shares among its tasks: tasks take turns
 //! chunk by chunk ([`FairQueue::run_one`]), and the pool's drainers run chunks until the
 //! queue is empty ([`FairQueue::drain`]), lingering a little for more when their caller
-//! comes back soon.
+//! comes back soon. Within a task, each pool thread claims its own block of chunks first
+//! ([`Claims`]).
 
+use std::cmp::Reverse;
 use std::collections::VecDeque;
 use std::panic::{self, AssertUnwindSafe};
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
@@ -94,9 +96,8 @@ pub(crate) trait QueuedTask: Send + Sync {
 
 pub(crate) struct Task<W> {
     pub(crate) work: W,
-    pub(crate) n_chunks: usize,
-    /// The next unclaimed chunk.
-    pub(crate) next: AtomicUsize,
+    /// Which chunks are still unclaimed.
+    pub(crate) claims: Claims,
     /// Chunks not yet finished.
     pub(crate) remaining: AtomicUsize,
     /// The first chunk that panicked.
@@ -107,8 +108,7 @@ pub(crate) struct Task<W> {
 
 impl<W: Fn(usize) + Send + Sync> QueuedTask for Task<W> {
     fn claim(&self) -> (usize, bool) {
-        let index = self.next.fetch_add(1, Ordering::AcqRel);
-        (index, index + 1 < self.n_chunks)
+        self.claims.claim(rayon::current_thread_index())
     }
 
     fn run(&self, index: usize, chunks_run: &AtomicU64) {
@@ -126,6 +126,62 @@ impl<W: Fn(usize) + Send + Sync> QueuedTask for Task<W> {
         if self.remaining.fetch_sub(1, Ordering::AcqRel) == 1 {
             self.waiter.unpark();
         }
+    }
+}
+
+/// The unclaimed chunks of a task of several, as one block of consecutive chunks per pool
+/// thread: a thread claims its own block's chunks first, front to back, and then takes from
+/// the back of the block with the most left. A batch's chunks are the same envs at every
+/// step, so each env is stepped by the same thread step after step while the threads keep
+/// pace, and its state stays in that core's cache instead of moving between cores.
+/// Only read and changed under the queue's lock, except [`Claims::all_claimed`].
+pub(crate) struct Claims {
+    /// Per block, its unclaimed chunks `front..back`.
+    blocks: Box<[(AtomicUsize, AtomicUsize)]>,
+    unclaimed: AtomicUsize,
+}
+
+impl Claims {
+    /// `n_chunks` chunks in `blocks` blocks (at least one).
+    pub(crate) fn new(n_chunks: usize, blocks: usize) -> Self {
+        let blocks = blocks.clamp(1, n_chunks.max(1));
+        let edge = |b: usize| b * n_chunks / blocks;
+        Claims {
+            blocks: (0..blocks)
+                .map(|b| (AtomicUsize::new(edge(b)), AtomicUsize::new(edge(b + 1))))
+                .collect(),
+            unclaimed: AtomicUsize::new(n_chunks),
+        }
+    }
+
+    /// Claims a chunk for pool thread `home`, from its block's front or else the back of the
+    /// fullest block (`None`, a thread outside the pool: the front of the fullest block):
+    /// its index, and whether unclaimed chunks remain. Only called under the queue lock, with a chunk unclaimed.
+    fn claim(&self, home: Option<usize>) -> (usize, bool) {
+        let left = |(front, back): &(AtomicUsize, AtomicUsize)| {
+            back.load(Ordering::Relaxed) - front.load(Ordering::Relaxed)
+        };
+        let own = home.and_then(|h| self.blocks.get(h));
+        let index = match own.filter(|b| left(b) > 0) {
+            Some((front, _)) => front.fetch_add(1, Ordering::Relaxed),
+            None => {
+                // The first of the fullest.
+                let fullest = self.blocks.iter().min_by_key(|b| Reverse(left(b)));
+                let (front, back) = fullest.expect("a block");
+                if own.is_some() {
+                    back.fetch_sub(1, Ordering::Relaxed) - 1
+                } else {
+                    front.fetch_add(1, Ordering::Relaxed)
+                }
+            }
+        };
+        let unclaimed = self.unclaimed.fetch_sub(1, Ordering::AcqRel) - 1;
+        (index, unclaimed > 0)
+    }
+
+    /// Whether every chunk has been claimed.
+    pub(crate) fn all_claimed(&self) -> bool {
+        self.unclaimed.load(Ordering::Acquire) == 0
     }
 }
 
@@ -175,8 +231,7 @@ mod tests {
         let log = Arc::clone(log);
         Arc::new(Task {
             work: move |i| log.lock().unwrap().push((name, i)),
-            n_chunks,
-            next: AtomicUsize::new(0),
+            claims: Claims::new(n_chunks, 1),
             remaining: AtomicUsize::new(n_chunks),
             panic: Mutex::new(None),
             waiter: thread::current(),
@@ -208,6 +263,54 @@ mod tests {
             ]
         );
         assert_eq!(queue.chunks_run.load(Ordering::Relaxed), 8);
+    }
+
+    /// Threads that keep pace each claim their own block, front to back, every time: the
+    /// same chunks (the same envs) land on the same thread step after step.
+    #[test]
+    fn threads_that_keep_pace_claim_their_own_blocks() {
+        for _step in 0..3 {
+            let claims = Claims::new(8, 2);
+            let mut got: [Vec<usize>; 2] = Default::default();
+            for turn in 0..8 {
+                let (index, more) = claims.claim(Some(turn % 2));
+                got[turn % 2].push(index);
+                assert_eq!(more, turn < 7);
+            }
+            assert_eq!(got, [vec![0, 1, 2, 3], vec![4, 5, 6, 7]]);
+            assert!(claims.all_claimed());
+        }
+    }
+
+    /// A thread whose block is done takes from the back of the fullest other block, where
+    /// its owner would come last; a thread outside the pool takes the fullest block's
+    /// front. Every chunk is claimed exactly once, whoever claims it.
+    #[test]
+    fn a_thread_done_with_its_block_takes_from_the_back_of_the_fullest() {
+        // Blocks of 10 chunks over 3 threads: 0..3, 3..6, 6..10.
+        let claims = Claims::new(10, 3);
+        let mut order = Vec::new();
+        for _ in 0..3 {
+            order.push(claims.claim(Some(1)).0);
+        }
+        assert_eq!(order, [3, 4, 5]);
+        assert_eq!(claims.claim(Some(1)).0, 9, "the back of 6..10, the fullest");
+        assert_eq!(
+            claims.claim(None).0,
+            0,
+            "the front of 0..3, as full as 6..9"
+        );
+        assert_eq!(claims.claim(Some(0)).0, 1);
+        order.extend([9, 0, 1]);
+        while !claims.all_claimed() {
+            order.push(claims.claim(Some(7)).0); // an index with no block: it steals
+        }
+        order.sort_unstable();
+        assert_eq!(order, (0..10).collect::<Vec<_>>());
+        // More blocks than chunks: one block per chunk, none empty.
+        let claims = Claims::new(2, 8);
+        assert_eq!(claims.claim(Some(1)), (1, true));
+        assert_eq!(claims.claim(Some(1)), (0, false));
     }
 
     /// The hand-over between a caller and a lingering drainer, as `StepPool::run_chunked`
