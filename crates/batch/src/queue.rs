@@ -131,7 +131,7 @@ impl<W: Fn(usize) + Send + Sync> QueuedTask for Task<W> {
 
 /// The unclaimed chunks of a task of several, as one block of consecutive chunks per pool
 /// thread: a thread claims its own block's chunks first, front to back, and then takes from
-/// the back of the block with the most left. A batch's chunks are the same envs at every
+/// the back of the block with the most left (as does a caller outside the pool that helps). A batch's chunks are the same envs at every
 /// step, so each env is stepped by the same thread step after step while the threads keep
 /// pace, and its state stays in that core's cache instead of moving between cores.
 /// Only read and changed under the queue's lock, except [`Claims::all_claimed`].
@@ -154,25 +154,22 @@ impl Claims {
         }
     }
 
-    /// Claims a chunk for pool thread `home`, from its block's front or else the back of the
-    /// fullest block (`None`, a thread outside the pool: the front of the fullest block):
-    /// its index, and whether unclaimed chunks remain. Only called under the queue lock, with a chunk unclaimed.
+    /// Claims a chunk for pool thread `home` (`None` for a thread outside the pool): the
+    /// front of its own block, or else the back of the (first) fullest block, where that
+    /// block's owner would come last. Returns its index, and whether unclaimed chunks
+    /// remain. Only called under the queue lock, with a chunk unclaimed.
     fn claim(&self, home: Option<usize>) -> (usize, bool) {
         let left = |(front, back): &(AtomicUsize, AtomicUsize)| {
             back.load(Ordering::Relaxed) - front.load(Ordering::Relaxed)
         };
-        let own = home.and_then(|h| self.blocks.get(h));
-        let index = match own.filter(|b| left(b) > 0) {
+        let own = home
+            .and_then(|h| self.blocks.get(h))
+            .filter(|b| left(b) > 0);
+        let index = match own {
             Some((front, _)) => front.fetch_add(1, Ordering::Relaxed),
             None => {
-                // The first of the fullest.
                 let fullest = self.blocks.iter().min_by_key(|b| Reverse(left(b)));
-                let (front, back) = fullest.expect("a block");
-                if own.is_some() {
-                    back.fetch_sub(1, Ordering::Relaxed) - 1
-                } else {
-                    front.fetch_add(1, Ordering::Relaxed)
-                }
+                fullest.expect("a block").1.fetch_sub(1, Ordering::Relaxed) - 1
             }
         };
         let unclaimed = self.unclaimed.fetch_sub(1, Ordering::AcqRel) - 1;
@@ -251,15 +248,16 @@ mod tests {
         while queue.run_one() {}
         assert_eq!(
             *log.lock().unwrap(),
+            // A thread outside the pool takes each task's chunks from the back.
             [
-                ("big", 0),
-                ("big", 1),
-                ("small", 0),
-                ("pair", 0),
-                ("big", 2),
-                ("pair", 1),
-                ("big", 3),
                 ("big", 4),
+                ("big", 3),
+                ("small", 0),
+                ("pair", 1),
+                ("big", 2),
+                ("pair", 0),
+                ("big", 1),
+                ("big", 0),
             ]
         );
         assert_eq!(queue.chunks_run.load(Ordering::Relaxed), 8);
@@ -282,9 +280,9 @@ mod tests {
         }
     }
 
-    /// A thread whose block is done takes from the back of the fullest other block, where
-    /// its owner would come last; a thread outside the pool takes the fullest block's
-    /// front. Every chunk is claimed exactly once, whoever claims it.
+    /// A thread whose block is done, or one outside the pool, takes from the back of the
+    /// fullest block, where its owner would come last. Every chunk is claimed exactly
+    /// once, whoever claims it.
     #[test]
     fn a_thread_done_with_its_block_takes_from_the_back_of_the_fullest() {
         // Blocks of 10 chunks over 3 threads: 0..3, 3..6, 6..10.
@@ -297,11 +295,11 @@ mod tests {
         assert_eq!(claims.claim(Some(1)).0, 9, "the back of 6..10, the fullest");
         assert_eq!(
             claims.claim(None).0,
-            0,
-            "the front of 0..3, as full as 6..9"
+            2,
+            "the back of 0..3: as full as 6..9, first"
         );
-        assert_eq!(claims.claim(Some(0)).0, 1);
-        order.extend([9, 0, 1]);
+        assert_eq!(claims.claim(Some(0)).0, 0);
+        order.extend([9, 2, 0]);
         while !claims.all_claimed() {
             order.push(claims.claim(Some(7)).0); // an index with no block: it steals
         }
