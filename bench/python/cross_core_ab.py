@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """An A/B of package builds on a machine whose cores change distance: alternates
 `wrapper_share.py NAME --envs N` over the given installs for `--minutes`, runs
-`cross_core_probe.c` before each round, and prints each build's median batch step for the
-rounds the probe found the two cores near and far (`--far-ns`: a cache line's round trip
+`cross_core_probe.c` before each round, and prints each build's median batch step (and the
+Python thread's CPU time per step) for the rounds the probe found the two cores near and far (`--far-ns`: a cache line's round trip
 between CPUs 0 and 1 at or above it). On a cloud VM the hypervisor moves the vCPUs: here
 the round trip reads 80–110 ns for minutes, then 380–450 ns (BENCHMARKS, "Each pool thread
 keeps its envs").
@@ -41,13 +41,15 @@ def probe_round_trip(probe: str) -> tuple[float, str]:
     return float(re.search(r"round_trip_ns=([\d.]+)", out).group(1)), out
 
 
-def batch_step_us(site: str, name: str, envs: int, steps: int) -> float:
+def batch_step_us(site: str, name: str, envs: int, steps: int) -> tuple[float, float]:
+    """The batch step's wall time and the Python thread's CPU time per step, in µs."""
     env = dict(os.environ, PYTHONPATH=site)
     out = subprocess.run(
         [sys.executable, str(HERE / "wrapper_share.py"), name, "--envs", str(envs), "--steps", str(steps)],
         capture_output=True, text=True, check=True, env=env,
     ).stdout
-    return float(re.search(r"(\d+) us per batch step", out).group(1))
+    wall = float(re.search(r"(\d+) us per batch step", out).group(1))
+    return wall, float(re.search(r"the Python thread's CPU (\d+)", out).group(1))
 
 
 def main() -> None:
@@ -68,18 +70,19 @@ def main() -> None:
             round_trip, line = probe_round_trip(probe)
             steps = [batch_step_us(s, args.name, args.envs, args.steps) for s in args.sites]
             rounds.append((round_trip, steps))
-            print(time.strftime("%H:%M:%S"), line, " ".join(f"{l}={v:.0f}" for l, v in zip(labels, steps)), flush=True)
+            print(time.strftime("%H:%M:%S"), line, " ".join(f"{l}={w:.0f}/{c:.0f}" for l, (w, c) in zip(labels, steps)), flush=True)
     for state, pick in (("near", lambda r: r < args.far_ns), ("far", lambda r: r >= args.far_ns)):
         chosen = [steps for round_trip, steps in rounds if pick(round_trip)]
         if not chosen:
             print(f"{state}: no rounds")
             continue
         medians = ", ".join(
-            f"{l} {statistics.median(s[i] for s in chosen):.1f} µs (fastest {min(s[i] for s in chosen):.0f})"
+            f"{l} {statistics.median(s[i][0] for s in chosen):.1f} µs (fastest "
+            f"{min(s[i][0] for s in chosen):.0f}; Python thread's CPU {statistics.median(s[i][1] for s in chosen):.1f})"
             for i, l in enumerate(labels)
         )
         faster = ", ".join(
-            f"{l} faster than {labels[0]} in {sum(s[i] < s[0] for s in chosen)}"
+            f"{l} faster than {labels[0]} in {sum(s[i][0] < s[0][0] for s in chosen)}"
             for i, l in enumerate(labels) if i
         )
         print(f"{state} ({len(chosen)} rounds): {args.name} {args.envs}-env batch step, medians: {medians}; {faster}")

@@ -2,7 +2,9 @@
 """How much of a `gymfleet/<Name>-v5` vector step is the Python suite wrapper's own work: the
 time of `gymnasium.make_vec(...).step` against the time of the batch step underneath it
 (`GymfleetVectorEnv.step`, which calls the extension), seeded uniform random actions, one
-warm-up of 200 steps, then `--steps` steps timed.
+warm-up of 200 steps, then `--steps` steps timed. Also the CPU time of the Python thread
+itself per step (`time.thread_time`: the wrapper, the in-process call's own work and
+numpy's, not the pool's threads).
 
     python bench/python/wrapper_share.py Humanoid Ant Reacher --envs 64
 """
@@ -36,16 +38,17 @@ def share(name: str, envs: int, steps: int) -> str:
     for i in range(200):
         env.step(actions[i % 64])
     spent[0] = 0.0
-    t = time.perf_counter()
+    t, cpu = time.perf_counter(), time.thread_time()
     for i in range(steps):
         env.step(actions[i % 64])
     total = time.perf_counter() - t
+    cpu = time.thread_time() - cpu
     env.close()
     wrapper = total - spent[0]
     return (
         f"{name}, {envs} envs: {total / steps * 1e6:.0f} us per batch step, the batch step "
         f"{spent[0] / steps * 1e6:.0f}, the wrapper {wrapper / steps * 1e6:.0f} "
-        f"({wrapper / total * 100:.1f} %)"
+        f"({wrapper / total * 100:.1f} %); the Python thread's CPU {cpu / steps * 1e6:.0f}"
     )
 
 
