@@ -1,19 +1,31 @@
 // How dear it is on this machine for one core to take over memory the other core just wrote:
 // two threads pinned to CPUs 0 and 1 (1) bounce one cache line, and (2) take turns writing
-// every line of a 1 MiB buffer, against one thread doing (2) alone. Prints one line:
-//   round_trip_ns=… other_core_ns_per_line=… same_core_ns_per_line=…
+// every line of a 1 MiB buffer, against one thread doing (2) alone; then (3) two threads
+// left where the scheduler puts them (as a server's and its client's are) send one byte back
+// and forth over a loopback TCP connection with Nagle off, each blocked in `read` until its
+// turn: the floor under any unary call between two processes here, before gRPC adds its own
+// work; and (4) the same with both threads pinned to CPU 0, where a wake-up needs no other
+// core. Prints one line:
+//   round_trip_ns=… other_core_ns_per_line=… same_core_ns_per_line=… tcp_round_trip_us=…
+//   tcp_same_core_us=…
 // Built and run by `cross_core_ab.py`; `gcc -O2 -pthread cross_core_probe.c -o probe` alone.
 #define _GNU_SOURCE
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
 #include <pthread.h>
 #include <sched.h>
 #include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <sys/socket.h>
 #include <time.h>
+#include <unistd.h>
 
 #define BYTES (1 << 20)
 #define BOUNCES 1000000L
 #define ROUNDS 400
+#define TCP_EXCHANGES 5000
 
 static _Atomic long line __attribute__((aligned(64)));
 static _Atomic int turn;
@@ -57,7 +69,46 @@ static void *take_turns(void *arg) {
     return 0;
 }
 
+static int no_delay(int fd) {
+    int one = 1;
+    setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+    return fd;
+}
+
+static void *echo(void *arg) {
+    int fd = no_delay(accept((int)(long)arg, 0, 0));
+    char byte;
+    while (read(fd, &byte, 1) == 1 && write(fd, &byte, 1) == 1) {}
+    close(fd);
+    return 0;
+}
+
+// Microseconds per round trip of one byte over loopback TCP; -1 if a socket call failed.
+static double tcp_round_trip_us(void) {
+    struct sockaddr_in addr = {.sin_family = AF_INET, .sin_addr.s_addr = htonl(INADDR_LOOPBACK)};
+    socklen_t len = sizeof addr;
+    int listener = socket(AF_INET, SOCK_STREAM, 0);
+    if (listener < 0 || bind(listener, (void *)&addr, len) || listen(listener, 1) ||
+        getsockname(listener, (void *)&addr, &len))
+        return -1;
+    pthread_t server;
+    pthread_create(&server, 0, echo, (void *)(long)listener);
+    int fd = no_delay(socket(AF_INET, SOCK_STREAM, 0));
+    if (fd < 0 || connect(fd, (void *)&addr, len)) return -1;
+    char byte = 'x';
+    double t0 = now_ns();
+    for (int i = 0; i < TCP_EXCHANGES; i++)
+        if (write(fd, &byte, 1) != 1 || read(fd, &byte, 1) != 1) return -1;
+    double us = (now_ns() - t0) / TCP_EXCHANGES / 1e3;
+    close(fd);
+    pthread_join(server, 0);
+    close(listener);
+    return us;
+}
+
 int main(void) {
+    cpu_set_t all;
+    sched_getaffinity(0, sizeof all, &all);
     pthread_t a, b;
     pthread_create(&a, 0, bounce, 0);
     pin(0);
@@ -81,7 +132,12 @@ int main(void) {
     t0 = now_ns();
     for (int r = 0; r < 2 * ROUNDS; r++) touch();
     double same = (now_ns() - t0) / lines;
-    printf("round_trip_ns=%.0f other_core_ns_per_line=%.2f same_core_ns_per_line=%.2f\n",
-           round_trip, other, same);
+    // The echo thread inherits the creating thread's CPUs.
+    double tcp_same = tcp_round_trip_us();
+    pthread_setaffinity_np(pthread_self(), sizeof all, &all);
+    double tcp = tcp_round_trip_us();
+    printf("round_trip_ns=%.0f other_core_ns_per_line=%.2f same_core_ns_per_line=%.2f "
+           "tcp_round_trip_us=%.1f tcp_same_core_us=%.1f\n",
+           round_trip, other, same, tcp, tcp_same);
     return 0;
 }
