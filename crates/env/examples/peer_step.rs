@@ -21,7 +21,9 @@
 //! `--envs N` steps N copies of the env in turn for each row of actions, as a batch shard
 //! steps its envs (the time is then per env step, and includes fetching each env's state
 //! back into the caches); `--prefetch on` hints each env's state in while the one before it
-//! steps, as the batch's chunks do (`RobotEnv::prefetch`). The hash is the first env's.
+//! steps, as the batch's chunks do (`RobotEnv::prefetch`); `--order serpentine` steps them
+//! last to first on every other row, so that the envs stepped last, still in the caches, come
+//! first. The hash is the first env's.
 
 use std::time::Instant;
 
@@ -43,6 +45,7 @@ struct Args {
     tilt_deg: f64,
     envs: usize,
     prefetch: bool,
+    serpentine: bool,
 }
 
 fn parse_args() -> Result<Args, String> {
@@ -58,6 +61,7 @@ fn parse_args() -> Result<Args, String> {
         tilt_deg: 0.01f64.to_degrees(),
         envs: 1,
         prefetch: false,
+        serpentine: false,
     };
     let mut it = std::env::args().skip(1);
     while let Some(flag) = it.next() {
@@ -78,6 +82,17 @@ fn parse_args() -> Result<Args, String> {
                     "on" => true,
                     "off" => false,
                     other => return Err(format!("--prefetch takes on or off, not {other:?}")),
+                }
+            }
+            "--order" => {
+                args.serpentine = match value()?.as_str() {
+                    "serpentine" => true,
+                    "forward" => false,
+                    other => {
+                        return Err(format!(
+                            "--order takes forward or serpentine, not {other:?}"
+                        ))
+                    }
                 }
             }
             "--amplitudes" => {
@@ -180,9 +195,12 @@ fn main() {
         obs_hash = 0xcbf2_9ce4_8422_2325;
         let start = Instant::now();
         for (i, action) in rows.iter().enumerate() {
-            for k in 0..envs.len() {
-                if args.prefetch && k + 1 < envs.len() {
-                    envs[k + 1].prefetch();
+            let n = envs.len();
+            let backward = args.serpentine && i % 2 == 1;
+            for j in 0..n {
+                let k = if backward { n - 1 - j } else { j };
+                if args.prefetch && j + 1 < n {
+                    envs[if backward { k - 1 } else { k + 1 }].prefetch();
                 }
                 let env = &mut envs[k];
                 if i % RESET_EVERY == 0 {
