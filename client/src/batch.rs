@@ -2,6 +2,8 @@
 //! [`BatchStep`] and [`BatchObservations`], which own the decoded vectors and hand out
 //! per-env slices without copying.
 
+use std::sync::Arc;
+
 use gymfleet_proto::v1 as pb;
 
 use crate::client::Client;
@@ -42,12 +44,17 @@ impl Client {
 #[derive(Debug, Clone)]
 pub struct Batch {
     pub(crate) client: Client,
-    info: BatchInfo,
+    /// Shared, so that a clone (one per shard and call, for a fleet's spawned tasks) costs
+    /// no copy of the joints' names and limits.
+    info: Arc<BatchInfo>,
 }
 
 impl Batch {
     pub(crate) fn new(client: Client, info: BatchInfo) -> Self {
-        Batch { client, info }
+        Batch {
+            client,
+            info: Arc::new(info),
+        }
     }
 
     /// What the server said about the batch when it was created.
