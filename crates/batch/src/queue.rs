@@ -131,10 +131,11 @@ impl<W: Fn(usize) + Send + Sync> QueuedTask for Task<W> {
 
 /// The unclaimed chunks of a task of several, as one block of consecutive chunks per pool
 /// thread: a thread claims its own block's chunks first, front to back, and then takes from
-/// the back of the block with the most left (as does a caller outside the pool that helps). A batch's chunks are the same envs at every
-/// step, so each env is stepped by the same thread step after step while the threads keep
-/// pace, and its state stays in that core's cache instead of moving between cores.
-/// Only read and changed under the queue's lock, except [`Claims::all_claimed`].
+/// the back of the block with the most left (as does a caller outside the pool that helps).
+/// A batch's chunks are the same envs at every step, so each env is stepped by the same
+/// thread step after step while the threads keep pace, and its state stays in that core's
+/// cache instead of moving between cores. Only read and changed under the queue's lock,
+/// except [`Claims::all_claimed`].
 pub(crate) struct Claims {
     /// Per block, its unclaimed chunks `front..back`.
     blocks: Box<[(AtomicUsize, AtomicUsize)]>,
