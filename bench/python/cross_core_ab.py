@@ -2,8 +2,10 @@
 """An A/B of package builds on a machine whose cores change distance: alternates
 `wrapper_share.py NAME --envs N` over the given installs for `--minutes`, runs
 `cross_core_probe.c` before each round, and prints each build's median batch step (and the
-Python thread's CPU time per step) for the rounds the probe found the two cores near and far (`--far-ns`: a cache line's round trip
-between CPUs 0 and 1 at or above it). On a cloud VM the hypervisor moves the vCPUs: here
+Python thread's CPU time per step) for the rounds the probe found the two cores near and
+far (`--far-ns`: a cache line's round trip between CPUs 0 and 1 at or above it). The probe's
+whole line is printed with each round, its loopback TCP round trips included. On a cloud VM
+the hypervisor moves the vCPUs: here
 the round trip reads 80–110 ns for minutes, then 380–450 ns (BENCHMARKS, "Each pool thread
 keeps its envs").
 
