@@ -7,6 +7,7 @@ fleet's invariants. Usage: check_manifests.py RENDERED.yaml [MORE.yaml ...]
   derives GYMFLEET_THREADS from its CPU limit (or sets it equal), has CPU and memory
   limits, and runs non-root with a read-only root filesystem and no capabilities;
 - GYMFLEET_LISTEN listens on all interfaces on the probed port;
+- GYMFLEET_POOL_NICENESS, where set, is a niceness the server takes (0..19);
 - GYMFLEET_MAX_ENVS fits the memory limit at the measured ~55 KB per 2-DOF arm;
 - the grace period covers the drain, and a PodDisruptionBudget allows one pod down;
 - GYMFLEET_METRICS_LISTEN listens on all interfaces on the container port named
@@ -113,6 +114,9 @@ def check(docs):
                     fail(f"{where}: GYMFLEET_THREADS must come from limits.cpu with divisor 1")
             elif threads is None or int(values.get("GYMFLEET_THREADS", 0)) != cpus:
                 fail(f"{where}: GYMFLEET_THREADS must equal the CPU limit ({cpus})")
+            niceness = str(values.get("GYMFLEET_POOL_NICENESS", "0"))
+            if not niceness.isdigit() or int(niceness) > 19:
+                fail(f"{where}: GYMFLEET_POOL_NICENESS must be 0..19, got {niceness!r}")
             if values.get("GYMFLEET_LISTEN") != f"0.0.0.0:{GRPC_PORT}":
                 fail(f"{where}: GYMFLEET_LISTEN must be 0.0.0.0:{GRPC_PORT}")
             metrics_port = next((p["containerPort"] for p in c.get("ports", []) if p.get("name") == "metrics"), None)

@@ -32,9 +32,22 @@ pub struct Cli {
     /// Address to listen on: host:port, or unix:/path/to/socket for clients on this host.
     #[arg(long, env = "GYMFLEET_LISTEN", default_value = "127.0.0.1:50051")]
     pub listen: ListenAddr,
-    /// Simulation worker threads; 0 = one per core.
+    /// Simulation worker threads; 0 = one per core this process may use (its CPU
+    /// affinity and cgroup quota).
     #[arg(long, env = "GYMFLEET_THREADS", default_value_t = 0)]
     pub threads: usize,
+    /// Run the simulation threads at this scheduling niceness (1..=19) so that the
+    /// network threads answer one tenant's small calls at once beside another's big
+    /// batches; 10 is the measured choice. They then starve beside any other process at
+    /// the default priority (a trainer, a compile): use it only on a machine (or pod)
+    /// given to the server. 0 = the process's own priority.
+    #[arg(
+        long,
+        env = "GYMFLEET_POOL_NICENESS",
+        default_value_t = 0,
+        value_parser = clap::value_parser!(u8).range(0..=19)
+    )]
+    pub pool_niceness: u8,
     /// Most environments held at once (single envs plus batch members); 0 = no limit.
     #[arg(
         long = Limit::Envs.flag(),
@@ -191,6 +204,7 @@ impl Cli {
         };
         Ok(ServerConfig {
             threads: self.threads,
+            pool_niceness: self.pool_niceness,
             max_envs: self.max_envs,
             max_batch_size: self.max_batch_size,
             max_document_bytes: self.max_document_bytes,
@@ -246,6 +260,7 @@ mod tests {
         assert_eq!(cli.listen, "127.0.0.1:50051".parse::<ListenAddr>().unwrap());
         let config = cli.server_config().unwrap();
         assert_eq!(config.threads, 0);
+        assert_eq!(config.pool_niceness, 0, "the process's own priority");
         for limit in Limit::ALL {
             assert_eq!(config.limit(limit), limit.default_value(), "{limit:?}");
         }
@@ -279,13 +294,29 @@ mod tests {
             "0",
             "--log-format",
             "json",
+            "--pool-niceness",
+            "10",
         ])
         .expect("flags parse");
         let config = cli.server_config().unwrap();
         assert_eq!(config.threads, 2);
+        assert_eq!(config.pool_niceness, 10);
         assert_eq!(config.max_batch_size, 10);
         assert_eq!(config.idle_ttl(), None);
         assert_eq!(cli.log_format, LogFormat::Json);
+    }
+
+    #[test]
+    fn pool_niceness_is_bounded() {
+        scrub_gymfleet_env();
+        let err = Cli::try_parse_from(["gymfleet-server", "--pool-niceness", "20"])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("invalid value '20' for '--pool-niceness <POOL_NICENESS>'")
+                && err.contains("20 is not in 0..=19"),
+            "{err}"
+        );
     }
 
     #[test]

@@ -41,8 +41,15 @@ impl std::fmt::Debug for TlsConfig {
 /// How a server runs. Every limit of 0 means "no limit", as in `ServerLimits` on the wire.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ServerConfig {
-    /// Worker threads of the simulation pool; 0 = one per core.
+    /// Worker threads of the simulation pool; 0 = one per core this process may use
+    /// (its CPU affinity and cgroup quota: `gymfleet_batch::usable_cores`).
     pub threads: usize,
+    /// Scheduling niceness of the pool's threads (Linux): 0 (the default) leaves them at
+    /// the process's priority; 1..=19 runs them below the server's network threads, so
+    /// that one tenant's small calls are answered at once beside another's big batches
+    /// (`gymfleet_batch::FAIR_POOL_NICENESS`), at the price of starving beside any other
+    /// process on the machine. For a machine given to the server alone.
+    pub pool_niceness: u8,
     /// Most environments held at once (single envs plus batch members); 0 = no limit.
     pub max_envs: usize,
     /// Most environments in one batch; 0 = no limit.
@@ -102,6 +109,7 @@ impl Default for ServerConfig {
     fn default() -> Self {
         ServerConfig {
             threads: 0,
+            pool_niceness: 0,
             max_envs: DEFAULT_MAX_ENVS,
             max_batch_size: DEFAULT_MAX_BATCH_SIZE,
             max_document_bytes: DEFAULT_MAX_DOCUMENT_BYTES,

@@ -31,7 +31,7 @@ impl DirectService {
     /// listener-related fields of `config` (TLS, auth tokens, metrics address) are unused:
     /// every call runs as the caller of [`DirectService::request`] says.
     pub fn new(config: ServerConfig) -> Result<Self> {
-        let pool = StepPool::new(config.threads)?;
+        let pool = StepPool::with_niceness(config.threads, config.pool_niceness)?;
         let sim = Arc::new(Simulation::new(config, pool));
         let (running, shutdown) = watch::channel(false);
         Ok(DirectService {

@@ -69,7 +69,7 @@ pub(crate) async fn serve_bound(
     shutdown: impl Future<Output = ()>,
     in_process: Option<oneshot::Sender<InProcess>>,
 ) -> Result<()> {
-    let pool = StepPool::new(config.threads)?;
+    let pool = StepPool::with_niceness(config.threads, config.pool_niceness)?;
     let threads = pool.threads();
     let sim = Arc::new(Simulation::new(config.clone(), pool));
     let (stop_tx, stop_rx) = watch::channel(false);
@@ -142,6 +142,7 @@ pub(crate) async fn serve_bound(
         tls = config.tls.is_some(),
         mutual_tls = config.tls.as_ref().is_some_and(|t| t.client_ca_pem.is_some()),
         threads,
+        pool_niceness = config.pool_niceness,
         idle_ttl_secs = config.idle_ttl.as_secs(),
         auth = config.auth_tokens.is_some(),
         tenants,

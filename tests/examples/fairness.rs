@@ -3,10 +3,12 @@
 //! the same pool. Prints p50/p99/max of both phases and the loaded/idle p99 ratio.
 //!
 //! ```sh
-//! cargo run --release -p gymfleet-e2e --example fairness -- [THREADS] [SECONDS] [BIG_ENVS]
+//! cargo run --release -p gymfleet-e2e --example fairness -- [THREADS] [SECONDS] [BIG_ENVS] [NICENESS]
 //! ```
 //!
-//! Defaults: 2 pool threads, 10 s per phase, 16 384 envs. Both tenants reach the server
+//! Defaults: 2 pool threads, 10 s per phase, 16 384 envs, the pool at niceness 10
+//! (`--pool-niceness`, `FAIR_POOL_NICENESS`: the setting this measures; 0 is the server's
+//! default). Both tenants reach the server
 //! over loopback gRPC with their own tokens, as two trainers on a shared server would.
 
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -60,6 +62,9 @@ fn main() {
     let threads: usize = args.next().map_or(2, |a| a.parse().expect("THREADS"));
     let seconds: f64 = args.next().map_or(10.0, |a| a.parse().expect("SECONDS"));
     let big_envs: usize = args.next().map_or(16_384, |a| a.parse().expect("BIG_ENVS"));
+    let pool_niceness: u8 = args.next().map_or(gymfleet_batch::FAIR_POOL_NICENESS, |a| {
+        a.parse().expect("NICENESS")
+    });
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
         .enable_all()
@@ -69,6 +74,7 @@ fn main() {
         let tokens = TokenTable::parse(&format!("small {SMALL}\nbig {BIG}\n")).expect("tokens");
         let server = LocalServer::start(ServerConfig {
             threads,
+            pool_niceness,
             auth_tokens: Some(Arc::new(tokens)),
             ..ServerConfig::default()
         })

@@ -93,9 +93,11 @@ fn lock<T>(mutex: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
 }
 
 /// The address of the process's embedded server, started on first use: one pool thread
-/// per core, the server's default limits, no idle TTL (its envs belong to this process,
-/// which frees them when they are closed or garbage-collected). It runs until the
-/// process exits.
+/// per core this process may use, at the process's own priority (it shares the machine
+/// with the trainer that calls it: nicer threads would starve beside the trainer's own,
+/// BENCHMARKS.md N1), the server's default limits, no idle TTL (its envs belong to this
+/// process, which frees them when they are closed or garbage-collected). It runs until
+/// the process exits.
 #[pyfunction]
 pub(crate) fn embedded_address(py: Python<'_>) -> PyResult<String> {
     embedded(py).map(LocalServer::client_addr)
@@ -160,7 +162,7 @@ impl Server {
     #[new]
     #[pyo3(signature = (
         *, threads=0, max_envs=None, max_batch_size=None, idle_ttl=None, auth_tokens=None,
-        models=None
+        models=None, pool_niceness=0
     ))]
     #[allow(clippy::too_many_arguments)]
     fn new(
@@ -171,8 +173,18 @@ impl Server {
         idle_ttl: Option<f64>,
         auth_tokens: Option<std::path::PathBuf>,
         models: Option<std::path::PathBuf>,
+        pool_niceness: i64,
     ) -> PyResult<Self> {
         let defaults = ServerConfig::default();
+        let pool_niceness = u8::try_from(pool_niceness)
+            .ok()
+            .filter(|n| *n <= 19)
+            .ok_or_else(|| {
+                crate::options::invalid(format!(
+                    "pool_niceness: expected a niceness 0..=19 (0: this process's own \
+                     priority), got {pool_niceness}"
+                ))
+            })?;
         let idle_ttl = match idle_ttl {
             None => Duration::ZERO,
             Some(s) if (0.0..1e9).contains(&s) => Duration::from_secs_f64(s),
@@ -198,6 +210,7 @@ impl Server {
         };
         let config = ServerConfig {
             threads,
+            pool_niceness,
             models,
             max_envs: max_envs.unwrap_or(defaults.max_envs),
             max_batch_size: max_batch_size.unwrap_or(defaults.max_batch_size),

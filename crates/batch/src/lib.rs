@@ -21,5 +21,7 @@ mod queue;
 pub use batch::{default_chunk_size, Autoreset, BatchStepOutput, EnvBatch, MAX_DEFAULT_CHUNK_SIZE};
 pub use caller::run_jobs_here;
 pub use error::{BatchError, Result};
-pub use pool::{JobQueueStats, StepPool, HELPERS_LINGER, POOL_NICENESS, POOL_STACK_BYTES};
+pub use pool::{
+    usable_cores, JobQueueStats, StepPool, FAIR_POOL_NICENESS, HELPERS_LINGER, POOL_STACK_BYTES,
+};
 pub use queue::panic_message;

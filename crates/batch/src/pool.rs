@@ -84,10 +84,22 @@ pub struct JobQueueStats {
 }
 
 impl StepPool {
-    /// Starts `threads` threads named `gymfleet-step-N`; 0 means one per available core.
+    /// Starts `threads` threads named `gymfleet-step-N`, at the process's own priority;
+    /// 0 means one per core this process may use ([`usable_cores`]).
     pub fn new(threads: usize) -> Result<Self> {
+        Self::with_niceness(threads, 0)
+    }
+
+    /// [`StepPool::new`], with the threads at scheduling niceness `niceness` (Linux; 0
+    /// leaves them at the process's own, 1..=19 run them below it). Nicer threads let a
+    /// multi-tenant server's network threads answer at once however busy the pool is
+    /// ([`FAIR_POOL_NICENESS`]), but they also lose the CPU to every process at the default
+    /// priority beside them, a trainer's own threads included: keep 0 wherever the pool
+    /// shares its machine with other work. A process already nicer than `niceness` keeps
+    /// its own (raising priority needs privileges).
+    pub fn with_niceness(threads: usize, niceness: u8) -> Result<Self> {
         let threads = if threads == 0 {
-            thread::available_parallelism().map_or(1, NonZeroUsize::get)
+            usable_cores()
         } else {
             threads
         };
@@ -95,7 +107,11 @@ impl StepPool {
             .num_threads(threads)
             .thread_name(|i| format!("gymfleet-step-{i}"))
             .stack_size(POOL_STACK_BYTES)
-            .start_handler(|_| lower_priority())
+            .start_handler(move |_| {
+                if niceness > 0 {
+                    lower_priority(niceness);
+                }
+            })
             // The default hook has already printed the panic; without a handler a
             // panic in a `spawn`ed closure would abort the whole process.
             .panic_handler(|_| {})
@@ -258,7 +274,9 @@ impl fmt::Debug for StepPool {
 /// `make_vec` steps fits in it, so the next step starts without a thread wake-up:
 /// HalfCheetah's 64-env step 567.5 → 540.5 and 575.5 → 528 µs, medians of two sets of
 /// eight alternated runs (BENCHMARKS, "The calling thread runs its own pool work"). A
-/// caller that comes back later pays for the wait: up to about 1 % there.
+/// caller that comes back later pays for the wait: up to about 1 % there. Lingering only
+/// for a caller that came back within the linger last time was tried beside a policy's
+/// forward pass and busy neighbours, and lost (BENCHMARKS.md N1).
 pub const HELPERS_LINGER: std::time::Duration = std::time::Duration::from_micros(100);
 
 /// Runs `job` as a pool thread would: a panic is printed by the panic hook and dropped.
@@ -266,21 +284,32 @@ fn run_caught(job: impl FnOnce()) {
     let _ = panic::catch_unwind(AssertUnwindSafe(job));
 }
 
-/// The scheduling niceness of the pool's threads (Linux): 10, below the default 0 of
-/// the threads that answer the network. A pool as busy as its cores then still lets the
-/// server's I/O threads run the moment a request arrives, instead of after a time slice:
-/// on 2 cores with both pool threads stepping 16k-env batches, another tenant's
-/// single-env `Step` p99 went from 13× to 2.3× its idle value (BENCHMARKS.md I1).
-pub const POOL_NICENESS: i32 = 10;
+/// The niceness a multi-tenant server's pool runs at when it asks for fairness between
+/// tenants (`gymfleet-server --pool-niceness 10`, as the Kubernetes manifests set it):
+/// below the default 0 of the threads that answer the network. A pool as busy as its
+/// cores then still lets the server's I/O threads run the moment a request arrives,
+/// instead of after a time slice: on 2 cores with both pool threads stepping 16k-env
+/// batches, another tenant's single-env `Step` p99 went from 13× to 2.3× its idle value
+/// (BENCHMARKS.md I1). The price: beside any other process at the default priority the
+/// pool gets about a tenth of a core per thread (BENCHMARKS.md N1), so it is never the
+/// default.
+pub const FAIR_POOL_NICENESS: u8 = 10;
 
-/// Lowers the calling thread's priority to [`POOL_NICENESS`]. A process already running
+/// The cores this process may run on: its CPU affinity and its cgroup's CPU quota (a
+/// container's `--cpus`, a Kubernetes CPU limit), as [`thread::available_parallelism`]
+/// reads them on Linux, rather than the machine's count; at least 1.
+pub fn usable_cores() -> usize {
+    thread::available_parallelism().map_or(1, NonZeroUsize::get)
+}
+
+/// Lowers the calling thread's priority to niceness `niceness`. A process already running
 /// nicer than that keeps its own (raising priority needs privileges), so failure is
 /// not an error.
-fn lower_priority() {
+fn lower_priority(niceness: u8) {
     use thread_priority::{ThreadPriority, ThreadPriorityValue};
     // thread-priority maps its 0..=99 onto niceness `(39 × (1 − p/99)) as i8 − 20` for
     // normal threads (19 down to -20); this inverts that (10 → 22).
-    let p = 99.0 * (1.0 - f64::from(POOL_NICENESS + 20) / 39.0);
+    let p = 99.0 * (1.0 - f64::from(i32::from(niceness.min(19)) + 20) / 39.0);
     if let Ok(value) = ThreadPriorityValue::try_from(p as u8) {
         let _ = thread_priority::set_current_thread_priority(ThreadPriority::Crossplatform(value));
     }
@@ -313,20 +342,44 @@ mod tests {
         assert_eq!(pool.chunks_run(), 9);
     }
 
-    /// The pool's threads run at niceness 10, below the network threads.
+    /// The calling thread's scheduling niceness, read from the kernel.
+    #[cfg(target_os = "linux")]
+    fn niceness() -> i32 {
+        let stat = std::fs::read_to_string("/proc/thread-self/stat").unwrap();
+        // Fields after the command name (in parentheses); nice is field 19.
+        let after = stat.rsplit_once(')').unwrap().1;
+        after.split_whitespace().nth(16).unwrap().parse().unwrap()
+    }
+
+    /// A plain pool's threads run at the process's own priority, so that they do not
+    /// starve beside a trainer's threads (issue P2).
     #[cfg(target_os = "linux")]
     #[test]
-    fn pool_threads_run_nicer_than_the_rest() {
-        fn niceness() -> i32 {
-            let stat = std::fs::read_to_string("/proc/thread-self/stat").unwrap();
-            // Fields after the command name (in parentheses); nice is field 19.
-            let after = stat.rsplit_once(')').unwrap().1;
-            after.split_whitespace().nth(16).unwrap().parse().unwrap()
-        }
+    fn pool_threads_run_at_the_process_priority() {
         let ours = niceness();
-        let pool = StepPool::new(1).unwrap();
+        for pool in [
+            StepPool::new(2).unwrap(),
+            StepPool::with_niceness(2, 0).unwrap(),
+        ] {
+            let theirs = pool.install(niceness);
+            assert_eq!(theirs, ours, "caller at {ours}");
+        }
+    }
+
+    /// A pool asked for fairness runs nicer than the network threads.
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn a_fair_pool_runs_nicer_than_the_rest() {
+        let ours = niceness();
+        let pool = StepPool::with_niceness(1, FAIR_POOL_NICENESS).unwrap();
         let theirs = pool.install(niceness);
-        assert_eq!(theirs, POOL_NICENESS.max(ours), "caller at {ours}");
+        assert_eq!(
+            theirs,
+            i32::from(FAIR_POOL_NICENESS).max(ours),
+            "caller at {ours}"
+        );
+        let pool = StepPool::with_niceness(1, 19).unwrap();
+        assert_eq!(pool.install(niceness), 19);
     }
 
     /// A one-off job waits for about one chunk per thread behind a running many-chunk

@@ -166,12 +166,16 @@ class Server:
         idle_ttl: Optional[float] = None,
         auth_tokens: Optional[str] = None,
         models: Optional[str] = None,
+        pool_niceness: int = 0,
     ) -> None:
-        """``threads``: simulation threads (0: one per core); limits default to the
-        server's (``None``); ``idle_ttl`` in seconds (``None`` or 0: never);
-        ``auth_tokens``: a ``TENANT TOKEN`` file, and every call needs a token;
-        ``models``: a model library folder (``--models DIR``) that ``make(model=...)``
-        names."""
+        """``threads``: simulation threads (0: one per core this process may use);
+        limits default to the server's (``None``); ``idle_ttl`` in seconds (``None`` or
+        0: never); ``auth_tokens``: a ``TENANT TOKEN`` file, and every call needs a
+        token; ``models``: a model library folder (``--models DIR``) that
+        ``make(model=...)`` names; ``pool_niceness``: the simulation threads'
+        scheduling niceness (``--pool-niceness``; 0, the default: this process's own
+        priority; 1..19 favours the server's network threads over its pool, for a
+        process that serves many tenants and runs nothing else)."""
     @property
     def address(self) -> str:
         """``"127.0.0.1:<port>"``, what ``server=`` takes."""
