@@ -86,32 +86,49 @@ impl Batch {
         &self,
         action_type: ActionType,
         actions: &[f32],
+        mocap_poses: &[f32],
     ) -> pb::StepBatchRequest {
         pb::StepBatchRequest {
             batch_id: self.info.batch_id.clone(),
             action_type: pb::ActionType::from(action_type) as i32,
             actions: actions.to_vec(),
+            mocap_poses: mocap_poses.to_vec(),
         }
     }
 
     /// Steps every env once. `actions` holds `n_envs × action_dim` values, row-major.
     pub async fn step(&self, action_type: ActionType, actions: &[f32]) -> Result<BatchStep> {
-        let request = self.step_request(action_type, actions);
+        self.step_with_mocap(action_type, actions, &[]).await
+    }
+
+    /// [`Batch::step`], moving every env's mocap bodies (`info().mocap_bodies`) to
+    /// `mocap_poses` by the end of the step: `n_envs × mocap bodies × 7` values, row-major
+    /// per env, each `[x, y, z, qw, qx, qy, qz]` (world mm, or m with SI units). Empty:
+    /// every target stays as it is.
+    pub async fn step_with_mocap(
+        &self,
+        action_type: ActionType,
+        actions: &[f32],
+        mocap_poses: &[f32],
+    ) -> Result<BatchStep> {
+        let request = self.step_request(action_type, actions, mocap_poses);
         let result = self.client.rpc().step_batch(request).await?;
         BatchStep::new(result.into_inner(), &self.info)
     }
 
-    /// [`Batch::step`] with owned actions, returning the checked raw reply (the fleet
-    /// batch merges those of its shards).
+    /// [`Batch::step_with_mocap`] with owned values, returning the checked raw reply (the
+    /// fleet batch merges those of its shards).
     pub(crate) async fn step_raw(
         &self,
         action_type: ActionType,
         actions: Vec<f32>,
+        mocap_poses: Vec<f32>,
     ) -> Result<pb::BatchStepResult> {
         let request = pb::StepBatchRequest {
             batch_id: self.info.batch_id.clone(),
             action_type: pb::ActionType::from(action_type) as i32,
             actions,
+            mocap_poses,
         };
         let result = self.client.rpc().step_batch(request).await?.into_inner();
         // Validates the shapes; the fleet merge relies on them.

@@ -67,13 +67,38 @@ impl Env {
 
     /// Applies `values` (one per DOF, `info().action_dim` of them) for one step.
     pub async fn step(&self, action_type: ActionType, values: &[f32]) -> Result<StepResult> {
+        self.step_with_mocap(action_type, values, &[]).await
+    }
+
+    /// [`Env::step`], moving the env's mocap bodies (`info().mocap_bodies`) to
+    /// `mocap_poses` by the end of the step: 7 values each, `[x, y, z, qw, qx, qy, qz]`
+    /// (world mm, or m with SI units). Empty: every target stays as it is.
+    pub async fn step_with_mocap(
+        &self,
+        action_type: ActionType,
+        values: &[f32],
+        mocap_poses: &[f32],
+    ) -> Result<StepResult> {
         let request = pb::StepRequest {
             env_id: self.info.env_id.clone(),
             action_type: pb::ActionType::from(action_type) as i32,
             values: values.to_vec(),
+            mocap_poses: mocap_poses.to_vec(),
         };
         let result = self.client.rpc().step(request).await?;
         result.into_inner().try_into()
+    }
+
+    /// Sets where mocap body `body` (one of `info().mocap_bodies`) is to be at the end of
+    /// the next step, and stay: `[x, y, z, qw, qx, qy, qz]`, world mm (m with SI units).
+    pub async fn set_mocap_pose(&self, body: &str, pose: [f32; 7]) -> Result<()> {
+        let request = pb::SetMocapPoseRequest {
+            env_id: self.info.env_id.clone(),
+            body: body.to_string(),
+            pose: pose.to_vec(),
+        };
+        self.client.rpc().set_mocap_pose(request).await?;
+        Ok(())
     }
 
     /// The current observation, without stepping.

@@ -99,6 +99,17 @@ impl BatchStream {
 
     /// Sends one batch step (`n_envs × action_dim` values, row-major).
     pub async fn send(&mut self, action_type: ActionType, actions: &[f32]) -> Result<()> {
+        self.send_with_mocap(action_type, actions, &[]).await
+    }
+
+    /// [`BatchStream::send`] with every env's mocap targets, as
+    /// [`crate::Batch::step_with_mocap`] takes them (empty: the targets stay).
+    pub async fn send_with_mocap(
+        &mut self,
+        action_type: ActionType,
+        actions: &[f32],
+        mocap_poses: &[f32],
+    ) -> Result<()> {
         if self.in_flight >= self.window {
             let result = self.receive().await;
             self.received.push_back(result);
@@ -109,7 +120,7 @@ impl BatchStream {
                 code: tonic::Code::Unavailable,
             });
         }
-        let request = self.batch.step_request(action_type, actions);
+        let request = self.batch.step_request(action_type, actions, mocap_poses);
         let Some(requests) = &self.requests else {
             return Err(ClientError::protocol("send after the stream was finished"));
         };

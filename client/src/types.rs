@@ -86,6 +86,12 @@ pub struct Observation {
     /// A floating base's centre-of-mass velocity (world mm/s), then its angular velocity
     /// (world deg/s); empty when the first instance is grounded.
     pub base_velocity: Vec<f32>,
+    /// Per free body ([`EnvInfo::free_bodies`]), `[x, y, z, qw, qx, qy, qz]`: its reference
+    /// frame's origin (world mm) and orientation, MuJoCo's `qpos` of its free joint.
+    pub free_body_poses: Vec<f32>,
+    /// Per free body, its reference frame's origin's velocity (world mm/s), then its angular
+    /// velocity in its own axes (deg/s): MuJoCo's `qvel` of its free joint.
+    pub free_body_velocities: Vec<f32>,
 }
 
 /// The segment names of `observation_layout` on the wire (the env crate writes them;
@@ -99,6 +105,10 @@ pub(crate) mod segment {
     pub(crate) const BASE_POSE: &str = "base_pose";
     /// A floating base's velocity.
     pub(crate) const BASE_VELOCITY: &str = "base_velocity";
+    /// The free bodies' poses.
+    pub(crate) const FREE_BODY_POSES: &str = "free_body_poses";
+    /// The free bodies' velocities.
+    pub(crate) const FREE_BODY_VELOCITIES: &str = "free_body_velocities";
     /// The end effectors' poses.
     pub(crate) const END_EFFECTOR_POSES: &str = "end_effector_poses";
 }
@@ -115,6 +125,8 @@ impl Observation {
                 segment::JOINT_VELOCITIES => &self.joint_velocities,
                 segment::BASE_POSE => &self.base_pose,
                 segment::BASE_VELOCITY => &self.base_velocity,
+                segment::FREE_BODY_POSES => &self.free_body_poses,
+                segment::FREE_BODY_VELOCITIES => &self.free_body_velocities,
                 segment::END_EFFECTOR_POSES => self.end_effector_poses.as_flattened(),
                 _ => &self.task_observation,
             });
@@ -136,6 +148,8 @@ impl Observation {
                 segment::JOINT_VELOCITIES => o.joint_velocities = part,
                 segment::BASE_POSE => o.base_pose = part,
                 segment::BASE_VELOCITY => o.base_velocity = part,
+                segment::FREE_BODY_POSES => o.free_body_poses = part,
+                segment::FREE_BODY_VELOCITIES => o.free_body_velocities = part,
                 segment::END_EFFECTOR_POSES => {
                     o.end_effector_poses = part
                         .chunks_exact(POSE_LEN)
@@ -166,6 +180,13 @@ impl TryFrom<pb::Observation> for Observation {
                 base.0, base.1
             )));
         }
+        let free = (o.free_body_poses.len(), o.free_body_velocities.len());
+        if !free.0.is_multiple_of(POSE_LEN) || free.0 / POSE_LEN * 6 != free.1 {
+            return Err(ClientError::protocol(format!(
+                "observation: free bodies have {POSE_LEN} pose and 6 velocity values each, got {} and {}",
+                free.0, free.1
+            )));
+        }
         let end_effector_poses = o
             .end_effector_poses
             .chunks_exact(POSE_LEN)
@@ -182,6 +203,8 @@ impl TryFrom<pb::Observation> for Observation {
             task_observation: o.task_observation,
             base_pose: o.base_pose,
             base_velocity: o.base_velocity,
+            free_body_poses: o.free_body_poses,
+            free_body_velocities: o.free_body_velocities,
         })
     }
 }
@@ -321,6 +344,11 @@ pub struct EnvInfo {
     pub units: Units,
     /// A terms task's term names, in the order of [`StepResult::terms`].
     pub term_names: Vec<String>,
+    /// The free bodies (objects and robots joined to nothing), in the order
+    /// [`Observation::free_body_poses`] lists them.
+    pub free_bodies: Vec<String>,
+    /// The mocap bodies, in the order a step's mocap targets give them.
+    pub mocap_bodies: Vec<String>,
 }
 
 /// The units of observations and of a terms task's values.
@@ -412,6 +440,8 @@ impl From<pb::EnvInfo> for EnvInfo {
             observation_layout: layout(i.observation_layout),
             units: Units::from_wire(i.units),
             term_names: i.term_names,
+            free_bodies: i.free_bodies,
+            mocap_bodies: i.mocap_bodies,
         }
     }
 }
@@ -447,6 +477,10 @@ pub struct BatchInfo {
     pub units: Units,
     /// A terms task's term names, in the order of each row of the step's `terms`.
     pub term_names: Vec<String>,
+    /// As [`EnvInfo::free_bodies`].
+    pub free_bodies: Vec<String>,
+    /// As [`EnvInfo::mocap_bodies`].
+    pub mocap_bodies: Vec<String>,
 }
 
 impl TryFrom<pb::BatchInfo> for BatchInfo {
@@ -468,6 +502,8 @@ impl TryFrom<pb::BatchInfo> for BatchInfo {
             observation_layout: layout(i.observation_layout),
             units: Units::from_wire(i.units),
             term_names: i.term_names,
+            free_bodies: i.free_bodies,
+            mocap_bodies: i.mocap_bodies,
         })
     }
 }

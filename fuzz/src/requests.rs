@@ -100,6 +100,7 @@ pub fn create_env_request(data: &[u8]) -> Reached {
             env_id: info.env_id.clone(),
             action_type: pb::ActionType::Torque as i32,
             values: vec![0.0; info.action_dim as usize],
+            ..Default::default()
         };
         if let Err(status) = sim.step(DirectService::request(step, &tenant)).await {
             refused(&status);

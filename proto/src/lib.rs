@@ -45,6 +45,7 @@ mod tests {
                 "Reset",
                 "Step",
                 "Observe",
+                "SetMocapPose",
                 "Close",
                 "CreateBatch",
                 "ResetBatch",
@@ -65,7 +66,7 @@ mod tests {
                 "ListModels",
             ]
         );
-        let stream = &service.method[10];
+        let stream = &service.method[11];
         assert!(stream.client_streaming() && stream.server_streaming());
     }
 

@@ -23,6 +23,17 @@ pub(crate) use replies::{
     observation, randomization_draws, scene, server_info,
 };
 
+/// A `SetMocapPoseRequest`'s pose: exactly 7 values (the env checks what they hold).
+pub(crate) fn mocap_pose(values: &[f32]) -> Result<[f32; 7]> {
+    <[f32; 7]>::try_from(values).map_err(|_| ServerError::InvalidArgument {
+        field: "pose",
+        reason: format!(
+            "expected 7 values (x, y, z, qw, qx, qy, qz), got {}",
+            values.len()
+        ),
+    })
+}
+
 fn action_type(raw: i32) -> Result<ActionType> {
     let expected = "expected ACTION_TYPE_TORQUE, ACTION_TYPE_POSITION or ACTION_TYPE_VELOCITY";
     match pb::ActionType::try_from(raw) {
@@ -379,6 +390,7 @@ impl TryFrom<pb::StepRequest> for EnvStep {
             action: Action {
                 action_type: action_type(r.action_type)?,
                 values: r.values,
+                mocap_poses: r.mocap_poses,
             },
         })
     }
@@ -393,6 +405,7 @@ impl TryFrom<pb::StepBatchRequest> for BatchStep {
             action: Action {
                 action_type: action_type(r.action_type)?,
                 values: r.actions,
+                mocap_poses: r.mocap_poses,
             },
         })
     }
@@ -496,6 +509,7 @@ mod tests {
                 env_id: "sim_1".into(),
                 action_type,
                 values: vec![],
+                ..Default::default()
             })
         };
         assert_eq!(
@@ -533,9 +547,12 @@ mod tests {
         let observed = |flat: Vec<f32>, floating_base, task| Observed {
             flat,
             layout: gymfleet_env::observation_layout(
-                if floating_base { 1 } else { 2 },
-                floating_base,
-                1,
+                gymfleet_env::Observed {
+                    dofs: if floating_base { 1 } else { 2 },
+                    floating_base,
+                    free_bodies: usize::from(floating_base),
+                    end_effectors: 1,
+                },
                 task,
             )
             .into(),
@@ -552,12 +569,16 @@ mod tests {
         assert_eq!(o.end_effector_poses.len(), 7);
         assert_eq!(o.task_observation, [20.0, 0.0, 40.0]);
         assert!(o.base_pose.is_empty() && o.base_velocity.is_empty());
-        // A floating base's 13 floats come between the joints and the poses.
-        let flat: Vec<f32> = (0..(1 + 1 + 13 + 7)).map(|v| v as f32).collect();
+        assert!(o.free_body_poses.is_empty() && o.free_body_velocities.is_empty());
+        // A floating base's 13 floats, then a free body's 13, come between the joints and
+        // the poses.
+        let flat: Vec<f32> = (0..(1 + 1 + 13 + 13 + 7)).map(|v| v as f32).collect();
         let o = observation(&observed(flat, true, None));
         assert_eq!(o.base_pose, [2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0]);
         assert_eq!(o.base_velocity, [9.0, 10.0, 11.0, 12.0, 13.0, 14.0]);
-        assert_eq!(o.end_effector_poses[0], 15.0);
+        assert_eq!(o.free_body_poses[0], 15.0);
+        assert_eq!(o.free_body_velocities, [22.0, 23.0, 24.0, 25.0, 26.0, 27.0]);
+        assert_eq!(o.end_effector_poses[0], 28.0);
         assert!(o.task_observation.is_empty());
     }
 }

@@ -41,11 +41,13 @@ pub(crate) struct ForkRequest {
     pub(crate) autoreset: Autoreset,
 }
 
-/// A validated action: type and values.
+/// A validated action: type and values, and the mocap targets that travel with it
+/// (empty: they stay).
 #[derive(Debug, Clone)]
 pub(crate) struct Action {
     pub(crate) action_type: ActionType,
     pub(crate) values: Vec<f32>,
+    pub(crate) mocap_poses: Vec<f32>,
 }
 
 /// A validated `StepRequest`.

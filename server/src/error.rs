@@ -328,7 +328,10 @@ fn env_code(err: &EnvError) -> Code {
         | EnvError::NonFiniteAction { .. }
         | EnvError::UnknownActionType { .. }
         | EnvError::StateFormat { .. }
-        | EnvError::BadState { .. } => Code::InvalidArgument,
+        | EnvError::BadState { .. }
+        | EnvError::UnknownMocapBody { .. }
+        | EnvError::MocapPosesLength { .. }
+        | EnvError::BadMocapPose { .. } => Code::InvalidArgument,
         EnvError::NeedsReset => Code::FailedPrecondition,
     }
 }
@@ -365,6 +368,7 @@ impl ServerError {
                 BatchError::NoEnvs
                 | BatchError::ActionLength { .. }
                 | BatchError::NonFiniteAction { .. }
+                | BatchError::MocapPosesLength { .. }
                 | BatchError::EnvIndices { .. }
                 | BatchError::StateCount { .. } => Code::InvalidArgument,
                 BatchError::TooManyEnvs { .. } => Code::ResourceExhausted,

@@ -146,6 +146,20 @@ impl Simulator for SimulatorService {
         .await
     }
 
+    async fn set_mocap_pose(
+        &self,
+        request: Request<pb::SetMocapPoseRequest>,
+    ) -> Result<Response<pb::SetMocapPoseResponse>, Status> {
+        self.unary("SetMocapPose", request, |tenant, r| async move {
+            let pose = convert::mocap_pose(&r.pose)?;
+            self.sim
+                .set_mocap_pose(&tenant, &r.env_id, r.body, pose)
+                .await?;
+            Ok(pb::SetMocapPoseResponse {})
+        })
+        .await
+    }
+
     async fn observe(
         &self,
         request: Request<pb::EnvRef>,

@@ -258,9 +258,10 @@ impl Simulation {
                 }
                 let started = Instant::now();
                 let mut observation = open.observation_buffer();
-                let flags = open.env.step_into(
+                let flags = open.env.step_with_mocap_into(
                     step.action.action_type,
                     &step.action.values,
+                    &step.action.mocap_poses,
                     &mut observation.flat,
                 )?;
                 open.activity.record_step(
@@ -282,6 +283,20 @@ impl Simulation {
             self.metrics.env_steps(tenant, 1);
         }
         outcome
+    }
+
+    /// Sets one mocap body's target (`SetMocapPose`).
+    pub(crate) async fn set_mocap_pose(
+        &self,
+        tenant: &Tenant,
+        id: &str,
+        body: String,
+        pose: [f32; 7],
+    ) -> Result<()> {
+        self.on_env(tenant, id, "SetMocapPose", move |open| {
+            Ok(open.env.set_mocap_pose(&body, pose)?)
+        })
+        .await
     }
 
     pub(crate) async fn observe_env(&self, tenant: &Tenant, id: &str) -> Result<Observed> {

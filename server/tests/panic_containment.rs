@@ -25,6 +25,7 @@ fn step(env_id: &str, value: f32) -> pb::StepRequest {
         env_id: env_id.to_string(),
         action_type: pb::ActionType::Torque as i32,
         values: vec![value],
+        ..Default::default()
     }
 }
 
@@ -98,6 +99,7 @@ async fn a_panicking_step_is_contained() {
             batch_id: batch_id.clone(),
             action_type: pb::ActionType::Torque as i32,
             actions: vec![POISON, 0.0, 0.0, 0.0],
+            ..Default::default()
         })
         .await
         .unwrap_err();
@@ -177,6 +179,7 @@ fn a_panicking_step_run_on_the_callers_thread_is_contained() {
                 batch_id: batch_id.clone(),
                 action_type: pb::ActionType::Torque as i32,
                 actions: actions.clone(),
+                ..Default::default()
             }),
         )
         .unwrap()
@@ -189,6 +192,7 @@ fn a_panicking_step_run_on_the_callers_thread_is_contained() {
                 batch_id: batch_id.clone(),
                 action_type: pb::ActionType::Torque as i32,
                 actions,
+                ..Default::default()
             }),
         )
         .unwrap_err();

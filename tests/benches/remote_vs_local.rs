@@ -162,6 +162,7 @@ fn bench_remote_vs_local(c: &mut Criterion) {
                                 batch_id: direct_batch.clone(),
                                 action_type: pb::ActionType::Torque as i32,
                                 actions: acts.clone(),
+                                ..Default::default()
                             };
                             direct
                                 .simulator()

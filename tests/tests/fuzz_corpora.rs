@@ -226,6 +226,7 @@ fn write_request_seeds() {
             batch_id: String::new(),
             action_type,
             actions,
+            ..Default::default()
         };
         write("step_batch_request", name, request.encode_to_vec());
     }
@@ -233,6 +234,7 @@ fn write_request_seeds() {
         batch_id: "batch_9".into(),
         action_type: pb::ActionType::Torque as i32,
         actions: vec![0.0; 4],
+        ..Default::default()
     };
     write(
         "step_batch_request",

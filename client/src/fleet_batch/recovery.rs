@@ -22,10 +22,12 @@ use crate::types::ActionType;
 /// One call the checkpoint's states have not seen.
 #[derive(Debug, Clone)]
 pub(crate) enum Logged {
-    /// A step, with every env's action (in position order).
+    /// A step, with every env's action and mocap targets (in position order; no targets:
+    /// empty).
     Step {
         action_type: ActionType,
         actions: Vec<f32>,
+        mocap_poses: Vec<f32>,
     },
     /// A reset of some (or every) env.
     Reset {
@@ -258,9 +260,11 @@ impl FleetBatch {
                 Logged::Step {
                     action_type,
                     actions,
+                    mocap_poses,
                 } => {
                     let rows = actions[positions.start * dim..positions.end * dim].to_vec();
-                    last = Some(batch.step_raw(*action_type, rows).await?);
+                    let targets = self.mocap_rows(mocap_poses, positions.clone());
+                    last = Some(batch.step_raw(*action_type, rows, targets).await?);
                 }
                 Logged::Reset {
                     seed,

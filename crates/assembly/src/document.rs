@@ -267,6 +267,34 @@ pub struct InstanceDef {
     /// *(ext)* Mass properties given outright, instead of the shape's volume × density.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub inertial: Option<InertialDef>,
+    /// *(ext)* Fixed to the world where it is placed: static geometry (a table, a wall, a
+    /// bin), as a plane always is. It cannot be a joint's child. Default `false`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fixed: Option<bool>,
+    /// *(ext)* A mocap body (MuJoCo's `mocap="true"`): kinematic, moved only by the pose
+    /// targets a client sets (with a step, or on their own), pushing what it touches and
+    /// pulling what a constraint joins to it (a joint from it with `"observed": false`). It
+    /// cannot be a joint's child or the floating base. Default `false`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mocap: Option<bool>,
+    /// *(ext)* The frame a free body's observed pose and velocity, and a mocap body's pose
+    /// targets, refer to (MuJoCo's body frame, where an MJCF conversion puts it), in the
+    /// instance's frame; default the instance's centre of mass, with its axes.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub body_frame: Option<FrameDef>,
+}
+
+/// *(ext)* A frame given in another: a position in mm and a rotation in degrees, applied
+/// about X, then Y, then Z, as an instance's.
+#[derive(Debug, Clone, Copy, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct FrameDef {
+    /// The origin, mm; default the other frame's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub position: Option<Vec3>,
+    /// The rotation, degrees; default none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotation: Option<Vec3>,
 }
 
 /// *(ext)* An instance's mass properties, as URDF's `<inertial>` and MJCF's `<inertial>`
@@ -426,6 +454,9 @@ impl InstanceDef {
             material: None,
             collision: None,
             inertial: None,
+            fixed: None,
+            mocap: None,
+            body_frame: None,
         }
     }
 }

@@ -19,7 +19,7 @@ mod topology;
 mod validate;
 
 pub use document::{
-    AssemblyDef, CollisionDef, ConvexMode, Document, FluidDef, InertiaDef, InertialDef,
+    AssemblyDef, CollisionDef, ConvexMode, Document, FluidDef, FrameDef, InertiaDef, InertialDef,
     InstanceDef, Integrator, JointDef, MaterialDef, MeshDef, PartDef, Primitive, SimulationDef,
     SiteDef, TendonDef, TendonJointDef, Vec3,
 };
@@ -31,9 +31,9 @@ pub use mesh::{
     MAX_MESH_VERTICES,
 };
 pub use model::{
-    inertia_problem, Assembly, DofKind, Fluid, Inertial, Instance, Joint, JointType, Material,
-    Shape, Site, Tendon, DEFAULT_DENSITY, DEFAULT_FRICTION, DEFAULT_GRAVITY, DEFAULT_RESTITUTION,
-    MM_PER_M,
+    inertia_problem, Assembly, DofKind, Fluid, Inertial, Instance, Joint, JointType, LocalFrame,
+    Material, Shape, Site, Tendon, DEFAULT_DENSITY, DEFAULT_FRICTION, DEFAULT_GRAVITY,
+    DEFAULT_RESTITUTION, MM_PER_M,
 };
 pub use simulation::{MAX_FLUID_DENSITY, MAX_FLUID_VISCOSITY};
 pub use sites::MAX_SITES;

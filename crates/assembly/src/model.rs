@@ -128,13 +128,28 @@ pub struct Instance {
     /// (extrinsic, i.e. `R = Rz · Ry · Rx`).
     pub rotation: [f64; 3],
     /// Whether the instance is fixed to the world: the first one unless the assembly has a
-    /// floating base, and every plane.
+    /// floating base, every plane, and every instance marked `fixed`.
     pub grounded: bool,
     /// Collision filter bits `(group, mask)`: instances `a` and `b` collide when
     /// `a.group & b.mask` or `b.group & a.mask` is non-zero (jointed pairs never do).
     pub collision: (u32, u32),
     /// Mass properties given outright; `None`: the shape's volume × the density.
     pub inertial: Option<Inertial>,
+    /// Whether it is a mocap body: kinematic, moved by pose targets (never grounded).
+    pub mocap: bool,
+    /// The frame its observed pose (a free body's) and pose targets (a mocap body's) refer
+    /// to, in its own frame; `None`: its centre of mass, with its axes.
+    pub body_frame: Option<LocalFrame>,
+}
+
+/// A frame given in an instance's frame, SI.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LocalFrame {
+    /// The origin, m.
+    pub position: [f64; 3],
+    /// The rotation as Euler angles in radians, applied X, then Y, then Z, as an
+    /// instance's `rotation`.
+    pub rotation: [f64; 3],
 }
 
 /// Mass properties given outright (see [`crate::InertialDef`]), in SI.
@@ -422,5 +437,34 @@ impl Assembly {
     /// Whether any joint closes a kinematic loop.
     pub fn has_loops(&self) -> bool {
         self.joints.iter().any(|j| j.closes_loop)
+    }
+
+    /// The free bodies, in document order: instances that move freely, joined to nothing
+    /// above them (MuJoCo's free joints, the floating base's excepted). Each roots a tree of
+    /// its own, made of what is jointed to it; its six free coordinates are observed as
+    /// its pose and velocity.
+    pub fn free_bodies(&self) -> Vec<usize> {
+        let mut hangs = vec![false; self.instances.len()];
+        for joint in self.joints.iter().filter(|j| !j.closes_loop) {
+            if let Some(h) = hangs.get_mut(joint.child) {
+                *h = true;
+            }
+        }
+        self.instances
+            .iter()
+            .enumerate()
+            .filter(|&(i, instance)| {
+                let base = i == 0 && self.floating_base;
+                !(hangs[i] || instance.grounded || instance.mocap || base)
+            })
+            .map(|(i, _)| i)
+            .collect()
+    }
+
+    /// The mocap bodies (`"mocap": true`), in document order: what a pose target names.
+    pub fn mocap_bodies(&self) -> Vec<usize> {
+        (0..self.instances.len())
+            .filter(|&i| self.instances[i].mocap)
+            .collect()
     }
 }

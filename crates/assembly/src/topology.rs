@@ -38,10 +38,18 @@ pub(crate) struct Topology {
 }
 
 /// Chooses the tree (see the module documentation). `roots[i]`: instance `i` can never be a
-/// child (the first instance, planes).
-pub(crate) fn choose(edges: &[Option<Edge>], roots: &[bool]) -> Topology {
+/// child (the first instance, planes, fixed instances, mocap bodies). `world[i]`: instance
+/// `i` is held by the world (grounded, or a mocap body the world moves): all such instances
+/// count as one body, so that a constraint between two of their trees closes a loop.
+pub(crate) fn choose(edges: &[Option<Edge>], roots: &[bool], world: &[bool]) -> Topology {
     let n = roots.len();
     let mut forest = UnionFind::new(n);
+    let mut held = (0..n).filter(|&i| world.get(i).copied().unwrap_or(false));
+    if let Some(first) = held.next() {
+        for other in held {
+            forest.union(first, other);
+        }
+    }
     let mut parent: Vec<Option<(usize, usize)>> = vec![None; n];
     let mut roles: Vec<Option<Role>> = vec![None; edges.len()];
     let rank = |e: &Edge| match (e.observed, e.actuated) {
@@ -157,7 +165,11 @@ mod tests {
             edge(0, 3, false),
             edge(0, 1, true),
         ];
-        let t = choose(&edges, &[true, false, false, false]);
+        let t = choose(
+            &edges,
+            &[true, false, false, false],
+            &[true, false, false, false],
+        );
         use Role::*;
         assert_eq!(t.roles, [Some(Tree), Some(Tree), Some(Loop), Some(Tree)]);
         // The loop's path: rocker 3 -> coupler 2 -> crank 1 -> ground 0.
@@ -169,15 +181,44 @@ mod tests {
     #[test]
     fn a_tree_keeps_every_joint_whatever_the_order() {
         let edges = [edge(2, 3, false), edge(0, 1, true), edge(1, 2, true)];
-        let t = choose(&edges, &[true, false, false, false]);
+        let t = choose(
+            &edges,
+            &[true, false, false, false],
+            &[true, false, false, false],
+        );
         assert!(t.roles.iter().all(|r| *r == Some(Role::Tree)));
+    }
+
+    /// A constraint between a tree hanging from the ground and a body the world holds
+    /// elsewhere (a plane, a fixed instance, a mocap body) closes a loop.
+    #[test]
+    fn a_constraint_to_another_body_the_world_holds_closes_a_loop() {
+        // ground 0, arm 1, mocap 2 (welded to the arm, unobserved), free body 3.
+        let unobserved = |parent, child| {
+            edge(parent, child, false).map(|e| Edge {
+                observed: false,
+                ..e
+            })
+        };
+        let (weld, to_free) = (unobserved(2, 1), unobserved(2, 3));
+        let edges = [edge(0, 1, true), weld, to_free];
+        let t = choose(
+            &edges,
+            &[true, false, true, false],
+            &[true, false, true, false],
+        );
+        assert_eq!(t.roles, [Some(Role::Tree), Some(Role::Loop), None]);
     }
 
     #[test]
     fn a_second_parent_from_another_tree_takes_no_role() {
         // 3 is a free body jointed to 2, whose parent is 1: neither tree nor loop.
         let edges = [edge(0, 1, true), edge(1, 2, true), edge(3, 2, true)];
-        let t = choose(&edges, &[true, false, false, false]);
+        let t = choose(
+            &edges,
+            &[true, false, false, false],
+            &[true, false, false, false],
+        );
         assert_eq!(t.roles[2], None);
     }
 }

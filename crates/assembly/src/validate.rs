@@ -30,17 +30,28 @@ pub fn validate(doc: &Document) -> Result<Assembly> {
     let parts = v.parts(&doc.parts, &materials);
     let floating_base = doc.floating_base.unwrap_or(false);
     let instances = v.instances(&doc.assembly.instances, &parts, &materials, floating_base);
-    // Which instances are planes (fixed grounds, never a joint's child), by document index.
-    let planes: Vec<bool> = doc
+    // What holds each instance where it is, if anything (never a joint's child), by
+    // document index.
+    let anchors: Vec<Anchor> = doc
         .assembly
         .instances
         .iter()
-        .map(|i| parts.get(&i.part).and_then(|p| p.shape.as_ref()) == Some(&Shape::Plane))
+        .map(|i| {
+            if parts.get(&i.part).and_then(|p| p.shape.as_ref()) == Some(&Shape::Plane) {
+                Anchor::Plane
+            } else if i.mocap == Some(true) {
+                Anchor::Mocap
+            } else if i.fixed == Some(true) {
+                Anchor::Fixed
+            } else {
+                Anchor::None
+            }
+        })
         .collect();
     let joints = v.joints(
         &doc.assembly.joints,
         &doc.assembly.instances,
-        &planes,
+        &anchors,
         floating_base,
     );
     let (simulation, simulation_issues) = crate::simulation::simulation(doc.simulation.as_ref());
@@ -132,12 +143,38 @@ impl Validator {
     }
 }
 
-/// What roots the kinematic trees: which instances are planes (fixed wherever they are
-/// listed), and whether the first instance floats.
+/// What holds an instance where it is, wherever it is listed: such an instance roots a
+/// tree and is never a joint's child.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Anchor {
+    /// Nothing: the instance hangs from a joint, or is the first instance, or moves freely.
+    None,
+    /// A plane: a ground.
+    Plane,
+    /// `"fixed": true`: static geometry.
+    Fixed,
+    /// `"mocap": true`: a kinematic body its pose targets move.
+    Mocap,
+}
+
+/// What roots the kinematic trees: what holds each instance (see [`Anchor`]), and whether
+/// the first instance floats.
 #[derive(Clone, Copy)]
 struct Roots<'a> {
-    planes: &'a [bool],
+    anchors: &'a [Anchor],
     floating_base: bool,
+}
+
+impl Roots<'_> {
+    fn anchor(&self, i: usize) -> Anchor {
+        self.anchors.get(i).copied().unwrap_or(Anchor::None)
+    }
+
+    /// Whether the world holds instance `i`: grounded (the first instance without a
+    /// floating base, a plane, a fixed instance) or a mocap body.
+    fn held(&self, i: usize) -> bool {
+        (i == 0 && !self.floating_base) || self.anchor(i) != Anchor::None
+    }
 }
 
 fn list(names: &[&str]) -> String {

@@ -107,7 +107,7 @@ pub struct EnvBatch {
     n_envs: usize,
     chunk_size: usize,
     autoreset: Autoreset,
-    chunks: Arc<[Mutex<Chunk>]>,
+    pub(crate) chunks: Arc<[Mutex<Chunk>]>,
 }
 
 impl EnvBatch {
@@ -473,7 +473,7 @@ impl EnvBatch {
         Ok(())
     }
 
-    fn validate(&self, actions: &[f32]) -> Result<()> {
+    pub(crate) fn validate(&self, actions: &[f32]) -> Result<()> {
         let action_dim = self.spec.action_dim;
         let expected = self.n_envs * action_dim;
         if actions.len() != expected {
@@ -526,6 +526,6 @@ impl fmt::Debug for EnvBatch {
 
 /// Locks a chunk. A chunk's lock is only poisoned by a panic inside an env, which the
 /// step already reported; its data is still memory-safe to use.
-fn lock(chunk: &Mutex<Chunk>) -> MutexGuard<'_, Chunk> {
+pub(crate) fn lock(chunk: &Mutex<Chunk>) -> MutexGuard<'_, Chunk> {
     chunk.lock().unwrap_or_else(PoisonError::into_inner)
 }

@@ -55,6 +55,20 @@ pub enum BatchError {
         /// How many states were given.
         states: usize,
     },
+    /// A step's mocap targets have the wrong number of values.
+    #[error(
+        "mocap_poses: expected {expected} values ({n_envs} envs × {bodies} mocap bodies × 7: x, y, z, qw, qx, qy, qz), or none to keep the targets, got {got}"
+    )]
+    MocapPosesLength {
+        /// `n_envs × bodies × 7`.
+        expected: usize,
+        /// How many were given.
+        got: usize,
+        /// Environments in the batch.
+        n_envs: usize,
+        /// Mocap bodies per environment.
+        bodies: usize,
+    },
     /// One environment failed; the others were stepped.
     #[error("env {env}: {source}")]
     Env {

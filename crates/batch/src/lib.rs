@@ -15,6 +15,7 @@ mod batch;
 mod caller;
 mod chunk;
 mod error;
+mod mocap;
 mod pool;
 mod queue;
 

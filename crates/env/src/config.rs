@@ -177,6 +177,15 @@ impl EnvConfig {
     }
 }
 
+/// The bodies an env observes or moves besides its joints: whether the first instance is
+/// a floating base, and the free and mocap bodies' instance names.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct ObservedBodies {
+    pub(crate) floating_base: bool,
+    pub(crate) free_bodies: Vec<String>,
+    pub(crate) mocap_bodies: Vec<String>,
+}
+
 /// What an agent needs to know about an environment.
 #[derive(Debug, Clone, PartialEq)]
 pub struct EnvSpec {
@@ -186,13 +195,19 @@ pub struct EnvSpec {
     pub action_dim: usize,
     /// Every DOF, passive ones included: the positions (and velocities) observed.
     pub num_dofs: usize,
-    /// `2·DOF` (+ 13 with a floating base) `+ 7·end effectors` + the task's floats.
+    /// `2·DOF` (+ 13 with a floating base) + 13 per free body `+ 7·end effectors` + the
+    /// task's floats.
     pub observation_dim: usize,
     /// Whether the first instance is a floating base, observed as `base_pose` and
     /// `base_velocity`.
     pub floating_base: bool,
     /// The flat observation's segments, in order; their sizes sum to `observation_dim`.
     pub observation_layout: Vec<ObservationSegment>,
+    /// The free bodies' instances, in document order: what `free_body_poses` and
+    /// `free_body_velocities` observe.
+    pub free_bodies: Vec<String>,
+    /// The mocap bodies' instances, in document order: what pose targets name.
+    pub mocap_bodies: Vec<String>,
     /// Observed instances, in order.
     pub end_effector_ids: Vec<String>,
     /// Names of the joints with at least one DOF, in document order.
@@ -217,10 +232,15 @@ impl EnvSpec {
     pub(crate) fn new(
         config: &EnvConfig,
         dofs: &[JointDof],
-        floating_base: bool,
+        bodies: ObservedBodies,
         task: Option<(&'static str, usize)>,
         term_names: Vec<String>,
     ) -> Self {
+        let ObservedBodies {
+            floating_base,
+            free_bodies,
+            mocap_bodies,
+        } = bodies;
         let mut joint_names: Vec<String> = Vec::new();
         let mut last = None;
         for dof in dofs {
@@ -230,9 +250,12 @@ impl EnvSpec {
             }
         }
         let observation_layout = observation::layout(
-            dofs.len(),
-            floating_base,
-            config.end_effector_ids.len(),
+            observation::Observed {
+                dofs: dofs.len(),
+                floating_base,
+                free_bodies: free_bodies.len(),
+                end_effectors: config.end_effector_ids.len(),
+            },
             task,
         );
         EnvSpec {
@@ -242,6 +265,8 @@ impl EnvSpec {
             observation_dim: observation_layout.iter().map(|s| s.size).sum(),
             observation_layout,
             floating_base,
+            free_bodies,
+            mocap_bodies,
             end_effector_ids: config.end_effector_ids.clone(),
             joint_names,
             dofs: dofs.to_vec(),

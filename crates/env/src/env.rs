@@ -3,6 +3,7 @@
 use gymfleet_assembly::Assembly;
 use gymfleet_physics::{
     Draws, RobotWorld, SceneJoint, ScenePart, Units, WorldOptions, BASE_NOISE_LEN, BASE_STATE_LEN,
+    FREE_POSE_LEN, FREE_VELOCITY_LEN,
 };
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
@@ -163,13 +164,17 @@ impl RobotEnv {
             }) => t.terms.iter().map(|t| t.name.clone()).collect(),
             _ => Vec::new(),
         };
-        let spec = EnvSpec::new(
-            &config,
-            world.dofs(),
-            world.has_floating_base(),
-            segment,
-            term_names,
-        );
+        let names = |list: Vec<usize>| -> Vec<String> {
+            list.into_iter()
+                .map(|i| assembly.instances[i].name.clone())
+                .collect()
+        };
+        let bodies = crate::config::ObservedBodies {
+            floating_base: world.has_floating_base(),
+            free_bodies: names(assembly.free_bodies()),
+            mocap_bodies: names(assembly.mocap_bodies()),
+        };
+        let spec = EnvSpec::new(&config, world.dofs(), bodies, segment, term_names);
         let mut env = RobotEnv {
             world,
             end_effectors,
@@ -440,6 +445,10 @@ impl RobotEnv {
         } else {
             rest
         };
+        let free = self.spec.free_bodies.len();
+        let (poses, rest) = rest.split_at_mut(FREE_POSE_LEN * free);
+        let (velocities, rest) = rest.split_at_mut(FREE_VELOCITY_LEN * free);
+        self.world.free_body_state(self.units, poses, velocities);
         let (poses, _) = rest.split_at_mut(POSE_LEN * self.end_effectors.len());
         for (pose, &ee) in poses.chunks_exact_mut(POSE_LEN).zip(&self.end_effectors) {
             pose.copy_from_slice(&self.end_effector_pose(self.units, ee));

@@ -78,6 +78,34 @@ pub enum EnvError {
         /// What was expected and what was given.
         reason: String,
     },
+    /// A pose target names no mocap body.
+    #[error("unknown mocap body {name} (known: {known})")]
+    UnknownMocapBody {
+        /// The name given, quoted (and shortened if long).
+        name: String,
+        /// The mocap bodies' names, or why there are none.
+        known: String,
+    },
+    /// A step's mocap poses have the wrong number of values.
+    #[error(
+        "mocap_poses: expected {expected} values (7 per mocap body: x, y, z, qw, qx, qy, qz; the env has {bodies}), or none to keep the targets, got {got}"
+    )]
+    MocapPosesLength {
+        /// 7 × the env's mocap bodies.
+        expected: usize,
+        /// How many were given.
+        got: usize,
+        /// The env's mocap bodies.
+        bodies: usize,
+    },
+    /// A mocap pose target is unusable.
+    #[error("{what}: {reason}")]
+    BadMocapPose {
+        /// Which target (`mocap body "robot0:mocap"`, `mocap_poses[7..14] (…)`).
+        what: String,
+        /// What is wrong with it.
+        reason: String,
+    },
     /// The physics diverged earlier in this episode; only `reset` is possible.
     #[error("the simulation diverged (non-finite state) and was terminated; call reset before stepping again")]
     NeedsReset,

@@ -21,6 +21,7 @@ mod config;
 mod env;
 mod episode;
 mod error;
+mod mocap;
 mod observation;
 mod state;
 mod task;
@@ -38,7 +39,7 @@ pub use gymfleet_physics::Units;
 pub use gymfleet_physics::{JointDof, PdGains, SceneJoint, ScenePart, SceneShape};
 pub use observation::{
     layout as observation_layout, segment, Observation, ObservationParts, ObservationSegment,
-    BASE_VELOCITY_LEN, POSE_LEN,
+    Observed, BASE_VELOCITY_LEN, FREE_POSE_LEN, FREE_VELOCITY_LEN, POSE_LEN,
 };
 pub use state::{SavedState, STATE_VERSION};
 pub use task::{ReachTarget, TaskKind, TaskSpec};

@@ -621,8 +621,16 @@ fn jointed_pairs_do_not_collide_and_everything_else_does() {
     }
     assert_eq!(obs[0], 0.0, "the jointed arm was pushed by its own base");
     assert_eq!(obs[1], 0.0);
+    // The pebble is a free body: its pose and velocity (13 floats) come before the end
+    // effectors, the arm's pose and the pebble's.
+    assert_eq!(env.spec().free_bodies, ["pebble"]);
+    assert_eq!(
+        &obs[2..5],
+        &obs[22..25],
+        "the free body's pose is its centre's"
+    );
     // Pebble: centre 2 mm above the base's top face at z = 5, at rest, upright.
-    let pebble = &obs[9..16];
+    let pebble = &obs[22..29];
     assert!(
         (pebble[2] - 7.0).abs() < 0.05,
         "pebble rests at z = {}",

@@ -45,7 +45,8 @@ pub use meshes::{
     inline_mesh_files, load as load_mesh, with_mesh_files, MeshData, MAX_FILE_VERTICES,
 };
 pub use mjcf::{
-    expand_includes, mjcf_to_document, MAX_BODY_DEPTH, MAX_INCLUDED_BYTES, MAX_INCLUDE_DEPTH,
+    expand_includes, mjcf_to_document, mjcf_to_document_in, MAX_BODY_DEPTH, MAX_INCLUDED_BYTES,
+    MAX_INCLUDE_DEPTH,
 };
 pub use urdf::urdf_to_document;
 
@@ -115,13 +116,27 @@ pub struct Conversion {
 /// `text` as assembly JSON: the one way a description becomes a document (the server's
 /// requests and model library, [`convert_file`]). Its format is `format`, or detected
 /// ([`Format::detect`]) when `None`; its mesh files are read from `assets`
-/// ([`to_json`]).
+/// ([`to_json`]). Its relative references (MJCF includes and mesh files) are read from
+/// the assets' root: [`convert_in`] reads them from the document's own folder.
 pub fn convert(text: &str, format: Option<Format>, assets: Option<&Assets>) -> Result<Conversion> {
+    convert_in(text, format, assets, "")
+}
+
+/// [`convert`] for a document that sits in `folder` of its `assets` (`""`: the root;
+/// `"fetch"` for `fetch/push.xml`): an MJCF document's `<include file>`s and mesh files
+/// are read from that folder, `../` included, as MuJoCo reads them from the folder of the
+/// model file ([`asset_path`]).
+pub fn convert_in(
+    text: &str,
+    format: Option<Format>,
+    assets: Option<&Assets>,
+    folder: &str,
+) -> Result<Conversion> {
     let format = match format {
         Some(format) => format,
         None => Format::detect(text)?,
     };
-    let (json, warnings) = to_json(text, format, assets)?;
+    let (json, warnings) = to_json_in(text, format, assets, folder)?;
     Ok(Conversion {
         json,
         warnings,
@@ -136,6 +151,16 @@ pub fn to_json(
     text: &str,
     format: Format,
     assets: Option<&Assets>,
+) -> Result<(String, Vec<String>)> {
+    to_json_in(text, format, assets, "")
+}
+
+/// [`to_json`] for a document in `folder` of its assets (see [`convert_in`]).
+pub fn to_json_in(
+    text: &str,
+    format: Format,
+    assets: Option<&Assets>,
+    folder: &str,
 ) -> Result<(String, Vec<String>)> {
     let mut converted = match format {
         Format::Json => {
@@ -152,11 +177,16 @@ pub fn to_json(
             }
         }
         Format::Mjcf => match assets {
-            Some(assets) => mjcf_to_document(&expand_includes(text, &mut |file| {
-                let bytes = assets.get(file).map_err(|e| e.to_string())?;
-                String::from_utf8(bytes.to_vec()).map_err(|_| "not UTF-8 text".to_string())
-            })?)?,
-            None => mjcf_to_document(text)?,
+            Some(assets) => mjcf_to_document_in(
+                &expand_includes(text, &mut |file| {
+                    let bytes = assets
+                        .get(&asset_path(folder, file)?)
+                        .map_err(|e| e.to_string())?;
+                    String::from_utf8(bytes.to_vec()).map_err(|_| "not UTF-8 text".to_string())
+                })?,
+                folder,
+            )?,
+            None => mjcf_to_document_in(text, folder)?,
         },
         Format::Urdf => urdf_to_document(text)?,
     };
@@ -165,18 +195,22 @@ pub fn to_json(
 }
 
 /// A description file as assembly JSON text, with the conversion's warnings. An MJCF
-/// file's includes are read from its folder. Mesh files it references are read from the
-/// folder that holds it, or else from the folders above (up to three: a ROS package keeps
-/// `urdf/` beside `meshes/`), the first that has them all.
+/// file's includes are read from its folder (`../` included), as MuJoCo reads them. Mesh
+/// files it references are read from the folder that holds it, or else from the folders
+/// above (up to three: a ROS package keeps `urdf/` beside `meshes/`, a MuJoCo scene
+/// names `../stls/…`), the first that has them all.
 pub fn convert_file(path: &std::path::Path) -> Result<(String, Vec<String>)> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| ImportError::Assets(format!("{}: {e}", path.display())))?;
     let format = Format::detect(&text)?;
+    let here = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => std::path::Path::new("."),
+    };
     // MuJoCo reads includes from the main model's folder.
     let text = if format == Format::Mjcf {
-        let folder = path.parent().unwrap_or(std::path::Path::new("."));
         expand_includes(&text, &mut |file| {
-            std::fs::read_to_string(folder.join(file)).map_err(|e| e.to_string())
+            std::fs::read_to_string(here.join(file)).map_err(|e| e.to_string())
         })?
     } else {
         text
@@ -186,25 +220,71 @@ pub fn convert_file(path: &std::path::Path) -> Result<(String, Vec<String>)> {
         warnings,
         ..
     } = convert(&text, Some(format), None)?;
-    let Some(document) = with_mesh_files(&plain) else {
+    if with_mesh_files(&plain).is_none() {
         return Ok((plain, warnings));
-    };
+    }
     let mut first_error = None;
-    for root in path.ancestors().skip(1).take(4) {
+    for root in here.ancestors().take(4) {
+        // The model's folder as seen from `root` (forward slashes, as in archives).
+        let folder = here
+            .strip_prefix(root)
+            .unwrap_or(std::path::Path::new(""))
+            .components()
+            .map(|c| c.as_os_str().to_string_lossy().into_owned())
+            .collect::<Vec<_>>()
+            .join("/");
         let root = if root.as_os_str().is_empty() {
             std::path::Path::new(".")
         } else {
             root
         };
-        let mut attempt = document.clone();
-        match Assets::from_dir(root).and_then(|a| inline_mesh_files(&mut attempt, Some(&a))) {
-            Ok(()) => return Ok((attempt.to_string(), warnings)),
+        let attempt =
+            Assets::from_dir(root).and_then(|a| to_json_in(&text, format, Some(&a), &folder));
+        match attempt {
+            Ok(converted) => return Ok(converted),
             Err(e) => {
                 first_error.get_or_insert(e);
             }
         }
     }
     Err(first_error.unwrap_or_else(|| ImportError::Assets("no folder to read meshes from".into())))
+}
+
+/// `reference` (a relative path a description in `folder` of its assets names: an
+/// include, a mesh file) as a path from the assets' root, with `.` and `..` resolved as
+/// MuJoCo resolves them against the model file's folder. A path that climbs above the
+/// root is refused: the assets must hold the folder it names. An absolute path, or a
+/// `package://` or `file://` reference, is left to [`Assets::get`].
+pub fn asset_path(folder: &str, reference: &str) -> std::result::Result<String, String> {
+    if reference.starts_with('/') || reference.contains("://") {
+        return Ok(reference.to_string());
+    }
+    let mut parts: Vec<&str> = Vec::new();
+    for part in folder
+        .split(['/', '\\'])
+        .chain(reference.split(['/', '\\']))
+    {
+        match part {
+            "" | "." => {}
+            ".." => {
+                if parts.pop().is_none() {
+                    return Err(format!(
+                        "{} climbs above the assets' root{}: send the folder that holds it \
+                         as the assets, and the model's path in it as document_path (Python: \
+                         make(path, assets=folder) does this when path is inside folder)",
+                        quote(reference),
+                        if folder.is_empty() {
+                            String::new()
+                        } else {
+                            format!(" from the model's folder {}", quote(folder))
+                        }
+                    ));
+                }
+            }
+            part => parts.push(part),
+        }
+    }
+    Ok(parts.join("/"))
 }
 
 /// A converted description: the assembly JSON and what the conversion left out.

@@ -176,14 +176,10 @@ const BODY: &str = r#"<body name="b"><geom type="sphere" size=".1"/><joint type=
 #[test]
 fn unsupported_constructs_name_their_element_and_line() {
     assert_eq!(
-        error(&model(r#"<body><freejoint/><geom size=".1"/></body>"#)),
-        "line 3: <geom>: in a model with a free joint, the world's geoms other than a plane need a ground plane to be fixed to"
-    );
-    assert_eq!(
         error(&model(
             r#"<body><joint type="hinge"/><geom type="plane" size="1 1 1"/></body>"#
         )),
-        "line 4: <geom>: a colliding plane (a ground) must be the world's, and only one"
+        "line 4: <geom>: a plane (a half-space) belongs to the world or to a body without joints"
     );
     assert_eq!(
         error("<mujoco>\n<asset><hfield file=\"terrain.png\"/></asset>\n<worldbody/>\n</mujoco>"),
@@ -436,7 +432,7 @@ fn fixed_tendons_become_the_documents_tendons() {
 }
 
 #[test]
-fn a_colliding_world_plane_is_the_grounded_instance() {
+fn the_worlds_geoms_are_fixed_and_a_plane_stops_what_hangs_above_it() {
     let converted = mjcf_to_document(
         "<mujoco><worldbody>\
          <geom name=\"post\" type=\"box\" size=\"0.01 0.01 0.1\" pos=\"0 0 0.1\" contype=\"0\" conaffinity=\"0\"/>\
@@ -448,10 +444,12 @@ fn a_colliding_world_plane_is_the_grounded_instance() {
     let instances = converted.document["assembly"]["instances"]
         .as_array()
         .unwrap();
-    assert_eq!(
-        instances[0]["name"], "floor",
-        "the plane goes first: {instances:?}"
-    );
+    let fixed: Vec<&str> = instances
+        .iter()
+        .filter(|i| i["fixed"] == true)
+        .map(|i| i["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(fixed, ["post", "floor"], "{instances:?}");
     let (mut env, _) = (
         RobotEnv::from_json(&converted.document.to_string(), EnvConfig::default()).expect("builds"),
         (),
@@ -468,13 +466,16 @@ fn a_colliding_world_plane_is_the_grounded_instance() {
         (q - stop).abs() < 0.05,
         "the arm rests at {q} deg, on the floor at {stop}"
     );
-    let err = mjcf_to_document(
-        "<mujoco><worldbody>\n<geom type=\"plane\" size=\"1 1 1\"/>\n<geom type=\"plane\" size=\"1 1 1\"/>\n</worldbody></mujoco>",
+    // Walls are planes too: as many as the model has, each fixed where it is.
+    let walls = mjcf_to_document(
+        "<mujoco><worldbody>\n<geom type=\"plane\" size=\"1 1 1\"/>\n<geom type=\"plane\" size=\"1 1 1\" zaxis=\"1 0 0\" pos=\"-1 0 0\"/>\n</worldbody></mujoco>",
     )
-    .expect_err("two grounds");
-    assert_eq!(
-        err.to_string(),
-        "line 3: <geom>: a colliding plane (a ground) must be the world's, and only one"
+    .expect("two planes");
+    let instances = walls.document["assembly"]["instances"].as_array().unwrap();
+    assert_eq!(instances.len(), 2);
+    assert!(
+        instances.iter().all(|i| i["fixed"] == true),
+        "{instances:?}"
     );
 }
 

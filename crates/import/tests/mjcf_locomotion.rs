@@ -4,7 +4,7 @@
 mod common;
 
 use common::{bare, env, error};
-use gymfleet_env::{ActionType, RobotEnv};
+use gymfleet_env::{ActionType, EnvConfig, RobotEnv};
 use gymfleet_import::mjcf_to_document;
 
 const ANT: &str = include_str!("data/ant.xml");
@@ -99,20 +99,31 @@ fn free_joints_outside_top_level_bodies_or_beside_other_joints_are_refused() {
         error(&beside),
         "line 3: <freejoint>: a free joint must be its body's only joint"
     );
-    let no_ground = bare(
-        r#"<geom type="box" size="1 1 0.1"/><body name="a"><freejoint/><geom size="0.1"/></body>"#,
+}
+
+/// A free body with nothing jointed below it is an object, not a floating base: the
+/// world's geoms (a table) are fixed, what hangs from the world hangs from them, and the
+/// object is a free body of its own.
+#[test]
+fn a_free_object_beside_static_geometry_is_a_free_body() {
+    let table = bare(
+        r#"<geom name="table" type="box" size="1 1 0.1"/><body name="a" pos="0 0 0.5"><freejoint/><geom size="0.1"/></body><body name="door"><joint type="hinge"/><geom size="0.1"/></body>"#,
     );
-    assert_eq!(
-        error(&no_ground),
-        "line 3: <geom>: in a model with a free joint, the world's geoms other than a plane need a ground plane to be fixed to"
-    );
-    let hinged = bare(
-        r#"<body name="a"><freejoint/><geom size="0.1"/></body><body name="door"><joint type="hinge"/><geom size="0.1"/></body>"#,
-    );
-    assert_eq!(
-        error(&hinged),
-        "line 3: <body>: in a model with a free joint, a body fixed or jointed to the world needs a ground plane in <worldbody>"
-    );
+    let converted = mjcf_to_document(&table).expect("converts");
+    let doc = &converted.document;
+    assert!(doc.get("floating_base").is_none(), "{doc}");
+    let instances = doc["assembly"]["instances"].as_array().unwrap();
+    assert_eq!(instances[0]["name"], "table");
+    assert_eq!(instances[0]["fixed"], true);
+    let door = doc["assembly"]["joints"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|j| j["type"] == "revolute")
+        .expect("the door's hinge");
+    assert_eq!(door["parent"], "table");
+    let env = RobotEnv::from_json(&doc.to_string(), EnvConfig::default()).expect("builds");
+    assert_eq!(env.spec().free_bodies, ["a_geom"]);
 }
 
 const HALF_CHEETAH: &str = include_str!("data/half_cheetah.xml");
@@ -216,11 +227,11 @@ fn springs_and_total_mass_convert_or_name_their_line() {
     );
 }
 
-/// What a free joint carries that the base's six DOFs cannot take (damping, armature) is
-/// warned about; a second free body moves freely, and a warning says it is not the
-/// observed base.
+/// What a free joint carries that its six DOFs cannot take (damping, armature) is warned
+/// about. Free bodies with nothing jointed below them are objects: each observed as its
+/// own pose and velocity, none of them the floating base.
 #[test]
-fn free_joint_extras_and_a_second_free_body_are_warned_about() {
+fn free_joint_extras_are_warned_about_and_every_free_body_is_observed() {
     let xml = bare(
         r#"<geom type="plane" size="1 1 0.1"/><body name="a"><joint type="free" damping="2" armature="0.1"/><geom size="0.1"/></body><body name="b" pos="1 0 0"><freejoint/><geom size="0.1"/></body>"#,
     );
@@ -228,7 +239,7 @@ fn free_joint_extras_and_a_second_free_body_are_warned_about() {
     let w = &converted.warnings;
     assert!(
         w.iter()
-            .any(|m| m.contains("damping on a free joint ignored (the base's six DOFs take none)")),
+            .any(|m| m.contains("damping on a free joint ignored (its six DOFs take none)")),
         "{w:?}"
     );
     assert!(
@@ -236,14 +247,24 @@ fn free_joint_extras_and_a_second_free_body_are_warned_about() {
             .any(|m| m.contains("armature on a free joint ignored")),
         "{w:?}"
     );
-    assert!(
-        w.iter()
-            .any(|m| m.contains("a second free body moves freely, but only the first")),
-        "{w:?}"
-    );
-    assert_eq!(converted.document["floating_base"], true);
+    assert!(converted.document.get("floating_base").is_none());
+    let env =
+        RobotEnv::from_json(&converted.document.to_string(), EnvConfig::default()).expect("builds");
+    assert_eq!(env.spec().free_bodies, ["a_geom", "b_geom"]);
+    let layout: Vec<(&str, usize)> = env
+        .spec()
+        .observation_layout
+        .iter()
+        .map(|s| (s.name, s.size))
+        .collect();
     assert_eq!(
-        converted.document["assembly"]["instances"][0]["name"],
-        "a_geom"
+        layout,
+        [
+            ("joint_positions", 0),
+            ("joint_velocities", 0),
+            ("free_body_poses", 14),
+            ("free_body_velocities", 12),
+            ("end_effector_poses", 0)
+        ]
     );
 }

@@ -70,8 +70,10 @@ fn a_mesh_geom_is_its_files_hull_scaled_where_the_file_puts_it() {
     let (json, warnings) = to_json(ARM, Format::Mjcf, Some(&arm_assets())).expect("converts");
     let document: Value = serde_json::from_str(&json).unwrap();
     let parts = document["parts"].as_array().unwrap();
-    // The world's helper, the base, the shoulder: the massless visual copy is dropped.
-    assert_eq!(parts.len(), 3, "{}", document["parts"]);
+    // The base (a body without joints: fixed where it is) and the shoulder; the massless
+    // visual copy is dropped.
+    assert_eq!(parts.len(), 2, "{}", document["parts"]);
+    assert_eq!(document["assembly"]["instances"][0]["fixed"], true);
     assert!(
         warnings
             .iter()
@@ -79,8 +81,8 @@ fn a_mesh_geom_is_its_files_hull_scaled_where_the_file_puts_it() {
         "{warnings:?}"
     );
     for (part, file, scale) in [
-        (&parts[1], "base.stl", [1.0, 1.0, 1.0]),
-        (&parts[2], "shoulder.stl", [1.0, 1.0, 2.0]),
+        (&parts[0], "base.stl", [1.0, 1.0, 1.0]),
+        (&parts[1], "shoulder.stl", [1.0, 1.0, 2.0]),
     ] {
         let (points, _) = load_mesh(&mesh_file(file), file).expect("reads");
         let expected = bounds(
@@ -101,7 +103,7 @@ fn a_mesh_geom_is_its_files_hull_scaled_where_the_file_puts_it() {
     // It builds and steps like any document.
     let assembly = gymfleet_assembly::parse(&json).expect("validates");
     let names: Vec<&str> = assembly.instances.iter().map(|i| i.name.as_str()).collect();
-    assert_eq!(names, ["world", "base_link_geom", "shoulder_link_geom"]);
+    assert_eq!(names, ["base_link_geom", "shoulder_link_geom"]);
 }
 
 #[test]
@@ -183,7 +185,7 @@ fn mesh_and_include_errors_name_what_is_missing() {
         )])),
     );
     assert!(
-        missing.starts_with("parts[1].primitive.file: assets: no file \"a.stl\""),
+        missing.starts_with("parts[0].primitive.file: assets: no file \"a.stl\""),
         "{missing}"
     );
     assert_eq!(

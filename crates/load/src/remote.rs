@@ -23,7 +23,7 @@ use crate::rss::Memory;
 /// What one client drives.
 enum Handle {
     Batch(Batch),
-    Env(Env),
+    Env(Box<Env>),
 }
 
 /// One client, set up and ready to step.
@@ -205,7 +205,7 @@ async fn setup(config: &LoadConfig, c: usize, server: String) -> Result<Session>
                 .await
                 .map_err(|e| LoadError::setup(stage("Reset"), e))?;
             let (joints, dim) = (env.info().joints.clone(), env.info().action_dim);
-            (Handle::Env(env), joints, dim)
+            (Handle::Env(Box::new(env)), joints, dim)
         }
     };
     Ok(Session {

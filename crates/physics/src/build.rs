@@ -138,6 +138,21 @@ impl RobotWorld {
         );
         crate::action_bound::set_action_bounds(&sets, &joints, &mut dofs, &inertia, gravity);
         let free_roots = free_roots(&sets, &bodies, &owners);
+        let reference = |instance: usize| crate::world::BodyRef {
+            instance,
+            frame: assembly.instances[instance]
+                .body_frame
+                .map(|f| crate::free_bodies::local_pose(f.position, f.rotation)),
+        };
+        let free_bodies = assembly.free_bodies().into_iter().map(reference).collect();
+        let mocaps = assembly
+            .mocap_bodies()
+            .into_iter()
+            .map(|i| crate::world::MocapSlot {
+                body: reference(i),
+                target: None,
+            })
+            .collect();
 
         let (params, substep_params) = integration_parameters(assembly, options);
 
@@ -176,6 +191,8 @@ impl RobotWorld {
             joints,
             dofs,
             free_roots,
+            free_bodies,
+            mocaps,
             floating_base: assembly.floating_base,
             gains: ResolvedGains {
                 ball_omega_cap: 0.2 / substep_dt,

@@ -17,14 +17,18 @@ pub(crate) fn instance_pose(inst: &Instance) -> Pose {
     Pose::from_parts(Vector::new(x, y, z), rotation)
 }
 
-/// Inserts an instance's body (fixed or dynamic) at its document pose, with its collider;
+/// Inserts an instance's body (fixed, dynamic, or kinematic for a mocap body) at its
+/// document pose, with its collider;
 /// returns both. Its given mass properties are set by [`set_given_masses`].
 pub(crate) fn insert_body(
     sets: &mut Sets,
     inst: &Instance,
     fixed: bool,
 ) -> (RigidBodyHandle, ColliderHandle) {
-    let builder = if fixed {
+    let builder = if inst.mocap {
+        // Moved by its pose targets (`free_bodies.rs`).
+        RigidBodyBuilder::kinematic_position_based()
+    } else if fixed {
         RigidBodyBuilder::fixed()
     } else {
         RigidBodyBuilder::dynamic().can_sleep(false)

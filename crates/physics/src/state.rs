@@ -68,6 +68,10 @@ pub struct DynamicState {
     /// document order of the roots: linear (m/s, of the root body's frame origin), then
     /// angular (rad/s), world frame. The root's pose is its body's.
     pub roots: Vec<[f32; 6]>,
+    /// Every mocap body's target, in document order: where its body is to be (world m,
+    /// then the quaternion `[x, y, z, w]`), or `None` while it stays where the document
+    /// put it. Its pose now is in `bodies`.
+    pub mocap_targets: Vec<Option<[f32; 7]>>,
 }
 
 fn bad(path: String, reason: String) -> PhysicsError {
@@ -184,6 +188,16 @@ impl RobotWorld {
                 v
             })
             .collect();
+        let mocap_targets = self
+            .mocaps
+            .iter()
+            .map(|m| {
+                m.target.map(|t| {
+                    let (p, q) = (t.translation, t.rotation);
+                    [p.x, p.y, p.z, q.x, q.y, q.z, q.w]
+                })
+            })
+            .collect();
         DynamicState {
             mode: self.command.mode,
             command: self.command.values.clone(),
@@ -191,6 +205,7 @@ impl RobotWorld {
             velocities,
             bodies,
             roots,
+            mocap_targets,
         }
     }
 
@@ -322,6 +337,19 @@ impl RobotWorld {
         for (r, root) in state.roots.iter().enumerate() {
             check_values(&format!("world.roots[{r}]"), root, MAX_MAGNITUDE)?;
         }
+        check_len(
+            "world.mocap_targets",
+            state.mocap_targets.len(),
+            self.mocaps.len(),
+            "mocap bodies",
+        )?;
+        for (k, target) in state.mocap_targets.iter().enumerate() {
+            if let Some(t) = target {
+                let path = format!("world.mocap_targets[{k}]");
+                check_values(&path, &t[..3], MAX_MAGNITUDE)?;
+                check_unit(&path, &[t[3], t[4], t[5], t[6]])?;
+            }
+        }
         Ok(())
     }
 
@@ -398,6 +426,19 @@ impl RobotWorld {
         // impulses as a first guess, so that every world restored from `state` is alike.
         for (_, joint) in self.live.impulse_joints.iter_mut() {
             joint.impulses = Default::default();
+        }
+        for (mocap, target) in self.mocaps.iter_mut().zip(&state.mocap_targets) {
+            let h = self.bodies[mocap.body.instance];
+            let saved = &state.bodies[mocap.body.instance];
+            let t = saved.translation;
+            let pose = Pose::from_parts(Vector::new(t[0], t[1], t[2]), quat(saved.rotation));
+            self.live.bodies[h].set_position(pose, false);
+            mocap.target = target.map(|t| {
+                Pose::from_parts(
+                    Vector::new(t[0], t[1], t[2]),
+                    quat([t[3], t[4], t[5], t[6]]),
+                )
+            });
         }
         for (&h, saved) in self.bodies.iter().zip(&state.bodies) {
             let in_multibody = self.live.multibody_joints.rigid_body_link(h).is_some();

@@ -218,6 +218,25 @@ pub(crate) struct FreeRoot {
     pub(crate) multibody: MultibodyIndex,
 }
 
+/// A free or mocap body as the world reads and moves it (`free_bodies.rs`).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct BodyRef {
+    /// Its instance.
+    pub(crate) instance: usize,
+    /// Its reference frame in the instance's frame; `None`: the instance's centre of mass,
+    /// with the instance's axes.
+    pub(crate) frame: Option<Pose>,
+}
+
+/// A mocap body: its instance and frame, and the target its next steps move it to.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct MocapSlot {
+    pub(crate) body: BodyRef,
+    /// Where the instance's body is to be (world, SI), once a target was set; `None`:
+    /// where the document put it.
+    pub(crate) target: Option<Pose>,
+}
+
 /// The physics of one robot: a Rapier world built from an assembly.
 ///
 /// `Clone` gives an independent copy (for batches), sharing nothing.
@@ -259,6 +278,11 @@ pub struct RobotWorld {
     pub(crate) dofs: Vec<JointDof>,
     /// Trees with a dynamic root, in document order of their roots.
     pub(crate) free_roots: Vec<FreeRoot>,
+    /// The free bodies (`Assembly::free_bodies`), observed as their pose and velocity
+    /// (`free_bodies.rs`).
+    pub(crate) free_bodies: Vec<BodyRef>,
+    /// The mocap bodies, in document order, and their targets (`free_bodies.rs`).
+    pub(crate) mocaps: Vec<MocapSlot>,
     /// Whether the first instance is a floating base (see [`RobotWorld::base_state`]).
     pub(crate) floating_base: bool,
     pub(crate) gains: ResolvedGains,
@@ -419,12 +443,14 @@ impl RobotWorld {
     pub fn step(&mut self) {
         self.clear_limit_impulses();
         if self.has_state_dependent_efforts() {
-            for _ in 0..self.substeps {
+            for k in 0..self.substeps {
+                self.move_mocap_bodies(self.substeps - k);
                 self.apply_efforts();
                 self.apply_fluid();
                 self.pipeline_step(true);
             }
         } else {
+            self.move_mocap_bodies(1);
             self.apply_efforts();
             self.pipeline_step(false);
         }
@@ -503,6 +529,9 @@ impl RobotWorld {
         self.live.clone_from(&self.initial);
         // The clone may have moved the sets' storage: the next step takes the ranges again.
         self.hot.ranges.clear();
+        for mocap in &mut self.mocaps {
+            mocap.target = None;
+        }
         self.command.mode = ActionMode::Torque;
         self.command.values.iter_mut().for_each(|v| *v = 0.0);
         self.configure_motors();

@@ -142,6 +142,8 @@ pub(crate) fn observation(observed: &Observed) -> pb::Observation {
         task_observation: parts.task.to_vec(),
         base_pose: parts.base_pose.to_vec(),
         base_velocity: parts.base_velocity.to_vec(),
+        free_body_poses: parts.free_body_poses.to_vec(),
+        free_body_velocities: parts.free_body_velocities.to_vec(),
     }
 }
 
@@ -213,6 +215,8 @@ pub(crate) fn env_info(env_id: String, spec: &EnvSpec, links: &JointLinks) -> pb
         observation_layout: observation_layout(spec),
         units: units_to_proto(spec.units),
         term_names: spec.term_names.clone(),
+        free_bodies: spec.free_bodies.clone(),
+        mocap_bodies: spec.mocap_bodies.clone(),
     }
 }
 
@@ -243,6 +247,8 @@ pub(crate) fn batch_info(
         observation_layout: observation_layout(spec),
         units: units_to_proto(spec.units),
         term_names: spec.term_names.clone(),
+        free_bodies: spec.free_bodies.clone(),
+        mocap_bodies: spec.mocap_bodies.clone(),
     }
 }
 

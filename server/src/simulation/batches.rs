@@ -141,10 +141,16 @@ impl Simulation {
                 let Action {
                     action_type,
                     values,
+                    mocap_poses,
                 } = step.action;
                 let started = Instant::now();
-                open.batch
-                    .step(&pool, action_type, &values, &mut open.out)?;
+                open.batch.step_with_mocap(
+                    &pool,
+                    action_type,
+                    &values,
+                    &mocap_poses,
+                    &mut open.out,
+                )?;
                 open.steps += 1;
                 open.activity.record_step(
                     started.elapsed(),

@@ -37,6 +37,7 @@ fn step(env_id: &str, values: Vec<f32>) -> pb::StepRequest {
         env_id: env_id.to_string(),
         action_type: pb::ActionType::Torque as i32,
         values,
+        ..Default::default()
     }
 }
 
@@ -471,6 +472,7 @@ async fn hostile_requests_get_their_exact_code_and_leave_everyone_else_alone() {
                     batch_id: batch,
                     action_type: pb::ActionType::Torque as i32,
                     actions: vec![0.0; 7],
+                    ..Default::default()
                 })
                 .await
                 .map(drop)
@@ -611,6 +613,7 @@ async fn hostile_requests_get_their_exact_code_and_leave_everyone_else_alone() {
                     batch_id: "batch_999999".into(),
                     action_type: pb::ActionType::Torque as i32,
                     actions: vec![0.0; 8],
+                    ..Default::default()
                 }]);
                 let mut replies = c.stream_batch(requests).await?.into_inner();
                 match replies.message().await {
@@ -631,6 +634,7 @@ async fn hostile_requests_get_their_exact_code_and_leave_everyone_else_alone() {
                         batch_id: batch.clone(),
                         action_type: pb::ActionType::Torque as i32,
                         actions: vec![0.0; 8],
+                        ..Default::default()
                     };
                     let bad_step = pb::StepBatchRequest {
                         actions: vec![f32::NAN; 8],

@@ -105,6 +105,7 @@ async fn unknown_ids_are_not_found_naming_the_id() {
             env_id: "sim_424242".into(),
             action_type: pb::ActionType::Torque as i32,
             values: vec![0.0],
+            ..Default::default()
         })
         .await
         .unwrap_err();
@@ -164,6 +165,7 @@ async fn bad_actions_are_invalid_arguments_expected_vs_got() {
             env_id: env.id().to_string(),
             action_type: pb::ActionType::Unspecified as i32,
             values: vec![0.0],
+            ..Default::default()
         })
         .await
         .unwrap_err();
@@ -183,6 +185,7 @@ async fn bad_actions_are_invalid_arguments_expected_vs_got() {
             batch_id: batch.id().to_string(),
             action_type: 42,
             actions: vec![0.0; 32],
+            ..Default::default()
         })
         .await
         .unwrap_err();

@@ -68,6 +68,7 @@ async fn mjcf_bodies_nested_past_the_bound_are_refused_not_a_stack_overflow() {
         env_id: deepest.env_id,
         action_type: pb::ActionType::Torque as i32,
         values: vec![0.0; deepest.action_dim as usize],
+        ..Default::default()
     })
     .await
     .expect("and steps");

@@ -153,6 +153,7 @@ async fn a_tenant_sees_only_its_own_envs_and_has_its_own_quota() {
         env_id: env_id.to_string(),
         action_type: pb::ActionType::Torque as i32,
         values: vec![1.0],
+        ..Default::default()
     };
     let theirs = b_raw.step(step(env.id())).await.unwrap_err();
     let unknown = b_raw.step(step("sim_999999")).await.unwrap_err();

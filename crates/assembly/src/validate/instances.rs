@@ -5,7 +5,7 @@ use std::collections::HashMap;
 
 use crate::document::InstanceDef;
 use crate::error::quoted;
-use crate::model::{Instance, Material, Shape, MM_PER_M};
+use crate::model::{Instance, LocalFrame, Material, Shape, MM_PER_M};
 
 use super::{list, CheckedPart, Validator};
 
@@ -95,7 +95,42 @@ impl Validator {
                 );
                 continue;
             }
-            let grounded = plane || (i == 0 && !floating_base);
+            let first_floats = i == 0 && floating_base;
+            let fixed = inst.fixed == Some(true);
+            let mocap = inst.mocap == Some(true);
+            for (flag, set) in [("fixed", fixed), ("mocap", mocap)] {
+                if set && first_floats {
+                    self.push(
+                        format!("{path}.{flag}"),
+                        "the floating base (the first instance) moves freely: it cannot be fixed or a mocap body; list it elsewhere, or remove floating_base",
+                    );
+                }
+            }
+            if fixed && mocap {
+                self.push(
+                    format!("{path}.mocap"),
+                    "an instance is fixed or a mocap body (moved by its targets), not both",
+                );
+            }
+            if plane && mocap {
+                self.push(
+                    format!("{path}.mocap"),
+                    "a plane is a ground, fixed to the world: it cannot be a mocap body",
+                );
+            }
+            let body_frame = inst.body_frame.map(|f| LocalFrame {
+                position: f
+                    .position
+                    .map(|p| self.vec3(&format!("{path}.body_frame.position"), p))
+                    .unwrap_or_default()
+                    .map(|c| c / MM_PER_M),
+                rotation: f
+                    .rotation
+                    .map(|r| self.vec3(&format!("{path}.body_frame.rotation"), r))
+                    .unwrap_or_default()
+                    .map(f64::to_radians),
+            });
+            let grounded = !mocap && (plane || fixed || (i == 0 && !floating_base));
             let mass = shape.volume() * material.density;
             if shape != Shape::Plane && inst.inertial.is_none() && !(mass.is_finite() && mass > 0.0)
             {
@@ -117,6 +152,8 @@ impl Validator {
                     .collision
                     .map_or((1, 1), |c| (c.group.unwrap_or(1), c.mask.unwrap_or(1))),
                 inertial,
+                mocap,
+                body_frame,
             });
         }
         out

@@ -9,16 +9,20 @@ use crate::error::quoted;
 use crate::model::{Joint, JointType, MM_PER_M};
 use crate::topology::{Edge, Role, Topology};
 
-use super::{limit_to_si, list, Roots, Validator};
+use super::{limit_to_si, list, Anchor, Roots, Validator};
 
 impl Validator {
     pub(super) fn joints(
         &mut self,
         defs: &[JointDef],
         instances: &[InstanceDef],
-        planes: &[bool],
+        anchors: &[Anchor],
         floating_base: bool,
     ) -> Vec<Joint> {
+        let roots_of = Roots {
+            anchors,
+            floating_base,
+        };
         // Look names up in the document's instances, so that one bad instance does not
         // turn every joint that names it into a second, misleading error.
         let mut index: HashMap<&str, usize> = HashMap::new();
@@ -41,9 +45,10 @@ impl Validator {
             })
             .collect();
         let roots: Vec<bool> = (0..instances.len())
-            .map(|i| i == 0 || planes.get(i).copied().unwrap_or(false))
+            .map(|i| i == 0 || roots_of.anchor(i) != Anchor::None)
             .collect();
-        let topology = crate::topology::choose(&edges, &roots);
+        let world: Vec<bool> = (0..instances.len()).map(|i| roots_of.held(i)).collect();
+        let topology = crate::topology::choose(&edges, &roots, &world);
         // Each joint on a loop's path, with the joint that closes that loop.
         let mut on_loop: Vec<Option<usize>> = vec![None; defs.len()];
         for (j, edge) in edges.iter().enumerate() {
@@ -149,11 +154,7 @@ impl Validator {
             }
 
             if let (Some(p), Some(c)) = (parent, child) {
-                let roots = Roots {
-                    planes,
-                    floating_base,
-                };
-                self.topology(&path, def, (p, c), role, &topology, instances, roots);
+                self.topology(&path, def, (p, c), role, &topology, instances, roots_of);
             }
             if self.issues.len() == before {
                 if let (Some(parent), Some(child)) = (parent, child) {
@@ -221,6 +222,48 @@ impl Validator {
         instances: &[InstanceDef],
         roots: Roots<'_>,
     ) {
+        let held_as = match roots.anchor(child) {
+            Anchor::None => None,
+            Anchor::Plane => Some("a plane, a ground fixed to the world,"),
+            Anchor::Fixed => Some("fixed to the world (\"fixed\": true)"),
+            Anchor::Mocap => Some("a mocap body, which only its pose targets move,"),
+        };
+        if let Some(what) = held_as {
+            self.push(
+                format!("{path}.child"),
+                format!(
+                    "instance {} is {what} and cannot be a joint child; swap parent and child",
+                    quoted(&def.child)
+                ),
+            );
+            return;
+        }
+        if roots.held(parent) && roots.held(child) && parent != child {
+            self.push(
+                format!("{path}.child"),
+                format!(
+                    "joint {} -> {} joins two instances the world holds where they are (grounded, fixed or mocap): it would hold nothing; remove it",
+                    quoted(&def.parent),
+                    quoted(&def.child)
+                ),
+            );
+            return;
+        }
+        if roots.anchor(parent) == Anchor::Mocap
+            && def.kind != JointType::Fixed
+            && def.observed != Some(false)
+        {
+            self.push(
+                format!("{path}.observed"),
+                format!(
+                    "instance {} is a mocap body, which nothing moving hangs from: a joint from it is a constraint that pulls {} along (\"observed\": false), or a fixed joint that makes {} part of it",
+                    quoted(&def.parent),
+                    quoted(&def.child),
+                    quoted(&def.child)
+                ),
+            );
+            return;
+        }
         match role {
             Some(Role::Tree) => return,
             Some(Role::Loop) => {
@@ -269,16 +312,6 @@ impl Validator {
                 format!("{path}.child"),
                 format!(
                     "instance {} is {what} and cannot be a joint child; swap parent and child",
-                    quoted(&def.child)
-                ),
-            );
-            return;
-        }
-        if roots.planes.get(child).copied().unwrap_or(false) {
-            self.push(
-                format!("{path}.child"),
-                format!(
-                    "instance {} is a plane, a ground fixed to the world, and cannot be a joint child; swap parent and child",
                     quoted(&def.child)
                 ),
             );

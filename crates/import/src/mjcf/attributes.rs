@@ -280,11 +280,69 @@ impl<'a, 'i> Converter<'a, 'i> {
                 a.name(),
                 "timestep" | "gravity" | "density" | "viscosity" | "wind" | "integrator"
             ) {
-                self.warn(node, format!("{}=\"{}\" ignored", a.name(), a.value()));
+                let how = option_approximation(a.name());
+                self.warn(
+                    node,
+                    format!("{}=\"{}\" ignored: {how}", a.name(), a.value()),
+                );
             }
         }
-        if elements(node).next().is_some() {
-            self.warn(node, "its flags are ignored".into());
+        for child in elements(node) {
+            match child.tag_name().name() {
+                "flag" => self.flags(child)?,
+                other => self.warn(child, format!("<{other}> in <option> ignored")),
+            }
+        }
+        Ok(())
+    }
+
+    /// `<option><flag>`: `contact`, `constraint`, `limit`, `equality` and `gravity`
+    /// switched off are honoured (no contacts, no joint or tendon limits, no equality
+    /// constraints, no gravity); the others are warned about, each with what it changes.
+    fn flags(&mut self, node: Node<'a, 'i>) -> Result<()> {
+        for a in node.attributes() {
+            let (name, value) = (a.name(), a.value());
+            if !matches!(value, "enable" | "disable") {
+                return Err(self.bad(
+                    node,
+                    name,
+                    format!(
+                        "expected enable or disable, got {:?}",
+                        value.chars().take(40).collect::<String>()
+                    ),
+                ));
+            }
+            // MuJoCo's defaults: these few are off, every other flag is on.
+            let on_by_default = !matches!(
+                name,
+                "override" | "energy" | "fwdinv" | "invdiscrete" | "multiccd" | "island"
+            );
+            if (value == "enable") == on_by_default {
+                continue;
+            }
+            match name {
+                "contact" => self.switched_off.contacts = true,
+                "limit" => self.switched_off.limits = true,
+                "equality" => self.switched_off.equalities = true,
+                "constraint" => {
+                    self.switched_off.contacts = true;
+                    self.switched_off.limits = true;
+                    self.switched_off.equalities = true;
+                }
+                "gravity" => self.simulation.gravity = Some(Vec3::from([0.0; 3])),
+                "energy" | "fwdinv" | "invdiscrete" | "sensornoise" | "sensor" | "midphase"
+                | "eulerdamp" | "autoreset" | "nativeccd" | "island" | "multiccd" | "warmstart"
+                | "refsafe" => self.warn(
+                    node,
+                    format!(
+                        "{name}=\"{value}\" ignored (no effect on the motion gymfleet simulates)"
+                    ),
+                ),
+                _ => self.warn(
+                    node,
+                    format!("{name}=\"{value}\" ignored: {}", flag_note(name)),
+                ),
+            }
         }
         Ok(())
     }
@@ -356,5 +414,38 @@ impl<'a, 'i> Converter<'a, 'i> {
             translation: DVec3::from_array(p),
             rotation,
         })
+    }
+}
+
+/// How an `<option>` attribute gymfleet does not model is approximated, for its warning.
+fn option_approximation(name: &str) -> &'static str {
+    match name {
+        "cone" => "friction is Rapier's Coulomb model at each contact point (the tangential impulse bounded by friction × normal impulse), close to MuJoCo's elliptic cone, not its pyramid",
+        "impratio" => "Rapier's contacts have no friction-to-normal impedance ratio; friction is as hard as the contact",
+        "noslip_iterations" | "noslip_tolerance" => "there is no noslip pass; Rapier's contact solver runs once per substep",
+        "iterations" | "ls_iterations" | "tolerance" | "ls_tolerance" | "solver" | "jacobian" | "ccd_iterations" | "ccd_tolerance" | "sdf_iterations" | "sdf_initpoints" => {
+            "the solver is Rapier's: one pass per substep (more for kinematic loops), no line search"
+        }
+        "o_margin" | "o_solref" | "o_solimp" | "o_friction" => "no contact override: each contact keeps gymfleet's own parameters",
+        "magnetic" => "no magnetometer sensors here",
+        "apirate" | "actuatorgroupdisable" => "no effect on the motion gymfleet simulates",
+        "collision" => "every geom pair that contype/conaffinity allow is collided, and every <pair>",
+        "mpr_tolerance" | "mpr_iterations" => "collision detection is Rapier's (parry)",
+        _ => "not modelled",
+    }
+}
+
+/// What gymfleet does instead of an `<option><flag>` setting it does not switch, for its
+/// warning.
+fn flag_note(name: &str) -> &'static str {
+    match name {
+        "frictionloss" => "joints' and tendons' dry friction still acts",
+        "spring" | "damper" => "joint springs and dampers still act",
+        "actuation" => "actuators still act",
+        "passive" => "passive forces still act",
+        "clampctrl" => "controls are still bounded where the model bounds them",
+        "filterparent" => "a body still never collides with its parent",
+        "override" => "no contact override: each contact keeps gymfleet's own parameters",
+        _ => "gymfleet keeps its default",
     }
 }

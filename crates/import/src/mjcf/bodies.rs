@@ -3,55 +3,50 @@
 
 use super::*;
 
+/// What a body hangs from.
+#[derive(Debug, Clone, Copy)]
+pub(super) enum BodyParent<'p> {
+    /// The world: the body is a child of `<worldbody>`.
+    World,
+    /// A static body's instance (fixed where it is).
+    Static(&'p str),
+    /// A moving body's instance.
+    Moving(&'p str),
+}
+
 impl<'a, 'i> Converter<'a, 'i> {
-    pub(super) fn worldbody(&mut self, world: Node<'a, 'i>) -> Result<()> {
-        // A top-level body with a free joint makes the model's first instance that body's, a
-        // floating base (MuJoCo allows free joints in top-level bodies only); the world's
-        // geoms are then grounds only if they are planes.
-        let floating = elements(world)
+    /// Every `<worldbody>` (MuJoCo merges them). The world's geoms are static geometry:
+    /// each an instance fixed where it is (`"fixed": true`), planes included, as many as the
+    /// model has. A top-level body with a free joint is the floating base when something is
+    /// jointed below it (a robot: the first such body), and otherwise a free body (an
+    /// object), observed as its pose and velocity; a mocap body is kinematic, moved by the
+    /// pose targets a client sets.
+    pub(super) fn worldbody(&mut self, worlds: &[Node<'a, 'i>]) -> Result<()> {
+        let children: Vec<Node<'a, 'i>> = worlds.iter().flat_map(|w| elements(*w)).collect();
+        self.base_body = children
+            .iter()
+            .copied()
             .filter(|n| n.tag_name().name() == "body")
-            .any(|body| {
-                let class = body.attribute("childclass");
-                elements(body).any(|j| {
-                    matches!(j.tag_name().name(), "joint" | "freejoint") && self.is_free(j, class)
-                })
-            });
-        let mut world_instance: Option<String> = None;
-        // The world's geoms first: the first of them is the grounded instance. A colliding
-        // plane (a ground) must be it, so planes go first; one at most.
-        let mut geoms: Vec<Node<'a, 'i>> = elements(world)
+            .find(|body| self.free_joint_of(*body).is_some() && self.has_joint_below(*body))
+            .map(|body| body.id());
+        for geom in children
+            .iter()
+            .copied()
             .filter(|n| n.tag_name().name() == "geom")
-            .collect();
-        geoms.sort_by_key(|g| self.attr(*g, None, "type") != Some("plane"));
-        for geom in geoms {
-            if let Some(name) = self.geom(geom, &Frame::IDENTITY, None, "world", None)? {
+        {
+            if let Some(name) = self.geom(geom, &Frame::IDENTITY, None, "world", None, true)? {
                 self.massless.insert(name.clone());
-                match &world_instance {
-                    None if floating && self.attr(geom, None, "type") != Some("plane") => {
-                        return Err(self.unsupported(
-                            geom,
-                            "in a model with a free joint, the world's geoms other than a plane need a ground plane to be fixed to"
-                                .into(),
-                        ))
-                    }
-                    None => world_instance = Some(name),
-                    Some(ground) => self.weld(ground.clone(), name),
+                self.set_fixed(&name);
+                if self.world.is_none() {
+                    self.world = Some(name.clone());
+                    self.bodies.insert("world".into(), (name, Frame::IDENTITY));
                 }
             }
         }
-        let ground = match world_instance {
-            Some(g) => Some(g),
-            None if floating => None,
-            None => Some(self.helper("world", &Frame::IDENTITY)),
-        };
-        if let Some(g) = &ground {
-            self.bodies
-                .insert("world".into(), (g.clone(), Frame::IDENTITY));
-        }
-        for child in elements(world) {
+        for child in children {
             match child.tag_name().name() {
                 "geom" => {}
-                "body" => self.body(child, &Frame::IDENTITY, ground.as_deref(), None)?,
+                "body" => self.body(child, &Frame::IDENTITY, BodyParent::World, None)?,
                 "light" | "camera" | "site" => {
                     self.warn(child, "ignored (no effect on the dynamics)".into())
                 }
@@ -66,13 +61,52 @@ impl<'a, 'i> Converter<'a, 'i> {
         Ok(())
     }
 
-    /// A top-level body's free joint: the body moves freely (the first such body is the
-    /// floating base). Its damping and armature act on no DOF gymfleet has: warned about.
+    /// The instance the world's own geoms and helpers stand for: the first world geom, or
+    /// a helper fixed at the origin made on first use. What hangs from the world by a
+    /// joint hangs from it.
+    pub(super) fn world_instance(&mut self) -> String {
+        if let Some(world) = &self.world {
+            return world.clone();
+        }
+        let name = self.helper("world", &Frame::IDENTITY);
+        self.set_fixed(&name);
+        self.world = Some(name.clone());
+        self.bodies
+            .insert("world".into(), (name.clone(), Frame::IDENTITY));
+        name
+    }
+
+    /// Marks instance `name` as fixed to the world where it is.
+    pub(super) fn set_fixed(&mut self, name: &str) {
+        if let Some(instance) = self.instances.iter_mut().find(|i| i.name == name) {
+            instance.fixed = Some(true);
+        }
+    }
+
+    /// `body`'s free joint, if it has one.
+    fn free_joint_of(&self, body: Node<'a, 'i>) -> Option<Node<'a, 'i>> {
+        let class = body.attribute("childclass");
+        elements(body).find(|j| {
+            matches!(j.tag_name().name(), "joint" | "freejoint") && self.is_free(*j, class)
+        })
+    }
+
+    /// Whether a body below `body` has a joint: a robot rather than an object.
+    fn has_joint_below(&self, body: Node<'a, 'i>) -> bool {
+        body.descendants()
+            .filter(|n| n.tag_name().name() == "body" && *n != body)
+            .any(|b| elements(b).any(|j| matches!(j.tag_name().name(), "joint" | "freejoint")))
+    }
+
+    /// A top-level body's free joint: the body moves freely, as the floating base (the
+    /// first with a joint below it) or as a free body. Its damping and armature act on no
+    /// DOF gymfleet has: warned about.
     pub(super) fn free_joint(
         &mut self,
         joint: Node<'a, 'i>,
         class: Option<&str>,
         main: &str,
+        is_base: bool,
     ) -> Result<()> {
         for (attr, what) in [
             ("damping", "damping"),
@@ -82,23 +116,32 @@ impl<'a, 'i> Converter<'a, 'i> {
             if self.number(joint, class, attr)?.is_some_and(|v| v != 0.0) {
                 self.warn(
                     joint,
-                    format!("{what} on a free joint ignored (the base's six DOFs take none)"),
+                    format!("{what} on a free joint ignored (its six DOFs take none)"),
                 );
             }
         }
-        match &self.floating {
-            None => self.floating = Some(main.to_string()),
-            Some(base) => {
-                let base = base.clone();
-                self.warn(
-                    joint,
-                    format!(
-                        "a second free body moves freely, but only the first ({base:?}) is observed as the floating base; name {main:?} in end_effector_ids to observe its pose"
-                    ),
-                );
-            }
+        if is_base {
+            self.floating = Some(main.to_string());
         }
         Ok(())
+    }
+
+    /// Sets instance `name`'s `body_frame` to the world frame `body` (its MJCF body's):
+    /// what its observed pose and its pose targets refer to.
+    pub(super) fn set_body_frame(&mut self, name: &str, body: &Frame) {
+        let Some(own) = self.frames.get(name) else {
+            return;
+        };
+        let local = Frame {
+            translation: own.rotation.inverse() * (body.translation - own.translation),
+            rotation: own.rotation.inverse() * body.rotation,
+        };
+        if let Some(instance) = self.instances.iter_mut().find(|i| i.name == name) {
+            instance.body_frame = Some(FrameDef {
+                position: Some(vec3(local.translation * MM)),
+                rotation: Some(Vec3::from(euler_xyz_degrees(local.rotation))),
+            });
+        }
     }
 
     /// A helper instance: a small sphere of `HELPER_MASS` that collides with nothing.
@@ -172,13 +215,12 @@ impl<'a, 'i> Converter<'a, 'i> {
         });
     }
 
-    /// One body, its geoms, joints and children. `parent` is the instance it hangs from;
-    /// `None` for a top-level body of a model with a free joint and no ground plane.
+    /// One body, its geoms, joints and children, hanging from `parent`.
     pub(super) fn body(
         &mut self,
         node: Node<'a, 'i>,
         parent_frame: &Frame,
-        parent: Option<&str>,
+        parent: BodyParent<'_>,
         class: Option<&str>,
     ) -> Result<()> {
         // Bounded before recursing further: a hostile tree of nested bodies would
@@ -200,16 +242,37 @@ impl<'a, 'i> Converter<'a, 'i> {
             .map(str::to_string)
             .or(class.map(str::to_string));
         let class = class_owned.as_deref();
-        for (attr, ok) in [("mocap", "false"), ("gravcomp", "0")] {
-            if let Some(v) = node.attribute(attr) {
-                if v != ok {
-                    return Err(
-                        self.unsupported(node, format!("{attr}=\"{v}\" is not supported yet"))
-                    );
-                }
-            }
+        if let Some(v) = node.attribute("gravcomp").filter(|v| v.trim() != "0") {
+            return Err(self.unsupported(node, format!("gravcomp=\"{v}\" is not supported yet")));
         }
+        let top_level = matches!(parent, BodyParent::World);
+        let mocap = match node.attribute("mocap") {
+            None | Some("false") => false,
+            Some("true") if top_level => true,
+            Some("true") => {
+                return Err(self.bad(
+                    node,
+                    "mocap",
+                    "a mocap body is a child of <worldbody> (MuJoCo's rule)".into(),
+                ))
+            }
+            Some(other) => {
+                return Err(self.bad(
+                    node,
+                    "mocap",
+                    format!("expected true or false, got {other:?}"),
+                ))
+            }
+        };
         let frame = parent_frame.then(&self.local_frame(node, None)?);
+        let joints: Vec<Node<'a, 'i>> = elements(node)
+            .filter(|n| matches!(n.tag_name().name(), "joint" | "freejoint"))
+            .collect();
+        // A jointless body below the world, and every jointless body below it, is static:
+        // its instances are fixed where they are, as the world's geoms are.
+        let is_static = joints.is_empty()
+            && !mocap
+            && matches!(parent, BodyParent::World | BodyParent::Static(_));
         let inertial = elements(node).find(|n| n.tag_name().name() == "inertial");
         let use_inertial = match (self.inertia_from_geom, inertial) {
             (InertiaFromGeom::True, Some(i)) => {
@@ -219,7 +282,7 @@ impl<'a, 'i> Converter<'a, 'i> {
                 );
                 false
             }
-            (InertiaFromGeom::False, None) => {
+            (InertiaFromGeom::False, None) if !is_static => {
                 return Err(self.unsupported(
                     node,
                     "inertiafromgeom=\"false\" and no <inertial>: the body has no mass".into(),
@@ -228,7 +291,9 @@ impl<'a, 'i> Converter<'a, 'i> {
             (_, i) => i.is_some(),
         };
 
-        // Geoms: the first is the body's instance, the others are welded to it.
+        // Geoms: the first is the body's instance, the others are welded to it (or, in a
+        // static body, each fixed where it is).
+        let first_instance = self.instances.len();
         let mut main: Option<String> = None;
         for geom in elements(node).filter(|n| n.tag_name().name() == "geom") {
             let given = if use_inertial {
@@ -236,11 +301,12 @@ impl<'a, 'i> Converter<'a, 'i> {
             } else {
                 None
             };
-            let Some(name) = self.geom(geom, &frame, class, &body_name, given)? else {
+            let Some(name) = self.geom(geom, &frame, class, &body_name, given, is_static)? else {
                 continue;
             };
             match &main {
                 None => main = Some(name),
+                Some(_) if is_static => {}
                 Some(m) => self.weld(m.clone(), name),
             }
         }
@@ -266,12 +332,6 @@ impl<'a, 'i> Converter<'a, 'i> {
         }
 
         // Joints: parent → (helpers) → the body's instance.
-        let joints: Vec<Node<'a, 'i>> = elements(node)
-            .filter(|n| matches!(n.tag_name().name(), "joint" | "freejoint"))
-            .collect();
-        let top_level = node
-            .parent_element()
-            .is_some_and(|p| p.tag_name().name() == "worldbody");
         let free = joints.iter().copied().find(|j| self.is_free(*j, class));
         if let Some(free) = free {
             if !top_level {
@@ -285,24 +345,44 @@ impl<'a, 'i> Converter<'a, 'i> {
                     self.unsupported(free, "a free joint must be its body's only joint".into())
                 );
             }
-            self.free_joint(free, class, &main)?;
-        }
-        let parent = match (parent, free) {
-            (_, Some(_)) => "",
-            (Some(p), None) => p,
-            (None, None) => {
-                return Err(self.unsupported(
-                    node,
-                    "in a model with a free joint, a body fixed or jointed to the world needs a ground plane in <worldbody>"
-                        .into(),
-                ))
+            let is_base = self.base_body == Some(node.id());
+            self.free_joint(free, class, &main, is_base)?;
+            if !is_base {
+                // Observed as MuJoCo's qpos and qvel of its free joint: the body's frame.
+                self.set_body_frame(&main, &frame);
             }
+        }
+        if mocap {
+            if let Some(joint) = joints.first() {
+                return Err(self.bad(
+                    *joint,
+                    "type",
+                    "a mocap body has no joints: its pose targets move it".into(),
+                ));
+            }
+            if let Some(instance) = self.instances.iter_mut().find(|i| i.name == main) {
+                instance.mocap = Some(true);
+            }
+            self.set_body_frame(&main, &frame);
+        }
+        let parent_instance = match parent {
+            BodyParent::World if free.is_none() && !mocap && !is_static => {
+                Some(self.world_instance())
+            }
+            BodyParent::World => None,
+            BodyParent::Static(p) | BodyParent::Moving(p) => Some(p.to_string()),
         };
-        if joints.is_empty() {
-            self.weld(parent.to_string(), main.clone());
+        if is_static {
+            for instance in &mut self.instances[first_instance..] {
+                instance.fixed = Some(true);
+            }
+        } else if joints.is_empty() && !mocap {
+            if let Some(p) = &parent_instance {
+                self.weld(p.clone(), main.clone());
+            }
         }
         let joints = if free.is_some() { Vec::new() } else { joints };
-        let mut from = parent.to_string();
+        let mut from = parent_instance.unwrap_or_default();
         for (k, joint) in joints.iter().enumerate() {
             let to = if k + 1 == joints.len() {
                 main.clone()
@@ -313,10 +393,15 @@ impl<'a, 'i> Converter<'a, 'i> {
             from = to;
         }
 
+        let below = if is_static {
+            BodyParent::Static(&main)
+        } else {
+            BodyParent::Moving(&main)
+        };
         for child in elements(node) {
             match child.tag_name().name() {
                 "geom" | "joint" | "freejoint" | "inertial" => {}
-                "body" => self.body(child, &frame, Some(&main), class)?,
+                "body" => self.body(child, &frame, below, class)?,
                 "site" => {
                     // A site is kept as a named point of the body's instance.
                     let at = frame.then(&self.local_frame(child, class)?).translation;

@@ -14,6 +14,13 @@ const RELPOSE_TOLERANCE: f64 = 1e-6;
 impl<'a, 'i> Converter<'a, 'i> {
     /// Reads `<equality>` (after `<worldbody>`, whose bodies it names).
     pub(super) fn equalities(&mut self, node: Node<'a, 'i>) -> Result<()> {
+        if self.switched_off.equalities {
+            self.warn(
+                node,
+                "left out: <option><flag> switches equality constraints off".into(),
+            );
+            return Ok(());
+        }
         for child in elements(node) {
             let kind = child.tag_name().name();
             match kind {
@@ -61,6 +68,13 @@ impl<'a, 'i> Converter<'a, 'i> {
             if first == second {
                 return Err(self.bad(child, "body2", "names the same body as body1".into()));
             }
+            // What the world holds (its geoms, static bodies, mocap bodies) is never a
+            // joint's child: a constraint to it is written from it.
+            let (first, second) = if self.held_by_world(&second) {
+                (second, first)
+            } else {
+                (first, second)
+            };
             let wanted = child
                 .attribute("name")
                 .map_or_else(|| format!("{first}_{second}_{kind}"), str::to_string);
@@ -116,6 +130,13 @@ impl<'a, 'i> Converter<'a, 'i> {
             self.joints.push(joint);
         }
         Ok(())
+    }
+
+    /// Whether the world holds instance `name` where it is: fixed, or a mocap body.
+    fn held_by_world(&self, name: &str) -> bool {
+        self.instances
+            .iter()
+            .any(|i| i.name == name && (i.fixed == Some(true) || i.mocap == Some(true)))
     }
 
     /// The instance and world frame of the body an equality names in `attribute` (the

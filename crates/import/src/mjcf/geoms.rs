@@ -6,6 +6,7 @@ use super::*;
 impl<'a, 'i> Converter<'a, 'i> {
     /// One geom as an instance; `None` for a plane that collides with nothing (dropped).
     /// `given_mass`: the body's mass comes from `<inertial>`; the geom then weighs this.
+    /// `static_body`: the geom's body is the world or fixed to it (planes belong there).
     pub(super) fn geom(
         &mut self,
         node: Node<'a, 'i>,
@@ -13,6 +14,7 @@ impl<'a, 'i> Converter<'a, 'i> {
         class: Option<&str>,
         body_name: &str,
         given_mass: Option<f64>,
+        static_body: bool,
     ) -> Result<Option<String>> {
         let kind = self.attr(node, class, "type").unwrap_or("sphere");
         let contype = self.int(node, class, "contype", 1)?;
@@ -72,10 +74,11 @@ impl<'a, 'i> Converter<'a, 'i> {
                     self.warn(node, "a plane that collides with nothing: dropped".into());
                     return Ok(None);
                 }
-                if body_name != "world" || !self.instances.is_empty() {
+                if !static_body {
                     return Err(self.unsupported(
                         node,
-                        "a colliding plane (a ground) must be the world's, and only one".into(),
+                        "a plane (a half-space) belongs to the world or to a body without joints"
+                            .into(),
                     ));
                 }
                 (Primitive::Plane, DVec3::ZERO)
@@ -177,14 +180,16 @@ impl<'a, 'i> Converter<'a, 'i> {
         ) {
             (Some(m), _, _) => instance.inertial = Some(InertialDef::mass(m)),
             (None, Some(m), _) => {
-                if m <= 0.0 {
-                    return Err(self.bad(
-                        node,
-                        "mass",
-                        format!("expected a positive mass, got {m}"),
-                    ));
+                if m < 0.0 {
+                    return Err(self.bad(node, "mass", format!("expected a mass >= 0, got {m}")));
                 }
-                instance.inertial = Some(InertialDef::mass(m));
+                // MuJoCo's `mass="0"`: the geom adds nothing to its body's mass, which
+                // comes from the body's other geoms (or its <inertial>). Here it weighs a
+                // helper's 1 mg, as every instance must weigh something.
+                if m == 0.0 {
+                    self.massless.insert(name.clone());
+                }
+                instance.inertial = Some(InertialDef::mass(if m == 0.0 { HELPER_MASS } else { m }));
             }
             (None, None, Some(d)) if d != DEFAULT_DENSITY => material.density = Some(d),
             _ => {}

@@ -81,6 +81,12 @@ impl<'a, 'i> Converter<'a, 'i> {
         };
         let range = self.exactly::<2>(node, class, "range")?;
         let limited = self.flag(node, class, "limited")?;
+        // `<flag limit="disable">`: no limit acts.
+        let (range, limited) = if self.switched_off.limits {
+            (None, None)
+        } else {
+            (range, limited)
+        };
         if let (Some([lo, hi]), Some(true) | None) = (range, limited) {
             if our == "ball" {
                 return Err(self.unsupported(

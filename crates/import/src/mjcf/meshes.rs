@@ -58,6 +58,8 @@ impl<'a, 'i> Converter<'a, 'i> {
                     }
                     _ => file.to_string(),
                 };
+                let path = crate::asset_path(&self.folder, &path)
+                    .map_err(|reason| self.bad(node, "file", reason))?;
                 (MeshSource::File(path), Some(stem))
             }
             (None, Some(_)) => {

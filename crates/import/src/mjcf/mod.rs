@@ -12,9 +12,9 @@ use std::collections::{BTreeMap, HashMap, HashSet};
 
 use glam::{DMat3, DQuat, DVec3};
 use gymfleet_assembly::{
-    AssemblyDef, CollisionDef, Document, FluidDef, InertialDef, InstanceDef, Integrator, JointDef,
-    JointType, MaterialDef, MeshDef, PartDef, Primitive, SimulationDef, SiteDef, TendonDef,
-    TendonJointDef, Vec3,
+    AssemblyDef, CollisionDef, Document, FluidDef, FrameDef, InertialDef, InstanceDef, Integrator,
+    JointDef, JointType, MaterialDef, MeshDef, PartDef, Primitive, SimulationDef, SiteDef,
+    TendonDef, TendonJointDef, Vec3,
 };
 use roxmltree::Node;
 
@@ -51,11 +51,20 @@ const HELPER_RADIUS: f64 = 1.0;
 /// MuJoCo's default geom density, kg/m³.
 const DEFAULT_DENSITY: f64 = 1000.0;
 
-/// Converts an MJCF document into gymfleet's assembly JSON.
+/// Converts an MJCF document into gymfleet's assembly JSON; its mesh files are named
+/// from the assets' root ([`mjcf_to_document_in`] names them from the model's folder).
 pub fn mjcf_to_document(xml: &str) -> Result<Converted> {
+    mjcf_to_document_in(xml, "")
+}
+
+/// [`mjcf_to_document`] for a model file in `folder` of its assets: mesh files (under
+/// `compiler meshdir`, `../` included) are named from the assets' root, as
+/// [`crate::asset_path`] resolves them.
+pub fn mjcf_to_document_in(xml: &str, folder: &str) -> Result<Converted> {
     let doc = roxmltree::Document::parse(xml).map_err(|e| ImportError::Xml(e.to_string()))?;
     let root = doc.root_element();
     let mut c = Converter::new(&doc);
+    c.folder = folder.to_string();
     if root.tag_name().name() != "mujoco" {
         return Err(c.unsupported(root, "the root element must be <mujoco>".into()));
     }
@@ -90,10 +99,14 @@ pub fn mjcf_to_document(xml: &str) -> Result<Converted> {
             other => return Err(c.unsupported(child, format!("<{other}> is not supported yet"))),
         }
     }
-    let world = elements(root)
-        .find(|n| n.tag_name().name() == "worldbody")
-        .ok_or_else(|| c.unsupported(root, "no <worldbody>".into()))?;
-    c.worldbody(world)?;
+    // MuJoCo merges every <worldbody> (an included file often brings one).
+    let worlds: Vec<Node> = elements(root)
+        .filter(|n| n.tag_name().name() == "worldbody")
+        .collect();
+    if worlds.is_empty() {
+        return Err(c.unsupported(root, "no <worldbody>".into()));
+    }
+    c.worldbody(&worlds)?;
     for equality in elements(root).filter(|n| n.tag_name().name() == "equality") {
         c.equalities(equality)?;
     }
@@ -116,6 +129,17 @@ enum InertiaFromGeom {
 struct Class<'a> {
     parent: Option<String>,
     attributes: HashMap<&'a str, HashMap<&'a str, &'a str>>,
+}
+
+/// What `<option><flag>` switches off, honoured in the conversion.
+#[derive(Debug, Default, Clone, Copy)]
+struct SwitchedOff {
+    /// `contact` (or `constraint`): no geom collides with any.
+    contacts: bool,
+    /// `limit` (or `constraint`): joints and tendons are unlimited.
+    limits: bool,
+    /// `equality` (or `constraint`): `<equality>` is left out.
+    equalities: bool,
 }
 
 /// A motor's effect on its joint.
@@ -167,6 +191,15 @@ struct Converter<'a, 'i> {
     meshes: HashMap<String, meshes::MeshAsset>,
     /// `<tendon><fixed>`s, in document order.
     tendons: Vec<tendons::FixedTendon>,
+    /// The model file's folder in its assets, which its mesh files are named from.
+    folder: String,
+    /// What `<option><flag>` switches off.
+    switched_off: SwitchedOff,
+    /// The top-level body with a free joint that is the floating base: the first with a
+    /// joint below it.
+    base_body: Option<roxmltree::NodeId>,
+    /// The instance that stands for the world (what hangs from it by a joint), once made.
+    world: Option<String>,
     /// Each named body's instance and world frame (m), and the world's as "world", for
     /// `<equality>`.
     bodies: HashMap<String, (String, Frame)>,
@@ -214,6 +247,10 @@ impl<'a, 'i> Converter<'a, 'i> {
             strip_path: false,
             meshes: HashMap::new(),
             tendons: Vec::new(),
+            folder: String::new(),
+            switched_off: SwitchedOff::default(),
+            base_body: None,
+            world: None,
             bodies: HashMap::new(),
         }
     }
@@ -221,11 +258,11 @@ impl<'a, 'i> Converter<'a, 'i> {
     fn assets(&mut self, node: Node<'a, 'i>) -> Result<()> {
         for child in elements(node) {
             match child.tag_name().name() {
-                "texture" | "material" => self.warn(child, "ignored (appearance only)".into()),
-                "mesh" => self.mesh_asset(child)?,
-                "hfield" | "skin" => {
-                    return Err(self.unsupported(child, "is not converted yet".into()))
+                "texture" | "material" | "skin" => {
+                    self.warn(child, "ignored (appearance only)".into())
                 }
+                "mesh" => self.mesh_asset(child)?,
+                "hfield" => return Err(self.unsupported(child, "is not converted yet".into())),
                 other => {
                     return Err(self.unsupported(child, format!("<{other}> is not supported yet")))
                 }
@@ -273,12 +310,28 @@ impl<'a, 'i> Converter<'a, 'i> {
                     .join(", ")
             ));
         }
-        // The floating base is the first instance.
-        if let Some(base) = &self.floating {
-            if let Some(at) = self.instances.iter().position(|i| i.name == *base) {
-                let instance = self.instances.remove(at);
-                self.instances.insert(0, instance);
+        // `<flag contact="disable">`: nothing collides.
+        if self.switched_off.contacts {
+            for instance in &mut self.instances {
+                instance.collision = Some(CollisionDef {
+                    group: Some(0),
+                    mask: Some(0),
+                });
             }
+        }
+        // The first instance is the floating base, or else grounded: the world's.
+        let first = match &self.floating {
+            Some(base) => self.instances.iter().position(|i| i.name == *base),
+            None => {
+                if !self.instances.iter().any(|i| i.fixed == Some(true)) {
+                    self.world_instance();
+                }
+                self.instances.iter().position(|i| i.fixed == Some(true))
+            }
+        };
+        if let Some(at) = first {
+            let instance = self.instances.remove(at);
+            self.instances.insert(0, instance);
         }
         let tendons = self.tendon_defs()?;
         // MuJoCo integrates with `Euler` unless `<option integrator>` says otherwise: the

@@ -42,6 +42,12 @@ impl<'a, 'i> Converter<'a, 'i> {
         let class = node.attribute("class");
         let limited = self.attr(node, class, "limited").unwrap_or("auto");
         let range = self.exactly::<2>(node, class, "range")?;
+        // `<flag limit="disable">`: no limit acts.
+        let (limited, range) = if self.switched_off.limits {
+            ("false", None)
+        } else {
+            (limited, range)
+        };
         let range = match (limited, range) {
             ("true", None) => {
                 return Err(self.bad(

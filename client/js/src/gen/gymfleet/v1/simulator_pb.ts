@@ -37,7 +37,7 @@ import type { Message } from "@bufbuild/protobuf";
  * Describes the file gymfleet/v1/simulator.proto.
  */
 export const file_gymfleet_v1_simulator: GenFile = /*@__PURE__*/
-  fileDesc("ChtneW1mbGVldC92MS9zaW11bGF0b3IucHJvdG8SC2d5bWZsZWV0LnYxIiEKB1BkR2FpbnMSCgoCa3AYASADKAESCgoCa2QYAiADKAEiTAoIRG9mTGltaXQSDAoEdW5pdBgBIAEoCRIQCgNtaW4YAiABKAFIAIgBARIQCgNtYXgYAyABKAFIAYgBAUIGCgRfbWluQgYKBF9tYXgi7AEKCUpvaW50SW5mbxIMCgRuYW1lGAEgASgJEgwKBHR5cGUYAiABKAkSCwoDZG9mGAMgASgNEiUKBmxpbWl0cxgEIAMoCzIVLmd5bWZsZWV0LnYxLkRvZkxpbWl0Eg4KBnBhcmVudBgFIAEoCRINCgVjaGlsZBgGIAEoCRIXCgptYXhfZWZmb3J0GAcgASgBSACIAQESEAoIYWN0dWF0ZWQYCCABKAgSDAoEZ2VhchgJIAEoARIRCglyZWZlcmVuY2UYCiABKAESFQoNYWN0aW9uX2JvdW5kcxgLIAMoAUINCgtfbWF4X2VmZm9ydCIYCgZFbnZSZWYSDgoGZW52X2lkGAEgASgJIhwKCEJhdGNoUmVmEhAKCGJhdGNoX2lkGAEgASgJIqEDChBDcmVhdGVFbnZSZXF1ZXN0EhUKDWRvY3VtZW50X2pzb24YASABKAkSGAoQZW5kX2VmZmVjdG9yX2lkcxgCIAMoCRIKCgJkdBgDIAEoARIQCghzdWJzdGVwcxgEIAEoDRIRCgltYXhfc3RlcHMYBSABKA0SEQoEc2VlZBgGIAEoBEgAiAEBEiYKCHBkX2dhaW5zGAcgASgLMhQuZ3ltZmxlZXQudjEuUGRHYWlucxIYCgtyZXNldF9ub2lzZRgIIAEoAUgBiAEBEh8KBHRhc2sYCSABKAsyES5neW1mbGVldC52MS5UYXNrEi0KCXJhbmRvbWl6ZRgKIAEoCzIaLmd5bWZsZWV0LnYxLlJhbmRvbWl6YXRpb24SKwoGZm9ybWF0GAsgASgOMhsuZ3ltZmxlZXQudjEuRG9jdW1lbnRGb3JtYXQSDQoFbW9kZWwYDCABKAkSDgoGYXNzZXRzGA0gASgMEiEKBXVuaXRzGA4gASgOMhIuZ3ltZmxlZXQudjEuVW5pdHNCBwoFX3NlZWRCDgoMX3Jlc2V0X25vaXNlIiEKBVJhbmdlEgsKA21pbhgBIAEoARILCgNtYXgYAiABKAEitgEKDVJhbmRvbWl6YXRpb24SJgoKbWFzc19zY2FsZRgBIAEoCzISLmd5bWZsZWV0LnYxLlJhbmdlEioKDmZyaWN0aW9uX3NjYWxlGAIgASgLMhIuZ3ltZmxlZXQudjEuUmFuZ2USKQoNZGFtcGluZ19zY2FsZRgDIAEoCzISLmd5bWZsZWV0LnYxLlJhbmdlEiYKCmdhaW5fc2NhbGUYBCABKAsyEi5neW1mbGVldC52MS5SYW5nZSJLChRSYW5kb21pemF0aW9uUmVxdWVzdBIOCgZlbnZfaWQYASABKAkSEAoIYmF0Y2hfaWQYAiABKAkSEQoJZW52X2luZGV4GAMgASgNIkgKDEluc3RhbmNlRHJhdxIMCgRuYW1lGAEgASgJEhIKCm1hc3Nfc2NhbGUYAiABKAESFgoOZnJpY3Rpb25fc2NhbGUYAyABKAEiRAoJSm9pbnREcmF3EgwKBG5hbWUYASABKAkSFQoNZGFtcGluZ19zY2FsZRgCIAEoARISCgpnYWluX3NjYWxlGAMgASgBImoKElJhbmRvbWl6YXRpb25EcmF3cxIsCglpbnN0YW5jZXMYASADKAsyGS5neW1mbGVldC52MS5JbnN0YW5jZURyYXcSJgoGam9pbnRzGAIgAygLMhYuZ3ltZmxlZXQudjEuSm9pbnREcmF3IicKBFZlYzMSCQoBeBgBIAEoARIJCgF5GAIgASgBEgkKAXoYAyABKAEiRgoEQm94MxIeCgNtaW4YASABKAsyES5neW1mbGVldC52MS5WZWMzEh4KA21heBgCIAEoCzIRLmd5bWZsZWV0LnYxLlZlYzMiwwEKCVJlYWNoVGFzaxIUCgxlbmRfZWZmZWN0b3IYASABKAkSIAoFcG9pbnQYAiABKAsyES5neW1mbGVldC52MS5WZWMzEiEKBnRhcmdldBgDIAEoCzIRLmd5bWZsZWV0LnYxLlZlYzMSJQoKdGFyZ2V0X2JveBgEIAEoCzIRLmd5bWZsZWV0LnYxLkJveDMSFgoOc3VjY2Vzc19yYWRpdXMYBSABKAESHAoUdGVybWluYXRlX29uX3N1Y2Nlc3MYBiABKAgiTQoJVHJhY2tUYXNrEg8KB3RhcmdldHMYASADKAESEQoJdG9sZXJhbmNlGAIgASgBEhwKFHRlcm1pbmF0ZV9vbl9zdWNjZXNzGAMgASgIIlYKC1VwcmlnaHRUYXNrEhAKCGluc3RhbmNlGAEgASgJEh8KBGF4aXMYAiABKAsyES5neW1mbGVldC52MS5WZWMzEhQKDG1heF90aWx0X2RlZxgDIAEoASIZCglUZXJtc1Rhc2sSDAoEanNvbhgBIAEoCSLLAQoEVGFzaxInCgVyZWFjaBgBIAEoCzIWLmd5bWZsZWV0LnYxLlJlYWNoVGFza0gAEicKBXRyYWNrGAIgASgLMhYuZ3ltZmxlZXQudjEuVHJhY2tUYXNrSAASKwoHdXByaWdodBgDIAEoCzIYLmd5bWZsZWV0LnYxLlVwcmlnaHRUYXNrSAASJwoFdGVybXMYBSABKAsyFi5neW1mbGVldC52MS5UZXJtc1Rhc2tIABITCgthY3Rpb25fY29zdBgEIAEoAkIGCgRraW5kIjAKEk9ic2VydmF0aW9uU2VnbWVudBIMCgRuYW1lGAEgASgJEgwKBHNpemUYAiABKA0iwQIKB0VudkluZm8SDgoGZW52X2lkGAEgASgJEhIKCm51bV9qb2ludHMYAiABKA0SEgoKYWN0aW9uX2RpbRgDIAEoDRIXCg9vYnNlcnZhdGlvbl9kaW0YBCABKA0SGAoQZW5kX2VmZmVjdG9yX2lkcxgFIAMoCRIKCgJkdBgGIAEoARIQCghzdWJzdGVwcxgHIAEoDRIRCgltYXhfc3RlcHMYCCABKA0SJgoGam9pbnRzGAkgAygLMhYuZ3ltZmxlZXQudjEuSm9pbnRJbmZvEjsKEm9ic2VydmF0aW9uX2xheW91dBgKIAMoCzIfLmd5bWZsZWV0LnYxLk9ic2VydmF0aW9uU2VnbWVudBIhCgV1bml0cxgLIAEoDjISLmd5bWZsZWV0LnYxLlVuaXRzEhIKCnRlcm1fbmFtZXMYDCADKAkiOgoMUmVzZXRSZXF1ZXN0Eg4KBmVudl9pZBgBIAEoCRIRCgRzZWVkGAIgASgESACIAQFCBwoFX3NlZWQioAEKC09ic2VydmF0aW9uEhcKD2pvaW50X3Bvc2l0aW9ucxgBIAMoAhIYChBqb2ludF92ZWxvY2l0aWVzGAIgAygCEhoKEmVuZF9lZmZlY3Rvcl9wb3NlcxgDIAMoAhIYChB0YXNrX29ic2VydmF0aW9uGAQgAygCEhEKCWJhc2VfcG9zZRgFIAMoAhIVCg1iYXNlX3ZlbG9jaXR5GAYgAygCIlsKC1N0ZXBSZXF1ZXN0Eg4KBmVudl9pZBgBIAEoCRIsCgthY3Rpb25fdHlwZRgCIAEoDjIXLmd5bWZsZWV0LnYxLkFjdGlvblR5cGUSDgoGdmFsdWVzGAMgAygCIt0BCgpTdGVwUmVzdWx0Ei0KC29ic2VydmF0aW9uGAEgASgLMhguZ3ltZmxlZXQudjEuT2JzZXJ2YXRpb24SDgoGcmV3YXJkGAIgASgCEhIKCnRlcm1pbmF0ZWQYAyABKAgSEQoJdHJ1bmNhdGVkGAQgASgIEgwKBGRvbmUYBSABKAgSHwoSdGVybWluYXRpb25fcmVhc29uGAYgASgJSACIAQESFAoMZXBpc29kZV9zdGVwGAcgASgNEg0KBXRlcm1zGAggAygCQhUKE190ZXJtaW5hdGlvbl9yZWFzb24iEgoQQ2xvc2VFbnZSZXNwb25zZSLzAwoSQ3JlYXRlQmF0Y2hSZXF1ZXN0EhUKDWRvY3VtZW50X2pzb24YASABKAkSGAoQZW5kX2VmZmVjdG9yX2lkcxgCIAMoCRIKCgJkdBgDIAEoARIQCghzdWJzdGVwcxgEIAEoDRIRCgltYXhfc3RlcHMYBSABKA0SEQoEc2VlZBgGIAEoBEgAiAEBEiYKCHBkX2dhaW5zGAcgASgLMhQuZ3ltZmxlZXQudjEuUGRHYWlucxIYCgtyZXNldF9ub2lzZRgIIAEoAUgBiAEBEg4KBm5fZW52cxgJIAEoDRIpCglhdXRvcmVzZXQYCiABKA4yFi5neW1mbGVldC52MS5BdXRvcmVzZXQSEwoLc2VlZF9vZmZzZXQYCyABKAQSHwoEdGFzaxgMIAEoCzIRLmd5bWZsZWV0LnYxLlRhc2sSLQoJcmFuZG9taXplGA0gASgLMhouZ3ltZmxlZXQudjEuUmFuZG9taXphdGlvbhIrCgZmb3JtYXQYDiABKA4yGy5neW1mbGVldC52MS5Eb2N1bWVudEZvcm1hdBINCgVtb2RlbBgPIAEoCRIOCgZhc3NldHMYECABKAwSIQoFdW5pdHMYESABKA4yEi5neW1mbGVldC52MS5Vbml0c0IHCgVfc2VlZEIOCgxfcmVzZXRfbm9pc2UigAMKCUJhdGNoSW5mbxIQCghiYXRjaF9pZBgBIAEoCRIOCgZuX2VudnMYAiABKA0SEgoKYWN0aW9uX2RpbRgDIAEoDRIXCg9vYnNlcnZhdGlvbl9kaW0YBCABKA0SEgoKbnVtX2pvaW50cxgFIAEoDRIYChBlbmRfZWZmZWN0b3JfaWRzGAYgAygJEgoKAmR0GAcgASgBEhAKCHN1YnN0ZXBzGAggASgNEhEKCW1heF9zdGVwcxgJIAEoDRIpCglhdXRvcmVzZXQYCiABKA4yFi5neW1mbGVldC52MS5BdXRvcmVzZXQSJgoGam9pbnRzGAsgAygLMhYuZ3ltZmxlZXQudjEuSm9pbnRJbmZvEjsKEm9ic2VydmF0aW9uX2xheW91dBgMIAMoCzIfLmd5bWZsZWV0LnYxLk9ic2VydmF0aW9uU2VnbWVudBIhCgV1bml0cxgNIAEoDjISLmd5bWZsZWV0LnYxLlVuaXRzEhIKCnRlcm1fbmFtZXMYDiADKAkiawoRUmVzZXRCYXRjaFJlcXVlc3QSEAoIYmF0Y2hfaWQYASABKAkSEQoEc2VlZBgCIAEoBEgAiAEBEhMKC3NlZWRfb2Zmc2V0GAMgASgEEhMKC2Vudl9pbmRpY2VzGAQgAygNQgcKBV9zZWVkImMKEFN0ZXBCYXRjaFJlcXVlc3QSEAoIYmF0Y2hfaWQYASABKAkSLAoLYWN0aW9uX3R5cGUYAiABKA4yFy5neW1mbGVldC52MS5BY3Rpb25UeXBlEg8KB2FjdGlvbnMYAyADKAIi2QIKD0JhdGNoU3RlcFJlc3VsdBIQCghiYXRjaF9pZBgBIAEoCRISCgpzdGVwX2luZGV4GAIgASgEEhQKDG9ic2VydmF0aW9ucxgDIAMoAhIPCgdyZXdhcmRzGAQgAygCEhIKCnRlcm1pbmF0ZWQYBSADKAgSEQoJdHJ1bmNhdGVkGAYgAygIEhkKEWZpbmFsX2Vudl9pbmRpY2VzGAcgAygNEhoKEmZpbmFsX29ic2VydmF0aW9ucxgIIAMoAhJRChN0ZXJtaW5hdGlvbl9yZWFzb25zGAkgAygLMjQuZ3ltZmxlZXQudjEuQmF0Y2hTdGVwUmVzdWx0LlRlcm1pbmF0aW9uUmVhc29uc0VudHJ5Eg0KBXRlcm1zGAogAygCGjkKF1Rlcm1pbmF0aW9uUmVhc29uc0VudHJ5EgsKA2tleRgBIAEoDRINCgV2YWx1ZRgCIAEoCToCOAEiYwoQQmF0Y2hPYnNlcnZhdGlvbhIQCghiYXRjaF9pZBgBIAEoCRIOCgZuX2VudnMYAiABKA0SFwoPb2JzZXJ2YXRpb25fZGltGAMgASgNEhQKDG9ic2VydmF0aW9ucxgEIAMoAiIUChJDbG9zZUJhdGNoUmVzcG9uc2UiFgoUR2V0U2VydmVySW5mb1JlcXVlc3QikQIKDFNlcnZlckxpbWl0cxIQCghtYXhfZW52cxgBIAEoBBIWCg5tYXhfYmF0Y2hfc2l6ZRgCIAEoBBIaChJtYXhfZG9jdW1lbnRfYnl0ZXMYAyABKAQSGQoRbWF4X21lc3NhZ2VfYnl0ZXMYBCABKAQSGAoQaWRsZV90dGxfc2Vjb25kcxgFIAEoBBIVCg1tYXhfaW5zdGFuY2VzGAYgASgEEhIKCm1heF9qb2ludHMYByABKAQSEAoIbWF4X2RvZnMYCCABKAQSGQoRbWF4X2VuZF9lZmZlY3RvcnMYCSABKAQSFwoPdGVuYW50X21heF9lbnZzGAogASgEEhUKDW1heF9zdGVwX3dvcmsYCyABKAQiyAEKClNlcnZlckluZm8SDwoHdmVyc2lvbhgBIAEoCRIPCgd0aHJlYWRzGAIgASgNEgwKBGVudnMYAyABKAQSDwoHYmF0Y2hlcxgEIAEoBBISCgpiYXRjaF9lbnZzGAUgASgEEikKBmxpbWl0cxgGIAEoCzIZLmd5bWZsZWV0LnYxLlNlcnZlckxpbWl0cxIOCgZ0ZW5hbnQYByABKAkSFQoNYXV0aF9yZXF1aXJlZBgIIAEoCBITCgtpbnN0YW5jZV9pZBgJIAEoCSK6AQoGQ2FtZXJhEikKBnByZXNldBgBIAEoDjIZLmd5bWZsZWV0LnYxLkNhbWVyYVByZXNldBIjCgNleWUYAiABKAsyES5neW1mbGVldC52MS5WZWMzSACIAQESJgoGdGFyZ2V0GAMgASgLMhEuZ3ltZmxlZXQudjEuVmVjM0gBiAEBEg8KB2Zvdl9kZWcYBCABKAISFAoMb3J0aG9ncmFwaGljGAUgASgIQgYKBF9leWVCCQoHX3RhcmdldCKIAQoNUmVuZGVyUmVxdWVzdBIOCgZlbnZfaWQYASABKAkSEAoIYmF0Y2hfaWQYAiABKAkSEQoJZW52X2luZGV4GAMgASgNEiMKBmNhbWVyYRgEIAEoCzITLmd5bWZsZWV0LnYxLkNhbWVyYRINCgV3aWR0aBgFIAEoDRIOCgZoZWlnaHQYBiABKA0iWQoFSW1hZ2USCwoDcG5nGAEgASgMEg0KBXdpZHRoGAIgASgNEg4KBmhlaWdodBgDIAEoDRITCgtkZXNjcmlwdGlvbhgEIAEoCRIPCgdncmlkX21tGAUgASgCIuIBCgpTY2VuZVNoYXBlEi0KEGJveF9oYWxmX2V4dGVudHMYASABKAsyES5neW1mbGVldC52MS5WZWMzSAASLgoIY3lsaW5kZXIYAiABKAsyGi5neW1mbGVldC52MS5TY2VuZUN5bGluZGVySAASFwoNc3BoZXJlX3JhZGl1cxgDIAEoAUgAEiwKB2NhcHN1bGUYBCABKAsyGS5neW1mbGVldC52MS5TY2VuZUNhcHN1bGVIABImCgRtZXNoGAUgASgLMhYuZ3ltZmxlZXQudjEuU2NlbmVNZXNoSABCBgoEa2luZCIwCglTY2VuZU1lc2gSEAoIdmVydGljZXMYASADKAISEQoJdHJpYW5nbGVzGAIgAygNIjQKDFNjZW5lQ2Fwc3VsZRIOCgZyYWRpdXMYASABKAESFAoMaGFsZl9zZWdtZW50GAIgASgBIjQKDVNjZW5lQ3lsaW5kZXISDgoGcmFkaXVzGAEgASgBEhMKC2hhbGZfaGVpZ2h0GAIgASgBImAKCVNjZW5lUG9zZRIjCghwb3NpdGlvbhgBIAEoCzIRLmd5bWZsZWV0LnYxLlZlYzMSCgoCcXcYAiABKAESCgoCcXgYAyABKAESCgoCcXkYBCABKAESCgoCcXoYBSABKAEiZwoJU2NlbmVCb2R5EgwKBG5hbWUYASABKAkSJgoFc2hhcGUYAiABKAsyFy5neW1mbGVldC52MS5TY2VuZVNoYXBlEiQKBHBvc2UYAyABKAsyFi5neW1mbGVldC52MS5TY2VuZVBvc2UiUAoKU2NlbmVKb2ludBIhCgZhbmNob3IYASABKAsyES5neW1mbGVldC52MS5WZWMzEh8KBGF4aXMYAiABKAsyES5neW1mbGVldC52MS5WZWMzIrUBCgVTY2VuZRImCgZib2RpZXMYASADKAsyFi5neW1mbGVldC52MS5TY2VuZUJvZHkSJwoGam9pbnRzGAIgAygLMhcuZ3ltZmxlZXQudjEuU2NlbmVKb2ludBIoCg1lbmRfZWZmZWN0b3JzGAMgAygLMhEuZ3ltZmxlZXQudjEuVmVjMxImCgZ0YXJnZXQYBCABKAsyES5neW1mbGVldC52MS5WZWMzSACIAQFCCQoHX3RhcmdldCIZCghFbnZTdGF0ZRINCgVzdGF0ZRgBIAEoDCIxChBMb2FkU3RhdGVSZXF1ZXN0Eg4KBmVudl9pZBgBIAEoCRINCgVzdGF0ZRgCIAEoDCI6ChFCYXRjaFN0YXRlUmVxdWVzdBIQCghiYXRjaF9pZBgBIAEoCRITCgtlbnZfaW5kaWNlcxgCIAMoDSIcCgpCYXRjaFN0YXRlEg4KBnN0YXRlcxgBIAMoDCJOChVMb2FkQmF0Y2hTdGF0ZVJlcXVlc3QSEAoIYmF0Y2hfaWQYASABKAkSEwoLZW52X2luZGljZXMYAiADKA0SDgoGc3RhdGVzGAMgAygMIlcKC0ZvcmtSZXF1ZXN0Eg0KBXN0YXRlGAEgASgMEg4KBm5fZW52cxgCIAEoDRIpCglhdXRvcmVzZXQYAyABKA4yFi5neW1mbGVldC52MS5BdXRvcmVzZXQibAoWQ29udmVydERvY3VtZW50UmVxdWVzdBIVCg1kb2N1bWVudF9qc29uGAEgASgJEisKBmZvcm1hdBgCIAEoDjIbLmd5bWZsZWV0LnYxLkRvY3VtZW50Rm9ybWF0Eg4KBmFzc2V0cxgDIAEoDCJpChFDb252ZXJ0ZWREb2N1bWVudBIVCg1kb2N1bWVudF9qc29uGAEgASgJEhAKCHdhcm5pbmdzGAIgAygJEisKBmZvcm1hdBgDIAEoDjIbLmd5bWZsZWV0LnYxLkRvY3VtZW50Rm9ybWF0IhMKEUxpc3RNb2RlbHNSZXF1ZXN0ImgKCU1vZGVsSW5mbxIMCgRuYW1lGAEgASgJEisKBmZvcm1hdBgCIAEoDjIbLmd5bWZsZWV0LnYxLkRvY3VtZW50Rm9ybWF0EgwKBGRvZnMYAyABKA0SEgoKYWN0aW9uX2RpbRgEIAEoDSIzCglNb2RlbExpc3QSJgoGbW9kZWxzGAEgAygLMhYuZ3ltZmxlZXQudjEuTW9kZWxJbmZvKnUKCkFjdGlvblR5cGUSGwoXQUNUSU9OX1RZUEVfVU5TUEVDSUZJRUQQABIWChJBQ1RJT05fVFlQRV9UT1JRVUUQARIYChRBQ1RJT05fVFlQRV9QT1NJVElPThACEhgKFEFDVElPTl9UWVBFX1ZFTE9DSVRZEAMqVQoJQXV0b3Jlc2V0EhYKEkFVVE9SRVNFVF9ESVNBQkxFRBAAEhcKE0FVVE9SRVNFVF9TQU1FX1NURVAQARIXChNBVVRPUkVTRVRfTkVYVF9TVEVQEAIqKQoFVW5pdHMSEgoOVU5JVFNfRE9DVU1FTlQQABIMCghVTklUU19TSRABKn8KDkRvY3VtZW50Rm9ybWF0Eh8KG0RPQ1VNRU5UX0ZPUk1BVF9VTlNQRUNJRklFRBAAEhgKFERPQ1VNRU5UX0ZPUk1BVF9KU09OEAESGAoURE9DVU1FTlRfRk9STUFUX1VSREYQAhIYChRET0NVTUVOVF9GT1JNQVRfTUpDRhADKowBCgxDYW1lcmFQcmVzZXQSHQoZQ0FNRVJBX1BSRVNFVF9VTlNQRUNJRklFRBAAEhUKEUNBTUVSQV9QUkVTRVRfSVNPEAESFwoTQ0FNRVJBX1BSRVNFVF9GUk9OVBACEhYKEkNBTUVSQV9QUkVTRVRfU0lERRADEhUKEUNBTUVSQV9QUkVTRVRfVE9QEAQygwwKCVNpbXVsYXRvchJACglDcmVhdGVFbnYSHS5neW1mbGVldC52MS5DcmVhdGVFbnZSZXF1ZXN0GhQuZ3ltZmxlZXQudjEuRW52SW5mbxI8CgVSZXNldBIZLmd5bWZsZWV0LnYxLlJlc2V0UmVxdWVzdBoYLmd5bWZsZWV0LnYxLk9ic2VydmF0aW9uEjkKBFN0ZXASGC5neW1mbGVldC52MS5TdGVwUmVxdWVzdBoXLmd5bWZsZWV0LnYxLlN0ZXBSZXN1bHQSOAoHT2JzZXJ2ZRITLmd5bWZsZWV0LnYxLkVudlJlZhoYLmd5bWZsZWV0LnYxLk9ic2VydmF0aW9uEjsKBUNsb3NlEhMuZ3ltZmxlZXQudjEuRW52UmVmGh0uZ3ltZmxlZXQudjEuQ2xvc2VFbnZSZXNwb25zZRJGCgtDcmVhdGVCYXRjaBIfLmd5bWZsZWV0LnYxLkNyZWF0ZUJhdGNoUmVxdWVzdBoWLmd5bWZsZWV0LnYxLkJhdGNoSW5mbxJLCgpSZXNldEJhdGNoEh4uZ3ltZmxlZXQudjEuUmVzZXRCYXRjaFJlcXVlc3QaHS5neW1mbGVldC52MS5CYXRjaE9ic2VydmF0aW9uEkgKCVN0ZXBCYXRjaBIdLmd5bWZsZWV0LnYxLlN0ZXBCYXRjaFJlcXVlc3QaHC5neW1mbGVldC52MS5CYXRjaFN0ZXBSZXN1bHQSRAoMT2JzZXJ2ZUJhdGNoEhUuZ3ltZmxlZXQudjEuQmF0Y2hSZWYaHS5neW1mbGVldC52MS5CYXRjaE9ic2VydmF0aW9uEkQKCkNsb3NlQmF0Y2gSFS5neW1mbGVldC52MS5CYXRjaFJlZhofLmd5bWZsZWV0LnYxLkNsb3NlQmF0Y2hSZXNwb25zZRJOCgtTdHJlYW1CYXRjaBIdLmd5bWZsZWV0LnYxLlN0ZXBCYXRjaFJlcXVlc3QaHC5neW1mbGVldC52MS5CYXRjaFN0ZXBSZXN1bHQoATABEksKDUdldFNlcnZlckluZm8SIS5neW1mbGVldC52MS5HZXRTZXJ2ZXJJbmZvUmVxdWVzdBoXLmd5bWZsZWV0LnYxLlNlcnZlckluZm8SVgoQR2V0UmFuZG9taXphdGlvbhIhLmd5bWZsZWV0LnYxLlJhbmRvbWl6YXRpb25SZXF1ZXN0Gh8uZ3ltZmxlZXQudjEuUmFuZG9taXphdGlvbkRyYXdzEjgKBlJlbmRlchIaLmd5bWZsZWV0LnYxLlJlbmRlclJlcXVlc3QaEi5neW1mbGVldC52MS5JbWFnZRIzCghHZXRTY2VuZRITLmd5bWZsZWV0LnYxLkVudlJlZhoSLmd5bWZsZWV0LnYxLlNjZW5lEjcKCVNhdmVTdGF0ZRITLmd5bWZsZWV0LnYxLkVudlJlZhoVLmd5bWZsZWV0LnYxLkVudlN0YXRlEkQKCUxvYWRTdGF0ZRIdLmd5bWZsZWV0LnYxLkxvYWRTdGF0ZVJlcXVlc3QaGC5neW1mbGVldC52MS5PYnNlcnZhdGlvbhJJCg5TYXZlQmF0Y2hTdGF0ZRIeLmd5bWZsZWV0LnYxLkJhdGNoU3RhdGVSZXF1ZXN0GhcuZ3ltZmxlZXQudjEuQmF0Y2hTdGF0ZRJTCg5Mb2FkQmF0Y2hTdGF0ZRIiLmd5bWZsZWV0LnYxLkxvYWRCYXRjaFN0YXRlUmVxdWVzdBodLmd5bWZsZWV0LnYxLkJhdGNoT2JzZXJ2YXRpb24SOAoERm9yaxIYLmd5bWZsZWV0LnYxLkZvcmtSZXF1ZXN0GhYuZ3ltZmxlZXQudjEuQmF0Y2hJbmZvElYKD0NvbnZlcnREb2N1bWVudBIjLmd5bWZsZWV0LnYxLkNvbnZlcnREb2N1bWVudFJlcXVlc3QaHi5neW1mbGVldC52MS5Db252ZXJ0ZWREb2N1bWVudBJECgpMaXN0TW9kZWxzEh4uZ3ltZmxlZXQudjEuTGlzdE1vZGVsc1JlcXVlc3QaFi5neW1mbGVldC52MS5Nb2RlbExpc3RiBnByb3RvMw");
+  fileDesc("ChtneW1mbGVldC92MS9zaW11bGF0b3IucHJvdG8SC2d5bWZsZWV0LnYxIiEKB1BkR2FpbnMSCgoCa3AYASADKAESCgoCa2QYAiADKAEiTAoIRG9mTGltaXQSDAoEdW5pdBgBIAEoCRIQCgNtaW4YAiABKAFIAIgBARIQCgNtYXgYAyABKAFIAYgBAUIGCgRfbWluQgYKBF9tYXgi7AEKCUpvaW50SW5mbxIMCgRuYW1lGAEgASgJEgwKBHR5cGUYAiABKAkSCwoDZG9mGAMgASgNEiUKBmxpbWl0cxgEIAMoCzIVLmd5bWZsZWV0LnYxLkRvZkxpbWl0Eg4KBnBhcmVudBgFIAEoCRINCgVjaGlsZBgGIAEoCRIXCgptYXhfZWZmb3J0GAcgASgBSACIAQESEAoIYWN0dWF0ZWQYCCABKAgSDAoEZ2VhchgJIAEoARIRCglyZWZlcmVuY2UYCiABKAESFQoNYWN0aW9uX2JvdW5kcxgLIAMoAUINCgtfbWF4X2VmZm9ydCIYCgZFbnZSZWYSDgoGZW52X2lkGAEgASgJIhwKCEJhdGNoUmVmEhAKCGJhdGNoX2lkGAEgASgJIqEDChBDcmVhdGVFbnZSZXF1ZXN0EhUKDWRvY3VtZW50X2pzb24YASABKAkSGAoQZW5kX2VmZmVjdG9yX2lkcxgCIAMoCRIKCgJkdBgDIAEoARIQCghzdWJzdGVwcxgEIAEoDRIRCgltYXhfc3RlcHMYBSABKA0SEQoEc2VlZBgGIAEoBEgAiAEBEiYKCHBkX2dhaW5zGAcgASgLMhQuZ3ltZmxlZXQudjEuUGRHYWlucxIYCgtyZXNldF9ub2lzZRgIIAEoAUgBiAEBEh8KBHRhc2sYCSABKAsyES5neW1mbGVldC52MS5UYXNrEi0KCXJhbmRvbWl6ZRgKIAEoCzIaLmd5bWZsZWV0LnYxLlJhbmRvbWl6YXRpb24SKwoGZm9ybWF0GAsgASgOMhsuZ3ltZmxlZXQudjEuRG9jdW1lbnRGb3JtYXQSDQoFbW9kZWwYDCABKAkSDgoGYXNzZXRzGA0gASgMEiEKBXVuaXRzGA4gASgOMhIuZ3ltZmxlZXQudjEuVW5pdHNCBwoFX3NlZWRCDgoMX3Jlc2V0X25vaXNlIiEKBVJhbmdlEgsKA21pbhgBIAEoARILCgNtYXgYAiABKAEitgEKDVJhbmRvbWl6YXRpb24SJgoKbWFzc19zY2FsZRgBIAEoCzISLmd5bWZsZWV0LnYxLlJhbmdlEioKDmZyaWN0aW9uX3NjYWxlGAIgASgLMhIuZ3ltZmxlZXQudjEuUmFuZ2USKQoNZGFtcGluZ19zY2FsZRgDIAEoCzISLmd5bWZsZWV0LnYxLlJhbmdlEiYKCmdhaW5fc2NhbGUYBCABKAsyEi5neW1mbGVldC52MS5SYW5nZSJLChRSYW5kb21pemF0aW9uUmVxdWVzdBIOCgZlbnZfaWQYASABKAkSEAoIYmF0Y2hfaWQYAiABKAkSEQoJZW52X2luZGV4GAMgASgNIkgKDEluc3RhbmNlRHJhdxIMCgRuYW1lGAEgASgJEhIKCm1hc3Nfc2NhbGUYAiABKAESFgoOZnJpY3Rpb25fc2NhbGUYAyABKAEiRAoJSm9pbnREcmF3EgwKBG5hbWUYASABKAkSFQoNZGFtcGluZ19zY2FsZRgCIAEoARISCgpnYWluX3NjYWxlGAMgASgBImoKElJhbmRvbWl6YXRpb25EcmF3cxIsCglpbnN0YW5jZXMYASADKAsyGS5neW1mbGVldC52MS5JbnN0YW5jZURyYXcSJgoGam9pbnRzGAIgAygLMhYuZ3ltZmxlZXQudjEuSm9pbnREcmF3IicKBFZlYzMSCQoBeBgBIAEoARIJCgF5GAIgASgBEgkKAXoYAyABKAEiRgoEQm94MxIeCgNtaW4YASABKAsyES5neW1mbGVldC52MS5WZWMzEh4KA21heBgCIAEoCzIRLmd5bWZsZWV0LnYxLlZlYzMiwwEKCVJlYWNoVGFzaxIUCgxlbmRfZWZmZWN0b3IYASABKAkSIAoFcG9pbnQYAiABKAsyES5neW1mbGVldC52MS5WZWMzEiEKBnRhcmdldBgDIAEoCzIRLmd5bWZsZWV0LnYxLlZlYzMSJQoKdGFyZ2V0X2JveBgEIAEoCzIRLmd5bWZsZWV0LnYxLkJveDMSFgoOc3VjY2Vzc19yYWRpdXMYBSABKAESHAoUdGVybWluYXRlX29uX3N1Y2Nlc3MYBiABKAgiTQoJVHJhY2tUYXNrEg8KB3RhcmdldHMYASADKAESEQoJdG9sZXJhbmNlGAIgASgBEhwKFHRlcm1pbmF0ZV9vbl9zdWNjZXNzGAMgASgIIlYKC1VwcmlnaHRUYXNrEhAKCGluc3RhbmNlGAEgASgJEh8KBGF4aXMYAiABKAsyES5neW1mbGVldC52MS5WZWMzEhQKDG1heF90aWx0X2RlZxgDIAEoASIZCglUZXJtc1Rhc2sSDAoEanNvbhgBIAEoCSLLAQoEVGFzaxInCgVyZWFjaBgBIAEoCzIWLmd5bWZsZWV0LnYxLlJlYWNoVGFza0gAEicKBXRyYWNrGAIgASgLMhYuZ3ltZmxlZXQudjEuVHJhY2tUYXNrSAASKwoHdXByaWdodBgDIAEoCzIYLmd5bWZsZWV0LnYxLlVwcmlnaHRUYXNrSAASJwoFdGVybXMYBSABKAsyFi5neW1mbGVldC52MS5UZXJtc1Rhc2tIABITCgthY3Rpb25fY29zdBgEIAEoAkIGCgRraW5kIjAKEk9ic2VydmF0aW9uU2VnbWVudBIMCgRuYW1lGAEgASgJEgwKBHNpemUYAiABKA0i7AIKB0VudkluZm8SDgoGZW52X2lkGAEgASgJEhIKCm51bV9qb2ludHMYAiABKA0SEgoKYWN0aW9uX2RpbRgDIAEoDRIXCg9vYnNlcnZhdGlvbl9kaW0YBCABKA0SGAoQZW5kX2VmZmVjdG9yX2lkcxgFIAMoCRIKCgJkdBgGIAEoARIQCghzdWJzdGVwcxgHIAEoDRIRCgltYXhfc3RlcHMYCCABKA0SJgoGam9pbnRzGAkgAygLMhYuZ3ltZmxlZXQudjEuSm9pbnRJbmZvEjsKEm9ic2VydmF0aW9uX2xheW91dBgKIAMoCzIfLmd5bWZsZWV0LnYxLk9ic2VydmF0aW9uU2VnbWVudBIhCgV1bml0cxgLIAEoDjISLmd5bWZsZWV0LnYxLlVuaXRzEhIKCnRlcm1fbmFtZXMYDCADKAkSEwoLZnJlZV9ib2RpZXMYDSADKAkSFAoMbW9jYXBfYm9kaWVzGA4gAygJIjoKDFJlc2V0UmVxdWVzdBIOCgZlbnZfaWQYASABKAkSEQoEc2VlZBgCIAEoBEgAiAEBQgcKBV9zZWVkItcBCgtPYnNlcnZhdGlvbhIXCg9qb2ludF9wb3NpdGlvbnMYASADKAISGAoQam9pbnRfdmVsb2NpdGllcxgCIAMoAhIaChJlbmRfZWZmZWN0b3JfcG9zZXMYAyADKAISGAoQdGFza19vYnNlcnZhdGlvbhgEIAMoAhIRCgliYXNlX3Bvc2UYBSADKAISFQoNYmFzZV92ZWxvY2l0eRgGIAMoAhIXCg9mcmVlX2JvZHlfcG9zZXMYByADKAISHAoUZnJlZV9ib2R5X3ZlbG9jaXRpZXMYCCADKAIicAoLU3RlcFJlcXVlc3QSDgoGZW52X2lkGAEgASgJEiwKC2FjdGlvbl90eXBlGAIgASgOMhcuZ3ltZmxlZXQudjEuQWN0aW9uVHlwZRIOCgZ2YWx1ZXMYAyADKAISEwoLbW9jYXBfcG9zZXMYBCADKAIiQQoTU2V0TW9jYXBQb3NlUmVxdWVzdBIOCgZlbnZfaWQYASABKAkSDAoEYm9keRgCIAEoCRIMCgRwb3NlGAMgAygCIhYKFFNldE1vY2FwUG9zZVJlc3BvbnNlIt0BCgpTdGVwUmVzdWx0Ei0KC29ic2VydmF0aW9uGAEgASgLMhguZ3ltZmxlZXQudjEuT2JzZXJ2YXRpb24SDgoGcmV3YXJkGAIgASgCEhIKCnRlcm1pbmF0ZWQYAyABKAgSEQoJdHJ1bmNhdGVkGAQgASgIEgwKBGRvbmUYBSABKAgSHwoSdGVybWluYXRpb25fcmVhc29uGAYgASgJSACIAQESFAoMZXBpc29kZV9zdGVwGAcgASgNEg0KBXRlcm1zGAggAygCQhUKE190ZXJtaW5hdGlvbl9yZWFzb24iEgoQQ2xvc2VFbnZSZXNwb25zZSLzAwoSQ3JlYXRlQmF0Y2hSZXF1ZXN0EhUKDWRvY3VtZW50X2pzb24YASABKAkSGAoQZW5kX2VmZmVjdG9yX2lkcxgCIAMoCRIKCgJkdBgDIAEoARIQCghzdWJzdGVwcxgEIAEoDRIRCgltYXhfc3RlcHMYBSABKA0SEQoEc2VlZBgGIAEoBEgAiAEBEiYKCHBkX2dhaW5zGAcgASgLMhQuZ3ltZmxlZXQudjEuUGRHYWlucxIYCgtyZXNldF9ub2lzZRgIIAEoAUgBiAEBEg4KBm5fZW52cxgJIAEoDRIpCglhdXRvcmVzZXQYCiABKA4yFi5neW1mbGVldC52MS5BdXRvcmVzZXQSEwoLc2VlZF9vZmZzZXQYCyABKAQSHwoEdGFzaxgMIAEoCzIRLmd5bWZsZWV0LnYxLlRhc2sSLQoJcmFuZG9taXplGA0gASgLMhouZ3ltZmxlZXQudjEuUmFuZG9taXphdGlvbhIrCgZmb3JtYXQYDiABKA4yGy5neW1mbGVldC52MS5Eb2N1bWVudEZvcm1hdBINCgVtb2RlbBgPIAEoCRIOCgZhc3NldHMYECABKAwSIQoFdW5pdHMYESABKA4yEi5neW1mbGVldC52MS5Vbml0c0IHCgVfc2VlZEIOCgxfcmVzZXRfbm9pc2UiqwMKCUJhdGNoSW5mbxIQCghiYXRjaF9pZBgBIAEoCRIOCgZuX2VudnMYAiABKA0SEgoKYWN0aW9uX2RpbRgDIAEoDRIXCg9vYnNlcnZhdGlvbl9kaW0YBCABKA0SEgoKbnVtX2pvaW50cxgFIAEoDRIYChBlbmRfZWZmZWN0b3JfaWRzGAYgAygJEgoKAmR0GAcgASgBEhAKCHN1YnN0ZXBzGAggASgNEhEKCW1heF9zdGVwcxgJIAEoDRIpCglhdXRvcmVzZXQYCiABKA4yFi5neW1mbGVldC52MS5BdXRvcmVzZXQSJgoGam9pbnRzGAsgAygLMhYuZ3ltZmxlZXQudjEuSm9pbnRJbmZvEjsKEm9ic2VydmF0aW9uX2xheW91dBgMIAMoCzIfLmd5bWZsZWV0LnYxLk9ic2VydmF0aW9uU2VnbWVudBIhCgV1bml0cxgNIAEoDjISLmd5bWZsZWV0LnYxLlVuaXRzEhIKCnRlcm1fbmFtZXMYDiADKAkSEwoLZnJlZV9ib2RpZXMYDyADKAkSFAoMbW9jYXBfYm9kaWVzGBAgAygJImsKEVJlc2V0QmF0Y2hSZXF1ZXN0EhAKCGJhdGNoX2lkGAEgASgJEhEKBHNlZWQYAiABKARIAIgBARITCgtzZWVkX29mZnNldBgDIAEoBBITCgtlbnZfaW5kaWNlcxgEIAMoDUIHCgVfc2VlZCJ4ChBTdGVwQmF0Y2hSZXF1ZXN0EhAKCGJhdGNoX2lkGAEgASgJEiwKC2FjdGlvbl90eXBlGAIgASgOMhcuZ3ltZmxlZXQudjEuQWN0aW9uVHlwZRIPCgdhY3Rpb25zGAMgAygCEhMKC21vY2FwX3Bvc2VzGAQgAygCItkCCg9CYXRjaFN0ZXBSZXN1bHQSEAoIYmF0Y2hfaWQYASABKAkSEgoKc3RlcF9pbmRleBgCIAEoBBIUCgxvYnNlcnZhdGlvbnMYAyADKAISDwoHcmV3YXJkcxgEIAMoAhISCgp0ZXJtaW5hdGVkGAUgAygIEhEKCXRydW5jYXRlZBgGIAMoCBIZChFmaW5hbF9lbnZfaW5kaWNlcxgHIAMoDRIaChJmaW5hbF9vYnNlcnZhdGlvbnMYCCADKAISUQoTdGVybWluYXRpb25fcmVhc29ucxgJIAMoCzI0Lmd5bWZsZWV0LnYxLkJhdGNoU3RlcFJlc3VsdC5UZXJtaW5hdGlvblJlYXNvbnNFbnRyeRINCgV0ZXJtcxgKIAMoAho5ChdUZXJtaW5hdGlvblJlYXNvbnNFbnRyeRILCgNrZXkYASABKA0SDQoFdmFsdWUYAiABKAk6AjgBImMKEEJhdGNoT2JzZXJ2YXRpb24SEAoIYmF0Y2hfaWQYASABKAkSDgoGbl9lbnZzGAIgASgNEhcKD29ic2VydmF0aW9uX2RpbRgDIAEoDRIUCgxvYnNlcnZhdGlvbnMYBCADKAIiFAoSQ2xvc2VCYXRjaFJlc3BvbnNlIhYKFEdldFNlcnZlckluZm9SZXF1ZXN0IpECCgxTZXJ2ZXJMaW1pdHMSEAoIbWF4X2VudnMYASABKAQSFgoObWF4X2JhdGNoX3NpemUYAiABKAQSGgoSbWF4X2RvY3VtZW50X2J5dGVzGAMgASgEEhkKEW1heF9tZXNzYWdlX2J5dGVzGAQgASgEEhgKEGlkbGVfdHRsX3NlY29uZHMYBSABKAQSFQoNbWF4X2luc3RhbmNlcxgGIAEoBBISCgptYXhfam9pbnRzGAcgASgEEhAKCG1heF9kb2ZzGAggASgEEhkKEW1heF9lbmRfZWZmZWN0b3JzGAkgASgEEhcKD3RlbmFudF9tYXhfZW52cxgKIAEoBBIVCg1tYXhfc3RlcF93b3JrGAsgASgEIsgBCgpTZXJ2ZXJJbmZvEg8KB3ZlcnNpb24YASABKAkSDwoHdGhyZWFkcxgCIAEoDRIMCgRlbnZzGAMgASgEEg8KB2JhdGNoZXMYBCABKAQSEgoKYmF0Y2hfZW52cxgFIAEoBBIpCgZsaW1pdHMYBiABKAsyGS5neW1mbGVldC52MS5TZXJ2ZXJMaW1pdHMSDgoGdGVuYW50GAcgASgJEhUKDWF1dGhfcmVxdWlyZWQYCCABKAgSEwoLaW5zdGFuY2VfaWQYCSABKAkiugEKBkNhbWVyYRIpCgZwcmVzZXQYASABKA4yGS5neW1mbGVldC52MS5DYW1lcmFQcmVzZXQSIwoDZXllGAIgASgLMhEuZ3ltZmxlZXQudjEuVmVjM0gAiAEBEiYKBnRhcmdldBgDIAEoCzIRLmd5bWZsZWV0LnYxLlZlYzNIAYgBARIPCgdmb3ZfZGVnGAQgASgCEhQKDG9ydGhvZ3JhcGhpYxgFIAEoCEIGCgRfZXllQgkKB190YXJnZXQiiAEKDVJlbmRlclJlcXVlc3QSDgoGZW52X2lkGAEgASgJEhAKCGJhdGNoX2lkGAIgASgJEhEKCWVudl9pbmRleBgDIAEoDRIjCgZjYW1lcmEYBCABKAsyEy5neW1mbGVldC52MS5DYW1lcmESDQoFd2lkdGgYBSABKA0SDgoGaGVpZ2h0GAYgASgNIlkKBUltYWdlEgsKA3BuZxgBIAEoDBINCgV3aWR0aBgCIAEoDRIOCgZoZWlnaHQYAyABKA0SEwoLZGVzY3JpcHRpb24YBCABKAkSDwoHZ3JpZF9tbRgFIAEoAiLiAQoKU2NlbmVTaGFwZRItChBib3hfaGFsZl9leHRlbnRzGAEgASgLMhEuZ3ltZmxlZXQudjEuVmVjM0gAEi4KCGN5bGluZGVyGAIgASgLMhouZ3ltZmxlZXQudjEuU2NlbmVDeWxpbmRlckgAEhcKDXNwaGVyZV9yYWRpdXMYAyABKAFIABIsCgdjYXBzdWxlGAQgASgLMhkuZ3ltZmxlZXQudjEuU2NlbmVDYXBzdWxlSAASJgoEbWVzaBgFIAEoCzIWLmd5bWZsZWV0LnYxLlNjZW5lTWVzaEgAQgYKBGtpbmQiMAoJU2NlbmVNZXNoEhAKCHZlcnRpY2VzGAEgAygCEhEKCXRyaWFuZ2xlcxgCIAMoDSI0CgxTY2VuZUNhcHN1bGUSDgoGcmFkaXVzGAEgASgBEhQKDGhhbGZfc2VnbWVudBgCIAEoASI0Cg1TY2VuZUN5bGluZGVyEg4KBnJhZGl1cxgBIAEoARITCgtoYWxmX2hlaWdodBgCIAEoASJgCglTY2VuZVBvc2USIwoIcG9zaXRpb24YASABKAsyES5neW1mbGVldC52MS5WZWMzEgoKAnF3GAIgASgBEgoKAnF4GAMgASgBEgoKAnF5GAQgASgBEgoKAnF6GAUgASgBImcKCVNjZW5lQm9keRIMCgRuYW1lGAEgASgJEiYKBXNoYXBlGAIgASgLMhcuZ3ltZmxlZXQudjEuU2NlbmVTaGFwZRIkCgRwb3NlGAMgASgLMhYuZ3ltZmxlZXQudjEuU2NlbmVQb3NlIlAKClNjZW5lSm9pbnQSIQoGYW5jaG9yGAEgASgLMhEuZ3ltZmxlZXQudjEuVmVjMxIfCgRheGlzGAIgASgLMhEuZ3ltZmxlZXQudjEuVmVjMyK1AQoFU2NlbmUSJgoGYm9kaWVzGAEgAygLMhYuZ3ltZmxlZXQudjEuU2NlbmVCb2R5EicKBmpvaW50cxgCIAMoCzIXLmd5bWZsZWV0LnYxLlNjZW5lSm9pbnQSKAoNZW5kX2VmZmVjdG9ycxgDIAMoCzIRLmd5bWZsZWV0LnYxLlZlYzMSJgoGdGFyZ2V0GAQgASgLMhEuZ3ltZmxlZXQudjEuVmVjM0gAiAEBQgkKB190YXJnZXQiGQoIRW52U3RhdGUSDQoFc3RhdGUYASABKAwiMQoQTG9hZFN0YXRlUmVxdWVzdBIOCgZlbnZfaWQYASABKAkSDQoFc3RhdGUYAiABKAwiOgoRQmF0Y2hTdGF0ZVJlcXVlc3QSEAoIYmF0Y2hfaWQYASABKAkSEwoLZW52X2luZGljZXMYAiADKA0iHAoKQmF0Y2hTdGF0ZRIOCgZzdGF0ZXMYASADKAwiTgoVTG9hZEJhdGNoU3RhdGVSZXF1ZXN0EhAKCGJhdGNoX2lkGAEgASgJEhMKC2Vudl9pbmRpY2VzGAIgAygNEg4KBnN0YXRlcxgDIAMoDCJXCgtGb3JrUmVxdWVzdBINCgVzdGF0ZRgBIAEoDBIOCgZuX2VudnMYAiABKA0SKQoJYXV0b3Jlc2V0GAMgASgOMhYuZ3ltZmxlZXQudjEuQXV0b3Jlc2V0ImwKFkNvbnZlcnREb2N1bWVudFJlcXVlc3QSFQoNZG9jdW1lbnRfanNvbhgBIAEoCRIrCgZmb3JtYXQYAiABKA4yGy5neW1mbGVldC52MS5Eb2N1bWVudEZvcm1hdBIOCgZhc3NldHMYAyABKAwiaQoRQ29udmVydGVkRG9jdW1lbnQSFQoNZG9jdW1lbnRfanNvbhgBIAEoCRIQCgh3YXJuaW5ncxgCIAMoCRIrCgZmb3JtYXQYAyABKA4yGy5neW1mbGVldC52MS5Eb2N1bWVudEZvcm1hdCITChFMaXN0TW9kZWxzUmVxdWVzdCJoCglNb2RlbEluZm8SDAoEbmFtZRgBIAEoCRIrCgZmb3JtYXQYAiABKA4yGy5neW1mbGVldC52MS5Eb2N1bWVudEZvcm1hdBIMCgRkb2ZzGAMgASgNEhIKCmFjdGlvbl9kaW0YBCABKA0iMwoJTW9kZWxMaXN0EiYKBm1vZGVscxgBIAMoCzIWLmd5bWZsZWV0LnYxLk1vZGVsSW5mbyp1CgpBY3Rpb25UeXBlEhsKF0FDVElPTl9UWVBFX1VOU1BFQ0lGSUVEEAASFgoSQUNUSU9OX1RZUEVfVE9SUVVFEAESGAoUQUNUSU9OX1RZUEVfUE9TSVRJT04QAhIYChRBQ1RJT05fVFlQRV9WRUxPQ0lUWRADKlUKCUF1dG9yZXNldBIWChJBVVRPUkVTRVRfRElTQUJMRUQQABIXChNBVVRPUkVTRVRfU0FNRV9TVEVQEAESFwoTQVVUT1JFU0VUX05FWFRfU1RFUBACKikKBVVuaXRzEhIKDlVOSVRTX0RPQ1VNRU5UEAASDAoIVU5JVFNfU0kQASp/Cg5Eb2N1bWVudEZvcm1hdBIfChtET0NVTUVOVF9GT1JNQVRfVU5TUEVDSUZJRUQQABIYChRET0NVTUVOVF9GT1JNQVRfSlNPThABEhgKFERPQ1VNRU5UX0ZPUk1BVF9VUkRGEAISGAoURE9DVU1FTlRfRk9STUFUX01KQ0YQAyqMAQoMQ2FtZXJhUHJlc2V0Eh0KGUNBTUVSQV9QUkVTRVRfVU5TUEVDSUZJRUQQABIVChFDQU1FUkFfUFJFU0VUX0lTTxABEhcKE0NBTUVSQV9QUkVTRVRfRlJPTlQQAhIWChJDQU1FUkFfUFJFU0VUX1NJREUQAxIVChFDQU1FUkFfUFJFU0VUX1RPUBAEMtgMCglTaW11bGF0b3ISQAoJQ3JlYXRlRW52Eh0uZ3ltZmxlZXQudjEuQ3JlYXRlRW52UmVxdWVzdBoULmd5bWZsZWV0LnYxLkVudkluZm8SPAoFUmVzZXQSGS5neW1mbGVldC52MS5SZXNldFJlcXVlc3QaGC5neW1mbGVldC52MS5PYnNlcnZhdGlvbhI5CgRTdGVwEhguZ3ltZmxlZXQudjEuU3RlcFJlcXVlc3QaFy5neW1mbGVldC52MS5TdGVwUmVzdWx0EjgKB09ic2VydmUSEy5neW1mbGVldC52MS5FbnZSZWYaGC5neW1mbGVldC52MS5PYnNlcnZhdGlvbhJTCgxTZXRNb2NhcFBvc2USIC5neW1mbGVldC52MS5TZXRNb2NhcFBvc2VSZXF1ZXN0GiEuZ3ltZmxlZXQudjEuU2V0TW9jYXBQb3NlUmVzcG9uc2USOwoFQ2xvc2USEy5neW1mbGVldC52MS5FbnZSZWYaHS5neW1mbGVldC52MS5DbG9zZUVudlJlc3BvbnNlEkYKC0NyZWF0ZUJhdGNoEh8uZ3ltZmxlZXQudjEuQ3JlYXRlQmF0Y2hSZXF1ZXN0GhYuZ3ltZmxlZXQudjEuQmF0Y2hJbmZvEksKClJlc2V0QmF0Y2gSHi5neW1mbGVldC52MS5SZXNldEJhdGNoUmVxdWVzdBodLmd5bWZsZWV0LnYxLkJhdGNoT2JzZXJ2YXRpb24SSAoJU3RlcEJhdGNoEh0uZ3ltZmxlZXQudjEuU3RlcEJhdGNoUmVxdWVzdBocLmd5bWZsZWV0LnYxLkJhdGNoU3RlcFJlc3VsdBJECgxPYnNlcnZlQmF0Y2gSFS5neW1mbGVldC52MS5CYXRjaFJlZhodLmd5bWZsZWV0LnYxLkJhdGNoT2JzZXJ2YXRpb24SRAoKQ2xvc2VCYXRjaBIVLmd5bWZsZWV0LnYxLkJhdGNoUmVmGh8uZ3ltZmxlZXQudjEuQ2xvc2VCYXRjaFJlc3BvbnNlEk4KC1N0cmVhbUJhdGNoEh0uZ3ltZmxlZXQudjEuU3RlcEJhdGNoUmVxdWVzdBocLmd5bWZsZWV0LnYxLkJhdGNoU3RlcFJlc3VsdCgBMAESSwoNR2V0U2VydmVySW5mbxIhLmd5bWZsZWV0LnYxLkdldFNlcnZlckluZm9SZXF1ZXN0GhcuZ3ltZmxlZXQudjEuU2VydmVySW5mbxJWChBHZXRSYW5kb21pemF0aW9uEiEuZ3ltZmxlZXQudjEuUmFuZG9taXphdGlvblJlcXVlc3QaHy5neW1mbGVldC52MS5SYW5kb21pemF0aW9uRHJhd3MSOAoGUmVuZGVyEhouZ3ltZmxlZXQudjEuUmVuZGVyUmVxdWVzdBoSLmd5bWZsZWV0LnYxLkltYWdlEjMKCEdldFNjZW5lEhMuZ3ltZmxlZXQudjEuRW52UmVmGhIuZ3ltZmxlZXQudjEuU2NlbmUSNwoJU2F2ZVN0YXRlEhMuZ3ltZmxlZXQudjEuRW52UmVmGhUuZ3ltZmxlZXQudjEuRW52U3RhdGUSRAoJTG9hZFN0YXRlEh0uZ3ltZmxlZXQudjEuTG9hZFN0YXRlUmVxdWVzdBoYLmd5bWZsZWV0LnYxLk9ic2VydmF0aW9uEkkKDlNhdmVCYXRjaFN0YXRlEh4uZ3ltZmxlZXQudjEuQmF0Y2hTdGF0ZVJlcXVlc3QaFy5neW1mbGVldC52MS5CYXRjaFN0YXRlElMKDkxvYWRCYXRjaFN0YXRlEiIuZ3ltZmxlZXQudjEuTG9hZEJhdGNoU3RhdGVSZXF1ZXN0Gh0uZ3ltZmxlZXQudjEuQmF0Y2hPYnNlcnZhdGlvbhI4CgRGb3JrEhguZ3ltZmxlZXQudjEuRm9ya1JlcXVlc3QaFi5neW1mbGVldC52MS5CYXRjaEluZm8SVgoPQ29udmVydERvY3VtZW50EiMuZ3ltZmxlZXQudjEuQ29udmVydERvY3VtZW50UmVxdWVzdBoeLmd5bWZsZWV0LnYxLkNvbnZlcnRlZERvY3VtZW50EkQKCkxpc3RNb2RlbHMSHi5neW1mbGVldC52MS5MaXN0TW9kZWxzUmVxdWVzdBoWLmd5bWZsZWV0LnYxLk1vZGVsTGlzdGIGcHJvdG8z");
 
 /**
  * Gains of the joint controller, per DOF, in SI units. Position actions use
@@ -949,6 +949,22 @@ export type EnvInfo = Message<"gymfleet.v1.EnvInfo"> & {
    * @generated from field: repeated string term_names = 12;
    */
   termNames: string[];
+
+  /**
+   * The free bodies (instances that move freely, joined to nothing: MuJoCo's free
+   * joints but a floating base's), in the order Observation.free_body_poses lists them.
+   *
+   * @generated from field: repeated string free_bodies = 13;
+   */
+  freeBodies: string[];
+
+  /**
+   * The mocap bodies (kinematic; moved by pose targets), in the order
+   * StepRequest.mocap_poses gives their targets.
+   *
+   * @generated from field: repeated string mocap_bodies = 14;
+   */
+  mocapBodies: string[];
 };
 
 /**
@@ -1043,6 +1059,24 @@ export type Observation = Message<"gymfleet.v1.Observation"> & {
    * @generated from field: repeated float base_velocity = 6;
    */
   baseVelocity: number[];
+
+  /**
+   * Each free body's pose (EnvInfo.free_bodies: an object, a second robot), 7
+   * floats each: its reference frame's origin [x, y, z] in world mm and its
+   * orientation [qw, qx, qy, qz] (MuJoCo's qpos of its free joint).
+   *
+   * @generated from field: repeated float free_body_poses = 7;
+   */
+  freeBodyPoses: number[];
+
+  /**
+   * Each free body's velocity, 6 floats each: its reference frame's origin's
+   * [vx, vy, vz] in world mm/s, then its angular velocity [wx, wy, wz] in its
+   * own axes, deg/s (MuJoCo's qvel of its free joint).
+   *
+   * @generated from field: repeated float free_body_velocities = 8;
+   */
+  freeBodyVelocities: number[];
 };
 
 /**
@@ -1079,6 +1113,15 @@ export type StepRequest = Message<"gymfleet.v1.StepRequest"> & {
    * @generated from field: repeated float values = 3;
    */
   values: number[];
+
+  /**
+   * Where each mocap body (EnvInfo.mocap_bodies) is to be at the end of this step,
+   * 7 floats each: [x, y, z] in world mm (m with SI units), then [qw, qx, qy, qz].
+   * Empty: every target stays as it is.
+   *
+   * @generated from field: repeated float mocap_poses = 4;
+   */
+  mocapPoses: number[];
 };
 
 /**
@@ -1087,6 +1130,55 @@ export type StepRequest = Message<"gymfleet.v1.StepRequest"> & {
  */
 export const StepRequestSchema: GenMessage<StepRequest> = /*@__PURE__*/
   messageDesc(file_gymfleet_v1_simulator, 23);
+
+/**
+ * One mocap body's target (see SetMocapPose).
+ *
+ * @generated from message gymfleet.v1.SetMocapPoseRequest
+ */
+export type SetMocapPoseRequest = Message<"gymfleet.v1.SetMocapPoseRequest"> & {
+  /**
+   * The environment.
+   *
+   * @generated from field: string env_id = 1;
+   */
+  envId: string;
+
+  /**
+   * The mocap body, one of EnvInfo.mocap_bodies.
+   *
+   * @generated from field: string body = 2;
+   */
+  body: string;
+
+  /**
+   * [x, y, z] in world mm (m with SI units), then the orientation [qw, qx, qy, qz]
+   * (normalised): where the body's reference frame is to be.
+   *
+   * @generated from field: repeated float pose = 3;
+   */
+  pose: number[];
+};
+
+/**
+ * Describes the message gymfleet.v1.SetMocapPoseRequest.
+ * Use `create(SetMocapPoseRequestSchema)` to create a new message.
+ */
+export const SetMocapPoseRequestSchema: GenMessage<SetMocapPoseRequest> = /*@__PURE__*/
+  messageDesc(file_gymfleet_v1_simulator, 24);
+
+/**
+ * @generated from message gymfleet.v1.SetMocapPoseResponse
+ */
+export type SetMocapPoseResponse = Message<"gymfleet.v1.SetMocapPoseResponse"> & {
+};
+
+/**
+ * Describes the message gymfleet.v1.SetMocapPoseResponse.
+ * Use `create(SetMocapPoseResponseSchema)` to create a new message.
+ */
+export const SetMocapPoseResponseSchema: GenMessage<SetMocapPoseResponse> = /*@__PURE__*/
+  messageDesc(file_gymfleet_v1_simulator, 25);
 
 /**
  * The outcome of one step.
@@ -1159,7 +1251,7 @@ export type StepResult = Message<"gymfleet.v1.StepResult"> & {
  * Use `create(StepResultSchema)` to create a new message.
  */
 export const StepResultSchema: GenMessage<StepResult> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 24);
+  messageDesc(file_gymfleet_v1_simulator, 26);
 
 /**
  * Acknowledges Close.
@@ -1174,7 +1266,7 @@ export type CloseEnvResponse = Message<"gymfleet.v1.CloseEnvResponse"> & {
  * Use `create(CloseEnvResponseSchema)` to create a new message.
  */
 export const CloseEnvResponseSchema: GenMessage<CloseEnvResponse> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 25);
+  messageDesc(file_gymfleet_v1_simulator, 27);
 
 /**
  * Creates `n_envs` copies of one environment configuration. The fields up to
@@ -1314,7 +1406,7 @@ export type CreateBatchRequest = Message<"gymfleet.v1.CreateBatchRequest"> & {
  * Use `create(CreateBatchRequestSchema)` to create a new message.
  */
 export const CreateBatchRequestSchema: GenMessage<CreateBatchRequest> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 26);
+  messageDesc(file_gymfleet_v1_simulator, 28);
 
 /**
  * Describes a created batch. Every env of the batch has this shape.
@@ -1419,6 +1511,18 @@ export type BatchInfo = Message<"gymfleet.v1.BatchInfo"> & {
    * @generated from field: repeated string term_names = 14;
    */
   termNames: string[];
+
+  /**
+   * As EnvInfo.free_bodies and EnvInfo.mocap_bodies.
+   *
+   * @generated from field: repeated string free_bodies = 15;
+   */
+  freeBodies: string[];
+
+  /**
+   * @generated from field: repeated string mocap_bodies = 16;
+   */
+  mocapBodies: string[];
 };
 
 /**
@@ -1426,7 +1530,7 @@ export type BatchInfo = Message<"gymfleet.v1.BatchInfo"> & {
  * Use `create(BatchInfoSchema)` to create a new message.
  */
 export const BatchInfoSchema: GenMessage<BatchInfo> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 27);
+  messageDesc(file_gymfleet_v1_simulator, 29);
 
 /**
  * Resets every environment of a batch.
@@ -1472,7 +1576,7 @@ export type ResetBatchRequest = Message<"gymfleet.v1.ResetBatchRequest"> & {
  * Use `create(ResetBatchRequestSchema)` to create a new message.
  */
 export const ResetBatchRequestSchema: GenMessage<ResetBatchRequest> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 28);
+  messageDesc(file_gymfleet_v1_simulator, 30);
 
 /**
  * Steps every environment of a batch once.
@@ -1500,6 +1604,14 @@ export type StepBatchRequest = Message<"gymfleet.v1.StepBatchRequest"> & {
    * @generated from field: repeated float actions = 3;
    */
   actions: number[];
+
+  /**
+   * n_envs × 7 × (mocap bodies) values, row-major: each env's mocap targets, as
+   * StepRequest.mocap_poses gives one env's. Empty: every target stays as it is.
+   *
+   * @generated from field: repeated float mocap_poses = 4;
+   */
+  mocapPoses: number[];
 };
 
 /**
@@ -1507,7 +1619,7 @@ export type StepBatchRequest = Message<"gymfleet.v1.StepBatchRequest"> & {
  * Use `create(StepBatchRequestSchema)` to create a new message.
  */
 export const StepBatchRequestSchema: GenMessage<StepBatchRequest> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 29);
+  messageDesc(file_gymfleet_v1_simulator, 31);
 
 /**
  * The outcome of one batch step.
@@ -1600,7 +1712,7 @@ export type BatchStepResult = Message<"gymfleet.v1.BatchStepResult"> & {
  * Use `create(BatchStepResultSchema)` to create a new message.
  */
 export const BatchStepResultSchema: GenMessage<BatchStepResult> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 30);
+  messageDesc(file_gymfleet_v1_simulator, 32);
 
 /**
  * The current observations of a batch.
@@ -1643,7 +1755,7 @@ export type BatchObservation = Message<"gymfleet.v1.BatchObservation"> & {
  * Use `create(BatchObservationSchema)` to create a new message.
  */
 export const BatchObservationSchema: GenMessage<BatchObservation> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 31);
+  messageDesc(file_gymfleet_v1_simulator, 33);
 
 /**
  * Acknowledges CloseBatch.
@@ -1658,7 +1770,7 @@ export type CloseBatchResponse = Message<"gymfleet.v1.CloseBatchResponse"> & {
  * Use `create(CloseBatchResponseSchema)` to create a new message.
  */
 export const CloseBatchResponseSchema: GenMessage<CloseBatchResponse> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 32);
+  messageDesc(file_gymfleet_v1_simulator, 34);
 
 /**
  * Asks for `ServerInfo`.
@@ -1673,7 +1785,7 @@ export type GetServerInfoRequest = Message<"gymfleet.v1.GetServerInfoRequest"> &
  * Use `create(GetServerInfoRequestSchema)` to create a new message.
  */
 export const GetServerInfoRequestSchema: GenMessage<GetServerInfoRequest> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 33);
+  messageDesc(file_gymfleet_v1_simulator, 35);
 
 /**
  * The server's limits. 0 means no limit.
@@ -1765,7 +1877,7 @@ export type ServerLimits = Message<"gymfleet.v1.ServerLimits"> & {
  * Use `create(ServerLimitsSchema)` to create a new message.
  */
 export const ServerLimitsSchema: GenMessage<ServerLimits> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 34);
+  messageDesc(file_gymfleet_v1_simulator, 36);
 
 /**
  * Describes the server.
@@ -1844,7 +1956,7 @@ export type ServerInfo = Message<"gymfleet.v1.ServerInfo"> & {
  * Use `create(ServerInfoSchema)` to create a new message.
  */
 export const ServerInfoSchema: GenMessage<ServerInfo> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 35);
+  messageDesc(file_gymfleet_v1_simulator, 37);
 
 /**
  * Where a picture is taken from. With neither eye nor target the preset frames the
@@ -1893,7 +2005,7 @@ export type Camera = Message<"gymfleet.v1.Camera"> & {
  * Use `create(CameraSchema)` to create a new message.
  */
 export const CameraSchema: GenMessage<Camera> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 36);
+  messageDesc(file_gymfleet_v1_simulator, 38);
 
 /**
  * @generated from message gymfleet.v1.RenderRequest
@@ -1939,7 +2051,7 @@ export type RenderRequest = Message<"gymfleet.v1.RenderRequest"> & {
  * Use `create(RenderRequestSchema)` to create a new message.
  */
 export const RenderRequestSchema: GenMessage<RenderRequest> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 37);
+  messageDesc(file_gymfleet_v1_simulator, 39);
 
 /**
  * @generated from message gymfleet.v1.Image
@@ -1983,7 +2095,7 @@ export type Image = Message<"gymfleet.v1.Image"> & {
  * Use `create(ImageSchema)` to create a new message.
  */
 export const ImageSchema: GenMessage<Image> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 38);
+  messageDesc(file_gymfleet_v1_simulator, 40);
 
 /**
  * A primitive centred on its pose's origin (a mesh: in its pose's frame), mm.
@@ -2042,7 +2154,7 @@ export type SceneShape = Message<"gymfleet.v1.SceneShape"> & {
  * Use `create(SceneShapeSchema)` to create a new message.
  */
 export const SceneShapeSchema: GenMessage<SceneShape> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 39);
+  messageDesc(file_gymfleet_v1_simulator, 41);
 
 /**
  * A triangle mesh in its pose's frame, mm.
@@ -2070,7 +2182,7 @@ export type SceneMesh = Message<"gymfleet.v1.SceneMesh"> & {
  * Use `create(SceneMeshSchema)` to create a new message.
  */
 export const SceneMeshSchema: GenMessage<SceneMesh> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 40);
+  messageDesc(file_gymfleet_v1_simulator, 42);
 
 /**
  * @generated from message gymfleet.v1.SceneCapsule
@@ -2095,7 +2207,7 @@ export type SceneCapsule = Message<"gymfleet.v1.SceneCapsule"> & {
  * Use `create(SceneCapsuleSchema)` to create a new message.
  */
 export const SceneCapsuleSchema: GenMessage<SceneCapsule> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 41);
+  messageDesc(file_gymfleet_v1_simulator, 43);
 
 /**
  * @generated from message gymfleet.v1.SceneCylinder
@@ -2117,7 +2229,7 @@ export type SceneCylinder = Message<"gymfleet.v1.SceneCylinder"> & {
  * Use `create(SceneCylinderSchema)` to create a new message.
  */
 export const SceneCylinderSchema: GenMessage<SceneCylinder> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 42);
+  messageDesc(file_gymfleet_v1_simulator, 44);
 
 /**
  * A world pose: position in mm, orientation as a unit quaternion.
@@ -2156,7 +2268,7 @@ export type ScenePose = Message<"gymfleet.v1.ScenePose"> & {
  * Use `create(ScenePoseSchema)` to create a new message.
  */
 export const ScenePoseSchema: GenMessage<ScenePose> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 43);
+  messageDesc(file_gymfleet_v1_simulator, 45);
 
 /**
  * @generated from message gymfleet.v1.SceneBody
@@ -2185,7 +2297,7 @@ export type SceneBody = Message<"gymfleet.v1.SceneBody"> & {
  * Use `create(SceneBodySchema)` to create a new message.
  */
 export const SceneBodySchema: GenMessage<SceneBody> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 44);
+  messageDesc(file_gymfleet_v1_simulator, 46);
 
 /**
  * @generated from message gymfleet.v1.SceneJoint
@@ -2209,7 +2321,7 @@ export type SceneJoint = Message<"gymfleet.v1.SceneJoint"> & {
  * Use `create(SceneJointSchema)` to create a new message.
  */
 export const SceneJointSchema: GenMessage<SceneJoint> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 45);
+  messageDesc(file_gymfleet_v1_simulator, 47);
 
 /**
  * @generated from message gymfleet.v1.Scene
@@ -2247,7 +2359,7 @@ export type Scene = Message<"gymfleet.v1.Scene"> & {
  * Use `create(SceneSchema)` to create a new message.
  */
 export const SceneSchema: GenMessage<Scene> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 46);
+  messageDesc(file_gymfleet_v1_simulator, 48);
 
 /**
  * One env's saved state: opaque bytes ("GFST", a format version, a CRC-32, the
@@ -2267,7 +2379,7 @@ export type EnvState = Message<"gymfleet.v1.EnvState"> & {
  * Use `create(EnvStateSchema)` to create a new message.
  */
 export const EnvStateSchema: GenMessage<EnvState> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 47);
+  messageDesc(file_gymfleet_v1_simulator, 49);
 
 /**
  * @generated from message gymfleet.v1.LoadStateRequest
@@ -2292,7 +2404,7 @@ export type LoadStateRequest = Message<"gymfleet.v1.LoadStateRequest"> & {
  * Use `create(LoadStateRequestSchema)` to create a new message.
  */
 export const LoadStateRequestSchema: GenMessage<LoadStateRequest> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 48);
+  messageDesc(file_gymfleet_v1_simulator, 50);
 
 /**
  * @generated from message gymfleet.v1.BatchStateRequest
@@ -2316,7 +2428,7 @@ export type BatchStateRequest = Message<"gymfleet.v1.BatchStateRequest"> & {
  * Use `create(BatchStateRequestSchema)` to create a new message.
  */
 export const BatchStateRequestSchema: GenMessage<BatchStateRequest> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 49);
+  messageDesc(file_gymfleet_v1_simulator, 51);
 
 /**
  * @generated from message gymfleet.v1.BatchState
@@ -2335,7 +2447,7 @@ export type BatchState = Message<"gymfleet.v1.BatchState"> & {
  * Use `create(BatchStateSchema)` to create a new message.
  */
 export const BatchStateSchema: GenMessage<BatchState> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 50);
+  messageDesc(file_gymfleet_v1_simulator, 52);
 
 /**
  * @generated from message gymfleet.v1.LoadBatchStateRequest
@@ -2366,7 +2478,7 @@ export type LoadBatchStateRequest = Message<"gymfleet.v1.LoadBatchStateRequest">
  * Use `create(LoadBatchStateRequestSchema)` to create a new message.
  */
 export const LoadBatchStateRequestSchema: GenMessage<LoadBatchStateRequest> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 51);
+  messageDesc(file_gymfleet_v1_simulator, 53);
 
 /**
  * @generated from message gymfleet.v1.ForkRequest
@@ -2399,7 +2511,7 @@ export type ForkRequest = Message<"gymfleet.v1.ForkRequest"> & {
  * Use `create(ForkRequestSchema)` to create a new message.
  */
 export const ForkRequestSchema: GenMessage<ForkRequest> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 52);
+  messageDesc(file_gymfleet_v1_simulator, 54);
 
 /**
  * @generated from message gymfleet.v1.ConvertDocumentRequest
@@ -2432,7 +2544,7 @@ export type ConvertDocumentRequest = Message<"gymfleet.v1.ConvertDocumentRequest
  * Use `create(ConvertDocumentRequestSchema)` to create a new message.
  */
 export const ConvertDocumentRequestSchema: GenMessage<ConvertDocumentRequest> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 53);
+  messageDesc(file_gymfleet_v1_simulator, 55);
 
 /**
  * @generated from message gymfleet.v1.ConvertedDocument
@@ -2465,7 +2577,7 @@ export type ConvertedDocument = Message<"gymfleet.v1.ConvertedDocument"> & {
  * Use `create(ConvertedDocumentSchema)` to create a new message.
  */
 export const ConvertedDocumentSchema: GenMessage<ConvertedDocument> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 54);
+  messageDesc(file_gymfleet_v1_simulator, 56);
 
 /**
  * @generated from message gymfleet.v1.ListModelsRequest
@@ -2478,7 +2590,7 @@ export type ListModelsRequest = Message<"gymfleet.v1.ListModelsRequest"> & {
  * Use `create(ListModelsRequestSchema)` to create a new message.
  */
 export const ListModelsRequestSchema: GenMessage<ListModelsRequest> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 55);
+  messageDesc(file_gymfleet_v1_simulator, 57);
 
 /**
  * @generated from message gymfleet.v1.ModelInfo
@@ -2518,7 +2630,7 @@ export type ModelInfo = Message<"gymfleet.v1.ModelInfo"> & {
  * Use `create(ModelInfoSchema)` to create a new message.
  */
 export const ModelInfoSchema: GenMessage<ModelInfo> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 56);
+  messageDesc(file_gymfleet_v1_simulator, 58);
 
 /**
  * @generated from message gymfleet.v1.ModelList
@@ -2537,7 +2649,7 @@ export type ModelList = Message<"gymfleet.v1.ModelList"> & {
  * Use `create(ModelListSchema)` to create a new message.
  */
 export const ModelListSchema: GenMessage<ModelList> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 57);
+  messageDesc(file_gymfleet_v1_simulator, 59);
 
 /**
  * How a step's action values are interpreted. One value per DOF, in DOF order.
@@ -2786,6 +2898,18 @@ export const Simulator: GenService<{
     methodKind: "unary";
     input: typeof EnvRefSchema;
     output: typeof ObservationSchema;
+  },
+  /**
+   * Sets where one mocap body of an env is to be at the end of its next step (and
+   * stay): EnvInfo.mocap_bodies names them. A step can carry every mocap body's
+   * target instead (StepRequest.mocap_poses), with no call of its own.
+   *
+   * @generated from rpc gymfleet.v1.Simulator.SetMocapPose
+   */
+  setMocapPose: {
+    methodKind: "unary";
+    input: typeof SetMocapPoseRequestSchema;
+    output: typeof SetMocapPoseResponseSchema;
   },
   /**
    * Frees an environment. Any later call on its id is NOT_FOUND.
