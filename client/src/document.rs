@@ -106,10 +106,23 @@ impl Client {
         format: DocumentFormat,
         assets: impl Into<Vec<u8>>,
     ) -> Result<ConvertedDocument> {
+        self.convert_document_in(document, format, assets, "").await
+    }
+
+    /// [`Client::convert_document_with_assets`] for a document at `document_path` in its
+    /// assets (see [`crate::EnvOptions::document_path`]).
+    pub async fn convert_document_in(
+        &self,
+        document: impl Into<String>,
+        format: DocumentFormat,
+        assets: impl Into<Vec<u8>>,
+        document_path: &str,
+    ) -> Result<ConvertedDocument> {
         let request = pb::ConvertDocumentRequest {
             document_json: document.into(),
             format: pb::DocumentFormat::from(format) as i32,
             assets: assets.into(),
+            document_path: document_path.to_string(),
         };
         self.check_request_size(&request, request.document_json.len(), request.assets.len())?;
         let reply = self.rpc().convert_document(request).await?.into_inner();

@@ -44,6 +44,7 @@ pub struct EnvOptions {
     format: crate::DocumentFormat,
     model: Option<String>,
     assets: Vec<u8>,
+    document_path: String,
     units: crate::Units,
 }
 
@@ -82,6 +83,15 @@ impl EnvOptions {
     /// archive; `package://pkg/path` and relative paths resolve against its root.
     pub fn assets(mut self, archive: impl Into<Vec<u8>>) -> Self {
         self.assets = archive.into();
+        self
+    }
+
+    /// Where the document sits in its [`EnvOptions::assets`], e.g. `"fetch/push.xml"`: an
+    /// MJCF document's includes and mesh files are read from that folder (`../`
+    /// included), as MuJoCo reads them from the model file's. Default: the archive's
+    /// root.
+    pub fn document_path(mut self, path: impl Into<String>) -> Self {
+        self.document_path = path.into();
         self
     }
 
@@ -167,6 +177,7 @@ impl EnvOptions {
             format: pb::DocumentFormat::from(self.format) as i32,
             model: self.model.unwrap_or_default(),
             assets: self.assets,
+            document_path: self.document_path,
             units: pb::Units::from(self.units) as i32,
         }
     }
@@ -223,6 +234,12 @@ impl BatchOptions {
     /// See [`EnvOptions::assets`].
     pub fn assets(mut self, archive: impl Into<Vec<u8>>) -> Self {
         self.env = self.env.assets(archive);
+        self
+    }
+
+    /// See [`EnvOptions::document_path`].
+    pub fn document_path(mut self, path: impl Into<String>) -> Self {
+        self.env = self.env.document_path(path);
         self
     }
 
@@ -324,6 +341,7 @@ impl BatchOptions {
             format: env.format,
             model: env.model,
             assets: env.assets,
+            document_path: env.document_path,
             units: env.units,
             // Over u32::MAX envs: saturate, and let the server's limit refuse it.
             n_envs: u32::try_from(self.n_envs).unwrap_or(u32::MAX),

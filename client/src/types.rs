@@ -349,6 +349,8 @@ pub struct EnvInfo {
     pub free_bodies: Vec<String>,
     /// The mocap bodies, in the order a step's mocap targets give them.
     pub mocap_bodies: Vec<String>,
+    /// The mass of everything that moves (neither fixed to the world nor a mocap body), kg.
+    pub moving_mass: f64,
 }
 
 /// The units of observations and of a terms task's values.
@@ -442,6 +444,7 @@ impl From<pb::EnvInfo> for EnvInfo {
             term_names: i.term_names,
             free_bodies: i.free_bodies,
             mocap_bodies: i.mocap_bodies,
+            moving_mass: i.moving_mass,
         }
     }
 }
@@ -481,6 +484,8 @@ pub struct BatchInfo {
     pub free_bodies: Vec<String>,
     /// As [`EnvInfo::mocap_bodies`].
     pub mocap_bodies: Vec<String>,
+    /// As [`EnvInfo::moving_mass`].
+    pub moving_mass: f64,
 }
 
 impl TryFrom<pb::BatchInfo> for BatchInfo {
@@ -504,6 +509,7 @@ impl TryFrom<pb::BatchInfo> for BatchInfo {
             term_names: i.term_names,
             free_bodies: i.free_bodies,
             mocap_bodies: i.mocap_bodies,
+            moving_mass: i.moving_mass,
         })
     }
 }

@@ -92,6 +92,7 @@ struct EnvFields {
     format: i32,
     model: String,
     assets: Vec<u8>,
+    document_path: String,
     end_effector_ids: Vec<String>,
     dt: f64,
     substeps: u32,
@@ -113,6 +114,7 @@ macro_rules! env_fields {
             format: $r.format,
             model: $r.model,
             assets: $r.assets,
+            document_path: $r.document_path,
             end_effector_ids: $r.end_effector_ids,
             dt: $r.dt,
             substeps: $r.substeps,
@@ -133,6 +135,7 @@ fn env_request(fields: EnvFields) -> Result<EnvRequest> {
         format,
         model,
         assets,
+        document_path,
         end_effector_ids,
         dt,
         substeps,
@@ -167,6 +170,7 @@ fn env_request(fields: EnvFields) -> Result<EnvRequest> {
         format: document_format(format)?,
         model: (!model.is_empty()).then_some(model),
         assets,
+        document_path,
         config: EnvConfig {
             end_effector_ids,
             // 0 means "the document's, else the default" (resolved by the env); anything

@@ -19,6 +19,8 @@ pub(crate) struct EnvRequest {
     pub(crate) model: Option<String>,
     /// The document's mesh files: a zip, tar or tar.gz archive (empty: none).
     pub(crate) assets: Vec<u8>,
+    /// Where the document sits in `assets` (empty: the root), for its relative references.
+    pub(crate) document_path: String,
     pub(crate) config: EnvConfig,
 }
 

@@ -306,8 +306,10 @@ impl Simulator for SimulatorService {
     ) -> Result<Response<pb::ConvertedDocument>, Status> {
         self.unary("ConvertDocument", request, |_tenant, r| async move {
             let format = convert::document_format(r.format)?;
-            let (document_json, warnings, format) =
-                self.sim.convert(r.document_json, format, r.assets).await?;
+            let (document_json, warnings, format) = self
+                .sim
+                .convert(r.document_json, format, r.assets, r.document_path)
+                .await?;
             Ok(pb::ConvertedDocument {
                 document_json,
                 warnings,

@@ -238,23 +238,27 @@ impl BatchHandle {
         )
     }
 
-    /// Steps every env with `actions` (`n_envs × action_dim`).
+    /// Steps every env with `actions` (`n_envs × action_dim`), moving their mocap bodies to
+    /// `mocap_poses` (`n_envs × mocap bodies × 7` values, row-major) when given.
+    #[pyo3(signature = (action_type_name, actions, mocap_poses=None))]
     fn step<'py>(
         &self,
         py: Python<'py>,
         action_type_name: &str,
         actions: PyReadonlyArray2<'py, f32>,
+        mocap_poses: Option<PyReadonlyArray1<'py, f32>>,
     ) -> PyResult<StepTuple<'py>> {
         let action_type = action_type(action_type_name)?;
         let values: Vec<f32> = match actions.as_slice() {
             Ok(flat) => flat.to_vec(),
             Err(_) => actions.as_array().iter().copied().collect(),
         };
+        let mocap = mocap_poses.map_or_else(Vec::new, |m| m.as_array().to_vec());
         let rows = wait(py, self.timeout.get(), || async move {
             self.batch
                 .lock()
                 .await
-                .step(action_type, &values)
+                .step_with_mocap(action_type, &values, &mocap)
                 .await
                 .map(StepRows::new)
         })?;

@@ -112,11 +112,13 @@ impl EnvHandle {
     /// One step: `(observation, reward, terminated, truncated, termination_reason,
     /// episode_step, terms)` (`terms`: a terms task's values, empty without one).
     #[allow(clippy::type_complexity)]
+    #[pyo3(signature = (action_type_name, action, mocap_poses=None))]
     fn step<'py>(
         &self,
         py: Python<'py>,
         action_type_name: &str,
         action: PyReadonlyArray1<'py, f32>,
+        mocap_poses: Option<PyReadonlyArray1<'py, f32>>,
     ) -> PyResult<(
         Bound<'py, PyArray1<f32>>,
         f32,
@@ -128,9 +130,10 @@ impl EnvHandle {
     )> {
         let action_type = action_type(action_type_name)?;
         let values = action.as_array().to_vec();
+        let mocap = mocap_poses.map_or_else(Vec::new, |m| m.as_array().to_vec());
         let env = &self.env;
         let r = wait(py, self.timeout.get(), || async move {
-            env.step(action_type, &values).await
+            env.step_with_mocap(action_type, &values, &mocap).await
         })?;
         Ok((
             PyArray1::from_vec(
@@ -144,6 +147,21 @@ impl EnvHandle {
             r.episode_step,
             PyArray1::from_vec(py, r.terms),
         ))
+    }
+
+    /// Sets where mocap body `body` is to be at the end of the next step: `pose` is
+    /// `[x, y, z, qw, qx, qy, qz]` in the env's units.
+    fn set_mocap_pose(&self, py: Python<'_>, body: &str, pose: Vec<f32>) -> PyResult<()> {
+        let pose: [f32; 7] = pose.try_into().map_err(|p: Vec<f32>| {
+            crate::options::invalid(format!(
+                "pose: expected 7 values (x, y, z, qw, qx, qy, qz), got {}",
+                p.len()
+            ))
+        })?;
+        let env = &self.env;
+        wait(py, self.timeout.get(), || async move {
+            env.set_mocap_pose(body, pose).await
+        })
     }
 
     /// The current observation, without stepping.

@@ -53,6 +53,9 @@ struct Shape<'a> {
     observation_layout: &'a [(String, usize)],
     units: gymfleet_client::Units,
     term_names: &'a [String],
+    free_bodies: &'a [String],
+    mocap_bodies: &'a [String],
+    moving_mass: f64,
 }
 
 impl Shape<'_> {
@@ -73,7 +76,10 @@ impl Shape<'_> {
                 gymfleet_client::Units::Si => "si",
             },
         )?;
-        d.set_item("term_names", self.term_names)
+        d.set_item("term_names", self.term_names)?;
+        d.set_item("free_bodies", self.free_bodies)?;
+        d.set_item("mocap_bodies", self.mocap_bodies)?;
+        d.set_item("moving_mass", self.moving_mass)
     }
 }
 
@@ -98,6 +104,9 @@ pub(crate) fn env_info<'py>(
         observation_layout: &i.observation_layout,
         units: i.units,
         term_names: &i.term_names,
+        free_bodies: &i.free_bodies,
+        mocap_bodies: &i.mocap_bodies,
+        moving_mass: i.moving_mass,
     }
     .write(py, &d)?;
     Ok(d)
@@ -124,6 +133,9 @@ pub(crate) fn batch_info<'py>(
         observation_layout: &i.observation_layout,
         units: i.units,
         term_names: &i.term_names,
+        free_bodies: &i.free_bodies,
+        mocap_bodies: &i.mocap_bodies,
+        moving_mass: i.moving_mass,
     }
     .write(py, &d)?;
     d.set_item("shards", PyList::new(py, shards)?)?;

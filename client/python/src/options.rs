@@ -30,6 +30,8 @@ pub(crate) struct CreateOptions {
     pub(crate) model: Option<String>,
     /// The document's mesh files as one archive (zip, tar or tar.gz bytes).
     pub(crate) assets: Option<Vec<u8>>,
+    /// Where the document sits in `assets`, when it was given by its path inside them.
+    pub(crate) document_path: Option<String>,
     /// `"document"` or `"si"` (checked by `gymfleet._common.check_units`).
     pub(crate) units: Option<String>,
 }
@@ -149,6 +151,9 @@ impl CreateOptions {
         .end_effectors(self.end_effector_ids.clone());
         if let Some(assets) = &self.assets {
             options = options.assets(assets.clone());
+        }
+        if let Some(path) = &self.document_path {
+            options = options.document_path(path.clone());
         }
         if let Some(dt) = self.dt {
             options = options.dt(dt);

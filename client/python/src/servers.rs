@@ -347,13 +347,14 @@ pub(crate) fn list_models<'py>(
 /// A description (MJCF text, or assembly JSON) as the assembly JSON `server` builds from
 /// it, and the conversion's warnings (`ConvertDocument`).
 #[pyfunction]
-#[pyo3(signature = (document, server=None, assets=None, token=None))]
+#[pyo3(signature = (document, server=None, assets=None, token=None, document_path=None))]
 pub(crate) fn convert_document(
     py: Python<'_>,
     document: String,
     server: Option<&str>,
     assets: Option<Vec<u8>>,
     token: Option<&str>,
+    document_path: Option<String>,
 ) -> PyResult<(String, Vec<String>)> {
     let client = match resolve(py, server, token)? {
         Target::One(client) => client,
@@ -361,10 +362,11 @@ pub(crate) fn convert_document(
     };
     let converted = wait(py, None, || async move {
         client
-            .convert_document_with_assets(
+            .convert_document_in(
                 document,
                 gymfleet_client::DocumentFormat::Detect,
                 assets.unwrap_or_default(),
+                document_path.as_deref().unwrap_or(""),
             )
             .await
     })?;

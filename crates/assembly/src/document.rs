@@ -196,6 +196,49 @@ pub struct AssemblyDef {
     /// `<tendon><fixed>`), observable and optionally springy.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub tendons: Vec<TendonDef>,
+    /// *(ext)* Contact rules beside the collision bits (MJCF's `<contact>`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contacts: Option<ContactsDef>,
+}
+
+/// *(ext)* Contact rules: pairs of instances that never collide, and pairs that always do.
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactsDef {
+    /// Pairs of instances kept from colliding (MJCF's `<exclude>`, one pair per two of its
+    /// bodies' instances).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub exclude: Vec<ContactExcludeDef>,
+    /// Pairs of instances that collide whatever their collision bits and exclusions say,
+    /// with their own friction (MJCF's `<pair>`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub pairs: Vec<ContactPairDef>,
+}
+
+/// *(ext)* Two instances kept from colliding.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactExcludeDef {
+    /// One instance.
+    pub a: String,
+    /// The other.
+    pub b: String,
+}
+
+/// *(ext)* Two instances that always collide.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactPairDef {
+    /// One instance.
+    pub a: String,
+    /// The other.
+    pub b: String,
+    /// The pair's sliding friction coefficient; default the instances' own, combined.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<f64>,
+    /// 1: frictionless; 3 (the default): sliding friction.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub condim: Option<u32>,
 }
 
 /// *(ext)* A fixed tendon: its length is Σ coef · position over its joints, in SI (rad or
@@ -242,6 +285,11 @@ pub struct SiteDef {
     pub instance: String,
     /// The point, mm in the instance's frame (the frame its placement defines).
     pub point: Vec3,
+    /// The site's axes in the instance's frame, degrees about X, then Y, then Z (as an
+    /// instance's `rotation`); default the instance's axes. An end effector that names
+    /// the site is observed with them.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotation: Option<Vec3>,
 }
 
 /// A placed copy of a part.

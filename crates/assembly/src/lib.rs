@@ -8,6 +8,7 @@
 //! It knows nothing of physics engines, networking or JSON-RPC: building bodies from an
 //! [`Assembly`] is `gymfleet-physics`'s job.
 
+mod contacts;
 mod document;
 mod error;
 mod mesh;
@@ -18,10 +19,12 @@ mod tendons;
 mod topology;
 mod validate;
 
+pub use contacts::MAX_CONTACT_RULES;
 pub use document::{
-    AssemblyDef, CollisionDef, ConvexMode, Document, FluidDef, FrameDef, InertiaDef, InertialDef,
-    InstanceDef, Integrator, JointDef, MaterialDef, MeshDef, PartDef, Primitive, SimulationDef,
-    SiteDef, TendonDef, TendonJointDef, Vec3,
+    AssemblyDef, CollisionDef, ContactExcludeDef, ContactPairDef, ContactsDef, ConvexMode,
+    Document, FluidDef, FrameDef, InertiaDef, InertialDef, InstanceDef, Integrator, JointDef,
+    MaterialDef, MeshDef, PartDef, Primitive, SimulationDef, SiteDef, TendonDef, TendonJointDef,
+    Vec3,
 };
 pub use error::{
     quoted, quoted_list, shown, AssemblyError, Issue, Result, MAX_ECHOED_CHARS, MAX_LISTED_NAMES,
@@ -31,9 +34,9 @@ pub use mesh::{
     MAX_MESH_VERTICES,
 };
 pub use model::{
-    inertia_problem, Assembly, DofKind, Fluid, Inertial, Instance, Joint, JointType, LocalFrame,
-    Material, Shape, Site, Tendon, DEFAULT_DENSITY, DEFAULT_FRICTION, DEFAULT_GRAVITY,
-    DEFAULT_RESTITUTION, MM_PER_M,
+    inertia_problem, Assembly, ContactPair, Contacts, DofKind, Fluid, Inertial, Instance, Joint,
+    JointType, LocalFrame, Material, Shape, Site, Tendon, DEFAULT_DENSITY, DEFAULT_FRICTION,
+    DEFAULT_GRAVITY, DEFAULT_RESTITUTION, MM_PER_M,
 };
 pub use simulation::{MAX_FLUID_DENSITY, MAX_FLUID_VISCOSITY};
 pub use sites::MAX_SITES;

@@ -341,6 +341,8 @@ pub struct Site {
     pub instance: usize,
     /// The point in the instance's frame, mm.
     pub point: [f64; 3],
+    /// Its axes in the instance's frame: Euler angles in radians, X then Y then Z.
+    pub rotation: [f64; 3],
 }
 
 /// A validated assembly: instances, then joints in document order.
@@ -372,6 +374,29 @@ pub struct Assembly {
     pub integrator: crate::document::Integrator,
     /// Fixed tendons, in document order.
     pub tendons: Vec<Tendon>,
+    /// Contact rules beside the collision bits.
+    pub contacts: Contacts,
+}
+
+/// Contact rules (see [`crate::ContactsDef`]), by instance index.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Contacts {
+    /// Pairs kept from colliding, `(a, b)` with `a < b`, sorted, without repeats.
+    pub exclude: Vec<(usize, usize)>,
+    /// Pairs that always collide, in document order.
+    pub pairs: Vec<ContactPair>,
+}
+
+/// Two instances that always collide (see [`crate::ContactPairDef`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactPair {
+    /// One instance (the lower index).
+    pub a: usize,
+    /// The other.
+    pub b: usize,
+    /// The pair's friction coefficient (0 for a frictionless pair); `None`: the
+    /// instances' own.
+    pub friction: Option<f64>,
 }
 
 /// A fixed tendon: length Σ coef · position (SI, positions as observed), with an optional

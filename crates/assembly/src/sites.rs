@@ -46,11 +46,24 @@ pub(crate) fn sites(defs: &[SiteDef], instances: &[InstanceDef]) -> (Vec<Site>, 
                 ));
             }
         }
+        let rotation = def.rotation.map_or([0.0; 3], |r| r.to_array());
+        for (axis, c) in ["x", "y", "z"].iter().zip(rotation) {
+            if !(c.is_finite() && c.abs() <= 1e6) {
+                issues.push(Issue::new(
+                    format!("{path}.rotation.{axis}"),
+                    format!(
+                        "expected a finite angle within ±1e6 degrees, got {}",
+                        shown(c)
+                    ),
+                ));
+            }
+        }
         if let (Some(instance), true) = (instance, issues.len() == before) {
             out.push(Site {
                 name: def.name.clone(),
                 instance,
                 point,
+                rotation: rotation.map(f64::to_radians),
             });
         }
     }

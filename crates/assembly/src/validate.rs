@@ -60,6 +60,9 @@ pub fn validate(doc: &Document) -> Result<Assembly> {
     v.issues.extend(site_issues);
     let (tendons, tendon_issues) = crate::tendons::tendons(&doc.assembly.tendons, &joints);
     v.issues.extend(tendon_issues);
+    let (contacts, contact_issues) =
+        crate::contacts::contacts(doc.assembly.contacts.as_ref(), &doc.assembly.instances);
+    v.issues.extend(contact_issues);
     if v.issues.is_empty() {
         Ok(Assembly {
             instances,
@@ -72,6 +75,7 @@ pub fn validate(doc: &Document) -> Result<Assembly> {
             fluid: simulation.fluid,
             integrator: simulation.integrator,
             tendons,
+            contacts,
         })
     } else {
         Err(AssemblyError::Invalid { issues: v.issues })

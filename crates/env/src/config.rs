@@ -27,7 +27,9 @@ const MAX_SUBSTEPS: u32 = 1000;
 /// How to build an environment from a document.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct EnvConfig {
-    /// Instance names whose poses are observed.
+    /// What is observed, in order: instance names (an instance's centre of mass and axes),
+    /// or site names (a site's point and axes; an instance of the same name comes first,
+    /// and `site:NAME` names the site whatever instances are called).
     pub end_effector_ids: Vec<String>,
     /// Seconds per step; 0 (the default): the document's `simulation.dt`, else
     /// [`DEFAULT_DT`].
@@ -184,6 +186,7 @@ pub(crate) struct ObservedBodies {
     pub(crate) floating_base: bool,
     pub(crate) free_bodies: Vec<String>,
     pub(crate) mocap_bodies: Vec<String>,
+    pub(crate) moving_mass: f64,
 }
 
 /// What an agent needs to know about an environment.
@@ -208,6 +211,9 @@ pub struct EnvSpec {
     pub free_bodies: Vec<String>,
     /// The mocap bodies' instances, in document order: what pose targets name.
     pub mocap_bodies: Vec<String>,
+    /// The mass of everything that moves (neither fixed to the world nor a mocap body),
+    /// kg, at the document's masses.
+    pub moving_mass: f64,
     /// Observed instances, in order.
     pub end_effector_ids: Vec<String>,
     /// Names of the joints with at least one DOF, in document order.
@@ -240,6 +246,7 @@ impl EnvSpec {
             floating_base,
             free_bodies,
             mocap_bodies,
+            moving_mass,
         } = bodies;
         let mut joint_names: Vec<String> = Vec::new();
         let mut last = None;
@@ -267,6 +274,7 @@ impl EnvSpec {
             floating_base,
             free_bodies,
             mocap_bodies,
+            moving_mass,
             end_effector_ids: config.end_effector_ids.clone(),
             joint_names,
             dofs: dofs.to_vec(),

@@ -33,7 +33,7 @@ pub struct RobotEnv {
     pub(crate) spec: EnvSpec,
     /// Each end effector: an instance (its centre of mass), or a site (the instance and
     /// the point, mm in its frame).
-    end_effectors: Vec<(usize, Option<[f64; 3]>)>,
+    end_effectors: Vec<EndEffector>,
     pub(crate) elapsed: u32,
     pub(crate) seed: u64,
     /// The episode random stream: seeded from `seed`, drawn from by each reset.
@@ -98,27 +98,32 @@ impl RobotEnv {
             .iter()
             .enumerate()
             .map(|(index, id)| {
-                // An instance by that name, else a site by that name.
-                let site = || {
-                    assembly
-                        .site_index(id)
-                        .map(|k| (assembly.sites[k].instance, Some(assembly.sites[k].point)))
-                };
-                assembly
-                    .instance_index(id)
-                    .map(|i| (i, None))
-                    .or_else(site)
-                    .ok_or_else(|| EnvError::UnknownEndEffector {
-                        index,
-                        id: gymfleet_assembly::quoted(id),
-                        known: gymfleet_assembly::quoted_list(
-                            &assembly
-                                .instances
-                                .iter()
-                                .map(|i| i.name.as_str())
-                                .collect::<Vec<_>>(),
-                        ),
+                // An instance by that name, else a site by that name; `site:NAME` is
+                // always the site (an MJCF body's origin where a geom has its name).
+                let site = |name: &str| {
+                    assembly.site_index(name).map(|k| {
+                        let site = &assembly.sites[k];
+                        (site.instance, Some((site.point, site.rotation)))
                     })
+                };
+                let found = match id.strip_prefix("site:") {
+                    Some(name) => site(name),
+                    None => assembly
+                        .instance_index(id)
+                        .map(|i| (i, None))
+                        .or_else(|| site(id)),
+                };
+                found.ok_or_else(|| EnvError::UnknownEndEffector {
+                    index,
+                    id: gymfleet_assembly::quoted(id),
+                    known: gymfleet_assembly::quoted_list(
+                        &assembly
+                            .instances
+                            .iter()
+                            .map(|i| i.name.as_str())
+                            .collect::<Vec<_>>(),
+                    ),
+                })
             })
             .collect::<Result<Vec<_>>>()?;
         let options = WorldOptions {
@@ -173,6 +178,7 @@ impl RobotEnv {
             floating_base: world.has_floating_base(),
             free_bodies: names(assembly.free_bodies()),
             mocap_bodies: names(assembly.mocap_bodies()),
+            moving_mass: world.moving_mass(),
         };
         let spec = EnvSpec::new(&config, world.dofs(), bodies, segment, term_names);
         let mut env = RobotEnv {
@@ -490,6 +496,10 @@ fn draw(rng: &mut Xoshiro256PlusPlus, r: &Randomization, instances: usize, joint
     }
 }
 
+/// An end effector: its instance, and for a site its point (mm) and axes (Euler angles,
+/// radians) in the instance's frame.
+type EndEffector = (usize, Option<([f64; 3], [f64; 3])>);
+
 /// What an env looks like now, for drawing it: its parts, joints, end effectors and task
 /// target, in world millimetres.
 #[derive(Debug, Clone, PartialEq)]
@@ -507,21 +517,13 @@ pub struct Scene {
 }
 
 impl RobotEnv {
-    /// An end effector's pose: its instance's centre of mass, or its site's point, with
-    /// the instance's orientation.
-    fn end_effector_pose(
-        &self,
-        units: Units,
-        (instance, point): (usize, Option<[f64; 3]>),
-    ) -> [f32; 7] {
-        let mut pose = self.world.body_pose(units, instance);
-        if let Some(point) = point {
-            let p = self.world.point_position(units, instance, point);
-            for k in 0..3 {
-                pose[k] = p[k] as f32;
-            }
+    /// An end effector's pose: its instance's centre of mass with the instance's
+    /// orientation, or its site's point with the site's axes.
+    fn end_effector_pose(&self, units: Units, (instance, site): EndEffector) -> [f32; 7] {
+        match site {
+            Some((point, rotation)) => self.world.site_pose(units, instance, point, rotation),
+            None => self.world.body_pose(units, instance),
         }
-        pose
     }
 
     /// The env's [`Scene`] as it is now.

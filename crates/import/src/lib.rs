@@ -215,15 +215,9 @@ pub fn convert_file(path: &std::path::Path) -> Result<(String, Vec<String>)> {
     } else {
         text
     };
-    let Conversion {
-        json: plain,
-        warnings,
-        ..
-    } = convert(&text, Some(format), None)?;
-    if with_mesh_files(&plain).is_none() {
-        return Ok((plain, warnings));
-    }
-    let mut first_error = None;
+    // The model's folder, and up to three above it, each tried as the root of its assets:
+    // the first whose files resolve every reference (a `../` one included) is the one.
+    let mut best_error: Option<ImportError> = None;
     for root in here.ancestors().take(4) {
         // The model's folder as seen from `root` (forward slashes, as in archives).
         let folder = here
@@ -238,16 +232,25 @@ pub fn convert_file(path: &std::path::Path) -> Result<(String, Vec<String>)> {
         } else {
             root
         };
-        let attempt =
-            Assets::from_dir(root).and_then(|a| to_json_in(&text, format, Some(&a), &folder));
+        let attempt = convert_in(&text, Some(format), None, &folder).and_then(|plain| {
+            if with_mesh_files(&plain.json).is_none() {
+                return Ok((plain.json, plain.warnings));
+            }
+            to_json_in(&text, format, Some(&Assets::from_dir(root)?), &folder)
+        });
         match attempt {
             Ok(converted) => return Ok(converted),
+            // A file missing under a root that holds the model's references says more
+            // than a reference that climbs above a lower root.
             Err(e) => {
-                first_error.get_or_insert(e);
+                let climbs = |e: &ImportError| e.to_string().contains("climbs above");
+                if best_error.as_ref().is_none_or(climbs) {
+                    best_error = Some(e);
+                }
             }
         }
     }
-    Err(first_error.unwrap_or_else(|| ImportError::Assets("no folder to read meshes from".into())))
+    Err(best_error.unwrap_or_else(|| ImportError::Assets("no folder to read meshes from".into())))
 }
 
 /// `reference` (a relative path a description in `folder` of its assets names: an

@@ -72,6 +72,7 @@ pub fn urdf_to_document(xml: &str) -> Result<Converted> {
         parts: c.parts,
         materials: c.materials,
         assembly: AssemblyDef {
+            contacts: None,
             instances: c.instances,
             joints: c.joints,
             sites: Vec::new(),

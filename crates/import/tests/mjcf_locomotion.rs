@@ -123,7 +123,7 @@ fn a_free_object_beside_static_geometry_is_a_free_body() {
         .expect("the door's hinge");
     assert_eq!(door["parent"], "table");
     let env = RobotEnv::from_json(&doc.to_string(), EnvConfig::default()).expect("builds");
-    assert_eq!(env.spec().free_bodies, ["a_geom"]);
+    assert_eq!(env.spec().free_bodies, ["a"]);
 }
 
 const HALF_CHEETAH: &str = include_str!("data/half_cheetah.xml");
@@ -250,7 +250,7 @@ fn free_joint_extras_are_warned_about_and_every_free_body_is_observed() {
     assert!(converted.document.get("floating_base").is_none());
     let env =
         RobotEnv::from_json(&converted.document.to_string(), EnvConfig::default()).expect("builds");
-    assert_eq!(env.spec().free_bodies, ["a_geom", "b_geom"]);
+    assert_eq!(env.spec().free_bodies, ["a", "b"]);
     let layout: Vec<(&str, usize)> = env
         .spec()
         .observation_layout

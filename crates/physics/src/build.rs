@@ -26,7 +26,7 @@ mod trees;
 use slots::{joint_slots, set_armatures};
 use trees::{
     apply_initial_positions, fold_owners, generic_joint, held_fixed, insert_trees,
-    place_floating_trees,
+    place_floating_trees, refresh_loop_frames,
 };
 
 impl RobotWorld {
@@ -99,7 +99,7 @@ impl RobotWorld {
             }
         }
 
-        let frames = insert_trees(&mut sets, assembly, &bodies, &welded_away, &roots)?;
+        let mut frames = insert_trees(&mut sets, assembly, &bodies, &welded_away, &roots)?;
 
         place_floating_trees(&mut sets);
 
@@ -107,6 +107,7 @@ impl RobotWorld {
         apply_initial_positions(&mut sets, assembly, &bodies, &lanes)?;
 
         set_armatures(&mut sets, assembly, &bodies, &lanes);
+        refresh_loop_frames(&sets, assembly, &bodies, &mut frames);
 
         // The loops' constraints, between bodies the trees now place.
         // Their bodies do not collide.
@@ -159,7 +160,8 @@ impl RobotWorld {
         let n_dofs = dofs.len();
         let base = base_values(assembly, &colliders, &sets, &dofs, given.clone());
         let fluid = crate::world::FluidDrag::new(assembly, &bodies, &sets);
-        let contact_filter = crate::contact_filter::contact_filter(assembly, &bodies, &mut sets);
+        let contact_filter =
+            crate::contact_filter::contact_filter(assembly, &bodies, &colliders, &mut sets);
         let references: Vec<f64> = dofs
             .iter()
             .map(|d| crate::units::to_si(d.kind, d.reference))

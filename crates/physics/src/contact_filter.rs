@@ -11,7 +11,7 @@ use std::sync::Arc;
 use gymfleet_assembly::{Assembly, JointType};
 use rapier3d::prelude::*;
 
-use crate::world::{ContactFilter, Sets};
+use crate::world::{ContactFilter, ExplicitPair, Sets};
 
 fn key(a: RigidBodyHandle, b: RigidBodyHandle) -> (RigidBodyHandle, RigidBodyHandle) {
     if a.into_raw_parts() <= b.into_raw_parts() {
@@ -26,7 +26,44 @@ fn order(pair: &(RigidBodyHandle, RigidBodyHandle)) -> ((u32, u32), (u32, u32)) 
     (pair.0.into_raw_parts(), pair.1.into_raw_parts())
 }
 
+/// The collision group bit an explicit pair's colliders share, so that Rapier's group test
+/// lets them meet; the hook then decides by their own bits, kept in `user_data`.
+const PAIR_BIT: u32 = 1 << 31;
+/// Marks a collider's `user_data` as holding its own `(group, mask)` bits, low 64 bits.
+const OWN_BITS: u128 = 1 << 127;
+
+/// A collider's own collision bits, `(group, mask)`: kept in `user_data` for a collider an
+/// explicit pair widened, else its groups.
+fn own_bits(collider: &Collider) -> (u32, u32) {
+    let data = collider.user_data;
+    if data & OWN_BITS != 0 {
+        (data as u32, (data >> 32) as u32)
+    } else {
+        let g = collider.collision_groups();
+        (g.memberships.bits(), g.filter.bits())
+    }
+}
+
+fn collider_key(a: ColliderHandle, b: ColliderHandle) -> (ColliderHandle, ColliderHandle) {
+    if a.into_raw_parts() <= b.into_raw_parts() {
+        (a, b)
+    } else {
+        (b, a)
+    }
+}
+
 impl ContactFilter {
+    /// The explicit pair of colliders `a` and `b`, if they are one: its friction.
+    fn pair(&self, a: ColliderHandle, b: ColliderHandle) -> Option<Option<Real>> {
+        let wanted = collider_key(a, b);
+        let raw =
+            |(x, y): (ColliderHandle, ColliderHandle)| (x.into_raw_parts(), y.into_raw_parts());
+        self.pairs
+            .binary_search_by(|(pair, _)| raw(*pair).cmp(&raw(wanted)))
+            .ok()
+            .map(|k| self.pairs[k].1)
+    }
+
     /// Whether bodies `a` and `b` are kept from colliding.
     fn excludes(&self, a: RigidBodyHandle, b: RigidBodyHandle) -> bool {
         let wanted = order(&key(a, b));
@@ -40,9 +77,35 @@ impl ContactFilter {
 
 impl PhysicsHooks for ContactFilter {
     fn filter_contact_pair(&self, context: &PairFilterContext) -> Option<SolverFlags> {
+        // Rapier's own rule, which a hook replaces: two bodies that cannot move never meet.
+        let moves = |h: Option<RigidBodyHandle>| {
+            h.and_then(|h| context.bodies.get(h))
+                .is_some_and(|rb| rb.is_dynamic())
+        };
+        if !moves(context.rigid_body1) && !moves(context.rigid_body2) {
+            return None;
+        }
+        let (c1, c2) = (context.collider1, context.collider2);
+        if self.pair(c1, c2).is_some() {
+            return Some(SolverFlags::default());
+        }
+        // A pair's colliders met through the pair's bit: their own bits decide.
+        let (g1, m1) = own_bits(&context.colliders[c1]);
+        let (g2, m2) = own_bits(&context.colliders[c2]);
+        if g1 & m2 == 0 && g2 & m1 == 0 {
+            return None;
+        }
         match (context.rigid_body1, context.rigid_body2) {
             (Some(a), Some(b)) if self.excludes(a, b) => None,
             _ => Some(SolverFlags::default()),
+        }
+    }
+
+    fn modify_solver_contacts(&self, context: &mut ContactModificationContext) {
+        if let Some(Some(friction)) = self.pair(context.collider1, context.collider2) {
+            if let Some(manifold) = context.rigid_mut() {
+                *manifold.friction = friction;
+            }
         }
     }
 }
@@ -77,6 +140,7 @@ pub(crate) fn rigid_groups(assembly: &Assembly) -> Vec<usize> {
 pub(crate) fn contact_filter(
     assembly: &Assembly,
     bodies: &[RigidBodyHandle],
+    colliders: &[ColliderHandle],
     sets: &mut Sets,
 ) -> ContactFilter {
     let group = rigid_groups(assembly);
@@ -126,6 +190,13 @@ pub(crate) fn contact_filter(
     }
     let mut excluded = Vec::new();
     let mut hooked = HashSet::new();
+    // The document's exclusions.
+    for &(i, j) in &assembly.contacts.exclude {
+        if bodies[i] != bodies[j] {
+            excluded.push(key(bodies[i], bodies[j]));
+            hooked.extend([bodies[i], bodies[j]]);
+        }
+    }
     for &(g, h) in &pairs {
         for &i in &members[g] {
             for &j in members[h].iter().filter(|&&j| j != i) {
@@ -139,13 +210,65 @@ pub(crate) fn contact_filter(
     for body in hooked {
         for &c in sets.bodies[body].colliders() {
             if let Some(collider) = sets.colliders.get_mut(c) {
-                collider.set_active_hooks(ActiveHooks::FILTER_CONTACT_PAIRS);
+                let hooks = collider.active_hooks() | ActiveHooks::FILTER_CONTACT_PAIRS;
+                collider.set_active_hooks(hooks);
             }
         }
     }
+    let pairs = explicit_pairs(assembly, colliders, sets);
     ContactFilter {
         excluded: Arc::from(excluded),
+        pairs,
     }
+}
+
+/// The document's explicit pairs on their colliders: each collider of one widened to meet
+/// the others through [`PAIR_BIT`] (its own bits kept in `user_data` for the hook) and
+/// hooked, to filter and to set the pair's friction.
+fn explicit_pairs(
+    assembly: &Assembly,
+    colliders: &[ColliderHandle],
+    sets: &mut Sets,
+) -> Arc<[ExplicitPair]> {
+    let mut pairs: Vec<ExplicitPair> = assembly
+        .contacts
+        .pairs
+        .iter()
+        .map(|p| {
+            (
+                collider_key(colliders[p.a], colliders[p.b]),
+                p.friction.map(|f| f as Real),
+            )
+        })
+        .collect();
+    let raw = |(x, y): (ColliderHandle, ColliderHandle)| (x.into_raw_parts(), y.into_raw_parts());
+    pairs.sort_by_key(|(pair, _)| raw(*pair));
+    // The last rule for a pair wins, as MuJoCo keeps the last <pair> of two geoms.
+    pairs.reverse();
+    pairs.dedup_by_key(|(pair, _)| raw(*pair));
+    pairs.reverse();
+    for &((a, b), _) in &pairs {
+        for c in [a, b] {
+            let Some(collider) = sets.colliders.get_mut(c) else {
+                continue;
+            };
+            if collider.user_data & OWN_BITS == 0 {
+                let g = collider.collision_groups();
+                let (group, mask) = (g.memberships.bits(), g.filter.bits());
+                collider.user_data = OWN_BITS | u128::from(group) | (u128::from(mask) << 32);
+                collider.set_collision_groups(InteractionGroups::new(
+                    Group::from_bits_retain(group | PAIR_BIT),
+                    Group::from_bits_retain(mask | PAIR_BIT),
+                    InteractionTestMode::Or,
+                ));
+            }
+            let hooks = collider.active_hooks()
+                | ActiveHooks::FILTER_CONTACT_PAIRS
+                | ActiveHooks::MODIFY_SOLVER_CONTACTS;
+            collider.set_active_hooks(hooks);
+        }
+    }
+    Arc::from(pairs)
 }
 
 #[cfg(test)]
@@ -166,6 +289,7 @@ mod tests {
         excluded.sort_by_key(order);
         let filter = ContactFilter {
             excluded: Arc::from(excluded),
+            pairs: Arc::from([]),
         };
         for w in pairs.windows(2) {
             let (a, b) = (handle(w[0].0, w[0].1), handle(w[1].0, w[1].1));

@@ -279,6 +279,25 @@ impl RobotWorld {
         [p.x, p.y, p.z].map(|v| units.length(f64::from(v)))
     }
 
+    /// A site's pose: its point (given in the instance's frame, mm) in world mm (m in
+    /// [`Units::Si`]), and its axes (Euler angles in the instance's frame, radians, X then
+    /// Y then Z) as the world orientation `[qw, qx, qy, qz]`.
+    pub fn site_pose(
+        &self,
+        units: Units,
+        instance: usize,
+        local_mm: [f64; 3],
+        rotation: [f64; 3],
+    ) -> [f32; 7] {
+        let p = self.point_position(units, instance, local_mm);
+        let [rx, ry, rz] = rotation.map(|a| a as Real);
+        let local = Rotation::from_rotation_z(rz)
+            * Rotation::from_rotation_y(ry)
+            * Rotation::from_rotation_x(rx);
+        let q = self.instance_frame(instance).rotation * local;
+        [p[0] as f32, p[1] as f32, p[2] as f32, q.w, q.x, q.y, q.z]
+    }
+
     /// A direction given in an instance's frame, in world coordinates (rotated, not
     /// rescaled).
     pub fn direction(&self, instance: usize, local: [f64; 3]) -> [f64; 3] {

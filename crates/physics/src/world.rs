@@ -343,12 +343,20 @@ pub(crate) struct TendonSlot {
     pub(crate) rest: f64,
 }
 
-/// The body pairs that do not collide, each ordered by handle, sorted and deduplicated
-/// (`contact_filter.rs`: the hook and how the pairs are chosen).
+/// The body pairs that do not collide, each ordered by handle, sorted and deduplicated,
+/// and the collider pairs that always do, with their friction (`contact_filter.rs`: the
+/// hook and how the pairs are chosen).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct ContactFilter {
     pub(crate) excluded: std::sync::Arc<[(RigidBodyHandle, RigidBodyHandle)]>,
+    /// The document's explicit pairs, each ordered by handle and sorted, with the pair's
+    /// friction (`None`: the colliders' own).
+    pub(crate) pairs: std::sync::Arc<[ExplicitPair]>,
 }
+
+/// An explicit contact pair: its two colliders, ordered by handle, and its friction
+/// (`None`: the colliders' own).
+pub(crate) type ExplicitPair = ((ColliderHandle, ColliderHandle), Option<Real>);
 
 /// The document's values domain randomisation scales (`randomize.rs`), kept from the
 /// build.
@@ -384,6 +392,23 @@ impl RobotWorld {
     /// Number of instances (bodies).
     pub fn num_bodies(&self) -> usize {
         self.bodies.len()
+    }
+
+    /// The mass of everything that moves, kg: every dynamic body (neither fixed to the world
+    /// nor a mocap body), folded instances and helpers included, as the document's masses
+    /// (before randomisation) make them.
+    pub fn moving_mass(&self) -> f64 {
+        // A body's mass is Rapier's after a step; before, computed here on a copy.
+        self.initial
+            .bodies
+            .iter()
+            .filter(|(_, rb)| rb.is_dynamic())
+            .map(|(_, rb)| {
+                let mut rb = rb.clone();
+                rb.recompute_mass_properties_from_colliders(&self.initial.colliders);
+                f64::from(rb.mass())
+            })
+            .sum()
     }
 
     /// Number of joints, fixed ones included (document order).

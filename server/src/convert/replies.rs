@@ -217,6 +217,7 @@ pub(crate) fn env_info(env_id: String, spec: &EnvSpec, links: &JointLinks) -> pb
         term_names: spec.term_names.clone(),
         free_bodies: spec.free_bodies.clone(),
         mocap_bodies: spec.mocap_bodies.clone(),
+        moving_mass: spec.moving_mass,
     }
 }
 
@@ -249,6 +250,7 @@ pub(crate) fn batch_info(
         term_names: spec.term_names.clone(),
         free_bodies: spec.free_bodies.clone(),
         mocap_bodies: spec.mocap_bodies.clone(),
+        moving_mass: spec.moving_mass,
     }
 }
 

@@ -18,7 +18,12 @@ pub(super) fn build_env(
     config: &ServerConfig,
     n_envs: usize,
 ) -> Result<(RobotEnv, JointLinks)> {
-    let converted = convert_document(&request.document, request.format, &request.assets)?;
+    let converted = convert_document(
+        &request.document,
+        request.format,
+        &request.assets,
+        &request.document_path,
+    )?;
     let assembly = gymfleet_assembly::parse(&converted.json).map_err(EnvError::Document)?;
     check_structure(config, &assembly, request.config.end_effector_ids.len())?;
     let substeps = request.config.substeps;
@@ -45,18 +50,34 @@ pub(super) fn build_env(
 }
 
 /// A document of `format` (`None`: detect) converted to assembly JSON, its mesh files read
-/// from `assets` (an archive; empty: none).
+/// from `assets` (an archive; empty: none), its relative references from the folder of
+/// `document_path` in it (empty: the root).
 pub(crate) fn convert_document(
     document: &str,
     format: Option<gymfleet_import::Format>,
     assets: &[u8],
+    document_path: &str,
 ) -> Result<gymfleet_import::Conversion> {
+    let folder = match document_path.rsplit_once('/') {
+        Some((folder, _)) => gymfleet_import::asset_path("", folder).map_err(|reason| {
+            ServerError::InvalidArgument {
+                field: "document_path",
+                reason,
+            }
+        })?,
+        None => String::new(),
+    };
     let assets = if assets.is_empty() {
         None
     } else {
         Some(gymfleet_import::Assets::from_archive(assets)?)
     };
-    Ok(gymfleet_import::convert(document, format, assets.as_ref())?)
+    Ok(gymfleet_import::convert_in(
+        document,
+        format,
+        assets.as_ref(),
+        &folder,
+    )?)
 }
 
 impl Simulation {
@@ -106,10 +127,11 @@ impl Simulation {
         document: String,
         format: Option<gymfleet_import::Format>,
         assets: Vec<u8>,
+        document_path: String,
     ) -> Result<(String, Vec<String>, gymfleet_import::Format)> {
         self.check_document(&document)?;
         pool::run(&self.pool, Lane::Env, "ConvertDocument", move || {
-            let converted = convert_document(&document, format, &assets)?;
+            let converted = convert_document(&document, format, &assets, &document_path)?;
             gymfleet_assembly::parse(&converted.json).map_err(EnvError::Document)?;
             Ok((converted.json, converted.warnings, converted.format))
         })

@@ -127,6 +127,7 @@ impl Simulation {
                 format: Some(gymfleet_import::Format::Json),
                 model: None,
                 assets: Vec::new(),
+                document_path: String::new(),
                 config: state.config().clone(),
             };
             let (mut template, links) = build_env(request, &config, n_envs)?;

@@ -22,6 +22,7 @@ from ._common import Document as _Document
 from ._common import InstanceDraw, JointDraw
 from ._common import assets_bytes as _assets_bytes
 from ._common import document_json as _document_json
+from ._common import path_in_assets as _path_in_assets
 from .env import GymfleetEnv
 from .errors import (
     DeadlineExceeded,
@@ -199,7 +200,11 @@ def convert(
     read into the JSON). ``make``/``make_vec`` take MJCF and URDF directly; this shows
     (and lets you edit) what they build."""
     text, warnings = _core.convert_document(
-        _document_json(document), server, _assets_bytes(assets), token
+        _document_json(document),
+        server,
+        _assets_bytes(assets),
+        token,
+        _path_in_assets(document, assets),
     )
     return _json.loads(text), list(warnings)
 

@@ -158,8 +158,23 @@ ENV_KEYWORDS = (
 )
 
 
+def path_in_assets(document: Optional[Document], assets: Any) -> Optional[str]:
+    """Where ``document``, given as a path inside the ``assets`` folder, sits in it
+    (``"fetch/push.xml"``, forward slashes): its includes and mesh files are then read
+    from its own folder there, as MuJoCo reads them. ``None`` otherwise."""
+    path = document_path(document)
+    if path is None or not isinstance(assets, (str, os.PathLike)) or not os.path.isdir(assets):
+        return None
+    inside = os.path.relpath(os.path.realpath(path), os.path.realpath(os.fspath(assets)))
+    if inside.startswith(os.pardir):
+        return None
+    return inside.replace(os.sep, "/")
+
+
 def create_options(
-    options: Dict[str, Any], keywords: Sequence[str] = ENV_KEYWORDS
+    options: Dict[str, Any],
+    keywords: Sequence[str] = ENV_KEYWORDS,
+    document: Optional[Document] = None,
 ) -> Dict[str, Any]:
     """The options as the extension takes them (every key present, None when unset); an
     unknown one is a ``TypeError`` listing every keyword the caller takes."""
@@ -191,6 +206,7 @@ def create_options(
         "randomize": None if options.get("randomize") is None else randomize_fields(options["randomize"]),
         "model": options.get("model"),
         "assets": assets_bytes(options.get("assets")),
+        "document_path": path_in_assets(document, options.get("assets")),
         "units": check_units(options.get("units")),
     }
 

@@ -5,7 +5,7 @@ server answers, and raises the classes of :mod:`gymfleet.errors`. Use the gymnas
 classes of :mod:`gymfleet` rather than these handles.
 """
 
-from typing import Any, Dict, List, Optional, Tuple, TypedDict
+from typing import Any, Dict, List, Optional, Sequence, Tuple, TypedDict
 
 import numpy as np
 import numpy.typing as npt
@@ -27,6 +27,8 @@ class CreateOptions(TypedDict):
     randomize: Optional[Dict[str, Any]]
     model: Optional[str]
     assets: Optional[bytes]
+    document_path: Optional[str]
+    units: Optional[str]
 
 class EnvHandle:
     """One env on a server."""
@@ -52,13 +54,19 @@ class EnvHandle:
     def reset(self, seed_value: Optional[int] = None) -> npt.NDArray[np.float32]:
         """Resets (reseeding first when a seed is given); the observation."""
     def step(
-        self, action_type_name: str, action: npt.NDArray[np.float32]
+        self,
+        action_type_name: str,
+        action: npt.NDArray[np.float32],
+        mocap_poses: Optional[npt.NDArray[np.float32]] = None,
     ) -> Tuple[
         npt.NDArray[np.float32], float, bool, bool, Optional[str], int, npt.NDArray[np.float32]
     ]:
         """``(observation, reward, terminated, truncated, termination_reason,
         episode_step, terms)``; ``action`` is 1-D float32, one value per DOF; ``terms``
-        a terms task's values (``info["term_names"]`` order; empty without one)."""
+        a terms task's values (``info["term_names"]`` order; empty without one);
+        ``mocap_poses``: 7 floats per mocap body, its target (``None``: they stay)."""
+    def set_mocap_pose(self, body: str, pose: Sequence[float]) -> None:
+        """Mocap body ``body``'s target for the next step: ``[x, y, z, qw, qx, qy, qz]``."""
     def observe(self) -> npt.NDArray[np.float32]:
         """The current observation, without stepping."""
     def save_state(self) -> bytes:
@@ -110,7 +118,10 @@ class BatchHandle:
         reseeded with ``seed + i`` when a seed is given. Every env's observation,
         ``(n_envs, observation_dim)``."""
     def step(
-        self, action_type_name: str, actions: npt.NDArray[np.float32]
+        self,
+        action_type_name: str,
+        actions: npt.NDArray[np.float32],
+        mocap_poses: Optional[npt.NDArray[np.float32]] = None,
     ) -> Tuple[
         npt.NDArray[np.float32],
         npt.NDArray[np.float32],
@@ -124,7 +135,9 @@ class BatchHandle:
         """Steps every env with ``actions`` ``(n_envs, action_dim)``: observations,
         rewards, terminated, truncated, the envs reset within the step (same-step
         autoreset) and their final observations ``(k, observation_dim)``, the
-        termination reasons by env, and a terms task's values ``(n_envs, len(term_names))``."""
+        termination reasons by env, and a terms task's values ``(n_envs, len(term_names))``.
+        ``mocap_poses``: every env's mocap targets, flat ``n_envs × mocap bodies × 7``
+        (``None``: they stay)."""
     def observe(self) -> npt.NDArray[np.float32]:
         """Every env's current observation."""
     def save_states(
@@ -196,10 +209,15 @@ def server_info(server: Optional[str] = None) -> Any:
     fleet). With auth on, the counts are the caller's tenant's own."""
 
 def convert_document(
-    document: str, server: Optional[str] = None, assets: Optional[bytes] = None
+    document: str,
+    server: Optional[str] = None,
+    assets: Optional[bytes] = None,
+    token: Optional[str] = None,
+    document_path: Optional[str] = None,
 ) -> Tuple[str, List[str]]:
     """The assembly JSON text a server builds from ``document`` (MJCF, URDF or JSON, its
-    mesh files in the ``assets`` archive), and the conversion's warnings."""
+    mesh files in the ``assets`` archive, its includes and meshes read from the folder of
+    ``document_path`` there), and the conversion's warnings."""
 def stateful_set(
     name: str, service: str, namespace: str = "default", replicas: int = 1, port: int = 50051
 ) -> List[str]:

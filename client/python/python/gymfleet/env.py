@@ -60,7 +60,7 @@ class GymfleetEnv(HandleOwner, gym.Env):
         text = document_json(document, options.get("model"))
         try:
             self._handle = _core.EnvHandle.create(
-                server, text, create_options(options), timeout, token
+                server, text, create_options(options, document=document), timeout, token
             )
         except InvalidArgument as err:
             raise located(err, document) from None
@@ -125,6 +125,17 @@ class GymfleetEnv(HandleOwner, gym.Env):
         if reason is not None:
             info["termination_reason"] = reason
         return obs, float(reward), terminated, truncated, info
+
+    def set_mocap_pose(self, name: str, pos: Any, quat: Any = (1.0, 0.0, 0.0, 0.0)) -> None:
+        """Sets where mocap body ``name`` (one of ``env_info["mocap_bodies"]``) is to be at
+        the end of the next step, and stay: ``pos`` is ``(x, y, z)`` in the world (mm, or
+        m with ``units="si"``), ``quat`` its orientation ``(qw, qx, qy, qz)``, as MuJoCo's
+        ``data.mocap_pos`` and ``data.mocap_quat`` take them. What a constraint joins to it
+        is pulled along, and what it touches is pushed."""
+        pose = np.concatenate(
+            [np.asarray(pos, dtype=np.float32).reshape(3), np.asarray(quat, dtype=np.float32).reshape(4)]
+        )
+        self._handle.set_mocap_pose(str(name), pose.tolist())
 
     def randomization(self) -> Dict[str, Any]:
         """The domain-randomisation factors drawn at the last reset:

@@ -108,7 +108,7 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
                 document_json(document, options.get("model")),
                 int(num_envs),
                 _MODES[mode],
-                create_options(options, (*ENV_KEYWORDS, "autoreset_mode")),
+                create_options(options, (*ENV_KEYWORDS, "autoreset_mode"), document),
                 timeout,
                 token,
             )
@@ -123,6 +123,8 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
         self.action_space = batch_space(self.single_action_space, self.num_envs)
         self.observation_space = batch_space(self.single_observation_space, self.num_envs)
         self._action_dim = self._info["action_dim"]
+        # Mocap targets for the next step (`set_mocap_poses`), flat; None: they stay.
+        self._mocap_poses: Optional[np.ndarray] = None
 
     @property
     def batch_info(self) -> Dict[str, Any]:
@@ -192,8 +194,10 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
     def step(
         self, actions: Any
     ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
-        """Steps every env once; ``actions`` is ``(num_envs, action_dim)``."""
+        """Steps every env once; ``actions`` is ``(num_envs, action_dim)``. Mocap targets
+        set with :meth:`set_mocap_poses` travel with this step."""
         values = self._actions.to_server(actions).reshape(self.num_envs, self._action_dim)
+        mocap, self._mocap_poses = self._mocap_poses, None
         (
             obs,
             rewards,
@@ -203,7 +207,7 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
             final_obs,
             reasons,
             terms,
-        ) = self._handle.step(self.action_type, values)
+        ) = self._handle.step(self.action_type, values, mocap)
         infos: Dict[str, Any] = {}
         # A terms task's values (the step's, before a same-step autoreset), one array per
         # term name, as gymnasium's vector envs write per-env info.
@@ -236,6 +240,20 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
         else:
             infos.update(why)
         return obs, rewards, terminated, truncated, infos
+
+    def set_mocap_poses(self, poses: Any) -> None:
+        """Sets where every env's mocap bodies (``env_info["mocap_bodies"]``) are to be at
+        the end of the next step: ``poses`` is ``(num_envs, mocap bodies, 7)``, each
+        ``[x, y, z, qw, qx, qy, qz]`` (world mm, or m with ``units="si"``). They travel with
+        that step's request (no call of their own) and stay until set again."""
+        m = len(self._info["mocap_bodies"])
+        array = np.asarray(poses, dtype=np.float32)
+        if array.size != self.num_envs * m * 7:
+            raise ValueError(
+                f"poses: expected {self.num_envs} envs × {m} mocap bodies × 7 values "
+                f"(x, y, z, qw, qx, qy, qz), got an array of shape {array.shape}"
+            )
+        self._mocap_poses = np.ascontiguousarray(array.reshape(-1))
 
     def randomization(self, env_index: int) -> Dict[str, Any]:
         """Env ``env_index``'s domain-randomisation factors drawn at its last reset (see

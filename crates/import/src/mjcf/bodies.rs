@@ -126,22 +126,15 @@ impl<'a, 'i> Converter<'a, 'i> {
         Ok(())
     }
 
-    /// Sets instance `name`'s `body_frame` to the world frame `body` (its MJCF body's):
-    /// what its observed pose and its pose targets refer to.
-    pub(super) fn set_body_frame(&mut self, name: &str, body: &Frame) {
-        let Some(own) = self.frames.get(name) else {
-            return;
-        };
-        let local = Frame {
-            translation: own.rotation.inverse() * (body.translation - own.translation),
-            rotation: own.rotation.inverse() * body.rotation,
-        };
+    /// A helper instance at a body's frame, turned as it is: what a free or mocap body's
+    /// pose is read from and set on.
+    pub(super) fn frame_helper(&mut self, wanted: &str, at: &Frame) -> String {
+        let name = self.helper(wanted, at);
         if let Some(instance) = self.instances.iter_mut().find(|i| i.name == name) {
-            instance.body_frame = Some(FrameDef {
-                position: Some(vec3(local.translation * MM)),
-                rotation: Some(Vec3::from(euler_xyz_degrees(local.rotation))),
-            });
+            instance.rotation = Some(Vec3::from(euler_xyz_degrees(at.rotation)));
         }
+        self.frames.insert(name.clone(), *at);
+        name
     }
 
     /// A helper instance: a small sphere of `HELPER_MASS` that collides with nothing.
@@ -189,17 +182,22 @@ impl<'a, 'i> Converter<'a, 'i> {
         name
     }
 
-    /// A named point at `at` (world, m) on instance `instance`, in its frame.
-    pub(super) fn site(&mut self, wanted: &str, instance: &str, at: DVec3) {
+    /// A named frame `at` (world, m) on instance `instance`, in its frame: a site's, or a
+    /// body's origin and axes (what MuJoCo's `xpos` and `xquat` report).
+    pub(super) fn site(&mut self, wanted: &str, instance: &str, at: &Frame) {
         let Some(frame) = self.frames.get(instance) else {
             return;
         };
-        let local = frame.rotation.inverse() * (at - frame.translation) * MM;
+        let back = frame.rotation.inverse();
+        let local = back * (at.translation - frame.translation) * MM;
+        let turn = back * at.rotation;
         let name = self.site_names.unique(wanted);
         self.sites.push(SiteDef {
             name,
             instance: instance.to_string(),
             point: vec3(local),
+            rotation: (turn.angle_between(DQuat::IDENTITY) > 1e-12)
+                .then(|| Vec3::from(euler_xyz_degrees(turn))),
         });
     }
 
@@ -294,7 +292,13 @@ impl<'a, 'i> Converter<'a, 'i> {
         // Geoms: the first is the body's instance, the others are welded to it (or, in a
         // static body, each fixed where it is).
         let first_instance = self.instances.len();
-        let mut main: Option<String> = None;
+        // A free body (an object) or a mocap body is observed and moved by its own frame,
+        // as MuJoCo's qpos and mocap_pos give it: its instance is a helper there, named
+        // after the body, and its geoms are welded to it.
+        let free = joints.iter().copied().find(|j| self.is_free(*j, class));
+        let is_base = self.base_body == Some(node.id());
+        let mut main: Option<String> =
+            ((free.is_some() && !is_base) || mocap).then(|| self.frame_helper(&body_name, &frame));
         for geom in elements(node).filter(|n| n.tag_name().name() == "geom") {
             let given = if use_inertial {
                 Some(HELPER_MASS)
@@ -327,12 +331,11 @@ impl<'a, 'i> Converter<'a, 'i> {
         }
         // The body's origin, by the body's name (what MuJoCo's body xpos reports).
         if let Some(name) = node.attribute("name") {
-            self.site(name, &main, frame.translation);
+            self.site(name, &main, &frame);
             self.bodies.insert(name.to_string(), (main.clone(), frame));
         }
 
         // Joints: parent → (helpers) → the body's instance.
-        let free = joints.iter().copied().find(|j| self.is_free(*j, class));
         if let Some(free) = free {
             if !top_level {
                 return Err(self.unsupported(
@@ -345,12 +348,7 @@ impl<'a, 'i> Converter<'a, 'i> {
                     self.unsupported(free, "a free joint must be its body's only joint".into())
                 );
             }
-            let is_base = self.base_body == Some(node.id());
             self.free_joint(free, class, &main, is_base)?;
-            if !is_base {
-                // Observed as MuJoCo's qpos and qvel of its free joint: the body's frame.
-                self.set_body_frame(&main, &frame);
-            }
         }
         if mocap {
             if let Some(joint) = joints.first() {
@@ -363,7 +361,6 @@ impl<'a, 'i> Converter<'a, 'i> {
             if let Some(instance) = self.instances.iter_mut().find(|i| i.name == main) {
                 instance.mocap = Some(true);
             }
-            self.set_body_frame(&main, &frame);
         }
         let parent_instance = match parent {
             BodyParent::World if free.is_none() && !mocap && !is_static => {
@@ -393,6 +390,13 @@ impl<'a, 'i> Converter<'a, 'i> {
             from = to;
         }
 
+        if let Some(name) = node.attribute("name") {
+            let own = self.instances[first_instance..]
+                .iter()
+                .map(|i| i.name.clone())
+                .collect();
+            self.body_instances.insert(name.to_string(), own);
+        }
         let below = if is_static {
             BodyParent::Static(&main)
         } else {
@@ -404,11 +408,11 @@ impl<'a, 'i> Converter<'a, 'i> {
                 "body" => self.body(child, &frame, below, class)?,
                 "site" => {
                     // A site is kept as a named point of the body's instance.
-                    let at = frame.then(&self.local_frame(child, class)?).translation;
+                    let at = frame.then(&self.local_frame(child, class)?);
                     let name = child
                         .attribute("name")
                         .map_or_else(|| format!("{body_name}_site"), str::to_string);
-                    self.site(&name, &main, at);
+                    self.site(&name, &main, &at);
                 }
                 "camera" | "light" => {
                     self.warn(child, "ignored (no effect on the dynamics)".into())
@@ -434,6 +438,9 @@ impl<'a, 'i> Converter<'a, 'i> {
             .ok_or_else(|| self.bad(node, "mass", "missing".into()))?;
         let local = self.local_frame(node, None)?;
         let world = body.then(&local);
+        if mass < 0.0 {
+            return Err(self.bad(node, "mass", format!("expected a mass >= 0, got {mass}")));
+        }
         let principal = match (
             self.exactly::<3>(node, None, "diaginertia")?,
             self.exactly::<6>(node, None, "fullinertia")?,
@@ -449,6 +456,19 @@ impl<'a, 'i> Converter<'a, 'i> {
                     "expected one of diaginertia or fullinertia".into(),
                 ))
             }
+        };
+        // MuJoCo takes a massless body, or one with no rotational inertia (a point mass),
+        // where nothing moves it on its own (a camera frame welded to a link): here it
+        // weighs at least a helper's 1 mg, and turns like a 1 mm ball of its mass.
+        let (mass, principal) = if mass <= 0.0
+            || gymfleet_assembly::inertia_problem(&principal.to_cols_array_2d()).is_some()
+        {
+            let mass = mass.max(HELPER_MASS);
+            let floor = 0.4 * mass * POINT_RADIUS_M * POINT_RADIUS_M;
+            let d = DVec3::new(principal.x_axis.x, principal.y_axis.y, principal.z_axis.z);
+            (mass, DMat3::from_diagonal(d.max(DVec3::splat(floor))))
+        } else {
+            (mass, principal)
         };
         // Into the instance's frame: position and axes.
         let index = self

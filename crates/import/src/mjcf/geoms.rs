@@ -137,9 +137,19 @@ impl<'a, 'i> Converter<'a, 'i> {
         let origin = origin_m * MM;
         let rotation = euler_xyz_degrees(world.rotation);
         let name = match node.attribute("name") {
-            Some(n) => self.unique(n),
+            Some(n) => {
+                let name = self.unique(n);
+                self.geom_instances.insert(n.to_string(), name.clone());
+                name
+            }
             None => self.unique(&format!("{body_name}_geom")),
         };
+        if body_name == "world" {
+            self.body_instances
+                .entry("world".to_string())
+                .or_default()
+                .push(name.clone());
+        }
         if let Some(shape) = self
             .attr(node, class, "fluidshape")
             .filter(|v| *v != "none")

@@ -12,9 +12,9 @@ use std::collections::{BTreeMap, HashMap, HashSet};
 
 use glam::{DMat3, DQuat, DVec3};
 use gymfleet_assembly::{
-    AssemblyDef, CollisionDef, Document, FluidDef, FrameDef, InertialDef, InstanceDef, Integrator,
-    JointDef, JointType, MaterialDef, MeshDef, PartDef, Primitive, SimulationDef, SiteDef,
-    TendonDef, TendonJointDef, Vec3,
+    AssemblyDef, CollisionDef, Document, FluidDef, InertialDef, InstanceDef, Integrator, JointDef,
+    JointType, MaterialDef, MeshDef, PartDef, Primitive, SimulationDef, SiteDef, TendonDef,
+    TendonJointDef, Vec3,
 };
 use roxmltree::Node;
 
@@ -25,6 +25,7 @@ use crate::{Converted, ImportError, Result};
 mod actuators;
 mod attributes;
 mod bodies;
+mod contacts;
 mod equality;
 mod geoms;
 mod include;
@@ -48,6 +49,8 @@ const MM: f64 = 1000.0;
 const HELPER_MASS: f64 = 1e-6;
 /// A helper instance's radius (mm).
 const HELPER_RADIUS: f64 = 1.0;
+/// The radius of the ball a body given no rotational inertia turns like (m).
+const POINT_RADIUS_M: f64 = 1e-3;
 /// MuJoCo's default geom density, kg/m³.
 const DEFAULT_DENSITY: f64 = 1000.0;
 
@@ -95,7 +98,7 @@ pub fn mjcf_to_document_in(xml: &str, folder: &str) -> Result<Converted> {
             "contact" | "equality" if elements(child).next().is_none() => {
                 c.warn(child, "empty, ignored".into());
             }
-            "equality" => {} // After the bodies it names.
+            "equality" | "contact" => {} // After the bodies they name.
             other => return Err(c.unsupported(child, format!("<{other}> is not supported yet"))),
         }
     }
@@ -109,6 +112,9 @@ pub fn mjcf_to_document_in(xml: &str, folder: &str) -> Result<Converted> {
     c.worldbody(&worlds)?;
     for equality in elements(root).filter(|n| n.tag_name().name() == "equality") {
         c.equalities(equality)?;
+    }
+    for contact in elements(root).filter(|n| n.tag_name().name() == "contact") {
+        c.contacts(contact)?;
     }
     c.finish()
 }
@@ -200,6 +206,12 @@ struct Converter<'a, 'i> {
     base_body: Option<roxmltree::NodeId>,
     /// The instance that stands for the world (what hangs from it by a joint), once made.
     world: Option<String>,
+    /// Each named geom's instance, for `<contact><pair>`.
+    geom_instances: HashMap<String, String>,
+    /// Each named body's instances (the world's: its geoms), for `<contact><exclude>`.
+    body_instances: HashMap<String, Vec<String>>,
+    /// `<contact>`'s rules, read so far.
+    contact_rules: gymfleet_assembly::ContactsDef,
     /// Each named body's instance and world frame (m), and the world's as "world", for
     /// `<equality>`.
     bodies: HashMap<String, (String, Frame)>,
@@ -251,6 +263,9 @@ impl<'a, 'i> Converter<'a, 'i> {
             switched_off: SwitchedOff::default(),
             base_body: None,
             world: None,
+            geom_instances: HashMap::new(),
+            body_instances: HashMap::new(),
+            contact_rules: Default::default(),
             bodies: HashMap::new(),
         }
     }
@@ -334,6 +349,7 @@ impl<'a, 'i> Converter<'a, 'i> {
             self.instances.insert(0, instance);
         }
         let tendons = self.tendon_defs()?;
+        let contacts = self.contacts_def();
         // MuJoCo integrates with `Euler` unless `<option integrator>` says otherwise: the
         // document says so, since its own default is the implicit form.
         self.simulation.integrator.get_or_insert(Integrator::Euler);
@@ -346,6 +362,7 @@ impl<'a, 'i> Converter<'a, 'i> {
                 joints: self.joints,
                 sites: self.sites,
                 tendons,
+                contacts,
             },
             simulation,
             floating_base: self.floating.is_some().then_some(true),

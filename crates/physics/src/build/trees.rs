@@ -142,6 +142,28 @@ pub(super) fn fold_owners(assembly: &Assembly, held: &[bool]) -> Vec<usize> {
     }
 }
 
+/// The loop-closing joints' frames taken again at the bodies' poses now: after the
+/// joints' initial positions, a constraint holds the pose the world starts in. Nothing on a
+/// loop's own path moves there (`initial` is refused on it), so only a constraint to a body
+/// outside the tree's path (a mocap body, the world's geometry) changes: its partner may
+/// have moved with the joints below it.
+pub(super) fn refresh_loop_frames(
+    sets: &Sets,
+    assembly: &Assembly,
+    bodies: &[RigidBodyHandle],
+    frames: &mut [(Pose, Pose)],
+) {
+    for (j, joint) in assembly.joints.iter().enumerate() {
+        if joint.closes_loop {
+            let (parent, child) = (bodies[joint.parent], bodies[joint.child]);
+            let (f1, _) = joint_frames(&sets.bodies, parent, child, joint);
+            // The child's frame: where the parent's frame is, seen from the child now.
+            let world = *sets.bodies[parent].position() * f1;
+            frames[j] = (f1, sets.bodies[child].position().inverse() * world);
+        }
+    }
+}
+
 /// Depth of each instance in the joint forest (roots are 0).
 fn depths(assembly: &Assembly) -> Vec<usize> {
     let mut parent = vec![None; assembly.instances.len()];
