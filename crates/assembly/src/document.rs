@@ -126,6 +126,13 @@ pub enum Primitive {
         /// Overall length in mm, caps included: at least `2 × radius`.
         height: f64,
     },
+    /// *(ext)* An ellipsoid centred at the origin, its semi-axes along local X, Y and Z (MJCF's
+    /// `ellipsoid` geom), simulated as a convex polyhedron with the ellipsoid's volume (so
+    /// its mass) within about 1 % of its surface.
+    Ellipsoid {
+        /// Semi-axes along local X, Y and Z, in mm.
+        radii: Vec3,
+    },
     /// *(ext)* A triangle mesh, simulated as its convex hull or as a convex decomposition.
     Mesh(MeshDef),
     /// *(ext)* The half-space below the part's local XY plane (its normal is local +Z): a

@@ -30,8 +30,8 @@ pub use error::{
     quoted, quoted_list, shown, AssemblyError, Issue, Result, MAX_ECHOED_CHARS, MAX_LISTED_NAMES,
 };
 pub use mesh::{
-    ConvexParts, ConvexPiece, MAX_CONVEX_PARTS, MAX_DECOMPOSED_TRIANGLES, MAX_MESH_TRIANGLES,
-    MAX_MESH_VERTICES,
+    ConvexParts, ConvexPiece, ELLIPSOID_RINGS, MAX_CONVEX_PARTS, MAX_DECOMPOSED_TRIANGLES,
+    MAX_MESH_TRIANGLES, MAX_MESH_VERTICES,
 };
 pub use model::{
     inertia_problem, Assembly, ContactPair, Contacts, DofKind, Fluid, Inertial, Instance, Joint,

@@ -21,6 +21,8 @@ pub const MAX_DECOMPOSED_TRIANGLES: usize = 32_768;
 pub const MAX_CONVEX_PARTS: u32 = 32;
 /// V-HACD's voxel grid resolution (parry's default).
 const VOXEL_RESOLUTION: u32 = 64;
+/// Latitude rings of the polyhedron an ellipsoid is collided as (twice as many longitudes).
+pub const ELLIPSOID_RINGS: usize = 16;
 
 /// One convex polyhedron in the part's frame, m: its hull vertices and outward triangles.
 #[derive(Debug, Clone, PartialEq)]
@@ -85,6 +87,40 @@ impl ConvexParts {
             });
         }
         Ok(Arc::new(ConvexParts { pieces }))
+    }
+
+    /// The convex polyhedron an ellipsoid of semi-axes `radii` (m) is collided as: a
+    /// latitude–longitude grid of [`ELLIPSOID_RINGS`] × 2·[`ELLIPSOID_RINGS`] points on its
+    /// surface, scaled so that the hull has the ellipsoid's volume (its vertices lie up to
+    /// about 1 % outside the surface, its faces' middles inside it).
+    pub(crate) fn ellipsoid(radii: [f64; 3]) -> Result<Arc<ConvexParts>, String> {
+        let grid = |scale: f64| -> Vec<Vector> {
+            let (rings, sectors) = (ELLIPSOID_RINGS, 2 * ELLIPSOID_RINGS);
+            let mut points = vec![
+                Vector::new(0.0, 0.0, (radii[2] * scale) as f32),
+                Vector::new(0.0, 0.0, (-radii[2] * scale) as f32),
+            ];
+            for i in 1..rings {
+                let theta = std::f64::consts::PI * i as f64 / rings as f64;
+                for j in 0..sectors {
+                    let phi = std::f64::consts::TAU * j as f64 / sectors as f64;
+                    points.push(Vector::new(
+                        (radii[0] * scale * theta.sin() * phi.cos()) as f32,
+                        (radii[1] * scale * theta.sin() * phi.sin()) as f32,
+                        (radii[2] * scale * theta.cos()) as f32,
+                    ));
+                }
+            }
+            points
+        };
+        let exact = 4.0 / 3.0 * std::f64::consts::PI * radii[0] * radii[1] * radii[2];
+        let inscribed = hull(&grid(1.0)).ok_or("the ellipsoid spans no volume")?;
+        let (volume, _) = inscribed.volume_and_centroid();
+        let scale = (exact / volume).cbrt();
+        let piece = hull(&grid(scale)).ok_or("the ellipsoid spans no volume")?;
+        Ok(Arc::new(ConvexParts {
+            pieces: vec![piece],
+        }))
     }
 
     /// Total volume, m³.

@@ -44,6 +44,15 @@ pub enum Shape {
         /// Overall length in m.
         height: f64,
     },
+    /// An ellipsoid centred at the origin, semi-axes along X, Y, Z in m, with the convex
+    /// polyhedron it is simulated as (`ConvexParts::ellipsoid`: the ellipsoid's volume, so
+    /// its mass; its surface and inertia within about 1 %).
+    Ellipsoid {
+        /// Semi-axes, m.
+        radii: [f64; 3],
+        /// The polyhedron it is collided as.
+        hull: std::sync::Arc<crate::ConvexParts>,
+    },
     /// A mesh made convex: its hull, or the parts of its convex decomposition.
     Convex(std::sync::Arc<crate::ConvexParts>),
     /// The half-space `z ≤ 0` of the part's frame (a ground: always grounded).
@@ -61,6 +70,9 @@ impl Shape {
                 std::f64::consts::PI * radius * radius * (height - 2.0 * radius)
                     + 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3)
             }
+            Shape::Ellipsoid { radii, .. } => {
+                4.0 / 3.0 * std::f64::consts::PI * radii[0] * radii[1] * radii[2]
+            }
             Shape::Convex(ref parts) => parts.volume(),
             Shape::Plane => 0.0,
         }
@@ -73,7 +85,7 @@ impl Shape {
             Shape::Cylinder { height, .. } | Shape::Capsule { height, .. } => {
                 [0.0, 0.0, height / 2.0]
             }
-            Shape::Sphere { .. } => [0.0, 0.0, 0.0],
+            Shape::Sphere { .. } | Shape::Ellipsoid { .. } => [0.0, 0.0, 0.0],
             Shape::Convex(ref parts) => parts.centroid(),
             Shape::Plane => [0.0, 0.0, 0.0],
         }
@@ -86,6 +98,7 @@ impl Shape {
             Shape::Cuboid { size } => size[0].min(size[1]).min(size[2]),
             Shape::Cylinder { radius, height } => (2.0 * radius).min(height),
             Shape::Sphere { radius } | Shape::Capsule { radius, .. } => 2.0 * radius,
+            Shape::Ellipsoid { radii, .. } => 2.0 * radii[0].min(radii[1]).min(radii[2]),
             Shape::Convex(ref parts) => parts.min_extent(),
             Shape::Plane => f64::INFINITY,
         }

@@ -138,7 +138,7 @@ fn unknown_primitive_fields() {
     assert_malformed(
         &err(doc),
         "parts[1].primitive.heigth",
-        "unknown field `heigth`, expected one of `type`, `size`, `radius`, `height`",
+        "unknown field `heigth`, expected one of `type`, `size`, `radius`, `radii`, `height`",
     );
 
     // A field of another primitive type is unknown too, wherever the tag is.

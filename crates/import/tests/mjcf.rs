@@ -357,9 +357,9 @@ fn more_bad_descriptions_name_their_element_and_line() {
     );
     assert_eq!(
         error(&model(
-            r#"<body><geom type="ellipsoid" size=".1 .2 .3"/></body>"#
+            r#"<body><joint/><geom type="ellipsoid" size=".1 .2"/></body>"#
         )),
-        "line 4: <geom>: ellipsoid geoms are not supported yet"
+        "line 4: <geom size=…>: an ellipsoid needs a positive z semi-axis (size[2])"
     );
     assert_eq!(
         error(&model(r#"<body><geom type="capsule" size=".1"/></body>"#)),

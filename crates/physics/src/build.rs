@@ -229,6 +229,18 @@ fn base_values(
             .iter()
             .map(|&c| sets.colliders.get(c).map_or(0.0, |c| c.density()))
             .collect(),
+        exact: assembly
+            .instances
+            .iter()
+            .map(|i| {
+                let density = if i.inertial.is_some() {
+                    0.0
+                } else {
+                    i.material.density as Real
+                };
+                crate::colliders::exact_mass_properties(&i.shape, density)
+            })
+            .collect(),
         friction: colliders
             .iter()
             .map(|&c| sets.colliders.get(c).map_or(0.0, |c| c.friction()))

@@ -55,8 +55,11 @@ pub(crate) fn attach_collider(
     } else {
         inst.material.density as Real
     };
-    let mut collider = collider(&inst.shape)
-        .density(density)
+    let collider = match exact_mass_properties(&inst.shape, density) {
+        Some(props) => collider(&inst.shape).mass_properties(props),
+        None => collider(&inst.shape).density(density),
+    };
+    let mut collider = collider
         .friction(inst.material.friction as Real)
         .restitution(inst.material.restitution as Real)
         // MuJoCo's rule: `a.group & b.mask` or `b.group & a.mask` (see `Instance::collision`).
@@ -123,6 +126,10 @@ pub(crate) fn given_mass_properties(
             );
             MassProperties::with_inertia_matrix(com, mass, matrix)
         }
+        None if exact_mass_properties(shape, 1.0).is_some() => {
+            let own = exact_mass_properties(shape, 1.0).expect("checked");
+            MassProperties::new(com, mass, own.principal_inertia() * (mass / own.mass()))
+        }
         None => {
             // The shape's own, at unit density, placed as the collider is, then scaled.
             let unit = collider(shape).density(1.0).build();
@@ -140,6 +147,29 @@ pub(crate) fn given_mass_properties(
             props
         }
     }
+}
+
+/// A shape's mass properties at `density` where its collider is only an approximation of
+/// it, which Rapier would weigh by the approximation: an ellipsoid's (centred, principal
+/// along its axes, `m/5 · (b² + c², a² + c², a² + b²)`). `None` for the others, and for a
+/// density of 0 (a given mass).
+pub(crate) fn exact_mass_properties(shape: &Shape, density: Real) -> Option<MassProperties> {
+    let Shape::Ellipsoid {
+        radii: [a, b, c], ..
+    } = *shape
+    else {
+        return None;
+    };
+    if density <= 0.0 {
+        return None;
+    }
+    let mass = f64::from(density) * 4.0 / 3.0 * std::f64::consts::PI * a * b * c;
+    let i = |p: f64, q: f64| (mass / 5.0 * (p * p + q * q)) as Real;
+    Some(MassProperties::new(
+        Vector::ZERO,
+        mass as Real,
+        Vector::new(i(b, c), i(a, c), i(a, b)),
+    ))
 }
 
 /// The exact primitive, placed in the part's frame (cube corner, cylinder and capsule base
@@ -167,7 +197,12 @@ pub(crate) fn collider(shape: &Shape) -> ColliderBuilder {
             ))
         }
         Shape::Plane => ColliderBuilder::halfspace(rapier3d::na::Unit::new_unchecked(Vector::Z)),
-        Shape::Convex(ref parts) => {
+        // An ellipsoid is its polyhedron, whose volume is the ellipsoid's: its mass is the
+        // ellipsoid's, its inertia within about 1 % of it.
+        Shape::Convex(ref parts)
+        | Shape::Ellipsoid {
+            hull: ref parts, ..
+        } => {
             let mut shapes: Vec<(Pose, SharedShape)> = parts
                 .pieces
                 .iter()

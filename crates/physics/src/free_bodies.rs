@@ -140,3 +140,46 @@ impl RobotWorld {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A cube turned 90° about x, spinning about the world's y: its observed angular
+    /// velocity is in its own axes, where the world's y is its −z (MuJoCo's qvel of a free
+    /// joint); the origin's velocity, in the world, gains ω × r from the spin.
+    #[test]
+    fn a_free_bodys_angular_velocity_is_given_in_its_own_axes() {
+        let doc = r#"{
+            "parts": [{"name": "Cube", "primitive": {"type": "cube", "size": {"x": 20, "y": 20, "z": 20}}}],
+            "assembly": {"instances": [
+                {"part": "Cube", "name": "ground"},
+                {"part": "Cube", "name": "a", "position": {"x": 0, "y": 0, "z": 500},
+                 "rotation": {"x": 90, "y": 0, "z": 0},
+                 "body_frame": {"position": {"x": 0, "y": 0, "z": 0}}}
+            ], "joints": []}
+        }"#;
+        let assembly = gymfleet_assembly::parse(doc).unwrap();
+        let mut world = RobotWorld::new(&assembly, &crate::WorldOptions::default()).unwrap();
+        let handle = world.bodies[1];
+        world.live.bodies[handle].set_angvel(Vector::new(0.0, 1.0, 0.0), true);
+        let (mut pose, mut velocity) = ([0.0; 7], [0.0; 6]);
+        world.free_body_state(Units::Si, &mut pose, &mut velocity);
+        let w = &velocity[3..];
+        assert!(
+            w[0].abs() < 1e-6 && w[1].abs() < 1e-6 && (w[2] + 1.0).abs() < 1e-6,
+            "{w:?}"
+        );
+        // The frame's origin is the cube's corner: 10 mm from its centre along each of its
+        // axes, so the spin moves it at ω × r.
+        let rb = &world.live.bodies[handle];
+        let r = Vector::new(pose[0], pose[1], pose[2]) - rb.center_of_mass();
+        let expected = Vector::new(0.0, 1.0, 0.0).cross(r);
+        for k in 0..3 {
+            assert!(
+                (velocity[k] - expected[k]).abs() < 1e-6,
+                "{velocity:?} vs {expected:?}"
+            );
+        }
+    }
+}

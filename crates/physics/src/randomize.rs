@@ -54,7 +54,14 @@ impl RobotWorld {
         );
         for (i, &handle) in self.colliders.iter().enumerate() {
             if let Some(collider) = self.live.colliders.get_mut(handle) {
-                collider.set_density(self.base.density[i] * draws.mass[i] as Real);
+                match self.base.exact[i] {
+                    Some(exact) => {
+                        let mut scaled = exact;
+                        scaled.set_mass(exact.mass() * draws.mass[i] as Real, true);
+                        collider.set_mass_properties(scaled);
+                    }
+                    None => collider.set_density(self.base.density[i] * draws.mass[i] as Real),
+                }
                 collider.set_friction(self.base.friction[i] * draws.friction[i] as Real);
             }
             self.given_now[i] = self.base.given[i].map(|given| {

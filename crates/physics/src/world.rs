@@ -367,6 +367,9 @@ pub(crate) struct BaseValues {
     /// Per instance: its given mass properties (`inertial`), which a mass factor scales
     /// instead of the density.
     pub(crate) given: Vec<Option<MassProperties>>,
+    /// Per instance: its collider's exact mass properties where Rapier would weigh an
+    /// approximation (an ellipsoid's), which a mass factor scales instead of the density.
+    pub(crate) exact: Vec<Option<MassProperties>>,
     pub(crate) friction: Vec<Real>,
     /// Per DOF: the document's damping, and the gains resolved at build.
     pub(crate) damping: Vec<Real>,

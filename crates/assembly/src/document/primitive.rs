@@ -15,6 +15,7 @@ enum PrimitiveKind {
     Cylinder,
     Sphere,
     Capsule,
+    Ellipsoid,
     Mesh,
     Plane,
 }
@@ -26,6 +27,7 @@ impl PrimitiveKind {
             PrimitiveKind::Cube => &["size"],
             PrimitiveKind::Cylinder | PrimitiveKind::Capsule => &["radius", "height"],
             PrimitiveKind::Sphere => &["radius"],
+            PrimitiveKind::Ellipsoid => &["radii"],
             PrimitiveKind::Mesh => MESH_FIELDS,
             PrimitiveKind::Plane => &[],
         }
@@ -34,7 +36,7 @@ impl PrimitiveKind {
 
 /// Every field of any primitive, for unknown-field messages before the tag is known.
 const PRIMITIVE_FIELDS: &[&str] = &[
-    "type", "size", "radius", "height", "vertices", "indices", "convex", "file", "scale",
+    "type", "size", "radius", "radii", "height", "vertices", "indices", "convex", "file", "scale",
 ];
 
 /// The fields of a mesh primitive besides `type`.
@@ -70,13 +72,16 @@ impl<'de> Visitor<'de> for PrimitiveVisitor {
     type Value = Primitive;
 
     fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str("a primitive object with a \"type\" of cube, cylinder, sphere, capsule or mesh")
+        f.write_str(
+            "a primitive object with a \"type\" of cube, cylinder, sphere, capsule, ellipsoid, mesh or plane",
+        )
     }
 
     fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Primitive, A::Error> {
         let mut kind: Option<PrimitiveKind> = None;
         let mut size: Option<Vec3> = None;
         let mut radius: Option<f64> = None;
+        let mut radii: Option<Vec3> = None;
         let mut height: Option<f64> = None;
         let mut mesh = MeshDef::default();
         while let Some(key) = map.next_key::<String>()? {
@@ -88,6 +93,7 @@ impl<'de> Visitor<'de> for PrimitiveVisitor {
                 "type" => kind.is_some(),
                 "size" => size.is_some(),
                 "radius" => radius.is_some(),
+                "radii" => radii.is_some(),
                 "height" => height.is_some(),
                 "vertices" => mesh.vertices.is_some(),
                 "indices" => mesh.indices.is_some(),
@@ -112,6 +118,7 @@ impl<'de> Visitor<'de> for PrimitiveVisitor {
                 "type" => kind = Some(map.next_value()?),
                 "size" => size = Some(map.next_value()?),
                 "radius" => radius = Some(map.next_value()?),
+                "radii" => radii = Some(map.next_value()?),
                 "height" => height = Some(map.next_value()?),
                 "vertices" => mesh.vertices = Some(map.next_value()?),
                 "indices" => mesh.indices = Some(map.next_value()?),
@@ -128,6 +135,7 @@ impl<'de> Visitor<'de> for PrimitiveVisitor {
         for (name, present) in [
             ("size", size.is_some()),
             ("radius", radius.is_some()),
+            ("radii", radii.is_some()),
             ("height", height.is_some()),
             ("vertices", mesh.vertices.is_some()),
             ("indices", mesh.indices.is_some()),
@@ -153,6 +161,9 @@ impl<'de> Visitor<'de> for PrimitiveVisitor {
             PrimitiveKind::Capsule => Primitive::Capsule {
                 radius: radius.ok_or_else(|| de::Error::missing_field("radius"))?,
                 height: height.ok_or_else(|| de::Error::missing_field("height"))?,
+            },
+            PrimitiveKind::Ellipsoid => Primitive::Ellipsoid {
+                radii: radii.ok_or_else(|| de::Error::missing_field("radii"))?,
             },
             PrimitiveKind::Mesh => {
                 if mesh.vertices.is_none() && mesh.file.is_none() {

@@ -124,6 +124,20 @@ impl Validator {
             Primitive::Sphere { radius } => Shape::Sphere {
                 radius: self.positive_length(&format!("{path}.radius"), radius),
             },
+            Primitive::Ellipsoid { radii } => {
+                let radii = [("x", radii.x), ("y", radii.y), ("z", radii.z)]
+                    .map(|(axis, r)| self.positive_length(&format!("{path}.radii.{axis}"), r));
+                if self.issues.len() != before {
+                    return None;
+                }
+                match crate::ConvexParts::ellipsoid(radii) {
+                    Ok(hull) => Shape::Ellipsoid { radii, hull },
+                    Err(reason) => {
+                        self.push(format!("{path}.radii"), reason);
+                        return None;
+                    }
+                }
+            }
             Primitive::Capsule { radius, height } => {
                 let r = self.positive_length(&format!("{path}.radius"), radius);
                 let h = self.positive_length(&format!("{path}.height"), height);

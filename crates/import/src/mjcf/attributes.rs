@@ -164,6 +164,23 @@ impl<'a, 'i> Converter<'a, 'i> {
                     self.mesh_dir.get_or_insert_with(|| dir.to_string());
                 }
                 ("strippath", "true") => self.strip_path = true,
+                ("inertiagrouprange", value) => {
+                    let range: Vec<i64> = value
+                        .split_whitespace()
+                        .map(|t| t.parse().ok())
+                        .collect::<Option<_>>()
+                        .unwrap_or_default();
+                    match range[..] {
+                        [lo, hi] if lo <= hi => self.inertia_groups = (lo, hi),
+                        _ => {
+                            return Err(self.bad(
+                                node,
+                                "inertiagrouprange",
+                                format!("expected two integers, lowest first, got {value:?}"),
+                            ))
+                        }
+                    }
+                }
                 ("texturedir" | "discardvisual" | "strippath", _) => {}
                 (name @ ("angle" | "inertiafromgeom"), value) => {
                     return Err(self.bad(node, name, format!("unexpected value {value:?}")))

@@ -89,10 +89,12 @@ impl<'a, 'i> Converter<'a, 'i> {
         let name = node
             .attribute(attribute)
             .ok_or_else(|| self.bad(node, attribute, "missing".into()))?;
-        self.body_instances
-            .get(name)
-            .cloned()
-            .ok_or_else(|| self.bad(node, attribute, format!("no body is named {name:?}")))
+        match self.body_instances.get(name) {
+            Some(instances) => Ok(instances.clone()),
+            // A world without geoms has nothing to exclude.
+            None if name == "world" => Ok(Vec::new()),
+            None => Err(self.bad(node, attribute, format!("no body is named {name:?}"))),
+        }
     }
 
     /// The instance of the geom a `<pair>` names in `attribute`.

@@ -26,7 +26,14 @@ impl<'a, 'i> Converter<'a, 'i> {
                 self.bad(
                     node,
                     "size",
-                    format!("a {kind} needs a positive {what} (size[{k}])"),
+                    format!(
+                        "{} {kind} needs a positive {what} (size[{k}])",
+                        if kind.starts_with(['a', 'e', 'i', 'o', 'u']) {
+                            "an"
+                        } else {
+                            "a"
+                        }
+                    ),
                 )
             })
         };
@@ -86,6 +93,19 @@ impl<'a, 'i> Converter<'a, 'i> {
             "sphere" => {
                 let r = size_at(0, "radius")?;
                 (Primitive::Sphere { radius: r * MM }, DVec3::ZERO)
+            }
+            "ellipsoid" => {
+                let r = DVec3::new(
+                    size_at(0, "x semi-axis")?,
+                    size_at(1, "y semi-axis")?,
+                    size_at(2, "z semi-axis")?,
+                );
+                (
+                    Primitive::Ellipsoid {
+                        radii: vec3(r * MM),
+                    },
+                    DVec3::ZERO,
+                )
             }
             "capsule" | "cylinder" => {
                 let r = size_at(0, "radius")?;
@@ -183,6 +203,17 @@ impl<'a, 'i> Converter<'a, 'i> {
             }),
             ..InstanceDef::new(&name, &name)
         };
+        // `compiler inertiagrouprange`: a geom outside it weighs nothing (here, 1 mg).
+        let group = self
+            .attr(node, class, "group")
+            .and_then(|g| g.trim().parse::<i64>().ok())
+            .unwrap_or(0);
+        let (lo, hi) = self.inertia_groups;
+        let weightless = !(lo..=hi).contains(&group);
+        if weightless {
+            self.massless.insert(name.clone());
+        }
+        let given_mass = given_mass.or(weightless.then_some(HELPER_MASS));
         match (
             given_mass,
             self.number(node, class, "mass")?,

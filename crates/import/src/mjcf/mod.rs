@@ -201,6 +201,8 @@ struct Converter<'a, 'i> {
     folder: String,
     /// What `<option><flag>` switches off.
     switched_off: SwitchedOff,
+    /// `compiler inertiagrouprange`: only geoms of these groups weigh anything.
+    inertia_groups: (i64, i64),
     /// The top-level body with a free joint that is the floating base: the first with a
     /// joint below it.
     base_body: Option<roxmltree::NodeId>,
@@ -261,6 +263,7 @@ impl<'a, 'i> Converter<'a, 'i> {
             tendons: Vec::new(),
             folder: String::new(),
             switched_off: SwitchedOff::default(),
+            inertia_groups: (0, 5),
             base_body: None,
             world: None,
             geom_instances: HashMap::new(),
