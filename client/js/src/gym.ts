@@ -134,6 +134,22 @@ export async function gymStep(
   return fromStep(result, known(client).envs.get(params.env_id) ?? []);
 }
 
+/** Sets where mocap body `body` (one of `mocap_bodies`) is to be at the end of the next
+ * step, and stay: `position` `[x, y, z]` in world mm, `quaternion` `[qw, qx, qy, qz]`
+ * (default no rotation). What is welded to it follows; what it touches is pushed. */
+export async function gymSetMocapPose(
+  params: EnvIdJson & {
+    body: string;
+    position: [number, number, number];
+    quaternion?: [number, number, number, number];
+  },
+  client: GymfleetClient = defaultClient(),
+): Promise<Record<string, never>> {
+  const pose = [...params.position, ...(params.quaternion ?? [1, 0, 0, 0])];
+  await client.simulator.setMocapPose({ envId: params.env_id, body: params.body, pose });
+  return {};
+}
+
 /** The current observation, without stepping. */
 export async function gymObserve(
   params: EnvIdJson,

@@ -36,6 +36,12 @@ export interface ObservationJson {
   base_pose?: number[];
   /** With a floating base only: `[vx, vy, vz]` mm/s, then `[wx, wy, wz]` deg/s. */
   base_velocity?: number[];
+  /** With free bodies only (objects, in `free_bodies` order): each one's `[x, y, z, qw,
+   * qx, qy, qz]`, its frame's origin in world mm and its orientation. */
+  free_body_poses?: number[][];
+  /** With free bodies only: each one's `[vx, vy, vz]` mm/s in the world, then `[wx, wy,
+   * wz]` deg/s in its own axes. */
+  free_body_velocities?: number[][];
 }
 
 /** The limits of one DOF. */
@@ -78,6 +84,11 @@ export interface EnvCreatedJson {
   max_steps: number;
   /** The non-fixed joints in document order (the DOF order of actions and observations). */
   joints: JointJson[];
+  /** Objects that move freely, observed as `free_body_poses` and `free_body_velocities`
+   * (only when there are any). */
+  free_bodies?: string[];
+  /** Mocap bodies: kinematic handles `gymSetMocapPose` moves (only when there are any). */
+  mocap_bodies?: string[];
 }
 
 /** What `gymStep` returns. */
@@ -148,6 +159,8 @@ function observationJson(
   task: ArrayLike<number>,
   basePose: ArrayLike<number>,
   baseVelocity: ArrayLike<number>,
+  freePoses: ArrayLike<number>,
+  freeVelocities: ArrayLike<number>,
 ): ObservationJson {
   const out: ObservationJson = {
     joint_positions: cleanAll(positions),
@@ -161,6 +174,20 @@ function observationJson(
     out.base_pose = cleanAll(basePose);
     out.base_velocity = cleanAll(baseVelocity);
   }
+  if (freePoses.length > 0) {
+    out.free_body_poses = rows(freePoses, POSE_LEN);
+    out.free_body_velocities = rows(freeVelocities, 6);
+  }
+  return out;
+}
+
+/** `values` cut into rows of `width`, each cleaned. */
+function rows(values: ArrayLike<number>, width: number): number[][] {
+  const all = Array.from(values);
+  const out: number[][] = [];
+  for (let at = 0; at + width <= all.length; at += width) {
+    out.push(cleanAll(all.slice(at, at + width)));
+  }
   return out;
 }
 
@@ -173,6 +200,8 @@ export function fromObservation(o: Observation): ObservationJson {
     o.taskObservation,
     o.basePose,
     o.baseVelocity,
+    o.freeBodyPoses,
+    o.freeBodyVelocities,
   );
 }
 
@@ -193,6 +222,8 @@ export function fromRow(row: Float32Array, layout: ObservationSegment[]): Observ
     part("target"),
     part("base_pose"),
     part("base_velocity"),
+    part("free_body_poses"),
+    part("free_body_velocities"),
   );
 }
 
@@ -239,7 +270,7 @@ function joints(list: JointInfo[]): JointJson[] {
 
 /** What `createRobotEnv` returns, from the server's EnvInfo. */
 export function fromEnvInfo(i: EnvInfo): EnvCreatedJson {
-  return {
+  const out: EnvCreatedJson = {
     env_id: i.envId,
     num_joints: i.numJoints,
     action_dim: i.actionDim,
@@ -250,6 +281,13 @@ export function fromEnvInfo(i: EnvInfo): EnvCreatedJson {
     max_steps: i.maxSteps,
     joints: joints(i.joints),
   };
+  if (i.freeBodies.length > 0) {
+    out.free_bodies = [...i.freeBodies];
+  }
+  if (i.mocapBodies.length > 0) {
+    out.mocap_bodies = [...i.mocapBodies];
+  }
+  return out;
 }
 
 /** The guide's name of an autoreset mode. */

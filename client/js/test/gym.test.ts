@@ -18,6 +18,7 @@ import {
   gymRender,
   gymReset,
   gymSaveState,
+  gymSetMocapPose,
   gymStep,
   listModels,
   type GymfleetClient,
@@ -227,4 +228,37 @@ test("the typed client reaches every RPC: server info and a converted document",
     documentJson: JSON.stringify(model("pendulum")),
   });
   assert.deepEqual(JSON.parse(converted.documentJson), model("pendulum"));
+});
+
+test("a mocap paddle lifts a free box: gymSetMocapPose and free_body_poses", async () => {
+  const document = {
+    parts: [
+      { name: "Anchor", primitive: { type: "sphere", radius: 1 } },
+      { name: "Paddle", primitive: { type: "cube", size: { x: 40, y: 40, z: 10 } } },
+      { name: "Cube", primitive: { type: "cube", size: { x: 20, y: 20, z: 20 } } },
+    ],
+    assembly: {
+      instances: [
+        { part: "Anchor", name: "anchor", collision: { group: 0, mask: 0 } },
+        { part: "Paddle", name: "paddle", position: { x: -20, y: -20, z: 0 }, mocap: true },
+        { part: "Cube", name: "box", position: { x: -10, y: -10, z: 10 } },
+      ],
+      joints: [],
+    },
+  };
+  const env = await createRobotEnv({ document }, client);
+  assert.deepEqual([env.free_bodies, env.mocap_bodies], [["box"], ["paddle"]]);
+  let step = await gymStep({ ...env, action_type: "torque", values: [] }, client);
+  for (let k = 1; k <= 60; k++) {
+    await gymSetMocapPose({ ...env, body: "paddle", position: [0, 0, 5 + (30 * k) / 60] }, client);
+    step = await gymStep({ ...env, action_type: "torque", values: [] }, client);
+  }
+  const z = step.observation.free_body_poses![0]![2]!;
+  assert.ok(Math.abs(z - 50) < 0.5, `the box rides on the paddle at ${z} mm`);
+  assert.equal(step.observation.free_body_velocities!.length, 1);
+  await assert.rejects(
+    () => gymSetMocapPose({ ...env, body: "hand", position: [0, 0, 0] }, client),
+    /unknown mocap body "hand" \(known: "paddle"\)/,
+  );
+  await gymClose(env, client);
 });

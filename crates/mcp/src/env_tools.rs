@@ -15,7 +15,8 @@ use crate::output::{
     EnvClosed, EnvCreated, ModelOut, ModelsOut, ObservationOut, RenderOut, StateSaved, StepOut,
 };
 use crate::params::{
-    CreateEnvParams, EnvRefParams, LoadStateParams, RenderParams, ResetParams, StepParams,
+    CreateEnvParams, EnvRefParams, LoadStateParams, MocapPoseParams, RenderParams, ResetParams,
+    StepParams,
 };
 use crate::reply::{Json, Picture};
 use crate::server::GymTools;
@@ -84,6 +85,28 @@ impl GymTools {
             &result,
             &placed.handle.info().term_names,
         )))
+    }
+
+    /// Moves a mocap body.
+    #[tool(
+        description = "Move a mocap body (create_robot_env lists them as mocap_bodies): set where \
+        its frame is to be at the end of the next gym_step, and stay. position [x, y, z] in \
+        world mm, quaternion [qw, qx, qy, qz] (default no rotation). What is welded or \
+        connected to it follows; what it touches is pushed. Returns {}."
+    )]
+    async fn gym_set_mocap_pose(
+        &self,
+        Parameters(p): Parameters<MocapPoseParams>,
+    ) -> Result<Json<serde_json::Map<String, serde_json::Value>>> {
+        let placed = self.fleet.env(&p.env_id)?;
+        let [x, y, z] = p.position;
+        let [qw, qx, qy, qz] = p.quaternion;
+        placed
+            .handle
+            .set_mocap_pose(&p.body, [x, y, z, qw, qx, qy, qz])
+            .await
+            .map_err(|err| self.fleet.env_failed(&placed, &err))?;
+        Ok(Json(serde_json::Map::new()))
     }
 
     /// Observes an environment.

@@ -43,6 +43,14 @@ pub(crate) struct ObservationOut {
     /// mm/s, then its angular velocity [wx, wy, wz] in world degrees/s.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(crate) base_velocity: Option<[f64; 6]>,
+    /// With free bodies only (objects, in free_bodies order): each one's [x, y, z, qw, qx,
+    /// qy, qz], its frame's origin in world mm and its orientation.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub(crate) free_body_poses: Vec<[f64; POSE_LEN]>,
+    /// With free bodies only: each one's [vx, vy, vz] in world mm/s, then its angular
+    /// velocity [wx, wy, wz] in its own axes, degrees/s.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub(crate) free_body_velocities: Vec<[f64; 6]>,
 }
 
 /// A floating base's pose and velocity, if the observation has them.
@@ -78,6 +86,16 @@ impl From<&Observation> for ObservationOut {
                 .map(|pose| pose.map(clean))
                 .collect(),
             target: target(&o.task_observation),
+            free_body_poses: o
+                .free_body_poses
+                .chunks_exact(POSE_LEN)
+                .map(|c| std::array::from_fn(|i| clean(c[i])))
+                .collect(),
+            free_body_velocities: o
+                .free_body_velocities
+                .chunks_exact(6)
+                .map(|c| std::array::from_fn(|i| clean(c[i])))
+                .collect(),
         }
     }
 }
@@ -170,6 +188,13 @@ pub(crate) struct EnvCreated {
     pub(crate) max_steps: u32,
     /// The non-fixed joints in document order (the DOF order of actions and observations).
     pub(crate) joints: Vec<JointOut>,
+    /// Objects that move freely, observed as free_body_poses and free_body_velocities.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub(crate) free_bodies: Vec<String>,
+    /// Mocap bodies: kinematic handles gym_set_mocap_pose moves (and what is welded to
+    /// them follows).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub(crate) mocap_bodies: Vec<String>,
 }
 
 impl EnvCreated {
@@ -184,6 +209,8 @@ impl EnvCreated {
             substeps: info.substeps,
             max_steps: info.max_steps,
             joints: joints(&info.joints),
+            free_bodies: info.free_bodies.clone(),
+            mocap_bodies: info.mocap_bodies.clone(),
         }
     }
 }

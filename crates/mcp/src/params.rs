@@ -92,6 +92,25 @@ pub(crate) struct EnvRefParams {
     pub(crate) env_id: String,
 }
 
+/// Inputs of `gym_set_mocap_pose`.
+#[derive(Debug, Deserialize, JsonSchema)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+pub(crate) struct MocapPoseParams {
+    /// The env_id returned by create_robot_env, e.g. "sim_1".
+    pub(crate) env_id: String,
+    /// The mocap body to move: one of create_robot_env's mocap_bodies.
+    pub(crate) body: String,
+    /// Where its frame is to be: [x, y, z] in world mm.
+    pub(crate) position: [f32; 3],
+    /// Its orientation [qw, qx, qy, qz] (normalised); default [1, 0, 0, 0], no rotation.
+    #[serde(default = "no_rotation")]
+    pub(crate) quaternion: [f32; 4],
+}
+
+fn no_rotation() -> [f32; 4] {
+    [1.0, 0.0, 0.0, 0.0]
+}
+
 /// Inputs of `gym_load_state`.
 #[derive(Debug, Deserialize, JsonSchema)]
 #[schemars(transform = crate::schema::one_line_descriptions)]

@@ -26,11 +26,12 @@ server's library by name (list_models, then model instead of document). Single e
 create_robot_env -> env_id, then gym_reset, gym_step (action_type torque [N·m or N] | \
 position [deg or mm] | velocity [deg/s or mm/s], exactly action_dim values), gym_observe, \
 gym_render (a PNG and a description of the view), gym_save_state and gym_load_state (try \
-actions, then take them back), and gym_close when done. Many at once: batch_create_envs -> \
+actions, then take them back), gym_set_mocap_pose (move a scene's mocap handle, which pulls \
+what is welded to it), and gym_close when done. Many at once: batch_create_envs -> \
 batch_id, then batch_step with one array of action_dim values per env, batch_reset, \
 batch_close. Observations are {joint_positions, joint_velocities, end_effector_poses}, each \
-pose [x, y, z, qw, qx, qy, qz] in mm, plus target with a reach task and base_pose, \
-base_velocity for a floating base. Rewards come from the task given to the create tools \
+pose [x, y, z, qw, qx, qy, qz] in mm, plus target with a reach task, base_pose, \
+base_velocity for a floating base, and free_body_poses, free_body_velocities for objects. Rewards come from the task given to the create tools \
 (reach a target, track joint targets, stay upright, or weighted terms whose values each step \
 reports in terms); without a task the reward is 0.0. randomize draws masses, friction, \
 damping and gains at every reset. Scale torques to the parts: masses come from volume x \

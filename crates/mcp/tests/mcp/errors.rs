@@ -184,6 +184,6 @@ async fn an_unreachable_server_is_named_and_the_adapter_keeps_answering() {
         .list_all_tools()
         .await
         .expect("still answers");
-    assert_eq!(tools.len(), 13);
+    assert_eq!(tools.len(), 14);
     adapter.stop().await;
 }

@@ -131,7 +131,7 @@ async fn tools_over_streamable_http() {
             .await
             .expect("MCP initialize over HTTP");
     let tools = session.list_all_tools().await.expect("tools/list");
-    assert_eq!(tools.len(), 13);
+    assert_eq!(tools.len(), 14);
     let created = expect_ok(
         "create_robot_env",
         call(

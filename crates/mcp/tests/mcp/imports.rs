@@ -235,3 +235,65 @@ async fn a_four_bar_is_driven_through_its_loop() {
     );
     adapter.stop().await;
 }
+
+/// A scene with a mocap paddle under a free box: the agent lifts the paddle with
+/// gym_set_mocap_pose and sees the box ride on it in free_body_poses.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_agent_moves_a_mocap_body_and_sees_a_free_body_follow() {
+    let adapter = Adapter::embedded().await;
+    let document = json!({
+        "parts": [
+            {"name": "Anchor", "primitive": {"type": "sphere", "radius": 1}},
+            {"name": "Paddle", "primitive": {"type": "cube", "size": {"x": 40, "y": 40, "z": 10}}},
+            {"name": "Cube", "primitive": {"type": "cube", "size": {"x": 20, "y": 20, "z": 20}}}
+        ],
+        "assembly": {"instances": [
+            {"part": "Anchor", "name": "anchor", "collision": {"group": 0, "mask": 0}},
+            {"part": "Paddle", "name": "paddle", "position": {"x": -20, "y": -20, "z": 0}, "mocap": true},
+            {"part": "Cube", "name": "box", "position": {"x": -10, "y": -10, "z": 10}}
+        ], "joints": []}
+    });
+    let created = adapter
+        .ok(
+            "create_robot_env",
+            json!({"document": document.to_string()}),
+        )
+        .await;
+    assert_eq!(created["mocap_bodies"], json!(["paddle"]), "{created}");
+    assert_eq!(created["free_bodies"], json!(["box"]), "{created}");
+    let env_id = created["env_id"].clone();
+    let mut observed = json!(null);
+    for k in 1..=60 {
+        let z = 5.0 + 30.0 * f64::from(k) / 60.0;
+        adapter
+            .ok(
+                "gym_set_mocap_pose",
+                json!({"env_id": env_id, "body": "paddle", "position": [0, 0, z]}),
+            )
+            .await;
+        observed = adapter
+            .ok(
+                "gym_step",
+                json!({"env_id": env_id, "action_type": "torque", "values": []}),
+            )
+            .await;
+    }
+    let z = observed["observation"]["free_body_poses"][0][2]
+        .as_f64()
+        .expect("the box's height");
+    assert!(
+        (z - 50.0).abs() < 0.5,
+        "the box rides on the paddle at {z} mm: {observed}"
+    );
+    let err = adapter
+        .err(
+            "gym_set_mocap_pose",
+            json!({"env_id": env_id, "body": "hand", "position": [0, 0, 0]}),
+        )
+        .await;
+    assert!(
+        err.contains("unknown mocap body \"hand\" (known: \"paddle\")"),
+        "{err}"
+    );
+    adapter.stop().await;
+}

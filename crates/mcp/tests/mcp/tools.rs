@@ -5,7 +5,7 @@ use serde_json::Value;
 
 use crate::Adapter;
 
-const TOOLS: [&str; 13] = [
+const TOOLS: [&str; 14] = [
     "batch_close",
     "batch_create_envs",
     "batch_reset",
@@ -17,6 +17,7 @@ const TOOLS: [&str; 13] = [
     "gym_render",
     "gym_reset",
     "gym_save_state",
+    "gym_set_mocap_pose",
     "gym_step",
     "list_models",
 ];
