@@ -51,6 +51,32 @@ def test_nested_includes_resolve_from_the_main_files_folder_as_in_mujoco(tmp_pat
         gymfleet.make(main, assets=tmp_path / "models")
 
 
+
+def test_every_body_orientation_attribute_matches_mujoco():
+    """quat, euler, axisangle, xyaxes (y not orthogonal to x) and zaxis: the free bodies'
+    observed orientations are MuJoCo's qpos on the same model."""
+    xml = ('<mujoco><worldbody>'
+           '<body name="q" pos="0 0 1" quat="0.7 0.1 0.5 0.2"><freejoint/><geom size="0.1"/></body>'
+           '<body name="e" pos="1 0 1" euler="30 -20 75"><freejoint/><geom size="0.1"/></body>'
+           '<body name="a" pos="2 0 1" axisangle="1 2 3 40"><freejoint/><geom size="0.1"/></body>'
+           '<body name="x" pos="3 0 1" xyaxes="1 1 0 0.3 1 1"><freejoint/><geom size="0.1"/></body>'
+           '<body name="z" pos="4 0 1" zaxis="0 1 1"><freejoint/><geom size="0.1"/></body>'
+           '</worldbody></mujoco>')
+    model = mujoco.MjModel.from_xml_string(xml)
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    env = gymfleet.make(xml, units="si")
+    obs, _ = env.reset(seed=0)
+    layout = dict(env.env_info["observation_layout"])
+    poses = obs[: layout["free_body_poses"]].reshape(-1, 7)
+    for name, pose in zip(env.env_info["free_bodies"], poses):
+        theirs = data.body(name).xquat
+        # q and -q are one rotation.
+        sign = 1.0 if np.dot(pose[3:], theirs) >= 0 else -1.0
+        np.testing.assert_allclose(sign * pose[3:], theirs, atol=1e-6, err_msg=name)
+        np.testing.assert_allclose(pose[:3], data.body(name).xpos, atol=1e-6, err_msg=name)
+    env.close()
+
 HANDLE = {
     "parts": [
         {"name": "Anchor", "primitive": {"type": "sphere", "radius": 1}},

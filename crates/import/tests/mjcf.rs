@@ -351,6 +351,18 @@ fn more_bad_descriptions_name_their_element_and_line() {
     );
     assert_eq!(
         error(&model(
+            r#"<body xyaxes="1 0 0 2 0 0"><geom size=".1"/></body>"#
+        )),
+        "line 4: <body xyaxes=…>: the y axis is zero or parallel to the x axis"
+    );
+    assert_eq!(
+        error(&model(
+            r#"<body xyaxes="0 0 0 0 1 0"><geom size=".1"/></body>"#
+        )),
+        "line 4: <body xyaxes=…>: the x axis is the zero vector"
+    );
+    assert_eq!(
+        error(&model(
             r#"<body><joint type="screw"/><geom size=".1"/></body>"#
         )),
         "line 4: <joint type=…>: unknown joint type \"screw\""

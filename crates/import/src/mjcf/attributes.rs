@@ -364,7 +364,8 @@ impl<'a, 'i> Converter<'a, 'i> {
         Ok(())
     }
 
-    /// A frame from `pos` and one of `quat`, `euler`, `axisangle` (MuJoCo's defaults).
+    /// A frame from `pos` and one of `quat`, `euler`, `axisangle`, `xyaxes`, `zaxis` (MuJoCo's
+    /// defaults).
     pub(super) fn local_frame(&self, node: Node<'a, 'i>, class: Option<&str>) -> Result<Frame> {
         let p = self.exactly::<3>(node, class, "pos")?.unwrap_or([0.0; 3]);
         let given: Vec<&str> = ["quat", "euler", "axisangle", "xyaxes", "zaxis"]
@@ -420,6 +421,28 @@ impl<'a, 'i> Converter<'a, 'i> {
                     return Err(self.bad(node, "zaxis", "the axis is the zero vector".into()));
                 }
                 z_onto(axis.normalize())
+            }
+            Some("xyaxes") => {
+                // MuJoCo's rule: x normalized, y made orthogonal to x, z = x × y.
+                let [x0, x1, x2, y0, y1, y2] = self
+                    .exactly::<6>(node, class, "xyaxes")?
+                    .unwrap_or([1.0, 0.0, 0.0, 0.0, 1.0, 0.0]);
+                let x = DVec3::new(x0, x1, x2);
+                let y = DVec3::new(y0, y1, y2);
+                if x.length() < 1e-12 {
+                    return Err(self.bad(node, "xyaxes", "the x axis is the zero vector".into()));
+                }
+                let x = x.normalize();
+                let y = y - x * x.dot(y);
+                if y.length() < 1e-12 {
+                    return Err(self.bad(
+                        node,
+                        "xyaxes",
+                        "the y axis is zero or parallel to the x axis".into(),
+                    ));
+                }
+                let y = y.normalize();
+                DQuat::from_mat3(&DMat3::from_cols(x, y, x.cross(y))).normalize()
             }
             Some(other) => {
                 return Err(
