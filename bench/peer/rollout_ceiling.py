@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """In process, one thread: simulated seconds per wall second of gymfleet stepping a
-Gymnasium MuJoCo file, against `mujoco.rollout` on the same file and timestep (issue S: the
-ceiling a user could reach from C). Not a test.
+MuJoCo file, against `mujoco.rollout` on the same file and timestep (issue S: the
+ceiling a user could reach from C; issue Z1b: files driven by servos and general
+actuators, from dm_control and gymnasium-robotics). Not a test.
 
 Both sides step the file's own timestep with random controls, uniform in each actuator's
 ctrlrange, held for one env step (the file's frame skip). MuJoCo: `mujoco.rollout.rollout`
@@ -15,6 +16,9 @@ alternate the sides; the medians are printed.
     cargo build --release -p gymfleet-load
     pip install mujoco gymnasium
     python bench/peer/rollout_ceiling.py --rounds 3
+    pip install --no-deps dm-control gymnasium-robotics     # their files only
+    python bench/peer/rollout_ceiling.py --rounds 3 --models adroit_door.xml fetch_push.xml \
+        dmc_cheetah.xml dmc_humanoid.xml
 """
 
 from __future__ import annotations
@@ -42,7 +46,33 @@ MODELS = {
     "walker2d_v5.xml": 4,
     "ant.xml": 5,
     "humanoid.xml": 5,
+    # Issue Z1b, each at its package's control step: Adroit's frame skip 5,
+    # gymnasium-robotics' Fetch 20 substeps, dm_control's cheetah 1 and humanoid 5
+    # physics steps per control step.
+    "adroit_door.xml": 5,
+    "fetch_push.xml": 20,
+    "dmc_cheetah.xml": 1,
+    "dmc_humanoid.xml": 5,
 }
+
+
+def model_path(name: str) -> pathlib.Path:
+    """Where a model of `MODELS` is: Gymnasium's files, or dm_control's and
+    gymnasium-robotics' (installed with `pip install --no-deps`, files only)."""
+    import importlib.util
+
+    def package(name: str) -> pathlib.Path:
+        spec = importlib.util.find_spec(name)
+        if spec is None or not spec.submodule_search_locations:
+            raise SystemExit(f"{name} is not installed: pip install --no-deps {name.replace('_', '-')}")
+        return pathlib.Path(list(spec.submodule_search_locations)[0])
+
+    if name.startswith("dmc_"):
+        return package("dm_control") / "suite" / name.removeprefix("dmc_")
+    robotics = {"adroit_door.xml": "adroit_hand/adroit_door.xml", "fetch_push.xml": "fetch/push.xml"}
+    if name in robotics:
+        return package("gymnasium_robotics") / "envs" / "assets" / robotics[name]
+    return ASSETS / name
 
 
 def mujoco_rate(xml: pathlib.Path, frame_skip: int, batch: int, seconds: float, seed: int) -> float:
@@ -96,7 +126,7 @@ def main() -> None:
     p.add_argument("--duration", type=float, default=3.0, help="gymfleet's timed seconds per round")
     args = p.parse_args()
     for name in args.models:
-        xml, skip = ASSETS / name, MODELS[name]
+        xml, skip = model_path(name), MODELS[name]
         ours, theirs = [], []
         for r in range(args.rounds):
             theirs.append(mujoco_rate(xml, skip, args.batch, args.seconds_simulated, r))

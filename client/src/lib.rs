@@ -84,6 +84,6 @@ pub use task::{
 /// gRPC status codes, as [`ClientError::code`] returns them.
 pub use tonic::Code;
 pub use types::{
-    ActionType, Autoreset, BatchInfo, DofLimit, EnvInfo, JointInfo, Observation, ServerInfo,
-    ServerLimits, StepResult, Units, POSE_LEN,
+    ActionType, ActuatorInfo, Autoreset, BatchInfo, DofLimit, EnvInfo, JointInfo, Observation,
+    ServerInfo, ServerLimits, StepResult, Units, POSE_LEN,
 };

@@ -317,6 +317,31 @@ impl From<pb::JointInfo> for JointInfo {
     }
 }
 
+/// One actuator (the document's `assembly.actuators`, MJCF's `<actuator>` elements): its
+/// control is one action value, after the actuated joints' values.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ActuatorInfo {
+    /// Its name.
+    pub name: String,
+    /// Its kind as written (`"motor"`, `"position"`, …; a converted MJCF's: `"general"`).
+    pub actuator_type: String,
+    /// The joint or fixed tendon it drives.
+    pub target: String,
+    /// Controls are clamped into `[min, max]` (MuJoCo's `ctrlrange`); `None`: unclamped.
+    pub ctrl_range: Option<[f64; 2]>,
+}
+
+impl From<pb::ActuatorInfo> for ActuatorInfo {
+    fn from(a: pb::ActuatorInfo) -> Self {
+        ActuatorInfo {
+            name: a.name,
+            actuator_type: a.r#type,
+            target: a.target,
+            ctrl_range: a.ctrl_min.zip(a.ctrl_max).map(|(lo, hi)| [lo, hi]),
+        }
+    }
+}
+
 /// Describes a created environment.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct EnvInfo {
@@ -324,7 +349,7 @@ pub struct EnvInfo {
     pub env_id: String,
     /// Non-fixed joints.
     pub num_joints: usize,
-    /// Values per action (the actuated joints' DOFs).
+    /// Values per action (the actuated joints' DOFs, then one per actuator).
     pub action_dim: usize,
     /// `2·DOF + 7·end effectors` + the task's floats.
     pub observation_dim: usize,
@@ -351,6 +376,8 @@ pub struct EnvInfo {
     pub mocap_bodies: Vec<String>,
     /// The mass of everything that moves (neither fixed to the world nor a mocap body), kg.
     pub moving_mass: f64,
+    /// The actuators, in order: the action's last `actuators.len()` values.
+    pub actuators: Vec<ActuatorInfo>,
 }
 
 /// The units of observations and of a terms task's values.
@@ -445,6 +472,7 @@ impl From<pb::EnvInfo> for EnvInfo {
             free_bodies: i.free_bodies,
             mocap_bodies: i.mocap_bodies,
             moving_mass: i.moving_mass,
+            actuators: i.actuators.into_iter().map(Into::into).collect(),
         }
     }
 }
@@ -486,6 +514,8 @@ pub struct BatchInfo {
     pub mocap_bodies: Vec<String>,
     /// As [`EnvInfo::moving_mass`].
     pub moving_mass: f64,
+    /// As [`EnvInfo::actuators`].
+    pub actuators: Vec<ActuatorInfo>,
 }
 
 impl TryFrom<pb::BatchInfo> for BatchInfo {
@@ -510,6 +540,7 @@ impl TryFrom<pb::BatchInfo> for BatchInfo {
             free_bodies: i.free_bodies,
             mocap_bodies: i.mocap_bodies,
             moving_mass: i.moving_mass,
+            actuators: i.actuators.into_iter().map(Into::into).collect(),
         })
     }
 }

@@ -104,7 +104,7 @@ impl ModelLibrary {
             gymfleet_assembly::parse(&document).map_err(|e| library_error(path, e.to_string()))?;
         Ok(LibraryModel {
             dofs: assembly.total_dof(),
-            action_dim: assembly.actuated_dof(),
+            action_dim: assembly.action_dim(),
             document,
             format,
             path: path.to_path_buf(),

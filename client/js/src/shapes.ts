@@ -10,6 +10,7 @@ import { create } from "@bufbuild/protobuf";
 import {
   Autoreset,
   ObservationSchema,
+  type ActuatorInfo,
   type BatchInfo,
   type EnvInfo,
   type JointInfo,
@@ -89,6 +90,20 @@ export interface EnvCreatedJson {
   free_bodies?: string[];
   /** Mocap bodies: kinematic handles `gymSetMocapPose` moves (only when there are any). */
   mocap_bodies?: string[];
+  /** Actuators (only when there are any): the action's last values are their controls,
+   * in this order. */
+  actuators?: ActuatorJson[];
+}
+
+/** One actuator (a converted MJCF's `<actuator>`). */
+export interface ActuatorJson {
+  name: string;
+  /** Its kind as written ("motor", "position", …; a converted MJCF's: "general"). */
+  type: string;
+  /** The joint or fixed tendon it drives. */
+  target: string;
+  /** Controls are clamped into `[min, max]` (MuJoCo's ctrlrange); absent: unclamped. */
+  ctrl_range?: [number, number];
 }
 
 /** What `gymStep` returns. */
@@ -121,6 +136,8 @@ export interface BatchCreatedJson {
   /** "disabled", "same_step" or "next_step". */
   autoreset: string;
   joints: JointJson[];
+  /** As `EnvCreatedJson.actuators`. */
+  actuators?: ActuatorJson[];
 }
 
 /** `x` (a 32-bit float) as the number with the same shortest decimal form: the shortest
@@ -287,7 +304,20 @@ export function fromEnvInfo(i: EnvInfo): EnvCreatedJson {
   if (i.mocapBodies.length > 0) {
     out.mocap_bodies = [...i.mocapBodies];
   }
+  if (i.actuators.length > 0) {
+    out.actuators = actuators(i.actuators);
+  }
   return out;
+}
+
+function actuators(list: ActuatorInfo[]): ActuatorJson[] {
+  return list.map((a) => {
+    const out: ActuatorJson = { name: a.name, type: a.type, target: a.target };
+    if (a.ctrlMin !== undefined && a.ctrlMax !== undefined) {
+      out.ctrl_range = [a.ctrlMin, a.ctrlMax];
+    }
+    return out;
+  });
 }
 
 /** The guide's name of an autoreset mode. */
@@ -299,7 +329,7 @@ export const AUTORESET_NAMES: Record<Autoreset, string> = {
 
 /** What `batchCreateEnvs` returns, from the server's BatchInfo. */
 export function fromBatchInfo(i: BatchInfo): BatchCreatedJson {
-  return {
+  const out: BatchCreatedJson = {
     batch_id: i.batchId,
     n_envs: i.nEnvs,
     action_dim: i.actionDim,
@@ -312,4 +342,8 @@ export function fromBatchInfo(i: BatchInfo): BatchCreatedJson {
     autoreset: AUTORESET_NAMES[i.autoreset],
     joints: joints(i.joints),
   };
+  if (i.actuators.length > 0) {
+    out.actuators = actuators(i.actuators);
+  }
+  return out;
 }

@@ -1,7 +1,7 @@
 //! The handles' descriptions as Python dicts: what `EnvInfo`/`BatchInfo` say, with the
 //! joints' limits and effort clamps from which the package builds its spaces.
 
-use gymfleet_client::{BatchInfo, EnvInfo, JointInfo};
+use gymfleet_client::{ActuatorInfo, BatchInfo, EnvInfo, JointInfo};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
@@ -40,6 +40,21 @@ fn joints<'py>(py: Python<'py>, joints: &[JointInfo]) -> PyResult<Bound<'py, PyL
     PyList::new(py, joints)
 }
 
+fn actuators<'py>(py: Python<'py>, list: &[ActuatorInfo]) -> PyResult<Bound<'py, PyList>> {
+    let list = list
+        .iter()
+        .map(|a| {
+            let d = PyDict::new(py);
+            d.set_item("name", &a.name)?;
+            d.set_item("type", &a.actuator_type)?;
+            d.set_item("target", &a.target)?;
+            d.set_item("ctrl_range", a.ctrl_range.map(|r| (r[0], r[1])))?;
+            Ok(d)
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    PyList::new(py, list)
+}
+
 /// What every env of a batch and a single env share.
 struct Shape<'a> {
     num_joints: usize,
@@ -56,6 +71,7 @@ struct Shape<'a> {
     free_bodies: &'a [String],
     mocap_bodies: &'a [String],
     moving_mass: f64,
+    actuators: &'a [ActuatorInfo],
 }
 
 impl Shape<'_> {
@@ -79,7 +95,8 @@ impl Shape<'_> {
         d.set_item("term_names", self.term_names)?;
         d.set_item("free_bodies", self.free_bodies)?;
         d.set_item("mocap_bodies", self.mocap_bodies)?;
-        d.set_item("moving_mass", self.moving_mass)
+        d.set_item("moving_mass", self.moving_mass)?;
+        d.set_item("actuators", actuators(py, self.actuators)?)
     }
 }
 
@@ -107,6 +124,7 @@ pub(crate) fn env_info<'py>(
         free_bodies: &i.free_bodies,
         mocap_bodies: &i.mocap_bodies,
         moving_mass: i.moving_mass,
+        actuators: &i.actuators,
     }
     .write(py, &d)?;
     Ok(d)
@@ -136,6 +154,7 @@ pub(crate) fn batch_info<'py>(
         free_bodies: &i.free_bodies,
         mocap_bodies: &i.mocap_bodies,
         moving_mass: i.moving_mass,
+        actuators: &i.actuators,
     }
     .write(py, &d)?;
     d.set_item("shards", PyList::new(py, shards)?)?;

@@ -8,7 +8,10 @@ use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
+mod actuators;
 mod primitive;
+
+pub use actuators::{ActuatorDef, ActuatorKind, DynamicsKind};
 
 /// A whole assembly document: part definitions, materials and the assembly itself.
 #[derive(Debug, Clone, Deserialize, Serialize)]
@@ -206,6 +209,10 @@ pub struct AssemblyDef {
     /// *(ext)* Contact rules beside the collision bits (MJCF's `<contact>`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub contacts: Option<ContactsDef>,
+    /// *(ext)* Actuators (MJCF's `<actuator>`): each takes one control value per action,
+    /// after the values of the joints actuated directly.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub actuators: Vec<ActuatorDef>,
 }
 
 /// *(ext)* Contact rules: pairs of instances that never collide, and pairs that always do.

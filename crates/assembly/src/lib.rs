@@ -8,6 +8,7 @@
 //! It knows nothing of physics engines, networking or JSON-RPC: building bodies from an
 //! [`Assembly`] is `gymfleet-physics`'s job.
 
+mod actuators;
 mod contacts;
 mod document;
 mod error;
@@ -19,12 +20,13 @@ mod tendons;
 mod topology;
 mod validate;
 
+pub use actuators::MAX_ACTUATORS;
 pub use contacts::MAX_CONTACT_RULES;
 pub use document::{
-    AssemblyDef, CollisionDef, ContactExcludeDef, ContactPairDef, ContactsDef, ConvexMode,
-    Document, FluidDef, FrameDef, InertiaDef, InertialDef, InstanceDef, Integrator, JointDef,
-    MaterialDef, MeshDef, PartDef, Primitive, SimulationDef, SiteDef, TendonDef, TendonJointDef,
-    Vec3,
+    ActuatorDef, ActuatorKind, AssemblyDef, CollisionDef, ContactExcludeDef, ContactPairDef,
+    ContactsDef, ConvexMode, Document, DynamicsKind, FluidDef, FrameDef, InertiaDef, InertialDef,
+    InstanceDef, Integrator, JointDef, MaterialDef, MeshDef, PartDef, Primitive, SimulationDef,
+    SiteDef, TendonDef, TendonJointDef, Vec3,
 };
 pub use error::{
     quoted, quoted_list, shown, AssemblyError, Issue, Result, MAX_ECHOED_CHARS, MAX_LISTED_NAMES,
@@ -34,9 +36,9 @@ pub use mesh::{
     MAX_MESH_TRIANGLES, MAX_MESH_VERTICES,
 };
 pub use model::{
-    inertia_problem, Assembly, ContactPair, Contacts, DofKind, Fluid, Inertial, Instance, Joint,
-    JointType, LocalFrame, Material, Shape, Site, Tendon, DEFAULT_DENSITY, DEFAULT_FRICTION,
-    DEFAULT_GRAVITY, DEFAULT_RESTITUTION, MM_PER_M,
+    inertia_problem, Actuator, Assembly, ContactPair, Contacts, DofKind, Dynamics, Fluid, Inertial,
+    Instance, Joint, JointType, LocalFrame, Material, Shape, Site, Tendon, Transmission,
+    DEFAULT_DENSITY, DEFAULT_FRICTION, DEFAULT_GRAVITY, DEFAULT_RESTITUTION, MM_PER_M,
 };
 pub use simulation::{MAX_FLUID_DENSITY, MAX_FLUID_VISCOSITY};
 pub use sites::MAX_SITES;

@@ -3,6 +3,10 @@
 //! Every value here has been checked: lengths are positive and finite, axes are unit
 //! vectors, references are indices that exist, and the joints form a forest.
 
+mod actuator;
+
+pub use actuator::{Actuator, Dynamics, Transmission};
+
 /// Millimetres per metre.
 pub const MM_PER_M: f64 = 1000.0;
 
@@ -389,6 +393,9 @@ pub struct Assembly {
     pub tendons: Vec<Tendon>,
     /// Contact rules beside the collision bits.
     pub contacts: Contacts,
+    /// Actuators, in document order: each takes one action value (its control), after
+    /// the values of the joints actuated directly.
+    pub actuators: Vec<Actuator>,
 }
 
 /// Contact rules (see [`crate::ContactsDef`]), by instance index.
@@ -465,6 +472,12 @@ impl Assembly {
             .filter(|j| j.actuated)
             .map(|j| j.kind.dof())
             .sum()
+    }
+
+    /// Values per action: one per DOF of the joints actuated directly, then one per
+    /// actuator.
+    pub fn action_dim(&self) -> usize {
+        self.actuated_dof() + self.actuators.len()
     }
 
     /// Number of tree joints that have at least one DOF (a saved state's joints).

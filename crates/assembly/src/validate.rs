@@ -48,7 +48,7 @@ pub fn validate(doc: &Document) -> Result<Assembly> {
             }
         })
         .collect();
-    let joints = v.joints(
+    let mut joints = v.joints(
         &doc.assembly.joints,
         &doc.assembly.instances,
         &anchors,
@@ -63,6 +63,11 @@ pub fn validate(doc: &Document) -> Result<Assembly> {
     let (contacts, contact_issues) =
         crate::contacts::contacts(doc.assembly.contacts.as_ref(), &doc.assembly.instances);
     v.issues.extend(contact_issues);
+    let (actuators, actuator_issues) =
+        crate::actuators::actuators(&doc.assembly.actuators, &joints, &tendons);
+    v.issues.extend(actuator_issues);
+    let driven = crate::actuators::drive_joints(&actuators, &doc.assembly.joints, &mut joints);
+    v.issues.extend(driven);
     if v.issues.is_empty() {
         Ok(Assembly {
             instances,
@@ -76,6 +81,7 @@ pub fn validate(doc: &Document) -> Result<Assembly> {
             integrator: simulation.integrator,
             tendons,
             contacts,
+            actuators,
         })
     } else {
         Err(AssemblyError::Invalid { issues: v.issues })

@@ -189,13 +189,48 @@ pub(crate) struct ObservedBodies {
     pub(crate) moving_mass: f64,
 }
 
+/// *(ext)* One actuator of the document (MJCF's `<actuator>` elements): its control is
+/// one action value, after the actuated DOFs' values, whatever the action type.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ActuatorSpec {
+    /// Its name.
+    pub name: String,
+    /// Its kind as written: `motor`, `position`, `velocity`, `intvelocity`, `damper`,
+    /// `cylinder` or `general`.
+    pub kind: String,
+    /// What it drives: a joint's name, or a tendon's.
+    pub target: String,
+    /// Controls are clamped into `[min, max]` (MuJoCo's `ctrlrange`); `None`: unclamped.
+    pub ctrl_range: Option<[f64; 2]>,
+}
+
+impl ActuatorSpec {
+    pub(crate) fn of(assembly: &gymfleet_assembly::Assembly) -> Vec<ActuatorSpec> {
+        assembly
+            .actuators
+            .iter()
+            .map(|a| ActuatorSpec {
+                name: a.name.clone(),
+                kind: a.kind.as_str().to_string(),
+                target: match a.transmission {
+                    gymfleet_assembly::Transmission::Joint(j) => assembly.joints[j].name.clone(),
+                    gymfleet_assembly::Transmission::Tendon(t) => assembly.tendons[t].name.clone(),
+                },
+                ctrl_range: a.ctrl_range,
+            })
+            .collect()
+    }
+}
+
 /// What an agent needs to know about an environment.
 #[derive(Debug, Clone, PartialEq)]
 pub struct EnvSpec {
     /// Joints with at least one DOF.
     pub num_joints: usize,
-    /// Values per action: the DOFs of the actuated joints.
+    /// Values per action: the DOFs of the actuated joints, then one control per actuator.
     pub action_dim: usize,
+    /// *(ext)* The actuators, in order: the action's last `actuators.len()` values.
+    pub actuators: Vec<ActuatorSpec>,
     /// Every DOF, passive ones included: the positions (and velocities) observed.
     pub num_dofs: usize,
     /// `2·DOF` (+ 13 with a floating base) + 13 per free body `+ 7·end effectors` + the
@@ -241,6 +276,7 @@ impl EnvSpec {
         bodies: ObservedBodies,
         task: Option<(&'static str, usize)>,
         term_names: Vec<String>,
+        actuators: Vec<ActuatorSpec>,
     ) -> Self {
         let ObservedBodies {
             floating_base,
@@ -267,7 +303,8 @@ impl EnvSpec {
         );
         EnvSpec {
             num_joints: joint_names.len(),
-            action_dim: dofs.iter().filter(|d| d.actuated).count(),
+            action_dim: dofs.iter().filter(|d| d.actuated).count() + actuators.len(),
+            actuators,
             num_dofs: dofs.len(),
             observation_dim: observation_layout.iter().map(|s| s.size).sum(),
             observation_layout,

@@ -180,7 +180,15 @@ impl RobotEnv {
             mocap_bodies: names(assembly.mocap_bodies()),
             moving_mass: world.moving_mass(),
         };
-        let spec = EnvSpec::new(&config, world.dofs(), bodies, segment, term_names);
+        let actuators = crate::config::ActuatorSpec::of(assembly);
+        let spec = EnvSpec::new(
+            &config,
+            world.dofs(),
+            bodies,
+            segment,
+            term_names,
+            actuators,
+        );
         let mut env = RobotEnv {
             world,
             end_effectors,

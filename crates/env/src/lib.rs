@@ -29,7 +29,8 @@ pub mod terms;
 
 pub use action::ActionType;
 pub use config::{
-    EnvConfig, EnvSpec, Randomization, DEFAULT_DT, DEFAULT_MAX_STEPS, DEFAULT_SUBSTEPS,
+    ActuatorSpec, EnvConfig, EnvSpec, Randomization, DEFAULT_DT, DEFAULT_MAX_STEPS,
+    DEFAULT_SUBSTEPS,
 };
 pub use env::{DrawReport, RobotEnv, Scene};
 pub use episode::{StepFlags, StepResult, Termination};

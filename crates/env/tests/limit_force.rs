@@ -116,7 +116,15 @@ fn bad_limit_force_and_square_terms_get_their_own_errors() {
         ),
         (
             r#"{"terms": [{"name": "a", "square": {"of": {}}}]}"#,
-            "task.terms.terms[0].square.of: expected exactly one of joint, joint_velocity, joint_limit_force, tendon_length, tendon_velocity, actuator_force, contact_wrench, body_inertia, body_velocity (the last three with a component), instance, site or center_of_mass (the last three with an axis)",
+            "task.terms.terms[0].square.of: expected exactly one of joint, joint_velocity, joint_limit_force, tendon_length, tendon_velocity, actuator_force, actuator, actuator_activation, contact_wrench, body_inertia, body_velocity (the last three with a component), instance, site or center_of_mass (the last three with an axis)",
+        ),
+        (
+            r#"{"terms": [{"name": "a", "value": {"actuator": "push"}}]}"#,
+            "task.terms.terms[0].value.actuator: unknown actuator \"push\" (the document has no actuators)",
+        ),
+        (
+            r#"{"terms": [{"name": "a", "value": {"actuator_activation": "push", "axis": "x"}}]}"#,
+            "task.terms.terms[0].value: a named actuator's activation takes no axis or point (they are for instance, site and center_of_mass)",
         ),
         (
             r#"{"terms": [{"name": "a", "square": {"of": {"joint": "slide"}}, "ctrl_cost": {}}]}"#,

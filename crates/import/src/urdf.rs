@@ -77,6 +77,7 @@ pub fn urdf_to_document(xml: &str) -> Result<Converted> {
             joints: c.joints,
             sites: Vec::new(),
             tendons: Vec::new(),
+            actuators: Vec::new(),
         },
         simulation: None,
         floating_base: start.floating.then_some(true),

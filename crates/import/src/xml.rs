@@ -20,11 +20,6 @@ pub(crate) struct Warnings {
 }
 
 impl Warnings {
-    /// Adds a free-standing warning (not tied to one element).
-    pub(crate) fn push(&mut self, warning: String) {
-        self.list.push(warning);
-    }
-
     /// The warnings, in the order they were given.
     pub(crate) fn into_vec(self) -> Vec<String> {
         self.list

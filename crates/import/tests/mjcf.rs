@@ -203,9 +203,33 @@ fn unsupported_constructs_name_their_element_and_line() {
     );
     assert_eq!(
         error(&format!(
-            "<mujoco>\n<worldbody>\n{BODY}\n</worldbody>\n<actuator>\n<position joint=\"j\"/>\n</actuator>\n</mujoco>"
+            "<mujoco>\n<worldbody>\n{BODY}\n</worldbody>\n<actuator>\n<muscle joint=\"j\"/>\n</actuator>\n</mujoco>"
         )),
-        "line 6: <position>: only <motor> actuators are supported (a torque or force at a joint)"
+        "line 6: <muscle>: muscle actuators are not supported yet (MuJoCo's muscle model: its length–force and velocity curves)"
+    );
+    assert_eq!(
+        error(&format!(
+            "<mujoco>\n<worldbody>\n{BODY}\n</worldbody>\n<actuator>\n<general joint=\"j\" gaintype=\"user\"/>\n</actuator>\n</mujoco>"
+        )),
+        "line 6: <general>: gaintype \"user\" is not supported (supported: fixed, affine)"
+    );
+    assert_eq!(
+        error(&format!(
+            "<mujoco>\n<worldbody>\n{BODY}\n</worldbody>\n<actuator>\n<position joint=\"j\" inheritrange=\"1\"/>\n</actuator>\n</mujoco>"
+        )),
+        "line 6: <position inheritrange=…>: \"1\": inheritrange is not supported yet; give ctrlrange"
+    );
+    assert_eq!(
+        error(&format!(
+            "<mujoco>\n<worldbody>\n{BODY}\n</worldbody>\n<actuator>\n<position joint=\"j\" kv=\"1\" dampratio=\"1\"/>\n</actuator>\n</mujoco>"
+        )),
+        "line 6: <position dampratio=…>: kv and dampratio cannot both be defined"
+    );
+    assert_eq!(
+        error(&format!(
+            "<mujoco>\n<worldbody>\n{BODY}\n</worldbody>\n<actuator>\n<general joint=\"b_joint\" ctrlrange=\"1 -1\"/>\n</actuator>\n</mujoco>"
+        )),
+        "line 6: <general ctrlrange=…>: expected min < max for a limited range, got [1, -1]"
     );
     assert_eq!(
         error(&format!(
@@ -428,10 +452,17 @@ fn fixed_tendons_become_the_documents_tendons() {
     );
     assert_eq!(
         error(&format!(
-            "<mujoco><worldbody>{}</body></worldbody>\n<tendon><fixed name=\"t\"><joint joint=\"j1\" coef=\"1\"/></fixed></tendon>\n<actuator>\n<motor tendon=\"t\"/>\n</actuator></mujoco>",
+            "<mujoco><worldbody>{}</body></worldbody>\n<tendon><fixed name=\"t\"><joint joint=\"j1\" coef=\"1\"/></fixed></tendon>\n<actuator>\n<motor site=\"s\"/>\n</actuator></mujoco>",
             body("j1")
         )),
-        "line 4: <motor>: a motor must drive a joint (tendon, site and body transmissions are not supported)"
+        "line 4: <motor>: site transmissions are not supported (an actuator drives a joint or a fixed tendon)"
+    );
+    assert_eq!(
+        error(&format!(
+            "<mujoco><worldbody>{}</body></worldbody>\n<tendon><fixed name=\"t\"><joint joint=\"j1\" coef=\"1\"/></fixed></tendon>\n<actuator>\n<motor tendon=\"u\"/>\n</actuator></mujoco>",
+            body("j1")
+        )),
+        "line 4: <motor tendon=…>: no fixed tendon is named \"u\""
     );
     assert_eq!(
         refused(r#"<fixed><joint joint="j9" coef="1"/></fixed>"#),

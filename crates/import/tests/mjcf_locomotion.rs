@@ -37,7 +37,28 @@ fn ant_has_a_floating_torso_and_eight_driven_joints() {
         names,
         ["hip_1", "ankle_1", "hip_2", "ankle_2", "hip_3", "ankle_3", "hip_4", "ankle_4"]
     );
-    assert!(spec.dofs.iter().all(|d| d.max_effort == Some(150.0)));
+    // Its motors are not in the joints' order (hip_4 and ankle_4 come first): they are
+    // actuators, and the actions are MuJoCo's ctrl in actuator order (issue Z1b).
+    let targets: Vec<&str> = spec.actuators.iter().map(|a| a.target.as_str()).collect();
+    assert_eq!(
+        targets,
+        ["hip_4", "ankle_4", "hip_1", "ankle_1", "hip_2", "ankle_2", "hip_3", "ankle_3"]
+    );
+    assert!(spec
+        .actuators
+        .iter()
+        .all(|a| a.ctrl_range == Some([-1.0, 1.0])));
+    assert!(spec
+        .dofs
+        .iter()
+        .all(|d| !d.actuated && d.max_effort.is_none()));
+    let gears: Vec<&serde_json::Value> = doc["assembly"]["actuators"]
+        .as_array()
+        .expect("actuators")
+        .iter()
+        .map(|a| &a["gear"])
+        .collect();
+    assert!(gears.iter().all(|g| **g == 150.0), "{gears:?}");
     let start = env.observe();
     assert!(
         (start.base_pose[2] - 750.0).abs() < 1e-3,

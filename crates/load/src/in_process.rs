@@ -143,22 +143,34 @@ fn template(config: &LoadConfig) -> Result<RobotEnv> {
     })
 }
 
-/// Each actuated DOF's hard limits (one per action value), as the server reports them.
+/// Each actuated DOF's hard limits (one per action value), as the server reports them,
+/// then each actuator's control range.
 fn dof_limits(env: &RobotEnv) -> Vec<Option<(f64, f64)>> {
-    env.spec()
-        .dofs
+    let spec = env.spec();
+    spec.dofs
         .iter()
         .filter(|d| d.actuated)
         .map(|d| d.limits.map(|[min, max]| (min, max)))
+        .chain(
+            spec.actuators
+                .iter()
+                .map(|a| a.ctrl_range.map(|[min, max]| (min, max))),
+        )
         .collect()
 }
 
+/// Each action value's torque bound: the actuated DOFs', then each actuator's largest
+/// control (1 without a range).
 fn action_bounds(env: &RobotEnv) -> Vec<f64> {
-    env.spec()
-        .dofs
+    let spec = env.spec();
+    spec.dofs
         .iter()
         .filter(|d| d.actuated)
         .map(|d| d.action_bound)
+        .chain(spec.actuators.iter().map(|a| {
+            a.ctrl_range
+                .map_or(1.0, |[min, max]| min.abs().max(max.abs()))
+        }))
         .collect()
 }
 

@@ -5,7 +5,7 @@
 use std::collections::BTreeMap;
 
 use gymfleet_client::{
-    Autoreset, BatchInfo, EnvInfo, JointInfo, Observation, StepResult, POSE_LEN,
+    ActuatorInfo, Autoreset, BatchInfo, EnvInfo, JointInfo, Observation, StepResult, POSE_LEN,
 };
 use schemars::JsonSchema;
 use serde::Serialize;
@@ -166,6 +166,35 @@ fn joints(joints: &[JointInfo]) -> Vec<JointOut> {
         .collect()
 }
 
+/// One actuator (a converted MJCF's `<actuator>`): its control is one action value, after
+/// the actuated joints' values.
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+#[schemars(inline)]
+pub(crate) struct ActuatorOut {
+    /// The actuator's name.
+    pub(crate) name: String,
+    /// Its kind as written ("motor", "position", …; a converted MJCF's: "general").
+    #[serde(rename = "type")]
+    pub(crate) actuator_type: String,
+    /// The joint or fixed tendon it drives.
+    pub(crate) target: String,
+    /// Controls are clamped into [min, max] (MuJoCo's ctrlrange); absent: unclamped.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) ctrl_range: Option<[f64; 2]>,
+}
+
+fn actuators(list: &[ActuatorInfo]) -> Vec<ActuatorOut> {
+    list.iter()
+        .map(|a| ActuatorOut {
+            name: a.name.clone(),
+            actuator_type: a.actuator_type.clone(),
+            target: a.target.clone(),
+            ctrl_range: a.ctrl_range,
+        })
+        .collect()
+}
+
 /// What `create_robot_env` returns.
 #[derive(Debug, Clone, Serialize, JsonSchema)]
 #[schemars(transform = crate::schema::one_line_descriptions)]
@@ -195,6 +224,10 @@ pub(crate) struct EnvCreated {
     /// them follows).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub(crate) mocap_bodies: Vec<String>,
+    /// Actuators (only when there are any): the action's last values are their controls,
+    /// in this order.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub(crate) actuators: Vec<ActuatorOut>,
 }
 
 impl EnvCreated {
@@ -211,6 +244,7 @@ impl EnvCreated {
             joints: joints(&info.joints),
             free_bodies: info.free_bodies.clone(),
             mocap_bodies: info.mocap_bodies.clone(),
+            actuators: actuators(&info.actuators),
         }
     }
 }
@@ -332,6 +366,9 @@ pub(crate) struct BatchCreated {
     pub(crate) autoreset: String,
     /// The non-fixed joints in document order.
     pub(crate) joints: Vec<JointOut>,
+    /// As create_robot_env's actuators.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub(crate) actuators: Vec<ActuatorOut>,
 }
 
 impl BatchCreated {
@@ -353,6 +390,7 @@ impl BatchCreated {
             max_steps: info.max_steps,
             autoreset: autoreset.to_string(),
             joints: joints(&info.joints),
+            actuators: actuators(&info.actuators),
         }
     }
 }

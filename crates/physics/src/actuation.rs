@@ -187,12 +187,13 @@ impl RobotWorld {
     }
 
     /// Whether some effort depends on the state within a step (the explicit PD of ball
-    /// joints under targets, a fluid's drag, a tendon's spring), so that it must be
-    /// recomputed every substep.
+    /// joints under targets, a fluid's drag, a tendon's spring, an actuator's bias, gain or
+    /// activation), so that it must be recomputed every substep.
     pub(crate) fn has_state_dependent_efforts(&self) -> bool {
         (self.command.mode != ActionMode::Torque && self.has_ball_joints)
             || self.fluid.is_some()
             || self.tendons.iter().any(|t| t.has_force())
+            || self.has_state_dependent_actuators()
     }
 
     /// Writes the held joint-space efforts into the multibodies: torque-mode efforts on
@@ -230,6 +231,7 @@ impl RobotWorld {
                 .copy_from_slice(&efforts[..n]);
         }
         self.apply_tendon_forces();
+        self.apply_actuator_forces();
     }
 
     /// The torque a ball joint applies to its child, in the joint frame (the frame of its

@@ -83,15 +83,24 @@ impl RobotWorld {
         [w.x, w.y, w.z, v.x, v.y, v.z].map(f64::from)
     }
 
-    /// The generalized force (N·m or N) the held torque-mode command applies to DOF `dof`:
-    /// gear × value, clamped by `max_effort` (MuJoCo's `qfrc_actuator` of a motor's
-    /// joint); 0 for a passive DOF and under position or velocity targets (Rapier's motors
-    /// do not report their force).
-    pub fn actuator_force(&self, dof: usize) -> f64 {
+    /// The generalized force (N·m or N) the held command applies to DOF `dof` (MuJoCo's
+    /// `qfrc_actuator`): a torque-mode value's gear × value, clamped by `max_effort`, plus
+    /// every actuator's moment × force on it now. A direct value under position or velocity
+    /// targets counts 0 (Rapier's motors do not report their force).
+    pub fn dof_actuator_force(&self, dof: usize) -> f64 {
         let d = &self.dofs[dof];
-        if self.command.mode != ActionMode::Torque || !d.actuated {
-            return 0.0;
+        let direct = if self.command.mode != ActionMode::Torque || !d.actuated {
+            0.0
+        } else {
+            crate::actuation::clamp_effort(
+                d.gear * f64::from(self.command.values[dof]),
+                d.max_effort,
+            )
+        };
+        if self.actuators.is_empty() {
+            direct
+        } else {
+            direct + self.actuators_on_dof(dof)
         }
-        crate::actuation::clamp_effort(d.gear * f64::from(self.command.values[dof]), d.max_effort)
     }
 }

@@ -169,6 +169,8 @@ impl RobotWorld {
         let first_dof: Vec<usize> = joints.iter().map(|j: &JointSlot| j.first_dof).collect();
         let tendons = crate::tendons::tendon_slots(assembly, &first_dof, &references);
         crate::tendons::set_tendon_limits(assembly, &joints, &references, &mut sets)?;
+        let actuators = crate::actuators::actuator_slots(assembly, &joints, &sets);
+        let n_actuators = actuators.len();
         let instance_poses: Vec<Pose> = assembly.instances.iter().map(instance_pose).collect();
         let planar_helpers = planar::helpers(&roots, &instance_poses);
         let mut world = RobotWorld {
@@ -177,6 +179,8 @@ impl RobotWorld {
             fluid,
             contact_filter,
             tendons,
+            actuators,
+            activations: vec![0.0; n_actuators],
             initial: std::sync::Arc::new(sets.clone()),
             live: sets,
             pipeline_params: params,
@@ -203,6 +207,7 @@ impl RobotWorld {
             has_ball_joints: assembly.joints.iter().any(|j| j.kind == JointType::Ball),
             command: Command {
                 values: vec![0.0; n_dofs],
+                controls: vec![0.0; n_actuators],
                 ..Command::default()
             },
             pipeline: PipelineCell(PhysicsPipeline::new()),

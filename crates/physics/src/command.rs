@@ -39,5 +39,8 @@ pub(crate) struct ResolvedGains {
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Command {
     pub(crate) mode: ActionMode,
+    /// One value per DOF (0 for a passive one).
     pub(crate) values: Vec<f32>,
+    /// One control per actuator (MuJoCo's `ctrl`), unclamped.
+    pub(crate) controls: Vec<f32>,
 }

@@ -17,6 +17,7 @@
 
 mod action_bound;
 mod actuation;
+mod actuators;
 mod bodies;
 mod build;
 mod colliders;

@@ -72,6 +72,10 @@ pub struct DynamicState {
     /// then the quaternion `[x, y, z, w]`), or `None` while it stays where the document
     /// put it. Its pose now is in `bodies`.
     pub mocap_targets: Vec<Option<[f32; 7]>>,
+    /// The held control of every actuator, in document order (as given, unclamped).
+    pub controls: Vec<f32>,
+    /// Every actuator's activation (MuJoCo's `act`; 0 for one without dynamics).
+    pub activations: Vec<f64>,
 }
 
 fn bad(path: String, reason: String) -> PhysicsError {
@@ -206,6 +210,8 @@ impl RobotWorld {
             bodies,
             roots,
             mocap_targets,
+            controls: self.command.controls.clone(),
+            activations: self.activations.clone(),
         }
     }
 
@@ -350,6 +356,50 @@ impl RobotWorld {
                 check_unit(&path, &[t[3], t[4], t[5], t[6]])?;
             }
         }
+        self.check_actuator_state(state)
+    }
+
+    /// The controls and activations of `state`: one each per actuator, finite, and an
+    /// activation within its range (0 where there is none).
+    fn check_actuator_state(&self, state: &DynamicState) -> Result<()> {
+        let n = self.actuators.len();
+        check_len(
+            "world.controls",
+            state.controls.len(),
+            n,
+            "controls (one per actuator)",
+        )?;
+        check_values("world.controls", &state.controls, f32::MAX)?;
+        check_len(
+            "world.activations",
+            state.activations.len(),
+            n,
+            "activations (one per actuator)",
+        )?;
+        for (k, (&act, a)) in state.activations.iter().zip(&self.actuators).enumerate() {
+            let path = format!("world.activations[{k}]");
+            if !(act.is_finite() && act.abs() <= f64::from(MAX_MAGNITUDE)) {
+                return Err(bad(
+                    path,
+                    format!("expected a finite value within ±{MAX_MAGNITUDE:e}, got {act}"),
+                ));
+            }
+            let stateless = a.dynamics == gymfleet_assembly::Dynamics::None;
+            if stateless && act != 0.0 {
+                return Err(bad(
+                    path,
+                    format!("actuator {k} has no activation dynamics: expected 0, got {act}"),
+                ));
+            }
+            if let Some([lo, hi]) = a.act_range {
+                if !(lo..=hi).contains(&act) {
+                    return Err(bad(
+                        path,
+                        format!("{act} is outside actuator {k}'s activation range [{lo}, {hi}]"),
+                    ));
+                }
+            }
+        }
         Ok(())
     }
 
@@ -457,6 +507,8 @@ impl RobotWorld {
         }
         self.command.mode = state.mode;
         self.command.values.copy_from_slice(&state.command);
+        self.command.controls.copy_from_slice(&state.controls);
+        self.activations.copy_from_slice(&state.activations);
         self.configure_motors();
     }
 }

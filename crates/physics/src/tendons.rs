@@ -112,7 +112,7 @@ impl RobotWorld {
     }
 
     /// A revolute or prismatic DOF's position (its reference included) and velocity, SI.
-    fn scalar_dof_si(&self, dof: usize) -> (f64, f64) {
+    pub(crate) fn scalar_dof_si(&self, dof: usize) -> (f64, f64) {
         let d = &self.dofs[dof];
         let slot = &self.joints[d.joint];
         let Some(mb) = self.live.multibody_joints.get_multibody(slot.multibody) else {

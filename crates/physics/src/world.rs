@@ -5,6 +5,12 @@ use rapier3d::prelude::*;
 
 use crate::command::{ActionMode, Command, PdGains, ResolvedGains};
 
+mod parts;
+
+pub(crate) use parts::{
+    ActuatorSlot, BaseValues, ContactFilter, ExplicitPair, FluidDrag, TendonSlot,
+};
+
 /// Options for building a world that are not part of the document.
 #[derive(Debug, Clone, PartialEq)]
 pub struct WorldOptions {
@@ -296,6 +302,10 @@ pub struct RobotWorld {
     pub(crate) fluid: Option<FluidDrag>,
     /// Fixed tendons, in document order (`tendons.rs`).
     pub(crate) tendons: Vec<TendonSlot>,
+    /// Actuators, in document order (`actuators.rs`).
+    pub(crate) actuators: Vec<ActuatorSlot>,
+    /// Each actuator's activation (0 for one without dynamics); 0 at every reset.
+    pub(crate) activations: Vec<f64>,
     /// The body pairs kept from colliding (`contact_filter.rs`).
     pub(crate) contact_filter: ContactFilter,
     /// The helper instances of fused planar roots (`build/planar.rs`).
@@ -320,61 +330,6 @@ impl Clone for HotRanges {
     fn clone(&self) -> Self {
         Self::default()
     }
-}
-
-/// The fluid and the bodies it acts on (`fluid.rs` computes the drag).
-#[derive(Debug, Clone)]
-pub(crate) struct FluidDrag {
-    pub(crate) density: Real,
-    pub(crate) viscosity: Real,
-    /// Each moving rigid group (instances welded by fixed joints), in document order of
-    /// its first instance, which carries the group's force and torque.
-    pub(crate) groups: Vec<Vec<RigidBodyHandle>>,
-}
-
-/// One fixed tendon as the world uses it (`tendons.rs`).
-#[derive(Debug, Clone)]
-pub(crate) struct TendonSlot {
-    /// (DOF index, coefficient).
-    pub(crate) dofs: Vec<(usize, f64)>,
-    pub(crate) stiffness: f64,
-    pub(crate) damping: f64,
-    /// The spring's rest length (SI).
-    pub(crate) rest: f64,
-}
-
-/// The body pairs that do not collide, each ordered by handle, sorted and deduplicated,
-/// and the collider pairs that always do, with their friction (`contact_filter.rs`: the
-/// hook and how the pairs are chosen).
-#[derive(Debug, Clone, Default)]
-pub(crate) struct ContactFilter {
-    pub(crate) excluded: std::sync::Arc<[(RigidBodyHandle, RigidBodyHandle)]>,
-    /// The document's explicit pairs, each ordered by handle and sorted, with the pair's
-    /// friction (`None`: the colliders' own).
-    pub(crate) pairs: std::sync::Arc<[ExplicitPair]>,
-}
-
-/// An explicit contact pair: its two colliders, ordered by handle, and its friction
-/// (`None`: the colliders' own).
-pub(crate) type ExplicitPair = ((ColliderHandle, ColliderHandle), Option<Real>);
-
-/// The document's values domain randomisation scales (`randomize.rs`), kept from the
-/// build.
-#[derive(Debug, Clone, Default)]
-pub(crate) struct BaseValues {
-    /// Per instance: its collider's density and friction.
-    pub(crate) density: Vec<Real>,
-    /// Per instance: its given mass properties (`inertial`), which a mass factor scales
-    /// instead of the density.
-    pub(crate) given: Vec<Option<MassProperties>>,
-    /// Per instance: its collider's exact mass properties where Rapier would weigh an
-    /// approximation (an ellipsoid's), which a mass factor scales instead of the density.
-    pub(crate) exact: Vec<Option<MassProperties>>,
-    pub(crate) friction: Vec<Real>,
-    /// Per DOF: the document's damping, and the gains resolved at build.
-    pub(crate) damping: Vec<Real>,
-    pub(crate) kp: Vec<f64>,
-    pub(crate) kd: Vec<f64>,
 }
 
 /// The solver pipeline holds only scratch buffers, so a clone starts a fresh one.
@@ -432,13 +387,16 @@ impl RobotWorld {
     /// Sets the command held until the next call: efforts in N·m/N (times each DOF's
     /// gear), or targets in deg/mm (position, as observed: with the joint's reference) or
     /// deg/s, mm/s (velocity). `values` has one entry per actuated
-    /// DOF, in DOF order; passive DOFs get no effort and no motor.
+    /// DOF, in DOF order (passive DOFs get no effort and no motor), then one control per
+    /// actuator (MuJoCo's `ctrl`, whatever the mode).
     ///
     /// The caller validates length and finiteness; this only clamps and converts.
     pub fn set_command(&mut self, mode: ActionMode, values: &[f32]) {
-        debug_assert_eq!(values.len(), self.actuated_dofs());
+        debug_assert_eq!(values.len(), self.action_dim());
         self.command.mode = mode;
-        let mut values = values.iter();
+        let direct = values.len() - self.actuators.len().min(values.len());
+        self.command.controls.copy_from_slice(&values[direct..]);
+        let mut values = values[..direct].iter();
         for (slot, dof) in self.command.values.iter_mut().zip(&self.dofs) {
             *slot = if dof.actuated {
                 let value = values.next().copied().unwrap_or(0.0);
@@ -460,6 +418,11 @@ impl RobotWorld {
         self.dofs.iter().filter(|d| d.actuated).count()
     }
 
+    /// Values per action: the actuated DOFs', then one control per actuator.
+    pub fn action_dim(&self) -> usize {
+        self.actuated_dofs() + self.actuators.len()
+    }
+
     /// Advances the world by one step of `dt`, holding the current command.
     ///
     /// The step is one Rapier pipeline step (collision detection once, then `substeps`
@@ -471,11 +434,13 @@ impl RobotWorld {
     pub fn step(&mut self) {
         self.clear_limit_impulses();
         if self.has_state_dependent_efforts() {
+            let h = f64::from(self.substep_params.dt);
             for k in 0..self.substeps {
                 self.move_mocap_bodies(self.substeps - k);
                 self.apply_efforts();
                 self.apply_fluid();
                 self.pipeline_step(true);
+                self.advance_activations(h);
             }
         } else {
             self.move_mocap_bodies(1);
@@ -562,6 +527,8 @@ impl RobotWorld {
         }
         self.command.mode = ActionMode::Torque;
         self.command.values.iter_mut().for_each(|v| *v = 0.0);
+        self.command.controls.iter_mut().for_each(|v| *v = 0.0);
+        self.activations.iter_mut().for_each(|a| *a = 0.0);
         self.configure_motors();
     }
 

@@ -200,6 +200,20 @@ pub(crate) fn joints(spec: &EnvSpec, links: &JointLinks) -> Vec<pb::JointInfo> {
     joints
 }
 
+/// The proto description of each actuator.
+pub(crate) fn actuators(spec: &EnvSpec) -> Vec<pb::ActuatorInfo> {
+    spec.actuators
+        .iter()
+        .map(|a| pb::ActuatorInfo {
+            name: a.name.clone(),
+            r#type: a.kind.clone(),
+            target: a.target.clone(),
+            ctrl_min: a.ctrl_range.map(|r| r[0]),
+            ctrl_max: a.ctrl_range.map(|r| r[1]),
+        })
+        .collect()
+}
+
 /// The proto `EnvInfo` of a created env.
 pub(crate) fn env_info(env_id: String, spec: &EnvSpec, links: &JointLinks) -> pb::EnvInfo {
     pb::EnvInfo {
@@ -218,6 +232,7 @@ pub(crate) fn env_info(env_id: String, spec: &EnvSpec, links: &JointLinks) -> pb
         free_bodies: spec.free_bodies.clone(),
         mocap_bodies: spec.mocap_bodies.clone(),
         moving_mass: spec.moving_mass,
+        actuators: actuators(spec),
     }
 }
 
@@ -251,6 +266,7 @@ pub(crate) fn batch_info(
         free_bodies: spec.free_bodies.clone(),
         mocap_bodies: spec.mocap_bodies.clone(),
         moving_mass: spec.moving_mass,
+        actuators: actuators(spec),
     }
 }
 

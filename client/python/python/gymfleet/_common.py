@@ -361,7 +361,8 @@ def action_bounds(info: Mapping[str, Any], action_type: str) -> Tuple[np.ndarray
     derives from the model: twice the effort that holds the joint's subtree against
     gravity, over the gear); the joint limits (shifted by the joint's reference, as
     positions are observed) for position; unbounded for velocity (and wherever there is no
-    bound). Passive joints take no action."""
+    bound). Passive joints take no action. Then each actuator's control (MuJoCo's ctrl,
+    whatever the action type): its ``ctrl_range``, else unbounded."""
     low: List[float] = []
     high: List[float] = []
     for joint in info["joints"]:
@@ -382,6 +383,10 @@ def action_bounds(info: Mapping[str, Any], action_type: str) -> Tuple[np.ndarray
                 hi = np.inf if limit["max"] is None else limit["max"] + reference
             low.append(lo)
             high.append(hi)
+    for actuator in info.get("actuators") or []:
+        lo, hi = actuator["ctrl_range"] or (-np.inf, np.inf)
+        low.append(lo)
+        high.append(hi)
     return np.array(low, dtype=np.float32), np.array(high, dtype=np.float32)
 
 
@@ -392,6 +397,7 @@ def dof_names(info: Mapping[str, Any]) -> List[str]:
             continue
         for k in range(joint["dof"]):
             names.append(joint["name"] if joint["dof"] == 1 else f"{joint['name']}[{k}]")
+    names.extend(actuator["name"] for actuator in info.get("actuators") or [])
     return names
 
 
@@ -415,6 +421,8 @@ class ActionMap:
                 )
             if unbounded:
                 what = "max_effort" if action_type == "torque" else "joint limits"
+                if set(unbounded) & {a["name"] for a in info.get("actuators") or []}:
+                    what += ", and an actuator's ctrl_range"
                 raise InvalidArgument(
                     f"normalize_actions: every DOF needs a finite {action_type} range, but "
                     f"{', '.join(unbounded)} has none (set {what} in the document)"

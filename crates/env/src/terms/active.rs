@@ -77,6 +77,10 @@ pub(super) enum Q {
     TendonLength(usize),
     TendonVelocity(usize),
     ActuatorForce(usize),
+    /// An actuator's force (MuJoCo's `actuator_force`).
+    Actuator(usize),
+    /// An actuator's activation.
+    Activation(usize),
     /// A component of a group's `cinert` ([`ActiveTerms::groups`]).
     BodyInertia {
         group: usize,
@@ -216,7 +220,9 @@ impl ActiveTerms {
             Q::LimitForce(k) => world.limit_force(k),
             Q::TendonLength(k) => world.tendon_state(k).0,
             Q::TendonVelocity(k) => world.tendon_state(k).1,
-            Q::ActuatorForce(k) => world.actuator_force(k),
+            Q::ActuatorForce(k) => world.dof_actuator_force(k),
+            Q::Actuator(k) => world.actuator_force(k),
+            Q::Activation(k) => world.actuator_activation(k),
             Q::BodyInertia { group, component } => {
                 now.inertia(group, &self.groups[group])[component]
             }

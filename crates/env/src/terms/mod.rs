@@ -188,11 +188,19 @@ pub struct Quantity {
     /// of the body-fixed point at the robot's centre of mass (m/s), SI in every unit system.
     #[serde(default)]
     pub body_velocity: Option<Vec<String>>,
-    /// The generalized force the torque-mode command applies to a joint's first DOF
-    /// (gear × action, clamped by `max_effort`; N or N·m in every unit system): MuJoCo's
-    /// `qfrc_actuator`; 0 for a passive joint and under position or velocity targets.
+    /// The generalized force the actions apply to a joint's first DOF (a torque-mode
+    /// value's gear × action, clamped by `max_effort`, plus every actuator's moment ×
+    /// force on it; N or N·m in every unit system): MuJoCo's `qfrc_actuator`; a direct
+    /// value under position or velocity targets counts 0.
     #[serde(default)]
     pub actuator_force: Option<String>,
+    /// An actuator's force (N or N·m at its transmission, before the gear: MuJoCo's
+    /// `actuator_force`), SI in every unit system.
+    #[serde(default)]
+    pub actuator: Option<String>,
+    /// An actuator's activation (MuJoCo's `act`; 0 for one without dynamics).
+    #[serde(default)]
+    pub actuator_activation: Option<String>,
     /// The component of a `contact_wrench` (0–2 the torque about world x, y, z; 3–5 the
     /// force), a `body_inertia` (0–9) or a `body_velocity` (0–5).
     #[serde(default)]

@@ -10,34 +10,55 @@ use gymfleet_physics::{INERTIA_LEN, VELOCITY_LEN, WRENCH_LEN};
 
 impl Context<'_> {
     pub(super) fn tendon(&self, path: &str, name: &str) -> Result<usize> {
-        let tendons = &self.assembly.tendons;
-        if let Some(k) = tendons.iter().position(|t| t.name == name) {
+        let names: Vec<&str> = self
+            .assembly
+            .tendons
+            .iter()
+            .map(|t| t.name.as_str())
+            .collect();
+        named(path, "tendon", &names, name)
+    }
+
+    pub(super) fn actuator(&self, path: &str, name: &str) -> Result<usize> {
+        let names: Vec<&str> = self
+            .assembly
+            .actuators
+            .iter()
+            .map(|a| a.name.as_str())
+            .collect();
+        named(path, "actuator", &names, name)
+    }
+}
+
+/// The index of `name` among `names` (a document's tendons or actuators), or an error
+/// that lists the first of them.
+fn named(path: &str, what: &str, names: &[&str], name: &str) -> Result<usize> {
+    {
+        if let Some(k) = names.iter().position(|t| *t == name) {
             return Ok(k);
         }
-        let names: Vec<String> = tendons
-            .iter()
-            .take(16)
-            .map(|t| format!("{:?}", t.name))
-            .collect();
-        let more = if tendons.len() > names.len() {
-            format!(" and {} more", tendons.len() - names.len())
+        let listed: Vec<String> = names.iter().take(16).map(|t| format!("{t:?}")).collect();
+        let more = if names.len() > listed.len() {
+            format!(" and {} more", names.len() - listed.len())
         } else {
             String::new()
         };
         let name: String = name.chars().take(64).collect();
         Err(bad(
             path,
-            if tendons.is_empty() {
-                format!("unknown tendon {name:?} (the document has no tendons)")
+            if names.is_empty() {
+                format!("unknown {what} {name:?} (the document has no {what}s)")
             } else {
                 format!(
-                    "unknown tendon {name:?} (tendons: {}{more})",
-                    names.join(", ")
+                    "unknown {what} {name:?} ({what}s: {}{more})",
+                    listed.join(", ")
                 )
             },
         ))
     }
+}
 
+impl Context<'_> {
     pub(super) fn joint(&self, path: &str, name: &str) -> Result<usize> {
         if let Some(k) = self.dofs.iter().position(|d| d.joint_name == name) {
             return Ok(k);
@@ -134,6 +155,8 @@ impl Context<'_> {
             q.tendon_length.is_some(),
             q.tendon_velocity.is_some(),
             q.actuator_force.is_some(),
+            q.actuator.is_some(),
+            q.actuator_activation.is_some(),
             q.contact_wrench.is_some(),
             q.body_inertia.is_some(),
             q.body_velocity.is_some(),
@@ -145,8 +168,8 @@ impl Context<'_> {
             return Err(bad(
                 path,
                 "expected exactly one of joint, joint_velocity, joint_limit_force, \
-                 tendon_length, tendon_velocity, actuator_force, contact_wrench, body_inertia, \
-                 body_velocity (the last three with a component), instance, site or \
+                 tendon_length, tendon_velocity, actuator_force, actuator, actuator_activation, \
+                 contact_wrench, body_inertia, body_velocity (the last three with a component), instance, site or \
                  center_of_mass (the last three with an axis)",
             ));
         }
@@ -209,6 +232,18 @@ impl Context<'_> {
             no_geometry("actuator force")?;
             return Ok(Q::ActuatorForce(
                 self.joint(&format!("{path}.actuator_force"), name)?,
+            ));
+        }
+        if let Some(name) = &q.actuator {
+            no_geometry("named actuator's force")?;
+            return Ok(Q::Actuator(
+                self.actuator(&format!("{path}.actuator"), name)?,
+            ));
+        }
+        if let Some(name) = &q.actuator_activation {
+            no_geometry("named actuator's activation")?;
+            return Ok(Q::Activation(
+                self.actuator(&format!("{path}.actuator_activation"), name)?,
             ));
         }
         for (field, names, len, what) in [

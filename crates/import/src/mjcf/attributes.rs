@@ -210,11 +210,15 @@ impl<'a, 'i> Converter<'a, 'i> {
         let mut class = Class {
             parent: parent.map(str::to_string),
             attributes: HashMap::new(),
+            actuator_tags: Vec::new(),
         };
         for child in elements(node) {
             let tag = child.tag_name().name();
             if tag == "default" {
                 continue;
+            }
+            if actuators::is_actuator(tag) && !class.actuator_tags.contains(&tag) {
+                class.actuator_tags.push(tag);
             }
             let map = class.attributes.entry(tag).or_default();
             for a in child.attributes() {

@@ -135,6 +135,9 @@ enum InertiaFromGeom {
 struct Class<'a> {
     parent: Option<String>,
     attributes: HashMap<&'a str, HashMap<&'a str, &'a str>>,
+    /// The actuator elements it sets (`<motor>`, `<position>`, …), in order: MuJoCo
+    /// keeps one actuator default per class, which each of them writes into.
+    actuator_tags: Vec<&'a str>,
 }
 
 /// What `<option><flag>` switches off, honoured in the conversion.
@@ -148,7 +151,8 @@ struct SwitchedOff {
     equalities: bool,
 }
 
-/// A motor's effect on its joint.
+/// A motor's effect on its joint, when the actuators are plain joint motors in the joints'
+/// order (actions are then the joints' own, `actuators.rs`).
 #[derive(Debug, Clone, Copy)]
 struct Motor {
     /// Effort bound, N·m or N, if the motor bounds it.
@@ -157,8 +161,6 @@ struct Motor {
     gear: f64,
     /// The motor's position among the actuators.
     order: usize,
-    /// Its line.
-    line: u32,
 }
 
 struct Converter<'a, 'i> {
@@ -168,6 +170,8 @@ struct Converter<'a, 'i> {
     classes: HashMap<String, Class<'a>>,
     warnings: Warnings,
     motors: HashMap<String, Motor>,
+    /// Every `<actuator>` element in the general form, in order (`actuators.rs`).
+    actuator_list: Vec<actuators::Parsed>,
     parts: Vec<PartDef>,
     materials: BTreeMap<String, MaterialDef>,
     /// The document's `simulation` (gravity, dt, fluid) from `<option>`.
@@ -238,6 +242,7 @@ impl<'a, 'i> Converter<'a, 'i> {
             classes: HashMap::new(),
             warnings: Warnings::default(),
             motors: HashMap::new(),
+            actuator_list: Vec::new(),
             parts: Vec::new(),
             materials: BTreeMap::new(),
             simulation: SimulationDef {
@@ -294,40 +299,7 @@ impl<'a, 'i> Converter<'a, 'i> {
     }
 
     fn finish(mut self) -> Result<Converted> {
-        // Motors name joints that exist.
-        let known: HashSet<&String> = self.moving_joints.iter().collect();
-        let mut unknown: Vec<(&String, &Motor)> = self
-            .motors
-            .iter()
-            .filter(|(j, _)| !known.contains(j))
-            .collect();
-        unknown.sort_by_key(|(_, m)| m.order);
-        if let Some((j, m)) = unknown.first() {
-            return Err(ImportError::BadAttribute {
-                element: "motor".into(),
-                attribute: "joint".into(),
-                line: m.line,
-                reason: format!("no hinge, slide or ball joint is named {j:?}"),
-            });
-        }
-        // Actions follow the joints' order; say so when the actuators are in another.
-        let mut by_actuator: Vec<(&String, usize)> = self
-            .moving_joints
-            .iter()
-            .filter_map(|j| self.motors.get(j).map(|m| (j, m.order)))
-            .collect();
-        let tree_order: Vec<&String> = by_actuator.iter().map(|(j, _)| *j).collect();
-        by_actuator.sort_by_key(|(_, o)| *o);
-        if by_actuator.iter().map(|(j, _)| *j).collect::<Vec<_>>() != tree_order {
-            self.warnings.push(format!(
-                "actions follow the joints' order ({}), not the actuators' order",
-                tree_order
-                    .iter()
-                    .map(|j| j.as_str())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ));
-        }
+        let actuators = self.actuator_defs()?;
         // `<flag contact="disable">`: nothing collides.
         if self.switched_off.contacts {
             for instance in &mut self.instances {
@@ -366,6 +338,7 @@ impl<'a, 'i> Converter<'a, 'i> {
                 sites: self.sites,
                 tendons,
                 contacts,
+                actuators,
             },
             simulation,
             floating_base: self.floating.is_some().then_some(true),

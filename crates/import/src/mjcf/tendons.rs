@@ -8,7 +8,7 @@ use super::*;
 /// A fixed tendon as read, its joints by their MJCF names (resolved in `finish`).
 #[derive(Debug)]
 pub(super) struct FixedTendon {
-    name: String,
+    pub(super) name: String,
     /// (joint name, coefficient, the `<joint>`'s line).
     joints: Vec<(String, f64, u32)>,
     stiffness: f64,

@@ -44,6 +44,13 @@ async fn a_floating_base_is_observed_by_every_tool() {
         .await;
     assert_eq!(created["action_dim"], 8, "{created}");
     assert_eq!(created["observation_dim"], 29, "{created}");
+    // Its motors are not in joint order: they are actuators, MuJoCo's ctrl in order.
+    assert_eq!(
+        created["actuators"][0],
+        json!({"name": "actuator0", "type": "general", "target": "hip_4", "ctrl_range": [-1.0, 1.0]}),
+        "{created}"
+    );
+    assert_eq!(created["actuators"].as_array().map(Vec::len), Some(8));
     let env_id = created["env_id"].clone();
     let observed = adapter.ok("gym_observe", json!({"env_id": env_id})).await;
     assert_eq!(

@@ -96,21 +96,18 @@ class _Setup:
             )
         return dofs, base
 
-    def action_order(self, info: Dict[str, Any], space: spaces.Box) -> Tuple[Optional[np.ndarray], spaces.Box]:
-        """Gymnasium's actions are MuJoCo's ctrl, in actuator order; the server's are in
-        joint order. Returns where each actuator's value goes in the server's action
-        (``None`` when the orders agree) and the action space in actuator order."""
-        actuated = [j["name"] for j in info["joints"] if j.get("actuated", True)]
-        if sorted(actuated) != sorted(self.model.actuators):
+    def check_actions(self, info: Dict[str, Any]) -> None:
+        """Gymnasium's actions are MuJoCo's ctrl, in actuator order, and so are the
+        server's for a converted MJCF (its actuated joints when its motors are in joint
+        order, else its actuators): checks that the server's action drives MuJoCo's
+        actuators' joints, in that order."""
+        driven = [j["name"] for j in info["joints"] if j.get("actuated", True)]
+        driven += [a["target"] for a in info.get("actuators") or []]
+        if driven != self.model.actuators:
             raise InvalidArgument(
                 f"{self.suite.id}: {self.model.path}'s actuators drive {self.model.actuators}; "
-                f"the converted robot's actuated joints are {actuated}"
+                f"the converted robot's actions drive {driven}"
             )
-        order = np.array([actuated.index(j) for j in self.model.actuators], dtype=np.intp)
-        if (order == np.arange(len(order))).all():
-            return None, space
-        low, high = space.low[order], space.high[order]
-        return order, spaces.Box(low, high, dtype=space.dtype)
 
     def split(self, raw: np.ndarray) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
         """MuJoCo's qpos and qvel and the end effectors' positions of raw rows (after
@@ -168,18 +165,6 @@ def _reset_values(plan: Plan, q: np.ndarray, v: np.ndarray) -> Dict[str, np.ndar
 def _step_values(plan: Plan, q: np.ndarray, v: np.ndarray, terms: Terms) -> Dict[str, np.ndarray]:
     q64, v64 = q.astype(np.float64), v.astype(np.float64)
     return {**plan.step_info(q64, terms), **plan.tendon_info(q64, v64)}
-
-
-def _in_joint_order(action: Any, order: Optional[np.ndarray]) -> Any:
-    """Actions in MuJoCo's actuator order (last axis) into the server's joint order."""
-    if order is None:
-        return action
-    given = np.asarray(action, dtype=np.float32)
-    if given.ndim == 0 or given.shape[-1] != len(order):
-        return action  # the server says what is wrong with it
-    out = np.empty_like(given)
-    out[..., order] = given
-    return out
 
 
 def segments(layout: Sequence[Tuple[str, int]]) -> Dict[str, slice]:
@@ -245,7 +230,8 @@ class SuiteEnv(gym.Env):
         self.render_mode = setup.kw["render_mode"]
         self.frame_skip = setup.frame_skip
         self.dt = setup.dt
-        self._order, self.action_space = setup.action_order(self._env.env_info, self._env.action_space)
+        setup.check_actions(self._env.env_info)
+        self.action_space = self._env.action_space
         self.observation_space = setup.observation_space()
         self.metadata = {**type(self).metadata, "render_fps": int(np.round(1.0 / self.dt))}
 
@@ -266,7 +252,7 @@ class SuiteEnv(gym.Env):
         return self._setup.plan.observe(q, v, ee, terms)[0].astype(np.float32), info
 
     def step(self, action: Any) -> Tuple[np.ndarray, float, bool, bool, Dict[str, Any]]:
-        raw, reward, terminated, truncated, raw_info = self._env.step(_in_joint_order(action, self._order))
+        raw, reward, terminated, truncated, raw_info = self._env.step(action)
         q, v, ee = self._setup.split(raw[None, :])
         terms = {
             name: np.array([raw_info[name]], dtype=np.float64)
@@ -326,9 +312,8 @@ class SuiteVectorEnv(VectorEnv):
             "render_fps": int(np.round(1.0 / self.dt)),
             "autoreset_mode": self._envs.metadata["autoreset_mode"],
         }
-        self._order, self.single_action_space = setup.action_order(
-            self._envs.batch_info, self._envs.single_action_space
-        )
+        setup.check_actions(self._envs.batch_info)
+        self.single_action_space = self._envs.single_action_space
         self.single_observation_space = setup.observation_space()
         self.action_space = batch_space(self.single_action_space, self.num_envs)
         self.observation_space = batch_space(self.single_observation_space, self.num_envs)
@@ -375,9 +360,7 @@ class SuiteVectorEnv(VectorEnv):
     def step(
         self, actions: Any
     ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
-        raw, rewards, terminated, truncated, raw_infos = self._envs.step(
-            _in_joint_order(actions, self._order)
-        )
+        raw, rewards, terminated, truncated, raw_infos = self._envs.step(actions)
         names = self._envs.batch_info["term_names"]
         terms = {name: raw_infos[name] for name in names}  # float64 arrays (`vector.py`)
         # The step's values come from the rows the step produced; with same-step autoreset

@@ -37,7 +37,7 @@ import type { Message } from "@bufbuild/protobuf";
  * Describes the file gymfleet/v1/simulator.proto.
  */
 export const file_gymfleet_v1_simulator: GenFile = /*@__PURE__*/
-  fileDesc("ChtneW1mbGVldC92MS9zaW11bGF0b3IucHJvdG8SC2d5bWZsZWV0LnYxIiEKB1BkR2FpbnMSCgoCa3AYASADKAESCgoCa2QYAiADKAEiTAoIRG9mTGltaXQSDAoEdW5pdBgBIAEoCRIQCgNtaW4YAiABKAFIAIgBARIQCgNtYXgYAyABKAFIAYgBAUIGCgRfbWluQgYKBF9tYXgi7AEKCUpvaW50SW5mbxIMCgRuYW1lGAEgASgJEgwKBHR5cGUYAiABKAkSCwoDZG9mGAMgASgNEiUKBmxpbWl0cxgEIAMoCzIVLmd5bWZsZWV0LnYxLkRvZkxpbWl0Eg4KBnBhcmVudBgFIAEoCRINCgVjaGlsZBgGIAEoCRIXCgptYXhfZWZmb3J0GAcgASgBSACIAQESEAoIYWN0dWF0ZWQYCCABKAgSDAoEZ2VhchgJIAEoARIRCglyZWZlcmVuY2UYCiABKAESFQoNYWN0aW9uX2JvdW5kcxgLIAMoAUINCgtfbWF4X2VmZm9ydCIYCgZFbnZSZWYSDgoGZW52X2lkGAEgASgJIhwKCEJhdGNoUmVmEhAKCGJhdGNoX2lkGAEgASgJIrgDChBDcmVhdGVFbnZSZXF1ZXN0EhUKDWRvY3VtZW50X2pzb24YASABKAkSGAoQZW5kX2VmZmVjdG9yX2lkcxgCIAMoCRIKCgJkdBgDIAEoARIQCghzdWJzdGVwcxgEIAEoDRIRCgltYXhfc3RlcHMYBSABKA0SEQoEc2VlZBgGIAEoBEgAiAEBEiYKCHBkX2dhaW5zGAcgASgLMhQuZ3ltZmxlZXQudjEuUGRHYWlucxIYCgtyZXNldF9ub2lzZRgIIAEoAUgBiAEBEh8KBHRhc2sYCSABKAsyES5neW1mbGVldC52MS5UYXNrEi0KCXJhbmRvbWl6ZRgKIAEoCzIaLmd5bWZsZWV0LnYxLlJhbmRvbWl6YXRpb24SKwoGZm9ybWF0GAsgASgOMhsuZ3ltZmxlZXQudjEuRG9jdW1lbnRGb3JtYXQSDQoFbW9kZWwYDCABKAkSDgoGYXNzZXRzGA0gASgMEiEKBXVuaXRzGA4gASgOMhIuZ3ltZmxlZXQudjEuVW5pdHMSFQoNZG9jdW1lbnRfcGF0aBgPIAEoCUIHCgVfc2VlZEIOCgxfcmVzZXRfbm9pc2UiIQoFUmFuZ2USCwoDbWluGAEgASgBEgsKA21heBgCIAEoASK2AQoNUmFuZG9taXphdGlvbhImCgptYXNzX3NjYWxlGAEgASgLMhIuZ3ltZmxlZXQudjEuUmFuZ2USKgoOZnJpY3Rpb25fc2NhbGUYAiABKAsyEi5neW1mbGVldC52MS5SYW5nZRIpCg1kYW1waW5nX3NjYWxlGAMgASgLMhIuZ3ltZmxlZXQudjEuUmFuZ2USJgoKZ2Fpbl9zY2FsZRgEIAEoCzISLmd5bWZsZWV0LnYxLlJhbmdlIksKFFJhbmRvbWl6YXRpb25SZXF1ZXN0Eg4KBmVudl9pZBgBIAEoCRIQCghiYXRjaF9pZBgCIAEoCRIRCgllbnZfaW5kZXgYAyABKA0iSAoMSW5zdGFuY2VEcmF3EgwKBG5hbWUYASABKAkSEgoKbWFzc19zY2FsZRgCIAEoARIWCg5mcmljdGlvbl9zY2FsZRgDIAEoASJECglKb2ludERyYXcSDAoEbmFtZRgBIAEoCRIVCg1kYW1waW5nX3NjYWxlGAIgASgBEhIKCmdhaW5fc2NhbGUYAyABKAEiagoSUmFuZG9taXphdGlvbkRyYXdzEiwKCWluc3RhbmNlcxgBIAMoCzIZLmd5bWZsZWV0LnYxLkluc3RhbmNlRHJhdxImCgZqb2ludHMYAiADKAsyFi5neW1mbGVldC52MS5Kb2ludERyYXciJwoEVmVjMxIJCgF4GAEgASgBEgkKAXkYAiABKAESCQoBehgDIAEoASJGCgRCb3gzEh4KA21pbhgBIAEoCzIRLmd5bWZsZWV0LnYxLlZlYzMSHgoDbWF4GAIgASgLMhEuZ3ltZmxlZXQudjEuVmVjMyLDAQoJUmVhY2hUYXNrEhQKDGVuZF9lZmZlY3RvchgBIAEoCRIgCgVwb2ludBgCIAEoCzIRLmd5bWZsZWV0LnYxLlZlYzMSIQoGdGFyZ2V0GAMgASgLMhEuZ3ltZmxlZXQudjEuVmVjMxIlCgp0YXJnZXRfYm94GAQgASgLMhEuZ3ltZmxlZXQudjEuQm94MxIWCg5zdWNjZXNzX3JhZGl1cxgFIAEoARIcChR0ZXJtaW5hdGVfb25fc3VjY2VzcxgGIAEoCCJNCglUcmFja1Rhc2sSDwoHdGFyZ2V0cxgBIAMoARIRCgl0b2xlcmFuY2UYAiABKAESHAoUdGVybWluYXRlX29uX3N1Y2Nlc3MYAyABKAgiVgoLVXByaWdodFRhc2sSEAoIaW5zdGFuY2UYASABKAkSHwoEYXhpcxgCIAEoCzIRLmd5bWZsZWV0LnYxLlZlYzMSFAoMbWF4X3RpbHRfZGVnGAMgASgBIhkKCVRlcm1zVGFzaxIMCgRqc29uGAEgASgJIssBCgRUYXNrEicKBXJlYWNoGAEgASgLMhYuZ3ltZmxlZXQudjEuUmVhY2hUYXNrSAASJwoFdHJhY2sYAiABKAsyFi5neW1mbGVldC52MS5UcmFja1Rhc2tIABIrCgd1cHJpZ2h0GAMgASgLMhguZ3ltZmxlZXQudjEuVXByaWdodFRhc2tIABInCgV0ZXJtcxgFIAEoCzIWLmd5bWZsZWV0LnYxLlRlcm1zVGFza0gAEhMKC2FjdGlvbl9jb3N0GAQgASgCQgYKBGtpbmQiMAoST2JzZXJ2YXRpb25TZWdtZW50EgwKBG5hbWUYASABKAkSDAoEc2l6ZRgCIAEoDSKBAwoHRW52SW5mbxIOCgZlbnZfaWQYASABKAkSEgoKbnVtX2pvaW50cxgCIAEoDRISCgphY3Rpb25fZGltGAMgASgNEhcKD29ic2VydmF0aW9uX2RpbRgEIAEoDRIYChBlbmRfZWZmZWN0b3JfaWRzGAUgAygJEgoKAmR0GAYgASgBEhAKCHN1YnN0ZXBzGAcgASgNEhEKCW1heF9zdGVwcxgIIAEoDRImCgZqb2ludHMYCSADKAsyFi5neW1mbGVldC52MS5Kb2ludEluZm8SOwoSb2JzZXJ2YXRpb25fbGF5b3V0GAogAygLMh8uZ3ltZmxlZXQudjEuT2JzZXJ2YXRpb25TZWdtZW50EiEKBXVuaXRzGAsgASgOMhIuZ3ltZmxlZXQudjEuVW5pdHMSEgoKdGVybV9uYW1lcxgMIAMoCRITCgtmcmVlX2JvZGllcxgNIAMoCRIUCgxtb2NhcF9ib2RpZXMYDiADKAkSEwoLbW92aW5nX21hc3MYDyABKAEiOgoMUmVzZXRSZXF1ZXN0Eg4KBmVudl9pZBgBIAEoCRIRCgRzZWVkGAIgASgESACIAQFCBwoFX3NlZWQi1wEKC09ic2VydmF0aW9uEhcKD2pvaW50X3Bvc2l0aW9ucxgBIAMoAhIYChBqb2ludF92ZWxvY2l0aWVzGAIgAygCEhoKEmVuZF9lZmZlY3Rvcl9wb3NlcxgDIAMoAhIYChB0YXNrX29ic2VydmF0aW9uGAQgAygCEhEKCWJhc2VfcG9zZRgFIAMoAhIVCg1iYXNlX3ZlbG9jaXR5GAYgAygCEhcKD2ZyZWVfYm9keV9wb3NlcxgHIAMoAhIcChRmcmVlX2JvZHlfdmVsb2NpdGllcxgIIAMoAiJwCgtTdGVwUmVxdWVzdBIOCgZlbnZfaWQYASABKAkSLAoLYWN0aW9uX3R5cGUYAiABKA4yFy5neW1mbGVldC52MS5BY3Rpb25UeXBlEg4KBnZhbHVlcxgDIAMoAhITCgttb2NhcF9wb3NlcxgEIAMoAiJBChNTZXRNb2NhcFBvc2VSZXF1ZXN0Eg4KBmVudl9pZBgBIAEoCRIMCgRib2R5GAIgASgJEgwKBHBvc2UYAyADKAIiFgoUU2V0TW9jYXBQb3NlUmVzcG9uc2Ui3QEKClN0ZXBSZXN1bHQSLQoLb2JzZXJ2YXRpb24YASABKAsyGC5neW1mbGVldC52MS5PYnNlcnZhdGlvbhIOCgZyZXdhcmQYAiABKAISEgoKdGVybWluYXRlZBgDIAEoCBIRCgl0cnVuY2F0ZWQYBCABKAgSDAoEZG9uZRgFIAEoCBIfChJ0ZXJtaW5hdGlvbl9yZWFzb24YBiABKAlIAIgBARIUCgxlcGlzb2RlX3N0ZXAYByABKA0SDQoFdGVybXMYCCADKAJCFQoTX3Rlcm1pbmF0aW9uX3JlYXNvbiISChBDbG9zZUVudlJlc3BvbnNlIooEChJDcmVhdGVCYXRjaFJlcXVlc3QSFQoNZG9jdW1lbnRfanNvbhgBIAEoCRIYChBlbmRfZWZmZWN0b3JfaWRzGAIgAygJEgoKAmR0GAMgASgBEhAKCHN1YnN0ZXBzGAQgASgNEhEKCW1heF9zdGVwcxgFIAEoDRIRCgRzZWVkGAYgASgESACIAQESJgoIcGRfZ2FpbnMYByABKAsyFC5neW1mbGVldC52MS5QZEdhaW5zEhgKC3Jlc2V0X25vaXNlGAggASgBSAGIAQESDgoGbl9lbnZzGAkgASgNEikKCWF1dG9yZXNldBgKIAEoDjIWLmd5bWZsZWV0LnYxLkF1dG9yZXNldBITCgtzZWVkX29mZnNldBgLIAEoBBIfCgR0YXNrGAwgASgLMhEuZ3ltZmxlZXQudjEuVGFzaxItCglyYW5kb21pemUYDSABKAsyGi5neW1mbGVldC52MS5SYW5kb21pemF0aW9uEisKBmZvcm1hdBgOIAEoDjIbLmd5bWZsZWV0LnYxLkRvY3VtZW50Rm9ybWF0Eg0KBW1vZGVsGA8gASgJEg4KBmFzc2V0cxgQIAEoDBIhCgV1bml0cxgRIAEoDjISLmd5bWZsZWV0LnYxLlVuaXRzEhUKDWRvY3VtZW50X3BhdGgYEiABKAlCBwoFX3NlZWRCDgoMX3Jlc2V0X25vaXNlIsADCglCYXRjaEluZm8SEAoIYmF0Y2hfaWQYASABKAkSDgoGbl9lbnZzGAIgASgNEhIKCmFjdGlvbl9kaW0YAyABKA0SFwoPb2JzZXJ2YXRpb25fZGltGAQgASgNEhIKCm51bV9qb2ludHMYBSABKA0SGAoQZW5kX2VmZmVjdG9yX2lkcxgGIAMoCRIKCgJkdBgHIAEoARIQCghzdWJzdGVwcxgIIAEoDRIRCgltYXhfc3RlcHMYCSABKA0SKQoJYXV0b3Jlc2V0GAogASgOMhYuZ3ltZmxlZXQudjEuQXV0b3Jlc2V0EiYKBmpvaW50cxgLIAMoCzIWLmd5bWZsZWV0LnYxLkpvaW50SW5mbxI7ChJvYnNlcnZhdGlvbl9sYXlvdXQYDCADKAsyHy5neW1mbGVldC52MS5PYnNlcnZhdGlvblNlZ21lbnQSIQoFdW5pdHMYDSABKA4yEi5neW1mbGVldC52MS5Vbml0cxISCgp0ZXJtX25hbWVzGA4gAygJEhMKC2ZyZWVfYm9kaWVzGA8gAygJEhQKDG1vY2FwX2JvZGllcxgQIAMoCRITCgttb3ZpbmdfbWFzcxgRIAEoASJrChFSZXNldEJhdGNoUmVxdWVzdBIQCghiYXRjaF9pZBgBIAEoCRIRCgRzZWVkGAIgASgESACIAQESEwoLc2VlZF9vZmZzZXQYAyABKAQSEwoLZW52X2luZGljZXMYBCADKA1CBwoFX3NlZWQieAoQU3RlcEJhdGNoUmVxdWVzdBIQCghiYXRjaF9pZBgBIAEoCRIsCgthY3Rpb25fdHlwZRgCIAEoDjIXLmd5bWZsZWV0LnYxLkFjdGlvblR5cGUSDwoHYWN0aW9ucxgDIAMoAhITCgttb2NhcF9wb3NlcxgEIAMoAiLZAgoPQmF0Y2hTdGVwUmVzdWx0EhAKCGJhdGNoX2lkGAEgASgJEhIKCnN0ZXBfaW5kZXgYAiABKAQSFAoMb2JzZXJ2YXRpb25zGAMgAygCEg8KB3Jld2FyZHMYBCADKAISEgoKdGVybWluYXRlZBgFIAMoCBIRCgl0cnVuY2F0ZWQYBiADKAgSGQoRZmluYWxfZW52X2luZGljZXMYByADKA0SGgoSZmluYWxfb2JzZXJ2YXRpb25zGAggAygCElEKE3Rlcm1pbmF0aW9uX3JlYXNvbnMYCSADKAsyNC5neW1mbGVldC52MS5CYXRjaFN0ZXBSZXN1bHQuVGVybWluYXRpb25SZWFzb25zRW50cnkSDQoFdGVybXMYCiADKAIaOQoXVGVybWluYXRpb25SZWFzb25zRW50cnkSCwoDa2V5GAEgASgNEg0KBXZhbHVlGAIgASgJOgI4ASJjChBCYXRjaE9ic2VydmF0aW9uEhAKCGJhdGNoX2lkGAEgASgJEg4KBm5fZW52cxgCIAEoDRIXCg9vYnNlcnZhdGlvbl9kaW0YAyABKA0SFAoMb2JzZXJ2YXRpb25zGAQgAygCIhQKEkNsb3NlQmF0Y2hSZXNwb25zZSIWChRHZXRTZXJ2ZXJJbmZvUmVxdWVzdCKRAgoMU2VydmVyTGltaXRzEhAKCG1heF9lbnZzGAEgASgEEhYKDm1heF9iYXRjaF9zaXplGAIgASgEEhoKEm1heF9kb2N1bWVudF9ieXRlcxgDIAEoBBIZChFtYXhfbWVzc2FnZV9ieXRlcxgEIAEoBBIYChBpZGxlX3R0bF9zZWNvbmRzGAUgASgEEhUKDW1heF9pbnN0YW5jZXMYBiABKAQSEgoKbWF4X2pvaW50cxgHIAEoBBIQCghtYXhfZG9mcxgIIAEoBBIZChFtYXhfZW5kX2VmZmVjdG9ycxgJIAEoBBIXCg90ZW5hbnRfbWF4X2VudnMYCiABKAQSFQoNbWF4X3N0ZXBfd29yaxgLIAEoBCLIAQoKU2VydmVySW5mbxIPCgd2ZXJzaW9uGAEgASgJEg8KB3RocmVhZHMYAiABKA0SDAoEZW52cxgDIAEoBBIPCgdiYXRjaGVzGAQgASgEEhIKCmJhdGNoX2VudnMYBSABKAQSKQoGbGltaXRzGAYgASgLMhkuZ3ltZmxlZXQudjEuU2VydmVyTGltaXRzEg4KBnRlbmFudBgHIAEoCRIVCg1hdXRoX3JlcXVpcmVkGAggASgIEhMKC2luc3RhbmNlX2lkGAkgASgJIroBCgZDYW1lcmESKQoGcHJlc2V0GAEgASgOMhkuZ3ltZmxlZXQudjEuQ2FtZXJhUHJlc2V0EiMKA2V5ZRgCIAEoCzIRLmd5bWZsZWV0LnYxLlZlYzNIAIgBARImCgZ0YXJnZXQYAyABKAsyES5neW1mbGVldC52MS5WZWMzSAGIAQESDwoHZm92X2RlZxgEIAEoAhIUCgxvcnRob2dyYXBoaWMYBSABKAhCBgoEX2V5ZUIJCgdfdGFyZ2V0IogBCg1SZW5kZXJSZXF1ZXN0Eg4KBmVudl9pZBgBIAEoCRIQCghiYXRjaF9pZBgCIAEoCRIRCgllbnZfaW5kZXgYAyABKA0SIwoGY2FtZXJhGAQgASgLMhMuZ3ltZmxlZXQudjEuQ2FtZXJhEg0KBXdpZHRoGAUgASgNEg4KBmhlaWdodBgGIAEoDSJZCgVJbWFnZRILCgNwbmcYASABKAwSDQoFd2lkdGgYAiABKA0SDgoGaGVpZ2h0GAMgASgNEhMKC2Rlc2NyaXB0aW9uGAQgASgJEg8KB2dyaWRfbW0YBSABKAIi4gEKClNjZW5lU2hhcGUSLQoQYm94X2hhbGZfZXh0ZW50cxgBIAEoCzIRLmd5bWZsZWV0LnYxLlZlYzNIABIuCghjeWxpbmRlchgCIAEoCzIaLmd5bWZsZWV0LnYxLlNjZW5lQ3lsaW5kZXJIABIXCg1zcGhlcmVfcmFkaXVzGAMgASgBSAASLAoHY2Fwc3VsZRgEIAEoCzIZLmd5bWZsZWV0LnYxLlNjZW5lQ2Fwc3VsZUgAEiYKBG1lc2gYBSABKAsyFi5neW1mbGVldC52MS5TY2VuZU1lc2hIAEIGCgRraW5kIjAKCVNjZW5lTWVzaBIQCgh2ZXJ0aWNlcxgBIAMoAhIRCgl0cmlhbmdsZXMYAiADKA0iNAoMU2NlbmVDYXBzdWxlEg4KBnJhZGl1cxgBIAEoARIUCgxoYWxmX3NlZ21lbnQYAiABKAEiNAoNU2NlbmVDeWxpbmRlchIOCgZyYWRpdXMYASABKAESEwoLaGFsZl9oZWlnaHQYAiABKAEiYAoJU2NlbmVQb3NlEiMKCHBvc2l0aW9uGAEgASgLMhEuZ3ltZmxlZXQudjEuVmVjMxIKCgJxdxgCIAEoARIKCgJxeBgDIAEoARIKCgJxeRgEIAEoARIKCgJxehgFIAEoASJnCglTY2VuZUJvZHkSDAoEbmFtZRgBIAEoCRImCgVzaGFwZRgCIAEoCzIXLmd5bWZsZWV0LnYxLlNjZW5lU2hhcGUSJAoEcG9zZRgDIAEoCzIWLmd5bWZsZWV0LnYxLlNjZW5lUG9zZSJQCgpTY2VuZUpvaW50EiEKBmFuY2hvchgBIAEoCzIRLmd5bWZsZWV0LnYxLlZlYzMSHwoEYXhpcxgCIAEoCzIRLmd5bWZsZWV0LnYxLlZlYzMitQEKBVNjZW5lEiYKBmJvZGllcxgBIAMoCzIWLmd5bWZsZWV0LnYxLlNjZW5lQm9keRInCgZqb2ludHMYAiADKAsyFy5neW1mbGVldC52MS5TY2VuZUpvaW50EigKDWVuZF9lZmZlY3RvcnMYAyADKAsyES5neW1mbGVldC52MS5WZWMzEiYKBnRhcmdldBgEIAEoCzIRLmd5bWZsZWV0LnYxLlZlYzNIAIgBAUIJCgdfdGFyZ2V0IhkKCEVudlN0YXRlEg0KBXN0YXRlGAEgASgMIjEKEExvYWRTdGF0ZVJlcXVlc3QSDgoGZW52X2lkGAEgASgJEg0KBXN0YXRlGAIgASgMIjoKEUJhdGNoU3RhdGVSZXF1ZXN0EhAKCGJhdGNoX2lkGAEgASgJEhMKC2Vudl9pbmRpY2VzGAIgAygNIhwKCkJhdGNoU3RhdGUSDgoGc3RhdGVzGAEgAygMIk4KFUxvYWRCYXRjaFN0YXRlUmVxdWVzdBIQCghiYXRjaF9pZBgBIAEoCRITCgtlbnZfaW5kaWNlcxgCIAMoDRIOCgZzdGF0ZXMYAyADKAwiVwoLRm9ya1JlcXVlc3QSDQoFc3RhdGUYASABKAwSDgoGbl9lbnZzGAIgASgNEikKCWF1dG9yZXNldBgDIAEoDjIWLmd5bWZsZWV0LnYxLkF1dG9yZXNldCKDAQoWQ29udmVydERvY3VtZW50UmVxdWVzdBIVCg1kb2N1bWVudF9qc29uGAEgASgJEisKBmZvcm1hdBgCIAEoDjIbLmd5bWZsZWV0LnYxLkRvY3VtZW50Rm9ybWF0Eg4KBmFzc2V0cxgDIAEoDBIVCg1kb2N1bWVudF9wYXRoGAQgASgJImkKEUNvbnZlcnRlZERvY3VtZW50EhUKDWRvY3VtZW50X2pzb24YASABKAkSEAoId2FybmluZ3MYAiADKAkSKwoGZm9ybWF0GAMgASgOMhsuZ3ltZmxlZXQudjEuRG9jdW1lbnRGb3JtYXQiEwoRTGlzdE1vZGVsc1JlcXVlc3QiaAoJTW9kZWxJbmZvEgwKBG5hbWUYASABKAkSKwoGZm9ybWF0GAIgASgOMhsuZ3ltZmxlZXQudjEuRG9jdW1lbnRGb3JtYXQSDAoEZG9mcxgDIAEoDRISCgphY3Rpb25fZGltGAQgASgNIjMKCU1vZGVsTGlzdBImCgZtb2RlbHMYASADKAsyFi5neW1mbGVldC52MS5Nb2RlbEluZm8qdQoKQWN0aW9uVHlwZRIbChdBQ1RJT05fVFlQRV9VTlNQRUNJRklFRBAAEhYKEkFDVElPTl9UWVBFX1RPUlFVRRABEhgKFEFDVElPTl9UWVBFX1BPU0lUSU9OEAISGAoUQUNUSU9OX1RZUEVfVkVMT0NJVFkQAypVCglBdXRvcmVzZXQSFgoSQVVUT1JFU0VUX0RJU0FCTEVEEAASFwoTQVVUT1JFU0VUX1NBTUVfU1RFUBABEhcKE0FVVE9SRVNFVF9ORVhUX1NURVAQAiopCgVVbml0cxISCg5VTklUU19ET0NVTUVOVBAAEgwKCFVOSVRTX1NJEAEqfwoORG9jdW1lbnRGb3JtYXQSHwobRE9DVU1FTlRfRk9STUFUX1VOU1BFQ0lGSUVEEAASGAoURE9DVU1FTlRfRk9STUFUX0pTT04QARIYChRET0NVTUVOVF9GT1JNQVRfVVJERhACEhgKFERPQ1VNRU5UX0ZPUk1BVF9NSkNGEAMqjAEKDENhbWVyYVByZXNldBIdChlDQU1FUkFfUFJFU0VUX1VOU1BFQ0lGSUVEEAASFQoRQ0FNRVJBX1BSRVNFVF9JU08QARIXChNDQU1FUkFfUFJFU0VUX0ZST05UEAISFgoSQ0FNRVJBX1BSRVNFVF9TSURFEAMSFQoRQ0FNRVJBX1BSRVNFVF9UT1AQBDLYDAoJU2ltdWxhdG9yEkAKCUNyZWF0ZUVudhIdLmd5bWZsZWV0LnYxLkNyZWF0ZUVudlJlcXVlc3QaFC5neW1mbGVldC52MS5FbnZJbmZvEjwKBVJlc2V0EhkuZ3ltZmxlZXQudjEuUmVzZXRSZXF1ZXN0GhguZ3ltZmxlZXQudjEuT2JzZXJ2YXRpb24SOQoEU3RlcBIYLmd5bWZsZWV0LnYxLlN0ZXBSZXF1ZXN0GhcuZ3ltZmxlZXQudjEuU3RlcFJlc3VsdBI4CgdPYnNlcnZlEhMuZ3ltZmxlZXQudjEuRW52UmVmGhguZ3ltZmxlZXQudjEuT2JzZXJ2YXRpb24SUwoMU2V0TW9jYXBQb3NlEiAuZ3ltZmxlZXQudjEuU2V0TW9jYXBQb3NlUmVxdWVzdBohLmd5bWZsZWV0LnYxLlNldE1vY2FwUG9zZVJlc3BvbnNlEjsKBUNsb3NlEhMuZ3ltZmxlZXQudjEuRW52UmVmGh0uZ3ltZmxlZXQudjEuQ2xvc2VFbnZSZXNwb25zZRJGCgtDcmVhdGVCYXRjaBIfLmd5bWZsZWV0LnYxLkNyZWF0ZUJhdGNoUmVxdWVzdBoWLmd5bWZsZWV0LnYxLkJhdGNoSW5mbxJLCgpSZXNldEJhdGNoEh4uZ3ltZmxlZXQudjEuUmVzZXRCYXRjaFJlcXVlc3QaHS5neW1mbGVldC52MS5CYXRjaE9ic2VydmF0aW9uEkgKCVN0ZXBCYXRjaBIdLmd5bWZsZWV0LnYxLlN0ZXBCYXRjaFJlcXVlc3QaHC5neW1mbGVldC52MS5CYXRjaFN0ZXBSZXN1bHQSRAoMT2JzZXJ2ZUJhdGNoEhUuZ3ltZmxlZXQudjEuQmF0Y2hSZWYaHS5neW1mbGVldC52MS5CYXRjaE9ic2VydmF0aW9uEkQKCkNsb3NlQmF0Y2gSFS5neW1mbGVldC52MS5CYXRjaFJlZhofLmd5bWZsZWV0LnYxLkNsb3NlQmF0Y2hSZXNwb25zZRJOCgtTdHJlYW1CYXRjaBIdLmd5bWZsZWV0LnYxLlN0ZXBCYXRjaFJlcXVlc3QaHC5neW1mbGVldC52MS5CYXRjaFN0ZXBSZXN1bHQoATABEksKDUdldFNlcnZlckluZm8SIS5neW1mbGVldC52MS5HZXRTZXJ2ZXJJbmZvUmVxdWVzdBoXLmd5bWZsZWV0LnYxLlNlcnZlckluZm8SVgoQR2V0UmFuZG9taXphdGlvbhIhLmd5bWZsZWV0LnYxLlJhbmRvbWl6YXRpb25SZXF1ZXN0Gh8uZ3ltZmxlZXQudjEuUmFuZG9taXphdGlvbkRyYXdzEjgKBlJlbmRlchIaLmd5bWZsZWV0LnYxLlJlbmRlclJlcXVlc3QaEi5neW1mbGVldC52MS5JbWFnZRIzCghHZXRTY2VuZRITLmd5bWZsZWV0LnYxLkVudlJlZhoSLmd5bWZsZWV0LnYxLlNjZW5lEjcKCVNhdmVTdGF0ZRITLmd5bWZsZWV0LnYxLkVudlJlZhoVLmd5bWZsZWV0LnYxLkVudlN0YXRlEkQKCUxvYWRTdGF0ZRIdLmd5bWZsZWV0LnYxLkxvYWRTdGF0ZVJlcXVlc3QaGC5neW1mbGVldC52MS5PYnNlcnZhdGlvbhJJCg5TYXZlQmF0Y2hTdGF0ZRIeLmd5bWZsZWV0LnYxLkJhdGNoU3RhdGVSZXF1ZXN0GhcuZ3ltZmxlZXQudjEuQmF0Y2hTdGF0ZRJTCg5Mb2FkQmF0Y2hTdGF0ZRIiLmd5bWZsZWV0LnYxLkxvYWRCYXRjaFN0YXRlUmVxdWVzdBodLmd5bWZsZWV0LnYxLkJhdGNoT2JzZXJ2YXRpb24SOAoERm9yaxIYLmd5bWZsZWV0LnYxLkZvcmtSZXF1ZXN0GhYuZ3ltZmxlZXQudjEuQmF0Y2hJbmZvElYKD0NvbnZlcnREb2N1bWVudBIjLmd5bWZsZWV0LnYxLkNvbnZlcnREb2N1bWVudFJlcXVlc3QaHi5neW1mbGVldC52MS5Db252ZXJ0ZWREb2N1bWVudBJECgpMaXN0TW9kZWxzEh4uZ3ltZmxlZXQudjEuTGlzdE1vZGVsc1JlcXVlc3QaFi5neW1mbGVldC52MS5Nb2RlbExpc3RiBnByb3RvMw");
+  fileDesc("ChtneW1mbGVldC92MS9zaW11bGF0b3IucHJvdG8SC2d5bWZsZWV0LnYxIiEKB1BkR2FpbnMSCgoCa3AYASADKAESCgoCa2QYAiADKAEiTAoIRG9mTGltaXQSDAoEdW5pdBgBIAEoCRIQCgNtaW4YAiABKAFIAIgBARIQCgNtYXgYAyABKAFIAYgBAUIGCgRfbWluQgYKBF9tYXgiggEKDEFjdHVhdG9ySW5mbxIMCgRuYW1lGAEgASgJEgwKBHR5cGUYAiABKAkSDgoGdGFyZ2V0GAMgASgJEhUKCGN0cmxfbWluGAQgASgBSACIAQESFQoIY3RybF9tYXgYBSABKAFIAYgBAUILCglfY3RybF9taW5CCwoJX2N0cmxfbWF4IuwBCglKb2ludEluZm8SDAoEbmFtZRgBIAEoCRIMCgR0eXBlGAIgASgJEgsKA2RvZhgDIAEoDRIlCgZsaW1pdHMYBCADKAsyFS5neW1mbGVldC52MS5Eb2ZMaW1pdBIOCgZwYXJlbnQYBSABKAkSDQoFY2hpbGQYBiABKAkSFwoKbWF4X2VmZm9ydBgHIAEoAUgAiAEBEhAKCGFjdHVhdGVkGAggASgIEgwKBGdlYXIYCSABKAESEQoJcmVmZXJlbmNlGAogASgBEhUKDWFjdGlvbl9ib3VuZHMYCyADKAFCDQoLX21heF9lZmZvcnQiGAoGRW52UmVmEg4KBmVudl9pZBgBIAEoCSIcCghCYXRjaFJlZhIQCghiYXRjaF9pZBgBIAEoCSK4AwoQQ3JlYXRlRW52UmVxdWVzdBIVCg1kb2N1bWVudF9qc29uGAEgASgJEhgKEGVuZF9lZmZlY3Rvcl9pZHMYAiADKAkSCgoCZHQYAyABKAESEAoIc3Vic3RlcHMYBCABKA0SEQoJbWF4X3N0ZXBzGAUgASgNEhEKBHNlZWQYBiABKARIAIgBARImCghwZF9nYWlucxgHIAEoCzIULmd5bWZsZWV0LnYxLlBkR2FpbnMSGAoLcmVzZXRfbm9pc2UYCCABKAFIAYgBARIfCgR0YXNrGAkgASgLMhEuZ3ltZmxlZXQudjEuVGFzaxItCglyYW5kb21pemUYCiABKAsyGi5neW1mbGVldC52MS5SYW5kb21pemF0aW9uEisKBmZvcm1hdBgLIAEoDjIbLmd5bWZsZWV0LnYxLkRvY3VtZW50Rm9ybWF0Eg0KBW1vZGVsGAwgASgJEg4KBmFzc2V0cxgNIAEoDBIhCgV1bml0cxgOIAEoDjISLmd5bWZsZWV0LnYxLlVuaXRzEhUKDWRvY3VtZW50X3BhdGgYDyABKAlCBwoFX3NlZWRCDgoMX3Jlc2V0X25vaXNlIiEKBVJhbmdlEgsKA21pbhgBIAEoARILCgNtYXgYAiABKAEitgEKDVJhbmRvbWl6YXRpb24SJgoKbWFzc19zY2FsZRgBIAEoCzISLmd5bWZsZWV0LnYxLlJhbmdlEioKDmZyaWN0aW9uX3NjYWxlGAIgASgLMhIuZ3ltZmxlZXQudjEuUmFuZ2USKQoNZGFtcGluZ19zY2FsZRgDIAEoCzISLmd5bWZsZWV0LnYxLlJhbmdlEiYKCmdhaW5fc2NhbGUYBCABKAsyEi5neW1mbGVldC52MS5SYW5nZSJLChRSYW5kb21pemF0aW9uUmVxdWVzdBIOCgZlbnZfaWQYASABKAkSEAoIYmF0Y2hfaWQYAiABKAkSEQoJZW52X2luZGV4GAMgASgNIkgKDEluc3RhbmNlRHJhdxIMCgRuYW1lGAEgASgJEhIKCm1hc3Nfc2NhbGUYAiABKAESFgoOZnJpY3Rpb25fc2NhbGUYAyABKAEiRAoJSm9pbnREcmF3EgwKBG5hbWUYASABKAkSFQoNZGFtcGluZ19zY2FsZRgCIAEoARISCgpnYWluX3NjYWxlGAMgASgBImoKElJhbmRvbWl6YXRpb25EcmF3cxIsCglpbnN0YW5jZXMYASADKAsyGS5neW1mbGVldC52MS5JbnN0YW5jZURyYXcSJgoGam9pbnRzGAIgAygLMhYuZ3ltZmxlZXQudjEuSm9pbnREcmF3IicKBFZlYzMSCQoBeBgBIAEoARIJCgF5GAIgASgBEgkKAXoYAyABKAEiRgoEQm94MxIeCgNtaW4YASABKAsyES5neW1mbGVldC52MS5WZWMzEh4KA21heBgCIAEoCzIRLmd5bWZsZWV0LnYxLlZlYzMiwwEKCVJlYWNoVGFzaxIUCgxlbmRfZWZmZWN0b3IYASABKAkSIAoFcG9pbnQYAiABKAsyES5neW1mbGVldC52MS5WZWMzEiEKBnRhcmdldBgDIAEoCzIRLmd5bWZsZWV0LnYxLlZlYzMSJQoKdGFyZ2V0X2JveBgEIAEoCzIRLmd5bWZsZWV0LnYxLkJveDMSFgoOc3VjY2Vzc19yYWRpdXMYBSABKAESHAoUdGVybWluYXRlX29uX3N1Y2Nlc3MYBiABKAgiTQoJVHJhY2tUYXNrEg8KB3RhcmdldHMYASADKAESEQoJdG9sZXJhbmNlGAIgASgBEhwKFHRlcm1pbmF0ZV9vbl9zdWNjZXNzGAMgASgIIlYKC1VwcmlnaHRUYXNrEhAKCGluc3RhbmNlGAEgASgJEh8KBGF4aXMYAiABKAsyES5neW1mbGVldC52MS5WZWMzEhQKDG1heF90aWx0X2RlZxgDIAEoASIZCglUZXJtc1Rhc2sSDAoEanNvbhgBIAEoCSLLAQoEVGFzaxInCgVyZWFjaBgBIAEoCzIWLmd5bWZsZWV0LnYxLlJlYWNoVGFza0gAEicKBXRyYWNrGAIgASgLMhYuZ3ltZmxlZXQudjEuVHJhY2tUYXNrSAASKwoHdXByaWdodBgDIAEoCzIYLmd5bWZsZWV0LnYxLlVwcmlnaHRUYXNrSAASJwoFdGVybXMYBSABKAsyFi5neW1mbGVldC52MS5UZXJtc1Rhc2tIABITCgthY3Rpb25fY29zdBgEIAEoAkIGCgRraW5kIjAKEk9ic2VydmF0aW9uU2VnbWVudBIMCgRuYW1lGAEgASgJEgwKBHNpemUYAiABKA0irwMKB0VudkluZm8SDgoGZW52X2lkGAEgASgJEhIKCm51bV9qb2ludHMYAiABKA0SEgoKYWN0aW9uX2RpbRgDIAEoDRIXCg9vYnNlcnZhdGlvbl9kaW0YBCABKA0SGAoQZW5kX2VmZmVjdG9yX2lkcxgFIAMoCRIKCgJkdBgGIAEoARIQCghzdWJzdGVwcxgHIAEoDRIRCgltYXhfc3RlcHMYCCABKA0SJgoGam9pbnRzGAkgAygLMhYuZ3ltZmxlZXQudjEuSm9pbnRJbmZvEjsKEm9ic2VydmF0aW9uX2xheW91dBgKIAMoCzIfLmd5bWZsZWV0LnYxLk9ic2VydmF0aW9uU2VnbWVudBIhCgV1bml0cxgLIAEoDjISLmd5bWZsZWV0LnYxLlVuaXRzEhIKCnRlcm1fbmFtZXMYDCADKAkSEwoLZnJlZV9ib2RpZXMYDSADKAkSFAoMbW9jYXBfYm9kaWVzGA4gAygJEhMKC21vdmluZ19tYXNzGA8gASgBEiwKCWFjdHVhdG9ycxgQIAMoCzIZLmd5bWZsZWV0LnYxLkFjdHVhdG9ySW5mbyI6CgxSZXNldFJlcXVlc3QSDgoGZW52X2lkGAEgASgJEhEKBHNlZWQYAiABKARIAIgBAUIHCgVfc2VlZCLXAQoLT2JzZXJ2YXRpb24SFwoPam9pbnRfcG9zaXRpb25zGAEgAygCEhgKEGpvaW50X3ZlbG9jaXRpZXMYAiADKAISGgoSZW5kX2VmZmVjdG9yX3Bvc2VzGAMgAygCEhgKEHRhc2tfb2JzZXJ2YXRpb24YBCADKAISEQoJYmFzZV9wb3NlGAUgAygCEhUKDWJhc2VfdmVsb2NpdHkYBiADKAISFwoPZnJlZV9ib2R5X3Bvc2VzGAcgAygCEhwKFGZyZWVfYm9keV92ZWxvY2l0aWVzGAggAygCInAKC1N0ZXBSZXF1ZXN0Eg4KBmVudl9pZBgBIAEoCRIsCgthY3Rpb25fdHlwZRgCIAEoDjIXLmd5bWZsZWV0LnYxLkFjdGlvblR5cGUSDgoGdmFsdWVzGAMgAygCEhMKC21vY2FwX3Bvc2VzGAQgAygCIkEKE1NldE1vY2FwUG9zZVJlcXVlc3QSDgoGZW52X2lkGAEgASgJEgwKBGJvZHkYAiABKAkSDAoEcG9zZRgDIAMoAiIWChRTZXRNb2NhcFBvc2VSZXNwb25zZSLdAQoKU3RlcFJlc3VsdBItCgtvYnNlcnZhdGlvbhgBIAEoCzIYLmd5bWZsZWV0LnYxLk9ic2VydmF0aW9uEg4KBnJld2FyZBgCIAEoAhISCgp0ZXJtaW5hdGVkGAMgASgIEhEKCXRydW5jYXRlZBgEIAEoCBIMCgRkb25lGAUgASgIEh8KEnRlcm1pbmF0aW9uX3JlYXNvbhgGIAEoCUgAiAEBEhQKDGVwaXNvZGVfc3RlcBgHIAEoDRINCgV0ZXJtcxgIIAMoAkIVChNfdGVybWluYXRpb25fcmVhc29uIhIKEENsb3NlRW52UmVzcG9uc2UiigQKEkNyZWF0ZUJhdGNoUmVxdWVzdBIVCg1kb2N1bWVudF9qc29uGAEgASgJEhgKEGVuZF9lZmZlY3Rvcl9pZHMYAiADKAkSCgoCZHQYAyABKAESEAoIc3Vic3RlcHMYBCABKA0SEQoJbWF4X3N0ZXBzGAUgASgNEhEKBHNlZWQYBiABKARIAIgBARImCghwZF9nYWlucxgHIAEoCzIULmd5bWZsZWV0LnYxLlBkR2FpbnMSGAoLcmVzZXRfbm9pc2UYCCABKAFIAYgBARIOCgZuX2VudnMYCSABKA0SKQoJYXV0b3Jlc2V0GAogASgOMhYuZ3ltZmxlZXQudjEuQXV0b3Jlc2V0EhMKC3NlZWRfb2Zmc2V0GAsgASgEEh8KBHRhc2sYDCABKAsyES5neW1mbGVldC52MS5UYXNrEi0KCXJhbmRvbWl6ZRgNIAEoCzIaLmd5bWZsZWV0LnYxLlJhbmRvbWl6YXRpb24SKwoGZm9ybWF0GA4gASgOMhsuZ3ltZmxlZXQudjEuRG9jdW1lbnRGb3JtYXQSDQoFbW9kZWwYDyABKAkSDgoGYXNzZXRzGBAgASgMEiEKBXVuaXRzGBEgASgOMhIuZ3ltZmxlZXQudjEuVW5pdHMSFQoNZG9jdW1lbnRfcGF0aBgSIAEoCUIHCgVfc2VlZEIOCgxfcmVzZXRfbm9pc2Ui7gMKCUJhdGNoSW5mbxIQCghiYXRjaF9pZBgBIAEoCRIOCgZuX2VudnMYAiABKA0SEgoKYWN0aW9uX2RpbRgDIAEoDRIXCg9vYnNlcnZhdGlvbl9kaW0YBCABKA0SEgoKbnVtX2pvaW50cxgFIAEoDRIYChBlbmRfZWZmZWN0b3JfaWRzGAYgAygJEgoKAmR0GAcgASgBEhAKCHN1YnN0ZXBzGAggASgNEhEKCW1heF9zdGVwcxgJIAEoDRIpCglhdXRvcmVzZXQYCiABKA4yFi5neW1mbGVldC52MS5BdXRvcmVzZXQSJgoGam9pbnRzGAsgAygLMhYuZ3ltZmxlZXQudjEuSm9pbnRJbmZvEjsKEm9ic2VydmF0aW9uX2xheW91dBgMIAMoCzIfLmd5bWZsZWV0LnYxLk9ic2VydmF0aW9uU2VnbWVudBIhCgV1bml0cxgNIAEoDjISLmd5bWZsZWV0LnYxLlVuaXRzEhIKCnRlcm1fbmFtZXMYDiADKAkSEwoLZnJlZV9ib2RpZXMYDyADKAkSFAoMbW9jYXBfYm9kaWVzGBAgAygJEhMKC21vdmluZ19tYXNzGBEgASgBEiwKCWFjdHVhdG9ycxgSIAMoCzIZLmd5bWZsZWV0LnYxLkFjdHVhdG9ySW5mbyJrChFSZXNldEJhdGNoUmVxdWVzdBIQCghiYXRjaF9pZBgBIAEoCRIRCgRzZWVkGAIgASgESACIAQESEwoLc2VlZF9vZmZzZXQYAyABKAQSEwoLZW52X2luZGljZXMYBCADKA1CBwoFX3NlZWQieAoQU3RlcEJhdGNoUmVxdWVzdBIQCghiYXRjaF9pZBgBIAEoCRIsCgthY3Rpb25fdHlwZRgCIAEoDjIXLmd5bWZsZWV0LnYxLkFjdGlvblR5cGUSDwoHYWN0aW9ucxgDIAMoAhITCgttb2NhcF9wb3NlcxgEIAMoAiLZAgoPQmF0Y2hTdGVwUmVzdWx0EhAKCGJhdGNoX2lkGAEgASgJEhIKCnN0ZXBfaW5kZXgYAiABKAQSFAoMb2JzZXJ2YXRpb25zGAMgAygCEg8KB3Jld2FyZHMYBCADKAISEgoKdGVybWluYXRlZBgFIAMoCBIRCgl0cnVuY2F0ZWQYBiADKAgSGQoRZmluYWxfZW52X2luZGljZXMYByADKA0SGgoSZmluYWxfb2JzZXJ2YXRpb25zGAggAygCElEKE3Rlcm1pbmF0aW9uX3JlYXNvbnMYCSADKAsyNC5neW1mbGVldC52MS5CYXRjaFN0ZXBSZXN1bHQuVGVybWluYXRpb25SZWFzb25zRW50cnkSDQoFdGVybXMYCiADKAIaOQoXVGVybWluYXRpb25SZWFzb25zRW50cnkSCwoDa2V5GAEgASgNEg0KBXZhbHVlGAIgASgJOgI4ASJjChBCYXRjaE9ic2VydmF0aW9uEhAKCGJhdGNoX2lkGAEgASgJEg4KBm5fZW52cxgCIAEoDRIXCg9vYnNlcnZhdGlvbl9kaW0YAyABKA0SFAoMb2JzZXJ2YXRpb25zGAQgAygCIhQKEkNsb3NlQmF0Y2hSZXNwb25zZSIWChRHZXRTZXJ2ZXJJbmZvUmVxdWVzdCKRAgoMU2VydmVyTGltaXRzEhAKCG1heF9lbnZzGAEgASgEEhYKDm1heF9iYXRjaF9zaXplGAIgASgEEhoKEm1heF9kb2N1bWVudF9ieXRlcxgDIAEoBBIZChFtYXhfbWVzc2FnZV9ieXRlcxgEIAEoBBIYChBpZGxlX3R0bF9zZWNvbmRzGAUgASgEEhUKDW1heF9pbnN0YW5jZXMYBiABKAQSEgoKbWF4X2pvaW50cxgHIAEoBBIQCghtYXhfZG9mcxgIIAEoBBIZChFtYXhfZW5kX2VmZmVjdG9ycxgJIAEoBBIXCg90ZW5hbnRfbWF4X2VudnMYCiABKAQSFQoNbWF4X3N0ZXBfd29yaxgLIAEoBCLIAQoKU2VydmVySW5mbxIPCgd2ZXJzaW9uGAEgASgJEg8KB3RocmVhZHMYAiABKA0SDAoEZW52cxgDIAEoBBIPCgdiYXRjaGVzGAQgASgEEhIKCmJhdGNoX2VudnMYBSABKAQSKQoGbGltaXRzGAYgASgLMhkuZ3ltZmxlZXQudjEuU2VydmVyTGltaXRzEg4KBnRlbmFudBgHIAEoCRIVCg1hdXRoX3JlcXVpcmVkGAggASgIEhMKC2luc3RhbmNlX2lkGAkgASgJIroBCgZDYW1lcmESKQoGcHJlc2V0GAEgASgOMhkuZ3ltZmxlZXQudjEuQ2FtZXJhUHJlc2V0EiMKA2V5ZRgCIAEoCzIRLmd5bWZsZWV0LnYxLlZlYzNIAIgBARImCgZ0YXJnZXQYAyABKAsyES5neW1mbGVldC52MS5WZWMzSAGIAQESDwoHZm92X2RlZxgEIAEoAhIUCgxvcnRob2dyYXBoaWMYBSABKAhCBgoEX2V5ZUIJCgdfdGFyZ2V0IogBCg1SZW5kZXJSZXF1ZXN0Eg4KBmVudl9pZBgBIAEoCRIQCghiYXRjaF9pZBgCIAEoCRIRCgllbnZfaW5kZXgYAyABKA0SIwoGY2FtZXJhGAQgASgLMhMuZ3ltZmxlZXQudjEuQ2FtZXJhEg0KBXdpZHRoGAUgASgNEg4KBmhlaWdodBgGIAEoDSJZCgVJbWFnZRILCgNwbmcYASABKAwSDQoFd2lkdGgYAiABKA0SDgoGaGVpZ2h0GAMgASgNEhMKC2Rlc2NyaXB0aW9uGAQgASgJEg8KB2dyaWRfbW0YBSABKAIi4gEKClNjZW5lU2hhcGUSLQoQYm94X2hhbGZfZXh0ZW50cxgBIAEoCzIRLmd5bWZsZWV0LnYxLlZlYzNIABIuCghjeWxpbmRlchgCIAEoCzIaLmd5bWZsZWV0LnYxLlNjZW5lQ3lsaW5kZXJIABIXCg1zcGhlcmVfcmFkaXVzGAMgASgBSAASLAoHY2Fwc3VsZRgEIAEoCzIZLmd5bWZsZWV0LnYxLlNjZW5lQ2Fwc3VsZUgAEiYKBG1lc2gYBSABKAsyFi5neW1mbGVldC52MS5TY2VuZU1lc2hIAEIGCgRraW5kIjAKCVNjZW5lTWVzaBIQCgh2ZXJ0aWNlcxgBIAMoAhIRCgl0cmlhbmdsZXMYAiADKA0iNAoMU2NlbmVDYXBzdWxlEg4KBnJhZGl1cxgBIAEoARIUCgxoYWxmX3NlZ21lbnQYAiABKAEiNAoNU2NlbmVDeWxpbmRlchIOCgZyYWRpdXMYASABKAESEwoLaGFsZl9oZWlnaHQYAiABKAEiYAoJU2NlbmVQb3NlEiMKCHBvc2l0aW9uGAEgASgLMhEuZ3ltZmxlZXQudjEuVmVjMxIKCgJxdxgCIAEoARIKCgJxeBgDIAEoARIKCgJxeRgEIAEoARIKCgJxehgFIAEoASJnCglTY2VuZUJvZHkSDAoEbmFtZRgBIAEoCRImCgVzaGFwZRgCIAEoCzIXLmd5bWZsZWV0LnYxLlNjZW5lU2hhcGUSJAoEcG9zZRgDIAEoCzIWLmd5bWZsZWV0LnYxLlNjZW5lUG9zZSJQCgpTY2VuZUpvaW50EiEKBmFuY2hvchgBIAEoCzIRLmd5bWZsZWV0LnYxLlZlYzMSHwoEYXhpcxgCIAEoCzIRLmd5bWZsZWV0LnYxLlZlYzMitQEKBVNjZW5lEiYKBmJvZGllcxgBIAMoCzIWLmd5bWZsZWV0LnYxLlNjZW5lQm9keRInCgZqb2ludHMYAiADKAsyFy5neW1mbGVldC52MS5TY2VuZUpvaW50EigKDWVuZF9lZmZlY3RvcnMYAyADKAsyES5neW1mbGVldC52MS5WZWMzEiYKBnRhcmdldBgEIAEoCzIRLmd5bWZsZWV0LnYxLlZlYzNIAIgBAUIJCgdfdGFyZ2V0IhkKCEVudlN0YXRlEg0KBXN0YXRlGAEgASgMIjEKEExvYWRTdGF0ZVJlcXVlc3QSDgoGZW52X2lkGAEgASgJEg0KBXN0YXRlGAIgASgMIjoKEUJhdGNoU3RhdGVSZXF1ZXN0EhAKCGJhdGNoX2lkGAEgASgJEhMKC2Vudl9pbmRpY2VzGAIgAygNIhwKCkJhdGNoU3RhdGUSDgoGc3RhdGVzGAEgAygMIk4KFUxvYWRCYXRjaFN0YXRlUmVxdWVzdBIQCghiYXRjaF9pZBgBIAEoCRITCgtlbnZfaW5kaWNlcxgCIAMoDRIOCgZzdGF0ZXMYAyADKAwiVwoLRm9ya1JlcXVlc3QSDQoFc3RhdGUYASABKAwSDgoGbl9lbnZzGAIgASgNEikKCWF1dG9yZXNldBgDIAEoDjIWLmd5bWZsZWV0LnYxLkF1dG9yZXNldCKDAQoWQ29udmVydERvY3VtZW50UmVxdWVzdBIVCg1kb2N1bWVudF9qc29uGAEgASgJEisKBmZvcm1hdBgCIAEoDjIbLmd5bWZsZWV0LnYxLkRvY3VtZW50Rm9ybWF0Eg4KBmFzc2V0cxgDIAEoDBIVCg1kb2N1bWVudF9wYXRoGAQgASgJImkKEUNvbnZlcnRlZERvY3VtZW50EhUKDWRvY3VtZW50X2pzb24YASABKAkSEAoId2FybmluZ3MYAiADKAkSKwoGZm9ybWF0GAMgASgOMhsuZ3ltZmxlZXQudjEuRG9jdW1lbnRGb3JtYXQiEwoRTGlzdE1vZGVsc1JlcXVlc3QiaAoJTW9kZWxJbmZvEgwKBG5hbWUYASABKAkSKwoGZm9ybWF0GAIgASgOMhsuZ3ltZmxlZXQudjEuRG9jdW1lbnRGb3JtYXQSDAoEZG9mcxgDIAEoDRISCgphY3Rpb25fZGltGAQgASgNIjMKCU1vZGVsTGlzdBImCgZtb2RlbHMYASADKAsyFi5neW1mbGVldC52MS5Nb2RlbEluZm8qdQoKQWN0aW9uVHlwZRIbChdBQ1RJT05fVFlQRV9VTlNQRUNJRklFRBAAEhYKEkFDVElPTl9UWVBFX1RPUlFVRRABEhgKFEFDVElPTl9UWVBFX1BPU0lUSU9OEAISGAoUQUNUSU9OX1RZUEVfVkVMT0NJVFkQAypVCglBdXRvcmVzZXQSFgoSQVVUT1JFU0VUX0RJU0FCTEVEEAASFwoTQVVUT1JFU0VUX1NBTUVfU1RFUBABEhcKE0FVVE9SRVNFVF9ORVhUX1NURVAQAiopCgVVbml0cxISCg5VTklUU19ET0NVTUVOVBAAEgwKCFVOSVRTX1NJEAEqfwoORG9jdW1lbnRGb3JtYXQSHwobRE9DVU1FTlRfRk9STUFUX1VOU1BFQ0lGSUVEEAASGAoURE9DVU1FTlRfRk9STUFUX0pTT04QARIYChRET0NVTUVOVF9GT1JNQVRfVVJERhACEhgKFERPQ1VNRU5UX0ZPUk1BVF9NSkNGEAMqjAEKDENhbWVyYVByZXNldBIdChlDQU1FUkFfUFJFU0VUX1VOU1BFQ0lGSUVEEAASFQoRQ0FNRVJBX1BSRVNFVF9JU08QARIXChNDQU1FUkFfUFJFU0VUX0ZST05UEAISFgoSQ0FNRVJBX1BSRVNFVF9TSURFEAMSFQoRQ0FNRVJBX1BSRVNFVF9UT1AQBDLYDAoJU2ltdWxhdG9yEkAKCUNyZWF0ZUVudhIdLmd5bWZsZWV0LnYxLkNyZWF0ZUVudlJlcXVlc3QaFC5neW1mbGVldC52MS5FbnZJbmZvEjwKBVJlc2V0EhkuZ3ltZmxlZXQudjEuUmVzZXRSZXF1ZXN0GhguZ3ltZmxlZXQudjEuT2JzZXJ2YXRpb24SOQoEU3RlcBIYLmd5bWZsZWV0LnYxLlN0ZXBSZXF1ZXN0GhcuZ3ltZmxlZXQudjEuU3RlcFJlc3VsdBI4CgdPYnNlcnZlEhMuZ3ltZmxlZXQudjEuRW52UmVmGhguZ3ltZmxlZXQudjEuT2JzZXJ2YXRpb24SUwoMU2V0TW9jYXBQb3NlEiAuZ3ltZmxlZXQudjEuU2V0TW9jYXBQb3NlUmVxdWVzdBohLmd5bWZsZWV0LnYxLlNldE1vY2FwUG9zZVJlc3BvbnNlEjsKBUNsb3NlEhMuZ3ltZmxlZXQudjEuRW52UmVmGh0uZ3ltZmxlZXQudjEuQ2xvc2VFbnZSZXNwb25zZRJGCgtDcmVhdGVCYXRjaBIfLmd5bWZsZWV0LnYxLkNyZWF0ZUJhdGNoUmVxdWVzdBoWLmd5bWZsZWV0LnYxLkJhdGNoSW5mbxJLCgpSZXNldEJhdGNoEh4uZ3ltZmxlZXQudjEuUmVzZXRCYXRjaFJlcXVlc3QaHS5neW1mbGVldC52MS5CYXRjaE9ic2VydmF0aW9uEkgKCVN0ZXBCYXRjaBIdLmd5bWZsZWV0LnYxLlN0ZXBCYXRjaFJlcXVlc3QaHC5neW1mbGVldC52MS5CYXRjaFN0ZXBSZXN1bHQSRAoMT2JzZXJ2ZUJhdGNoEhUuZ3ltZmxlZXQudjEuQmF0Y2hSZWYaHS5neW1mbGVldC52MS5CYXRjaE9ic2VydmF0aW9uEkQKCkNsb3NlQmF0Y2gSFS5neW1mbGVldC52MS5CYXRjaFJlZhofLmd5bWZsZWV0LnYxLkNsb3NlQmF0Y2hSZXNwb25zZRJOCgtTdHJlYW1CYXRjaBIdLmd5bWZsZWV0LnYxLlN0ZXBCYXRjaFJlcXVlc3QaHC5neW1mbGVldC52MS5CYXRjaFN0ZXBSZXN1bHQoATABEksKDUdldFNlcnZlckluZm8SIS5neW1mbGVldC52MS5HZXRTZXJ2ZXJJbmZvUmVxdWVzdBoXLmd5bWZsZWV0LnYxLlNlcnZlckluZm8SVgoQR2V0UmFuZG9taXphdGlvbhIhLmd5bWZsZWV0LnYxLlJhbmRvbWl6YXRpb25SZXF1ZXN0Gh8uZ3ltZmxlZXQudjEuUmFuZG9taXphdGlvbkRyYXdzEjgKBlJlbmRlchIaLmd5bWZsZWV0LnYxLlJlbmRlclJlcXVlc3QaEi5neW1mbGVldC52MS5JbWFnZRIzCghHZXRTY2VuZRITLmd5bWZsZWV0LnYxLkVudlJlZhoSLmd5bWZsZWV0LnYxLlNjZW5lEjcKCVNhdmVTdGF0ZRITLmd5bWZsZWV0LnYxLkVudlJlZhoVLmd5bWZsZWV0LnYxLkVudlN0YXRlEkQKCUxvYWRTdGF0ZRIdLmd5bWZsZWV0LnYxLkxvYWRTdGF0ZVJlcXVlc3QaGC5neW1mbGVldC52MS5PYnNlcnZhdGlvbhJJCg5TYXZlQmF0Y2hTdGF0ZRIeLmd5bWZsZWV0LnYxLkJhdGNoU3RhdGVSZXF1ZXN0GhcuZ3ltZmxlZXQudjEuQmF0Y2hTdGF0ZRJTCg5Mb2FkQmF0Y2hTdGF0ZRIiLmd5bWZsZWV0LnYxLkxvYWRCYXRjaFN0YXRlUmVxdWVzdBodLmd5bWZsZWV0LnYxLkJhdGNoT2JzZXJ2YXRpb24SOAoERm9yaxIYLmd5bWZsZWV0LnYxLkZvcmtSZXF1ZXN0GhYuZ3ltZmxlZXQudjEuQmF0Y2hJbmZvElYKD0NvbnZlcnREb2N1bWVudBIjLmd5bWZsZWV0LnYxLkNvbnZlcnREb2N1bWVudFJlcXVlc3QaHi5neW1mbGVldC52MS5Db252ZXJ0ZWREb2N1bWVudBJECgpMaXN0TW9kZWxzEh4uZ3ltZmxlZXQudjEuTGlzdE1vZGVsc1JlcXVlc3QaFi5neW1mbGVldC52MS5Nb2RlbExpc3RiBnByb3RvMw");
 
 /**
  * Gains of the joint controller, per DOF, in SI units. Position actions use
@@ -104,6 +104,57 @@ export type DofLimit = Message<"gymfleet.v1.DofLimit"> & {
  */
 export const DofLimitSchema: GenMessage<DofLimit> = /*@__PURE__*/
   messageDesc(file_gymfleet_v1_simulator, 1);
+
+/**
+ * One actuator of an environment (the document's `assembly.actuators`, MJCF's
+ * `<actuator>` elements), in document order. Its control (MuJoCo's ctrl) is one action
+ * value, after the actuated joints' values, whatever the action type.
+ *
+ * @generated from message gymfleet.v1.ActuatorInfo
+ */
+export type ActuatorInfo = Message<"gymfleet.v1.ActuatorInfo"> & {
+  /**
+   * The actuator's name.
+   *
+   * @generated from field: string name = 1;
+   */
+  name: string;
+
+  /**
+   * Its kind as written: "motor", "position", "velocity", "intvelocity", "damper",
+   * "cylinder" or "general" (a converted MJCF's actuators are "general").
+   *
+   * @generated from field: string type = 2;
+   */
+  type: string;
+
+  /**
+   * What it drives: a joint's name, or a fixed tendon's.
+   *
+   * @generated from field: string target = 3;
+   */
+  target: string;
+
+  /**
+   * Controls are clamped into [ctrl_min, ctrl_max] (MuJoCo's ctrlrange). Unset:
+   * unclamped.
+   *
+   * @generated from field: optional double ctrl_min = 4;
+   */
+  ctrlMin?: number | undefined;
+
+  /**
+   * @generated from field: optional double ctrl_max = 5;
+   */
+  ctrlMax?: number | undefined;
+};
+
+/**
+ * Describes the message gymfleet.v1.ActuatorInfo.
+ * Use `create(ActuatorInfoSchema)` to create a new message.
+ */
+export const ActuatorInfoSchema: GenMessage<ActuatorInfo> = /*@__PURE__*/
+  messageDesc(file_gymfleet_v1_simulator, 2);
 
 /**
  * One non-fixed joint of an environment, in document joint order.
@@ -208,7 +259,7 @@ export type JointInfo = Message<"gymfleet.v1.JointInfo"> & {
  * Use `create(JointInfoSchema)` to create a new message.
  */
 export const JointInfoSchema: GenMessage<JointInfo> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 2);
+  messageDesc(file_gymfleet_v1_simulator, 3);
 
 /**
  * A reference to one environment.
@@ -229,7 +280,7 @@ export type EnvRef = Message<"gymfleet.v1.EnvRef"> & {
  * Use `create(EnvRefSchema)` to create a new message.
  */
 export const EnvRefSchema: GenMessage<EnvRef> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 3);
+  messageDesc(file_gymfleet_v1_simulator, 4);
 
 /**
  * A reference to one batch.
@@ -250,7 +301,7 @@ export type BatchRef = Message<"gymfleet.v1.BatchRef"> & {
  * Use `create(BatchRefSchema)` to create a new message.
  */
 export const BatchRefSchema: GenMessage<BatchRef> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 4);
+  messageDesc(file_gymfleet_v1_simulator, 5);
 
 /**
  * Creates one environment.
@@ -389,7 +440,7 @@ export type CreateEnvRequest = Message<"gymfleet.v1.CreateEnvRequest"> & {
  * Use `create(CreateEnvRequestSchema)` to create a new message.
  */
 export const CreateEnvRequestSchema: GenMessage<CreateEnvRequest> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 5);
+  messageDesc(file_gymfleet_v1_simulator, 6);
 
 /**
  * A range [min, max] of scale factors, 0 < min <= max <= 100.
@@ -413,7 +464,7 @@ export type Range = Message<"gymfleet.v1.Range"> & {
  * Use `create(RangeSchema)` to create a new message.
  */
 export const RangeSchema: GenMessage<Range> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 6);
+  messageDesc(file_gymfleet_v1_simulator, 7);
 
 /**
  * Per-reset scale factors, drawn uniformly from each range by the env's seeded
@@ -460,7 +511,7 @@ export type Randomization = Message<"gymfleet.v1.Randomization"> & {
  * Use `create(RandomizationSchema)` to create a new message.
  */
 export const RandomizationSchema: GenMessage<Randomization> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 7);
+  messageDesc(file_gymfleet_v1_simulator, 8);
 
 /**
  * Which env's draws: env_id, or batch_id and env_index.
@@ -489,7 +540,7 @@ export type RandomizationRequest = Message<"gymfleet.v1.RandomizationRequest"> &
  * Use `create(RandomizationRequestSchema)` to create a new message.
  */
 export const RandomizationRequestSchema: GenMessage<RandomizationRequest> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 8);
+  messageDesc(file_gymfleet_v1_simulator, 9);
 
 /**
  * One instance's factors.
@@ -518,7 +569,7 @@ export type InstanceDraw = Message<"gymfleet.v1.InstanceDraw"> & {
  * Use `create(InstanceDrawSchema)` to create a new message.
  */
 export const InstanceDrawSchema: GenMessage<InstanceDraw> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 9);
+  messageDesc(file_gymfleet_v1_simulator, 10);
 
 /**
  * One joint's factors (fixed joints included, whose factors act on nothing).
@@ -547,7 +598,7 @@ export type JointDraw = Message<"gymfleet.v1.JointDraw"> & {
  * Use `create(JointDrawSchema)` to create a new message.
  */
 export const JointDrawSchema: GenMessage<JointDraw> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 10);
+  messageDesc(file_gymfleet_v1_simulator, 11);
 
 /**
  * The factors of an env's current episode, in document order.
@@ -571,7 +622,7 @@ export type RandomizationDraws = Message<"gymfleet.v1.RandomizationDraws"> & {
  * Use `create(RandomizationDrawsSchema)` to create a new message.
  */
 export const RandomizationDrawsSchema: GenMessage<RandomizationDraws> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 11);
+  messageDesc(file_gymfleet_v1_simulator, 12);
 
 /**
  * A point or offset, mm.
@@ -600,7 +651,7 @@ export type Vec3 = Message<"gymfleet.v1.Vec3"> & {
  * Use `create(Vec3Schema)` to create a new message.
  */
 export const Vec3Schema: GenMessage<Vec3> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 12);
+  messageDesc(file_gymfleet_v1_simulator, 13);
 
 /**
  * An axis-aligned box, world mm.
@@ -624,7 +675,7 @@ export type Box3 = Message<"gymfleet.v1.Box3"> & {
  * Use `create(Box3Schema)` to create a new message.
  */
 export const Box3Schema: GenMessage<Box3> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 13);
+  messageDesc(file_gymfleet_v1_simulator, 14);
 
 /**
  * Bring a point of an instance to a target. Reward: minus the distance from the
@@ -684,7 +735,7 @@ export type ReachTask = Message<"gymfleet.v1.ReachTask"> & {
  * Use `create(ReachTaskSchema)` to create a new message.
  */
 export const ReachTaskSchema: GenMessage<ReachTask> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 14);
+  messageDesc(file_gymfleet_v1_simulator, 15);
 
 /**
  * Hold every DOF at its target. Reward: minus the Euclidean norm of the
@@ -720,7 +771,7 @@ export type TrackTask = Message<"gymfleet.v1.TrackTask"> & {
  * Use `create(TrackTaskSchema)` to create a new message.
  */
 export const TrackTaskSchema: GenMessage<TrackTask> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 15);
+  messageDesc(file_gymfleet_v1_simulator, 16);
 
 /**
  * Keep an instance's axis within a tilt of world +Z. Reward: +1 for every step
@@ -757,7 +808,7 @@ export type UprightTask = Message<"gymfleet.v1.UprightTask"> & {
  * Use `create(UprightTaskSchema)` to create a new message.
  */
 export const UprightTaskSchema: GenMessage<UprightTask> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 16);
+  messageDesc(file_gymfleet_v1_simulator, 17);
 
 /**
  * A reward of weighted, named terms that any robot can carry: the velocity of a
@@ -786,7 +837,7 @@ export type TermsTask = Message<"gymfleet.v1.TermsTask"> & {
  * Use `create(TermsTaskSchema)` to create a new message.
  */
 export const TermsTaskSchema: GenMessage<TermsTask> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 17);
+  messageDesc(file_gymfleet_v1_simulator, 18);
 
 /**
  * A task, and the weight of the action cost.
@@ -837,7 +888,7 @@ export type Task = Message<"gymfleet.v1.Task"> & {
  * Use `create(TaskSchema)` to create a new message.
  */
 export const TaskSchema: GenMessage<Task> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 18);
+  messageDesc(file_gymfleet_v1_simulator, 19);
 
 /**
  * One named run of floats of an observation, in order.
@@ -865,7 +916,7 @@ export type ObservationSegment = Message<"gymfleet.v1.ObservationSegment"> & {
  * Use `create(ObservationSegmentSchema)` to create a new message.
  */
 export const ObservationSegmentSchema: GenMessage<ObservationSegment> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 19);
+  messageDesc(file_gymfleet_v1_simulator, 20);
 
 /**
  * Describes a created environment.
@@ -888,8 +939,8 @@ export type EnvInfo = Message<"gymfleet.v1.EnvInfo"> & {
   numJoints: number;
 
   /**
-   * The actuated joints' DOFs: the length of every action. (Passive joints'
-   * DOFs are observed but take no action.)
+   * The actuated joints' DOFs, then one value per actuator: the length of every
+   * action. (Passive joints' DOFs are observed but take no action.)
    *
    * @generated from field: uint32 action_dim = 3;
    */
@@ -982,6 +1033,14 @@ export type EnvInfo = Message<"gymfleet.v1.EnvInfo"> & {
    * @generated from field: double moving_mass = 15;
    */
   movingMass: number;
+
+  /**
+   * The actuators, in order: the action's last len(actuators) values are their
+   * controls.
+   *
+   * @generated from field: repeated gymfleet.v1.ActuatorInfo actuators = 16;
+   */
+  actuators: ActuatorInfo[];
 };
 
 /**
@@ -989,7 +1048,7 @@ export type EnvInfo = Message<"gymfleet.v1.EnvInfo"> & {
  * Use `create(EnvInfoSchema)` to create a new message.
  */
 export const EnvInfoSchema: GenMessage<EnvInfo> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 20);
+  messageDesc(file_gymfleet_v1_simulator, 21);
 
 /**
  * Resets one environment.
@@ -1018,7 +1077,7 @@ export type ResetRequest = Message<"gymfleet.v1.ResetRequest"> & {
  * Use `create(ResetRequestSchema)` to create a new message.
  */
 export const ResetRequestSchema: GenMessage<ResetRequest> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 21);
+  messageDesc(file_gymfleet_v1_simulator, 22);
 
 /**
  * One environment's observation. All values are measured joint and body
@@ -1101,7 +1160,7 @@ export type Observation = Message<"gymfleet.v1.Observation"> & {
  * Use `create(ObservationSchema)` to create a new message.
  */
 export const ObservationSchema: GenMessage<Observation> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 22);
+  messageDesc(file_gymfleet_v1_simulator, 23);
 
 /**
  * Steps one environment.
@@ -1146,7 +1205,7 @@ export type StepRequest = Message<"gymfleet.v1.StepRequest"> & {
  * Use `create(StepRequestSchema)` to create a new message.
  */
 export const StepRequestSchema: GenMessage<StepRequest> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 23);
+  messageDesc(file_gymfleet_v1_simulator, 24);
 
 /**
  * One mocap body's target (see SetMocapPose).
@@ -1182,7 +1241,7 @@ export type SetMocapPoseRequest = Message<"gymfleet.v1.SetMocapPoseRequest"> & {
  * Use `create(SetMocapPoseRequestSchema)` to create a new message.
  */
 export const SetMocapPoseRequestSchema: GenMessage<SetMocapPoseRequest> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 24);
+  messageDesc(file_gymfleet_v1_simulator, 25);
 
 /**
  * @generated from message gymfleet.v1.SetMocapPoseResponse
@@ -1195,7 +1254,7 @@ export type SetMocapPoseResponse = Message<"gymfleet.v1.SetMocapPoseResponse"> &
  * Use `create(SetMocapPoseResponseSchema)` to create a new message.
  */
 export const SetMocapPoseResponseSchema: GenMessage<SetMocapPoseResponse> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 25);
+  messageDesc(file_gymfleet_v1_simulator, 26);
 
 /**
  * The outcome of one step.
@@ -1268,7 +1327,7 @@ export type StepResult = Message<"gymfleet.v1.StepResult"> & {
  * Use `create(StepResultSchema)` to create a new message.
  */
 export const StepResultSchema: GenMessage<StepResult> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 26);
+  messageDesc(file_gymfleet_v1_simulator, 27);
 
 /**
  * Acknowledges Close.
@@ -1283,7 +1342,7 @@ export type CloseEnvResponse = Message<"gymfleet.v1.CloseEnvResponse"> & {
  * Use `create(CloseEnvResponseSchema)` to create a new message.
  */
 export const CloseEnvResponseSchema: GenMessage<CloseEnvResponse> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 27);
+  messageDesc(file_gymfleet_v1_simulator, 28);
 
 /**
  * Creates `n_envs` copies of one environment configuration. The fields up to
@@ -1430,7 +1489,7 @@ export type CreateBatchRequest = Message<"gymfleet.v1.CreateBatchRequest"> & {
  * Use `create(CreateBatchRequestSchema)` to create a new message.
  */
 export const CreateBatchRequestSchema: GenMessage<CreateBatchRequest> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 28);
+  messageDesc(file_gymfleet_v1_simulator, 29);
 
 /**
  * Describes a created batch. Every env of the batch has this shape.
@@ -1453,7 +1512,7 @@ export type BatchInfo = Message<"gymfleet.v1.BatchInfo"> & {
   nEnvs: number;
 
   /**
-   * Action length per env (the actuated joints' DOFs).
+   * Action length per env (the actuated joints' DOFs, then one per actuator).
    *
    * @generated from field: uint32 action_dim = 3;
    */
@@ -1552,6 +1611,13 @@ export type BatchInfo = Message<"gymfleet.v1.BatchInfo"> & {
    * @generated from field: double moving_mass = 17;
    */
   movingMass: number;
+
+  /**
+   * As EnvInfo.actuators.
+   *
+   * @generated from field: repeated gymfleet.v1.ActuatorInfo actuators = 18;
+   */
+  actuators: ActuatorInfo[];
 };
 
 /**
@@ -1559,7 +1625,7 @@ export type BatchInfo = Message<"gymfleet.v1.BatchInfo"> & {
  * Use `create(BatchInfoSchema)` to create a new message.
  */
 export const BatchInfoSchema: GenMessage<BatchInfo> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 29);
+  messageDesc(file_gymfleet_v1_simulator, 30);
 
 /**
  * Resets every environment of a batch.
@@ -1605,7 +1671,7 @@ export type ResetBatchRequest = Message<"gymfleet.v1.ResetBatchRequest"> & {
  * Use `create(ResetBatchRequestSchema)` to create a new message.
  */
 export const ResetBatchRequestSchema: GenMessage<ResetBatchRequest> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 30);
+  messageDesc(file_gymfleet_v1_simulator, 31);
 
 /**
  * Steps every environment of a batch once.
@@ -1648,7 +1714,7 @@ export type StepBatchRequest = Message<"gymfleet.v1.StepBatchRequest"> & {
  * Use `create(StepBatchRequestSchema)` to create a new message.
  */
 export const StepBatchRequestSchema: GenMessage<StepBatchRequest> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 31);
+  messageDesc(file_gymfleet_v1_simulator, 32);
 
 /**
  * The outcome of one batch step.
@@ -1741,7 +1807,7 @@ export type BatchStepResult = Message<"gymfleet.v1.BatchStepResult"> & {
  * Use `create(BatchStepResultSchema)` to create a new message.
  */
 export const BatchStepResultSchema: GenMessage<BatchStepResult> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 32);
+  messageDesc(file_gymfleet_v1_simulator, 33);
 
 /**
  * The current observations of a batch.
@@ -1784,7 +1850,7 @@ export type BatchObservation = Message<"gymfleet.v1.BatchObservation"> & {
  * Use `create(BatchObservationSchema)` to create a new message.
  */
 export const BatchObservationSchema: GenMessage<BatchObservation> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 33);
+  messageDesc(file_gymfleet_v1_simulator, 34);
 
 /**
  * Acknowledges CloseBatch.
@@ -1799,7 +1865,7 @@ export type CloseBatchResponse = Message<"gymfleet.v1.CloseBatchResponse"> & {
  * Use `create(CloseBatchResponseSchema)` to create a new message.
  */
 export const CloseBatchResponseSchema: GenMessage<CloseBatchResponse> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 34);
+  messageDesc(file_gymfleet_v1_simulator, 35);
 
 /**
  * Asks for `ServerInfo`.
@@ -1814,7 +1880,7 @@ export type GetServerInfoRequest = Message<"gymfleet.v1.GetServerInfoRequest"> &
  * Use `create(GetServerInfoRequestSchema)` to create a new message.
  */
 export const GetServerInfoRequestSchema: GenMessage<GetServerInfoRequest> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 35);
+  messageDesc(file_gymfleet_v1_simulator, 36);
 
 /**
  * The server's limits. 0 means no limit.
@@ -1906,7 +1972,7 @@ export type ServerLimits = Message<"gymfleet.v1.ServerLimits"> & {
  * Use `create(ServerLimitsSchema)` to create a new message.
  */
 export const ServerLimitsSchema: GenMessage<ServerLimits> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 36);
+  messageDesc(file_gymfleet_v1_simulator, 37);
 
 /**
  * Describes the server.
@@ -1985,7 +2051,7 @@ export type ServerInfo = Message<"gymfleet.v1.ServerInfo"> & {
  * Use `create(ServerInfoSchema)` to create a new message.
  */
 export const ServerInfoSchema: GenMessage<ServerInfo> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 37);
+  messageDesc(file_gymfleet_v1_simulator, 38);
 
 /**
  * Where a picture is taken from. With neither eye nor target the preset frames the
@@ -2034,7 +2100,7 @@ export type Camera = Message<"gymfleet.v1.Camera"> & {
  * Use `create(CameraSchema)` to create a new message.
  */
 export const CameraSchema: GenMessage<Camera> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 38);
+  messageDesc(file_gymfleet_v1_simulator, 39);
 
 /**
  * @generated from message gymfleet.v1.RenderRequest
@@ -2080,7 +2146,7 @@ export type RenderRequest = Message<"gymfleet.v1.RenderRequest"> & {
  * Use `create(RenderRequestSchema)` to create a new message.
  */
 export const RenderRequestSchema: GenMessage<RenderRequest> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 39);
+  messageDesc(file_gymfleet_v1_simulator, 40);
 
 /**
  * @generated from message gymfleet.v1.Image
@@ -2124,7 +2190,7 @@ export type Image = Message<"gymfleet.v1.Image"> & {
  * Use `create(ImageSchema)` to create a new message.
  */
 export const ImageSchema: GenMessage<Image> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 40);
+  messageDesc(file_gymfleet_v1_simulator, 41);
 
 /**
  * A primitive centred on its pose's origin (a mesh: in its pose's frame), mm.
@@ -2183,7 +2249,7 @@ export type SceneShape = Message<"gymfleet.v1.SceneShape"> & {
  * Use `create(SceneShapeSchema)` to create a new message.
  */
 export const SceneShapeSchema: GenMessage<SceneShape> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 41);
+  messageDesc(file_gymfleet_v1_simulator, 42);
 
 /**
  * A triangle mesh in its pose's frame, mm.
@@ -2211,7 +2277,7 @@ export type SceneMesh = Message<"gymfleet.v1.SceneMesh"> & {
  * Use `create(SceneMeshSchema)` to create a new message.
  */
 export const SceneMeshSchema: GenMessage<SceneMesh> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 42);
+  messageDesc(file_gymfleet_v1_simulator, 43);
 
 /**
  * @generated from message gymfleet.v1.SceneCapsule
@@ -2236,7 +2302,7 @@ export type SceneCapsule = Message<"gymfleet.v1.SceneCapsule"> & {
  * Use `create(SceneCapsuleSchema)` to create a new message.
  */
 export const SceneCapsuleSchema: GenMessage<SceneCapsule> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 43);
+  messageDesc(file_gymfleet_v1_simulator, 44);
 
 /**
  * @generated from message gymfleet.v1.SceneCylinder
@@ -2258,7 +2324,7 @@ export type SceneCylinder = Message<"gymfleet.v1.SceneCylinder"> & {
  * Use `create(SceneCylinderSchema)` to create a new message.
  */
 export const SceneCylinderSchema: GenMessage<SceneCylinder> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 44);
+  messageDesc(file_gymfleet_v1_simulator, 45);
 
 /**
  * A world pose: position in mm, orientation as a unit quaternion.
@@ -2297,7 +2363,7 @@ export type ScenePose = Message<"gymfleet.v1.ScenePose"> & {
  * Use `create(ScenePoseSchema)` to create a new message.
  */
 export const ScenePoseSchema: GenMessage<ScenePose> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 45);
+  messageDesc(file_gymfleet_v1_simulator, 46);
 
 /**
  * @generated from message gymfleet.v1.SceneBody
@@ -2326,7 +2392,7 @@ export type SceneBody = Message<"gymfleet.v1.SceneBody"> & {
  * Use `create(SceneBodySchema)` to create a new message.
  */
 export const SceneBodySchema: GenMessage<SceneBody> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 46);
+  messageDesc(file_gymfleet_v1_simulator, 47);
 
 /**
  * @generated from message gymfleet.v1.SceneJoint
@@ -2350,7 +2416,7 @@ export type SceneJoint = Message<"gymfleet.v1.SceneJoint"> & {
  * Use `create(SceneJointSchema)` to create a new message.
  */
 export const SceneJointSchema: GenMessage<SceneJoint> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 47);
+  messageDesc(file_gymfleet_v1_simulator, 48);
 
 /**
  * @generated from message gymfleet.v1.Scene
@@ -2388,7 +2454,7 @@ export type Scene = Message<"gymfleet.v1.Scene"> & {
  * Use `create(SceneSchema)` to create a new message.
  */
 export const SceneSchema: GenMessage<Scene> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 48);
+  messageDesc(file_gymfleet_v1_simulator, 49);
 
 /**
  * One env's saved state: opaque bytes ("GFST", a format version, a CRC-32, the
@@ -2408,7 +2474,7 @@ export type EnvState = Message<"gymfleet.v1.EnvState"> & {
  * Use `create(EnvStateSchema)` to create a new message.
  */
 export const EnvStateSchema: GenMessage<EnvState> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 49);
+  messageDesc(file_gymfleet_v1_simulator, 50);
 
 /**
  * @generated from message gymfleet.v1.LoadStateRequest
@@ -2433,7 +2499,7 @@ export type LoadStateRequest = Message<"gymfleet.v1.LoadStateRequest"> & {
  * Use `create(LoadStateRequestSchema)` to create a new message.
  */
 export const LoadStateRequestSchema: GenMessage<LoadStateRequest> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 50);
+  messageDesc(file_gymfleet_v1_simulator, 51);
 
 /**
  * @generated from message gymfleet.v1.BatchStateRequest
@@ -2457,7 +2523,7 @@ export type BatchStateRequest = Message<"gymfleet.v1.BatchStateRequest"> & {
  * Use `create(BatchStateRequestSchema)` to create a new message.
  */
 export const BatchStateRequestSchema: GenMessage<BatchStateRequest> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 51);
+  messageDesc(file_gymfleet_v1_simulator, 52);
 
 /**
  * @generated from message gymfleet.v1.BatchState
@@ -2476,7 +2542,7 @@ export type BatchState = Message<"gymfleet.v1.BatchState"> & {
  * Use `create(BatchStateSchema)` to create a new message.
  */
 export const BatchStateSchema: GenMessage<BatchState> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 52);
+  messageDesc(file_gymfleet_v1_simulator, 53);
 
 /**
  * @generated from message gymfleet.v1.LoadBatchStateRequest
@@ -2507,7 +2573,7 @@ export type LoadBatchStateRequest = Message<"gymfleet.v1.LoadBatchStateRequest">
  * Use `create(LoadBatchStateRequestSchema)` to create a new message.
  */
 export const LoadBatchStateRequestSchema: GenMessage<LoadBatchStateRequest> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 53);
+  messageDesc(file_gymfleet_v1_simulator, 54);
 
 /**
  * @generated from message gymfleet.v1.ForkRequest
@@ -2540,7 +2606,7 @@ export type ForkRequest = Message<"gymfleet.v1.ForkRequest"> & {
  * Use `create(ForkRequestSchema)` to create a new message.
  */
 export const ForkRequestSchema: GenMessage<ForkRequest> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 54);
+  messageDesc(file_gymfleet_v1_simulator, 55);
 
 /**
  * @generated from message gymfleet.v1.ConvertDocumentRequest
@@ -2580,7 +2646,7 @@ export type ConvertDocumentRequest = Message<"gymfleet.v1.ConvertDocumentRequest
  * Use `create(ConvertDocumentRequestSchema)` to create a new message.
  */
 export const ConvertDocumentRequestSchema: GenMessage<ConvertDocumentRequest> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 55);
+  messageDesc(file_gymfleet_v1_simulator, 56);
 
 /**
  * @generated from message gymfleet.v1.ConvertedDocument
@@ -2613,7 +2679,7 @@ export type ConvertedDocument = Message<"gymfleet.v1.ConvertedDocument"> & {
  * Use `create(ConvertedDocumentSchema)` to create a new message.
  */
 export const ConvertedDocumentSchema: GenMessage<ConvertedDocument> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 56);
+  messageDesc(file_gymfleet_v1_simulator, 57);
 
 /**
  * @generated from message gymfleet.v1.ListModelsRequest
@@ -2626,7 +2692,7 @@ export type ListModelsRequest = Message<"gymfleet.v1.ListModelsRequest"> & {
  * Use `create(ListModelsRequestSchema)` to create a new message.
  */
 export const ListModelsRequestSchema: GenMessage<ListModelsRequest> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 57);
+  messageDesc(file_gymfleet_v1_simulator, 58);
 
 /**
  * @generated from message gymfleet.v1.ModelInfo
@@ -2666,7 +2732,7 @@ export type ModelInfo = Message<"gymfleet.v1.ModelInfo"> & {
  * Use `create(ModelInfoSchema)` to create a new message.
  */
 export const ModelInfoSchema: GenMessage<ModelInfo> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 58);
+  messageDesc(file_gymfleet_v1_simulator, 59);
 
 /**
  * @generated from message gymfleet.v1.ModelList
@@ -2685,7 +2751,7 @@ export type ModelList = Message<"gymfleet.v1.ModelList"> & {
  * Use `create(ModelListSchema)` to create a new message.
  */
 export const ModelListSchema: GenMessage<ModelList> = /*@__PURE__*/
-  messageDesc(file_gymfleet_v1_simulator, 59);
+  messageDesc(file_gymfleet_v1_simulator, 60);
 
 /**
  * How a step's action values are interpreted. One value per DOF, in DOF order.

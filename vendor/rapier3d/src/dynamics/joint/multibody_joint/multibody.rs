@@ -1887,6 +1887,31 @@ impl Multibody {
         out
     }
 
+    /// Per-DoF joint-space inertia `diag(M)` at the current configuration, armature
+    /// included, damping and springs excluded — MuJoCo's `dof_M0` when taken at the
+    /// model's pose (gymfleet patch 38: sizes an actuator's damping from its `dampratio`).
+    /// Re-runs forward kinematics and reassembles the mass matrix, so intended for
+    /// occasional use, not every step. Removed (locked) DoFs read 0.
+    pub fn dof_mass_diagonal(&mut self, bodies: &RigidBodySet) -> DVector {
+        self.forward_kinematics(bodies, false);
+        self.update_mass_matrix(0.0, bodies);
+        let n = self.ndofs;
+        let mut out = DVector::zeros(n);
+        if n == 0 {
+            return out;
+        }
+        // `augmented_mass` is kept in the kinematic-reduced ordering: read its diagonal
+        // there, and route it back through the inverse rearrangement.
+        let diagonal: Vec<Real> = (0..n).map(|i| self.augmented_mass[(i, i)]).collect();
+        self.augmented_mass_indices
+            .with_rearranged_rows_mut(&mut out, |b| {
+                for (i, value) in b.iter_mut().enumerate() {
+                    *value = diagonal[i];
+                }
+            });
+        out
+    }
+
     /// Adds a holonomic coupling between two of this multibody's generalized
     /// coordinates (`q2 = coeff·q1 + offset`), enforced as a velocity-level
     /// equality constraint each step. See [`MultibodyDofCoupling`].

@@ -1,0 +1,77 @@
+//! The parts of a world that other modules build and compute with: the fluid, tendons,
+//! actuators, contact rules and the document's values randomisation scales. Kept here so
+//! that `world.rs` names them without importing the modules that use them.
+
+use gymfleet_assembly::Dynamics;
+use rapier3d::prelude::*;
+
+/// The fluid and the bodies it acts on (`fluid.rs` computes the drag).
+#[derive(Debug, Clone)]
+pub(crate) struct FluidDrag {
+    pub(crate) density: Real,
+    pub(crate) viscosity: Real,
+    /// Each moving rigid group (instances welded by fixed joints), in document order of
+    /// its first instance, which carries the group's force and torque.
+    pub(crate) groups: Vec<Vec<RigidBodyHandle>>,
+}
+
+/// One fixed tendon as the world uses it (`tendons.rs`).
+#[derive(Debug, Clone)]
+pub(crate) struct TendonSlot {
+    /// (DOF index, coefficient).
+    pub(crate) dofs: Vec<(usize, f64)>,
+    pub(crate) stiffness: f64,
+    pub(crate) damping: f64,
+    /// The spring's rest length (SI).
+    pub(crate) rest: f64,
+}
+
+/// The body pairs that do not collide, each ordered by handle, sorted and deduplicated,
+/// and the collider pairs that always do, with their friction (`contact_filter.rs`: the
+/// hook and how the pairs are chosen).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct ContactFilter {
+    pub(crate) excluded: std::sync::Arc<[(RigidBodyHandle, RigidBodyHandle)]>,
+    /// The document's explicit pairs, each ordered by handle and sorted, with the pair's
+    /// friction (`None`: the colliders' own).
+    pub(crate) pairs: std::sync::Arc<[ExplicitPair]>,
+}
+
+/// An explicit contact pair: its two colliders, ordered by handle, and its friction
+/// (`None`: the colliders' own).
+pub(crate) type ExplicitPair = ((ColliderHandle, ColliderHandle), Option<Real>);
+
+/// The document's values domain randomisation scales (`randomize.rs`), kept from the
+/// build.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct BaseValues {
+    /// Per instance: its collider's density and friction.
+    pub(crate) density: Vec<Real>,
+    /// Per instance: its given mass properties (`inertial`), which a mass factor scales
+    /// instead of the density.
+    pub(crate) given: Vec<Option<MassProperties>>,
+    /// Per instance: its collider's exact mass properties where Rapier would weigh an
+    /// approximation (an ellipsoid's), which a mass factor scales instead of the density.
+    pub(crate) exact: Vec<Option<MassProperties>>,
+    pub(crate) friction: Vec<Real>,
+    /// Per DOF: the document's damping, and the gains resolved at build.
+    pub(crate) damping: Vec<Real>,
+    pub(crate) kp: Vec<f64>,
+    pub(crate) kd: Vec<f64>,
+}
+
+/// One actuator as the world drives it.
+#[derive(Debug, Clone)]
+pub(crate) struct ActuatorSlot {
+    /// (DOF index, moment): the generalized force per unit of actuator force on each DOF
+    /// it moves, which is also the DOF's coefficient in the actuator's length.
+    pub(crate) moments: Vec<(usize, f64)>,
+    pub(crate) ctrl_range: Option<[f64; 2]>,
+    pub(crate) force_range: Option<[f64; 2]>,
+    pub(crate) act_range: Option<[f64; 2]>,
+    pub(crate) gain: [f64; 3],
+    pub(crate) bias: [f64; 3],
+    pub(crate) dynamics: Dynamics,
+    /// Whether the force changes within a step under a held control.
+    pub(crate) state_dependent: bool,
+}
