@@ -16,7 +16,6 @@
 //! activation) makes the world recompute the efforts before every substep.
 
 use gymfleet_assembly::{Assembly, Dynamics, Transmission};
-use rapier3d::math::Real;
 
 use crate::world::{ActuatorSlot, JointSlot, RobotWorld, Sets};
 
@@ -118,14 +117,7 @@ impl RobotWorld {
     /// Actuator `k`'s length and velocity, SI (MuJoCo's `actuator_length`,
     /// `actuator_velocity`).
     pub fn actuator_state(&self, k: usize) -> (f64, f64) {
-        let mut length = 0.0;
-        let mut velocity = 0.0;
-        for &(dof, moment) in &self.actuators[k].moments {
-            let (q, v) = self.scalar_dof_si(dof);
-            length += moment * q;
-            velocity += moment * v;
-        }
-        (length, velocity)
+        self.combined_state(&self.actuators[k].moments)
     }
 
     /// Actuator `k`'s force now (N or N·m at its transmission's input; MuJoCo's
@@ -175,17 +167,9 @@ impl RobotWorld {
     pub(crate) fn apply_actuator_forces(&mut self) {
         for k in 0..self.actuators.len() {
             let force = self.actuator_force(k);
-            for i in 0..self.actuators[k].moments.len() {
-                let (dof, moment) = self.actuators[k].moments[i];
-                let slot = &self.joints[self.dofs[dof].joint];
-                let Some(mb) = self.live.multibody_joints.get_multibody_mut(slot.multibody) else {
-                    continue;
-                };
-                let Some(first) = mb.link(slot.link).map(|link| link.assembly_id()) else {
-                    continue;
-                };
-                mb.applied_forces_mut()[slot.link_dof(first, 0)] += (moment * force) as Real;
-            }
+            let moments = std::mem::take(&mut self.actuators[k].moments);
+            self.add_combined_force(&moments, force);
+            self.actuators[k].moments = moments;
         }
     }
 

@@ -101,14 +101,35 @@ impl RobotWorld {
 
     /// Tendon `k`'s length and rate of change, SI (MuJoCo's `ten_length`, `ten_velocity`).
     pub fn tendon_state(&self, k: usize) -> (f64, f64) {
+        self.combined_state(&self.tendons[k].dofs)
+    }
+
+    /// Σ coef · q and Σ coef · q̇ over `(DOF, coef)` pairs of revolute and prismatic DOFs,
+    /// SI: a tendon's or an actuator's length and velocity.
+    pub(crate) fn combined_state(&self, pairs: &[(usize, f64)]) -> (f64, f64) {
         let mut length = 0.0;
         let mut rate = 0.0;
-        for &(dof, coef) in &self.tendons[k].dofs {
+        for &(dof, coef) in pairs {
             let (q, v) = self.scalar_dof_si(dof);
             length += coef * q;
             rate += coef * v;
         }
         (length, rate)
+    }
+
+    /// Adds `coef × force` to the generalized force of each `(DOF, coef)` pair's DOF (after
+    /// `apply_efforts` has written the commanded ones): a tendon's or an actuator's pull.
+    pub(crate) fn add_combined_force(&mut self, pairs: &[(usize, f64)], force: f64) {
+        for &(dof, coef) in pairs {
+            let slot = &self.joints[self.dofs[dof].joint];
+            let Some(mb) = self.live.multibody_joints.get_multibody_mut(slot.multibody) else {
+                continue;
+            };
+            let Some(first) = mb.link(slot.link).map(|link| link.assembly_id()) else {
+                continue;
+            };
+            mb.applied_forces_mut()[slot.link_dof(first, 0)] += (coef * force) as Real;
+        }
     }
 
     /// A revolute or prismatic DOF's position (its reference included) and velocity, SI.
@@ -136,16 +157,9 @@ impl RobotWorld {
             let (length, rate) = self.tendon_state(k);
             let t = &self.tendons[k];
             let force = -t.stiffness * (length - t.rest) - t.damping * rate;
-            for &(dof, coef) in &t.dofs {
-                let slot = &self.joints[self.dofs[dof].joint];
-                let Some(mb) = self.live.multibody_joints.get_multibody_mut(slot.multibody) else {
-                    continue;
-                };
-                let Some(first) = mb.link(slot.link).map(|link| link.assembly_id()) else {
-                    continue;
-                };
-                mb.applied_forces_mut()[slot.link_dof(first, 0)] += (coef * force) as Real;
-            }
+            let dofs = std::mem::take(&mut self.tendons[k].dofs);
+            self.add_combined_force(&dofs, force);
+            self.tendons[k].dofs = dofs;
         }
     }
 }
