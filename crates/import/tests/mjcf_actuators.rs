@@ -113,3 +113,22 @@ fn unnamed_actuators_get_names_and_unknown_targets_name_their_line() {
         "line 12: <position joint=…>: no hinge, slide or ball joint is named \"c\""
     );
 }
+
+#[test]
+fn a_range_inherited_from_the_joint_is_refused_even_from_a_class() {
+    let err = mjcf_to_document(&model(
+        r#"<position inheritrange="1"/>"#,
+        r#"<position joint="a"/>"#,
+    ))
+    .unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "line 12: <position inheritrange=…>: \"1\": inheritrange is not supported yet; give ctrlrange"
+    );
+    // 0, MuJoCo's "off", is no range at all.
+    let list = actuators(&model(
+        r#"<position inheritrange="0"/>"#,
+        r#"<position joint="a"/>"#,
+    ));
+    assert_eq!(list[0]["gain"], json!([1.0, 0.0, 0.0]));
+}

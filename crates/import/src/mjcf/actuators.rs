@@ -140,13 +140,6 @@ impl<'a, 'i> Converter<'a, 'i> {
                     self.unsupported(element, "an actuator must drive a joint or a tendon".into())
                 );
             }
-            if let Some(v) = element.attribute("inheritrange") {
-                return Err(self.bad(
-                    element,
-                    "inheritrange",
-                    format!("{v:?}: inheritrange is not supported yet; give ctrlrange"),
-                ));
-            }
             if general.actearly {
                 self.warn(
                     element,
@@ -307,6 +300,15 @@ impl<'a, 'i> Converter<'a, 'i> {
             if let Some(v) = limited(name)? {
                 *flag = v;
             }
+        }
+        // `inheritrange` (a range from the joint's, written into ctrlrange by MuJoCo's
+        // compiler), from the element or its class: 0 is MuJoCo's "off".
+        if let Some(v) = get("inheritrange").filter(|v| v.trim().parse::<f64>() != Ok(0.0)) {
+            return Err(self.bad(
+                element,
+                "inheritrange",
+                format!("{v:?}: inheritrange is not supported yet; give ctrlrange"),
+            ));
         }
         if let Some(v) = get("actearly") {
             g.actearly = v == "true";
