@@ -247,3 +247,36 @@ def test_a_mocap_driven_fetch_gripper_reaches_its_target():
     np.testing.assert_allclose(ee[1, :3], mocap[:3] + delta, atol=1e-6)
     error = np.linalg.norm(ee[0, :3] - (grip + delta))
     assert error < 1e-3, f"the gripper is {error * 1000:.2f} mm from its target"
+
+
+@pytest.mark.parametrize("name", ["dmc/manipulator", "dmc/stacker"])
+def test_tendon_driven_files_convert_their_actuators(name, tmp_path):
+    """manipulator and stacker are refused at their `<equality><tendon>` (issue Z3), after
+    their actuators (motors on fixed tendons, issue Z1b): without the equality, a copy of
+    the file loads with MuJoCo's actuators in order, and 300 random-control steps stay
+    finite."""
+    path, assets = FILES[name]
+    folder = tmp_path / "suite"
+    import shutil
+
+    shutil.copytree(assets, folder, ignore=shutil.ignore_patterns("*.py", "__pycache__"))
+    text = re.sub(r"<equality>.*?</equality>", "", path.read_text(), flags=re.S)
+    copy = folder / path.name
+    copy.write_text(text)
+    model = mujoco.MjModel.from_xml_path(str(copy))
+    env = gymfleet.make(copy, assets=folder, units="si")
+    targets = [a["target"] for a in env.env_info["actuators"]]
+    mujoco_targets = [
+        (model.tendon if model.actuator_trntype[k] == mujoco.mjtTrn.mjTRN_TENDON else model.joint)(
+            model.actuator_trnid[k, 0]
+        ).name
+        for k in range(model.nu)
+    ]
+    assert targets == mujoco_targets
+    assert any(model.actuator_trntype[k] == mujoco.mjtTrn.mjTRN_TENDON for k in range(model.nu))
+    env.action_space.seed(0)
+    env.reset(seed=0)
+    for k in range(300):
+        obs, _, terminated, _, info = env.step(env.action_space.sample())
+        assert np.isfinite(obs).all() and not terminated, f"{name}: step {k}: {info}"
+    env.close()
