@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import importlib.util
 import re
+import shutil
 import json
 import pathlib
 from typing import Dict, List, Tuple
@@ -186,15 +187,18 @@ def test_a_model_has_mujocos_mass_and_body_poses(name):
     env.close()
 
 
-@pytest.mark.parametrize("name", LOADS)
-def test_a_model_stays_finite_under_300_random_controls(name):
-    env = made(name)
+def stays_finite_under_300_random_controls(name: str, env) -> None:
     env.action_space.seed(0)
     env.reset(seed=0)
     for k in range(300):
         obs, _, terminated, _, info = env.step(env.action_space.sample())
         assert np.isfinite(obs).all() and not terminated, f"{name}: step {k}: {info}"
     env.close()
+
+
+@pytest.mark.parametrize("name", LOADS)
+def test_a_model_stays_finite_under_300_random_controls(name):
+    stays_finite_under_300_random_controls(name, made(name))
 
 
 def fetch_push() -> dict:
@@ -257,8 +261,6 @@ def test_tendon_driven_files_convert_their_actuators(name, tmp_path):
     finite."""
     path, assets = FILES[name]
     folder = tmp_path / "suite"
-    import shutil
-
     shutil.copytree(assets, folder, ignore=shutil.ignore_patterns("*.py", "__pycache__"))
     text = re.sub(r"<equality>.*?</equality>", "", path.read_text(), flags=re.S)
     copy = folder / path.name
@@ -274,9 +276,4 @@ def test_tendon_driven_files_convert_their_actuators(name, tmp_path):
     ]
     assert targets == mujoco_targets
     assert any(model.actuator_trntype[k] == mujoco.mjtTrn.mjTRN_TENDON for k in range(model.nu))
-    env.action_space.seed(0)
-    env.reset(seed=0)
-    for k in range(300):
-        obs, _, terminated, _, info = env.step(env.action_space.sample())
-        assert np.isfinite(obs).all() and not terminated, f"{name}: step {k}: {info}"
-    env.close()
+    stays_finite_under_300_random_controls(name, env)

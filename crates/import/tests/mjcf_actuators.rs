@@ -132,3 +132,64 @@ fn a_range_inherited_from_the_joint_is_refused_even_from_a_class() {
     ));
     assert_eq!(list[0]["gain"], json!([1.0, 0.0, 0.0]));
 }
+
+#[test]
+fn each_refused_actuator_names_its_element_line_and_reason() {
+    let refused = |defaults: &str, actuators: &str| {
+        mjcf_to_document(&model(defaults, actuators))
+            .unwrap_err()
+            .to_string()
+    };
+    for (actuator, expected) in [
+        (
+            r#"<motor joint="a" gear="1 0 0 1 0 0"/>"#,
+            "line 12: <motor>: gear [1.0, 0.0, 0.0, 1.0, 0.0, 0.0]: only the first component of a gear is used by joint and tendon transmissions",
+        ),
+        (
+            r#"<general joint="a" actdim="2"/>"#,
+            "line 12: <general>: actdim \"2\": an actuator has one activation at most here",
+        ),
+        (
+            r#"<adhesion body="upper"/>"#,
+            "line 12: <adhesion>: adhesion actuators are not supported (they act on contacts)",
+        ),
+        (
+            r#"<dcmotor joint="a"/>"#,
+            "line 12: <dcmotor>: this actuator type is not supported (supported: motor, position, velocity, intvelocity, damper, cylinder, general)",
+        ),
+        (r#"<general/>"#, "line 12: <general>: an actuator must drive a joint or a tendon"),
+        (
+            r#"<general joint="a" body="upper"/>"#,
+            "line 12: <general>: body transmissions are not supported (an actuator drives a joint or a fixed tendon)",
+        ),
+        (r#"<position joint="a" kv="-1"/>"#, "line 12: <position kv=…>: cannot be negative, got -1"),
+        (
+            r#"<general joint="a" dyntype="filter" dynprm="0"/>"#,
+            "line 12: <general timeconst=…>: a filter's time constant must be positive, got 0",
+        ),
+        (
+            r#"<general joint="a" gainprm="1 0 0 2"/>"#,
+            "line 12: <general>: gainprm [1.0, 0.0, 0.0, 2.0]: only the first three parameters are used by the affine form",
+        ),
+        (
+            r#"<general joint="a" ctrllimited="yes"/>"#,
+            "line 12: <general ctrllimited=…>: expected true, false or auto, got \"yes\"",
+        ),
+        (
+            r#"<general joint="a" ctrlrange="1"/>"#,
+            "line 12: <general ctrlrange=…>: expected 2 numbers, got 1",
+        ),
+        (
+            r#"<general joint="a" class="servo"/>"#,
+            "line 12: <general class=…>: no default class is named \"servo\"",
+        ),
+        (r#"<bogus joint="a"/>"#, "line 12: <bogus>: is not an actuator"),
+    ] {
+        assert_eq!(refused("", actuator), expected, "{actuator}");
+    }
+    // A default's bad value is named at the actuator that reads it.
+    assert_eq!(
+        refused(r#"<velocity kv="fast"/>"#, r#"<velocity joint="a"/>"#),
+        "line 12: <velocity kv=…>: expected finite numbers, got \"fast\""
+    );
+}

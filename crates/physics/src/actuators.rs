@@ -205,6 +205,11 @@ mod tests {
     /// Three arms hanging side by side from a base (one multibody), the middle one with an
     /// armature.
     fn three_arms() -> Assembly {
+        arms("[]")
+    }
+
+    /// [`three_arms`], joints named after their arms, with `actuators` (JSON).
+    fn arms(actuators: &str) -> Assembly {
         let doc = r#"{
   "parts": [
     { "name": "Base", "primitive": { "type": "cube", "size": { "x": 200, "y": 20, "z": 5 } } },
@@ -218,16 +223,17 @@ mod tests {
       { "part": "Arm", "name": "c", "position": { "x": 100, "y": 8, "z": 100 } }
     ],
     "joints": [
-      { "type": "revolute", "parent": "base", "child": "a",
+      { "type": "revolute", "name": "a", "parent": "base", "child": "a",
         "anchor": { "x": 2, "y": 10, "z": 100 }, "axis": { "x": 0, "y": 1, "z": 0 } },
-      { "type": "revolute", "parent": "base", "child": "b", "armature": 1e-6,
+      { "type": "revolute", "name": "b", "parent": "base", "child": "b", "armature": 1e-6,
         "anchor": { "x": 52, "y": 10, "z": 100 }, "axis": { "x": 0, "y": 1, "z": 0 } },
-      { "type": "revolute", "parent": "base", "child": "c",
+      { "type": "revolute", "name": "c", "parent": "base", "child": "c",
         "anchor": { "x": 102, "y": 10, "z": 100 }, "axis": { "x": 0, "y": 1, "z": 0 } }
-    ]
+    ],
+    "actuators": ACTUATORS
   }
 }"#;
-        gymfleet_assembly::parse(doc).unwrap()
+        gymfleet_assembly::parse(&doc.replace("ACTUATORS", actuators)).unwrap()
     }
 
     /// Each DOF's diagonal entry is its own arm's inertia about its axis (an arm of
@@ -256,5 +262,78 @@ mod tests {
             let link = mb.link(world.joints[k].link).unwrap().assembly_id();
             assert!((diagonal[k] * f64::from(inverse[link]) - 1.0).abs() < 1e-5);
         }
+    }
+
+    /// The three arms with a motor on `a` and an integrated-velocity servo on `b`.
+    fn actuated_arms() -> RobotWorld {
+        let assembly = arms(
+            r#"[{"name": "m", "joint": "a"},
+                {"name": "iv", "type": "intvelocity", "joint": "b", "act_range": [-0.5, 0.5]}]"#,
+        );
+        RobotWorld::new(&assembly, &WorldOptions::default()).unwrap()
+    }
+
+    fn refusal(world: &RobotWorld, state: &crate::DynamicState) -> (String, String) {
+        match world.check_dynamic_state(state) {
+            Err(crate::PhysicsError::BadState { path, reason }) => (path, reason),
+            other => panic!("expected a refused state, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn a_state_with_wrong_controls_or_activations_is_refused_by_field() {
+        let world = actuated_arms();
+        let good = world.dynamic_state();
+        assert!(world.check_dynamic_state(&good).is_ok());
+        let mut s = good.clone();
+        s.controls.pop();
+        assert_eq!(
+            refusal(&world, &s),
+            (
+                "world.controls".into(),
+                "expected 2 controls (one per actuator), got 1".into()
+            )
+        );
+        let mut s = good.clone();
+        s.controls[1] = f32::NAN;
+        assert_eq!(
+            refusal(&world, &s),
+            (
+                "world.controls[1]".into(),
+                format!("expected a finite value within ±{:e}, got NaN", f32::MAX)
+            )
+        );
+        let mut s = good.clone();
+        s.activations.push(0.0);
+        assert_eq!(
+            refusal(&world, &s),
+            (
+                "world.activations".into(),
+                "expected 2 activations (one per actuator), got 3".into()
+            )
+        );
+        let mut s = good.clone();
+        s.activations[0] = 0.1;
+        assert_eq!(
+            refusal(&world, &s),
+            (
+                "world.activations[0]".into(),
+                "actuator 0 has no activation dynamics: expected 0, got 0.1".into()
+            )
+        );
+        let mut s = good.clone();
+        s.activations[1] = 0.7;
+        assert_eq!(
+            refusal(&world, &s),
+            (
+                "world.activations[1]".into(),
+                "0.7 is outside actuator 1's activation range [-0.5, 0.5]".into()
+            )
+        );
+        let mut s = good;
+        s.activations[1] = f64::INFINITY;
+        assert!(refusal(&world, &s)
+            .1
+            .starts_with("expected a finite value within"));
     }
 }

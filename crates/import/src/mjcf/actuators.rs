@@ -12,6 +12,7 @@
 
 use gymfleet_assembly::{ActuatorDef, ActuatorKind, DynamicsKind};
 
+use super::actuator_form::{General, Type};
 use super::*;
 
 /// The actuator elements MuJoCo has.
@@ -36,63 +37,6 @@ pub(super) fn is_actuator(tag: &str) -> bool {
     TAGS.contains(&tag)
 }
 
-/// MuJoCo's gain, bias and dynamics types, those gymfleet computes and the others by name.
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Type {
-    None,
-    Fixed,
-    Affine,
-    Integrator,
-    Filter,
-    FilterExact,
-    Other,
-}
-
-/// The general form of one actuator (MuJoCo's `mjsActuator`, the parts gymfleet reads).
-#[derive(Debug, Clone)]
-pub(super) struct General {
-    gaintype: Type,
-    biastype: Type,
-    dyntype: Type,
-    gainprm: [f64; 3],
-    biasprm: [f64; 3],
-    /// `dynprm[0]`: a filter's time constant.
-    timeconst: f64,
-    gear: f64,
-    ctrlrange: [f64; 2],
-    forcerange: [f64; 2],
-    actrange: [f64; 2],
-    ctrllimited: Option<bool>,
-    forcelimited: Option<bool>,
-    actlimited: Option<bool>,
-    actearly: bool,
-    /// A tag gymfleet does not compute (`<muscle>`, `<adhesion>`, …).
-    unsupported: Option<&'static str>,
-}
-
-impl Default for General {
-    /// MuJoCo's defaults.
-    fn default() -> Self {
-        General {
-            gaintype: Type::Fixed,
-            biastype: Type::None,
-            dyntype: Type::None,
-            gainprm: [1.0, 0.0, 0.0],
-            biasprm: [0.0; 3],
-            timeconst: 1.0,
-            gear: 1.0,
-            ctrlrange: [0.0; 2],
-            forcerange: [0.0; 2],
-            actrange: [0.0; 2],
-            ctrllimited: None,
-            forcelimited: None,
-            actlimited: None,
-            actearly: false,
-            unsupported: None,
-        }
-    }
-}
-
 /// One `<actuator>` element, read.
 #[derive(Debug, Clone)]
 pub(super) struct Parsed {
@@ -105,9 +49,6 @@ pub(super) struct Parsed {
     line: u32,
 }
 
-/// Attribute lookup: an element's own, or a default class's for one tag.
-type Lookup<'x> = dyn Fn(&str) -> Option<&'x str> + 'x;
-
 impl<'a, 'i> Converter<'a, 'i> {
     pub(super) fn actuators(&mut self, node: Node<'a, 'i>) -> Result<()> {
         for (order, element) in elements(node).enumerate() {
@@ -118,7 +59,7 @@ impl<'a, 'i> Converter<'a, 'i> {
             let class = element.attribute("class").unwrap_or("main");
             let mut general = self.class_actuator(element, class)?;
             let own = |name: &str| element.attribute(name);
-            self.apply(element, tag, &own, &mut general)?;
+            super::actuator_form::apply(self, element, tag, &own, &mut general)?;
             if let Some(what) = general.unsupported {
                 return Err(self.unsupported(element, what.into()));
             }
@@ -211,255 +152,9 @@ impl<'a, 'i> Converter<'a, 'i> {
             };
             let attributes = c.attributes.get(tag);
             let lookup = |name: &str| attributes.and_then(|a| a.get(name)).copied();
-            self.apply(element, tag, &lookup, &mut general)?;
+            super::actuator_form::apply(self, element, tag, &lookup, &mut general)?;
         }
         Ok(general)
-    }
-
-    /// Writes one actuator element's attributes (`get`) into `g`, as MuJoCo's reader does
-    /// for its tag. Errors name `element` (the actuator being read).
-    fn apply(
-        &self,
-        element: Node<'a, 'i>,
-        tag: &'static str,
-        get: &Lookup<'_>,
-        g: &mut General,
-    ) -> Result<()> {
-        let nums = |name: &str| -> Result<Option<Vec<f64>>> {
-            let Some(text) = get(name) else {
-                return Ok(None);
-            };
-            text.split_whitespace()
-                .map(|t| t.parse::<f64>().ok().filter(|v| v.is_finite()))
-                .collect::<Option<Vec<f64>>>()
-                .filter(|v| !v.is_empty())
-                .map(Some)
-                .ok_or_else(|| {
-                    self.bad(
-                        element,
-                        name,
-                        format!("expected finite numbers, got {text:?}"),
-                    )
-                })
-        };
-        let one = |name: &str| -> Result<Option<f64>> { Ok(nums(name)?.map(|v| v[0])) };
-        let pair = |name: &str| -> Result<Option<[f64; 2]>> {
-            match nums(name)? {
-                None => Ok(None),
-                Some(v) if v.len() == 2 => Ok(Some([v[0], v[1]])),
-                Some(v) => Err(self.bad(
-                    element,
-                    name,
-                    format!("expected 2 numbers, got {}", v.len()),
-                )),
-            }
-        };
-        let limited = |name: &str| -> Result<Option<Option<bool>>> {
-            match get(name) {
-                None => Ok(None),
-                Some("auto") => Ok(Some(None)),
-                Some("true") => Ok(Some(Some(true))),
-                Some("false") => Ok(Some(Some(false))),
-                Some(other) => Err(self.bad(
-                    element,
-                    name,
-                    format!("expected true, false or auto, got {other:?}"),
-                )),
-            }
-        };
-        let negative = |name: &str, v: f64| -> Result<()> {
-            if v < 0.0 {
-                return Err(self.bad(element, name, format!("cannot be negative, got {v}")));
-            }
-            Ok(())
-        };
-        // The attributes every actuator reads.
-        if let Some(v) = nums("gear")? {
-            g.gear = v[0];
-            if v[1..].iter().any(|x| *x != 0.0) {
-                return Err(self.unsupported(
-                    element,
-                    format!("gear {v:?}: only the first component of a gear is used by joint and tendon transmissions"),
-                ));
-            }
-        }
-        for (name, range) in [
-            ("ctrlrange", &mut g.ctrlrange),
-            ("forcerange", &mut g.forcerange),
-            ("actrange", &mut g.actrange),
-        ] {
-            if let Some(v) = pair(name)? {
-                *range = v;
-            }
-        }
-        for (name, flag) in [
-            ("ctrllimited", &mut g.ctrllimited),
-            ("forcelimited", &mut g.forcelimited),
-            ("actlimited", &mut g.actlimited),
-        ] {
-            if let Some(v) = limited(name)? {
-                *flag = v;
-            }
-        }
-        // `inheritrange` (a range from the joint's, written into ctrlrange by MuJoCo's
-        // compiler), from the element or its class: 0 is MuJoCo's "off".
-        if let Some(v) = get("inheritrange").filter(|v| v.trim().parse::<f64>() != Ok(0.0)) {
-            return Err(self.bad(
-                element,
-                "inheritrange",
-                format!("{v:?}: inheritrange is not supported yet; give ctrlrange"),
-            ));
-        }
-        if let Some(v) = get("actearly") {
-            g.actearly = v == "true";
-        }
-        if let Some(v) = get("actdim") {
-            if !matches!(v.trim(), "-1" | "0" | "1") {
-                return Err(self.unsupported(
-                    element,
-                    format!("actdim {v:?}: an actuator has one activation at most here"),
-                ));
-            }
-        }
-        match tag {
-            "general" => {
-                for (name, slot, allowed) in [
-                    ("gaintype", &mut g.gaintype, &["fixed", "affine"][..]),
-                    ("biastype", &mut g.biastype, &["none", "affine"][..]),
-                    (
-                        "dyntype",
-                        &mut g.dyntype,
-                        &["none", "integrator", "filter", "filterexact"][..],
-                    ),
-                ] {
-                    let Some(v) = get(name) else { continue };
-                    *slot = match v {
-                        "none" => Type::None,
-                        "fixed" => Type::Fixed,
-                        "affine" => Type::Affine,
-                        "integrator" => Type::Integrator,
-                        "filter" => Type::Filter,
-                        "filterexact" => Type::FilterExact,
-                        _ => Type::Other,
-                    };
-                    if !allowed.contains(&v) {
-                        return Err(self.unsupported(
-                            element,
-                            format!(
-                                "{name} {v:?} is not supported (supported: {})",
-                                allowed.join(", ")
-                            ),
-                        ));
-                    }
-                }
-                for (name, slot) in [("gainprm", &mut g.gainprm), ("biasprm", &mut g.biasprm)] {
-                    if let Some(v) = nums(name)? {
-                        *slot = [0.0; 3];
-                        for (k, x) in v.iter().enumerate() {
-                            if k < 3 {
-                                slot[k] = *x;
-                            } else if *x != 0.0 {
-                                return Err(self.unsupported(
-                                    element,
-                                    format!("{name} {v:?}: only the first three parameters are used by the affine form"),
-                                ));
-                            }
-                        }
-                    }
-                }
-                if let Some(v) = nums("dynprm")? {
-                    g.timeconst = v[0];
-                }
-            }
-            "motor" => {
-                g.gainprm[0] = 1.0;
-                g.dyntype = Type::None;
-                g.gaintype = Type::Fixed;
-                g.biastype = Type::None;
-            }
-            "position" | "intvelocity" => {
-                let kp = one("kp")?.unwrap_or(g.gainprm[0]);
-                let kv = one("kv")?;
-                let dampratio = one("dampratio")?;
-                let timeconst = one("timeconst")?;
-                if kv.is_some() && dampratio.is_some() {
-                    return Err(self.bad(
-                        element,
-                        "dampratio",
-                        "kv and dampratio cannot both be defined".into(),
-                    ));
-                }
-                g.gainprm[0] = kp;
-                g.biasprm[1] = -kp;
-                if let Some(kv) = kv {
-                    negative("kv", kv)?;
-                    g.biasprm[2] = -kv;
-                }
-                if let Some(d) = dampratio {
-                    negative("dampratio", d)?;
-                    g.biasprm[2] = d;
-                }
-                if let Some(t) = timeconst {
-                    negative("timeconst", t)?;
-                    g.timeconst = t;
-                    g.dyntype = if t == 0.0 {
-                        Type::None
-                    } else {
-                        Type::FilterExact
-                    };
-                }
-                g.gaintype = Type::Fixed;
-                g.biastype = Type::Affine;
-                if tag == "intvelocity" {
-                    g.dyntype = Type::Integrator;
-                }
-            }
-            "velocity" => {
-                let kv = one("kv")?.unwrap_or(g.gainprm[0]);
-                g.biasprm = [0.0, 0.0, -kv];
-                g.gainprm[0] = kv;
-                g.dyntype = Type::None;
-                g.gaintype = Type::Fixed;
-                g.biastype = Type::Affine;
-            }
-            "damper" => {
-                let inherited = g.gaintype == Type::Affine;
-                let kv = one("kv")?.unwrap_or(if inherited { -g.gainprm[2] } else { 0.0 });
-                negative("kv", kv)?;
-                g.gainprm = [0.0, 0.0, -kv];
-                g.ctrllimited = Some(true);
-                g.dyntype = Type::None;
-                g.gaintype = Type::Affine;
-                g.biastype = Type::None;
-            }
-            "cylinder" => {
-                let timeconst = one("timeconst")?.unwrap_or(g.timeconst);
-                let mut bias = g.biasprm;
-                if let Some(v) = nums("bias")? {
-                    for (k, x) in v.iter().take(3).enumerate() {
-                        bias[k] = *x;
-                    }
-                }
-                let mut area = one("area")?.unwrap_or(g.gainprm[0]);
-                if let Some(d) = one("diameter")? {
-                    area = std::f64::consts::PI / 4.0 * d * d;
-                }
-                g.timeconst = timeconst;
-                g.biasprm = bias;
-                g.gainprm[0] = area;
-                g.dyntype = Type::Filter;
-                g.gaintype = Type::Fixed;
-                g.biastype = Type::Affine;
-            }
-            _ => {
-                g.unsupported = Some(match tag {
-                    "muscle" => "muscle actuators are not supported yet (MuJoCo's muscle model: its length–force and velocity curves)",
-                    "adhesion" => "adhesion actuators are not supported (they act on contacts)",
-                    _ => "this actuator type is not supported (supported: motor, position, velocity, intvelocity, damper, cylinder, general)",
-                });
-            }
-        }
-        Ok(())
     }
 
     /// The actuators' part of the document: none when they are plain joint motors in the

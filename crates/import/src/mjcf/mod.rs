@@ -22,6 +22,7 @@ use crate::frame::{euler_xyz_degrees, inertial_def, vec3, z_onto, Frame};
 use crate::xml::{elements, Names, Warnings, XmlReader};
 use crate::{Converted, ImportError, Result};
 
+mod actuator_form;
 mod actuators;
 mod attributes;
 mod bodies;
