@@ -160,3 +160,13 @@ def test_an_activation_is_part_of_a_saved_state_and_of_a_reset():
     obs, _, _, _, info = env.step(np.zeros(len(NAMES), np.float32))
     assert info["act_cylinder"] == 0.0  # a reset clears it, and ctrl 0 keeps it there
     env.close()
+
+
+def test_normalized_actions_need_every_actuators_ctrl_range():
+    with pytest.raises(gymfleet.InvalidArgument) as refused:
+        gymfleet.make(XML, normalize_actions=True)
+    assert str(refused.value) == (
+        "normalize_actions: every DOF needs a finite torque range, but dampratio, velocity, "
+        "intvelocity, cylinder, general has none (set max_effort, or an actuator's ctrl_range, "
+        "in the document)"
+    )

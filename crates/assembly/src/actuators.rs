@@ -258,9 +258,9 @@ fn transmission(
                 c.push(
                     "joint",
                     format!(
-                        "{} is a {:?} joint; an actuator drives a revolute or prismatic joint",
+                        "{} is a {} joint; an actuator drives a revolute or prismatic joint",
                         quoted(name),
-                        joints[i].kind
+                        joints[i].kind.as_str()
                     ),
                 );
                 None

@@ -125,6 +125,22 @@ fn misused_actuators_are_refused_with_their_paths() {
         with(json!([{"name": "a", "joint": "hinge", "gear": 1e10}])),
         "assembly.actuators[0].gear: expected a number within ±1e9, got 10000000000",
     );
+    assert_issue(
+        with(
+            json!([{"name": "a", "type": "cylinder", "joint": "hinge", "area": 1, "diameter": 1}]),
+        ),
+        "assembly.actuators[0].diameter: give area or diameter, not both",
+    );
+    let mut doc = with(json!([{"name": "a", "joint": "hinge"}]));
+    doc["assembly"]["joints"][0]["type"] = json!("ball");
+    doc["assembly"]["joints"][0]
+        .as_object_mut()
+        .unwrap()
+        .remove("axis");
+    assert_issue(
+        doc,
+        r#"assembly.actuators[0].joint: "hinge" is a ball joint; an actuator drives a revolute or prismatic joint"#,
+    );
     let mut doc = with(json!([{"name": "a", "joint": "hinge"}]));
     doc["assembly"]["joints"][0]["gear"] = json!(2);
     assert_issue(

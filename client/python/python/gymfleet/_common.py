@@ -422,7 +422,7 @@ class ActionMap:
             if unbounded:
                 what = "max_effort" if action_type == "torque" else "joint limits"
                 if set(unbounded) & {a["name"] for a in info.get("actuators") or []}:
-                    what += ", and an actuator's ctrl_range"
+                    what += ", or an actuator's ctrl_range,"
                 raise InvalidArgument(
                     f"normalize_actions: every DOF needs a finite {action_type} range, but "
                     f"{', '.join(unbounded)} has none (set {what} in the document)"
