@@ -4,7 +4,7 @@
 mod common;
 
 use common::env_with;
-use gymfleet_env::{ActionType, EnvConfig};
+use gymfleet_env::{ActionType, EnvConfig, TaskKind, TaskSpec, TermsTask};
 use serde_json::json;
 
 const RADIUS_MM: f64 = 20.0;
@@ -313,6 +313,80 @@ fn a_fast_ball_stops_on_a_thin_plate_and_on_a_plane() {
             // Sunk or passed through, or (a check that could not fail) never down to the floor.
             let wrong = lowest <= RADIUS_MM * 0.85 || lowest > RADIUS_MM + 1.0;
             if wrong && !known {
+                failures.push(line.clone());
+            }
+            report.push(line);
+        }
+    }
+    println!("{}", report.join("\n"));
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// Issue F's scene: a 5 mm ball (density 1000, friction 0.5) dropped on a 10 mm-thick
+/// 100 × 100 mm box floor, both of restitution `e`, reaching it at `speed` m/s, stepped at
+/// (`dt`, `substeps`). Returns the rebound's apex over the drop height, from the ball's
+/// height and vertical velocity (its `body_velocity` term) at the first step end after the
+/// impact at which it is in the air again: free flight keeps `z + v²/2g`, so any step end
+/// of the first flight gives the apex, however coarse the step.
+fn small_ball_rebound(e: f64, speed: f64, dt: f64, substeps: u32) -> Option<f64> {
+    const R: f64 = 5.0;
+    let g = 9.81;
+    let drop_mm = speed * speed / (2.0 * g) * 1000.0;
+    let doc = json!({
+        "materials": {"bouncy": {"restitution": e, "friction": 0.5}},
+        "parts": [
+            {"name": "Floor", "primitive": {"type": "cube", "size": {"x": 100, "y": 100, "z": 10}},
+             "material": "bouncy"},
+            {"name": "Ball", "primitive": {"type": "sphere", "radius": R}, "material": "bouncy"}
+        ],
+        "assembly": {"instances": [
+            {"part": "Floor", "name": "floor", "position": {"x": -50, "y": -50, "z": -10}},
+            {"part": "Ball", "name": "ball", "position": {"x": 0, "y": 0, "z": R + drop_mm}}
+        ]}
+    });
+    let terms = json!({"terms": [
+        {"name": "vz", "weight": 0, "value": {"body_velocity": ["ball"], "component": 5}}
+    ]});
+    let config = EnvConfig {
+        dt,
+        substeps,
+        task: Some(TaskSpec {
+            kind: TaskKind::Terms(TermsTask::from_json(&terms.to_string()).expect("terms")),
+            action_cost: 0.0,
+        }),
+        ..EnvConfig::with_end_effectors(["ball"])
+    };
+    let mut env = env_with(&doc, config);
+    let impact = speed / g;
+    for k in 1..=((2.0 / dt) as usize) {
+        let obs = env
+            .step(ActionType::Torque, &[])
+            .expect("steps")
+            .observation
+            .to_flat();
+        let z = f64::from(obs[2]);
+        let vz = f64::from(env.term_values()[0]);
+        if k as f64 * dt > impact && z > R + 0.05 {
+            let apex = z + vz * vz / (2.0 * g) * 1000.0;
+            return Some((apex - R) / drop_mm);
+        }
+    }
+    None
+}
+
+/// Issue F's bar at the default step (1/240 s, 5 substeps): e² within ±0.05 for e in
+/// {0.5, 0.8, 1.0} at 0.3, 1 and 3 m/s, for a 5 mm ball on a box floor. Every case is
+/// within 0.025 today (the largest miss: e = 1 at 0.3 m/s, 1.025). Issue F's suite-id
+/// settings (coarse substeps of 2 to 20 ms) do not hold yet: see the issue's notes.
+#[test]
+fn a_small_ball_rebounds_to_e_squared_from_a_box_floor_at_the_default_step() {
+    let mut report = Vec::new();
+    let mut failures = Vec::new();
+    for e in [0.5, 0.8, 1.0] {
+        for speed in [0.3, 1.0, 3.0] {
+            let ratio = small_ball_rebound(e, speed, 1.0 / 240.0, 5);
+            let line = format!("e {e} at {speed} m/s: {ratio:.3?} (e² = {:.2})", e * e);
+            if ratio.is_none_or(|r| (r - e * e).abs() > 0.05) {
                 failures.push(line.clone());
             }
             report.push(line);
