@@ -934,6 +934,13 @@ pub fn is_bouncy_simd(restitution: SimdReal, is_new: SimdReal) -> SimdReal {
     if_new.select(is_new.simd_ne(zero), if_not_new)
 }
 
+/// gymfleet patch 39 (see `PATCHES.md`): the approach speed (length units per second) a
+/// bouncy point that is not closing when the step starts holds as its restitution seed,
+/// so that it stays pending (seeds are negative while pending) until a substep in which it
+/// closes refreshes the seed from the velocity it closes with. Small enough that a point
+/// which pushes without ever closing bounces at no measurable speed.
+pub const PENDING_APPROACH_SPEED: Real = 1.0e-9;
+
 /// Scalar variant of [`is_bouncy_simd`].
 pub fn is_bouncy(restitution: Real, is_new: bool) -> Real {
     if is_new {

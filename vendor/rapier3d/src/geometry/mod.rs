@@ -24,7 +24,7 @@ pub(crate) use self::contact_pair::relative_pose_drift;
 pub use self::contact_pair::{
     ContactData, ContactId, ContactManifoldData, ContactPair, IntersectionPair, NEW_CONTACT_BIT,
     PairContacts, RigidPairContacts, SimdSolverContact, SolverContact, SolverContactGeneric,
-    SolverContacts, SolverFlags, is_bouncy, is_bouncy_simd,
+    SolverContacts, SolverFlags, is_bouncy, is_bouncy_simd, PENDING_APPROACH_SPEED,
 };
 #[cfg(feature = "alloc")]
 pub use self::interaction_graph::{

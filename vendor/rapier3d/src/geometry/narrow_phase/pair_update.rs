@@ -16,7 +16,7 @@ use crate::geometry::{
     Aabb, BoundingVolume, ColliderChanges, ColliderSet, ContactData, ContactManifoldData,
     ContactPair, SolverContact, SolverFlags,
 };
-use crate::math::{MAX_MANIFOLD_POINTS, Real};
+use crate::math::{MAX_MANIFOLD_POINTS, Real, Vector};
 use crate::pipeline::{
     ActiveHooks, ContactModificationContext, ModifiableContacts, ModifiableManifold,
     PairFilterContext, PhysicsHooks,
@@ -324,6 +324,15 @@ pub(super) fn process_pair(
         let soft_margin2 = rb2.map_or(0.0, |rb| co2.soft_motion_margin(rb));
         let soft_body_prediction = soft_margin1 + soft_margin2;
         let contact_skin_sum = co1.contact_skin() + co2.contact_skin();
+        let restitution = CoefficientCombineRule::combine(
+            co1.material.restitution,
+            co2.material.restitution,
+            co1.material.restitution_combine_rule,
+            co2.material.restitution_combine_rule,
+        );
+        // gymfleet patch 39 (see `PATCHES.md`): a bouncy pair is predicted under the step's
+        // forces (below); the others as upstream does, bit for bit.
+        let bouncy = restitution > 0.0;
         let soft_ccd_prediction1 = rb1.map(|rb| rb.soft_ccd_prediction()).unwrap_or(0.0);
         let soft_ccd_prediction2 = rb2.map(|rb| rb.soft_ccd_prediction()).unwrap_or(0.0);
         let effective_prediction_distance = if soft_ccd_prediction1 > 0.0
@@ -333,12 +342,34 @@ pub(super) fn process_pair(
             let aabb2 = co2.compute_collision_aabb(0.0);
             let inv_dt = crate::utils::inv(dt);
 
-            let linvel1 = rb1
-                .map(|rb| rb.linvel().clamp_length_max(soft_ccd_prediction1 * inv_dt))
-                .unwrap_or_default();
-            let linvel2 = rb2
-                .map(|rb| rb.linvel().clamp_length_max(soft_ccd_prediction2 * inv_dt))
-                .unwrap_or_default();
+            let linvel = |rb: Option<&RigidBody>, max_dist: Real| {
+                rb.map(|rb| rb.linvel().clamp_length_max(max_dist * inv_dt))
+                    .unwrap_or_default()
+            };
+            let mut linvel1 = linvel(rb1, soft_ccd_prediction1);
+            let mut linvel2 = linvel(rb2, soft_ccd_prediction2);
+            let mut relative_speed = (linvel1 - linvel2).length();
+            let mut bow = 0.0;
+            if bouncy {
+                // gymfleet patch 39: a bouncy pair also moves at its bodies' velocities at the
+                // step's end under its forces (gravity included), as the broad phase predicts
+                // them (`predict_position_using_velocity_and_forces_with_max_dist`): a ball
+                // released at rest above the floor falls `g·dt²/2` within the step. Moving at
+                // the mean velocity sweeps the chord of the path, which leaves the chord by
+                // at most `|Δv|·dt/8` under a constant acceleration.
+                let end = |rb: Option<&RigidBody>, max_dist: Real| {
+                    rb.map(|rb| {
+                        let v = rb.forces.integrate(dt, &rb.vels, &rb.mprops).linvel;
+                        v.clamp_length_max(max_dist * inv_dt)
+                    })
+                    .unwrap_or_default()
+                };
+                let (end1, end2) = (end(rb1, soft_ccd_prediction1), end(rb2, soft_ccd_prediction2));
+                bow = dt * ((end1 - linvel1) - (end2 - linvel2)).length() / 8.0;
+                relative_speed = relative_speed.max((end1 - end2).length());
+                linvel1 = (linvel1 + end1) * 0.5;
+                linvel2 = (linvel2 + end2) * 0.5;
+            }
             // gymfleet patch (see `PATCHES.md`): the points of a rotating body move faster than
             // its centre of mass (the tip of a swinging link twice as fast as its middle), so
             // the prediction also covers `|ω|·r` for each collider, `r` bounding the distance
@@ -352,7 +383,8 @@ pub(super) fn process_pair(
             };
             let rotation_dist = dt
                 * (rotation_speed(rb1, &aabb1, soft_ccd_prediction1)
-                    + rotation_speed(rb2, &aabb2, soft_ccd_prediction2));
+                    + rotation_speed(rb2, &aabb2, soft_ccd_prediction2))
+                + bow;
 
             if !aabb1.intersects(&aabb2)
                 && !aabb1
@@ -365,7 +397,7 @@ pub(super) fn process_pair(
                 break 'emit_events;
             }
 
-            prediction_distance.max(dt * (linvel1 - linvel2).length() + rotation_dist)
+            prediction_distance.max(dt * relative_speed + rotation_dist)
                 + contact_skin_sum
                 + soft_body_prediction
         } else {
@@ -378,12 +410,6 @@ pub(super) fn process_pair(
             co2.material.friction,
             co1.material.friction_combine_rule,
             co2.material.friction_combine_rule,
-        );
-        let restitution = CoefficientCombineRule::combine(
-            co1.material.restitution,
-            co2.material.restitution,
-            co1.material.restitution_combine_rule,
-            co2.material.restitution_combine_rule,
         );
 
         /*
@@ -608,8 +634,21 @@ pub(super) fn process_pair(
                         let vel2 = rb2
                             .map(|rb| rb.velocity_at_point(world_pt2))
                             .unwrap_or_default();
-                        effective_contact_dist + (vel2 - vel1).dot(manifold.data.normal) * dt
-                            < prediction_distance
+                        // gymfleet patch 39: a bouncy pair also at the step's mean velocity
+                        // under its forces (gravity included): a body released at rest
+                        // above the floor meets it within the step.
+                        let gain = |rb: Option<&RigidBody>| match rb {
+                            Some(rb) if bouncy => {
+                                rb.forces.integrate(dt, &rb.vels, &rb.mprops).linvel
+                                    - rb.linvel()
+                            }
+                            _ => Vector::ZERO,
+                        };
+                        let mean = (vel2 - vel1) + (gain(rb2) - gain(rb1)) * 0.5;
+                        let closing = (vel2 - vel1)
+                            .dot(manifold.data.normal)
+                            .min(mean.dot(manifold.data.normal));
+                        effective_contact_dist + closing * dt < prediction_distance
                     };
 
                 if keep_solver_contact {

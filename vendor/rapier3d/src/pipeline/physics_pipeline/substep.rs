@@ -450,6 +450,17 @@ impl PhysicsPipeline {
                 .update_rigid_bodies_internal(bodies, true, false, false);
         }
 
+        // gymfleet patch 39 (see `PATCHES.md`): this step's forces, gravity included, before
+        // collision detection, whose soft-CCD predictions integrate them (the solver's
+        // pass recomputes the same values). Without it a body's first step after it was
+        // built, reset or woken predicted its motion from its velocity alone.
+        for handle in islands.active_bodies() {
+            let rb = bodies.index_mut_internal(handle);
+            let effective_mass = rb.mprops.effective_mass();
+            rb.forces
+                .compute_effective_force_and_torque(gravity, effective_mass);
+        }
+
         // The soft meshes' vertex caches, read by the soft contact passes.
         soft_bodies.refresh_vertex_caches();
         self.detect_collisions(

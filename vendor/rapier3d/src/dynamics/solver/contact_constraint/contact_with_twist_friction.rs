@@ -1,6 +1,6 @@
 use super::{
     ContactConstraintNormalPartSlim, ContactConstraintTangentPartSlim,
-    ContactConstraintTwistPartSlim, any_pending_seed, normal_velocity,
+    ContactConstraintTwistPartSlim, any_pending_seed, bounce_seed, normal_velocity,
 };
 #[cfg(feature = "block-solver")]
 use crate::dynamics::solver::contact_constraint::BLOCK_SOLVER_MIN_CONDITION;
@@ -23,6 +23,11 @@ pub struct TwistContactPointInfos<N: ScalarType> {
     pub local_p1: N::Vector,
     pub local_p2: N::Vector,
     pub dist: N,
+    /// gymfleet patch 39: the normal velocity (negative while closing) and the separation at
+    /// prepare time, the state whose free-flight energy a bounce keeps `e²` of
+    /// (see `bounce_seed`).
+    pub approach0: N,
+    pub gap0: N,
 }
 
 impl<N: ScalarType> Default for TwistContactPointInfos<N> {
@@ -32,6 +37,8 @@ impl<N: ScalarType> Default for TwistContactPointInfos<N> {
             local_p1: Default::default(),
             local_p2: Default::default(),
             dist: N::zero(),
+            approach0: N::zero(),
+            gap0: N::zero(),
         }
     }
 }
@@ -257,6 +264,7 @@ impl ContactWithTwistFrictionBuilder<SimdReal> {
 
             // Normal part.
             let restitution_seed;
+            let projected_velocity;
             {
                 let torque_dir1 = dp1.gcross(force_dir1);
                 let torque_dir2 = dp2.gcross(-force_dir1);
@@ -270,8 +278,12 @@ impl ContactWithTwistFrictionBuilder<SimdReal> {
                         + ii_torque_dir2.gdot(torque_dir2),
                 );
 
-                let projected_velocity = (vel1 - vel2).gdot(force_dir1);
-                restitution_seed = is_bouncy * restitution * projected_velocity;
+                projected_velocity = (vel1 - vel2).gdot(force_dir1);
+                // gymfleet patch 39: a bouncy point not closing at the step's start is
+                // pending too, at a vanishing approach speed, until the substep that closes
+                // it refreshes its seed (a ball at rest above the floor, or rising).
+                let pending = SimdReal::splat(-crate::geometry::PENDING_APPROACH_SPEED);
+                restitution_seed = is_bouncy * restitution * projected_velocity.simd_min(pending);
 
                 out_constraint.normal_part[k].torque_dir1 = torque_dir1;
                 out_constraint.normal_part[k].torque_dir2 = torque_dir2;
@@ -296,6 +308,8 @@ impl ContactWithTwistFrictionBuilder<SimdReal> {
             out_builder.infos[k].local_p2 = poses2.inverse_transform_point(world_com2 + dp2);
             out_builder.infos[k].dist = dist - (point - (world_com2 + dp2)).gdot(force_dir1);
             out_builder.infos[k].restitution_seed = restitution_seed;
+            out_builder.infos[k].approach0 = projected_velocity;
+            out_builder.infos[k].gap0 = dist;
             out_constraint.restitution_seed[k] = restitution_seed;
         }
 
@@ -632,6 +646,8 @@ impl ContactWithTwistFrictionBuilder<SimdReal> {
         &self,
         constraint: &mut ContactWithTwistFriction<SimdReal>,
         bodies: &mut SolverBodies,
+        increments: &[SolverVel<Real>],
+        inv_dt: Real,
     ) {
         let num = constraint.num_contacts as usize;
         // Not yet bounced (a constraint's seed is negative only if its builder's was).
@@ -642,18 +658,41 @@ impl ContactWithTwistFrictionBuilder<SimdReal> {
         let mut solver_vel1 = bodies.gather_vels(constraint.solver_vel1);
         let mut solver_vel2 = bodies.gather_vels(constraint.solver_vel2);
 
-        for (seed, normal_part) in constraint.restitution_seed[..num]
+        // gymfleet patch 39: the bounce speed that leaves the point `e²` of the energy it
+        // approached with, counted as semi-implicit Euler keeps it (see `bounce_speed`).
+        let inc1 = SolverVel::gather(increments, constraint.solver_vel1);
+        let inc2 = SolverVel::gather(increments, constraint.solver_vel2);
+        let inv_dt = SimdReal::splat(inv_dt);
+        for ((seed, normal_part), info) in constraint.restitution_seed[..num]
             .iter_mut()
             .zip(constraint.normal_part[..num].iter_mut())
+            .zip(&self.infos[..num])
         {
+            let increment = normal_velocity(
+                &constraint.dir1,
+                &normal_part.torque_dir1,
+                &normal_part.torque_dir2,
+                &inc1,
+                &inc2,
+            );
+            let (bounce, not_yet) = bounce_seed(
+                *seed,
+                self.restitution,
+                increment,
+                normal_part.rhs,
+                [info.approach0, info.gap0 * inv_dt],
+            );
+            let pending = seed.simd_lt(SimdReal::zero());
+            let mut now = SimdReal::zero().select(not_yet, bounce.select(pending, *seed));
             normal_part.solve_restitution(
-                seed,
+                &mut now,
                 &constraint.dir1,
                 &constraint.im1,
                 &constraint.im2,
                 &mut solver_vel1,
                 &mut solver_vel2,
             );
+            *seed = (*seed).select(not_yet & pending, now);
         }
 
         bodies.scatter_vels(constraint.solver_vel1, solver_vel1);

@@ -21,6 +21,8 @@ pub(crate) struct GenericContactConstraintBuilder {
     infos: [CoulombContactPointInfos<Real>; MAX_MANIFOLD_POINTS],
     handle1: RigidBodyHandle,
     handle2: RigidBodyHandle,
+    /// gymfleet patch 39: the manifold's restitution (for `bounce_seed`).
+    restitution: Real,
 }
 
 impl GenericContactConstraintBuilder {
@@ -29,6 +31,7 @@ impl GenericContactConstraintBuilder {
             infos: [CoulombContactPointInfos::default(); MAX_MANIFOLD_POINTS],
             handle1: RigidBodyHandle::invalid(),
             handle2: RigidBodyHandle::invalid(),
+            restitution: 0.0,
         }
     }
 
@@ -241,8 +244,11 @@ impl GenericContactConstraintBuilder {
                 let is_new = pt_data.impulse == 0.0;
                 let is_bouncy = crate::geometry::is_bouncy(manifold.data.restitution, is_new);
 
-                restitution_seed =
-                    (is_bouncy * manifold.data.restitution) * (vel1 - vel2).dot(force_dir1);
+                // gymfleet patch 39: pending while not closing too (see the coulomb kernel).
+                restitution_seed = (is_bouncy * manifold.data.restitution)
+                    * (vel1 - vel2)
+                        .dot(force_dir1)
+                        .min(-crate::geometry::PENDING_APPROACH_SPEED);
 
                 out_constraint.normal_part[k] = ContactConstraintNormalPart {
                     torque_dir1,
@@ -397,11 +403,15 @@ impl GenericContactConstraintBuilder {
                 tangent_vel: manifold_point.tangent_velocity,
                 dist: dist - (point - point2).dot(force_dir1),
                 restitution_seed,
+                approach0: (vel1 - vel2).dot(force_dir1),
+                gap0: dist,
             };
 
             out_builder.handle1 = handle1;
             out_builder.handle2 = handle2;
+            out_builder.restitution = manifold.data.restitution;
             out_builder.infos[k] = infos;
+            out_constraint.restitution_seed[k] = restitution_seed;
             out_constraint.manifold_contact_id[k] =
                 (manifold_point.contact_id[0] & !crate::geometry::NEW_CONTACT_BIT) as u8;
         }
@@ -538,38 +548,72 @@ impl GenericContactConstraintBuilder {
             .any(|info| info.restitution_seed < 0.0)
     }
 
-    /// End-of-step restitution pass (box2d-style): after all substeps, drive each bouncy
-    /// point's normal velocity to its prepare-time `restitution * approach_velocity`, gated
-    /// on the point having applied an impulse. Implemented by re-running the normal solve
-    /// with `rhs = seed` on those points and a zeroed effective mass on the others.
+    /// Restitution pass (box2d-style): drive each bouncy point that pushed to its bounce
+    /// speed (`bounce_seed`), by re-running the normal solve with `rhs = seed` on those points
+    /// and a zeroed effective mass on the others. gymfleet patch 39 (see `PATCHES.md`): run
+    /// after every substep, as patch 25 does for the rigid-body contacts, and a point that
+    /// bounces gives up its seed; upstream ran it once, after the last substep, from the
+    /// prepare-time approach speed.
+    #[allow(clippy::too_many_arguments)]
     pub fn apply_restitution(
         &self,
         constraint: &mut GenericContactConstraint,
         jacobians: &DVector,
         bodies: &mut SolverBodies,
         generic_solver_vels: &mut DVector,
+        increments: &[crate::dynamics::solver::SolverVel<Real>],
+        generic_increments: &DVector,
+        inv_dt: Real,
     ) {
-        if !self.has_bouncy_seed(constraint.num_contacts) {
+        use crate::math::SimdReal;
+        use simba::simd::SimdValue;
+        let num = constraint.num_contacts as usize;
+        if !constraint.restitution_seed[..num].iter().any(|s| *s < 0.0) {
             return;
         }
-
-        let mut any_gated = false;
-        for (info, normal_part) in self.infos[..constraint.num_contacts as usize]
-            .iter()
-            .zip(constraint.normal_part[..constraint.num_contacts as usize].iter_mut())
-        {
-            if info.restitution_seed < 0.0 && normal_part.total_impulse() > 0.0 {
-                normal_part.rhs = info.restitution_seed;
-                any_gated = true;
-            } else {
-                normal_part.r = 0.0;
+        let normal_increments =
+            constraint.normal_increments(jacobians, increments, generic_increments);
+        let saved: [(Real, Real); MAX_MANIFOLD_POINTS] =
+            core::array::from_fn(|k| (constraint.normal_part[k].r, constraint.normal_part[k].rhs));
+        let saved_cfm = constraint.cfm_factor;
+        let mut bounced = [false; MAX_MANIFOLD_POINTS];
+        for k in 0..num {
+            let seed = constraint.restitution_seed[k];
+            let normal_part = &mut constraint.normal_part[k];
+            let info = &self.infos[k];
+            if seed < 0.0 && normal_part.total_impulse() > 0.0 {
+                // Stopped by the biased solve: the generic relax pass keeps the substep's
+                // start rhs, so the point is taken at the surface.
+                let (bounce, not_yet) = crate::dynamics::solver::contact_constraint::bounce_seed(
+                    SimdReal::splat(seed),
+                    SimdReal::splat(self.restitution),
+                    SimdReal::splat(normal_increments[k]),
+                    SimdReal::splat(0.0),
+                    [
+                        SimdReal::splat(info.approach0),
+                        SimdReal::splat(info.gap0 * inv_dt),
+                    ],
+                );
+                if !not_yet.extract(0) {
+                    normal_part.rhs = bounce.extract(0);
+                    bounced[k] = true;
+                    continue;
+                }
             }
+            normal_part.r = 0.0;
         }
 
-        if any_gated {
+        if bounced.iter().any(|b| *b) {
             constraint.cfm_factor = 1.0;
             constraint.solve(jacobians, bodies, generic_solver_vels, true, false);
         }
+        for k in 0..num {
+            (constraint.normal_part[k].r, constraint.normal_part[k].rhs) = saved[k];
+            if bounced[k] {
+                constraint.restitution_seed[k] = 0.0;
+            }
+        }
+        constraint.cfm_factor = saved_cfm;
     }
 }
 
@@ -598,6 +642,9 @@ pub(crate) struct GenericContactConstraint {
     pub manifold_id: ContactRef,
     pub manifold_contact_id: [u8; MAX_MANIFOLD_POINTS],
     pub num_contacts: u8,
+    /// gymfleet patch 39: each point's restitution seed, negative while pending (copied from
+    /// the builder at prepare, zeroed when the point bounces: once per step).
+    pub restitution_seed: [Real; MAX_MANIFOLD_POINTS],
     pub normal_part: [ContactConstraintNormalPart<Real>; MAX_MANIFOLD_POINTS],
     pub tangent_part: [ContactConstraintTangentPart<Real>; MAX_MANIFOLD_POINTS],
 }
@@ -621,6 +668,7 @@ impl GenericContactConstraint {
             manifold_id: ContactRef::PADDING,
             manifold_contact_id: [u8::MAX; MAX_MANIFOLD_POINTS],
             num_contacts: u8::MAX,
+            restitution_seed: [0.0; MAX_MANIFOLD_POINTS],
             normal_part: [ContactConstraintNormalPart::zero(); MAX_MANIFOLD_POINTS],
             tangent_part: [ContactConstraintTangentPart::zero(); MAX_MANIFOLD_POINTS],
         }

@@ -439,6 +439,54 @@ impl ContactConstraintNormalPart<Real> {
 }
 
 impl GenericContactConstraint {
+    /// gymfleet patch 39 (see `PATCHES.md`): each point's velocity increment along the normal
+    /// over a substep (negative when the external forces close it), from the rigid bodies'
+    /// `increments` and the multibodies' `generic_increments` (the solver's
+    /// `solver_vels_increment` and `generic_solver_vels_increment`).
+    pub(crate) fn normal_increments(
+        &self,
+        jacobians: &DVector,
+        increments: &[SolverVel<Real>],
+        generic_increments: &DVector,
+    ) -> [Real; crate::math::MAX_MANIFOLD_POINTS] {
+        let side = |solver_vel: u32, mask: u8| {
+            if solver_vel == u32::MAX {
+                GenericRhs::Fixed
+            } else if self.generic_constraint_mask & mask == 0 {
+                GenericRhs::SolverVel(increments[solver_vel as usize])
+            } else {
+                GenericRhs::GenericId(solver_vel)
+            }
+        };
+        let (side1, side2) = (side(self.solver_vel1, 0b01), side(self.solver_vel2, 0b10));
+        let (ndofs1, ndofs2) = (self.ndofs1, self.ndofs2);
+        let j_step = j_step(ndofs1, ndofs2) * DIM;
+        let mut out = [0.0; crate::math::MAX_MANIFOLD_POINTS];
+        let mut nrm_j_id = normal_j_id(self.j_id, ndofs1, ndofs2);
+        for (k, normal_part) in self.normal_part[..self.num_contacts as usize]
+            .iter()
+            .enumerate()
+        {
+            out[k] = side1.dvel(
+                j_id1(nrm_j_id, ndofs1, ndofs2),
+                ndofs1,
+                jacobians,
+                self.dir1,
+                normal_part.torque_dir1,
+                generic_increments,
+            ) + side2.dvel(
+                j_id2(nrm_j_id, ndofs1, ndofs2),
+                ndofs2,
+                jacobians,
+                -self.dir1,
+                normal_part.torque_dir2,
+                generic_increments,
+            );
+            nrm_j_id += j_step;
+        }
+        out
+    }
+
     #[inline]
     pub fn generic_warmstart_group(
         normal_parts: &mut [ContactConstraintNormalPart<Real>],

@@ -4,23 +4,17 @@
 //! gymfleet patch 25 (see `PATCHES.md`): the rigid-body contacts bounce at the end of the
 //! substep in which they first push, not once at the end of the step, so a body that meets the
 //! floor early in a step leaves it in that step instead of resting on it for the rest of the
-//! step. A point bounces once: [`RestitutionPass::Substep`] consumes its seed. Multibody
-//! (generic) contacts keep the end-of-step pass.
+//! step. A point bounces once: the pass consumes its seed. Patch 39 does
+//! the same for the multibody (generic) contacts, which upstream bounced after the last
+//! substep.
 
 use super::{SharedCtx, stage_batch};
 
-/// Which contacts a restitution pass drives to their bounce.
-#[derive(Copy, Clone, PartialEq, Eq)]
-pub(super) enum RestitutionPass {
-    /// After a substep's last solve: the rigid-body contact chunks (colors, then the overflow
-    /// on worker 0) whose points pushed for the first time in that substep.
-    Substep,
-    /// After the last substep: the multibody (generic) contacts, on worker 0.
-    EndOfStep,
-}
-
-/// Runs one restitution pass of group `group_index`; returns the updated stage ordinal. Every
-/// worker calls it at the same stage site (see `StageSync`).
+/// Runs the restitution pass of group `group_index` after a substep's last solve: the
+/// rigid-body contact chunks (colors, then the overflow on worker 0) and the multibody
+/// (generic) contacts (worker 0) whose points pushed for the first time in that substep;
+/// `inv_dt` is the substep's. Returns the updated stage ordinal. Every worker calls it at the
+/// same stage site (see `StageSync`).
 ///
 /// # Safety
 /// The [`SharedCtx`] contract: constraints of a same color touch pairwise-disjoint bodies, and
@@ -30,11 +24,11 @@ pub(super) unsafe fn restitution_pass(
     group_index: usize,
     worker_id: usize,
     mut stage: usize,
-    pass: RestitutionPass,
+    inv_dt: crate::math::Real,
 ) -> usize {
     let group = &ctx.groups[group_index];
     let sync = ctx.sync;
-    if pass == RestitutionPass::Substep {
+    {
         for (_, color) in &ctx.color_ranges[group.colors.clone()] {
             let mut done = 0;
             while let Some(claimed) = sync.claim(
@@ -46,7 +40,7 @@ pub(super) unsafe fn restitution_pass(
                 let claimed_len = claimed.len();
                 for chunk_id in claimed {
                     // SAFETY: constraints of a same color touch pairwise-disjoint bodies.
-                    unsafe { restitute_chunk(ctx, chunk_id) };
+                    unsafe { restitute_chunk(ctx, chunk_id, inv_dt) };
                 }
                 done += claimed_len;
             }
@@ -56,16 +50,15 @@ pub(super) unsafe fn restitution_pass(
         }
     }
 
-    // Overflow (substep pass) or generic (end-of-step pass) contacts, on worker 0 alone.
+    // Overflow and generic contacts, on worker 0 alone.
     if worker_id == 0 {
-        match pass {
-            RestitutionPass::Substep => {
-                for chunk_id in group.overflow.clone() {
-                    unsafe { restitute_chunk(ctx, chunk_id) };
-                }
+        {
+            for chunk_id in group.overflow.clone() {
+                unsafe { restitute_chunk(ctx, chunk_id, inv_dt) };
             }
-            // Generic constraints exist only on the single-group path.
-            RestitutionPass::EndOfStep if ctx.groups.len() == 1 => {
+            // Generic constraints exist only on the single-group path. gymfleet patch 39:
+            // they bounce in the substep they push too (upstream: after the last substep).
+            if ctx.groups.len() == 1 {
                 let contacts = unsafe { &mut *ctx.contact_constraints };
                 let vs = unsafe { &mut *ctx.velocity_solver };
                 for (builder, c) in contacts
@@ -78,10 +71,12 @@ pub(super) unsafe fn restitution_pass(
                         &contacts.generic_jacobians,
                         &mut vs.solver_bodies,
                         &mut vs.generic_solver_vels,
+                        &vs.solver_vels_increment,
+                        &vs.generic_solver_vels_increment,
+                        inv_dt,
                     );
                 }
             }
-            RestitutionPass::EndOfStep => {}
         }
         sync.complete(stage, 1, 1);
     }
@@ -93,7 +88,8 @@ pub(super) unsafe fn restitution_pass(
 ///
 /// # Safety
 /// No other worker touches the chunk's bodies during the call.
-unsafe fn restitute_chunk(ctx: &SharedCtx, chunk_id: usize) {
+unsafe fn restitute_chunk(ctx: &SharedCtx, chunk_id: usize, inv_dt: crate::math::Real) {
+    let increments = unsafe { &(*ctx.velocity_solver).solver_vels_increment };
     let solver_bodies = unsafe { &mut (*ctx.velocity_solver).solver_bodies };
     #[cfg(feature = "dim3")]
     if ctx.use_twist {
@@ -101,6 +97,8 @@ unsafe fn restitute_chunk(ctx: &SharedCtx, chunk_id: usize) {
         builder.apply_restitution(
             unsafe { &mut *ctx.twist_constraints.add(chunk_id) },
             solver_bodies,
+            increments,
+            inv_dt,
         );
     }
     if !ctx.use_twist {
@@ -108,6 +106,8 @@ unsafe fn restitute_chunk(ctx: &SharedCtx, chunk_id: usize) {
         builder.apply_restitution(
             unsafe { &mut *ctx.coulomb_constraints.add(chunk_id) },
             solver_bodies,
+            increments,
+            inv_dt,
         );
     }
 }

@@ -18,7 +18,7 @@ use crate::geometry::ContactManifold;
 use crate::math::Real;
 use parry::math::SIMD_WIDTH;
 
-use super::restitution::{RestitutionPass, restitution_pass};
+use super::restitution::restitution_pass;
 use super::solve::solve_pass;
 use super::{BODY_BATCH, SharedCtx, chunk_at, stage_batch};
 
@@ -737,25 +737,15 @@ pub(super) unsafe fn run_worker(ctx: &SharedCtx, worker_id: usize) {
              */
             if has_bouncy {
                 stage = unsafe {
-                    restitution_pass(ctx, group_index, worker_id, stage, RestitutionPass::Substep)
+                    restitution_pass(
+                        ctx,
+                        group_index,
+                        worker_id,
+                        stage,
+                        params.inv_dt(),
+                    )
                 };
             }
-        }
-
-        /*
-         * Stage: end-of-step restitution of the multibody (generic) contacts. The rigid-body
-         * contacts bounced at the end of the substep in which they first pushed (below).
-         */
-        if has_bouncy {
-            stage = unsafe {
-                restitution_pass(
-                    ctx,
-                    group_index,
-                    worker_id,
-                    stage,
-                    RestitutionPass::EndOfStep,
-                )
-            };
         }
     }
 
