@@ -13,32 +13,55 @@
 //!
 //! Default gains: for each DOF the apparent inertia `I = 1 / diag(M⁻¹)` at the initial
 //! configuration (MuJoCo's `dof_invweight0`, from Rapier's `dof_inverse_inertia`), then
-//! `kp = I·ω²` and `kd = 2·I·ω` (critical damping) with `ω = 2π·20 Hz`. Velocity targets
-//! use `kd` alone. Explicit ball PD caps `ω` at `0.2 / substep_dt` for stability.
+//! `kp = I·ω²` and `kd = 2·I·ω` (critical damping) with `ω = 2π·20 Hz`; velocity targets use
+//! `kv`, at least `kd` and enough that the DOF's gravity load bends them by at most 0.05 rad/s
+//! (5 mm/s). `I` and the load count what the DOF drives through kinematic loops (`loads.rs`).
+//! Given gains (`pd_gains`) drive velocity targets with `kd` alone. Explicit ball PD caps `ω`
+//! at `0.2 / substep_dt` for stability.
 
-use gymfleet_assembly::JointType;
+use gymfleet_assembly::{DofKind, JointType};
 use rapier3d::prelude::*;
 
 use crate::command::{ActionMode, PdGains, DEFAULT_PD_FREQUENCY_HZ};
 use crate::error::{PhysicsError, Result};
+use crate::loads::DofLoad;
 use crate::units::to_si;
 use crate::world::{JointDof, JointSlot, RobotWorld};
 
-/// The default gains of a DOF of apparent inertia `i_eff`: critically damped at
-/// [`DEFAULT_PD_FREQUENCY_HZ`].
-pub(crate) fn pd_gains_from_inertia(i_eff: f64) -> (f64, f64) {
+/// The most gravity may bend a velocity target by under the default gains, rad/s for an
+/// angular DOF (about 3 °/s) and m/s for a linear one (issue F).
+pub const GRAVITY_SAG_ANGULAR: f64 = 0.05;
+/// See [`GRAVITY_SAG_ANGULAR`]; m/s.
+pub const GRAVITY_SAG_LINEAR: f64 = 0.005;
+/// The default gains `(kp, kd, kv)` of a DOF that drives `load` (`loads.rs`): position
+/// targets critically damped at [`DEFAULT_PD_FREQUENCY_HZ`] (`kp = I·ω²`, `kd = 2·I·ω`), and
+/// velocity targets with `kv = max(kd, hold / sag)`, so that the gravity load bends them by
+/// at most [`GRAVITY_SAG_ANGULAR`] (`_LINEAR`).
+///
+/// A 20 mm crank driving a 60 mm coupler and a 50 mm rocker (2 mm rods) holds up to 2e-4 N·m
+/// at an inertia of 6e-7 kg·m²: with `kd`'s 1.5e-4 N·m·s/rad gravity stalled it. A velocity
+/// servo's kick is `I·Δω` however stiff it is; a position servo's grows with its bandwidth
+/// (stiffened the same way, `kp ≥ hold / 0.01 rad`, a floating robot's arm under alternating
+/// position targets threw its 200 g base off the floor), so position targets keep 20 Hz.
+pub(crate) fn pd_gains_from_load(load: DofLoad, kind: DofKind) -> (f64, f64, f64) {
     let omega = 2.0 * std::f64::consts::PI * DEFAULT_PD_FREQUENCY_HZ;
-    (i_eff * omega * omega, 2.0 * i_eff * omega)
+    let sag = match kind {
+        DofKind::Angular => GRAVITY_SAG_ANGULAR,
+        DofKind::Linear => GRAVITY_SAG_LINEAR,
+    };
+    let i = load.inertia;
+    let (kp, kd) = (i * omega * omega, 2.0 * i * omega);
+    (kp, kd, kd.max(load.hold / sag))
 }
 
-/// Fills `kp`/`kd` of each DOF from overrides or from the apparent inertias.
+/// Fills `kp`/`kd`/`kv` of each DOF from overrides or from what it drives.
 pub(crate) fn resolve_gains(
     dofs: &mut [JointDof],
-    inertia: &[f64],
+    loads: &[DofLoad],
     overrides: Option<&PdGains>,
 ) -> Result<bool> {
-    for (dof, &i_eff) in dofs.iter_mut().zip(inertia) {
-        (dof.kp, dof.kd) = pd_gains_from_inertia(i_eff);
+    for (dof, &load) in dofs.iter_mut().zip(loads) {
+        (dof.kp, dof.kd, dof.kv) = pd_gains_from_load(load, dof.kind);
     }
     let Some(gains) = overrides else {
         return Ok(false);
@@ -73,7 +96,9 @@ pub(crate) fn resolve_gains(
             dof.kp = kp;
         }
         if let Some(&kd) = gains.kd.get(i) {
+            // Given gains drive velocity targets with `kd` alone.
             dof.kd = kd;
+            dof.kv = kd;
         }
     }
     Ok(!(gains.kp.is_empty() && gains.kd.is_empty()))
@@ -157,7 +182,7 @@ impl RobotWorld {
                                 0.0,
                                 to_si(dof.kind, value) as Real,
                                 0.0,
-                                dof.kd as Real,
+                                dof.kv as Real,
                             )
                             .set_motor_model(axis, MotorModel::ForceBased)
                             .set_motor_max_force(

@@ -131,13 +131,14 @@ impl RobotWorld {
                 joints[j].parent = bodies[root.parent];
             }
         }
-        let overridden = resolve_gains(&mut dofs, &inertia, options.gains.as_ref())?;
         let gravity = Vector::new(
             assembly.gravity[0] as Real,
             assembly.gravity[1] as Real,
             assembly.gravity[2] as Real,
         );
-        crate::action_bound::set_action_bounds(&sets, &joints, &mut dofs, &inertia, gravity);
+        let loads = crate::loads::dof_loads(&sets, &joints, &dofs, &inertia, gravity);
+        let overridden = resolve_gains(&mut dofs, &loads, options.gains.as_ref())?;
+        crate::action_bound::set_action_bounds(&joints, &mut dofs, &loads);
         let free_roots = free_roots(&sets, &bodies, &owners);
         let reference = |instance: usize| crate::world::BodyRef {
             instance,
@@ -257,6 +258,7 @@ fn base_values(
             .collect(),
         kp: dofs.iter().map(|d| d.kp).collect(),
         kd: dofs.iter().map(|d| d.kd).collect(),
+        kv: dofs.iter().map(|d| d.kv).collect(),
     }
 }
 

@@ -27,6 +27,7 @@ mod contacts;
 mod error;
 mod fluid;
 mod free_bodies;
+mod loads;
 mod loops;
 mod perturb;
 mod prefetch;
@@ -39,6 +40,7 @@ mod units;
 mod world;
 
 pub use action_bound::{FALLBACK_ACCELERATION, GRAVITY_MULTIPLE};
+pub use actuation::{GRAVITY_SAG_ANGULAR, GRAVITY_SAG_LINEAR};
 pub use bodies::{INERTIA_LEN, VELOCITY_LEN};
 pub use command::{ActionMode, PdGains, DEFAULT_PD_FREQUENCY_HZ};
 pub use contacts::WRENCH_LEN;

@@ -6,7 +6,7 @@
 
 use rapier3d::prelude::*;
 
-use crate::actuation::pd_gains_from_inertia;
+use crate::actuation::pd_gains_from_load;
 use crate::world::RobotWorld;
 
 /// One episode's scale factors; 1.0 leaves a value as the document has it.
@@ -116,19 +116,25 @@ impl RobotWorld {
                 }
             }
         }
+        let loads = if self.gains.overridden {
+            Vec::new()
+        } else {
+            crate::loads::dof_loads(&self.live, &self.joints, &self.dofs, &inertia, self.gravity)
+        };
         for (j, slot) in self.joints.iter().enumerate() {
             if slot.closing.is_some() {
                 continue; // Passive: no gains.
             }
             for k in 0..slot.kind.dof() {
                 let d = slot.first_dof + k;
-                let (kp, kd) = if self.gains.overridden {
-                    (self.base.kp[d], self.base.kd[d])
+                let (kp, kd, kv) = if self.gains.overridden {
+                    (self.base.kp[d], self.base.kd[d], self.base.kv[d])
                 } else {
-                    pd_gains_from_inertia(inertia[d])
+                    pd_gains_from_load(loads[d], self.dofs[d].kind)
                 };
                 self.dofs[d].kp = kp * draws.gain[j];
                 self.dofs[d].kd = kd * draws.gain[j];
+                self.dofs[d].kv = kv * draws.gain[j];
             }
         }
         self.configure_motors();

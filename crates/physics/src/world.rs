@@ -71,8 +71,12 @@ pub struct JointDof {
     pub actuated: bool,
     /// Proportional gain used by position targets, in N·m/rad or N/m.
     pub kp: f64,
-    /// Derivative gain used by position and velocity targets, in N·m·s/rad or N·s/m.
+    /// Derivative gain used by position targets, in N·m·s/rad or N·s/m.
     pub kd: f64,
+    /// Gain used by velocity targets, in N·m·s/rad or N·s/m: `kd` when the gains are given
+    /// (`pd_gains.kd`), else at least what keeps the DOF's gravity load from bending a
+    /// velocity target by more than 0.05 rad/s (5 mm/s; `actuation.rs`).
+    pub kv: f64,
 }
 
 /// Everything Rapier mutates while stepping: cloned wholesale to snapshot and reset.
@@ -125,17 +129,19 @@ pub(crate) struct Lane {
     pub(crate) axis: JointAxis,
 }
 
+/// Rapier's six joint axes, in the order of their `JointAxis` values.
+pub(crate) static EVERY_AXIS: [JointAxis; 6] = [
+    JointAxis::LinX,
+    JointAxis::LinY,
+    JointAxis::LinZ,
+    JointAxis::AngX,
+    JointAxis::AngY,
+    JointAxis::AngZ,
+];
+
 impl JointSlot {
     /// The joint's DOFs' axes in its link's Rapier joint, in DOF order.
     pub(crate) fn axes(&self) -> &'static [JointAxis] {
-        static EVERY_AXIS: [JointAxis; 6] = [
-            JointAxis::LinX,
-            JointAxis::LinY,
-            JointAxis::LinZ,
-            JointAxis::AngX,
-            JointAxis::AngY,
-            JointAxis::AngZ,
-        ];
         match self.lane {
             None => kind_axes(self.kind),
             Some(lane) => std::slice::from_ref(&EVERY_AXIS[lane.axis as usize]),

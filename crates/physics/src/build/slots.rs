@@ -242,5 +242,6 @@ fn joint_dofs(j: usize, joint: &Joint) -> impl Iterator<Item = JointDof> + '_ {
         actuated: joint.actuated,
         kp: 0.0,
         kd: 0.0,
+        kv: 0.0,
     })
 }

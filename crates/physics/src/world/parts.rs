@@ -58,6 +58,7 @@ pub(crate) struct BaseValues {
     pub(crate) damping: Vec<Real>,
     pub(crate) kp: Vec<f64>,
     pub(crate) kd: Vec<f64>,
+    pub(crate) kv: Vec<f64>,
 }
 
 /// One actuator as the world drives it.
