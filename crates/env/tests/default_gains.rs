@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::env_with;
+use common::{env_with, wrap_deg};
 use gymfleet_env::{ActionType, EnvConfig};
 use serde_json::{json, Value};
 
@@ -80,16 +80,6 @@ fn crank_rocker() -> Value {
             ]
         }
     })
-}
-
-/// The difference of two angles in deg, wrapped into (−180, 180].
-fn wrap_deg(d: f64) -> f64 {
-    let d = d.rem_euclid(360.0);
-    if d > 180.0 {
-        d - 360.0
-    } else {
-        d
-    }
 }
 
 /// Issue F's bar: driven with velocity actions of −120 °/s and the default gains, the crank

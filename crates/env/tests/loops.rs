@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::env_with;
+use common::{env_with, wrap_deg};
 use gymfleet_env::{ActionType, EnvConfig};
 use gymfleet_physics::{RobotWorld, Units, WorldOptions};
 use serde_json::{json, Value};
@@ -91,16 +91,6 @@ fn four_bar(gravity: bool) -> Value {
 /// Angle of the vector p→q, rad.
 fn heading(p: [f64; 2], q: [f64; 2]) -> f64 {
     (q[1] - p[1]).atan2(q[0] - p[0])
-}
-
-/// The difference of two angles in deg, wrapped into (−180, 180].
-fn wrap_deg(d: f64) -> f64 {
-    let d = d.rem_euclid(360.0);
-    if d > 180.0 {
-        d - 360.0
-    } else {
-        d
-    }
 }
 
 /// Drives the crank of a four-bar env (the crank-rocker's link lengths, its crank at

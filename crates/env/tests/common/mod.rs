@@ -110,3 +110,13 @@ pub fn hand_and_post() -> Value {
         }
     })
 }
+
+/// The difference of two angles in deg, wrapped into (−180, 180].
+pub fn wrap_deg(d: f64) -> f64 {
+    let d = d.rem_euclid(360.0);
+    if d > 180.0 {
+        d - 360.0
+    } else {
+        d
+    }
+}
