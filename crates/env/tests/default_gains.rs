@@ -114,3 +114,40 @@ fn a_velocity_driven_crank_turns_at_its_commanded_rate_with_default_gains() {
         "the crank turned at {rate:.2} °/s on average (commanded 120 °/s; slowest {slowest:.1} °/s)"
     );
 }
+
+/// Given gains drive velocity targets with `kd` alone (`pd_gains.kd`), not with the raised
+/// default velocity gain: with a `kd` of 1e-6 N·m·s/rad the same crank is far from its
+/// commanded rate (gravity and the loop outweigh the servo).
+#[test]
+fn a_given_kd_drives_velocity_targets_instead_of_the_default_gain() {
+    let probe = env_with(&crank_rocker(), EnvConfig::default());
+    let n = probe.spec().num_dofs;
+    let config = EnvConfig {
+        pd_gains: Some(gymfleet_env::PdGains {
+            kp: Vec::new(),
+            kd: vec![1e-6; n],
+        }),
+        ..EnvConfig::default()
+    };
+    let mut env = env_with(&crank_rocker(), config);
+    let dt = env.spec().dt;
+    let steps = (1.0 / dt).round() as usize;
+    let mut previous = f64::from(env.observe().joint_positions[0]);
+    let mut turned = 0.0;
+    for _ in 0..steps {
+        let q = f64::from(
+            env.step(ActionType::Velocity, &[-120.0])
+                .expect("steps")
+                .observation
+                .joint_positions[0],
+        );
+        turned += wrap_deg(q - previous);
+        previous = q;
+    }
+    let rate = -turned / (steps as f64 * dt);
+    println!("with kd = 1e-6 the crank turned at {rate:.2} °/s on average over 1 s");
+    assert!(
+        (rate - 120.0).abs() > 60.0,
+        "a given kd of 1e-6 turned the crank at {rate:.2} °/s: the default velocity gain was used"
+    );
+}
