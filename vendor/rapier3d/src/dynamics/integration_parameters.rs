@@ -337,6 +337,21 @@ pub struct IntegrationParameters {
     /// (gymfleet patch, see `PATCHES.md`.)
     #[cfg_attr(feature = "serde-serialize", serde(default))]
     pub flush_denormals: bool,
+    /// The most solver contact points one step may solve (default: `usize::MAX`, no limit).
+    ///
+    /// A step whose collision detection leaves more contact points to the solver (see
+    /// [`NarrowPhase::contact_load`](crate::geometry::NarrowPhase::contact_load)) stops
+    /// before the solver, as a zero-length step does: the contacts are updated, no time
+    /// passes and no body moves. [`PhysicsPipeline::contact_budget_exceeded`] then reports
+    /// the load it found. With a limit, each step counts its contacts once (a pass over the
+    /// contact pairs). (gymfleet patch 40, see `PATCHES.md`.)
+    ///
+    /// [`PhysicsPipeline::contact_budget_exceeded`]: crate::pipeline::PhysicsPipeline::contact_budget_exceeded
+    #[cfg_attr(
+        feature = "serde-serialize",
+        serde(default = "IntegrationParameters::no_contact_limit")
+    )]
+    pub max_solver_contacts: usize,
     /// The type of friction constraints used in the simulation.
     #[cfg(feature = "dim3")]
     pub friction_model: FrictionModel,
@@ -413,6 +428,12 @@ impl IntegrationParameters {
     pub fn contact_recycle_distance(&self) -> Real {
         self.normalized_contact_recycle_distance * self.length_unit
     }
+
+    /// No limit on a step's contact points: the default of [`Self::max_solver_contacts`].
+    #[allow(dead_code)] // Read by the serde default only.
+    fn no_contact_limit() -> usize {
+        usize::MAX
+    }
 }
 
 impl Default for IntegrationParameters {
@@ -440,6 +461,7 @@ impl Default for IntegrationParameters {
             friction_in_bias_pass: false,
             warmstart_joints: false,
             flush_denormals: false,
+            max_solver_contacts: usize::MAX,
             length_unit: 1.0,
             #[cfg(feature = "alloc")]
             soft_bodies: Default::default(),

@@ -34,7 +34,7 @@ pub use self::interaction_groups::{Group, InteractionGroups, InteractionTestMode
 #[cfg(feature = "alloc")]
 pub use self::mesh_converter::{MeshConverter, MeshConverterError};
 #[cfg(feature = "alloc")]
-pub use self::narrow_phase::NarrowPhase;
+pub use self::narrow_phase::{ContactLoad, NarrowPhase};
 #[cfg(feature = "alloc")]
 pub(crate) use self::narrow_phase::soft_contacts;
 #[cfg(feature = "alloc")]

@@ -4,8 +4,20 @@
 use super::NarrowPhase;
 use crate::geometry::{
     ColliderHandle, ColliderSet, ContactData, ContactManifoldData, ContactPair, InteractionGraph,
-    IntersectionPair, TemporaryInteractionIndex,
+    IntersectionPair, PairContacts, TemporaryInteractionIndex,
 };
+
+/// The contact work a collision detection leaves to the constraint solver
+/// ([`NarrowPhase::contact_load`]). (gymfleet patch 40, see `PATCHES.md`.)
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub struct ContactLoad {
+    /// Contact pairs with at least one solver contact point.
+    pub pairs: usize,
+    /// Solver manifolds with at least one point.
+    pub manifolds: usize,
+    /// Solver contact points: each is one normal row and its friction rows in every substep.
+    pub points: usize,
+}
 use parry::query::PersistentQueryDispatcher;
 
 impl NarrowPhase {
@@ -193,6 +205,30 @@ impl NarrowPhase {
     /// All the contact pairs maintained by this narrow-phase.
     pub fn contact_pairs(&self) -> impl Iterator<Item = &ContactPair> {
         self.contact_graph.interactions()
+    }
+
+    /// What the last collision detection leaves to the constraint solver: the rigid contact
+    /// pairs with a solver contact, their solver manifolds and solver contact points (see
+    /// [`IntegrationParameters::max_solver_contacts`]). One pass over the contact pairs.
+    /// (gymfleet patch 40, see `PATCHES.md`.)
+    ///
+    /// [`IntegrationParameters::max_solver_contacts`]: crate::dynamics::IntegrationParameters::max_solver_contacts
+    pub fn contact_load(&self) -> ContactLoad {
+        let mut load = ContactLoad::default();
+        for pair in self.contact_pairs() {
+            let PairContacts::Rigid(rigid) = &pair.contacts else {
+                continue;
+            };
+            let mut points = 0;
+            for manifold in rigid.solver_manifolds() {
+                let n = manifold.data.solver_contacts.len();
+                load.manifolds += usize::from(n > 0);
+                points += n;
+            }
+            load.pairs += usize::from(points > 0);
+            load.points += points;
+        }
+        load
     }
 
     /// `(edge_id, parent1, parent2)` for every *touching* contact pair. Used to (re)build

@@ -63,6 +63,10 @@ pub struct PhysicsPipeline {
     soft_synced_colliders: Vec<ColliderHandle>,
     /// Non-finite state detected and neutralized during the last step.
     quarantine: Quarantine,
+    /// The contact load of the last step if it was over its
+    /// [`IntegrationParameters::max_solver_contacts`] and stopped before the solver (gymfleet
+    /// patch 40, see `PATCHES.md`).
+    contact_budget_exceeded: Option<crate::geometry::ContactLoad>,
     /// Workspace buffer holding the active body handles (parallel body update).
     #[cfg(feature = "parallel")]
     active_body_handles: Vec<crate::dynamics::RigidBodyHandle>,
@@ -125,7 +129,16 @@ impl PhysicsPipeline {
             end_step_collider_aabbs: vec![],
             soft_synced_colliders: vec![],
             quarantine: Quarantine::default(),
+            contact_budget_exceeded: None,
         }
+    }
+
+    /// The contact load the last [`Self::step`] found if it was over
+    /// [`IntegrationParameters::max_solver_contacts`]: that step updated the contacts and
+    /// stopped before the solver, so no time passed and no body moved. `None` after a step
+    /// within its budget. (gymfleet patch 40, see `PATCHES.md`.)
+    pub fn contact_budget_exceeded(&self) -> Option<crate::geometry::ContactLoad> {
+        self.contact_budget_exceeded
     }
 
     /// Completes the BVH optimization pass deferred by the last broad-phase update (if

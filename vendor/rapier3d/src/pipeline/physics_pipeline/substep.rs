@@ -324,6 +324,7 @@ impl PhysicsPipeline {
         self.counters.reset();
         self.counters.step_started();
         self.quarantine.clear();
+        self.contact_budget_exceeded = None;
 
         // Apply some of delayed wake-ups.
         self.counters.stages.user_changes.start();
@@ -486,9 +487,18 @@ impl PhysicsPipeline {
         removed_colliders.clear();
         self.counters.stages.user_changes.pause();
 
+        // gymfleet patch 40 (see `PATCHES.md`): a step that would solve more contact points
+        // than its budget ends here, as a zero-length step.
+        if integration_parameters.max_solver_contacts != usize::MAX {
+            let load = narrow_phase.contact_load();
+            if load.points > integration_parameters.max_solver_contacts {
+                self.contact_budget_exceeded = Some(load);
+            }
+        }
+
         // A zero-length step only applies the user changes and updates the contacts: no time
         // passes, so the dynamics (solver, integration, CCD, soft-body tears) are skipped.
-        if integration_parameters.dt <= 0.0 {
+        if integration_parameters.dt <= 0.0 || self.contact_budget_exceeded.is_some() {
             // The solver graph consumes this step's contact updates, as the solve would have.
             narrow_phase.maintain_solver_contact_graph(
                 islands,
