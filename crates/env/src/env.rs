@@ -236,6 +236,19 @@ impl RobotEnv {
         self.elapsed
     }
 
+    /// Bounds each step's contact work to `max` contact point-substeps (contact points
+    /// × substeps; 0: no limit). A step over it fails with [`EnvError::ContactWork`] and
+    /// leaves the env where its last step left it. Copies made afterwards keep the limit.
+    pub fn set_contact_work_limit(&mut self, max: usize) {
+        self.world.set_contact_work_limit(max);
+    }
+
+    /// The contact work of the first step from the initial state, estimated by one
+    /// collision detection on a copy: the contacts found and their point-substeps.
+    pub fn initial_contact_work(&self) -> (gymfleet_physics::ContactLoad, usize) {
+        self.world.initial_contact_work()
+    }
+
     /// The seed of the current episode.
     pub fn seed(&self) -> u64 {
         self.seed
@@ -363,7 +376,11 @@ impl RobotEnv {
             return Err(EnvError::NeedsReset);
         }
         self.world.set_command(action_type.mode(), values);
-        self.world.step();
+        if let Err(overload) = self.world.step() {
+            // Left as the last step left it, but for a step stopped within its substeps.
+            self.diverged = overload.substeps_done > 0;
+            return Err(EnvError::ContactWork(overload));
+        }
         self.elapsed = self.elapsed.saturating_add(1);
         let truncated = self.elapsed >= self.spec.max_steps;
 

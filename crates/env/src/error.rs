@@ -109,6 +109,26 @@ pub enum EnvError {
     /// The physics diverged earlier in this episode; only `reset` is possible.
     #[error("the simulation diverged (non-finite state) and was terminated; call reset before stepping again")]
     NeedsReset,
+    /// The step's contacts asked for more solver work than the env's limit; the step
+    /// stopped before its solver.
+    #[error(
+        "the step found {} contact pairs with {} contact points: {} contact point-substeps \
+         ({} points × {} substeps), over the limit of {} per env step; {}",
+        .0.pairs, .0.points, .0.work, .0.points, .0.substeps, .0.max, overload_outcome(.0)
+    )]
+    ContactWork(gymfleet_physics::ContactOverload),
+}
+
+/// What a [`EnvError::ContactWork`] step left.
+fn overload_outcome(overload: &gymfleet_physics::ContactOverload) -> String {
+    match overload.substeps_done {
+        0 => "the env was left where its last step left it (reset it, or set another state)"
+            .to_string(),
+        done => format!(
+            "it stopped after {done} of its substeps, with its contacts grown past the limit \
+             within the step, and must be reset"
+        ),
+    }
 }
 
 /// Result alias for this crate.

@@ -258,7 +258,7 @@ fn passive_swing(substeps: u32) -> (f64, f64, f64, f64) {
     let (mut lowest, mut highest) = (f64::MAX, f64::MIN);
     let (mut q, mut v) = (vec![0.0f32; 4], vec![0.0f32; 4]);
     for _ in 0..2400 {
-        world.step();
+        world.step().unwrap();
         let (k, p, g, a) = energy_and_gap(&world, &[1, 2, 3], 9.81);
         gap = gap.max(g);
         twist = twist.max(a);
@@ -317,7 +317,7 @@ fn a_four_bar_under_a_hundred_times_its_gravity_torque_stays_closed_and_finite()
     world.set_command(gymfleet_physics::ActionMode::Torque, &[torque]);
     let mut worst = (0.0f64, 0.0f64);
     for _ in 0..2400 {
-        world.step();
+        world.step().unwrap();
         let (_, _, gap, angle) = energy_and_gap(&world, &[1, 2, 3], 9.81);
         worst = (worst.0.max(gap), worst.1.max(angle));
     }
@@ -462,7 +462,7 @@ fn a_weld_to_the_ground_holds_whichever_body_is_its_parent() {
         let (mut q, mut v) = (vec![0.0f32; 2], vec![0.0f32; 2]);
         let mut path = Vec::new();
         for _ in 0..240 {
-            world.step();
+            world.step().unwrap();
             world.joint_state(Units::Document, &mut q, &mut v);
             assert!(
                 q.iter().all(|a| a.abs() < 0.1),

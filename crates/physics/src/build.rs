@@ -177,6 +177,8 @@ impl RobotWorld {
         let mut world = RobotWorld {
             planar_helpers,
             hot: Default::default(),
+            contact_work_limit: 0,
+            rollback: Default::default(),
             fluid,
             contact_filter,
             tendons,
@@ -386,7 +388,7 @@ pub(crate) mod tests {
         world.set_command(ActionMode::Torque, &[0.0]);
         (0..steps)
             .map(|_| {
-                world.step();
+                world.step().unwrap();
                 let (mut q, mut v) = ([0.0], [0.0]);
                 world.joint_state(Units::Si, &mut q, &mut v);
                 [q[0], v[0]]
@@ -497,7 +499,7 @@ pub(crate) mod tests {
 
         // The body carries both masses once a step has applied them: the group's mass is
         // the body's, and the robot's centre of mass counts each instance once.
-        world.step();
+        world.step().unwrap();
         let volume = |mm: f64| (mm * 1e-3).powi(3);
         let density = assembly.instances[arm].material.density;
         let arm_mass = density * 4e-3 * 4e-3 * 40e-3;

@@ -196,10 +196,10 @@ mod tests {
         assert!(world.hot.ranges.is_empty());
         world.set_command(ActionMode::Torque, &[0.0]);
         // A world nobody prefetches takes no ranges.
-        world.step();
+        world.step().unwrap();
         assert!(world.hot.ranges.is_empty());
         world.prefetch();
-        world.step();
+        world.step().unwrap();
         let ranges = world.hot.ranges.clone();
         assert!(
             ranges.windows(2).all(|w| w[0].0 + w[0].1 < w[1].0),
@@ -231,7 +231,7 @@ mod tests {
         world.reset();
         assert!(world.hot.ranges.is_empty());
         // A reset world is still prefetched: its next step takes the ranges again.
-        world.step();
+        world.step().unwrap();
         assert!(!world.hot.ranges.is_empty());
     }
 
@@ -244,8 +244,8 @@ mod tests {
         }
         for _ in 0..(REFRESH_EVERY as usize + 5) {
             hinted.prefetch();
-            plain.step();
-            hinted.step();
+            plain.step().unwrap();
+            hinted.step().unwrap();
             assert_eq!(state(&plain), state(&hinted));
         }
         assert!(!hinted.hot.ranges.is_empty());

@@ -7,8 +7,9 @@ use crate::command::{ActionMode, Command, PdGains, ResolvedGains};
 
 mod parts;
 
+pub use parts::ContactOverload;
 pub(crate) use parts::{
-    ActuatorSlot, BaseValues, ContactFilter, ExplicitPair, FluidDrag, TendonSlot,
+    ActuatorSlot, BaseValues, ContactFilter, ExplicitPair, FluidDrag, Rollback, TendonSlot,
 };
 
 /// Options for building a world that are not part of the document.
@@ -318,6 +319,10 @@ pub struct RobotWorld {
     pub(crate) planar_helpers: Vec<PlanarHelper>,
     /// Where the state a step reads lies, for [`RobotWorld::prefetch`] (`prefetch.rs`).
     pub(crate) hot: HotRanges,
+    /// Contact point-substeps a step may ask for, 0: no limit (`contact_budget.rs`).
+    pub(crate) contact_work_limit: usize,
+    /// The copy a substepped step near its contact budget may go back to.
+    pub(crate) rollback: Rollback,
 }
 
 /// The memory ranges a world's step reads, as `(first cache line, lines)`, the steps since
@@ -437,24 +442,41 @@ impl RobotWorld {
     /// (ball joints under position or velocity targets) and a fluid's drag: they depend on
     /// the state, so they are recomputed before every substep, and each substep is then a
     /// pipeline step of its own.
-    pub fn step(&mut self) {
+    ///
+    /// A step whose contacts ask for more solver work than
+    /// [`RobotWorld::set_contact_work_limit`] allows stops before its solver and returns
+    /// the [`ContactOverload`]; the world is then where the last step left it (see
+    /// `contact_budget.rs` for the one exception, [`ContactOverload::substeps_done`]).
+    pub fn step(&mut self) -> Result<(), ContactOverload> {
         self.clear_limit_impulses();
         if self.has_state_dependent_efforts() {
+            self.keep_rollback();
             let h = f64::from(self.substep_params.dt);
             for k in 0..self.substeps {
                 self.move_mocap_bodies(self.substeps - k);
                 self.apply_efforts();
                 self.apply_fluid();
                 self.pipeline_step(true);
+                if k > 0 && self.pipeline.0.contact_budget_exceeded().is_some() {
+                    let done = if self.roll_back() { 0 } else { k };
+                    return Err(self.overload(done).expect("the budget was exceeded"));
+                }
+                if let Some(overload) = self.overload(0) {
+                    return Err(overload);
+                }
                 self.advance_activations(h);
             }
         } else {
             self.move_mocap_bodies(1);
             self.apply_efforts();
             self.pipeline_step(false);
+            if let Some(overload) = self.overload(0) {
+                return Err(overload);
+            }
         }
         self.refresh_body_velocities();
         self.age_hot_ranges();
+        Ok(())
     }
 
     /// The links' body velocities from the final generalized velocities (vendored patch

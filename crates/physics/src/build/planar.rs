@@ -269,8 +269,8 @@ mod tests {
     fn both_after(steps: usize) -> (RobotWorld, RobotWorld) {
         let (mut fused, mut chain) = (built(false, "euler"), built(true, "euler"));
         for _ in 0..steps {
-            fused.step();
-            chain.step();
+            fused.step().unwrap();
+            chain.step().unwrap();
         }
         (fused, chain)
     }
@@ -314,8 +314,8 @@ mod tests {
     fn step_both(fused: &mut RobotWorld, chain: &mut RobotWorld, worst: &mut [f32; 6]) -> bool {
         let mut stopped = false;
         for _ in 0..480 {
-            fused.step();
-            chain.step();
+            fused.step().unwrap();
+            chain.step().unwrap();
             let (a, b) = (joint_state(fused), joint_state(chain));
             for k in 0..6 {
                 worst[k] = worst[k].max((a[k] - b[k]).abs());
@@ -432,8 +432,8 @@ mod tests {
         let mut restored = built(false, "euler");
         restored.restore_dynamic_state(&saved);
         for _ in 0..60 {
-            fused.step();
-            restored.step();
+            fused.step().unwrap();
+            restored.step().unwrap();
             assert_eq!(joint_state(&fused), joint_state(&restored));
         }
     }

@@ -76,3 +76,32 @@ pub(crate) struct ActuatorSlot {
     /// Whether the force changes within a step under a held control.
     pub(crate) state_dependent: bool,
 }
+
+/// A step that stopped because its contacts asked for more solver work than the world's
+/// limit ([`RobotWorld::set_contact_work_limit`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ContactOverload {
+    /// Contact pairs with at least one contact point, as the stopping detection found them.
+    pub pairs: usize,
+    /// Contact points the solver would have solved.
+    pub points: usize,
+    /// Solver substeps per step.
+    pub substeps: u32,
+    /// `points × substeps`: contact point-substeps.
+    pub work: usize,
+    /// The limit, in contact point-substeps per step.
+    pub max: usize,
+    /// Substeps the world had already integrated when a later detection stopped it and no
+    /// copy was kept; 0: the world is where the last step left it.
+    pub substeps_done: u32,
+}
+
+/// A copy of the world's sets a substepped step may go back to; clones start empty.
+#[derive(Default)]
+pub(crate) struct Rollback(pub(crate) Option<Box<(super::Sets, Vec<f64>)>>);
+
+impl Clone for Rollback {
+    fn clone(&self) -> Self {
+        Rollback(None)
+    }
+}
