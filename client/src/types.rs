@@ -570,6 +570,9 @@ pub struct ServerLimits {
     pub tenant_max_envs: u64,
     /// Most work per step call, in DOF-substeps (envs × substeps × DOFs).
     pub max_step_work: u64,
+    /// Most contact work per env step, in contact point-substeps (contact points ×
+    /// substeps).
+    pub max_contact_work: u64,
 }
 
 /// Describes a server.
@@ -618,6 +621,7 @@ impl From<pb::ServerInfo> for ServerInfo {
                 max_end_effectors: l.max_end_effectors,
                 tenant_max_envs: l.tenant_max_envs,
                 max_step_work: l.max_step_work,
+                max_contact_work: l.max_contact_work,
             },
             tenant: i.tenant,
             auth_required: i.auth_required,

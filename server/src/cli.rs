@@ -162,6 +162,16 @@ pub struct Cli {
         default_value_t = Limit::StepWork.default_value()
     )]
     pub max_step_work: usize,
+    /// Most contact work one env step may ask of the solver, in contact point-substeps
+    /// (the contact points its collision detection finds × substeps); a step over it fails
+    /// with RESOURCE_EXHAUSTED and leaves the env where it was, and a document whose bodies
+    /// start over it is refused; 0 = no limit.
+    #[arg(
+        long = Limit::ContactWork.flag(),
+        env = Limit::ContactWork.var(),
+        default_value_t = Limit::ContactWork.default_value()
+    )]
+    pub max_contact_work: usize,
     /// Close envs and batches untouched for this many seconds; 0 = never.
     #[arg(long, env = "GYMFLEET_IDLE_TTL_SECS", default_value_t = 600)]
     pub idle_ttl_secs: u64,
@@ -214,6 +224,7 @@ impl Cli {
             max_dofs: self.max_dofs,
             max_end_effectors: self.max_end_effectors,
             max_step_work: self.max_step_work,
+            max_contact_work: self.max_contact_work,
             tls,
             metrics_listen: self.metrics_listen,
             dashboard_listen: self.dashboard_listen,

@@ -6,9 +6,9 @@ use std::time::Duration;
 
 use crate::clock::Clock;
 use crate::limit::{
-    Limit, DEFAULT_MAX_BATCH_SIZE, DEFAULT_MAX_DOCUMENT_BYTES, DEFAULT_MAX_DOFS,
-    DEFAULT_MAX_END_EFFECTORS, DEFAULT_MAX_ENVS, DEFAULT_MAX_INSTANCES, DEFAULT_MAX_JOINTS,
-    DEFAULT_MAX_MESSAGE_BYTES, DEFAULT_MAX_STEP_WORK,
+    Limit, DEFAULT_MAX_BATCH_SIZE, DEFAULT_MAX_CONTACT_WORK, DEFAULT_MAX_DOCUMENT_BYTES,
+    DEFAULT_MAX_DOFS, DEFAULT_MAX_END_EFFECTORS, DEFAULT_MAX_ENVS, DEFAULT_MAX_INSTANCES,
+    DEFAULT_MAX_JOINTS, DEFAULT_MAX_MESSAGE_BYTES, DEFAULT_MAX_STEP_WORK,
 };
 use crate::tenant::TokenTable;
 
@@ -68,6 +68,9 @@ pub struct ServerConfig {
     pub max_end_effectors: usize,
     /// Most work per step call, in DOF-substeps (envs × substeps × DOFs); 0 = no limit.
     pub max_step_work: usize,
+    /// Most contact work per env step, in contact point-substeps (contact points ×
+    /// substeps); 0 = no limit.
+    pub max_contact_work: usize,
     /// TLS (`--tls-cert`, `--tls-key`, `--tls-client-ca`); `None` = plaintext.
     pub tls: Option<TlsConfig>,
     /// Where to serve Prometheus metrics (`GET /metrics`, plain HTTP); `None` = nowhere.
@@ -119,6 +122,7 @@ impl Default for ServerConfig {
             max_dofs: DEFAULT_MAX_DOFS,
             max_end_effectors: DEFAULT_MAX_END_EFFECTORS,
             max_step_work: DEFAULT_MAX_STEP_WORK,
+            max_contact_work: DEFAULT_MAX_CONTACT_WORK,
             tls: None,
             metrics_listen: None,
             dashboard_listen: None,
@@ -150,6 +154,7 @@ impl ServerConfig {
             Limit::Dofs => self.max_dofs,
             Limit::EndEffectors => self.max_end_effectors,
             Limit::StepWork => self.max_step_work,
+            Limit::ContactWork => self.max_contact_work,
         }
     }
 

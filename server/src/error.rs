@@ -1,4 +1,4 @@
-//! [`ServerError`], and its one mapping to `tonic::Status`.
+//! [`ServerError`], and (in `status.rs`) its one mapping to `tonic::Status`.
 //!
 //! Every domain error reaches the wire through the exhaustive `From` impl at the bottom:
 //! a new variant anywhere (here, in `EnvError` or in `BatchError`) fails to compile until
@@ -8,10 +8,11 @@ use std::fmt;
 
 use gymfleet_batch::BatchError;
 use gymfleet_env::EnvError;
-use tonic::{Code, Status};
 
 use crate::limit::Limit;
 use crate::tenant::Tenant;
+
+mod status;
 
 /// Longest status message the server sends: anything longer is cut here, whatever
 /// built it (the sources shorten what they echo; this is the guarantee).
@@ -25,22 +26,6 @@ impl fmt::Display for Echo<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(&gymfleet_assembly::quoted(self.0))
     }
-}
-
-/// `message` cut to [`MAX_STATUS_MESSAGE_BYTES`] on a character boundary, saying so.
-fn bounded(message: String) -> String {
-    if message.len() <= MAX_STATUS_MESSAGE_BYTES {
-        return message;
-    }
-    let mut end = MAX_STATUS_MESSAGE_BYTES - 64;
-    while !message.is_char_boundary(end) {
-        end -= 1;
-    }
-    format!(
-        "{}… (message cut; {} bytes in all)",
-        &message[..end],
-        message.len()
-    )
 }
 
 /// What a server-side id names.
@@ -139,6 +124,28 @@ pub enum ServerError {
         substeps: usize,
         /// DOFs per env (at least 1).
         dofs: usize,
+        /// The limit.
+        max: usize,
+    },
+    /// A document whose bodies, where it puts them, already touch in more contacts than a
+    /// step may solve (`--max-contact-work`): refused at creation, by one collision
+    /// detection of the initial state.
+    #[error(
+        "document_json: where the document puts its bodies they touch in {pairs} contact \
+         pairs with {points} contact points, so its first step would be {work} contact \
+         point-substeps ({points} points × {substeps} substeps), over the server's limit of \
+         {max} per env step; move the bodies apart, use fewer substeps, or raise {}",
+        Limit::ContactWork
+    )]
+    ContactsAtStart {
+        /// Contact pairs with a contact point.
+        pairs: usize,
+        /// Contact points.
+        points: usize,
+        /// Substeps per step.
+        substeps: u32,
+        /// `points × substeps`.
+        work: usize,
         /// The limit.
         max: usize,
     },
@@ -316,94 +323,10 @@ impl ServerError {
 /// Result alias for this crate.
 pub type Result<T, E = ServerError> = std::result::Result<T, E>;
 
-/// The status code of an environment error.
-fn env_code(err: &EnvError) -> Code {
-    match err {
-        EnvError::Document(_)
-        | EnvError::Physics(_)
-        | EnvError::UnknownEndEffector { .. }
-        | EnvError::BadConfig { .. }
-        | EnvError::BadTask { .. }
-        | EnvError::ActionLength { .. }
-        | EnvError::NonFiniteAction { .. }
-        | EnvError::UnknownActionType { .. }
-        | EnvError::StateFormat { .. }
-        | EnvError::BadState { .. }
-        | EnvError::UnknownMocapBody { .. }
-        | EnvError::MocapPosesLength { .. }
-        | EnvError::BadMocapPose { .. } => Code::InvalidArgument,
-        EnvError::NeedsReset => Code::FailedPrecondition,
-    }
-}
-
-impl From<ServerError> for Status {
-    fn from(err: ServerError) -> Self {
-        Status::new(err.code(), bounded(err.to_string()))
-    }
-}
-
-impl ServerError {
-    /// The limit this error refused a call for, if it is a limit's refusal.
-    pub fn limit(&self) -> Option<Limit> {
-        Some(match self {
-            ServerError::TooManyEnvs { .. } => Limit::Envs,
-            ServerError::TenantQuota { .. } => Limit::TenantEnvs,
-            ServerError::BatchTooLarge { .. } => Limit::BatchSize,
-            ServerError::DocumentTooLarge { .. } => Limit::DocumentBytes,
-            ServerError::ReplyTooLarge { .. } | ServerError::StatesTooLarge { .. } => {
-                Limit::MessageBytes
-            }
-            ServerError::TooMuchWork { .. } => Limit::StepWork,
-            ServerError::TooComplex { limit, .. } => *limit,
-            _ => return None,
-        })
-    }
-
-    /// The status code this error goes out with.
-    pub(crate) fn code(&self) -> Code {
-        match self {
-            ServerError::InvalidArgument { .. } => Code::InvalidArgument,
-            ServerError::Env(env) => env_code(env),
-            ServerError::Batch(batch) => match batch {
-                BatchError::NoEnvs
-                | BatchError::ActionLength { .. }
-                | BatchError::NonFiniteAction { .. }
-                | BatchError::MocapPosesLength { .. }
-                | BatchError::EnvIndices { .. }
-                | BatchError::StateCount { .. } => Code::InvalidArgument,
-                BatchError::TooManyEnvs { .. } => Code::ResourceExhausted,
-                BatchError::Env { source, .. } => env_code(source),
-                BatchError::PoolStart { .. } | BatchError::Panicked { .. } => Code::Internal,
-            },
-            ServerError::NotFound { .. } | ServerError::UnknownModel { .. } => Code::NotFound,
-            ServerError::NotRandomized { .. } => Code::FailedPrecondition,
-            ServerError::EnvIndex { .. } | ServerError::Render(_) | ServerError::Import(_) => {
-                Code::InvalidArgument
-            }
-            ServerError::TooManyEnvs { .. }
-            | ServerError::TenantQuota { .. }
-            | ServerError::TooComplex { .. }
-            | ServerError::TooMuchWork { .. }
-            | ServerError::ReplyTooLarge { .. }
-            | ServerError::StatesTooLarge { .. }
-            | ServerError::BatchTooLarge { .. }
-            | ServerError::DocumentTooLarge { .. } => Code::ResourceExhausted,
-            ServerError::Panicked { .. }
-            | ServerError::JobLost { .. }
-            | ServerError::Reflection(_)
-            | ServerError::Tls(_)
-            | ServerError::Bind { .. }
-            | ServerError::ModelLibrary { .. }
-            | ServerError::Io(_)
-            | ServerError::Transport(_) => Code::Internal,
-            ServerError::ShuttingDown => Code::Unavailable,
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use gymfleet_env::AssemblyError;
+    use tonic::{Code, Status};
 
     use super::*;
 

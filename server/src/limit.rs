@@ -25,6 +25,12 @@ pub const DEFAULT_MAX_DOFS: usize = 128;
 /// DOFs): 10 million, e.g. 16 384 six-DOF arms at 100 substeps, or 16 384 humanoids of
 /// 60 DOFs at 10. At ~1–2 µs per DOF-substep that bounds a call to seconds, not hours.
 pub const DEFAULT_MAX_STEP_WORK: usize = 10_000_000;
+/// Default most contact work one env step may ask of the solver, in contact point-substeps
+/// (the contact points its collision detection finds × substeps): 100 000, e.g. 20 000
+/// points at the default 5 substeps, hundreds of times what a robot on a floor or a
+/// manipulation scene finds. Issue O1's pile of 300 overlapping 2 mm cubes finds 179 400
+/// points (897 000 point-substeps), and one of its steps takes about 0.3 s in a debug build.
+pub const DEFAULT_MAX_CONTACT_WORK: usize = 100_000;
 /// Default most observed end effectors per env.
 pub const DEFAULT_MAX_END_EFFECTORS: usize = 64;
 
@@ -52,11 +58,13 @@ pub enum Limit {
     EndEffectors,
     /// DOF-substeps of work per step call (`--max-step-work`).
     StepWork,
+    /// Contact point-substeps of solver work per env step (`--max-contact-work`).
+    ContactWork,
 }
 
 impl Limit {
     /// Every limit.
-    pub const ALL: [Limit; 10] = [
+    pub const ALL: [Limit; 11] = [
         Limit::Envs,
         Limit::TenantEnvs,
         Limit::BatchSize,
@@ -67,6 +75,7 @@ impl Limit {
         Limit::Dofs,
         Limit::EndEffectors,
         Limit::StepWork,
+        Limit::ContactWork,
     ];
 
     /// Its name, flag (without the dashes) and environment variable.
@@ -102,6 +111,11 @@ impl Limit {
                 "GYMFLEET_MAX_END_EFFECTORS",
             ),
             Limit::StepWork => ("max_step_work", "max-step-work", "GYMFLEET_MAX_STEP_WORK"),
+            Limit::ContactWork => (
+                "max_contact_work",
+                "max-contact-work",
+                "GYMFLEET_MAX_CONTACT_WORK",
+            ),
         }
     }
 
@@ -134,6 +148,7 @@ impl Limit {
             Limit::Dofs => DEFAULT_MAX_DOFS,
             Limit::EndEffectors => DEFAULT_MAX_END_EFFECTORS,
             Limit::StepWork => DEFAULT_MAX_STEP_WORK,
+            Limit::ContactWork => DEFAULT_MAX_CONTACT_WORK,
         }
     }
 

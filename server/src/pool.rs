@@ -17,6 +17,7 @@
 use gymfleet_batch::{panic_message, BatchError, StepPool};
 use std::ops::Deref;
 use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::sync::Arc;
 use tokio::sync::oneshot;
 
 use crate::error::{Result, ServerError};
@@ -183,12 +184,14 @@ where
 }
 
 /// Locks `entry`, runs `job` on its value on the pool, and waits for the answer. The lock
-/// is held until the job ends, even if the caller goes away meanwhile.
+/// is held until the job ends, even if the caller goes away meanwhile, and the entry counts
+/// as used when the job ends: a step longer than the idle TTL, whose caller gave up, is not
+/// reclaimed the moment it ends.
 pub(crate) async fn run_locked<T, R, F>(
     jobs: &Jobs,
     lane: Lane,
     registry: &Registry<T>,
-    entry: &Entry<T>,
+    entry: &Arc<Entry<T>>,
     operation: &'static str,
     job: F,
 ) -> Result<R>
@@ -202,6 +205,7 @@ where
     let id = entry.id().to_string();
     let (tx, rx) = oneshot::channel();
     let hold = jobs.hold();
+    let used = Arc::clone(entry);
     jobs.spawn_in(lane, move || {
         hold.wait(&tx);
         if tx.is_closed() {
@@ -222,6 +226,7 @@ where
             // Dropping a value whose invariants a panic broke may itself panic.
             let _ = catch_unwind(AssertUnwindSafe(move || drop(broken)));
         }
+        used.touch();
         drop(slot);
         let _ = tx.send(answer);
     });

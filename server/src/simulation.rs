@@ -16,7 +16,7 @@ use gymfleet_env::{ObservationSegment, RobotEnv};
 
 use crate::config::ServerConfig;
 use crate::domain::{Action, Created, EnvRequest, EnvStep, EnvStepOutcome, Observed, ServerStatus};
-use crate::error::{EntityKind, Result};
+use crate::error::{EntityKind, Result, ServerError};
 use crate::metrics::{Gauges, Metrics, OpenCounts};
 use crate::pool::{self, Jobs, Lane};
 use crate::registry::{Activity, EnvCapacity, Facts, Held, Registry};
@@ -304,7 +304,10 @@ impl Simulation {
             .await
     }
 
-    /// Takes a value out of its registry for good, waiting for calls in flight on it.
+    /// Takes a value out of its registry for good. The id is forgotten at once, so no new
+    /// call finds it; a call already running or queued on it (a long step) ends first, and
+    /// the value is freed then, even if the caller of `Close` has gone by then (its
+    /// deadline passed while it waited).
     async fn close<T: Send + 'static>(
         &self,
         registry: &Registry<T>,
@@ -312,14 +315,24 @@ impl Simulation {
         id: &str,
     ) -> Result<()> {
         let entry = registry.get(tenant, id)?;
-        let mut slot = entry.lock(registry.kind()).await?;
-        let value = slot.take().map(Held::release);
         registry.remove(id);
-        drop(slot);
-        // The capacity is free as of now; freeing thousands of worlds is CPU work too.
-        self.pool.spawn(move || drop(value));
-        tracing::info!(id, "closed");
-        Ok(())
+        let kind = registry.kind();
+        let pool = self.pool.clone();
+        let id = id.to_string();
+        // A task of its own: dropping this call's future (a cancelled or timed-out Close)
+        // does not stop it.
+        let closing = tokio::spawn(async move {
+            let mut slot = entry.lock(kind).await?;
+            let value = slot.take().map(Held::release);
+            drop(slot);
+            // The capacity is free as of now; freeing thousands of worlds is CPU work too.
+            pool.spawn(move || drop(value));
+            tracing::info!(id, "closed");
+            Ok(())
+        });
+        closing
+            .await
+            .map_err(|_| ServerError::JobLost { operation: "Close" })?
     }
 
     pub(crate) async fn close_env(&self, tenant: &Tenant, id: &str) -> Result<()> {

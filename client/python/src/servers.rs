@@ -392,6 +392,7 @@ fn info_dict<'py>(py: Python<'py>, i: &ServerInfo) -> PyResult<Bound<'py, PyDict
     limits.set_item("max_end_effectors", i.limits.max_end_effectors)?;
     limits.set_item("tenant_max_envs", i.limits.tenant_max_envs)?;
     limits.set_item("max_step_work", i.limits.max_step_work)?;
+    limits.set_item("max_contact_work", i.limits.max_contact_work)?;
     d.set_item("limits", limits)?;
     d.set_item("tenant", &i.tenant)?;
     d.set_item("auth_required", i.auth_required)?;

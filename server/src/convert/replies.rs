@@ -327,6 +327,7 @@ pub(crate) fn server_info(status: &ServerStatus<'_>) -> pb::ServerInfo {
             max_end_effectors: u64_of(c.max_end_effectors),
             tenant_max_envs: u64_of(c.tenant_max_envs),
             max_step_work: u64_of(c.max_step_work),
+            max_contact_work: u64_of(c.max_contact_work),
         }),
         tenant: status.tenant.name().to_string(),
         auth_required: c.auth_tokens.is_some(),

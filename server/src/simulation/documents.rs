@@ -8,7 +8,7 @@ use crate::domain::{EnvRequest, JointLinks};
 use crate::error::{Result, ServerError};
 use crate::pool::{self, Lane};
 
-use super::limits::{check_step_work, check_structure};
+use super::limits::{check_contact_work, check_step_work, check_structure};
 use super::Simulation;
 
 /// Parses, checks against the structural limits (for `n_envs` copies), and builds one
@@ -29,8 +29,9 @@ pub(super) fn build_env(
     let substeps = request.config.substeps;
     // Options are checked first (a substep count out of range is a bad argument, not a
     // large request); building one env is cheap, its copies are not made yet.
-    let env = RobotEnv::new(&assembly, request.config)?;
+    let mut env = RobotEnv::new(&assembly, request.config)?;
     check_step_work(config, n_envs, substeps, assembly.total_dof())?;
+    check_contact_work(config, &mut env, substeps)?;
     let name = |i: usize| {
         assembly
             .instances

@@ -65,6 +65,32 @@ pub(super) fn check_step_work(
     Ok(())
 }
 
+/// Gives `env` the server's contact-work limit (its copies keep it), and refuses it when
+/// its bodies already touch, where the document puts them, in more contact work than a
+/// step may ask for: one collision detection of the initial state, on a copy.
+pub(super) fn check_contact_work(
+    config: &ServerConfig,
+    env: &mut gymfleet_env::RobotEnv,
+    substeps: u32,
+) -> Result<()> {
+    let max = config.limit(Limit::ContactWork);
+    env.set_contact_work_limit(max);
+    if max == 0 {
+        return Ok(());
+    }
+    let (load, work) = env.initial_contact_work();
+    if Limit::exceeded(max, work) {
+        return Err(ServerError::ContactsAtStart {
+            pairs: load.pairs,
+            points: load.points,
+            substeps,
+            work,
+            max,
+        });
+    }
+    Ok(())
+}
+
 /// Refuses a batch whose step reply could exceed the message limit: observations and
 /// same-step final observations (`n_envs × observation_dim` floats each, at most), plus
 /// the per-env rewards and flags.
