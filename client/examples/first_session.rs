@@ -5,16 +5,42 @@
 //! cargo run --release -p gymfleet-client --example first_session [ADDR]
 //! ```
 
-use gymfleet_client::{ActionType, BatchOptions, Camera, CameraPreset, Client, EnvOptions};
+use std::process::ExitCode;
+
+use gymfleet_client::{
+    cannot_connect, ActionType, BatchOptions, Camera, CameraPreset, Client, ClientError, EnvOptions,
+};
 
 const PENDULUM: &str = include_str!("../../models/pendulum.json");
 const ARM2: &str = include_str!("../../models/arm2.json");
 
 #[tokio::main(flavor = "current_thread")]
-async fn main() -> Result<(), Box<dyn std::error::Error>> {
+async fn main() -> ExitCode {
     let addr = std::env::args()
         .nth(1)
         .unwrap_or_else(|| "127.0.0.1:50051".into());
+    match session(addr).await {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(err) => {
+            // Errors are printed for people (Display), the unreachable server with how to
+            // point this program elsewhere.
+            match err.downcast_ref::<ClientError>() {
+                Some(ClientError::Connect { addr, reason }) => eprintln!(
+                    "error: {}",
+                    cannot_connect(
+                        addr,
+                        reason,
+                        "give its address as the argument: first_session ADDR"
+                    )
+                ),
+                _ => eprintln!("error: {err}"),
+            }
+            ExitCode::FAILURE
+        }
+    }
+}
+
+async fn session(addr: String) -> Result<(), Box<dyn std::error::Error>> {
     let client = Client::connect(addr).await?;
     let server = client.server_info().await?;
     println!("server {} with {} threads", server.version, server.threads);

@@ -401,19 +401,18 @@ impl ClientBuilder {
 
     /// Connects (or, with [`ClientBuilder::lazy`], prepares to).
     pub async fn connect(self) -> Result<Client> {
-        let connect_error = |reason: String| ClientError::Connect {
+        let authorization = self.authorization()?;
+        let endpoint = self.endpoint().map_err(|reason| ClientError::Setting {
             addr: self.addr.clone(),
             reason,
-        };
-        let authorization = self.authorization()?;
-        let endpoint = self.endpoint().map_err(connect_error)?;
+        })?;
         let channel = if self.lazy {
             endpoint.connect_lazy()
         } else {
-            endpoint
-                .connect()
-                .await
-                .map_err(|e| connect_error(error_chain(&e)))?
+            endpoint.connect().await.map_err(|e| ClientError::Connect {
+                addr: self.addr.clone(),
+                reason: error_chain(&e),
+            })?
         };
         self.over(transport(channel), authorization)
     }
@@ -455,7 +454,7 @@ impl ClientBuilder {
         format!("Bearer {token}")
             .parse::<MetadataValue<Ascii>>()
             .map(Some)
-            .map_err(|_| ClientError::Connect {
+            .map_err(|_| ClientError::Setting {
                 addr: self.addr.clone(),
                 reason: "the token must be printable ASCII without spaces".into(),
             })
@@ -631,17 +630,31 @@ mod tests {
         let addr = listener.local_addr().unwrap().to_string();
         drop(listener);
         let err = Client::connect(addr.clone()).await.unwrap_err();
+        let ClientError::Connect { addr: a, reason } = &err else {
+            panic!("{err:?}");
+        };
+        assert_eq!(*a, addr);
+        assert!(reason.contains("refused"), "{reason}");
         assert!(
-            matches!(&err, ClientError::Connect { addr: a, .. } if *a == addr),
-            "{err:?}"
+            !reason.contains("tcp connect error: tcp connect error"),
+            "each cause once: {reason}"
         );
-        let text = err.to_string();
-        assert!(text.contains("refused"), "{text}");
-        assert!(
-            !text.contains("tcp connect error: tcp connect error"),
-            "each cause once: {text}"
+        assert_eq!(
+            err.to_string(),
+            format!(
+                "cannot connect to the gymfleet server at {addr}: {reason}. Is the server \
+                 running? To use another one, pass its address to Client::connect (a fleet: \
+                 its FleetEndpoints)."
+            )
         );
+        // A malformed address is the caller's setting, not a server that is down.
         let err = Client::connect("http://[not an address").await.unwrap_err();
-        assert!(matches!(err, ClientError::Connect { .. }), "{err:?}");
+        assert!(matches!(err, ClientError::Setting { .. }), "{err:?}");
+        assert!(
+            err.to_string()
+                .starts_with("cannot connect to http://[not an address: "),
+            "{err}"
+        );
+        assert!(!err.to_string().contains("running"), "{err}");
     }
 }

@@ -11,12 +11,23 @@ use tonic::{Code, Status};
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[non_exhaustive]
 pub enum ClientError {
-    /// The server could not be reached, or the address is malformed.
-    #[error("cannot connect to {addr}: {reason}")]
+    /// The server could not be reached (nothing listens there, a refused or failed TLS
+    /// handshake, no answer). Its message is [`cannot_connect`]'s, with this library's
+    /// advice ([`POINT_THE_LIBRARY`]).
+    #[error("{}", cannot_connect(addr, reason, POINT_THE_LIBRARY))]
     Connect {
         /// The address as given.
         addr: String,
         /// Why.
+        reason: String,
+    },
+    /// The client's own settings make a connection impossible: a malformed address, a
+    /// token that is not printable ASCII, a TLS file that cannot be read.
+    #[error("cannot connect to {addr}: {reason}")]
+    Setting {
+        /// The address as given.
+        addr: String,
+        /// What is wrong.
         reason: String,
     },
     /// NOT_FOUND: the env or batch id is unknown, closed, or was reclaimed after idling.
@@ -116,6 +127,28 @@ pub enum ClientError {
     },
 }
 
+/// What every gymfleet client says when it cannot connect to a server: the address, the
+/// cause, "Is the server running?", and `how` the user points that program at another
+/// server (its `--server` flag, its address parameter, `GYMFLEET_SERVER`):
+///
+/// `cannot connect to the gymfleet server at ADDR: CAUSE. Is the server running? To use
+/// another one, HOW.`
+///
+/// The Python package, the load client and the MCP adapter call it with their own `how`;
+/// the TypeScript client writes the same sentence.
+pub fn cannot_connect(addr: &str, reason: &str, how: &str) -> String {
+    let reason = reason.trim_end_matches('.');
+    format!(
+        "cannot connect to the gymfleet server at {addr}: {reason}. Is the server running? \
+         To use another one, {how}."
+    )
+}
+
+/// How a program using this library points it at another server, as
+/// [`ClientError::Connect`] says it.
+pub const POINT_THE_LIBRARY: &str =
+    "pass its address to Client::connect (a fleet: its FleetEndpoints)";
+
 /// `0..16, 48..96`, with a lone env written as its index.
 fn format_ranges(ranges: &[Range<usize>]) -> String {
     let parts: Vec<String> = ranges
@@ -140,7 +173,7 @@ fn format_ranges(ranges: &[Range<usize>]) -> String {
 /// these, or adds one here, which then fails to compile wherever a match misses it).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum ErrorKind {
-    /// [`ClientError::Connect`].
+    /// [`ClientError::Connect`] and [`ClientError::Setting`].
     Connect,
     /// [`ClientError::NotFound`].
     NotFound,
@@ -171,7 +204,7 @@ impl ClientError {
     /// ([`ClientError::OnServer`]) is the kind of that server's error.
     pub fn kind(&self) -> ErrorKind {
         match self {
-            ClientError::Connect { .. } => ErrorKind::Connect,
+            ClientError::Connect { .. } | ClientError::Setting { .. } => ErrorKind::Connect,
             ClientError::NotFound { .. } => ErrorKind::NotFound,
             ClientError::InvalidArgument { .. } => ErrorKind::InvalidArgument,
             ClientError::FailedPrecondition { .. } => ErrorKind::FailedPrecondition,
@@ -190,7 +223,7 @@ impl ClientError {
     /// The message carried by the error (the server's, for server errors).
     pub fn message(&self) -> &str {
         match self {
-            ClientError::Connect { reason, .. } => reason,
+            ClientError::Connect { reason, .. } | ClientError::Setting { reason, .. } => reason,
             ClientError::NotFound { message }
             | ClientError::InvalidArgument { message }
             | ClientError::FailedPrecondition { message }
@@ -223,6 +256,7 @@ impl ClientError {
             ClientError::Protocol { code, .. } => (*code != Code::Ok).then_some(*code),
             ClientError::OnServer { error, .. } => error.code(),
             ClientError::Connect { .. }
+            | ClientError::Setting { .. }
             | ClientError::ServerLost { .. }
             | ClientError::Fleet { .. } => None,
         }
@@ -234,7 +268,7 @@ impl ClientError {
             ClientError::ServerLost { server, .. } | ClientError::OnServer { server, .. } => {
                 Some(server)
             }
-            ClientError::Connect { addr, .. } => Some(addr),
+            ClientError::Connect { addr, .. } | ClientError::Setting { addr, .. } => Some(addr),
             _ => None,
         }
     }

@@ -69,7 +69,7 @@ pub use env::Env;
 pub use environment::{
     ENV_TLS_CA, ENV_TLS_CLIENT_CERT, ENV_TLS_CLIENT_KEY, ENV_TLS_DOMAIN, ENV_TOKEN,
 };
-pub use error::{ClientError, ErrorKind, Result};
+pub use error::{cannot_connect, ClientError, ErrorKind, Result, POINT_THE_LIBRARY};
 pub use fleet::Fleet;
 pub use fleet_batch::recovery::CheckpointStatus;
 pub use fleet_batch::{FleetBatch, ShardPlacement};

@@ -174,18 +174,18 @@ function bearer(token: string): Interceptor {
 
 type Call = (...args: unknown[]) => unknown;
 
-async function* classifyStream(messages: AsyncIterable<unknown>) {
+async function* classifyStream(messages: AsyncIterable<unknown>, address: string) {
   try {
     yield* messages;
   } catch (err) {
-    throw toGymfleetError(err);
+    throw toGymfleetError(err, address);
   }
 }
 
 /** `client` with every failure of a call, a streamed reply's included, thrown as a
  * GymfleetError. (Connect wraps what an interceptor throws in a ConnectError, so the
  * methods themselves are wrapped.) */
-function classifyErrors(client: Client<typeof Simulator>): Client<typeof Simulator> {
+function classifyErrors(client: Client<typeof Simulator>, address: string): Client<typeof Simulator> {
   const calls = client as unknown as Record<string, Call>;
   const wrapped: Record<string, Call> = {};
   for (const method of Simulator.methods) {
@@ -196,10 +196,10 @@ function classifyErrors(client: Client<typeof Simulator>): Client<typeof Simulat
             try {
               return await call(...args);
             } catch (err) {
-              throw toGymfleetError(err);
+              throw toGymfleetError(err, address);
             }
           }
-        : (...args) => classifyStream(call(...args) as AsyncIterable<unknown>);
+        : (...args) => classifyStream(call(...args) as AsyncIterable<unknown>, address);
   }
   return wrapped as unknown as Client<typeof Simulator>;
 }
@@ -224,7 +224,7 @@ export function connect(options: ConnectOptions = {}): GymfleetClient {
     readMaxBytes: maxBytes,
     writeMaxBytes: maxBytes,
   });
-  return new GymfleetClient(address, classifyErrors(createClient(Simulator, transport)), session);
+  return new GymfleetClient(address, classifyErrors(createClient(Simulator, transport), address), session);
 }
 
 let defaultConnection: GymfleetClient | undefined;

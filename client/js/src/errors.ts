@@ -90,13 +90,22 @@ function classOf(code: Code): typeof GymfleetError {
   }
 }
 
-/** Whether `err` is a failure to connect that Connect reports as INTERNAL: not the
- * server's answer (which has no cause), but a Node error with a code (a TLS handshake or
+/** How a program using this client points it at another server, as connection errors
+ * say it. */
+export const POINT_THE_CLIENT = "pass its address as `address` to connect (or set GYMFLEET_SERVER)";
+
+/** What every gymfleet client (Rust, Python, TypeScript, the load client, the MCP adapter)
+ * says when it cannot connect to a server: the address, the cause, "Is the server
+ * running?", and `how` to point the program at another server. */
+export function cannotConnect(address: string, reason: string, how: string = POINT_THE_CLIENT): string {
+  const cause = reason.replace(/\.+$/, "");
+  return `cannot connect to the gymfleet server at ${address}: ${cause}. Is the server running? To use another one, ${how}.`;
+}
+
+/** Whether `err` is a failure of the connection rather than the server's answer (which
+ * has no cause): a Node error with a code (refused, unreachable, a TLS handshake or
  * certificate failure, a peer that does not speak TLS) somewhere in its causes. */
 function isConnectFailure(err: ConnectError): boolean {
-  if (err.code !== Code.Internal) {
-    return false;
-  }
   const seen = new Set<unknown>();
   for (let cause = err.cause; cause instanceof Error && !seen.has(cause); cause = cause.cause) {
     if (typeof (cause as { code?: unknown }).code === "string") {
@@ -108,15 +117,19 @@ function isConnectFailure(err: ConnectError): boolean {
 }
 
 /** `reason` (what a Connect call threw) as a {@link GymfleetError}; one already is stays
- * as it is. The original error is kept as `cause`. */
-export function toGymfleetError(reason: unknown): GymfleetError {
+ * as it is. The original error is kept as `cause`. A failed connection (which Connect
+ * reports as UNAVAILABLE, or INTERNAL for TLS) is {@link Unavailable}, and with the
+ * server's `address` its message is {@link cannotConnect}'s. */
+export function toGymfleetError(reason: unknown, address?: string): GymfleetError {
   if (reason instanceof GymfleetError) {
     return reason;
   }
   const err = ConnectError.from(reason);
-  const code = isConnectFailure(err) ? Code.Unavailable : err.code;
+  const failed = isConnectFailure(err) && (err.code === Code.Internal || err.code === Code.Unavailable);
+  const code = failed ? Code.Unavailable : err.code;
   const Class = classOf(code);
-  return new Class(err.rawMessage, code, { cause: reason });
+  const message = failed && address !== undefined ? cannotConnect(address, err.rawMessage) : err.rawMessage;
+  return new Class(message, code, { cause: reason });
 }
 
 /** An {@link InvalidArgument} found by this client before any call. */

@@ -27,6 +27,8 @@ export {
   InvalidArgument,
   NotFound,
   ResourceExhausted,
+  cannotConnect,
+  POINT_THE_CLIENT,
   toGymfleetError,
   Unauthenticated,
   Unavailable,

@@ -138,7 +138,7 @@ test("transport errors: an unreachable server is UNAVAILABLE, a late reply DEADL
     () => gone.simulator.getServerInfo({}),
     Unavailable,
     Code.Unavailable,
-    `connect ECONNREFUSED ${closed.address}`,
+    `cannot connect to the gymfleet server at ${closed.address}: connect ECONNREFUSED ${closed.address}. Is the server running? To use another one, pass its address as \`address\` to connect (or set GYMFLEET_SERVER).`,
   );
   // 8 chains of 20 links, 500 substeps each: far more than a millisecond.
   const slow = connect({ address: server.address, timeoutMs: 1 });

@@ -162,3 +162,20 @@ test("the first session example prints what the Rust example prints in README.md
     await fresh.stop();
   }
 });
+
+test("the first session example prints an unreachable server's error for people, exit status 1", async () => {
+  const closed = await startServer();
+  await closed.stop();
+  const example = fileURLToPath(new URL("../examples/first_session.js", import.meta.url));
+  const cwd = fileURLToPath(new URL("../../", import.meta.url));
+  const run = promisify(execFile)(process.execPath, [example, closed.address], { cwd });
+  await assert.rejects(run, (err: { code?: number; stderr?: string }) => {
+    assert.equal(err.code, 1);
+    assert.equal(
+      err.stderr,
+      `error: cannot connect to the gymfleet server at ${closed.address}: connect ECONNREFUSED ${closed.address}. ` +
+        "Is the server running? To use another one, pass its address as `address` to connect (or set GYMFLEET_SERVER).\n",
+    );
+    return true;
+  });
+});

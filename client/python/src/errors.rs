@@ -8,6 +8,10 @@ use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use pyo3::types::PyList;
 
+/// How a Python program points the package at another server, as connection errors say.
+const POINT_THE_PACKAGE: &str =
+    "pass its address as server=\"HOST:PORT\" (server=None runs one in this process)";
+
 /// The name of the `gymfleet.errors` class for `err`, by its kind (an exhaustive match: a
 /// kind added to the client fails to compile here until it has a class).
 fn class_name(err: &ClientError) -> &'static str {
@@ -27,8 +31,12 @@ fn class_name(err: &ClientError) -> &'static str {
 /// The exception's text: the server's message, prefixed with what the class does not say
 /// already (which server, for a fleet; what kind of failure, for the two catch-alls).
 fn text(err: &ClientError) -> String {
-    if let ClientError::OnServer { .. } = err {
-        return err.to_string();
+    match err {
+        ClientError::OnServer { .. } => return err.to_string(),
+        ClientError::Connect { addr, reason } => {
+            return gymfleet_client::cannot_connect(addr, reason, POINT_THE_PACKAGE)
+        }
+        _ => {}
     }
     match err.kind() {
         ErrorKind::Connect | ErrorKind::Protocol | ErrorKind::ServerLost => err.to_string(),

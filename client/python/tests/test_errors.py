@@ -82,6 +82,14 @@ def test_an_unreachable_server_is_unavailable(arm2):
         gymfleet.make(arm2, server=address)
     assert address in str(caught.value) and caught.value.server == address
     assert isinstance(caught.value, ConnectionError)
+    # The words every gymfleet client uses: the address, the cause, the question, and how
+    # to point this package elsewhere.
+    text = str(caught.value)
+    assert text.startswith(f"cannot connect to the gymfleet server at {address}: "), text
+    assert text.endswith(
+        '. Is the server running? To use another one, pass its address as server="HOST:PORT" '
+        "(server=None runs one in this process)."
+    ), text
 
 
 def test_a_call_past_its_timeout_is_deadline_exceeded(arm2):

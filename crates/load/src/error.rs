@@ -3,6 +3,9 @@
 
 use std::path::PathBuf;
 
+/// How a user points `gymfleet-load` at another server, as connection errors say.
+const POINT_THE_TOOL: &str = "pass --server ADDR (or set GYMFLEET_SERVER)";
+
 /// What can stop `gymfleet-load`: a bad command line (a usage error, exit status 2), or a
 /// failure to set the run up or write its results (exit status 1).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -81,6 +84,21 @@ impl LoadError {
         LoadError::Setup {
             stage: stage.into(),
             reason: reason.to_string(),
+        }
+    }
+
+    /// A failed connect in `stage`: for a server that cannot be reached, the words every
+    /// gymfleet client uses, with this tool's way of pointing elsewhere.
+    pub(crate) fn connect(stage: impl Into<String>, err: gymfleet_client::ClientError) -> Self {
+        let reason = match &err {
+            gymfleet_client::ClientError::Connect { addr, reason } => {
+                gymfleet_client::cannot_connect(addr, reason, POINT_THE_TOOL)
+            }
+            other => other.to_string(),
+        };
+        LoadError::Setup {
+            stage: stage.into(),
+            reason,
         }
     }
 

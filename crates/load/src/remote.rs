@@ -130,7 +130,7 @@ async fn record_replay(
         .builder(server.to_string())
         .connect()
         .await
-        .map_err(|e| LoadError::setup(stage("connect"), e))?;
+        .map_err(|e| LoadError::connect(stage("connect"), e))?;
     let env = client
         .create_env(env_options(
             config,
@@ -173,7 +173,7 @@ async fn setup(config: &LoadConfig, c: usize, server: String) -> Result<Session>
         .builder(server.clone())
         .connect()
         .await
-        .map_err(|e| LoadError::setup(stage("connect"), e))?;
+        .map_err(|e| LoadError::connect(stage("connect"), e))?;
     let first_env = config.first_env(c);
     let document = config.model.document.clone();
     let (handle, joints, action_dim) = match config.api {

@@ -154,3 +154,30 @@ fn runs_with_a_task_print_it_and_a_bad_one_fails_with_status_1() {
         "{stderr}"
     );
 }
+
+#[test]
+fn an_unreachable_server_says_what_to_do_and_exits_1() {
+    // Nothing listens on a port that was just free.
+    let port = std::net::TcpListener::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .to_string();
+    let out = gymfleet_load(&["--server", &port, "--steps", "1"]);
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = text(&out.stderr);
+    assert!(
+        stderr.starts_with(&format!(
+            "gymfleet-load: error: setup failed (client 0: connect on {port}): cannot connect \
+             to the gymfleet server at {port}: "
+        )),
+        "{stderr}"
+    );
+    assert!(
+        stderr.trim_end().ends_with(
+            "Is the server running? To use another one, pass --server ADDR (or set \
+             GYMFLEET_SERVER)."
+        ),
+        "{stderr}"
+    );
+}

@@ -376,10 +376,20 @@ fn setup_failures_are_errors_with_the_servers_message() {
         .local_addr()
         .unwrap();
     let err = run(&config(&["--server", &port.to_string(), "--steps", "1"])).unwrap_err();
+    let message = err.to_string();
     assert!(
-        err.to_string()
-            .starts_with(&format!("setup failed (client 0: connect on {port})")),
-        "{err}"
+        message.starts_with(&format!(
+            "setup failed (client 0: connect on {port}): cannot connect to the gymfleet server \
+             at {port}: "
+        )),
+        "{message}"
+    );
+    assert!(
+        message.ends_with(
+            ". Is the server running? To use another one, pass --server ADDR (or set \
+             GYMFLEET_SERVER)."
+        ),
+        "{message}"
     );
 }
 

@@ -144,16 +144,20 @@ pub(crate) struct Subject<'a> {
     pub(crate) addr: &'a str,
 }
 
-/// The advice appended to every "cannot reach" message.
-pub(crate) const SERVER_DOWN_HINT: &str = "The server may be down: start it (gymfleet-server \
-     --listen ADDR), or point the adapter at a running one with --server ADDR (GYMFLEET_SERVER).";
+/// The advice appended to every "cannot reach" message: with a failed connect before it,
+/// the words every gymfleet client uses (`gymfleet_client::cannot_connect`, with the
+/// adapter's way of pointing elsewhere; a test checks that the two agree).
+pub(crate) const SERVER_DOWN_HINT: &str = "Is the server running? To use another one, pass \
+     --server ADDR to the adapter (or set GYMFLEET_SERVER); gymfleet-server --listen ADDR \
+     starts one.";
 
 /// A failure to reach the server at `addr` (without [`SERVER_DOWN_HINT`]), or `None` if
 /// `err` is not one.
 pub(crate) fn unreachable(err: &ClientError, addr: &str) -> Option<String> {
     match err {
         ClientError::Connect { reason, .. } => Some(format!(
-            "cannot reach the gymfleet server at {addr}: {reason}."
+            "cannot connect to the gymfleet server at {addr}: {}.",
+            reason.trim_end_matches('.')
         )),
         ClientError::Unavailable { message, .. } => Some(format!(
             "the gymfleet server at {addr} is unavailable: {message}."
@@ -264,14 +268,24 @@ mod tests {
             text.starts_with("the gymfleet server at 127.0.0.1:9 is unavailable"),
             "{text}"
         );
-        assert!(text.contains("may be down"), "{text}");
+        assert!(text.ends_with(SERVER_DOWN_HINT), "{text}");
         let err = ClientError::Connect {
             addr: "127.0.0.1:9".into(),
             reason: "refused".into(),
         };
         assert_eq!(
             unreachable(&err, "127.0.0.1:9").unwrap(),
-            "cannot reach the gymfleet server at 127.0.0.1:9: refused."
+            "cannot connect to the gymfleet server at 127.0.0.1:9: refused."
+        );
+        // With the hint, the words of every gymfleet client.
+        const POINT_THE_ADAPTER: &str = "pass --server ADDR to the adapter (or set \
+             GYMFLEET_SERVER); gymfleet-server --listen ADDR starts one";
+        assert_eq!(
+            format!(
+                "{} {SERVER_DOWN_HINT}",
+                unreachable(&err, "127.0.0.1:9").unwrap()
+            ),
+            gymfleet_client::cannot_connect("127.0.0.1:9", "refused", POINT_THE_ADAPTER)
         );
     }
 }

@@ -75,7 +75,7 @@ async fn several_servers_share_new_envs_without_id_clashes() {
         if result.is_error == Some(true) {
             let err = crate::expect_err("gym_observe", result);
             assert!(
-                err.contains(&a_addr) && err.contains("may be down"),
+                err.contains(&a_addr) && err.contains("Is the server running?"),
                 "{err} (servers {a_addr}, {b_addr})"
             );
             assert!(err.contains(&format!("env_id \"{env_id}\"")), "{err}");
