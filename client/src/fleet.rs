@@ -39,16 +39,75 @@ use crate::types::ServerInfo;
 /// # Ok(())
 /// # }
 /// ```
+///
+/// A fleet made by [`Fleet::connect`] needs every server at the start; one made by
+/// [`Fleet::connect_available`] starts with the servers that answer and brings the others
+/// in when they do.
 #[derive(Debug, Clone)]
 pub struct Fleet {
     servers: Vec<Client>,
+    /// Whether placement leaves out the servers that do not answer
+    /// ([`Fleet::connect_available`]) instead of failing on them.
+    partial: bool,
 }
 
 impl Fleet {
     /// Connects to every server of `endpoints`, concurrently. Fails with the first
     /// server (in fleet order) that cannot be reached, naming it.
+    ///
+    /// This is the default because it is the safer one: a mistyped or stale address
+    /// fails at once, and every fleet batch is spread over every server as configured,
+    /// rather than the reachable ones quietly taking the whole load. Where servers come up
+    /// in their own time (a StatefulSet's pods), use [`Fleet::connect_available`].
     pub async fn connect(endpoints: FleetEndpoints) -> Result<Self> {
         Self::connect_with_limit(endpoints, DEFAULT_MAX_MESSAGE_BYTES).await
+    }
+
+    /// Connects to the servers of `endpoints` that answer now, concurrently, and keeps a
+    /// connection to each of the others that is tried again at every call: envs and
+    /// batches are placed on the servers that answer when they are created, so a server
+    /// that comes up later takes part from the next creation on. Fails only when no
+    /// server answers ([`ClientError::Fleet`], with each one's reason), or on a setting
+    /// that cannot work anywhere (a malformed address, a bad token).
+    ///
+    /// Envs step bitwise alike however a batch is placed, so the servers that answer
+    /// change where envs live, never what they compute.
+    pub async fn connect_available(endpoints: FleetEndpoints) -> Result<Self> {
+        let settings = Client::builder("").max_message_bytes(DEFAULT_MAX_MESSAGE_BYTES);
+        Self::connect_available_with(endpoints, &settings).await
+    }
+
+    /// [`Fleet::connect_available`], connecting every server with `settings`.
+    pub async fn connect_available_with(
+        endpoints: FleetEndpoints,
+        settings: &ClientBuilder,
+    ) -> Result<Self> {
+        let addrs = endpoints.addrs();
+        let connecting = addrs
+            .iter()
+            .map(|addr| settings.for_addr(addr.clone()).connect());
+        let mut servers = Vec::with_capacity(addrs.len());
+        let mut failures = Vec::new();
+        for (addr, connected) in addrs.iter().zip(join_all(connecting).await) {
+            match connected {
+                Ok(client) => servers.push(client),
+                Err(err @ ClientError::Connect { .. }) => {
+                    failures.push(err.to_string());
+                    // Connects at its first call, and again at each later one until then.
+                    servers.push(settings.for_addr(addr.clone()).lazy(true).connect().await?);
+                }
+                Err(other) => return Err(other),
+            }
+        }
+        if failures.len() == addrs.len() {
+            return Err(ClientError::Fleet {
+                message: format!("no server of the fleet answered: {}", failures.join(" | ")),
+            });
+        }
+        Ok(Fleet {
+            servers,
+            partial: true,
+        })
     }
 
     /// [`Fleet::connect`], with [`Client::connect_with_limit`]'s message limit.
@@ -71,13 +130,25 @@ impl Fleet {
             .await
             .into_iter()
             .collect::<Result<Vec<_>>>()?;
-        Ok(Fleet { servers })
+        Ok(Fleet {
+            servers,
+            partial: false,
+        })
     }
 
     /// A fleet of already connected clients, one per server.
     pub fn from_clients(servers: Vec<Client>) -> Result<Self> {
         FleetEndpoints::new(servers.iter().map(|c| c.addr().to_string()))?;
-        Ok(Fleet { servers })
+        Ok(Fleet {
+            servers,
+            partial: false,
+        })
+    }
+
+    /// Whether placement leaves out servers that do not answer (a fleet made by
+    /// [`Fleet::connect_available`]).
+    pub fn places_on_answering_servers(&self) -> bool {
+        self.partial
     }
 
     /// The servers' addresses, in fleet order.
@@ -161,8 +232,7 @@ impl Fleet {
                 message: "n_envs: expected at least 1, got 0".to_string(),
             });
         }
-        let infos = self.server_infos().await?;
-        let capacities: Vec<ServerCapacity> = infos.iter().map(ServerCapacity::from_info).collect();
+        let capacities = self.capacities().await?;
         let shares = split_by_capacity(n_envs, &capacities).map_err(|reason| {
             ClientError::ResourceExhausted {
                 message: format!("fleet batch of {n_envs} envs: {reason}"),
@@ -220,6 +290,29 @@ impl Fleet {
                 Err(err)
             }
         }
+    }
+}
+
+impl Fleet {
+    /// What each server may take for a new batch. A fleet of [`Fleet::connect`] needs
+    /// every server's answer; one of [`Fleet::connect_available`] gives a server that
+    /// does not answer no share, and fails only when none answers.
+    async fn capacities(&self) -> Result<Vec<ServerCapacity>> {
+        if !self.partial {
+            let infos = self.server_infos().await?;
+            return Ok(infos.iter().map(ServerCapacity::from_info).collect());
+        }
+        let answers = self.ask_infos().await;
+        if let Some(Err(first)) = answers.iter().find(|_| answers.iter().all(Result::is_err)) {
+            return Err(first.clone());
+        }
+        Ok(answers
+            .iter()
+            .map(|answer| match answer {
+                Ok(info) => ServerCapacity::from_info(info),
+                Err(_) => ServerCapacity::NONE,
+            })
+            .collect())
     }
 }
 

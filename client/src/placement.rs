@@ -12,6 +12,12 @@ pub(crate) struct ServerCapacity {
 }
 
 impl ServerCapacity {
+    /// A server that takes no share: one that did not answer.
+    pub(crate) const NONE: ServerCapacity = ServerCapacity {
+        threads: 0,
+        cap: Some(0),
+    };
+
     /// The capacity a server reports: its threads, capped by its batch-size limit and by
     /// the room left under its env limit (limits of 0 mean none).
     pub(crate) fn from_info(info: &crate::ServerInfo) -> Self {

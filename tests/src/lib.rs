@@ -31,6 +31,15 @@ impl TestServer {
         TestServer { server }
     }
 
+    /// Serves `config` on `addr` (a port a test reserved, e.g. one a fleet was given while
+    /// nothing listened there).
+    pub async fn start_at(addr: SocketAddr, config: ServerConfig) -> TestServer {
+        let server = LocalServer::bind(&ListenAddr::Tcp(addr), config)
+            .await
+            .expect("start a server on the reserved port");
+        TestServer { server }
+    }
+
     /// A server with default limits and a two-thread pool.
     pub async fn start_default() -> TestServer {
         Self::start(ServerConfig {

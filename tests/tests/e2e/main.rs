@@ -3,9 +3,11 @@
 
 mod adversarial;
 mod batches;
+mod contact_work;
 mod dashboard;
 mod errors;
 mod fleet;
+mod fleet_start;
 mod imports;
 mod lifecycle;
 mod regressions;
