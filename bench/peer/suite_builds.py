@@ -14,6 +14,9 @@ Setup (not part of CI): `pip install gymnasium` (its files only are read), valgr
   cp target/release/examples/peer_step /tmp/peer_step_<commit>
 
   python3 bench/peer/suite_builds.py /tmp/peer_step_before /tmp/peer_step_after --callgrind
+
+`--after-args "--contact-limit 100000"` runs the second build with extra flags (the same
+binary twice then compares a setting, e.g. the server's default contact-work limit).
 """
 import argparse
 import json
@@ -42,9 +45,12 @@ MODELS = {
 }
 
 
+EXTRA = {}
+
+
 def command(exe, document, model, steps):
     end_effector, dt, substeps, actions = MODELS[model]
-    return [exe, "--document", document, "--end-effector", end_effector, "--dt", str(dt),
+    return [exe] + EXTRA.get(exe, []) + ["--document", document, "--end-effector", end_effector, "--dt", str(dt),
             "--substeps", str(substeps), "--steps", str(steps), "--repeats", "1",
             "--variant", "random", "--amplitudes", ",".join(["1"] * actions)]
 
@@ -71,7 +77,13 @@ def main():
     ap.add_argument("--models", nargs="*", default=list(MODELS), choices=list(MODELS))
     ap.add_argument("--rounds", type=int, default=5)
     ap.add_argument("--callgrind", action="store_true")
+    ap.add_argument("--after-args", default="", help="extra flags for the second build")
     args = ap.parse_args()
+    if args.after_args:
+        # The same binary may be given twice: the second is told apart by a path of its own.
+        if args.after == args.before:
+            args.after = os.path.join(os.path.dirname(args.before), ".", os.path.basename(args.before))
+        EXTRA[args.after] = args.after_args.split()
     import gymnasium
     assets = os.path.join(os.path.dirname(gymnasium.__file__), "envs", "mujoco", "assets")
     with tempfile.TemporaryDirectory() as tmp:

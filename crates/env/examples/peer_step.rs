@@ -24,6 +24,10 @@
 //! steps, as the batch's chunks do (`RobotEnv::prefetch`); `--order serpentine` steps them
 //! last to first on every other row, so that the envs stepped last, still in the caches, come
 //! first. The hash is the first env's.
+//!
+//! `--contact-limit N` gives the envs the server's contact-work limit (contact points ×
+//! substeps per step, `--max-contact-work`; 0, the default: none, as `RobotEnv` has), so that
+//! its per-step count is measured too.
 
 use std::time::Instant;
 
@@ -46,6 +50,7 @@ struct Args {
     envs: usize,
     prefetch: bool,
     serpentine: bool,
+    contact_limit: usize,
 }
 
 fn parse_args() -> Result<Args, String> {
@@ -62,6 +67,7 @@ fn parse_args() -> Result<Args, String> {
         envs: 1,
         prefetch: false,
         serpentine: false,
+        contact_limit: 0,
     };
     let mut it = std::env::args().skip(1);
     while let Some(flag) = it.next() {
@@ -77,6 +83,7 @@ fn parse_args() -> Result<Args, String> {
             "--variant" => args.variant = value()?,
             "--tilt-deg" => args.tilt_deg = value()?.parse().map_err(|e| bad(&e))?,
             "--envs" => args.envs = value()?.parse().map_err(|e| bad(&e))?,
+            "--contact-limit" => args.contact_limit = value()?.parse().map_err(|e| bad(&e))?,
             "--prefetch" => {
                 args.prefetch = match value()?.as_str() {
                     "on" => true,
@@ -178,6 +185,9 @@ fn main() {
             eprintln!("peer_step: {e}");
             std::process::exit(2);
         });
+    for env in &mut envs {
+        env.set_contact_work_limit(args.contact_limit);
+    }
     let dofs = envs[0].spec().action_dim;
     let table = torque_table(&args, dofs).unwrap_or_else(|e| {
         eprintln!("peer_step: {e}");
@@ -208,7 +218,7 @@ fn main() {
                 }
                 let flags = env
                     .step_into(ActionType::Torque, action, &mut obs)
-                    .expect("a valid action");
+                    .expect("a valid action, within --contact-limit");
                 if flags.terminated {
                     diverged += 1;
                     env.reset_into(None, &mut obs);
