@@ -9,7 +9,7 @@ import numpy as np
 from gymnasium.envs.registration import EnvSpec
 
 from . import _core
-from .errors import InvalidArgument
+from .errors import FailedPrecondition, InvalidArgument
 from ._common import (
     ActionMap,
     HandleOwner,
@@ -212,6 +212,25 @@ class GymfleetEnv(HandleOwner, gym.Env):
         nothing left to free, so that is not an error."""
         self._close_handle()
         super().close()
+
+    def __getstate__(self) -> Dict[str, Any]:
+        """What a pickle holds: the arguments the env was made with (its token too, to
+        connect again) and, a gymfleet extension, its saved state (``save_state``); a
+        diverged env has none. Unpickling makes a new env on the same server (with
+        ``server=None``, the unpickling process's embedded one) and loads the state: it
+        continues bit for bit as the original would. The original stays open."""
+        try:
+            state: Optional[bytes] = self.save_state()
+        except FailedPrecondition:
+            state = None
+        return {"kwargs": dict(self.spec.kwargs), "token": self._token, "state": state,
+                "np_random": self._np_random}
+
+    def __setstate__(self, pickled: Dict[str, Any]) -> None:
+        self.__init__(**pickled["kwargs"], token=pickled["token"])  # type: ignore[misc]
+        self._np_random = pickled["np_random"]
+        if pickled["state"] is not None:
+            self.load_state(pickled["state"])
 
     def __repr__(self) -> str:
         return f"<GymfleetEnv {self._info['env_id']} on {self._info['server']}>"

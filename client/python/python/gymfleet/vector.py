@@ -334,5 +334,11 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
         free, so that is not an error."""
         self._close_handle()
 
+    def __reduce__(self) -> Any:
+        raise TypeError(
+            "a GymfleetVectorEnv does not pickle: it is a batch on its server; make it again "
+            "in the other process (a single GymfleetEnv pickles, with its state)"
+        )
+
     def __repr__(self) -> str:
         return f"<GymfleetVectorEnv {self._info['batch_id']} ({self.num_envs} envs)>"

@@ -115,8 +115,13 @@ class _Setup:
         return _split(raw, self.segments, self.model.root_geom)
 
     def observation_space(self) -> spaces.Box:
-        # float32 where Gymnasium's is float64: the server's values are float32.
-        return spaces.Box(-np.inf, np.inf, shape=(self.plan.observation_dim,), dtype=np.float32)
+        # float32 by default where Gymnasium's is float64 (the server's values are float32);
+        # `dtype=np.float64` gives Gymnasium's type, the same values widened.
+        return spaces.Box(-np.inf, np.inf, shape=(self.plan.observation_dim,), dtype=self.kw["dtype"])
+
+    def typed(self, observations: np.ndarray) -> np.ndarray:
+        """Observations as the float32 the server's values make, then in the env's dtype."""
+        return observations.astype(np.float32).astype(self.kw["dtype"], copy=False)
 
 
 def _zeros(names: Sequence[str], n: int) -> Dict[str, np.ndarray]:
@@ -165,6 +170,24 @@ def _reset_values(plan: Plan, q: np.ndarray, v: np.ndarray) -> Dict[str, np.ndar
 def _step_values(plan: Plan, q: np.ndarray, v: np.ndarray, terms: Terms) -> Dict[str, np.ndarray]:
     q64, v64 = q.astype(np.float64), v.astype(np.float64)
     return {**plan.step_info(q64, terms), **plan.tendon_info(q64, v64)}
+
+
+def _rewards(
+    plan: Plan, values: Dict[str, np.ndarray], server: np.ndarray, terms: Terms
+) -> np.ndarray:
+    """The step's rewards (n,), float64: Gymnasium's sum of the step's info terms, in its
+    order, so that it equals the same sum taken of ``info`` exactly (the server's reward is
+    that sum in float32). A row the server reset instead of stepping (next-step autoreset:
+    its reward and every term 0) keeps the server's 0."""
+    if plan.reward is None:
+        return server.astype(np.float64)
+    summed = np.asarray(plan.reward(values), dtype=np.float64)
+    if terms:
+        reset = server == 0.0
+        for value in terms.values():
+            reset &= np.asarray(value) == 0.0
+        summed = np.where(reset, 0.0, summed)
+    return summed
 
 
 def segments(layout: Sequence[Tuple[str, int]]) -> Dict[str, slice]:
@@ -224,6 +247,8 @@ class SuiteEnv(gym.Env):
 
     def __init__(self, env_id: str, **kwargs: Any) -> None:
         setup = _Setup(env_id, kwargs)
+        #: What it was made from, for pickling.
+        self._made_with = (env_id, dict(kwargs))
         self._setup = setup
         self._env = GymfleetEnv(setup.model.text, **setup.options(_NO_LIMIT))
         self._dofs, self._base = setup.check(self._env.env_info)
@@ -249,18 +274,27 @@ class SuiteEnv(gym.Env):
         info = {k: _first(x) for k, x in _reset_values(self._setup.plan, q, v).items()}
         terms = _zeros(self._env.env_info["term_names"], 1)
         terms.update(_observed_terms(raw[None, :], self._setup))
-        return self._setup.plan.observe(q, v, ee, terms)[0].astype(np.float32), info
+        return self._setup.typed(self._setup.plan.observe(q, v, ee, terms)[0]), info
 
     def step(self, action: Any) -> Tuple[np.ndarray, float, bool, bool, Dict[str, Any]]:
+        # As Gymnasium's MujocoEnv.do_simulation: the action is one value per actuator, in
+        # that shape (a (3, 1) array is not Hopper's action).
+        shape = np.shape(action)
+        if shape != self.action_space.shape:
+            raise ValueError(
+                f"Action dimension mismatch. Expected {self.action_space.shape}, found {shape}"
+            )
         raw, reward, terminated, truncated, raw_info = self._env.step(action)
         q, v, ee = self._setup.split(raw[None, :])
         terms = {
             name: np.array([raw_info[name]], dtype=np.float64)
             for name in self._env.env_info["term_names"]
         }
-        info = {k: _first(x) for k, x in _step_values(self._setup.plan, q, v, terms).items()}
+        values = _step_values(self._setup.plan, q, v, terms)
+        info = {k: _first(x) for k, x in values.items()}
+        reward = _rewards(self._setup.plan, values, np.array([reward], dtype=np.float64), terms)[0]
         terms.update(_observed_terms(raw[None, :], self._setup))
-        obs = self._setup.plan.observe(q, v, ee, terms)[0].astype(np.float32)
+        obs = self._setup.typed(self._setup.plan.observe(q, v, ee, terms)[0])
         return obs, float(reward), bool(terminated), bool(truncated), info
 
     def render(self) -> Optional[np.ndarray]:
@@ -269,6 +303,24 @@ class SuiteEnv(gym.Env):
     def close(self) -> None:
         self._env.close()
         super().close()
+
+    def __getstate__(self) -> Dict[str, Any]:
+        """What a pickle holds: the id and keyword arguments, as Gymnasium's MuJoCo envs
+        (``EzPickle``) rebuild from theirs, and, a gymfleet extension, the server-side
+        env's pickle (its saved state). Unpickling makes the env again on the same server
+        (``server=None``: the unpickling process's embedded one) and puts it in that state,
+        so an env that has stepped continues bit for bit as the original would."""
+        env_id, kwargs = self._made_with
+        return {"env_id": env_id, "kwargs": kwargs, "env": self._env.__getstate__(),
+                "spec": self.spec, "np_random": self._np_random}
+
+    def __setstate__(self, pickled: Dict[str, Any]) -> None:
+        self.__init__(pickled["env_id"], **pickled["kwargs"])  # type: ignore[misc]
+        self.spec = pickled["spec"]
+        self._np_random = pickled["np_random"]
+        state = pickled["env"]["state"]
+        if state is not None:
+            self._env.load_state(state)
 
     def __repr__(self) -> str:
         return f"<SuiteEnv {self._setup.suite.id} on {self._env.server}>"
@@ -332,7 +384,7 @@ class SuiteVectorEnv(VectorEnv):
         """The observations of rows ``raw``; ``split`` is their ``_Setup.split`` if known."""
         q, v, ee = self._setup.split(raw) if split is None else split
         terms = {**terms, **_observed_terms(raw, self._setup)}
-        return self._setup.plan.observe(q, v, ee, terms).astype(np.float32)
+        return self._setup.typed(self._setup.plan.observe(q, v, ee, terms))
 
     def _infos(self, values: Dict[str, np.ndarray]) -> Dict[str, Any]:
         every = np.ones(self.num_envs, dtype=np.bool_)
@@ -402,13 +454,20 @@ class SuiteVectorEnv(VectorEnv):
             infos["final_obs"], infos["_final_obs"] = final, has_final
             infos["final_info"], infos["_final_info"] = final_info, has_final.copy()
         observation = self._observe(raw, now, split if rows is raw else None)
-        return observation, rewards.astype(np.float64), terminated, truncated, infos
+        rewards = _rewards(self._setup.plan, values, np.asarray(rewards, dtype=np.float64), terms)
+        return observation, rewards, terminated, truncated, infos
 
     def render(self) -> Optional[Tuple[np.ndarray, ...]]:
         return self._envs.render()
 
     def close_extras(self, **kwargs: Any) -> None:
         self._envs.close()
+
+    def __reduce__(self) -> Any:
+        raise TypeError(
+            "a SuiteVectorEnv does not pickle: it is a batch on its server; make it again in "
+            "the other process with gymnasium.make_vec (a single env pickles, with its state)"
+        )
 
     def __repr__(self) -> str:
         return f"<SuiteVectorEnv {self._setup.suite.id} x {self.num_envs}>"

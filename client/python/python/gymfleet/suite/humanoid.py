@@ -14,7 +14,18 @@ import numpy as np
 
 from ..errors import InvalidArgument
 from .model import Model
-from .plans import OBSERVED, Plan, Positions, Terms, _WRENCH, _bound, _exclude, _noise, _range
+from .plans import (
+    OBSERVED,
+    Plan,
+    Positions,
+    Terms,
+    _WRENCH,
+    _bound,
+    _exclude,
+    _noise,
+    _range,
+    forward_survive_costs,
+)
 
 #: Floats per body in cinert (inertia xx yy zz xy xz yz, mass × offset, mass) and cvel.
 _CINERT = 10
@@ -148,7 +159,8 @@ def _humanoid(model: Model, kw: Mapping[str, Any]) -> Plan:
             "reward_contact": -ccw * t["contact_cost"],
         }
 
-    return Plan(task, observe, dim, step_info, reset_info, tendons=_tendons(model))
+    return Plan(task, observe, dim, step_info, reset_info, tendons=_tendons(model),
+                reward=forward_survive_costs)
 
 
 def _humanoid_standup(model: Model, kw: Mapping[str, Any]) -> Plan:
@@ -185,4 +197,9 @@ def _humanoid_standup(model: Model, kw: Mapping[str, Any]) -> Plan:
             "reward_impact": -iw * t["impact_cost"],
         }
 
-    return Plan(task, observe, dim, step_info, reset_info, tendons=_tendons(model))
+    def reward(i: Mapping[str, np.ndarray]) -> np.ndarray:
+        # uph_cost - quad_ctrl_cost - quad_impact_cost + 1
+        return ((i["reward_linup"] - (-i["reward_quadctrl"])) - (-i["reward_impact"])) + 1
+
+    return Plan(task, observe, dim, step_info, reset_info, tendons=_tendons(model),
+                reward=reward)

@@ -50,6 +50,10 @@ class Plan:
     #: Fixed tendons reported in ``info["tendon_length"]``/``["tendon_velocity"]`` (at
     #: resets and steps): each as (qpos index, qvel index, coef) per joint.
     tendons: List[List[Tuple[int, int, float]]] = field(default_factory=list)
+    #: The step's reward from its info values (float64), with Gymnasium's operations in
+    #: Gymnasium's order, so that it equals the sum Gymnasium's tests take of the same
+    #: info terms exactly. ``None``: the server's reward (widened).
+    reward: Optional[Callable[[Mapping[str, np.ndarray]], np.ndarray]] = None
 
     def tendon_info(self, q: np.ndarray, v: np.ndarray) -> Dict[str, np.ndarray]:
         """MuJoCo's ``ten_length`` and ``ten_velocity`` (n, tendons) from qpos and qvel."""
@@ -71,6 +75,27 @@ def _joint_state(
         return np.concatenate([q[:, skip:], v], axis=1)
 
     return observe
+
+
+# Gymnasium's rewards from the info terms, in the order its envs compute them (`_get_rew`):
+# a cost is the negated info term (negation is exact).
+
+
+def _forward_survive_ctrl(i: Mapping[str, np.ndarray]) -> np.ndarray:
+    """Hopper, Walker2d: ``(forward + healthy) - ctrl_cost``."""
+    return (i["reward_forward"] + i["reward_survive"]) - (-i["reward_ctrl"])
+
+
+def _forward_ctrl(i: Mapping[str, np.ndarray]) -> np.ndarray:
+    """HalfCheetah, Swimmer: ``forward - ctrl_cost``."""
+    return i["reward_forward"] - (-i["reward_ctrl"])
+
+
+def forward_survive_costs(i: Mapping[str, np.ndarray]) -> np.ndarray:
+    """Ant, Humanoid: ``(forward + healthy) - (ctrl_cost + contact_cost)``."""
+    return (i["reward_forward"] + i["reward_survive"]) - (
+        (-i["reward_ctrl"]) + (-i["reward_contact"])
+    )
 
 
 def _noise(kind_position: str, kind_velocity: str, scale: float) -> Dict[str, Any]:
@@ -149,7 +174,8 @@ def _walker(model: Model, kw: Mapping[str, Any], with_state_range: bool) -> Plan
         }
 
     n = len(model.joints)
-    return Plan(task, _joint_state(skip, 10.0), 2 * n - skip, step_info, reset_info)
+    return Plan(task, _joint_state(skip, 10.0), 2 * n - skip, step_info, reset_info,
+                reward=_forward_survive_ctrl)
 
 
 def _hopper(model: Model, kw: Mapping[str, Any]) -> Plan:
@@ -185,7 +211,8 @@ def _half_cheetah(model: Model, kw: Mapping[str, Any]) -> Plan:
         }
 
     n = len(model.joints)
-    return Plan(task, _joint_state(skip, None), 2 * n - skip, step_info, reset_info)
+    return Plan(task, _joint_state(skip, None), 2 * n - skip, step_info, reset_info,
+                reward=_forward_ctrl)
 
 
 def _xy_infos(
@@ -228,7 +255,8 @@ def _swimmer(model: Model, kw: Mapping[str, Any]) -> Plan:
     reset_info, step_info = _xy_infos(model.index(x), model.index(y), fw, cw)
 
     n = len(model.joints)
-    return Plan(task, _joint_state(skip, None), 2 * n - skip, step_info, reset_info)
+    return Plan(task, _joint_state(skip, None), 2 * n - skip, step_info, reset_info,
+                reward=_forward_ctrl)
 
 
 def _inverted_pendulum(model: Model, kw: Mapping[str, Any]) -> Plan:
@@ -244,7 +272,8 @@ def _inverted_pendulum(model: Model, kw: Mapping[str, Any]) -> Plan:
         return {"reward_survive": t["alive"]}
 
     n = len(model.joints)
-    return Plan(task, _joint_state(0, None), 2 * n, step_info)
+    return Plan(task, _joint_state(0, None), 2 * n, step_info,
+                reward=lambda i: i["reward_survive"])
 
 
 def _inverted_double_pendulum(model: Model, kw: Mapping[str, Any]) -> Plan:
@@ -288,8 +317,12 @@ def _inverted_double_pendulum(model: Model, kw: Mapping[str, Any]) -> Plan:
             "velocity_penalty": -(1e-3 * t["v1_2"] + 5e-3 * t["v2_2"]),
         }
 
+    def reward(i: Mapping[str, np.ndarray]) -> np.ndarray:
+        # alive_bonus - dist_penalty - vel_penalty
+        return (i["reward_survive"] - (-i["distance_penalty"])) - (-i["velocity_penalty"])
+
     n = len(model.joints)
-    return Plan(task, observe, 3 * n, step_info)
+    return Plan(task, observe, 3 * n, step_info, reward=reward)
 
 
 #: A wrench's components, MuJoCo's cfrc_ext order: torque x, y, z, then force x, y, z.
@@ -376,7 +409,7 @@ def _ant(model: Model, kw: Mapping[str, Any]) -> Plan:
         }
 
     dim = 7 + 6 + 2 * len(model.joints) - skip + (len(cfrc) if with_cfrc else 0)
-    return Plan(task, observe, dim, step_info, reset_info)
+    return Plan(task, observe, dim, step_info, reset_info, reward=forward_survive_costs)
 
 
 def _reacher(model: Model, kw: Mapping[str, Any]) -> Plan:
@@ -407,7 +440,8 @@ def _reacher(model: Model, kw: Mapping[str, Any]) -> Plan:
     def step_info(q: Positions, t: Terms) -> Dict[str, np.ndarray]:
         return {"reward_dist": -wd * t["distance"], "reward_ctrl": -wc * t["ctrl_cost"]}
 
-    return Plan(task, observe, 10, step_info, end_effectors=["fingertip", "target"])
+    return Plan(task, observe, 10, step_info, end_effectors=["fingertip", "target"],
+                reward=lambda i: i["reward_dist"] + i["reward_ctrl"])
 
 
 def _pusher(model: Model, kw: Mapping[str, Any]) -> Plan:
@@ -446,4 +480,5 @@ def _pusher(model: Model, kw: Mapping[str, Any]) -> Plan:
             "reward_near": -wn * t["near"],
         }
 
-    return Plan(task, observe, 23, step_info, end_effectors=["tips_arm", "object", "goal"])
+    return Plan(task, observe, 23, step_info, end_effectors=["tips_arm", "object", "goal"],
+                reward=lambda i: (i["reward_dist"] + i["reward_ctrl"]) + i["reward_near"])

@@ -28,7 +28,8 @@ from .plans import (
 
 #: Keywords every suite env takes besides its own: Gymnasium's ``MujocoEnv`` ones (the
 #: renderer's are accepted and ignored but ``render_mode``, ``width`` and ``height``) and
-#: gymfleet's (``server``, ``timeout``, ``token``).
+#: gymfleet's (``server``, ``timeout``, ``token``, and ``dtype``: the observations' type,
+#: float32 by default, float64 as Gymnasium's, the same values widened).
 COMMON_KWARGS: Dict[str, Any] = {
     "xml_file": None,
     "frame_skip": None,
@@ -43,6 +44,7 @@ COMMON_KWARGS: Dict[str, Any] = {
     "server": None,
     "timeout": None,
     "token": None,
+    "dtype": np.float32,
 }
 
 #: The renderer options gymfleet cannot honour (its pictures come from its own renderer).
@@ -83,6 +85,15 @@ class SuiteSpec:
             out["xml_file"] = self.xml_file
         if out["frame_skip"] is None:
             out["frame_skip"] = self.frame_skip
+        try:
+            dtype = np.dtype(out["dtype"])
+        except TypeError:
+            dtype = None
+        if dtype not in (np.dtype(np.float32), np.dtype(np.float64)):
+            raise InvalidArgument(
+                f"dtype: expected numpy.float32 (the default) or numpy.float64, got {out['dtype']!r}"
+            )
+        out["dtype"] = dtype
         frame_skip = out["frame_skip"]
         if isinstance(frame_skip, bool) or not isinstance(frame_skip, (int, np.integer)) or frame_skip < 1:
             raise InvalidArgument(f"frame_skip: expected an integer >= 1, got {frame_skip!r}")
