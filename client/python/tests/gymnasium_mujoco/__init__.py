@@ -1,0 +1,1 @@
+"""Gymnasium's own MuJoCo v5 tests, run against gymfleet's ids (see conftest.py)."""
