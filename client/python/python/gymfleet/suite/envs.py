@@ -24,6 +24,7 @@ from ..errors import InvalidArgument
 from ..vector import GymfleetVectorEnv
 from .model import Model, read_model
 from .plans import OBSERVED, Plan, Terms
+from .state import SuiteData, SuiteModel, qpos_qvel, state_vector
 from .specs import IGNORED_KWARGS, SUITE, SuiteSpec
 
 #: A single env's server-side episode limit: none that matters; gymnasium's TimeLimit
@@ -190,6 +191,35 @@ def _rewards(
     return summed
 
 
+def _initial_state(setup: _Setup) -> Tuple[np.ndarray, np.ndarray]:
+    """The env's qpos and qvel without reset noise (float64): a twin made without the
+    task's ``reset_noise``, observed at creation, then closed."""
+    options = setup.options(_NO_LIMIT)
+    options["task"] = {k: v for k, v in setup.plan.task.items() if k != "reset_noise"}
+    options["render_mode"] = None
+    twin = GymfleetEnv(setup.model.text, **options)
+    try:
+        q, v, _ = setup.split(twin.observe()[None, :])
+    finally:
+        twin.close()
+    return tuple(np.array(x) for x in qpos_qvel(q, v))  # type: ignore[return-value]
+
+
+def _velocities_from_qpos(
+    plan: Plan, values: Dict[str, np.ndarray], before: np.ndarray, after: np.ndarray, dt: float
+) -> None:
+    """Gymnasium's ``x_velocity`` (and ``y_velocity``) where it is ``Δqpos / dt``: from
+    the qpos before and after the step, in float64 as Gymnasium takes it (the server's term
+    is the same difference, rounded to float32 on the wire), and the forward reward from
+    it."""
+    if not plan.qpos_velocity:
+        return
+    for key, k in plan.qpos_velocity.items():
+        values[key] = np.array([(after[k] - before[k]) / dt])
+    if "reward_forward" in values:
+        values["reward_forward"] = plan.forward_weight * values["x_velocity"]
+
+
 def segments(layout: Sequence[Tuple[str, int]]) -> Dict[str, slice]:
     """Where each segment of the server's ``observation_layout`` lies in a flat row: the
     env's own layout, read, never restated here."""
@@ -259,6 +289,16 @@ class SuiteEnv(gym.Env):
         self.action_space = self._env.action_space
         self.observation_space = setup.observation_space()
         self.metadata = {**type(self).metadata, "render_fps": int(np.round(1.0 / self.dt))}
+        # MuJoCo's init_qpos and init_qvel (qpos0, zeros): where this engine starts, without
+        # reset noise. The env was reset with noise when it was created, so a twin without
+        # the noise (made once, here) says where.
+        self.init_qpos, self.init_qvel = _initial_state(setup)
+        self._qpos, self._qvel = self.init_qpos.copy(), self.init_qvel.copy()
+        self._ctrl = np.zeros(self.action_space.shape, dtype=np.float64)
+        self._model = SuiteModel(
+            len(self.init_qpos), len(self.init_qvel), setup.model.timestep,
+            np.stack([self.action_space.low, self.action_space.high], axis=1),
+        )
 
     @property
     def gymfleet_env(self) -> GymfleetEnv:
@@ -271,6 +311,8 @@ class SuiteEnv(gym.Env):
         super().reset(seed=seed)
         raw, _ = self._env.reset(seed=seed)
         q, v, ee = self._setup.split(raw[None, :])
+        self._qpos, self._qvel = qpos_qvel(q, v)
+        self._ctrl = np.zeros_like(self._ctrl)
         info = {k: _first(x) for k, x in _reset_values(self._setup.plan, q, v).items()}
         terms = _zeros(self._env.env_info["term_names"], 1)
         terms.update(_observed_terms(raw[None, :], self._setup))
@@ -290,12 +332,32 @@ class SuiteEnv(gym.Env):
             name: np.array([raw_info[name]], dtype=np.float64)
             for name in self._env.env_info["term_names"]
         }
+        before = self._qpos
+        self._qpos, self._qvel = qpos_qvel(q, v)
+        self._ctrl = np.array(action, dtype=np.float64)
         values = _step_values(self._setup.plan, q, v, terms)
+        _velocities_from_qpos(self._setup.plan, values, before, self._qpos, self.dt)
         info = {k: _first(x) for k, x in values.items()}
         reward = _rewards(self._setup.plan, values, np.array([reward], dtype=np.float64), terms)[0]
         terms.update(_observed_terms(raw[None, :], self._setup))
         obs = self._setup.typed(self._setup.plan.observe(q, v, ee, terms)[0])
         return obs, float(reward), bool(terminated), bool(truncated), info
+
+    @property
+    def data(self) -> SuiteData:
+        """The state after the last reset or step, as MuJoCo's ``MjData`` names it:
+        ``qpos``, ``qvel``, ``ctrl`` (SI, MuJoCo's layout; read-only)."""
+        return SuiteData(self._qpos, self._qvel, self._ctrl)
+
+    @property
+    def model(self) -> SuiteModel:
+        """``nq``, ``nv``, ``nu``, ``opt.timestep``, ``actuator_ctrlrange``, as MuJoCo's
+        ``MjModel`` names them."""
+        return self._model
+
+    def state_vector(self) -> np.ndarray:
+        """``concatenate(qpos, qvel)``, as MuJoCo's envs give it."""
+        return state_vector(self._qpos, self._qvel)
 
     def render(self) -> Optional[np.ndarray]:
         return self._env.render()

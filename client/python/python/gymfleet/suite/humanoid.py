@@ -25,6 +25,7 @@ from .plans import (
     _noise,
     _range,
     forward_survive_costs,
+    norm_xy,
 )
 
 #: Floats per body in cinert (inertia xx yy zz xy xz yz, mass × offset, mass) and cvel.
@@ -146,7 +147,7 @@ def _humanoid(model: Model, kw: Mapping[str, Any]) -> Plan:
     observe, dim = _observe(model, kw, parts)
 
     def reset_info(q: Positions) -> Dict[str, np.ndarray]:
-        return {"x_position": q[:, 0], "y_position": q[:, 1], "distance_from_origin": np.hypot(q[:, 0], q[:, 1])}
+        return {"x_position": q[:, 0], "y_position": q[:, 1], "distance_from_origin": norm_xy(q, 0, 1)}
 
     def step_info(q: Positions, t: Terms) -> Dict[str, np.ndarray]:
         return {

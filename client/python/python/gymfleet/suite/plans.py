@@ -54,6 +54,11 @@ class Plan:
     #: Gymnasium's order, so that it equals the sum Gymnasium's tests take of the same
     #: info terms exactly. ``None``: the server's reward (widened).
     reward: Optional[Callable[[Mapping[str, np.ndarray]], np.ndarray]] = None
+    #: Info velocities Gymnasium takes as ``Δqpos[k] / dt`` (key: qpos index), which a
+    #: single env recomputes from its qpos as Gymnasium does, and the weight of the forward
+    #: reward made from ``x_velocity``.
+    qpos_velocity: Dict[str, int] = field(default_factory=dict)
+    forward_weight: float = 0.0
 
     def tendon_info(self, q: np.ndarray, v: np.ndarray) -> Dict[str, np.ndarray]:
         """MuJoCo's ``ten_length`` and ``ten_velocity`` (n, tendons) from qpos and qvel."""
@@ -96,6 +101,14 @@ def forward_survive_costs(i: Mapping[str, np.ndarray]) -> np.ndarray:
     return (i["reward_forward"] + i["reward_survive"]) - (
         (-i["reward_ctrl"]) + (-i["reward_contact"])
     )
+
+
+def norm_xy(q: np.ndarray, ix: int, iy: int) -> np.ndarray:
+    """Gymnasium's ``distance_from_origin``, ``np.linalg.norm(qpos[x, y], ord=2)``, per row:
+    one row exactly as Gymnasium computes it (its ``dot``), a batch as ``sqrt(x² + y²)``."""
+    if len(q) == 1:
+        return np.array([np.linalg.norm(q[0, [ix, iy]], ord=2)])
+    return np.sqrt(q[:, ix] * q[:, ix] + q[:, iy] * q[:, iy])
 
 
 def _noise(kind_position: str, kind_velocity: str, scale: float) -> Dict[str, Any]:
@@ -175,7 +188,8 @@ def _walker(model: Model, kw: Mapping[str, Any], with_state_range: bool) -> Plan
 
     n = len(model.joints)
     return Plan(task, _joint_state(skip, 10.0), 2 * n - skip, step_info, reset_info,
-                reward=_forward_survive_ctrl)
+                reward=_forward_survive_ctrl, qpos_velocity={"x_velocity": ix},
+                forward_weight=fw)
 
 
 def _hopper(model: Model, kw: Mapping[str, Any]) -> Plan:
@@ -212,7 +226,7 @@ def _half_cheetah(model: Model, kw: Mapping[str, Any]) -> Plan:
 
     n = len(model.joints)
     return Plan(task, _joint_state(skip, None), 2 * n - skip, step_info, reset_info,
-                reward=_forward_ctrl)
+                reward=_forward_ctrl, qpos_velocity={"x_velocity": ix}, forward_weight=fw)
 
 
 def _xy_infos(
@@ -225,7 +239,7 @@ def _xy_infos(
         return {
             "x_position": q[:, ix],
             "y_position": q[:, iy],
-            "distance_from_origin": np.hypot(q[:, ix], q[:, iy]),
+            "distance_from_origin": norm_xy(q, ix, iy),
         }
 
     def step_info(q: Positions, t: Terms) -> Dict[str, np.ndarray]:
@@ -256,7 +270,9 @@ def _swimmer(model: Model, kw: Mapping[str, Any]) -> Plan:
 
     n = len(model.joints)
     return Plan(task, _joint_state(skip, None), 2 * n - skip, step_info, reset_info,
-                reward=_forward_ctrl)
+                reward=_forward_ctrl,
+                qpos_velocity={"x_velocity": model.index(x), "y_velocity": model.index(y)},
+                forward_weight=fw)
 
 
 def _inverted_pendulum(model: Model, kw: Mapping[str, Any]) -> Plan:
@@ -409,7 +425,10 @@ def _ant(model: Model, kw: Mapping[str, Any]) -> Plan:
         }
 
     dim = 7 + 6 + 2 * len(model.joints) - skip + (len(cfrc) if with_cfrc else 0)
-    return Plan(task, observe, dim, step_info, reset_info, reward=forward_survive_costs)
+    # Gymnasium's velocities are the main body's xpos difference: qpos[0:2] for the root.
+    velocity = {"x_velocity": 0, "y_velocity": 1} if main_name == root else {}
+    return Plan(task, observe, dim, step_info, reset_info, reward=forward_survive_costs,
+                qpos_velocity=velocity, forward_weight=fw)
 
 
 def _reacher(model: Model, kw: Mapping[str, Any]) -> Plan:
