@@ -73,3 +73,12 @@ def test_what_is_not_offered_says_so_and_nothing_is_writable():
     with pytest.raises(AttributeError, match=r"^model\.nq cannot be changed on a gymfleet env"):
         env.model.nq = 3
     env.close()
+
+
+def test_a_server_with_room_for_one_env_makes_a_v5_env():
+    # The noiseless twin that says where the env starts is closed before the env is made.
+    with gymfleet.Server(threads=1, max_envs=1) as server:
+        env = gymnasium.make("gymfleet/Hopper-v5", server=server.address)
+        env.reset(seed=0)
+        assert gymfleet.server_info(server.address)["envs"] == 1
+        env.close()

@@ -199,6 +199,7 @@ def _initial_state(setup: _Setup) -> Tuple[np.ndarray, np.ndarray]:
     options["render_mode"] = None
     twin = GymfleetEnv(setup.model.text, **options)
     try:
+        setup.check(twin.env_info)
         q, v, _ = setup.split(twin.observe()[None, :])
     finally:
         twin.close()
@@ -280,6 +281,10 @@ class SuiteEnv(gym.Env):
         #: What it was made from, for pickling.
         self._made_with = (env_id, dict(kwargs))
         self._setup = setup
+        # MuJoCo's init_qpos and init_qvel (qpos0, zeros): where this engine starts, without
+        # reset noise. An env is reset with noise when it is created, so a twin without the
+        # noise says where (made and closed first: a server with room for one env has room).
+        self.init_qpos, self.init_qvel = _initial_state(setup)
         self._env = GymfleetEnv(setup.model.text, **setup.options(_NO_LIMIT))
         self._dofs, self._base = setup.check(self._env.env_info)
         self.render_mode = setup.kw["render_mode"]
@@ -289,10 +294,6 @@ class SuiteEnv(gym.Env):
         self.action_space = self._env.action_space
         self.observation_space = setup.observation_space()
         self.metadata = {**type(self).metadata, "render_fps": int(np.round(1.0 / self.dt))}
-        # MuJoCo's init_qpos and init_qvel (qpos0, zeros): where this engine starts, without
-        # reset noise. The env was reset with noise when it was created, so a twin without
-        # the noise (made once, here) says where.
-        self.init_qpos, self.init_qvel = _initial_state(setup)
         self._qpos, self._qvel = self.init_qpos.copy(), self.init_qvel.copy()
         self._ctrl = np.zeros(self.action_space.shape, dtype=np.float64)
         self._model = SuiteModel(
