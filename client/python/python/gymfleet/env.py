@@ -113,6 +113,14 @@ class GymfleetEnv(HandleOwner, gym.Env):
         obs = self._handle.reset(seed_or_none(seed))
         return obs, {}
 
+    def step_terms(self, action: Any) -> Tuple[np.ndarray, float, bool, bool, Any]:
+        """:meth:`step` without its ``info`` dict: the observation, reward, flags and the
+        terms task's values (in ``env_info["term_names"]`` order), for wrappers that make
+        their own ``info`` (the suite's v5 envs)."""
+        values = self._actions.to_server(action).reshape(-1)
+        obs, reward, terminated, truncated, _, _, terms = self._handle.step(self.action_type, values)
+        return obs, reward, terminated, truncated, terms
+
     def step(self, action: Any) -> Tuple[np.ndarray, float, bool, bool, Dict[str, Any]]:
         """One env step of ``dt`` seconds; ``action`` has one value per DOF."""
         values = self._actions.to_server(action).reshape(-1)

@@ -184,11 +184,17 @@ def _rewards(
         return server.astype(np.float64)
     summed = np.asarray(plan.reward(values), dtype=np.float64)
     if terms:
-        reset = server == 0.0
-        for value in terms.values():
-            reset &= np.asarray(value) == 0.0
-        summed = np.where(reset, 0.0, summed)
+        summed = np.where(_reset_rows(server, terms), 0.0, summed)
     return summed
+
+
+def _reset_rows(server: np.ndarray, terms: Terms) -> np.ndarray:
+    """The rows the server reset instead of stepping (next-step autoreset): their reward
+    and every term 0."""
+    reset = server == 0.0
+    for value in terms.values():
+        reset &= np.asarray(value) == 0.0
+    return reset
 
 
 def _initial_state(setup: _Setup) -> Tuple[np.ndarray, np.ndarray]:
@@ -286,6 +292,7 @@ class SuiteEnv(gym.Env):
         # noise says where (made and closed first: a server with room for one env has room).
         self.init_qpos, self.init_qvel = _initial_state(setup)
         self._env = GymfleetEnv(setup.model.text, **setup.options(_NO_LIMIT))
+        self._term_names = list(self._env.env_info["term_names"])
         self._dofs, self._base = setup.check(self._env.env_info)
         self.render_mode = setup.kw["render_mode"]
         self.frame_skip = setup.frame_skip
@@ -327,22 +334,24 @@ class SuiteEnv(gym.Env):
             raise ValueError(
                 f"Action dimension mismatch. Expected {self.action_space.shape}, found {shape}"
             )
-        raw, reward, terminated, truncated, raw_info = self._env.step(action)
-        q, v, ee = self._setup.split(raw[None, :])
-        terms = {
-            name: np.array([raw_info[name]], dtype=np.float64)
-            for name in self._env.env_info["term_names"]
-        }
+        raw, reward, terminated, truncated, term_values = self._env.step_terms(action)
+        rows = raw[None, :]
+        q, v, ee = self._setup.split(rows)
+        # One conversion of the term values; each term a (1,) view of it.
+        values64 = np.asarray(term_values, dtype=np.float64)
+        terms = {name: values64[k : k + 1] for k, name in enumerate(self._term_names)}
         before = self._qpos
         self._qpos, self._qvel = qpos_qvel(q, v)
         self._ctrl = np.array(action, dtype=np.float64)
-        values = _step_values(self._setup.plan, q, v, terms)
-        _velocities_from_qpos(self._setup.plan, values, before, self._qpos, self.dt)
+        plan = self._setup.plan
+        values = _step_values(plan, q, v, terms)
+        _velocities_from_qpos(plan, values, before, self._qpos, self.dt)
         info = {k: _first(x) for k, x in values.items()}
-        reward = _rewards(self._setup.plan, values, np.array([reward], dtype=np.float64), terms)[0]
-        terms.update(_observed_terms(raw[None, :], self._setup))
-        obs = self._setup.typed(self._setup.plan.observe(q, v, ee, terms)[0])
-        return obs, float(reward), bool(terminated), bool(truncated), info
+        # A single env steps every call (no autoreset): no reset rows to tell apart.
+        summed = float(plan.reward(values)[0]) if plan.reward is not None else float(reward)
+        terms.update(_observed_terms(rows, self._setup))
+        obs = self._setup.typed(plan.observe(q, v, ee, terms)[0])
+        return obs, summed, bool(terminated), bool(truncated), info
 
     @property
     def data(self) -> SuiteData:
@@ -432,6 +441,8 @@ class SuiteVectorEnv(VectorEnv):
         self.single_observation_space = setup.observation_space()
         self.action_space = batch_space(self.single_action_space, self.num_envs)
         self.observation_space = batch_space(self.single_observation_space, self.num_envs)
+        #: The qpos rows before the next step (float64), for Gymnasium's Δqpos / dt.
+        self._last_q: Optional[np.ndarray] = None
 
     @property
     def gymfleet_envs(self) -> GymfleetVectorEnv:
@@ -467,6 +478,7 @@ class SuiteVectorEnv(VectorEnv):
             super().reset(seed=int(seed))
         raw, _ = self._envs.reset(seed=seed, options=options)
         split = self._setup.split(raw)
+        self._last_q = split[0].astype(np.float64)
         # `_observe` adds the observed terms.
         terms = _zeros(self._envs.batch_info["term_names"], len(raw))
         infos = self._infos(_reset_values(self._setup.plan, split[0], split[1]))
@@ -488,7 +500,20 @@ class SuiteVectorEnv(VectorEnv):
                 rows[env] = raw_infos["final_obs"][env]
         split = self._setup.split(rows)
         q, v, _ = split
-        values = _step_values(self._setup.plan, q, v, terms)
+        plan = self._setup.plan
+        values = _step_values(plan, q, v, terms)
+        server_rewards = np.asarray(rewards, dtype=np.float64)
+        if plan.qpos_velocity:
+            # As the single env: Δqpos / dt from the rows before the step; a row the server
+            # reset instead of stepping keeps its 0.
+            stepped = ~_reset_rows(server_rewards, terms) if terms else True
+            q64 = q.astype(np.float64)
+            last = q64 if self._last_q is None else self._last_q
+            for key, k in plan.qpos_velocity.items():
+                values[key] = np.where(stepped, (q64[:, k] - last[:, k]) / self.dt, values[key])
+            if "reward_forward" in values:
+                values["reward_forward"] = plan.forward_weight * values["x_velocity"]
+        self._last_q = (split[0] if rows is raw else self._setup.split(raw)[0]).astype(np.float64)
         infos = self._infos(values)
         # The returned rows' term values: an env reset in this step starts from zeros (the
         # server's, in next-step mode; here, in same-step mode).
@@ -517,7 +542,7 @@ class SuiteVectorEnv(VectorEnv):
             infos["final_obs"], infos["_final_obs"] = final, has_final
             infos["final_info"], infos["_final_info"] = final_info, has_final.copy()
         observation = self._observe(raw, now, split if rows is raw else None)
-        rewards = _rewards(self._setup.plan, values, np.asarray(rewards, dtype=np.float64), terms)
+        rewards = _rewards(plan, values, server_rewards, terms)
         return observation, rewards, terminated, truncated, infos
 
     def render(self) -> Optional[Tuple[np.ndarray, ...]]:
