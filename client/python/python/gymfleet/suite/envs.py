@@ -135,7 +135,12 @@ def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     axis handling, which cost more than the arithmetic for a batch (16 calls per step)."""
     a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
     b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
-    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
+    # Written into one array (np.stack's own checks cost more than the arithmetic).
+    out = np.empty(np.broadcast_shapes(a.shape, b.shape), dtype=np.result_type(a, b))
+    out[..., 0] = a1 * b2 - a2 * b1
+    out[..., 1] = a2 * b0 - a0 * b2
+    out[..., 2] = a0 * b1 - a1 * b0
+    return out
 
 
 def _quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -292,7 +297,11 @@ class SuiteEnv(gym.Env):
         # noise says where (made and closed first: a server with room for one env has room).
         self.init_qpos, self.init_qvel = _initial_state(setup)
         self._env = GymfleetEnv(setup.model.text, **setup.options(_NO_LIMIT))
-        self._term_names = list(self._env.env_info["term_names"])
+        observed = set(setup.observed)
+        #: (position, name) of the terms the plan reads by name.
+        self._named_terms = [
+            (k, name) for k, name in enumerate(self._env.env_info["term_names"]) if name not in observed
+        ]
         self._dofs, self._base = setup.check(self._env.env_info)
         self.render_mode = setup.kw["render_mode"]
         self.frame_skip = setup.frame_skip
@@ -337,9 +346,10 @@ class SuiteEnv(gym.Env):
         raw, reward, terminated, truncated, term_values = self._env.step_terms(action)
         rows = raw[None, :]
         q, v, ee = self._setup.split(rows)
-        # One conversion of the term values; each term a (1,) view of it.
+        # One conversion of the term values; each named term a (1,) view of it (the
+        # observed ones reach the plan as one block, `_observed_terms`).
         values64 = np.asarray(term_values, dtype=np.float64)
-        terms = {name: values64[k : k + 1] for k, name in enumerate(self._term_names)}
+        terms = {name: values64[k : k + 1] for k, name in self._named_terms}
         before = self._qpos
         self._qpos, self._qvel = qpos_qvel(q, v)
         self._ctrl = np.array(action, dtype=np.float64)
