@@ -303,8 +303,11 @@ impl Fleet {
             return Ok(infos.iter().map(ServerCapacity::from_info).collect());
         }
         let answers = self.ask_infos().await;
-        if let Some(Err(first)) = answers.iter().find(|_| answers.iter().all(Result::is_err)) {
-            return Err(first.clone());
+        if answers.iter().all(Result::is_err) {
+            if let Some(Err(first)) = answers.into_iter().next() {
+                return Err(first);
+            }
+            unreachable!("a fleet has at least one server");
         }
         Ok(answers
             .iter()

@@ -5,6 +5,7 @@
 
 use std::time::Duration;
 
+use crate::exhausted;
 use gymfleet_client::{with_deadline, ActionType, BatchOptions, ClientError, EnvOptions};
 use gymfleet_e2e::TestServer;
 use gymfleet_server::{ServerConfig, DEFAULT_MAX_CONTACT_WORK};
@@ -39,13 +40,6 @@ fn falling_cube() -> String {
         ], "joints": []}
     })
     .to_string()
-}
-
-fn exhausted(err: ClientError) -> String {
-    match err {
-        ClientError::ResourceExhausted { message, .. } => message,
-        other => panic!("expected RESOURCE_EXHAUSTED, got {other:?}"),
-    }
 }
 
 const PILE_REFUSED: &str = "document_json: where the document puts its bodies they touch in \

@@ -44,6 +44,14 @@ async fn two_server_fleet() -> (Vec<TestServer>, Fleet) {
     (servers, fleet)
 }
 
+/// The message of a RESOURCE_EXHAUSTED refusal (panics on any other error).
+fn exhausted(err: ClientError) -> String {
+    match err {
+        ClientError::ResourceExhausted { message, .. } => message,
+        other => panic!("expected RESOURCE_EXHAUSTED, got {other:?}"),
+    }
+}
+
 /// Asserts that `a` and `b` have the same length and agree within `tol`.
 #[track_caller]
 fn assert_close(a: &[f32], b: &[f32], tol: f32) {

@@ -2,7 +2,8 @@
 //! DOFs, end effectors) and batches whose replies could outgrow the message limit are
 //! refused with RESOURCE_EXHAUSTED naming the flag, before anything is built.
 
-use gymfleet_client::{BatchOptions, ClientError, EnvOptions};
+use crate::exhausted;
+use gymfleet_client::{BatchOptions, EnvOptions};
 use gymfleet_e2e::{TestServer, ARM2};
 use gymfleet_server::ServerConfig;
 
@@ -32,13 +33,6 @@ fn chain(n: usize) -> String {
         instances.join(","),
         joints.join(",")
     )
-}
-
-fn exhausted(err: ClientError) -> String {
-    match err {
-        ClientError::ResourceExhausted { message, .. } => message,
-        other => panic!("expected RESOURCE_EXHAUSTED, got {other:?}"),
-    }
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]

@@ -227,12 +227,15 @@ class GymfleetEnv(HandleOwner, gym.Env):
         diverged env has none. Unpickling makes a new env on the same server (with
         ``server=None``, the unpickling process's embedded one) and loads the state: it
         continues bit for bit as the original would. The original stays open."""
+        return {"kwargs": dict(self.spec.kwargs), "token": self._token,
+                "state": self.saved_state_or_none(), "np_random": self._np_random}
+
+    def saved_state_or_none(self) -> Optional[bytes]:
+        """:meth:`save_state`, or ``None`` for a diverged env (which has no state)."""
         try:
-            state: Optional[bytes] = self.save_state()
+            return self.save_state()
         except FailedPrecondition:
-            state = None
-        return {"kwargs": dict(self.spec.kwargs), "token": self._token, "state": state,
-                "np_random": self._np_random}
+            return None
 
     def __setstate__(self, pickled: Dict[str, Any]) -> None:
         self.__init__(**pickled["kwargs"], token=pickled["token"])  # type: ignore[misc]

@@ -218,16 +218,22 @@ def _initial_state(setup: _Setup) -> Tuple[np.ndarray, np.ndarray]:
 
 
 def _velocities_from_qpos(
-    plan: Plan, values: Dict[str, np.ndarray], before: np.ndarray, after: np.ndarray, dt: float
+    plan: Plan,
+    values: Dict[str, np.ndarray],
+    before: np.ndarray,
+    after: np.ndarray,
+    dt: float,
+    stepped: Any = True,
 ) -> None:
     """Gymnasium's ``x_velocity`` (and ``y_velocity``) where it is ``Δqpos / dt``: from
-    the qpos before and after the step, in float64 as Gymnasium takes it (the server's term
-    is the same difference, rounded to float32 on the wire), and the forward reward from
-    it."""
+    the qpos rows (n, nq) before and after the step, in float64 as Gymnasium takes it (the
+    server's term is the same difference, rounded to float32 on the wire), and the forward
+    reward from it. Rows where ``stepped`` is false (the server reset them instead) keep
+    the server's value."""
     if not plan.qpos_velocity:
         return
     for key, k in plan.qpos_velocity.items():
-        values[key] = np.array([(after[k] - before[k]) / dt])
+        values[key] = np.where(stepped, (after[:, k] - before[:, k]) / dt, values[key])
     if "reward_forward" in values:
         values["reward_forward"] = plan.forward_weight * values["x_velocity"]
 
@@ -355,7 +361,7 @@ class SuiteEnv(gym.Env):
         self._ctrl = np.array(action, dtype=np.float64)
         plan = self._setup.plan
         values = _step_values(plan, q, v, terms)
-        _velocities_from_qpos(plan, values, before, self._qpos, self.dt)
+        _velocities_from_qpos(plan, values, before[None, :], self._qpos[None, :], self.dt)
         info = {k: _first(x) for k, x in values.items()}
         # A single env steps every call (no autoreset): no reset rows to tell apart.
         summed = float(plan.reward(values)[0]) if plan.reward is not None else float(reward)
@@ -393,16 +399,15 @@ class SuiteEnv(gym.Env):
         (``server=None``: the unpickling process's embedded one) and puts it in that state,
         so an env that has stepped continues bit for bit as the original would."""
         env_id, kwargs = self._made_with
-        return {"env_id": env_id, "kwargs": kwargs, "env": self._env.__getstate__(),
+        return {"env_id": env_id, "kwargs": kwargs, "state": self._env.saved_state_or_none(),
                 "spec": self.spec, "np_random": self._np_random}
 
     def __setstate__(self, pickled: Dict[str, Any]) -> None:
         self.__init__(pickled["env_id"], **pickled["kwargs"])  # type: ignore[misc]
         self.spec = pickled["spec"]
         self._np_random = pickled["np_random"]
-        state = pickled["env"]["state"]
-        if state is not None:
-            self._env.load_state(state)
+        if pickled["state"] is not None:
+            self._env.load_state(pickled["state"])
 
     def __repr__(self) -> str:
         return f"<SuiteEnv {self._setup.suite.id} on {self._env.server}>"
@@ -513,17 +518,15 @@ class SuiteVectorEnv(VectorEnv):
         plan = self._setup.plan
         values = _step_values(plan, q, v, terms)
         server_rewards = np.asarray(rewards, dtype=np.float64)
+        # The returned rows' split (the rows after an autoreset): the next step's "before".
+        raw_split = split if rows is raw else self._setup.split(raw)
         if plan.qpos_velocity:
-            # As the single env: Δqpos / dt from the rows before the step; a row the server
-            # reset instead of stepping keeps its 0.
+            # As the single env; a row the server reset instead of stepping keeps its 0.
             stepped = ~_reset_rows(server_rewards, terms) if terms else True
             q64 = q.astype(np.float64)
             last = q64 if self._last_q is None else self._last_q
-            for key, k in plan.qpos_velocity.items():
-                values[key] = np.where(stepped, (q64[:, k] - last[:, k]) / self.dt, values[key])
-            if "reward_forward" in values:
-                values["reward_forward"] = plan.forward_weight * values["x_velocity"]
-        self._last_q = (split[0] if rows is raw else self._setup.split(raw)[0]).astype(np.float64)
+            _velocities_from_qpos(plan, values, last, q64, self.dt, stepped)
+        self._last_q = raw_split[0].astype(np.float64)
         infos = self._infos(values)
         # The returned rows' term values: an env reset in this step starts from zeros (the
         # server's, in next-step mode; here, in same-step mode).
@@ -539,7 +542,7 @@ class SuiteVectorEnv(VectorEnv):
                 final[env] = row
             now = {name: np.where(has_final, 0.0, value) for name, value in terms.items()}
             final_info = {k: (v & has_final if k.startswith("_") else v) for k, v in infos.items()}
-            q_now, v_now, _ = self._setup.split(raw)
+            q_now, v_now, _ = raw_split
             reset = _reset_values(self._setup.plan, q_now, v_now)
             for key in values:
                 if key in reset:
@@ -551,7 +554,7 @@ class SuiteVectorEnv(VectorEnv):
                 infos[key], infos["_" + key] = reset[key], has_final.copy()
             infos["final_obs"], infos["_final_obs"] = final, has_final
             infos["final_info"], infos["_final_info"] = final_info, has_final.copy()
-        observation = self._observe(raw, now, split if rows is raw else None)
+        observation = self._observe(raw, now, raw_split)
         rewards = _rewards(plan, values, server_rewards, terms)
         return observation, rewards, terminated, truncated, infos
 
