@@ -36,6 +36,7 @@
 //! # }
 //! ```
 
+mod access;
 mod args;
 mod batch;
 mod client;
@@ -56,6 +57,7 @@ mod stream;
 mod task;
 mod types;
 
+pub use access::Bodies;
 pub use args::ConnectArgs;
 pub use batch::{Batch, BatchObservations, BatchStep};
 pub use client::{

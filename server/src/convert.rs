@@ -19,7 +19,7 @@ use crate::error::{Result, ServerError};
 mod replies;
 
 pub(crate) use replies::{
-    batch_info, batch_observation, batch_step_result, env_info, format_to_proto, image,
+    batch_info, batch_observation, batch_step_result, bodies, env_info, format_to_proto, image,
     observation, randomization_draws, scene, server_info,
 };
 

@@ -17,7 +17,7 @@ use crate::domain::{
     BatchRequest, BatchStep, Created, DrawsOf, EnvRequest, EnvStep, ForkRequest, RenderOf,
 };
 use crate::error::{Result, ServerError};
-use crate::simulation::Simulation;
+use crate::simulation::{JointState, Simulation};
 use crate::tenant::Tenant;
 
 /// Results buffered per StreamBatch stream before the server waits for the client.
@@ -258,6 +258,38 @@ impl Simulator for SimulatorService {
         self.unary("LoadState", request, |tenant, r| async move {
             let obs = self.sim.load_state(&tenant, &r.env_id, r.state).await?;
             Ok(convert::observation(&obs))
+        })
+        .await
+    }
+
+    async fn set_joint_state(
+        &self,
+        request: Request<pb::SetJointStateRequest>,
+    ) -> Result<Response<pb::SetJointStateResult>, Status> {
+        self.unary("SetJointState", request, |tenant, r| async move {
+            let state = JointState {
+                positions: r.joint_positions,
+                velocities: r.joint_velocities,
+                base: r.base_state,
+            };
+            let (obs, warnings) = self.sim.set_joint_state(&tenant, &r.env_id, state).await?;
+            Ok(pb::SetJointStateResult {
+                observation: Some(convert::observation(&obs)),
+                warnings,
+            })
+        })
+        .await
+    }
+
+    async fn get_bodies(
+        &self,
+        request: Request<pb::EnvRef>,
+    ) -> Result<Response<pb::Bodies>, Status> {
+        self.unary("GetBodies", request, |tenant, r| async move {
+            self.sim
+                .bodies(&tenant, &r.env_id)
+                .await
+                .map(convert::bodies)
         })
         .await
     }

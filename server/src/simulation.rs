@@ -22,6 +22,8 @@ use crate::pool::{self, Jobs, Lane};
 use crate::registry::{Activity, EnvCapacity, Facts, Held, Registry};
 use crate::tenant::Tenant;
 
+mod access;
+pub(crate) use access::JointState;
 mod batches;
 mod documents;
 mod limits;

@@ -206,6 +206,32 @@ impl EnvHandle {
         ))
     }
 
+    /// Sets the joint state from values (MuJoCo's `set_state`): one position and velocity
+    /// per DOF, and a floating base's 13 floats (none without one). Returns the
+    /// observation there and the server's warnings.
+    fn set_joint_state<'py>(
+        &self,
+        py: Python<'py>,
+        positions: Vec<f64>,
+        velocities: Vec<f64>,
+        base: Vec<f64>,
+    ) -> PyResult<(Bound<'py, PyArray1<f32>>, Vec<String>)> {
+        let env = &self.env;
+        let (observation, warnings) = wait(py, self.timeout.get(), || async move {
+            env.set_joint_state(&positions, &velocities, &base).await
+        })?;
+        let flat = observation.to_flat(&self.env.info().observation_layout);
+        Ok((PyArray1::from_vec(py, flat), warnings))
+    }
+
+    /// Every instance's and site's state now, as a dict of names and float64 arrays
+    /// (`gymfleet_client::Bodies`' fields).
+    fn bodies<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let env = &self.env;
+        let bodies = wait(py, self.timeout.get(), || async move { env.bodies().await })?;
+        crate::info::bodies(py, bodies)
+    }
+
     /// The domain-randomisation factors drawn at the last reset.
     fn randomization<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let env = &self.env;

@@ -172,3 +172,25 @@ pub(crate) fn draws<'py>(
     out.set_item("joints", d.joints)?;
     Ok(out)
 }
+
+/// [`gymfleet_client::Bodies`] as a dict: `instances` and `sites` (lists of names), the
+/// other fields float64 arrays, flat as the client has them.
+pub(crate) fn bodies(py: Python<'_>, b: gymfleet_client::Bodies) -> PyResult<Bound<'_, PyDict>> {
+    use numpy::PyArray1;
+    let d = PyDict::new(py);
+    d.set_item("instances", b.instances)?;
+    d.set_item("sites", b.sites)?;
+    for (key, values) in [
+        ("masses", b.masses),
+        ("centers_of_mass", b.centers_of_mass),
+        ("inertias", b.inertias),
+        ("velocities", b.velocities),
+        ("contact_wrenches", b.contact_wrenches),
+        ("about", b.about.to_vec()),
+        ("site_poses", b.site_poses),
+        ("actuator_forces", b.actuator_forces),
+    ] {
+        d.set_item(key, PyArray1::from_vec(py, values))?;
+    }
+    Ok(d)
+}

@@ -549,7 +549,7 @@ def test_actions_are_mujocos_ctrl_in_actuator_order():
 def test_the_batched_cross_product_is_numpys_bit_for_bit():
     # The suite's floating-base conversions use their own cross product (np.cross's axis
     # handling cost more than its arithmetic); it must give numpy's bits.
-    from gymfleet.suite.envs import _cross
+    from gymfleet.suite.kinematics import _cross
 
     rng = np.random.default_rng(3)
     a, b = rng.normal(size=(64, 3)), rng.normal(size=(64, 3))

@@ -66,7 +66,9 @@ pub struct RobotEnv {
     /// The document and options it was built from, for its saved states.
     pub(crate) origin: std::sync::Arc<Origin>,
     /// Instance and joint names (document order), to report the draws by name.
-    names: std::sync::Arc<(Vec<String>, Vec<String>)>,
+    pub(crate) names: std::sync::Arc<(Vec<String>, Vec<String>)>,
+    /// The document's sites by name (document order), for [`RobotEnv::bodies`].
+    pub(crate) sites: std::sync::Arc<[(String, EndEffector)]>,
 }
 
 /// This episode's randomisation factors, by name.
@@ -215,6 +217,11 @@ impl RobotEnv {
                 assembly.instances.iter().map(|i| i.name.clone()).collect(),
                 assembly.joints.iter().map(|j| j.name.clone()).collect(),
             )),
+            sites: assembly
+                .sites
+                .iter()
+                .map(|s| (s.name.clone(), (s.instance, Some((s.point, s.rotation)))))
+                .collect(),
         };
         env.reset(None);
         Ok(env)
@@ -490,7 +497,7 @@ impl RobotEnv {
     /// Writes the task's part of the flat observation `out` (whose joint state is
     /// written): after a step's terms are evaluated and after a reset's start, so that
     /// observed contact wrenches are the step's (0 after a reset).
-    fn observe_task_into(&self, out: &mut [f32]) {
+    pub(crate) fn observe_task_into(&self, out: &mut [f32]) {
         let Some(t) = &self.task else { return };
         let dof = self.spec.num_dofs;
         let at = out.len() - t.observation_dim();
@@ -523,7 +530,7 @@ fn draw(rng: &mut Xoshiro256PlusPlus, r: &Randomization, instances: usize, joint
 
 /// An end effector: its instance, and for a site its point (mm) and axes (Euler angles,
 /// radians) in the instance's frame.
-type EndEffector = (usize, Option<([f64; 3], [f64; 3])>);
+pub(crate) type EndEffector = (usize, Option<([f64; 3], [f64; 3])>);
 
 /// What an env looks like now, for drawing it: its parts, joints, end effectors and task
 /// target, in world millimetres.
@@ -544,7 +551,11 @@ pub struct Scene {
 impl RobotEnv {
     /// An end effector's pose: its instance's centre of mass with the instance's
     /// orientation, or its site's point with the site's axes.
-    fn end_effector_pose(&self, units: Units, (instance, site): EndEffector) -> [f32; 7] {
+    pub(crate) fn end_effector_pose(
+        &self,
+        units: Units,
+        (instance, site): EndEffector,
+    ) -> [f32; 7] {
         match site {
             Some((point, rotation)) => self.world.site_pose(units, instance, point, rotation),
             None => self.world.body_pose(units, instance),

@@ -78,6 +78,15 @@ pub enum EnvError {
         /// What was expected and what was given.
         reason: String,
     },
+    /// A joint state to set ([`RobotEnv::set_joint_state`](crate::RobotEnv::set_joint_state))
+    /// is unusable.
+    #[error("{field}: {reason}")]
+    BadJointState {
+        /// The field, e.g. `joint_positions` or `base_state[3..7]`.
+        field: String,
+        /// What was expected and what was given.
+        reason: String,
+    },
     /// A pose target names no mocap body.
     #[error("unknown mocap body {name} (known: {known})")]
     UnknownMocapBody {

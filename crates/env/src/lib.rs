@@ -16,6 +16,7 @@
 //! It leaves parsing to `gymfleet-assembly`, simulation to `gymfleet-physics`, and
 //! parallelism to `gymfleet-batch`. It knows nothing of networks.
 
+mod access;
 mod action;
 mod config;
 mod env;
@@ -27,6 +28,7 @@ mod state;
 mod task;
 pub mod terms;
 
+pub use access::Bodies;
 pub use action::ActionType;
 pub use config::{
     ActuatorSpec, EnvConfig, EnvSpec, Randomization, DEFAULT_DT, DEFAULT_MAX_STEPS,
@@ -37,7 +39,7 @@ pub use episode::{StepFlags, StepResult, Termination};
 pub use error::{EnvError, Result};
 pub use gymfleet_assembly::{AssemblyError, DofKind, JointType};
 pub use gymfleet_physics::Units;
-pub use gymfleet_physics::{JointDof, PdGains, SceneJoint, ScenePart, SceneShape};
+pub use gymfleet_physics::{JointDof, PdGains, SceneJoint, ScenePart, SceneShape, StateAdjustment};
 pub use observation::{
     layout as observation_layout, segment, Observation, ObservationParts, ObservationSegment,
     Observed, BASE_VELOCITY_LEN, FREE_POSE_LEN, FREE_VELOCITY_LEN, POSE_LEN,

@@ -52,6 +52,25 @@ pub(crate) fn randomization_draws(report: DrawReport) -> pb::RandomizationDraws 
 }
 
 /// An env's scene on the wire.
+/// Every instance's and site's state, flattened as `Bodies` lays it out.
+pub(crate) fn bodies(b: gymfleet_env::Bodies) -> pb::Bodies {
+    fn flat<const N: usize, T: Copy + Into<f64>>(rows: &[[T; N]]) -> Vec<f64> {
+        rows.iter().flatten().map(|&v| v.into()).collect()
+    }
+    pb::Bodies {
+        masses: b.masses,
+        centers_of_mass: flat(&b.centers_of_mass),
+        inertias: flat(&b.inertias),
+        velocities: flat(&b.velocities),
+        contact_wrenches: flat(&b.contact_wrenches),
+        about: b.about.to_vec(),
+        site_poses: flat(&b.site_poses),
+        actuator_forces: b.actuator_forces,
+        instances: b.instances,
+        sites: b.sites,
+    }
+}
+
 pub(crate) fn scene(scene: gymfleet_env::Scene) -> pb::Scene {
     let v = |p: [f32; 3]| pb::Vec3 {
         x: f64::from(p[0]),

@@ -37,6 +37,7 @@ fn env_code(err: &EnvError) -> Code {
         | EnvError::UnknownActionType { .. }
         | EnvError::StateFormat { .. }
         | EnvError::BadState { .. }
+        | EnvError::BadJointState { .. }
         | EnvError::UnknownMocapBody { .. }
         | EnvError::MocapPosesLength { .. }
         | EnvError::BadMocapPose { .. } => Code::InvalidArgument,

@@ -9,6 +9,7 @@ mod errors;
 mod fleet;
 mod fleet_start;
 mod imports;
+mod joint_state;
 mod lifecycle;
 mod regressions;
 mod render;

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Any, Dict, Optional, Tuple
+from typing import Any, Dict, List, Optional, Tuple
 
 import gymnasium as gym
 import numpy as np
@@ -202,6 +202,26 @@ class GymfleetEnv(HandleOwner, gym.Env):
         or format version, or corrupted bytes; the env is then unchanged."""
         return self._handle.load_state(state_bytes("state", state))
 
+    def set_joint_state(
+        self, positions: Any, velocities: Any, base: Any = ()
+    ) -> Tuple[np.ndarray, List[str]]:
+        """Sets the robot's joint state from values, as MuJoCo's ``set_state(qpos,
+        qvel)`` does: one position and one velocity per DOF as the observation has them
+        (units and reference included) and, with a floating base, its 13 floats (the
+        observation's ``base_pose`` then ``base_velocity``). The episode goes on. Returns
+        the observation there and the server's warnings (a position past a hard limit is
+        set at the limit; a joint on a kinematic loop keeps its position).
+        ``InvalidArgument`` for a wrong count or a non-finite value; nothing changes then."""
+        return self._handle.set_joint_state(_floats(positions), _floats(velocities), _floats(base))
+
+    def bodies(self) -> Dict[str, Any]:
+        """Every instance's and site's state now: ``instances`` and ``sites`` (names),
+        ``masses``, ``centers_of_mass`` (3 each), ``inertias`` (MuJoCo's ``cinert``, 10
+        each), ``velocities`` (``cvel``, 6 each), ``contact_wrenches`` (``cfrc_ext``, 6
+        each) about ``about`` (the robot's centre of mass), ``site_poses`` (7 each) and
+        ``actuator_forces`` (``qfrc_actuator``, one per DOF), flat float64 arrays."""
+        return self._handle.bodies()
+
     def fork(self) -> "GymfleetEnv":
         """A new env on the same server, made with this env's document and options and
         put in its state now (episode, task target, random generator, draws): the two then
@@ -245,3 +265,8 @@ class GymfleetEnv(HandleOwner, gym.Env):
 
     def __repr__(self) -> str:
         return f"<GymfleetEnv {self._info['env_id']} on {self._info['server']}>"
+
+
+def _floats(values: Any) -> List[float]:
+    """Values as a list of Python floats (a 1-D array or sequence of numbers)."""
+    return [float(v) for v in np.asarray(values, dtype=np.float64).reshape(-1)]

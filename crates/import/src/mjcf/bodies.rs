@@ -329,9 +329,10 @@ impl<'a, 'i> Converter<'a, 'i> {
         if let Some(i) = inertial.filter(|_| use_inertial) {
             self.inertial(i, &frame, &main)?;
         }
-        // The body's origin, by the body's name (what MuJoCo's body xpos reports).
+        // The body's origin, by the body's name (what MuJoCo's body xpos reports); an
+        // unnamed body's as `body` (made unique), so that every body has one, in body order.
+        self.site(&body_name, &main, &frame);
         if let Some(name) = node.attribute("name") {
-            self.site(name, &main, &frame);
             self.bodies.insert(name.to_string(), (main.clone(), frame));
         }
 

@@ -24,7 +24,16 @@ from ..errors import InvalidArgument
 from ..vector import GymfleetVectorEnv
 from .model import Model, read_model
 from .plans import OBSERVED, Plan, Terms
-from .state import SuiteData, SuiteModel, qpos_qvel, state_vector
+from .kinematics import segments, server_state, split_rows
+from .state import (
+    BodyLayout,
+    FrameCache,
+    SuiteData,
+    SuiteModel,
+    checked_state,
+    qpos_qvel,
+    state_vector,
+)
 from .specs import IGNORED_KWARGS, SUITE, SuiteSpec
 
 #: A single env's server-side episode limit: none that matters; gymnasium's TimeLimit
@@ -113,7 +122,7 @@ class _Setup:
     def split(self, raw: np.ndarray) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
         """MuJoCo's qpos and qvel and the end effectors' positions of raw rows (after
         ``check``)."""
-        return _split(raw, self.segments, self.model.root_geom)
+        return split_rows(raw, self.segments, self.model.root_geom)
 
     def observation_space(self) -> spaces.Box:
         # float32 by default where Gymnasium's is float64 (the server's values are float32);
@@ -128,39 +137,6 @@ class _Setup:
 def _zeros(names: Sequence[str], n: int) -> Dict[str, np.ndarray]:
     """Term values at a reset: zeros."""
     return {name: np.zeros(n, dtype=np.float64) for name in names}
-
-
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """``np.cross`` of (n, 3) (or (3,)) vectors, the same products and differences without its
-    axis handling, which cost more than the arithmetic for a batch (16 calls per step)."""
-    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
-    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
-    # Written into one array (np.stack's own checks cost more than the arithmetic).
-    out = np.empty(np.broadcast_shapes(a.shape, b.shape), dtype=np.result_type(a, b))
-    out[..., 0] = a1 * b2 - a2 * b1
-    out[..., 1] = a2 * b0 - a0 * b2
-    out[..., 2] = a0 * b1 - a1 * b0
-    return out
-
-
-def _quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Hamilton products of (n, 4) and (4,) quaternions (w, x, y, z)."""
-    w1, v1 = a[:, :1], a[:, 1:]
-    w2, v2 = b[0], b[1:]
-    return np.concatenate([w1 * w2 - v1 @ v2[:, None], w1 * v2 + w2 * v1 + _cross(v1, v2)], axis=1)
-
-
-def _rotate(quat: np.ndarray, x: np.ndarray) -> np.ndarray:
-    """Vectors ``x`` (n, 3) turned by orientations ``quat`` (n, 4; w, x, y, z)."""
-    s, u = quat[:, :1], quat[:, 1:]
-    return x + 2.0 * s * _cross(u, x) + 2.0 * _cross(u, _cross(u, x))
-
-
-def _in_body_frame(quat: np.ndarray, w: np.ndarray) -> np.ndarray:
-    """World vectors ``w`` (n, 3) in the frames of orientations ``quat`` (n, 4; w, x,
-    y, z): rotated by each conjugate."""
-    s, u = quat[:, :1], quat[:, 1:]
-    return w - 2.0 * s * _cross(u, w) + 2.0 * _cross(u, _cross(u, w))
 
 
 def _first(x: np.ndarray) -> Any:
@@ -238,46 +214,6 @@ def _velocities_from_qpos(
         values["reward_forward"] = plan.forward_weight * values["x_velocity"]
 
 
-def segments(layout: Sequence[Tuple[str, int]]) -> Dict[str, slice]:
-    """Where each segment of the server's ``observation_layout`` lies in a flat row: the
-    env's own layout, read, never restated here."""
-    out, start = {}, 0
-    for name, size in layout:
-        out[name] = slice(start, start + size)
-        start += size
-    return out
-
-
-def _split(
-    raw: np.ndarray,
-    segments: Dict[str, slice],
-    root_geom: Optional[Tuple[np.ndarray, np.ndarray]] = None,
-) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """MuJoCo's qpos and qvel, and the end effectors' positions, of raw rows (n, dim),
-    split along the server's layout (``segments``). With a floating base, qpos starts
-    with its body's position and orientation (w, x, y, z) and qvel with the linear
-    velocity of the body's origin (world) and its angular velocity (its own frame), as
-    MuJoCo's free joint has them. The server observes the base instance, the body's
-    first geom: its centre of mass and its frame, which ``root_geom`` (the geom's centre
-    and orientation in the body's frame) takes back to the body's."""
-    q, v = raw[:, segments["joint_positions"]], raw[:, segments["joint_velocities"]]
-    if "base_pose" in segments:
-        pose, velocity = raw[:, segments["base_pose"]], raw[:, segments["base_velocity"]]
-        position, quat = pose[:, :3].astype(np.float64), pose[:, 3:7].astype(np.float64)
-        linear, angular = velocity[:, :3].astype(np.float64), velocity[:, 3:6].astype(np.float64)
-        if root_geom is not None:
-            centre, geom_quat = root_geom
-            quat = _quat_mul(quat, np.array([geom_quat[0], *(-geom_quat[1:])]))
-            arm = _rotate(quat, np.broadcast_to(centre, position.shape))
-            position = position - arm
-            linear = linear - _cross(angular, arm)
-        spin = _in_body_frame(quat, angular)
-        q = np.concatenate([position.astype(raw.dtype), quat.astype(raw.dtype), q], axis=1)
-        v = np.concatenate([linear.astype(raw.dtype), spin.astype(raw.dtype), v], axis=1)
-    poses = raw[:, segments["end_effector_poses"]].reshape(len(raw), -1, 7)
-    return q, v, poses[:, :, :3]
-
-
 def _observed_terms(raw: np.ndarray, setup: "_Setup") -> Dict[str, np.ndarray]:
     """The observed terms' values, under ``OBSERVED``: the rows' ``terms`` segment (the
     server reads them from the state at resets too, where the step's term values are not
@@ -318,9 +254,13 @@ class SuiteEnv(gym.Env):
         self.metadata = {**type(self).metadata, "render_fps": int(np.round(1.0 / self.dt))}
         self._qpos, self._qvel = self.init_qpos.copy(), self.init_qvel.copy()
         self._ctrl = np.zeros(self.action_space.shape, dtype=np.float64)
+        self._layout = BodyLayout.read(setup.model.text)
+        #: The body-level fields of `data`, read from the server on first use per state.
+        self._frames = FrameCache(self._env, self._layout, self._base, lambda: self._qpos)
         self._model = SuiteModel(
             len(self.init_qpos), len(self.init_qvel), setup.model.timestep,
             np.stack([self.action_space.low, self.action_space.high], axis=1),
+            self._layout, self._frames,
         )
 
     @property
@@ -336,6 +276,7 @@ class SuiteEnv(gym.Env):
         q, v, ee = self._setup.split(raw[None, :])
         self._qpos, self._qvel = qpos_qvel(q, v)
         self._ctrl = np.zeros_like(self._ctrl)
+        self._frames.clear()
         info = {k: _first(x) for k, x in _reset_values(self._setup.plan, q, v).items()}
         terms = _zeros(self._env.env_info["term_names"], 1)
         terms.update(_observed_terms(raw[None, :], self._setup))
@@ -359,6 +300,7 @@ class SuiteEnv(gym.Env):
         before = self._qpos
         self._qpos, self._qvel = qpos_qvel(q, v)
         self._ctrl = np.array(action, dtype=np.float64)
+        self._frames.clear()
         plan = self._setup.plan
         values = _step_values(plan, q, v, terms)
         _velocities_from_qpos(plan, values, before[None, :], self._qpos[None, :], self.dt)
@@ -371,15 +313,37 @@ class SuiteEnv(gym.Env):
 
     @property
     def data(self) -> SuiteData:
-        """The state after the last reset or step, as MuJoCo's ``MjData`` names it:
-        ``qpos``, ``qvel``, ``ctrl`` (SI, MuJoCo's layout; read-only)."""
-        return SuiteData(self._qpos, self._qvel, self._ctrl)
+        """The state after the last reset, step or ``set_state``, as MuJoCo's ``MjData``
+        names it (SI, MuJoCo's layouts; read-only): see :class:`SuiteData`."""
+        return SuiteData(self._qpos, self._qvel, self._ctrl, self._frames, self._layout)
 
     @property
     def model(self) -> SuiteModel:
-        """``nq``, ``nv``, ``nu``, ``opt.timestep``, ``actuator_ctrlrange``, as MuJoCo's
-        ``MjModel`` names them."""
+        """``nq``, ``nv``, ``nu``, ``nbody``, ``nsite``, ``body_mass``, ``opt.timestep``,
+        ``actuator_ctrlrange``, as MuJoCo's ``MjModel`` names them."""
         return self._model
+
+    def set_state(self, qpos: Any, qvel: Any) -> None:
+        """MuJoCo's ``set_state``: puts the robot in the state ``qpos`` (nq) and ``qvel``
+        (nv), MuJoCo's layouts; the episode goes on. Only a wrong shape or a non-finite
+        value is refused (``InvalidArgument``, nothing changes). A position past a hard
+        limit is set at the limit (MuJoCo's limits are soft: recorded states sit slightly
+        past them), and a joint on a kinematic loop keeps its position, each with a
+        warning. ``data.qpos`` and ``data.qvel`` are the values given until the next step,
+        as MuJoCo's are; the physics holds them as float32, clamped as warned, and the
+        body-level fields of ``data`` read that state."""
+        qpos, qvel = checked_state(qpos, qvel, self._model.nq, self._model.nv)
+        positions, velocities, base = server_state(qpos, qvel, self._base, self._setup.model.root_geom)
+        _, warnings = self._env.set_joint_state(positions, velocities, base)
+        for warning in warnings:
+            gym.logger.warn(f"set_state: {warning}")
+        self._qpos, self._qvel = qpos, qvel
+        self._frames.clear()
+
+    def get_body_com(self, body_name: str) -> np.ndarray:
+        """As Gymnasium's ``MujocoEnv.get_body_com``: the body's ``xpos`` (its frame's
+        origin, world)."""
+        return self.data.body(body_name).xpos
 
     def state_vector(self) -> np.ndarray:
         """``concatenate(qpos, qvel)``, as MuJoCo's envs give it."""
@@ -407,7 +371,8 @@ class SuiteEnv(gym.Env):
         self.spec = pickled["spec"]
         self._np_random = pickled["np_random"]
         if pickled["state"] is not None:
-            self._env.load_state(pickled["state"])
+            q, v, _ = self._setup.split(self._env.load_state(pickled["state"])[None, :])
+            self._qpos, self._qvel = qpos_qvel(q, v)
 
     def __repr__(self) -> str:
         return f"<SuiteEnv {self._setup.suite.id} on {self._env.server}>"

@@ -1194,9 +1194,13 @@ impl Multibody {
         self.update_velocities(bodies);
     }
 
-    /// Computes the constant terms of the dynamics.
+    /// Computes the links' velocities from the generalized velocities and writes them to
+    /// their rigid bodies (after [`Self::forward_kinematics`] placed the links).
+    ///
+    /// gymfleet patch 41 (see `PATCHES.md`): public, so that generalized velocities set
+    /// outside a step reach the rigid bodies before the next one.
     #[profiling::function]
-    pub(crate) fn update_velocities(&mut self, bodies: &mut RigidBodySet) {
+    pub fn update_velocities(&mut self, bodies: &mut RigidBodySet) {
         /*
          * Compute velocities.
          * NOTE: this is needed for kinematic bodies too.
