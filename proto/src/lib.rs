@@ -62,6 +62,8 @@ mod tests {
                 "SaveBatchState",
                 "LoadBatchState",
                 "Fork",
+                "SetJointState",
+                "GetBodies",
                 "ConvertDocument",
                 "ListModels",
             ]
