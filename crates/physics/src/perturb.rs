@@ -156,6 +156,14 @@ impl RobotWorld {
         let linear = Vector::new(noise[7] as Real, noise[8] as Real, noise[9] as Real);
         let angular =
             rotation * Vector::new(noise[10] as Real, noise[11] as Real, noise[12] as Real);
+        self.set_base_velocity(linear, angular);
+    }
+
+    /// Sets a floating base's velocity once its pose is set: `origin` is its body frame
+    /// origin's linear velocity and `angular` its angular velocity (world). In a tree, the
+    /// root's generalized velocities (the frame origin's); a base nothing is jointed to is a
+    /// plain rigid body, whose velocity is its centre of mass's.
+    pub(crate) fn set_base_velocity(&mut self, origin: Vector, angular: Vector) {
         let root = self
             .free_roots
             .first()
@@ -166,17 +174,16 @@ impl RobotWorld {
                 if let Some(mb) = self.live.multibody_joints.get_multibody_mut(index) {
                     let mut v = mb.generalized_velocity_mut();
                     for k in 0..3 {
-                        v[k] = linear[k];
+                        v[k] = origin[k];
                         v[3 + k] = angular[k];
                     }
                 }
                 self.sync_bodies(&[index]);
             }
             None => {
-                // A base nothing is jointed to: its velocity is its centre of mass's.
-                let rb = &mut self.live.bodies[handle];
-                let arm = rb.center_of_mass() - translation;
-                rb.set_linvel(linear + angular.cross(arm), true);
+                let rb = &mut self.live.bodies[self.bodies[0]];
+                let arm = rb.center_of_mass() - rb.position().translation;
+                rb.set_linvel(origin + angular.cross(arm), true);
                 rb.set_angvel(angular, true);
             }
         }

@@ -194,31 +194,8 @@ impl RobotWorld {
         let linear = Vector::new(length(state[7]), length(state[8]), length(state[9]));
         let angular = Vector::new(angle(state[10]), angle(state[11]), angle(state[12]));
         self.live.bodies[handle].set_position(Pose::from_parts(com - arm, rotation), true);
-        let root = self
-            .free_roots
-            .first()
-            .filter(|r| r.instance == 0)
-            .map(|r| r.multibody);
-        match root {
-            Some(index) => {
-                if let Some(mb) = self.live.multibody_joints.get_multibody_mut(index) {
-                    // The generalized linear velocity is the body frame origin's.
-                    let origin = linear - angular.cross(arm);
-                    let mut v = mb.generalized_velocity_mut();
-                    for k in 0..3 {
-                        v[k] = origin[k];
-                        v[3 + k] = angular[k];
-                    }
-                }
-                self.sync_bodies(&[index]);
-            }
-            None => {
-                let rb = &mut self.live.bodies[handle];
-                let centre = rotation * rb.mass_properties().local_mprops.local_com + (com - arm);
-                rb.set_linvel(linear + angular.cross(centre - com), true);
-                rb.set_angvel(angular, true);
-            }
-        }
+        // The generalized linear velocity is the body frame origin's.
+        self.set_base_velocity(linear - angular.cross(arm), angular);
     }
 
     /// An instance's own mass, kg (as randomised now; a folded instance's, not its
