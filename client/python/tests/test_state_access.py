@@ -2,7 +2,7 @@
 ``ctrl``, ``xpos``, ``xquat``, ``xipos``, ``site_xpos``, ``cinert``, ``cvel``, ``cfrc_ext``,
 ``qfrc_actuator``, ``body()``, ``site()``), ``model`` (``nq``, ``nv``, ``nu``, ``nbody``,
 ``body_mass``, ``opt.timestep``, ``actuator_ctrlrange``), ``init_qpos``/``init_qvel``,
-``set_state``, ``get_body_com`` and ``state_vector()``, in MuJoCo's shapes and SI units,
+``set_state``, ``get_body_com``, ``state_vector()`` and ``observation_structure``, in MuJoCo's shapes and SI units,
 checked against Gymnasium's env on the same state; what is not offered says so."""
 
 from __future__ import annotations
@@ -224,3 +224,33 @@ def test_bodies_and_sites_by_name_and_the_fields_are_read_once_per_state():
     env.data.xpos
     assert len(calls) == 2
     env.close()
+
+
+#: Keywords that change an observation's structure, per id (besides the defaults).
+_STRUCTURE_KWARGS = {
+    "Hopper": {"exclude_current_positions_from_observation": False},
+    "Swimmer": {"exclude_current_positions_from_observation": False},
+    "Ant": {"include_cfrc_ext_in_observation": False},
+    "Humanoid": {"include_cinert_in_observation": False, "include_qfrc_actuator_in_observation": False},
+    "HumanoidStandup": {"exclude_current_positions_from_observation": False, "include_cvel_in_observation": False},
+}
+
+
+@pytest.mark.parametrize(
+    "name,kwargs",
+    [(name, {}) for name in NAMES] + list(_STRUCTURE_KWARGS.items()),
+    ids=[f"{name}" for name in NAMES] + [f"{name}-switched" for name in _STRUCTURE_KWARGS],
+)
+def test_observation_structure_is_gymnasiums(name, kwargs):
+    ours = gymnasium.make(f"gymfleet/{name}-v5", **kwargs).unwrapped
+    theirs = gymnasium.make(f"{name}-v5", **kwargs).unwrapped
+    # Reacher, Pusher and InvertedDoublePendulum have none, on both sides.
+    assert hasattr(ours, "observation_structure") == hasattr(theirs, "observation_structure")
+    if hasattr(theirs, "observation_structure"):
+        assert ours.observation_structure == theirs.observation_structure
+        assert all(type(v) is int for v in ours.observation_structure.values())
+        # The parts but the skipped qpos fill the observation.
+        parts = {k: v for k, v in ours.observation_structure.items() if k != "skipped_qpos"}
+        assert sum(parts.values()) == ours.observation_space.shape[0]
+    ours.close()
+    theirs.close()

@@ -262,6 +262,13 @@ class SuiteEnv(gym.Env):
             np.stack([self.action_space.low, self.action_space.high], axis=1),
             self._layout, self._frames,
         )
+        if setup.suite.structure is not None:
+            #: Gymnasium v5's: how many observation entries each part takes, in order
+            #: (``skipped_qpos``: the qpos entries left out). Not on Reacher, Pusher and
+            #: InvertedDoublePendulum, as on Gymnasium's.
+            self.observation_structure = setup.suite.structure(
+                setup.kw, self._model.nq, self._model.nv, self._model.nbody
+            )
 
     @property
     def gymfleet_env(self) -> GymfleetEnv:

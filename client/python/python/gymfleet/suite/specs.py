@@ -64,6 +64,10 @@ class SuiteSpec:
     plan: Callable[[Model, Mapping[str, Any]], Plan]
     #: What differs from Gymnasium's env, if anything (the Ant's ankles' start).
     note: str = ""
+    #: Gymnasium v5's ``observation_structure`` of the env, from its keywords and the
+    #: model's ``nq``, ``nv`` and ``nbody``; ``None`` where Gymnasium's env has none
+    #: (Reacher, Pusher, InvertedDoublePendulum).
+    structure: Optional[Callable[[Mapping[str, Any], int, int, int], Dict[str, int]]] = None
 
     @property
     def id(self) -> str:
@@ -100,6 +104,49 @@ class SuiteSpec:
         return out
 
 
+def _skipping(skipped: int) -> Callable[[Mapping[str, Any], int, int, int], Dict[str, int]]:
+    """Gymnasium's ``observation_structure`` of an env whose observation leaves out the
+    first ``skipped`` qpos entries unless ``exclude_current_positions_from_observation``
+    is false (HalfCheetah, Hopper, Walker2d: 1; Swimmer: 2)."""
+
+    def structure(kw: Mapping[str, Any], nq: int, nv: int, nbody: int) -> Dict[str, int]:
+        skip = skipped * int(bool(kw["exclude_current_positions_from_observation"]))
+        return {"skipped_qpos": skip, "qpos": nq - skip, "qvel": nv}
+
+    return structure
+
+
+def _ant_structure(kw: Mapping[str, Any], nq: int, nv: int, nbody: int) -> Dict[str, int]:
+    """Ant v5's: ``cfrc_ext[1:]`` (6 per body but the world) when observed."""
+    return {
+        **_skipping(2)(kw, nq, nv, nbody),
+        "cfrc_ext": (nbody - 1) * 6 * int(bool(kw["include_cfrc_ext_in_observation"])),
+    }
+
+
+def _humanoid_structure(kw: Mapping[str, Any], nq: int, nv: int, nbody: int) -> Dict[str, int]:
+    """Humanoid v5's and HumanoidStandup v5's: the body parts each observation switch
+    adds (``qfrc_actuator`` leaves out the free joint's 6 DOFs), and no tendons."""
+
+    def part(switch: str, size: int) -> int:
+        return size * int(bool(kw[f"include_{switch}_in_observation"]))
+
+    return {
+        **_skipping(2)(kw, nq, nv, nbody),
+        "cinert": part("cinert", (nbody - 1) * 10),
+        "cvel": part("cvel", (nbody - 1) * 6),
+        "qfrc_actuator": part("qfrc_actuator", nv - 6),
+        "cfrc_ext": part("cfrc_ext", (nbody - 1) * 6),
+        "ten_length": 0,
+        "ten_velocity": 0,
+    }
+
+
+def _whole_state(kw: Mapping[str, Any], nq: int, nv: int, nbody: int) -> Dict[str, int]:
+    """InvertedPendulum v5's: all of qpos and qvel."""
+    return {"qpos": nq, "qvel": nv}
+
+
 _WALKER_DEFAULTS = {
     "forward_reward_weight": 1.0,
     "ctrl_cost_weight": 1e-3,
@@ -134,6 +181,7 @@ SUITE: Dict[str, SuiteSpec] = {
             950.0,
             {"reset_noise_scale": 0.01},
             _inverted_pendulum,
+            structure=_whole_state,
         ),
         SuiteSpec(
             "InvertedDoublePendulum",
@@ -175,6 +223,7 @@ SUITE: Dict[str, SuiteSpec] = {
                 "exclude_current_positions_from_observation": True,
             },
             _half_cheetah,
+            structure=_skipping(1),
         ),
         SuiteSpec(
             "Hopper",
@@ -189,6 +238,7 @@ SUITE: Dict[str, SuiteSpec] = {
                 "healthy_angle_range": (-0.2, 0.2),
             },
             _hopper,
+            structure=_skipping(1),
         ),
         SuiteSpec(
             "Walker2d",
@@ -202,6 +252,7 @@ SUITE: Dict[str, SuiteSpec] = {
                 "healthy_angle_range": (-1.0, 1.0),
             },
             _walker2d,
+            structure=_skipping(1),
         ),
         SuiteSpec(
             "Ant",
@@ -225,6 +276,7 @@ SUITE: Dict[str, SuiteSpec] = {
             _ant,
             note="the ankles start at the ends of their ranges nearest MuJoCo's pose (0, "
             "which their ranges exclude), where MuJoCo's limits push them",
+            structure=_ant_structure,
         ),
         SuiteSpec(
             "Swimmer",
@@ -239,6 +291,7 @@ SUITE: Dict[str, SuiteSpec] = {
                 "exclude_current_positions_from_observation": True,
             },
             _swimmer,
+            structure=_skipping(2),
         ),
         SuiteSpec(
             "Humanoid",
@@ -259,6 +312,7 @@ SUITE: Dict[str, SuiteSpec] = {
             },
             _humanoid,
             note=_KNEES,
+            structure=_humanoid_structure,
         ),
         SuiteSpec(
             "HumanoidStandup",
@@ -276,6 +330,7 @@ SUITE: Dict[str, SuiteSpec] = {
             },
             _humanoid_standup,
             note=_KNEES,
+            structure=_humanoid_structure,
         ),
     ]
 }
