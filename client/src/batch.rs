@@ -160,11 +160,25 @@ impl Batch {
         seed_offset: u64,
         env_indices: &[u32],
     ) -> Result<BatchObservations> {
+        self.reset_envs_to(seed, seed_offset, env_indices, "").await
+    }
+
+    /// [`Batch::reset_envs`] from the document's keyframe named `keyframe` (one of
+    /// `info().keyframes`), the reset's noise on top; `""`: the document's
+    /// `initial_keyframe`, if any.
+    pub async fn reset_envs_to(
+        &self,
+        seed: Option<u64>,
+        seed_offset: u64,
+        env_indices: &[u32],
+        keyframe: &str,
+    ) -> Result<BatchObservations> {
         let request = pb::ResetBatchRequest {
             batch_id: self.info.batch_id.clone(),
             seed,
             seed_offset,
             env_indices: env_indices.to_vec(),
+            keyframe: keyframe.to_string(),
         };
         let observation = self.client.rpc().reset_batch(request).await?;
         BatchObservations::new(observation.into_inner(), &self.info)

@@ -57,9 +57,17 @@ impl Env {
     /// Restores the initial state and returns the first observation; `seed` reseeds the
     /// env's generator first.
     pub async fn reset(&self, seed: Option<u64>) -> Result<Observation> {
+        self.reset_to(seed, "").await
+    }
+
+    /// [`Env::reset`] from the document's keyframe named `keyframe` (one of
+    /// `info().keyframes`), the reset's noise on top; `""`: the document's
+    /// `initial_keyframe`, if any. An unknown name is [`crate::ClientError::InvalidArgument`].
+    pub async fn reset_to(&self, seed: Option<u64>, keyframe: &str) -> Result<Observation> {
         let request = pb::ResetRequest {
             env_id: self.info.env_id.clone(),
             seed,
+            keyframe: keyframe.to_string(),
         };
         let observation = self.client.rpc().reset(request).await?;
         observation.into_inner().try_into()

@@ -378,6 +378,9 @@ pub struct EnvInfo {
     pub moving_mass: f64,
     /// The actuators, in order: the action's last `actuators.len()` values.
     pub actuators: Vec<ActuatorInfo>,
+    /// The document's keyframes (named initial states), in order: what
+    /// [`crate::Env::reset_to`] may name.
+    pub keyframes: Vec<String>,
 }
 
 /// The units of observations and of a terms task's values.
@@ -473,6 +476,7 @@ impl From<pb::EnvInfo> for EnvInfo {
             mocap_bodies: i.mocap_bodies,
             moving_mass: i.moving_mass,
             actuators: i.actuators.into_iter().map(Into::into).collect(),
+            keyframes: i.keyframes,
         }
     }
 }
@@ -516,6 +520,8 @@ pub struct BatchInfo {
     pub moving_mass: f64,
     /// As [`EnvInfo::actuators`].
     pub actuators: Vec<ActuatorInfo>,
+    /// As [`EnvInfo::keyframes`].
+    pub keyframes: Vec<String>,
 }
 
 impl TryFrom<pb::BatchInfo> for BatchInfo {
@@ -541,6 +547,7 @@ impl TryFrom<pb::BatchInfo> for BatchInfo {
             mocap_bodies: i.mocap_bodies,
             moving_mass: i.moving_mass,
             actuators: i.actuators.into_iter().map(Into::into).collect(),
+            keyframes: i.keyframes,
         })
     }
 }

@@ -118,7 +118,10 @@ impl Simulator for SimulatorService {
         request: Request<pb::ResetRequest>,
     ) -> Result<Response<pb::Observation>, Status> {
         self.unary("Reset", request, |tenant, r| async move {
-            let obs = self.sim.reset_env(&tenant, &r.env_id, r.seed).await?;
+            let obs = self
+                .sim
+                .reset_env(&tenant, &r.env_id, r.seed, r.keyframe)
+                .await?;
             Ok(convert::observation(&obs))
         })
         .await
@@ -202,7 +205,14 @@ impl Simulator for SimulatorService {
     ) -> Result<Response<pb::BatchObservation>, Status> {
         self.unary("ResetBatch", request, |tenant, r| async move {
             self.sim
-                .reset_batch(&tenant, &r.batch_id, r.seed, r.seed_offset, r.env_indices)
+                .reset_batch(
+                    &tenant,
+                    &r.batch_id,
+                    r.seed,
+                    r.seed_offset,
+                    r.env_indices,
+                    r.keyframe,
+                )
                 .await
                 .map(convert::batch_observation)
         })

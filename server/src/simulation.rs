@@ -241,10 +241,13 @@ impl Simulation {
         tenant: &Tenant,
         id: &str,
         seed: Option<u64>,
+        keyframe: String,
     ) -> Result<Observed> {
         self.on_env(tenant, id, "Reset", move |open| {
             let mut obs = open.observation_buffer();
-            open.env.reset_into(seed, &mut obs.flat);
+            // On the wire an empty name means the document's initial keyframe.
+            let keyframe = (!keyframe.is_empty()).then_some(keyframe.as_str());
+            open.env.reset_to_into(seed, keyframe, &mut obs.flat)?;
             open.was_done.fill(false);
             Ok(obs)
         })

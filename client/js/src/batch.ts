@@ -269,10 +269,15 @@ export async function batchStepPacked(
 /** Resets every env, or only `env_indices` (ascending, e.g. the ones that ended; the
  * others keep their state), and returns every env's observation, packed. */
 export async function batchResetPacked(
-  params: BatchIdJson & { seed?: number | bigint; env_indices?: number[] },
+  params: BatchIdJson & { seed?: number | bigint; env_indices?: number[]; keyframe?: string },
   client: GymfleetClient = defaultClient(),
 ): Promise<PackedObservations> {
-  const request = { batchId: params.batch_id, seed: seed(params.seed), envIndices: params.env_indices ?? [] };
+  const request = {
+    batchId: params.batch_id,
+    seed: seed(params.seed),
+    envIndices: params.env_indices ?? [],
+    keyframe: params.keyframe ?? "",
+  };
   return packed(await client.simulator.resetBatch(request));
 }
 

@@ -111,13 +111,18 @@ export async function createRobotEnv(
   return fromEnvInfo(info);
 }
 
-/** Resets an env to its initial state (with `seed`: reseeded first) and returns the first
+/** Resets an env to its initial state (with `seed`: reseeded first; with `keyframe`: from
+ * that one of the document's keyframes, the reset noise on top) and returns the first
  * observation. */
 export async function gymReset(
-  params: EnvIdJson & { seed?: number | bigint },
+  params: EnvIdJson & { seed?: number | bigint; keyframe?: string },
   client: GymfleetClient = defaultClient(),
 ): Promise<ObservationJson> {
-  const observation = await client.simulator.reset({ envId: params.env_id, seed: seed(params.seed) });
+  const observation = await client.simulator.reset({
+    envId: params.env_id,
+    seed: seed(params.seed),
+    keyframe: params.keyframe ?? "",
+  });
   return fromObservation(observation);
 }
 

@@ -175,13 +175,15 @@ impl BatchHandle {
     }
 
     /// Resets every env, or those in `env_indices` (ascending); env `i` is reseeded with
-    /// `seed + i` first when `seed` is given. Returns every env's observation.
-    #[pyo3(signature = (seed_value=None, env_indices=None))]
+    /// `seed + i` first when `seed` is given; from the document's keyframe named
+    /// `keyframe` (`""`: its initial one, if any). Returns every env's observation.
+    #[pyo3(signature = (seed_value=None, env_indices=None, keyframe=""))]
     fn reset<'py>(
         &self,
         py: Python<'py>,
         seed_value: Option<i128>,
         env_indices: Option<PyReadonlyArray1<'py, u32>>,
+        keyframe: &str,
     ) -> PyResult<Bound<'py, PyArray2<f32>>> {
         let seed = seed_value.map(|s| seed("seed", s)).transpose()?;
         let indices: Option<Vec<u32>> = env_indices.map(|a| a.as_array().to_vec());
@@ -189,7 +191,7 @@ impl BatchHandle {
             self.batch
                 .lock()
                 .await
-                .reset_envs(seed, 0, indices.as_deref())
+                .reset_envs_to(seed, 0, indices.as_deref(), keyframe)
                 .await
         })?;
         matrix(

@@ -89,20 +89,20 @@ impl EnvHandle {
         env_info(py, self.env.info(), self.env.server())
     }
 
-    /// Resets it (reseeded first when `seed` is given); returns the observation.
-    #[pyo3(signature = (seed_value=None))]
+    /// Resets it (reseeded first when `seed` is given), from the document's keyframe
+    /// named `keyframe` (`""`: its initial one, if any); returns the observation.
+    #[pyo3(signature = (seed_value=None, keyframe=""))]
     fn reset<'py>(
         &self,
         py: Python<'py>,
         seed_value: Option<i128>,
+        keyframe: &str,
     ) -> PyResult<Bound<'py, PyArray1<f32>>> {
         let seed = seed_value.map(|s| seed("seed", s)).transpose()?;
         let env = &self.env;
-        let observation = wait(
-            py,
-            self.timeout.get(),
-            || async move { env.reset(seed).await },
-        )?;
+        let observation = wait(py, self.timeout.get(), || async move {
+            env.reset_to(seed, keyframe).await
+        })?;
         Ok(PyArray1::from_vec(
             py,
             observation.to_flat(&self.env.info().observation_layout),

@@ -72,6 +72,7 @@ struct Shape<'a> {
     mocap_bodies: &'a [String],
     moving_mass: f64,
     actuators: &'a [ActuatorInfo],
+    keyframes: &'a [String],
 }
 
 impl Shape<'_> {
@@ -96,7 +97,8 @@ impl Shape<'_> {
         d.set_item("free_bodies", self.free_bodies)?;
         d.set_item("mocap_bodies", self.mocap_bodies)?;
         d.set_item("moving_mass", self.moving_mass)?;
-        d.set_item("actuators", actuators(py, self.actuators)?)
+        d.set_item("actuators", actuators(py, self.actuators)?)?;
+        d.set_item("keyframes", self.keyframes)
     }
 }
 
@@ -125,6 +127,7 @@ pub(crate) fn env_info<'py>(
         mocap_bodies: &i.mocap_bodies,
         moving_mass: i.moving_mass,
         actuators: &i.actuators,
+        keyframes: &i.keyframes,
     }
     .write(py, &d)?;
     Ok(d)
@@ -155,6 +158,7 @@ pub(crate) fn batch_info<'py>(
         mocap_bodies: &i.mocap_bodies,
         moving_mass: i.moving_mass,
         actuators: &i.actuators,
+        keyframes: &i.keyframes,
     }
     .write(py, &d)?;
     d.set_item("shards", PyList::new(py, shards)?)?;

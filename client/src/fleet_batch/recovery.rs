@@ -34,6 +34,7 @@ pub(crate) enum Logged {
         seed: Option<u64>,
         seed_offset: u64,
         env_indices: Option<Vec<u32>>,
+        keyframe: String,
     },
 }
 
@@ -270,11 +271,12 @@ impl FleetBatch {
                     seed,
                     seed_offset,
                     env_indices,
+                    keyframe,
                 } => {
                     let offset = seed_offset.wrapping_add(first_index);
                     match env_indices {
                         None => {
-                            batch.reset_with_offset(*seed, offset).await?;
+                            batch.reset_envs_to(*seed, offset, &[], keyframe).await?;
                         }
                         Some(indices) => {
                             let local: Vec<u32> = indices
@@ -284,7 +286,7 @@ impl FleetBatch {
                                 .map(|i| (i - positions.start) as u32)
                                 .collect();
                             if !local.is_empty() {
-                                batch.reset_envs(*seed, offset, &local).await?;
+                                batch.reset_envs_to(*seed, offset, &local, keyframe).await?;
                             }
                         }
                     }

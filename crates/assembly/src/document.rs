@@ -9,9 +9,11 @@ use std::collections::BTreeMap;
 use serde::{Deserialize, Serialize};
 
 mod actuators;
+mod keyframes;
 mod primitive;
 
 pub use actuators::{ActuatorDef, ActuatorKind, DynamicsKind};
+pub use keyframes::{BaseKeyDef, KeyframeDef};
 
 /// A whole assembly document: part definitions, materials and the assembly itself.
 #[derive(Debug, Clone, Deserialize, Serialize)]
@@ -213,6 +215,13 @@ pub struct AssemblyDef {
     /// after the values of the joints actuated directly.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub actuators: Vec<ActuatorDef>,
+    /// *(ext)* Named initial states (MJCF's `<keyframe>`), which a reset may start from.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub keyframes: Vec<KeyframeDef>,
+    /// *(ext)* The keyframe every reset starts from unless it names another; default
+    /// none (the document's pose, and each joint's `initial`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub initial_keyframe: Option<String>,
 }
 
 /// *(ext)* Contact rules: pairs of instances that never collide, and pairs that always do.

@@ -12,6 +12,7 @@ mod actuators;
 mod contacts;
 mod document;
 mod error;
+mod keyframes;
 mod mesh;
 mod model;
 mod simulation;
@@ -28,9 +29,11 @@ pub use document::{
     InstanceDef, Integrator, JointDef, MaterialDef, MeshDef, PartDef, Primitive, SimulationDef,
     SiteDef, TendonDef, TendonJointDef, Vec3,
 };
+pub use document::{BaseKeyDef, KeyframeDef};
 pub use error::{
     quoted, quoted_list, shown, AssemblyError, Issue, Result, MAX_ECHOED_CHARS, MAX_LISTED_NAMES,
 };
+pub use keyframes::{BaseKey, Keyframe, MAX_KEYFRAMES};
 pub use mesh::{
     ConvexParts, ConvexPiece, ELLIPSOID_RINGS, MAX_CONVEX_PARTS, MAX_DECOMPOSED_TRIANGLES,
     MAX_MESH_TRIANGLES, MAX_MESH_VERTICES,

@@ -396,6 +396,11 @@ pub struct Assembly {
     /// Actuators, in document order: each takes one action value (its control), after
     /// the values of the joints actuated directly.
     pub actuators: Vec<Actuator>,
+    /// Named initial states, in document order.
+    pub keyframes: Vec<crate::Keyframe>,
+    /// The keyframe resets start from unless they name another (the document's
+    /// `initial_keyframe`), by index.
+    pub initial_keyframe: Option<usize>,
 }
 
 /// Contact rules (see [`crate::ContactsDef`]), by instance index.

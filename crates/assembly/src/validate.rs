@@ -68,6 +68,13 @@ pub fn validate(doc: &Document) -> Result<Assembly> {
     v.issues.extend(actuator_issues);
     let driven = crate::actuators::drive_joints(&actuators, &doc.assembly.joints, &mut joints);
     v.issues.extend(driven);
+    let (keyframes, initial_keyframe, keyframe_issues) = crate::keyframes::keyframes(
+        &doc.assembly.keyframes,
+        doc.assembly.initial_keyframe.as_deref(),
+        &joints,
+        floating_base,
+    );
+    v.issues.extend(keyframe_issues);
     if v.issues.is_empty() {
         Ok(Assembly {
             instances,
@@ -82,6 +89,8 @@ pub fn validate(doc: &Document) -> Result<Assembly> {
             tendons,
             contacts,
             actuators,
+            keyframes,
+            initial_keyframe,
         })
     } else {
         Err(AssemblyError::Invalid { issues: v.issues })

@@ -249,6 +249,30 @@ impl EnvBatch {
         env_indices: Option<&[u32]>,
         out: &mut Vec<f32>,
     ) -> Result<()> {
+        self.reset_to(pool, seed, seed_offset, env_indices, None, out)
+    }
+
+    /// [`EnvBatch::reset_envs`] from the document's keyframe named `keyframe` (`None`:
+    /// its `initial_keyframe`, if any), the reset's noise on top. An unknown name
+    /// ([`BatchError::Keyframe`]) or a bad list resets nothing.
+    pub fn reset_to(
+        &mut self,
+        pool: &StepPool,
+        seed: Option<u64>,
+        seed_offset: u64,
+        env_indices: Option<&[u32]>,
+        keyframe: Option<&str>,
+        out: &mut Vec<f32>,
+    ) -> Result<()> {
+        let keyframe = match keyframe {
+            Some(name) => Some(
+                lock(&self.chunks[0])
+                    .env(0)
+                    .keyframe_index(name)
+                    .map_err(BatchError::Keyframe)?,
+            ),
+            None => None,
+        };
         if let Some(indices) = env_indices {
             self.check_indices(indices)?;
             for chunk in self.chunks.iter() {
@@ -268,6 +292,7 @@ impl EnvBatch {
             seed,
             offset: seed_offset,
             marked: env_indices.is_some(),
+            keyframe,
         };
         out.clear();
         self.run(pool, op)?;

@@ -14,6 +14,8 @@ pub(crate) enum ChunkOp {
         seed: Option<u64>,
         offset: u64,
         marked: bool,
+        /// The keyframe to start from, by index (`None`: the document's initial one).
+        keyframe: Option<usize>,
     },
     /// Step every env with the chunk's action rows; with `prefetch`, hint each env's state
     /// into the caches while the env before it steps.
@@ -123,7 +125,8 @@ impl Chunk {
                 seed,
                 offset,
                 marked,
-            } => self.reset(seed, offset, marked),
+                keyframe,
+            } => self.reset(seed, offset, marked, keyframe),
             ChunkOp::Step {
                 action_type,
                 prefetch,
@@ -142,7 +145,7 @@ impl Chunk {
 
     /// Resets every env, or only the marked ones (the others' rows get their current
     /// observation, and they keep their state, a pending next-step reset included).
-    fn reset(&mut self, seed: Option<u64>, offset: u64, marked: bool) {
+    fn reset(&mut self, seed: Option<u64>, offset: u64, marked: bool, keyframe: Option<usize>) {
         let rows = self.observations.chunks_exact_mut(self.obs_dim);
         for (i, (env, row)) in self.envs.iter_mut().zip(rows).enumerate() {
             if marked && !self.reset_marks[i] {
@@ -150,8 +153,9 @@ impl Chunk {
                 continue;
             }
             let index = (self.first_env + i) as u64;
-            env.reset_into(
+            env.reset_keyed_into(
                 seed.map(|s| s.wrapping_add(offset).wrapping_add(index)),
+                keyframe,
                 row,
             );
             self.states[i] = EnvState::Running;

@@ -69,6 +69,9 @@ pub enum BatchError {
         /// Mocap bodies per environment.
         bodies: usize,
     },
+    /// A reset names a keyframe the batch's document does not have; nothing was reset.
+    #[error(transparent)]
+    Keyframe(EnvError),
     /// One environment failed; the others were stepped.
     #[error("env {env}: {source}")]
     Env {

@@ -266,6 +266,8 @@ pub struct EnvSpec {
     pub units: Units,
     /// A terms task's term names, in the order their values are reported.
     pub term_names: Vec<String>,
+    /// The document's keyframes, in order: what a reset may start from.
+    pub keyframes: Vec<String>,
 }
 
 impl EnvSpec {
@@ -320,6 +322,7 @@ impl EnvSpec {
             max_steps: config.max_steps,
             units: config.units,
             term_names,
+            keyframes: Vec::new(),
         }
     }
 }

@@ -42,17 +42,17 @@ pub struct RobotEnv {
     pub(crate) units: Units,
     /// Each reset's position offsets, in `units` (`EnvConfig::reset_noise` is in the
     /// document's: its draws are converted), and velocity offsets.
-    position_noise: Option<(Dist, Units)>,
-    velocity_noise: Option<Dist>,
+    pub(crate) position_noise: Option<(Dist, Units)>,
+    pub(crate) velocity_noise: Option<Dist>,
     /// The floating base's noise: position (and orientation) and velocity distributions,
     /// and this episode's draws.
-    base_noise: Option<(Option<Dist>, Option<Dist>)>,
-    base_draws: [f64; BASE_NOISE_LEN],
+    pub(crate) base_noise: Option<(Option<Dist>, Option<Dist>)>,
+    pub(crate) base_draws: [f64; BASE_NOISE_LEN],
     /// Joints set to drawn positions at each reset (a terms task's `reset_noise.set`).
-    sets: Vec<ActiveSet>,
+    pub(crate) sets: Vec<ActiveSet>,
     /// Scratch for the per-DOF reset offsets (deg or mm) and velocities (`units`).
-    offsets: Vec<f64>,
-    start_velocities: Vec<f64>,
+    pub(crate) offsets: Vec<f64>,
+    pub(crate) start_velocities: Vec<f64>,
     /// A terms task's values of the last step (zeros after a reset).
     term_values: Vec<f32>,
     /// The last finite observation, returned if the physics diverges.
@@ -69,6 +69,12 @@ pub struct RobotEnv {
     pub(crate) names: std::sync::Arc<(Vec<String>, Vec<String>)>,
     /// The document's sites by name (document order), for [`RobotEnv::bodies`].
     pub(crate) sites: std::sync::Arc<[(String, EndEffector)]>,
+    /// The document's keyframes, and the one resets start from unless they name another.
+    pub(crate) keyframes: std::sync::Arc<[crate::keyframe::StartKey]>,
+    pub(crate) initial_keyframe: Option<usize>,
+    /// Scratch for a keyframe's start: `offsets` and `start_velocities` with its values.
+    pub(crate) keyed_offsets: Vec<f64>,
+    pub(crate) keyed_velocities: Vec<f64>,
 }
 
 /// This episode's randomisation factors, by name.
@@ -183,7 +189,7 @@ impl RobotEnv {
             moving_mass: world.moving_mass(),
         };
         let actuators = crate::config::ActuatorSpec::of(assembly);
-        let spec = EnvSpec::new(
+        let mut spec = EnvSpec::new(
             &config,
             world.dofs(),
             bodies,
@@ -191,6 +197,7 @@ impl RobotEnv {
             term_names,
             actuators,
         );
+        spec.keyframes = assembly.keyframes.iter().map(|k| k.name.clone()).collect();
         let mut env = RobotEnv {
             world,
             end_effectors,
@@ -205,6 +212,10 @@ impl RobotEnv {
             sets,
             offsets: vec![0.0; spec.num_dofs],
             start_velocities: vec![0.0; spec.num_dofs],
+            keyed_offsets: vec![0.0; spec.num_dofs],
+            keyed_velocities: vec![0.0; spec.num_dofs],
+            keyframes: crate::keyframe::resolve(assembly, &spec.dofs).into(),
+            initial_keyframe: assembly.initial_keyframe,
             term_values: vec![0.0; spec.term_names.len()],
             last_obs: vec![0.0; spec.observation_dim],
             spec,
@@ -259,88 +270,6 @@ impl RobotEnv {
     /// The seed of the current episode.
     pub fn seed(&self) -> u64 {
         self.seed
-    }
-
-    /// Restores the initial state (zero velocities) and returns the first observation.
-    /// `seed` replaces the episode seed and restarts the random stream when given. With
-    /// [`EnvConfig::reset_noise`] 0 the state is exactly the initial one; otherwise each
-    /// DOF starts at an offset drawn from the stream, so the same seed gives the same
-    /// start.
-    pub fn reset(&mut self, seed: Option<u64>) -> Observation {
-        let mut flat = vec![0.0; self.spec.observation_dim];
-        self.reset_into(seed, &mut flat);
-        self.structured(&flat)
-    }
-
-    /// [`RobotEnv::reset`], writing the flat observation into `out`
-    /// (`observation_dim` floats).
-    pub fn reset_into(&mut self, seed: Option<u64>, out: &mut [f32]) {
-        if let Some(seed) = seed {
-            self.seed = seed;
-            self.rng = Xoshiro256PlusPlus::seed_from_u64(seed);
-        }
-        if let Some((dist, units)) = self.position_noise {
-            for (offset, dof) in self.offsets.iter_mut().zip(&self.spec.dofs) {
-                *offset = units.to_document(dof.kind, dist.draw(&mut self.rng));
-            }
-        }
-        if let Some(dist) = self.velocity_noise {
-            for v in &mut self.start_velocities {
-                *v = dist.draw(&mut self.rng);
-            }
-        }
-        if let Some((position, velocity)) = self.base_noise {
-            let (poses, speeds) = self.base_draws.split_at_mut(7);
-            for (values, dist) in [(poses, position), (speeds, velocity)] {
-                for v in values.iter_mut() {
-                    *v = dist.map_or(0.0, |d| d.draw(&mut self.rng));
-                }
-            }
-        }
-        let mut drawn = [0.0; crate::terms::MAX_TERMS];
-        for set in &self.sets {
-            let values = &mut drawn[..set.dofs.len()];
-            set.draw(&mut self.rng, values);
-            for (&k, &value) in set.dofs.iter().zip(values.iter()) {
-                let dof = &self.spec.dofs[k];
-                // Drawn as observed (with the reference); offsets are from the start.
-                self.offsets[k] =
-                    self.units.to_document(dof.kind, value) - dof.reference - dof.initial;
-                self.start_velocities[k] = 0.0;
-            }
-        }
-        if let Some(r) = &self.randomize {
-            let draws = draw(
-                &mut self.rng,
-                r,
-                self.world.num_bodies(),
-                self.world.num_joints(),
-            );
-            self.draws = Some(draws);
-        }
-        self.world.reset();
-        if let Some(draws) = &self.draws {
-            self.world.apply_draws(draws);
-        }
-        if self.position_noise.is_some() || !self.sets.is_empty() {
-            self.world.offset_dofs(&self.offsets);
-        }
-        if self.velocity_noise.is_some() {
-            self.world
-                .set_dof_velocities(self.units, &self.start_velocities);
-        }
-        if self.base_noise.is_some() {
-            self.world.perturb_base(&self.base_draws);
-        }
-        if let Some(task) = &mut self.task {
-            task.reset(&mut self.rng);
-        }
-        self.elapsed = 0;
-        self.diverged = false;
-        self.observe_into(out);
-        self.start_task(out);
-        self.observe_task_into(out);
-        self.last_obs.copy_from_slice(out);
     }
 
     /// A terms task's velocity terms start from the observation `obs`; the term values
@@ -448,7 +377,7 @@ impl RobotEnv {
         })
     }
 
-    fn structured(&self, flat: &[f32]) -> Observation {
+    pub(crate) fn structured(&self, flat: &[f32]) -> Observation {
         Observation::from_flat(flat, &self.spec.observation_layout)
     }
 
@@ -508,7 +437,12 @@ impl RobotEnv {
 
 /// Draws an episode's factors: every instance's mass then friction factor, then every
 /// joint's damping then gain factor, each only if its range is given (else 1).
-fn draw(rng: &mut Xoshiro256PlusPlus, r: &Randomization, instances: usize, joints: usize) -> Draws {
+pub(crate) fn draw(
+    rng: &mut Xoshiro256PlusPlus,
+    r: &Randomization,
+    instances: usize,
+    joints: usize,
+) -> Draws {
     let mut factors = |range: Option<[f64; 2]>, n: usize| -> Vec<f64> {
         match range {
             Some([min, max]) if min < max => (0..n).map(|_| rng.random_range(min..=max)).collect(),

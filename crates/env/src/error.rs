@@ -87,6 +87,14 @@ pub enum EnvError {
         /// What was expected and what was given.
         reason: String,
     },
+    /// A reset names a keyframe the document does not have.
+    #[error("keyframe: no keyframe is named {name}; {known}")]
+    UnknownKeyframe {
+        /// The name given, quoted (and shortened if long).
+        name: String,
+        /// The document's keyframes, or that it has none.
+        known: String,
+    },
     /// A pose target names no mocap body.
     #[error("unknown mocap body {name} (known: {known})")]
     UnknownMocapBody {

@@ -78,6 +78,8 @@ pub fn urdf_to_document(xml: &str) -> Result<Converted> {
             sites: Vec::new(),
             tendons: Vec::new(),
             actuators: Vec::new(),
+            keyframes: Vec::new(),
+            initial_keyframe: None,
         },
         simulation: None,
         floating_base: start.floating.then_some(true),

@@ -100,7 +100,7 @@ impl GymTools {
         let placed = self.fleet.batch(&p.batch_id)?;
         let observations = placed
             .handle
-            .reset(p.seed)
+            .reset_envs_to(p.seed, 0, &[], p.keyframe.as_deref().unwrap_or(""))
             .await
             .map_err(|err| self.fleet.batch_failed(&placed, &err))?;
         let info = placed.handle.info();

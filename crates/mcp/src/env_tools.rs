@@ -59,7 +59,7 @@ impl GymTools {
         let placed = self.fleet.env(&p.env_id)?;
         let observation = placed
             .handle
-            .reset(p.seed)
+            .reset_to(p.seed, p.keyframe.as_deref().unwrap_or(""))
             .await
             .map_err(|err| self.fleet.env_failed(&placed, &err))?;
         Ok(Json(ObservationOut::from(&observation)))

@@ -228,6 +228,9 @@ pub(crate) struct EnvCreated {
     /// in this order.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub(crate) actuators: Vec<ActuatorOut>,
+    /// Keyframes (only when there are any): named initial states gym_reset may start from.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub(crate) keyframes: Vec<String>,
 }
 
 impl EnvCreated {
@@ -245,6 +248,7 @@ impl EnvCreated {
             free_bodies: info.free_bodies.clone(),
             mocap_bodies: info.mocap_bodies.clone(),
             actuators: actuators(&info.actuators),
+            keyframes: info.keyframes.clone(),
         }
     }
 }
@@ -369,6 +373,9 @@ pub(crate) struct BatchCreated {
     /// As create_robot_env's actuators.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub(crate) actuators: Vec<ActuatorOut>,
+    /// As create_robot_env's keyframes.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub(crate) keyframes: Vec<String>,
 }
 
 impl BatchCreated {
@@ -391,6 +398,7 @@ impl BatchCreated {
             autoreset: autoreset.to_string(),
             joints: joints(&info.joints),
             actuators: actuators(&info.actuators),
+            keyframes: info.keyframes.clone(),
         }
     }
 }

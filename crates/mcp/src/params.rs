@@ -82,6 +82,9 @@ pub(crate) struct ResetParams {
     /// Optional new seed (integer) for the environment's random generator, applied before
     /// the reset.
     pub(crate) seed: Option<u64>,
+    /// Optional keyframe (one of create_robot_env's keyframes) to start from, the reset
+    /// noise on top. Default: the document's initial keyframe, if any.
+    pub(crate) keyframe: Option<String>,
 }
 
 /// Inputs of `gym_observe` and `gym_close`.
@@ -328,6 +331,8 @@ pub(crate) struct BatchResetParams {
     pub(crate) batch_id: String,
     /// Optional base seed (integer): env i is reseeded with seed + i before the reset.
     pub(crate) seed: Option<u64>,
+    /// Optional keyframe (one of batch_create_envs's keyframes) every env starts from.
+    pub(crate) keyframe: Option<String>,
 }
 
 /// Inputs of `batch_close`.

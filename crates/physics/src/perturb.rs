@@ -121,8 +121,14 @@ impl RobotWorld {
     /// its orientation quaternion `[w, x, y, z]` (then normalized), `noise[7..10]` is its
     /// frame origin's linear velocity (m/s, world) and `noise[10..13]` its angular velocity
     /// in its own frame (rad/s; MuJoCo's free-joint `qvel`). The tree's joints keep their
-    /// coordinates and follow. Nothing happens without a floating base.
-    pub fn perturb_base(&mut self, noise: &[f64; BASE_NOISE_LEN]) {
+    /// coordinates and follow. With `keyed` (the keyframe the base was placed by,
+    /// [`RobotWorld::place_base`]), its velocity is added to the noise's. Nothing happens
+    /// without a floating base.
+    pub fn perturb_base(
+        &mut self,
+        noise: &[f64; BASE_NOISE_LEN],
+        keyed: Option<&gymfleet_assembly::BaseKey>,
+    ) {
         if !self.floating_base {
             return;
         }
@@ -153,9 +159,17 @@ impl RobotWorld {
             t.z + noise[2] as Real,
         );
         self.live.bodies[handle].set_position(Pose::from_parts(translation, rotation), true);
-        let linear = Vector::new(noise[7] as Real, noise[8] as Real, noise[9] as Real);
-        let angular =
+        let mut linear = Vector::new(noise[7] as Real, noise[8] as Real, noise[9] as Real);
+        let mut angular =
             rotation * Vector::new(noise[10] as Real, noise[11] as Real, noise[12] as Real);
+        if let Some(key) = keyed {
+            let real = |v: [f64; 3]| Vector::new(v[0] as Real, v[1] as Real, v[2] as Real);
+            let spin = real(key.angular_velocity);
+            // The key gives its instance origin's velocity; the base's is its body origin's.
+            let instance = Pose::from_parts(translation, rotation) * self.placements[0];
+            linear += real(key.linear_velocity) + spin.cross(translation - instance.translation);
+            angular += spin;
+        }
         self.set_base_velocity(linear, angular);
     }
 

@@ -198,6 +198,25 @@ impl RobotWorld {
         self.set_base_velocity(linear - angular.cross(arm), angular);
     }
 
+    /// Puts a floating base's instance frame at a keyframe's pose, moving with its velocity
+    /// (its origin's and its angular velocity, world); the tree's joints keep their
+    /// coordinates and follow. Nothing happens without a floating base.
+    pub fn place_base(&mut self, key: &gymfleet_assembly::BaseKey) {
+        if !self.floating_base {
+            return;
+        }
+        let real = |v: [f64; 3]| Vector::new(v[0] as Real, v[1] as Real, v[2] as Real);
+        let q = key.orientation;
+        let rotation = Rotation::from_xyzw(q[1] as Real, q[2] as Real, q[3] as Real, q[0] as Real);
+        let instance = Pose::from_parts(real(key.position), rotation);
+        // The instance's frame is its body's times its placement.
+        let body = instance * self.placements[0].inverse();
+        self.live.bodies[self.bodies[0]].set_position(body, true);
+        let angular = real(key.angular_velocity);
+        let arm = body.translation - instance.translation;
+        self.set_base_velocity(real(key.linear_velocity) + angular.cross(arm), angular);
+    }
+
     /// An instance's own mass, kg (as randomised now; a folded instance's, not its
     /// body's).
     pub fn instance_mass(&self, instance: usize) -> f64 {

@@ -252,6 +252,7 @@ pub(crate) fn env_info(env_id: String, spec: &EnvSpec, links: &JointLinks) -> pb
         mocap_bodies: spec.mocap_bodies.clone(),
         moving_mass: spec.moving_mass,
         actuators: actuators(spec),
+        keyframes: spec.keyframes.clone(),
     }
 }
 
@@ -286,6 +287,7 @@ pub(crate) fn batch_info(
         mocap_bodies: spec.mocap_bodies.clone(),
         moving_mass: spec.moving_mass,
         actuators: actuators(spec),
+        keyframes: spec.keyframes.clone(),
     }
 }
 

@@ -39,6 +39,7 @@ fn env_code(err: &EnvError) -> Code {
         | EnvError::BadState { .. }
         | EnvError::BadJointState { .. }
         | EnvError::UnknownMocapBody { .. }
+        | EnvError::UnknownKeyframe { .. }
         | EnvError::MocapPosesLength { .. }
         | EnvError::BadMocapPose { .. } => Code::InvalidArgument,
         EnvError::NeedsReset => Code::FailedPrecondition,
@@ -104,7 +105,7 @@ impl ServerError {
                 | BatchError::EnvIndices { .. }
                 | BatchError::StateCount { .. } => Code::InvalidArgument,
                 BatchError::TooManyEnvs { .. } => Code::ResourceExhausted,
-                BatchError::Env { source, .. } => env_code(source),
+                BatchError::Env { source, .. } | BatchError::Keyframe(source) => env_code(source),
                 BatchError::PoolStart { .. } | BatchError::Panicked { .. } => Code::Internal,
             },
             ServerError::NotFound { .. } | ServerError::UnknownModel { .. } => Code::NotFound,

@@ -110,6 +110,7 @@ impl Simulation {
         seed: Option<u64>,
         seed_offset: u64,
         env_indices: Vec<u32>,
+        keyframe: String,
     ) -> Result<BatchObservations> {
         let pool = self.pool.clone();
         let batch_id = id.to_string();
@@ -117,8 +118,9 @@ impl Simulation {
             let mut observations = Vec::new();
             // On the wire an empty list means every env.
             let only = (!env_indices.is_empty()).then_some(&env_indices[..]);
+            let keyframe = (!keyframe.is_empty()).then_some(keyframe.as_str());
             open.batch
-                .reset_envs(&pool, seed, seed_offset, only, &mut observations)?;
+                .reset_to(&pool, seed, seed_offset, only, keyframe, &mut observations)?;
             clear_done(&mut open.was_done, only);
             Ok(batch_observation(batch_id, &open.batch, observations))
         })

@@ -55,6 +55,7 @@ async fn trajectory(raw: &mut Raw, env_id: &str) -> Vec<Vec<u32>> {
         .reset(pb::ResetRequest {
             env_id: env_id.to_string(),
             seed: Some(7),
+            ..Default::default()
         })
         .await
         .expect("the known-good env resets")
@@ -337,6 +338,7 @@ async fn hostile_requests_get_their_exact_code_and_leave_everyone_else_alone() {
                         seed: Some(1),
                         seed_offset: 0,
                         env_indices: vec![1, 1, u32::MAX],
+                        ..Default::default()
                     })
                     .await
                     .map(drop)
@@ -431,6 +433,7 @@ async fn hostile_requests_get_their_exact_code_and_leave_everyone_else_alone() {
                 c.reset(pb::ResetRequest {
                     env_id: id.clone(),
                     seed: Some(3),
+                    ..Default::default()
                 })
                 .await?;
                 c.step(step(&id, vec![0.1, 0.1])).await.map(drop)
@@ -676,6 +679,7 @@ async fn hostile_requests_get_their_exact_code_and_leave_everyone_else_alone() {
                 c.reset(pb::ResetRequest {
                     env_id: victim.clone(),
                     seed: Some(i),
+                    ..Default::default()
                 })
                 .await?;
                 c.step(step(&victim, vec![0.5])).await.map(drop)

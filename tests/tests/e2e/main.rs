@@ -10,6 +10,7 @@ mod fleet;
 mod fleet_start;
 mod imports;
 mod joint_state;
+mod keyframes;
 mod lifecycle;
 mod regressions;
 mod render;

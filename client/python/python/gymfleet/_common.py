@@ -447,6 +447,30 @@ def observation_space(info: Mapping[str, Any]) -> spaces.Box:
     return spaces.Box(-np.inf, np.inf, shape=(info["observation_dim"],), dtype=np.float32)
 
 
+def keyframe_name(info: Mapping[str, Any], options: Optional[Mapping[str, Any]]) -> str:
+    """The keyframe a reset's ``options["keyframe"]`` names (a name, or an index into
+    ``env_info["keyframes"]``, as MuJoCo's ``mj_resetDataKeyframe`` takes one); ``""``
+    without one: the document's initial keyframe, if any. A bad index or type is an
+    ``InvalidArgument`` (an unknown name is the server's)."""
+    if options is None or options.get("keyframe") is None:
+        return ""
+    key = options["keyframe"]
+    names = list(info.get("keyframes", []))
+    if isinstance(key, str):
+        return key
+    if isinstance(key, (int, np.integer)) and not isinstance(key, bool):
+        if 0 <= int(key) < len(names):
+            return names[int(key)]
+        raise InvalidArgument(
+            f"options['keyframe']: index {int(key)} is out of range: the document has "
+            f"{len(names)} keyframe{'s' if len(names) != 1 else ''}"
+            + (f" ({', '.join(names)})" if names else "")
+        )
+    raise InvalidArgument(
+        f"options['keyframe']: expected a keyframe's name or index, got {type(key).__name__}"
+    )
+
+
 def seed_or_none(seed: Optional[int]) -> Optional[int]:
     if seed is None:
         return None

@@ -17,6 +17,7 @@ from ._common import (
     check_action_type,
     create_options,
     document_json,
+    keyframe_name,
     located,
     named_draws,
     observation_space,
@@ -108,9 +109,11 @@ class GymfleetEnv(HandleOwner, gym.Env):
         self, *, seed: Optional[int] = None, options: Optional[Dict[str, Any]] = None
     ) -> Tuple[np.ndarray, Dict[str, Any]]:
         """Resets the episode. With ``seed``, the env's generator (``reset_noise``) is
-        reseeded first; without, it continues. ``options`` is not used."""
+        reseeded first; without, it continues. ``options={"keyframe": name_or_index}``
+        starts from one of the document's keyframes (``env_info["keyframes"]``), the
+        noise on top; without, from its initial keyframe, if any, else its pose."""
         super().reset(seed=seed)
-        obs = self._handle.reset(seed_or_none(seed))
+        obs = self._handle.reset(seed_or_none(seed), keyframe_name(self._info, options))
         return obs, {}
 
     def step_terms(self, action: Any) -> Tuple[np.ndarray, float, bool, bool, Any]:

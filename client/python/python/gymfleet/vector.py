@@ -19,6 +19,7 @@ from ._common import (
     create_options,
     document_json,
     ENV_KEYWORDS,
+    keyframe_name,
     located,
     named_draws,
     observation_space,
@@ -140,7 +141,10 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
     ) -> Tuple[np.ndarray, Dict[str, Any]]:
         """Resets every env, or those of ``options["reset_mask"]``. ``seed``: ``None``
         (generators continue), an int (env ``i`` gets ``seed + i``) or one seed (or
-        ``None``) per env."""
+        ``None``) per env. ``options["keyframe"]`` (a name or an index of
+        ``batch_info["keyframes"]``) starts them from one of the document's keyframes,
+        the noise on top; without, from its initial keyframe, if any."""
+        keyframe = keyframe_name(self._info, options)
         mask = None
         if options is not None and "reset_mask" in options:
             mask = self._check_mask(options["reset_mask"])
@@ -157,12 +161,14 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
         chosen = np.ones(self.num_envs, dtype=bool) if mask is None else mask
         if seed is None or isinstance(seed, (int, np.integer)):
             indices = None if mask is None else np.flatnonzero(mask).astype(np.uint32)
-            obs = self._handle.reset(None if seed is None else int(seed), indices)
+            obs = self._handle.reset(None if seed is None else int(seed), indices, keyframe)
         else:
-            obs = self._reset_per_env_seeds(list(seed), chosen)
+            obs = self._reset_per_env_seeds(list(seed), chosen, keyframe)
         return obs, {}
 
-    def _reset_per_env_seeds(self, seeds: List[Optional[int]], chosen: np.ndarray) -> np.ndarray:
+    def _reset_per_env_seeds(
+        self, seeds: List[Optional[int]], chosen: np.ndarray, keyframe: str
+    ) -> np.ndarray:
         # The server reseeds env i with `seed + i`: envs whose seeds share `seed_i - i`
         # (mod 2^64) are reset by one call, the unseeded ones by one more.
         groups: Dict[Optional[int], List[int]] = {}
@@ -172,7 +178,7 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
                 groups.setdefault(key, []).append(i)
         obs = None
         for key, envs in groups.items():
-            obs = self._handle.reset(key, np.array(envs, dtype=np.uint32))
+            obs = self._handle.reset(key, np.array(envs, dtype=np.uint32), keyframe)
         return obs if obs is not None else self._handle.observe()
 
     def _check_mask(self, mask: Any) -> np.ndarray:

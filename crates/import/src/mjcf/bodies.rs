@@ -350,6 +350,13 @@ impl<'a, 'i> Converter<'a, 'i> {
                 );
             }
             self.free_joint(free, class, &main, is_base)?;
+            let instance = self.frames.get(&main).copied().unwrap_or(frame);
+            self.qpos_slots.push(keyframes::QposSlot::Free {
+                base: is_base,
+                instance: main.clone(),
+                body: frame,
+                frame: instance,
+            });
         }
         if mocap {
             if let Some(joint) = joints.first() {

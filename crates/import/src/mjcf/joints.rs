@@ -179,6 +179,14 @@ impl<'a, 'i> Converter<'a, 'i> {
             }
             None => j.actuated = Some(false),
         }
+        self.qpos_slots.push(if our == "ball" {
+            keyframes::QposSlot::Ball { name: name.clone() }
+        } else {
+            keyframes::QposSlot::Joint {
+                name: name.clone(),
+                prismatic: our == "prismatic",
+            }
+        });
         self.moving_joints.push(name);
         self.joints.push(j);
         Ok(())

@@ -31,6 +31,7 @@ mod equality;
 mod geoms;
 mod include;
 mod joints;
+mod keyframes;
 mod meshes;
 mod tendons;
 
@@ -91,7 +92,8 @@ pub fn mjcf_to_document_in(xml: &str, folder: &str) -> Result<Converted> {
             "compiler" | "default" | "worldbody" => {}
             "option" => c.option(child)?,
             "actuator" => c.actuators(child)?,
-            "size" | "visual" | "statistic" | "keyframe" | "sensor" | "custom" => {
+            "keyframe" => {} // After the bodies, whose joints its keys set.
+            "size" | "visual" | "statistic" | "sensor" | "custom" => {
                 c.warn(child, "ignored (no effect on the dynamics)".into());
             }
             "asset" => c.assets(child)?,
@@ -222,6 +224,8 @@ struct Converter<'a, 'i> {
     /// Each named body's instance and world frame (m), and the world's as "world", for
     /// `<equality>`.
     bodies: HashMap<String, (String, Frame)>,
+    /// MuJoCo's qpos layout, joint by joint, for `<keyframe>`.
+    qpos_slots: Vec<keyframes::QposSlot>,
 }
 
 impl<'i> XmlReader<'i> for Converter<'_, 'i> {
@@ -276,6 +280,7 @@ impl<'a, 'i> Converter<'a, 'i> {
             body_instances: HashMap::new(),
             contact_rules: Default::default(),
             bodies: HashMap::new(),
+            qpos_slots: Vec::new(),
         }
     }
 
@@ -326,6 +331,7 @@ impl<'a, 'i> Converter<'a, 'i> {
         }
         let tendons = self.tendon_defs()?;
         let contacts = self.contacts_def();
+        let keyframes = self.keyframe_defs()?;
         // MuJoCo integrates with `Euler` unless `<option integrator>` says otherwise: the
         // document says so, since its own default is the implicit form.
         self.simulation.integrator.get_or_insert(Integrator::Euler);
@@ -340,6 +346,8 @@ impl<'a, 'i> Converter<'a, 'i> {
                 tendons,
                 contacts,
                 actuators,
+                keyframes,
+                initial_keyframe: None,
             },
             simulation,
             floating_base: self.floating.is_some().then_some(true),

@@ -1,0 +1,108 @@
+//! Keyframes: the document's named initial states ([`gymfleet_assembly::Keyframe`]), which
+//! a reset starts from before its noise, resolved against the env's DOFs.
+
+use gymfleet_assembly::{Assembly, BaseKey};
+use gymfleet_physics::JointDof;
+
+use crate::error::{EnvError, Result};
+use crate::RobotEnv;
+
+/// A keyframe resolved against the env's DOFs.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct StartKey {
+    pub(crate) name: String,
+    /// `(DOF, offset)`: the DOF's position offset from its initial one, deg or mm.
+    pub(crate) offsets: Vec<(usize, f64)>,
+    /// `(DOF, velocity)`, deg/s or mm/s.
+    pub(crate) velocities: Vec<(usize, f64)>,
+    pub(crate) base: Option<BaseKey>,
+}
+
+/// The assembly's keyframes against `dofs` ([`gymfleet_physics::RobotWorld::dofs`]).
+pub(crate) fn resolve(assembly: &Assembly, dofs: &[JointDof]) -> Vec<StartKey> {
+    let dof_of = |joint: usize| dofs.iter().position(|d| d.joint == joint);
+    assembly
+        .keyframes
+        .iter()
+        .map(|key| StartKey {
+            name: key.name.clone(),
+            offsets: key
+                .positions
+                .iter()
+                .filter_map(|&(j, value)| {
+                    let k = dof_of(j)?;
+                    Some((k, value - dofs[k].reference - dofs[k].initial))
+                })
+                .collect(),
+            velocities: key
+                .velocities
+                .iter()
+                .filter_map(|&(j, value)| Some((dof_of(j)?, value)))
+                .collect(),
+            base: key.base,
+        })
+        .collect()
+}
+
+impl RobotEnv {
+    /// The document's keyframes, by name, in document order.
+    pub fn keyframes(&self) -> Vec<&str> {
+        self.keyframes.iter().map(|k| k.name.as_str()).collect()
+    }
+
+    /// The keyframe named `name`, by index.
+    pub fn keyframe_index(&self, name: &str) -> Result<usize> {
+        self.keyframes
+            .iter()
+            .position(|k| k.name == name)
+            .ok_or_else(|| EnvError::UnknownKeyframe {
+                name: gymfleet_assembly::quoted(name),
+                known: if self.keyframes.is_empty() {
+                    "the document has none".into()
+                } else {
+                    format!(
+                        "the document's are {}",
+                        gymfleet_assembly::quoted_list(&self.keyframes())
+                    )
+                },
+            })
+    }
+
+    /// Resets to the keyframe named `keyframe` (`None`: the document's
+    /// `initial_keyframe`, if any), then draws the reset's noise on top, as
+    /// [`RobotEnv::reset_into`] does; an unknown name changes nothing.
+    pub fn reset_to_into(
+        &mut self,
+        seed: Option<u64>,
+        keyframe: Option<&str>,
+        out: &mut [f32],
+    ) -> Result<()> {
+        let key = keyframe.map(|name| self.keyframe_index(name)).transpose()?;
+        self.reset_keyed_into(seed, key, out);
+        Ok(())
+    }
+
+    /// The keyframe's offsets and velocities on top of the reset's draws, into the
+    /// `keyed_*` scratch; a DOF a task's `reset_noise.set` draws keeps its draw. Returns
+    /// the keyframe's base, if any.
+    pub(crate) fn key_start(&mut self, key: usize) -> Option<BaseKey> {
+        let keyframes = std::sync::Arc::clone(&self.keyframes);
+        let key = &keyframes[key];
+        self.keyed_offsets.copy_from_slice(&self.offsets);
+        self.keyed_velocities
+            .copy_from_slice(&self.start_velocities);
+        let drawn = |k: usize| self.sets.iter().any(|s| s.dofs.contains(&k));
+        for &(k, offset) in &key.offsets {
+            if !drawn(k) {
+                self.keyed_offsets[k] += offset;
+            }
+        }
+        for &(k, velocity) in &key.velocities {
+            if !drawn(k) {
+                let kind = self.spec.dofs[k].kind;
+                self.keyed_velocities[k] += self.units.from_document(kind, velocity);
+            }
+        }
+        key.base
+    }
+}

@@ -1,0 +1,111 @@
+//! Resets: the initial state (or a keyframe's), then the episode's draws on top.
+
+use rand::rngs::Xoshiro256PlusPlus;
+use rand::SeedableRng;
+
+use crate::env::draw;
+use crate::observation::Observation;
+use crate::RobotEnv;
+
+impl RobotEnv {
+    /// Restores the initial state (zero velocities) and returns the first observation.
+    /// `seed` replaces the episode seed and restarts the random stream when given. With
+    /// [`EnvConfig::reset_noise`] 0 the state is exactly the initial one; otherwise each
+    /// DOF starts at an offset drawn from the stream, so the same seed gives the same
+    /// start.
+    pub fn reset(&mut self, seed: Option<u64>) -> Observation {
+        let mut flat = vec![0.0; self.spec.observation_dim];
+        self.reset_into(seed, &mut flat);
+        self.structured(&flat)
+    }
+
+    /// [`RobotEnv::reset`], writing the flat observation into `out`
+    /// (`observation_dim` floats).
+    pub fn reset_into(&mut self, seed: Option<u64>, out: &mut [f32]) {
+        self.reset_keyed_into(seed, None, out);
+    }
+
+    /// [`RobotEnv::reset_into`] from keyframe `key` (by index; `None`: the document's
+    /// `initial_keyframe`, if any): the keyframe's positions, velocities and base, then
+    /// the noise on top.
+    ///
+    /// # Panics
+    ///
+    /// If `key` is not an index of [`RobotEnv::keyframes`].
+    pub fn reset_keyed_into(&mut self, seed: Option<u64>, key: Option<usize>, out: &mut [f32]) {
+        if let Some(seed) = seed {
+            self.seed = seed;
+            self.rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+        }
+        if let Some((dist, units)) = self.position_noise {
+            for (offset, dof) in self.offsets.iter_mut().zip(&self.spec.dofs) {
+                *offset = units.to_document(dof.kind, dist.draw(&mut self.rng));
+            }
+        }
+        if let Some(dist) = self.velocity_noise {
+            for v in &mut self.start_velocities {
+                *v = dist.draw(&mut self.rng);
+            }
+        }
+        if let Some((position, velocity)) = self.base_noise {
+            let (poses, speeds) = self.base_draws.split_at_mut(7);
+            for (values, dist) in [(poses, position), (speeds, velocity)] {
+                for v in values.iter_mut() {
+                    *v = dist.map_or(0.0, |d| d.draw(&mut self.rng));
+                }
+            }
+        }
+        let mut drawn = [0.0; crate::terms::MAX_TERMS];
+        for set in &self.sets {
+            let values = &mut drawn[..set.dofs.len()];
+            set.draw(&mut self.rng, values);
+            for (&k, &value) in set.dofs.iter().zip(values.iter()) {
+                let dof = &self.spec.dofs[k];
+                // Drawn as observed (with the reference); offsets are from the start.
+                self.offsets[k] =
+                    self.units.to_document(dof.kind, value) - dof.reference - dof.initial;
+                self.start_velocities[k] = 0.0;
+            }
+        }
+        if let Some(r) = &self.randomize {
+            let draws = draw(
+                &mut self.rng,
+                r,
+                self.world.num_bodies(),
+                self.world.num_joints(),
+            );
+            self.draws = Some(draws);
+        }
+        let key = key.or(self.initial_keyframe);
+        let base = key.and_then(|k| self.key_start(k));
+        self.world.reset();
+        if let Some(draws) = &self.draws {
+            self.world.apply_draws(draws);
+        }
+        if let Some(base) = &base {
+            self.world.place_base(base);
+        }
+        let (offsets, velocities) = match key {
+            Some(_) => (&self.keyed_offsets, &self.keyed_velocities),
+            None => (&self.offsets, &self.start_velocities),
+        };
+        if self.position_noise.is_some() || !self.sets.is_empty() || key.is_some() {
+            self.world.offset_dofs(offsets);
+        }
+        if self.velocity_noise.is_some() || key.is_some() {
+            self.world.set_dof_velocities(self.units, velocities);
+        }
+        if self.base_noise.is_some() {
+            self.world.perturb_base(&self.base_draws, base.as_ref());
+        }
+        if let Some(task) = &mut self.task {
+            task.reset(&mut self.rng);
+        }
+        self.elapsed = 0;
+        self.diverged = false;
+        self.observe_into(out);
+        self.start_task(out);
+        self.observe_task_into(out);
+        self.last_obs.copy_from_slice(out);
+    }
+}
