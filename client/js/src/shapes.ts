@@ -93,6 +93,9 @@ export interface EnvCreatedJson {
   /** Actuators (only when there are any): the action's last values are their controls,
    * in this order. */
   actuators?: ActuatorJson[];
+  /** The document's keyframes (only when there are any): what `gymReset`'s `keyframe` may
+   * name. */
+  keyframes?: string[];
 }
 
 /** One actuator (a converted MJCF's `<actuator>`). */
@@ -138,6 +141,8 @@ export interface BatchCreatedJson {
   joints: JointJson[];
   /** As `EnvCreatedJson.actuators`. */
   actuators?: ActuatorJson[];
+  /** As `EnvCreatedJson.keyframes`. */
+  keyframes?: string[];
 }
 
 /** `x` (a 32-bit float) as the number with the same shortest decimal form: the shortest
@@ -307,6 +312,9 @@ export function fromEnvInfo(i: EnvInfo): EnvCreatedJson {
   if (i.actuators.length > 0) {
     out.actuators = actuators(i.actuators);
   }
+  if (i.keyframes.length > 0) {
+    out.keyframes = [...i.keyframes];
+  }
   return out;
 }
 
@@ -344,6 +352,9 @@ export function fromBatchInfo(i: BatchInfo): BatchCreatedJson {
   };
   if (i.actuators.length > 0) {
     out.actuators = actuators(i.actuators);
+  }
+  if (i.keyframes.length > 0) {
+    out.keyframes = [...i.keyframes];
   }
   return out;
 }

@@ -262,3 +262,23 @@ test("a mocap paddle lifts a free box: gymSetMocapPose and free_body_poses", asy
   );
   await gymClose(env, client);
 });
+
+test("an MJCF file's keyframes: listed at creation, named by gymReset", async () => {
+  const xml = `<mujoco><worldbody><body name="arm">
+    <joint name="hinge" type="hinge" axis="0 1 0"/>
+    <geom type="capsule" fromto="0 0 0 0 0 -.3" size=".02"/>
+  </body></worldbody>
+  <keyframe><key name="raised" qpos="1.5" qvel="0.5"/></keyframe></mujoco>`;
+  const env = await createRobotEnv({ document: xml }, client);
+  assert.deepEqual(env.keyframes, ["raised"]);
+  const raised = await gymReset({ ...env, keyframe: "raised" }, client);
+  // Degrees: MuJoCo's radians as observed in the document's units.
+  assert.ok(Math.abs(raised.joint_positions[0]! - (1.5 * 180) / Math.PI) < 1e-3);
+  assert.ok(Math.abs(raised.joint_velocities[0]! - (0.5 * 180) / Math.PI) < 1e-3);
+  const plain = await gymReset(env, client);
+  assert.ok(Math.abs(plain.joint_positions[0]!) < 1e-6);
+  await assert.rejects(gymReset({ ...env, keyframe: "home" }, client), (err: Error) =>
+    err.message.includes('keyframe: no keyframe is named "home"; the document\'s are "raised"'),
+  );
+  await gymClose(env, client);
+});
