@@ -10,25 +10,8 @@ use serde_json::{json, Value};
 /// A floating 100×100×20 mm slab (its frame a corner, its centre 50, 50, 10 mm from it)
 /// with an arm hinged on top, limited to [-60°, 60°], and `keyframes`.
 fn robot(keyframes: Value, initial: Option<&str>) -> Value {
-    let mut doc = json!({
-        "floating_base": true,
-        "parts": [
-            {"name": "Slab", "primitive": {"type": "cube", "size": {"x": 100, "y": 100, "z": 20}}},
-            {"name": "Arm", "primitive": {"type": "cube", "size": {"x": 20, "y": 20, "z": 200}}}
-        ],
-        "assembly": {
-            "instances": [
-                {"part": "Slab", "name": "base", "position": {"x": 0, "y": 0, "z": 500}},
-                {"part": "Arm", "name": "arm", "position": {"x": 40, "y": 40, "z": 520}}
-            ],
-            "joints": [
-                {"type": "revolute", "name": "hinge", "parent": "base", "child": "arm",
-                 "anchor": {"x": 50, "y": 50, "z": 520}, "axis": {"x": 1, "y": 0, "z": 0},
-                 "min": -60, "max": 60}
-            ],
-            "keyframes": keyframes
-        }
-    });
+    let mut doc = slab_with_arm();
+    doc["assembly"]["keyframes"] = keyframes;
     if let Some(name) = initial {
         doc["assembly"]["initial_keyframe"] = json!(name);
     }

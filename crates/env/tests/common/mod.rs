@@ -52,6 +52,29 @@ pub fn slider(joint_extra: serde_json::Value) -> serde_json::Value {
     })
 }
 
+/// A floating 100×100×20 mm slab (its frame a corner) with an arm hinged on top, limited to
+/// [-60°, 60°].
+pub fn slab_with_arm() -> Value {
+    json!({
+        "floating_base": true,
+        "parts": [
+            {"name": "Slab", "primitive": {"type": "cube", "size": {"x": 100, "y": 100, "z": 20}}},
+            {"name": "Arm", "primitive": {"type": "cube", "size": {"x": 20, "y": 20, "z": 200}}}
+        ],
+        "assembly": {
+            "instances": [
+                {"part": "Slab", "name": "base", "position": {"x": 0, "y": 0, "z": 500}},
+                {"part": "Arm", "name": "arm", "position": {"x": 40, "y": 40, "z": 520}}
+            ],
+            "joints": [
+                {"type": "revolute", "name": "hinge", "parent": "base", "child": "arm",
+                 "anchor": {"x": 50, "y": 50, "z": 520}, "axis": {"x": 1, "y": 0, "z": 0},
+                 "min": -60, "max": 60}
+            ]
+        }
+    })
+}
+
 /// Merges the fields of `extra` (an object) into `target`.
 pub fn merge(target: &mut Value, extra: Value) {
     if let (Some(t), Value::Object(e)) = (target.as_object_mut(), extra) {
