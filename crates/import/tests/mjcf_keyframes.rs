@@ -1,0 +1,79 @@
+//! `<keyframe><key>` (issue Z2): keys become the document's keyframes in MuJoCo's qpos
+//! layout; a wrong count is refused, and what a keyframe cannot set yet is warned about.
+
+mod common;
+
+use common::error;
+use gymfleet_import::mjcf_to_document;
+use serde_json::json;
+
+/// A hinge, a ball joint, and a free object beside them; then `keys`.
+fn model(keys: &str) -> String {
+    format!(
+        r#"<mujoco><worldbody>
+  <body name="arm"><joint name="hinge" type="hinge" axis="0 1 0"/><geom size=".1"/>
+    <body name="hand" pos="0 0 -.3"><joint name="wrist" type="ball"/><geom size=".05"/></body>
+  </body>
+  <body name="box" pos="1 0 0"><freejoint/><geom type="box" size=".1 .1 .1"/></body>
+</worldbody>
+<keyframe>{keys}</keyframe>
+</mujoco>"#
+    )
+}
+
+#[test]
+fn a_key_sets_the_hinge_and_warns_about_what_it_cannot_set_yet() {
+    let xml = model(
+        r#"<key name="k" qpos="0.5 0.7071068 0.7071068 0 0 1 0 0.5 1 0 0 0" ctrl="1"/>
+<key qpos="0.25 1 0 0 0 1 0 0 1 0 0 0"/>"#,
+    );
+    let c = mjcf_to_document(&xml).expect("converts");
+    let keyframes = &c.document["assembly"]["keyframes"];
+    assert_eq!(keyframes[0]["name"], "k");
+    assert_eq!(
+        keyframes[1]["name"], "key1",
+        "an unnamed key is named by its index"
+    );
+    let degrees = keyframes[0]["positions"]["hinge"]
+        .as_f64()
+        .expect("the hinge");
+    assert!((degrees - 0.5f64.to_degrees()).abs() < 1e-9, "{degrees}");
+    assert_eq!(
+        keyframes[1]["positions"],
+        json!({"hinge": 0.25f64.to_degrees()})
+    );
+    let warned = |needle: &str| c.warnings.iter().any(|w| w.contains(needle));
+    assert!(
+        warned(
+            "k: ball joint \"wrist\"'s rotation is not applied (not supported in keyframes yet)"
+        ),
+        "{:?}",
+        c.warnings
+    );
+    assert!(
+        warned("k: the free body \"box\"'s pose is not applied (not supported in keyframes yet)"),
+        "{:?}",
+        c.warnings
+    );
+    assert!(
+        warned("k: ctrl is not applied (a keyframe sets joint positions and velocities)"),
+        "{:?}",
+        c.warnings
+    );
+    // The second key leaves the ball and the box where the model puts them: no warning.
+    assert!(!warned("key1:"), "{:?}", c.warnings);
+}
+
+#[test]
+fn a_key_of_the_wrong_size_is_refused_with_the_models_count() {
+    let err = error(&model(r#"<key qpos="0.5"/>"#));
+    assert!(
+        err.contains("qpos") && err.contains("expected 12 numbers (the model's nq), got 1"),
+        "{err}"
+    );
+    let err = error(&model(r#"<key qvel="0 0"/>"#));
+    assert!(
+        err.contains("expected 10 numbers (the model's nv), got 2"),
+        "{err}"
+    );
+}
