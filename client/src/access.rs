@@ -33,6 +33,14 @@ pub struct Bodies {
     pub site_poses: Vec<f64>,
     /// One per DOF: the generalized force the command applies (MuJoCo's `qfrc_actuator`).
     pub actuator_forces: Vec<f64>,
+    /// The document's sensors' names, in order.
+    pub sensors: Vec<String>,
+    /// One per sensor: its type (MJCF's element name).
+    pub sensor_types: Vec<String>,
+    /// One per sensor: the floats it reports.
+    pub sensor_dims: Vec<u32>,
+    /// Every sensor's reading, SI, in order (MuJoCo's `sensordata`).
+    pub sensor_data: Vec<f64>,
 }
 
 impl From<pb::Bodies> for Bodies {
@@ -52,6 +60,10 @@ impl From<pb::Bodies> for Bodies {
             sites: b.sites,
             site_poses: b.site_poses,
             actuator_forces: b.actuator_forces,
+            sensors: b.sensors,
+            sensor_types: b.sensor_types,
+            sensor_dims: b.sensor_dims,
+            sensor_data: b.sensor_data,
         }
     }
 }

@@ -184,6 +184,9 @@ pub(crate) fn bodies(py: Python<'_>, b: gymfleet_client::Bodies) -> PyResult<Bou
     let d = PyDict::new(py);
     d.set_item("instances", b.instances)?;
     d.set_item("sites", b.sites)?;
+    d.set_item("sensors", b.sensors)?;
+    d.set_item("sensor_types", b.sensor_types)?;
+    d.set_item("sensor_dims", b.sensor_dims)?;
     for (key, values) in [
         ("masses", b.masses),
         ("centers_of_mass", b.centers_of_mass),
@@ -193,6 +196,7 @@ pub(crate) fn bodies(py: Python<'_>, b: gymfleet_client::Bodies) -> PyResult<Bou
         ("about", b.about.to_vec()),
         ("site_poses", b.site_poses),
         ("actuator_forces", b.actuator_forces),
+        ("sensordata", b.sensor_data),
     ] {
         d.set_item(key, PyArray1::from_vec(py, values))?;
     }

@@ -11,9 +11,11 @@ use serde::{Deserialize, Serialize};
 mod actuators;
 mod keyframes;
 mod primitive;
+mod sensors;
 
 pub use actuators::{ActuatorDef, ActuatorKind, DynamicsKind};
 pub use keyframes::{BaseKeyDef, KeyframeDef};
+pub use sensors::{SensorDef, SensorFrameDef, SensorType, SiteDef};
 
 /// A whole assembly document: part definitions, materials and the assembly itself.
 #[derive(Debug, Clone, Deserialize, Serialize)]
@@ -54,6 +56,10 @@ pub struct SimulationDef {
     /// integrator does; MJCF files that use it convert to it).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub integrator: Option<Integrator>,
+    /// The magnetic field magnetometers read, T, world frame; default MuJoCo's
+    /// `{0, -0.5, 0}`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub magnetic: Option<Vec3>,
 }
 
 /// *(ext)* How the coriolis, centrifugal and gyroscopic forces of the joint trees enter a
@@ -222,6 +228,9 @@ pub struct AssemblyDef {
     /// none (the document's pose, and each joint's `initial`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub initial_keyframe: Option<String>,
+    /// *(ext)* Sensors (MJCF's `<sensor>`): named readings of joints, sites and instances.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub sensors: Vec<SensorDef>,
 }
 
 /// *(ext)* Contact rules: pairs of instances that never collide, and pairs that always do.
@@ -296,23 +305,6 @@ pub struct TendonJointDef {
     pub joint: String,
     /// Its coefficient in the length.
     pub coef: f64,
-}
-
-/// *(ext)* A named point of an instance, which moves with it.
-#[derive(Debug, Clone, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct SiteDef {
-    /// The site's name (unique among sites).
-    pub name: String,
-    /// The instance it belongs to.
-    pub instance: String,
-    /// The point, mm in the instance's frame (the frame its placement defines).
-    pub point: Vec3,
-    /// The site's axes in the instance's frame, degrees about X, then Y, then Z (as an
-    /// instance's `rotation`); default the instance's axes. An end effector that names
-    /// the site is observed with them.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub rotation: Option<Vec3>,
 }
 
 /// A placed copy of a part.

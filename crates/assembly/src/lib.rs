@@ -15,6 +15,7 @@ mod error;
 mod keyframes;
 mod mesh;
 mod model;
+mod sensors;
 mod simulation;
 mod sites;
 mod tendons;
@@ -26,8 +27,8 @@ pub use contacts::MAX_CONTACT_RULES;
 pub use document::{
     ActuatorDef, ActuatorKind, AssemblyDef, CollisionDef, ContactExcludeDef, ContactPairDef,
     ContactsDef, ConvexMode, Document, DynamicsKind, FluidDef, FrameDef, InertiaDef, InertialDef,
-    InstanceDef, Integrator, JointDef, MaterialDef, MeshDef, PartDef, Primitive, SimulationDef,
-    SiteDef, TendonDef, TendonJointDef, Vec3,
+    InstanceDef, Integrator, JointDef, MaterialDef, MeshDef, PartDef, Primitive, SensorDef,
+    SensorFrameDef, SensorType, SimulationDef, SiteDef, TendonDef, TendonJointDef, Vec3,
 };
 pub use document::{BaseKeyDef, KeyframeDef};
 pub use error::{
@@ -43,7 +44,8 @@ pub use model::{
     Instance, Joint, JointType, LocalFrame, Material, Shape, Site, Tendon, Transmission,
     DEFAULT_DENSITY, DEFAULT_FRICTION, DEFAULT_GRAVITY, DEFAULT_RESTITUTION, MM_PER_M,
 };
-pub use simulation::{MAX_FLUID_DENSITY, MAX_FLUID_VISCOSITY};
+pub use sensors::{Sensor, SensorFrame, SensorObject, MAX_SENSORS};
+pub use simulation::{DEFAULT_MAGNETIC, MAX_FLUID_DENSITY, MAX_FLUID_VISCOSITY};
 pub use sites::MAX_SITES;
 pub use tendons::{MAX_TENDONS, MAX_TENDON_JOINTS};
 pub use validate::validate;

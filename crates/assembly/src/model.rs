@@ -401,6 +401,10 @@ pub struct Assembly {
     /// The keyframe resets start from unless they name another (the document's
     /// `initial_keyframe`), by index.
     pub initial_keyframe: Option<usize>,
+    /// Sensors, in document order: what [`Assembly::sensor_dim`] floats they report.
+    pub sensors: Vec<crate::Sensor>,
+    /// The magnetic field magnetometers read, T, world (`simulation.magnetic`).
+    pub magnetic: [f64; 3],
 }
 
 /// Contact rules (see [`crate::ContactsDef`]), by instance index.
@@ -457,6 +461,11 @@ impl Assembly {
     /// Index of the site with this name.
     pub fn site_index(&self, name: &str) -> Option<usize> {
         self.sites.iter().position(|s| s.name == name)
+    }
+
+    /// Floats all sensors report together (MuJoCo's `nsensordata`).
+    pub fn sensor_dim(&self) -> usize {
+        self.sensors.iter().map(|s| s.kind.dim()).sum()
     }
 
     /// Index of the instance with this name.

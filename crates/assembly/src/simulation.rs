@@ -22,7 +22,13 @@ pub(crate) struct Simulation {
     pub(crate) dt: Option<f64>,
     pub(crate) fluid: Option<Fluid>,
     pub(crate) integrator: Integrator,
+    pub(crate) magnetic: [f64; 3],
 }
+
+/// MuJoCo's default magnetic field, T.
+pub const DEFAULT_MAGNETIC: [f64; 3] = [0.0, -0.5, 0.0];
+/// Largest magnetic field component, T.
+const MAX_MAGNETIC: f64 = 1e3;
 
 /// The document's `simulation`, checked; every problem is an issue.
 pub(crate) fn simulation(def: Option<&SimulationDef>) -> (Simulation, Vec<Issue>) {
@@ -33,6 +39,7 @@ pub(crate) fn simulation(def: Option<&SimulationDef>) -> (Simulation, Vec<Issue>
             dt: None,
             fluid: None,
             integrator: Integrator::Implicit,
+            magnetic: DEFAULT_MAGNETIC,
         };
         return (defaults, issues);
     };
@@ -59,7 +66,17 @@ pub(crate) fn simulation(def: Option<&SimulationDef>) -> (Simulation, Vec<Issue>
         }
     }
     let fluid = def.fluid.as_ref().and_then(|f| fluid(f, &mut issues));
+    let magnetic = def.magnetic.map_or(DEFAULT_MAGNETIC, |m| m.to_array());
+    for (axis, c) in ["x", "y", "z"].iter().zip(magnetic) {
+        if !(c.is_finite() && c.abs() <= MAX_MAGNETIC) {
+            issues.push(Issue::new(
+                format!("simulation.magnetic.{axis}"),
+                format!("expected a component within ±{MAX_MAGNETIC} T, got {c}"),
+            ));
+        }
+    }
     let simulation = Simulation {
+        magnetic,
         gravity,
         dt: def.dt,
         fluid,

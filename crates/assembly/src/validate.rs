@@ -75,6 +75,15 @@ pub fn validate(doc: &Document) -> Result<Assembly> {
         floating_base,
     );
     v.issues.extend(keyframe_issues);
+    let objects = crate::sensors::Objects {
+        instances: &doc.assembly.instances,
+        joints: &joints,
+        sites: &sites,
+        actuators: &actuators,
+        tendons: &tendons,
+    };
+    let (sensors, sensor_issues) = crate::sensors::sensors(&doc.assembly.sensors, &objects);
+    v.issues.extend(sensor_issues);
     if v.issues.is_empty() {
         Ok(Assembly {
             instances,
@@ -91,6 +100,8 @@ pub fn validate(doc: &Document) -> Result<Assembly> {
             actuators,
             keyframes,
             initial_keyframe,
+            sensors,
+            magnetic: simulation.magnetic,
         })
     } else {
         Err(AssemblyError::Invalid { issues: v.issues })

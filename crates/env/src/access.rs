@@ -35,6 +35,11 @@ pub struct Bodies {
     pub site_poses: Vec<[f32; 7]>,
     /// The generalized force the command applies to each DOF (MuJoCo's `qfrc_actuator`).
     pub actuator_forces: Vec<f64>,
+    /// The document's sensors: name, type (its MJCF element name) and how many floats it
+    /// reports, in document order.
+    pub sensors: Vec<(String, &'static str, usize)>,
+    /// Every sensor's reading, SI, in that order (MuJoCo's `sensordata`).
+    pub sensor_data: Vec<f64>,
 }
 
 impl RobotEnv {
@@ -64,7 +69,16 @@ impl RobotEnv {
             actuator_forces: (0..world.dofs().len())
                 .map(|k| world.dof_actuator_force(k))
                 .collect(),
+            sensors: self.spec.sensors.clone(),
+            sensor_data: self.sensor_data(),
         }
+    }
+
+    /// Every sensor's reading now, SI ([`Bodies::sensor_data`]).
+    pub fn sensor_data(&self) -> Vec<f64> {
+        let mut out = vec![0.0; self.world.sensor_dim()];
+        self.world.sensor_data(&mut out);
+        out
     }
 
     /// Sets the robot's joint state, as MuJoCo's `set_state(qpos, qvel)` does, and writes

@@ -268,6 +268,9 @@ pub struct EnvSpec {
     pub term_names: Vec<String>,
     /// The document's keyframes, in order: what a reset may start from.
     pub keyframes: Vec<String>,
+    /// The document's sensors, in order: name, type (its MJCF element name) and the
+    /// floats it reports (a task reads them as `{"sensor": name, "component": k}`).
+    pub sensors: Vec<(String, &'static str, usize)>,
 }
 
 impl EnvSpec {
@@ -323,6 +326,7 @@ impl EnvSpec {
             units: config.units,
             term_names,
             keyframes: Vec::new(),
+            sensors: Vec::new(),
         }
     }
 }

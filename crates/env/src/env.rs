@@ -198,6 +198,11 @@ impl RobotEnv {
             actuators,
         );
         spec.keyframes = assembly.keyframes.iter().map(|k| k.name.clone()).collect();
+        spec.sensors = assembly
+            .sensors
+            .iter()
+            .map(|s| (s.name.clone(), s.kind.as_str(), s.kind.dim()))
+            .collect();
         let mut env = RobotEnv {
             world,
             end_effectors,

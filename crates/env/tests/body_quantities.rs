@@ -249,7 +249,7 @@ fn bad_body_terms_get_their_own_errors() {
         ),
         (
             json!({"name": "x", "value": {"joint": "spin_a", "component": 1}}),
-            "task.terms.terms[0].value.component: a component belongs to a contact_wrench, body_inertia or body_velocity",
+            "task.terms.terms[0].value.component: a component belongs to a contact_wrench, body_inertia, body_velocity or sensor",
         ),
     ];
     for (term, expected) in cases {

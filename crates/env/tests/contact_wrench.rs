@@ -142,7 +142,7 @@ fn bad_contact_terms_get_their_own_errors() {
         ),
         (
             r#"{"terms": [{"name": "a", "value": {"joint_velocity": "x", "component": 1}}]}"#,
-            "task.terms.terms[0].value.component: a component belongs to a contact_wrench, body_inertia or body_velocity",
+            "task.terms.terms[0].value.component: a component belongs to a contact_wrench, body_inertia, body_velocity or sensor",
         ),
         (
             r#"{"terms": [{"name": "a", "value": {"contact_wrench": ["cube", "cube"], "component": 1}}]}"#,

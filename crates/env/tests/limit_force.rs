@@ -116,7 +116,7 @@ fn bad_limit_force_and_square_terms_get_their_own_errors() {
         ),
         (
             r#"{"terms": [{"name": "a", "square": {"of": {}}}]}"#,
-            "task.terms.terms[0].square.of: expected exactly one of joint, joint_velocity, joint_limit_force, tendon_length, tendon_velocity, actuator_force, actuator, actuator_activation, contact_wrench, body_inertia, body_velocity (the last three with a component), instance, site or center_of_mass (the last three with an axis)",
+            "task.terms.terms[0].square.of: expected exactly one of joint, joint_velocity, joint_limit_force, tendon_length, tendon_velocity, actuator_force, actuator, actuator_activation, sensor (with a component when it reports several), contact_wrench, body_inertia, body_velocity (the last three with a component), instance, site or center_of_mass (the last three with an axis)",
         ),
         (
             r#"{"terms": [{"name": "a", "value": {"actuator": "push"}}]}"#,

@@ -80,6 +80,7 @@ pub fn urdf_to_document(xml: &str) -> Result<Converted> {
             actuators: Vec::new(),
             keyframes: Vec::new(),
             initial_keyframe: None,
+            sensors: Vec::new(),
         },
         simulation: None,
         floating_base: start.floating.then_some(true),

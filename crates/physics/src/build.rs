@@ -215,7 +215,15 @@ impl RobotWorld {
             },
             pipeline: PipelineCell(PhysicsPipeline::new()),
             base,
+            sensor_plan: Default::default(),
+            motion: Vec::new(),
         };
+        let dof_joints: Vec<usize> = world.dofs.iter().map(|d| d.joint).collect();
+        world.sensor_plan = std::sync::Arc::new(crate::world::SensorPlan::new(
+            assembly,
+            &dof_joints,
+            &world.owners,
+        ));
         world.update_own_props();
         world.reset();
         Ok(world)

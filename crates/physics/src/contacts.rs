@@ -23,8 +23,32 @@ impl RobotWorld {
     pub fn contact_wrenches(&self, about: [f64; 3], out: &mut Vec<[f64; WRENCH_LEN]>) {
         out.clear();
         out.resize(self.bodies.len(), [0.0; WRENCH_LEN]);
-        let s = &self.live;
+        self.for_each_contact(|a, b, at, _, force| {
+            let arm = [at[0] - about[0], at[1] - about[1], at[2] - about[2]];
+            for (instance, sign) in [(a, 1.0), (b, -1.0)] {
+                let Some(k) = instance else { continue };
+                let f = force.map(|v| sign * v);
+                let w = &mut out[k];
+                w[0] += arm[1] * f[2] - arm[2] * f[1];
+                w[1] += arm[2] * f[0] - arm[0] * f[2];
+                w[2] += arm[0] * f[1] - arm[1] * f[0];
+                w[3] += f[0];
+                w[4] += f[1];
+                w[5] += f[2];
+            }
+        });
+    }
+
+    /// Calls `f(a, b, at, normal, force)` for every contact point of the last step: the two
+    /// instances (`None` for a collider no instance owns), the point (world m), the normal
+    /// force's magnitude (N) and the whole force on `a` (N, world; `b` gets its opposite),
+    /// averaged over the step (see [`RobotWorld::contact_wrenches`]).
+    pub(crate) fn for_each_contact(
+        &self,
+        mut f: impl FnMut(Option<usize>, Option<usize>, [f64; 3], f64, [f64; 3]),
+    ) {
         let inv_dt = 1.0 / self.dt();
+        let s = &self.live;
         let instance_of = |collider| self.colliders.iter().position(|&c| c == collider);
         let multibody = |collider| {
             s.colliders
@@ -75,22 +99,8 @@ impl RobotWorld {
                     let p2 = c2.position().transform_point(point.local_p2);
                     let at = (p1 + p2) * 0.5;
                     let force = [impulse.x, impulse.y, impulse.z].map(|v| f64::from(v) * inv_dt);
-                    let arm = [
-                        f64::from(at.x) - about[0],
-                        f64::from(at.y) - about[1],
-                        f64::from(at.z) - about[2],
-                    ];
-                    for (instance, sign) in [(a, 1.0), (b, -1.0)] {
-                        let Some(k) = instance else { continue };
-                        let f = force.map(|v| sign * v);
-                        let w = &mut out[k];
-                        w[0] += arm[1] * f[2] - arm[2] * f[1];
-                        w[1] += arm[2] * f[0] - arm[0] * f[2];
-                        w[2] += arm[0] * f[1] - arm[1] * f[0];
-                        w[3] += f[0];
-                        w[4] += f[1];
-                        w[5] += f[2];
-                    }
+                    let normal = f64::from(d.impulse) * inv_dt;
+                    f(a, b, [at.x, at.y, at.z].map(f64::from), normal, force);
                 }
             }
         }

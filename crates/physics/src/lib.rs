@@ -35,6 +35,7 @@ mod prefetch;
 mod randomize;
 mod readout;
 mod scene;
+mod sensors;
 mod set_state;
 mod state;
 mod tendons;

@@ -79,6 +79,7 @@ impl RobotWorld {
         velocities: &[f64],
         base: Option<&[f64; BASE_STATE_LEN]>,
     ) -> Vec<StateAdjustment> {
+        self.forget_motion();
         assert_eq!(positions.len(), self.dofs.len(), "one position per DOF");
         let mut notes = Vec::new();
         if let Some(base) = base {

@@ -414,6 +414,7 @@ impl RobotWorld {
     /// If the state's counts do not fit this world.
     pub fn restore_dynamic_state(&mut self, state: &DynamicState) {
         assert_eq!(state.command.len(), self.dofs.len(), "one command per DOF");
+        self.forget_motion();
         let mut touched = Vec::new();
         let slots: Vec<_> = self.moving_joints().cloned().collect();
         assert_eq!(

@@ -6,11 +6,13 @@ use rapier3d::prelude::*;
 use crate::command::{ActionMode, Command, PdGains, ResolvedGains};
 
 mod parts;
+mod sensor_plan;
 
 pub use parts::ContactOverload;
 pub(crate) use parts::{
     ActuatorSlot, BaseValues, ContactFilter, ExplicitPair, FluidDrag, Rollback, TendonSlot,
 };
+pub(crate) use sensor_plan::{SensorFrame, SensorObject, SensorPlan, SensorReading};
 
 /// Options for building a world that are not part of the document.
 #[derive(Debug, Clone, PartialEq)]
@@ -323,6 +325,11 @@ pub struct RobotWorld {
     pub(crate) contact_work_limit: usize,
     /// The copy a substepped step near its contact budget may go back to.
     pub(crate) rollback: Rollback,
+    /// The sensors, resolved (`sensors.rs`).
+    pub(crate) sensor_plan: std::sync::Arc<SensorPlan>,
+    /// Each instance's body velocity (linear, angular) before the last step, when a sensor
+    /// reads accelerations; empty after a reset.
+    pub(crate) motion: Vec<[Real; 6]>,
 }
 
 /// The memory ranges a world's step reads, as `(first cache line, lines)`, the steps since
@@ -449,6 +456,7 @@ impl RobotWorld {
     /// `contact_budget.rs` for the one exception, [`ContactOverload::substeps_done`]).
     pub fn step(&mut self) -> Result<(), ContactOverload> {
         self.clear_limit_impulses();
+        self.keep_motion();
         if self.has_state_dependent_efforts() {
             self.keep_rollback();
             let h = f64::from(self.substep_params.dt);
@@ -548,6 +556,7 @@ impl RobotWorld {
     /// The command is reset to zero torque.
     pub fn reset(&mut self) {
         self.live.clone_from(&self.initial);
+        self.forget_motion();
         // The clone may have moved the sets' storage: the next step takes the ranges again.
         self.hot.ranges.clear();
         for mocap in &mut self.mocaps {

@@ -68,6 +68,10 @@ pub(crate) fn bodies(b: gymfleet_env::Bodies) -> pb::Bodies {
         actuator_forces: b.actuator_forces,
         instances: b.instances,
         sites: b.sites,
+        sensor_types: b.sensors.iter().map(|s| s.1.to_string()).collect(),
+        sensor_dims: b.sensors.iter().map(|s| s.2 as u32).collect(),
+        sensors: b.sensors.into_iter().map(|s| s.0).collect(),
+        sensor_data: b.sensor_data,
     }
 }
 

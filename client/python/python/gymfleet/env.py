@@ -221,8 +221,10 @@ class GymfleetEnv(HandleOwner, gym.Env):
         """Every instance's and site's state now: ``instances`` and ``sites`` (names),
         ``masses``, ``centers_of_mass`` (3 each), ``inertias`` (MuJoCo's ``cinert``, 10
         each), ``velocities`` (``cvel``, 6 each), ``contact_wrenches`` (``cfrc_ext``, 6
-        each) about ``about`` (the robot's centre of mass), ``site_poses`` (7 each) and
-        ``actuator_forces`` (``qfrc_actuator``, one per DOF), flat float64 arrays."""
+        each) about ``about`` (the robot's centre of mass), ``site_poses`` (7 each),
+        ``actuator_forces`` (``qfrc_actuator``, one per DOF) and ``sensordata`` (every
+        sensor's reading, SI, MuJoCo's ``sensordata``), flat float64 arrays; ``sensors``,
+        ``sensor_types`` and ``sensor_dims`` name the sensors, in order."""
         return self._handle.bodies()
 
     def fork(self) -> "GymfleetEnv":

@@ -81,6 +81,8 @@ pub(super) enum Q {
     Actuator(usize),
     /// An actuator's activation.
     Activation(usize),
+    /// A float of the sensors' readings (MuJoCo's `sensordata[k]`).
+    Sensor(usize),
     /// A component of a group's `cinert` ([`ActiveTerms::groups`]).
     BodyInertia {
         group: usize,
@@ -161,6 +163,7 @@ struct Now<'a> {
     com: OnceCell<[f64; 3]>,
     inertia: RefCell<Vec<(usize, [f64; INERTIA_LEN])>>,
     velocity: RefCell<Vec<(usize, [f64; VELOCITY_LEN])>>,
+    sensors: OnceCell<Vec<f64>>,
 }
 
 impl<'a> Now<'a> {
@@ -172,7 +175,18 @@ impl<'a> Now<'a> {
             com: OnceCell::new(),
             inertia: RefCell::new(Vec::new()),
             velocity: RefCell::new(Vec::new()),
+            sensors: OnceCell::new(),
         }
+    }
+
+    /// Every sensor's reading, computed once.
+    fn sensor(&self, k: usize) -> f64 {
+        let data = self.sensors.get_or_init(|| {
+            let mut data = vec![0.0; self.world.sensor_dim()];
+            self.world.sensor_data(&mut data);
+            data
+        });
+        data.get(k).copied().unwrap_or(0.0)
     }
 
     /// `group`'s `cinert` about the centre of mass, computed once per group.
@@ -223,6 +237,7 @@ impl ActiveTerms {
             Q::ActuatorForce(k) => world.dof_actuator_force(k),
             Q::Actuator(k) => world.actuator_force(k),
             Q::Activation(k) => world.actuator_activation(k),
+            Q::Sensor(k) => now.sensor(k),
             Q::BodyInertia { group, component } => {
                 now.inertia(group, &self.groups[group])[component]
             }

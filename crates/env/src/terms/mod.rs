@@ -201,8 +201,13 @@ pub struct Quantity {
     /// An actuator's activation (MuJoCo's `act`; 0 for one without dynamics).
     #[serde(default)]
     pub actuator_activation: Option<String>,
+    /// One of the document's sensors (`assembly.sensors`): its reading, SI in every unit
+    /// system (needs `component` when it reports more than one float).
+    #[serde(default)]
+    pub sensor: Option<String>,
     /// The component of a `contact_wrench` (0–2 the torque about world x, y, z; 3–5 the
-    /// force), a `body_inertia` (0–9) or a `body_velocity` (0–5).
+    /// force), a `body_inertia` (0–9), a `body_velocity` (0–5) or a `sensor` (from 0, as
+    /// many as it reports).
     #[serde(default)]
     pub component: Option<usize>,
     /// An instance whose point's coordinate is read (needs `axis`).

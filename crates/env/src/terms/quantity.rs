@@ -157,6 +157,7 @@ impl Context<'_> {
             q.actuator_force.is_some(),
             q.actuator.is_some(),
             q.actuator_activation.is_some(),
+            q.sensor.is_some(),
             q.contact_wrench.is_some(),
             q.body_inertia.is_some(),
             q.body_velocity.is_some(),
@@ -169,7 +170,7 @@ impl Context<'_> {
                 path,
                 "expected exactly one of joint, joint_velocity, joint_limit_force, \
                  tendon_length, tendon_velocity, actuator_force, actuator, actuator_activation, \
-                 contact_wrench, body_inertia, body_velocity (the last three with a component), instance, site or \
+                 sensor (with a component when it reports several), contact_wrench, body_inertia, body_velocity (the last three with a component), instance, site or \
                  center_of_mass (the last three with an axis)",
             ));
         }
@@ -185,10 +186,11 @@ impl Context<'_> {
             && q.contact_wrench.is_none()
             && q.body_inertia.is_none()
             && q.body_velocity.is_none()
+            && q.sensor.is_none()
         {
             return Err(bad(
                 format!("{path}.component"),
-                "a component belongs to a contact_wrench, body_inertia or body_velocity",
+                "a component belongs to a contact_wrench, body_inertia, body_velocity or sensor",
             ));
         }
         let no_geometry = |what: &str| -> Result<()> {
@@ -245,6 +247,10 @@ impl Context<'_> {
             return Ok(Q::Activation(
                 self.actuator(&format!("{path}.actuator_activation"), name)?,
             ));
+        }
+        if let Some(name) = &q.sensor {
+            no_geometry("sensor")?;
+            return self.sensor(path, name, q.component);
         }
         for (field, names, len, what) in [
             (
@@ -321,6 +327,31 @@ impl Context<'_> {
             });
         }
         Ok(Q::CenterOfMass(axis()?))
+    }
+
+    /// A sensor's component, as its offset in the sensors' readings.
+    fn sensor(&self, path: &str, name: &str, component: Option<usize>) -> Result<Q> {
+        let sensors = &self.assembly.sensors;
+        let names: Vec<&str> = sensors.iter().map(|s| s.name.as_str()).collect();
+        let k = named(&format!("{path}.sensor"), "sensor", &names, name)?;
+        let dim = sensors[k].kind.dim();
+        let component = match component {
+            Some(c) if c < dim => c,
+            None if dim == 1 => 0,
+            other => {
+                return Err(bad(
+                    format!("{path}.component"),
+                    format!(
+                        "sensor {name:?} ({}) reports {dim} values: expected a component 0 to {}, got {}",
+                        sensors[k].kind.as_str(),
+                        dim - 1,
+                        other.map_or("none".to_string(), |c| c.to_string())
+                    ),
+                ))
+            }
+        };
+        let offset: usize = sensors[..k].iter().map(|s| s.kind.dim()).sum();
+        Ok(Q::Sensor(offset + component))
     }
 
     /// Registers a group of instances whose contact wrenches are summed; returns its index.

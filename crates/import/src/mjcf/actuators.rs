@@ -40,10 +40,10 @@ pub(super) fn is_actuator(tag: &str) -> bool {
 /// One `<actuator>` element, read.
 #[derive(Debug, Clone)]
 pub(super) struct Parsed {
-    name: String,
+    pub(super) name: String,
     tag: &'static str,
     /// `joint` (or `jointinparent`), or `tendon`.
-    joint: Option<String>,
+    pub(super) joint: Option<String>,
     tendon: Option<String>,
     general: General,
     line: u32,
@@ -204,7 +204,7 @@ impl<'a, 'i> Converter<'a, 'i> {
     }
 
     /// Whether every actuator is a `<motor>` on its own joint, in the joints' order.
-    fn direct_motors(&self) -> bool {
+    pub(super) fn direct_motors(&self) -> bool {
         let mut seen = HashSet::new();
         let all_motors = self.actuator_list.iter().all(|a| {
             a.tag == "motor"

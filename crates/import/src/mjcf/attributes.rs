@@ -291,6 +291,9 @@ impl<'a, 'i> Converter<'a, 'i> {
                 }
             });
         }
+        if let Some(m) = self.exactly::<3>(node, None, "magnetic")? {
+            self.simulation.magnetic = Some(Vec3::from(m));
+        }
         if let Some(w) = self.exactly::<3>(node, None, "wind")? {
             if w != [0.0; 3] {
                 return Err(self.unsupported(node, "wind is not supported yet".into()));
@@ -299,7 +302,13 @@ impl<'a, 'i> Converter<'a, 'i> {
         for a in node.attributes() {
             if !matches!(
                 a.name(),
-                "timestep" | "gravity" | "density" | "viscosity" | "wind" | "integrator"
+                "timestep"
+                    | "gravity"
+                    | "density"
+                    | "viscosity"
+                    | "wind"
+                    | "integrator"
+                    | "magnetic"
             ) {
                 let how = option_approximation(a.name());
                 self.warn(
@@ -471,7 +480,6 @@ fn option_approximation(name: &str) -> &'static str {
             "the solver is Rapier's: one pass per substep (more for kinematic loops), no line search"
         }
         "o_margin" | "o_solref" | "o_solimp" | "o_friction" => "no contact override: each contact keeps gymfleet's own parameters",
-        "magnetic" => "no magnetometer sensors here",
         "apirate" | "actuatorgroupdisable" => "no effect on the motion gymfleet simulates",
         "collision" => "every geom pair that contype/conaffinity allow is collided, and every <pair>",
         "mpr_tolerance" | "mpr_iterations" => "collision detection is Rapier's (parry)",

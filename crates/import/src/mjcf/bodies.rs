@@ -43,11 +43,13 @@ impl<'a, 'i> Converter<'a, 'i> {
                 }
             }
         }
+        let mut world_sites = Vec::new();
         for child in children {
             match child.tag_name().name() {
                 "geom" => {}
                 "body" => self.body(child, &Frame::IDENTITY, BodyParent::World, None)?,
-                "light" | "camera" | "site" => {
+                "site" => world_sites.push(child),
+                "light" | "camera" => {
                     self.warn(child, "ignored (no effect on the dynamics)".into())
                 }
                 other => {
@@ -56,6 +58,16 @@ impl<'a, 'i> Converter<'a, 'i> {
                         format!("<{other}> in <worldbody> is not supported yet"),
                     ))
                 }
+            }
+        }
+        // The world's sites, after every body's: points of the world's instance.
+        for site in world_sites {
+            let at = self.local_frame(site, None)?;
+            let world = self.world_instance();
+            let name = site.attribute("name").unwrap_or("world_site");
+            let kept = self.site(name, &world, &at);
+            if let (Some(mjcf), Some(kept)) = (site.attribute("name"), kept) {
+                self.site_of.insert(mjcf.to_string(), kept);
             }
         }
         Ok(())
@@ -184,21 +196,20 @@ impl<'a, 'i> Converter<'a, 'i> {
 
     /// A named frame `at` (world, m) on instance `instance`, in its frame: a site's, or a
     /// body's origin and axes (what MuJoCo's `xpos` and `xquat` report).
-    pub(super) fn site(&mut self, wanted: &str, instance: &str, at: &Frame) {
-        let Some(frame) = self.frames.get(instance) else {
-            return;
-        };
+    pub(super) fn site(&mut self, wanted: &str, instance: &str, at: &Frame) -> Option<String> {
+        let frame = self.frames.get(instance)?;
         let back = frame.rotation.inverse();
         let local = back * (at.translation - frame.translation) * MM;
         let turn = back * at.rotation;
         let name = self.site_names.unique(wanted);
         self.sites.push(SiteDef {
-            name,
+            name: name.clone(),
             instance: instance.to_string(),
             point: vec3(local),
             rotation: (turn.angle_between(DQuat::IDENTITY) > 1e-12)
                 .then(|| Vec3::from(euler_xyz_degrees(turn))),
         });
+        Some(name)
     }
 
     pub(super) fn joint_name(&mut self, wanted: &str) -> String {
@@ -331,7 +342,10 @@ impl<'a, 'i> Converter<'a, 'i> {
         }
         // The body's origin, by the body's name (what MuJoCo's body xpos reports); an
         // unnamed body's as `body` (made unique), so that every body has one, in body order.
-        self.site(&body_name, &main, &frame);
+        let origin = self.site(&body_name, &main, &frame);
+        if let (Some(name), Some(origin)) = (node.attribute("name"), origin) {
+            self.body_sites.insert(name.to_string(), origin);
+        }
         if let Some(name) = node.attribute("name") {
             self.bodies.insert(name.to_string(), (main.clone(), frame));
         }
@@ -420,7 +434,10 @@ impl<'a, 'i> Converter<'a, 'i> {
                     let name = child
                         .attribute("name")
                         .map_or_else(|| format!("{body_name}_site"), str::to_string);
-                    self.site(&name, &main, &at);
+                    let kept = self.site(&name, &main, &at);
+                    if let (Some(mjcf), Some(kept)) = (child.attribute("name"), kept) {
+                        self.site_of.insert(mjcf.to_string(), kept);
+                    }
                 }
                 "camera" | "light" => {
                     self.warn(child, "ignored (no effect on the dynamics)".into())

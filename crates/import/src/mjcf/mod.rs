@@ -33,6 +33,7 @@ mod include;
 mod joints;
 mod keyframes;
 mod meshes;
+mod sensors;
 mod tendons;
 
 pub use include::{expand_includes, MAX_INCLUDED_BYTES, MAX_INCLUDE_DEPTH};
@@ -93,7 +94,8 @@ pub fn mjcf_to_document_in(xml: &str, folder: &str) -> Result<Converted> {
             "option" => c.option(child)?,
             "actuator" => c.actuators(child)?,
             "keyframe" => {} // After the bodies, whose joints its keys set.
-            "size" | "visual" | "statistic" | "sensor" | "custom" => {
+            "sensor" => {}   // After the bodies, whose sites its sensors sit on.
+            "size" | "visual" | "statistic" | "custom" => {
                 c.warn(child, "ignored (no effect on the dynamics)".into());
             }
             "asset" => c.assets(child)?,
@@ -118,6 +120,9 @@ pub fn mjcf_to_document_in(xml: &str, folder: &str) -> Result<Converted> {
     }
     for contact in elements(root).filter(|n| n.tag_name().name() == "contact") {
         c.contacts(contact)?;
+    }
+    for sensor in elements(root).filter(|n| n.tag_name().name() == "sensor") {
+        c.sensors(sensor)?;
     }
     c.finish()
 }
@@ -226,6 +231,14 @@ struct Converter<'a, 'i> {
     bodies: HashMap<String, (String, Frame)>,
     /// MuJoCo's qpos layout, joint by joint, for `<keyframe>`.
     qpos_slots: Vec<keyframes::QposSlot>,
+    /// Each named `<site>`'s site, and each named body's origin site, for `<sensor>`.
+    site_of: HashMap<String, String>,
+    body_sites: HashMap<String, String>,
+    /// The `<sensor>`s, converted after the bodies.
+    sensors: Vec<gymfleet_assembly::SensorDef>,
+    /// The `<sensor>` elements' children seen so far, converted or skipped (MuJoCo's
+    /// sensor index, which names an unnamed sensor).
+    sensor_count: usize,
 }
 
 impl<'i> XmlReader<'i> for Converter<'_, 'i> {
@@ -255,6 +268,7 @@ impl<'a, 'i> Converter<'a, 'i> {
                 dt: None,
                 fluid: None,
                 integrator: None,
+                magnetic: None,
             },
             instances: Vec::new(),
             frames: HashMap::new(),
@@ -281,6 +295,10 @@ impl<'a, 'i> Converter<'a, 'i> {
             contact_rules: Default::default(),
             bodies: HashMap::new(),
             qpos_slots: Vec::new(),
+            site_of: HashMap::new(),
+            body_sites: HashMap::new(),
+            sensors: Vec::new(),
+            sensor_count: 0,
         }
     }
 
@@ -348,6 +366,7 @@ impl<'a, 'i> Converter<'a, 'i> {
                 actuators,
                 keyframes,
                 initial_keyframe: None,
+                sensors: self.sensors,
             },
             simulation,
             floating_base: self.floating.is_some().then_some(true),

@@ -46,7 +46,8 @@ class BodyLayout:
     """MuJoCo's bodies and sites of an XML file, in MuJoCo's orders, and where each is in
     the converted document: each body's instances (its geoms' names, an unnamed geom's as
     the conversion names it), and the converted document's sites in its order (every
-    body's origin, then within the body its ``<site>``s and child bodies as written)."""
+    body's origin, then within the body its ``<site>``s and child bodies as written, then
+    the world's ``<site>``s)."""
 
     #: MuJoCo's bodies, the world first ("" for an unnamed one).
     bodies: List[str] = field(default_factory=lambda: ["world"])
@@ -113,6 +114,8 @@ class BodyLayout:
         layout.document_sites = [
             (kind, renumber[i] if kind == "site" else i) for kind, i in layout.document_sites
         ]
+        # The world's sites come last in the converted document.
+        layout.document_sites += [("site", k) for k in range(len(layout.world_sites))]
         return layout
 
 
