@@ -80,6 +80,17 @@ function select(kind, id, index = 0, n_envs = 1) {
   pollScene();
 }
 
+// The selected env's keyframes and sensors, from its overview entry (at most 32 of each).
+function fillDetails(item) {
+  const list = (names) => names.length > 32 ? `${names.slice(0, 32).join(', ')}, … (${names.length})` : names.join(', ');
+  const keyframes = item?.keyframes ?? [];
+  const sensors = (item?.sensors ?? []).map((s) => `${s.name} (${s.type})`);
+  $('view-details').textContent = [
+    keyframes.length ? `keyframes: ${list(keyframes)}` : '',
+    sensors.length ? `sensors: ${list(sensors)}` : '',
+  ].filter((s) => s).join(' · ');
+}
+
 function row(kind, item) {
   const tr = document.createElement('tr');
   const selected = state.selected?.kind === kind && state.selected.id === item.id;
@@ -141,6 +152,8 @@ async function pollOverview() {
     const still = sel && items.find(([k, i]) => k === sel.kind && i.id === sel.id);
     if (sel && !still) { state.selected = null; state.view?.clear(); $('view-title').textContent = `${sel.id} is closed`; }
     if (!state.selected && items.length > 0) select(items[0][0], items[0][1].id, 0, items[0][1].n_envs);
+    const chosen = state.selected && items.find(([k, i]) => k === state.selected.kind && i.id === state.selected.id);
+    fillDetails(chosen?.[1]);
     fillServer(body);
     fillTable('batch', body.batches);
     fillTable('env', body.envs);

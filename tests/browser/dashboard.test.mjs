@@ -5,7 +5,8 @@
 //   - with team-a's token the page loads with no console errors, keeps a session cookie
 //     that is HttpOnly and SameSite=Strict (and never the token in a URL), lists team-a's
 //     batch and not team-b's, and shows the hostile name as text with no dialog;
-//   - its 3D view changes where the env steps (the fixture steps it on request);
+//   - its 3D view changes where the env steps (the fixture steps it on request), and it
+//     lists the selected batch's keyframes and sensors;
 //   - a wrong token sees nothing: the login refuses it, the lists stay empty, the API
 //     answers 401.
 // Usage: node dashboard.test.mjs [FIXTURE] (default: ../../target/debug/examples/dashboard_fixture,
@@ -117,6 +118,8 @@ try {
   const cell = `#batches tbody tr[data-id="${server.batch}"] td:nth-child(3)`;
   await page.waitForFunction((cell) => document.querySelector(cell)?.textContent === '240', cell, { timeout: 30000 });
   check(true, "the batch's 240 env steps are counted");
+  const details = await page.evaluate(() => document.getElementById('view-details').textContent);
+  check(details === 'keyframes: raised · sensors: angle (jointpos)', `the view lists the keyframes and sensors (${details})`);
   check(dialogs.length === 0, `no dialog opened${dialogs.length ? ': ' + dialogs.join(' | ') : ''}`);
   check(errors.length === 0, `no console or page errors${errors.length ? ': ' + errors.join(' | ') : ''}`);
 

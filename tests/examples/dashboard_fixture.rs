@@ -1,7 +1,8 @@
 //! The server behind the dashboard's browser test (`tests/browser/dashboard.test.mjs`):
 //! a gymfleet server on loopback with auth on and the dashboard on a free port, where
 //! tenant `team-a` holds a batch of four pendulums whose arm is named
-//! `<script>alert(1)</script>` and tenant `team-b` a batch of arms.
+//! `<script>alert(1)</script>` (with a keyframe and a sensor) and tenant `team-b` a batch of
+//! arms.
 //!
 //! ```sh
 //! cargo run -p gymfleet-e2e --example dashboard_fixture
@@ -41,7 +42,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .await?;
         let connect = |token: &str| Client::builder(server.client_addr()).token(token).connect();
         let (mine, theirs) = (connect(TOKEN).await?, connect(OTHER_TOKEN).await?);
-        let document = PENDULUM.replace("\"arm\"", &serde_json::to_string(HOSTILE)?);
+        let mut document: serde_json::Value = serde_json::from_str(PENDULUM)?;
+        // A keyframe and a sensor for the page to list.
+        document["assembly"]["joints"][0]["name"] = "hinge".into();
+        document["assembly"]["keyframes"] =
+            serde_json::json!([{"name": "raised", "positions": {"hinge": 30}}]);
+        document["assembly"]["sensors"] =
+            serde_json::json!([{"name": "angle", "type": "jointpos", "joint": "hinge"}]);
+        let document = document
+            .to_string()
+            .replace("\"arm\"", &serde_json::to_string(HOSTILE)?);
         let batch = mine
             .create_batch(BatchOptions::new(document, N_ENVS).end_effectors([HOSTILE]))
             .await?;

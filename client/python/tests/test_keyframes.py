@@ -140,3 +140,57 @@ def layout_of(info):
         out[segment] = slice(at, at + size)
         at += size
     return out
+
+
+#: A hinged arm, a free box and a mocap body, and a key that moves all three (the box
+#: moving and spinning, the mocap body turned).
+SCENE = """<mujoco>
+  <worldbody>
+    <geom type="plane" size="5 5 .1"/>
+    <body name="arm" pos="0 0 .5">
+      <joint name="hinge" type="hinge" axis="0 1 0"/>
+      <geom type="capsule" fromto="0 0 0 .3 0 0" size=".02"/>
+    </body>
+    <body name="box" pos="1 0 .1">
+      <freejoint/>
+      <geom type="box" size=".05 .04 .03"/>
+    </body>
+    <body name="hand" mocap="true" pos="-1 0 .5">
+      <geom type="sphere" size=".05" contype="0" conaffinity="0"/>
+    </body>
+  </worldbody>
+  <keyframe>
+    <key name="moved" qpos="0.4  0.8 0.3 0.6 0.9238795 0 0 0.3826834"
+         qvel="1.5  0.2 -0.1 0.3 0 0 2.0"
+         mpos="-0.5 0.2 0.7" mquat="0.7071068 0.7071068 0 0"/>
+  </keyframe>
+</mujoco>"""
+
+
+def test_a_keyframe_places_free_and_mocap_bodies_as_mujoco_does():
+    """``qpos``/``qvel`` of a free body and ``mpos``/``mquat`` of a mocap body: after a reset
+    to the key, the free body's observed pose and velocity are the key's (MuJoCo's qpos and
+    qvel), and both bodies are where ``mj_resetDataKeyframe`` puts them, within 1 µm and
+    1e-6 rad; the mocap body stays there as the env steps."""
+    env = gymfleet.make(SCENE, units="si", end_effector_ids=["site:box", "site:hand"])
+    assert env.env_info["free_bodies"] == ["box"] and env.env_info["mocap_bodies"] == ["hand"]
+    obs, _ = env.reset(options={"keyframe": "moved"})
+    model = mujoco.MjModel.from_xml_string(SCENE)
+    data = mujoco.MjData(model)
+    mujoco.mj_resetDataKeyframe(model, data, 0)
+    mujoco.mj_forward(model, data)
+    at = layout(env)
+    np.testing.assert_allclose(obs[at["joint_positions"]], [0.4], atol=1e-6)
+    np.testing.assert_allclose(obs[at["joint_velocities"]], [1.5], atol=1e-5)
+    np.testing.assert_allclose(obs[at["free_body_poses"]], data.qpos[1:8], atol=1e-6)
+    np.testing.assert_allclose(obs[at["free_body_velocities"]], data.qvel[1:7], atol=1e-5)
+    ee = obs[at["end_effector_poses"]].reshape(-1, 7)
+    for k, body in enumerate(["box", "hand"]):
+        b = model.body(body).id
+        np.testing.assert_allclose(ee[k, :3], data.xpos[b], atol=1e-6, err_msg=body)
+        assert abs(abs(ee[k, 3:] @ data.xquat[b]) - 1) < 1e-6, (body, ee[k, 3:], data.xquat[b])
+    for _ in range(10):
+        obs, *_ = env.step(np.zeros(env.action_space.shape, dtype=np.float32))
+    hand = obs[at["end_effector_poses"]].reshape(-1, 7)[1]
+    np.testing.assert_allclose(hand[:3], [-0.5, 0.2, 0.7], atol=1e-6)
+    env.close()

@@ -235,3 +235,72 @@ def test_every_state_sensor_type_reads_mujocos_sensordata(tmp_path):
     mark = ours[model.sensor("mark_pos").adr[0]:][:3]
     np.testing.assert_allclose(mark, [0.25, -0.2, 0.1], atol=1e-6)
     env.close()
+
+
+#: A floor, a beam welded to the world (a cantilever), a damped pendulum and a box resting
+#: on the floor, with the sensors that read forces and accelerations.
+AT_REST = """
+<mujoco>
+  <option timestep="0.002"/>
+  <worldbody>
+    <geom name="floor" type="plane" size="2 2 0.1"/>
+    <body name="beam" pos="0 0 1">
+      <geom type="box" size="0.1 0.01 0.01" pos="0.1 0 0" density="1000"/>
+      <site name="root" pos="0 0 0"/>
+    </body>
+    <body name="bob" pos="1 0 1">
+      <joint name="swing" type="hinge" axis="0 1 0" damping="0.05"/>
+      <geom type="capsule" fromto="0 0 0 0 0 -0.3" size="0.02" density="1000"/>
+      <site name="pivot" pos="0 0 0"/>
+    </body>
+    <body name="box" pos="-1 0 0.0295">
+      <freejoint/>
+      <geom type="box" size="0.05 0.04 0.03" density="1000"/>
+      <site name="pad" pos="0 0 -0.03" type="box" size="0.06 0.05 0.01"/>
+      <site name="imu" pos="0 0 0.03" euler="0 0 40"/>
+    </body>
+  </worldbody>
+  <sensor>
+    <force name="root_force" site="root"/>
+    <torque name="root_torque" site="root"/>
+    <force name="pivot_force" site="pivot"/>
+    <accelerometer name="beam_acc" site="root"/>
+    <accelerometer name="box_acc" site="imu"/>
+    <touch name="pad_touch" site="pad"/>
+  </sensor>
+</mujoco>
+"""
+
+
+def test_force_torque_touch_and_accelerometers_at_rest_read_as_mujocos(tmp_path):
+    """The sensors that read the solver's forces and the accelerations, on a scene at rest
+    after 2 s in each simulator: the cantilever's root force and torque, a hanging
+    pendulum's pivot force, a resting box's touch pad and accelerometer (MuJoCo's soft
+    contacts and gymfleet's hard ones both carry the weight at rest), within 1% of each
+    body's weight."""
+    path = tmp_path / "at_rest.xml"
+    path.write_text(AT_REST)
+    model = mujoco.MjModel.from_xml_path(str(path))
+    data = mujoco.MjData(model)
+    for _ in range(int(2.0 / model.opt.timestep)):
+        mujoco.mj_step(model, data)
+    env = gymfleet.make(path, units="si")
+    env.reset(seed=0)
+    for _ in range(int(round(2.0 / env.env_info["dt"]))):
+        env.step(np.zeros(env.action_space.shape, dtype=np.float32))
+    reply = env.bodies()
+    assert list(reply["sensors"]) == [model.sensor(k).name for k in range(model.nsensor)]
+    ours = np.asarray(reply["sensordata"])
+    weights = {"beam": 0.0, "bob": 0.0, "box": 0.0}
+    for b in weights:
+        weights[b] = model.body(b).mass[0] * 9.81
+    scale = {"root_force": weights["beam"], "root_torque": weights["beam"] * 0.1,
+             "pivot_force": weights["bob"], "beam_acc": 9.81, "box_acc": 9.81,
+             "pad_touch": weights["box"]}
+    for k in range(model.nsensor):
+        name = model.sensor(k).name
+        adr, dim = model.sensor_adr[k], model.sensor_dim[k]
+        np.testing.assert_allclose(ours[adr:adr + dim], data.sensordata[adr:adr + dim],
+                                   atol=0.01 * scale[name], err_msg=name)
+    assert data.sensordata[model.sensor("pad_touch").adr[0]] > 0.9 * weights["box"]
+    env.close()

@@ -15,7 +15,7 @@ mod sensors;
 
 pub use actuators::{ActuatorDef, ActuatorKind, DynamicsKind};
 pub use keyframes::{BaseKeyDef, KeyframeDef};
-pub use sensors::{SensorDef, SensorFrameDef, SensorType, SiteDef};
+pub use sensors::{SensorDef, SensorFrameDef, SensorType, SiteDef, SiteShape, SiteVolumeDef};
 
 /// A whole assembly document: part definitions, materials and the assembly itself.
 #[derive(Debug, Clone, Deserialize, Serialize)]

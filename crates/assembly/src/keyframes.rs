@@ -23,6 +23,19 @@ pub struct Keyframe {
     pub velocities: Vec<(usize, f64)>,
     /// The floating base's start, if the keyframe moves it.
     pub base: Option<BaseKey>,
+    /// `(instance, start)` of the free bodies it moves: the reference frame's pose, its
+    /// origin's velocity (world) and its angular velocity in its own axes, SI.
+    pub free_bodies: Vec<(usize, BaseKey)>,
+    /// `(instance, pose)` of the mocap bodies it places (velocities 0), SI.
+    pub mocap: Vec<(usize, BaseKey)>,
+}
+
+/// The document's instances as keyframes name them: names, and which are free and which
+/// mocap bodies.
+pub(crate) struct KeyBodies<'a> {
+    pub(crate) names: Vec<&'a str>,
+    pub(crate) free: Vec<bool>,
+    pub(crate) mocap: Vec<bool>,
 }
 
 /// A floating base's start: its instance's frame, SI, world.
@@ -45,6 +58,7 @@ pub(crate) fn keyframes(
     initial: Option<&str>,
     joints: &[Joint],
     floating_base: bool,
+    bodies: &KeyBodies,
 ) -> (Vec<Keyframe>, Option<usize>, Vec<Issue>) {
     let mut issues = Vec::new();
     let names: Vec<&str> = defs.iter().map(|d| d.name.as_str()).collect();
@@ -63,10 +77,18 @@ pub(crate) fn keyframes(
         let before = issues.len();
         let positions = values(&path, "positions", &def.positions, joints, &mut issues);
         let velocities = values(&path, "velocities", &def.velocities, joints, &mut issues);
-        let base = def
-            .base
-            .as_ref()
-            .and_then(|b| base(&format!("{path}.base"), b, floating_base, &mut issues));
+        let base = def.base.as_ref().and_then(|b| {
+            if !floating_base {
+                issues.push(Issue::new(
+                    format!("{path}.base"),
+                    "the document has no floating base (set floating_base to true)",
+                ));
+                return None;
+            }
+            base(&format!("{path}.base"), b, &mut issues)
+        });
+        let free_bodies = placed(&path, "free_bodies", &def.free_bodies, bodies, &mut issues);
+        let mocap = placed(&path, "mocap", &def.mocap, bodies, &mut issues);
         if let Some(t) = def.time.filter(|t| !t.is_finite()) {
             issues.push(Issue::new(
                 format!("{path}.time"),
@@ -79,6 +101,8 @@ pub(crate) fn keyframes(
                 positions,
                 velocities,
                 base,
+                free_bodies,
+                mocap,
             });
         }
     }
@@ -157,20 +181,61 @@ fn values(
     out
 }
 
-/// A keyframe's floating base, in SI.
-fn base(
+/// A keyframe's `free_bodies` or `mocap`: a pose (and for a free body, velocities) per
+/// named free or mocap body.
+fn placed(
     path: &str,
-    def: &BaseKeyDef,
-    floating_base: bool,
+    field: &str,
+    given: &std::collections::BTreeMap<String, BaseKeyDef>,
+    bodies: &KeyBodies,
     issues: &mut Vec<Issue>,
-) -> Option<BaseKey> {
-    if !floating_base {
-        issues.push(Issue::new(
-            path,
-            "the document has no floating base (set floating_base to true)",
-        ));
-        return None;
+) -> Vec<(usize, BaseKey)> {
+    let mocap = field == "mocap";
+    let (what, kinds) = if mocap {
+        ("mocap body", &bodies.mocap)
+    } else {
+        ("free body", &bodies.free)
+    };
+    let mut out = Vec::with_capacity(given.len());
+    for (name, def) in given {
+        let at = format!("{path}.{field}.{name}");
+        let i = bodies.names.iter().position(|n| n == name);
+        let Some(i) = i.filter(|&i| kinds[i]) else {
+            let known: Vec<&str> = (0..kinds.len())
+                .filter(|&i| kinds[i])
+                .map(|i| bodies.names[i])
+                .collect();
+            issues.push(Issue::new(
+                at,
+                format!(
+                    "no {what} is named {} (the document's: {})",
+                    quoted(name),
+                    if known.is_empty() {
+                        "none".to_string()
+                    } else {
+                        quoted_list(&known)
+                    }
+                ),
+            ));
+            continue;
+        };
+        if mocap && (def.linear_velocity.is_some() || def.angular_velocity.is_some()) {
+            issues.push(Issue::new(
+                at,
+                "a mocap body's keyframe is a pose: give no velocities",
+            ));
+            continue;
+        }
+        if let Some(key) = base(&at, def, issues) {
+            out.push((i, key));
+        }
     }
+    out.sort_by_key(|(i, _)| *i);
+    out
+}
+
+/// A keyframe's pose and velocities (a floating base's, a free or mocap body's), in SI.
+fn base(path: &str, def: &BaseKeyDef, issues: &mut Vec<Issue>) -> Option<BaseKey> {
     let before = issues.len();
     let mut vector = |name: &str, v: Option<Vec3>, scale: f64| -> [f64; 3] {
         let v = v.map_or([0.0; 3], |v| v.to_array());

@@ -28,7 +28,8 @@ pub use document::{
     ActuatorDef, ActuatorKind, AssemblyDef, CollisionDef, ContactExcludeDef, ContactPairDef,
     ContactsDef, ConvexMode, Document, DynamicsKind, FluidDef, FrameDef, InertiaDef, InertialDef,
     InstanceDef, Integrator, JointDef, MaterialDef, MeshDef, PartDef, Primitive, SensorDef,
-    SensorFrameDef, SensorType, SimulationDef, SiteDef, TendonDef, TendonJointDef, Vec3,
+    SensorFrameDef, SensorType, SimulationDef, SiteDef, SiteShape, SiteVolumeDef, TendonDef,
+    TendonJointDef, Vec3,
 };
 pub use document::{BaseKeyDef, KeyframeDef};
 pub use error::{

@@ -360,6 +360,8 @@ pub struct Site {
     pub point: [f64; 3],
     /// Its axes in the instance's frame: Euler angles in radians, X then Y then Z.
     pub rotation: [f64; 3],
+    /// Its volume (shape and MuJoCo's sizes, m), if it has one.
+    pub volume: Option<(crate::SiteShape, [f64; 3])>,
 }
 
 /// A validated assembly: instances, then joints in document order.
@@ -509,21 +511,8 @@ impl Assembly {
     /// its own, made of what is jointed to it; its six free coordinates are observed as
     /// its pose and velocity.
     pub fn free_bodies(&self) -> Vec<usize> {
-        let mut hangs = vec![false; self.instances.len()];
-        for joint in self.joints.iter().filter(|j| !j.closes_loop) {
-            if let Some(h) = hangs.get_mut(joint.child) {
-                *h = true;
-            }
-        }
-        self.instances
-            .iter()
-            .enumerate()
-            .filter(|&(i, instance)| {
-                let base = i == 0 && self.floating_base;
-                !(hangs[i] || instance.grounded || instance.mocap || base)
-            })
-            .map(|(i, _)| i)
-            .collect()
+        let free = free_flags(&self.instances, &self.joints, self.floating_base);
+        (0..free.len()).filter(|&i| free[i]).collect()
     }
 
     /// The mocap bodies (`"mocap": true`), in document order: what a pose target names.
@@ -532,4 +521,27 @@ impl Assembly {
             .filter(|&i| self.instances[i].mocap)
             .collect()
     }
+}
+
+/// Which instances are free bodies ([`Assembly::free_bodies`]): hung from no joint, not
+/// grounded, not mocap, not the floating base.
+pub(crate) fn free_flags(
+    instances: &[Instance],
+    joints: &[Joint],
+    floating_base: bool,
+) -> Vec<bool> {
+    let mut hangs = vec![false; instances.len()];
+    for joint in joints.iter().filter(|j| !j.closes_loop) {
+        if let Some(h) = hangs.get_mut(joint.child) {
+            *h = true;
+        }
+    }
+    instances
+        .iter()
+        .enumerate()
+        .map(|(i, instance)| {
+            let base = i == 0 && floating_base;
+            !(hangs[i] || instance.grounded || instance.mocap || base)
+        })
+        .collect()
 }

@@ -58,12 +58,25 @@ pub(crate) fn sites(defs: &[SiteDef], instances: &[InstanceDef]) -> (Vec<Site>, 
                 ));
             }
         }
+        let volume = def.volume.map(|v| {
+            let size = v.size.to_array();
+            for (axis, c) in ["x", "y", "z"].iter().zip(size) {
+                if !(c.is_finite() && (0.0..=MAX_MM).contains(&c)) {
+                    issues.push(Issue::new(
+                        format!("{path}.volume.size.{axis}"),
+                        format!("expected a size in [0, 1e8] mm, got {}", shown(c)),
+                    ));
+                }
+            }
+            (v.kind, size.map(|c| c / crate::model::MM_PER_M))
+        });
         if let (Some(instance), true) = (instance, issues.len() == before) {
             out.push(Site {
                 name: def.name.clone(),
                 instance,
                 point,
                 rotation: rotation.map(f64::to_radians),
+                volume,
             });
         }
     }

@@ -68,11 +68,17 @@ pub fn validate(doc: &Document) -> Result<Assembly> {
     v.issues.extend(actuator_issues);
     let driven = crate::actuators::drive_joints(&actuators, &doc.assembly.joints, &mut joints);
     v.issues.extend(driven);
+    let key_bodies = crate::keyframes::KeyBodies {
+        names: instances.iter().map(|i| i.name.as_str()).collect(),
+        free: crate::model::free_flags(&instances, &joints, floating_base),
+        mocap: instances.iter().map(|i| i.mocap).collect(),
+    };
     let (keyframes, initial_keyframe, keyframe_issues) = crate::keyframes::keyframes(
         &doc.assembly.keyframes,
         doc.assembly.initial_keyframe.as_deref(),
         &joints,
         floating_base,
+        &key_bodies,
     );
     v.issues.extend(keyframe_issues);
     let objects = crate::sensors::Objects {

@@ -16,11 +16,16 @@ pub(crate) struct StartKey {
     /// `(DOF, velocity)`, deg/s or mm/s.
     pub(crate) velocities: Vec<(usize, f64)>,
     pub(crate) base: Option<BaseKey>,
+    /// `(instance, start)` of the free bodies it moves.
+    pub(crate) free_bodies: Vec<(usize, BaseKey)>,
+    /// `(mocap index, pose)` of the mocap bodies it places.
+    pub(crate) mocap: Vec<(usize, BaseKey)>,
 }
 
 /// The assembly's keyframes against `dofs` ([`gymfleet_physics::RobotWorld::dofs`]).
 pub(crate) fn resolve(assembly: &Assembly, dofs: &[JointDof]) -> Vec<StartKey> {
     let dof_of = |joint: usize| dofs.iter().position(|d| d.joint == joint);
+    let mocaps = assembly.mocap_bodies();
     assembly
         .keyframes
         .iter()
@@ -40,6 +45,12 @@ pub(crate) fn resolve(assembly: &Assembly, dofs: &[JointDof]) -> Vec<StartKey> {
                 .filter_map(|&(j, value)| Some((dof_of(j)?, value)))
                 .collect(),
             base: key.base,
+            free_bodies: key.free_bodies.clone(),
+            mocap: key
+                .mocap
+                .iter()
+                .filter_map(|(i, pose)| Some((mocaps.iter().position(|m| m == i)?, *pose)))
+                .collect(),
         })
         .collect()
 }
@@ -80,6 +91,17 @@ impl RobotEnv {
         let key = keyframe.map(|name| self.keyframe_index(name)).transpose()?;
         self.reset_keyed_into(seed, key, out);
         Ok(())
+    }
+
+    /// Puts keyframe `key`'s free and mocap bodies where it says (after the world's reset).
+    pub(crate) fn place_key_bodies(&mut self, key: usize) {
+        let keyframes = std::sync::Arc::clone(&self.keyframes);
+        for (instance, start) in &keyframes[key].free_bodies {
+            self.world.place_free_body(*instance, start);
+        }
+        for (k, pose) in &keyframes[key].mocap {
+            self.world.place_mocap(*k, pose);
+        }
     }
 
     /// The keyframe's offsets and velocities on top of the reset's draws, into the

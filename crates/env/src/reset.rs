@@ -85,6 +85,9 @@ impl RobotEnv {
         if let Some(base) = &base {
             self.world.place_base(base);
         }
+        if let Some(k) = key {
+            self.place_key_bodies(k);
+        }
         let (offsets, velocities) = match key {
             Some(_) => (&self.keyed_offsets, &self.keyed_velocities),
             None => (&self.offsets, &self.start_velocities),

@@ -4,7 +4,7 @@
 mod common;
 
 use common::*;
-use gymfleet_env::{EnvConfig, EnvError, RobotEnv, Units};
+use gymfleet_env::{ActionType, EnvConfig, EnvError, RobotEnv, Units};
 use serde_json::{json, Value};
 
 /// A floating 100×100×20 mm slab (its frame a corner, its centre 50, 50, 10 mm from it)
@@ -203,6 +203,18 @@ fn bad_keyframes_are_refused_with_their_paths() {
             "assembly.keyframes[0].base.orientation: expected a quaternion [qw, qx, qy, qz] of finite numbers, not all zero, got [0, 0, 0, 0]",
         ),
         (
+            json!([{"name": "k", "free_bodies": {"arm": {"position": {"x": 0, "y": 0, "z": 0},
+                                                         "orientation": [1, 0, 0, 0]}}}]),
+            None,
+            "assembly.keyframes[0].free_bodies.arm: no free body is named \"arm\" (the document's: none)",
+        ),
+        (
+            json!([{"name": "k", "mocap": {"base": {"position": {"x": 0, "y": 0, "z": 0},
+                                                    "orientation": [1, 0, 0, 0]}}}]),
+            None,
+            "assembly.keyframes[0].mocap.base: no mocap body is named \"base\" (the document's: none)",
+        ),
+        (
             json!([{"name": "k"}, {"name": "k"}]),
             None,
             "assembly.keyframes[1].name: \"k\" names an earlier keyframe too",
@@ -237,6 +249,92 @@ fn bad_keyframes_are_refused_with_their_paths() {
         err.to_string().contains(
             "assembly.keyframes[0].base: the document has no floating base (set floating_base to true)"
         ),
+        "{err}"
+    );
+}
+
+/// A grounded post, a free cube and a mocap cube, and a keyframe placing both cubes.
+fn scene(key: Value) -> Value {
+    json!({
+        "parts": [{"name": "Cube", "primitive": {"type": "cube", "size": {"x": 20, "y": 20, "z": 20}}}],
+        "assembly": {
+            "instances": [
+                {"part": "Cube", "name": "post"},
+                {"part": "Cube", "name": "free", "position": {"x": 500, "y": 0, "z": 500},
+                 "body_frame": {"position": {"x": 10, "y": 10, "z": 10}}},
+                {"part": "Cube", "name": "hand", "position": {"x": -500, "y": 0, "z": 500}, "mocap": true,
+                 "body_frame": {"position": {"x": 10, "y": 10, "z": 10}}, "collision": {"group": 0, "mask": 0}}
+            ],
+            "joints": [],
+            "keyframes": [key]
+        }
+    })
+}
+
+#[test]
+fn a_keyframe_places_free_and_mocap_bodies() {
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    let key = json!({"name": "k",
+        "free_bodies": {"free": {"position": {"x": 100, "y": 200, "z": 300}, "orientation": [h, 0, 0, h],
+                                 "linear_velocity": {"x": 0, "y": 0, "z": 50},
+                                 "angular_velocity": {"x": 90, "y": 0, "z": 0}}},
+        "mocap": {"hand": {"position": {"x": -100, "y": 0, "z": 700}, "orientation": [0, 1, 0, 0]}}});
+    let mut env = env_with(&scene(key), si(EnvConfig::with_end_effectors(["hand"])));
+    let obs = reset(&mut env, None, Some("k"));
+    // SI layout: free pose (7), free velocity (6), then the hand's pose (its centre).
+    close(
+        &obs[0..7],
+        &[0.1, 0.2, 0.3, h, 0.0, 0.0, h],
+        1e-6,
+        "free pose",
+    );
+    close(
+        &obs[7..13],
+        &[0.0, 0.0, 0.05, 90f64.to_radians(), 0.0, 0.0],
+        1e-5,
+        "free velocity",
+    );
+    close(
+        &obs[13..16],
+        &[-0.1, 0.0, 0.7],
+        1e-6,
+        "the mocap cube's centre",
+    );
+    // It stays where the keyframe put it; a plain reset puts both back.
+    for _ in 0..5 {
+        env.step(ActionType::Torque, &[]).expect("steps");
+    }
+    close(
+        &env.observe().to_flat()[13..16]
+            .iter()
+            .map(|&v| f64::from(v))
+            .collect::<Vec<_>>(),
+        &[-0.1, 0.0, 0.7],
+        1e-6,
+        "held",
+    );
+    let plain = reset(&mut env, None, None);
+    close(
+        &plain[0..3],
+        &[0.51, 0.01, 0.51],
+        1e-6,
+        "the free cube back",
+    );
+    close(
+        &plain[13..16],
+        &[-0.49, 0.01, 0.51],
+        1e-6,
+        "the mocap cube back",
+    );
+    // A mocap body's keyframe is a pose only.
+    let moving = json!({"name": "k", "mocap": {"hand": {"position": {"x": 0, "y": 0, "z": 0},
+        "orientation": [1, 0, 0, 0], "linear_velocity": {"x": 1, "y": 0, "z": 0}}}});
+    let err = RobotEnv::from_json(&scene(moving).to_string(), EnvConfig::default())
+        .err()
+        .expect("a moving mocap key");
+    assert!(
+        err.to_string()
+            .contains("assembly.keyframes[0].mocap.hand: a mocap body's keyframe is a pose: give no velocities"),
         "{err}"
     );
 }

@@ -35,6 +35,10 @@ fn scene(sensors: Value) -> Value {
             "joints": [],
             "sites": [
                 {"name": "pad", "instance": "table", "point": {"x": 100, "y": 100, "z": 20}},
+                {"name": "pad_zone", "instance": "table", "point": {"x": 100, "y": 100, "z": 20},
+                 "volume": {"type": "box", "size": {"x": 15, "y": 15, "z": 2}}},
+                {"name": "pad_corner", "instance": "table", "point": {"x": 10, "y": 10, "z": 20},
+                 "volume": {"type": "sphere", "size": {"x": 5, "y": 5, "z": 5}}},
                 {"name": "rest_bottom", "instance": "rest", "point": {"x": 10, "y": 10, "z": 0}},
                 {"name": "rest_top", "instance": "rest", "point": {"x": 10, "y": 10, "z": 20}},
                 {"name": "fall_bottom", "instance": "fall", "point": {"x": 10, "y": 10, "z": 0},
@@ -88,6 +92,8 @@ fn scene_sensors() -> Value {
     json!([
         {"name": "pad_touch", "type": "touch", "site": "pad"},
         {"name": "pad_capped", "type": "touch", "site": "pad", "cutoff": 0.05},
+        {"name": "pad_zone", "type": "touch", "site": "pad_zone"},
+        {"name": "pad_corner", "type": "touch", "site": "pad_corner"},
         {"name": "rest_touch", "type": "touch", "site": "rest_bottom"},
         {"name": "fall_touch", "type": "touch", "site": "fall_bottom"},
         {"name": "rest_acc", "type": "accelerometer", "site": "rest_bottom", "noise": 0.01},
@@ -115,10 +121,10 @@ fn scene_sensors() -> Value {
 fn a_resting_cube_weighs_on_its_pad_and_a_falling_one_reads_free_fall() {
     let mut env = env(&scene(scene_sensors()));
     let spec_names: Vec<&str> = env.spec().sensors.iter().map(|s| s.0.as_str()).collect();
-    assert_eq!(spec_names.len(), 21);
+    assert_eq!(spec_names.len(), 23);
     assert_eq!(env.spec().sensors[0], ("pad_touch".to_string(), "touch", 1));
     assert_eq!(
-        env.spec().sensors[11],
+        env.spec().sensors[13],
         ("fall_quat".to_string(), "framequat", 4)
     );
     // After a reset no contact has acted and nothing has accelerated: the accelerometers
@@ -154,6 +160,19 @@ fn a_resting_cube_weighs_on_its_pad_and_a_falling_one_reads_free_fall() {
         &[0.05],
         1e-12,
         "touch cut off at 0.05 N",
+    );
+    // A pad's volume counts the contacts inside it: all of the cube's, or none.
+    close(
+        &reading(&env, "pad_zone"),
+        &[weight],
+        0.02 * weight,
+        "the cube is on the zone",
+    );
+    close(
+        &reading(&env, "pad_corner"),
+        &[0.0],
+        0.0,
+        "nothing in the table's corner",
     );
     close(
         &reading(&env, "fall_touch"),
@@ -413,7 +432,7 @@ fn each_bad_sensor_gets_its_own_error() {
     for (sensor, expected) in [
         (
             json!({"name": "s", "type": "touch", "site": "nowhere"}),
-            "assembly.sensors[0].site: unknown site \"nowhere\" (known: \"pad\", \"rest_bottom\", \"rest_top\", \"fall_bottom\")",
+            "assembly.sensors[0].site: unknown site \"nowhere\" (known: \"pad\", \"pad_zone\", \"pad_corner\", \"rest_bottom\", \"rest_top\", \"fall_bottom\")",
         ),
         (
             json!({"name": "s", "type": "touch", "instance": "rest"}),

@@ -1,5 +1,6 @@
 //! `<keyframe><key>` (issue Z2): keys become the document's keyframes in MuJoCo's qpos
-//! layout; a wrong count is refused, and what a keyframe cannot set yet is warned about.
+//! layout (joints, the floating base, free bodies) and mocap poses; a wrong count is
+//! refused, and what a keyframe cannot set yet is warned about.
 
 mod common;
 
@@ -50,10 +51,12 @@ fn a_key_sets_the_hinge_and_warns_about_what_it_cannot_set_yet() {
         "{:?}",
         c.warnings
     );
-    assert!(
-        warned("k: the free body \"box\"'s pose is not applied (not supported in keyframes yet)"),
-        "{:?}",
-        c.warnings
+    // The free body is placed: its qpos is its observed pose (mm), at rest.
+    assert_eq!(
+        keyframes[0]["free_bodies"]["box"],
+        json!({"position": {"x": 1000.0, "y": 0.0, "z": 500.0}, "orientation": [1.0, 0.0, 0.0, 0.0],
+               "linear_velocity": {"x": 0.0, "y": 0.0, "z": 0.0},
+               "angular_velocity": {"x": 0.0, "y": 0.0, "z": 0.0}})
     );
     assert!(
         warned("k: ctrl is not applied (a keyframe sets joint positions and velocities)"),
@@ -74,6 +77,38 @@ fn a_key_of_the_wrong_size_is_refused_with_the_models_count() {
     let err = error(&model(r#"<key qvel="0 0"/>"#));
     assert!(
         err.contains("expected 10 numbers (the model's nv), got 2"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_keys_mocap_poses_convert_and_a_wrong_count_is_refused() {
+    let xml = |key: &str| {
+        format!(
+            r#"<mujoco><worldbody>
+  <body name="arm"><joint name="hinge" type="hinge" axis="0 1 0"/><geom size=".1"/></body>
+  <body name="target" mocap="true" pos="0 1 0"><geom size=".05"/></body>
+  <body name="still" mocap="true" pos="0 2 0"><geom size=".05"/></body>
+</worldbody>
+<keyframe>{key}</keyframe>
+</mujoco>"#
+        )
+    };
+    let c = mjcf_to_document(&xml(r#"<key name="k" mpos="0 1 0.5 0 2 0"/>"#)).expect("converts");
+    let key = &c.document["assembly"]["keyframes"][0];
+    assert_eq!(
+        key["mocap"],
+        json!({"target": {"position": {"x": 0.0, "y": 1000.0, "z": 500.0}, "orientation": [1.0, 0.0, 0.0, 0.0]}}),
+        "the body the key does not move is left out"
+    );
+    assert!(
+        c.warnings.iter().all(|w| !w.contains("mpos")),
+        "{:?}",
+        c.warnings
+    );
+    let err = error(&xml(r#"<key mquat="1 0 0 0"/>"#));
+    assert!(
+        err.contains("mquat") && err.contains("expected 8 numbers (4 per mocap body), got 4"),
         "{err}"
     );
 }

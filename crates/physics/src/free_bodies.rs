@@ -34,6 +34,16 @@ pub(crate) fn local_pose(position: [f64; 3], rotation: [f64; 3]) -> Pose {
     )
 }
 
+/// A keyframe's pose as a Rapier pose.
+fn key_pose(key: &gymfleet_assembly::BaseKey) -> Pose {
+    let [x, y, z] = key.position.map(|c| c as Real);
+    let q = key.orientation.map(|c| c as Real);
+    Pose::from_parts(
+        Vector::new(x, y, z),
+        Rotation::from_xyzw(q[1], q[2], q[3], q[0]),
+    )
+}
+
 impl RobotWorld {
     /// The world pose of a free or mocap body's reference frame.
     fn reference_frame(&self, body: &BodyRef) -> Pose {
@@ -113,6 +123,53 @@ impl RobotWorld {
         let body = *self.live.bodies[self.bodies[slot.body.instance]].position();
         let frame_in_body = body.inverse() * now;
         self.mocaps[k].target = Some(wanted * frame_in_body.inverse());
+    }
+
+    /// Puts free body `instance`'s reference frame at a keyframe's pose (SI, world), moving
+    /// with its velocity: the origin's (world) and the angular velocity in the frame's own
+    /// axes, as [`RobotWorld::free_body_state`] reads them. Nothing happens for an instance
+    /// that is not a free body.
+    pub fn place_free_body(&mut self, instance: usize, key: &gymfleet_assembly::BaseKey) {
+        let Some(body) = self
+            .free_bodies
+            .iter()
+            .find(|b| b.instance == instance)
+            .copied()
+        else {
+            return;
+        };
+        let wanted = key_pose(key);
+        let pose = self.body_pose_for(&body, wanted);
+        let handle = self.bodies[instance];
+        let rb = &mut self.live.bodies[handle];
+        rb.set_position(pose, true);
+        let real = |v: [f64; 3]| Vector::new(v[0] as Real, v[1] as Real, v[2] as Real);
+        let w = wanted.rotation * real(key.angular_velocity);
+        let com = pose.transform_point(rb.mass_properties().local_mprops.local_com);
+        rb.set_linvel(
+            real(key.linear_velocity) + w.cross(com - wanted.translation),
+            true,
+        );
+        rb.set_angvel(w, true);
+    }
+
+    /// Puts mocap body `k`'s reference frame at a keyframe's pose (SI, world) and holds it
+    /// there (its target) until a new target moves it.
+    pub fn place_mocap(&mut self, k: usize, key: &gymfleet_assembly::BaseKey) {
+        let Some(slot) = self.mocaps.get(k).copied() else {
+            return;
+        };
+        let pose = self.body_pose_for(&slot.body, key_pose(key));
+        let handle = self.bodies[slot.body.instance];
+        self.live.bodies[handle].set_position(pose, true);
+        self.mocaps[k].target = Some(pose);
+    }
+
+    /// The pose of `body`'s Rapier body that puts its reference frame at `wanted`.
+    fn body_pose_for(&self, body: &BodyRef, wanted: Pose) -> Pose {
+        let now = self.reference_frame(body);
+        let current = *self.live.bodies[self.bodies[body.instance]].position();
+        wanted * (current.inverse() * now).inverse()
     }
 
     /// Tells Rapier where each mocap body with a target is to be at the end of the next

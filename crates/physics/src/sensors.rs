@@ -8,7 +8,8 @@
 //! - Touch, force and torque read the last step's contact forces, as the task terms do
 //!   (`contacts.rs`); zeros after a reset.
 //! - Touch sums the normal forces of the contacts on the site's body (its instance and the
-//!   instances welded to it): MuJoCo counts only the contacts inside the site's volume.
+//!   instances welded to it) whose point is inside the site's volume, as MuJoCo's does; a
+//!   site without a volume counts every contact on the body.
 
 use gymfleet_assembly::SensorType;
 use rapier3d::math::{Real, Rotation, Vector};
@@ -268,7 +269,7 @@ impl RobotWorld {
                 let a = self.point_acceleration(f.instance, p).0;
                 set3(out, local(q, sub(a, v3(self.gravity))));
             }
-            Touch => out[0] = self.touch(below),
+            Touch => out[0] = self.touch(below, s.volume.map(|v| (p, q, v))),
             Force | Torque => {
                 if wrenches.is_empty() {
                     self.contact_wrenches([0.0; 3], wrenches);
@@ -314,12 +315,14 @@ impl RobotWorld {
         }
     }
 
-    /// The normal force of the last step's contacts on `group`, N.
-    fn touch(&self, group: &[usize]) -> f64 {
+    /// The normal force of the last step's contacts on `group`, N: those inside the
+    /// site's volume (at `p`, turned by `q`) when it has one.
+    fn touch(&self, group: &[usize], zone: Option<(V3, Rotation, Volume)>) -> f64 {
         let mut sum = 0.0;
-        self.for_each_contact(|a, b, _, normal, _| {
+        self.for_each_contact(|a, b, at, normal, _| {
             let on = |i: Option<usize>| i.is_some_and(|i| group.contains(&i));
-            if on(a) || on(b) {
+            let inside = zone.is_none_or(|(p, q, volume)| inside(volume, local(q, sub(at, p))));
+            if (on(a) || on(b)) && inside {
                 sum += normal.abs();
             }
         });
@@ -368,6 +371,28 @@ impl RobotWorld {
             Some((_, toi)) => f64::from(toi),
             None => -1.0,
         }
+    }
+}
+
+/// A site's volume: its shape and MuJoCo's sizes (m).
+type Volume = (gymfleet_assembly::SiteShape, [f64; 3]);
+
+/// Whether the point `x` (in the site's axes, from its centre) is inside `volume`
+/// (MuJoCo's `mju_insideGeom`).
+fn inside((shape, s): Volume, x: V3) -> bool {
+    use gymfleet_assembly::SiteShape::*;
+    let sq = |v: f64| v * v;
+    match shape {
+        Sphere => sq(x[0]) + sq(x[1]) + sq(x[2]) <= sq(s[0]),
+        Capsule => {
+            let z = x[2].clamp(-s[1], s[1]);
+            sq(x[0]) + sq(x[1]) + sq(x[2] - z) <= sq(s[0])
+        }
+        Cylinder => sq(x[0]) + sq(x[1]) <= sq(s[0]) && x[2].abs() <= s[1],
+        Ellipsoid => {
+            (0..3).all(|k| s[k] > 0.0) && (0..3).map(|k| sq(x[k] / s[k])).sum::<f64>() <= 1.0
+        }
+        Box => (0..3).all(|k| x[k].abs() <= s[k]),
     }
 }
 

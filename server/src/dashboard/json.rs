@@ -41,6 +41,10 @@ pub(super) fn watched(entry: &Watched, rates: Option<Rates>) -> Value {
         "observation_dim": facts.observation_dim,
         "dt": facts.dt,
         "max_steps": facts.max_steps,
+        "keyframes": facts.keyframes,
+        "sensors": facts.sensors.iter().map(|(name, kind, dim)| {
+            json!({"name": name, "type": kind, "dim": dim})
+        }).collect::<Vec<_>>(),
         "steps": counts.steps,
         "env_steps": counts.env_steps,
         "episodes": counts.episodes,

@@ -8,7 +8,7 @@ use std::time::Duration;
 
 /// What an env or batch is, fixed when it is created (the dashboard shows it without
 /// taking the entry's lock).
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub(crate) struct Facts {
     /// Envs held: 1 for a single env.
     pub(crate) n_envs: usize,
@@ -17,6 +17,9 @@ pub(crate) struct Facts {
     /// Seconds per step.
     pub(crate) dt: f64,
     pub(crate) max_steps: u32,
+    /// The document's keyframes, and its sensors (name, type, floats).
+    pub(crate) keyframes: Vec<String>,
+    pub(crate) sensors: Vec<(String, &'static str, usize)>,
 }
 
 impl Facts {
@@ -28,6 +31,8 @@ impl Facts {
             observation_dim: spec.observation_dim,
             dt: spec.dt,
             max_steps: spec.max_steps,
+            keyframes: spec.keyframes.clone(),
+            sensors: spec.sensors.clone(),
         }
     }
 }

@@ -25,6 +25,18 @@ pub struct KeyframeDef {
     /// Where the floating base starts; default where the document puts it, at rest.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub base: Option<BaseKeyDef>,
+    /// Where free bodies start, by instance name: the reference frame's pose as observed
+    /// (`free_body_poses`: world mm, `[qw, qx, qy, qz]`), its origin's velocity (world
+    /// mm/s) and its angular velocity in its own axes (deg/s): MuJoCo's `qpos` and `qvel`
+    /// of a free joint. A free body the keyframe does not name starts where a plain reset
+    /// puts it.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub free_bodies: BTreeMap<String, BaseKeyDef>,
+    /// Where mocap bodies start, by instance name: the reference frame's pose (world mm,
+    /// `[qw, qx, qy, qz]`; MuJoCo's `mpos`, `mquat`), held until a target moves it. No
+    /// velocities.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub mocap: BTreeMap<String, BaseKeyDef>,
     /// The time the state was recorded at, s (MJCF's `time`): kept, not used (an episode's
     /// time starts at 0).
     #[serde(default, skip_serializing_if = "Option::is_none")]

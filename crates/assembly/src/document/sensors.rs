@@ -20,6 +20,39 @@ pub struct SiteDef {
     /// the site is observed with them.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rotation: Option<Vec3>,
+    /// The site's volume, in its own axes (MJCF's site `type` and `size`): a touch sensor
+    /// on the site counts only the contacts inside it. Default none: every contact on the
+    /// site's body.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub volume: Option<SiteVolumeDef>,
+}
+
+/// *(ext)* A site's volume, centred on the site, MuJoCo's site shapes and sizes (mm).
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SiteVolumeDef {
+    /// Its shape.
+    #[serde(rename = "type")]
+    pub kind: SiteShape,
+    /// MuJoCo's sizes: a sphere's radius (`x`); a capsule's or cylinder's radius (`x`) and
+    /// half-length along the site's z (`y`); an ellipsoid's radii; a box's half-sizes.
+    pub size: Vec3,
+}
+
+/// A site volume's shape.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SiteShape {
+    /// A ball.
+    Sphere,
+    /// A cylinder with round ends, along z.
+    Capsule,
+    /// A cylinder along z.
+    Cylinder,
+    /// An ellipsoid.
+    Ellipsoid,
+    /// A box.
+    Box,
 }
 
 /// *(ext)* A sensor: one named reading, MuJoCo's sensor of the same type, in SI units

@@ -65,7 +65,8 @@ impl<'a, 'i> Converter<'a, 'i> {
             let at = self.local_frame(site, None)?;
             let world = self.world_instance();
             let name = site.attribute("name").unwrap_or("world_site");
-            let kept = self.site(name, &world, &at);
+            let volume = self.site_volume(site, None)?;
+            let kept = self.site(name, &world, &at, Some(volume));
             if let (Some(mjcf), Some(kept)) = (site.attribute("name"), kept) {
                 self.site_of.insert(mjcf.to_string(), kept);
             }
@@ -196,7 +197,13 @@ impl<'a, 'i> Converter<'a, 'i> {
 
     /// A named frame `at` (world, m) on instance `instance`, in its frame: a site's, or a
     /// body's origin and axes (what MuJoCo's `xpos` and `xquat` report).
-    pub(super) fn site(&mut self, wanted: &str, instance: &str, at: &Frame) -> Option<String> {
+    pub(super) fn site(
+        &mut self,
+        wanted: &str,
+        instance: &str,
+        at: &Frame,
+        volume: Option<gymfleet_assembly::SiteVolumeDef>,
+    ) -> Option<String> {
         let frame = self.frames.get(instance)?;
         let back = frame.rotation.inverse();
         let local = back * (at.translation - frame.translation) * MM;
@@ -208,6 +215,7 @@ impl<'a, 'i> Converter<'a, 'i> {
             point: vec3(local),
             rotation: (turn.angle_between(DQuat::IDENTITY) > 1e-12)
                 .then(|| Vec3::from(euler_xyz_degrees(turn))),
+            volume,
         });
         Some(name)
     }
@@ -342,7 +350,7 @@ impl<'a, 'i> Converter<'a, 'i> {
         }
         // The body's origin, by the body's name (what MuJoCo's body xpos reports); an
         // unnamed body's as `body` (made unique), so that every body has one, in body order.
-        let origin = self.site(&body_name, &main, &frame);
+        let origin = self.site(&body_name, &main, &frame, None);
         if let (Some(name), Some(origin)) = (node.attribute("name"), origin) {
             self.body_sites.insert(name.to_string(), origin);
         }
@@ -383,6 +391,7 @@ impl<'a, 'i> Converter<'a, 'i> {
             if let Some(instance) = self.instances.iter_mut().find(|i| i.name == main) {
                 instance.mocap = Some(true);
             }
+            self.mocap_bodies.push((main.clone(), frame));
         }
         let parent_instance = match parent {
             BodyParent::World if free.is_none() && !mocap && !is_static => {
@@ -434,7 +443,8 @@ impl<'a, 'i> Converter<'a, 'i> {
                     let name = child
                         .attribute("name")
                         .map_or_else(|| format!("{body_name}_site"), str::to_string);
-                    let kept = self.site(&name, &main, &at);
+                    let volume = self.site_volume(child, class)?;
+                    let kept = self.site(&name, &main, &at, Some(volume));
                     if let (Some(mjcf), Some(kept)) = (child.attribute("name"), kept) {
                         self.site_of.insert(mjcf.to_string(), kept);
                     }

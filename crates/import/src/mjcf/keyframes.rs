@@ -73,11 +73,10 @@ impl<'a, 'i> Converter<'a, 'i> {
             .fold((0, 0), |(q, v), (a, b)| (q + a, v + b));
         let qpos = self.sized(key, "qpos", nq)?;
         let qvel = self.sized(key, "qvel", nv)?;
-        // Mocap poses are warned about whenever given; controls and activations when not 0.
-        for attribute in ["act", "ctrl", "mpos", "mquat"] {
+        // Controls and activations are warned about when not 0.
+        for attribute in ["act", "ctrl"] {
             let given = self.numbers(key, None, attribute)?;
-            let mocap = attribute.starts_with('m');
-            if given.is_some_and(|v| mocap || v.iter().any(|x| x.abs() > UNAPPLIED_TOLERANCE)) {
+            if given.is_some_and(|v| v.iter().any(|x| x.abs() > UNAPPLIED_TOLERANCE)) {
                 self.warn(
                     key,
                     format!("{name}: {attribute} is not applied (a keyframe sets joint positions and velocities)"),
@@ -89,6 +88,7 @@ impl<'a, 'i> Converter<'a, 'i> {
             time: self.number(key, None, "time")?.filter(|t| *t != 0.0),
             ..KeyframeDef::default()
         };
+        self.key_mocap(key, &mut def)?;
         let (mut q, mut v) = (0, 0);
         let slots = self.qpos_slots.clone();
         for slot in &slots {
@@ -134,9 +134,21 @@ impl<'a, 'i> Converter<'a, 'i> {
                     let moved = qs.is_some_and(|p| !at_frame(p, body))
                         || vs.is_some_and(|w| w.iter().any(|x| *x != 0.0));
                     if moved {
-                        self.warn(
-                            key,
-                            format!("{name}: the free body {instance:?}'s pose is not applied (not supported in keyframes yet)"),
+                        // Its instance is its body frame: the key's qpos and qvel as observed.
+                        let p = qs.map_or_else(|| frame_qpos(body), <[f64]>::to_vec);
+                        let w = vs.map_or([0.0; 6].to_vec(), <[f64]>::to_vec);
+                        def.free_bodies.insert(
+                            instance.clone(),
+                            BaseKeyDef {
+                                position: Vec3::from([p[0], p[1], p[2]].map(|c| c * MM)),
+                                orientation: [p[3], p[4], p[5], p[6]],
+                                linear_velocity: Some(Vec3::from(
+                                    [w[0], w[1], w[2]].map(|c| c * MM),
+                                )),
+                                angular_velocity: Some(Vec3::from(
+                                    [w[3], w[4], w[5]].map(f64::to_degrees),
+                                )),
+                            },
                         );
                     }
                 }
@@ -145,6 +157,54 @@ impl<'a, 'i> Converter<'a, 'i> {
             v += dv;
         }
         Ok(def)
+    }
+
+    /// A key's `mpos` and `mquat`: the mocap bodies' poses (MuJoCo's mocap order), each
+    /// kept where it differs from the model's.
+    fn key_mocap(&mut self, key: Node<'a, 'i>, def: &mut KeyframeDef) -> Result<()> {
+        let n = self.mocap_bodies.len();
+        let mpos = self.sized_as(key, "mpos", 3 * n, "3 per mocap body")?;
+        let mquat = self.sized_as(key, "mquat", 4 * n, "4 per mocap body")?;
+        for (k, (instance, body)) in self.mocap_bodies.iter().enumerate() {
+            let mut p = frame_qpos(body);
+            if let Some(m) = &mpos {
+                p[..3].copy_from_slice(&m[3 * k..3 * k + 3]);
+            }
+            if let Some(m) = &mquat {
+                p[3..].copy_from_slice(&m[4 * k..4 * k + 4]);
+            }
+            if !at_frame(&p, body) {
+                def.mocap.insert(
+                    instance.clone(),
+                    BaseKeyDef {
+                        position: Vec3::from([p[0], p[1], p[2]].map(|c| c * MM)),
+                        orientation: [p[3], p[4], p[5], p[6]],
+                        linear_velocity: None,
+                        angular_velocity: None,
+                    },
+                );
+            }
+        }
+        Ok(())
+    }
+
+    /// A key's `attribute` of exactly `n` numbers (`what` says which), if given.
+    fn sized_as(
+        &self,
+        key: Node<'a, 'i>,
+        attribute: &str,
+        n: usize,
+        what: &str,
+    ) -> Result<Option<Vec<f64>>> {
+        let values = self.numbers(key, None, attribute)?;
+        if let Some(v) = values.as_ref().filter(|v| v.len() != n) {
+            return Err(self.bad(
+                key,
+                attribute,
+                format!("expected {n} numbers ({what}), got {}", v.len()),
+            ));
+        }
+        Ok(values)
     }
 
     /// A key's `attribute` of exactly `n` numbers, if given (MuJoCo refuses another count).
@@ -165,6 +225,12 @@ impl<'a, 'i> Converter<'a, 'i> {
         }
         Ok(values)
     }
+}
+
+/// A body frame as a free joint's qpos: position, then quaternion `[w, x, y, z]`.
+fn frame_qpos(body: &Frame) -> Vec<f64> {
+    let (t, q) = (body.translation, body.rotation);
+    vec![t.x, t.y, t.z, q.w, q.x, q.y, q.z]
 }
 
 /// Whether a free joint's qpos (position, quaternion) is the body frame `body`.

@@ -234,6 +234,9 @@ struct Converter<'a, 'i> {
     /// Each named `<site>`'s site, and each named body's origin site, for `<sensor>`.
     site_of: HashMap<String, String>,
     body_sites: HashMap<String, String>,
+    /// The mocap bodies' instances and body frames (world, m), in body order: MuJoCo's
+    /// mocap order, for a `<key>`'s `mpos` and `mquat`.
+    mocap_bodies: Vec<(String, Frame)>,
     /// The `<sensor>`s, converted after the bodies.
     sensors: Vec<gymfleet_assembly::SensorDef>,
     /// The `<sensor>` elements' children seen so far, converted or skipped (MuJoCo's
@@ -299,6 +302,7 @@ impl<'a, 'i> Converter<'a, 'i> {
             body_sites: HashMap::new(),
             sensors: Vec::new(),
             sensor_count: 0,
+            mocap_bodies: Vec::new(),
         }
     }
 

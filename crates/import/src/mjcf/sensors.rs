@@ -43,10 +43,45 @@ fn sensor_type(tag: &str) -> Option<SensorType> {
 }
 
 impl<'a, 'i> Converter<'a, 'i> {
+    /// A `<site>`'s volume: its `type` (default sphere) and `size` (MuJoCo's default 0.005
+    /// m for what is not given), which a touch sensor counts contacts in.
+    pub(super) fn site_volume(
+        &self,
+        node: Node<'a, 'i>,
+        class: Option<&str>,
+    ) -> Result<gymfleet_assembly::SiteVolumeDef> {
+        use gymfleet_assembly::SiteShape;
+        let kind = match self.attr(node, class, "type").unwrap_or("sphere") {
+            "sphere" => SiteShape::Sphere,
+            "capsule" => SiteShape::Capsule,
+            "cylinder" => SiteShape::Cylinder,
+            "ellipsoid" => SiteShape::Ellipsoid,
+            "box" => SiteShape::Box,
+            other => {
+                return Err(self.bad(
+                    node,
+                    "type",
+                    format!("expected sphere, capsule, cylinder, ellipsoid or box, got {other:?}"),
+                ))
+            }
+        };
+        let given = self.numbers(node, class, "size")?.unwrap_or_default();
+        let mut size = [0.005; 3];
+        for (slot, v) in size.iter_mut().zip(&given) {
+            if *v < 0.0 {
+                return Err(self.bad(node, "size", format!("expected sizes ≥ 0, got {v}")));
+            }
+            *slot = *v;
+        }
+        Ok(gymfleet_assembly::SiteVolumeDef {
+            kind,
+            size: Vec3::from(size.map(|v| v * MM)),
+        })
+    }
+
     /// One `<sensor>` element's sensors, appended to [`Converter::sensors`]. An unnamed
     /// sensor is `sensor<index>`, its index among the model's sensors.
     pub(super) fn sensors(&mut self, node: Node<'a, 'i>) -> Result<()> {
-        let mut touch_warned = false;
         for child in elements(node) {
             let tag = child.tag_name().name();
             let index = self.sensor_count;
@@ -77,13 +112,6 @@ impl<'a, 'i> Converter<'a, 'i> {
                     }
                     *slot = (v > 0.0).then_some(v);
                 }
-            }
-            if kind == SensorType::Touch && !touch_warned {
-                touch_warned = true;
-                self.warn(
-                    child,
-                    "touch reads every contact on the site's body, not only those inside the site's volume".into(),
-                );
             }
             self.sensors.push(def);
         }

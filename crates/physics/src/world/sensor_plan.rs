@@ -23,6 +23,8 @@ pub(crate) struct SensorReading {
     /// A frame sensor's reference frame.
     pub(crate) reference: Option<SensorFrame>,
     pub(crate) cutoff: f64,
+    /// A touch sensor's site's volume (shape, MuJoCo's sizes in m), if it has one.
+    pub(crate) volume: Option<(gymfleet_assembly::SiteShape, [f64; 3])>,
 }
 
 /// What a sensor reads, resolved against the world.
@@ -92,6 +94,12 @@ impl SensorPlan {
                 },
                 reference: s.reference.map(frame),
                 cutoff: s.cutoff,
+                volume: match s.object {
+                    Target::Frame(AssemblyFrame::Site(k)) if s.kind == SensorType::Touch => {
+                        assembly.sites[k].volume
+                    }
+                    _ => None,
+                },
             })
             .collect();
         SensorPlan {
