@@ -142,14 +142,19 @@ def layout_of(info):
     return out
 
 
-#: A hinged arm, a free box and a mocap body, and a key that moves all three (the box
-#: moving and spinning, the mocap body turned).
+#: A hinged arm (a motor and a filtered actuator on it) with a ball-jointed forearm, a free
+#: box and a mocap body, and a key that moves them all (the forearm turned and spinning,
+#: the box moving and spinning, the mocap body turned) and holds controls and an activation.
 SCENE = """<mujoco>
   <worldbody>
     <geom type="plane" size="5 5 .1"/>
     <body name="arm" pos="0 0 .5">
       <joint name="hinge" type="hinge" axis="0 1 0"/>
       <geom type="capsule" fromto="0 0 0 .3 0 0" size=".02"/>
+      <body name="fore" pos=".3 0 0">
+        <joint name="wrist" type="ball"/>
+        <geom type="capsule" fromto="0 0 0 .2 0 0" size=".02"/>
+      </body>
     </body>
     <body name="box" pos="1 0 .1">
       <freejoint/>
@@ -159,20 +164,30 @@ SCENE = """<mujoco>
       <geom type="sphere" size=".05" contype="0" conaffinity="0"/>
     </body>
   </worldbody>
+  <actuator>
+    <motor name="lift" joint="hinge" gear="2"/>
+    <general name="slow" joint="hinge" dyntype="filter" dynprm="0.5" gainprm="3"/>
+  </actuator>
+  <sensor>
+    <actuatorfrc actuator="lift"/>
+    <actuatorfrc actuator="slow"/>
+  </sensor>
   <keyframe>
-    <key name="moved" qpos="0.4  0.8 0.3 0.6 0.9238795 0 0 0.3826834"
-         qvel="1.5  0.2 -0.1 0.3 0 0 2.0"
-         mpos="-0.5 0.2 0.7" mquat="0.7071068 0.7071068 0 0"/>
+    <key name="moved" qpos="0.4  0.9238795 0 0.3826834 0  0.8 0.3 0.6 0.9238795 0 0 0.3826834"
+         qvel="1.5  0.5 0 1.0  0.2 -0.1 0.3 0 0 2.0"
+         mpos="-0.5 0.2 0.7" mquat="0.7071068 0.7071068 0 0" ctrl="0.4 0.8" act="0.3"/>
   </keyframe>
 </mujoco>"""
 
 
 def test_a_keyframe_places_free_and_mocap_bodies_as_mujoco_does():
-    """``qpos``/``qvel`` of a free body and ``mpos``/``mquat`` of a mocap body: after a reset
-    to the key, the free body's observed pose and velocity are the key's (MuJoCo's qpos and
-    qvel), and both bodies are where ``mj_resetDataKeyframe`` puts them, within 1 µm and
-    1e-6 rad; the mocap body stays there as the env steps."""
-    env = gymfleet.make(SCENE, units="si", end_effector_ids=["site:box", "site:hand"])
+    """``qpos``/``qvel`` of a ball joint and a free body, ``mpos``/``mquat`` of a mocap body:
+    after a reset to the key, the ball joint and the free body are observed as the key has
+    them (MuJoCo's qpos and qvel), and the bodies are where ``mj_resetDataKeyframe`` puts
+    them, within 1 µm and 1e-6 rad; ``ctrl`` and ``act`` are held (the actuators' forces are MuJoCo's); the mocap
+    body stays there as the env steps."""
+    bodies = ["box", "hand", "fore"]
+    env = gymfleet.make(SCENE, units="si", end_effector_ids=[f"site:{b}" for b in bodies])
     assert env.env_info["free_bodies"] == ["box"] and env.env_info["mocap_bodies"] == ["hand"]
     obs, _ = env.reset(options={"keyframe": "moved"})
     model = mujoco.MjModel.from_xml_string(SCENE)
@@ -180,15 +195,22 @@ def test_a_keyframe_places_free_and_mocap_bodies_as_mujoco_does():
     mujoco.mj_resetDataKeyframe(model, data, 0)
     mujoco.mj_forward(model, data)
     at = layout(env)
-    np.testing.assert_allclose(obs[at["joint_positions"]], [0.4], atol=1e-6)
-    np.testing.assert_allclose(obs[at["joint_velocities"]], [1.5], atol=1e-5)
-    np.testing.assert_allclose(obs[at["free_body_poses"]], data.qpos[1:8], atol=1e-6)
-    np.testing.assert_allclose(obs[at["free_body_velocities"]], data.qvel[1:7], atol=1e-5)
+    # The hinge, then the ball joint as a rotation vector (45° about y) and its angular
+    # velocity in the parent's axes (MuJoCo's qvel is in the forearm's).
+    turn = np.zeros(4)
+    mujoco.mju_mulQuat(turn, data.qpos[1:5], np.array([0.0, *data.qvel[1:4]]))
+    mujoco.mju_mulQuat(turn, turn, data.qpos[1:5] * [1, -1, -1, -1])
+    np.testing.assert_allclose(obs[at["joint_positions"]], [0.4, 0, np.pi / 4, 0], atol=1e-6)
+    np.testing.assert_allclose(obs[at["joint_velocities"]], [1.5, *turn[1:]], atol=1e-5)
+    np.testing.assert_allclose(obs[at["free_body_poses"]], data.qpos[5:12], atol=1e-6)
+    np.testing.assert_allclose(obs[at["free_body_velocities"]], data.qvel[4:10], atol=1e-5)
     ee = obs[at["end_effector_poses"]].reshape(-1, 7)
-    for k, body in enumerate(["box", "hand"]):
+    for k, body in enumerate(bodies):
         b = model.body(body).id
         np.testing.assert_allclose(ee[k, :3], data.xpos[b], atol=1e-6, err_msg=body)
         assert abs(abs(ee[k, 3:] @ data.xquat[b]) - 1) < 1e-6, (body, ee[k, 3:], data.xquat[b])
+    np.testing.assert_allclose(env.bodies()["sensordata"], data.sensordata, atol=1e-6)
+    assert data.sensordata @ data.sensordata > 0
     for _ in range(10):
         obs, *_ = env.step(np.zeros(env.action_space.shape, dtype=np.float32))
     hand = obs[at["end_effector_poses"]].reshape(-1, 7)[1]

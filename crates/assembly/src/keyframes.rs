@@ -2,8 +2,9 @@
 //! document's joints and floating base.
 
 use crate::document::{BaseKeyDef, KeyframeDef, Vec3};
+
 use crate::error::{check_names, quoted, quoted_list, shown, Issue};
-use crate::model::{Joint, JointType, MM_PER_M};
+use crate::model::{Actuator, Joint, JointType, MM_PER_M};
 
 /// Most keyframes in one document.
 pub const MAX_KEYFRAMES: usize = 1024;
@@ -21,6 +22,9 @@ pub struct Keyframe {
     pub positions: Vec<(usize, f64)>,
     /// `(joint index, velocity)`, deg/s or mm/s.
     pub velocities: Vec<(usize, f64)>,
+    /// `(ball joint index, rotation)`: the rotation vector, deg (as a ball joint is
+    /// observed), and the angular velocity in the parent-side joint axes, deg/s.
+    pub balls: Vec<(usize, [f64; 3], [f64; 3])>,
     /// The floating base's start, if the keyframe moves it.
     pub base: Option<BaseKey>,
     /// `(instance, start)` of the free bodies it moves: the reference frame's pose, its
@@ -28,6 +32,19 @@ pub struct Keyframe {
     pub free_bodies: Vec<(usize, BaseKey)>,
     /// `(instance, pose)` of the mocap bodies it places (velocities 0), SI.
     pub mocap: Vec<(usize, BaseKey)>,
+    /// The command held at the reset: `(what, control)`, in document order.
+    pub controls: Vec<(KeyControl, f64)>,
+    /// `(actuator, activation)` at the reset.
+    pub activations: Vec<(usize, f64)>,
+}
+
+/// What a keyframe's control drives.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum KeyControl {
+    /// A directly actuated joint (index into the joints): its torque-mode value.
+    Joint(usize),
+    /// An actuator (index into the actuators): its control.
+    Actuator(usize),
 }
 
 /// The document's instances as keyframes name them: names, and which are free and which
@@ -36,6 +53,7 @@ pub(crate) struct KeyBodies<'a> {
     pub(crate) names: Vec<&'a str>,
     pub(crate) free: Vec<bool>,
     pub(crate) mocap: Vec<bool>,
+    pub(crate) actuators: &'a [Actuator],
 }
 
 /// A floating base's start: its instance's frame, SI, world.
@@ -77,6 +95,7 @@ pub(crate) fn keyframes(
         let before = issues.len();
         let positions = values(&path, "positions", &def.positions, joints, &mut issues);
         let velocities = values(&path, "velocities", &def.velocities, joints, &mut issues);
+        let balls = balls(&path, def, joints, &mut issues);
         let base = def.base.as_ref().and_then(|b| {
             if !floating_base {
                 issues.push(Issue::new(
@@ -89,6 +108,8 @@ pub(crate) fn keyframes(
         });
         let free_bodies = placed(&path, "free_bodies", &def.free_bodies, bodies, &mut issues);
         let mocap = placed(&path, "mocap", &def.mocap, bodies, &mut issues);
+        let controls = controls(&path, &def.controls, joints, bodies.actuators, &mut issues);
+        let activations = activations(&path, &def.activations, bodies.actuators, &mut issues);
         if let Some(t) = def.time.filter(|t| !t.is_finite()) {
             issues.push(Issue::new(
                 format!("{path}.time"),
@@ -100,9 +121,12 @@ pub(crate) fn keyframes(
                 name: def.name.clone(),
                 positions,
                 velocities,
+                balls,
                 base,
                 free_bodies,
                 mocap,
+                controls,
+                activations,
             });
         }
     }
@@ -114,11 +138,7 @@ pub(crate) fn keyframes(
                 format!(
                     "no keyframe is named {}; the keyframes are {}",
                     quoted(name),
-                    if names.is_empty() {
-                        "none".to_string()
-                    } else {
-                        quoted_list(&names)
-                    }
+                    quoted_list(&names)
                 ),
             ));
         }
@@ -181,6 +201,189 @@ fn values(
     out
 }
 
+/// A keyframe's `rotations` and `spins`: ball joints' rotations (quaternions, as MuJoCo's
+/// qpos) and angular velocities (the child's axes, as MuJoCo's qvel), into the rotation
+/// vector and the angular velocity in the parent-side axes that a ball joint is observed
+/// with.
+fn balls(
+    path: &str,
+    def: &KeyframeDef,
+    joints: &[Joint],
+    issues: &mut Vec<Issue>,
+) -> Vec<(usize, [f64; 3], [f64; 3])> {
+    let mut out: Vec<(usize, [f64; 3], [f64; 3])> = Vec::new();
+    let names: std::collections::BTreeSet<&String> =
+        def.rotations.keys().chain(def.spins.keys()).collect();
+    for name in names {
+        let field = if def.rotations.contains_key(name) {
+            "rotations"
+        } else {
+            "spins"
+        };
+        let at = format!("{path}.{field}.{name}");
+        let Some(j) = joints.iter().position(|j| j.name == *name) else {
+            issues.push(Issue::new(
+                at,
+                format!("no joint is named {}", quoted(name)),
+            ));
+            continue;
+        };
+        if joints[j].kind != JointType::Ball {
+            issues.push(Issue::new(
+                at,
+                format!(
+                    "{} is a {:?} joint; rotations and spins are a ball joint's",
+                    quoted(name),
+                    joints[j].kind
+                ),
+            ));
+            continue;
+        }
+        let q = def
+            .rotations
+            .get(name)
+            .copied()
+            .unwrap_or([1.0, 0.0, 0.0, 0.0]);
+        let norm = q.iter().map(|c| c * c).sum::<f64>().sqrt();
+        if !(norm.is_finite() && norm > 1e-9) {
+            issues.push(Issue::new(
+                format!("{path}.rotations.{name}"),
+                "expected a quaternion [qw, qx, qy, qz] of finite numbers, not all zero",
+            ));
+            continue;
+        }
+        let [w, x, y, z] = q.map(|c| c / norm);
+        let spin = def.spins.get(name).map_or([0.0; 3], |v| v.to_array());
+        if !spin
+            .iter()
+            .all(|c| finite(&format!("{path}.spins.{name}"), *c, issues))
+        {
+            continue;
+        }
+        // The rotation vector of the shorter rotation, deg.
+        let (w, v) = if w < 0.0 {
+            (-w, [-x, -y, -z])
+        } else {
+            (w, [x, y, z])
+        };
+        let s = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        let angle = 2.0 * s.atan2(w);
+        let rv = if s > 1e-12 {
+            v.map(|c| (c / s * angle).to_degrees())
+        } else {
+            [0.0; 3]
+        };
+        // The child's angular velocity turned into the parent-side axes: q · ω · q⁻¹.
+        let t = [
+            2.0 * (v[1] * spin[2] - v[2] * spin[1]),
+            2.0 * (v[2] * spin[0] - v[0] * spin[2]),
+            2.0 * (v[0] * spin[1] - v[1] * spin[0]),
+        ];
+        let parent = [
+            spin[0] + w * t[0] + (v[1] * t[2] - v[2] * t[1]),
+            spin[1] + w * t[1] + (v[2] * t[0] - v[0] * t[2]),
+            spin[2] + w * t[2] + (v[0] * t[1] - v[1] * t[0]),
+        ];
+        out.push((j, rv, parent));
+    }
+    out.sort_by_key(|b| b.0);
+    out
+}
+
+/// A finite value of a keyframe's map, or an issue at `at`.
+fn finite(at: &str, value: f64, issues: &mut Vec<Issue>) -> bool {
+    let ok = value.is_finite() && value.abs() <= MAX_VALUE;
+    if !ok {
+        issues.push(Issue::new(
+            at,
+            format!(
+                "expected a finite number within ±{}, got {}",
+                shown(MAX_VALUE),
+                shown(value)
+            ),
+        ));
+    }
+    ok
+}
+
+/// A keyframe's `controls`: one per named actuator, or joint actuated directly (one DOF).
+fn controls(
+    path: &str,
+    given: &std::collections::BTreeMap<String, f64>,
+    joints: &[Joint],
+    actuators: &[Actuator],
+    issues: &mut Vec<Issue>,
+) -> Vec<(KeyControl, f64)> {
+    let direct = |j: &Joint| j.actuated && j.tree_dof() == 1;
+    let mut out = Vec::with_capacity(given.len());
+    for (name, &value) in given {
+        let at = format!("{path}.controls.{name}");
+        let target = match actuators.iter().position(|a| a.name == *name) {
+            Some(k) => Some(KeyControl::Actuator(k)),
+            None => joints
+                .iter()
+                .position(|j| j.name == *name && direct(j))
+                .map(KeyControl::Joint),
+        };
+        let Some(target) = target else {
+            let mut known: Vec<&str> = actuators.iter().map(|a| a.name.as_str()).collect();
+            known.extend(joints.iter().filter(|j| direct(j)).map(|j| j.name.as_str()));
+            issues.push(Issue::new(
+                at,
+                format!(
+                    "no actuator or directly actuated joint is named {} (the document's: {})",
+                    quoted(name),
+                    quoted_list(&known)
+                ),
+            ));
+            continue;
+        };
+        if finite(&at, value, issues) {
+            out.push((target, value));
+        }
+    }
+    out
+}
+
+/// A keyframe's `activations`: one per named actuator that has an activation.
+fn activations(
+    path: &str,
+    given: &std::collections::BTreeMap<String, f64>,
+    actuators: &[Actuator],
+    issues: &mut Vec<Issue>,
+) -> Vec<(usize, f64)> {
+    let mut out = Vec::with_capacity(given.len());
+    for (name, &value) in given {
+        let at = format!("{path}.activations.{name}");
+        match actuators.iter().position(|a| a.name == *name) {
+            Some(k) if actuators[k].has_activation() => {
+                if finite(&at, value, issues) {
+                    out.push((k, value));
+                }
+            }
+            found => {
+                let with: Vec<&str> = actuators
+                    .iter()
+                    .filter(|a| a.has_activation())
+                    .map(|a| a.name.as_str())
+                    .collect();
+                issues.push(Issue::new(
+                    at,
+                    format!(
+                        "{} (actuators with an activation: {})",
+                        match found {
+                            Some(_) => format!("actuator {} has no activation (no dynamics)", quoted(name)),
+                            None => format!("no actuator is named {}", quoted(name)),
+                        },
+                        quoted_list(&with)
+                    ),
+                ));
+            }
+        }
+    }
+    out
+}
+
 /// A keyframe's `free_bodies` or `mocap`: a pose (and for a free body, velocities) per
 /// named free or mocap body.
 fn placed(
@@ -210,11 +413,7 @@ fn placed(
                 format!(
                     "no {what} is named {} (the document's: {})",
                     quoted(name),
-                    if known.is_empty() {
-                        "none".to_string()
-                    } else {
-                        quoted_list(&known)
-                    }
+                    quoted_list(&known)
                 ),
             ));
             continue;

@@ -35,7 +35,7 @@ pub use document::{BaseKeyDef, KeyframeDef};
 pub use error::{
     quoted, quoted_list, shown, AssemblyError, Issue, Result, MAX_ECHOED_CHARS, MAX_LISTED_NAMES,
 };
-pub use keyframes::{BaseKey, Keyframe, MAX_KEYFRAMES};
+pub use keyframes::{BaseKey, KeyControl, Keyframe, MAX_KEYFRAMES};
 pub use mesh::{
     ConvexParts, ConvexPiece, ELLIPSOID_RINGS, MAX_CONVEX_PARTS, MAX_DECOMPOSED_TRIANGLES,
     MAX_MESH_TRIANGLES, MAX_MESH_VERTICES,

@@ -72,6 +72,7 @@ pub fn validate(doc: &Document) -> Result<Assembly> {
         names: instances.iter().map(|i| i.name.as_str()).collect(),
         free: crate::model::free_flags(&instances, &joints, floating_base),
         mocap: instances.iter().map(|i| i.mocap).collect(),
+        actuators: &actuators,
     };
     let (keyframes, initial_keyframe, keyframe_issues) = crate::keyframes::keyframes(
         &doc.assembly.keyframes,

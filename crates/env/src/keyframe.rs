@@ -1,7 +1,7 @@
 //! Keyframes: the document's named initial states ([`gymfleet_assembly::Keyframe`]), which
 //! a reset starts from before its noise, resolved against the env's DOFs.
 
-use gymfleet_assembly::{Assembly, BaseKey};
+use gymfleet_assembly::{Assembly, BaseKey, KeyControl};
 use gymfleet_physics::JointDof;
 
 use crate::error::{EnvError, Result};
@@ -20,6 +20,11 @@ pub(crate) struct StartKey {
     pub(crate) free_bodies: Vec<(usize, BaseKey)>,
     /// `(mocap index, pose)` of the mocap bodies it places.
     pub(crate) mocap: Vec<(usize, BaseKey)>,
+    /// The command it holds: `(DOF, value)` of directly actuated joints, `(actuator,
+    /// control)`, and `(actuator, activation)`.
+    pub(crate) dof_values: Vec<(usize, f64)>,
+    pub(crate) controls: Vec<(usize, f64)>,
+    pub(crate) activations: Vec<(usize, f64)>,
 }
 
 /// The assembly's keyframes against `dofs` ([`gymfleet_physics::RobotWorld::dofs`]).
@@ -38,11 +43,19 @@ pub(crate) fn resolve(assembly: &Assembly, dofs: &[JointDof]) -> Vec<StartKey> {
                     let k = dof_of(j)?;
                     Some((k, value - dofs[k].reference - dofs[k].initial))
                 })
+                .chain(key.balls.iter().flat_map(|&(j, rotation, _)| {
+                    let first = dof_of(j);
+                    (0..3).filter_map(move |i| Some((first? + i, rotation[i])))
+                }))
                 .collect(),
             velocities: key
                 .velocities
                 .iter()
                 .filter_map(|&(j, value)| Some((dof_of(j)?, value)))
+                .chain(key.balls.iter().flat_map(|&(j, _, spin)| {
+                    let first = dof_of(j);
+                    (0..3).filter_map(move |i| Some((first? + i, spin[i])))
+                }))
                 .collect(),
             base: key.base,
             free_bodies: key.free_bodies.clone(),
@@ -51,6 +64,23 @@ pub(crate) fn resolve(assembly: &Assembly, dofs: &[JointDof]) -> Vec<StartKey> {
                 .iter()
                 .filter_map(|(i, pose)| Some((mocaps.iter().position(|m| m == i)?, *pose)))
                 .collect(),
+            dof_values: key
+                .controls
+                .iter()
+                .filter_map(|&(c, v)| match c {
+                    KeyControl::Joint(j) => Some((dof_of(j)?, v)),
+                    KeyControl::Actuator(_) => None,
+                })
+                .collect(),
+            controls: key
+                .controls
+                .iter()
+                .filter_map(|&(c, v)| match c {
+                    KeyControl::Actuator(k) => Some((k, v)),
+                    KeyControl::Joint(_) => None,
+                })
+                .collect(),
+            activations: key.activations.clone(),
         })
         .collect()
 }
@@ -93,15 +123,19 @@ impl RobotEnv {
         Ok(())
     }
 
-    /// Puts keyframe `key`'s free and mocap bodies where it says (after the world's reset).
-    pub(crate) fn place_key_bodies(&mut self, key: usize) {
+    /// Puts keyframe `key`'s free and mocap bodies where it says, and holds its command
+    /// and activations (after the world's reset).
+    pub(crate) fn finish_key_start(&mut self, key: usize) {
         let keyframes = std::sync::Arc::clone(&self.keyframes);
-        for (instance, start) in &keyframes[key].free_bodies {
+        let key = &keyframes[key];
+        for (instance, start) in &key.free_bodies {
             self.world.place_free_body(*instance, start);
         }
-        for (k, pose) in &keyframes[key].mocap {
+        for (k, pose) in &key.mocap {
             self.world.place_mocap(*k, pose);
         }
+        self.world
+            .hold_key_command(&key.dof_values, &key.controls, &key.activations);
     }
 
     /// The keyframe's offsets and velocities on top of the reset's draws, into the

@@ -86,7 +86,7 @@ impl RobotEnv {
             self.world.place_base(base);
         }
         if let Some(k) = key {
-            self.place_key_bodies(k);
+            self.finish_key_start(k);
         }
         let (offsets, velocities) = match key {
             Some(_) => (&self.keyed_offsets, &self.keyed_velocities),

@@ -215,6 +215,16 @@ fn bad_keyframes_are_refused_with_their_paths() {
             "assembly.keyframes[0].mocap.base: no mocap body is named \"base\" (the document's: none)",
         ),
         (
+            json!([{"name": "k", "rotations": {"hinge": [1, 0, 0, 0]}}]),
+            None,
+            "assembly.keyframes[0].rotations.hinge: \"hinge\" is a Revolute joint; rotations and spins are a ball joint's",
+        ),
+        (
+            json!([{"name": "k", "spins": {"elbow": {"x": 1, "y": 0, "z": 0}}}]),
+            None,
+            "assembly.keyframes[0].spins.elbow: no joint is named \"elbow\"",
+        ),
+        (
             json!([{"name": "k"}, {"name": "k"}]),
             None,
             "assembly.keyframes[1].name: \"k\" names an earlier keyframe too",
@@ -336,5 +346,61 @@ fn a_keyframe_places_free_and_mocap_bodies() {
         err.to_string()
             .contains("assembly.keyframes[0].mocap.hand: a mocap body's keyframe is a pose: give no velocities"),
         "{err}"
+    );
+}
+
+#[test]
+fn a_keyframe_holds_its_controls_and_activations_until_the_first_step() {
+    // Two arms side by side: one a direct motor's, one an actuator's with a filter.
+    let mut doc = slab_with_arm();
+    doc["floating_base"] = json!(false);
+    doc["assembly"]["instances"]
+        .as_array_mut()
+        .expect("instances")
+        .push(json!({"part": "Arm", "name": "arm2", "position": {"x": 40, "y": 40, "z": 300}}));
+    doc["assembly"]["joints"]
+        .as_array_mut()
+        .expect("joints")
+        .push(
+            json!({"type": "revolute", "name": "slow_hinge", "parent": "base", "child": "arm2",
+                     "anchor": {"x": 50, "y": 50, "z": 300}, "axis": {"x": 1, "y": 0, "z": 0}}),
+        );
+    doc["assembly"]["actuators"] = json!([{"name": "slow", "type": "general", "joint": "slow_hinge",
+        "dynamics": "filter", "timeconst": 0.5, "gain": [2, 0, 0]}]);
+    doc["assembly"]["sensors"] = json!([
+        {"name": "direct", "type": "actuatorfrc", "actuator": "hinge"},
+        {"name": "filtered", "type": "actuatorfrc", "actuator": "slow"}
+    ]);
+    doc["assembly"]["keyframes"] = json!([{"name": "k", "controls": {"hinge": 0.5, "slow": 1},
+                                           "activations": {"slow": 0.25}}]);
+    let mut env = env_with(&doc, si(EnvConfig::default()));
+    let force = |env: &RobotEnv| env.bodies().sensor_data;
+    reset(&mut env, None, Some("k"));
+    // The held command: the direct motor's control, the filter's activation × gain.
+    close(&force(&env), &[0.5, 0.5], 1e-6, "held at the keyframe");
+    reset(&mut env, None, None);
+    close(
+        &force(&env),
+        &[0.0, 0.0],
+        1e-12,
+        "a plain reset holds nothing",
+    );
+    let err = |key: Value| {
+        let mut d = doc.clone();
+        d["assembly"]["keyframes"] = json!([key]);
+        RobotEnv::from_json(&d.to_string(), EnvConfig::default())
+            .err()
+            .expect("a bad keyframe")
+            .to_string()
+    };
+    let e = err(json!({"name": "k", "controls": {"nope": 1}}));
+    assert!(
+        e.contains("assembly.keyframes[0].controls.nope: no actuator or directly actuated joint is named \"nope\" (the document's: \"slow\", \"hinge\")"),
+        "{e}"
+    );
+    let e = err(json!({"name": "k", "activations": {"hinge": 1}}));
+    assert!(
+        e.contains("assembly.keyframes[0].activations.hinge: no actuator is named \"hinge\" (actuators with an activation: \"slow\")"),
+        "{e}"
     );
 }

@@ -23,9 +23,9 @@ fn model(keys: &str) -> String {
 }
 
 #[test]
-fn a_key_sets_the_hinge_and_warns_about_what_it_cannot_set_yet() {
+fn a_key_sets_the_hinge_the_ball_joint_and_the_free_body() {
     let xml = model(
-        r#"<key name="k" qpos="0.5 0.7071068 0.7071068 0 0 1 0 0.5 1 0 0 0" ctrl="1"/>
+        r#"<key name="k" qpos="0.5 0.7071068 0.7071068 0 0 1 0 0.5 1 0 0 0"/>
 <key qpos="0.25 1 0 0 0 1 0 0 1 0 0 0"/>"#,
     );
     let c = mjcf_to_document(&xml).expect("converts");
@@ -44,24 +44,24 @@ fn a_key_sets_the_hinge_and_warns_about_what_it_cannot_set_yet() {
         json!({"hinge": 0.25f64.to_degrees()})
     );
     let warned = |needle: &str| c.warnings.iter().any(|w| w.contains(needle));
-    assert!(
-        warned(
-            "k: ball joint \"wrist\"'s rotation is not applied (not supported in keyframes yet)"
-        ),
-        "{:?}",
-        c.warnings
-    );
+    // The ball joint's rotation is kept as MuJoCo's quaternion.
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    let rotation: Vec<f64> = keyframes[0]["rotations"]["wrist"]
+        .as_array()
+        .expect("the wrist's rotation")
+        .iter()
+        .filter_map(serde_json::Value::as_f64)
+        .collect();
+    assert_eq!(rotation.len(), 4);
+    for (got, want) in rotation.iter().zip([h, h, 0.0, 0.0]) {
+        assert!((got - want).abs() < 1e-7, "{rotation:?}");
+    }
     // The free body is placed: its qpos is its observed pose (mm), at rest.
     assert_eq!(
         keyframes[0]["free_bodies"]["box"],
         json!({"position": {"x": 1000.0, "y": 0.0, "z": 500.0}, "orientation": [1.0, 0.0, 0.0, 0.0],
                "linear_velocity": {"x": 0.0, "y": 0.0, "z": 0.0},
                "angular_velocity": {"x": 0.0, "y": 0.0, "z": 0.0}})
-    );
-    assert!(
-        warned("k: ctrl is not applied (a keyframe sets joint positions and velocities)"),
-        "{:?}",
-        c.warnings
     );
     // The second key leaves the ball and the box where the model puts them: no warning.
     assert!(!warned("key1:"), "{:?}", c.warnings);
@@ -109,6 +109,44 @@ fn a_keys_mocap_poses_convert_and_a_wrong_count_is_refused() {
     let err = error(&xml(r#"<key mquat="1 0 0 0"/>"#));
     assert!(
         err.contains("mquat") && err.contains("expected 8 numbers (4 per mocap body), got 4"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_keys_ctrl_and_act_convert_by_actuator_and_a_wrong_count_is_refused() {
+    let xml = |key: &str| {
+        format!(
+            r#"<mujoco><worldbody>
+  <body name="arm"><joint name="hinge" type="hinge" axis="0 1 0"/><geom size=".1"/>
+    <body name="hand" pos="0 0 -.3"><joint name="wrist" type="hinge" axis="0 1 0"/><geom size=".05"/></body>
+  </body>
+</worldbody>
+<actuator>
+  <motor name="lift" joint="hinge"/>
+  <general name="slow" joint="wrist" dyntype="filter" dynprm="0.5"/>
+</actuator>
+<keyframe>{key}</keyframe>
+</mujoco>"#
+        )
+    };
+    let c = mjcf_to_document(&xml(r#"<key name="k" ctrl="0.5 0" act="0.25"/>"#)).expect("converts");
+    let key = &c.document["assembly"]["keyframes"][0];
+    assert_eq!(
+        key["controls"],
+        json!({"lift": 0.5}),
+        "a zero control is left out"
+    );
+    assert_eq!(key["activations"], json!({"slow": 0.25}));
+    let err = error(&xml(r#"<key act="1 2"/>"#));
+    assert!(
+        err.contains("act")
+            && err.contains("expected 1 numbers (one per actuator with dynamics), got 2"),
+        "{err}"
+    );
+    let err = error(&xml(r#"<key ctrl="1"/>"#));
+    assert!(
+        err.contains("expected 2 numbers (one per actuator), got 1"),
         "{err}"
     );
 }

@@ -178,6 +178,33 @@ impl RobotWorld {
         self.actuators.iter().any(|a| a.state_dependent)
     }
 
+    /// Holds a keyframe's command after a reset, until a step's action replaces it: each
+    /// `(dof, value)` a directly actuated DOF's torque-mode value, each `(actuator, control)`
+    /// an actuator's control (MuJoCo's `ctrl`); and sets each `(actuator, activation)`
+    /// (MuJoCo's `act`), clamped to the actuator's activation range.
+    pub fn hold_key_command(
+        &mut self,
+        dofs: &[(usize, f64)],
+        controls: &[(usize, f64)],
+        activations: &[(usize, f64)],
+    ) {
+        for &(k, v) in dofs {
+            if let Some(slot) = self.command.values.get_mut(k) {
+                *slot = v as f32;
+            }
+        }
+        for &(k, v) in controls {
+            if let Some(slot) = self.command.controls.get_mut(k) {
+                *slot = v as f32;
+            }
+        }
+        for &(k, v) in activations {
+            if let Some(a) = self.actuators.get(k) {
+                self.activations[k] = clamp(v, a.act_range);
+            }
+        }
+    }
+
     /// Advances every activation by `h` seconds under the held controls (MuJoCo's
     /// `mj_nextActivation`).
     pub(crate) fn advance_activations(&mut self, h: f64) {

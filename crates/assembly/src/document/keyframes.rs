@@ -22,6 +22,14 @@ pub struct KeyframeDef {
     /// Velocities of revolute (deg/s) and prismatic (mm/s) joints by joint name; default 0.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub velocities: BTreeMap<String, f64>,
+    /// Ball joints' rotations by joint name, quaternions `[qw, qx, qy, qz]` (MuJoCo's
+    /// qpos of a ball joint; normalised on load): observed as the rotation vector.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub rotations: BTreeMap<String, [f64; 4]>,
+    /// Ball joints' angular velocities by joint name, deg/s in the child's axes (MuJoCo's
+    /// qvel of a ball joint); default 0.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub spins: BTreeMap<String, Vec3>,
     /// Where the floating base starts; default where the document puts it, at rest.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub base: Option<BaseKeyDef>,
@@ -37,6 +45,13 @@ pub struct KeyframeDef {
     /// velocities.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub mocap: BTreeMap<String, BaseKeyDef>,
+    /// The command held at the reset, by actuator (or directly actuated joint) name: its
+    /// control (MuJoCo's `ctrl`), until the first step's action replaces it; default 0.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub controls: BTreeMap<String, f64>,
+    /// Actuators' activations at the reset, by name (MuJoCo's `act`); default 0.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub activations: BTreeMap<String, f64>,
     /// The time the state was recorded at, s (MJCF's `time`): kept, not used (an episode's
     /// time starts at 0).
     #[serde(default, skip_serializing_if = "Option::is_none")]

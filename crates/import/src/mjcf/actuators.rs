@@ -49,6 +49,13 @@ pub(super) struct Parsed {
     line: u32,
 }
 
+impl Parsed {
+    /// Whether it has an activation (MuJoCo's `act` holds one for it).
+    pub(super) fn has_activation(&self) -> bool {
+        self.general.dyntype != actuator_form::Type::None
+    }
+}
+
 impl<'a, 'i> Converter<'a, 'i> {
     pub(super) fn actuators(&mut self, node: Node<'a, 'i>) -> Result<()> {
         for (order, element) in elements(node).enumerate() {

@@ -73,22 +73,13 @@ impl<'a, 'i> Converter<'a, 'i> {
             .fold((0, 0), |(q, v), (a, b)| (q + a, v + b));
         let qpos = self.sized(key, "qpos", nq)?;
         let qvel = self.sized(key, "qvel", nv)?;
-        // Controls and activations are warned about when not 0.
-        for attribute in ["act", "ctrl"] {
-            let given = self.numbers(key, None, attribute)?;
-            if given.is_some_and(|v| v.iter().any(|x| x.abs() > UNAPPLIED_TOLERANCE)) {
-                self.warn(
-                    key,
-                    format!("{name}: {attribute} is not applied (a keyframe sets joint positions and velocities)"),
-                );
-            }
-        }
         let mut def = KeyframeDef {
             name: name.clone(),
             time: self.number(key, None, "time")?.filter(|t| *t != 0.0),
             ..KeyframeDef::default()
         };
         self.key_mocap(key, &mut def)?;
+        self.key_controls(key, &mut def)?;
         let (mut q, mut v) = (0, 0);
         let slots = self.qpos_slots.clone();
         for slot in &slots {
@@ -115,11 +106,13 @@ impl<'a, 'i> Converter<'a, 'i> {
                         (p[0] - 1.0).abs() > UNAPPLIED_TOLERANCE
                             || p[1..].iter().any(|x| x.abs() > UNAPPLIED_TOLERANCE)
                     });
-                    if turned || vs.is_some_and(|w| w.iter().any(|x| *x != 0.0)) {
-                        self.warn(
-                            key,
-                            format!("{name}: ball joint {joint:?}'s rotation is not applied (not supported in keyframes yet)"),
-                        );
+                    if let Some(p) = qs.filter(|_| turned) {
+                        def.rotations
+                            .insert(joint.clone(), [p[0], p[1], p[2], p[3]]);
+                    }
+                    if let Some(w) = vs.filter(|w| w.iter().any(|x| *x != 0.0)) {
+                        let spin = [w[0], w[1], w[2]].map(f64::to_degrees);
+                        def.spins.insert(joint.clone(), Vec3::from(spin));
                     }
                 }
                 QposSlot::Free {
@@ -183,6 +176,26 @@ impl<'a, 'i> Converter<'a, 'i> {
                         angular_velocity: None,
                     },
                 );
+            }
+        }
+        Ok(())
+    }
+
+    /// A key's `ctrl` (one per actuator) and `act` (one per actuator with an activation):
+    /// the command and activations held at the reset, each kept where it is not 0.
+    fn key_controls(&mut self, key: Node<'a, 'i>, def: &mut KeyframeDef) -> Result<()> {
+        let actuators = self.key_actuators.clone();
+        let with_act: Vec<&String> = actuators.iter().filter(|a| a.1).map(|a| &a.0).collect();
+        let ctrl = self.sized_as(key, "ctrl", actuators.len(), "one per actuator")?;
+        let act = self.sized_as(key, "act", with_act.len(), "one per actuator with dynamics")?;
+        for ((name, _), v) in actuators.iter().zip(ctrl.unwrap_or_default()) {
+            if v != 0.0 {
+                def.controls.insert(name.clone(), v);
+            }
+        }
+        for (name, v) in with_act.into_iter().zip(act.unwrap_or_default()) {
+            if v != 0.0 {
+                def.activations.insert(name.clone(), v);
             }
         }
         Ok(())

@@ -237,6 +237,9 @@ struct Converter<'a, 'i> {
     /// The mocap bodies' instances and body frames (world, m), in body order: MuJoCo's
     /// mocap order, for a `<key>`'s `mpos` and `mquat`.
     mocap_bodies: Vec<(String, Frame)>,
+    /// What each actuator's `ctrl` sets in a keyframe (its name, or its joint's for plain
+    /// joint motors) and whether it has an activation, in MuJoCo's actuator order.
+    key_actuators: Vec<(String, bool)>,
     /// The `<sensor>`s, converted after the bodies.
     sensors: Vec<gymfleet_assembly::SensorDef>,
     /// The `<sensor>` elements' children seen so far, converted or skipped (MuJoCo's
@@ -303,6 +306,7 @@ impl<'a, 'i> Converter<'a, 'i> {
             sensors: Vec::new(),
             sensor_count: 0,
             mocap_bodies: Vec::new(),
+            key_actuators: Vec::new(),
         }
     }
 
@@ -327,6 +331,16 @@ impl<'a, 'i> Converter<'a, 'i> {
     }
 
     fn finish(mut self) -> Result<Converted> {
+        // What a key's ctrl and act name, before the actuators are converted.
+        let direct = self.direct_motors();
+        self.key_actuators = self
+            .actuator_list
+            .iter()
+            .map(|a| {
+                let name = if direct { a.joint.clone() } else { None };
+                (name.unwrap_or_else(|| a.name.clone()), a.has_activation())
+            })
+            .collect();
         let actuators = self.actuator_defs()?;
         // `<flag contact="disable">`: nothing collides.
         if self.switched_off.contacts {
