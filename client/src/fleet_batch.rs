@@ -321,12 +321,7 @@ impl FleetBatch {
                 let local: Vec<u32> = if env_indices.is_empty() {
                     (0..len as u32).collect()
                 } else {
-                    env_indices
-                        .iter()
-                        .map(|&i| i as usize)
-                        .filter(|i| (first..first + len).contains(i))
-                        .map(|i| (i - first) as u32)
-                        .collect()
+                    shard_local(env_indices, first, len)
                 };
                 first += len;
                 let share = items
@@ -525,4 +520,15 @@ pub(crate) fn check_positions(indices: &[u32], n_envs: usize) -> Result<()> {
         });
     }
     Ok(())
+}
+
+/// The fleet-wide env indices among `indices` that fall in the shard of `len` envs from
+/// `first`, as the shard's own indices.
+fn shard_local(indices: &[u32], first: usize, len: usize) -> Vec<u32> {
+    indices
+        .iter()
+        .map(|&i| i as usize)
+        .filter(|i| (first..first + len).contains(i))
+        .map(|i| (i - first) as u32)
+        .collect()
 }

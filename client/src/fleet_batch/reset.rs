@@ -62,14 +62,8 @@ impl FleetBatch {
             let batch = shard.batch.clone();
             let offset = seed_offset.wrapping_add(shard.envs.start as u64);
             let len = shard.envs.len();
-            let local: Option<Vec<u32>> = env_indices.map(|indices| {
-                indices
-                    .iter()
-                    .map(|&i| i as usize)
-                    .filter(|i| (first..first + len).contains(i))
-                    .map(|i| (i - first) as u32)
-                    .collect()
-            });
+            let local: Option<Vec<u32>> =
+                env_indices.map(|indices| super::shard_local(indices, first, len));
             first += len;
             let keyframe = keyframe.to_string();
             async move {

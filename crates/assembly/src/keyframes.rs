@@ -184,16 +184,7 @@ fn values(
                     quoted(name)
                 ),
             ));
-        } else if !(value.is_finite() && value.abs() <= MAX_VALUE) {
-            issues.push(Issue::new(
-                at,
-                format!(
-                    "expected a finite number within ±{}, got {}",
-                    shown(MAX_VALUE),
-                    shown(value)
-                ),
-            ));
-        } else {
+        } else if finite(&at, value, issues) {
             out.push((j, value));
         }
     }

@@ -64,7 +64,7 @@ impl RobotWorld {
     /// Writes every sensor's reading into `out` ([`RobotWorld::sensor_dim`] floats, the
     /// sensors in document order, each as many as its type reports), SI.
     pub fn sensor_data(&self, out: &mut [f64]) {
-        let plan = std::sync::Arc::clone(&self.sensor_plan);
+        let plan = &self.sensor_plan;
         let mut wrenches = Vec::new();
         let mut at = 0;
         for s in &plan.sensors {
