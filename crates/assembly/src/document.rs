@@ -12,10 +12,12 @@ mod actuators;
 mod keyframes;
 mod primitive;
 mod sensors;
+mod tendons;
 
 pub use actuators::{ActuatorDef, ActuatorKind, DynamicsKind};
 pub use keyframes::{BaseKeyDef, KeyframeDef};
 pub use sensors::{SensorDef, SensorFrameDef, SensorType, SiteDef, SiteShape, SiteVolumeDef};
+pub use tendons::{CouplingDef, TendonDef, TendonJointDef};
 
 /// A whole assembly document: part definitions, materials and the assembly itself.
 #[derive(Debug, Clone, Deserialize, Serialize)]
@@ -210,10 +212,16 @@ pub struct AssemblyDef {
     /// *(ext)* Named points of instances (MJCF sites and body origins), for tasks.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub sites: Vec<SiteDef>,
-    /// *(ext)* Fixed tendons: named linear combinations of joint positions (MJCF's
-    /// `<tendon><fixed>`), observable and optionally springy.
+    /// *(ext)* Tendons: named linear combinations of joint positions (MJCF's
+    /// `<tendon><fixed>`) or paths through sites (`<tendon><spatial>`), observable,
+    /// optionally springy and limited.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub tendons: Vec<TendonDef>,
+    /// *(ext)* Couplings (MJCF's `<equality><joint>` and `<equality><tendon>`): a joint's
+    /// or fixed tendon's displacement held at a linear function of another's, as a hard
+    /// constraint.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub couplings: Vec<CouplingDef>,
     /// *(ext)* Contact rules beside the collision bits (MJCF's `<contact>`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub contacts: Option<ContactsDef>,
@@ -271,40 +279,6 @@ pub struct ContactPairDef {
     /// 1: frictionless; 3 (the default): sliding friction.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub condim: Option<u32>,
-}
-
-/// *(ext)* A fixed tendon: its length is Σ coef · position over its joints, in SI (rad or
-/// m, each joint's position as observed, its `reference` included), as MuJoCo defines it.
-#[derive(Debug, Clone, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct TendonDef {
-    /// The tendon's name (unique among tendons).
-    pub name: String,
-    /// Its joints (revolute or prismatic) and their coefficients.
-    pub joints: Vec<TendonJointDef>,
-    /// A spring on the length: force −stiffness · (length − spring_length), N or N·m per
-    /// unit length, on each joint times its coefficient; default 0.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub stiffness: Option<f64>,
-    /// A damper on the length's rate, per unit rate; default 0.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub damping: Option<f64>,
-    /// The spring's rest length; default the length at the document's pose.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub spring_length: Option<f64>,
-    /// Hard limits on the length, `[min, max]` (m or rad); default none.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub range: Option<[f64; 2]>,
-}
-
-/// One joint of a fixed tendon.
-#[derive(Debug, Clone, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct TendonJointDef {
-    /// The joint's name.
-    pub joint: String,
-    /// Its coefficient in the length.
-    pub coef: f64,
 }
 
 /// A placed copy of a part.

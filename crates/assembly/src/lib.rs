@@ -10,6 +10,7 @@
 
 mod actuators;
 mod contacts;
+mod couplings;
 mod document;
 mod error;
 mod keyframes;
@@ -24,12 +25,13 @@ mod validate;
 
 pub use actuators::MAX_ACTUATORS;
 pub use contacts::MAX_CONTACT_RULES;
+pub use couplings::{Coupling, MAX_COUPLINGS};
 pub use document::{
     ActuatorDef, ActuatorKind, AssemblyDef, CollisionDef, ContactExcludeDef, ContactPairDef,
-    ContactsDef, ConvexMode, Document, DynamicsKind, FluidDef, FrameDef, InertiaDef, InertialDef,
-    InstanceDef, Integrator, JointDef, MaterialDef, MeshDef, PartDef, Primitive, SensorDef,
-    SensorFrameDef, SensorType, SimulationDef, SiteDef, SiteShape, SiteVolumeDef, TendonDef,
-    TendonJointDef, Vec3,
+    ContactsDef, ConvexMode, CouplingDef, Document, DynamicsKind, FluidDef, FrameDef, InertiaDef,
+    InertialDef, InstanceDef, Integrator, JointDef, MaterialDef, MeshDef, PartDef, Primitive,
+    SensorDef, SensorFrameDef, SensorType, SimulationDef, SiteDef, SiteShape, SiteVolumeDef,
+    TendonDef, TendonJointDef, Vec3,
 };
 pub use document::{BaseKeyDef, KeyframeDef};
 pub use error::{

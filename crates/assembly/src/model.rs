@@ -391,8 +391,10 @@ pub struct Assembly {
     /// How the joint trees' velocity terms enter a substep (the document's
     /// `simulation.integrator`).
     pub integrator: crate::document::Integrator,
-    /// Fixed tendons, in document order.
+    /// Tendons, in document order.
     pub tendons: Vec<Tendon>,
+    /// Couplings, in document order.
+    pub couplings: Vec<crate::Coupling>,
     /// Contact rules beside the collision bits.
     pub contacts: Contacts,
     /// Actuators, in document order: each takes one action value (its control), after
@@ -430,22 +432,34 @@ pub struct ContactPair {
     pub friction: Option<f64>,
 }
 
-/// A fixed tendon: length Σ coef · position (SI, positions as observed), with an optional
-/// spring and damper on it.
+/// A tendon, with an optional spring and damper on it: fixed (length Σ coef · position,
+/// SI, positions as observed) or spatial (the length of the path through its sites, m).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Tendon {
     /// Its name.
     pub name: String,
-    /// (joint index in document order, coefficient); each joint is revolute or prismatic.
+    /// A fixed tendon's (joint index in document order, coefficient); each joint is
+    /// revolute or prismatic. Empty for a spatial tendon.
     pub joints: Vec<(usize, f64)>,
+    /// A spatial tendon's path, site indices in [`Assembly::sites`] (two or more). Empty
+    /// for a fixed tendon.
+    pub sites: Vec<usize>,
     /// Spring stiffness per unit length (N or N·m per m or rad), ≥ 0.
     pub stiffness: f64,
     /// Damping per unit length rate, ≥ 0.
     pub damping: f64,
     /// The spring's rest length; `None`: the length at the document's pose.
     pub spring_length: Option<f64>,
-    /// Hard limits on the length, `[min, max]`, if any.
+    /// Hard limits on the length, `[min, max]`, if any (a spatial tendon's `min` is ≤ 0:
+    /// a rope).
     pub range: Option<[f64; 2]>,
+}
+
+impl Tendon {
+    /// Whether the tendon is a path through sites (else a combination of joints).
+    pub fn is_spatial(&self) -> bool {
+        !self.sites.is_empty()
+    }
 }
 
 /// A still fluid around every body, as MuJoCo's inertia-box model has it: each rigid

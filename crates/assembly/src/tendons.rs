@@ -1,13 +1,14 @@
-//! Fixed tendons *(ext)*: named linear combinations of joint positions (MJCF's
-//! `<tendon><fixed>`), checked against the document's joints.
+//! Tendons *(ext)*: named linear combinations of joint positions (MJCF's
+//! `<tendon><fixed>`) and paths through sites (`<tendon><spatial>`), checked against the
+//! document's joints and sites.
 
 use crate::document::TendonDef;
 use crate::error::{check_names, quoted, Issue};
-use crate::model::{Joint, JointType, Tendon};
+use crate::model::{Joint, JointType, Site, Tendon};
 
 /// Most tendons in one document.
 pub const MAX_TENDONS: usize = 1024;
-/// Most joints in one tendon.
+/// Most joints in one fixed tendon, and most sites in one spatial tendon.
 pub const MAX_TENDON_JOINTS: usize = 64;
 /// Largest magnitude of a coefficient.
 const MAX_COEF: f64 = 1e6;
@@ -17,7 +18,11 @@ const MAX_GAIN: f64 = 1e9;
 const MAX_LENGTH: f64 = 1e6;
 
 /// The document's tendons, checked against its validated joints; every problem is an issue.
-pub(crate) fn tendons(defs: &[TendonDef], joints: &[Joint]) -> (Vec<Tendon>, Vec<Issue>) {
+pub(crate) fn tendons(
+    defs: &[TendonDef],
+    joints: &[Joint],
+    sites: &[Site],
+) -> (Vec<Tendon>, Vec<Issue>) {
     let mut issues = Vec::new();
     let mut out = Vec::with_capacity(defs.len());
     let names: Vec<&str> = defs.iter().map(|d| d.name.as_str()).collect();
@@ -33,11 +38,12 @@ pub(crate) fn tendons(defs: &[TendonDef], joints: &[Joint]) -> (Vec<Tendon>, Vec
     for (k, def) in defs.iter().enumerate() {
         let path = format!("assembly.tendons[{k}]");
         let before = issues.len();
-        if def.joints.is_empty() || def.joints.len() > MAX_TENDON_JOINTS {
+        let path_sites = spatial_path(&path, def, sites, &mut issues);
+        if def.sites.is_empty() && (def.joints.is_empty() || def.joints.len() > MAX_TENDON_JOINTS) {
             issues.push(Issue::new(
                 format!("{path}.joints"),
                 format!(
-                    "expected 1 to {MAX_TENDON_JOINTS} joints, got {}",
+                    "expected 1 to {MAX_TENDON_JOINTS} joints (a fixed tendon) or 2 to {MAX_TENDON_JOINTS} sites (a spatial tendon), got {} joints",
                     def.joints.len()
                 ),
             ));
@@ -45,35 +51,13 @@ pub(crate) fn tendons(defs: &[TendonDef], joints: &[Joint]) -> (Vec<Tendon>, Vec
         let mut members = Vec::with_capacity(def.joints.len());
         for (j, member) in def.joints.iter().enumerate().take(MAX_TENDON_JOINTS) {
             let at = format!("{path}.joints[{j}]");
-            match joints.iter().position(|x| x.name == member.joint) {
-                None => issues.push(Issue::new(
-                    format!("{at}.joint"),
-                    format!("no joint is named {}", quoted(&member.joint)),
-                )),
-                Some(i)
-                    if !matches!(joints[i].kind, JointType::Revolute | JointType::Prismatic) =>
-                {
-                    issues.push(Issue::new(
-                        format!("{at}.joint"),
-                        format!(
-                            "{} is a {:?} joint; a tendon's joints are revolute or prismatic",
-                            quoted(&member.joint),
-                            joints[i].kind
-                        ),
-                    ))
-                }
-                Some(i) if joints[i].closes_loop => issues.push(Issue::new(
-                    format!("{at}.joint"),
-                    format!(
-                        "{} closes a kinematic loop; a tendon's joints are joints of the tree",
-                        quoted(&member.joint)
-                    ),
-                )),
-                Some(i) if members.iter().any(|(m, _)| *m == i) => issues.push(Issue::new(
+            match scalar_joint(&member.joint, joints, "a tendon's") {
+                Err(message) => issues.push(Issue::new(format!("{at}.joint"), message)),
+                Ok(i) if members.iter().any(|(m, _)| *m == i) => issues.push(Issue::new(
                     format!("{at}.joint"),
                     format!("{} is listed twice", quoted(&member.joint)),
                 )),
-                Some(i) => members.push((i, member.coef)),
+                Ok(i) => members.push((i, member.coef)),
             }
             if !(member.coef.is_finite() && member.coef.abs() <= MAX_COEF) {
                 issues.push(Issue::new(
@@ -116,12 +100,18 @@ pub(crate) fn tendons(defs: &[TendonDef], joints: &[Joint]) -> (Vec<Tendon>, Vec
                     format!("{path}.range"),
                     format!("expected [min, max] with min < max, each within ±{MAX_LENGTH} (m or rad), got [{lo}, {hi}]"),
                 ));
+            } else if !def.sites.is_empty() && lo > 0.0 {
+                issues.push(Issue::new(
+                    format!("{path}.range"),
+                    format!("a spatial tendon's range is a rope's: only its max holds, and min must be 0 or less, got {lo}"),
+                ));
             }
         }
         if issues.len() == before {
             out.push(Tendon {
                 name: def.name.clone(),
                 joints: members,
+                sites: path_sites,
                 stiffness,
                 damping,
                 spring_length: def.spring_length,
@@ -130,4 +120,64 @@ pub(crate) fn tendons(defs: &[TendonDef], joints: &[Joint]) -> (Vec<Tendon>, Vec
         }
     }
     (out, issues)
+}
+
+/// A spatial tendon's sites, by index (empty for a fixed tendon); every problem is an
+/// issue.
+fn spatial_path(
+    path: &str,
+    def: &TendonDef,
+    sites: &[Site],
+    issues: &mut Vec<Issue>,
+) -> Vec<usize> {
+    if def.sites.is_empty() {
+        return Vec::new();
+    }
+    if !def.joints.is_empty() {
+        issues.push(Issue::new(
+            format!("{path}.sites"),
+            "a tendon names joints (a fixed tendon) or sites (a spatial tendon), not both",
+        ));
+    }
+    if def.sites.len() < 2 || def.sites.len() > MAX_TENDON_JOINTS {
+        issues.push(Issue::new(
+            format!("{path}.sites"),
+            format!(
+                "expected 2 to {MAX_TENDON_JOINTS} sites, got {}",
+                def.sites.len()
+            ),
+        ));
+    }
+    let mut out = Vec::with_capacity(def.sites.len());
+    for (k, name) in def.sites.iter().enumerate().take(MAX_TENDON_JOINTS) {
+        match sites.iter().position(|s| &s.name == name) {
+            Some(i) => out.push(i),
+            None => issues.push(Issue::new(
+                format!("{path}.sites[{k}]"),
+                format!("no site is named {}", quoted(name)),
+            )),
+        }
+    }
+    out
+}
+
+/// The index of joint `name` if it is a revolute or prismatic joint of the tree (what a
+/// fixed tendon and a coupling combine); else why not. `whose` names the user: "a
+/// tendon's".
+pub(crate) fn scalar_joint(name: &str, joints: &[Joint], whose: &str) -> Result<usize, String> {
+    match joints.iter().position(|x| x.name == name) {
+        None => Err(format!("no joint is named {}", quoted(name))),
+        Some(i) if !matches!(joints[i].kind, JointType::Revolute | JointType::Prismatic) => {
+            Err(format!(
+                "{} is a {:?} joint; {whose} joints are revolute or prismatic",
+                quoted(name),
+                joints[i].kind
+            ))
+        }
+        Some(i) if joints[i].closes_loop => Err(format!(
+            "{} closes a kinematic loop; {whose} joints are joints of the tree",
+            quoted(name)
+        )),
+        Some(i) => Ok(i),
+    }
 }

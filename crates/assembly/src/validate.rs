@@ -58,8 +58,11 @@ pub fn validate(doc: &Document) -> Result<Assembly> {
     v.issues.extend(simulation_issues);
     let (sites, site_issues) = crate::sites::sites(&doc.assembly.sites, &doc.assembly.instances);
     v.issues.extend(site_issues);
-    let (tendons, tendon_issues) = crate::tendons::tendons(&doc.assembly.tendons, &joints);
+    let (tendons, tendon_issues) = crate::tendons::tendons(&doc.assembly.tendons, &joints, &sites);
     v.issues.extend(tendon_issues);
+    let (couplings, coupling_issues) =
+        crate::couplings::couplings(&doc.assembly.couplings, &joints, &tendons);
+    v.issues.extend(coupling_issues);
     let (contacts, contact_issues) =
         crate::contacts::contacts(doc.assembly.contacts.as_ref(), &doc.assembly.instances);
     v.issues.extend(contact_issues);
@@ -103,6 +106,7 @@ pub fn validate(doc: &Document) -> Result<Assembly> {
             fluid: simulation.fluid,
             integrator: simulation.integrator,
             tendons,
+            couplings,
             contacts,
             actuators,
             keyframes,

@@ -187,7 +187,7 @@ fn a_bad_tendon_is_refused_with_its_path() {
         ),
         (
             json!({"name": "t", "joints": []}),
-            "assembly.tendons[0].joints: expected 1 to 64 joints, got 0",
+            "assembly.tendons[0].joints: expected 1 to 64 joints (a fixed tendon) or 2 to 64 sites (a spatial tendon), got 0 joints",
         ),
         (
             json!({"name": "t", "joints": [{"joint": "a", "coef": 1}], "stiffness": -1}),

@@ -77,6 +77,7 @@ pub fn urdf_to_document(xml: &str) -> Result<Converted> {
             joints: c.joints,
             sites: Vec::new(),
             tendons: Vec::new(),
+            couplings: Vec::new(),
             actuators: Vec::new(),
             keyframes: Vec::new(),
             initial_keyframe: None,

@@ -1,5 +1,5 @@
-//! MJCF `<equality>`: `<connect>` and `<weld>` close kinematic loops; the other kinds are
-//! refused with their element and line.
+//! MJCF `<equality>`: `<connect>` and `<weld>` close kinematic loops, `<joint>` and
+//! `<tendon>` become couplings; the other kinds are refused with their element and line.
 
 use gymfleet_env::{ActionType, EnvConfig, RobotEnv};
 use gymfleet_import::mjcf_to_document;
@@ -157,12 +157,24 @@ fn other_equalities_are_refused_with_their_line_and_inactive_ones_left_out() {
             .to_string()
     };
     assert_eq!(
-        refused(r#"<joint joint1="crank" joint2="rocker"/>"#),
-        "line 17: <joint>: <joint> equality constraints are not supported (connect and weld are)"
+        refused(r#"<flex flex="cloth"/>"#),
+        "line 17: <flex>: <flex> equality constraints are not supported (connect, weld, joint and tendon are)"
+    );
+    assert_eq!(
+        refused(r#"<joint joint1="crank" joint2="nothing"/>"#),
+        "line 17: <joint joint2=…>: no hinge or slide joint is named \"nothing\""
+    );
+    assert_eq!(
+        refused(r#"<joint joint2="crank"/>"#),
+        "line 17: <joint joint1=…>: missing"
     );
     assert_eq!(
         refused(r#"<tendon tendon1="t"/>"#),
-        "line 17: <tendon>: <tendon> equality constraints are not supported (connect and weld are)"
+        "line 17: <tendon tendon1=…>: no fixed tendon is named \"t\""
+    );
+    assert_eq!(
+        refused(r#"<joint joint1="crank" joint2="rocker" polycoef="0 1 0.5 0 0"/>"#),
+        "line 17: <joint>: polycoef: a nonlinear coupling (a term past the second) is not supported yet"
     );
     assert_eq!(
         refused(r#"<connect body1="coupler" body2="nowhere" anchor="0 0 0"/>"#),
@@ -180,4 +192,32 @@ fn other_equalities_are_refused_with_their_line_and_inactive_ones_left_out() {
         .warnings
         .iter()
         .any(|w| w.contains("an inactive equality is left out")));
+}
+
+#[test]
+fn joint_and_tendon_equalities_become_couplings() {
+    let xml = FOUR_BAR
+        .replace(
+            r#"<connect name="pin" body1="coupler" body2="rocker" anchor="0.1010328 0 0.0647485"/>"#,
+            r#"<joint name="gear" joint1="crank" joint2="rocker" polycoef="0.1 -2 0 0 0" solref="0.01 1"/>
+    <tendon tendon1="sum"/>"#,
+        )
+        .replace(
+            "<actuator>",
+            r#"<tendon><fixed name="sum"><joint joint="crank" coef="1"/><joint joint="elbow" coef="1"/></fixed></tendon>
+  <actuator>"#,
+        );
+    let converted = mjcf_to_document(&xml).expect("converts");
+    let couplings = &converted.document["assembly"]["couplings"];
+    assert_eq!(
+        couplings,
+        &serde_json::json!([
+            {"name": "gear", "joint1": "crank", "joint2": "rocker", "polycoef": [0.1, -2.0]},
+            {"name": "tendon_coupling1", "tendon1": "sum", "polycoef": [0.0, 1.0]}
+        ])
+    );
+    assert!(converted
+        .warnings
+        .iter()
+        .any(|w| w.contains("solref/solimp ignored: the constraint is hard")));
 }

@@ -33,7 +33,12 @@ pub(crate) fn actuator_slots(
         .actuators
         .iter()
         .map(|a| {
+            let spatial = match a.transmission {
+                Transmission::Tendon(t) if assembly.tendons[t].is_spatial() => Some((t, a.gear)),
+                _ => None,
+            };
             let moments: Vec<(usize, f64)> = match a.transmission {
+                _ if spatial.is_some() => Vec::new(),
                 Transmission::Joint(j) => vec![(joints[j].first_dof, a.gear)],
                 Transmission::Tendon(t) => assembly.tendons[t]
                     .joints
@@ -53,13 +58,15 @@ pub(crate) fn actuator_slots(
             }
             ActuatorSlot {
                 moments,
+                spatial,
                 ctrl_range: a.ctrl_range,
                 force_range: a.force_range,
                 act_range: a.act_range,
                 gain: a.gain,
                 bias,
                 dynamics: a.dynamics,
-                state_dependent: a.depends_on_state(),
+                // A spatial tendon's moment arms follow the path.
+                state_dependent: a.depends_on_state() || spatial.is_some(),
             }
         })
         .collect()
@@ -117,7 +124,13 @@ impl RobotWorld {
     /// Actuator `k`'s length and velocity, SI (MuJoCo's `actuator_length`,
     /// `actuator_velocity`).
     pub fn actuator_state(&self, k: usize) -> (f64, f64) {
-        self.combined_state(&self.actuators[k].moments)
+        match self.actuators[k].spatial {
+            Some((t, gear)) => {
+                let (length, rate) = self.tendon_state(t);
+                (gear * length, gear * rate)
+            }
+            None => self.combined_state(&self.actuators[k].moments),
+        }
     }
 
     /// Actuator `k`'s force now (N or N·m at its transmission's input; MuJoCo's
@@ -147,12 +160,15 @@ impl RobotWorld {
     pub(crate) fn actuators_on_dof(&self, dof: usize) -> f64 {
         (0..self.actuators.len())
             .map(|k| {
-                let moment: f64 = self.actuators[k]
-                    .moments
-                    .iter()
-                    .filter(|(d, _)| *d == dof)
-                    .map(|(_, m)| m)
-                    .sum();
+                let moment: f64 = match self.actuators[k].spatial {
+                    Some((t, gear)) => gear * self.path_moment(&self.tendons[t].path, dof),
+                    None => self.actuators[k]
+                        .moments
+                        .iter()
+                        .filter(|(d, _)| *d == dof)
+                        .map(|(_, m)| m)
+                        .sum(),
+                };
                 if moment == 0.0 {
                     0.0
                 } else {
@@ -167,6 +183,10 @@ impl RobotWorld {
     pub(crate) fn apply_actuator_forces(&mut self) {
         for k in 0..self.actuators.len() {
             let force = self.actuator_force(k);
+            if let Some((t, gear)) = self.actuators[k].spatial {
+                self.add_tendon_force(t, gear * force);
+                continue;
+            }
             let moments = std::mem::take(&mut self.actuators[k].moments);
             self.add_combined_force(&moments, force);
             self.actuators[k].moments = moments;

@@ -20,6 +20,7 @@ use crate::world::{
 const LOOP_PGS_ITERATIONS: usize = 4;
 
 mod planar;
+mod rehang;
 mod slots;
 mod trees;
 
@@ -99,7 +100,8 @@ impl RobotWorld {
             }
         }
 
-        let mut frames = insert_trees(&mut sets, assembly, &bodies, &welded_away, &roots)?;
+        let rehung = rehang::rehang_parents(assembly, &held);
+        let mut frames = insert_trees(&mut sets, assembly, &bodies, &welded_away, &roots, &rehung)?;
 
         place_floating_trees(&mut sets);
 
@@ -125,6 +127,11 @@ impl RobotWorld {
             &welded_away,
             &lanes,
         )?;
+        for (slot, to) in joints.iter_mut().zip(&rehung) {
+            if let Some(to) = to {
+                slot.parent = bodies[*to];
+            }
+        }
         // A fused planar root's joints hang from the fixed instance above the chain.
         for root in &roots {
             for &j in &root.joints {
@@ -161,15 +168,26 @@ impl RobotWorld {
         let n_dofs = dofs.len();
         let base = base_values(assembly, &colliders, &sets, &dofs, given.clone());
         let fluid = crate::world::FluidDrag::new(assembly, &bodies, &sets);
-        let contact_filter =
-            crate::contact_filter::contact_filter(assembly, &bodies, &colliders, &mut sets);
+        let contact_filter = crate::contact_filter::contact_filter(
+            assembly,
+            &bodies,
+            &colliders,
+            &rehang::rehung_exclusions(assembly, &rehung),
+            &mut sets,
+        );
         let references: Vec<f64> = dofs
             .iter()
             .map(|d| crate::units::to_si(d.kind, d.reference))
             .collect();
         let first_dof: Vec<usize> = joints.iter().map(|j: &JointSlot| j.first_dof).collect();
-        let tendons = crate::tendons::tendon_slots(assembly, &first_dof, &references);
+        let paths: Vec<_> = assembly
+            .tendons
+            .iter()
+            .map(|t| crate::spatial::path_points(assembly, t, &bodies, &placements))
+            .collect();
         crate::tendons::set_tendon_limits(assembly, &joints, &references, &mut sets)?;
+        crate::spatial::set_path_limits(assembly, &paths, &mut sets)?;
+        let tendons = crate::tendons::tendon_slots(assembly, &first_dof, &references, paths, &sets);
         let actuators = crate::actuators::actuator_slots(assembly, &joints, &sets);
         let n_actuators = actuators.len();
         let instance_poses: Vec<Pose> = assembly.instances.iter().map(instance_pose).collect();

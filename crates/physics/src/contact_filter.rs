@@ -141,6 +141,7 @@ pub(crate) fn contact_filter(
     assembly: &Assembly,
     bodies: &[RigidBodyHandle],
     colliders: &[ColliderHandle],
+    rehung: &[(usize, usize)],
     sets: &mut Sets,
 ) -> ContactFilter {
     let group = rigid_groups(assembly);
@@ -190,8 +191,8 @@ pub(crate) fn contact_filter(
     }
     let mut excluded = Vec::new();
     let mut hooked = HashSet::new();
-    // The document's exclusions.
-    for &(i, j) in &assembly.contacts.exclude {
+    // The document's exclusions, and a rehung child's from its former parent.
+    for &(i, j) in assembly.contacts.exclude.iter().chain(rehung) {
         if bodies[i] != bodies[j] {
             excluded.push(key(bodies[i], bodies[j]));
             hooked.extend([bodies[i], bodies[j]]);

@@ -37,6 +37,7 @@ mod readout;
 mod scene;
 mod sensors;
 mod set_state;
+mod spatial;
 mod state;
 mod tendons;
 mod units;

@@ -13,6 +13,7 @@ use rapier3d::dynamics::{MultibodyIndex, MultibodyLinearLimit};
 use rapier3d::math::Real;
 
 use crate::error::{PhysicsError, Result};
+use crate::spatial::PathPoint;
 use crate::units::to_si;
 use crate::world::{JointSlot, RobotWorld, Sets, TendonSlot};
 
@@ -22,32 +23,43 @@ impl TendonSlot {
     }
 }
 
-/// The assembly's tendons over the world's DOFs (`first_dof` of each document joint).
+/// The assembly's tendons over the world's DOFs (`first_dof` of each document joint) and
+/// bodies (each spatial tendon's path, `paths`); a rest length left out is the length at
+/// the document's pose, where `sets` holds the bodies.
 pub(crate) fn tendon_slots(
     assembly: &Assembly,
     first_dof: &[usize],
     references_si: &[f64],
+    paths: Vec<Vec<PathPoint>>,
+    sets: &Sets,
 ) -> Vec<TendonSlot> {
     assembly
         .tendons
         .iter()
-        .map(|t| {
+        .zip(paths)
+        .map(|(t, path)| {
             let dofs: Vec<(usize, f64)> =
                 t.joints.iter().map(|&(j, c)| (first_dof[j], c)).collect();
-            let at_pose: f64 = dofs.iter().map(|&(d, c)| c * references_si[d]).sum();
+            let at_pose: f64 = if t.is_spatial() {
+                crate::spatial::path_length(&path, sets)
+            } else {
+                dofs.iter().map(|&(d, c)| c * references_si[d]).sum()
+            };
             TendonSlot {
                 stiffness: t.stiffness,
                 damping: t.damping,
                 rest: t.spring_length.unwrap_or(at_pose),
                 dofs,
+                path,
             }
         })
         .collect()
 }
 
-/// Puts each ranged tendon's limits on its multibody (vendored patch 20: enforced after
-/// every substep with the joints' hard stops): bounds on Σ coef · coordinate, the
-/// references taken off. A tendon's joints must be in one kinematic tree.
+/// Puts each ranged fixed tendon's limits and each coupling on its multibody (vendored
+/// patches 20 and 42: enforced after every substep with the joints' hard stops): bounds on
+/// Σ coef · coordinate, the references taken off (a coupling's bounds are one value: an
+/// equality). A tendon's or a coupling's joints must be in one kinematic tree.
 pub(crate) fn set_tendon_limits(
     assembly: &Assembly,
     joints: &[JointSlot],
@@ -55,35 +67,50 @@ pub(crate) fn set_tendon_limits(
     sets: &mut Sets,
 ) -> Result<()> {
     let mut by_multibody: HashMap<MultibodyIndex, Vec<MultibodyLinearLimit>> = HashMap::new();
-    for t in &assembly.tendons {
-        let Some([lo, hi]) = t.range else { continue };
-        let first = joints[t.joints[0].0].multibody;
-        if t.joints.iter().any(|&(j, _)| joints[j].multibody != first) {
+    // Bounds on Σ coef · coordinate.
+    let mut add = |what: &str, name: &str, terms: &[(usize, f64)], lo: f64, hi: f64| {
+        let first = joints[terms[0].0].multibody;
+        if terms.iter().any(|&(j, _)| joints[j].multibody != first) {
             return Err(PhysicsError::BadOption {
-                field: "assembly.tendons",
+                field: if what == "coupling" { "assembly.couplings" } else { "assembly.tendons" },
                 reason: format!(
-                    "tendon {:?} has a range, and its joints are in different kinematic trees; a ranged tendon's joints must share one",
-                    t.name
+                    "{what} {name:?} joins joints of different kinematic trees; its joints must share one"
                 ),
             });
         }
-        let offset: f64 = t
-            .joints
-            .iter()
-            .map(|&(j, c)| c * references_si[joints[j].first_dof])
-            .sum();
         by_multibody
             .entry(first)
             .or_default()
             .push(MultibodyLinearLimit {
-                dofs: t
-                    .joints
+                dofs: terms
                     .iter()
                     .map(|&(j, c)| (joints[j].link, joints[j].in_link(0), c as Real))
                     .collect(),
-                min: (lo - offset) as Real,
-                max: (hi - offset) as Real,
+                min: lo as Real,
+                max: hi as Real,
             });
+        Ok(())
+    };
+    for t in assembly.tendons.iter().filter(|t| !t.is_spatial()) {
+        if let Some([lo, hi]) = t.range {
+            // The length less the references: the coordinates' part.
+            let at_zero: f64 = t
+                .joints
+                .iter()
+                .map(|&(j, c)| c * references_si[joints[j].first_dof])
+                .sum();
+            add(
+                "ranged tendon",
+                &t.name,
+                &t.joints,
+                lo - at_zero,
+                hi - at_zero,
+            )?;
+        }
+    }
+    // A coupling's terms are displacements from the pose (where the coordinates are 0).
+    for c in &assembly.couplings {
+        add("coupling", &c.name, &c.terms, c.offset, c.offset)?;
     }
     for (multibody, limits) in by_multibody {
         if let Some(mb) = sets.multibody_joints.get_multibody_mut(multibody) {
@@ -94,14 +121,33 @@ pub(crate) fn set_tendon_limits(
 }
 
 impl RobotWorld {
-    /// Number of fixed tendons.
+    /// Number of tendons.
     pub fn num_tendons(&self) -> usize {
         self.tendons.len()
     }
 
     /// Tendon `k`'s length and rate of change, SI (MuJoCo's `ten_length`, `ten_velocity`).
     pub fn tendon_state(&self, k: usize) -> (f64, f64) {
-        self.combined_state(&self.tendons[k].dofs)
+        let t = &self.tendons[k];
+        if t.path.is_empty() {
+            self.combined_state(&t.dofs)
+        } else {
+            self.path_state(&t.path)
+        }
+    }
+
+    /// Adds `force` along tendon `k` (N or N·m; positive lengthens) to its joints'
+    /// generalized forces.
+    pub(crate) fn add_tendon_force(&mut self, k: usize, force: f64) {
+        if self.tendons[k].path.is_empty() {
+            let dofs = std::mem::take(&mut self.tendons[k].dofs);
+            self.add_combined_force(&dofs, force);
+            self.tendons[k].dofs = dofs;
+        } else {
+            let path = std::mem::take(&mut self.tendons[k].path);
+            self.add_path_force(&path, force);
+            self.tendons[k].path = path;
+        }
     }
 
     /// Σ coef · q and Σ coef · q̇ over `(DOF, coef)` pairs of revolute and prismatic DOFs,
@@ -157,9 +203,7 @@ impl RobotWorld {
             let (length, rate) = self.tendon_state(k);
             let t = &self.tendons[k];
             let force = -t.stiffness * (length - t.rest) - t.damping * rate;
-            let dofs = std::mem::take(&mut self.tendons[k].dofs);
-            self.add_combined_force(&dofs, force);
-            self.tendons[k].dofs = dofs;
+            self.add_tendon_force(k, force);
         }
     }
 }

@@ -3,7 +3,8 @@
 //! kinematic loop closed and add no DOF to observations, as MuJoCo's qpos has none for them.
 //! Both are hard constraints here (MuJoCo's are soft: `solref`/`solimp` are ignored, with a
 //! warning). An inactive one (`active="false"`) is left out, with a warning: gymfleet does
-//! not switch constraints on. Joint, tendon, flex and distance equalities are refused.
+//! not switch constraints on. `<joint>` and `<tendon>` equalities with a linear `polycoef`
+//! become the document's couplings (hard too); flex and distance equalities are refused.
 
 use super::*;
 
@@ -24,12 +25,12 @@ impl<'a, 'i> Converter<'a, 'i> {
         for child in elements(node) {
             let kind = child.tag_name().name();
             match kind {
-                "connect" | "weld" => {}
-                "joint" | "tendon" | "flex" | "distance" => {
+                "connect" | "weld" | "joint" | "tendon" => {}
+                "flex" | "distance" => {
                     return Err(self.unsupported(
                         child,
                         format!(
-                        "<{kind}> equality constraints are not supported (connect and weld are)"
+                        "<{kind}> equality constraints are not supported (connect, weld, joint and tendon are)"
                     ),
                     ))
                 }
@@ -60,6 +61,10 @@ impl<'a, 'i> Converter<'a, 'i> {
                     child,
                     "solref/solimp ignored: the constraint is hard".into(),
                 );
+            }
+            if kind == "joint" || kind == "tendon" {
+                self.coupling(child, kind)?;
+                continue;
             }
             let body1 = self.equality_body(child, "body1", true)?;
             let body2 = self.equality_body(child, "body2", false)?;
@@ -129,6 +134,71 @@ impl<'a, 'i> Converter<'a, 'i> {
             };
             self.joints.push(joint);
         }
+        Ok(())
+    }
+
+    /// A `<joint>` or `<tendon>` equality as a coupling: `joint1` (`tendon1`) held at
+    /// `polycoef[0] + polycoef[1] ·` `joint2`'s (`tendon2`'s) displacement from qpos0.
+    /// MuJoCo's polycoef has five terms; only the first two may be non-zero here.
+    fn coupling(&mut self, node: Node<'a, 'i>, kind: &str) -> Result<()> {
+        let class = node.attribute("class");
+        let (first, second) = (format!("{kind}1"), format!("{kind}2"));
+        let known = |name: &str| match kind {
+            "joint" => self.moving_joints.iter().any(|j| j == name),
+            _ => self.tendons.iter().any(|t| t.name == name),
+        };
+        let what = if kind == "joint" {
+            "hinge or slide joint"
+        } else {
+            "fixed tendon"
+        };
+        let named = |attribute: &str, required: bool| -> Result<Option<String>> {
+            match node.attribute(attribute) {
+                None if required => Err(self.bad(node, attribute, "missing".into())),
+                None => Ok(None),
+                Some(name) if known(name) => Ok(Some(name.to_string())),
+                Some(name) => {
+                    Err(self.bad(node, attribute, format!("no {what} is named {name:?}")))
+                }
+            }
+        };
+        let held = named(&first, true)?;
+        let followed = named(&second, false)?;
+        let poly = self
+            .numbers(node, class, "polycoef")?
+            .unwrap_or_else(|| vec![0.0, 1.0]);
+        if poly.len() > 5 {
+            return Err(self.bad(
+                node,
+                "polycoef",
+                format!("expected at most 5 numbers, got {}", poly.len()),
+            ));
+        }
+        if poly.iter().skip(2).any(|&c| c != 0.0) {
+            return Err(self.unsupported(
+                node,
+                "polycoef: a nonlinear coupling (a term past the second) is not supported yet"
+                    .into(),
+            ));
+        }
+        let name = node.attribute("name").map_or_else(
+            || format!("{kind}_coupling{}", self.couplings.len()),
+            str::to_string,
+        );
+        let mut def = CouplingDef {
+            name,
+            joint1: None,
+            joint2: None,
+            tendon1: None,
+            tendon2: None,
+            polycoef: Some(poly.iter().take(2).copied().collect()),
+        };
+        if kind == "joint" {
+            (def.joint1, def.joint2) = (held, followed);
+        } else {
+            (def.tendon1, def.tendon2) = (held, followed);
+        }
+        self.couplings.push(def);
         Ok(())
     }
 

@@ -12,9 +12,9 @@ use std::collections::{BTreeMap, HashMap, HashSet};
 
 use glam::{DMat3, DQuat, DVec3};
 use gymfleet_assembly::{
-    AssemblyDef, CollisionDef, Document, FluidDef, InertialDef, InstanceDef, Integrator, JointDef,
-    JointType, MaterialDef, MeshDef, PartDef, Primitive, SimulationDef, SiteDef, TendonDef,
-    TendonJointDef, Vec3,
+    AssemblyDef, CollisionDef, CouplingDef, Document, FluidDef, InertialDef, InstanceDef,
+    Integrator, JointDef, JointType, MaterialDef, MeshDef, PartDef, Primitive, SimulationDef,
+    SiteDef, TendonDef, TendonJointDef, Vec3,
 };
 use roxmltree::Node;
 
@@ -207,8 +207,10 @@ struct Converter<'a, 'i> {
     strip_path: bool,
     /// `<asset><mesh>`s by name.
     meshes: HashMap<String, meshes::MeshAsset>,
-    /// `<tendon><fixed>`s, in document order.
-    tendons: Vec<tendons::FixedTendon>,
+    /// `<tendon><fixed>`s and `<tendon><spatial>`s, in document order.
+    tendons: Vec<tendons::TendonRead>,
+    /// `<equality><joint>`s and `<equality><tendon>`s, in document order.
+    couplings: Vec<CouplingDef>,
     /// The model file's folder in its assets, which its mesh files are named from.
     folder: String,
     /// What `<option><flag>` switches off.
@@ -291,6 +293,7 @@ impl<'a, 'i> Converter<'a, 'i> {
             strip_path: false,
             meshes: HashMap::new(),
             tendons: Vec::new(),
+            couplings: Vec::new(),
             folder: String::new(),
             switched_off: SwitchedOff::default(),
             inertia_groups: (0, 5),
@@ -380,6 +383,7 @@ impl<'a, 'i> Converter<'a, 'i> {
                 joints: self.joints,
                 sites: self.sites,
                 tendons,
+                couplings: self.couplings,
                 contacts,
                 actuators,
                 keyframes,

@@ -1,16 +1,19 @@
-//! `<tendon><fixed>`: a fixed tendon (a linear combination of joint positions) becomes an
-//! entry of the document's `assembly.tendons`, with its stiffness, damping and spring
-//! length and range (a hard limit here, soft in MuJoCo). Friction loss and spatial tendons
-//! are refused with their line.
+//! `<tendon><fixed>` (a linear combination of joint positions) and `<tendon><spatial>`
+//! through sites become entries of the document's `assembly.tendons`, with their
+//! stiffness, damping, spring length and range (a hard limit here, soft in MuJoCo; a
+//! spatial tendon's is a rope). Friction loss, wrapping around geoms and pulleys are
+//! refused with their line.
 
 use super::*;
 
-/// A fixed tendon as read, its joints by their MJCF names (resolved in `finish`).
+/// A tendon as read, its joints and sites by their MJCF names (resolved in `finish`).
 #[derive(Debug)]
-pub(super) struct FixedTendon {
+pub(super) struct TendonRead {
     pub(super) name: String,
-    /// (joint name, coefficient, the `<joint>`'s line).
+    /// A fixed tendon's (joint name, coefficient, the `<joint>`'s line).
     joints: Vec<(String, f64, u32)>,
+    /// A spatial tendon's (site name, the `<site>`'s line).
+    sites: Vec<(String, u32)>,
     stiffness: f64,
     damping: f64,
     spring_length: Option<f64>,
@@ -21,13 +24,8 @@ impl<'a, 'i> Converter<'a, 'i> {
     pub(super) fn tendons(&mut self, node: Node<'a, 'i>) -> Result<()> {
         for child in elements(node) {
             match child.tag_name().name() {
-                "fixed" => self.fixed_tendon(child)?,
-                "spatial" => {
-                    return Err(self.unsupported(
-                        child,
-                        "spatial tendons are not supported yet (fixed tendons are)".into(),
-                    ))
-                }
+                "fixed" => self.tendon(child, false)?,
+                "spatial" => self.tendon(child, true)?,
                 other => {
                     return Err(
                         self.unsupported(child, format!("<{other}> in <tendon> is not supported"))
@@ -38,7 +36,7 @@ impl<'a, 'i> Converter<'a, 'i> {
         Ok(())
     }
 
-    fn fixed_tendon(&mut self, node: Node<'a, 'i>) -> Result<()> {
+    fn tendon(&mut self, node: Node<'a, 'i>, spatial: bool) -> Result<()> {
         let class = node.attribute("class");
         let limited = self.attr(node, class, "limited").unwrap_or("auto");
         let range = self.exactly::<2>(node, class, "range")?;
@@ -95,6 +93,28 @@ impl<'a, 'i> Converter<'a, 'i> {
                 ))
             }
         };
+        let (joints, sites) = if spatial {
+            (Vec::new(), self.spatial_path(node)?)
+        } else {
+            (self.fixed_joints(node)?, Vec::new())
+        };
+        let name = node
+            .attribute("name")
+            .map_or_else(|| format!("tendon{}", self.tendons.len()), str::to_string);
+        self.tendons.push(TendonRead {
+            name,
+            joints,
+            sites,
+            stiffness,
+            damping,
+            spring_length,
+            range,
+        });
+        Ok(())
+    }
+
+    /// A fixed tendon's `<joint>`s: (name, coefficient, line).
+    fn fixed_joints(&self, node: Node<'a, 'i>) -> Result<Vec<(String, f64, u32)>> {
         let mut joints = Vec::new();
         for member in elements(node) {
             if member.tag_name().name() != "joint" {
@@ -121,22 +141,55 @@ impl<'a, 'i> Converter<'a, 'i> {
                 "a fixed tendon needs at least one <joint>".into(),
             ));
         }
-        let name = node
-            .attribute("name")
-            .map_or_else(|| format!("tendon{}", self.tendons.len()), str::to_string);
-        self.tendons.push(FixedTendon {
-            name,
-            joints,
-            stiffness,
-            damping,
-            spring_length,
-            range,
-        });
-        Ok(())
+        Ok(joints)
+    }
+
+    /// A spatial tendon's `<site>`s: (name, line). Wrapping around a geom and pulleys are
+    /// refused.
+    fn spatial_path(&self, node: Node<'a, 'i>) -> Result<Vec<(String, u32)>> {
+        let mut sites = Vec::new();
+        for member in elements(node) {
+            match member.tag_name().name() {
+                "site" => {
+                    let site = member
+                        .attribute("site")
+                        .ok_or_else(|| self.bad(member, "site", "missing".into()))?;
+                    sites.push((site.to_string(), self.line(member)));
+                }
+                "geom" => {
+                    let how = if member.attribute("sidesite").is_some() {
+                        "wrapping around a geom (with its sidesite)"
+                    } else {
+                        "wrapping around a geom"
+                    };
+                    return Err(self.unsupported(
+                        member,
+                        format!("{how} is not supported yet: a spatial tendon goes straight through its sites"),
+                    ));
+                }
+                other => {
+                    return Err(self.unsupported(
+                        member,
+                        format!("<{other}> in a spatial tendon is not supported (only <site>)"),
+                    ))
+                }
+            }
+        }
+        if sites.len() < 2 {
+            return Err(self.bad(
+                node,
+                "site",
+                format!(
+                    "a spatial tendon needs at least two <site>s, got {}",
+                    sites.len()
+                ),
+            ));
+        }
+        Ok(sites)
     }
 
     /// The tendons as the document's `assembly.tendons`, their joints checked to be hinge
-    /// or slide joints of the model.
+    /// or slide joints of the model and their sites to be sites of it.
     pub(super) fn tendon_defs(&self) -> Result<Vec<TendonDef>> {
         let known: HashSet<&String> = self.moving_joints.iter().collect();
         let mut out = Vec::with_capacity(self.tendons.len());
@@ -156,9 +209,22 @@ impl<'a, 'i> Converter<'a, 'i> {
                     coef: *coef,
                 });
             }
+            let mut sites = Vec::with_capacity(t.sites.len());
+            for (site, line) in &t.sites {
+                let Some(name) = self.site_of.get(site) else {
+                    return Err(ImportError::BadAttribute {
+                        element: "site".into(),
+                        attribute: "site".into(),
+                        line: *line,
+                        reason: format!("no site is named {site:?}"),
+                    });
+                };
+                sites.push(name.clone());
+            }
             out.push(TendonDef {
                 name: t.name.clone(),
                 joints,
+                sites,
                 stiffness: (t.stiffness > 0.0).then_some(t.stiffness),
                 damping: (t.damping > 0.0).then_some(t.damping),
                 spring_length: t.spring_length,

@@ -17,6 +17,7 @@ pub(super) fn insert_trees(
     bodies: &[RigidBodyHandle],
     welded_away: &[bool],
     roots: &[PlanarRoot],
+    rehung: &[Option<usize>],
 ) -> Result<Vec<(Pose, Pose)>> {
     // Parents before children, so each insertion appends one link to a tree.
     let mut order: Vec<usize> = (0..assembly.joints.len()).collect();
@@ -25,7 +26,9 @@ pub(super) fn insert_trees(
     let mut frames = vec![(Pose::IDENTITY, Pose::IDENTITY); assembly.joints.len()];
     for &j in &order {
         let joint = &assembly.joints[j];
-        let (parent, child) = (bodies[joint.parent], bodies[joint.child]);
+        // A tree rehung on another static body (`rehang.rs`) hangs from that one.
+        let parent = bodies[rehung[j].unwrap_or(joint.parent)];
+        let child = bodies[joint.child];
         let (f1, f2) = joint_frames(&sets.bodies, parent, child, joint);
         frames[j] = (f1, f2);
         if joint.closes_loop {
@@ -42,7 +45,9 @@ pub(super) fn insert_trees(
         };
         // A ground plane collides with what is jointed to it too (MuJoCo never filters
         // the world body's geoms): only the plane stops a link from falling through.
-        let contacts = assembly.instances[top].shape == Shape::Plane;
+        // A rehung child is no child of its new parent: the contact filter keeps it from
+        // its former one instead.
+        let contacts = assembly.instances[top].shape == Shape::Plane || rehung[j].is_some();
         let data = match root {
             Some(r) => {
                 let (parent_pose, body_pose) = (

@@ -15,11 +15,13 @@ pub(crate) struct FluidDrag {
     pub(crate) groups: Vec<Vec<RigidBodyHandle>>,
 }
 
-/// One fixed tendon as the world uses it (`tendons.rs`).
+/// One tendon as the world uses it (`tendons.rs`, `spatial.rs`).
 #[derive(Debug, Clone)]
 pub(crate) struct TendonSlot {
-    /// (DOF index, coefficient).
+    /// A fixed tendon's (DOF index, coefficient).
     pub(crate) dofs: Vec<(usize, f64)>,
+    /// A spatial tendon's path (empty for a fixed one).
+    pub(crate) path: Vec<crate::spatial::PathPoint>,
     pub(crate) stiffness: f64,
     pub(crate) damping: f64,
     /// The spring's rest length (SI).
@@ -67,6 +69,9 @@ pub(crate) struct ActuatorSlot {
     /// (DOF index, moment): the generalized force per unit of actuator force on each DOF
     /// it moves, which is also the DOF's coefficient in the actuator's length.
     pub(crate) moments: Vec<(usize, f64)>,
+    /// An actuator on a spatial tendon: the tendon and the gear (its moments then follow
+    /// the path, and `moments` is empty).
+    pub(crate) spatial: Option<(usize, f64)>,
     pub(crate) ctrl_range: Option<[f64; 2]>,
     pub(crate) force_range: Option<[f64; 2]>,
     pub(crate) act_range: Option<[f64; 2]>,

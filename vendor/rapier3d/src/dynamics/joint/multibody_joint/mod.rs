@@ -2,7 +2,7 @@
 
 #[cfg(feature = "alloc")]
 pub use self::mass_matrix_lu::MassMatrixLu;
-pub use self::multibody::{Multibody, MultibodyDofCoupling, MultibodyLinearLimit};
+pub use self::multibody::{Multibody, MultibodyDofCoupling, MultibodyLinearLimit, MultibodyPathLimit};
 #[cfg(feature = "alloc")]
 pub use self::multibody_ik::InverseKinematicsOption;
 #[cfg(feature = "alloc")]

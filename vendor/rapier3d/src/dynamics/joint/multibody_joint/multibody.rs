@@ -198,6 +198,18 @@ pub struct MultibodyLinearLimit {
     pub max: Real,
 }
 
+/// A rope (gymfleet patch 42, see `PATCHES.md`): the length of the straight path through
+/// its points is at most `max`, MuJoCo's range of a spatial tendon.
+#[cfg_attr(feature = "serde-serialize", derive(Serialize, Deserialize))]
+#[derive(Clone, Debug, PartialEq)]
+pub struct MultibodyPathLimit {
+    /// The path's points, in order: `(Some(internal link id), point in the link's frame)`,
+    /// or `(None, world point)` for a point that does not move.
+    pub points: Vec<(Option<usize>, Vector)>,
+    /// The longest the path may be.
+    pub max: Real,
+}
+
 /// An articulated body simulated using the reduced-coordinates approach.
 #[cfg_attr(feature = "serde-serialize", derive(Serialize, Deserialize))]
 #[derive(Clone, Debug)]
@@ -269,6 +281,9 @@ pub struct Multibody {
     /// Hard limits on linear combinations of DoFs (gymfleet patch 20), enforced with the
     /// hard limits; cleared when the multibody is split.
     linear_limits: Vec<MultibodyLinearLimit>,
+    /// Ropes (gymfleet patch 42), enforced after the linear limits; cleared when the
+    /// multibody is split.
+    path_limits: Vec<MultibodyPathLimit>,
 
     /*
      * Workspaces.
@@ -329,6 +344,7 @@ impl Multibody {
             explicit_velocity_terms: false,
             couplings: Vec::new(),
             linear_limits: Vec::new(),
+            path_limits: Vec::new(),
             // solver_workspace: Some(SolverWorkspace::new()),
         }
     }
@@ -508,6 +524,20 @@ impl Multibody {
                 .filter(|l| l.dofs.iter().all(|&(link, _, _)| link != 0))
                 .map(|l| MultibodyLinearLimit {
                     dofs: l.dofs.iter().map(|&(link, k, c)| (link + base_internal_id, k, c)).collect(),
+                    ..l.clone()
+                }),
+        );
+        // gymfleet patch 42: so do its ropes, but those through its root.
+        self.path_limits.extend(
+            rhs.path_limits
+                .iter()
+                .filter(|l| l.points.iter().all(|&(link, _)| link != Some(0)))
+                .map(|l| MultibodyPathLimit {
+                    points: l
+                        .points
+                        .iter()
+                        .map(|&(link, p)| (link.map(|id| id + base_internal_id), p))
+                        .collect(),
                     ..l.clone()
                 }),
         );
@@ -800,9 +830,21 @@ impl Multibody {
     /// substep: a combination found past a bound is put back on it by moving its own DoFs
     /// along its coefficients, and its outward rate is removed by an inelastic generalized
     /// impulse `Δv = M⁻¹·Jᵀ·λ`, `λ = −J·v / (J·M⁻¹·Jᵀ)`. Set them once the tree is complete;
-    /// splitting the multibody clears them.
+    /// splitting the multibody clears them. A limit with `min == max` is an equality (gymfleet
+    /// patch 42): its combination is put back on the value and its whole rate removed after
+    /// every substep, which side it drifted to.
     pub fn set_linear_limits(&mut self, limits: Vec<MultibodyLinearLimit>) {
         self.linear_limits = limits;
+    }
+
+    /// Ropes (gymfleet patch 42): enforced, when [`Multibody::hard_limits`] is on, after the
+    /// linear limits of every substep: a path found longer than its `max` is shortened to it by
+    /// the least-action displacement `Δq = M⁻¹·Jᵀ·λ` (`J` the path length's jacobian, one
+    /// Newton step on the length), and its lengthening rate is removed by the inelastic
+    /// impulse `Δv = M⁻¹·Jᵀ·λ`, `λ = −J·v / (J·M⁻¹·Jᵀ)`. A slack rope does nothing. Set them
+    /// once the tree is complete; splitting the multibody clears them.
+    pub fn set_path_limits(&mut self, limits: Vec<MultibodyPathLimit>) {
+        self.path_limits = limits;
     }
 
     pub(crate) fn add_link(
@@ -2082,7 +2124,7 @@ impl Multibody {
     /// impulse through the mass matrix factorized for this substep. Kinematic DoFs and the
     /// coupled angular DoFs of ball-like joints (whose coordinates are not geometric) are left
     /// to the limit constraint. Returns whether any generalized velocity changed.
-    pub(crate) fn project_hard_limits(&mut self) -> bool {
+    pub(crate) fn project_hard_limits(&mut self, bodies: &RigidBodySet) -> bool {
         let mut velocity_changed = false;
         for i in 0..self.links.len() {
             let joint = &self.links[i].joint;
@@ -2119,7 +2161,89 @@ impl Multibody {
         for k in 0..self.linear_limits.len() {
             velocity_changed |= self.project_linear_limit(k);
         }
+        if !self.path_limits.is_empty() {
+            // The links where the coordinates now put them (the solver's own forward
+            // kinematics follows the projections).
+            self.forward_kinematics(bodies, false);
+            for k in 0..self.path_limits.len() {
+                velocity_changed |= self.project_path_limit(k, bodies);
+            }
+        }
         velocity_changed
+    }
+
+    /// Rope `k` (gymfleet patch 42): see [`Multibody::set_path_limits`].
+    fn project_path_limit(&mut self, k: usize, bodies: &RigidBodySet) -> bool {
+        let limit = &self.path_limits[k];
+        let world: Vec<Vector> = limit
+            .points
+            .iter()
+            .map(|&(link, p)| match link {
+                Some(id) => self.links[id].local_to_world * p,
+                None => p,
+            })
+            .collect();
+        let length: Real = world.windows(2).map(|w| (w[1] - w[0]).length()).sum();
+        if length <= limit.max {
+            return false;
+        }
+        // The length's jacobian: each segment's direction at its two ends.
+        let mut j = DVector::zeros(self.ndofs);
+        for (i, w) in world.windows(2).enumerate() {
+            let along = w[1] - w[0];
+            let len = along.length();
+            if len <= Real::EPSILON {
+                continue;
+            }
+            let dir = along / len;
+            self.add_point_jacobian(&mut j, limit.points[i + 1].0, w[1], dir, bodies);
+            self.add_point_jacobian(&mut j, limit.points[i].0, w[0], -dir, bodies);
+        }
+        let max = limit.max;
+        self.factorize_inv_augmented_mass();
+        let mut response = j.clone();
+        let lu = &self.inv_augmented_mass;
+        let mut solved = false;
+        self.augmented_mass_indices
+            .with_rearranged_rows_mut(&mut response, |r| solved = lu.solve_mut(r));
+        let inv_mass = j.dot(&response);
+        if !(solved && inv_mass > 0.0 && inv_mass.is_finite()) {
+            return false;
+        }
+        // Back to the length, to first order, the way the masses give least.
+        let displacement = &response * ((max - length) / inv_mass);
+        self.apply_displacements(displacement.as_slice());
+        // The lengthening rate removed.
+        let rate = j.dot(&self.velocities);
+        if rate <= 0.0 {
+            return false;
+        }
+        self.velocities.axpy(-rate / inv_mass, &response, 1.0);
+        true
+    }
+
+    /// Adds to `j` the generalized row of `dir · v`, `v` the velocity of world point `p` moving
+    /// with link `link` (none: a fixed point), from the link's body jacobian at its centre of
+    /// mass: `dir · v_com + ω · ((p − com) × dir)`.
+    fn add_point_jacobian(
+        &self,
+        j: &mut DVector,
+        link: Option<usize>,
+        p: Vector,
+        dir: Vector,
+        bodies: &RigidBodySet,
+    ) {
+        let Some(id) = link else { return };
+        let link = &self.links[id];
+        let com = link.local_to_world * bodies[link.rigid_body].mprops.local_mprops.local_com;
+        let arm = (p - com).cross(dir);
+        let columns = self.body_jacobians[id].as_slice().chunks_exact(SPATIAL_DIM);
+        for (entry, c) in j.iter_mut().zip(columns) {
+            *entry += dir.x * c[0] + dir.y * c[1] + dir.z * c[2]
+                + arm.x * c[3]
+                + arm.y * c[4]
+                + arm.z * c[5];
+        }
     }
 
     /// The coordinate axis of a link's `local`-th free DoF.
@@ -2142,10 +2266,15 @@ impl Multibody {
             value += coef * self.links[link].joint.coords[axis];
             norm2 += coef * coef;
         }
+        // An equality (`min == max`, gymfleet patch 42) holds both ways: put back on its
+        // value and all its rate removed, whichever side it is found on.
+        let equality = limit.min == limit.max;
         let (bound, outward) = if value > limit.max {
             (limit.max, 1.0)
         } else if value < limit.min {
             (limit.min, -1.0)
+        } else if equality {
+            (limit.min, 0.0)
         } else {
             return false;
         };
@@ -2166,7 +2295,7 @@ impl Multibody {
             j[self.links[link].assembly_id + local] += coef;
         }
         let rate = j.dot(&self.velocities);
-        if rate * outward <= 0.0 {
+        if if equality { rate == 0.0 } else { rate * outward <= 0.0 } {
             return false;
         }
         self.factorize_inv_augmented_mass();

@@ -137,7 +137,7 @@ impl VelocitySolver {
                 .rows(multibody.solver_id as usize, multibody.ndofs());
             multibody.velocities.copy_from(&solver_vels);
             multibody.integrate(params.dt);
-            if multibody.hard_limits() && multibody.project_hard_limits() {
+            if multibody.hard_limits() && multibody.project_hard_limits(bodies) {
                 // The stops changed velocities: the solver's copy carries them on.
                 self.generic_solver_vels
                     .rows_mut(multibody.solver_id as usize, multibody.ndofs())

@@ -1,0 +1,227 @@
+//! Spatial tendons through sites (MuJoCo's `<tendon><spatial>` without wrapping geoms): the
+//! length is the straight path's, Σ |pᵢ₊₁ − pᵢ| over the sites' world points, and its rate
+//! `J·q̇`, `J` the length's jacobian over the trees' generalized velocities (each segment's
+//! direction at its two ends, through the links' body jacobians). A force `f` along the
+//! tendon (a spring, a damper, an actuator; positive lengthens) acts as the generalized
+//! force `Jᵀ·f`: each site is pulled toward its neighbours by `−f`. A ranged tendon is a
+//! rope: its `max` is a hard limit, enforced after every substep with the joints' hard
+//! stops (vendored patch 42; MuJoCo's limit is soft).
+
+use std::collections::HashMap;
+
+use gymfleet_assembly::{Assembly, Tendon};
+use rapier3d::dynamics::MultibodyPathLimit;
+use rapier3d::prelude::*;
+
+use crate::error::{PhysicsError, Result};
+use crate::units::to_m;
+use crate::world::{RobotWorld, Sets};
+
+/// A point of a spatial tendon's path: where its site is on its body.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct PathPoint {
+    pub(crate) body: RigidBodyHandle,
+    /// The site's point in the body's frame, m.
+    pub(crate) local: Vector,
+}
+
+/// The path of spatial tendon `tendon` (empty for a fixed one): each site's body and its
+/// point in that body's frame (`placements`: each instance's frame in its body's).
+pub(crate) fn path_points(
+    assembly: &Assembly,
+    tendon: &Tendon,
+    bodies: &[RigidBodyHandle],
+    placements: &[Pose],
+) -> Vec<PathPoint> {
+    tendon
+        .sites
+        .iter()
+        .map(|&s| {
+            let site = &assembly.sites[s];
+            let [x, y, z] = site.point.map(|v| to_m(v) as Real);
+            PathPoint {
+                body: bodies[site.instance],
+                local: placements[site.instance] * Vector::new(x, y, z),
+            }
+        })
+        .collect()
+}
+
+/// The path's length with the bodies where `sets` holds them, m.
+pub(crate) fn path_length(path: &[PathPoint], sets: &Sets) -> f64 {
+    let world: Vec<Vector> = path
+        .iter()
+        .map(|p| *sets.bodies[p.body].position() * p.local)
+        .collect();
+    world
+        .windows(2)
+        .map(|w| f64::from((w[1] - w[0]).length()))
+        .sum()
+}
+
+/// Puts each ranged spatial tendon's rope on the multibody its moving sites share
+/// (vendored patch 42). A site on a body that no tree moves is a fixed world point.
+pub(crate) fn set_path_limits(
+    assembly: &Assembly,
+    paths: &[Vec<PathPoint>],
+    sets: &mut Sets,
+) -> Result<()> {
+    let mut by_multibody: HashMap<MultibodyIndex, Vec<MultibodyPathLimit>> = HashMap::new();
+    for (t, path) in assembly.tendons.iter().zip(paths) {
+        let Some([_, max]) = t.range.filter(|_| t.is_spatial()) else {
+            continue;
+        };
+        let mut tree = None;
+        let mut points = Vec::with_capacity(path.len());
+        for p in path {
+            let body = &sets.bodies[p.body];
+            match sets.multibody_joints.rigid_body_link(p.body) {
+                Some(link) if tree.is_none_or(|m| m == link.multibody) => {
+                    tree = Some(link.multibody);
+                    points.push((Some(link.id), p.local));
+                }
+                None if !body.is_dynamic() => points.push((None, *body.position() * p.local)),
+                _ => {
+                    return Err(PhysicsError::BadOption {
+                        field: "assembly.tendons",
+                        reason: format!(
+                            "tendon {:?} has a range, and its sites move with different kinematic trees; a ranged spatial tendon's sites must share one",
+                            t.name
+                        ),
+                    })
+                }
+            }
+        }
+        // A rope whose every point is fixed holds nothing.
+        if let Some(tree) = tree {
+            by_multibody
+                .entry(tree)
+                .or_default()
+                .push(MultibodyPathLimit {
+                    points,
+                    max: max as Real,
+                });
+        }
+    }
+    for (multibody, limits) in by_multibody {
+        if let Some(mb) = sets.multibody_joints.get_multibody_mut(multibody) {
+            mb.set_path_limits(limits);
+        }
+    }
+    Ok(())
+}
+
+/// A path's length jacobian: for each tree it moves, its row over that tree's generalized
+/// velocities.
+type PathJacobian = Vec<(MultibodyIndex, DVector)>;
+
+impl RobotWorld {
+    /// The path's sites in the world, m.
+    fn path_world(&self, path: &[PathPoint]) -> Vec<Vector> {
+        path.iter()
+            .map(|p| *self.live.bodies[p.body].position() * p.local)
+            .collect()
+    }
+
+    /// The path's length jacobian (see [`PathJacobian`]).
+    fn path_jacobian(&self, path: &[PathPoint], world: &[Vector]) -> PathJacobian {
+        let mut rows: PathJacobian = Vec::new();
+        for (i, w) in world.windows(2).enumerate() {
+            let along = w[1] - w[0];
+            let len = along.length();
+            if len <= Real::EPSILON {
+                continue;
+            }
+            let dir = along / len;
+            for (point, at, sign) in [(&path[i + 1], w[1], 1.0), (&path[i], w[0], -1.0)] {
+                self.add_point_row(&mut rows, point.body, at, dir * sign);
+            }
+        }
+        rows
+    }
+
+    /// Adds `dir · v` of world point `at` on `body` to the jacobian (nothing for a body no
+    /// tree moves).
+    fn add_point_row(
+        &self,
+        rows: &mut PathJacobian,
+        body: RigidBodyHandle,
+        at: Vector,
+        dir: Vector,
+    ) {
+        let Some(link) = self.live.multibody_joints.rigid_body_link(body) else {
+            return;
+        };
+        let Some(mb) = self.live.multibody_joints.get_multibody(link.multibody) else {
+            return;
+        };
+        let rb = &self.live.bodies[body];
+        let com = *rb.position() * rb.mass_properties().local_mprops.local_com;
+        let arm = (at - com).cross(dir);
+        let k = match rows.iter().position(|(m, _)| *m == link.multibody) {
+            Some(k) => k,
+            None => {
+                rows.push((link.multibody, DVector::zeros(mb.ndofs())));
+                rows.len() - 1
+            }
+        };
+        let columns = mb.body_jacobian(link.id).as_slice().chunks_exact(6);
+        for (entry, c) in rows[k].1.iter_mut().zip(columns) {
+            *entry += dir.x * c[0]
+                + dir.y * c[1]
+                + dir.z * c[2]
+                + arm.x * c[3]
+                + arm.y * c[4]
+                + arm.z * c[5];
+        }
+    }
+
+    /// A spatial tendon's length (m) and rate (m/s).
+    pub(crate) fn path_state(&self, path: &[PathPoint]) -> (f64, f64) {
+        let world = self.path_world(path);
+        let length: f64 = world
+            .windows(2)
+            .map(|w| f64::from((w[1] - w[0]).length()))
+            .sum();
+        let rate: f64 = self
+            .path_jacobian(path, &world)
+            .iter()
+            .filter_map(|(m, row)| {
+                let mb = self.live.multibody_joints.get_multibody(*m)?;
+                Some(f64::from(row.dot(&mb.generalized_velocity())))
+            })
+            .sum();
+        (length, rate)
+    }
+
+    /// Adds the generalized forces of `force` along a spatial tendon (N; positive
+    /// lengthens) to the trees it moves.
+    pub(crate) fn add_path_force(&mut self, path: &[PathPoint], force: f64) {
+        let world = self.path_world(path);
+        for (m, row) in self.path_jacobian(path, &world) {
+            if let Some(mb) = self.live.multibody_joints.get_multibody_mut(m) {
+                mb.applied_forces_mut().axpy(force as Real, &row, 1.0);
+            }
+        }
+    }
+
+    /// A spatial tendon's moment arm on DOF `dof`: ∂length/∂q of that DOF (its column of
+    /// the jacobian), 0 where the tendon does not move it.
+    pub(crate) fn path_moment(&self, path: &[PathPoint], dof: usize) -> f64 {
+        let slot = &self.joints[self.dofs[dof].joint];
+        let Some(mb) = self.live.multibody_joints.get_multibody(slot.multibody) else {
+            return 0.0;
+        };
+        let Some(first) = mb.link(slot.link).map(|link| link.assembly_id()) else {
+            return 0.0;
+        };
+        let in_joint = dof - slot.first_dof;
+        let world = self.path_world(path);
+        self.path_jacobian(path, &world)
+            .iter()
+            .find(|(m, _)| *m == slot.multibody)
+            .map_or(0.0, |(_, row)| {
+                f64::from(row[slot.link_dof(first, in_joint)])
+            })
+    }
+}
