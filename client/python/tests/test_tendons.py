@@ -119,3 +119,53 @@ def test_a_ranged_tendon_stops_the_fall_where_mujocos_does():
     assert abs(np.argmax(ours > 0.59) - np.argmax(theirs > 0.59)) <= 10
     assert ours[-1] == pytest.approx(0.6, abs=1e-3)
     assert theirs[-1] == pytest.approx(0.6, abs=0.01)
+
+
+SPATIAL = """<mujoco>
+  <option timestep="0.002" gravity="0 0 0"/>
+  <worldbody>
+    <site name="anchor" pos="0 0 0"/>
+    <site name="via" pos="0.2 0.1 0"/>
+    <body name="ball" pos="0.4 0 0">
+      <joint name="x" type="slide" axis="1 0 0"/>
+      <joint name="y" type="slide" axis="0 1 0"/>
+      <geom type="sphere" size="0.03" mass="0.5" contype="0" conaffinity="0"/>
+      <site name="ball" pos="0 0.02 0"/>
+    </body>
+  </worldbody>
+  <tendon>
+    <spatial name="s" stiffness="20" damping="0.5" springlength="0.3">
+      <site site="anchor"/><site site="via"/><site site="ball"/>
+    </spatial>
+  </tendon>
+  <actuator><motor name="pull" tendon="s" gear="2"/></actuator>
+</mujoco>"""
+
+
+def test_a_spatial_tendon_through_a_via_point_follows_mujocos_trajectory():
+    """A ball on two slides pulled by a springy, damped spatial tendon through a fixed
+    via-point, and by a motor on the tendon: the ball's path, the tendon's length and
+    rate follow MuJoCo's."""
+    task = {"terms": [
+        {"name": "length", "weight": 0, "value": {"tendon_length": "s"}},
+        {"name": "rate", "weight": 0, "value": {"tendon_velocity": "s"}},
+    ]}
+    env = gymfleet.make(SPATIAL, units="si", task=task, dt=0.002)
+    env.reset(seed=0)
+    model = mujoco.MjModel.from_xml_string(SPATIAL)
+    data = mujoco.MjData(model)
+    worst = {"position": 0.0, "length": 0.0, "rate": 0.0}
+    for k in range(500):
+        ctrl = -0.5 if k < 250 else 0.3
+        data.ctrl[0] = ctrl
+        obs, _, _, _, info = env.step(np.array([ctrl], np.float32))
+        mujoco.mj_step(model, data)
+        mujoco.mj_forward(model, data)
+        worst["position"] = max(worst["position"], float(np.abs(obs[:2] - data.qpos).max()))
+        worst["length"] = max(worst["length"], abs(info["length"] - data.ten_length[0]))
+        worst["rate"] = max(worst["rate"], abs(info["rate"] - data.ten_velocity[0]))
+    assert worst["position"] < 2e-3, worst
+    assert worst["length"] < 2e-3, worst
+    assert worst["rate"] < 2e-2, worst
+    # The ball went somewhere: over 5 cm from its start.
+    assert np.linalg.norm(data.qpos) > 0.05

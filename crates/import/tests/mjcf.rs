@@ -448,21 +448,33 @@ fn fixed_tendons_become_the_documents_tendons() {
     );
     assert_eq!(
         refused(r#"<spatial><site site="s"/></spatial>"#),
-        "line 3: <spatial>: spatial tendons are not supported yet (fixed tendons are)"
+        "line 3: <spatial site=…>: a spatial tendon needs at least two <site>s, got 1"
+    );
+    assert_eq!(
+        refused(r#"<spatial><site site="s"/><geom geom="g" sidesite="s"/><site site="s"/></spatial>"#),
+        "line 3: <geom>: wrapping around a geom (with its sidesite) is not supported yet: a spatial tendon goes straight through its sites"
+    );
+    assert_eq!(
+        refused(r#"<spatial><site site="s"/><pulley divisor="2"/><site site="s"/></spatial>"#),
+        "line 3: <pulley>: <pulley> in a spatial tendon is not supported (only <site>)"
+    );
+    assert_eq!(
+        refused(r#"<spatial><site site="s"/><site site="nowhere"/></spatial>"#),
+        "line 3: <site site=…>: no site is named \"s\""
     );
     assert_eq!(
         error(&format!(
             "<mujoco><worldbody>{}</body></worldbody>\n<tendon><fixed name=\"t\"><joint joint=\"j1\" coef=\"1\"/></fixed></tendon>\n<actuator>\n<motor site=\"s\"/>\n</actuator></mujoco>",
             body("j1")
         )),
-        "line 4: <motor>: site transmissions are not supported (an actuator drives a joint or a fixed tendon)"
+        "line 4: <motor>: site transmissions are not supported (an actuator drives a joint or a tendon)"
     );
     assert_eq!(
         error(&format!(
             "<mujoco><worldbody>{}</body></worldbody>\n<tendon><fixed name=\"t\"><joint joint=\"j1\" coef=\"1\"/></fixed></tendon>\n<actuator>\n<motor tendon=\"u\"/>\n</actuator></mujoco>",
             body("j1")
         )),
-        "line 4: <motor tendon=…>: no fixed tendon is named \"u\""
+        "line 4: <motor tendon=…>: no tendon is named \"u\""
     );
     assert_eq!(
         refused(r#"<fixed><joint joint="j9" coef="1"/></fixed>"#),
@@ -544,4 +556,48 @@ fn a_range_that_excludes_the_models_pose_starts_at_its_nearest_end() {
     let mut env =
         RobotEnv::from_json(&converted.document.to_string(), EnvConfig::default()).expect("builds");
     assert!((env.reset(None).joint_positions[0] - 10.0).abs() < 1e-4);
+}
+
+#[test]
+fn a_spatial_tendon_converts_through_its_sites() {
+    let xml = r#"<mujoco><worldbody>
+      <site name="anchor" pos="0 0 1"/>
+      <body name="ball" pos="0 0 0.5">
+        <joint name="z" type="slide" axis="0 0 1"/>
+        <geom type="sphere" size="0.05"/>
+        <site name="ball" pos="0 0 0.05"/>
+      </body>
+    </worldbody>
+    <tendon>
+      <spatial name="string" range="0 0.6" stiffness="2" damping="0.1" springlength="0.4">
+        <site site="anchor"/><site site="ball"/>
+      </spatial>
+    </tendon>
+    <actuator><motor tendon="string" gear="2"/></actuator>
+    </mujoco>"#;
+    let converted = mjcf_to_document(xml).expect("converts");
+    let tendon = &converted.document["assembly"]["tendons"][0];
+    assert_eq!(tendon["name"], "string");
+    assert_eq!(tendon["range"], serde_json::json!([0.0, 0.6]));
+    assert_eq!(tendon["stiffness"], 2.0);
+    assert_eq!(tendon["damping"], 0.1);
+    assert_eq!(tendon["spring_length"], 0.4);
+    assert!(tendon.get("joints").is_none());
+    let sites = tendon["sites"].as_array().expect("sites");
+    assert_eq!(sites.len(), 2);
+    let assembly = gymfleet_assembly::parse(&converted.document.to_string()).expect("parses");
+    let t = &assembly.tendons[0];
+    assert!(t.is_spatial() && t.joints.is_empty());
+    // The sites' instances: the world's and the ball's.
+    let names: Vec<&str> = t
+        .sites
+        .iter()
+        .map(|&s| assembly.instances[assembly.sites[s].instance].name.as_str())
+        .collect();
+    assert_ne!(names[0], names[1]);
+    assert!(names[1].starts_with("ball"), "{names:?}");
+    assert_eq!(
+        converted.document["assembly"]["actuators"][0]["tendon"],
+        "string"
+    );
 }

@@ -74,7 +74,7 @@ impl<'a, 'i> Converter<'a, 'i> {
                 if element.attribute(attr).is_some() {
                     return Err(self.unsupported(
                         element,
-                        format!("{attr} transmissions are not supported (an actuator drives a joint or a fixed tendon)"),
+                        format!("{attr} transmissions are not supported (an actuator drives a joint or a tendon)"),
                     ));
                 }
             }
@@ -186,7 +186,7 @@ impl<'a, 'i> Converter<'a, 'i> {
                         element: a.tag.into(),
                         attribute: "tendon".into(),
                         line: a.line,
-                        reason: format!("no fixed tendon is named {t:?}"),
+                        reason: format!("no tendon is named {t:?}"),
                     });
                 }
             }

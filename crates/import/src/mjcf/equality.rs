@@ -145,7 +145,7 @@ impl<'a, 'i> Converter<'a, 'i> {
         let (first, second) = (format!("{kind}1"), format!("{kind}2"));
         let known = |name: &str| match kind {
             "joint" => self.moving_joints.iter().any(|j| j == name),
-            _ => self.tendons.iter().any(|t| t.name == name),
+            _ => self.tendons.iter().any(|t| t.name == name && t.is_fixed()),
         };
         let what = if kind == "joint" {
             "hinge or slide joint"

@@ -20,6 +20,13 @@ pub(super) struct TendonRead {
     range: Option<[f64; 2]>,
 }
 
+impl TendonRead {
+    /// Whether it is a fixed tendon (a combination of joints), not a spatial one.
+    pub(super) fn is_fixed(&self) -> bool {
+        self.sites.is_empty()
+    }
+}
+
 impl<'a, 'i> Converter<'a, 'i> {
     pub(super) fn tendons(&mut self, node: Node<'a, 'i>) -> Result<()> {
         for child in elements(node) {
