@@ -58,6 +58,7 @@ LOADS = [
     "dmc/acrobot", "dmc/cartpole", "dmc/cheetah", "dmc/finger", "dmc/hopper", "dmc/humanoid",
     "dmc/pendulum", "dmc/reacher", "dmc/walker", "dmc/humanoid_CMU", "dmc/swimmer",
     "dmc/fish", "dmc/point_mass", "dmc/ball_in_cup", "dmc/manipulator", "dmc/stacker",
+    "dmc/quadruped",
     "fetch/reach", "fetch/push", "fetch/slide", "fetch/pick_and_place",
     "hand/reach", "hand/manipulate_block", "hand/manipulate_block_touch_sensors",
     "hand/manipulate_egg", "hand/manipulate_egg_touch_sensors", "hand/manipulate_pen",
@@ -70,7 +71,6 @@ LOADS = [
 #: ("-": no issue names it yet).
 LEFT = {
     "dmc/dog": ("<joint>: springdamper (a spring-damper by time constant) is not supported yet", "-"),
-    "dmc/quadruped": ("<hfield>: is not converted yet", "Z3"),
 }
 
 #: dm_control's lqr.xml is a template its Python code fills with bodies: no model alone.

@@ -39,7 +39,7 @@ def mujoco_name(model, k: int) -> str:
 
 
 def test_the_corpus_has_sensors_to_convert():
-    assert len(WITH_SENSORS) == 21, WITH_SENSORS
+    assert len(WITH_SENSORS) == 22, WITH_SENSORS
 
 
 @pytest.mark.parametrize("name", WITH_SENSORS)

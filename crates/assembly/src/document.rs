@@ -151,6 +151,33 @@ pub enum Primitive {
     /// *(ext)* The half-space below the part's local XY plane (its normal is local +Z): a
     /// ground. A plane is always fixed to the world and cannot be a joint's child.
     Plane,
+    /// *(ext)* Terrain (MJCF's `hfield`): a grid of `rows × columns` elevations over
+    /// `x ∈ [−size.x, size.x]`, `y ∈ [−size.y, size.y]`, each `heights` value (in [0, 1])
+    /// times `size.z` above the part's XY plane. Columns run along x; row 0 is at `y =
+    /// −size.y` (MuJoCo's `hfield_data` order). A ground, as a plane is.
+    Heightfield(HeightfieldDef),
+}
+
+/// *(ext)* A heightfield primitive as the document writes it: its grid (`rows`, `columns`,
+/// `heights`), or a grayscale PNG `file` of the request's assets that the import step
+/// replaces with them (the image's top row at `y = +size.y`, as MuJoCo reads it; its
+/// values normalised to [0, 1]).
+#[derive(Debug, Clone, Serialize)]
+pub struct HeightfieldDef {
+    /// Grid rows (along y), at least 2.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rows: Option<u32>,
+    /// Grid columns (along x), at least 2.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub columns: Option<u32>,
+    /// Half-extents along x and y and the elevation a height of 1 reaches, mm.
+    pub size: Vec3,
+    /// `rows × columns` heights in [0, 1], row by row; default all 0 (flat).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub heights: Option<Vec<f64>>,
+    /// A PNG of the request's assets, instead of the grid.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub file: Option<String>,
 }
 
 /// *(ext)* A mesh primitive as the document writes it: inline `vertices` (+ `indices`), or a

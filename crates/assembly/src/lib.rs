@@ -13,6 +13,7 @@ mod contacts;
 mod couplings;
 mod document;
 mod error;
+mod heightfield;
 mod keyframes;
 mod mesh;
 mod model;
@@ -28,15 +29,16 @@ pub use contacts::MAX_CONTACT_RULES;
 pub use couplings::{Coupling, MAX_COUPLINGS};
 pub use document::{
     ActuatorDef, ActuatorKind, AssemblyDef, CollisionDef, ContactExcludeDef, ContactPairDef,
-    ContactsDef, ConvexMode, CouplingDef, Document, DynamicsKind, FluidDef, FrameDef, InertiaDef,
-    InertialDef, InstanceDef, Integrator, JointDef, MaterialDef, MeshDef, PartDef, Primitive,
-    SensorDef, SensorFrameDef, SensorType, SimulationDef, SiteDef, SiteShape, SiteVolumeDef,
-    TendonDef, TendonJointDef, Vec3,
+    ContactsDef, ConvexMode, CouplingDef, Document, DynamicsKind, FluidDef, FrameDef,
+    HeightfieldDef, InertiaDef, InertialDef, InstanceDef, Integrator, JointDef, MaterialDef,
+    MeshDef, PartDef, Primitive, SensorDef, SensorFrameDef, SensorType, SimulationDef, SiteDef,
+    SiteShape, SiteVolumeDef, TendonDef, TendonJointDef, Vec3,
 };
 pub use document::{BaseKeyDef, KeyframeDef};
 pub use error::{
     quoted, quoted_list, shown, AssemblyError, Issue, Result, MAX_ECHOED_CHARS, MAX_LISTED_NAMES,
 };
+pub use heightfield::{Heightfield, MAX_HEIGHTFIELD_POINTS, MAX_HEIGHTFIELD_SIDE};
 pub use keyframes::{BaseKey, KeyControl, Keyframe, MAX_KEYFRAMES};
 pub use mesh::{
     ConvexParts, ConvexPiece, ELLIPSOID_RINGS, MAX_CONVEX_PARTS, MAX_DECOMPOSED_TRIANGLES,

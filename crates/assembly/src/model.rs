@@ -61,6 +61,8 @@ pub enum Shape {
     Convex(std::sync::Arc<crate::ConvexParts>),
     /// The half-space `z ≤ 0` of the part's frame (a ground: always grounded).
     Plane,
+    /// Terrain over the part's XY plane, centred on its origin (a ground, as a plane).
+    Heightfield(std::sync::Arc<crate::Heightfield>),
 }
 
 impl Shape {
@@ -78,7 +80,7 @@ impl Shape {
                 4.0 / 3.0 * std::f64::consts::PI * radii[0] * radii[1] * radii[2]
             }
             Shape::Convex(ref parts) => parts.volume(),
-            Shape::Plane => 0.0,
+            Shape::Plane | Shape::Heightfield(_) => 0.0,
         }
     }
 
@@ -91,7 +93,7 @@ impl Shape {
             }
             Shape::Sphere { .. } | Shape::Ellipsoid { .. } => [0.0, 0.0, 0.0],
             Shape::Convex(ref parts) => parts.centroid(),
-            Shape::Plane => [0.0, 0.0, 0.0],
+            Shape::Plane | Shape::Heightfield(_) => [0.0, 0.0, 0.0],
         }
     }
 
@@ -104,8 +106,14 @@ impl Shape {
             Shape::Sphere { radius } | Shape::Capsule { radius, .. } => 2.0 * radius,
             Shape::Ellipsoid { radii, .. } => 2.0 * radii[0].min(radii[1]).min(radii[2]),
             Shape::Convex(ref parts) => parts.min_extent(),
-            Shape::Plane => f64::INFINITY,
+            Shape::Plane | Shape::Heightfield(_) => f64::INFINITY,
         }
+    }
+
+    /// Whether the shape is a ground (a plane or a heightfield): fixed to the world
+    /// wherever it is listed, never a joint's child.
+    pub fn is_ground(&self) -> bool {
+        matches!(self, Shape::Plane | Shape::Heightfield(_))
     }
 }
 

@@ -37,7 +37,11 @@ pub fn validate(doc: &Document) -> Result<Assembly> {
         .instances
         .iter()
         .map(|i| {
-            if parts.get(&i.part).and_then(|p| p.shape.as_ref()) == Some(&Shape::Plane) {
+            if parts
+                .get(&i.part)
+                .and_then(|p| p.shape.as_ref())
+                .is_some_and(Shape::is_ground)
+            {
                 Anchor::Plane
             } else if i.mocap == Some(true) {
                 Anchor::Mocap

@@ -309,7 +309,7 @@ fn plane_as_joint_child() {
     doc["parts"][1]["primitive"] = json!({"type": "plane"});
     assert_issue(
         doc,
-        r#"assembly.joints[0].child: instance "arm" is a plane, a ground fixed to the world, and cannot be a joint child; swap parent and child"#,
+        r#"assembly.joints[0].child: instance "arm" is a plane or heightfield, a ground fixed to the world, and cannot be a joint child; swap parent and child"#,
     );
 }
 

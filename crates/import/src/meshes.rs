@@ -30,6 +30,18 @@ pub fn inline_mesh_files(document: &mut Value, assets: Option<&Assets>) -> Resul
         let Some(primitive) = part.get_mut("primitive").and_then(Value::as_object_mut) else {
             continue;
         };
+        if primitive.get("type").and_then(Value::as_str) == Some("heightfield") {
+            if let Some(file) = primitive.remove("file") {
+                let file = file.as_str().unwrap_or_default().to_string();
+                let path = format!("parts[{i}].primitive.file");
+                let bytes = assets.get(&file).map_err(|e| bad(&path, e))?;
+                let (rows, columns, heights) = png_heights(bytes).map_err(|e| bad(&path, e))?;
+                primitive.insert("rows".into(), json!(rows));
+                primitive.insert("columns".into(), json!(columns));
+                primitive.insert("heights".into(), json!(heights));
+            }
+            continue;
+        }
         if primitive.get("type").and_then(Value::as_str) != Some("mesh") {
             continue;
         }
@@ -77,11 +89,51 @@ pub fn inline_mesh_files(document: &mut Value, assets: Option<&Assets>) -> Resul
 pub fn with_mesh_files(document: &str) -> Option<Value> {
     let value = serde_json::from_str::<Value>(document).ok()?;
     let names_files = value["parts"].as_array().is_some_and(|parts| {
-        parts
-            .iter()
-            .any(|p| p["primitive"]["type"] == "mesh" && p["primitive"].get("file").is_some())
+        parts.iter().any(|p| {
+            matches!(
+                p["primitive"]["type"].as_str(),
+                Some("mesh" | "heightfield")
+            ) && p["primitive"].get("file").is_some()
+        })
     });
     names_files.then_some(value)
+}
+
+/// A PNG heightfield as MuJoCo reads it: its rows and columns (the image's height and
+/// width) and its heights in the document's order (row 0 at −y: the image's last row),
+/// normalised to [0, 1]; a colour image's gray level is the mean of its channels.
+pub(crate) fn png_heights(bytes: &[u8]) -> std::result::Result<(u32, u32, Vec<f64>), String> {
+    let side = gymfleet_assembly::MAX_HEIGHTFIELD_SIDE;
+    let mut decoder = png::Decoder::new(std::io::Cursor::new(bytes));
+    decoder.set_transformations(png::Transformations::EXPAND | png::Transformations::STRIP_16);
+    let mut reader = decoder
+        .read_info()
+        .map_err(|e| format!("not a PNG heightfield: {e}"))?;
+    let (width, height) = (reader.info().width, reader.info().height);
+    if !(2..=side).contains(&width) || !(2..=side).contains(&height) {
+        return Err(format!(
+            "a heightfield image is 2 to {side} pixels on each side, this one {width} × {height}"
+        ));
+    }
+    let mut buffer = vec![0; reader.output_buffer_size().ok_or("the PNG is too large")?];
+    let frame = reader
+        .next_frame(&mut buffer)
+        .map_err(|e| format!("not a PNG heightfield: {e}"))?;
+    let channels = frame.color_type.samples();
+    let colour = matches!(frame.color_type, png::ColorType::Rgb | png::ColorType::Rgba);
+    let mut gray = Vec::with_capacity((width * height) as usize);
+    for row in buffer[..frame.buffer_size()].chunks(frame.line_size) {
+        for pixel in row.chunks(channels).take(width as usize) {
+            let level = if colour {
+                (f64::from(pixel[0]) + f64::from(pixel[1]) + f64::from(pixel[2])) / 3.0
+            } else {
+                f64::from(pixel[0])
+            };
+            gray.push(level);
+        }
+    }
+    let heights = crate::mjcf::hfield_heights(&gray, width as usize);
+    Ok((height, width, heights))
 }
 
 /// A mesh's vertices and triangles (three indices into the vertices each).

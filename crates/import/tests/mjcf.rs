@@ -601,3 +601,37 @@ fn a_spatial_tendon_converts_through_its_sites() {
         "string"
     );
 }
+
+#[test]
+fn a_site_with_fromto_sits_midway_looking_from_the_second_point_to_the_first() {
+    // MuJoCo: the site's z axis runs from the second point to the first (a rangefinder
+    // on it looks that way), its size[1] is half the segment.
+    let xml = r#"<mujoco><worldbody>
+      <body name="b"><joint type="hinge"/><geom type="sphere" size="0.1"/>
+        <site name="s" type="capsule" size="0.01" fromto="0.3 0 0 0.1 0 0"/>
+      </body>
+    </worldbody></mujoco>"#;
+    let converted = mjcf_to_document(xml).expect("converts");
+    let site = converted.document["assembly"]["sites"]
+        .as_array()
+        .expect("sites")
+        .iter()
+        .find(|s| s["name"] == "s")
+        .expect("the site")
+        .clone();
+    let assembly = gymfleet_assembly::parse(&converted.document.to_string()).expect("parses");
+    let s = assembly
+        .sites
+        .iter()
+        .find(|s| s.name == "s")
+        .expect("the site");
+    assert!((s.point[0] - 200.0).abs() < 1e-9, "{:?}", s.point);
+    // z onto +x: a turn of +90° about y.
+    assert!(
+        (s.rotation[1] - std::f64::consts::FRAC_PI_2).abs() < 1e-9,
+        "{:?}",
+        s.rotation
+    );
+    let half = site["volume"]["size"]["y"].as_f64().expect("a half-length");
+    assert!((half - 100.0).abs() < 1e-9, "{half} mm");
+}

@@ -197,6 +197,9 @@ pub(crate) fn collider(shape: &Shape) -> ColliderBuilder {
             ))
         }
         Shape::Plane => ColliderBuilder::halfspace(rapier3d::na::Unit::new_unchecked(Vector::Z)),
+        Shape::Heightfield(ref field) => {
+            ColliderBuilder::new(heightfield_shape(field)).position(heightfield_pose())
+        }
         // An ellipsoid is its polyhedron, whose volume is the ellipsoid's: its mass is the
         // ellipsoid's, its inertia within about 1 % of it.
         Shape::Convex(ref parts)
@@ -226,14 +229,46 @@ pub(crate) fn collider(shape: &Shape) -> ColliderBuilder {
     }
 }
 
+/// A heightfield as Parry's (its grid on its x–z plane, heights along y; internal edges
+/// fixed, so that what rolls across cells feels no bump): Parry's row `i` runs along its z,
+/// which [`heightfield_pose`] turns to −y, so it is the document's row `rows − 1 − i`.
+pub(crate) fn heightfield_shape(field: &gymfleet_assembly::Heightfield) -> SharedShape {
+    let (rows, columns) = (field.rows, field.columns);
+    let mut data = Vec::with_capacity(rows * columns);
+    // Column-major: Parry's (i, j) at i + j·rows.
+    for j in 0..columns {
+        for i in 0..rows {
+            data.push(field.heights[(rows - 1 - i) * columns + j] as Real);
+        }
+    }
+    let scale = Vector::new(
+        (2.0 * field.half_extents[0]) as Real,
+        field.elevation as Real,
+        (2.0 * field.half_extents[1]) as Real,
+    );
+    SharedShape::heightfield_with_flags(
+        rapier3d::parry::utils::Array2::new(rows, columns, data),
+        scale,
+        HeightFieldFlags::FIX_INTERNAL_EDGES,
+    )
+}
+
+/// Where a heightfield's Parry shape sits in its part's frame: Parry's y (up) along z.
+pub(crate) fn heightfield_pose() -> Pose {
+    Pose::from_parts(
+        Vector::ZERO,
+        Rotation::from_rotation_x(std::f32::consts::FRAC_PI_2),
+    )
+}
+
 /// The diagonal of the box that holds every collider at the initial pose, in m.
 pub(crate) fn assembly_reach(colliders: &ColliderSet) -> Real {
     let mut all: Option<Aabb> = None;
-    // A ground plane is unbounded: the robot's size is its other parts'.
-    for (_, co) in colliders
-        .iter()
-        .filter(|(_, co)| co.shape().as_halfspace().is_none())
-    {
+    // A ground (a plane, unbounded; terrain) is not the robot: its size is its other
+    // parts'.
+    for (_, co) in colliders.iter().filter(|(_, co)| {
+        co.shape().as_halfspace().is_none() && co.shape().as_heightfield().is_none()
+    }) {
         let aabb = co.compute_aabb();
         all = Some(all.map_or(aabb, |a| a.merged(&aabb)));
     }

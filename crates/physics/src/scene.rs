@@ -3,8 +3,8 @@
 
 use std::sync::Arc;
 
-use rapier3d::math::{Pose, Vector};
-use rapier3d::parry::shape::{Shape, ShapeType};
+use rapier3d::math::{Pose, Real, Vector};
+use rapier3d::parry::shape::{HeightField, Shape, ShapeType};
 
 use crate::units::to_mm;
 use crate::world::RobotWorld;
@@ -116,8 +116,59 @@ fn scene_shape(shape: &dyn Shape) -> Option<SceneShape> {
                 triangles: triangles.into(),
             }
         }
+        ShapeType::HeightField => {
+            let (vertices, triangles) = heightfield_mesh(shape.as_heightfield()?);
+            SceneShape::Mesh {
+                vertices: vertices.into_iter().map(mm).collect(),
+                triangles: triangles.into(),
+            }
+        }
         _ => return None,
     })
+}
+
+/// Most grid points along a side of a heightfield's drawn surface: a finer grid is drawn
+/// every k-th row and column.
+const DRAWN_SIDE: usize = 128;
+
+/// A heightfield's surface as a mesh in its own frame (Parry's: heights along y), vertices
+/// shared, at most [`DRAWN_SIDE`] points a side.
+fn heightfield_mesh(field: &HeightField) -> (Vec<Vector>, Vec<[u32; 3]>) {
+    let heights = field.heights();
+    let (rows, columns) = (heights.nrows(), heights.ncols());
+    let step = rows.max(columns).div_ceil(DRAWN_SIDE).max(1);
+    // Every step-th line, and always the last.
+    let lines = |n: usize| -> Vec<usize> {
+        let mut at: Vec<usize> = (0..n).step_by(step).collect();
+        if at.last() != Some(&(n - 1)) {
+            at.push(n - 1);
+        }
+        at
+    };
+    let (is, js) = (lines(rows), lines(columns));
+    let scale = field.scale();
+    let mut vertices = Vec::with_capacity(is.len() * js.len());
+    for &i in &is {
+        for &j in &js {
+            let h = heights.data()[heights.flat_index(i, j)];
+            vertices.push(Vector::new(
+                (j as Real / (columns - 1) as Real - 0.5) * scale.x,
+                h * scale.y,
+                (i as Real / (rows - 1) as Real - 0.5) * scale.z,
+            ));
+        }
+    }
+    let width = js.len() as u32;
+    let mut triangles = Vec::with_capacity(2 * is.len() * js.len());
+    for r in 0..is.len() as u32 - 1 {
+        for c in 0..width - 1 {
+            let (a, b) = (r * width + c, r * width + c + 1);
+            let (d, e) = (a + width, b + width);
+            triangles.push([a, d, b]);
+            triangles.push([b, d, e]);
+        }
+    }
+    (vertices, triangles)
 }
 
 impl RobotWorld {

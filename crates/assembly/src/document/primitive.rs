@@ -5,7 +5,7 @@
 use serde::de::{self, DeserializeSeed, Deserializer, IgnoredAny, MapAccess, Visitor};
 use serde::Deserialize;
 
-use super::{MeshDef, Primitive, Vec3};
+use super::{HeightfieldDef, MeshDef, Primitive, Vec3};
 
 /// The `type` tag of a [`Primitive`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
@@ -18,6 +18,7 @@ enum PrimitiveKind {
     Ellipsoid,
     Mesh,
     Plane,
+    Heightfield,
 }
 
 impl PrimitiveKind {
@@ -30,6 +31,7 @@ impl PrimitiveKind {
             PrimitiveKind::Ellipsoid => &["radii"],
             PrimitiveKind::Mesh => MESH_FIELDS,
             PrimitiveKind::Plane => &[],
+            PrimitiveKind::Heightfield => &["rows", "columns", "size", "heights", "file"],
         }
     }
 }
@@ -37,6 +39,7 @@ impl PrimitiveKind {
 /// Every field of any primitive, for unknown-field messages before the tag is known.
 const PRIMITIVE_FIELDS: &[&str] = &[
     "type", "size", "radius", "radii", "height", "vertices", "indices", "convex", "file", "scale",
+    "rows", "columns", "heights",
 ];
 
 /// The fields of a mesh primitive besides `type`.
@@ -73,7 +76,7 @@ impl<'de> Visitor<'de> for PrimitiveVisitor {
 
     fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(
-            "a primitive object with a \"type\" of cube, cylinder, sphere, capsule, ellipsoid, mesh or plane",
+            "a primitive object with a \"type\" of cube, cylinder, sphere, capsule, ellipsoid, mesh, plane or heightfield",
         )
     }
 
@@ -84,6 +87,9 @@ impl<'de> Visitor<'de> for PrimitiveVisitor {
         let mut radii: Option<Vec3> = None;
         let mut height: Option<f64> = None;
         let mut mesh = MeshDef::default();
+        let mut rows: Option<u32> = None;
+        let mut columns: Option<u32> = None;
+        let mut heights: Option<Vec<f64>> = None;
         while let Some(key) = map.next_key::<String>()? {
             let allowed = match kind {
                 Some(k) => key == "type" || k.fields().contains(&key.as_str()),
@@ -100,6 +106,9 @@ impl<'de> Visitor<'de> for PrimitiveVisitor {
                 "convex" => mesh.convex.is_some(),
                 "file" => mesh.file.is_some(),
                 "scale" => mesh.scale.is_some(),
+                "rows" => rows.is_some(),
+                "columns" => columns.is_some(),
+                "heights" => heights.is_some(),
                 _ => false,
             };
             if !allowed || already {
@@ -125,6 +134,9 @@ impl<'de> Visitor<'de> for PrimitiveVisitor {
                 "convex" => mesh.convex = Some(map.next_value()?),
                 "file" => mesh.file = Some(map.next_value()?),
                 "scale" => mesh.scale = Some(map.next_value()?),
+                "rows" => rows = Some(map.next_value()?),
+                "columns" => columns = Some(map.next_value()?),
+                "heights" => heights = Some(map.next_value()?),
                 _ => {
                     map.next_value::<IgnoredAny>()?;
                 }
@@ -142,6 +154,9 @@ impl<'de> Visitor<'de> for PrimitiveVisitor {
             ("convex", mesh.convex.is_some()),
             ("file", mesh.file.is_some()),
             ("scale", mesh.scale.is_some()),
+            ("rows", rows.is_some()),
+            ("columns", columns.is_some()),
+            ("heights", heights.is_some()),
         ] {
             if present && !kind.fields().contains(&name) {
                 return Err(de::Error::unknown_field(name, kind.fields()));
@@ -174,6 +189,13 @@ impl<'de> Visitor<'de> for PrimitiveVisitor {
                 Primitive::Mesh(mesh)
             }
             PrimitiveKind::Plane => Primitive::Plane,
+            PrimitiveKind::Heightfield => Primitive::Heightfield(HeightfieldDef {
+                rows,
+                columns,
+                size: size.ok_or_else(|| de::Error::missing_field("size"))?,
+                heights,
+                file: mesh.file.take(),
+            }),
         })
     }
 }

@@ -5,7 +5,7 @@ use std::collections::HashMap;
 
 use crate::document::InstanceDef;
 use crate::error::quoted;
-use crate::model::{Instance, LocalFrame, Material, Shape, MM_PER_M};
+use crate::model::{Instance, LocalFrame, Material, MM_PER_M};
 
 use super::{list, CheckedPart, Validator};
 
@@ -84,13 +84,15 @@ impl Validator {
             // still overflow (or underflow) f64; the physics layer needs a real mass.
             // A plane is a ground wherever it is listed; the first instance is one too,
             // unless it is the floating base (which a plane cannot be).
-            let plane = shape == Shape::Plane;
+            // A heightfield is a ground as a plane is.
+            let plane = shape.is_ground();
             if plane && i == 0 && floating_base {
                 self.push(
                     format!("{path}.part"),
                     format!(
-                        "part {} is a plane (a half-space, a ground), which cannot be the floating base (the first instance); list the robot's base first",
-                        quoted(&inst.part)
+                        "part {} is a {} (a ground), which cannot be the floating base (the first instance); list the robot's base first",
+                        quoted(&inst.part),
+                        ground_kind(&shape)
                     ),
                 );
                 continue;
@@ -115,7 +117,10 @@ impl Validator {
             if plane && mocap {
                 self.push(
                     format!("{path}.mocap"),
-                    "a plane is a ground, fixed to the world: it cannot be a mocap body",
+                    format!(
+                        "a {} is a ground, fixed to the world: it cannot be a mocap body",
+                        ground_kind(&shape)
+                    ),
                 );
             }
             let body_frame = inst.body_frame.map(|f| LocalFrame {
@@ -132,8 +137,7 @@ impl Validator {
             });
             let grounded = !mocap && (plane || fixed || (i == 0 && !floating_base));
             let mass = shape.volume() * material.density;
-            if shape != Shape::Plane && inst.inertial.is_none() && !(mass.is_finite() && mass > 0.0)
-            {
+            if !plane && inst.inertial.is_none() && !(mass.is_finite() && mass > 0.0) {
                 self.push(
                     path.clone(),
                     format!(
@@ -157,5 +161,13 @@ impl Validator {
             });
         }
         out
+    }
+}
+
+/// What a ground shape is called in messages.
+fn ground_kind(shape: &crate::model::Shape) -> &'static str {
+    match shape {
+        crate::model::Shape::Heightfield(_) => "heightfield",
+        _ => "plane",
     }
 }

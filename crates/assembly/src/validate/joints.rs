@@ -224,7 +224,7 @@ impl Validator {
     ) {
         let held_as = match roots.anchor(child) {
             Anchor::None => None,
-            Anchor::Plane => Some("a plane, a ground fixed to the world,"),
+            Anchor::Plane => Some("a plane or heightfield, a ground fixed to the world,"),
             Anchor::Fixed => Some("fixed to the world (\"fixed\": true)"),
             Anchor::Mocap => Some("a mocap body, which only its pose targets move,"),
         };

@@ -110,6 +110,10 @@ impl Validator {
         let shape = match *primitive {
             Primitive::Mesh(ref mesh) => return self.mesh(path, mesh),
             Primitive::Plane => Shape::Plane,
+            Primitive::Heightfield(ref def) => {
+                let field = crate::heightfield::heightfield(path, def, &mut self.issues)?;
+                Shape::Heightfield(std::sync::Arc::new(field))
+            }
             Primitive::Cube { size } => Shape::Cuboid {
                 size: [
                     self.positive_length(&format!("{path}.size.x"), size.x),

@@ -62,10 +62,13 @@ impl<'a, 'i> Converter<'a, 'i> {
         }
         // The world's sites, after every body's: points of the world's instance.
         for site in world_sites {
-            let at = self.local_frame(site, None)?;
+            let (at, half_length) = self.site_frame(site, None)?;
             let world = self.world_instance();
             let name = site.attribute("name").unwrap_or("world_site");
-            let volume = self.site_volume(site, None)?;
+            let mut volume = self.site_volume(site, None)?;
+            if let Some(half) = half_length {
+                volume.size.y = half * MM;
+            }
             let kept = self.site(name, &world, &at, Some(volume));
             if let (Some(mjcf), Some(kept)) = (site.attribute("name"), kept) {
                 self.site_of.insert(mjcf.to_string(), kept);
@@ -218,6 +221,25 @@ impl<'a, 'i> Converter<'a, 'i> {
             volume,
         });
         Some(name)
+    }
+
+    /// A site's frame in its body, and with `fromto` its half-length: MuJoCo puts such a
+    /// site at the segment's middle, its z axis from the second point to the first (the way
+    /// a rangefinder on it looks), and its `size[1]` at half the segment.
+    fn site_frame(&self, node: Node<'a, 'i>, class: Option<&str>) -> Result<(Frame, Option<f64>)> {
+        let Some(f) = self.exactly::<6>(node, class, "fromto")? else {
+            return Ok((self.local_frame(node, class)?, None));
+        };
+        let (a, b) = (DVec3::new(f[0], f[1], f[2]), DVec3::new(f[3], f[4], f[5]));
+        let axis = a - b;
+        if axis.length() < 1e-12 {
+            return Err(self.bad(node, "fromto", "the two ends are the same point".into()));
+        }
+        let frame = Frame {
+            translation: (a + b) / 2.0,
+            rotation: z_onto(axis.normalize()),
+        };
+        Ok((frame, Some(axis.length() / 2.0)))
     }
 
     pub(super) fn joint_name(&mut self, wanted: &str) -> String {
@@ -439,11 +461,15 @@ impl<'a, 'i> Converter<'a, 'i> {
                 "body" => self.body(child, &frame, below, class)?,
                 "site" => {
                     // A site is kept as a named point of the body's instance.
-                    let at = frame.then(&self.local_frame(child, class)?);
+                    let (local, half_length) = self.site_frame(child, class)?;
+                    let at = frame.then(&local);
                     let name = child
                         .attribute("name")
                         .map_or_else(|| format!("{body_name}_site"), str::to_string);
-                    let volume = self.site_volume(child, class)?;
+                    let mut volume = self.site_volume(child, class)?;
+                    if let Some(half) = half_length {
+                        volume.size.y = half * MM;
+                    }
                     let kept = self.site(&name, &main, &at, Some(volume));
                     if let (Some(mjcf), Some(kept)) = (child.attribute("name"), kept) {
                         self.site_of.insert(mjcf.to_string(), kept);

@@ -75,6 +75,8 @@ impl<'a, 'i> Converter<'a, 'i> {
             );
             return Ok(None);
         }
+        // A heightfield's base: its x and y half-extents and its depth, m.
+        let mut terrain_base = None;
         let (primitive, corner) = match kind {
             "plane" => {
                 if contype == 0 && conaffinity == 0 {
@@ -145,7 +147,21 @@ impl<'a, 'i> Converter<'a, 'i> {
                 )
             }
             "mesh" => (self.mesh_primitive(node, class)?, DVec3::ZERO),
-            "hfield" | "sdf" => {
+            "hfield" => {
+                if !static_body {
+                    return Err(self.unsupported(
+                        node,
+                        "a heightfield (terrain) belongs to the world or to a body without joints"
+                            .into(),
+                    ));
+                }
+                let (primitive, base) = self.hfield_primitive(node, class)?;
+                if let Primitive::Heightfield(ref h) = primitive {
+                    terrain_base = Some(([h.size.x / MM, h.size.y / MM], base));
+                }
+                (primitive, DVec3::ZERO)
+            }
+            "sdf" => {
                 return Err(self.unsupported(node, format!("{kind} geoms are not converted yet")))
             }
             other => {
@@ -255,6 +271,9 @@ impl<'a, 'i> Converter<'a, 'i> {
             self.materials.insert(name.clone(), material);
         }
         self.instances.push(instance);
+        if let Some((half, base)) = terrain_base {
+            self.hfield_base(&name, &world, half, base);
+        }
         Ok(Some(name))
     }
 }

@@ -12,9 +12,9 @@ use std::collections::{BTreeMap, HashMap, HashSet};
 
 use glam::{DMat3, DQuat, DVec3};
 use gymfleet_assembly::{
-    AssemblyDef, CollisionDef, CouplingDef, Document, FluidDef, InertialDef, InstanceDef,
-    Integrator, JointDef, JointType, MaterialDef, MeshDef, PartDef, Primitive, SimulationDef,
-    SiteDef, TendonDef, TendonJointDef, Vec3,
+    AssemblyDef, CollisionDef, CouplingDef, Document, FluidDef, HeightfieldDef, InertialDef,
+    InstanceDef, Integrator, JointDef, JointType, MaterialDef, MeshDef, PartDef, Primitive,
+    SimulationDef, SiteDef, TendonDef, TendonJointDef, Vec3, MAX_HEIGHTFIELD_SIDE,
 };
 use roxmltree::Node;
 
@@ -28,6 +28,8 @@ mod attributes;
 mod bodies;
 mod contacts;
 mod equality;
+mod hfields;
+pub(crate) use hfields::hfield_heights;
 mod geoms;
 mod include;
 mod joints;
@@ -207,6 +209,8 @@ struct Converter<'a, 'i> {
     strip_path: bool,
     /// `<asset><mesh>`s by name.
     meshes: HashMap<String, meshes::MeshAsset>,
+    /// `<asset><hfield>`s by name.
+    hfields: HashMap<String, hfields::HfieldAsset>,
     /// `<tendon><fixed>`s and `<tendon><spatial>`s, in document order.
     tendons: Vec<tendons::TendonRead>,
     /// `<equality><joint>`s and `<equality><tendon>`s, in document order.
@@ -292,6 +296,7 @@ impl<'a, 'i> Converter<'a, 'i> {
             mesh_dir: None,
             strip_path: false,
             meshes: HashMap::new(),
+            hfields: HashMap::new(),
             tendons: Vec::new(),
             couplings: Vec::new(),
             folder: String::new(),
@@ -320,7 +325,7 @@ impl<'a, 'i> Converter<'a, 'i> {
                     self.warn(child, "ignored (appearance only)".into())
                 }
                 "mesh" => self.mesh_asset(child)?,
-                "hfield" => return Err(self.unsupported(child, "is not converted yet".into())),
+                "hfield" => self.hfield_asset(child)?,
                 other => {
                     return Err(self.unsupported(child, format!("<{other}> is not supported yet")))
                 }

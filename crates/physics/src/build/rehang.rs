@@ -6,7 +6,7 @@
 //! same world frame, a different parent handle): their joints' frames are taken on that
 //! body, and their children keep not colliding with the body they were jointed to.
 
-use gymfleet_assembly::{Assembly, JointType, Shape};
+use gymfleet_assembly::{Assembly, JointType};
 
 /// For each joint, the static instance it hangs from instead of its parent, if its tree
 /// must share a multibody with another static body's (`held`: the instances held fixed).
@@ -94,7 +94,7 @@ pub(super) fn rehung_exclusions(
         .joints
         .iter()
         .zip(rehung)
-        .filter(|(j, to)| to.is_some() && assembly.instances[j.parent].shape != Shape::Plane)
+        .filter(|(j, to)| to.is_some() && !assembly.instances[j.parent].shape.is_ground())
         .map(|(j, _)| (j.child, j.parent))
         .collect()
 }

@@ -2,7 +2,7 @@
 //! joints' frames and Rapier descriptions, inserting the trees parents first, placing
 //! floating ones, and the joints' initial positions.
 
-use gymfleet_assembly::{Assembly, Joint, JointType, Shape};
+use gymfleet_assembly::{Assembly, Joint, JointType};
 use rapier3d::prelude::*;
 
 use super::planar::{fused_joint, PlanarRoot};
@@ -47,7 +47,7 @@ pub(super) fn insert_trees(
         // the world body's geoms): only the plane stops a link from falling through.
         // A rehung child is no child of its new parent: the contact filter keeps it from
         // its former one instead.
-        let contacts = assembly.instances[top].shape == Shape::Plane || rehung[j].is_some();
+        let contacts = assembly.instances[top].shape.is_ground() || rehung[j].is_some();
         let data = match root {
             Some(r) => {
                 let (parent_pose, body_pose) = (
