@@ -109,6 +109,20 @@ impl Env {
         Ok(())
     }
 
+    /// Replaces heightfield `name`'s heights (one of `info().heightfields`): rows × columns
+    /// values in [0, 1], row 0 at −y, as MuJoCo's `hfield_data`. The terrain stays through
+    /// resets and travels in saved states.
+    pub async fn set_heightfield(&self, name: &str, heights: &[f32]) -> Result<()> {
+        let request = pb::SetHeightfieldRequest {
+            env_id: self.info.env_id.clone(),
+            name: name.to_string(),
+            heights: heights.to_vec(),
+            ..Default::default()
+        };
+        self.client.rpc().set_heightfield(request).await?;
+        Ok(())
+    }
+
     /// The current observation, without stepping.
     pub async fn observe(&self) -> Result<Observation> {
         let observation = self.client.rpc().observe(self.env_ref()).await?;

@@ -359,6 +359,44 @@ impl FleetBatch {
         Ok(self.settle(results)?.into_iter().flatten().collect())
     }
 
+    /// Replaces heightfield `name`'s heights in the envs at positions `env_indices`
+    /// (ascending, distinct; empty: every env), each on the shard that holds it
+    /// ([`Batch::set_heightfield`]).
+    pub async fn set_heightfield(
+        &mut self,
+        env_indices: &[u32],
+        name: &str,
+        heights: &[f32],
+    ) -> Result<()> {
+        self.check_not_lost()?;
+        check_positions(env_indices, self.n_envs())?;
+        let all: Vec<u32> = (0..self.n_envs() as u32).collect();
+        let chosen = if env_indices.is_empty() {
+            &all[..]
+        } else {
+            env_indices
+        };
+        let setting = self
+            .split_by_shard::<()>(chosen, &[])
+            .into_iter()
+            .zip(&self.shards)
+            .map(|((local, _), shard)| {
+                let batch = shard.batch.clone();
+                let (name, heights) = (name.to_string(), heights.to_vec());
+                async move {
+                    if local.is_empty() {
+                        Ok(())
+                    } else {
+                        batch.set_heightfield(&local, &name, &heights).await
+                    }
+                }
+            });
+        let results = join_all(setting.collect::<Vec<_>>()).await;
+        let results = self.confirm_losses(results).await;
+        self.settle(results)?;
+        Ok(())
+    }
+
     /// Loads `states[k]` into the env at position `env_indices[k]` (empty: every env, one
     /// state each), each on the shard that holds it ([`Batch::load_states`]); returns every
     /// env's observation. Each shard checks all of its states before loading any.

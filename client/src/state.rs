@@ -74,6 +74,25 @@ impl Env {
 }
 
 impl Batch {
+    /// Replaces heightfield `name`'s heights in envs `env_indices` (ascending, distinct;
+    /// empty: every env), as [`crate::Env::set_heightfield`] does in one env.
+    pub async fn set_heightfield(
+        &self,
+        env_indices: &[u32],
+        name: &str,
+        heights: &[f32],
+    ) -> Result<()> {
+        let request = pb::SetHeightfieldRequest {
+            batch_id: self.id().to_string(),
+            env_indices: env_indices.to_vec(),
+            name: name.to_string(),
+            heights: heights.to_vec(),
+            ..Default::default()
+        };
+        self.client.rpc().set_heightfield(request).await?;
+        Ok(())
+    }
+
     /// Saves the states of envs `env_indices` (ascending, distinct; empty: every env), in
     /// that order.
     pub async fn save_states(&self, env_indices: &[u32]) -> Result<Vec<EnvState>> {

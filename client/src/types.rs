@@ -381,6 +381,8 @@ pub struct EnvInfo {
     /// The document's keyframes (named initial states), in order: what
     /// [`crate::Env::reset_to`] may name.
     pub keyframes: Vec<String>,
+    /// The heightfields (terrain): name, rows, columns; what `set_heightfield` names.
+    pub heightfields: Vec<(String, usize, usize)>,
 }
 
 /// The units of observations and of a terms task's values.
@@ -477,6 +479,11 @@ impl From<pb::EnvInfo> for EnvInfo {
             moving_mass: i.moving_mass,
             actuators: i.actuators.into_iter().map(Into::into).collect(),
             keyframes: i.keyframes,
+            heightfields: i
+                .heightfields
+                .into_iter()
+                .map(|h| (h.name, h.rows as usize, h.columns as usize))
+                .collect(),
         }
     }
 }
@@ -522,6 +529,8 @@ pub struct BatchInfo {
     pub actuators: Vec<ActuatorInfo>,
     /// As [`EnvInfo::keyframes`].
     pub keyframes: Vec<String>,
+    /// The heightfields (terrain): name, rows, columns; what `set_heightfield` names.
+    pub heightfields: Vec<(String, usize, usize)>,
 }
 
 impl TryFrom<pb::BatchInfo> for BatchInfo {
@@ -548,6 +557,11 @@ impl TryFrom<pb::BatchInfo> for BatchInfo {
             moving_mass: i.moving_mass,
             actuators: i.actuators.into_iter().map(Into::into).collect(),
             keyframes: i.keyframes,
+            heightfields: i
+                .heightfields
+                .into_iter()
+                .map(|h| (h.name, h.rows as usize, h.columns as usize))
+                .collect(),
         })
     }
 }

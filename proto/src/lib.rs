@@ -46,6 +46,7 @@ mod tests {
                 "Step",
                 "Observe",
                 "SetMocapPose",
+                "SetHeightfield",
                 "Close",
                 "CreateBatch",
                 "ResetBatch",

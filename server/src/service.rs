@@ -163,6 +163,20 @@ impl Simulator for SimulatorService {
         .await
     }
 
+    async fn set_heightfield(
+        &self,
+        request: Request<pb::SetHeightfieldRequest>,
+    ) -> Result<Response<pb::SetHeightfieldResponse>, Status> {
+        self.unary("SetHeightfield", request, |tenant, r| async move {
+            let target = (r.env_id, r.batch_id, r.env_indices);
+            self.sim
+                .set_heightfield(&tenant, target, r.name, r.heights)
+                .await?;
+            Ok(pb::SetHeightfieldResponse {})
+        })
+        .await
+    }
+
     async fn observe(
         &self,
         request: Request<pb::EnvRef>,

@@ -304,6 +304,32 @@ impl Simulation {
         .await
     }
 
+    /// Heightfield `name`'s new heights in env `env_id`, or (with a `batch_id`) in envs
+    /// `env_indices` of a batch (empty: all).
+    pub(crate) async fn set_heightfield(
+        &self,
+        tenant: &Tenant,
+        (env_id, batch_id, env_indices): (String, String, Vec<u32>),
+        name: String,
+        heights: Vec<f32>,
+    ) -> Result<()> {
+        if batch_id.is_empty() {
+            return self
+                .on_env(tenant, &env_id, "SetHeightfield", move |open| {
+                    Ok(open.env.set_heightfield(&name, &heights)?)
+                })
+                .await;
+        }
+        self.on_batch(
+            tenant,
+            &batch_id,
+            Lane::Batch,
+            "SetHeightfield",
+            move |open| Ok(open.batch.set_heightfield(&env_indices, &name, &heights)?),
+        )
+        .await
+    }
+
     pub(crate) async fn observe_env(&self, tenant: &Tenant, id: &str) -> Result<Observed> {
         self.on_env(tenant, id, "Observe", move |open| Ok(open.observation()))
             .await

@@ -201,6 +201,25 @@ impl BatchHandle {
         )
     }
 
+    /// Replaces heightfield `name`'s heights in envs `env_indices` (`None`: every env).
+    #[pyo3(signature = (name, heights, env_indices=None))]
+    fn set_heightfield<'py>(
+        &self,
+        py: Python<'py>,
+        name: &str,
+        heights: Vec<f32>,
+        env_indices: Option<PyReadonlyArray1<'py, u32>>,
+    ) -> PyResult<()> {
+        let indices: Vec<u32> = env_indices.map_or_else(Vec::new, |a| a.as_array().to_vec());
+        wait(py, self.timeout.get(), || async move {
+            self.batch
+                .lock()
+                .await
+                .set_heightfield(&indices, name, &heights)
+                .await
+        })
+    }
+
     /// The saved states of the envs in `env_indices` (ascending; `None`: every env), as
     /// `bytes`, in that order.
     #[pyo3(signature = (env_indices=None))]

@@ -164,6 +164,14 @@ impl EnvHandle {
         })
     }
 
+    /// Replaces heightfield `name`'s heights (rows × columns values in [0, 1], row 0 at −y).
+    fn set_heightfield(&self, py: Python<'_>, name: &str, heights: Vec<f32>) -> PyResult<()> {
+        let env = &self.env;
+        wait(py, self.timeout.get(), || async move {
+            env.set_heightfield(name, &heights).await
+        })
+    }
+
     /// The current observation, without stepping.
     fn observe<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f32>>> {
         let env = &self.env;

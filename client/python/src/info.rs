@@ -73,6 +73,7 @@ struct Shape<'a> {
     moving_mass: f64,
     actuators: &'a [ActuatorInfo],
     keyframes: &'a [String],
+    heightfields: &'a [(String, usize, usize)],
 }
 
 impl Shape<'_> {
@@ -98,7 +99,8 @@ impl Shape<'_> {
         d.set_item("mocap_bodies", self.mocap_bodies)?;
         d.set_item("moving_mass", self.moving_mass)?;
         d.set_item("actuators", actuators(py, self.actuators)?)?;
-        d.set_item("keyframes", self.keyframes)
+        d.set_item("keyframes", self.keyframes)?;
+        d.set_item("heightfields", self.heightfields.to_vec())
     }
 }
 
@@ -128,6 +130,7 @@ pub(crate) fn env_info<'py>(
         moving_mass: i.moving_mass,
         actuators: &i.actuators,
         keyframes: &i.keyframes,
+        heightfields: &i.heightfields,
     }
     .write(py, &d)?;
     Ok(d)
@@ -159,6 +162,7 @@ pub(crate) fn batch_info<'py>(
         moving_mass: i.moving_mass,
         actuators: &i.actuators,
         keyframes: &i.keyframes,
+        heightfields: &i.heightfields,
     }
     .write(py, &d)?;
     d.set_item("shards", PyList::new(py, shards)?)?;

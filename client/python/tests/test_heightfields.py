@@ -57,12 +57,16 @@ def probed(hfield: str) -> str:
     return f"""<mujoco>
   <asset>{hfield}</asset>
   <worldbody>
-    <geom type="hfield" hfield="h" pos="{pos[0]} {pos[1]} {pos[2]}" euler="0 0 30"/>
+    <geom name="terrain" type="hfield" hfield="h" pos="{pos[0]} {pos[1]} {pos[2]}" euler="0 0 30"/>
     <body name="probe">{sites}</body>
     <body name="ball" pos="0 0 3"><freejoint/><geom type="sphere" size="0.01"/></body>
   </worldbody>
   <sensor>{sensors}</sensor>
 </mujoco>"""
+
+
+def readings(env) -> np.ndarray:
+    return np.array(env.bodies()["sensordata"])
 
 
 def ranges(xml: str, assets=None) -> tuple:
@@ -208,3 +212,70 @@ def test_a_heightfield_renders():
     assert bumpy.shape == (64, 96, 3)
     changed = np.any(bumpy != flat, axis=2).sum()
     assert changed > 200, f"only {changed} pixels tell the bumpy terrain from the flat one"
+
+
+def test_a_heightfield_is_replaced_at_run_time_and_keeps_through_resets_and_saved_states():
+    """As dm_control's tasks write `hfield_data`: new heights (row 0 at −y) meet rays
+    where MuJoCo's do with the same `hfield_data`, after a reset too, and in an env loaded
+    from a saved state; a bad name, count or height changes nothing."""
+    size = f'size="{HALF_X} {HALF_Y} {TOP} 0.05"'
+    xml = probed(f'<hfield name="h" nrow="{ROWS}" ncol="{COLUMNS}" {size}/>')
+    env = gymfleet.make(xml, units="si")
+    assert env.env_info["heightfields"] == [("terrain", ROWS, COLUMNS)]
+    env.reset(seed=0)
+    zero = np.zeros(env.action_space.shape, np.float32)
+    new = np.random.default_rng(1).uniform(0, 1, (ROWS, COLUMNS)).astype(np.float32)
+    env.set_heightfield("terrain", new)
+    env.step(zero)
+    model = mujoco.MjModel.from_xml_string(xml)
+    model.hfield_data[:] = new.ravel()
+    data = mujoco.MjData(model)
+    mujoco.mj_step(model, data)
+    np.testing.assert_allclose(readings(env), data.sensordata, atol=1e-5)
+    env.reset(seed=0)
+    env.step(zero)
+    np.testing.assert_allclose(readings(env), data.sensordata, atol=1e-5)
+    # A fresh env of the same document has the file's flat terrain until it loads the state.
+    state = env.save_state()
+    other = gymfleet.make(xml, units="si")
+    other.reset(seed=0)
+    other.step(zero)
+    assert np.abs(readings(other) - data.sensordata).max() > 0.05
+    other.load_state(state)
+    other.step(zero)
+    np.testing.assert_allclose(readings(other), data.sensordata, atol=1e-5)
+    for name, heights, message in [
+        ("hill", new, 'unknown heightfield "hill" \\(known: "terrain"\\)'),
+        ("terrain", new[:2], "heightfield \"terrain\": expected rows × columns = 3 × 5 = 15 heights, got 10"),
+        ("terrain", new * 2, r"heightfield \"terrain\": heights\[\d+\] is [\d.]+; heights are in \[0, 1\]"),
+    ]:
+        with pytest.raises(gymfleet.InvalidArgument, match=message):
+            env.set_heightfield(name, heights)
+    env.step(zero)
+    np.testing.assert_allclose(readings(env), data.sensordata, atol=1e-5)
+    env.close()
+    other.close()
+
+
+def test_a_batch_replaces_a_heightfield_in_chosen_envs():
+    size = f'size="{HALF_X} {HALF_Y} {TOP} 0.05"'
+    xml = probed(f'<hfield name="h" nrow="{ROWS}" ncol="{COLUMNS}" {size}/>')
+    envs = gymfleet.make_vec(xml, num_envs=3, units="si")
+    envs.reset(seed=0)
+    new = np.full((ROWS, COLUMNS), 0.5, np.float32)
+    envs.set_heightfield("terrain", new, env_indices=[1])
+    envs.step(np.zeros(envs.action_space.shape, np.float32))
+    states = envs.save_states()
+    tops = []
+    for state in states:
+        env = gymfleet.make(xml, units="si")
+        env.reset(seed=0)
+        env.load_state(state)
+        env.step(np.zeros(env.action_space.shape, np.float32))
+        tops.append(readings(env))
+        env.close()
+    # 2 m above the geom's plane at 0.3 m: flat terrain 1.7 m down, raised 0.2 m.
+    np.testing.assert_allclose(tops[0], 1.7, atol=1e-4)
+    np.testing.assert_allclose(tops[1], 1.5, atol=1e-4)
+    np.testing.assert_allclose(tops[2], 1.7, atol=1e-4)
+    envs.close()

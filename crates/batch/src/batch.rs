@@ -419,7 +419,7 @@ impl EnvBatch {
     }
 
     /// `env_indices` checked, or every index when it is empty.
-    fn indices_or_all(&self, env_indices: &[u32]) -> Result<Vec<usize>> {
+    pub(crate) fn indices_or_all(&self, env_indices: &[u32]) -> Result<Vec<usize>> {
         if env_indices.is_empty() {
             return Ok((0..self.n_envs).collect());
         }
@@ -428,7 +428,11 @@ impl EnvBatch {
     }
 
     /// `write` of env `index` (`None` past the end), under its chunk's lock.
-    fn with_env_mut<T>(&self, index: usize, write: impl FnOnce(&mut RobotEnv) -> T) -> Option<T> {
+    pub(crate) fn with_env_mut<T>(
+        &self,
+        index: usize,
+        write: impl FnOnce(&mut RobotEnv) -> T,
+    ) -> Option<T> {
         let mut chunk = lock(self.chunks.get(index / self.chunk_size)?);
         let first = chunk.first_env;
         (index - first < chunk.len()).then(|| write(chunk.env_mut(index - first)))
@@ -440,7 +444,7 @@ impl EnvBatch {
     }
 
     /// `read` of env `index` (`None` past the end), under its chunk's lock.
-    fn with_env<T>(&self, index: usize, read: impl FnOnce(&RobotEnv) -> T) -> Option<T> {
+    pub(crate) fn with_env<T>(&self, index: usize, read: impl FnOnce(&RobotEnv) -> T) -> Option<T> {
         let chunk = self
             .chunks
             .iter()

@@ -268,6 +268,9 @@ pub struct EnvSpec {
     pub term_names: Vec<String>,
     /// The document's keyframes, in order: what a reset may start from.
     pub keyframes: Vec<String>,
+    /// The heightfields, in document order: instance name, rows, columns (what
+    /// [`crate::RobotEnv::set_heightfield`] names and takes).
+    pub heightfields: Vec<(String, usize, usize)>,
     /// The document's sensors, in order: name, type (its MJCF element name) and the
     /// floats it reports (a task reads them as `{"sensor": name, "component": k}`).
     pub sensors: Vec<(String, &'static str, usize)>,
@@ -326,6 +329,7 @@ impl EnvSpec {
             units: config.units,
             term_names,
             keyframes: Vec::new(),
+            heightfields: Vec::new(),
             sensors: Vec::new(),
         }
     }

@@ -198,6 +198,11 @@ impl RobotEnv {
             actuators,
         );
         spec.keyframes = assembly.keyframes.iter().map(|k| k.name.clone()).collect();
+        spec.heightfields = world
+            .heightfields()
+            .into_iter()
+            .map(|(i, rows, columns)| (assembly.instances[i].name.clone(), rows, columns))
+            .collect();
         spec.sensors = assembly
             .sensors
             .iter()

@@ -95,6 +95,22 @@ pub enum EnvError {
         /// The document's keyframes, or that it has none.
         known: String,
     },
+    /// A heightfield replacement names no heightfield.
+    #[error("unknown heightfield {name} (known: {known})")]
+    UnknownHeightfield {
+        /// The name given, quoted (and shortened if long).
+        name: String,
+        /// The heightfields' names, or that there are none.
+        known: String,
+    },
+    /// A heightfield replacement's heights do not fit its grid.
+    #[error("heightfield {name}: {reason}")]
+    BadHeights {
+        /// The heightfield, quoted.
+        name: String,
+        /// What is wrong.
+        reason: String,
+    },
     /// A pose target names no mocap body.
     #[error("unknown mocap body {name} (known: {known})")]
     UnknownMocapBody {

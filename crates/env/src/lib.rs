@@ -29,6 +29,7 @@ mod reset;
 mod state;
 mod task;
 pub mod terms;
+mod terrain;
 
 pub use access::Bodies;
 pub use action::ActionType;

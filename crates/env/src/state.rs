@@ -37,7 +37,7 @@ use crate::env::RobotEnv;
 use crate::error::{EnvError, Result};
 
 /// The saved-state format this build writes and reads.
-pub const STATE_VERSION: u32 = 5;
+pub const STATE_VERSION: u32 = 6;
 /// The first bytes of every saved state.
 const MAGIC: [u8; 4] = *b"GFST";
 /// Magic, version, checksum.

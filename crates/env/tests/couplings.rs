@@ -5,44 +5,23 @@
 
 mod common;
 
-use std::f64::consts::PI;
-
 use common::env_with;
 use gymfleet_env::{ActionType, EnvConfig, RobotEnv, Units};
 use serde_json::{json, Value};
 
-const R: f64 = 0.05;
-/// A sphere's moment of inertia about a diameter (radius `R`, 1000 kg/m³), kg·m².
 fn inertia() -> f64 {
-    let m = 4.0 / 3.0 * PI * R.powi(3) * 1000.0;
-    0.4 * m * R * R
+    common::turntable_inertia()
 }
 
-/// Two spheres on vertical hinges `a` and `b` of a post, a tendon `t` = a + b, and
-/// `couplings`.
+/// The turntables with a tendon `t` = a + b, and `couplings`.
 fn turntables(couplings: Value) -> Value {
-    json!({
-        "simulation": {"gravity": {"x": 0, "y": 0, "z": 0}},
-        "parts": [
-            {"name": "Post", "primitive": {"type": "cube", "size": {"x": 10, "y": 10, "z": 10}}},
-            {"name": "Ball", "primitive": {"type": "sphere", "radius": R * 1000.0}}
-        ],
-        "assembly": {
-            "instances": [
-                {"part": "Post", "name": "post", "position": {"x": -5, "y": -5, "z": -200}},
-                {"part": "Ball", "name": "ball_a", "position": {"x": 0, "y": 0, "z": 0}},
-                {"part": "Ball", "name": "ball_b", "position": {"x": 200, "y": 0, "z": 0}}
-            ],
-            "joints": [
-                {"type": "revolute", "name": "a", "parent": "post", "child": "ball_a",
-                 "anchor": {"x": 0, "y": 0, "z": 0}, "axis": {"x": 0, "y": 0, "z": 1}},
-                {"type": "revolute", "name": "b", "parent": "post", "child": "ball_b",
-                 "anchor": {"x": 200, "y": 0, "z": 0}, "axis": {"x": 0, "y": 0, "z": 1}}
-            ],
+    common::turntables(
+        0.0,
+        json!({
             "tendons": [{"name": "t", "joints": [{"joint": "a", "coef": 1}, {"joint": "b", "coef": 1}]}],
             "couplings": couplings
-        }
-    })
+        }),
+    )
 }
 
 fn env(doc: &Value) -> RobotEnv {
@@ -160,16 +139,6 @@ fn a_bad_coupling_is_refused_with_its_path() {
         ),
     ];
     for (coupling, expected) in cases {
-        let message = RobotEnv::from_json(
-            &turntables(json!([coupling])).to_string(),
-            EnvConfig::default(),
-        )
-        .err()
-        .expect("refused")
-        .to_string();
-        assert!(
-            message.contains(expected),
-            "{message}\nexpected: {expected}"
-        );
+        common::assert_refused(&turntables(json!([coupling])), expected);
     }
 }

@@ -157,13 +157,6 @@ fn a_bad_spatial_tendon_is_refused_with_its_path() {
         ),
     ];
     for (tendon, expected) in cases {
-        let message = RobotEnv::from_json(&slide(tendon).to_string(), EnvConfig::default())
-            .err()
-            .expect("refused")
-            .to_string();
-        assert!(
-            message.contains(expected),
-            "{message}\nexpected: {expected}"
-        );
+        common::assert_refused(&slide(tendon), expected);
     }
 }

@@ -11,37 +11,13 @@ use common::env_with;
 use gymfleet_env::{ActionType, EnvConfig, RobotEnv, TaskKind, TaskSpec, TermsTask, Units};
 use serde_json::{json, Value};
 
-/// Sphere radius (m) and its moment of inertia about a diameter at 1000 kg/m³ (kg·m²).
-const R: f64 = 0.05;
 fn inertia() -> f64 {
-    let m = 4.0 / 3.0 * PI * R.powi(3) * 1000.0;
-    0.4 * m * R * R
+    common::turntable_inertia()
 }
 
-/// Two spheres, each on a vertical hinge through its centre (`a`, `b`; `a` starts at
-/// `initial_a` degrees), and one tendon `t`.
+/// The turntables (`a` from `initial_a` degrees) with one tendon `t`.
 fn turntables(tendon: Value, initial_a: f64) -> Value {
-    json!({
-        "simulation": {"gravity": {"x": 0, "y": 0, "z": 0}},
-        "parts": [
-            {"name": "Post", "primitive": {"type": "cube", "size": {"x": 10, "y": 10, "z": 10}}},
-            {"name": "Ball", "primitive": {"type": "sphere", "radius": R * 1000.0}}
-        ],
-        "assembly": {
-            "instances": [
-                {"part": "Post", "name": "post", "position": {"x": -5, "y": -5, "z": -200}},
-                {"part": "Ball", "name": "ball_a", "position": {"x": 0, "y": 0, "z": 0}},
-                {"part": "Ball", "name": "ball_b", "position": {"x": 200, "y": 0, "z": 0}}
-            ],
-            "joints": [
-                {"type": "revolute", "name": "a", "parent": "post", "child": "ball_a", "initial": initial_a,
-                 "anchor": {"x": 0, "y": 0, "z": 0}, "axis": {"x": 0, "y": 0, "z": 1}},
-                {"type": "revolute", "name": "b", "parent": "post", "child": "ball_b",
-                 "anchor": {"x": 200, "y": 0, "z": 0}, "axis": {"x": 0, "y": 0, "z": 1}}
-            ],
-            "tendons": [tendon]
-        }
-    })
+    common::turntables(initial_a, json!({"tendons": [tendon]}))
 }
 
 const TASK: &str = r#"{"terms": [

@@ -183,7 +183,21 @@ fn unsupported_constructs_name_their_element_and_line() {
     );
     assert_eq!(
         error("<mujoco>\n<asset><hfield file=\"terrain.png\"/></asset>\n<worldbody/>\n</mujoco>"),
-        "line 2: <hfield>: is not converted yet"
+        "line 2: <hfield size=…>: missing"
+    );
+    assert_eq!(
+        error(&model(
+            r#"<body><joint type="hinge"/><geom type="hfield" hfield="h"/></body>"#
+        )),
+        "line 4: <geom>: a heightfield (terrain) belongs to the world or to a body without joints"
+    );
+    assert_eq!(
+        error("<mujoco>\n<asset><hfield name=\"h\" nrow=\"2\" ncol=\"2\" size=\"1 1 1 0\" elevation=\"1 2 3\"/></asset>\n<worldbody/>\n</mujoco>"),
+        "line 2: <hfield elevation=…>: expected nrow × ncol = 4 numbers, got 3"
+    );
+    assert_eq!(
+        error("<mujoco>\n<worldbody>\n<geom type=\"hfield\" hfield=\"nothing\"/></worldbody>\n</mujoco>"),
+        "line 3: <geom hfield=…>: no <hfield> is named \"nothing\""
     );
     assert_eq!(
         error(&model(

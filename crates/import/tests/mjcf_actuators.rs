@@ -160,7 +160,7 @@ fn each_refused_actuator_names_its_element_line_and_reason() {
         (r#"<general/>"#, "line 12: <general>: an actuator must drive a joint or a tendon"),
         (
             r#"<general joint="a" body="upper"/>"#,
-            "line 12: <general>: body transmissions are not supported (an actuator drives a joint or a fixed tendon)",
+            "line 12: <general>: body transmissions are not supported (an actuator drives a joint or a tendon)",
         ),
         (r#"<position joint="a" kv="-1"/>"#, "line 12: <position kv=…>: cannot be negative, got -1"),
         (

@@ -200,6 +200,7 @@ impl RobotWorld {
             fluid,
             contact_filter,
             tendons,
+            terrains: crate::terrain::terrain_slots(assembly),
             actuators,
             activations: vec![0.0; n_actuators],
             initial: std::sync::Arc::new(sets.clone()),

@@ -40,6 +40,7 @@ mod set_state;
 mod spatial;
 mod state;
 mod tendons;
+mod terrain;
 mod units;
 mod world;
 

@@ -15,15 +15,7 @@ use rapier3d::prelude::*;
 
 use crate::error::{PhysicsError, Result};
 use crate::units::to_m;
-use crate::world::{RobotWorld, Sets};
-
-/// A point of a spatial tendon's path: where its site is on its body.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct PathPoint {
-    pub(crate) body: RigidBodyHandle,
-    /// The site's point in the body's frame, m.
-    pub(crate) local: Vector,
-}
+use crate::world::{PathPoint, RobotWorld, Sets};
 
 /// The path of spatial tendon `tendon` (empty for a fixed one): each site's body and its
 /// point in that body's frame (`placements`: each instance's frame in its body's).

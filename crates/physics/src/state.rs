@@ -76,6 +76,9 @@ pub struct DynamicState {
     pub controls: Vec<f32>,
     /// Every actuator's activation (MuJoCo's `act`; 0 for one without dynamics).
     pub activations: Vec<f64>,
+    /// Every heightfield's heights, in document order, where they are no longer the
+    /// document's (`RobotWorld::set_heightfield`); `None` where they are.
+    pub terrains: Vec<Option<Vec<f32>>>,
 }
 
 fn bad(path: String, reason: String) -> PhysicsError {
@@ -212,6 +215,7 @@ impl RobotWorld {
             mocap_targets,
             controls: self.command.controls.clone(),
             activations: self.activations.clone(),
+            terrains: self.terrain_state(),
         }
     }
 
@@ -400,6 +404,7 @@ impl RobotWorld {
                 }
             }
         }
+        self.saved_terrains(&state.terrains)?;
         Ok(())
     }
 
@@ -414,6 +419,10 @@ impl RobotWorld {
     /// If the state's counts do not fit this world.
     pub fn restore_dynamic_state(&mut self, state: &DynamicState) {
         assert_eq!(state.command.len(), self.dofs.len(), "one command per DOF");
+        let terrains = self
+            .saved_terrains(&state.terrains)
+            .expect("a checked state's heightfields fit");
+        self.restore_terrains(terrains);
         self.forget_motion();
         let mut touched = Vec::new();
         let slots: Vec<_> = self.moving_joints().cloned().collect();

@@ -13,9 +13,8 @@ use rapier3d::dynamics::{MultibodyIndex, MultibodyLinearLimit};
 use rapier3d::math::Real;
 
 use crate::error::{PhysicsError, Result};
-use crate::spatial::PathPoint;
 use crate::units::to_si;
-use crate::world::{JointSlot, RobotWorld, Sets, TendonSlot};
+use crate::world::{JointSlot, PathPoint, RobotWorld, Sets, TendonSlot};
 
 impl TendonSlot {
     pub(crate) fn has_force(&self) -> bool {

@@ -10,7 +10,8 @@ mod sensor_plan;
 
 pub use parts::ContactOverload;
 pub(crate) use parts::{
-    ActuatorSlot, BaseValues, ContactFilter, ExplicitPair, FluidDrag, Rollback, TendonSlot,
+    ActuatorSlot, BaseValues, ContactFilter, ExplicitPair, FluidDrag, PathPoint, Rollback,
+    TendonSlot, TerrainSlot,
 };
 pub(crate) use sensor_plan::{SensorFrame, SensorObject, SensorPlan, SensorReading};
 
@@ -309,8 +310,9 @@ pub struct RobotWorld {
     pub(crate) base: BaseValues,
     /// The fluid's drag, when the document has a fluid (`fluid.rs`).
     pub(crate) fluid: Option<FluidDrag>,
-    /// Fixed tendons, in document order (`tendons.rs`).
+    /// Tendons, in document order (`tendons.rs`); heightfields (`terrain.rs`).
     pub(crate) tendons: Vec<TendonSlot>,
+    pub(crate) terrains: Vec<TerrainSlot>,
     /// Actuators, in document order (`actuators.rs`).
     pub(crate) actuators: Vec<ActuatorSlot>,
     /// Each actuator's activation (0 for one without dynamics); 0 at every reset.

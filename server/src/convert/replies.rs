@@ -257,7 +257,20 @@ pub(crate) fn env_info(env_id: String, spec: &EnvSpec, links: &JointLinks) -> pb
         moving_mass: spec.moving_mass,
         actuators: actuators(spec),
         keyframes: spec.keyframes.clone(),
+        heightfields: heightfields(spec),
     }
+}
+
+/// The heightfields an env spec names, as proto.
+fn heightfields(spec: &EnvSpec) -> Vec<pb::HeightfieldInfo> {
+    spec.heightfields
+        .iter()
+        .map(|(name, rows, columns)| pb::HeightfieldInfo {
+            name: name.clone(),
+            rows: to_u32(*rows),
+            columns: to_u32(*columns),
+        })
+        .collect()
 }
 
 /// The proto `BatchInfo` of a created batch.
@@ -292,6 +305,7 @@ pub(crate) fn batch_info(
         moving_mass: spec.moving_mass,
         actuators: actuators(spec),
         keyframes: spec.keyframes.clone(),
+        heightfields: heightfields(spec),
     }
 }
 

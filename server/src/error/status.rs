@@ -39,6 +39,8 @@ fn env_code(err: &EnvError) -> Code {
         | EnvError::BadState { .. }
         | EnvError::BadJointState { .. }
         | EnvError::UnknownMocapBody { .. }
+        | EnvError::UnknownHeightfield { .. }
+        | EnvError::BadHeights { .. }
         | EnvError::UnknownKeyframe { .. }
         | EnvError::MocapPosesLength { .. }
         | EnvError::BadMocapPose { .. } => Code::InvalidArgument,

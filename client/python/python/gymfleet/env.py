@@ -148,6 +148,15 @@ class GymfleetEnv(HandleOwner, gym.Env):
         )
         self._handle.set_mocap_pose(str(name), pose.tolist())
 
+    def set_heightfield(self, name: str, heights: Any) -> None:
+        """Replaces heightfield ``name``'s terrain (one of ``env_info["heightfields"]``,
+        ``(name, rows, columns)``): ``heights`` is ``(rows, columns)`` (or flat) in [0, 1],
+        times the heightfield's top elevation, row 0 at −y, as dm_control's tasks write
+        ``physics.model.hfield_data``. It stays through resets and travels in saved
+        states. A bad name, count or height is ``InvalidArgument`` and changes nothing."""
+        array = np.asarray(heights, dtype=np.float32).reshape(-1)
+        self._handle.set_heightfield(str(name), array.tolist())
+
     def randomization(self) -> Dict[str, Any]:
         """The domain-randomisation factors drawn at the last reset:
         ``{"instances": [InstanceDraw(name, mass_scale, friction_scale)], "joints":

@@ -299,6 +299,16 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
         """Every env's current observation, without stepping."""
         return self._handle.observe()
 
+    def set_heightfield(
+        self, name: str, heights: Any, env_indices: Optional[Sequence[int]] = None
+    ) -> None:
+        """:meth:`GymfleetEnv.set_heightfield` for the envs at ``env_indices`` (ascending,
+        distinct; ``None``: every env), the same heights for each."""
+        if env_indices is not None and len(env_indices) == 0:
+            return
+        array = np.asarray(heights, dtype=np.float32).reshape(-1)
+        self._handle.set_heightfield(str(name), array.tolist(), self._indices(env_indices))
+
     def save_states(self, env_indices: Optional[Sequence[int]] = None) -> List[bytes]:
         """The saved states (see :meth:`GymfleetEnv.save_state`) of the envs at
         ``env_indices`` (ascending, distinct; ``None``: every env), in that order."""

@@ -90,9 +90,9 @@ impl Validator {
                 self.push(
                     format!("{path}.part"),
                     format!(
-                        "part {} is a {} (a ground), which cannot be the floating base (the first instance); list the robot's base first",
+                        "part {} is a {}, which cannot be the floating base (the first instance); list the robot's base first",
                         quoted(&inst.part),
-                        ground_kind(&shape)
+                        ground_kind(&shape).1
                     ),
                 );
                 continue;
@@ -119,7 +119,7 @@ impl Validator {
                     format!("{path}.mocap"),
                     format!(
                         "a {} is a ground, fixed to the world: it cannot be a mocap body",
-                        ground_kind(&shape)
+                        ground_kind(&shape).0
                     ),
                 );
             }
@@ -164,10 +164,10 @@ impl Validator {
     }
 }
 
-/// What a ground shape is called in messages.
-fn ground_kind(shape: &crate::model::Shape) -> &'static str {
+/// What a ground shape is called in messages: its name, and that with what it is.
+fn ground_kind(shape: &crate::model::Shape) -> (&'static str, &'static str) {
     match shape {
-        crate::model::Shape::Heightfield(_) => "heightfield",
-        _ => "plane",
+        crate::model::Shape::Heightfield(_) => ("heightfield", "heightfield (terrain, a ground)"),
+        _ => ("plane", "plane (a half-space, a ground)"),
     }
 }

@@ -86,6 +86,18 @@ pub fn env(doc: &Value, ee: &[&str]) -> RobotEnv {
     env_with(doc, EnvConfig::with_end_effectors(ee.iter().copied()))
 }
 
+/// Asserts that `doc` is refused with a message containing `expected`.
+pub fn assert_refused(doc: &Value, expected: &str) {
+    let message = RobotEnv::from_json(&doc.to_string(), EnvConfig::default())
+        .err()
+        .expect("refused")
+        .to_string();
+    assert!(
+        message.contains(expected),
+        "{message}\nexpected: {expected}"
+    );
+}
+
 pub fn env_with(doc: &Value, config: EnvConfig) -> RobotEnv {
     RobotEnv::from_json(&doc.to_string(), config).expect("valid test document")
 }
@@ -142,4 +154,43 @@ pub fn wrap_deg(d: f64) -> f64 {
     } else {
         d
     }
+}
+
+/// The turntables' sphere radius, m.
+pub const TURNTABLE_R: f64 = 0.05;
+
+/// A turntable sphere's moment of inertia about a diameter (radius [`TURNTABLE_R`],
+/// 1000 kg/m³), kg·m².
+pub fn turntable_inertia() -> f64 {
+    let r = TURNTABLE_R;
+    let m = 4.0 / 3.0 * std::f64::consts::PI * r.powi(3) * 1000.0;
+    0.4 * m * r * r
+}
+
+/// Two spheres, each on a vertical hinge through its centre (`a`, `b`; `a` starts at
+/// `initial_a` degrees), without gravity; `assembly` adds fields to the assembly (tendons,
+/// couplings).
+pub fn turntables(initial_a: f64, assembly: Value) -> Value {
+    let mut doc = json!({
+        "simulation": {"gravity": {"x": 0, "y": 0, "z": 0}},
+        "parts": [
+            {"name": "Post", "primitive": {"type": "cube", "size": {"x": 10, "y": 10, "z": 10}}},
+            {"name": "Ball", "primitive": {"type": "sphere", "radius": TURNTABLE_R * 1000.0}}
+        ],
+        "assembly": {
+            "instances": [
+                {"part": "Post", "name": "post", "position": {"x": -5, "y": -5, "z": -200}},
+                {"part": "Ball", "name": "ball_a", "position": {"x": 0, "y": 0, "z": 0}},
+                {"part": "Ball", "name": "ball_b", "position": {"x": 200, "y": 0, "z": 0}}
+            ],
+            "joints": [
+                {"type": "revolute", "name": "a", "parent": "post", "child": "ball_a", "initial": initial_a,
+                 "anchor": {"x": 0, "y": 0, "z": 0}, "axis": {"x": 0, "y": 0, "z": 1}},
+                {"type": "revolute", "name": "b", "parent": "post", "child": "ball_b",
+                 "anchor": {"x": 200, "y": 0, "z": 0}, "axis": {"x": 0, "y": 0, "z": 1}}
+            ]
+        }
+    });
+    merge(&mut doc["assembly"], assembly);
+    doc
 }

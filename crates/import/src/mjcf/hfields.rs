@@ -70,15 +70,7 @@ impl<'a, 'i> Converter<'a, 'i> {
                         "a heightfield from a file takes its size from the image: leave nrow and ncol out".into(),
                     ));
                 }
-                let path = match self.mesh_dir.as_deref() {
-                    Some(dir) if !dir.is_empty() && !file.starts_with('/') => {
-                        format!("{}/{file}", dir.trim_end_matches('/'))
-                    }
-                    _ => file.to_string(),
-                };
-                let path = crate::asset_path(&self.folder, &path)
-                    .map_err(|reason| self.bad(node, "file", reason))?;
-                (None, Some(path))
+                (None, Some(self.asset_file(node, file)?))
             }
             None => {
                 if rows < 2 || columns < 2 {

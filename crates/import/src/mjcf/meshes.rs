@@ -23,6 +23,18 @@ enum MeshSource {
 }
 
 impl<'a, 'i> Converter<'a, 'i> {
+    /// A `file` attribute's path in the assets: under `meshdir` (else `assetdir`), from the
+    /// model's folder (meshes and heightfields).
+    pub(super) fn asset_file(&self, node: Node<'a, 'i>, file: &str) -> Result<String> {
+        let path = match self.mesh_dir.as_deref() {
+            Some(dir) if !dir.is_empty() && !file.starts_with('/') => {
+                format!("{}/{file}", dir.trim_end_matches('/'))
+            }
+            _ => file.to_string(),
+        };
+        crate::asset_path(&self.folder, &path).map_err(|reason| self.bad(node, "file", reason))
+    }
+
     /// `<asset><mesh>`: named by `name`, else by its file's name without the extension.
     pub(super) fn mesh_asset(&mut self, node: Node<'a, 'i>) -> Result<()> {
         for attr in [
@@ -52,15 +64,7 @@ impl<'a, 'i> Converter<'a, 'i> {
                 };
                 let stem = file.rsplit(['/', '\\']).next().unwrap_or(file);
                 let stem = stem.rsplit_once('.').map_or(stem, |(s, _)| s).to_string();
-                let path = match self.mesh_dir.as_deref() {
-                    Some(dir) if !dir.is_empty() && !file.starts_with('/') => {
-                        format!("{}/{file}", dir.trim_end_matches('/'))
-                    }
-                    _ => file.to_string(),
-                };
-                let path = crate::asset_path(&self.folder, &path)
-                    .map_err(|reason| self.bad(node, "file", reason))?;
-                (MeshSource::File(path), Some(stem))
+                (MeshSource::File(self.asset_file(node, file)?), Some(stem))
             }
             (None, Some(_)) => {
                 let values = self.numbers(node, None, "vertex")?.unwrap_or_default();

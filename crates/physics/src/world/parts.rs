@@ -15,13 +15,30 @@ pub(crate) struct FluidDrag {
     pub(crate) groups: Vec<Vec<RigidBodyHandle>>,
 }
 
+/// A point of a spatial tendon's path (`spatial.rs`): where its site is on its body.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct PathPoint {
+    pub(crate) body: RigidBodyHandle,
+    /// The site's point in the body's frame, m.
+    pub(crate) local: Vector,
+}
+
+/// One heightfield instance and the heights it has now, beside its document's
+/// (`terrain.rs`).
+#[derive(Debug, Clone)]
+pub(crate) struct TerrainSlot {
+    pub(crate) instance: usize,
+    pub(crate) field: std::sync::Arc<gymfleet_assembly::Heightfield>,
+    pub(crate) document: std::sync::Arc<gymfleet_assembly::Heightfield>,
+}
+
 /// One tendon as the world uses it (`tendons.rs`, `spatial.rs`).
 #[derive(Debug, Clone)]
 pub(crate) struct TendonSlot {
     /// A fixed tendon's (DOF index, coefficient).
     pub(crate) dofs: Vec<(usize, f64)>,
     /// A spatial tendon's path (empty for a fixed one).
-    pub(crate) path: Vec<crate::spatial::PathPoint>,
+    pub(crate) path: Vec<PathPoint>,
     pub(crate) stiffness: f64,
     pub(crate) damping: f64,
     /// The spring's rest length (SI).
