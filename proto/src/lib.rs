@@ -69,7 +69,11 @@ mod tests {
                 "ListModels",
             ]
         );
-        let stream = &service.method[11];
+        let stream = service
+            .method
+            .iter()
+            .find(|m| m.name() == "StreamBatch")
+            .expect("StreamBatch");
         assert!(stream.client_streaming() && stream.server_streaming());
     }
 

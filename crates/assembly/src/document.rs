@@ -486,9 +486,16 @@ pub struct JointDef {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stiffness: Option<f64>,
     /// *(ext)* The spring's rest position, in deg or mm from the document's pose (as
-    /// observed positions are); default 0. Needs a `stiffness`.
+    /// observed positions are); default 0. Needs a `stiffness` or a `springdamper`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub spring_rest: Option<f64>,
+    /// *(ext)* A spring and a damper by time constant and damping ratio, `[timeconst (s),
+    /// dampratio]` (MuJoCo's joint `springdamper`): sized by the DOF's inertia at the
+    /// document's pose, `I = 1 / (M⁻¹)ᵢᵢ` (MuJoCo's `dof_invweight0`), as `stiffness = I /
+    /// (timeconst² · dampratio²)` and `damping = 2·I / timeconst`, in place of the joint's
+    /// `stiffness` and `damping`. Revolute and prismatic joints.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub springdamper: Option<[f64; 2]>,
     /// *(ext)* Dry (Coulomb) friction on each DOF (MuJoCo's `frictionloss`, URDF's
     /// `<dynamics friction>`): the largest torque or force, N·m or N, that resists the
     /// joint's motion; default 0.
@@ -545,6 +552,7 @@ impl JointDef {
             initial: None,
             stiffness: None,
             spring_rest: None,
+            springdamper: None,
             friction: None,
             gear: None,
             reference: None,

@@ -295,6 +295,9 @@ pub struct Joint {
     pub stiffness: f64,
     /// The spring's rest position from the document's pose, rad or m.
     pub spring_rest: f64,
+    /// `[timeconst, dampratio]`: the physics sizes `stiffness` and `damping` from the DOF's
+    /// inertia at the document's pose (see [`crate::JointDef::springdamper`]).
+    pub springdamper: Option<[f64; 2]>,
     /// Dry friction per DOF, N·m or N (0: none).
     pub friction: f64,
     /// Torque-mode actions are control signals: the effort is `gear ×` the value

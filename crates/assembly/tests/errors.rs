@@ -464,7 +464,7 @@ fn spring_errors_name_the_field() {
     );
     assert_issue(
         with_joint_field("spring_rest", json!(10)),
-        "assembly.joints[0].spring_rest: a spring rest position needs a `stiffness`",
+        "assembly.joints[0].spring_rest: a spring rest position needs a `stiffness` or a `springdamper`",
     );
     let mut doc = with_joint_field("stiffness", json!(2));
     doc["assembly"]["joints"][0]["spring_rest"] = json!(12345.5);
@@ -802,5 +802,34 @@ fn an_initial_position_lies_within_the_limits() {
     assert_issue(
         ball,
         "assembly.joints[0].initial: a ball joint has no initial position; initial applies to revolute and prismatic joints only",
+    );
+}
+
+/// A heightfield is a ground as a plane is: never the floating base.
+#[test]
+fn heightfield_as_floating_base() {
+    let mut doc = base_doc();
+    doc["parts"][0]["primitive"] = json!({"type": "heightfield", "rows": 2, "columns": 2,
+                                          "size": {"x": 10, "y": 10, "z": 1}});
+    doc["floating_base"] = json!(true);
+    assert_issue(
+        doc,
+        r#"assembly.instances[0].part: part "Base" is a heightfield (terrain, a ground), which cannot be the floating base (the first instance); list the robot's base first"#,
+    );
+}
+
+#[test]
+fn springdamper_values_are_positive() {
+    let mut doc = base_doc();
+    doc["assembly"]["joints"][0]["springdamper"] = json!([0.1, 0]);
+    assert_issue(
+        doc,
+        "assembly.joints[0].springdamper: expected [timeconst, dampratio], both > 0, got [0.1, 0]",
+    );
+    let mut doc = base_doc();
+    doc["assembly"]["joints"][0]["spring_rest"] = json!(10);
+    assert_issue(
+        doc,
+        "assembly.joints[0].spring_rest: a spring rest position needs a `stiffness` or a `springdamper`",
     );
 }

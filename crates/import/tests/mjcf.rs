@@ -207,10 +207,30 @@ fn unsupported_constructs_name_their_element_and_line() {
     );
     assert_eq!(
         error(&model(
-            r#"<body><joint springdamper="0.1 1"/><geom size=".1"/></body>"#
+            r#"<body><joint type="ball" springdamper="0.1 1"/><geom size=".1"/></body>"#
         )),
-        "line 4: <joint>: springdamper (a spring-damper by time constant) is not supported yet"
+        "line 4: <joint>: springdamper on a ball joint (a rotational spring) is not supported yet"
     );
+    assert_eq!(
+        error(&model(
+            r#"<body><joint springdamper="0.1 -1"/><geom size=".1"/></body>"#
+        )),
+        "line 4: <joint springdamper=…>: expected a time constant and a damping ratio, both > 0, got 0.1 -1"
+    );
+    let converted = mjcf_to_document(&model(
+        r#"<body><joint name="tail" springdamper="0.1 1" springref="0.2"/><geom size=".1"/></body>"#,
+    ))
+    .expect("converts");
+    let joint = converted.document["assembly"]["joints"]
+        .as_array()
+        .expect("joints")
+        .iter()
+        .find(|j| j["name"] == "tail")
+        .expect("the joint")
+        .clone();
+    assert_eq!(joint["springdamper"], serde_json::json!([0.1, 1.0]));
+    assert!(joint.get("stiffness").is_none(), "{joint}");
+    assert!(joint["spring_rest"].as_f64().is_some(), "{joint}");
     assert_eq!(
         error(&model(r#"<composite type="grid"/>"#)),
         "line 4: <composite>: <composite> in <worldbody> is not supported yet"

@@ -124,7 +124,7 @@ mod tests {
             std::env::temp_dir().join(format!("gymfleet-load-bad-{}.xml", std::process::id()));
         std::fs::write(
             &bad,
-            "<mujoco><worldbody><body><joint springdamper=\"0.1 1\"/><geom size=\".1\"/></body></worldbody></mujoco>",
+            "<mujoco><worldbody><body><joint type=\"ball\" springdamper=\"0.1 1\"/><geom size=\".1\"/></body></worldbody></mujoco>",
         )
         .unwrap();
         let err = Model::resolve(bad.to_str().unwrap())
@@ -133,7 +133,7 @@ mod tests {
         std::fs::remove_file(&bad).ok();
         assert!(
             err.contains(
-                "<joint>: springdamper (a spring-damper by time constant) is not supported yet"
+                "<joint>: springdamper on a ball joint (a rotational spring) is not supported yet"
             ),
             "{err}"
         );

@@ -34,7 +34,17 @@ impl RobotWorld {
     /// Builds the world: one body per instance (the first fixed, the others dynamic),
     /// exact primitive colliders, and every joint as a link of a reduced-coordinate
     /// multibody. Joint damping is exactly the document's (Rapier's default is removed).
+    /// Joints with a `springdamper` get the stiffness and damping it sizes from the world
+    /// built once without them (`springdamper.rs`).
     pub fn new(assembly: &Assembly, options: &WorldOptions) -> Result<Self> {
+        if assembly.joints.iter().any(|j| j.springdamper.is_some()) {
+            let sized = Self::build(assembly, options)?.sized_springdampers(assembly);
+            return Self::build(&sized, options);
+        }
+        Self::build(assembly, options)
+    }
+
+    fn build(assembly: &Assembly, options: &WorldOptions) -> Result<Self> {
         check_options(options)?;
         let substep_dt = options.substep_dt();
         let mut sets = Sets {

@@ -38,6 +38,7 @@ mod scene;
 mod sensors;
 mod set_state;
 mod spatial;
+mod springdamper;
 mod state;
 mod tendons;
 mod terrain;

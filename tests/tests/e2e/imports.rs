@@ -382,7 +382,7 @@ fn a_broken_library_file_stops_the_server_naming_it() {
             ("good.json", gymfleet_e2e::ARM2),
             (
                 "bad.xml",
-                "<mujoco><worldbody><body><joint springdamper=\"0.1 1\"/><geom size=\".1\"/></body></worldbody></mujoco>",
+                "<mujoco><worldbody><body><joint type=\"ball\" springdamper=\"0.1 1\"/><geom size=\".1\"/></body></worldbody></mujoco>",
             ),
         ],
     );

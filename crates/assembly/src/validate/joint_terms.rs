@@ -254,10 +254,10 @@ impl Validator {
         };
         let rest = match def.spring_rest {
             None => 0.0,
-            Some(_) if def.stiffness.is_none() => {
+            Some(_) if def.stiffness.is_none() && def.springdamper.is_none() => {
                 self.push(
                     format!("{path}.spring_rest"),
-                    "a spring rest position needs a `stiffness`".to_string(),
+                    "a spring rest position needs a `stiffness` or a `springdamper`".to_string(),
                 );
                 0.0
             }
@@ -271,5 +271,31 @@ impl Validator {
             Some(r) => r,
         };
         (stiffness, rest)
+    }
+
+    /// A joint's `springdamper`, checked: both values positive, on a revolute or prismatic
+    /// joint.
+    pub(super) fn springdamper(&mut self, path: &str, def: &JointDef) -> Option<[f64; 2]> {
+        let [timeconst, dampratio] = def.springdamper?;
+        if !def.kind.supports_limits() {
+            self.push(
+                format!("{path}.springdamper"),
+                format!(
+                    "a {} joint takes no spring; springdamper applies to revolute and prismatic joints only",
+                    def.kind.as_str()
+                ),
+            );
+            return None;
+        }
+        if !(timeconst.is_finite() && timeconst > 0.0 && dampratio.is_finite() && dampratio > 0.0) {
+            self.push(
+                format!("{path}.springdamper"),
+                format!(
+                    "expected [timeconst, dampratio], both > 0, got [{timeconst}, {dampratio}]"
+                ),
+            );
+            return None;
+        }
+        Some([timeconst, dampratio])
     }
 }

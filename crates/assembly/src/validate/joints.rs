@@ -174,6 +174,7 @@ impl Validator {
                         initial: initial * limit_to_si(def.kind),
                         stiffness,
                         spring_rest: spring_rest * limit_to_si(def.kind),
+                        springdamper: self.springdamper(&path, def),
                         friction: friction.unwrap_or(0.0),
                         gear,
                         reference,

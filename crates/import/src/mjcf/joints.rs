@@ -30,15 +30,29 @@ impl<'a, 'i> Converter<'a, 'i> {
             }
             other => return Err(self.bad(node, "type", format!("unknown joint type {other:?}"))),
         };
-        if self
-            .numbers(node, class, "springdamper")?
-            .is_some_and(|v| v.iter().any(|x| *x != 0.0))
-        {
-            return Err(self.unsupported(
-                node,
-                "springdamper (a spring-damper by time constant) is not supported yet".into(),
-            ));
-        }
+        // MuJoCo: two positive values size the joint's stiffness and damping (both
+        // zero: none).
+        let springdamper = match self.exactly::<2>(node, class, "springdamper")? {
+            None | Some([0.0, 0.0]) => None,
+            Some([tc, dr]) if tc > 0.0 && dr > 0.0 && our != "ball" => Some([tc, dr]),
+            Some(_) if our == "ball" => {
+                return Err(self.unsupported(
+                    node,
+                    "springdamper on a ball joint (a rotational spring) is not supported yet"
+                        .into(),
+                ))
+            }
+            Some(v) => {
+                return Err(self.bad(
+                    node,
+                    "springdamper",
+                    format!(
+                        "expected a time constant and a damping ratio, both > 0, got {} {}",
+                        v[0], v[1]
+                    ),
+                ))
+            }
+        };
         let friction = self
             .number(node, class, "frictionloss")?
             .filter(|f| *f != 0.0);
@@ -128,9 +142,10 @@ impl<'a, 'i> Converter<'a, 'i> {
             return Err(self.bad(node, "range", "limited=\"true\" without a range".into()));
         }
         j.damping = self.number(node, class, "damping")?.filter(|d| *d != 0.0);
+        j.springdamper = springdamper;
         j.armature = self.number(node, class, "armature")?.filter(|a| *a != 0.0);
         j.friction = friction;
-        if let Some(k) = stiffness {
+        if let Some(k) = stiffness.or(springdamper.map(|_| 0.0)) {
             if k < 0.0 {
                 return Err(self.bad(
                     node,
@@ -138,7 +153,7 @@ impl<'a, 'i> Converter<'a, 'i> {
                     format!("expected a stiffness >= 0, got {k}"),
                 ));
             }
-            j.stiffness = Some(k);
+            j.stiffness = (k != 0.0).then_some(k);
             // MuJoCo's spring pulls qpos to `springref`; positions here are qpos − ref.
             let rest = self.number(node, class, "springref")?.unwrap_or(0.0) - reference;
             if rest != 0.0 {
