@@ -76,3 +76,52 @@ def test_a_partial_reset_over_a_fleet_resets_the_right_envs(arm2):
         )
         fleet.close()
         one.close()
+
+
+#: Terrain (replaced in some envs) with a ball on it, a rope (a ranged spatial tendon) and a
+#: coupling: what issue Z3 added, under a motor's random controls.
+TERRAIN_ROPE_COUPLING = """<mujoco>
+  <option timestep="0.004"/>
+  <asset><hfield name="ground" nrow="9" ncol="9" size="1 1 0.1 0.05"/></asset>
+  <worldbody>
+    <geom name="terrain" type="hfield" hfield="ground"/>
+    <site name="hook" pos="0.5 0 1"/>
+    <body name="bob" pos="0.7 0 0.75">
+      <joint name="bob_x" type="slide" axis="1 0 0"/><joint name="bob_z" type="slide" axis="0 0 1"/>
+      <geom type="sphere" size="0.04"/><site name="knot"/></body>
+    <body name="ball" pos="-0.3 0.3 0.4"><freejoint/><geom type="sphere" size="0.05"/></body>
+    <body name="crank" pos="-0.5 0 0.5">
+      <joint name="a" type="hinge" axis="0 1 0"/>
+      <geom type="capsule" fromto="0 0 0 0 0 0.2" size="0.02"/>
+    </body>
+    <body name="rocker" pos="-0.2 0 0.5">
+      <joint name="b" type="hinge" axis="0 1 0"/>
+      <geom type="capsule" fromto="0 0 0 0 0 0.2" size="0.02"/>
+    </body>
+  </worldbody>
+  <tendon><spatial name="rope" range="0 0.4"><site site="hook"/><site site="knot"/></spatial></tendon>
+  <equality><joint joint1="b" joint2="a" polycoef="0 -0.5 0 0 0"/></equality>
+  <actuator><motor joint="a" gear="0.2"/></actuator>
+</mujoco>"""
+
+
+def terrain_rollout(server, steps=60, n=4):
+    envs = gymfleet.make_vec(TERRAIN_ROPE_COUPLING, n, server=server, units="si")
+    envs.reset(seed=5)
+    bumps = np.random.default_rng(3).uniform(0, 1, (9, 9)).astype(np.float32)
+    envs.set_heightfield("terrain", bumps, env_indices=[1, 3])
+    rng = np.random.default_rng(4)
+    frames = []
+    for _ in range(steps):
+        obs, *_ = envs.step(rng.uniform(-1, 1, size=(n, 1)).astype(np.float32))
+        frames.append(obs)
+    envs.close()
+    return frames
+
+
+def test_terrain_ropes_and_couplings_give_the_same_bits_however_a_batch_is_sharded():
+    with gymfleet.Server(threads=1) as a, gymfleet.Server(threads=2) as b:
+        one = terrain_rollout(a.address)
+        assert_identical(one, terrain_rollout(f"{a.address},{b.address}"))
+        # The replaced terrain made envs 1 and 3 move otherwise: the test can tell.
+        assert not np.array_equal(one[-1][0], one[-1][1])

@@ -225,6 +225,7 @@ impl RobotWorld {
     /// every DOF (clamped by `max_effort`), and the explicit PD of ball joints in target
     /// modes. DOFs driven by Rapier's motors get none.
     pub(crate) fn apply_efforts(&mut self) {
+        self.clear_body_forces();
         let mode = self.command.mode;
         for slot in &self.joints {
             if slot.closing.is_some() {

@@ -56,7 +56,7 @@ impl FluidDrag {
 }
 
 impl RobotWorld {
-    /// Sets each moving group's drag as the user force and torque of its first body, from
+    /// Adds each moving group's drag to the user force and torque of its first body, from
     /// the current state (see the module documentation). Without a fluid it does nothing.
     pub(crate) fn apply_fluid(&mut self) {
         let Some(fluid) = &self.fluid else { return };
@@ -65,9 +65,8 @@ impl RobotWorld {
             let Some((force, torque)) = fluid.drag(bodies, group) else {
                 continue;
             };
+            // Cleared before the substep's efforts (`clear_body_forces`).
             let first = &mut bodies[group[0]];
-            first.reset_forces(false);
-            first.reset_torques(false);
             first.add_force(force, true);
             first.add_torque(torque, true);
         }

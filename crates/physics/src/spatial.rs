@@ -3,9 +3,11 @@
 //! `J·q̇`, `J` the length's jacobian over the trees' generalized velocities (each segment's
 //! direction at its two ends, through the links' body jacobians). A force `f` along the
 //! tendon (a spring, a damper, an actuator; positive lengthens) acts as the generalized
-//! force `Jᵀ·f`: each site is pulled toward its neighbours by `−f`. A ranged tendon is a
-//! rope: its `max` is a hard limit, enforced after every substep with the joints' hard
-//! stops (vendored patch 42; MuJoCo's limit is soft).
+//! force `Jᵀ·f`: each site is pulled toward its neighbours by `−f`. A site on a free body
+//! outside the trees (an object) moves with that body's own velocity and takes the force as
+//! a user force at its point, cleared before every substep. A ranged tendon is a rope: its
+//! `max` is a hard limit, enforced after every substep with the joints' hard stops (vendored
+//! patch 42; MuJoCo's limit is soft); its sites must move with one tree or not at all.
 
 use std::collections::HashMap;
 
@@ -52,7 +54,7 @@ pub(crate) fn path_length(path: &[PathPoint], sets: &Sets) -> f64 {
 }
 
 /// Puts each ranged spatial tendon's rope on the multibody its moving sites share
-/// (vendored patch 42). A site on a body that no tree moves is a fixed world point.
+/// (vendored patch 42). A site on a body that does not move is a fixed world point.
 pub(crate) fn set_path_limits(
     assembly: &Assembly,
     paths: &[Vec<PathPoint>],
@@ -67,17 +69,22 @@ pub(crate) fn set_path_limits(
         let mut points = Vec::with_capacity(path.len());
         for p in path {
             let body = &sets.bodies[p.body];
+            // A point of a body that never moves (a static tree root too) is a fixed world
+            // point.
+            if !body.is_dynamic() {
+                points.push((None, *body.position() * p.local));
+                continue;
+            }
             match sets.multibody_joints.rigid_body_link(p.body) {
                 Some(link) if tree.is_none_or(|m| m == link.multibody) => {
                     tree = Some(link.multibody);
                     points.push((Some(link.id), p.local));
                 }
-                None if !body.is_dynamic() => points.push((None, *body.position() * p.local)),
                 _ => {
                     return Err(PhysicsError::BadOption {
                         field: "assembly.tendons",
                         reason: format!(
-                            "tendon {:?} has a range, and its sites move with different kinematic trees; a ranged spatial tendon's sites must share one",
+                            "tendon {:?} has a range, and its sites move with different kinematic trees or with a free body; a ranged spatial tendon's moving sites must share one tree",
                             t.name
                         ),
                     })
@@ -104,8 +111,13 @@ pub(crate) fn set_path_limits(
 }
 
 /// A path's length jacobian: for each tree it moves, its row over that tree's generalized
-/// velocities.
-type PathJacobian = Vec<(MultibodyIndex, DVector)>;
+/// velocities; and for each end of a segment on a free body outside the trees, the body,
+/// the world point and the direction that lengthens the path.
+#[derive(Default)]
+struct PathJacobian {
+    trees: Vec<(MultibodyIndex, DVector)>,
+    free: Vec<(RigidBodyHandle, Vector, Vector)>,
+}
 
 impl RobotWorld {
     /// The path's sites in the world, m.
@@ -117,7 +129,7 @@ impl RobotWorld {
 
     /// The path's length jacobian (see [`PathJacobian`]).
     fn path_jacobian(&self, path: &[PathPoint], world: &[Vector]) -> PathJacobian {
-        let mut rows: PathJacobian = Vec::new();
+        let mut rows = PathJacobian::default();
         for (i, w) in world.windows(2).enumerate() {
             let along = w[1] - w[0];
             let len = along.length();
@@ -132,8 +144,8 @@ impl RobotWorld {
         rows
     }
 
-    /// Adds `dir · v` of world point `at` on `body` to the jacobian (nothing for a body no
-    /// tree moves).
+    /// Adds `dir · v` of world point `at` on `body` to the jacobian (a free body's as its
+    /// own; nothing for a body that does not move).
     fn add_point_row(
         &self,
         rows: &mut PathJacobian,
@@ -142,6 +154,9 @@ impl RobotWorld {
         dir: Vector,
     ) {
         let Some(link) = self.live.multibody_joints.rigid_body_link(body) else {
+            if self.live.bodies[body].is_dynamic() {
+                rows.free.push((body, at, dir));
+            }
             return;
         };
         let Some(mb) = self.live.multibody_joints.get_multibody(link.multibody) else {
@@ -150,15 +165,16 @@ impl RobotWorld {
         let rb = &self.live.bodies[body];
         let com = *rb.position() * rb.mass_properties().local_mprops.local_com;
         let arm = (at - com).cross(dir);
-        let k = match rows.iter().position(|(m, _)| *m == link.multibody) {
+        let trees = &mut rows.trees;
+        let k = match trees.iter().position(|(m, _)| *m == link.multibody) {
             Some(k) => k,
             None => {
-                rows.push((link.multibody, DVector::zeros(mb.ndofs())));
-                rows.len() - 1
+                trees.push((link.multibody, DVector::zeros(mb.ndofs())));
+                trees.len() - 1
             }
         };
         let columns = mb.body_jacobian(link.id).as_slice().chunks_exact(6);
-        for (entry, c) in rows[k].1.iter_mut().zip(columns) {
+        for (entry, c) in trees[k].1.iter_mut().zip(columns) {
             *entry += dir.x * c[0]
                 + dir.y * c[1]
                 + dir.z * c[2]
@@ -175,24 +191,56 @@ impl RobotWorld {
             .windows(2)
             .map(|w| f64::from((w[1] - w[0]).length()))
             .sum();
-        let rate: f64 = self
-            .path_jacobian(path, &world)
+        let jacobian = self.path_jacobian(path, &world);
+        let trees: f64 = jacobian
+            .trees
             .iter()
             .filter_map(|(m, row)| {
                 let mb = self.live.multibody_joints.get_multibody(*m)?;
                 Some(f64::from(row.dot(&mb.generalized_velocity())))
             })
             .sum();
-        (length, rate)
+        let free: f64 = jacobian
+            .free
+            .iter()
+            .map(|&(body, at, dir)| {
+                f64::from(dir.dot(self.live.bodies[body].velocity_at_point(at)))
+            })
+            .sum();
+        (length, trees + free)
     }
 
     /// Adds the generalized forces of `force` along a spatial tendon (N; positive
     /// lengthens) to the trees it moves.
     pub(crate) fn add_path_force(&mut self, path: &[PathPoint], force: f64) {
         let world = self.path_world(path);
-        for (m, row) in self.path_jacobian(path, &world) {
+        let jacobian = self.path_jacobian(path, &world);
+        for (m, row) in jacobian.trees {
             if let Some(mb) = self.live.multibody_joints.get_multibody_mut(m) {
                 mb.applied_forces_mut().axpy(force as Real, &row, 1.0);
+            }
+        }
+        for (body, at, dir) in jacobian.free {
+            self.live.bodies[body].add_force_at_point(dir * force as Real, at, true);
+        }
+    }
+
+    /// Clears the user forces of the free bodies that spatial tendons pull and of the
+    /// fluid's groups, before a substep's efforts set them again (they would add up).
+    pub(crate) fn clear_body_forces(&mut self) {
+        let mut bodies: Vec<RigidBodyHandle> = self
+            .tendons
+            .iter()
+            .flat_map(|t| t.path.iter().map(|p| p.body))
+            .filter(|&b| self.live.multibody_joints.rigid_body_link(b).is_none())
+            .collect();
+        if let Some(fluid) = &self.fluid {
+            bodies.extend(fluid.groups.iter().map(|g| g[0]));
+        }
+        for body in bodies {
+            if let Some(rb) = self.live.bodies.get_mut(body) {
+                rb.reset_forces(false);
+                rb.reset_torques(false);
             }
         }
     }
@@ -210,6 +258,7 @@ impl RobotWorld {
         let in_joint = dof - slot.first_dof;
         let world = self.path_world(path);
         self.path_jacobian(path, &world)
+            .trees
             .iter()
             .find(|(m, _)| *m == slot.multibody)
             .map_or(0.0, |(_, row)| {
