@@ -228,17 +228,18 @@ impl RobotWorld {
     /// Clears the user forces of the free bodies that spatial tendons pull and of the
     /// fluid's groups, before a substep's efforts set them again (they would add up).
     pub(crate) fn clear_body_forces(&mut self) {
-        let mut bodies: Vec<RigidBodyHandle> = self
+        let live = &mut self.live;
+        let free = self
             .tendons
             .iter()
             .flat_map(|t| t.path.iter().map(|p| p.body))
-            .filter(|&b| self.live.multibody_joints.rigid_body_link(b).is_none())
-            .collect();
-        if let Some(fluid) = &self.fluid {
-            bodies.extend(fluid.groups.iter().map(|g| g[0]));
-        }
-        for body in bodies {
-            if let Some(rb) = self.live.bodies.get_mut(body) {
+            .filter(|&b| live.multibody_joints.rigid_body_link(b).is_none());
+        let fluid = self
+            .fluid
+            .iter()
+            .flat_map(|f| f.groups.iter().map(|g| g[0]));
+        for body in free.chain(fluid) {
+            if let Some(rb) = live.bodies.get_mut(body) {
                 rb.reset_forces(false);
                 rb.reset_torques(false);
             }

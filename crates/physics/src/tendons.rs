@@ -67,11 +67,16 @@ pub(crate) fn set_tendon_limits(
 ) -> Result<()> {
     let mut by_multibody: HashMap<MultibodyIndex, Vec<MultibodyLinearLimit>> = HashMap::new();
     // Bounds on Σ coef · coordinate.
-    let mut add = |what: &str, name: &str, terms: &[(usize, f64)], lo: f64, hi: f64| {
+    let mut add = |field: &'static str,
+                   what: &str,
+                   name: &str,
+                   terms: &[(usize, f64)],
+                   lo: f64,
+                   hi: f64| {
         let first = joints[terms[0].0].multibody;
         if terms.iter().any(|&(j, _)| joints[j].multibody != first) {
             return Err(PhysicsError::BadOption {
-                field: if what == "coupling" { "assembly.couplings" } else { "assembly.tendons" },
+                field,
                 reason: format!(
                     "{what} {name:?} joins joints of different kinematic trees; its joints must share one"
                 ),
@@ -99,6 +104,7 @@ pub(crate) fn set_tendon_limits(
                 .map(|&(j, c)| c * references_si[joints[j].first_dof])
                 .sum();
             add(
+                "assembly.tendons",
                 "ranged tendon",
                 &t.name,
                 &t.joints,
@@ -109,7 +115,15 @@ pub(crate) fn set_tendon_limits(
     }
     // A coupling's terms are displacements from the pose (where the coordinates are 0).
     for c in &assembly.couplings {
-        add("coupling", &c.name, &c.terms, c.offset, c.offset)?;
+        let (name, terms) = (&c.name, &c.terms);
+        add(
+            "assembly.couplings",
+            "coupling",
+            name,
+            terms,
+            c.offset,
+            c.offset,
+        )?;
     }
     for (multibody, limits) in by_multibody {
         if let Some(mb) = sets.multibody_joints.get_multibody_mut(multibody) {

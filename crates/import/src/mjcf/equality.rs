@@ -64,76 +64,83 @@ impl<'a, 'i> Converter<'a, 'i> {
             }
             if kind == "joint" || kind == "tendon" {
                 self.coupling(child, kind)?;
-                continue;
-            }
-            let body1 = self.equality_body(child, "body1", true)?;
-            let body2 = self.equality_body(child, "body2", false)?;
-            let (first, frame1) = body1;
-            let (second, frame2) = body2;
-            if first == second {
-                return Err(self.bad(child, "body2", "names the same body as body1".into()));
-            }
-            // What the world holds (its geoms, static bodies, mocap bodies) is never a
-            // joint's child: a constraint to it is written from it.
-            let (first, second) = if self.held_by_world(&second) {
-                (second, first)
             } else {
-                (first, second)
-            };
-            let wanted = child
-                .attribute("name")
-                .map_or_else(|| format!("{first}_{second}_{kind}"), str::to_string);
-            let name = self.joint_name(&wanted);
-            let joint = if kind == "connect" {
-                // MuJoCo: the anchor is in body1's frame; the constraint holds in the
-                // model's pose, where body2's point is the same world point.
-                let anchor = self
-                    .exactly::<3>(child, class, "anchor")?
-                    .ok_or_else(|| self.bad(child, "anchor", "missing".into()))?;
-                let at = frame1.translation + frame1.rotation * DVec3::from(anchor);
-                JointDef {
-                    name: Some(name),
-                    anchor: Some(vec3(at * MM)),
-                    actuated: Some(false),
-                    observed: Some(false),
-                    ..JointDef::new(JointType::Ball, first, second)
-                }
-            } else {
-                if let Some(t) = self.number(child, class, "torquescale")? {
-                    if t != 1.0 {
-                        self.warn(child, "torquescale ignored: the weld is rigid".into());
-                    }
-                }
-                if let Some(p) = self.exactly::<7>(child, class, "relpose")? {
-                    let q = DQuat::from_xyzw(p[4], p[5], p[6], p[3]);
-                    if q.length() > 0.0 {
-                        let wanted = frame1.then(&Frame {
-                            translation: DVec3::new(p[0], p[1], p[2]),
-                            rotation: q.normalize(),
-                        });
-                        let off = (wanted.translation - frame2.translation).length();
-                        let turn = wanted.rotation.angle_between(frame2.rotation);
-                        if off > RELPOSE_TOLERANCE || turn > RELPOSE_TOLERANCE {
-                            return Err(self.bad(
-                                child,
-                                "relpose",
-                                format!(
-                                    "places body2 {:.3} mm and {:.3}° from where the model places it; a weld must hold in the model's pose (leave relpose out)",
-                                    off * MM,
-                                    turn.to_degrees()
-                                ),
-                            ));
-                        }
-                    }
-                }
-                JointDef {
-                    name: Some(name),
-                    actuated: Some(false),
-                    ..JointDef::new(JointType::Fixed, first, second)
-                }
-            };
-            self.joints.push(joint);
+                self.body_equality(child, kind)?;
+            }
         }
+        Ok(())
+    }
+
+    /// A `<connect>` or `<weld>` as a loop-closing joint (see the module documentation).
+    fn body_equality(&mut self, child: Node<'a, 'i>, kind: &str) -> Result<()> {
+        let class = child.attribute("class");
+        let body1 = self.equality_body(child, "body1", true)?;
+        let body2 = self.equality_body(child, "body2", false)?;
+        let (first, frame1) = body1;
+        let (second, frame2) = body2;
+        if first == second {
+            return Err(self.bad(child, "body2", "names the same body as body1".into()));
+        }
+        // What the world holds (its geoms, static bodies, mocap bodies) is never a
+        // joint's child: a constraint to it is written from it.
+        let (first, second) = if self.held_by_world(&second) {
+            (second, first)
+        } else {
+            (first, second)
+        };
+        let wanted = child
+            .attribute("name")
+            .map_or_else(|| format!("{first}_{second}_{kind}"), str::to_string);
+        let name = self.joint_name(&wanted);
+        let joint = if kind == "connect" {
+            // MuJoCo: the anchor is in body1's frame; the constraint holds in the
+            // model's pose, where body2's point is the same world point.
+            let anchor = self
+                .exactly::<3>(child, class, "anchor")?
+                .ok_or_else(|| self.bad(child, "anchor", "missing".into()))?;
+            let at = frame1.translation + frame1.rotation * DVec3::from(anchor);
+            JointDef {
+                name: Some(name),
+                anchor: Some(vec3(at * MM)),
+                actuated: Some(false),
+                observed: Some(false),
+                ..JointDef::new(JointType::Ball, first, second)
+            }
+        } else {
+            if let Some(t) = self.number(child, class, "torquescale")? {
+                if t != 1.0 {
+                    self.warn(child, "torquescale ignored: the weld is rigid".into());
+                }
+            }
+            if let Some(p) = self.exactly::<7>(child, class, "relpose")? {
+                let q = DQuat::from_xyzw(p[4], p[5], p[6], p[3]);
+                if q.length() > 0.0 {
+                    let wanted = frame1.then(&Frame {
+                        translation: DVec3::new(p[0], p[1], p[2]),
+                        rotation: q.normalize(),
+                    });
+                    let off = (wanted.translation - frame2.translation).length();
+                    let turn = wanted.rotation.angle_between(frame2.rotation);
+                    if off > RELPOSE_TOLERANCE || turn > RELPOSE_TOLERANCE {
+                        return Err(self.bad(
+                            child,
+                            "relpose",
+                            format!(
+                                "places body2 {:.3} mm and {:.3}° from where the model places it; a weld must hold in the model's pose (leave relpose out)",
+                                off * MM,
+                                turn.to_degrees()
+                            ),
+                        ));
+                    }
+                }
+            }
+            JointDef {
+                name: Some(name),
+                actuated: Some(false),
+                ..JointDef::new(JointType::Fixed, first, second)
+            }
+        };
+        self.joints.push(joint);
         Ok(())
     }
 
