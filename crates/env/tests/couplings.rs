@@ -142,3 +142,33 @@ fn a_bad_coupling_is_refused_with_its_path() {
         common::assert_refused(&turntables(json!([coupling])), expected);
     }
 }
+
+#[test]
+fn a_coupling_across_two_moving_trees_is_refused() {
+    // Two free bases, each with an arm on a hinge: trees no static body holds, which one
+    // coupling cannot join.
+    let block = |name: &str, x: f64| json!({"part": "Block", "name": name, "position": {"x": x, "y": 0, "z": 100}});
+    let hinge = |name: &str, parent: &str, child: &str, x: f64| {
+        json!({"type": "revolute", "name": name, "parent": parent, "child": child,
+               "anchor": {"x": x, "y": 0, "z": 110}, "axis": {"x": 0, "y": 1, "z": 0}})
+    };
+    let doc = json!({
+        "parts": [
+            {"name": "Ground", "primitive": {"type": "plane"}},
+            {"name": "Block", "primitive": {"type": "cube", "size": {"x": 10, "y": 10, "z": 10}}}
+        ],
+        "assembly": {
+            "instances": [
+                {"part": "Ground", "name": "ground"},
+                block("base_a", 0.0), block("arm_a", 10.0),
+                block("base_b", 100.0), block("arm_b", 110.0)
+            ],
+            "joints": [hinge("a", "base_a", "arm_a", 10.0), hinge("b", "base_b", "arm_b", 110.0)],
+            "couplings": [{"name": "c", "joint1": "a", "joint2": "b"}]
+        }
+    });
+    common::assert_refused(
+        &doc,
+        "coupling \"c\" joins joints of different kinematic trees; its joints must share one",
+    );
+}

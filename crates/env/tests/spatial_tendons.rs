@@ -137,6 +137,31 @@ fn a_ranged_spatial_tendon_is_a_rope() {
 }
 
 #[test]
+fn a_rope_to_a_free_body_is_refused() {
+    // A puck with nothing above it moves outside the trees: no rope may tie it to the ball.
+    let mut doc = slide(json!({"sites": ["ball", "puck"], "range": [0, 0.5]}));
+    let assembly = &mut doc["assembly"];
+    assembly["instances"]
+        .as_array_mut()
+        .expect("instances")
+        .push(json!({"part": "Ball", "name": "puck", "position": {"x": 0, "y": 300, "z": 0}}));
+    assembly["sites"]
+        .as_array_mut()
+        .expect("sites")
+        .push(json!({"name": "puck", "instance": "puck", "point": {"x": 0, "y": 0, "z": 0}}));
+    common::assert_refused(
+        &doc,
+        "tendon \"t\" has a range, and its sites move with different kinematic trees or with a free body; a ranged spatial tendon's moving sites must share one tree",
+    );
+    // Without the range the same tendon is a spring's path, and builds.
+    doc["assembly"]["tendons"][0]
+        .as_object_mut()
+        .expect("tendon")
+        .remove("range");
+    RobotEnv::from_json(&doc.to_string(), EnvConfig::default()).expect("builds");
+}
+
+#[test]
 fn a_bad_spatial_tendon_is_refused_with_its_path() {
     let cases = [
         (
