@@ -50,6 +50,9 @@ pub struct RobotEnv {
     pub(crate) base_draws: [f64; BASE_NOISE_LEN],
     /// Joints set to drawn positions at each reset (a terms task's `reset_noise.set`).
     pub(crate) sets: Vec<ActiveSet>,
+    /// World steps run with a zero action after each reset's draws (a terms task's
+    /// `reset_noise.settle_substeps`, in whole steps).
+    pub(crate) settle_steps: u32,
     /// Scratch for the per-DOF reset offsets (deg or mm) and velocities (`units`).
     pub(crate) offsets: Vec<f64>,
     pub(crate) start_velocities: Vec<f64>,
@@ -143,6 +146,7 @@ impl RobotEnv {
         let cx = Context {
             assembly,
             dofs: world.dofs(),
+            action_dim: world.action_dim(),
             units: config.units,
             dt: config.dt,
             groups: Default::default(),
@@ -167,6 +171,7 @@ impl RobotEnv {
             .filter(|t| t.base_noise)
             .map(|t| (t.position_noise, t.velocity_noise));
         let sets = terms.map(|t| t.sets.clone()).unwrap_or_default();
+        let settle_steps = terms.map_or(0, |t| t.settle_substeps.div_ceil(config.substeps.max(1)));
         let segment = task
             .as_ref()
             .and_then(|t| t.observation_name().map(|name| (name, t.observation_dim())));
@@ -220,6 +225,7 @@ impl RobotEnv {
             base_noise,
             base_draws: [0.0; BASE_NOISE_LEN],
             sets,
+            settle_steps,
             offsets: vec![0.0; spec.num_dofs],
             start_velocities: vec![0.0; spec.num_dofs],
             keyed_offsets: vec![0.0; spec.num_dofs],

@@ -1,5 +1,6 @@
 //! Resets: the initial state (or a keyframe's), then the episode's draws on top.
 
+use gymfleet_physics::ActionMode;
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::SeedableRng;
 
@@ -64,7 +65,9 @@ impl RobotEnv {
                 // Drawn as observed (with the reference); offsets are from the start.
                 self.offsets[k] =
                     self.units.to_document(dof.kind, value) - dof.reference - dof.initial;
-                self.start_velocities[k] = 0.0;
+                if set.at_rest {
+                    self.start_velocities[k] = 0.0;
+                }
             }
         }
         if let Some(r) = &self.randomize {
@@ -101,6 +104,7 @@ impl RobotEnv {
         if self.base_noise.is_some() {
             self.world.perturb_base(&self.base_draws, base.as_ref());
         }
+        self.settle();
         if let Some(task) = &mut self.task {
             task.reset(&mut self.rng);
         }
@@ -110,5 +114,21 @@ impl RobotEnv {
         self.start_task(out);
         self.observe_task_into(out);
         self.last_obs.copy_from_slice(out);
+    }
+
+    /// The task's settling steps with a zero action (dm_control's cheetah falls onto its
+    /// feet for 200 physics steps before the episode starts); a step stopped by the
+    /// contact-work limit ends them early.
+    fn settle(&mut self) {
+        if self.settle_steps == 0 {
+            return;
+        }
+        let zeros = vec![0.0; self.spec.action_dim];
+        self.world.set_command(ActionMode::Torque, &zeros);
+        for _ in 0..self.settle_steps {
+            if self.world.step().is_err() {
+                break;
+            }
+        }
     }
 }

@@ -116,7 +116,7 @@ fn bad_limit_force_and_square_terms_get_their_own_errors() {
         ),
         (
             r#"{"terms": [{"name": "a", "square": {"of": {}}}]}"#,
-            "task.terms.terms[0].square.of: expected exactly one of joint, joint_velocity, joint_limit_force, tendon_length, tendon_velocity, actuator_force, actuator, actuator_activation, sensor (with a component when it reports several), contact_wrench, body_inertia, body_velocity (the last three with a component), instance, site or center_of_mass (the last three with an axis)",
+            "task.terms.terms[0].square.of: expected exactly one of joint, joint_velocity, joint_limit_force, tendon_length, tendon_velocity, actuator_force, actuator, actuator_activation, sensor (with a component when it reports several), contact_wrench, body_inertia, body_velocity (the last three with a component), body_center, instance, site or center_of_mass (the last four with an axis), or action",
         ),
         (
             r#"{"terms": [{"name": "a", "value": {"actuator": "push"}}]}"#,
@@ -128,7 +128,7 @@ fn bad_limit_force_and_square_terms_get_their_own_errors() {
         ),
         (
             r#"{"terms": [{"name": "a", "square": {"of": {"joint": "slide"}}, "ctrl_cost": {}}]}"#,
-            "task.terms.terms[0]: expected exactly one of velocity, value, ctrl_cost, healthy, distance, square or contact_cost",
+            "task.terms.terms[0]: expected exactly one of velocity, value, ctrl_cost, healthy, distance, square, contact_cost, tolerance, product or sum",
         ),
     ] {
         let config = EnvConfig {

@@ -38,6 +38,7 @@ from .errors import (
 )
 from .registration import register_envs as _register_envs
 from .suite import register_suite as _register_suite
+from .dmc import register_dmc as _register_dmc
 from .vector import GymfleetVectorEnv
 
 __version__: str = _core.__version__
@@ -234,6 +235,7 @@ class FleetEndpoints:
 
 _register_envs()
 _register_suite()
+_register_dmc()
 
 # The names the package's own code was written with (typing's among them) are not part of
 # it: only `__all__`, the submodules and `__version__` are.

@@ -7,12 +7,17 @@ use gymfleet_physics::{RobotWorld, Units, INERTIA_LEN, VELOCITY_LEN, WRENCH_LEN}
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::RngExt;
 
+use super::tolerance::ActiveTolerance;
 use crate::episode::Termination;
 
 /// A [`SetJoints`] resolved: DOF indices and bounds.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct ActiveSet {
     pub(crate) dofs: Vec<usize>,
+    /// Normal draws: `low` the means, `high` the standard deviations.
+    pub(super) normal: bool,
+    /// Whether the drawn joints start at rest.
+    pub(crate) at_rest: bool,
     pub(super) low: Vec<f64>,
     pub(super) high: Vec<f64>,
     pub(super) min_norm: f64,
@@ -25,6 +30,12 @@ const MAX_SET_DRAWS: usize = 1000;
 impl ActiveSet {
     /// Draws the joints' positions (the env's units) into `out`.
     pub(crate) fn draw(&self, rng: &mut Xoshiro256PlusPlus, out: &mut [f64]) {
+        if self.normal {
+            for (k, o) in out.iter_mut().enumerate() {
+                *o = self.low[k] + Dist::Normal(self.high[k]).draw(rng);
+            }
+            return;
+        }
         for _ in 0..MAX_SET_DRAWS {
             for (k, o) in out.iter_mut().enumerate() {
                 *o = if self.low[k] < self.high[k] {
@@ -104,6 +115,21 @@ pub(super) enum Q {
         axis: usize,
     },
     CenterOfMass(usize),
+    /// The world `axis` component of a frame's own axis `local`: the instance's, turned
+    /// by a site's rotation (MuJoCo's `xmat[axis, local]`).
+    FrameAxis {
+        body: usize,
+        rotation: [f64; 3],
+        local: usize,
+        axis: usize,
+    },
+    /// One value of the step's action.
+    Action(usize),
+    /// A world coordinate of a group's centre of mass (SI), from its `cinert`.
+    BodyCenter {
+        group: usize,
+        axis: usize,
+    },
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -119,6 +145,12 @@ pub(super) enum Kind {
         lo: f64,
         hi: f64,
         sum_max: f64,
+    },
+    Tolerance(ActiveTolerance),
+    /// Π (`product`) or Σ of (scale · value + offset) of earlier terms.
+    Combine {
+        product: bool,
+        factors: Vec<(usize, f64, f64)>,
     },
 }
 
@@ -148,8 +180,12 @@ pub(crate) struct ActiveTerms {
     pub(crate) position_noise: Option<Dist>,
     /// Whether the noise moves the floating base too ([`super::ResetNoise::base`]).
     pub(crate) base_noise: bool,
+    /// Substeps run with a zero action after the draws ([`super::ResetNoise::settle_substeps`]).
+    pub(crate) settle_substeps: u32,
     pub(crate) velocity_noise: Option<Dist>,
     pub(crate) sets: Vec<ActiveSet>,
+    /// This step's values in f64 (scratch), which later terms read.
+    pub(super) step_values: Vec<f64>,
 }
 
 /// What terms read at one moment: the world, the observed joint state, and the robot's
@@ -160,6 +196,8 @@ struct Now<'a> {
     world: &'a RobotWorld,
     positions: &'a [f32],
     velocities: &'a [f32],
+    /// The step's action (empty at a reset: every value reads 0).
+    action: &'a [f32],
     com: OnceCell<[f64; 3]>,
     inertia: RefCell<Vec<(usize, [f64; INERTIA_LEN])>>,
     velocity: RefCell<Vec<(usize, [f64; VELOCITY_LEN])>>,
@@ -167,11 +205,17 @@ struct Now<'a> {
 }
 
 impl<'a> Now<'a> {
-    fn new(world: &'a RobotWorld, positions: &'a [f32], velocities: &'a [f32]) -> Self {
+    fn new(
+        world: &'a RobotWorld,
+        positions: &'a [f32],
+        velocities: &'a [f32],
+        action: &'a [f32],
+    ) -> Self {
         Now {
             world,
             positions,
             velocities,
+            action,
             com: OnceCell::new(),
             inertia: RefCell::new(Vec::new()),
             velocity: RefCell::new(Vec::new()),
@@ -209,6 +253,28 @@ impl<'a> Now<'a> {
             .com
             .get_or_init(|| self.world.robot_center_of_mass(Units::Si))
     }
+}
+
+/// The rotation matrix of the unit quaternion `[w, x, y, z]`, rows the world axes:
+/// `m[i][j]` is the world `i` component of the frame's axis `j` (MuJoCo's `xmat`).
+fn rotation_matrix([w, x, y, z]: [f64; 4]) -> [[f64; 3]; 3] {
+    [
+        [
+            1.0 - 2.0 * (y * y + z * z),
+            2.0 * (x * y - w * z),
+            2.0 * (x * z + w * y),
+        ],
+        [
+            2.0 * (x * y + w * z),
+            1.0 - 2.0 * (x * x + z * z),
+            2.0 * (y * z - w * x),
+        ],
+        [
+            2.0 * (x * z - w * y),
+            2.0 * (y * z + w * x),
+            1.0 - 2.0 * (x * x + y * y),
+        ],
+    ]
 }
 
 /// `group`'s value in `cache`, computed by `compute` the first time it is asked for.
@@ -250,6 +316,23 @@ impl ActiveTerms {
                 None => world.center_of_mass(self.units, body)[axis],
             },
             Q::CenterOfMass(axis) => world.robot_center_of_mass(self.units)[axis],
+            Q::FrameAxis {
+                body,
+                rotation,
+                local,
+                axis,
+            } => {
+                let p = world.site_pose(self.units, body, [0.0; 3], rotation);
+                let [w, x, y, z] = [p[3], p[4], p[5], p[6]].map(f64::from);
+                rotation_matrix([w, x, y, z])[axis][local]
+            }
+            Q::Action(k) => now.action.get(k).map_or(0.0, |&a| f64::from(a)),
+            Q::BodyCenter { group, axis } => {
+                let c = now.inertia(group, &self.groups[group]);
+                let mass = c[INERTIA_LEN - 1];
+                let offset = if mass > 0.0 { c[6 + axis] / mass } else { 0.0 };
+                now.com()[axis] + offset
+            }
         }
     }
 
@@ -287,7 +370,7 @@ impl ActiveTerms {
         velocities: &[f32],
         out: &mut [f32],
     ) {
-        let now = Now::new(world, positions, velocities);
+        let now = Now::new(world, positions, velocities, &[]);
         for (o, &k) in out.iter_mut().zip(&self.observed) {
             if let Kind::Value(q) = self.terms[k].1 {
                 *o = self.read(q, &now) as f32;
@@ -298,7 +381,7 @@ impl ActiveTerms {
     /// A new episode (or a state put back): the velocity terms' coordinates now.
     pub(crate) fn start(&mut self, world: &RobotWorld, positions: &[f32], velocities: &[f32]) {
         self.wrenches.clear();
-        let now = Now::new(world, positions, velocities);
+        let now = Now::new(world, positions, velocities, &[]);
         for k in 0..self.terms.len() {
             if let Kind::Velocity(q) = self.terms[k].1 {
                 self.previous[k] = self.read(q, &now);
@@ -331,7 +414,7 @@ impl ActiveTerms {
         action: &[f32],
         values: &mut [f32],
     ) -> (f64, Option<Termination>) {
-        let now = Now::new(world, positions, velocities);
+        let now = Now::new(world, positions, velocities, action);
         if !self.groups.is_empty() {
             // MuJoCo's cfrc_ext is about the root's subtree centre of mass.
             world.contact_wrenches(now.com(), &mut self.wrenches);
@@ -366,7 +449,19 @@ impl ActiveTerms {
                     .map(|w| w.clamp(*lo, *hi).powi(2))
                     .sum::<f64>()
                     .min(*sum_max),
+                Kind::Tolerance(t) => t.of_value(self.step_values[t.of]),
+                Kind::Combine { product, factors } => {
+                    let each = factors
+                        .iter()
+                        .map(|&(j, scale, offset)| scale * self.step_values[j] + offset);
+                    if *product {
+                        each.product()
+                    } else {
+                        each.sum()
+                    }
+                }
             };
+            self.step_values[k] = value;
             *slot = value as f32;
             reward += weight * value;
         }

@@ -20,6 +20,7 @@
 mod active;
 mod quantity;
 mod resolve;
+mod tolerance;
 
 pub(crate) use gymfleet_assembly::shown;
 use serde::{Deserialize, Serialize};
@@ -28,6 +29,7 @@ use crate::error::{EnvError, Result};
 
 pub(crate) use active::{ActiveSet, ActiveTerms, Dist};
 pub(crate) use resolve::{instance, Context};
+pub use tolerance::{Factor, Sigmoid, Tolerance};
 
 /// Most terms (and most healthy ranges) in one task.
 pub const MAX_TERMS: usize = 512;
@@ -84,6 +86,16 @@ pub struct Term {
     /// to `[min, max]`, squared (Gymnasium's Ant `contact_cost`).
     #[serde(default)]
     pub contact_cost: Option<ContactCost>,
+    /// dm_control's `tolerance` of an earlier term's value (1 inside the bounds, a
+    /// sigmoid outside).
+    #[serde(default)]
+    pub tolerance: Option<Tolerance>,
+    /// Π (scale · value + offset) over earlier terms.
+    #[serde(default)]
+    pub product: Option<Vec<Factor>>,
+    /// Σ (scale · value + offset) over earlier terms.
+    #[serde(default)]
+    pub sum: Option<Vec<Factor>>,
     /// A `value` term that is also part of the observation (its `terms` segment, in term
     /// order), read from the state at resets as at steps (a contact wrench: 0 after a
     /// reset); default false.
@@ -149,7 +161,10 @@ pub enum Axis {
 /// velocity (`body_inertia`, `body_velocity`), a joint's actuator force (`actuator_force`),
 /// one component of the contact wrench on a group of instances (`contact_wrench`,
 /// `component`), or one world coordinate (`axis`) of a point of an instance (`instance`,
-/// `point`), of a site (`site`) or of the whole robot's centre of mass (`center_of_mass`).
+/// `point`), of a site (`site`) or of the whole robot's centre of mass (`center_of_mass`);
+/// with `frame_axis`, the world `axis` component of one of the instance's or site's own
+/// axes (MuJoCo's `xmat`, e.g. `zz` for an upright); one value of the step's action
+/// (`action`).
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Quantity {
@@ -188,6 +203,10 @@ pub struct Quantity {
     /// of the body-fixed point at the robot's centre of mass (m/s), SI in every unit system.
     #[serde(default)]
     pub body_velocity: Option<Vec<String>>,
+    /// Instances that make up one body, whose centre of mass's world coordinate is read
+    /// (needs `axis`): MuJoCo's `xipos`, SI in every unit system.
+    #[serde(default)]
+    pub body_center: Option<Vec<String>>,
     /// The generalized force the actions apply to a joint's first DOF (a torque-mode
     /// value's gear × action, clamped by `max_effort`, plus every actuator's moment ×
     /// force on it; N or N·m in every unit system): MuJoCo's `qfrc_actuator`; a direct
@@ -225,6 +244,13 @@ pub struct Quantity {
     /// The world coordinate read from a point.
     #[serde(default)]
     pub axis: Option<Axis>,
+    /// With `instance` or `site` (and `axis`): the frame's own axis whose world `axis`
+    /// component is read (MuJoCo's `xmat[axis, frame_axis]`).
+    #[serde(default)]
+    pub frame_axis: Option<Axis>,
+    /// The step's action value of this index (MuJoCo's `ctrl`, as sent; 0 at a reset).
+    #[serde(default)]
+    pub action: Option<usize>,
 }
 
 /// A point: a site, or a point of an instance (`point`, mm in its frame; default its
@@ -306,21 +332,49 @@ pub struct ResetNoise {
     /// linear (world, m/s) and angular (its own frame, rad/s) velocity.
     #[serde(default)]
     pub base: bool,
+    /// Every limited joint with one DOF not set above starts uniform in its range
+    /// (dm_control's `randomize_limited_and_rotational_joints`, its limited half; the
+    /// cheetah's whole draw).
+    #[serde(default)]
+    pub limited: bool,
+    /// Every unlimited revolute joint with one DOF not set above starts uniform in
+    /// [−π, π] rad (the rotational half).
+    #[serde(default)]
+    pub rotational: bool,
+    /// Physics substeps run with a zero action after the draws, before the episode's
+    /// first observation (dm_control's cheetah settles for 200), rounded up to whole env
+    /// steps; default 0.
+    #[serde(default)]
+    pub settle_substeps: u32,
 }
 
-/// Positions drawn for some joints: uniform in the box `[low, high]`, drawn again until
+/// Positions drawn for some joints: normal (`mean`, `std`), or uniform in the box
+/// `[low, high]`, drawn again until
 /// the vector's norm lies in `[min_norm, max_norm]` (Gymnasium's Reacher draws its goal in
 /// a disk, Pusher its object away from the goal). After 1000 rejected draws the last one
-/// is scaled radially into the range. The joints start at rest.
+/// is scaled radially into the range. The joints start at rest unless `at_rest` is false.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SetJoints {
     /// The joints (one DOF each), in the order of `low` and `high`.
     pub joints: Vec<String>,
     /// Lower corner of the box, one value per joint (the env's units).
+    #[serde(default)]
     pub low: Vec<f64>,
     /// Upper corner.
+    #[serde(default)]
     pub high: Vec<f64>,
+    /// Instead of a box: each joint drawn from a normal distribution with this mean (one
+    /// value per joint) and `std`, unclamped (dm_control's cart-pole: `π + 0.01 · randn`).
+    #[serde(default)]
+    pub mean: Option<Vec<f64>>,
+    /// The normal draws' standard deviations, one per joint.
+    #[serde(default)]
+    pub std: Option<Vec<f64>>,
+    /// Whether the joints start at rest (default true); false keeps the velocity noise
+    /// on them (dm_control's cart-pole draws every velocity).
+    #[serde(default = "yes")]
+    pub at_rest: bool,
     /// Smallest norm accepted (default 0).
     #[serde(default)]
     pub min_norm: Option<f64>,

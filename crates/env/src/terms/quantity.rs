@@ -161,17 +161,19 @@ impl Context<'_> {
             q.contact_wrench.is_some(),
             q.body_inertia.is_some(),
             q.body_velocity.is_some(),
+            q.body_center.is_some(),
             q.instance.is_some(),
             q.site.is_some(),
             q.center_of_mass,
+            q.action.is_some(),
         ];
         if set.iter().filter(|s| **s).count() != 1 {
             return Err(bad(
                 path,
                 "expected exactly one of joint, joint_velocity, joint_limit_force, \
                  tendon_length, tendon_velocity, actuator_force, actuator, actuator_activation, \
-                 sensor (with a component when it reports several), contact_wrench, body_inertia, body_velocity (the last three with a component), instance, site or \
-                 center_of_mass (the last three with an axis)",
+                 sensor (with a component when it reports several), contact_wrench, body_inertia, body_velocity (the last three with a component), body_center, instance, site or \
+                 center_of_mass (the last four with an axis), or action",
             ));
         }
         let axis = || {
@@ -202,6 +204,25 @@ impl Context<'_> {
             }
             Ok(())
         };
+        if q.frame_axis.is_some() && q.instance.is_none() && q.site.is_none() {
+            return Err(bad(
+                format!("{path}.frame_axis"),
+                "a frame axis belongs to an instance or a site",
+            ));
+        }
+        if let Some(k) = q.action {
+            no_geometry("action value")?;
+            if k >= self.action_dim {
+                return Err(bad(
+                    format!("{path}.action"),
+                    format!(
+                        "expected an action index below the action's length ({}), got {k}",
+                        self.action_dim
+                    ),
+                ));
+            }
+            return Ok(Q::Action(k));
+        }
         if let Some(name) = &q.joint {
             no_geometry("joint position")?;
             return Ok(Q::Position(self.joint(&format!("{path}.joint"), name)?));
@@ -288,6 +309,17 @@ impl Context<'_> {
                 Q::BodyVelocity { group, component }
             });
         }
+        if let Some(names) = &q.body_center {
+            if q.point.is_some() {
+                return Err(bad(
+                    format!("{path}.point"),
+                    "a body's centre of mass takes no point",
+                ));
+            }
+            let axis = axis()?;
+            let group = self.group(&format!("{path}.body_center"), names)?;
+            return Ok(Q::BodyCenter { group, axis });
+        }
         if let Some(names) = &q.contact_wrench {
             no_geometry("contact wrench")?;
             let component = match q.component {
@@ -304,6 +336,29 @@ impl Context<'_> {
             };
             let group = self.group(&format!("{path}.contact_wrench"), names)?;
             return Ok(Q::ContactWrench { group, component });
+        }
+        if let (Some(local), Some(name)) = (q.frame_axis, q.instance.as_ref().or(q.site.as_ref())) {
+            if q.point.is_some() {
+                return Err(bad(
+                    format!("{path}.point"),
+                    "a frame axis is the frame's own: it takes no point",
+                ));
+            }
+            let (body, rotation) = match &q.instance {
+                Some(name) => (self.instance(&format!("{path}.instance"), name)?, [0.0; 3]),
+                None => {
+                    let k = self.site(&format!("{path}.site"), name)?.0;
+                    let site =
+                        &self.assembly.sites[self.assembly.site_index(name).expect("resolved")];
+                    (k, site.rotation)
+                }
+            };
+            return Ok(Q::FrameAxis {
+                body,
+                rotation,
+                local: local as usize,
+                axis: axis()?,
+            });
         }
         if let Some(name) = &q.instance {
             return Ok(Q::Point {

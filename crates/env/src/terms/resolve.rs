@@ -5,11 +5,14 @@
 use std::cell::RefCell;
 
 use gymfleet_assembly::Assembly;
+use gymfleet_assembly::DofKind;
 use gymfleet_physics::{JointDof, Units};
 
 use super::active::{ActiveHealthy, ActiveSet, ActiveTerms, Dist, Kind};
+use super::tolerance;
 use super::{
-    bad, bounded, shown, ContactCost, Noise, SetJoints, TermsTask, MAX_NAME, MAX_TERMS, MAX_VALUE,
+    bad, bounded, shown, ContactCost, Noise, ResetNoise, SetJoints, TermsTask, MAX_NAME, MAX_TERMS,
+    MAX_VALUE,
 };
 use crate::error::Result;
 
@@ -17,6 +20,8 @@ use crate::error::Result;
 pub(crate) struct Context<'a> {
     pub(crate) assembly: &'a Assembly,
     pub(crate) dofs: &'a [JointDof],
+    /// The action's length (the `action` quantity's bound).
+    pub(crate) action_dim: usize,
     pub(crate) units: Units,
     pub(crate) dt: f64,
     /// The groups of instances contact terms read, collected while resolving.
@@ -89,7 +94,35 @@ impl Context<'_> {
                 format!("expected 1 to {MAX_TERMS} joints, got {n}"),
             ));
         }
-        if set.low.len() != n || set.high.len() != n {
+        let normal = set.mean.is_some() || set.std.is_some();
+        let (low, high) =
+            match (&set.mean, &set.std) {
+                (Some(mean), Some(std)) if set.low.is_empty() && set.high.is_empty() => {
+                    if set.min_norm.is_some() || set.max_norm.is_some() {
+                        return Err(bad(
+                            path,
+                            "a normal draw (mean, std) takes no min_norm or max_norm",
+                        ));
+                    }
+                    (mean, std)
+                }
+                (None, None) => (&set.low, &set.high),
+                _ => return Err(bad(
+                    path,
+                    "expected either low and high (a uniform box) or mean and std (normal draws)",
+                )),
+            };
+        if normal && (low.len() != n || high.len() != n) {
+            return Err(bad(
+                path,
+                format!(
+                    "expected one mean and one std per joint ({n}), got {} and {}",
+                    low.len(),
+                    high.len()
+                ),
+            ));
+        }
+        if !normal && (set.low.len() != n || set.high.len() != n) {
             return Err(bad(
                 path,
                 format!(
@@ -114,9 +147,20 @@ impl Context<'_> {
             }
             seen.push(dof);
             dofs.push(dof);
-            let lo = bounded(&format!("{path}.low[{k}]"), set.low[k], "position")?;
-            let hi = bounded(&format!("{path}.high[{k}]"), set.high[k], "position")?;
-            if lo > hi {
+            let (a, b) = if normal {
+                ("mean", "std")
+            } else {
+                ("low", "high")
+            };
+            let lo = bounded(&format!("{path}.{a}[{k}]"), low[k], "position")?;
+            let hi = bounded(&format!("{path}.{b}[{k}]"), high[k], "position")?;
+            if normal && hi < 0.0 {
+                return Err(bad(
+                    format!("{path}.std[{k}]"),
+                    format!("expected a standard deviation >= 0, got {}", shown(hi)),
+                ));
+            }
+            if !normal && lo > hi {
                 return Err(bad(
                     format!("{path}.high[{k}]"),
                     format!("expected high >= low = {}, got {}", shown(lo), shown(hi)),
@@ -144,11 +188,46 @@ impl Context<'_> {
         }
         Ok(ActiveSet {
             dofs,
-            low: set.low.clone(),
-            high: set.high.clone(),
+            normal,
+            at_rest: set.at_rest,
+            low: low.clone(),
+            high: high.clone(),
             min_norm,
             max_norm,
         })
+    }
+
+    /// dm_control's `randomize_limited_and_rotational_joints` as sets: each limited
+    /// one-DOF joint (`limited`) uniform in its range, each unlimited revolute one
+    /// (`rotational`) in [−π, π], but the joints an explicit set draws (`seen`).
+    fn joint_ranges(&self, noise: &ResetNoise, sets: &mut Vec<ActiveSet>, seen: &[usize]) {
+        for (k, dof) in self.dofs.iter().enumerate() {
+            let one = self.dofs.iter().filter(|d| d.joint == dof.joint).count() == 1;
+            if !one || seen.contains(&k) {
+                continue;
+            }
+            let range = match dof.limits {
+                Some([lo, hi]) if noise.limited => {
+                    Some([lo, hi].map(|v| self.units.from_document(dof.kind, v + dof.reference)))
+                }
+                None if noise.rotational && dof.kind == DofKind::Angular => {
+                    // ±180° as a document writes it: ±π rad in SI.
+                    Some([-180.0, 180.0].map(|v| self.units.from_document(dof.kind, v)))
+                }
+                _ => None,
+            };
+            if let Some([low, high]) = range {
+                sets.push(ActiveSet {
+                    dofs: vec![k],
+                    normal: false,
+                    at_rest: true,
+                    low: vec![low],
+                    high: vec![high],
+                    min_norm: 0.0,
+                    max_norm: f64::INFINITY,
+                });
+            }
+        }
     }
 
     fn noise(&self, path: &str, noise: Option<Noise>) -> Result<Option<Dist>> {
@@ -218,14 +297,18 @@ impl TermsTask {
                 t.distance.is_some(),
                 t.square.is_some(),
                 t.contact_cost.is_some(),
+                t.tolerance.is_some(),
+                t.product.is_some(),
+                t.sum.is_some(),
             ];
             if set.iter().filter(|s| **s).count() != 1 {
                 return Err(bad(
                     path,
                     "expected exactly one of velocity, value, ctrl_cost, healthy, distance, \
-                     square or contact_cost",
+                     square, contact_cost, tolerance, product or sum",
                 ));
             }
+            let earlier = &names[..names.len() - 1];
             if t.observe && t.value.is_none() {
                 return Err(bad(
                     format!("{path}.observe"),
@@ -247,6 +330,18 @@ impl TermsTask {
                     lo,
                     hi,
                     sum_max,
+                }
+            } else if let Some(tol) = &t.tolerance {
+                Kind::Tolerance(tol.resolve(&format!("{path}.tolerance"), earlier)?)
+            } else if let Some(f) = t.product.as_ref().or(t.sum.as_ref()) {
+                let field = if t.product.is_some() {
+                    "product"
+                } else {
+                    "sum"
+                };
+                Kind::Combine {
+                    product: t.product.is_some(),
+                    factors: tolerance::factors(&format!("{path}.{field}"), f, earlier)?,
                 }
             } else if t.ctrl_cost.is_some() {
                 Kind::CtrlCost
@@ -350,6 +445,7 @@ impl TermsTask {
         for (i, set) in noise.set.iter().enumerate() {
             sets.push(cx.set(&format!("task.terms.reset_noise.set[{i}]"), set, &mut seen)?);
         }
+        cx.joint_ranges(&noise, &mut sets, &seen);
         let observed = self
             .terms
             .iter()
@@ -363,11 +459,13 @@ impl TermsTask {
             wrenches: Vec::new(),
             sets,
             previous: vec![0.0; terms.len()],
+            step_values: vec![0.0; terms.len()],
             terms,
             healthy,
             units: cx.units,
             dt: cx.dt,
             base_noise: noise.base,
+            settle_substeps: noise.settle_substeps,
             position_noise: cx.noise("task.terms.reset_noise.position", noise.position)?,
             velocity_noise: cx.noise("task.terms.reset_noise.velocity", noise.velocity)?,
         })

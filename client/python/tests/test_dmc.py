@@ -1,0 +1,215 @@
+"""The Control Suite ids against dm_control itself (``dm-control`` from PyPI, on the MuJoCo
+it brings): the spec shapes and bounds, the control timestep and step limit, and, on the
+same physics state, every observation key and the reward.
+
+The state is gymfleet's own after one step from its reset (the same seed on both sides
+cannot give the same start: each draws from its own generator): it is put into
+dm_control's physics (``physics.set_state`` and the action as ``ctrl``), where
+dm_control's task computes its observation and reward. Quantities that depend on contact
+forces (hopper's ``touch``) are left out: each engine solves its own contacts.
+
+Tolerances: gymfleet's physics is float32, so positions and orientations agree to about
+1e-6 and the velocity sensors' readings to about 1e-5 relative; rewards are compared
+within 1e-4.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+import gymfleet
+from gymfleet.dmc import TASKS
+
+with warnings.catch_warnings():
+    warnings.simplefilter("ignore")  # glfw: no display
+    from dm_control import suite
+
+#: Keys that read contact forces, compared in shape only.
+CONTACT_KEYS = {("hopper", "touch")}
+IDS = sorted(TASKS)
+
+
+def _dm_env(task):
+    return suite.load(task.domain, task.task, task_kwargs={"random": 0})
+
+
+@pytest.fixture(scope="module", params=IDS)
+def pair(request):
+    task = TASKS[request.param]
+    env = gym.make(task.id)
+    theirs = _dm_env(task)
+    yield task, env, theirs
+    env.close()
+
+
+def test_the_ids_are_named_as_envpools_and_are_benchmarking_tasks():
+    benchmarking = set(suite.BENCHMARKING)
+    for env_id, task in TASKS.items():
+        assert (task.domain, task.task) in benchmarking, env_id
+        assert env_id in gym.registry
+    assert "gymfleet/CheetahRun-v1" in TASKS
+    assert "gymfleet/BallInCupCatch-v1" not in TASKS  # not served yet (README)
+
+
+def test_specs_timestep_and_step_limit_are_dm_controls(pair):
+    task, env, theirs = pair
+    spec = theirs.observation_spec()
+    ours = env.unwrapped.observation_structure
+    assert list(ours) == list(spec), "the keys, in dm_control's order"
+    for key, array in spec.items():
+        assert ours[key] == int(np.prod(array.shape)), key
+    assert env.observation_space.shape == (sum(ours.values()),)
+    assert env.observation_space.dtype == np.float64
+    action = theirs.action_spec()
+    assert env.action_space.shape == action.shape
+    np.testing.assert_allclose(env.action_space.low, action.minimum, rtol=1e-6)
+    np.testing.assert_allclose(env.action_space.high, action.maximum, rtol=1e-6)
+    setup = env.unwrapped._setup
+    assert setup.n_sub_steps == theirs._n_sub_steps
+    assert setup.step_limit == int(theirs._step_limit)
+    assert env.unwrapped.dt == pytest.approx(theirs.control_timestep())
+    joints = [j["name"] for j in env.unwrapped.gymfleet_env.env_info["joints"]]
+    model = theirs.physics.model
+    assert joints == [model.joint(k).name for k in range(model.njnt)], "qpos order"
+
+
+def _their_view(task, theirs, qpos, qvel, action):
+    physics = theirs.physics
+    with physics.reset_context():
+        physics.set_state(np.concatenate([qpos, qvel]))
+        physics.data.ctrl[:] = action
+    return theirs.task.get_observation(physics), theirs.task.get_reward(physics)
+
+
+def test_observation_and_reward_on_the_same_state(pair):
+    task, env, theirs = pair
+    env.reset(seed=3)
+    rng = np.random.default_rng(0)
+    rewards = []
+    for step in range(12):
+        action = rng.uniform(-1.0, 1.0, env.action_space.shape).astype(np.float32)
+        obs, reward, terminated, truncated, info = env.step(action)
+        assert not terminated and not truncated and info["discount"] == 1.0
+        data = env.unwrapped.data
+        want, want_reward = _their_view(task, theirs, data.qpos, data.qvel, action)
+        got = env.unwrapped.observation_dict()
+        flat = []
+        for key, value in want.items():
+            assert np.shape(got[key]) == np.shape(value), key
+            flat.append(np.reshape(got[key], -1))
+            if (task.domain, key) in CONTACT_KEYS:
+                continue
+            np.testing.assert_allclose(got[key], value, rtol=1e-4, atol=2e-5,
+                                       err_msg=f"{task.id} step {step}: {key}")
+        np.testing.assert_array_equal(obs, np.concatenate(flat))
+        assert reward == pytest.approx(want_reward, abs=1e-4), f"{task.id} step {step}"
+        rewards.append(want_reward)
+    assert np.all(np.isfinite(rewards))
+
+
+def test_set_state_gives_dm_controls_observation(pair):
+    """dm_control's own reset state, put into gymfleet's env."""
+    task, env, theirs = pair
+    env.reset(seed=0)
+    theirs.reset()
+    physics = theirs.physics
+    qpos, qvel = physics.data.qpos.copy(), physics.data.qvel.copy()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # a start past a hard stop is clamped, with a warning
+        env.unwrapped.set_state(qpos, qvel)
+    want = theirs.task.get_observation(physics)
+    got = env.unwrapped.observation_dict()
+    data = env.unwrapped.data
+    if np.allclose(data.qpos, qpos, atol=1e-5):
+        for key, value in want.items():
+            if (task.domain, key) not in CONTACT_KEYS:
+                np.testing.assert_allclose(got[key], value, rtol=1e-4, atol=2e-5, err_msg=key)
+
+
+def test_episodes_truncate_at_dm_controls_step_limit():
+    task = TASKS["gymfleet/PendulumSwingup-v1"]
+    env = gym.make(task.id)
+    theirs = _dm_env(task)
+    theirs.reset()
+    env.reset(seed=0)
+    zero = np.zeros(env.action_space.shape, dtype=np.float32)
+    for k in range(1, 1001):
+        _, _, terminated, truncated, info = env.step(zero)
+        timestep = theirs.step(np.zeros(1))
+        assert not terminated
+        assert truncated == (k == 1000) == timestep.last(), k
+        assert info["discount"] == timestep.discount == 1.0
+    env.close()
+
+
+def test_a_shorter_time_limit_and_control_timestep_are_honoured():
+    env = gym.make("gymfleet/CartpoleBalance-v1", task_kwargs={"time_limit": 0.5},
+                   environment_kwargs={"n_sub_steps": 2})
+    assert env.unwrapped.dt == pytest.approx(0.02)
+    env.reset(seed=0)
+    zero = np.zeros(env.action_space.shape, dtype=np.float32)
+    flags = [env.step(zero)[3] for _ in range(25)]
+    assert flags == [False] * 24 + [True]
+    env.close()
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"task_kwargs": {"seed": 1}}, "task_kwargs: unknown key(s) seed; the keys are random, time_limit"),
+        ({"environment_kwargs": {"n_sub_steps": 0}}, "n_sub_steps: expected an integer >= 1, got 0"),
+        ({"environment_kwargs": {"control_timestep": 0.015}},
+         "control_timestep: 0.015 is not a multiple of the physics timestep 0.01"),
+        ({"task_kwargs": {"time_limit": -1}}, "time_limit: expected a positive number of seconds, got -1.0"),
+        ({"task_kwargs": {"random": np.random.RandomState(0)}},
+         "task_kwargs['random']: gymfleet takes an integer seed"),
+        ({"frame_skip": 2}, "unknown keyword argument(s) frame_skip"),
+    ],
+)
+def test_bad_keywords_are_refused_with_a_clear_message(kwargs, message):
+    with pytest.raises(gymfleet.InvalidArgument) as err:
+        gym.make("gymfleet/CartpoleBalance-v1", **kwargs)
+    assert message in str(err.value)
+
+
+def test_the_tasks_starts_are_drawn_as_dm_controls():
+    """Start distributions: pendulum's hinge uniform in [-pi, pi); cart-pole swing-up's
+    pole down (pi +- 0.01 rad) with small velocities; the cheetah settled on the floor
+    after 200 physics steps; the walker's torso at any angle."""
+    def starts(env_id, n=40):
+        env = gym.make(env_id)
+        out = [env.unwrapped.data for _ in range(n) if env.reset(seed=None) is not None]
+        env.close()
+        return np.array([d.qpos for d in out]), np.array([d.qvel for d in out])
+
+    q, _ = starts("gymfleet/PendulumSwingup-v1")
+    assert q[:, 0].min() < -2.0 and q[:, 0].max() > 2.0 and np.all(np.abs(q[:, 0]) <= np.pi + 1e-6)
+    q, v = starts("gymfleet/CartpoleSwingup-v1")
+    assert np.all(np.abs(q[:, 1] - np.pi) < 0.05) and 0.002 < np.std(q[:, 1]) < 0.03
+    assert 0.002 < np.std(v) < 0.03
+    q, v = starts("gymfleet/CheetahRun-v1", n=8)
+    assert np.all(np.abs(v[:, :2]) < 0.5), "settled: little motion left"
+    assert len({round(x, 4) for x in q[:, 3]}) == 8, "each start's back thigh differs"
+    q, _ = starts("gymfleet/WalkerStand-v1")
+    assert q[:, 2].min() < -2.0 and q[:, 2].max() > 2.0, "rooty uniform in [-pi, pi)"
+
+
+def test_same_seed_same_episode_and_vector_env_equals_single():
+    envs = gymfleet.make_vec("gymfleet/WalkerWalk-v1", 3)
+    single = gym.make("gymfleet/WalkerWalk-v1")
+    obs, _ = envs.reset(seed=[5, 6, 7])
+    first, _ = single.reset(seed=6)
+    np.testing.assert_array_equal(obs[1], first)
+    rng = np.random.default_rng(1)
+    for _ in range(5):
+        actions = rng.uniform(-1, 1, envs.action_space.shape).astype(np.float32)
+        obs, rewards, _, _, _ = envs.step(actions)
+        one, reward, _, _, _ = single.step(actions[1])
+        np.testing.assert_array_equal(obs[1], one)
+        assert rewards[1] == reward
+    envs.close()
+    single.close()

@@ -1,0 +1,237 @@
+//! The terms the Control Suite's rewards are made of, on a hanging pendulum: a frame's
+//! axis (MuJoCo's `xmat`), an action value, dm_control's `tolerance` of an earlier term,
+//! sums and products of terms; and the starts its tasks draw (every limited joint in its
+//! range, every unlimited hinge in [−π, π], normal draws, settling steps).
+
+mod common;
+
+use common::env_with;
+use gymfleet_env::{ActionType, EnvConfig, RobotEnv, TaskKind, TaskSpec, TermsTask, Units};
+use serde_json::{json, Value};
+
+fn pendulum(extra: Value) -> Value {
+    let mut joint = json!({"name": "hinge"});
+    common::merge(&mut joint, extra);
+    common::hanging_pendulum(joint)
+}
+
+fn env(doc: &Value, task: Value) -> RobotEnv {
+    let config = EnvConfig {
+        units: Units::Si,
+        task: Some(TaskSpec {
+            kind: TaskKind::Terms(TermsTask::from_json(&task.to_string()).expect("a terms task")),
+            action_cost: 0.0,
+        }),
+        ..EnvConfig::default()
+    };
+    env_with(doc, config)
+}
+
+fn refused(task: Value) -> String {
+    let config = EnvConfig {
+        units: Units::Si,
+        task: Some(TaskSpec {
+            kind: TaskKind::Terms(TermsTask::from_json(&task.to_string()).expect("parses")),
+            action_cost: 0.0,
+        }),
+        ..EnvConfig::default()
+    };
+    RobotEnv::from_json(&pendulum(json!({})).to_string(), config)
+        .err()
+        .expect("refused")
+        .to_string()
+}
+
+/// At angle θ about +Y the arm's z axis is (sin θ, 0, cos θ): `xmat[zz]` = cos θ and
+/// `xmat[xz]` = sin θ, read at the reset (observed) and after a step.
+#[test]
+fn a_frames_axis_reads_as_mujocos_xmat() {
+    let theta = 0.5_f64;
+    let task = json!({
+        "terms": [
+            {"name": "zz", "weight": 0, "observe": true,
+             "value": {"instance": "arm", "axis": "z", "frame_axis": "z"}},
+            {"name": "xz", "weight": 0, "observe": true,
+             "value": {"instance": "arm", "axis": "x", "frame_axis": "z"}},
+            {"name": "yy", "weight": 0, "observe": true,
+             "value": {"instance": "arm", "axis": "y", "frame_axis": "y"}}
+        ],
+        "reset_noise": {"set": [{"joints": ["hinge"], "low": [theta], "high": [theta]}]}
+    });
+    let mut e = env(&pendulum(json!({})), task);
+    let obs = e.reset(Some(0));
+    let angle = f64::from(obs.joint_positions[0]);
+    assert!((angle - theta).abs() < 1e-6, "{angle}");
+    let [zz, xz, yy] = [obs.task[0], obs.task[1], obs.task[2]].map(f64::from);
+    assert!((zz - angle.cos()).abs() < 1e-6, "zz {zz}");
+    assert!((xz.abs() - angle.sin()).abs() < 1e-6, "xz {xz}");
+    assert!((yy - 1.0).abs() < 1e-6, "yy {yy}");
+    let r = e.step(ActionType::Torque, &[0.0]).expect("steps");
+    let angle = f64::from(r.observation.joint_positions[0]);
+    let zz = f64::from(e.term_values()[0]);
+    assert!((zz - angle.cos()).abs() < 1e-5, "{zz} at {angle}");
+}
+
+/// `tolerance`, `sum` and `product` of earlier terms, and the action's value: the
+/// reward is the weighted `product` term only.
+#[test]
+fn tolerance_sums_and_products_combine_earlier_terms() {
+    let task = json!({"terms": [
+        {"name": "u", "weight": 0, "value": {"action": 0}},
+        {"name": "small", "weight": 0,
+         "tolerance": {"of": "u", "margin": 1.0, "sigmoid": "quadratic", "value_at_margin": 0.0}},
+        {"name": "inside", "weight": 0, "tolerance": {"of": "u", "bounds": [null, 0.25]}},
+        {"name": "mixed", "weight": 0,
+         "sum": [{"term": "small", "scale": 0.2, "offset": 0.8}, {"term": "inside", "scale": 0.5}]},
+        {"name": "reward", "weight": 2,
+         "product": [{"term": "mixed"}, {"term": "small", "scale": -1, "offset": 1}]}
+    ]});
+    let mut e = env(&pendulum(json!({})), task);
+    e.reset(Some(0));
+    for u in [0.0_f64, 0.2, 0.5, -0.5, 1.5] {
+        let r = e.step(ActionType::Torque, &[u as f32]).expect("steps");
+        let v: Vec<f64> = e.term_values().iter().map(|&x| f64::from(x)).collect();
+        let u = f64::from(u as f32);
+        let small = if u.abs() < 1.0 { 1.0 - u * u } else { 0.0 };
+        let inside = if u <= 0.25 { 1.0 } else { 0.0 };
+        let mixed = 0.2 * small + 0.8 + 0.5 * inside;
+        let want = mixed * (1.0 - small);
+        assert!((v[0] - u).abs() < 1e-7);
+        assert!((v[1] - small).abs() < 1e-6, "{u}: small {}", v[1]);
+        assert_eq!(v[2], inside);
+        assert!((v[3] - mixed).abs() < 1e-6);
+        assert!((v[4] - want).abs() < 1e-6);
+        assert!((f64::from(r.flags.reward) - 2.0 * want).abs() < 1e-6);
+    }
+}
+
+#[test]
+fn composite_terms_refuse_bad_references_with_their_path() {
+    for (task, expected) in [
+        (
+            json!({"terms": [{"name": "t", "tolerance": {"of": "later"}},
+                             {"name": "later", "value": {"joint": "hinge"}}]}),
+            "task.terms.terms[0].tolerance.of: \"later\" is not an earlier term (a term reads only the terms listed before it)",
+        ),
+        (
+            json!({"terms": [{"name": "a", "value": {"joint": "hinge"}},
+                             {"name": "p", "product": [{"term": "a"}, {"term": "p"}]}]}),
+            "task.terms.terms[1].product[1].term: \"p\" is not an earlier term (a term reads only the terms listed before it: \"a\")",
+        ),
+        (
+            json!({"terms": [{"name": "s", "sum": []}]}),
+            "task.terms.terms[0].sum: expected 1 to 512 factors, got 0",
+        ),
+        (
+            json!({"terms": [{"name": "a", "value": {"action": 1}}]}),
+            "task.terms.terms[0].value.action: expected an action index below the action's length (1), got 1",
+        ),
+        (
+            json!({"terms": [{"name": "a", "value": {"joint": "hinge", "frame_axis": "z"}}]}),
+            "task.terms.terms[0].value.frame_axis: a frame axis belongs to an instance or a site",
+        ),
+        (
+            json!({"terms": [{"name": "a", "value": {"instance": "arm", "frame_axis": "z"}}]}),
+            "task.terms.terms[0].value.axis: a point's coordinate needs an axis",
+        ),
+        (
+            json!({"terms": [], "reset_noise": {"set": [
+                {"joints": ["hinge"], "mean": [0.0], "std": [-1.0]}]}}),
+            "task.terms.reset_noise.set[0].std[0]: expected a standard deviation >= 0, got -1",
+        ),
+        (
+            json!({"terms": [], "reset_noise": {"set": [
+                {"joints": ["hinge"], "mean": [0.0], "low": [0.0], "high": [1.0]}]}}),
+            "task.terms.reset_noise.set[0]: expected either low and high (a uniform box) or mean and std (normal draws)",
+        ),
+    ] {
+        let err = refused(task);
+        assert!(err.contains(expected), "{err}\n  expected: {expected}");
+    }
+}
+
+/// dm_control's `randomize_limited_and_rotational_joints`: a limited hinge uniform in its
+/// range, an unlimited one in [−π, π]; a normal set around its mean; a velocity noise kept
+/// on a set joint that is not `at_rest`.
+#[test]
+fn the_suites_starts_are_drawn_in_ranges_and_around_means() {
+    let draws = |doc: &Value, noise: Value, n: usize| -> Vec<(f64, f64)> {
+        let mut e = env(doc, json!({"terms": [], "reset_noise": noise}));
+        (0..n)
+            .map(|k| {
+                let o = e.reset(Some(k as u64));
+                (
+                    f64::from(o.joint_positions[0]),
+                    f64::from(o.joint_velocities[0]),
+                )
+            })
+            .collect()
+    };
+    let limited = pendulum(json!({"min": -30, "max": 60}));
+    let q: Vec<f64> = draws(&limited, json!({"limited": true}), 200)
+        .iter()
+        .map(|d| d.0)
+        .collect();
+    let (lo, hi) = (-30f64.to_radians(), 60f64.to_radians());
+    assert!(q.iter().all(|&x| x >= lo - 1e-6 && x <= hi + 1e-6));
+    assert!(q.iter().any(|&x| x < lo + 0.1) && q.iter().any(|&x| x > hi - 0.1));
+    // `rotational` leaves a limited joint alone, and `limited` an unlimited one.
+    assert!(draws(&limited, json!({"rotational": true}), 5)
+        .iter()
+        .all(|d| d.0 == 0.0));
+    let free = pendulum(json!({}));
+    assert!(draws(&free, json!({"limited": true}), 5)
+        .iter()
+        .all(|d| d.0 == 0.0));
+    let q: Vec<f64> = draws(&free, json!({"rotational": true}), 200)
+        .iter()
+        .map(|d| d.0)
+        .collect();
+    let pi = std::f64::consts::PI;
+    assert!(q.iter().all(|&x| x.abs() <= pi + 1e-6));
+    assert!(q.iter().any(|&x| x < -2.8) && q.iter().any(|&x| x > 2.8));
+    let normal = json!({"set": [{"joints": ["hinge"], "mean": [3.0], "std": [0.01], "at_rest": false}],
+                        "velocity": {"normal": 0.01}});
+    let d = draws(&free, normal, 400);
+    let mean = d.iter().map(|x| x.0).sum::<f64>() / d.len() as f64;
+    let sd = (d.iter().map(|x| (x.0 - mean).powi(2)).sum::<f64>() / d.len() as f64).sqrt();
+    let vsd = (d.iter().map(|x| x.1 * x.1).sum::<f64>() / d.len() as f64).sqrt();
+    assert!(
+        (mean - 3.0).abs() < 0.003 && (sd - 0.01).abs() < 0.002,
+        "{mean} {sd}"
+    );
+    assert!((vsd - 0.01).abs() < 0.002, "velocity noise kept: {vsd}");
+    let rest = json!({"set": [{"joints": ["hinge"], "mean": [3.0], "std": [0.01]}],
+                      "velocity": {"normal": 0.01}});
+    assert!(draws(&free, rest, 5).iter().all(|x| x.1 == 0.0));
+}
+
+/// Settling: the pendulum released at 90° swings for the settling steps before the
+/// episode's first observation; the episode's step count starts after them.
+#[test]
+fn settling_steps_run_before_the_first_observation() {
+    let start = std::f64::consts::FRAC_PI_2;
+    let noise = |settle: u32| {
+        json!({"terms": [], "reset_noise": {
+            "set": [{"joints": ["hinge"], "low": [start], "high": [start]}],
+            "settle_substeps": settle}})
+    };
+    let doc = pendulum(json!({}));
+    let mut still = env(&doc, noise(0));
+    // Ten whole steps of substeps (a part of a step rounds up to a whole one).
+    let substeps = EnvConfig::default().substeps;
+    let mut settled = env(&doc, noise(10 * substeps - 1));
+    let o = still.reset(Some(0));
+    assert!((f64::from(o.joint_positions[0]) - start).abs() < 1e-6);
+    let mut after = Vec::new();
+    for _ in 0..10 {
+        after = still
+            .step(ActionType::Torque, &[0.0])
+            .expect("steps")
+            .observation
+            .joint_positions;
+    }
+    let o = settled.reset(Some(0));
+    assert_eq!(o.joint_positions, after, "ten steps of zero action");
+    assert_eq!(settled.elapsed_steps(), 0);
+}
