@@ -213,3 +213,55 @@ def test_same_seed_same_episode_and_vector_env_equals_single():
         assert rewards[1] == reward
     envs.close()
     single.close()
+
+
+def test_dm_env_interface_is_dm_controls():
+    from gymfleet import dm_control as gdm
+    import dm_env
+
+    env = gdm.load("walker", "walk", task_kwargs={"random": 0, "time_limit": 0.1})
+    theirs = suite.load("walker", "walk", task_kwargs={"random": 0, "time_limit": 0.1})
+    assert isinstance(env, dm_env.Environment)
+    spec, their_spec = env.observation_spec(), theirs.observation_spec()
+    assert list(spec) == list(their_spec)
+    for key in spec:
+        assert spec[key].shape == their_spec[key].shape and spec[key].dtype == their_spec[key].dtype, key
+    assert env.action_spec().shape == theirs.action_spec().shape
+    np.testing.assert_array_equal(env.action_spec().minimum, theirs.action_spec().minimum)
+    assert env.control_timestep() == pytest.approx(theirs.control_timestep())
+    first, their_first = env.reset(), theirs.reset()
+    assert first.step_type == their_first.step_type == dm_env.StepType.FIRST
+    assert first.reward is None and first.discount is None
+    for key, value in first.observation.items():
+        assert np.shape(value) == np.shape(their_first.observation[key]), key
+    kinds = []
+    for _ in range(5):
+        ts, their = env.step(np.zeros(6)), theirs.step(np.zeros(6))
+        kinds.append(ts.step_type)
+        assert ts.step_type == their.step_type and ts.discount == their.discount
+    assert kinds == [dm_env.StepType.MID] * 3 + [dm_env.StepType.LAST, dm_env.StepType.FIRST]
+    physics = env.physics
+    assert physics.named.data.qpos["rootz"] == physics.data.qpos[0]
+    ts = env.step(np.zeros(6))
+    assert float(env.physics.named.data.xpos["torso", "z"]) == pytest.approx(float(ts.observation["height"]), abs=1e-6)
+    assert env.physics.named.data.sensordata["torso_subtreelinvel"].shape == (3,)
+    with pytest.raises(KeyError, match="'nose'"):
+        env.physics.named.data.xpos["nose"]
+    with pytest.raises(gymfleet.InvalidArgument, match="is not one of the Control Suite tasks gymfleet serves"):
+        gdm.load("walker", "fly")
+    flat = gdm.load("cartpole", "balance", environment_kwargs={"flat_observation": True})
+    assert flat.reset().observation["observations"].shape == (5,)
+    env.close()
+    flat.close()
+
+
+def test_dm_env_batch_steps_many_envs_and_restarts_finished_ones():
+    from gymfleet import dm_control as gdm
+    import dm_env
+
+    batch = gdm.load_batch("pendulum", "swingup", 4, task_kwargs={"time_limit": 0.06})
+    ts = batch.reset(seed=0)
+    assert ts.observation["orientation"].shape == (4, 2) and np.all(ts.step_type == dm_env.StepType.FIRST)
+    kinds = [batch.step(np.zeros((4, 1))).step_type[0] for _ in range(4)]
+    assert kinds == [dm_env.StepType.MID, dm_env.StepType.MID, dm_env.StepType.LAST, dm_env.StepType.FIRST]
+    batch.close()

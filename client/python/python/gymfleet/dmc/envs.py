@@ -26,7 +26,7 @@ from ..errors import InvalidArgument
 from ..suite.kinematics import segments, server_state, split_rows
 from ..suite.state import checked_state
 from ..vector import GymfleetVectorEnv
-from .model import read_suite_xml, timestep
+from .model import body_names, read_suite_xml, timestep
 from .tasks import TASKS, Task
 
 #: The keywords every Control Suite id takes: dm_control's ``suite.load`` ones
@@ -90,6 +90,8 @@ class Setup:
         self.dtype = dtype
         self.text = read_suite_xml(self.task.xml)
         self.physics_timestep = timestep(self.text)
+        #: MuJoCo's bodies but the world, in body order ("" for an unnamed one).
+        self.body_names = body_names(self.text)
         self.n_sub_steps = self._sub_steps(env_kw)
         self.control_timestep = self.physics_timestep * self.n_sub_steps
         time_limit = task_kw.get("time_limit", env_kw.get("time_limit", self.task.time_limit))

@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import pathlib
 import re
+import xml.etree.ElementTree as ET
+from typing import List
 
 from ..errors import InvalidArgument
 
@@ -54,3 +56,9 @@ def timestep(text: str) -> float:
     match = re.search(r"<option[^>]*\btimestep=\"([^\"]+)\"", text)
     return float(match.group(1)) if match else 0.002
 
+
+
+def body_names(text: str) -> List[str]:
+    """MuJoCo's bodies but the world, in body order ("" for an unnamed one)."""
+    world = ET.fromstring(text).find("worldbody")
+    return [] if world is None else [b.get("name", "") for b in world.iter("body")]
