@@ -29,7 +29,7 @@ with warnings.catch_warnings():
     from dm_control import suite
 
 #: Keys that read contact forces, compared in shape only.
-CONTACT_KEYS = {("hopper", "touch")}
+CONTACT_KEYS = {("hopper", "touch"), ("finger", "touch")}
 IDS = sorted(TASKS)
 
 
@@ -52,7 +52,7 @@ def test_the_ids_are_named_as_envpools_and_are_benchmarking_tasks():
         assert (task.domain, task.task) in benchmarking, env_id
         assert env_id in gym.registry
     assert "gymfleet/CheetahRun-v1" in TASKS
-    assert "gymfleet/BallInCupCatch-v1" not in TASKS  # not served yet (README)
+    assert "gymfleet/BallInCupCatch-v1" in TASKS and "gymfleet/Swimmer6-v1" not in TASKS
 
 
 def test_specs_timestep_and_step_limit_are_dm_controls(pair):
@@ -74,7 +74,9 @@ def test_specs_timestep_and_step_limit_are_dm_controls(pair):
     assert env.unwrapped.dt == pytest.approx(theirs.control_timestep())
     joints = [j["name"] for j in env.unwrapped.gymfleet_env.env_info["joints"]]
     model = theirs.physics.model
-    assert joints == [model.joint(k).name for k in range(model.njnt)], "qpos order"
+    # A free joint is the converted robot's floating base (qpos[0:7]).
+    hinged = [model.joint(k).name for k in range(model.njnt) if model.jnt_type[k] != 0]
+    assert joints == hinged, "qpos order"
 
 
 def _their_view(task, theirs, qpos, qvel, action):
@@ -265,3 +267,80 @@ def test_dm_env_batch_steps_many_envs_and_restarts_finished_ones():
     kinds = [batch.step(np.zeros((4, 1))).step_type[0] for _ in range(4)]
     assert kinds == [dm_env.StepType.MID, dm_env.StepType.MID, dm_env.StepType.LAST, dm_env.StepType.FIRST]
     batch.close()
+
+
+@pytest.mark.parametrize(
+    "env_id, states",
+    [
+        # The spinner's velocity across finger-spin's threshold (-15 rad/s).
+        ("gymfleet/FingerSpin-v1",
+         [(None, {"hinge": w}) for w in np.linspace(-17.0, -13.0, 17)]),
+        # The ball across the cup's target box (|offset| < 0.025 m), above and beside.
+        ("gymfleet/BallInCupCatch-v1",
+         [({"ball_z": 0.35 + dz}, None) for dz in np.linspace(-0.04, 0.04, 17)]
+         + [({"ball_x": dx, "ball_z": 0.35}, None) for dx in np.linspace(-0.04, 0.04, 17)]),
+        # The tip across acrobot's target sphere (radius 0.2 m, 4 m up).
+        ("gymfleet/AcrobotSwingupSparse-v1",
+         [({"shoulder": a}, None) for a in np.linspace(-0.12, 0.12, 13)]),
+        ("gymfleet/CartpoleBalanceSparse-v1",
+         [({"hinge_1": a}, None) for a in np.linspace(-0.15, 0.15, 13)]
+         + [({"slider": x}, None) for x in np.linspace(-0.3, 0.3, 13)]),
+    ],
+)
+def test_sparse_rewards_near_their_thresholds(env_id, states):
+    """Indicator rewards on states either side of their thresholds: set on gymfleet's env,
+    one step of zero action, then the step's state into dm_control's."""
+    task = TASKS[env_id]
+    env = gym.make(env_id)
+    theirs = _dm_env(task)
+    env.reset(seed=0)
+    model = theirs.physics.model
+    names = [model.joint(k).name for k in range(model.njnt)]
+    zero = np.zeros(env.action_space.shape, dtype=np.float32)
+    seen = set()
+    for positions, velocities in states:
+        qpos, qvel = np.zeros(model.nq), np.zeros(model.nv)
+        for name, value in (positions or {}).items():
+            qpos[names.index(name)] = value
+        for name, value in (velocities or {}).items():
+            qvel[names.index(name)] = value
+        env.unwrapped.set_state(qpos, qvel)
+        _, reward, _, _, _ = env.step(zero)
+        data = env.unwrapped.data
+        _, want = _their_view(task, theirs, data.qpos, data.qvel, zero)
+        assert reward == want, f"{env_id} from {positions or velocities}: {reward} vs {want}"
+        seen.add(want)
+    assert seen == {0.0, 1.0}, "the states reach both sides"
+    env.close()
+
+
+@pytest.mark.parametrize("env_id", ["gymfleet/FingerSpin-v1", "gymfleet/BallInCupCatch-v1",
+                                    "gymfleet/HumanoidStand-v1"])
+def test_starts_drawn_again_until_nothing_touches_touch_nothing_in_mujoco(env_id):
+    """The starts dm_control draws again while ``ncon > 0``: gymfleet's, put into
+    dm_control's physics, touch nothing there either; the humanoid's free body starts at
+    every orientation."""
+    task = TASKS[env_id]
+    env = gym.make(env_id)
+    theirs = _dm_env(task)
+    physics = theirs.physics
+    quats = []
+    for k in range(12):
+        env.reset(seed=k)
+        data = env.unwrapped.data
+        with physics.reset_context():
+            physics.set_state(np.concatenate([data.qpos, data.qvel]))
+        assert physics.data.ncon == 0, f"{env_id} seed {k}: {physics.data.ncon} contacts in MuJoCo"
+        if task.domain == "humanoid":
+            quats.append(data.qpos[3:7])
+    if quats:
+        # Uniform orientations: the torso's up axis points anywhere.
+        up = [physics_up(q) for q in quats]
+        assert min(up) < -0.3 and max(up) > 0.3
+    env.close()
+
+
+def physics_up(q):
+    """The world z component of a body's z axis, from its quaternion (w, x, y, z)."""
+    w, x, y, z = q / np.linalg.norm(q)
+    return 1.0 - 2.0 * (x * x + y * y)

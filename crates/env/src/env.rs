@@ -53,6 +53,12 @@ pub struct RobotEnv {
     /// World steps run with a zero action after each reset's draws (a terms task's
     /// `reset_noise.settle_substeps`, in whole steps).
     pub(crate) settle_steps: u32,
+    /// Whether a floating base starts at a random orientation, and whether a start is
+    /// drawn again while colliders overlap (a terms task's `reset_noise`).
+    pub(crate) turn_base: bool,
+    pub(crate) reject_contacts: bool,
+    /// This episode's base orientation draw, with `turn_base`.
+    pub(crate) base_turn: Option<[f64; 4]>,
     /// Scratch for the per-DOF reset offsets (deg or mm) and velocities (`units`).
     pub(crate) offsets: Vec<f64>,
     pub(crate) start_velocities: Vec<f64>,
@@ -172,6 +178,8 @@ impl RobotEnv {
             .map(|t| (t.position_noise, t.velocity_noise));
         let sets = terms.map(|t| t.sets.clone()).unwrap_or_default();
         let settle_steps = terms.map_or(0, |t| t.settle_substeps.div_ceil(config.substeps.max(1)));
+        let turn_base = terms.is_some_and(|t| t.turn_base);
+        let reject_contacts = terms.is_some_and(|t| t.reject_contacts);
         let segment = task
             .as_ref()
             .and_then(|t| t.observation_name().map(|name| (name, t.observation_dim())));
@@ -226,6 +234,9 @@ impl RobotEnv {
             base_draws: [0.0; BASE_NOISE_LEN],
             sets,
             settle_steps,
+            turn_base,
+            reject_contacts,
+            base_turn: None,
             offsets: vec![0.0; spec.num_dofs],
             start_velocities: vec![0.0; spec.num_dofs],
             keyed_offsets: vec![0.0; spec.num_dofs],

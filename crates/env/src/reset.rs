@@ -6,7 +6,12 @@ use rand::SeedableRng;
 
 use crate::env::draw;
 use crate::observation::Observation;
+use crate::terms::Dist;
 use crate::RobotEnv;
+
+/// Starts drawn before one with no overlapping colliders is kept (dm_control's finger
+/// gives up after 1000).
+const MAX_START_DRAWS: usize = 1000;
 
 impl RobotEnv {
     /// Restores the initial state (zero velocities) and returns the first observation.
@@ -38,6 +43,33 @@ impl RobotEnv {
             self.seed = seed;
             self.rng = Xoshiro256PlusPlus::seed_from_u64(seed);
         }
+        let key = key.or(self.initial_keyframe);
+        for _ in 0..if self.reject_contacts {
+            MAX_START_DRAWS
+        } else {
+            1
+        } {
+            self.draw_start();
+            self.place_start(key);
+            if !self.reject_contacts || !self.world.penetrating() {
+                break;
+            }
+        }
+        self.settle();
+        if let Some(task) = &mut self.task {
+            task.reset(&mut self.rng);
+        }
+        self.elapsed = 0;
+        self.diverged = false;
+        self.observe_into(out);
+        self.start_task(out);
+        self.observe_task_into(out);
+        self.last_obs.copy_from_slice(out);
+    }
+
+    /// The episode's draws from the stream: offsets, velocities, the base's noise and
+    /// orientation, the sets, the domain randomisation.
+    fn draw_start(&mut self) {
         if let Some((dist, units)) = self.position_noise {
             for (offset, dof) in self.offsets.iter_mut().zip(&self.spec.dofs) {
                 *offset = units.to_document(dof.kind, dist.draw(&mut self.rng));
@@ -79,7 +111,14 @@ impl RobotEnv {
             );
             self.draws = Some(draws);
         }
-        let key = key.or(self.initial_keyframe);
+        if self.turn_base {
+            let q: [f64; 4] = std::array::from_fn(|_| Dist::Normal(1.0).draw(&mut self.rng));
+            self.base_turn = Some(q);
+        }
+    }
+
+    /// The initial state (or keyframe `key`'s) with the draws on top.
+    fn place_start(&mut self, key: Option<usize>) {
         let base = key.and_then(|k| self.key_start(k));
         self.world.reset();
         if let Some(draws) = &self.draws {
@@ -104,16 +143,9 @@ impl RobotEnv {
         if self.base_noise.is_some() {
             self.world.perturb_base(&self.base_draws, base.as_ref());
         }
-        self.settle();
-        if let Some(task) = &mut self.task {
-            task.reset(&mut self.rng);
+        if let Some(q) = self.base_turn {
+            self.world.turn_base(q);
         }
-        self.elapsed = 0;
-        self.diverged = false;
-        self.observe_into(out);
-        self.start_task(out);
-        self.observe_task_into(out);
-        self.last_obs.copy_from_slice(out);
     }
 
     /// The task's settling steps with a zero action (dm_control's cheetah falls onto its

@@ -235,3 +235,66 @@ fn settling_steps_run_before_the_first_observation() {
     assert_eq!(o.joint_positions, after, "ten steps of zero action");
     assert_eq!(settled.elapsed_steps(), 0);
 }
+
+/// A point's offset in a site's frame (`relative_to`) is the same local vector at every
+/// angle; `norm` is a vector's length.
+#[test]
+fn offsets_in_a_sites_frame_and_norms() {
+    let mut doc = pendulum(json!({}));
+    doc["assembly"]["sites"] =
+        json!([{"name": "corner", "instance": "arm", "point": {"x": 0, "y": 0, "z": 0}}]);
+    let task = |theta: f64| {
+        json!({"terms": [
+            {"name": "x", "weight": 0, "value": {"instance": "arm", "relative_to": "corner", "axis": "x"}},
+            {"name": "z", "weight": 0, "value": {"instance": "arm", "relative_to": "corner", "axis": "z"}},
+            {"name": "u", "weight": 0, "value": {"action": 0}},
+            {"name": "n", "weight": 0, "norm": [{"term": "u", "offset": 3}, {"term": "u", "scale": 0, "offset": 4}]}
+        ], "reset_noise": {"set": [{"joints": ["hinge"], "low": [theta], "high": [theta]}]}})
+    };
+    for theta in [0.0, 0.7, -2.0] {
+        let mut e = env(&doc, task(theta));
+        e.reset(Some(0));
+        e.step(ActionType::Torque, &[0.0]).expect("steps");
+        let v = e.term_values();
+        // The arm's centre of mass is (2, 2, 20) mm from its frame's corner.
+        assert!((f64::from(v[0]) - 0.002).abs() < 1e-6, "{theta}: {}", v[0]);
+        assert!((f64::from(v[1]) - 0.020).abs() < 1e-6, "{theta}: {}", v[1]);
+        assert!((f64::from(v[3]) - 5.0).abs() < 1e-6);
+    }
+    let err = refused(json!({"terms": [{"name": "a", "value":
+        {"center_of_mass": true, "relative_to": "corner", "axis": "x"}}]}));
+    assert!(
+        err.contains("value.relative_to: an offset from a site belongs to a site, or an instance"),
+        "{err}"
+    );
+}
+
+/// `reject_contacts`: starts where the arm overlaps a block below it are drawn again.
+#[test]
+fn starts_in_contact_are_drawn_again() {
+    let mut doc = pendulum(json!({}));
+    doc["parts"].as_array_mut().expect("parts").push(
+        json!({"name": "Block", "primitive": {"type": "cube", "size": {"x": 60, "y": 20, "z": 5}}}),
+    );
+    doc["assembly"]["instances"]
+        .as_array_mut()
+        .expect("instances")
+        .push(json!({"part": "Block", "name": "block", "position": {"x": -20, "y": 0, "z": -35}}));
+    doc["assembly"]["joints"]
+        .as_array_mut()
+        .expect("joints")
+        .push(json!({"type": "fixed", "parent": "base", "child": "block", "anchor": {"x": 0, "y": 10, "z": -30}}));
+    let cosines = |reject: bool| -> Vec<f64> {
+        let mut e = env(
+            &doc,
+            json!({"terms": [], "reset_noise": {"rotational": true, "reject_contacts": reject}}),
+        );
+        (0..200)
+            .map(|k| f64::from(e.reset(Some(k)).joint_positions[0]).cos())
+            .collect()
+    };
+    // Hanging within ~40° of straight down, the 40 mm arm reaches below the block's top
+    // (30 mm down).
+    assert!(cosines(false).iter().any(|&c| c > 0.9));
+    assert!(cosines(true).iter().all(|&c| c < 0.8));
+}

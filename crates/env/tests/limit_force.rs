@@ -128,7 +128,7 @@ fn bad_limit_force_and_square_terms_get_their_own_errors() {
         ),
         (
             r#"{"terms": [{"name": "a", "square": {"of": {"joint": "slide"}}, "ctrl_cost": {}}]}"#,
-            "task.terms.terms[0]: expected exactly one of velocity, value, ctrl_cost, healthy, distance, square, contact_cost, tolerance, product or sum",
+            "task.terms.terms[0]: expected exactly one of velocity, value, ctrl_cost, healthy, distance, square, contact_cost, tolerance, product, sum or norm",
         ),
     ] {
         let config = EnvConfig {

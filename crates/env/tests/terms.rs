@@ -354,7 +354,7 @@ fn each_bad_terms_task_gets_its_own_error() {
         ),
         (
             r#"{"terms": [{"name": "a", "ctrl_cost": {}, "healthy": {}}]}"#,
-            "task.terms.terms[0]: expected exactly one of velocity, value, ctrl_cost, healthy, distance, square, contact_cost, tolerance, product or sum",
+            "task.terms.terms[0]: expected exactly one of velocity, value, ctrl_cost, healthy, distance, square, contact_cost, tolerance, product, sum or norm",
         ),
         (
             r#"{"terms": [{"name": "a", "healthy": {}}]}"#,

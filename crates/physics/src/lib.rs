@@ -42,6 +42,7 @@ mod springdamper;
 mod state;
 mod tendons;
 mod terrain;
+mod touching;
 mod units;
 mod world;
 

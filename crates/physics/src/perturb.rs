@@ -173,6 +173,25 @@ impl RobotWorld {
         self.set_base_velocity(linear, angular);
     }
 
+    /// Turns a floating base to the orientation `q` (`[w, x, y, z]`, normalized here) about
+    /// its frame's origin, at rest; the tree's joints keep their coordinates and follow
+    /// (dm_control's random start of a free joint's orientation). Nothing happens without a
+    /// floating base.
+    pub fn turn_base(&mut self, q: [f64; 4]) {
+        if !self.floating_base {
+            return;
+        }
+        let now = self.live.bodies[self.bodies[0]].position().rotation;
+        let mut noise = [0.0; BASE_NOISE_LEN];
+        for (n, (target, current)) in noise[3..7]
+            .iter_mut()
+            .zip(q.iter().zip([now.w, now.x, now.y, now.z]))
+        {
+            *n = target - f64::from(current);
+        }
+        self.perturb_base(&noise, None);
+    }
+
     /// Sets a floating base's velocity once its pose is set: `origin` is its body frame
     /// origin's linear velocity and `angular` its angular velocity (world). In a tree, the
     /// root's generalized velocities (the frame origin's); a base nothing is jointed to is a

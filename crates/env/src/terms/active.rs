@@ -125,6 +125,13 @@ pub(super) enum Q {
     },
     /// One value of the step's action.
     Action(usize),
+    /// A point's offset from a site's frame, along the frame's axis `axis`.
+    Relative {
+        body: usize,
+        point: Option<[f64; 3]>,
+        frame: (usize, [f64; 3], [f64; 3]),
+        axis: usize,
+    },
     /// A world coordinate of a group's centre of mass (SI), from its `cinert`.
     BodyCenter {
         group: usize,
@@ -147,11 +154,19 @@ pub(super) enum Kind {
         sum_max: f64,
     },
     Tolerance(ActiveTolerance),
-    /// Π (`product`) or Σ of (scale · value + offset) of earlier terms.
+    /// Π, Σ or the norm of (scale · value + offset) of earlier terms.
     Combine {
-        product: bool,
+        op: Op,
         factors: Vec<(usize, f64, f64)>,
     },
+}
+
+/// How a `Combine` term combines its factors.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Op {
+    Product,
+    Sum,
+    Norm,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -182,6 +197,10 @@ pub(crate) struct ActiveTerms {
     pub(crate) base_noise: bool,
     /// Substeps run with a zero action after the draws ([`super::ResetNoise::settle_substeps`]).
     pub(crate) settle_substeps: u32,
+    /// Whether a floating base starts at a random orientation ([`super::ResetNoise::rotational`]).
+    pub(crate) turn_base: bool,
+    /// Whether a start is drawn again while colliders overlap.
+    pub(crate) reject_contacts: bool,
     pub(crate) velocity_noise: Option<Dist>,
     pub(crate) sets: Vec<ActiveSet>,
     /// This step's values in f64 (scratch), which later terms read.
@@ -327,6 +346,17 @@ impl ActiveTerms {
                 rotation_matrix([w, x, y, z])[axis][local]
             }
             Q::Action(k) => now.action.get(k).map_or(0.0, |&a| f64::from(a)),
+            Q::Relative {
+                body,
+                point,
+                frame: (fbody, fpoint, rotation),
+                axis,
+            } => {
+                let p = self.point(world, (body, point));
+                let f = world.site_pose(self.units, fbody, fpoint, rotation);
+                let m = rotation_matrix([f[3], f[4], f[5], f[6]].map(f64::from));
+                (0..3).map(|i| m[i][axis] * (p[i] - f64::from(f[i]))).sum()
+            }
             Q::BodyCenter { group, axis } => {
                 let c = now.inertia(group, &self.groups[group]);
                 let mass = c[INERTIA_LEN - 1];
@@ -450,14 +480,14 @@ impl ActiveTerms {
                     .sum::<f64>()
                     .min(*sum_max),
                 Kind::Tolerance(t) => t.of_value(self.step_values[t.of]),
-                Kind::Combine { product, factors } => {
+                Kind::Combine { op, factors } => {
                     let each = factors
                         .iter()
                         .map(|&(j, scale, offset)| scale * self.step_values[j] + offset);
-                    if *product {
-                        each.product()
-                    } else {
-                        each.sum()
+                    match op {
+                        Op::Product => each.product(),
+                        Op::Sum => each.sum(),
+                        Op::Norm => each.map(|v| v * v).sum::<f64>().sqrt(),
                     }
                 }
             };

@@ -96,6 +96,10 @@ pub struct Term {
     /// Σ (scale · value + offset) over earlier terms.
     #[serde(default)]
     pub sum: Option<Vec<Factor>>,
+    /// √Σ (scale · value + offset)² over earlier terms (a vector's length: dm_control's
+    /// humanoid's horizontal speed).
+    #[serde(default)]
+    pub norm: Option<Vec<Factor>>,
     /// A `value` term that is also part of the observation (its `terms` segment, in term
     /// order), read from the state at resets as at steps (a contact wrench: 0 after a
     /// reset); default false.
@@ -251,6 +255,10 @@ pub struct Quantity {
     /// The step's action value of this index (MuJoCo's `ctrl`, as sent; 0 at a reset).
     #[serde(default)]
     pub action: Option<usize>,
+    /// With `instance` or `site` (and `axis`): the point's offset from this site, along
+    /// the site's own `axis` (dm_control's egocentric positions: `(p − p_site) · xmat`).
+    #[serde(default)]
+    pub relative_to: Option<String>,
 }
 
 /// A point: a site, or a point of an instance (`point`, mm in its frame; default its
@@ -338,9 +346,14 @@ pub struct ResetNoise {
     #[serde(default)]
     pub limited: bool,
     /// Every unlimited revolute joint with one DOF not set above starts uniform in
-    /// [−π, π] rad (the rotational half).
+    /// [−π, π] rad, and a floating base at a uniformly random orientation, turned about its
+    /// frame's origin (the rotational half).
     #[serde(default)]
     pub rotational: bool,
+    /// Draw the start again while any two colliders overlap (dm_control's finger,
+    /// ball-in-cup and humanoid), at most 1000 times (then the last draw stays).
+    #[serde(default)]
+    pub reject_contacts: bool,
     /// Physics substeps run with a zero action after the draws, before the episode's
     /// first observation (dm_control's cheetah settles for 200), rounded up to whole env
     /// steps; default 0.

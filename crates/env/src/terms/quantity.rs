@@ -204,6 +204,12 @@ impl Context<'_> {
             }
             Ok(())
         };
+        if q.frame_axis.is_some() && q.relative_to.is_some() {
+            return Err(bad(
+                format!("{path}.relative_to"),
+                "a frame axis is read in the world: it takes no relative_to",
+            ));
+        }
         if q.frame_axis.is_some() && q.instance.is_none() && q.site.is_none() {
             return Err(bad(
                 format!("{path}.frame_axis"),
@@ -357,6 +363,34 @@ impl Context<'_> {
                 body,
                 rotation,
                 local: local as usize,
+                axis: axis()?,
+            });
+        }
+        if let Some(frame) = &q.relative_to {
+            let (body, point) = match (&q.instance, &q.site) {
+                (Some(name), None) => (
+                    self.instance(&format!("{path}.instance"), name)?,
+                    self.point(&format!("{path}.point"), q.point)?,
+                ),
+                (None, Some(name)) if q.point.is_none() => {
+                    let (body, point) = self.site(&format!("{path}.site"), name)?;
+                    (body, Some(point))
+                }
+                _ => {
+                    return Err(bad(
+                        format!("{path}.relative_to"),
+                        "an offset from a site belongs to a site, or an instance (with an optional point)",
+                    ))
+                }
+            };
+            let at = format!("{path}.relative_to");
+            let (fbody, fpoint) = self.site(&at, frame)?;
+            let rotation =
+                self.assembly.sites[self.assembly.site_index(frame).expect("resolved")].rotation;
+            return Ok(Q::Relative {
+                body,
+                point,
+                frame: (fbody, fpoint, rotation),
                 axis: axis()?,
             });
         }

@@ -8,7 +8,7 @@ use gymfleet_assembly::Assembly;
 use gymfleet_assembly::DofKind;
 use gymfleet_physics::{JointDof, Units};
 
-use super::active::{ActiveHealthy, ActiveSet, ActiveTerms, Dist, Kind};
+use super::active::{ActiveHealthy, ActiveSet, ActiveTerms, Dist, Kind, Op};
 use super::tolerance;
 use super::{
     bad, bounded, shown, ContactCost, Noise, ResetNoise, SetJoints, TermsTask, MAX_NAME, MAX_TERMS,
@@ -300,12 +300,13 @@ impl TermsTask {
                 t.tolerance.is_some(),
                 t.product.is_some(),
                 t.sum.is_some(),
+                t.norm.is_some(),
             ];
             if set.iter().filter(|s| **s).count() != 1 {
                 return Err(bad(
                     path,
                     "expected exactly one of velocity, value, ctrl_cost, healthy, distance, \
-                     square, contact_cost, tolerance, product or sum",
+                     square, contact_cost, tolerance, product, sum or norm",
                 ));
             }
             let earlier = &names[..names.len() - 1];
@@ -333,14 +334,16 @@ impl TermsTask {
                 }
             } else if let Some(tol) = &t.tolerance {
                 Kind::Tolerance(tol.resolve(&format!("{path}.tolerance"), earlier)?)
-            } else if let Some(f) = t.product.as_ref().or(t.sum.as_ref()) {
-                let field = if t.product.is_some() {
-                    "product"
-                } else {
-                    "sum"
-                };
+            } else if let Some((op, field, f)) = [
+                (Op::Product, "product", &t.product),
+                (Op::Sum, "sum", &t.sum),
+                (Op::Norm, "norm", &t.norm),
+            ]
+            .into_iter()
+            .find_map(|(op, field, f)| f.as_ref().map(|f| (op, field, f)))
+            {
                 Kind::Combine {
-                    product: t.product.is_some(),
+                    op,
                     factors: tolerance::factors(&format!("{path}.{field}"), f, earlier)?,
                 }
             } else if t.ctrl_cost.is_some() {
@@ -466,6 +469,8 @@ impl TermsTask {
             dt: cx.dt,
             base_noise: noise.base,
             settle_substeps: noise.settle_substeps,
+            turn_base: noise.rotational && cx.assembly.floating_base,
+            reject_contacts: noise.reject_contacts,
             position_noise: cx.noise("task.terms.reset_noise.position", noise.position)?,
             velocity_noise: cx.noise("task.terms.reset_noise.velocity", noise.velocity)?,
         })

@@ -24,6 +24,7 @@ from gymnasium.vector.utils import batch_space
 from ..env import GymfleetEnv
 from ..errors import InvalidArgument
 from ..suite.kinematics import segments, server_state, split_rows
+from ..suite.model import parse_model
 from ..suite.state import checked_state
 from ..vector import GymfleetVectorEnv
 from .model import body_names, read_suite_xml, timestep
@@ -89,6 +90,13 @@ class Setup:
             )
         self.dtype = dtype
         self.text = read_suite_xml(self.task.xml)
+        for old, new in self.task.edits:
+            if old not in self.text:
+                raise InvalidArgument(
+                    f"{self.task.id}: the installed dm_control's {self.task.xml} lacks {old!r}, "
+                    "which the task edits"
+                )
+            self.text = self.text.replace(old, new)
         self.physics_timestep = timestep(self.text)
         #: MuJoCo's bodies but the world, in body order ("" for an unnamed one).
         self.body_names = body_names(self.text)
@@ -164,11 +172,9 @@ class Setup:
         where the task put it; fills ``structure`` (each key's length)."""
         self.segments = segments(info["observation_layout"])
         self.base = "base_pose" in self.segments
-        if self.base:
-            raise InvalidArgument(
-                f"{self.task.id}: the converted model has a floating base; the task reads "
-                "joint coordinates only"
-            )
+        #: With a free joint: the root geom's frame in its body (what the server observes
+        #: as the floating base), to give MuJoCo's qpos and qvel.
+        self.root_geom = parse_model(self.task.xml, self.text).root_geom if self.base else None
         names = list(info.get("term_names") or [])
         observed = [n for n in names if n in self.observed]
         if observed != self.observed:
@@ -179,7 +185,7 @@ class Setup:
     def keys(self, raw: np.ndarray) -> Dict[str, np.ndarray]:
         """dm_control's observation dict of rows ``raw`` (n, dim): each key (n, ...),
         float64."""
-        q, v, _ = split_rows(raw, self.segments)
+        q, v, _ = split_rows(raw, self.segments, self.root_geom)
         observed = raw[:, self.segments["terms"]] if self.observed else None
         out: Dict[str, np.ndarray] = {}
         for key in self.task.keys:
@@ -277,16 +283,19 @@ class DmcEnv(gym.Env):
         ``qvel`` (float64 copies of the server's float32 state)."""
         if self._raw is None:
             raise gym.error.ResetNeeded("reset the env before reading its state")
-        q, v, _ = split_rows(self._raw, self._setup.segments)
+        q, v, _ = split_rows(self._raw, self._setup.segments, self._setup.root_geom)
         return SimpleNamespace(qpos=q[0].astype(np.float64), qvel=v[0].astype(np.float64))
 
     def set_state(self, qpos: Any, qvel: Any) -> None:
         """Puts the model in the state ``qpos`` and ``qvel`` (MuJoCo's layouts, as
         dm_control's ``physics.set_state``); the episode goes on. As the v5 ids'
         ``set_state``: a position past a hard limit is set at it, with a warning."""
-        nq = nv = sum(j["dof"] for j in self._env.env_info["joints"])
+        nv = sum(j["dof"] for j in self._env.env_info["joints"]) + 6 * int(self._setup.base)
+        nq = nv + int(self._setup.base)
         qpos, qvel = checked_state(qpos, qvel, nq, nv)
-        positions, velocities, base = server_state(qpos, qvel, False)
+        positions, velocities, base = server_state(
+            qpos, qvel, self._setup.base, self._setup.root_geom
+        )
         raw, warnings = self._env.set_joint_state(positions, velocities, base)
         for warning in warnings:
             gym.logger.warn(f"set_state: {warning}")

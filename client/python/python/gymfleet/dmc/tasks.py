@@ -49,6 +49,9 @@ class Task:
     reset_noise: Dict[str, Any] = field(default_factory=dict)
     #: What differs from dm_control's task, if anything.
     note: str = ""
+    #: dm_control's edits of the XML before compiling, as (old, new) text (finger: the
+    #: spinner's damping).
+    edits: List[Tuple[str, str]] = field(default_factory=list)
 
     @property
     def name(self) -> str:
@@ -242,11 +245,119 @@ def _point_mass_easy() -> Task:
     return Task("point_mass", "easy", "point_mass.xml", 1, 20.0, terms, keys, dict(_RANDOMIZE))
 
 
+_HUMANOID_LIMBS = ("left_hand", "left_foot", "right_hand", "right_foot")
+
+
+def _humanoid(task: str, speed: float) -> Task:
+    """dm_control's humanoid (``pure_state`` false): 21 motors."""
+    extremities = []
+    for limb in _HUMANOID_LIMBS:
+        for axis in "xyz":
+            extremities.append(t.value(f"{limb}_{axis}", {"site": limb, "relative_to": "torso",
+                                                           "axis": axis}, observe=True))
+    vertical = [t.value(f"torso_z{a}", t.xmat("torso", "z" + a), observe=True) for a in "xyz"]
+    com = [t.value(f"com_velocity_{a}", t.sensor("torso_subtreelinvel", k), observe=True)
+           for k, a in enumerate("xyz")]
+    terms = [
+        t.value("head_height", t.xpos("head", "z"), observe=True),
+        *extremities, *vertical, *com,
+        t.tolerance("standing", "head_height", (1.4, math.inf), margin=1.4 / 4),
+        t.tolerance("upright", "torso_zz", (0.9, math.inf), sigmoid="linear", margin=1.9,
+                    value_at_margin=0.0),
+        *t.small_control(21),
+    ]
+    if speed == 0:
+        terms += [
+            t.tolerance("still_x", "com_velocity_x", margin=2.0),
+            t.tolerance("still_y", "com_velocity_y", margin=2.0),
+            t.total("dont_move", [("still_x", 0.5, 0.0), ("still_y", 0.5, 0.0)]),
+            t.product("stand_reward", ["small_control", "standing", "upright", "dont_move"]),
+            t.reward("stand_reward"),
+        ]
+    else:
+        terms += [
+            t.norm("horizontal_speed", ["com_velocity_x", "com_velocity_y"]),
+            t.tolerance("move", "horizontal_speed", (speed, math.inf), margin=speed,
+                        sigmoid="linear", value_at_margin=0.0),
+            t.product("move_reward", ["small_control", "standing", "upright",
+                                      ("move", 5.0 / 6.0, 1.0 / 6.0)]),
+            t.reward("move_reward"),
+        ]
+    keys = [
+        Key("joint_angles", [_qpos(7)]),
+        Key("head_height", [_observed("head_height")], scalar=True),
+        Key("extremities", [_observed(*[e["name"] for e in extremities])]),
+        Key("torso_vertical", [_observed("torso_zx", "torso_zy", "torso_zz")]),
+        Key("com_velocity", [_observed("com_velocity_x", "com_velocity_y", "com_velocity_z")]),
+        Key("velocity", [_qvel()]),
+    ]
+    return Task("humanoid", task, "humanoid.xml", 5, 25.0, terms, keys,
+                {**_RANDOMIZE, "reject_contacts": True},
+                note="the free body turns about its torso geom's centre (MuJoCo: the body's "
+                "origin; the same point)")
+
+
+def _tip_minus_spinner(v: np.ndarray) -> np.ndarray:
+    """finger's ``bounded_position``: the joints, then tip − spinner (x, z)."""
+    return np.concatenate([v[:, :2], v[:, 2:4] - v[:, 4:6]], axis=1)
+
+
+def _finger_spin() -> Task:
+    sensors = [("proximal", None), ("distal", None), ("tip", 0), ("tip", 2), ("spinner", 0),
+               ("spinner", 2)]
+    position = [t.value(f"{n}_{c}" if c is not None else n, t.sensor(n, c), observe=True)
+                for n, c in sensors]
+    velocity = [t.value(n, t.sensor(n), observe=True)
+                for n in ("proximal_velocity", "distal_velocity", "hinge_velocity")]
+    touch = [t.value(n, t.sensor(n), observe=True) for n in ("touchtop", "touchbottom")]
+    terms = [
+        *position, *velocity, *touch,
+        t.tolerance("spinning", "hinge_velocity", (-math.inf, -15.0)),
+        t.reward("spinning"),
+    ]
+    keys = [
+        Key("position", [_observed(*[p["name"] for p in position])], transform=_tip_minus_spinner),
+        Key("velocity", [_observed(*[v["name"] for v in velocity])]),
+        Key("touch", [_observed("touchtop", "touchbottom")], transform=np.log1p),
+    ]
+    return Task("finger", "spin", "finger.xml", 2, 20.0, terms, keys,
+                {**_RANDOMIZE, "reject_contacts": True},
+                edits=[('<joint name="hinge" frictionloss=".1" damping=".5"/>',
+                        '<joint name="hinge" frictionloss=".1" damping=".03"/>')])
+
+
+def _ball_in_cup_catch() -> Task:
+    # in_target: |target − ball| < target size − ball radius (.05 − .025) in x and z.
+    inside = 0.05 - 0.025
+    terms = [
+        t.value("target_x", t.site_xpos("target", "x")),
+        t.value("target_z", t.site_xpos("target", "z")),
+        t.value("ball_x", t.xpos("ball", "x")),
+        t.value("ball_z", t.xpos("ball", "z")),
+        t.total("dx", [("target_x", 1.0, 0.0), ("ball_x", -1.0, 0.0)]),
+        t.total("dz", [("target_z", 1.0, 0.0), ("ball_z", -1.0, 0.0)]),
+        t.tolerance("in_x", "dx", (-inside, inside)),
+        t.tolerance("in_z", "dz", (-inside, inside)),
+        t.product("in_target", ["in_x", "in_z"]),
+        t.reward("in_target"),
+    ]
+    keys = [Key("position", [_qpos()]), Key("velocity", [_qvel()])]
+    noise = {"set": [{"joints": ["ball_x", "ball_z"], "low": [-0.2, 0.2], "high": [0.2, 0.5]}],
+             "reject_contacts": True}
+    return Task("ball_in_cup", "catch", "ball_in_cup.xml", 10, 20.0, terms, keys, noise,
+                note="in the cup is |offset| <= size − radius (dm_control: <)")
+
+
 #: The registered tasks, by id.
 TASKS: Dict[str, Task] = {
     task.id: task
     for task in [
         _acrobot("swingup", sparse=False),
+        _ball_in_cup_catch(),
+        _finger_spin(),
+        _humanoid("stand", 0.0),
+        _humanoid("walk", 1.0),
+        _humanoid("run", 10.0),
         _acrobot("swingup_sparse", sparse=True),
         _cartpole("balance", swing_up=False, sparse=False),
         _cartpole("balance_sparse", swing_up=False, sparse=True),

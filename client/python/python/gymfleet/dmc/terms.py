@@ -100,6 +100,11 @@ def total(name: str, addends: Sequence[Any], weight: float = 0.0) -> Term:
     return {"name": name, "weight": weight, "sum": _factors(addends)}
 
 
+def norm(name: str, parts: Sequence[Any], weight: float = 0.0) -> Term:
+    """The length of the vector of terms ``parts``."""
+    return {"name": name, "weight": weight, "norm": _factors(parts)}
+
+
 def distance(name: str, a: Dict[str, str], b: Dict[str, str]) -> Term:
     """The distance between two points (``{"site": ...}`` or ``{"instance": ...}``)."""
     return {"name": name, "weight": 0.0, "distance": [a, b]}

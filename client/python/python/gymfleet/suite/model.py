@@ -71,6 +71,11 @@ def read_model(xml_file: str) -> Model:
         raise InvalidArgument(f"xml_file: {path!r} does not exist")
     with open(path, encoding="utf-8") as f:
         text = f.read()
+    return parse_model(path, text)
+
+
+def parse_model(path: str, text: str) -> Model:
+    """``read_model`` of XML ``text`` (``path`` names it in errors)."""
     try:
         root = ET.fromstring(text)
     except ET.ParseError as e:
