@@ -59,6 +59,10 @@ pub struct RobotEnv {
     pub(crate) reject_contacts: bool,
     /// This episode's base orientation draw, with `turn_base`.
     pub(crate) base_turn: Option<[f64; 4]>,
+    /// Where mocap bodies start (a terms task's `reset_noise.mocap`), and this episode's
+    /// draws (SI positions).
+    pub(crate) mocap_draws: Vec<crate::terms::ActiveMocapDraw>,
+    pub(crate) mocap_starts: Vec<[f64; 3]>,
     /// Scratch for the per-DOF reset offsets (deg or mm) and velocities (`units`).
     pub(crate) offsets: Vec<f64>,
     pub(crate) start_velocities: Vec<f64>,
@@ -180,6 +184,7 @@ impl RobotEnv {
         let settle_steps = terms.map_or(0, |t| t.settle_substeps.div_ceil(config.substeps.max(1)));
         let turn_base = terms.is_some_and(|t| t.turn_base);
         let reject_contacts = terms.is_some_and(|t| t.reject_contacts);
+        let mocap_draws = terms.map(|t| t.mocap_draws.clone()).unwrap_or_default();
         let segment = task
             .as_ref()
             .and_then(|t| t.observation_name().map(|name| (name, t.observation_dim())));
@@ -237,6 +242,8 @@ impl RobotEnv {
             turn_base,
             reject_contacts,
             base_turn: None,
+            mocap_starts: vec![[0.0; 3]; mocap_draws.len()],
+            mocap_draws,
             offsets: vec![0.0; spec.num_dofs],
             start_velocities: vec![0.0; spec.num_dofs],
             keyed_offsets: vec![0.0; spec.num_dofs],

@@ -1,6 +1,7 @@
 //! Resets: the initial state (or a keyframe's), then the episode's draws on top.
 
-use gymfleet_physics::ActionMode;
+use gymfleet_assembly::BaseKey;
+use gymfleet_physics::{ActionMode, Units};
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::SeedableRng;
 
@@ -115,6 +116,9 @@ impl RobotEnv {
             let q: [f64; 4] = std::array::from_fn(|_| Dist::Normal(1.0).draw(&mut self.rng));
             self.base_turn = Some(q);
         }
+        for (draw, start) in self.mocap_draws.iter().zip(&mut self.mocap_starts) {
+            *start = draw.draw(&mut self.rng);
+        }
     }
 
     /// The initial state (or keyframe `key`'s) with the draws on top.
@@ -145,6 +149,18 @@ impl RobotEnv {
         }
         if let Some(q) = self.base_turn {
             self.world.turn_base(q);
+        }
+        for (draw, start) in self.mocap_draws.iter().zip(&self.mocap_starts) {
+            let now = self.world.mocap_pose(Units::Si, draw.mocap);
+            self.world.place_mocap(
+                draw.mocap,
+                &BaseKey {
+                    position: *start,
+                    orientation: [now[3], now[4], now[5], now[6]].map(f64::from),
+                    linear_velocity: [0.0; 3],
+                    angular_velocity: [0.0; 3],
+                },
+            );
         }
     }
 

@@ -298,3 +298,84 @@ fn starts_in_contact_are_drawn_again() {
     assert!(cosines(false).iter().any(|&c| c > 0.9));
     assert!(cosines(true).iter().all(|&c| c < 0.8));
 }
+
+/// `reset_noise.mocap`: a target mocap body starts on an arc, or in one of two weighted
+/// boxes, every episode; a distance term reads it there.
+#[test]
+fn mocap_targets_start_where_they_are_drawn() {
+    let mut doc = pendulum(json!({}));
+    doc["parts"]
+        .as_array_mut()
+        .expect("parts")
+        .push(json!({"name": "Mark", "primitive": {"type": "sphere", "radius": 5}}));
+    doc["assembly"]["instances"]
+        .as_array_mut()
+        .expect("instances")
+        .push(
+            json!({"part": "Mark", "name": "target", "position": {"x": 0, "y": 0, "z": 500},
+                     "mocap": true, "collision": {"group": 0, "mask": 0}}),
+        );
+    let place = |draw: Value| {
+        let mut e = env(
+            &doc,
+            json!({"terms": [
+                {"name": "x", "weight": 0, "value": {"instance": "target", "axis": "x"}},
+                {"name": "y", "weight": 0, "value": {"instance": "target", "axis": "y"}},
+                {"name": "z", "weight": 0, "value": {"instance": "target", "axis": "z"}}
+            ], "reset_noise": {"mocap": [draw]}}),
+        );
+        (0..300)
+            .map(|k| {
+                e.reset(Some(k));
+                e.step(ActionType::Torque, &[0.0]).expect("steps");
+                let v = e.term_values();
+                [v[0], v[1], v[2]].map(f64::from)
+            })
+            .collect::<Vec<_>>()
+    };
+    let arc = place(
+        json!({"body": "target", "polar": {"plane": "xy", "center": [0.0, 0.0, 0.5],
+                                                      "radius": [0.05, 0.2], "angle": [0.0, 6.283185307179586]}}),
+    );
+    for p in &arc {
+        let r = p[0].hypot(p[1]);
+        assert!((0.05 - 1e-5..=0.2 + 1e-5).contains(&r), "{p:?}");
+        assert!((p[2] - 0.5).abs() < 1e-5);
+    }
+    assert!(arc.iter().any(|p| p[0] < -0.1) && arc.iter().any(|p| p[1] > 0.1));
+    let boxes = place(json!({"body": "target", "boxes": [
+        {"weight": 0.2, "low": [-0.3, -0.3, 0.0], "high": [0.3, 0.3, 0.0]},
+        {"weight": 0.8, "low": [-2.0, -2.0, 0.0], "high": [2.0, 2.0, 0.0]}]}));
+    let near = boxes
+        .iter()
+        .filter(|p| p[0].abs() <= 0.3 && p[1].abs() <= 0.3)
+        .count();
+    // 0.2 + 0.8 · (0.6 / 4)² of the draws: 21.8 %.
+    assert!((40..=95).contains(&near), "{near} of 300 near");
+    assert!(boxes
+        .iter()
+        .all(|p| p[0].abs() <= 2.0 + 1e-5 && p[2].abs() < 1e-5));
+    for (draw, expected) in [
+        (json!({"body": "nothing", "boxes": [{"low": [0, 0, 0], "high": [0, 0, 0]}]}),
+         "task.terms.reset_noise.mocap[0].body: unknown mocap body \"nothing\" (mocap bodies: \"target\")"),
+        (json!({"body": "target"}), "task.terms.reset_noise.mocap[0]: expected exactly one of boxes or polar"),
+        (json!({"body": "target", "polar": {"plane": "yz", "center": [0, 0, 0], "radius": [0, 1], "angle": [0, 1]}}),
+         "mocap[0].polar.plane: expected \"xy\" or \"xz\", got \"yz\""),
+        (json!({"body": "target", "boxes": [{"weight": 0, "low": [0, 0, 0], "high": [0, 0, 0]}]}),
+         "mocap[0].boxes[0].weight: expected a weight > 0, got 0"),
+    ] {
+        let config = EnvConfig {
+            units: Units::Si,
+            task: Some(TaskSpec {
+                kind: TaskKind::Terms(
+                    TermsTask::from_json(&json!({"terms": [], "reset_noise": {"mocap": [draw]}}).to_string())
+                        .expect("parses"),
+                ),
+                action_cost: 0.0,
+            }),
+            ..EnvConfig::default()
+        };
+        let err = RobotEnv::from_json(&doc.to_string(), config).err().expect("refused").to_string();
+        assert!(err.contains(expected), "{err}\n  expected: {expected}");
+    }
+}

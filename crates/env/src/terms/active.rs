@@ -201,6 +201,8 @@ pub(crate) struct ActiveTerms {
     pub(crate) turn_base: bool,
     /// Whether a start is drawn again while colliders overlap.
     pub(crate) reject_contacts: bool,
+    /// Where mocap bodies start.
+    pub(crate) mocap_draws: Vec<super::ActiveMocapDraw>,
     pub(crate) velocity_noise: Option<Dist>,
     pub(crate) sets: Vec<ActiveSet>,
     /// This step's values in f64 (scratch), which later terms read.

@@ -18,6 +18,7 @@
 //! env; `active.rs` evaluates it after every step and draws the reset.
 
 mod active;
+mod placement;
 mod quantity;
 mod resolve;
 mod tolerance;
@@ -28,6 +29,8 @@ use serde::{Deserialize, Serialize};
 use crate::error::{EnvError, Result};
 
 pub(crate) use active::{ActiveSet, ActiveTerms, Dist};
+pub(crate) use placement::ActiveMocapDraw;
+pub use placement::{MocapDraw, Polar, WeightedBox};
 pub(crate) use resolve::{instance, Context};
 pub use tolerance::{Factor, Sigmoid, Tolerance};
 
@@ -354,6 +357,9 @@ pub struct ResetNoise {
     /// ball-in-cup and humanoid), at most 1000 times (then the last draw stays).
     #[serde(default)]
     pub reject_contacts: bool,
+    /// Where mocap bodies start (a target the episode moves), after the keyframe's pose.
+    #[serde(default)]
+    pub mocap: Vec<MocapDraw>,
     /// Physics substeps run with a zero action after the draws, before the episode's
     /// first observation (dm_control's cheetah settles for 200), rounded up to whole env
     /// steps; default 0.

@@ -449,6 +449,27 @@ impl TermsTask {
             sets.push(cx.set(&format!("task.terms.reset_noise.set[{i}]"), set, &mut seen)?);
         }
         cx.joint_ranges(&noise, &mut sets, &seen);
+        let mocaps: Vec<String> = cx
+            .assembly
+            .mocap_bodies()
+            .iter()
+            .map(|&i| cx.assembly.instances[i].name.clone())
+            .collect();
+        let mut mocap_draws = Vec::with_capacity(noise.mocap.len());
+        for (i, draw) in noise.mocap.iter().enumerate() {
+            let path = format!("task.terms.reset_noise.mocap[{i}]");
+            let active = draw.resolve(&path, &mocaps, cx.units)?;
+            if mocap_draws
+                .iter()
+                .any(|d: &super::ActiveMocapDraw| d.mocap == active.mocap)
+            {
+                return Err(bad(
+                    format!("{path}.body"),
+                    "the mocap body is drawn by an earlier entry too",
+                ));
+            }
+            mocap_draws.push(active);
+        }
         let observed = self
             .terms
             .iter()
@@ -471,6 +492,7 @@ impl TermsTask {
             settle_substeps: noise.settle_substeps,
             turn_base: noise.rotational && cx.assembly.floating_base,
             reject_contacts: noise.reject_contacts,
+            mocap_draws,
             position_noise: cx.noise("task.terms.reset_noise.position", noise.position)?,
             velocity_noise: cx.noise("task.terms.reset_noise.velocity", noise.velocity)?,
         })
