@@ -42,6 +42,7 @@ def pair(request):
     task = TASKS[request.param]
     env = gym.make(task.id)
     theirs = _dm_env(task)
+    theirs.reset()  # the task's edits of its model (reacher's target size)
     yield task, env, theirs
     env.close()
 
@@ -79,8 +80,21 @@ def test_specs_timestep_and_step_limit_are_dm_controls(pair):
     assert joints == hinged, "qpos order"
 
 
-def _their_view(task, theirs, qpos, qvel, action):
+def _sync_targets(task, env, theirs):
+    """Puts the targets gymfleet drew (mocap bodies) where dm_control's model has them."""
+    if not task.targets:
+        return
+    bodies = env.unwrapped.gymfleet_env.bodies()
+    names = list(bodies["instances"])
+    centers = np.asarray(bodies["centers_of_mass"]).reshape(-1, 3)
+    for field, name, instance in task.targets:
+        getattr(theirs.physics.named.model, field)[name] = centers[names.index(instance)]
+
+
+def _their_view(task, theirs, qpos, qvel, action, env=None):
     physics = theirs.physics
+    if env is not None:
+        _sync_targets(task, env, theirs)
     with physics.reset_context():
         physics.set_state(np.concatenate([qpos, qvel]))
         physics.data.ctrl[:] = action
@@ -97,7 +111,7 @@ def test_observation_and_reward_on_the_same_state(pair):
         obs, reward, terminated, truncated, info = env.step(action)
         assert not terminated and not truncated and info["discount"] == 1.0
         data = env.unwrapped.data
-        want, want_reward = _their_view(task, theirs, data.qpos, data.qvel, action)
+        want, want_reward = _their_view(task, theirs, data.qpos, data.qvel, action, env)
         got = env.unwrapped.observation_dict()
         flat = []
         for key, value in want.items():
@@ -123,6 +137,9 @@ def test_set_state_gives_dm_controls_observation(pair):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # a start past a hard stop is clamped, with a warning
         env.unwrapped.set_state(qpos, qvel)
+    _sync_targets(task, env, theirs)
+    with physics.reset_context():
+        physics.set_state(np.concatenate([qpos, qvel]))
     want = theirs.task.get_observation(physics)
     got = env.unwrapped.observation_dict()
     data = env.unwrapped.data

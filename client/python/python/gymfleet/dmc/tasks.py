@@ -52,6 +52,9 @@ class Task:
     #: dm_control's edits of the XML before compiling, as (old, new) text (finger: the
     #: spinner's damping).
     edits: List[Tuple[str, str]] = field(default_factory=list)
+    #: What dm_control moves in its model each episode and gymfleet draws as a mocap body:
+    #: (the model field, its name there, the instance here), for the contract tests.
+    targets: List[Tuple[str, str, str]] = field(default_factory=list)
 
     @property
     def name(self) -> str:
@@ -348,6 +351,63 @@ def _ball_in_cup_catch() -> Task:
                 note="in the cup is |offset| <= size − radius (dm_control: <)")
 
 
+def _to_target(v: np.ndarray) -> np.ndarray:
+    """The target's coordinates minus the effector's (the first half minus the second)."""
+    half = v.shape[1] // 2
+    return v[:, :half] - v[:, half:]
+
+
+def _reacher(task: str, size: float) -> Task:
+    coords = [t.value(f"{g}_{a}", {"instance": g, "axis": a}, observe=True)
+              for g in ("target", "finger") for a in "xy"]
+    terms = [
+        *coords,
+        t.total("dx", [("target_x", 1.0, 0.0), ("finger_x", -1.0, 0.0)]),
+        t.total("dy", [("target_y", 1.0, 0.0), ("finger_y", -1.0, 0.0)]),
+        t.norm("finger_to_target", ["dx", "dy"]),
+        # The target's radius and the finger's (.01).
+        t.tolerance("reached", "finger_to_target", (0.0, size + 0.01)),
+        t.reward("reached"),
+    ]
+    keys = [
+        Key("position", [_qpos()]),
+        Key("to_target", [_observed(*[c["name"] for c in coords])], transform=_to_target),
+        Key("velocity", [_qvel()]),
+    ]
+    noise = {**_RANDOMIZE, "mocap": [{"body": "target", "polar": {
+        "plane": "xy", "center": [0.0, 0.0, 0.01], "radius": [0.05, 0.20],
+        "angle": [0.0, 2 * math.pi]}}]}
+    target = '<geom name="target" pos="0 0 .01" material="target" type="sphere" size=".05"/>'
+    moved = ('<body name="target" mocap="true" pos="0 0 .01"><geom name="target" '
+             f'material="target" type="sphere" size="{size}"/></body>')
+    return Task("reacher", task, "reacher.xml", 1, 20.0, terms, keys, noise,
+                note="the target is a mocap body (dm_control moves the geom in the model)",
+                edits=[(target, moved)], targets=[("geom_pos", "target", "target")])
+
+
+_FISH_JOINTS = ("tail1", "tail_twist", "tail2", "finright_roll", "finright_pitch",
+                "finleft_roll", "finleft_pitch")
+
+
+def _fish_upright() -> Task:
+    terms = [
+        t.value("upright", t.xmat("torso", "zz"), observe=True),
+        t.tolerance("upright_reward", "upright", (1.0, 1.0), margin=1.0),
+        t.reward("upright_reward"),
+    ]
+    keys = [
+        Key("joint_angles", [_qpos(7)]),
+        Key("upright", [_observed("upright")], scalar=True),
+        Key("velocity", [_qvel()]),
+    ]
+    n = len(_FISH_JOINTS)
+    noise = {"rotational": True, "set": [{"joints": list(_FISH_JOINTS), "low": [-0.2] * n,
+                                          "high": [0.2] * n}]}
+    return Task("fish", "upright", "fish.xml", 10, 40.0, terms, keys, noise,
+                note="the free body turns about its first geom's centre (the mouth; MuJoCo: "
+                "the torso's origin)")
+
+
 #: The registered tasks, by id.
 TASKS: Dict[str, Task] = {
     task.id: task
@@ -355,6 +415,7 @@ TASKS: Dict[str, Task] = {
         _acrobot("swingup", sparse=False),
         _ball_in_cup_catch(),
         _finger_spin(),
+        _fish_upright(),
         _humanoid("stand", 0.0),
         _humanoid("walk", 1.0),
         _humanoid("run", 10.0),
@@ -368,6 +429,8 @@ TASKS: Dict[str, Task] = {
         _hopper("hop"),
         _pendulum_swingup(),
         _point_mass_easy(),
+        _reacher("easy", 0.05),
+        _reacher("hard", 0.015),
         _walker("stand", 0.0),
         _walker("walk", 1.0),
         _walker("run", 8.0),

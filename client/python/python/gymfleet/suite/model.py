@@ -104,7 +104,9 @@ def parse_model(path: str, text: str) -> Model:
     first = world.find("body") if world is not None else None
     root_z = float((first.get("pos") or "0 0 0").split()[2]) if first is not None else 0.0
     geom = first.find("geom") if first is not None else None
-    root_geom = _geom_frame(geom, path) if free is not None and geom is not None else None
+    compiler = root.find("compiler")
+    radians = compiler is not None and compiler.get("angle") == "radian"
+    root_geom = _geom_frame(geom, path, radians) if free is not None and geom is not None else None
     actuator = root.find("actuator")
     actuators = [a.get("joint", "") for a in actuator] if actuator is not None else []
     option = root.find("option")
@@ -124,7 +126,9 @@ def parse_model(path: str, text: str) -> Model:
     )
 
 
-def _geom_frame(geom: ET.Element, path: str) -> Optional[Tuple[np.ndarray, np.ndarray]]:
+def _geom_frame(
+    geom: ET.Element, path: str, radians: bool = False
+) -> Optional[Tuple[np.ndarray, np.ndarray]]:
     """A geom's centre and orientation in its body's frame, as the conversion places its
     instance: ``fromto``'s midpoint and the shortest turn of z onto its axis, or ``pos``
     and ``quat``; ``None`` for the body's own frame."""
@@ -138,11 +142,11 @@ def _geom_frame(geom: ET.Element, path: str) -> Optional[Tuple[np.ndarray, np.nd
             raise InvalidArgument(f"xml_file: {path}: the first geom's {name} needs {n} numbers")
         return values
 
-    unsupported = [a for a in ("euler", "axisangle", "xyaxes", "zaxis") if geom.get(a) is not None]
+    unsupported = [a for a in ("axisangle", "xyaxes", "zaxis") if geom.get(a) is not None]
     if unsupported:
         raise InvalidArgument(
             f"xml_file: {path}: the free body's first geom is turned by {unsupported[0]}; "
-            "the suite reads the body's frame from a geom placed by fromto or pos and quat"
+            "the suite reads the body's frame from a geom placed by fromto, or pos and quat or euler"
         )
     fromto = numbers("fromto", 6)
     if fromto is not None:
@@ -159,7 +163,28 @@ def _geom_frame(geom: ET.Element, path: str) -> Optional[Tuple[np.ndarray, np.nd
         centre = numbers("pos", 3)
         centre = np.zeros(3) if centre is None else centre
         quat = numbers("quat", 4)
+        euler = numbers("euler", 3)
+        if euler is not None:
+            quat = _euler_xyz(euler if radians else np.radians(euler))
         quat = np.array([1.0, 0.0, 0.0, 0.0]) if quat is None else quat / np.linalg.norm(quat)
     if np.allclose(centre, 0.0) and np.allclose(quat, [1.0, 0.0, 0.0, 0.0]):
         return None
     return centre, quat
+
+
+def _euler_xyz(angles: np.ndarray) -> np.ndarray:
+    """MuJoCo's ``euler`` with its default ``eulerseq="xyz"`` (turns about the frame's own
+    x, then y, then z) as a quaternion (w, x, y, z); the angles in radians."""
+    out = np.array([1.0, 0.0, 0.0, 0.0])
+    for axis, angle in enumerate(angles):
+        turn = np.zeros(4)
+        turn[0], turn[1 + axis] = np.cos(angle / 2), np.sin(angle / 2)
+        w1, x1, y1, z1 = out
+        w2, x2, y2, z2 = turn
+        out = np.array([
+            w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2,
+            w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
+            w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2,
+            w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2,
+        ])
+    return out
