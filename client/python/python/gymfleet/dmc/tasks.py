@@ -329,6 +329,41 @@ def _finger_spin() -> Task:
                         '<joint name="hinge" frictionloss=".1" damping=".03"/>')])
 
 
+def _finger_turn(task: str, radius: float) -> Task:
+    spin = _finger_spin()
+    target = [t.value(f"target_{c}", t.sensor("target", k), observe=True)
+              for c, k in (("x", 0), ("z", 2))]
+    terms = [term for term in spin.terms if term.get("observe")] + target + [
+        t.total("dtx", [("target_x", 1.0, 0.0), ("tip_0", -1.0, 0.0)]),
+        t.total("dtz", [("target_z", 1.0, 0.0), ("tip_2", -1.0, 0.0)]),
+        t.norm("tip_to_target", ["dtx", "dtz"]),
+        t.tolerance("in_target", "tip_to_target", (-math.inf, radius)),
+        t.reward("in_target"),
+    ]
+
+    def dist_to_target(v: np.ndarray) -> np.ndarray:
+        return np.linalg.norm(v[:, :2] - v[:, 2:], axis=1, keepdims=True) - radius
+
+    keys = spin.keys + [
+        Key("target_position", [_observed("target_x", "target_z", "spinner_0", "spinner_2")],
+            transform=_to_target),
+        Key("dist_to_target", [_observed("target_x", "target_z", "tip_0", "tip_2")],
+            scalar=True, transform=dist_to_target),
+    ]
+    # The goal on the circle the tip sweeps: about the hinge (the spinner's origin, .2 0 .4)
+    # at cap1's size summed (.04 + .09).
+    noise = {**spin.reset_noise, "mocap": [{"body": "target_body", "polar": {
+        "plane": "xz", "center": [0.2, 0.0, 0.4], "radius": [0.13, 0.13],
+        "angle": [-math.pi, math.pi]}}]}
+    site = '<site name="target" type="sphere" size=".03" pos="0 0 .4" material="target"/>'
+    moved = ('<body name="target_body" mocap="true" pos="0 0 .4"><geom name="target_mark" '
+             'type="sphere" size=".001" contype="0" conaffinity="0" mass="0"/><site '
+             f'name="target" type="sphere" size="{radius}" material="target"/></body>')
+    return Task("finger", task, "finger.xml", 2, 20.0, terms, keys, noise,
+                note="the goal is a mocap body (dm_control moves the site in the model)",
+                edits=[(site, moved)], targets=[("site_pos", "target", "target_body")])
+
+
 def _ball_in_cup_catch() -> Task:
     # in_target: |target − ball| < target size − ball radius (.05 − .025) in x and z.
     inside = 0.05 - 0.025
@@ -415,6 +450,8 @@ TASKS: Dict[str, Task] = {
         _acrobot("swingup", sparse=False),
         _ball_in_cup_catch(),
         _finger_spin(),
+        _finger_turn("turn_easy", 0.07),
+        _finger_turn("turn_hard", 0.03),
         _fish_upright(),
         _humanoid("stand", 0.0),
         _humanoid("walk", 1.0),
