@@ -335,7 +335,7 @@ fn mocap_targets_start_where_they_are_drawn() {
     };
     let arc = place(
         json!({"body": "target", "polar": {"plane": "xy", "center": [0.0, 0.0, 0.5],
-                                                      "radius": [0.05, 0.2], "angle": [0.0, 6.283185307179586]}}),
+                                                      "radius": [0.05, 0.2], "angle": [0.0, std::f64::consts::TAU]}}),
     );
     for p in &arc {
         let r = p[0].hypot(p[1]);

@@ -54,6 +54,9 @@ pub struct Polar {
     pub angle: [f64; 2],
 }
 
+/// A [`Polar`] resolved: (u axis, v axis, centre, radius range, angle range).
+type Arc = (usize, usize, [f64; 3], [f64; 2], [f64; 2]);
+
 /// A [`MocapDraw`] resolved.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct ActiveMocapDraw {
@@ -61,8 +64,7 @@ pub(crate) struct ActiveMocapDraw {
     pub(crate) mocap: usize,
     /// Boxes with their cumulative weights (the last is the total).
     boxes: Vec<(f64, [f64; 3], [f64; 3])>,
-    /// (u axis, v axis, centre, radius, angle).
-    polar: Option<(usize, usize, [f64; 3], [f64; 2], [f64; 2])>,
+    polar: Option<Arc>,
     /// Metres per env unit of length.
     to_m: f64,
 }
