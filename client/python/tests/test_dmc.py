@@ -53,7 +53,8 @@ def test_the_ids_are_named_as_envpools_and_are_benchmarking_tasks():
         assert (task.domain, task.task) in benchmarking, env_id
         assert env_id in gym.registry
     assert "gymfleet/CheetahRun-v1" in TASKS
-    assert "gymfleet/BallInCupCatch-v1" in TASKS and "gymfleet/Swimmer6-v1" not in TASKS
+    assert "gymfleet/BallInCupCatch-v1" in TASKS and "gymfleet/SwimmerSwimmer6-v1" in TASKS
+    assert "gymfleet/ManipulatorBringBall-v1" not in TASKS
 
 
 def test_specs_timestep_and_step_limit_are_dm_controls(pair):
@@ -361,3 +362,39 @@ def physics_up(q):
     """The world z component of a body's z axis, from its quaternion (w, x, y, z)."""
     w, x, y, z = q / np.linalg.norm(q)
     return 1.0 - 2.0 * (x * x + y * y)
+
+
+def test_remote_server_and_fleet_give_the_embedded_servers_bits(remote_server):
+    """The ids on a remote server and on a fleet of two (a humanoid's batch sharded, its
+    starts drawn again until nothing touches): the same seeds and actions, the same bits."""
+    for env_id in ("gymfleet/WalkerWalk-v1", "gymfleet/HumanoidRun-v1"):
+        local = gymfleet.make_vec(env_id, 4)
+        with gymfleet.Server(threads=1) as other:
+            for server in (remote_server, f"{remote_server},{other.address}"):
+                envs = gymfleet.make_vec(env_id, 4, server=server)
+                np.testing.assert_array_equal(envs.reset(seed=3)[0], local.reset(seed=3)[0])
+                rng = np.random.default_rng(2)
+                for _ in range(4):
+                    actions = rng.uniform(-1, 1, envs.action_space.shape).astype(np.float32)
+                    (o0, r0, *_), (o1, r1, *_) = envs.step(actions), local.step(actions)
+                    np.testing.assert_array_equal(o0, o1)
+                    np.testing.assert_array_equal(r0, r1)
+                envs.close()
+        local.close()
+
+
+def test_a_stepped_env_pickles_and_continues_bit_for_bit():
+    import pickle
+
+    env = gym.make("gymfleet/CheetahRun-v1")
+    env.reset(seed=4)
+    zero = np.full(env.action_space.shape, 0.3, dtype=np.float32)
+    for _ in range(3):
+        env.step(zero)
+    twin = pickle.loads(pickle.dumps(env))
+    for _ in range(3):
+        a, b = env.step(zero), twin.step(zero)
+        np.testing.assert_array_equal(a[0], b[0])
+        assert a[1] == b[1]
+    env.close()
+    twin.close()

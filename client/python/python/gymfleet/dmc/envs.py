@@ -27,7 +27,7 @@ from ..suite.kinematics import segments, server_state, split_rows
 from ..suite.model import parse_model
 from ..suite.state import checked_state
 from ..vector import GymfleetVectorEnv
-from .model import body_names, read_suite_xml, timestep
+from .model import body_names, generated_xml, read_suite_xml, timestep
 from .tasks import TASKS, Task
 
 #: The keywords every Control Suite id takes: dm_control's ``suite.load`` ones
@@ -89,7 +89,10 @@ class Setup:
                 f"dtype: expected numpy.float64 (the default) or numpy.float32, got {self.kw['dtype']!r}"
             )
         self.dtype = dtype
-        self.text = read_suite_xml(self.task.xml)
+        self.text = (
+            read_suite_xml(self.task.xml) if self.task.generated is None
+            else generated_xml(self.task.domain, *self.task.generated)
+        )
         for old, new in self.task.edits:
             if old not in self.text:
                 raise InvalidArgument(

@@ -51,6 +51,32 @@ def read_suite_xml(xml: str) -> str:
     return _INCLUDE.sub(inline, text)
 
 
+def generated_xml(domain: str, *args: object) -> str:
+    """The model dm_control's ``suite.<domain>.get_model_and_assets(*args)`` makes in
+    Python (swimmer's links), its includes inlined from the assets it returns."""
+    import importlib
+    import warnings
+
+    suite_dir()  # a clear error without dm_control
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # glfw: no display
+        module = importlib.import_module(f"dm_control.suite.{domain}")
+    xml, assets = module.get_model_and_assets(*args)
+    text = xml.decode("utf-8") if isinstance(xml, bytes) else str(xml)
+
+    def inline(match: "re.Match[str]") -> str:
+        name = match.group(1)
+        data = assets.get(name)
+        if data is None:
+            raise InvalidArgument(f"dm_control's {domain} model includes {name!r}, which it does not ship")
+        body = _BODY.search(data.decode("utf-8") if isinstance(data, bytes) else str(data))
+        if body is None:
+            raise InvalidArgument(f"{name}: expected a <mujoco> root")
+        return body.group(1)
+
+    return _INCLUDE.sub(inline, text)
+
+
 def timestep(text: str) -> float:
     """The model's ``<option timestep>`` (MuJoCo's default 0.002)."""
     match = re.search(r"<option[^>]*\btimestep=\"([^\"]+)\"", text)

@@ -55,10 +55,13 @@ class Task:
     #: What dm_control moves in its model each episode and gymfleet draws as a mocap body:
     #: (the model field, its name there, the instance here), for the contract tests.
     targets: List[Tuple[str, str, str]] = field(default_factory=list)
+    #: The arguments of dm_control's ``get_model_and_assets`` when the model is made in
+    #: Python (swimmer: its number of links), else ``None``: the file ``xml``.
+    generated: Optional[Tuple[Any, ...]] = None
 
     @property
     def name(self) -> str:
-        """EnvPool's name: ``CheetahRun``, ``BallInCupCatch``, ``Swimmer6``."""
+        """EnvPool's name: ``CheetahRun``, ``BallInCupCatch``, ``SwimmerSwimmer6``."""
         words = (self.domain + "_" + self.task).split("_")
         return "".join(w[:1].upper() + w[1:] for w in words)
 
@@ -443,6 +446,77 @@ def _fish_upright() -> Task:
                 "the torso's origin)")
 
 
+def _swimmer(n: int) -> Task:
+    rel = []
+    for geom in ("target", "nose"):
+        for a in "xy":
+            rel.append(t.value(f"{geom}_{a}", {"instance": geom, "point": [0.0, 0.0, 0.0],
+                                                "relative_to": "head", "axis": a},
+                               observe=True))
+    # body_velocities: each body's velocimeter x, y and gyro z (the head's, then the links').
+    velocities = []
+    for vel, gyro in [("head_vel", "head_gyro")] + [(f"velocimeter_{k}", f"gyro_{k}")
+                                                   for k in range(n - 1)]:
+        velocities += [t.value(f"{vel}_x", t.sensor(vel, 0), observe=True),
+                       t.value(f"{vel}_y", t.sensor(vel, 1), observe=True),
+                       t.value(f"{gyro}_z", t.sensor(gyro, 2), observe=True)]
+    terms = [
+        *rel, *velocities,
+        t.total("dx", [("target_x", 1.0, 0.0), ("nose_x", -1.0, 0.0)]),
+        t.total("dy", [("target_y", 1.0, 0.0), ("nose_y", -1.0, 0.0)]),
+        t.norm("nose_to_target", ["dx", "dy"]),
+        # The target's radius (.1).
+        t.tolerance("near", "nose_to_target", (0.0, 0.1), margin=0.5, sigmoid="long_tail"),
+        t.reward("near"),
+    ]
+    keys = [
+        Key("joints", [_qpos(3)]),
+        Key("to_target", [_observed(*[r["name"] for r in rel])], transform=_to_target),
+        Key("body_velocities", [_observed(*[v["name"] for v in velocities])]),
+    ]
+    noise = {**_RANDOMIZE, "mocap": [{"body": "target", "boxes": [
+        {"weight": 0.2, "low": [-0.3, -0.3, 0.05], "high": [0.3, 0.3, 0.05]},
+        {"weight": 0.8, "low": [-2.0, -2.0, 0.05], "high": [2.0, 2.0, 0.05]}]}]}
+    target = '<geom name="target" type="sphere" pos="1 1 .05" size=".1" material="target"/>'
+    moved = ('<body name="target" mocap="true" pos="1 1 .05"><geom name="target" '
+             'type="sphere" size=".1" material="target"/></body>')
+    return Task("swimmer", f"swimmer{n}", "swimmer.xml", 15, 30.0, terms, keys, noise,
+                note="the target is a mocap body (dm_control moves the geom in the model)",
+                edits=[(target, moved)], targets=[("geom_pos", "target", "target")],
+                generated=(n,))
+
+
+def _fish_swim() -> Task:
+    upright = _fish_upright()
+    target = [t.value(f"mouth_to_target_{a}", {"instance": "target", "point": [0.0, 0.0, 0.0],
+                                                "relative_to": "mouth_frame", "axis": a},
+                      observe=True) for a in "xyz"]
+    radii = 0.005 + 0.04  # the mouth's and the target's radii
+    terms = [
+        upright.terms[0], *target,
+        t.norm("mouth_to_target", [x["name"] for x in target]),
+        t.tolerance("in_target", "mouth_to_target", (0.0, radii), margin=2 * radii),
+        t.total("swim_reward", [("in_target", 7.0 / 8.0, 0.0), ("upright", 1.0 / 16.0, 1.0 / 16.0)]),
+        t.reward("swim_reward"),
+    ]
+    keys = [upright.keys[0], upright.keys[1],
+            Key("target", [_observed(*[x["name"] for x in target])]), upright.keys[2]]
+    noise = {**upright.reset_noise, "mocap": [{"body": "target", "boxes": [
+        {"low": [-0.4, -0.4, 0.1], "high": [0.4, 0.4, 0.3]}]}]}
+    # The mouth geom's frame as a site (MuJoCo's geom_xmat['mouth']), and the target a
+    # mocap body.
+    mouth = '<geom name="mouth" type="capsule" fromto="0 .079 0 0 .07 0" size=".005" material="effector" mass="0"/>'
+    target_geom = '<geom name="target" type="sphere" pos="0 .4 .1" size=".04" material="target"/>'
+    moved = ('<body name="target" mocap="true" pos="0 .4 .1"><geom name="target" '
+             'type="sphere" size=".04" material="target"/></body>')
+    return Task("fish", "swim", "fish.xml", 10, 40.0, terms, keys, noise,
+                note=upright.note + "; the target is a mocap body",
+                # The mocap body after the fish (the first body is the free one).
+                edits=[(mouth, mouth + '<site name="mouth_frame" fromto="0 .079 0 0 .07 0"/>'),
+                       (target_geom, ""), ("</worldbody>", moved + "</worldbody>")],
+                targets=[("geom_pos", "target", "target")])
+
+
 #: The registered tasks, by id.
 TASKS: Dict[str, Task] = {
     task.id: task
@@ -453,6 +527,7 @@ TASKS: Dict[str, Task] = {
         _finger_turn("turn_easy", 0.07),
         _finger_turn("turn_hard", 0.03),
         _fish_upright(),
+        _fish_swim(),
         _humanoid("stand", 0.0),
         _humanoid("walk", 1.0),
         _humanoid("run", 10.0),
@@ -468,6 +543,8 @@ TASKS: Dict[str, Task] = {
         _point_mass_easy(),
         _reacher("easy", 0.05),
         _reacher("hard", 0.015),
+        _swimmer(6),
+        _swimmer(15),
         _walker("stand", 0.0),
         _walker("walk", 1.0),
         _walker("run", 8.0),
