@@ -45,6 +45,14 @@ impl RobotWorld {
     /// the limit.
     pub fn initial_contact_work(&self) -> (ContactLoad, usize) {
         let mut sets = (*self.initial).clone();
+        self.detect_contacts(&mut sets);
+        let load = sets.narrow_phase.contact_load();
+        (load, load.points.saturating_mul(self.substeps as usize))
+    }
+
+    /// A collision detection of `sets` (a copy of the world's): a pipeline step of no
+    /// time, without the contact budget, that moves nothing.
+    pub(crate) fn detect_contacts(&self, sets: &mut crate::world::Sets) {
         let mut params = self.pipeline_params;
         params.dt = 0.0;
         params.max_solver_contacts = usize::MAX;
@@ -64,8 +72,6 @@ impl RobotWorld {
             &self.contact_filter,
             &(),
         );
-        let load = sets.narrow_phase.contact_load();
-        (load, load.points.saturating_mul(self.substeps as usize))
     }
 
     /// The overload the last pipeline step stopped for, after `substeps_done` substeps.

@@ -12,25 +12,7 @@ impl RobotWorld {
     /// contact rules let touch.
     pub fn penetrating(&self) -> bool {
         let mut sets = self.live.clone();
-        let mut params = self.pipeline_params;
-        params.dt = 0.0;
-        params.max_solver_contacts = usize::MAX;
-        let mut pipeline = rapier3d::pipeline::PhysicsPipeline::new();
-        pipeline.step(
-            self.gravity,
-            &params,
-            &mut sets.islands,
-            &mut sets.broad_phase,
-            &mut sets.narrow_phase,
-            &mut sets.bodies,
-            &mut sets.colliders,
-            &mut sets.impulse_joints,
-            &mut sets.multibody_joints,
-            &mut sets.soft_bodies,
-            &mut sets.ccd,
-            &self.contact_filter,
-            &(),
-        );
+        self.detect_contacts(&mut sets);
         let touching = sets.narrow_phase.contact_pairs().any(|pair| {
             let PairContacts::Rigid(rigid) = &pair.contacts else {
                 return false;

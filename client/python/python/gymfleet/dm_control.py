@@ -123,6 +123,13 @@ def _spec_dict(setup: Any) -> "collections.OrderedDict[str, Any]":
     return out
 
 
+def _action_spec(space: Any) -> Any:
+    """dm_control's action spec of a Box: float64 bounds."""
+    return specs.BoundedArray(shape=space.shape, dtype=np.float64,
+                              minimum=space.low.astype(np.float64),
+                              maximum=space.high.astype(np.float64))
+
+
 class Environment(dm_env.Environment if dm_env is not None else object):  # type: ignore[misc]
     """One Control Suite task as a ``dm_env.Environment`` on a gymfleet server."""
 
@@ -171,10 +178,7 @@ class Environment(dm_env.Environment if dm_env is not None else object):  # type
         return _spec_dict(self._env._setup)
 
     def action_spec(self) -> Any:
-        space = self._env.action_space
-        return specs.BoundedArray(shape=space.shape, dtype=np.float64,
-                                  minimum=space.low.astype(np.float64),
-                                  maximum=space.high.astype(np.float64))
+        return _action_spec(self._env.action_space)
 
     def control_timestep(self) -> float:
         return self._env.dt
@@ -252,10 +256,7 @@ class BatchEnvironment:
         return _spec_dict(self._envs._setup)
 
     def action_spec(self) -> Any:
-        space = self._envs.single_action_space
-        return specs.BoundedArray(shape=space.shape, dtype=np.float64,
-                                  minimum=space.low.astype(np.float64),
-                                  maximum=space.high.astype(np.float64))
+        return _action_spec(self._envs.single_action_space)
 
     def close(self) -> None:
         self._envs.close()
