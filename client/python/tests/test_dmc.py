@@ -188,6 +188,11 @@ def test_a_shorter_time_limit_and_control_timestep_are_honoured():
         ({"task_kwargs": {"random": np.random.RandomState(0)}},
          "task_kwargs['random']: gymfleet takes an integer seed"),
         ({"frame_skip": 2}, "unknown keyword argument(s) frame_skip"),
+        ({"environment_kwargs": {"n_sub_steps": 2, "control_timestep": 0.02}},
+         "environment_kwargs: give control_timestep or n_sub_steps, not both (as dm_control)"),
+        ({"environment_kwargs": {"physics_timestep": 0.01}},
+         "environment_kwargs: unknown key(s) physics_timestep; the keys are control_timestep"),
+        ({"dtype": np.int32}, "dtype: expected numpy.float64 (the default) or numpy.float32"),
     ],
 )
 def test_bad_keywords_are_refused_with_a_clear_message(kwargs, message):
@@ -269,6 +274,10 @@ def test_dm_env_interface_is_dm_controls():
         env.physics.named.data.xpos["nose"]
     with pytest.raises(gymfleet.InvalidArgument, match="is not one of the Control Suite tasks gymfleet serves"):
         gdm.load("walker", "fly")
+    with pytest.raises(gymfleet.InvalidArgument, match="load_batch: flat_observation is not supported"):
+        gdm.load_batch("cartpole", "balance", 2, environment_kwargs={"flat_observation": True})
+    with pytest.raises(gymfleet.InvalidArgument, match="'gymfleet/Nope-v1' is not one of gymfleet's Control Suite ids"):
+        gymfleet.dmc.DmcEnv("gymfleet/Nope-v1")
     flat = gdm.load("cartpole", "balance", environment_kwargs={"flat_observation": True})
     assert flat.reset().observation["observations"].shape == (5,)
     env.close()

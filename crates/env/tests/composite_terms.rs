@@ -141,6 +141,36 @@ fn composite_terms_refuse_bad_references_with_their_path() {
         ),
         (
             json!({"terms": [], "reset_noise": {"set": [
+                {"joints": ["hinge"], "mean": [0.0, 1.0], "std": [0.1]}]}}),
+            "task.terms.reset_noise.set[0]: expected one mean and one std per joint (1), got 2 and 1",
+        ),
+        (
+            json!({"terms": [], "reset_noise": {"set": [
+                {"joints": ["hinge"], "mean": [0.0], "std": [0.1], "max_norm": 1.0}]}}),
+            "task.terms.reset_noise.set[0]: a normal draw (mean, std) takes no min_norm or max_norm",
+        ),
+        (
+            json!({"terms": [{"name": "a", "value":
+                {"instance": "arm", "axis": "z", "frame_axis": "z", "relative_to": "x"}}]}),
+            "task.terms.terms[0].value.relative_to: a frame axis is read in the world: it takes no relative_to",
+        ),
+        (
+            json!({"terms": [{"name": "a", "value":
+                {"instance": "arm", "axis": "z", "frame_axis": "z", "point": [0, 0, 0]}}]}),
+            "task.terms.terms[0].value.point: a frame axis is the frame's own: it takes no point",
+        ),
+        (
+            json!({"terms": [{"name": "a", "value":
+                {"body_center": ["arm"], "axis": "z", "point": [0, 0, 0]}}]}),
+            "task.terms.terms[0].value.point: a body's centre of mass takes no point",
+        ),
+        (
+            json!({"terms": [{"name": "a", "value": {"joint": "hinge"}},
+                             {"name": "t", "tolerance": {"of": "a", "bounds": [null, null], "margin": 1.0, "value_at_margin": 1.0}}]}),
+            "task.terms.terms[1].tolerance.value_at_margin: expected 0 < value_at_margin < 1 (the Gaussian sigmoid), got 1",
+        ),
+        (
+            json!({"terms": [], "reset_noise": {"set": [
                 {"joints": ["hinge"], "mean": [0.0], "low": [0.0], "high": [1.0]}]}}),
             "task.terms.reset_noise.set[0]: expected either low and high (a uniform box) or mean and std (normal draws)",
         ),
@@ -363,6 +393,13 @@ fn mocap_targets_start_where_they_are_drawn() {
          "mocap[0].polar.plane: expected \"xy\" or \"xz\", got \"yz\""),
         (json!({"body": "target", "boxes": [{"weight": 0, "low": [0, 0, 0], "high": [0, 0, 0]}]}),
          "mocap[0].boxes[0].weight: expected a weight > 0, got 0"),
+        (json!({"body": "target", "boxes": [{"low": [0, 0, 1], "high": [0, 0, 0]}]}),
+         "mocap[0].boxes[0].high: expected high >= low in every coordinate"),
+        (json!({"body": "target", "polar": {"plane": "xy", "center": [0, 0, 0], "radius": [1, 0], "angle": [0, 1]}}),
+         "mocap[0].polar.radius: expected min <= max, got 1 and 0"),
+        (json!({"body": "target", "boxes": [{"low": [0, 0, 0], "high": [0, 0, 0]}],
+                "polar": {"plane": "xy", "center": [0, 0, 0], "radius": [0, 1], "angle": [0, 1]}}),
+         "task.terms.reset_noise.mocap[0]: expected exactly one of boxes or polar"),
     ] {
         let config = EnvConfig {
             units: Units::Si,
@@ -378,4 +415,29 @@ fn mocap_targets_start_where_they_are_drawn() {
         let err = RobotEnv::from_json(&doc.to_string(), config).err().expect("refused").to_string();
         assert!(err.contains(expected), "{err}\n  expected: {expected}");
     }
+    let twice = json!({"body": "target", "boxes": [{"low": [0, 0, 0], "high": [0, 0, 0]}]});
+    let config = EnvConfig {
+        units: Units::Si,
+        task: Some(TaskSpec {
+            kind: TaskKind::Terms(
+                TermsTask::from_json(
+                    &json!({"terms": [], "reset_noise": {"mocap": [twice.clone(), twice]}})
+                        .to_string(),
+                )
+                .expect("parses"),
+            ),
+            action_cost: 0.0,
+        }),
+        ..EnvConfig::default()
+    };
+    let err = RobotEnv::from_json(&doc.to_string(), config)
+        .err()
+        .expect("refused")
+        .to_string();
+    assert!(
+        err.contains(
+            "task.terms.reset_noise.mocap[1].body: the mocap body is drawn by an earlier entry too"
+        ),
+        "{err}"
+    );
 }

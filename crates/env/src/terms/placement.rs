@@ -54,6 +54,9 @@ pub struct Polar {
     pub angle: [f64; 2],
 }
 
+/// A [`WeightedBox`] resolved: (cumulative weight, low corner, high corner).
+type Box3 = (f64, [f64; 3], [f64; 3]);
+
 /// A [`Polar`] resolved: (u axis, v axis, centre, radius range, angle range).
 type Arc = (usize, usize, [f64; 3], [f64; 2], [f64; 2]);
 
@@ -63,7 +66,7 @@ pub(crate) struct ActiveMocapDraw {
     /// The mocap body's index.
     pub(crate) mocap: usize,
     /// Boxes with their cumulative weights (the last is the total).
-    boxes: Vec<(f64, [f64; 3], [f64; 3])>,
+    boxes: Vec<Box3>,
     polar: Option<Arc>,
     /// Metres per env unit of length.
     to_m: f64,
@@ -125,76 +128,83 @@ impl MocapDraw {
             )
         })?;
         let to_m = 1.0 / units.length(1.0);
-        let coords = |at: String, v: &[f64]| -> Result<()> {
-            for (k, c) in v.iter().enumerate() {
-                bounded(&format!("{at}[{k}]"), *c, "coordinate")?;
-            }
-            Ok(())
-        };
         match (&self.polar, self.boxes.is_empty()) {
-            (Some(p), true) => {
-                let at = format!("{path}.polar");
-                let (u, v) = match p.plane.as_str() {
-                    "xy" => (0, 1),
-                    "xz" => (0, 2),
-                    other => {
-                        return Err(bad(
-                            format!("{at}.plane"),
-                            format!("expected \"xy\" or \"xz\", got {:?}", shown_str(other)),
-                        ))
-                    }
-                };
-                coords(format!("{at}.center"), &p.center)?;
-                coords(format!("{at}.radius"), &p.radius)?;
-                coords(format!("{at}.angle"), &p.angle)?;
-                for (field, [lo, hi]) in [("radius", p.radius), ("angle", p.angle)] {
-                    if lo > hi {
-                        return Err(bad(
-                            format!("{at}.{field}"),
-                            format!("expected min <= max, got {} and {}", shown(lo), shown(hi)),
-                        ));
-                    }
-                }
-                Ok(ActiveMocapDraw {
-                    mocap,
-                    boxes: Vec::new(),
-                    polar: Some((u, v, p.center, p.radius, p.angle)),
-                    to_m,
-                })
-            }
-            (None, false) => {
-                let mut total = 0.0;
-                let mut boxes = Vec::with_capacity(self.boxes.len());
-                for (k, b) in self.boxes.iter().enumerate() {
-                    let at = format!("{path}.boxes[{k}]");
-                    let w = bounded(&format!("{at}.weight"), b.weight, "weight")?;
-                    if w <= 0.0 {
-                        return Err(bad(
-                            format!("{at}.weight"),
-                            format!("expected a weight > 0, got {}", shown(w)),
-                        ));
-                    }
-                    coords(format!("{at}.low"), &b.low)?;
-                    coords(format!("{at}.high"), &b.high)?;
-                    if (0..3).any(|i| b.low[i] > b.high[i]) {
-                        return Err(bad(
-                            format!("{at}.high"),
-                            "expected high >= low in every coordinate",
-                        ));
-                    }
-                    total += w;
-                    boxes.push((total, b.low, b.high));
-                }
-                Ok(ActiveMocapDraw {
-                    mocap,
-                    boxes,
-                    polar: None,
-                    to_m,
-                })
-            }
+            (Some(p), true) => Ok(ActiveMocapDraw {
+                mocap,
+                boxes: Vec::new(),
+                polar: Some(arc(&format!("{path}.polar"), p)?),
+                to_m,
+            }),
+            (None, false) => Ok(ActiveMocapDraw {
+                mocap,
+                boxes: weighted(path, &self.boxes)?,
+                polar: None,
+                to_m,
+            }),
             _ => Err(bad(path, "expected exactly one of boxes or polar")),
         }
     }
+}
+
+/// Each coordinate of `v` finite and bounded (errors at `at[k]`).
+fn coords(at: &str, v: &[f64]) -> Result<()> {
+    for (k, c) in v.iter().enumerate() {
+        bounded(&format!("{at}[{k}]"), *c, "coordinate")?;
+    }
+    Ok(())
+}
+
+/// A [`Polar`] checked (`at`: its path).
+fn arc(at: &str, p: &Polar) -> Result<Arc> {
+    let (u, v) = match p.plane.as_str() {
+        "xy" => (0, 1),
+        "xz" => (0, 2),
+        other => {
+            return Err(bad(
+                format!("{at}.plane"),
+                format!("expected \"xy\" or \"xz\", got {:?}", shown_str(other)),
+            ))
+        }
+    };
+    coords(&format!("{at}.center"), &p.center)?;
+    coords(&format!("{at}.radius"), &p.radius)?;
+    coords(&format!("{at}.angle"), &p.angle)?;
+    for (field, [lo, hi]) in [("radius", p.radius), ("angle", p.angle)] {
+        if lo > hi {
+            return Err(bad(
+                format!("{at}.{field}"),
+                format!("expected min <= max, got {} and {}", shown(lo), shown(hi)),
+            ));
+        }
+    }
+    Ok((u, v, p.center, p.radius, p.angle))
+}
+
+/// [`WeightedBox`]es checked, with their cumulative weights.
+fn weighted(path: &str, boxes: &[WeightedBox]) -> Result<Vec<Box3>> {
+    let mut total = 0.0;
+    let mut out = Vec::with_capacity(boxes.len());
+    for (k, b) in boxes.iter().enumerate() {
+        let at = format!("{path}.boxes[{k}]");
+        let w = bounded(&format!("{at}.weight"), b.weight, "weight")?;
+        if w <= 0.0 {
+            return Err(bad(
+                format!("{at}.weight"),
+                format!("expected a weight > 0, got {}", shown(w)),
+            ));
+        }
+        coords(&format!("{at}.low"), &b.low)?;
+        coords(&format!("{at}.high"), &b.high)?;
+        if (0..3).any(|i| b.low[i] > b.high[i]) {
+            return Err(bad(
+                format!("{at}.high"),
+                "expected high >= low in every coordinate",
+            ));
+        }
+        total += w;
+        out.push((total, b.low, b.high));
+    }
+    Ok(out)
 }
 
 fn shown_str(s: &str) -> String {

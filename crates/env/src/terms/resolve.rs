@@ -94,44 +94,7 @@ impl Context<'_> {
                 format!("expected 1 to {MAX_TERMS} joints, got {n}"),
             ));
         }
-        let normal = set.mean.is_some() || set.std.is_some();
-        let (low, high) =
-            match (&set.mean, &set.std) {
-                (Some(mean), Some(std)) if set.low.is_empty() && set.high.is_empty() => {
-                    if set.min_norm.is_some() || set.max_norm.is_some() {
-                        return Err(bad(
-                            path,
-                            "a normal draw (mean, std) takes no min_norm or max_norm",
-                        ));
-                    }
-                    (mean, std)
-                }
-                (None, None) => (&set.low, &set.high),
-                _ => return Err(bad(
-                    path,
-                    "expected either low and high (a uniform box) or mean and std (normal draws)",
-                )),
-            };
-        if normal && (low.len() != n || high.len() != n) {
-            return Err(bad(
-                path,
-                format!(
-                    "expected one mean and one std per joint ({n}), got {} and {}",
-                    low.len(),
-                    high.len()
-                ),
-            ));
-        }
-        if !normal && (set.low.len() != n || set.high.len() != n) {
-            return Err(bad(
-                path,
-                format!(
-                    "expected one low and one high per joint ({n}), got {} and {}",
-                    set.low.len(),
-                    set.high.len()
-                ),
-            ));
-        }
+        let (normal, low, high) = set_bounds(path, set, n)?;
         let mut dofs = Vec::with_capacity(n);
         for (k, name) in set.joints.iter().enumerate() {
             let at = format!("{path}.joints[{k}]");
@@ -190,8 +153,8 @@ impl Context<'_> {
             dofs,
             normal,
             at_rest: set.at_rest,
-            low: low.clone(),
-            high: high.clone(),
+            low: low.to_vec(),
+            high: high.to_vec(),
             min_norm,
             max_norm,
         })
@@ -497,4 +460,47 @@ impl TermsTask {
             velocity_noise: cx.noise("task.terms.reset_noise.velocity", noise.velocity)?,
         })
     }
+}
+
+/// A set's bounds: normal draws (`mean`, `std`) or a uniform box (`low`, `high`), one of
+/// each per joint.
+fn set_bounds<'s>(
+    path: &str,
+    set: &'s SetJoints,
+    n: usize,
+) -> Result<(bool, &'s [f64], &'s [f64])> {
+    let (normal, low, high) = match (&set.mean, &set.std) {
+        (Some(mean), Some(std)) if set.low.is_empty() && set.high.is_empty() => {
+            if set.min_norm.is_some() || set.max_norm.is_some() {
+                return Err(bad(
+                    path,
+                    "a normal draw (mean, std) takes no min_norm or max_norm",
+                ));
+            }
+            (true, mean, std)
+        }
+        (None, None) => (false, &set.low, &set.high),
+        _ => {
+            return Err(bad(
+                path,
+                "expected either low and high (a uniform box) or mean and std (normal draws)",
+            ))
+        }
+    };
+    if low.len() != n || high.len() != n {
+        let (a, b) = if normal {
+            ("mean", "std")
+        } else {
+            ("low", "high")
+        };
+        return Err(bad(
+            path,
+            format!(
+                "expected one {a} and one {b} per joint ({n}), got {} and {}",
+                low.len(),
+                high.len()
+            ),
+        ));
+    }
+    Ok((normal, low, high))
 }

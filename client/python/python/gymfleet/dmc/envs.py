@@ -182,26 +182,35 @@ class Setup:
         observed = [n for n in names if n in self.observed]
         if observed != self.observed:
             raise InvalidArgument(f"{self.task.id}: the server observes {observed}, not {self.observed}")
+        self._plan = self._parts()
         q = np.zeros((1, info["observation_dim"]), dtype=np.float32)
         self.structure = {k: int(np.size(v[0])) for k, v in self.keys(q).items()}
+
+    def _parts(self) -> List[List[Tuple[str, Any]]]:
+        """Each key's parts as what ``keys`` indexes: ("qpos"|"qvel", a slice) or
+        ("terms", the observed terms' columns), worked out once."""
+        plan = []
+        for key in self.task.keys:
+            parts: List[Tuple[str, Any]] = []
+            for part in key.parts:
+                if part[0] == "terms":
+                    parts.append(("terms", np.array([self.observed.index(n) for n in part[1]])))
+                else:
+                    parts.append((part[0], slice(part[1], part[2])))
+            plan.append(parts)
+        return plan
 
     def keys(self, raw: np.ndarray) -> Dict[str, np.ndarray]:
         """dm_control's observation dict of rows ``raw`` (n, dim): each key (n, ...),
         float64."""
         q, v, _ = split_rows(raw, self.segments, self.root_geom)
-        observed = raw[:, self.segments["terms"]] if self.observed else None
+        rows = {"qpos": q, "qvel": v}
+        if self.observed:
+            rows["terms"] = raw[:, self.segments["terms"]]
         out: Dict[str, np.ndarray] = {}
-        for key in self.task.keys:
-            parts: List[np.ndarray] = []
-            for part in key.parts:
-                if part[0] == "qpos":
-                    parts.append(q[:, part[1]:part[2]])
-                elif part[0] == "qvel":
-                    parts.append(v[:, part[1]:part[2]])
-                else:
-                    idx = [self.observed.index(name) for name in part[1]]
-                    parts.append(observed[:, idx])  # type: ignore[index]
-            values = np.concatenate(parts, axis=1).astype(np.float64)
+        for key, parts in zip(self.task.keys, self._plan):
+            values = np.concatenate([rows[kind][:, at] for kind, at in parts], axis=1)
+            values = values.astype(np.float64)
             if key.transform is not None:
                 values = key.transform(values)
             out[key.name] = values[:, 0] if key.scalar else values
