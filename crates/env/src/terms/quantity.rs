@@ -344,55 +344,10 @@ impl Context<'_> {
             return Ok(Q::ContactWrench { group, component });
         }
         if let (Some(local), Some(name)) = (q.frame_axis, q.instance.as_ref().or(q.site.as_ref())) {
-            if q.point.is_some() {
-                return Err(bad(
-                    format!("{path}.point"),
-                    "a frame axis is the frame's own: it takes no point",
-                ));
-            }
-            let (body, rotation) = match &q.instance {
-                Some(name) => (self.instance(&format!("{path}.instance"), name)?, [0.0; 3]),
-                None => {
-                    let k = self.site(&format!("{path}.site"), name)?.0;
-                    let site =
-                        &self.assembly.sites[self.assembly.site_index(name).expect("resolved")];
-                    (k, site.rotation)
-                }
-            };
-            return Ok(Q::FrameAxis {
-                body,
-                rotation,
-                local: local as usize,
-                axis: axis()?,
-            });
+            return self.frame_axis(path, q, local as usize, name, &axis);
         }
         if let Some(frame) = &q.relative_to {
-            let (body, point) = match (&q.instance, &q.site) {
-                (Some(name), None) => (
-                    self.instance(&format!("{path}.instance"), name)?,
-                    self.point(&format!("{path}.point"), q.point)?,
-                ),
-                (None, Some(name)) if q.point.is_none() => {
-                    let (body, point) = self.site(&format!("{path}.site"), name)?;
-                    (body, Some(point))
-                }
-                _ => {
-                    return Err(bad(
-                        format!("{path}.relative_to"),
-                        "an offset from a site belongs to a site, or an instance (with an optional point)",
-                    ))
-                }
-            };
-            let at = format!("{path}.relative_to");
-            let (fbody, fpoint) = self.site(&at, frame)?;
-            let rotation =
-                self.assembly.sites[self.assembly.site_index(frame).expect("resolved")].rotation;
-            return Ok(Q::Relative {
-                body,
-                point,
-                frame: (fbody, fpoint, rotation),
-                axis: axis()?,
-            });
+            return self.relative(path, q, frame, &axis);
         }
         if let Some(name) = &q.instance {
             return Ok(Q::Point {
@@ -469,5 +424,76 @@ impl Context<'_> {
         }
         groups.push(group);
         Ok(groups.len() - 1)
+    }
+}
+
+impl Context<'_> {
+    /// A site's instance, point and rotation.
+    fn site_frame(&self, path: &str, name: &str) -> Result<(usize, [f64; 3], [f64; 3])> {
+        let (body, point) = self.site(path, name)?;
+        let rotation =
+            self.assembly.sites[self.assembly.site_index(name).expect("resolved")].rotation;
+        Ok((body, point, rotation))
+    }
+
+    /// `frame_axis`: the world `axis` component of an instance's or site's own axis `local`.
+    fn frame_axis(
+        &self,
+        path: &str,
+        q: &Quantity,
+        local: usize,
+        name: &str,
+        axis: &dyn Fn() -> Result<usize>,
+    ) -> Result<Q> {
+        if q.point.is_some() {
+            return Err(bad(
+                format!("{path}.point"),
+                "a frame axis is the frame's own: it takes no point",
+            ));
+        }
+        let (body, rotation) = match &q.instance {
+            Some(name) => (self.instance(&format!("{path}.instance"), name)?, [0.0; 3]),
+            None => {
+                let (body, _, rotation) = self.site_frame(&format!("{path}.site"), name)?;
+                (body, rotation)
+            }
+        };
+        Ok(Q::FrameAxis {
+            body,
+            rotation,
+            local,
+            axis: axis()?,
+        })
+    }
+
+    /// `relative_to`: a point's offset from a site, along the site's own axis.
+    fn relative(
+        &self,
+        path: &str,
+        q: &Quantity,
+        frame: &str,
+        axis: &dyn Fn() -> Result<usize>,
+    ) -> Result<Q> {
+        let (body, point) = match (&q.instance, &q.site) {
+            (Some(name), None) => (
+                self.instance(&format!("{path}.instance"), name)?,
+                self.point(&format!("{path}.point"), q.point)?,
+            ),
+            (None, Some(name)) if q.point.is_none() => {
+                let (body, point) = self.site(&format!("{path}.site"), name)?;
+                (body, Some(point))
+            }
+            _ => return Err(bad(
+                format!("{path}.relative_to"),
+                "an offset from a site belongs to a site, or an instance (with an optional point)",
+            )),
+        };
+        let (fbody, fpoint, rotation) = self.site_frame(&format!("{path}.relative_to"), frame)?;
+        Ok(Q::Relative {
+            body,
+            point,
+            frame: (fbody, fpoint, rotation),
+            axis: axis()?,
+        })
     }
 }
