@@ -29,7 +29,7 @@ with warnings.catch_warnings():
     from dm_control import suite
 
 #: Keys that read contact forces, compared in shape only.
-CONTACT_KEYS = {("hopper", "touch"), ("finger", "touch")}
+CONTACT_KEYS = {("hopper", "touch"), ("finger", "touch"), ("manipulator", "touch")}
 IDS = sorted(TASKS)
 
 
@@ -54,7 +54,8 @@ def test_the_ids_are_named_as_envpools_and_are_benchmarking_tasks():
         assert env_id in gym.registry
     assert "gymfleet/CheetahRun-v1" in TASKS
     assert "gymfleet/BallInCupCatch-v1" in TASKS and "gymfleet/SwimmerSwimmer6-v1" in TASKS
-    assert "gymfleet/ManipulatorBringBall-v1" not in TASKS
+    assert "gymfleet/ManipulatorBringBall-v1" in TASKS
+    assert len(TASKS) == len(suite.BENCHMARKING) == 28
 
 
 def test_specs_timestep_and_step_limit_are_dm_controls(pair):
@@ -88,8 +89,14 @@ def _sync_targets(task, env, theirs):
     bodies = env.unwrapped.gymfleet_env.bodies()
     names = list(bodies["instances"])
     centers = np.asarray(bodies["centers_of_mass"]).reshape(-1, 3)
+    poses = np.asarray(bodies["site_poses"]).reshape(-1, 7)
     for field, name, instance in task.targets:
-        getattr(theirs.physics.named.model, field)[name] = centers[names.index(instance)]
+        if field == "body_quat":
+            # The body's origin site (named after it): its orientation, w first.
+            value = poses[list(bodies["sites"]).index(instance)][3:]
+        else:
+            value = centers[names.index(instance)]
+        getattr(theirs.physics.named.model, field)[name] = value
 
 
 def _their_view(task, theirs, qpos, qvel, action, env=None):
@@ -342,7 +349,8 @@ def test_sparse_rewards_near_their_thresholds(env_id, states):
 
 
 @pytest.mark.parametrize("env_id", ["gymfleet/FingerSpin-v1", "gymfleet/BallInCupCatch-v1",
-                                    "gymfleet/HumanoidStand-v1"])
+                                    "gymfleet/HumanoidStand-v1",
+                                    "gymfleet/ManipulatorBringBall-v1"])
 def test_starts_drawn_again_until_nothing_touches_touch_nothing_in_mujoco(env_id):
     """The starts dm_control draws again while ``ncon > 0``: gymfleet's, put into
     dm_control's physics, touch nothing there either; the humanoid's free body starts at

@@ -62,7 +62,11 @@ pub struct RobotEnv {
     /// Where mocap bodies start (a terms task's `reset_noise.mocap`), and this episode's
     /// draws (SI positions).
     pub(crate) mocap_draws: Vec<crate::terms::ActiveMocapDraw>,
-    pub(crate) mocap_starts: Vec<[f64; 3]>,
+    pub(crate) mocap_starts: Vec<crate::terms::MocapStart>,
+    /// Joints placed by one of several options, and this episode's draw; DOF pairs that
+    /// start equal (`reset_noise.choice`, `reset_noise.equal`).
+    pub(crate) choice: Option<crate::terms::ChoiceDraw>,
+    pub(crate) equal: Vec<(usize, usize)>,
     /// Scratch for the per-DOF reset offsets (deg or mm) and velocities (`units`).
     pub(crate) offsets: Vec<f64>,
     pub(crate) start_velocities: Vec<f64>,
@@ -185,6 +189,10 @@ impl RobotEnv {
         let turn_base = terms.is_some_and(|t| t.turn_base);
         let reject_contacts = terms.is_some_and(|t| t.reject_contacts);
         let mocap_draws = terms.map(|t| t.mocap_draws.clone()).unwrap_or_default();
+        let choice = terms
+            .and_then(|t| t.choice.clone())
+            .map(crate::terms::ChoiceDraw::new);
+        let equal = terms.map(|t| t.equal.clone()).unwrap_or_default();
         let segment = task
             .as_ref()
             .and_then(|t| t.observation_name().map(|name| (name, t.observation_dim())));
@@ -242,7 +250,9 @@ impl RobotEnv {
             turn_base,
             reject_contacts,
             base_turn: None,
-            mocap_starts: vec![[0.0; 3]; mocap_draws.len()],
+            mocap_starts: vec![([0.0; 3], None); mocap_draws.len()],
+            choice,
+            equal,
             mocap_draws,
             offsets: vec![0.0; spec.num_dofs],
             start_velocities: vec![0.0; spec.num_dofs],

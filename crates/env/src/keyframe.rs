@@ -139,7 +139,7 @@ impl RobotEnv {
     }
 
     /// The keyframe's offsets and velocities on top of the reset's draws, into the
-    /// `keyed_*` scratch; a DOF a task's `reset_noise.set` draws keeps its draw. Returns
+    /// `keyed_*` scratch; a DOF a task's `reset_noise.set` or `choice` draws keeps its draw. Returns
     /// the keyframe's base, if any.
     pub(crate) fn key_start(&mut self, key: usize) -> Option<BaseKey> {
         let keyframes = std::sync::Arc::clone(&self.keyframes);
@@ -147,7 +147,13 @@ impl RobotEnv {
         self.keyed_offsets.copy_from_slice(&self.offsets);
         self.keyed_velocities
             .copy_from_slice(&self.start_velocities);
-        let drawn = |k: usize| self.sets.iter().any(|s| s.dofs.contains(&k));
+        let drawn = |k: usize| {
+            self.sets.iter().any(|s| s.dofs.contains(&k))
+                || self
+                    .choice
+                    .as_ref()
+                    .is_some_and(|c| c.choice.dofs.contains(&k))
+        };
         for &(k, offset) in &key.offsets {
             if !drawn(k) {
                 self.keyed_offsets[k] += offset;

@@ -7,8 +7,9 @@ use rand::SeedableRng;
 
 use crate::env::draw;
 use crate::observation::Observation;
-use crate::terms::Dist;
+use crate::terms::{rotation_matrix, turn_about, Coord, Dist, Place};
 use crate::RobotEnv;
+use gymfleet_assembly::DofKind;
 
 /// Starts drawn before one with no overlapping colliders is kept (dm_control's finger
 /// gives up after 1000).
@@ -45,6 +46,9 @@ impl RobotEnv {
             self.rng = Xoshiro256PlusPlus::seed_from_u64(seed);
         }
         let key = key.or(self.initial_keyframe);
+        if let Some(choice) = &mut self.choice {
+            choice.start();
+        }
         for _ in 0..if self.reject_contacts {
             MAX_START_DRAWS
         } else {
@@ -52,6 +56,10 @@ impl RobotEnv {
         } {
             self.draw_start();
             self.place_start(key);
+            if self.place_at_frame() {
+                // The chosen frame was read from this placement: place again with it.
+                self.place_start(key);
+            }
             if !self.reject_contacts || !self.world.penetrating() {
                 break;
             }
@@ -103,6 +111,20 @@ impl RobotEnv {
                 }
             }
         }
+        if let Some(choice) = &mut self.choice {
+            choice.draw(&mut self.rng);
+            if choice.frame().is_none() {
+                let values = choice.positions.clone();
+                self.place_choice(&values);
+            }
+        }
+        for &(a, b) in &self.equal {
+            let (da, db) = (&self.spec.dofs[a], &self.spec.dofs[b]);
+            // As observed: b's drawn position, then a's offset from its own start.
+            let observed = self.offsets[b] + db.reference + db.initial;
+            self.offsets[a] = observed - da.reference - da.initial;
+            self.start_velocities[a] = self.start_velocities[b];
+        }
         if let Some(r) = &self.randomize {
             let draws = draw(
                 &mut self.rng,
@@ -119,6 +141,50 @@ impl RobotEnv {
         for (draw, start) in self.mocap_draws.iter().zip(&mut self.mocap_starts) {
             *start = draw.draw(&mut self.rng);
         }
+    }
+
+    /// The choice's joints at `values` (as observed, the env's units), with its drawn
+    /// velocities.
+    fn place_choice(&mut self, values: &[f64]) {
+        let Some(choice) = &self.choice else { return };
+        for (j, &k) in choice.choice.dofs.iter().enumerate() {
+            let dof = &self.spec.dofs[k];
+            self.offsets[k] =
+                self.units.to_document(dof.kind, values[j]) - dof.reference - dof.initial;
+            self.start_velocities[k] = choice.velocities[j];
+        }
+    }
+
+    /// With a frame option chosen: reads the frame's pose from the world as just placed
+    /// and puts the choice's joints there. Returns whether it did (the world must then be
+    /// placed again).
+    fn place_at_frame(&mut self) -> bool {
+        let Some(Place::Frame {
+            body,
+            point,
+            rotation,
+            from,
+            offset,
+        }) = self.choice.as_ref().and_then(|c| c.frame())
+        else {
+            return false;
+        };
+        let pose = self.world.site_pose(self.units, *body, *point, *rotation);
+        let m = rotation_matrix([pose[3], pose[4], pose[5], pose[6]].map(f64::from));
+        let values: Vec<f64> = from
+            .iter()
+            .zip(offset)
+            .map(|(coord, o)| {
+                o + match *coord {
+                    Coord::Position(i) => f64::from(pose[i]),
+                    Coord::Angle(i) => self
+                        .units
+                        .from_document(DofKind::Angular, turn_about(&m, i).to_degrees()),
+                }
+            })
+            .collect();
+        self.place_choice(&values);
+        true
     }
 
     /// The initial state (or keyframe `key`'s) with the draws on top.
@@ -138,10 +204,11 @@ impl RobotEnv {
             Some(_) => (&self.keyed_offsets, &self.keyed_velocities),
             None => (&self.offsets, &self.start_velocities),
         };
-        if self.position_noise.is_some() || !self.sets.is_empty() || key.is_some() {
+        let drawn = self.choice.is_some() || !self.equal.is_empty();
+        if self.position_noise.is_some() || !self.sets.is_empty() || key.is_some() || drawn {
             self.world.offset_dofs(offsets);
         }
-        if self.velocity_noise.is_some() || key.is_some() {
+        if self.velocity_noise.is_some() || key.is_some() || drawn {
             self.world.set_dof_velocities(self.units, velocities);
         }
         if self.base_noise.is_some() {
@@ -150,13 +217,13 @@ impl RobotEnv {
         if let Some(q) = self.base_turn {
             self.world.turn_base(q);
         }
-        for (draw, start) in self.mocap_draws.iter().zip(&self.mocap_starts) {
+        for (draw, (start, turn)) in self.mocap_draws.iter().zip(&self.mocap_starts) {
             let now = self.world.mocap_pose(Units::Si, draw.mocap);
             self.world.place_mocap(
                 draw.mocap,
                 &BaseKey {
                     position: *start,
-                    orientation: [now[3], now[4], now[5], now[6]].map(f64::from),
+                    orientation: turn.unwrap_or([now[3], now[4], now[5], now[6]].map(f64::from)),
                     linear_velocity: [0.0; 3],
                     angular_velocity: [0.0; 3],
                 },

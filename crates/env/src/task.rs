@@ -107,7 +107,7 @@ enum Active {
         axis: [f64; 3],
         cos_max_tilt: f64,
     },
-    Terms(ActiveTerms),
+    Terms(Box<ActiveTerms>),
 }
 
 /// Largest magnitude accepted for a coordinate, mm (100 km).
@@ -281,7 +281,7 @@ impl TaskSpec {
                     cos_max_tilt: max_tilt_deg.to_radians().cos(),
                 }
             }
-            TaskKind::Terms(terms) => Active::Terms(terms.resolve(cx)?),
+            TaskKind::Terms(terms) => Active::Terms(Box::new(terms.resolve(cx)?)),
         };
         let target = match &self.kind {
             TaskKind::Reach {

@@ -118,7 +118,7 @@ class Physics:
 def _spec_dict(setup: Any) -> "collections.OrderedDict[str, Any]":
     out: "collections.OrderedDict[str, Any]" = collections.OrderedDict()
     for key in setup.task.keys:
-        shape = () if key.scalar else (setup.structure[key.name],)
+        shape = key.spec_shape(setup.structure[key.name])
         out[key.name] = specs.Array(shape=shape, dtype=np.float64, name=key.name)
     return out
 
@@ -232,7 +232,7 @@ class BatchEnvironment:
         for key in self._envs._setup.task.keys:
             size = self._envs._setup.structure[key.name]
             values = flat[:, start:start + size].astype(np.float64)
-            out[key.name] = values[:, 0] if key.scalar else values
+            out[key.name] = key.shaped(values)
             start += size
         return out
 

@@ -205,6 +205,10 @@ pub(crate) struct ActiveTerms {
     pub(crate) mocap_draws: Vec<super::ActiveMocapDraw>,
     pub(crate) velocity_noise: Option<Dist>,
     pub(crate) sets: Vec<ActiveSet>,
+    /// Joints placed by one of several options ([`super::ResetNoise::choice`]).
+    pub(crate) choice: Option<super::choice::ActiveChoice>,
+    /// DOF pairs `(a, b)`: `a` starts where `b` does ([`super::ResetNoise::equal`]).
+    pub(crate) equal: Vec<(usize, usize)>,
     /// This step's values in f64 (scratch), which later terms read.
     pub(super) step_values: Vec<f64>,
 }
@@ -278,7 +282,7 @@ impl<'a> Now<'a> {
 
 /// The rotation matrix of the unit quaternion `[w, x, y, z]`, rows the world axes:
 /// `m[i][j]` is the world `i` component of the frame's axis `j` (MuJoCo's `xmat`).
-fn rotation_matrix([w, x, y, z]: [f64; 4]) -> [[f64; 3]; 3] {
+pub(crate) fn rotation_matrix([w, x, y, z]: [f64; 4]) -> [[f64; 3]; 3] {
     [
         [
             1.0 - 2.0 * (y * y + z * z),

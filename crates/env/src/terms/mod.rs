@@ -18,6 +18,7 @@
 //! env; `active.rs` evaluates it after every step and draws the reset.
 
 mod active;
+mod choice;
 mod placement;
 mod quantity;
 mod resolve;
@@ -28,9 +29,11 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{EnvError, Result};
 
-pub(crate) use active::{ActiveSet, ActiveTerms, Dist};
-pub(crate) use placement::ActiveMocapDraw;
-pub use placement::{MocapDraw, Polar, WeightedBox};
+pub(crate) use active::{rotation_matrix, ActiveSet, ActiveTerms, Dist};
+pub(crate) use choice::{turn_about, ChoiceDraw, Coord, Place};
+pub use choice::{Choice, ChoiceOption};
+pub(crate) use placement::{ActiveMocapDraw, MocapStart};
+pub use placement::{MocapDraw, Polar, Turn, WeightedBox};
 pub(crate) use resolve::{instance, Context};
 pub use tolerance::{Factor, Sigmoid, Tolerance};
 
@@ -360,6 +363,15 @@ pub struct ResetNoise {
     /// Where mocap bodies start (a target the episode moves), after the keyframe's pose.
     #[serde(default)]
     pub mocap: Vec<MocapDraw>,
+    /// Some joints placed by one of several options, chosen by weight (dm_control's
+    /// manipulator: its object in the hand, in the target, or anywhere); a frame option
+    /// reads its frame after the other draws are placed.
+    #[serde(default)]
+    pub choice: Option<Choice>,
+    /// Pairs `[a, b]`: joint `a` starts at joint `b`'s drawn position and velocity, after
+    /// every other draw (dm_control's manipulator makes its hand symmetric).
+    #[serde(default)]
+    pub equal: Vec<[String; 2]>,
     /// Physics substeps run with a zero action after the draws, before the episode's
     /// first observation (dm_control's cheetah settles for 200), rounded up to whole env
     /// steps; default 0.

@@ -1,7 +1,8 @@
 //! Where mocap bodies start each episode (`reset_noise.mocap`): a target the Control
 //! Suite's tasks move before every episode (reacher's and fish's target, finger's goal,
 //! swimmer's food), drawn from one of some weighted boxes, or on an arc about a centre.
-//! The body keeps its orientation and stays where it is drawn until moved.
+//! The body keeps its orientation, or is turned by a drawn angle about an axis (`turn`:
+//! manipulator's target), and stays where it is drawn until moved.
 
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::RngExt;
@@ -25,6 +26,20 @@ pub struct MocapDraw {
     /// coordinate the centre's.
     #[serde(default)]
     pub polar: Option<Polar>,
+    /// An orientation drawn too: turned from the world's frame by an angle uniform in
+    /// `angle` about `axis`.
+    #[serde(default)]
+    pub turn: Option<Turn>,
+}
+
+/// A drawn orientation of a [`MocapDraw`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Turn {
+    /// The axis (world; normalised).
+    pub axis: [f64; 3],
+    /// `[min, max]` of the angle, rad.
+    pub angle: [f64; 2],
 }
 
 /// One box of a [`MocapDraw`].
@@ -68,13 +83,19 @@ pub(crate) struct ActiveMocapDraw {
     /// Boxes with their cumulative weights (the last is the total).
     boxes: Vec<Box3>,
     polar: Option<Arc>,
+    /// A drawn orientation: the unit axis and the angle's range.
+    turn: Option<([f64; 3], [f64; 2])>,
     /// Metres per env unit of length.
     to_m: f64,
 }
 
+/// A mocap body's drawn start: a world position (SI) and, with a turn, an orientation
+/// (w, x, y, z).
+pub(crate) type MocapStart = ([f64; 3], Option<[f64; 4]>);
+
 impl ActiveMocapDraw {
-    /// A world position, SI.
-    pub(crate) fn draw(&self, rng: &mut Xoshiro256PlusPlus) -> [f64; 3] {
+    /// A world position, SI, and an orientation with a turn.
+    pub(crate) fn draw(&self, rng: &mut Xoshiro256PlusPlus) -> MocapStart {
         let uniform = |rng: &mut Xoshiro256PlusPlus, lo: f64, hi: f64| {
             if lo < hi {
                 rng.random_range(lo..=hi)
@@ -102,7 +123,12 @@ impl ActiveMocapDraw {
                 std::array::from_fn(|k| uniform(rng, low[k], high[k]))
             }
         };
-        p.map(|c| c * self.to_m)
+        let q = self.turn.map(|(axis, [lo, hi])| {
+            let half = 0.5 * uniform(rng, lo, hi);
+            let s = half.sin();
+            [half.cos(), s * axis[0], s * axis[1], s * axis[2]]
+        });
+        (p.map(|c| c * self.to_m), q)
     }
 }
 
@@ -128,17 +154,23 @@ impl MocapDraw {
             )
         })?;
         let to_m = 1.0 / units.length(1.0);
+        let turn = match &self.turn {
+            Some(t) => Some(turn(&format!("{path}.turn"), t)?),
+            None => None,
+        };
         match (&self.polar, self.boxes.is_empty()) {
             (Some(p), true) => Ok(ActiveMocapDraw {
                 mocap,
                 boxes: Vec::new(),
                 polar: Some(arc(&format!("{path}.polar"), p)?),
+                turn,
                 to_m,
             }),
             (None, false) => Ok(ActiveMocapDraw {
                 mocap,
                 boxes: weighted(path, &self.boxes)?,
                 polar: None,
+                turn,
                 to_m,
             }),
             _ => Err(bad(path, "expected exactly one of boxes or polar")),
@@ -152,6 +184,24 @@ fn coords(at: &str, v: &[f64]) -> Result<()> {
         bounded(&format!("{at}[{k}]"), *c, "coordinate")?;
     }
     Ok(())
+}
+
+/// A [`Turn`] checked: a finite, non-zero axis (normalised) and `min <= max`.
+fn turn(at: &str, t: &Turn) -> Result<([f64; 3], [f64; 2])> {
+    coords(&format!("{at}.axis"), &t.axis)?;
+    coords(&format!("{at}.angle"), &t.angle)?;
+    let norm = t.axis.iter().map(|c| c * c).sum::<f64>().sqrt();
+    if norm < 1e-9 {
+        return Err(bad(format!("{at}.axis"), "expected a non-zero axis"));
+    }
+    let [lo, hi] = t.angle;
+    if lo > hi {
+        return Err(bad(
+            format!("{at}.angle"),
+            format!("expected min <= max, got {} and {}", shown(lo), shown(hi)),
+        ));
+    }
+    Ok((t.axis.map(|c| c / norm), t.angle))
 }
 
 /// A [`Polar`] checked (`at`: its path).

@@ -429,7 +429,7 @@ impl Context<'_> {
 
 impl Context<'_> {
     /// A site's instance, point and rotation.
-    fn site_frame(&self, path: &str, name: &str) -> Result<(usize, [f64; 3], [f64; 3])> {
+    pub(super) fn site_frame(&self, path: &str, name: &str) -> Result<(usize, [f64; 3], [f64; 3])> {
         let (body, point) = self.site(path, name)?;
         let rotation =
             self.assembly.sites[self.assembly.site_index(name).expect("resolved")].rotation;

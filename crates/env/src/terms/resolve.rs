@@ -97,19 +97,7 @@ impl Context<'_> {
         let (normal, low, high) = set_bounds(path, set, n)?;
         let mut dofs = Vec::with_capacity(n);
         for (k, name) in set.joints.iter().enumerate() {
-            let at = format!("{path}.joints[{k}]");
-            let dof = self.joint(&at, name)?;
-            if self.dofs.iter().filter(|d| d.joint_name == *name).count() != 1 {
-                return Err(bad(
-                    at,
-                    "expected a joint with one DOF (revolute or prismatic)",
-                ));
-            }
-            if seen.contains(&dof) {
-                return Err(bad(at, "the joint is set by an earlier entry too"));
-            }
-            seen.push(dof);
-            dofs.push(dof);
+            dofs.push(self.one_dof(&format!("{path}.joints[{k}]"), name, seen)?);
             let (a, b) = if normal {
                 ("mean", "std")
             } else {
@@ -158,6 +146,47 @@ impl Context<'_> {
             min_norm,
             max_norm,
         })
+    }
+
+    /// The DOF of one-DOF joint `name`, which no earlier draw places (`seen`, which it
+    /// joins).
+    pub(super) fn one_dof(&self, at: &str, name: &str, seen: &mut Vec<usize>) -> Result<usize> {
+        let dof = self.joint(at, name)?;
+        if self.dofs.iter().filter(|d| d.joint_name == *name).count() != 1 {
+            return Err(bad(
+                at,
+                "expected a joint with one DOF (revolute or prismatic)",
+            ));
+        }
+        if seen.contains(&dof) {
+            return Err(bad(at, "the joint is set by an earlier entry too"));
+        }
+        seen.push(dof);
+        Ok(dof)
+    }
+
+    /// `reset_noise.equal` resolved: DOF pairs of one kind, the first drawn by nothing else.
+    fn equal(&self, pairs: &[[String; 2]], seen: &mut Vec<usize>) -> Result<Vec<(usize, usize)>> {
+        let mut out = Vec::with_capacity(pairs.len());
+        for (i, [a, b]) in pairs.iter().enumerate() {
+            let at = format!("task.terms.reset_noise.equal[{i}]");
+            let to = self.joint(&format!("{at}[1]"), b)?;
+            let from = self.one_dof(&format!("{at}[0]"), a, seen)?;
+            if self.dofs.iter().filter(|d| d.joint_name == *b).count() != 1 {
+                return Err(bad(
+                    format!("{at}[1]"),
+                    "expected a joint with one DOF (revolute or prismatic)",
+                ));
+            }
+            if self.dofs[from].kind != self.dofs[to].kind {
+                return Err(bad(
+                    at,
+                    "expected two joints of one kind (both revolute or both prismatic)",
+                ));
+            }
+            out.push((from, to));
+        }
+        Ok(out)
     }
 
     /// dm_control's `randomize_limited_and_rotational_joints` as sets: each limited
@@ -411,6 +440,11 @@ impl TermsTask {
         for (i, set) in noise.set.iter().enumerate() {
             sets.push(cx.set(&format!("task.terms.reset_noise.set[{i}]"), set, &mut seen)?);
         }
+        let choice = match &noise.choice {
+            Some(c) => Some(c.resolve("task.terms.reset_noise.choice", cx, &mut seen)?),
+            None => None,
+        };
+        let equal = cx.equal(&noise.equal, &mut seen)?;
         cx.joint_ranges(&noise, &mut sets, &seen);
         let mocaps: Vec<String> = cx
             .assembly
@@ -445,6 +479,8 @@ impl TermsTask {
             groups: cx.groups.take(),
             wrenches: Vec::new(),
             sets,
+            choice,
+            equal,
             previous: vec![0.0; terms.len()],
             step_values: vec![0.0; terms.len()],
             terms,

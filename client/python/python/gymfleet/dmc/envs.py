@@ -91,7 +91,7 @@ class Setup:
         self.dtype = dtype
         self.text = (
             read_suite_xml(self.task.xml) if self.task.generated is None
-            else generated_xml(self.task.domain, *self.task.generated)
+            else generated_xml(self.task.domain, *self.task.generated, maker=self.task.maker)
         )
         for old, new in self.task.edits:
             if old not in self.text:
@@ -213,7 +213,7 @@ class Setup:
             values = values.astype(np.float64)
             if key.transform is not None:
                 values = key.transform(values)
-            out[key.name] = values[:, 0] if key.scalar else values
+            out[key.name] = key.shaped(values)
         return out
 
     def flat(self, raw: np.ndarray) -> np.ndarray:

@@ -51,9 +51,10 @@ def read_suite_xml(xml: str) -> str:
     return _INCLUDE.sub(inline, text)
 
 
-def generated_xml(domain: str, *args: object) -> str:
-    """The model dm_control's ``suite.<domain>.get_model_and_assets(*args)`` makes in
-    Python (swimmer's links), its includes inlined from the assets it returns."""
+def generated_xml(domain: str, *args: object, maker: str = "get_model_and_assets") -> str:
+    """The model dm_control's ``suite.<domain>.<maker>(*args)`` makes in Python
+    (swimmer's links, manipulator's props), its includes inlined from the assets it
+    returns."""
     import importlib
     import warnings
 
@@ -61,7 +62,7 @@ def generated_xml(domain: str, *args: object) -> str:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # glfw: no display
         module = importlib.import_module(f"dm_control.suite.{domain}")
-    xml, assets = module.get_model_and_assets(*args)
+    xml, assets = getattr(module, maker)(*args)
     text = xml.decode("utf-8") if isinstance(xml, bytes) else str(xml)
 
     def inline(match: "re.Match[str]") -> str:

@@ -24,6 +24,17 @@ class Key:
     scalar: bool = False
     #: Applied to the key's values (hopper's touch: ``log1p``).
     transform: Optional[Callable[[np.ndarray], np.ndarray]] = None
+    #: dm_control's spec shape when it is neither flat nor ``()`` (manipulator's
+    #: ``arm_pos``: ``(8, 2)``); the values are reshaped to it, row-major.
+    shape: Optional[Tuple[int, ...]] = None
+
+    def spec_shape(self, size: int) -> Tuple[int, ...]:
+        """The key's shape in dm_control's spec, for ``size`` values."""
+        return () if self.scalar else self.shape or (size,)
+
+    def shaped(self, values: np.ndarray) -> np.ndarray:
+        """Rows of ``values`` (one per env) in the key's shape."""
+        return values.reshape((len(values),) + self.spec_shape(values.shape[1]))
 
 
 @dataclass
@@ -52,6 +63,9 @@ class Task:
     #: The arguments of dm_control's ``get_model_and_assets`` when the model is made in
     #: Python (swimmer: its number of links), else ``None``: the file ``xml``.
     generated: Optional[Tuple[Any, ...]] = None
+    #: The function of dm_control's ``suite.<domain>`` that ``generated`` calls
+    #: (manipulator's is ``make_model(use_peg, insert)``).
+    maker: str = "get_model_and_assets"
 
     @property
     def name(self) -> str:

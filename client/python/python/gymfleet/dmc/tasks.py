@@ -1,5 +1,5 @@
 """The Control Suite's tasks as gymfleet plans (the registry, and the classic and
-locomotion tasks; `goals.py` the rest): for each, what dm_control's
+locomotion tasks; `goals.py` the tasks with goals, `manipulator.py` the arm): for each, what dm_control's
 ``suite/<domain>.py`` does, in the server's terms: its observation keys (``Key``, from
 qpos, qvel and observed terms), its reward (``terms.py``), its episode's start
 (``reset_noise``: dm_control's ``initialize_episode``), its control timestep and time
@@ -24,6 +24,7 @@ from .goals import (
     _reacher,
     _swimmer,
 )
+from .manipulator import _bring_ball
 from .spec import _RANDOMIZE, Key, Part, Task, _observed, _qpos, _qvel
 
 __all__ = ["Key", "Part", "Task", "TASKS", "find"]
@@ -261,6 +262,7 @@ TASKS: Dict[str, Task] = {
         _humanoid("stand", 0.0),
         _humanoid("walk", 1.0),
         _humanoid("run", 10.0),
+        _bring_ball(),
         _acrobot("swingup_sparse", sparse=True),
         _cartpole("balance", swing_up=False, sparse=False),
         _cartpole("balance_sparse", swing_up=False, sparse=True),
