@@ -93,7 +93,29 @@ impl Batch {
             action_type: pb::ActionType::from(action_type) as i32,
             actions: actions.to_vec(),
             mocap_poses: mocap_poses.to_vec(),
+            env_indices: Vec::new(),
         }
+    }
+
+    /// Steps the envs `env_indices` (batch indices, ascending and distinct) once, with
+    /// `actions` holding one row per listed env in that order; the other envs do not
+    /// change, and each listed env steps as in [`Batch::step`]. The result has one row per
+    /// listed env ([`BatchStep::env_indices`]).
+    pub async fn step_envs(
+        &self,
+        action_type: ActionType,
+        env_indices: &[u32],
+        actions: &[f32],
+    ) -> Result<BatchStep> {
+        let mut request = self.step_request(action_type, actions, &[]);
+        request.env_indices = env_indices.to_vec();
+        let result = self.client.rpc().step_batch(request).await?.into_inner();
+        if result.env_indices != env_indices {
+            return Err(ClientError::protocol(
+                "batch reply: env_indices differ from the request's",
+            ));
+        }
+        BatchStep::new(result, &self.info)
     }
 
     /// Steps every env once. `actions` holds `n_envs × action_dim` values, row-major.
@@ -129,6 +151,7 @@ impl Batch {
             action_type: pb::ActionType::from(action_type) as i32,
             actions,
             mocap_poses,
+            env_indices: Vec::new(),
         };
         let result = self.client.rpc().step_batch(request).await?.into_inner();
         // Validates the shapes; the fleet merge relies on them.
@@ -230,7 +253,19 @@ pub struct BatchStep {
 impl BatchStep {
     /// Checks the reply's shapes against the batch, so the views below cannot fail.
     pub(crate) fn new(result: pb::BatchStepResult, info: &BatchInfo) -> Result<Self> {
-        let (n, dim) = (info.n_envs, info.observation_dim);
+        let dim = info.observation_dim;
+        let listed = &result.env_indices;
+        if listed.iter().any(|&i| i as usize >= info.n_envs) || !listed.is_sorted_by(|a, b| a < b) {
+            return Err(ClientError::protocol(
+                "batch reply: env_indices are out of range or not ascending",
+            ));
+        }
+        // The rows: every env's, or the listed envs'.
+        let n = if listed.is_empty() {
+            info.n_envs
+        } else {
+            listed.len()
+        };
         check_len("observation values", result.observations.len(), n * dim)?;
         check_len("rewards", result.rewards.len(), n)?;
         check_len("term values", result.terms.len(), n * info.term_names.len())?;
@@ -241,7 +276,10 @@ impl BatchStep {
             result.final_observations.len(),
             result.final_env_indices.len() * dim,
         )?;
-        if result.final_env_indices.iter().any(|&i| i as usize >= n)
+        if result
+            .final_env_indices
+            .iter()
+            .any(|&i| i as usize >= info.n_envs)
             || !result.final_env_indices.is_sorted_by(|a, b| a < b)
         {
             return Err(ClientError::protocol(
@@ -253,6 +291,12 @@ impl BatchStep {
             n_envs: n,
             observation_dim: dim,
         })
+    }
+
+    /// The envs this step's rows belong to, when it stepped some of the batch
+    /// ([`Batch::step_envs`]); empty: every env, in order.
+    pub fn env_indices(&self) -> &[u32] {
+        &self.result.env_indices
     }
 
     /// Batch steps applied since the batch was created, this one included.
@@ -420,6 +464,7 @@ mod tests {
             final_observations: vec![-1.0; dim],
             termination_reasons: [(0, "physics_diverged".to_string())].into(),
             terms: Vec::new(),
+            env_indices: Vec::new(),
         }
     }
 

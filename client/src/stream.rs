@@ -110,6 +110,24 @@ impl BatchStream {
         actions: &[f32],
         mocap_poses: &[f32],
     ) -> Result<()> {
+        let request = self.batch.step_request(action_type, actions, mocap_poses);
+        self.send_request(request).await
+    }
+
+    /// Sends a step of the envs `env_indices` only (as [`crate::Batch::step_envs`]: one
+    /// action row per listed env, in that order); its result has their rows.
+    pub async fn send_envs(
+        &mut self,
+        action_type: ActionType,
+        env_indices: &[u32],
+        actions: &[f32],
+    ) -> Result<()> {
+        let mut request = self.batch.step_request(action_type, actions, &[]);
+        request.env_indices = env_indices.to_vec();
+        self.send_request(request).await
+    }
+
+    async fn send_request(&mut self, request: pb::StepBatchRequest) -> Result<()> {
         if self.in_flight >= self.window {
             let result = self.receive().await;
             self.received.push_back(result);
@@ -120,7 +138,6 @@ impl BatchStream {
                 code: tonic::Code::Unavailable,
             });
         }
-        let request = self.batch.step_request(action_type, actions, mocap_poses);
         let Some(requests) = &self.requests else {
             return Err(ClientError::protocol("send after the stream was finished"));
         };

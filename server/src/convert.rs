@@ -411,6 +411,7 @@ impl TryFrom<pb::StepBatchRequest> for BatchStep {
                 values: r.actions,
                 mocap_poses: r.mocap_poses,
             },
+            env_indices: r.env_indices,
         })
     }
 }

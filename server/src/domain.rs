@@ -64,6 +64,8 @@ pub(crate) struct EnvStep {
 pub(crate) struct BatchStep {
     pub(crate) batch_id: String,
     pub(crate) action: Action,
+    /// The envs to step (empty: every env).
+    pub(crate) env_indices: Vec<u32>,
 }
 
 /// The parent and child instance names of each non-fixed joint, in document order.
@@ -102,6 +104,8 @@ pub(crate) struct BatchStepped {
     /// Steps taken by this batch so far, this one included.
     pub(crate) step_index: u64,
     pub(crate) out: BatchStepOutput,
+    /// The envs stepped, when the request listed some (empty: every env).
+    pub(crate) env_indices: Vec<u32>,
 }
 
 /// What the server is and holds, for `GetServerInfo`.

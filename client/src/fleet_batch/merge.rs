@@ -60,6 +60,7 @@ mod tests {
                 .map(|&i| (i, format!("reason {base} {i}")))
                 .collect(),
             terms: Vec::new(),
+            env_indices: Vec::new(),
         }
     }
 

@@ -58,7 +58,7 @@ impl BatchStepOutput {
     /// empty output (one whose buffers a caller took) is filled with one allocation per
     /// field rather than grown in doublings; an output reused across steps allocates
     /// nothing.
-    fn clear_for(&mut self, n_envs: usize, observation_dim: usize, n_terms: usize) {
+    pub(crate) fn clear_for(&mut self, n_envs: usize, observation_dim: usize, n_terms: usize) {
         fn empty_with_room<T>(v: &mut Vec<T>, room: usize) {
             v.clear();
             v.reserve(room);
@@ -337,6 +337,7 @@ impl EnvBatch {
             ChunkOp::Step {
                 action_type,
                 prefetch,
+                marked: false,
             },
         )?;
 
@@ -479,7 +480,7 @@ impl EnvBatch {
         seeds
     }
 
-    fn check_indices(&self, indices: &[u32]) -> Result<()> {
+    pub(crate) fn check_indices(&self, indices: &[u32]) -> Result<()> {
         let mut previous = None;
         for (position, &i) in indices.iter().enumerate() {
             let reason = match previous {
@@ -503,19 +504,27 @@ impl EnvBatch {
     }
 
     pub(crate) fn validate(&self, actions: &[f32]) -> Result<()> {
+        self.validate_rows(actions, None)
+    }
+
+    /// Checks one finite action row per env of `envs` (`None`: every env), in that order.
+    pub(crate) fn validate_rows(&self, actions: &[f32], envs: Option<&[u32]>) -> Result<()> {
         let action_dim = self.spec.action_dim;
-        let expected = self.n_envs * action_dim;
+        let n_envs = envs.map_or(self.n_envs, <[u32]>::len);
+        let expected = n_envs * action_dim;
         if actions.len() != expected {
             return Err(BatchError::ActionLength {
                 expected,
                 got: actions.len(),
-                n_envs: self.n_envs,
+                n_envs,
                 action_dim,
             });
         }
         match actions.iter().position(|v| !v.is_finite()) {
             Some(flat_index) => Err(BatchError::NonFiniteAction {
-                env: flat_index / action_dim,
+                env: envs.map_or(flat_index / action_dim, |e| {
+                    e[flat_index / action_dim] as usize
+                }),
                 index: flat_index % action_dim,
                 value: actions[flat_index],
                 flat_index,
@@ -525,7 +534,7 @@ impl EnvBatch {
     }
 
     /// Runs `op` on every chunk on the pool.
-    fn run(&self, pool: &StepPool, op: ChunkOp) -> Result<()> {
+    pub(crate) fn run(&self, pool: &StepPool, op: ChunkOp) -> Result<()> {
         let chunks = Arc::clone(&self.chunks);
         let autoreset = self.autoreset;
         pool.run_chunked(self.chunks.len(), move |i| {

@@ -17,11 +17,13 @@ pub(crate) enum ChunkOp {
         /// The keyframe to start from, by index (`None`: the document's initial one).
         keyframe: Option<usize>,
     },
-    /// Step every env with the chunk's action rows; with `prefetch`, hint each env's state
-    /// into the caches while the env before it steps.
+    /// Step every env (or, with `marked`, those of [`Chunk::step_marks`]) with the chunk's
+    /// action rows; with `prefetch`, hint each env's state into the caches while the env
+    /// before it steps.
     Step {
         action_type: ActionType,
         prefetch: bool,
+        marked: bool,
     },
 }
 
@@ -51,6 +53,8 @@ pub(crate) struct Chunk {
     pub(crate) actions: Vec<f32>,
     /// Filled by the caller before a partial reset: which envs to reset.
     pub(crate) reset_marks: Vec<bool>,
+    /// Filled by the caller before a step of some envs: which envs step.
+    pub(crate) step_marks: Vec<bool>,
     pub(crate) observations: Vec<f32>,
     pub(crate) rewards: Vec<f32>,
     /// `len × terms_dim`: each env's term values of its step.
@@ -80,6 +84,7 @@ impl Chunk {
             terms_dim,
             actions: vec![0.0; n * action_dim],
             reset_marks: vec![false; n],
+            step_marks: vec![false; n],
             observations: vec![0.0; n * obs_dim],
             rewards: vec![0.0; n],
             terms: vec![0.0; n * terms_dim],
@@ -130,8 +135,12 @@ impl Chunk {
             ChunkOp::Step {
                 action_type,
                 prefetch,
+                marked,
             } => {
                 for i in 0..self.envs.len() {
+                    if marked && !self.step_marks[i] {
+                        continue;
+                    }
                     // The next env's state is fetched while this one steps (`prefetch.rs`
                     // in gymfleet-physics): with many envs per core it is out of cache.
                     if let Some(next) = self.envs.get(i + 1).filter(|_| prefetch) {

@@ -57,7 +57,8 @@ pub enum BatchError {
     },
     /// A step's mocap targets have the wrong number of values.
     #[error(
-        "mocap_poses: expected {expected} values ({n_envs} envs × {bodies} mocap bodies × 7: x, y, z, qw, qx, qy, qz), or none to keep the targets, got {got}"
+        "mocap_poses: expected {expected} values ({n_envs} {} × {bodies} mocap bodies × 7: x, y, z, qw, qx, qy, qz), or none to keep the targets, got {got}",
+        plural(*.n_envs, "env", "envs")
     )]
     MocapPosesLength {
         /// `n_envs × bodies × 7`.

@@ -18,6 +18,7 @@ mod error;
 mod mocap;
 mod pool;
 mod queue;
+mod subset;
 mod terrain;
 
 pub use batch::{default_chunk_size, Autoreset, BatchStepOutput, EnvBatch, MAX_DEFAULT_CHUNK_SIZE};

@@ -315,6 +315,7 @@ pub(crate) fn batch_step_result(stepped: BatchStepped) -> pb::BatchStepResult {
         batch_id,
         step_index,
         out,
+        env_indices,
     } = stepped;
     pb::BatchStepResult {
         batch_id,
@@ -331,6 +332,7 @@ pub(crate) fn batch_step_result(stepped: BatchStepped) -> pb::BatchStepResult {
             .map(|(env, why)| (env, why.as_str().to_string()))
             .collect(),
         terms: out.terms,
+        env_indices,
     }
 }
 

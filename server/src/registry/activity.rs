@@ -115,9 +115,30 @@ impl Activity {
         autoreset: bool,
         was_done: &mut Vec<bool>,
     ) {
-        was_done.resize(terminated.len(), false);
+        self.record_envs_step(busy, None, terminated, truncated, autoreset, was_done);
+    }
+
+    /// [`Activity::record_step`] of a step of the envs `envs` (batch indices, one flag
+    /// each; `None`: every env, in order).
+    pub(crate) fn record_envs_step(
+        &self,
+        busy: Duration,
+        envs: Option<&[u32]>,
+        terminated: &[bool],
+        truncated: &[bool],
+        autoreset: bool,
+        was_done: &mut Vec<bool>,
+    ) {
+        let needed = envs.map_or(terminated.len(), |e| {
+            e.iter()
+                .max()
+                .map_or(0, |&m| m as usize + 1)
+                .max(was_done.len())
+        });
+        was_done.resize(needed, false);
         let mut ended = 0u64;
-        for ((t, u), was) in terminated.iter().zip(truncated).zip(was_done.iter_mut()) {
+        for (k, (t, u)) in terminated.iter().zip(truncated).enumerate() {
+            let was = &mut was_done[envs.map_or(k, |e| e[k] as usize)];
             let done = *t || *u;
             if done && (autoreset || !*was) {
                 ended += 1;

@@ -146,16 +146,29 @@ impl Simulation {
                     mocap_poses,
                 } = step.action;
                 let started = Instant::now();
-                open.batch.step_with_mocap(
-                    &pool,
-                    action_type,
-                    &values,
-                    &mocap_poses,
-                    &mut open.out,
-                )?;
+                let envs = step.env_indices;
+                if envs.is_empty() {
+                    open.batch.step_with_mocap(
+                        &pool,
+                        action_type,
+                        &values,
+                        &mocap_poses,
+                        &mut open.out,
+                    )?;
+                } else {
+                    open.batch.step_envs(
+                        &pool,
+                        action_type,
+                        &envs,
+                        &values,
+                        &mocap_poses,
+                        &mut open.out,
+                    )?;
+                }
                 open.steps += 1;
-                open.activity.record_step(
+                open.activity.record_envs_step(
                     started.elapsed(),
+                    (!envs.is_empty()).then_some(&envs[..]),
                     &open.out.terminated,
                     &open.out.truncated,
                     open.batch.autoreset() != Autoreset::Disabled,
@@ -168,6 +181,7 @@ impl Simulation {
                     // message, not copied); the next step allocates them again at
                     // their exact size (`EnvBatch::step` reserves it).
                     out: std::mem::take(&mut open.out),
+                    env_indices: envs,
                 })
             })
             .await;

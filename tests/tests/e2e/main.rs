@@ -18,6 +18,7 @@ mod replay;
 mod security;
 mod states;
 mod structure;
+mod subset_steps;
 mod tasks;
 mod terms;
 mod transport;
