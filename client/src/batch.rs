@@ -107,15 +107,35 @@ impl Batch {
         env_indices: &[u32],
         actions: &[f32],
     ) -> Result<BatchStep> {
-        let mut request = self.step_request(action_type, actions, &[]);
-        request.env_indices = env_indices.to_vec();
+        let result = self
+            .step_envs_raw(action_type, env_indices.to_vec(), actions.to_vec())
+            .await?;
+        BatchStep::new(result, &self.info)
+    }
+
+    /// [`Batch::step_envs`] with owned values, returning the checked raw reply (the fleet
+    /// batch merges those of its shards).
+    pub(crate) async fn step_envs_raw(
+        &self,
+        action_type: ActionType,
+        env_indices: Vec<u32>,
+        actions: Vec<f32>,
+    ) -> Result<pb::BatchStepResult> {
+        let request = pb::StepBatchRequest {
+            batch_id: self.info.batch_id.clone(),
+            action_type: pb::ActionType::from(action_type) as i32,
+            actions,
+            mocap_poses: Vec::new(),
+            env_indices,
+        };
+        let listed = request.env_indices.clone();
         let result = self.client.rpc().step_batch(request).await?.into_inner();
-        if result.env_indices != env_indices {
+        if result.env_indices != listed {
             return Err(ClientError::protocol(
                 "batch reply: env_indices differ from the request's",
             ));
         }
-        BatchStep::new(result, &self.info)
+        BatchStep::new(result, &self.info).map(BatchStep::into_raw)
     }
 
     /// Steps every env once. `actions` holds `n_envs × action_dim` values, row-major.

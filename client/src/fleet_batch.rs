@@ -7,6 +7,7 @@ mod losses;
 mod merge;
 pub(crate) mod recovery;
 mod reset;
+mod subset;
 
 use merge::merge_steps;
 

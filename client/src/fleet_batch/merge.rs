@@ -3,8 +3,9 @@
 use gymfleet_proto::v1 as pb;
 
 /// The shards' checked replies (of `lens` envs each) as one reply: rows concatenated in
-/// shard order, per-env indices shifted by the shard's first position. The first reply's
-/// vectors are reused, so a one-shard batch copies nothing.
+/// shard order, per-env indices shifted by the shard's first position (the listed envs
+/// of a subset step's replies too; a shard with none listed gives an empty reply). The
+/// first reply's vectors are reused, so a one-shard batch copies nothing.
 pub(crate) fn merge_steps(
     replies: Vec<pb::BatchStepResult>,
     lens: &[usize],
@@ -14,6 +15,9 @@ pub(crate) fn merge_steps(
     let mut position = lens.first().copied().unwrap_or(0);
     for (reply, len) in replies.zip(lens.iter().skip(1)) {
         let shift = u32::try_from(position).unwrap_or(u32::MAX);
+        merged
+            .env_indices
+            .extend(reply.env_indices.iter().map(|i| i + shift));
         merged.observations.extend_from_slice(&reply.observations);
         merged.rewards.extend_from_slice(&reply.rewards);
         merged.terms.extend_from_slice(&reply.terms);

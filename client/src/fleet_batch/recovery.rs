@@ -29,6 +29,12 @@ pub(crate) enum Logged {
         actions: Vec<f32>,
         mocap_poses: Vec<f32>,
     },
+    /// A step of some envs (positions, ascending), with their actions in that order.
+    StepEnvs {
+        action_type: ActionType,
+        env_indices: Vec<u32>,
+        actions: Vec<f32>,
+    },
     /// A reset of some (or every) env.
     Reset {
         seed: Option<u64>,
@@ -198,7 +204,10 @@ impl FleetBatch {
                     .into(),
             });
         }
-        let ends_with_step = matches!(checkpoints.log.last(), Some(Logged::Step { .. }));
+        let ends_with_step = matches!(
+            checkpoints.log.last(),
+            Some(Logged::Step { .. } | Logged::StepEnvs { .. })
+        );
         let mut replies = Vec::with_capacity(self.shards.len());
         let (mut position, mut rebuilt) = (0, 0);
         for k in 0..self.shards.len() {
@@ -266,6 +275,23 @@ impl FleetBatch {
                     let rows = actions[positions.start * dim..positions.end * dim].to_vec();
                     let targets = self.mocap_rows(mocap_poses, positions.clone());
                     last = Some(batch.step_raw(*action_type, rows, targets).await?);
+                }
+                Logged::StepEnvs {
+                    action_type,
+                    env_indices,
+                    actions,
+                } => {
+                    let (local, rows): (Vec<u32>, Vec<f32>) = env_indices
+                        .iter()
+                        .zip(actions.chunks(dim.max(1)))
+                        .filter(|(&i, _)| positions.contains(&(i as usize)))
+                        .map(|(&i, row)| (i - positions.start as u32, row.to_vec()))
+                        .fold((Vec::new(), Vec::new()), |(mut l, mut r), (i, row)| {
+                            l.push(i);
+                            r.extend(row);
+                            (l, r)
+                        });
+                    last = Some(super::subset::step_share(batch, *action_type, local, rows).await?);
                 }
                 Logged::Reset {
                     seed,

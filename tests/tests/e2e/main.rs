@@ -8,6 +8,7 @@ mod dashboard;
 mod errors;
 mod fleet;
 mod fleet_start;
+mod fleet_subsets;
 mod imports;
 mod joint_state;
 mod keyframes;
