@@ -384,6 +384,14 @@ impl BatchStep {
         Some(&self.result.final_observations[row * d..(row + 1) * d])
     }
 
+    /// Every env that terminated in this step for a reason, by batch index, ascending.
+    pub fn termination_reasons(&self) -> impl Iterator<Item = (u32, &str)> + '_ {
+        self.result
+            .termination_reasons
+            .iter()
+            .map(|(&env, why)| (env, why.as_str()))
+    }
+
     /// Why env `env` terminated in this step, if it did for a reason.
     pub fn termination_reason(&self, env: usize) -> Option<&str> {
         let env = u32::try_from(env).ok()?;

@@ -37,11 +37,9 @@ impl StepRows {
                     .copied()
             })
             .collect();
-        let termination_reasons = (0..step.n_envs())
-            .filter_map(|i| {
-                step.termination_reason(i)
-                    .map(|r| (i as u32, r.to_string()))
-            })
+        let termination_reasons = step
+            .termination_reasons()
+            .map(|(i, r)| (i, r.to_string()))
             .collect();
         StepRows {
             rewards: step.rewards().to_vec(),
@@ -88,6 +86,33 @@ pub(crate) struct BatchHandle {
     /// The per-call deadline; settable from Python.
     timeout: Deadline,
     closed: std::sync::atomic::AtomicBool,
+}
+
+impl BatchHandle {
+    /// A step's rows (`n` of them) as numpy arrays and a dict of termination reasons.
+    fn step_tuple<'py>(
+        &self,
+        py: Python<'py>,
+        rows: StepRows,
+        n: usize,
+    ) -> PyResult<StepTuple<'py>> {
+        let dim = self.info.observation_dim;
+        let k = self.info.term_names.len();
+        let reasons = PyDict::new(py);
+        for (env, reason) in rows.termination_reasons {
+            reasons.set_item(env, reason)?;
+        }
+        Ok((
+            matrix(py, rows.observations, dim)?,
+            PyArray1::from_vec(py, rows.rewards),
+            PyArray1::from_vec(py, rows.terminated),
+            PyArray1::from_vec(py, rows.truncated),
+            PyArray1::from_vec(py, rows.final_env_indices),
+            matrix(py, rows.final_observations, dim)?,
+            reasons,
+            PyArray1::from_vec(py, rows.terms).reshape([n, k])?,
+        ))
+    }
 }
 
 #[pymethods]
@@ -283,22 +308,32 @@ impl BatchHandle {
                 .await
                 .map(StepRows::new)
         })?;
-        let dim = self.info.observation_dim;
-        let (n, k) = (self.info.n_envs, self.info.term_names.len());
-        let reasons = PyDict::new(py);
-        for (env, reason) in rows.termination_reasons {
-            reasons.set_item(env, reason)?;
-        }
-        Ok((
-            matrix(py, rows.observations, dim)?,
-            PyArray1::from_vec(py, rows.rewards),
-            PyArray1::from_vec(py, rows.terminated),
-            PyArray1::from_vec(py, rows.truncated),
-            PyArray1::from_vec(py, rows.final_env_indices),
-            matrix(py, rows.final_observations, dim)?,
-            reasons,
-            PyArray1::from_vec(py, rows.terms).reshape([n, k])?,
-        ))
+        self.step_tuple(py, rows, self.info.n_envs)
+    }
+
+    /// Steps only the envs `env_indices` (ascending, distinct) with `actions` (one row per
+    /// listed env, in that order); the result has their rows, while the finished envs and
+    /// the termination reasons name batch indices.
+    fn step_envs<'py>(
+        &self,
+        py: Python<'py>,
+        action_type_name: &str,
+        env_indices: PyReadonlyArray1<'py, u32>,
+        actions: PyReadonlyArray2<'py, f32>,
+    ) -> PyResult<StepTuple<'py>> {
+        let action_type = action_type(action_type_name)?;
+        let envs = env_indices.as_array().to_vec();
+        let values: Vec<f32> = actions.as_array().iter().copied().collect();
+        let n = envs.len();
+        let rows = wait(py, self.timeout.get(), || async move {
+            self.batch
+                .lock()
+                .await
+                .step_envs(action_type, &envs, &values)
+                .await
+                .map(StepRows::new)
+        })?;
+        self.step_tuple(py, rows, n)
     }
 
     /// Every env's current observation, without stepping.

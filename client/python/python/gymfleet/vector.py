@@ -11,6 +11,7 @@ from gymnasium.vector.utils import batch_space
 
 from . import _core
 from .errors import InvalidArgument
+from .pipeline import Pipeline
 from ._common import (
     ActionMap,
     HandleOwner,
@@ -78,6 +79,7 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
         render_mode: Optional[str] = None,
         render_options: Optional[Dict[str, Any]] = None,
         token: Optional[str] = None,
+        batch_size: Optional[int] = None,
         **options: Any,
     ) -> None:
         if render_mode not in (None, "rgb_array"):
@@ -97,6 +99,7 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
             "render_mode": render_mode,
             "render_options": render_options,
             "token": token,
+            "batch_size": batch_size,
             **options,
         }
         # Camera and size for `render()`, as for `GymfleetEnv`.
@@ -126,6 +129,11 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
         self._action_dim = self._info["action_dim"]
         # Mocap targets for the next step (`set_mocap_poses`), flat; None: they stay.
         self._mocap_poses: Optional[np.ndarray] = None
+        # The asynchronous API's state (`pipeline.py`), made at its first use.
+        self._batch_size = self.num_envs if batch_size is None else batch_size
+        Pipeline.check_batch_size(self._batch_size, self.num_envs)
+        self._pipeline: Optional[Pipeline] = None
+        self._pending_step: Optional[Any] = None
 
     @property
     def batch_info(self) -> Dict[str, Any]:
@@ -144,6 +152,9 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
         ``None``) per env. ``options["keyframe"]`` (a name or an index of
         ``batch_info["keyframes"]``) starts them from one of the document's keyframes,
         the noise on top; without, from its initial keyframe, if any."""
+        self._no_async("reset")
+        if self._pipeline is not None:
+            self._pipeline.drain()  # the steps sent are taken first
         keyframe = keyframe_name(self._info, options)
         mask = None
         if options is not None and "reset_mask" in options:
@@ -198,12 +209,22 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
         return mask
 
     def step(
-        self, actions: Any
+        self, actions: Any, env_id: Any = None
     ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
         """Steps every env once; ``actions`` is ``(num_envs, action_dim)``. Mocap targets
-        set with :meth:`set_mocap_poses` travel with this step."""
+        set with :meth:`set_mocap_poses` travel with this step. With ``env_id``:
+        EnvPool's ``send(actions, env_id)`` then ``recv()``."""
+        if env_id is not None:
+            self.send(actions, env_id)
+            return self.recv()
+        self._no_async("step")
         values = self._actions.to_server(actions).reshape(self.num_envs, self._action_dim)
         mocap, self._mocap_poses = self._mocap_poses, None
+        return self._whole_step(values, mocap)
+
+    def _whole_step(
+        self, values: np.ndarray, mocap: Optional[np.ndarray]
+    ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
         (
             obs,
             rewards,
@@ -246,6 +267,77 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
         else:
             infos.update(why)
         return obs, rewards, terminated, truncated, infos
+
+    # The asynchronous API (EnvPool's, and AsyncVectorEnv's step_async/step_wait).
+
+    def _async(self) -> Pipeline:
+        if self._pipeline is None:
+            self._pipeline = Pipeline(self, self._batch_size)
+        return self._pipeline
+
+    def _no_async(self, call: str) -> None:
+        if self._pending_step is not None:
+            raise RuntimeError(f"{call}: a step_async is pending; call step_wait first")
+
+    @property
+    def batch_size(self) -> int:
+        """How many envs :meth:`recv` returns (``make_vec(..., batch_size=M)``; default
+        ``num_envs``)."""
+        return self._batch_size
+
+    def async_reset(self) -> None:
+        """Resets every env (as :meth:`reset` without a seed); their first observations
+        are what the next :meth:`recv` calls return, in env order."""
+        self._no_async("async_reset")
+        pipeline = self._async()
+        pipeline.drain()
+        obs, infos = self.reset()
+        pipeline.reset(obs, infos)
+
+    def send(self, actions: Any, env_id: Any) -> None:
+        """Steps the envs ``env_id`` (distinct, not in flight) with ``actions``
+        (``(len(env_id), action_dim)``, in ``env_id``'s order) and returns at once; their
+        results come back from :meth:`recv`. Each env steps as in :meth:`step`."""
+        self._no_async("send")
+        self._async().send(actions, env_id)
+
+    def recv(self, timeout: Optional[float] = None) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
+        """The next :attr:`batch_size` envs that finished, with ``info["env_id"]``; an
+        error of a send is raised here, with the envs it concerns as its ``env_ids``."""
+        return self._async().recv(timeout)
+
+    def step_async(self, actions: Any) -> None:
+        """Starts a step of every env (:meth:`step`'s) and returns at once: the trainer's
+        work until :meth:`step_wait` overlaps the server's."""
+        self._no_async("step_async")
+        values = self._actions.to_server(actions).reshape(self.num_envs, self._action_dim)
+        mocap, self._mocap_poses = self._mocap_poses, None
+        self._pending_step = self._async().submit(self._whole_step, values, mocap)
+
+    def step_wait(self, timeout: Optional[float] = None) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
+        """The result of the pending :meth:`step_async` (its error, if it failed)."""
+        if self._pending_step is None:
+            raise RuntimeError("step_wait: call step_async first")
+        pending, self._pending_step = self._pending_step, None
+        return pending.result(timeout)
+
+    def _step_rows(self, ids: np.ndarray, values: np.ndarray) -> List[Any]:
+        """Steps the envs ``ids`` (ascending) on the server; one result per env, for
+        :class:`Pipeline`."""
+        (obs, rewards, terminated, truncated, final_envs, final_obs, reasons,
+         terms) = self._handle.step_envs(self.action_type, ids, values)
+        names = self._info["term_names"]
+        finals = {int(env): final_obs[k] for k, env in enumerate(final_envs)}
+        rows = []
+        for k, env in enumerate(ids.tolist()):
+            info: Dict[str, Any] = {name: float(v) for name, v in zip(names, terms[k])}
+            if env in reasons:
+                info["termination_reason"] = reasons[env]
+            if env in finals:
+                info["final_obs"] = finals[env]
+            rows.append((env, obs[k], float(rewards[k]), bool(terminated[k]),
+                         bool(truncated[k]), info))
+        return rows
 
     def set_mocap_poses(self, poses: Any) -> None:
         """Sets where every env's mocap bodies (``env_info["mocap_bodies"]``) are to be at
@@ -346,8 +438,10 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
         return np.asarray(list(env_indices), dtype=np.uint32).reshape(-1)
 
     def close_extras(self, **kwargs: Any) -> None:
-        """Frees the batch on its server(s). A server that is gone has nothing left to
-        free, so that is not an error."""
+        """Frees the batch on its server(s), after the steps in flight. A server that is
+        gone has nothing left to free, so that is not an error."""
+        if self._pipeline is not None:
+            self._pipeline.close()
         self._close_handle()
 
     def __reduce__(self) -> Any:

@@ -1,0 +1,156 @@
+"""Asynchronous stepping of a :class:`~gymfleet.GymfleetVectorEnv`, EnvPool's way
+(``send``/``recv`` with ``batch_size`` M of ``num_envs`` N), and ``step_async`` /
+``step_wait`` that overlap, as :class:`gymnasium.vector.AsyncVectorEnv`'s.
+
+A call that steps runs on one worker thread of the vector env, which holds no GIL
+while it waits for the server: the trainer's own work (the policy on the envs it has)
+overlaps the server's stepping. ``send`` steps only the envs it names (the server's
+subset step, ``StepBatchRequest.env_indices``), each exactly as a whole-batch step would,
+so the same seeds and the same actions per env give the same per-env trajectories, bit
+for bit, in whatever order and grouping envs are sent. Steps are taken in the order they
+were sent; one is on the wire at a time (the others wait on the worker).
+
+Errors (a bad action, a lost server) surface at the next ``recv``, as the gymfleet error
+the synchronous call raises, with ``env_ids`` (the envs of that send) as an attribute:
+those envs did not step and are no longer in flight; nothing else is lost or stepped
+twice.
+"""
+
+from __future__ import annotations
+
+import collections
+import threading
+from concurrent.futures import Future, ThreadPoolExecutor
+from typing import Any, Deque, Dict, List, Optional, Tuple
+
+import numpy as np
+
+#: One env's result as ``recv`` hands it out: env id, observation row, reward,
+#: terminated, truncated, and its per-env info (term values, termination reason, final
+#: observation).
+_Result = Tuple[int, np.ndarray, float, bool, bool, Dict[str, Any]]
+
+
+class Pipeline:
+    """The asynchronous state of one vector env: what was sent, what came back."""
+
+    @staticmethod
+    def check_batch_size(batch_size: Any, n: int) -> None:
+        if isinstance(batch_size, bool) or not isinstance(batch_size, (int, np.integer)) or not 1 <= batch_size <= n:
+            raise ValueError(f"batch_size: expected an integer in [1, num_envs={n}], got {batch_size!r}")
+
+    def __init__(self, envs: Any, batch_size: int) -> None:
+        n = envs.num_envs
+        self.check_batch_size(batch_size, n)
+        self._envs = envs
+        self.batch_size = int(batch_size)
+        self._worker = ThreadPoolExecutor(max_workers=1, thread_name_prefix="gymfleet-steps")
+        self._lock = threading.Condition()
+        self._ready: Deque[_Result] = collections.deque()
+        self._errors: Deque[BaseException] = collections.deque()
+        self._in_flight = np.zeros(n, dtype=bool)
+        self._sent = 0
+
+    # The worker's side.
+
+    def submit(self, call: Any, *args: Any) -> "Future[Any]":
+        """Runs ``call(*args)`` on the worker, after every earlier call."""
+        return self._worker.submit(call, *args)
+
+    def _step(self, ids: np.ndarray, actions: np.ndarray) -> None:
+        try:
+            rows = self._envs._step_rows(ids, actions)
+        except BaseException as err:  # noqa: B902 - handed to recv, which raises it
+            err.env_ids = ids.copy()  # type: ignore[attr-defined]
+            with self._lock:
+                self._in_flight[ids] = False
+                self._errors.append(err)
+                self._lock.notify_all()
+            return
+        with self._lock:
+            self._ready.extend(rows)
+            self._in_flight[ids] = False
+            self._lock.notify_all()
+
+    # The trainer's side.
+
+    def reset(self, observations: np.ndarray, infos: Dict[str, Any]) -> None:
+        """After every env was reset: each one's first observation is ready, in env
+        order (what ``recv`` returns first)."""
+        self.drain()
+        with self._lock:
+            self._ready.clear()
+            self._errors.clear()
+            for env, row in enumerate(observations):
+                self._ready.append((env, row, 0.0, False, False, {}))
+
+    def send(self, actions: Any, env_id: Any) -> None:
+        """Steps the envs ``env_id`` (distinct, none in flight) with ``actions`` (one row
+        per env, in ``env_id``'s order) on the worker; returns at once."""
+        n = self._envs.num_envs
+        ids = np.asarray(env_id).reshape(-1)
+        if ids.size == 0 or not np.issubdtype(ids.dtype, np.integer):
+            raise ValueError(f"env_id: expected one or more integer env ids, got {env_id!r}")
+        if ids.min() < 0 or ids.max() >= n:
+            raise ValueError(f"env_id: expected ids in [0, {n}), got {ids.tolist()}")
+        order = np.argsort(ids, kind="stable")
+        ids = ids[order].astype(np.uint32)
+        if np.any(ids[1:] == ids[:-1]):
+            raise ValueError(f"env_id: expected distinct ids, got {np.asarray(env_id).tolist()}")
+        values = self._envs._actions.to_server(actions)
+        values = np.asarray(values, dtype=np.float32).reshape(ids.size, -1)[order]
+        with self._lock:
+            busy = ids[self._in_flight[ids]]
+            if busy.size:
+                raise ValueError(f"env_id: envs {busy.tolist()} are in flight: recv them first")
+            self._in_flight[ids] = True
+        self._sent += 1
+        self.submit(self._step, ids, np.ascontiguousarray(values))
+
+    def recv(self, timeout: Optional[float] = None) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
+        """The next ``batch_size`` envs that finished a step (or their reset), in the order
+        they finished: observations, rewards, terminated, truncated and ``info`` with
+        ``env_id`` (and per-env term values, termination reasons and final observations
+        as the synchronous step gives them). Raises a send's error first."""
+        m = self.batch_size
+        with self._lock:
+            while not self._errors and len(self._ready) < m:
+                if not self._in_flight.any():
+                    raise RuntimeError(
+                        f"recv: {len(self._ready)} envs are ready and none in flight, fewer "
+                        f"than batch_size={m}: send their actions first (or async_reset)"
+                    )
+                if not self._lock.wait(timeout):
+                    raise TimeoutError(f"recv: no {m} envs ready within {timeout} s")
+            if self._errors:
+                raise self._errors.popleft()
+            results = [self._ready.popleft() for _ in range(m)]
+        return _stacked(results)
+
+    def drain(self) -> None:
+        """Waits until every step sent has been taken."""
+        self.submit(lambda: None).result()
+
+    def close(self) -> None:
+        self._worker.shutdown(wait=True)
+
+
+def _stacked(results: List[_Result]) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
+    ids = np.array([r[0] for r in results], dtype=np.int32)
+    obs = np.stack([r[1] for r in results])
+    rewards = np.array([r[2] for r in results], dtype=np.float32)
+    terminated = np.array([r[3] for r in results], dtype=np.bool_)
+    truncated = np.array([r[4] for r in results], dtype=np.bool_)
+    info: Dict[str, Any] = {"env_id": ids}
+    keys = sorted({k for r in results for k in r[5]})
+    for key in keys:
+        has = np.array([key in r[5] for r in results], dtype=np.bool_)
+        values = [r[5].get(key) for r in results]
+        if all(isinstance(v, float) for v in values if v is not None):
+            info[key] = np.array([0.0 if v is None else v for v in values], dtype=np.float64)
+        else:
+            column = np.empty(len(values), dtype=object)
+            column[:] = values
+            info[key] = column
+        info["_" + key] = has
+    return obs, rewards, terminated, truncated, info
