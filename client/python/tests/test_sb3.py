@@ -209,6 +209,10 @@ def test_misuse_is_refused_with_a_clear_message(sb3: Any, adapter: Any) -> None:
     venv.reset()
     with pytest.raises(RuntimeError, match="call step_async first"):
         venv.step_wait()
+    venv.step_async(np.zeros((2, 2), dtype=np.float32))
+    with pytest.raises(RuntimeError, match="a step is pending; call step_wait first"):
+        venv.step_async(np.zeros((2, 2), dtype=np.float32))
+    venv.step_wait()
     with pytest.raises(ValueError, match="one batch; an attribute can be set for all"):
         venv.set_attr("anything", 1, indices=[0])
     with pytest.raises(ValueError, match="one batch; a method is called once"):

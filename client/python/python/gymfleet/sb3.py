@@ -26,6 +26,7 @@ rest of the package never does. The adapter keeps SB3's own conventions, as its
 from __future__ import annotations
 
 import time
+from concurrent.futures import Future, ThreadPoolExecutor
 from typing import Any, Dict, Iterable, List, Optional, Sequence, Type, Union
 
 import gymnasium
@@ -86,7 +87,10 @@ class GymfleetSb3VecEnv(VecEnv):
                 "gymfleet.sb3.make_vec_env does this for you"
             )
         self.venv = venv
-        self._actions: Optional[np.ndarray] = None
+        # `step_async` hands the step to this thread and returns: the server steps (no GIL
+        # held while it waits) while the caller works, until `step_wait`.
+        self._worker = ThreadPoolExecutor(max_workers=1, thread_name_prefix="gymfleet-sb3")
+        self._pending: Optional["Future[Any]"] = None
         self._returns = np.zeros(venv.num_envs, dtype=np.float64)
         self._lengths = np.zeros(venv.num_envs, dtype=np.int64)
         self._start = time.time()
@@ -112,13 +116,16 @@ class GymfleetSb3VecEnv(VecEnv):
         return obs
 
     def step_async(self, actions: np.ndarray) -> None:
-        self._actions = np.asarray(actions)
+        """Starts the step and returns at once (the step runs on the adapter's thread)."""
+        if self._pending is not None:
+            raise RuntimeError("GymfleetSb3VecEnv.step_async: a step is pending; call step_wait first")
+        self._pending = self._worker.submit(self.venv.step, np.asarray(actions))
 
     def step_wait(self) -> Any:
-        if self._actions is None:
+        if self._pending is None:
             raise RuntimeError("GymfleetSb3VecEnv.step_wait: call step_async first")
-        actions, self._actions = self._actions, None
-        obs, rewards, terminated, truncated, infos = self.venv.step(actions)
+        pending, self._pending = self._pending, None
+        obs, rewards, terminated, truncated, infos = pending.result()
         dones = np.logical_or(terminated, truncated)
         rewards = np.asarray(rewards, dtype=np.float32)
         self._returns += rewards
@@ -146,6 +153,7 @@ class GymfleetSb3VecEnv(VecEnv):
         return obs, rewards, dones, step_infos
 
     def close(self) -> None:
+        self._worker.shutdown(wait=True)
         self.venv.close()
 
     # -- what SB3 asks of the envs --------------------------------------------------------
