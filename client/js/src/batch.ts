@@ -106,6 +106,9 @@ export interface PackedBatchStep extends PackedObservations {
   termination_reasons: Record<number, string>;
   /** A terms task's values, n_envs × (number of terms), row-major. */
   terms: Float32Array;
+  /** The envs whose rows these are, when the step listed some (`env_indices`); empty:
+   * every env, in order. Final indices and termination reasons name batch indices. */
+  env_indices: number[];
 }
 
 function plural(n: number, word: string): string {
@@ -235,8 +238,9 @@ async function stepPacked(
   batchId: string,
   type: ReturnType<typeof actionType>,
   actions: number[],
+  envIndices: number[] = [],
 ): Promise<PackedBatchStep> {
-  const r = await client.simulator.stepBatch({ batchId, actionType: type, actions });
+  const r = await client.simulator.stepBatch({ batchId, actionType: type, actions, envIndices });
   const nEnvs = r.rewards.length;
   return {
     batch_id: r.batchId,
@@ -251,19 +255,27 @@ async function stepPacked(
     final_observations: Float32Array.from(r.finalObservations),
     termination_reasons: r.terminationReasons,
     terms: Float32Array.from(r.terms),
+    env_indices: r.envIndices,
   };
 }
 
 /** Steps every env once with n_envs × action_dim values, row-major (env 0's action
- * first), and returns the packed outcome. Works on any batch of the server. */
+ * first), and returns the packed outcome. Works on any batch of the server. With
+ * `env_indices` (ascending, distinct), only those envs step, one action row each in that
+ * order, each exactly as in a whole step; the result has their rows (an asynchronous
+ * trainer's send). */
 export async function batchStepPacked(
-  params: BatchIdJson & { action_type: ActionTypeName; actions: ArrayLike<number> },
+  params: BatchIdJson & {
+    action_type: ActionTypeName;
+    actions: ArrayLike<number>;
+    env_indices?: number[];
+  },
   client: GymfleetClient = defaultClient(),
 ): Promise<PackedBatchStep> {
   const type = actionType(params.action_type);
   const flat: number[] = [];
   pushActionValues(flat, params.actions, "actions");
-  return stepPacked(client, params.batch_id, type, flat);
+  return stepPacked(client, params.batch_id, type, flat, params.env_indices ?? []);
 }
 
 /** Resets every env, or only `env_indices` (ascending, e.g. the ones that ended; the

@@ -213,3 +213,42 @@ test("the typed client streams batch steps, in order, and ends on an error", asy
   );
   await batchClose(batch, client);
 });
+
+test("a packed step of some envs steps them as a whole step does, and only them", async () => {
+  const options = {
+    document: model("arm2"),
+    n_envs: 4,
+    end_effector_ids: ["forearm"],
+    seed: 2,
+    reset_noise: 5,
+  };
+  const whole = await batchCreateEnvs(options, client);
+  const some = await batchCreateEnvs(options, client);
+  await batchResetPacked({ batch_id: whole.batch_id, seed: 2 }, client);
+  const start = await batchResetPacked({ batch_id: some.batch_id, seed: 2 }, client);
+  const actions = [1e-4, 0, 0, 1e-4, -1e-4, 2e-4, 2e-4, -1e-4];
+  const all = await batchStepPacked({ batch_id: whole.batch_id, action_type: "torque", actions }, client);
+  assert.deepEqual(all.env_indices, []);
+  const part = await batchStepPacked(
+    { batch_id: some.batch_id, action_type: "torque", actions: [0, 1e-4, 2e-4, -1e-4], env_indices: [1, 3] },
+    client,
+  );
+  assert.deepEqual([part.n_envs, part.env_indices], [2, [1, 3]]);
+  assert.deepEqual([...part.observations.subarray(0, 11)], [...all.observations.subarray(11, 22)]);
+  assert.deepEqual([...part.observations.subarray(11, 22)], [...all.observations.subarray(33, 44)]);
+  const after = await batchObservePacked(some, client);
+  assert.deepEqual(
+    [...after.observations.subarray(0, 11)],
+    [...start.observations.subarray(0, 11)],
+    "env 0 did not move",
+  );
+  await assert.rejects(
+    batchStepPacked(
+      { batch_id: some.batch_id, action_type: "torque", actions: [0, 0], env_indices: [3, 1] },
+      client,
+    ),
+    (err: unknown) =>
+      err instanceof InvalidArgument &&
+      /env_indices\[1\]: expected ascending, distinct indices, got 1 after 3/.test(String(err)),
+  );
+});
