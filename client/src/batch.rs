@@ -113,6 +113,20 @@ impl Batch {
         BatchStep::new(result, &self.info)
     }
 
+    /// A fleet shard's part of a step of some envs: the listed envs' checked raw reply,
+    /// or (none listed) an empty reply without a call.
+    pub(crate) async fn step_listed(
+        &self,
+        action_type: ActionType,
+        env_indices: Vec<u32>,
+        actions: Vec<f32>,
+    ) -> Result<pb::BatchStepResult> {
+        if env_indices.is_empty() {
+            return Ok(pb::BatchStepResult::default());
+        }
+        self.step_envs_raw(action_type, env_indices, actions).await
+    }
+
     /// [`Batch::step_envs`] with owned values, returning the checked raw reply (the fleet
     /// batch merges those of its shards).
     pub(crate) async fn step_envs_raw(

@@ -234,6 +234,16 @@ impl FleetBatch {
             async move { batch.step_raw(action_type, part, targets).await }
         });
         let results = join_all(stepping.collect::<Vec<_>>()).await;
+        self.finish_step(results).await
+    }
+
+    /// The shards' replies to one step (whole or of some envs) as one: losses confirmed,
+    /// a lost shard's reply kept for recovery, the log kept only for a loss, merged in env
+    /// order; then a checkpoint if one is due.
+    pub(crate) async fn finish_step(
+        &mut self,
+        results: Vec<Result<pb::BatchStepResult>>,
+    ) -> Result<BatchStep> {
         let results = self.confirm_losses(results).await;
         let replies = self.settle_keeping(results, |shard, reply| {
             shard.interrupted = Some(reply);

@@ -291,7 +291,7 @@ impl FleetBatch {
                             r.extend(row);
                             (l, r)
                         });
-                    last = Some(super::subset::step_share(batch, *action_type, local, rows).await?);
+                    last = Some(batch.step_listed(*action_type, local, rows).await?);
                 }
                 Logged::Reset {
                     seed,

@@ -2,9 +2,6 @@
 //! listed envs (a shard with none is not called), and the replies merge into one with
 //! the listed envs' rows in order. Logged for recovery like a whole step.
 
-use gymfleet_proto::v1 as pb;
-
-use super::merge::merge_steps;
 use super::recovery::Logged;
 use super::{check_positions, FleetBatch};
 use crate::batch::BatchStep;
@@ -39,18 +36,10 @@ impl FleetBatch {
             .zip(&self.shards)
             .map(|((local, rows), shard)| {
                 let batch = shard.batch.clone();
-                async move { step_share(&batch, action_type, local, rows).await }
+                async move { batch.step_listed(action_type, local, rows).await }
             });
         let results = join_all(stepping.collect::<Vec<_>>()).await;
-        let results = self.confirm_losses(results).await;
-        let replies = self.settle_keeping(results, |shard, reply| {
-            shard.interrupted = Some(reply);
-        });
-        let replies = self.unlog_unless_lost(replies)?;
-        let lens: Vec<usize> = self.shards.iter().map(|s| s.envs.len()).collect();
-        let step = BatchStep::new(merge_steps(replies, &lens), &self.info)?;
-        self.checkpoint_if_due().await;
-        Ok(step)
+        self.finish_step(results).await
     }
 
     /// Each shard's local indices among `env_indices` and their action rows. One shard
@@ -102,18 +91,4 @@ impl FleetBatch {
             None => Ok(()),
         }
     }
-}
-
-/// One shard's part of a subset step: its listed envs' step, or (none listed) an empty
-/// reply without a call.
-pub(crate) async fn step_share(
-    batch: &crate::Batch,
-    action_type: ActionType,
-    local: Vec<u32>,
-    rows: Vec<f32>,
-) -> Result<pb::BatchStepResult> {
-    if local.is_empty() {
-        return Ok(pb::BatchStepResult::default());
-    }
-    batch.step_envs_raw(action_type, local, rows).await
 }

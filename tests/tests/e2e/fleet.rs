@@ -14,7 +14,7 @@ use crate::{actions, bits};
 const N_ENVS: usize = 96;
 const ACTION_DIM: usize = 2;
 
-async fn server_with_threads(threads: usize) -> TestServer {
+pub(crate) async fn server_with_threads(threads: usize) -> TestServer {
     TestServer::start(ServerConfig {
         threads,
         ..ServerConfig::default()

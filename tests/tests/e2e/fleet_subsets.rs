@@ -6,20 +6,12 @@
 use gymfleet_client::{
     ActionType, Autoreset, BatchOptions, BatchStep, ClientError, Fleet, FleetEndpoints,
 };
-use gymfleet_e2e::{TestServer, ARM2};
-use gymfleet_server::ServerConfig;
+use gymfleet_e2e::ARM2;
 
+use crate::fleet::server_with_threads;
 use crate::{actions, bits};
 
 const N: usize = 12;
-
-async fn server(threads: usize) -> TestServer {
-    TestServer::start(ServerConfig {
-        threads,
-        ..ServerConfig::default()
-    })
-    .await
-}
 
 fn options() -> BatchOptions {
     BatchOptions::new(ARM2, N)
@@ -38,6 +30,27 @@ fn group(t: usize) -> Vec<u32> {
         2 => (6..N as u32).collect(),
         _ => (0..N as u32).step_by(2).collect(),
     }
+}
+
+/// Step `t`'s group on the fleet and on the reference, compared; then the reference
+/// mirrors a checkpoint the fleet took.
+async fn step_both(
+    batch: &mut gymfleet_client::FleetBatch,
+    reference: &gymfleet_client::Batch,
+    t: usize,
+) {
+    let envs = group(t);
+    let acts = actions(t as u64, envs.len() * 2, 0.5);
+    let got = batch
+        .step_envs(ActionType::Torque, &envs, &acts)
+        .await
+        .expect("fleet step");
+    let want = reference
+        .step_envs(ActionType::Torque, &envs, &acts)
+        .await
+        .expect("step");
+    assert_same(&got, &want, t);
+    mirror_checkpoint(batch, reference).await;
 }
 
 /// The reference saves its states whenever the fleet took a checkpoint: a save re-seats
@@ -84,8 +97,12 @@ fn assert_same(got: &BatchStep, want: &BatchStep, t: usize) {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn fleet_subset_steps_equal_one_servers_and_survive_a_lost_server() {
-    let mut servers = vec![server(1).await, server(2).await, server(3).await];
-    let reference_server = server(1).await;
+    let mut servers = vec![
+        server_with_threads(1).await,
+        server_with_threads(2).await,
+        server_with_threads(3).await,
+    ];
+    let reference_server = server_with_threads(1).await;
     let endpoints = FleetEndpoints::new(servers.iter().map(|s| s.addr().to_string()))
         .expect("distinct endpoints");
     let fleet = Fleet::connect(endpoints).await.expect("connect");
@@ -101,23 +118,8 @@ async fn fleet_subset_steps_equal_one_servers_and_survive_a_lost_server() {
         .save_states(&[])
         .await
         .expect("the reference's save");
-    let step = |t: usize| {
-        let envs = group(t);
-        let acts = actions(t as u64, envs.len() * 2, 0.5);
-        (envs, acts)
-    };
     for t in 0..14 {
-        let (envs, acts) = step(t);
-        let got = batch
-            .step_envs(ActionType::Torque, &envs, &acts)
-            .await
-            .expect("fleet step");
-        let want = reference
-            .step_envs(ActionType::Torque, &envs, &acts)
-            .await
-            .expect("step");
-        assert_same(&got, &want, t);
-        mirror_checkpoint(&batch, &reference).await;
+        step_both(&mut batch, &reference, t).await;
     }
     let err = batch
         .step_envs(ActionType::Torque, &[3, 3], &[0.0; 4])
@@ -154,17 +156,7 @@ async fn fleet_subset_steps_equal_one_servers_and_survive_a_lost_server() {
     assert_same(&got, &want, 14);
     mirror_checkpoint(&batch, &reference).await;
     for t in 15..24 {
-        let (envs, acts) = step(t);
-        let got = batch
-            .step_envs(ActionType::Torque, &envs, &acts)
-            .await
-            .expect("fleet step");
-        let want = reference
-            .step_envs(ActionType::Torque, &envs, &acts)
-            .await
-            .expect("step");
-        assert_same(&got, &want, t);
-        mirror_checkpoint(&batch, &reference).await;
+        step_both(&mut batch, &reference, t).await;
     }
     // Whole steps and subset steps mix.
     let acts = actions(99, N * 2, 0.5);

@@ -9,7 +9,6 @@ use rand::rngs::Xoshiro256PlusPlus;
 use rand::RngExt;
 use serde::{Deserialize, Serialize};
 
-use super::resolve::Context;
 use super::{bad, bounded, shown, MAX_TERMS};
 use crate::error::Result;
 
@@ -194,11 +193,22 @@ pub(crate) fn turn_about(m: &[[f64; 3]; 3], axis: usize) -> f64 {
     m[f][e].atan2(m[e][e])
 }
 
+/// What resolving a choice asks of the env (the terms' resolver answers it).
+pub(super) trait ChoiceNames {
+    /// The DOF of one-DOF joint `name`, not drawn by an earlier entry (`seen`, which it
+    /// joins), or an error at `at`.
+    fn one_dof(&self, at: &str, name: &str, seen: &mut Vec<usize>) -> Result<usize>;
+    /// A site's (or an instance's) frame: its instance, point and rotation.
+    fn frame(&self, at: &str, name: &str) -> Result<(usize, [f64; 3], [f64; 3])>;
+    /// Whether DOF `dof` turns (a revolute joint's).
+    fn angular(&self, dof: usize) -> bool;
+}
+
 impl Choice {
     pub(super) fn resolve(
         &self,
         path: &str,
-        cx: &Context<'_>,
+        cx: &dyn ChoiceNames,
         seen: &mut Vec<usize>,
     ) -> Result<ActiveChoice> {
         let n = self.joints.len();
@@ -248,7 +258,7 @@ impl Choice {
 }
 
 impl ChoiceOption {
-    fn place(&self, at: &str, cx: &Context<'_>, dofs: &[usize]) -> Result<Place> {
+    fn place(&self, at: &str, cx: &dyn ChoiceNames, dofs: &[usize]) -> Result<Place> {
         let n = dofs.len();
         let Some(frame) = &self.frame else {
             if !self.from.is_empty() || !self.offset.is_empty() {
@@ -266,14 +276,7 @@ impl ChoiceOption {
                 "expected exactly one of a box (low, high) or a frame",
             ));
         }
-        let (body, point, rotation) = match cx.assembly.site_index(frame) {
-            Some(_) => cx.site_frame(&format!("{at}.frame"), frame)?,
-            None => (
-                cx.instance(&format!("{at}.frame"), frame)?,
-                [0.0; 3],
-                [0.0; 3],
-            ),
-        };
+        let (body, point, rotation) = cx.frame(&format!("{at}.frame"), frame)?;
         if self.from.len() != n {
             return Err(bad(
                 format!("{at}.from"),
@@ -298,7 +301,7 @@ impl ChoiceOption {
                     ))
                 }
             };
-            let angular = cx.dofs[dofs[k]].kind == gymfleet_assembly::DofKind::Angular;
+            let angular = cx.angular(dofs[k]);
             if angular != matches!(coord, Coord::Angle(_)) {
                 return Err(bad(
                     format!("{at}.from[{k}]"),

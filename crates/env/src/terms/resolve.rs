@@ -53,6 +53,23 @@ pub(crate) fn instance(assembly: &Assembly, path: &str, name: &str) -> Result<us
     })
 }
 
+impl super::choice::ChoiceNames for Context<'_> {
+    fn one_dof(&self, at: &str, name: &str, seen: &mut Vec<usize>) -> Result<usize> {
+        Context::one_dof(self, at, name, seen)
+    }
+
+    fn frame(&self, at: &str, name: &str) -> Result<(usize, [f64; 3], [f64; 3])> {
+        match self.assembly.site_index(name) {
+            Some(_) => self.site_frame(at, name),
+            None => Ok((self.instance(at, name)?, [0.0; 3], [0.0; 3])),
+        }
+    }
+
+    fn angular(&self, dof: usize) -> bool {
+        self.dofs[dof].kind == DofKind::Angular
+    }
+}
+
 impl Context<'_> {
     fn contact_cost(&self, path: &str, c: &ContactCost) -> Result<(Vec<usize>, f64, f64, f64)> {
         if c.groups.len() > self.assembly.instances.len() {
