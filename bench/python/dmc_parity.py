@@ -29,7 +29,7 @@ import sys
 import time
 import warnings
 from concurrent.futures import ProcessPoolExecutor, as_completed
-from typing import Any, Dict, List, Tuple
+from typing import Any, Dict, Tuple
 
 import numpy as np
 
@@ -76,8 +76,7 @@ def make(side: str, name: str, seed: int) -> Any:
         return dm_env(domain, task, seed)
     import gymnasium as gym
 
-    import gymfleet  # noqa: F401  (registers the ids)
-    from gymfleet.dmc import TASKS as IDS
+    from gymfleet.dmc import TASKS as IDS  # importing gymfleet registers the ids
 
     spec = next(t for t in IDS.values() if (t.domain, t.task) == (domain, task))
     return gym.make(spec.id, dtype=np.float32, task_kwargs={"random": seed})
