@@ -138,6 +138,24 @@ class BatchHandle:
         termination reasons by env, and a terms task's values ``(n_envs, len(term_names))``.
         ``mocap_poses``: every env's mocap targets, flat ``n_envs × mocap bodies × 7``
         (``None``: they stay)."""
+    def step_envs(
+        self,
+        action_type_name: str,
+        env_indices: npt.NDArray[np.uint32],
+        actions: npt.NDArray[np.float32],
+    ) -> Tuple[
+        npt.NDArray[np.float32],
+        npt.NDArray[np.float32],
+        npt.NDArray[np.bool_],
+        npt.NDArray[np.bool_],
+        npt.NDArray[np.uint32],
+        npt.NDArray[np.float32],
+        Dict[int, str],
+        npt.NDArray[np.float32],
+    ]:
+        """:meth:`step` of the envs ``env_indices`` only (ascending, distinct), with one
+        action row each in that order: one row per listed env; the finished envs and the
+        termination reasons name batch indices."""
     def observe(self) -> npt.NDArray[np.float32]:
         """Every env's current observation."""
     def save_states(
