@@ -182,6 +182,13 @@ impl FleetBatch {
             .collect()
     }
 
+    /// One server's batch as it is (`From<Batch>`, no checkpoints): its calls need no
+    /// `&mut self` of the fleet batch's, so several can be in flight on it at once.
+    pub fn lone(&self) -> Option<&Batch> {
+        (self.single && self.checkpoints.is_none() && self.shards.len() == 1)
+            .then(|| &self.shards[0].batch)
+    }
+
     /// The shard batches, one per server, in env order.
     pub fn shards(&self) -> impl Iterator<Item = &Batch> {
         self.shards.iter().map(|s| &s.batch)

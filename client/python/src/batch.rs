@@ -326,12 +326,20 @@ impl BatchHandle {
         let values: Vec<f32> = actions.as_array().iter().copied().collect();
         let n = envs.len();
         let rows = wait(py, self.timeout.get(), || async move {
-            self.batch
-                .lock()
-                .await
-                .step_envs(action_type, &envs, &values)
-                .await
-                .map(StepRows::new)
+            // One server's batch is called without holding the lock across the round
+            // trip, so that several sends can be in flight (their envs are disjoint).
+            let lone = self.batch.lock().await.lone().cloned();
+            match lone {
+                Some(batch) => batch.step_envs(action_type, &envs, &values).await,
+                None => {
+                    self.batch
+                        .lock()
+                        .await
+                        .step_envs(action_type, &envs, &values)
+                        .await
+                }
+            }
+            .map(StepRows::new)
         })?;
         self.step_tuple(py, rows, n)
     }

@@ -2,13 +2,14 @@
 (``send``/``recv`` with ``batch_size`` M of ``num_envs`` N), and ``step_async`` /
 ``step_wait`` that overlap, as :class:`gymnasium.vector.AsyncVectorEnv`'s.
 
-A call that steps runs on one worker thread of the vector env, which holds no GIL
-while it waits for the server: the trainer's own work (the policy on the envs it has)
-overlaps the server's stepping. ``send`` steps only the envs it names (the server's
-subset step, ``StepBatchRequest.env_indices``), each exactly as a whole-batch step would,
-so the same seeds and the same actions per env give the same per-env trajectories, bit
-for bit, in whatever order and grouping envs are sent. Steps are taken in the order they
-were sent; one is on the wire at a time (the others wait on the worker).
+A call that steps runs on a worker thread of the vector env, which holds no GIL while it
+waits for the server: the trainer's own work (the policy on the envs it has) overlaps the
+server's stepping. ``send`` steps only the envs it names (the server's subset step,
+``StepBatchRequest.env_indices``), each exactly as a whole-batch step would, so the same
+seeds and the same actions per env give the same per-env trajectories, bit for bit, in
+whatever order and grouping envs are sent and come back. On one server, up to
+``IN_FLIGHT`` sends are on the wire at once (an env is in at most one), so the server
+has the next one queued while it answers one; a fleet batch takes them one at a time.
 
 Errors (a bad action, a lost server) surface at the next ``recv``, as the gymfleet error
 the synchronous call raises, with ``env_ids`` (the envs of that send) as an attribute:
@@ -31,6 +32,10 @@ import numpy as np
 _Result = Tuple[int, np.ndarray, float, bool, bool, Dict[str, Any]]
 
 
+#: Sends on the wire at once (worker threads).
+IN_FLIGHT = 2
+
+
 class Pipeline:
     """The asynchronous state of one vector env: what was sent, what came back."""
 
@@ -44,8 +49,9 @@ class Pipeline:
         self.check_batch_size(batch_size, n)
         self._envs = envs
         self.batch_size = int(batch_size)
-        self._worker = ThreadPoolExecutor(max_workers=1, thread_name_prefix="gymfleet-steps")
+        self._worker = ThreadPoolExecutor(max_workers=IN_FLIGHT, thread_name_prefix="gymfleet-steps")
         self._lock = threading.Condition()
+        self._pending: "set[Future[Any]]" = set()
         self._ready: Deque[_Result] = collections.deque()
         self._errors: Deque[BaseException] = collections.deque()
         self._in_flight = np.zeros(n, dtype=bool)
@@ -54,8 +60,16 @@ class Pipeline:
     # The worker's side.
 
     def submit(self, call: Any, *args: Any) -> "Future[Any]":
-        """Runs ``call(*args)`` on the worker, after every earlier call."""
-        return self._worker.submit(call, *args)
+        """Runs ``call(*args)`` on a worker thread."""
+        future = self._worker.submit(call, *args)
+        with self._lock:
+            self._pending.add(future)
+        future.add_done_callback(self._done)
+        return future
+
+    def _done(self, future: "Future[Any]") -> None:
+        with self._lock:
+            self._pending.discard(future)
 
     def _step(self, ids: np.ndarray, actions: np.ndarray) -> None:
         try:
@@ -129,7 +143,18 @@ class Pipeline:
 
     def drain(self) -> None:
         """Waits until every step sent has been taken."""
-        self.submit(lambda: None).result()
+        while True:
+            with self._lock:
+                pending = list(self._pending)
+            if not pending:
+                return
+            for future in pending:
+                future.exception()  # waits; its outcome went to recv or step_wait
+
+    def busy(self) -> bool:
+        """Whether any env is in flight."""
+        with self._lock:
+            return bool(self._in_flight.any())
 
     def close(self) -> None:
         self._worker.shutdown(wait=True)

@@ -310,6 +310,8 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
         """Starts a step of every env (:meth:`step`'s) and returns at once: the trainer's
         work until :meth:`step_wait` overlaps the server's."""
         self._no_async("step_async")
+        if self._pipeline is not None and self._pipeline.busy():
+            raise RuntimeError("step_async: envs are in flight (send): recv them first")
         values = self._actions.to_server(actions).reshape(self.num_envs, self._action_dim)
         mocap, self._mocap_poses = self._mocap_poses, None
         self._pending_step = self._async().submit(self._whole_step, values, mocap)
