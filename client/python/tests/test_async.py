@@ -6,6 +6,7 @@ remote server; errors surface at the next ``recv`` with the envs they concern.""
 
 from __future__ import annotations
 
+import threading
 import time
 
 import numpy as np
@@ -13,6 +14,7 @@ import pytest
 from gymnasium.vector import AutoresetMode
 
 import gymfleet
+from gymfleet.pipeline import IN_FLIGHT
 
 N = 6
 STEPS = 9
@@ -123,10 +125,15 @@ def test_errors_surface_at_recv_with_their_env_ids_and_nothing_else_is_lost(arm2
     _, _, _, _, info = envs.recv()
     assert info["env_id"].tolist() == [0, 1]
     bad = np.array([[np.nan, 0.0], [0.0, 0.0]], dtype=np.float32)
-    envs.send(bad, np.array([1, 0]))  # returns at once; the server refuses it
+    held = threading.Event()
+    for _ in range(IN_FLIGHT):
+        envs._pipeline.submit(held.wait)
+    envs.send(bad, np.array([1, 0]))  # returns at once; the server will refuse it
+    # The four resets still waiting come first, then the error.
+    assert [envs.recv()[4]["env_id"].tolist() for _ in range(2)] == [[2, 3], [4, 5]]
+    held.set()
     with pytest.raises(gymfleet.InvalidArgument, match="expected a finite number") as err:
-        # The four resets still waiting come first, then the error.
-        envs.recv(), envs.recv(), envs.recv()
+        envs.recv()
     assert err.value.env_ids.tolist() == [0, 1]
     # Those envs are not in flight any more: they can be sent again, and step.
     envs.send(np.stack([action(0, 0), action(1, 0)]), np.array([0, 1]))
@@ -139,9 +146,16 @@ def test_errors_surface_at_recv_with_their_env_ids_and_nothing_else_is_lost(arm2
     ]:
         with pytest.raises(ValueError, match=message):
             call()
+    # The workers held busy, a send stays in flight until they are let go.
+    hold = threading.Event()
+    for _ in range(IN_FLIGHT):
+        envs._pipeline.submit(hold.wait)
     envs.send(np.zeros((1, 2)), np.array([3]))
     with pytest.raises(ValueError, match=r"env_id: envs \[3\] are in flight: recv them first"):
         envs.send(np.zeros((1, 2)), np.array([3]))
+    with pytest.raises(RuntimeError, match=r"step_async: envs are in flight \(send\): recv them first"):
+        envs.step_async(np.zeros((N, 2)))
+    hold.set()
     envs.close()
 
 
