@@ -71,6 +71,34 @@ def test_batched_rewards_are_the_same_sums(name):
     envs.close()
 
 
+@pytest.mark.parametrize("name", NAMES)
+def test_a_single_env_gives_the_bits_of_a_batch_of_one(name):
+    # The single env computes its info and reward on Python floats, a batch on float64
+    # arrays: the same operations, so the same bits.
+    env = gymnasium.make(f"gymfleet/{name}-v5")
+    envs = gymnasium.make_vec(f"gymfleet/{name}-v5", 1, vectorization_mode="vector_entry_point")
+    obs, _ = env.reset(seed=3)
+    batch_obs, _ = envs.reset(seed=3)
+    np.testing.assert_array_equal(obs, batch_obs[0])
+    rng = np.random.default_rng(3)
+    low, high = env.action_space.low, env.action_space.high
+    for step in range(20):
+        action = rng.uniform(low, high).astype(np.float32)
+        obs, reward, terminated, truncated, info = env.step(action)
+        batch_obs, rewards, batch_terminated, _, infos = envs.step(action[None, :])
+        np.testing.assert_array_equal(obs, batch_obs[0], err_msg=f"step {step}")
+        assert reward == rewards[0], (step, reward, rewards[0])
+        assert terminated == batch_terminated[0]
+        assert set(info) == {k for k in infos if not k.startswith("_")}
+        for key, value in info.items():
+            np.testing.assert_array_equal(value, infos[key][0], err_msg=f"step {step}: {key}")
+            assert np.ndim(value) > 0 or type(value) is float, (key, type(value))
+        if terminated or truncated:
+            break
+    env.close()
+    envs.close()
+
+
 def test_an_action_of_the_wrong_shape_is_refused_as_gymnasiums_env_refuses_it():
     env = gymnasium.make("gymfleet/Hopper-v5")
     env.reset(seed=0)

@@ -558,3 +558,29 @@ def test_the_batched_cross_product_is_numpys_bit_for_bit():
     f = a.astype(np.float32)
     assert _cross(f, f[::-1]).dtype == np.float32
     assert np.array_equal(_cross(f, f[::-1]), np.cross(f, f[::-1]))
+
+
+@pytest.mark.parametrize("name", ["Ant", "Humanoid", "HumanoidStandup"])
+def test_one_row_splits_as_a_batch_does(name):
+    # A single env's row takes the floating base's frames on Python floats, a batch on
+    # numpy arrays: the same operations in the same order, so the same bits.
+    from gymfleet.suite.kinematics import split_rows
+
+    env = gymnasium.make(f"gymfleet/{name}-v5")
+    env.reset(seed=0)
+    setup = env.unwrapped._setup
+    rows = []
+    for _ in range(3):
+        env.step(env.action_space.sample())
+        rows.append(env.unwrapped.gymfleet_env.observe())
+    env.close()
+    rows = np.stack(rows)
+    rng = np.random.default_rng(0)
+    base = setup.segments["base_velocity"]
+    rows[:, base] += rng.normal(0.0, 1.0, (3, base.stop - base.start)).astype(np.float32)
+    batch = split_rows(rows, setup.segments, setup.model.root_geom)
+    for k in range(3):
+        one = split_rows(rows[k : k + 1], setup.segments, setup.model.root_geom)
+        for a, b in zip(one, batch):
+            assert a.dtype == b.dtype
+            np.testing.assert_array_equal(a[0], b[k])

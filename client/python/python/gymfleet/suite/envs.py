@@ -11,7 +11,8 @@ term values as Gymnasium's ``info`` does.
 
 from __future__ import annotations
 
-from typing import Any, Dict, Optional, Sequence, Tuple, Union
+from collections.abc import Mapping
+from typing import Any, Dict, Iterator, Optional, Sequence, Tuple, Union
 
 import gymnasium as gym
 import numpy as np
@@ -131,7 +132,7 @@ class _Setup:
 
     def typed(self, observations: np.ndarray) -> np.ndarray:
         """Observations as the float32 the server's values make, then in the env's dtype."""
-        return observations.astype(np.float32).astype(self.kw["dtype"], copy=False)
+        return observations.astype(np.float32, copy=False).astype(self.kw["dtype"], copy=False)
 
 
 def _zeros(names: Sequence[str], n: int) -> Dict[str, np.ndarray]:
@@ -142,6 +143,38 @@ def _zeros(names: Sequence[str], n: int) -> Dict[str, np.ndarray]:
 def _first(x: np.ndarray) -> Any:
     """One env's info value from (1, ...) rows: a float, or an array (the tendons')."""
     return float(x[0]) if np.ndim(x) == 1 else np.asarray(x[0], dtype=np.float64)
+
+
+def _scalar(x: Any) -> Any:
+    """One env's info value: a float as it is, a (1, ...) row's first entry otherwise."""
+    if type(x) is float:
+        return x
+    if type(x) is np.ndarray and x.shape == (1,):
+        return x.item() if x.dtype == np.float64 else float(x[0])
+    return float(x) if np.ndim(x) == 0 else _first(x)
+
+
+class _TermValues(Mapping):
+    """A single env's term values by name, read without a dict built per step: Python
+    floats (``values`` a list) for the plan's info and reward, or (1,) float64 rows
+    (``values`` a float64 array, each row a view) for its ``observe``, with the observed
+    block under ``OBSERVED`` (``extra``)."""
+
+    def __init__(self, values: Any, index: Dict[str, int], extra: Optional[Dict[str, np.ndarray]] = None) -> None:
+        self._values, self._index, self._extra = values, index, extra or {}
+        self._rows = isinstance(values, np.ndarray)
+
+    def __getitem__(self, name: str) -> Any:
+        if name in self._extra:
+            return self._extra[name]
+        k = self._index[name]
+        return self._values[k : k + 1] if self._rows else self._values[k]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter([*self._index, *self._extra])
+
+    def __len__(self) -> int:
+        return len(self._index) + len(self._extra)
 
 
 def _reset_values(plan: Plan, q: np.ndarray, v: np.ndarray) -> Dict[str, np.ndarray]:
@@ -240,10 +273,10 @@ class SuiteEnv(gym.Env):
         self.init_qpos, self.init_qvel = _initial_state(setup)
         self._env = GymfleetEnv(setup.model.text, **setup.options(_NO_LIMIT))
         observed = set(setup.observed)
-        #: (position, name) of the terms the plan reads by name.
-        self._named_terms = [
-            (k, name) for k, name in enumerate(self._env.env_info["term_names"]) if name not in observed
-        ]
+        #: Where each term the plan reads by name lies in a step's term values.
+        self._term_index = {
+            name: k for k, name in enumerate(self._env.env_info["term_names"]) if name not in observed
+        }
         self._dofs, self._base = setup.check(self._env.env_info)
         self.render_mode = setup.kw["render_mode"]
         self.frame_skip = setup.frame_skip
@@ -298,24 +331,28 @@ class SuiteEnv(gym.Env):
                 f"Action dimension mismatch. Expected {self.action_space.shape}, found {shape}"
             )
         raw, reward, terminated, truncated, term_values = self._env.step_terms(action)
+        setup, plan = self._setup, self._setup.plan
         rows = raw[None, :]
-        q, v, ee = self._setup.split(rows)
-        # One conversion of the term values; each named term a (1,) view of it (the
-        # observed ones reach the plan as one block, `_observed_terms`).
-        values64 = np.asarray(term_values, dtype=np.float64)
-        terms = {name: values64[k : k + 1] for k, name in self._named_terms}
+        q, v, ee = setup.split(rows)
         before = self._qpos
         self._qpos, self._qvel = qpos_qvel(q, v)
         self._ctrl = np.array(action, dtype=np.float64)
         self._frames.clear()
-        plan = self._setup.plan
-        values = _step_values(plan, q, v, terms)
-        _velocities_from_qpos(plan, values, before[None, :], self._qpos[None, :], self.dt)
-        info = {k: _first(x) for k, x in values.items()}
+        # The plan's arithmetic on Python floats (float64): bit for bit what it does on a
+        # batch's (n,) float64 arrays, without an array per value.
+        scalars = _TermValues(term_values.tolist(), self._term_index)
+        q64, v64 = self._qpos[None, :], self._qvel[None, :]
+        values = {**plan.step_info(q64, scalars), **plan.tendon_info(q64, v64)}
+        for key, k in plan.qpos_velocity.items():
+            values[key] = (float(self._qpos[k]) - float(before[k])) / self.dt
+        if plan.qpos_velocity and "reward_forward" in values:
+            values["reward_forward"] = plan.forward_weight * values["x_velocity"]
+        info = {k: _scalar(x) for k, x in values.items()}
         # A single env steps every call (no autoreset): no reset rows to tell apart.
-        summed = float(plan.reward(values)[0]) if plan.reward is not None else float(reward)
-        terms.update(_observed_terms(rows, self._setup))
-        obs = self._setup.typed(plan.observe(q, v, ee, terms)[0])
+        summed = float(plan.reward(info)) if plan.reward is not None else float(reward)
+        rows64 = np.asarray(term_values, dtype=np.float64)
+        terms = _TermValues(rows64, self._term_index, _observed_terms(rows, setup))
+        obs = setup.typed(plan.observe(q, v, ee, terms)[0])
         return obs, summed, bool(terminated), bool(truncated), info
 
     @property

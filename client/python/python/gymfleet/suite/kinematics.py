@@ -28,7 +28,9 @@ def _quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Hamilton products of (n, 4) and (4,) quaternions (w, x, y, z)."""
     w1, v1 = a[:, :1], a[:, 1:]
     w2, v2 = b[0], b[1:]
-    return np.concatenate([w1 * w2 - v1 @ v2[:, None], w1 * v2 + w2 * v1 + _cross(v1, v2)], axis=1)
+    # The dot product written out, in the order `_base_row` takes it (a matmul may fuse).
+    dot = (v1[:, :1] * v2[0] + v1[:, 1:2] * v2[1]) + v1[:, 2:] * v2[2]
+    return np.concatenate([w1 * w2 - dot, w1 * v2 + w2 * v1 + _cross(v1, v2)], axis=1)
 
 
 def _rotate(quat: np.ndarray, x: np.ndarray) -> np.ndarray:
@@ -42,6 +44,44 @@ def _in_body_frame(quat: np.ndarray, w: np.ndarray) -> np.ndarray:
     y, z): rotated by each conjugate."""
     s, u = quat[:, :1], quat[:, 1:]
     return w - 2.0 * s * _cross(u, w) + 2.0 * _cross(u, _cross(u, w))
+
+
+Vec = Tuple[float, ...]
+
+
+def _cross3(a: Vec, b: Vec) -> Vec:
+    """``_cross`` of two 3-vectors of Python floats."""
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def _base_row(
+    pose: np.ndarray, velocity: np.ndarray, root_geom: Optional[Tuple[np.ndarray, np.ndarray]]
+) -> Tuple[Vec, Vec]:
+    """``split_rows``'s floating base of one row, on Python floats (float64, each operation
+    numpy's on a batch, in its order): MuJoCo's free-joint qpos (7) and qvel (6)."""
+    p = pose.tolist()
+    position, quat = p[:3], p[3:7]
+    velocity_list = velocity.tolist()
+    linear, angular = velocity_list[:3], velocity_list[3:6]
+    if root_geom is not None:
+        centre, geom_quat = root_geom
+        g = geom_quat.tolist()
+        w2, x2, y2, z2 = g[0], -g[1], -g[2], -g[3]
+        w1, v1 = quat[0], quat[1:]
+        dot = (v1[0] * x2 + v1[1] * y2) + v1[2] * z2
+        c = _cross3(v1, (x2, y2, z2))
+        quat = [w1 * w2 - dot] + [w1 * b + w2 * a + ci for a, b, ci in zip(v1, (x2, y2, z2), c)]
+        s, u, x = quat[0], quat[1:], centre.tolist()
+        c = _cross3(u, x)
+        cc = _cross3(u, c)
+        arm = [xi + 2.0 * s * ci + 2.0 * cci for xi, ci, cci in zip(x, c, cc)]
+        position = [a - b for a, b in zip(position, arm)]
+        linear = [a - b for a, b in zip(linear, _cross3(angular, arm))]
+    s, u = quat[0], quat[1:]
+    c = _cross3(u, angular)
+    cc = _cross3(u, c)
+    spin = [wi - 2.0 * s * ci + 2.0 * cci for wi, ci, cci in zip(angular, c, cc)]
+    return (*position, *quat), (*linear, *spin)
 
 
 def segments(layout: Sequence[Tuple[str, int]]) -> Dict[str, slice]:
@@ -67,7 +107,13 @@ def split_rows(
     first geom: its centre of mass and its frame, which ``root_geom`` (the geom's centre
     and orientation in the body's frame) takes back to the body's."""
     q, v = raw[:, segments["joint_positions"]], raw[:, segments["joint_velocities"]]
-    if "base_pose" in segments:
+    if "base_pose" in segments and len(raw) == 1:
+        # One row (a single env): the same operations on Python floats, without a numpy
+        # call per product (the same bits: `test_one_row_splits_as_a_batch_does`).
+        base_q, base_v = _base_row(raw[0, segments["base_pose"]], raw[0, segments["base_velocity"]], root_geom)
+        q = np.concatenate([np.array([base_q], dtype=raw.dtype), q], axis=1)
+        v = np.concatenate([np.array([base_v], dtype=raw.dtype), v], axis=1)
+    elif "base_pose" in segments:
         pose, velocity = raw[:, segments["base_pose"]], raw[:, segments["base_velocity"]]
         position, quat = pose[:, :3].astype(np.float64), pose[:, 3:7].astype(np.float64)
         linear, angular = velocity[:, :3].astype(np.float64), velocity[:, 3:6].astype(np.float64)

@@ -393,7 +393,7 @@ def _ant(model: Model, kw: Mapping[str, Any]) -> Plan:
     if with_cfrc:
         terms += [
             {"name": name, "weight": 0.0,
-             "value": {"contact_wrench": groups[b], "component": k}}
+             "value": {"contact_wrench": groups[b], "component": k}, "observe": True}
             for name, (b, k) in zip(cfrc, ((b, k) for b in range(len(groups)) for k in range(_WRENCH)))
         ]
     task = {
@@ -409,9 +409,8 @@ def _ant(model: Model, kw: Mapping[str, Any]) -> Plan:
     def observe(q: np.ndarray, v: np.ndarray, ee: np.ndarray, t: Terms) -> np.ndarray:
         parts = [q[:, skip:], v]
         if with_cfrc:
-            # One conversion of the 78 rows (np.stack's per-array checks cost more).
-            forces = np.array([t[name] for name in cfrc], dtype=q.dtype).T
-            parts.append(np.clip(forces, lo, hi))
+            # The 78 wrench terms are the task's observed terms: one block, in their order.
+            parts.append(np.clip(np.asarray(t[OBSERVED], dtype=q.dtype), lo, hi))
         return np.concatenate(parts, axis=1)
 
     # MuJoCo's qpos starts with the free joint's x and y.
