@@ -176,3 +176,48 @@ def test_a_remote_server_gives_the_embedded_servers_trajectories(arm2, remote_se
     got, _ = async_trajectories(arm2, AutoresetMode.NEXT_STEP, 3, server=remote_server)
     for e in range(N):
         assert got[e] == want[e][: len(got[e])], f"env {e}"
+
+
+def test_each_envs_info_is_the_sync_paths(arm2):
+    # Term values and final observations come back per env as the synchronous step
+    # gives them, each key with its mask, whatever the grouping.
+    task = {"terms": [{"name": "effort", "weight": -1.0, "ctrl_cost": {}}]}
+    mode = AutoresetMode.SAME_STEP
+    envs = gymfleet.make_vec(arm2, N, autoreset_mode=mode, task=task, **OPTIONS)
+    envs.reset()
+    want = [[] for _ in range(N)]
+    for k in range(STEPS):
+        _, _, _, _, info = envs.step(np.stack([action(e, k) for e in range(N)]))
+        for e in range(N):
+            want[e].append({key: info[key][e] for key in ("effort", "final_obs")
+                            if key in info and info["_" + key][e]})
+    envs.close()
+    assert any("final_obs" in i for w in want for i in w), "episodes ended on the way"
+
+    envs = gymfleet.make_vec(arm2, N, autoreset_mode=mode, task=task, batch_size=4, **OPTIONS)
+    envs.async_reset()
+    got = [[] for _ in range(N)]
+    first = True
+    while True:
+        try:
+            _, _, _, _, info = envs.recv()
+        except RuntimeError:
+            break
+        for row, e in enumerate(info["env_id"].tolist()):
+            has = {key: info[key][row] for key in info
+                   if key != "env_id" and not key.startswith("_") and info["_" + key][row]}
+            if first or not has:
+                assert "effort" not in has  # a reset's row: no terms
+            else:
+                got[e].append(has)
+        first = False
+        going = [int(e) for e in info["env_id"][::-1] if len(got[e]) < STEPS]
+        if going:
+            envs.send(np.stack([action(e, len(got[e])) for e in going]), np.array(going))
+    envs.close()
+    for e in range(N):
+        assert len(got[e]) >= 2
+        for k, (g, w) in enumerate(zip(got[e], want[e])):
+            assert set(g) == set(w), (e, k, g, w)
+            for key in w:
+                np.testing.assert_array_equal(np.asarray(g[key]), np.asarray(w[key]), err_msg=f"env {e} step {k}: {key}")

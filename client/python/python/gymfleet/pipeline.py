@@ -26,10 +26,32 @@ from typing import Any, Deque, Dict, List, Optional, Tuple
 
 import numpy as np
 
-#: One env's result as ``recv`` hands it out: env id, observation row, reward,
-#: terminated, truncated, and its per-env info (term values, termination reason, final
-#: observation).
-_Result = Tuple[int, np.ndarray, float, bool, bool, Dict[str, Any]]
+class _Chunk:
+    """The results of one send (or of the reset), column by column, in ascending env
+    order: env ids (k,), observations (k, d), rewards (k,), terminated, truncated, the term
+    values (k, terms) (``None`` for a reset's), and the termination reasons and final
+    observations by env id. ``recv`` hands out whole chunks where it can (EnvPool's loop
+    sends what it received: one chunk a ``recv``), and slices one only where it must."""
+
+    __slots__ = ("ids", "obs", "rewards", "terminated", "truncated", "terms", "reasons", "finals")
+
+    def __init__(self, ids: np.ndarray, obs: np.ndarray, rewards: np.ndarray, terminated: np.ndarray,
+                 truncated: np.ndarray, terms: Optional[np.ndarray], reasons: Dict[int, str],
+                 finals: Dict[int, np.ndarray]) -> None:
+        self.ids, self.obs, self.rewards = ids, obs, rewards
+        self.terminated, self.truncated, self.terms = terminated, truncated, terms
+        self.reasons, self.finals = reasons, finals
+
+    def __len__(self) -> int:
+        return len(self.ids)
+
+    def split(self, m: int) -> "Tuple[_Chunk, _Chunk]":
+        """The first ``m`` envs, and the rest."""
+        def part(cut: slice) -> "_Chunk":
+            return _Chunk(self.ids[cut], self.obs[cut], self.rewards[cut], self.terminated[cut],
+                          self.truncated[cut], None if self.terms is None else self.terms[cut],
+                          self.reasons, self.finals)
+        return part(slice(None, m)), part(slice(m, None))
 
 
 #: Sends on the wire at once (worker threads).
@@ -52,7 +74,8 @@ class Pipeline:
         self._worker = ThreadPoolExecutor(max_workers=IN_FLIGHT, thread_name_prefix="gymfleet-steps")
         self._lock = threading.Condition()
         self._pending: "set[Future[Any]]" = set()
-        self._ready: Deque[_Result] = collections.deque()
+        self._ready: Deque[_Chunk] = collections.deque()
+        self._n_ready = 0
         self._errors: Deque[BaseException] = collections.deque()
         self._in_flight = np.zeros(n, dtype=bool)
         self._sent = 0
@@ -73,7 +96,7 @@ class Pipeline:
 
     def _step(self, ids: np.ndarray, actions: np.ndarray) -> None:
         try:
-            rows = self._envs._step_rows(ids, actions)
+            chunk = _Chunk(ids.astype(np.int32), *self._envs._step_columns(ids, actions))
         except BaseException as err:  # noqa: B902 - handed to recv, which raises it
             err.env_ids = ids.copy()  # type: ignore[attr-defined]
             with self._lock:
@@ -82,7 +105,8 @@ class Pipeline:
                 self._lock.notify_all()
             return
         with self._lock:
-            self._ready.extend(rows)
+            self._ready.append(chunk)
+            self._n_ready += len(chunk)
             self._in_flight[ids] = False
             self._lock.notify_all()
 
@@ -92,11 +116,14 @@ class Pipeline:
         """After every env was reset: each one's first observation is ready, in env
         order (what ``recv`` returns first)."""
         self.drain()
+        n = len(observations)
         with self._lock:
             self._ready.clear()
             self._errors.clear()
-            for env, row in enumerate(observations):
-                self._ready.append((env, row, 0.0, False, False, {}))
+            self._ready.append(_Chunk(np.arange(n, dtype=np.int32), np.asarray(observations),
+                                      np.zeros(n, dtype=np.float32), np.zeros(n, dtype=np.bool_),
+                                      np.zeros(n, dtype=np.bool_), None, {}, {}))
+            self._n_ready = n
 
     def send(self, actions: Any, env_id: Any) -> None:
         """Steps the envs ``env_id`` (distinct, none in flight) with ``actions`` (one row
@@ -128,18 +155,26 @@ class Pipeline:
         as the synchronous step gives them). Raises a send's error first."""
         m = self.batch_size
         with self._lock:
-            while not self._errors and len(self._ready) < m:
+            while not self._errors and self._n_ready < m:
                 if not self._in_flight.any():
                     raise RuntimeError(
-                        f"recv: {len(self._ready)} envs are ready and none in flight, fewer "
+                        f"recv: {self._n_ready} envs are ready and none in flight, fewer "
                         f"than batch_size={m}: send their actions first (or async_reset)"
                     )
                 if not self._lock.wait(timeout):
                     raise TimeoutError(f"recv: no {m} envs ready within {timeout} s")
             if self._errors:
                 raise self._errors.popleft()
-            results = [self._ready.popleft() for _ in range(m)]
-        return _stacked(results)
+            pieces, need = [], m
+            while need:
+                chunk = self._ready.popleft()
+                if len(chunk) > need:
+                    chunk, rest = chunk.split(need)
+                    self._ready.appendleft(rest)
+                pieces.append(chunk)
+                need -= len(chunk)
+            self._n_ready -= m
+        return _joined(pieces, self._envs._info["term_names"])
 
     def drain(self) -> None:
         """Waits until every step sent has been taken."""
@@ -160,22 +195,43 @@ class Pipeline:
         self._worker.shutdown(wait=True)
 
 
-def _stacked(results: List[_Result]) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
-    ids = np.array([r[0] for r in results], dtype=np.int32)
-    obs = np.stack([r[1] for r in results])
-    rewards = np.array([r[2] for r in results], dtype=np.float32)
-    terminated = np.array([r[3] for r in results], dtype=np.bool_)
-    truncated = np.array([r[4] for r in results], dtype=np.bool_)
+def _joined(pieces: List[_Chunk], names: List[str]) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
+    """``recv``'s result from chunks in the order they finished: the columns joined (one
+    chunk's as they are), and ``info`` with ``env_id``, each term's values (float64) and,
+    where any env has one, termination reasons and final observations (object columns);
+    each key with its ``_key`` mask of the envs that have it (a reset's envs have no
+    terms)."""
+    def column(name: str) -> np.ndarray:
+        parts = [getattr(p, name) for p in pieces]
+        return parts[0] if len(parts) == 1 else np.concatenate(parts)
+
+    ids = column("ids")
     info: Dict[str, Any] = {"env_id": ids}
-    keys = sorted({k for r in results for k in r[5]})
-    for key in keys:
-        has = np.array([key in r[5] for r in results], dtype=np.bool_)
-        values = [r[5].get(key) for r in results]
-        if all(isinstance(v, float) for v in values if v is not None):
-            info[key] = np.array([0.0 if v is None else v for v in values], dtype=np.float64)
-        else:
-            column = np.empty(len(values), dtype=object)
-            column[:] = values
-            info[key] = column
-        info["_" + key] = has
-    return obs, rewards, terminated, truncated, info
+    extra: Dict[str, Any] = {}
+    with_terms = [p.terms is not None for p in pieces]
+    if any(with_terms):
+        width = len(names)
+        terms = np.concatenate([
+            p.terms.astype(np.float64) if p.terms is not None else np.zeros((len(p), width))
+            for p in pieces
+        ]) if len(pieces) > 1 else pieces[0].terms.astype(np.float64)
+        has = np.concatenate([np.full(len(p), t) for p, t in zip(pieces, with_terms)])
+        for k, name in enumerate(names):
+            extra[name], extra["_" + name] = terms[:, k], has
+    for key, attribute in (("termination_reason", "reasons"), ("final_obs", "finals")):
+        by_env = [getattr(p, attribute) for p in pieces]
+        if not any(by_env):
+            continue
+        values = np.empty(len(ids), dtype=object)
+        has = np.zeros(len(ids), dtype=np.bool_)
+        row = 0
+        # Each piece's own envs only: a sliced chunk's dicts name the other slice's too.
+        for piece, found in zip(pieces, by_env):
+            for env in piece.ids.tolist():
+                if env in found:
+                    values[row], has[row] = found[env], True
+                row += 1
+        extra[key], extra["_" + key] = values, has
+    for key in sorted(k for k in extra if not k.startswith("_")):
+        info[key], info["_" + key] = extra[key], extra["_" + key]
+    return column("obs"), column("rewards"), column("terminated"), column("truncated"), info

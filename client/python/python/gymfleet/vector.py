@@ -323,23 +323,15 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
         pending, self._pending_step = self._pending_step, None
         return pending.result(timeout)
 
-    def _step_rows(self, ids: np.ndarray, values: np.ndarray) -> List[Any]:
-        """Steps the envs ``ids`` (ascending) on the server; one result per env, for
-        :class:`Pipeline`."""
+    def _step_columns(self, ids: np.ndarray, values: np.ndarray) -> Tuple[Any, ...]:
+        """Steps the envs ``ids`` (ascending) on the server; their results column by
+        column (observations, rewards, terminated, truncated, term values, and the
+        termination reasons and final observations by env id), for :class:`Pipeline`."""
         (obs, rewards, terminated, truncated, final_envs, final_obs, reasons,
          terms) = self._handle.step_envs(self.action_type, ids, values)
-        names = self._info["term_names"]
         finals = {int(env): final_obs[k] for k, env in enumerate(final_envs)}
-        rows = []
-        for k, env in enumerate(ids.tolist()):
-            info: Dict[str, Any] = {name: float(v) for name, v in zip(names, terms[k])}
-            if env in reasons:
-                info["termination_reason"] = reasons[env]
-            if env in finals:
-                info["final_obs"] = finals[env]
-            rows.append((env, obs[k], float(rewards[k]), bool(terminated[k]),
-                         bool(truncated[k]), info))
-        return rows
+        return (obs, np.asarray(rewards, dtype=np.float32), np.asarray(terminated, dtype=np.bool_),
+                np.asarray(truncated, dtype=np.bool_), np.asarray(terms), dict(reasons), finals)
 
     def set_mocap_poses(self, poses: Any) -> None:
         """Sets where every env's mocap bodies (``env_info["mocap_bodies"]``) are to be at
