@@ -8,7 +8,12 @@ a numpy MLP (2 x 256 units over the batch) between steps, on a server in another
 
 Modes, each over the same model (arm2), policy and pinning:
 - ``embedded sync``: the in-process server, ``step`` of every env (the yardstick);
+- ``embedded async``: the in-process server, EnvPool's loop below (nothing to overlap with:
+  trainer and simulation share the core);
 - ``remote sync``: a ``gymfleet-server`` process, ``step`` of every env;
+- ``remote sync stream``: the same server, the same loop over the asynchronous API with
+  ``batch_size = N`` (every env sent on the batch's stream, all received back: a
+  synchronous step over ``StreamBatch``);
 - ``remote async``: the same server, EnvPool's loop with ``batch_size = N/2`` (``recv`` M
   envs, the policy on them, ``send``): the policy on one half overlaps the server's
   stepping of the other.
@@ -99,6 +104,18 @@ def async_loop(envs: gymfleet.GymfleetVectorEnv, policy: Mlp, seconds: float) ->
     return rate
 
 
+def stream_loop(envs: gymfleet.GymfleetVectorEnv, policy: Mlp, seconds: float) -> float:
+    """Whole-batch steps over the stream: ``recv`` all N, the policy, ``send`` all N."""
+    envs.async_reset()
+    steps, start = 0, time.perf_counter()
+    obs, _, _, _, info = envs.recv()
+    while time.perf_counter() - start < seconds:
+        envs.send(policy(obs), info["env_id"])
+        obs, _, _, _, info = envs.recv()
+        steps += len(info["env_id"])
+    return steps / (time.perf_counter() - start)
+
+
 def policy_cost(policy: Mlp, obs_dim: int, n: int) -> float:
     obs = np.zeros((n, obs_dim), dtype=np.float32)
     start, k = time.perf_counter(), 0
@@ -124,10 +141,14 @@ def main() -> None:
             # (The lambdas run in this iteration only.)
             embedded = gymfleet.make_vec(arm2, n, **OPTIONS)
             remote = gymfleet.make_vec(arm2, n, server=addr, **OPTIONS)
+            embedded_async = gymfleet.make_vec(arm2, n, batch_size=max(1, n // 2), **OPTIONS)
+            remote_stream = gymfleet.make_vec(arm2, n, server=addr, batch_size=n, **OPTIONS)
             remote_async = gymfleet.make_vec(arm2, n, server=addr, batch_size=max(1, n // 2), **OPTIONS)
             policy = Mlp(embedded.single_observation_space.shape[0], embedded.single_action_space.shape[0])
             made["embedded sync"] = lambda: sync_loop(embedded, policy, args.seconds)
             made["remote sync"] = lambda: sync_loop(remote, policy, args.seconds)
+            made["embedded async M=N/2"] = lambda: async_loop(embedded_async, policy, args.seconds)
+            made["remote sync stream"] = lambda: stream_loop(remote_stream, policy, args.seconds)
             made["remote async M=N/2"] = lambda: async_loop(remote_async, policy, args.seconds)
             rates: Dict[str, List[float]] = {k: [] for k in made}
             for _ in range(args.rounds):
@@ -139,7 +160,7 @@ def main() -> None:
             for name, values in rates.items():
                 m = statistics.median(values)
                 print(f"  {name:22s} {m:10.0f} env-steps/s  {m / base:5.2f}x embedded sync")
-            for envs in (embedded, remote, remote_async):
+            for envs in (embedded, embedded_async, remote, remote_stream, remote_async):
                 envs.close()
     finally:
         proc.terminate()

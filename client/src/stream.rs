@@ -65,6 +65,8 @@ pub struct BatchStream {
     received: VecDeque<Result<BatchStep>>,
     /// The stream failed; nothing more will come.
     failed: bool,
+    /// The server ended the request side (a send found it closed).
+    ended: bool,
 }
 
 impl BatchStream {
@@ -84,6 +86,7 @@ impl BatchStream {
             in_flight: 0,
             received: VecDeque::new(),
             failed: false,
+            ended: false,
         })
     }
 
@@ -138,16 +141,25 @@ impl BatchStream {
                 code: tonic::Code::Unavailable,
             });
         }
+        let ended = || ClientError::Unavailable {
+            message: "the batch stream has ended (a step sent before failed, or the server \
+                      closed it): take the pending results with next(), then open a new \
+                      stream; this step was not sent"
+                .into(),
+            code: tonic::Code::Unavailable,
+        };
+        if self.ended {
+            return Err(ended());
+        }
         let Some(requests) = &self.requests else {
             return Err(ClientError::protocol("send after the stream was finished"));
         };
         if requests.send(request).await.is_err() {
-            // The call is over; its status says why.
-            let result = self.receive().await;
-            self.failed = true;
-            return Err(result
-                .err()
-                .unwrap_or_else(|| ClientError::protocol("the server closed the stream early")));
+            // The server ended the stream (a step sent before failed, or it is going
+            // away): its answers to the steps sent before, the error among them, are
+            // still to be taken with `next`; nothing is read off the wire here.
+            self.ended = true;
+            return Err(ended());
         }
         self.in_flight += 1;
         Ok(())

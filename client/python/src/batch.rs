@@ -12,9 +12,10 @@ use crate::info::batch_info;
 use crate::options::{invalid, seed, timeout, CreateOptions};
 use crate::runtime::{wait, Deadline};
 use crate::servers::{resolve, Target};
+use crate::stream::StepStream;
 
 /// One batch step's results, taken out of the reply before the GIL is taken back.
-struct StepRows {
+pub(crate) struct StepRows {
     observations: Vec<f32>,
     rewards: Vec<f32>,
     terms: Vec<f32>,
@@ -26,7 +27,7 @@ struct StepRows {
 }
 
 impl StepRows {
-    fn new(step: BatchStep) -> Self {
+    pub(crate) fn new(step: BatchStep) -> Self {
         let final_env_indices = step.final_env_indices().to_vec();
         let final_observations = final_env_indices
             .iter()
@@ -63,7 +64,7 @@ fn matrix(py: Python<'_>, values: Vec<f32>, dim: usize) -> PyResult<Bound<'_, Py
 /// What `step` returns: observations, rewards, terminated, truncated, the envs reset in
 /// the step (same-step autoreset) with their final observations, the termination
 /// reasons by env, and a terms task's values (`n_envs × len(term_names)`).
-type StepTuple<'py> = (
+pub(crate) type StepTuple<'py> = (
     Bound<'py, PyArray2<f32>>,
     Bound<'py, PyArray1<f32>>,
     Bound<'py, PyArray1<bool>>,
@@ -96,23 +97,39 @@ impl BatchHandle {
         rows: StepRows,
         n: usize,
     ) -> PyResult<StepTuple<'py>> {
-        let dim = self.info.observation_dim;
-        let k = self.info.term_names.len();
-        let reasons = PyDict::new(py);
-        for (env, reason) in rows.termination_reasons {
-            reasons.set_item(env, reason)?;
-        }
-        Ok((
-            matrix(py, rows.observations, dim)?,
-            PyArray1::from_vec(py, rows.rewards),
-            PyArray1::from_vec(py, rows.terminated),
-            PyArray1::from_vec(py, rows.truncated),
-            PyArray1::from_vec(py, rows.final_env_indices),
-            matrix(py, rows.final_observations, dim)?,
-            reasons,
-            PyArray1::from_vec(py, rows.terms).reshape([n, k])?,
-        ))
+        step_tuple(
+            py,
+            rows,
+            n,
+            self.info.observation_dim,
+            self.info.term_names.len(),
+        )
     }
+}
+
+/// A step's rows (`n` of them, `dim` observation floats and `k` term values each) as
+/// numpy arrays and a dict of termination reasons.
+pub(crate) fn step_tuple(
+    py: Python<'_>,
+    rows: StepRows,
+    n: usize,
+    dim: usize,
+    k: usize,
+) -> PyResult<StepTuple<'_>> {
+    let reasons = PyDict::new(py);
+    for (env, reason) in rows.termination_reasons {
+        reasons.set_item(env, reason)?;
+    }
+    Ok((
+        matrix(py, rows.observations, dim)?,
+        PyArray1::from_vec(py, rows.rewards),
+        PyArray1::from_vec(py, rows.terminated),
+        PyArray1::from_vec(py, rows.truncated),
+        PyArray1::from_vec(py, rows.final_env_indices),
+        matrix(py, rows.final_observations, dim)?,
+        reasons,
+        PyArray1::from_vec(py, rows.terms).reshape([n, k])?,
+    ))
 }
 
 #[pymethods]
@@ -342,6 +359,19 @@ impl BatchHandle {
             .map(StepRows::new)
         })?;
         self.step_tuple(py, rows, n)
+    }
+
+    /// A `StreamBatch` stream of this batch for the asynchronous API's sends (up to
+    /// `window` in flight), or `None` when the batch is sharded over a fleet (whose
+    /// sends go one at a time).
+    fn open_stream(&self, py: Python<'_>, window: usize) -> PyResult<Option<StepStream>> {
+        let stream = wait(py, self.timeout.get(), || async move {
+            match self.batch.lock().await.lone().cloned() {
+                Some(batch) => batch.stream_with_window(window).await.map(Some),
+                None => Ok(None),
+            }
+        })?;
+        Ok(stream.map(|stream| StepStream::new(stream, &self.info)))
     }
 
     /// Every env's current observation, without stepping.

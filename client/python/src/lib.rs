@@ -17,6 +17,7 @@ mod options;
 mod render;
 mod runtime;
 mod servers;
+mod stream;
 
 use pyo3::prelude::*;
 
@@ -26,6 +27,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<env::EnvHandle>()?;
     m.add_class::<batch::BatchHandle>()?;
+    m.add_class::<stream::StepStream>()?;
     m.add_class::<servers::Server>()?;
     m.add_function(wrap_pyfunction!(servers::embedded_address, m)?)?;
     m.add_function(wrap_pyfunction!(servers::stateful_set, m)?)?;

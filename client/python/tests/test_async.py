@@ -221,3 +221,32 @@ def test_each_envs_info_is_the_sync_paths(arm2):
             assert set(g) == set(w), (e, k, g, w)
             for key in w:
                 np.testing.assert_array_equal(np.asarray(g[key]), np.asarray(w[key]), err_msg=f"env {e} step {k}: {key}")
+
+
+@pytest.mark.parametrize("remote", [False, True])
+def test_the_sends_behind_a_failed_one_step_once(arm2, remote, request):
+    # On a stream the server answers nothing after a failed step: the sends behind it go
+    # out again on a new stream, and each of their envs steps exactly once.
+    kwargs = {"server": request.getfixturevalue("remote_server")} if remote else {}
+    want = sync_trajectories(arm2, AutoresetMode.NEXT_STEP, **kwargs)
+    envs = gymfleet.make_vec(arm2, N, batch_size=2, **OPTIONS, **kwargs)
+    envs.async_reset()
+    for _ in range(3):
+        envs.recv()  # the resets
+    bad = np.array([[np.nan, 0.0], [0.0, 0.0]], dtype=np.float32)
+    envs.send(bad, np.array([0, 1]))
+    envs.send(np.stack([action(2, 0), action(3, 0)]), np.array([2, 3]))
+    envs.send(np.stack([action(4, 0), action(5, 0)]), np.array([4, 5]))
+    with pytest.raises(gymfleet.InvalidArgument, match="expected a finite number") as err:
+        envs.recv()
+    assert err.value.env_ids.tolist() == [0, 1]
+    for ids in ([2, 3], [4, 5]):
+        obs, rew, _, _, info = envs.recv()
+        assert info["env_id"].tolist() == ids
+        for row, e in enumerate(ids):
+            assert (obs[row].tobytes(), float(rew[row])) == want[e][1][:2], f"env {e} stepped once"
+    # The failed envs step again, from where they were.
+    envs.send(np.stack([action(0, 0), action(1, 0)]), np.array([0, 1]))
+    obs, _, _, _, info = envs.recv()
+    assert [obs[row].tobytes() for row in range(2)] == [want[0][1][0], want[1][1][0]]
+    envs.close()

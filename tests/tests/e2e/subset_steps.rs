@@ -147,3 +147,63 @@ async fn a_bad_subset_is_invalid_argument_and_steps_nothing() {
     assert_eq!(bits(after.observations()), bits(before.observations()));
     server.stop().await.expect("clean shutdown");
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_stream_steps_nothing_after_a_failed_step_and_keeps_the_results_before_it() {
+    let server = TestServer::start_default().await;
+    let client = server.client().await;
+    let batch = client.create_batch(options()).await.expect("create");
+    batch.reset(Some(3)).await.expect("reset");
+    let mut stream = batch.stream_with_window(4).await.expect("stream");
+    let good: Vec<f32> = [action(0, 0), action(1, 0)].concat();
+    stream
+        .send_envs(ActionType::Torque, &[0, 1], &good)
+        .await
+        .expect("send a good step");
+    stream
+        .send_envs(ActionType::Torque, &[2], &[f32::NAN, 0.0])
+        .await
+        .expect("send a bad step");
+    // Behind the bad one, possibly before the server read it: not stepped either way.
+    let behind = stream
+        .send_envs(ActionType::Torque, &[3, 4], &[0.1; 4])
+        .await;
+    let first = stream
+        .next()
+        .await
+        .expect("a result")
+        .expect("the good step");
+    assert_eq!(first.env_indices(), &[0, 1]);
+    let err = stream
+        .next()
+        .await
+        .expect("a result")
+        .expect_err("the bad step");
+    assert!(
+        matches!(err, ClientError::InvalidArgument { .. }),
+        "{err:?}"
+    );
+    assert_mentions(&err, &["expected a finite number"]);
+    if let Err(err) = behind {
+        assert_mentions(
+            &err,
+            &["the batch stream has ended", "this step was not sent"],
+        );
+    }
+    let refused = stream
+        .send_envs(ActionType::Torque, &[3], &[0.0; 2])
+        .await
+        .expect_err("the stream has ended");
+    assert_mentions(&refused, &["the batch stream has ended"]);
+    // Envs 0 and 1 stepped once; 2, 3 and 4 did not move.
+    let now = batch.observe().await.expect("observe");
+    for e in 0..2 {
+        assert_eq!(bits(now.obs(e)), bits(first.obs(e)), "env {e}");
+    }
+    let unary = client.create_batch(options()).await.expect("create");
+    let start = unary.reset(Some(3)).await.expect("reset");
+    for e in 2..N {
+        assert_eq!(bits(now.obs(e)), bits(start.obs(e)), "env {e} did not step");
+    }
+    server.stop().await.expect("clean shutdown");
+}

@@ -156,6 +156,9 @@ class BatchHandle:
         """:meth:`step` of the envs ``env_indices`` only (ascending, distinct), with one
         action row each in that order: one row per listed env; the finished envs and the
         termination reasons name batch indices."""
+    def open_stream(self, window: int) -> Optional["StepStream"]:
+        """A ``StreamBatch`` stream of this batch for the asynchronous API (up to
+        ``window`` sends in flight); ``None`` when the batch is sharded over a fleet."""
     def observe(self) -> npt.NDArray[np.float32]:
         """Every env's current observation."""
     def save_states(
@@ -246,3 +249,30 @@ def seed_model(name: str) -> str:
 
 def _raise_status(code: int, message: str) -> None:
     """Raises the exception gRPC status ``code`` with ``message`` becomes (for tests)."""
+
+
+class StepStream:
+    """One server's batch's open stream: subset steps sent one after another, their
+    results taken in the order sent. An error ends it (the server answers nothing
+    after it)."""
+
+    def send_envs(
+        self,
+        action_type_name: str,
+        env_indices: npt.NDArray[np.uint32],
+        actions: npt.NDArray[np.float32],
+    ) -> None:
+        """Sends a step of the envs ``env_indices``; returns once it is on its way.
+        ``Unavailable`` if the stream has ended (this step was not sent)."""
+    def next(self, timeout: Optional[float] = None) -> Tuple[
+        npt.NDArray[np.float32],
+        npt.NDArray[np.float32],
+        npt.NDArray[np.bool_],
+        npt.NDArray[np.bool_],
+        npt.NDArray[np.uint32],
+        npt.NDArray[np.float32],
+        Dict[int, str],
+        npt.NDArray[np.float32],
+    ]:
+        """The oldest sent step's rows, as :meth:`BatchHandle.step_envs` returns them;
+        ``DeadlineExceeded`` after ``timeout`` seconds (the step stays pending)."""

@@ -2,19 +2,22 @@
 (``send``/``recv`` with ``batch_size`` M of ``num_envs`` N), and ``step_async`` /
 ``step_wait`` that overlap, as :class:`gymnasium.vector.AsyncVectorEnv`'s.
 
-A call that steps runs on a worker thread of the vector env, which holds no GIL while it
-waits for the server: the trainer's own work (the policy on the envs it has) overlaps the
-server's stepping. ``send`` steps only the envs it names (the server's subset step,
+On one server, the sends go out over one ``StreamBatch`` stream, in order, without a
+thread each: ``send`` returns once its step is on its way, and ``recv`` takes results off
+the stream (the GIL released while it waits), so the trainer's own work (the policy on the
+envs it has) overlaps the server's stepping. A fleet batch's sends run on a worker thread
+of the vector env instead, one at a time. ``send`` steps only the envs it names (the server's subset step,
 ``StepBatchRequest.env_indices``), each exactly as a whole-batch step would, so the same
 seeds and the same actions per env give the same per-env trajectories, bit for bit, in
-whatever order and grouping envs are sent and come back. On one server, up to
-``IN_FLIGHT`` sends are on the wire at once (an env is in at most one), so the server
-has the next one queued while it answers one; a fleet batch takes them one at a time.
+whatever order and grouping envs are sent and come back. On one server every send is on
+the wire at once (an env is in at most one), so the server has the next one queued while
+it answers one.
 
 Errors (a bad action, a lost server) surface at the next ``recv``, as the gymfleet error
 the synchronous call raises, with ``env_ids`` (the envs of that send) as an attribute:
 those envs did not step and are no longer in flight; nothing else is lost or stepped
-twice.
+twice. (The server answers nothing on a stream after a failed step: the sends behind it,
+which it did not step, go out again on a new stream.)
 """
 
 from __future__ import annotations
@@ -25,6 +28,8 @@ from concurrent.futures import Future, ThreadPoolExecutor
 from typing import Any, Deque, Dict, List, Optional, Tuple
 
 import numpy as np
+
+from .errors import DeadlineExceeded, GymfleetError
 
 class _Chunk:
     """The results of one send (or of the reset), column by column, in ascending env
@@ -54,8 +59,18 @@ class _Chunk:
         return part(slice(None, m)), part(slice(m, None))
 
 
-#: Sends on the wire at once (worker threads).
+#: Sends on the wire at once on a fleet (worker threads).
 IN_FLIGHT = 2
+
+
+class _Send:
+    """A send on the stream whose result has not been taken: its envs and actions (to go
+    out again on a new stream if the stream ended before it was stepped)."""
+
+    __slots__ = ("ids", "values", "sent")
+
+    def __init__(self, ids: np.ndarray, values: np.ndarray) -> None:
+        self.ids, self.values, self.sent = ids, values, False
 
 
 class Pipeline:
@@ -79,6 +94,11 @@ class Pipeline:
         self._errors: Deque[BaseException] = collections.deque()
         self._in_flight = np.zeros(n, dtype=bool)
         self._sent = 0
+        # The stream (one server's batch): opened at the first send; `False` for a fleet.
+        self._stream: Any = None
+        # Whether it takes more sends (not after a send found it ended).
+        self._accepting = False
+        self._on_stream: Deque[_Send] = collections.deque()
 
     # The worker's side.
 
@@ -146,7 +166,83 @@ class Pipeline:
                 raise ValueError(f"env_id: envs {busy.tolist()} are in flight: recv them first")
             self._in_flight[ids] = True
         self._sent += 1
-        self.submit(self._step, ids, np.ascontiguousarray(values))
+        values = np.ascontiguousarray(values)
+        if self._streams():
+            send = _Send(ids, values)
+            self._on_stream.append(send)
+            self._stream_send(send)
+        else:
+            self.submit(self._step, ids, values)
+
+    # The stream's side (one server).
+
+    def _open(self) -> Any:
+        """One server's batch's new stream (`False` on a fleet)."""
+        stream = self._envs._handle.open_stream(max(2, min(self._envs.num_envs, 1024))) or False
+        self._accepting = stream is not False
+        return stream
+
+    def _streams(self) -> bool:
+        if self._stream is None:
+            self._stream = self._open()
+        return self._stream is not False
+
+    def _stream_send(self, send: _Send) -> None:
+        if not self._accepting:
+            return  # the stream has ended: this send goes out on the next one
+        try:
+            self._stream.send_envs(self._envs.action_type, send.ids, send.values)
+            send.sent = True
+        except GymfleetError:
+            # The stream has ended (a step before failed, or the server went away): the
+            # cause is among the results still to take off it; this send goes out again.
+            self._accepting = False
+
+    def _reopen(self) -> None:
+        """A new stream, with every send not stepped yet (all those left: the ones sent
+        before were taken) sent on it, in order."""
+        try:
+            self._stream = self._open()
+        except GymfleetError as err:
+            self._fail_all(err)
+            raise
+        for send in self._on_stream:
+            self._stream_send(send)
+
+    def _fail_all(self, err: BaseException) -> None:
+        """Every send still on the stream fails with ``err``: its envs leave the flight."""
+        ids = np.concatenate([s.ids for s in self._on_stream]) if self._on_stream else np.zeros(0, np.uint32)
+        err.env_ids = ids  # type: ignore[attr-defined]
+        self._on_stream.clear()
+        with self._lock:
+            self._in_flight[ids] = False
+
+    def _take(self, timeout: Optional[float]) -> None:
+        """Takes the oldest send's result off the stream into the ready results, or
+        raises its error (with its ``env_ids``; the sends behind it go out again)."""
+        send = self._on_stream[0]
+        if not send.sent:
+            self._reopen()
+            return
+        try:
+            columns = self._envs._columns(self._stream.next(timeout))
+        except DeadlineExceeded:
+            raise TimeoutError(f"recv: no {self.batch_size} envs ready within {timeout} s") from None
+        except GymfleetError as err:
+            self._on_stream.popleft()
+            err.env_ids = send.ids.copy()  # type: ignore[attr-defined]
+            with self._lock:
+                self._in_flight[send.ids] = False
+            # The server stepped nothing after it: those sends go out again when taken.
+            self._accepting = False
+            for rest in self._on_stream:
+                rest.sent = False
+            raise
+        self._on_stream.popleft()
+        with self._lock:
+            self._ready.append(_Chunk(send.ids.astype(np.int32), *columns))
+            self._n_ready += len(send.ids)
+            self._in_flight[send.ids] = False
 
     def recv(self, timeout: Optional[float] = None) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
         """The next ``batch_size`` envs that finished a step (or their reset), in the order
@@ -154,6 +250,8 @@ class Pipeline:
         ``env_id`` (and per-env term values, termination reasons and final observations
         as the synchronous step gives them). Raises a send's error first."""
         m = self.batch_size
+        while self._on_stream and not self._errors and self._n_ready < m:
+            self._take(timeout)
         with self._lock:
             while not self._errors and self._n_ready < m:
                 if not self._in_flight.any():
@@ -177,7 +275,14 @@ class Pipeline:
         return _joined(pieces, self._envs._info["term_names"])
 
     def drain(self) -> None:
-        """Waits until every step sent has been taken."""
+        """Waits until every step sent has been taken (a stream's errors kept for
+        ``recv``)."""
+        while self._on_stream:
+            try:
+                self._take(None)
+            except GymfleetError as err:
+                with self._lock:
+                    self._errors.append(err)
         while True:
             with self._lock:
                 pending = list(self._pending)

@@ -325,10 +325,15 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
 
     def _step_columns(self, ids: np.ndarray, values: np.ndarray) -> Tuple[Any, ...]:
         """Steps the envs ``ids`` (ascending) on the server; their results column by
-        column (observations, rewards, terminated, truncated, term values, and the
-        termination reasons and final observations by env id), for :class:`Pipeline`."""
-        (obs, rewards, terminated, truncated, final_envs, final_obs, reasons,
-         terms) = self._handle.step_envs(self.action_type, ids, values)
+        column (see :meth:`_columns`), for :class:`Pipeline`."""
+        return self._columns(self._handle.step_envs(self.action_type, ids, values))
+
+    @staticmethod
+    def _columns(step: Tuple[Any, ...]) -> Tuple[Any, ...]:
+        """A subset step's rows (``BatchHandle.step_envs``'s) column by column:
+        observations, rewards, terminated, truncated, term values, and the termination
+        reasons and final observations by env id."""
+        obs, rewards, terminated, truncated, final_envs, final_obs, reasons, terms = step
         finals = {int(env): final_obs[k] for k, env in enumerate(final_envs)}
         return (obs, np.asarray(rewards, dtype=np.float32), np.asarray(terminated, dtype=np.bool_),
                 np.asarray(truncated, dtype=np.bool_), np.asarray(terms), dict(reasons), finals)
