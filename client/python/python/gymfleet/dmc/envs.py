@@ -353,12 +353,14 @@ class DmcVectorEnv(VectorEnv):
         num_envs: int = 1,
         *,
         autoreset_mode: Union[AutoresetMode, str] = AutoresetMode.NEXT_STEP,
+        batch_size: Optional[int] = None,
         **kwargs: Any,
     ) -> None:
         setup = Setup(env_id, kwargs)
         self._setup = setup
         self._envs = GymfleetVectorEnv(
-            setup.text, num_envs, autoreset_mode=autoreset_mode, **setup.options()
+            setup.text, num_envs, autoreset_mode=autoreset_mode, batch_size=batch_size,
+            **setup.options(),
         )
         setup.check(self._envs.batch_info)
         self.num_envs = self._envs.num_envs
@@ -393,19 +395,62 @@ class DmcVectorEnv(VectorEnv):
         return self._setup.flat(raw), {}
 
     def step(
-        self, actions: Any
+        self, actions: Any, env_id: Any = None
     ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
-        raw, rewards, terminated, truncated, raw_infos = self._envs.step(actions)
+        """Every env's step; with ``env_id``, EnvPool's ``send(actions, env_id)`` then
+        ``recv()``."""
+        if env_id is not None:
+            self.send(actions, env_id)
+            return self.recv()
+        return self._finish(*self._envs.step(actions))
+
+    # The asynchronous API (EnvPool's, over the batch's: `gymfleet/pipeline.py`).
+
+    @property
+    def batch_size(self) -> int:
+        """How many envs :meth:`recv` returns (``batch_size=M``; default ``num_envs``)."""
+        return self._envs.batch_size
+
+    def async_reset(self) -> None:
+        """Resets every env (as :meth:`reset` without a seed); their first observations
+        are what the next :meth:`recv` calls return, in env order."""
+        self._envs.async_reset()
+
+    def send(self, actions: Any, env_id: Any) -> None:
+        """Steps the envs ``env_id`` with ``actions`` (one row per env, in ``env_id``'s
+        order) and returns at once; each steps as in :meth:`step`."""
+        self._envs.send(actions, env_id)
+
+    def recv(self, timeout: Optional[float] = None) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
+        """The next :attr:`batch_size` envs that finished a step (or their reset), as
+        :meth:`step` gives each env, with ``info["env_id"]``."""
+        raw = self._envs.recv(timeout)
+        obs, rewards, terminated, truncated, infos = self._finish(*raw)
+        infos["env_id"] = raw[4]["env_id"]
+        return obs, rewards, terminated, truncated, infos
+
+    def step_async(self, actions: Any) -> None:
+        """Starts every env's step (:meth:`step`'s) and returns at once."""
+        self._envs.step_async(actions)
+
+    def step_wait(self, timeout: Optional[float] = None) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
+        """The result of the pending :meth:`step_async`."""
+        return self._finish(*self._envs.step_wait(timeout))
+
+    def _finish(
+        self, raw: np.ndarray, rewards: Any, terminated: Any, truncated: Any, raw_infos: Dict[str, Any]
+    ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
+        """dm_control's flat observations of the server's rows, and the final ones."""
         infos: Dict[str, Any] = {}
         if "final_obs" in raw_infos:
             has_final = raw_infos["_final_obs"]
-            final = np.full(self.num_envs, None, dtype=object)
+            final = np.full(len(raw), None, dtype=object)
             for env in np.flatnonzero(has_final):
                 final[env] = self._setup.flat(np.asarray(raw_infos["final_obs"][env])[None, :])[0]
             infos["final_obs"], infos["_final_obs"] = final, has_final
             infos["final_info"], infos["_final_info"] = {}, has_final.copy()
         rewards = np.asarray(rewards, dtype=np.float64)
-        return self._setup.flat(raw), rewards, terminated, truncated, infos
+        return self._setup.flat(raw), rewards, np.asarray(terminated), np.asarray(truncated), infos
 
     def render(self) -> Optional[Tuple[np.ndarray, ...]]:
         return self._envs.render()

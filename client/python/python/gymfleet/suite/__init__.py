@@ -20,7 +20,8 @@ from typing import Any
 
 import gymnasium
 
-from .envs import SuiteEnv, SuiteVectorEnv
+from .envs import SuiteEnv
+from .vector_env import SuiteVectorEnv
 from .specs import SUITE
 
 __all__ = ["SuiteEnv", "SuiteVectorEnv", "SUITE", "register_suite"]

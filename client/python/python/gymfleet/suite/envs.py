@@ -1,5 +1,6 @@
-""":class:`SuiteEnv` and :class:`SuiteVectorEnv`: Gymnasium's MuJoCo v5 environments on a
-gymfleet server, with Gymnasium's observation, reward, termination and ``info``.
+""":class:`SuiteEnv` (and what :class:`~gymfleet.suite.vector_env.SuiteVectorEnv` shares
+with it): Gymnasium's MuJoCo v5 environments on a gymfleet server, with Gymnasium's
+observation, reward, termination and ``info``.
 
 The server simulates the XML file of the installed gymnasium package (converted on the
 server), in SI units, with actions as MuJoCo's ctrl (torque = gear · clip(ctrl)), one
@@ -12,17 +13,14 @@ term values as Gymnasium's ``info`` does.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import Any, Dict, Iterator, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, Iterator, Optional, Sequence, Tuple
 
 import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
-from gymnasium.vector import AutoresetMode, VectorEnv
-from gymnasium.vector.utils import batch_space
 
 from ..env import GymfleetEnv
 from ..errors import InvalidArgument
-from ..vector import GymfleetVectorEnv
 from .model import Model, read_model
 from .plans import OBSERVED, Plan, Terms
 from .kinematics import segments, server_state, split_rows
@@ -420,164 +418,3 @@ class SuiteEnv(gym.Env):
 
     def __repr__(self) -> str:
         return f"<SuiteEnv {self._setup.suite.id} on {self._env.server}>"
-
-
-class SuiteVectorEnv(VectorEnv):
-    """``num_envs`` of one of Gymnasium's MuJoCo v5 envs as one gymfleet batch; made by
-    ``gymnasium.make_vec("gymfleet/<Name>-v5", num_envs)`` or ``gymfleet.make_vec``.
-    Autoreset is the server's, in gymnasium's three modes."""
-
-    metadata: Dict[str, Any] = {
-        "render_modes": ["rgb_array"],
-        "render_fps": 30,
-        "autoreset_mode": AutoresetMode.NEXT_STEP,
-    }
-
-    def __init__(
-        self,
-        env_id: str,
-        num_envs: int = 1,
-        *,
-        autoreset_mode: Union[AutoresetMode, str] = AutoresetMode.NEXT_STEP,
-        max_episode_steps: Optional[int] = None,
-        **kwargs: Any,
-    ) -> None:
-        setup = _Setup(env_id, kwargs)
-        self._setup = setup
-        limit = setup.suite.max_episode_steps if max_episode_steps is None else max_episode_steps
-        self._envs = GymfleetVectorEnv(
-            setup.model.text,
-            num_envs,
-            autoreset_mode=autoreset_mode,
-            **setup.options(limit),
-        )
-        self._dofs, self._base = setup.check(self._envs.batch_info)
-        self.num_envs = self._envs.num_envs
-        self.render_mode = setup.kw["render_mode"]
-        self.dt = setup.dt
-        self.metadata = {
-            **type(self).metadata,
-            "render_fps": int(np.round(1.0 / self.dt)),
-            "autoreset_mode": self._envs.metadata["autoreset_mode"],
-        }
-        setup.check_actions(self._envs.batch_info)
-        self.single_action_space = self._envs.single_action_space
-        self.single_observation_space = setup.observation_space()
-        self.action_space = batch_space(self.single_action_space, self.num_envs)
-        self.observation_space = batch_space(self.single_observation_space, self.num_envs)
-        #: The qpos rows before the next step (float64), for Gymnasium's Δqpos / dt.
-        self._last_q: Optional[np.ndarray] = None
-
-    @property
-    def gymfleet_envs(self) -> GymfleetVectorEnv:
-        """The server-side batch underneath."""
-        return self._envs
-
-    def _observe(
-        self,
-        raw: np.ndarray,
-        terms: Dict[str, np.ndarray],
-        split: Optional[Tuple[np.ndarray, np.ndarray, np.ndarray]] = None,
-    ) -> np.ndarray:
-        """The observations of rows ``raw``; ``split`` is their ``_Setup.split`` if known."""
-        q, v, ee = self._setup.split(raw) if split is None else split
-        terms = {**terms, **_observed_terms(raw, self._setup)}
-        return self._setup.typed(self._setup.plan.observe(q, v, ee, terms))
-
-    def _infos(self, values: Dict[str, np.ndarray]) -> Dict[str, Any]:
-        every = np.ones(self.num_envs, dtype=np.bool_)
-        out: Dict[str, Any] = {}
-        for key, value in values.items():
-            out[key] = np.asarray(value, dtype=np.float64)
-            out["_" + key] = every
-        return out
-
-    def reset(
-        self,
-        *,
-        seed: Union[int, Sequence[Optional[int]], None] = None,
-        options: Optional[Dict[str, Any]] = None,
-    ) -> Tuple[np.ndarray, Dict[str, Any]]:
-        if seed is not None and isinstance(seed, (int, np.integer)):
-            super().reset(seed=int(seed))
-        raw, _ = self._envs.reset(seed=seed, options=options)
-        split = self._setup.split(raw)
-        self._last_q = split[0].astype(np.float64)
-        # `_observe` adds the observed terms.
-        terms = _zeros(self._envs.batch_info["term_names"], len(raw))
-        infos = self._infos(_reset_values(self._setup.plan, split[0], split[1]))
-        return self._observe(raw, terms, split), infos
-
-    def step(
-        self, actions: Any
-    ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
-        raw, rewards, terminated, truncated, raw_infos = self._envs.step(actions)
-        names = self._envs.batch_info["term_names"]
-        terms = {name: raw_infos[name] for name in names}  # float64 arrays (`vector.py`)
-        # The step's values come from the rows the step produced; with same-step autoreset
-        # a finished env's row is already its next episode's first: its final row is kept
-        # in `final_obs`, and the step's info (terms included) in `final_info`.
-        rows = raw
-        if "final_obs" in raw_infos:
-            rows = raw.copy()
-            for env in np.flatnonzero(raw_infos["_final_obs"]):
-                rows[env] = raw_infos["final_obs"][env]
-        split = self._setup.split(rows)
-        q, v, _ = split
-        plan = self._setup.plan
-        values = _step_values(plan, q, v, terms)
-        server_rewards = np.asarray(rewards, dtype=np.float64)
-        # The returned rows' split (the rows after an autoreset): the next step's "before".
-        raw_split = split if rows is raw else self._setup.split(raw)
-        if plan.qpos_velocity:
-            # As the single env; a row the server reset instead of stepping keeps its 0.
-            stepped = ~_reset_rows(server_rewards, terms) if terms else True
-            q64 = q.astype(np.float64)
-            last = q64 if self._last_q is None else self._last_q
-            _velocities_from_qpos(plan, values, last, q64, self.dt, stepped)
-        self._last_q = raw_split[0].astype(np.float64)
-        infos = self._infos(values)
-        # The returned rows' term values: an env reset in this step starts from zeros (the
-        # server's, in next-step mode; here, in same-step mode).
-        now = terms
-        if "final_obs" in raw_infos:
-            # As gymnasium's SyncVectorEnv in same-step mode: a finished env's info is its
-            # reset's, and its step's info is in `final_info`.
-            has_final = raw_infos["_final_obs"]
-            ended = np.flatnonzero(has_final)
-            final = np.full(self.num_envs, None, dtype=object)
-            ended_terms = {name: value[ended] for name, value in terms.items()}
-            for env, row in zip(ended, self._observe(rows[ended], ended_terms)):
-                final[env] = row
-            now = {name: np.where(has_final, 0.0, value) for name, value in terms.items()}
-            final_info = {k: (v & has_final if k.startswith("_") else v) for k, v in infos.items()}
-            q_now, v_now, _ = raw_split
-            reset = _reset_values(self._setup.plan, q_now, v_now)
-            for key in values:
-                if key in reset:
-                    mask = has_final.reshape((-1,) + (1,) * (np.ndim(reset[key]) - 1))
-                    infos[key] = np.where(mask, reset[key], infos[key])
-                else:
-                    infos["_" + key] = ~has_final
-            for key in reset.keys() - values.keys():
-                infos[key], infos["_" + key] = reset[key], has_final.copy()
-            infos["final_obs"], infos["_final_obs"] = final, has_final
-            infos["final_info"], infos["_final_info"] = final_info, has_final.copy()
-        observation = self._observe(raw, now, raw_split)
-        rewards = _rewards(plan, values, server_rewards, terms)
-        return observation, rewards, terminated, truncated, infos
-
-    def render(self) -> Optional[Tuple[np.ndarray, ...]]:
-        return self._envs.render()
-
-    def close_extras(self, **kwargs: Any) -> None:
-        self._envs.close()
-
-    def __reduce__(self) -> Any:
-        raise TypeError(
-            "a SuiteVectorEnv does not pickle: it is a batch on its server; make it again in "
-            "the other process with gymnasium.make_vec (a single env pickles, with its state)"
-        )
-
-    def __repr__(self) -> str:
-        return f"<SuiteVectorEnv {self._setup.suite.id} x {self.num_envs}>"
