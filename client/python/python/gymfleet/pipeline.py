@@ -300,6 +300,53 @@ class Pipeline:
         self._worker.shutdown(wait=True)
 
 
+class OverBatch:
+    """The asynchronous API of a vector env that wraps a :class:`GymfleetVectorEnv`
+    (``self._envs``) and makes its own results from the batch's with ``self._finish(raw,
+    rewards, terminated, truncated, raw_infos)`` (the suite ids' vector envs): ``step``
+    with ``env_id``, ``batch_size``, ``async_reset``, ``send``, ``step_async`` and
+    ``step_wait`` pass through; the class supplies ``recv`` and ``_finish``."""
+
+    _envs: Any
+
+    def _finish(self, *raw: Any) -> Any:  # pragma: no cover - supplied by the class
+        raise NotImplementedError
+
+    def recv(self, timeout: Optional[float] = None) -> Any:  # pragma: no cover - supplied by the class
+        raise NotImplementedError
+
+    def step(self, actions: Any, env_id: Any = None) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
+        """Every env's step; with ``env_id``, EnvPool's ``send(actions, env_id)`` then
+        ``recv()``."""
+        if env_id is not None:
+            self.send(actions, env_id)
+            return self.recv()
+        return self._finish(*self._envs.step(actions))
+
+    @property
+    def batch_size(self) -> int:
+        """How many envs :meth:`recv` returns (``batch_size=M``; default ``num_envs``)."""
+        return self._envs.batch_size
+
+    def async_reset(self) -> None:
+        """Resets every env (as ``reset`` without a seed); their first observations are
+        what the next :meth:`recv` calls return, in env order."""
+        self._envs.async_reset()
+
+    def send(self, actions: Any, env_id: Any) -> None:
+        """Steps the envs ``env_id`` with ``actions`` (one row per env, in ``env_id``'s
+        order) and returns at once; each steps as in :meth:`step`."""
+        self._envs.send(actions, env_id)
+
+    def step_async(self, actions: Any) -> None:
+        """Starts every env's step (:meth:`step`'s) and returns at once."""
+        self._envs.step_async(actions)
+
+    def step_wait(self, timeout: Optional[float] = None) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
+        """The result of the pending :meth:`step_async`."""
+        return self._finish(*self._envs.step_wait(timeout))
+
+
 def _joined(pieces: List[_Chunk], names: List[str]) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
     """``recv``'s result from chunks in the order they finished: the columns joined (one
     chunk's as they are), and ``info`` with ``env_id``, each term's values (float64) and,

@@ -23,6 +23,7 @@ from gymnasium.vector.utils import batch_space
 
 from ..env import GymfleetEnv
 from ..errors import InvalidArgument
+from ..pipeline import OverBatch
 from ..suite.kinematics import segments, server_state, split_rows
 from ..suite.model import parse_model
 from ..suite.state import checked_state
@@ -336,7 +337,7 @@ class DmcEnv(gym.Env):
         return f"<DmcEnv {self._setup.task.id} on {self._env.server}>"
 
 
-class DmcVectorEnv(VectorEnv):
+class DmcVectorEnv(OverBatch, VectorEnv):
     """``num_envs`` of one Control Suite task as one gymfleet batch; made by
     ``gymnasium.make_vec("gymfleet/<DomainTask>-v1", num_envs)`` or
     ``gymfleet.make_vec``. Autoreset is the server's, in gymnasium's three modes."""
@@ -394,32 +395,7 @@ class DmcVectorEnv(VectorEnv):
         raw, _ = self._envs.reset(seed=seed, options=options)
         return self._setup.flat(raw), {}
 
-    def step(
-        self, actions: Any, env_id: Any = None
-    ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
-        """Every env's step; with ``env_id``, EnvPool's ``send(actions, env_id)`` then
-        ``recv()``."""
-        if env_id is not None:
-            self.send(actions, env_id)
-            return self.recv()
-        return self._finish(*self._envs.step(actions))
-
     # The asynchronous API (EnvPool's, over the batch's: `gymfleet/pipeline.py`).
-
-    @property
-    def batch_size(self) -> int:
-        """How many envs :meth:`recv` returns (``batch_size=M``; default ``num_envs``)."""
-        return self._envs.batch_size
-
-    def async_reset(self) -> None:
-        """Resets every env (as :meth:`reset` without a seed); their first observations
-        are what the next :meth:`recv` calls return, in env order."""
-        self._envs.async_reset()
-
-    def send(self, actions: Any, env_id: Any) -> None:
-        """Steps the envs ``env_id`` with ``actions`` (one row per env, in ``env_id``'s
-        order) and returns at once; each steps as in :meth:`step`."""
-        self._envs.send(actions, env_id)
 
     def recv(self, timeout: Optional[float] = None) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
         """The next :attr:`batch_size` envs that finished a step (or their reset), as
@@ -428,14 +404,6 @@ class DmcVectorEnv(VectorEnv):
         obs, rewards, terminated, truncated, infos = self._finish(*raw)
         infos["env_id"] = raw[4]["env_id"]
         return obs, rewards, terminated, truncated, infos
-
-    def step_async(self, actions: Any) -> None:
-        """Starts every env's step (:meth:`step`'s) and returns at once."""
-        self._envs.step_async(actions)
-
-    def step_wait(self, timeout: Optional[float] = None) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
-        """The result of the pending :meth:`step_async`."""
-        return self._finish(*self._envs.step_wait(timeout))
 
     def _finish(
         self, raw: np.ndarray, rewards: Any, terminated: Any, truncated: Any, raw_infos: Dict[str, Any]

@@ -11,6 +11,7 @@ import numpy as np
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
+from ..pipeline import OverBatch
 from ..vector import GymfleetVectorEnv
 from .envs import (
     _Setup,
@@ -51,7 +52,7 @@ def _merged(
     return obs, rewards, infos
 
 
-class SuiteVectorEnv(VectorEnv):
+class SuiteVectorEnv(OverBatch, VectorEnv):
     """``num_envs`` of one of Gymnasium's MuJoCo v5 envs as one gymfleet batch; made by
     ``gymnasium.make_vec("gymfleet/<Name>-v5", num_envs)`` or ``gymfleet.make_vec``.
     Autoreset is the server's, in gymnasium's three modes."""
@@ -139,32 +140,7 @@ class SuiteVectorEnv(VectorEnv):
         infos = self._infos(_reset_values(self._setup.plan, split[0], split[1]), len(raw))
         return self._observe(raw, terms, split), infos
 
-    def step(
-        self, actions: Any, env_id: Any = None
-    ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
-        """Every env's step; with ``env_id``, EnvPool's ``send(actions, env_id)`` then
-        ``recv()``."""
-        if env_id is not None:
-            self.send(actions, env_id)
-            return self.recv()
-        return self._finish(*self._envs.step(actions))
-
     # The asynchronous API (EnvPool's, over the batch's: `gymfleet/pipeline.py`).
-
-    @property
-    def batch_size(self) -> int:
-        """How many envs :meth:`recv` returns (``batch_size=M``; default ``num_envs``)."""
-        return self._envs.batch_size
-
-    def async_reset(self) -> None:
-        """Resets every env (as :meth:`reset` without a seed); their first observations
-        are what the next :meth:`recv` calls return, in env order."""
-        self._envs.async_reset()
-
-    def send(self, actions: Any, env_id: Any) -> None:
-        """Steps the envs ``env_id`` with ``actions`` (MuJoCo's ctrl, one row per env, in
-        ``env_id``'s order) and returns at once; each steps as in :meth:`step`."""
-        self._envs.send(actions, env_id)
 
     def recv(self, timeout: Optional[float] = None) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
         """The next :attr:`batch_size` envs that finished a step (or their reset), with
@@ -193,14 +169,6 @@ class SuiteVectorEnv(VectorEnv):
         obs, rew, infos = _merged(parts, len(ids))
         infos["env_id"] = ids
         return obs, rew, np.asarray(terminated), np.asarray(truncated), infos
-
-    def step_async(self, actions: Any) -> None:
-        """Starts every env's step (:meth:`step`'s) and returns at once."""
-        self._envs.step_async(actions)
-
-    def step_wait(self, timeout: Optional[float] = None) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
-        """The result of the pending :meth:`step_async`."""
-        return self._finish(*self._envs.step_wait(timeout))
 
     def _finish(
         self,
