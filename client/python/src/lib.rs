@@ -15,6 +15,7 @@ mod info;
 mod models;
 mod options;
 mod render;
+mod rows;
 mod runtime;
 mod servers;
 mod stream;

@@ -6,8 +6,8 @@ use gymfleet_client::{BatchInfo, BatchStream, ClientError};
 use numpy::{PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 
-use crate::batch::{step_tuple, StepRows, StepTuple};
 use crate::env::action_type;
+use crate::rows::{step_tuple, StepRows, StepTuple};
 use crate::runtime::wait;
 
 /// One open stream of one server's batch. Its calls block with the GIL released; an error
