@@ -1,15 +1,14 @@
 //! [`FleetBatch`]: one logical batch sharded across the servers of a [`crate::Fleet`],
 //! stepped as one, with lost servers reported per env (`losses.rs`) and dropped on request
-//! or rebuilt from a checkpoint (`recovery.rs`); the shards' replies are merged into one
-//! (`merge.rs`).
+//! or rebuilt from a checkpoint (`recovery.rs`); a whole step (`step.rs`) or one of some
+//! envs (`subset.rs`) has the shards' replies merged into one (`merge.rs`).
 
 mod losses;
 mod merge;
 pub(crate) mod recovery;
 mod reset;
+mod step;
 mod subset;
-
-use merge::merge_steps;
 
 use gymfleet_proto::v1 as pb;
 use std::ops::Range;
@@ -17,7 +16,7 @@ use std::ops::Range;
 use crate::batch::{Batch, BatchObservations, BatchStep};
 use crate::error::{ClientError, Result};
 use crate::fanout::{join_all, on_server};
-use crate::types::{ActionType, BatchInfo};
+use crate::types::BatchInfo;
 
 /// Where one shard of a fleet batch lives.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -192,135 +191,6 @@ impl FleetBatch {
     /// The shard batches, one per server, in env order.
     pub fn shards(&self) -> impl Iterator<Item = &Batch> {
         self.shards.iter().map(|s| &s.batch)
-    }
-
-    /// Steps every env once. `actions` holds `n_envs × action_dim` values, row-major, in
-    /// the current env order. Wrong lengths and non-finite values are refused before any
-    /// server is called, so no shard steps alone (one server's batch, `From<Batch>`,
-    /// leaves that to its server, whose refusal it returns as it is).
-    pub async fn step(&mut self, action_type: ActionType, actions: &[f32]) -> Result<BatchStep> {
-        self.step_with_mocap(action_type, actions, &[]).await
-    }
-
-    /// [`FleetBatch::step`], moving every env's mocap bodies to `mocap_poses` by the end of
-    /// the step (as [`Batch::step_with_mocap`]: `n_envs × mocap bodies × 7` values in the
-    /// current env order; empty: the targets stay). Each shard gets its envs' rows.
-    pub async fn step_with_mocap(
-        &mut self,
-        action_type: ActionType,
-        actions: &[f32],
-        mocap_poses: &[f32],
-    ) -> Result<BatchStep> {
-        self.check_not_lost()?;
-        if !self.single {
-            self.check_actions(actions)?;
-            self.check_mocap_poses(mocap_poses)?;
-        }
-        self.log(|| recovery::Logged::Step {
-            action_type,
-            actions: actions.to_vec(),
-            mocap_poses: mocap_poses.to_vec(),
-        });
-        let dim = self.info.action_dim;
-        let one_shard = self.shards.len() == 1;
-        let mut position = 0;
-        let stepping = self.shards.iter().map(|shard| {
-            let n = shard.envs.len();
-            // One shard takes every value as given (the server checks them when this
-            // side did not); several take their checked slices.
-            let (part, targets) = if one_shard {
-                (actions.to_vec(), mocap_poses.to_vec())
-            } else {
-                (
-                    actions[position * dim..(position + n) * dim].to_vec(),
-                    self.mocap_rows(mocap_poses, position..position + n),
-                )
-            };
-            position += n;
-            let batch = shard.batch.clone();
-            async move { batch.step_raw(action_type, part, targets).await }
-        });
-        let results = join_all(stepping.collect::<Vec<_>>()).await;
-        self.finish_step(results).await
-    }
-
-    /// The shards' replies to one step (whole or of some envs) as one: losses confirmed,
-    /// a lost shard's reply kept for recovery, the log kept only for a loss, merged in env
-    /// order; then a checkpoint if one is due.
-    pub(crate) async fn finish_step(
-        &mut self,
-        results: Vec<Result<pb::BatchStepResult>>,
-    ) -> Result<BatchStep> {
-        let results = self.confirm_losses(results).await;
-        let replies = self.settle_keeping(results, |shard, reply| {
-            shard.interrupted = Some(reply);
-        });
-        let replies = self.unlog_unless_lost(replies)?;
-        let lens: Vec<usize> = self.shards.iter().map(|s| s.envs.len()).collect();
-        let step = BatchStep::new(merge_steps(replies, &lens), &self.info)?;
-        self.checkpoint_if_due().await;
-        Ok(step)
-    }
-
-    /// The mocap targets of the envs at `positions` (empty when none are given).
-    pub(crate) fn mocap_rows(
-        &self,
-        mocap_poses: &[f32],
-        positions: std::ops::Range<usize>,
-    ) -> Vec<f32> {
-        if mocap_poses.is_empty() {
-            return Vec::new();
-        }
-        let row = 7 * self.info.mocap_bodies.len();
-        mocap_poses[positions.start * row..positions.end * row].to_vec()
-    }
-
-    /// Refuses mocap targets of the wrong length before any server is called (each server
-    /// checks their values, all before stepping any env).
-    fn check_mocap_poses(&self, mocap_poses: &[f32]) -> Result<()> {
-        let expected = self.info.n_envs * 7 * self.info.mocap_bodies.len();
-        if mocap_poses.is_empty() || mocap_poses.len() == expected {
-            return Ok(());
-        }
-        Err(ClientError::InvalidArgument {
-            message: format!(
-                "mocap_poses: expected {expected} values ({} envs × {} mocap bodies × 7: x, y, z, qw, qx, qy, qz), or none to keep the targets, got {}",
-                self.info.n_envs,
-                self.info.mocap_bodies.len(),
-                mocap_poses.len()
-            ),
-        })
-    }
-
-    /// Refuses wrong lengths and non-finite values before any server is called, so that
-    /// no shard steps alone. The messages are the server's, with original env indices.
-    fn check_actions(&self, actions: &[f32]) -> Result<()> {
-        let dim = self.info.action_dim;
-        let n_envs = self.info.n_envs;
-        let expected = n_envs * dim;
-        if actions.len() != expected {
-            let plural =
-                |n: usize, one: &str, many: &str| if n == 1 { one } else { many }.to_string();
-            return Err(ClientError::InvalidArgument {
-                message: format!(
-                    "actions: expected {expected} {} ({n_envs} {} × {dim} DOF), got {}",
-                    plural(expected, "value", "values"),
-                    plural(n_envs, "env", "envs"),
-                    actions.len()
-                ),
-            });
-        }
-        match actions.iter().position(|a| !a.is_finite()) {
-            Some(k) => Err(ClientError::InvalidArgument {
-                message: format!(
-                    "actions[{k}] (env {}, value {}): expected a finite number, got {}",
-                    self.env_indices[k / dim.max(1)],
-                    k % dim.max(1),
-                    actions[k]
-                ),
-            }),
-            None => Ok(()),
-        }
     }
 
     /// Each shard's local indices among global `env_indices` (empty: every env of every
