@@ -8,7 +8,7 @@
 
 import { type GymfleetClient, defaultClient } from "./client.js";
 import { Code, NotFound, invalid } from "./errors.js";
-import type { BatchInfo, BatchObservation } from "./gen/gymfleet/v1/simulator_pb.js";
+import type { BatchInfo, BatchObservation, BatchStepResult } from "./gen/gymfleet/v1/simulator_pb.js";
 import { known } from "./known.js";
 import {
   actionType,
@@ -240,7 +240,11 @@ async function stepPacked(
   actions: number[],
   envIndices: number[] = [],
 ): Promise<PackedBatchStep> {
-  const r = await client.simulator.stepBatch({ batchId, actionType: type, actions, envIndices });
+  return packedStep(await client.simulator.stepBatch({ batchId, actionType: type, actions, envIndices }));
+}
+
+/** A `BatchStepResult` as a {@link PackedBatchStep} (unary and streamed steps alike). */
+export function packedStep(r: BatchStepResult): PackedBatchStep {
   const nEnvs = r.rewards.length;
   return {
     batch_id: r.batchId,

@@ -35,6 +35,7 @@ export {
 } from "./errors.js";
 export * from "./gym.js";
 export * from "./batch.js";
+export * from "./stream.js";
 export type * from "./params.js";
 export { clean, POSE_LEN } from "./shapes.js";
 export type * from "./shapes.js";
