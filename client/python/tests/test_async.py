@@ -146,7 +146,7 @@ def test_errors_surface_at_recv_with_their_env_ids_and_nothing_else_is_lost(arm2
     ]:
         with pytest.raises(ValueError, match=message):
             call()
-    # The workers held busy, a send stays in flight until they are let go.
+    # A send stays in flight until recv takes it (on a fleet, the workers held busy).
     hold = threading.Event()
     for _ in range(IN_FLIGHT):
         envs._pipeline.submit(hold.wait)

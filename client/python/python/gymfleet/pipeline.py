@@ -59,7 +59,7 @@ class _Chunk:
         return part(slice(None, m)), part(slice(m, None))
 
 
-#: Sends on the wire at once on a fleet (worker threads).
+#: Worker threads: a fleet batch's sends (which it takes one at a time) and step_async.
 IN_FLIGHT = 2
 
 
