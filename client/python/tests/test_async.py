@@ -250,3 +250,30 @@ def test_the_sends_behind_a_failed_one_step_once(arm2, remote, request):
     obs, _, _, _, info = envs.recv()
     assert [obs[row].tobytes() for row in range(2)] == [want[0][1][0], want[1][1][0]]
     envs.close()
+
+
+def test_step_async_runs_on_its_worker_while_the_caller_works_and_is_taken_back_otherwise(arm2):
+    a = gymfleet.make_vec(arm2, N, **OPTIONS)
+    b = gymfleet.make_vec(arm2, N, **OPTIONS)
+    a.reset(), b.reset()
+    actions = np.stack([action(e, 0) for e in range(N)])
+    # The caller waits without the GIL (as a policy's torch or numpy work does): the
+    # worker steps meanwhile.
+    b.step_async(actions)
+    pending = b._pending_step[0]
+    time.sleep(0.3)
+    assert pending.done() and not pending.cancelled()
+    got = b.step_wait()
+    want = a.step(actions)
+    for x, y in zip(want[:4], got[:4]):
+        np.testing.assert_array_equal(x, y)
+    # Back to back (SB3's `step`), the step is run by step_wait itself, with the same bits.
+    actions = np.stack([action(e, 1) for e in range(N)])
+    b.step_async(actions)
+    pending = b._pending_step[0]
+    got = b.step_wait()
+    want = a.step(actions)
+    assert pending.cancelled() or pending.done()
+    for x, y in zip(want[:4], got[:4]):
+        np.testing.assert_array_equal(x, y)
+    a.close(), b.close()

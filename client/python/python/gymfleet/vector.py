@@ -314,13 +314,18 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
             raise RuntimeError("step_async: envs are in flight (send): recv them first")
         values = self._actions.to_server(actions).reshape(self.num_envs, self._action_dim)
         mocap, self._mocap_poses = self._mocap_poses, None
-        self._pending_step = self._async().submit(self._whole_step, values, mocap)
+        self._pending_step = (self._async().submit(self._whole_step, values, mocap), values, mocap)
 
     def step_wait(self, timeout: Optional[float] = None) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
         """The result of the pending :meth:`step_async` (its error, if it failed)."""
         if self._pending_step is None:
             raise RuntimeError("step_wait: call step_async first")
-        pending, self._pending_step = self._pending_step, None
+        (pending, values, mocap), self._pending_step = self._pending_step, None
+        # A step its worker has not started yet (the caller did nothing between that let
+        # the worker run: SB3's `step` is `step_async` then `step_wait`) is taken back and
+        # run on this thread, without the two thread hand-offs.
+        if pending.cancel():
+            return self._whole_step(values, mocap)
         return pending.result(timeout)
 
     def _step_columns(self, ids: np.ndarray, values: np.ndarray) -> Tuple[Any, ...]:
