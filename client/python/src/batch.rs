@@ -22,11 +22,20 @@ pub(crate) struct BatchHandle {
     /// sharded. An async lock: a call holds it across its network round trip.
     batch: tokio::sync::Mutex<FleetBatch>,
     info: gymfleet_client::BatchInfo,
-    /// `(server, batch_id, start, stop)` per shard.
-    placement: Vec<(String, String, usize, usize)>,
+    /// `(server, batch_id, start, stop)` per shard (changed by `recover`).
+    placement: std::sync::Mutex<Vec<(String, String, usize, usize)>>,
     /// The per-call deadline; settable from Python.
     timeout: Deadline,
     closed: std::sync::atomic::AtomicBool,
+}
+
+/// `(server, batch_id, start, stop)` per shard of `batch`.
+fn placement(batch: &FleetBatch) -> Vec<(String, String, usize, usize)> {
+    batch
+        .placement()
+        .into_iter()
+        .map(|p| (p.server, p.batch_id, p.envs.start, p.envs.end))
+        .collect()
 }
 
 impl BatchHandle {
@@ -110,11 +119,7 @@ impl BatchHandle {
             }
         };
         let info = batch.info().clone();
-        let placement = batch
-            .placement()
-            .into_iter()
-            .map(|p| (p.server, p.batch_id, p.envs.start, p.envs.end))
-            .collect();
+        let placement = std::sync::Mutex::new(placement(&batch));
         Ok(BatchHandle {
             batch: tokio::sync::Mutex::new(batch),
             info,
@@ -128,7 +133,12 @@ impl BatchHandle {
     /// stop)`.
     #[getter]
     fn info<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        batch_info(py, &self.info, self.placement.clone())
+        let placement = self
+            .placement
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner())
+            .clone();
+        batch_info(py, &self.info, placement)
     }
 
     /// Resets every env, or those in `env_indices` (ascending); env `i` is reseeded with
@@ -274,6 +284,55 @@ impl BatchHandle {
             .map(StepRows::new)
         })?;
         self.step_tuple(py, rows, n)
+    }
+
+    /// Checkpoints the batch every `steps` steps (0: never again), starting with one now,
+    /// so that `recover` can rebuild the envs of a lost server (`FleetBatch::checkpoint_every`).
+    fn checkpoint_every(&self, py: Python<'_>, steps: u64) -> PyResult<()> {
+        wait(py, self.timeout.get(), || async move {
+            self.batch.lock().await.checkpoint_every(steps).await
+        })
+    }
+
+    /// Rebuilds the envs of every lost server from the last checkpoint, on `server`
+    /// (`None`: the surviving servers in turn), replaying what was done since
+    /// (`FleetBatch::recover`). Returns the step that found the loss, as `step_envs`
+    /// returns it, with its env indices (empty: every env); `None` when no step found it
+    /// or nothing was lost.
+    #[pyo3(signature = (server=None, token=None))]
+    fn recover<'py>(
+        &self,
+        py: Python<'py>,
+        server: Option<&str>,
+        token: Option<&str>,
+    ) -> PyResult<Option<(Vec<u32>, StepTuple<'py>)>> {
+        let replacement = match server {
+            None => None,
+            Some(addr) => match resolve(py, Some(addr), token)? {
+                Target::One(client) => Some(client),
+                Target::Fleet(_) => {
+                    return Err(invalid(format!(
+                        "server: expected one replacement server's address, got the list {addr:?}"
+                    )))
+                }
+            },
+        };
+        let step = wait(py, self.timeout.get(), || async move {
+            let mut batch = self.batch.lock().await;
+            let step = batch.recover(replacement.as_ref()).await;
+            *self
+                .placement
+                .lock()
+                .unwrap_or_else(|poisoned| poisoned.into_inner()) = placement(&batch);
+            let step = step?;
+            Ok::<_, gymfleet_client::ClientError>(step.map(|s| {
+                let envs = s.env_indices().to_vec();
+                let n = s.n_envs();
+                (envs, n, StepRows::new(s))
+            }))
+        })?;
+        step.map(|(envs, n, rows)| Ok((envs, self.step_tuple(py, rows, n)?)))
+            .transpose()
     }
 
     /// A `StreamBatch` stream of this batch for the asynchronous API's sends (up to

@@ -61,3 +61,9 @@ def test_the_sb3_ppo_hopper_example_runs(capsys, monkeypatch, tmp_path):
 def test_the_cleanrl_ppo_halfcheetah_example_runs(capsys, monkeypatch, tmp_path):
     out = _run_learning_example("cleanrl_ppo_halfcheetah.py", ["--steps", "2048", "--envs", "4"], capsys, monkeypatch, tmp_path)
     assert "gymfleet/HalfCheetah-v5: 2048 steps" in out
+
+
+def test_the_cleanrl_example_runs_asynchronously_on_a_remote_server(capsys, monkeypatch, tmp_path, remote_server):
+    argv = ["--steps", "2048", "--envs", "4", "--batch-size", "2", "--server", remote_server]
+    out = _run_learning_example("cleanrl_ppo_halfcheetah.py", argv, capsys, monkeypatch, tmp_path)
+    assert "gymfleet/HalfCheetah-v5: 2048 steps" in out

@@ -71,6 +71,7 @@ class Internal(GymfleetError):
 
 class ServerLost(Unavailable):
     """A server of a fleet failed while it held envs of a sharded batch: their state is
-    gone. ``server`` names it; ``envs`` lists the lost env ranges as ``(start, stop)``."""
+    gone, unless the batch checkpoints (``checkpoint_every``): then ``recover()`` rebuilds
+    them. ``server`` names it; ``envs`` lists the lost env ranges as ``(start, stop)``."""
 
     envs: List[Tuple[int, int]] = []

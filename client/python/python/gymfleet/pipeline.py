@@ -29,7 +29,7 @@ from typing import Any, Deque, Dict, List, Optional, Tuple
 
 import numpy as np
 
-from .errors import DeadlineExceeded, GymfleetError
+from .errors import DeadlineExceeded, GymfleetError, ServerLost
 
 class _Chunk:
     """The results of one send (or of the reset), column by column, in ascending env
@@ -99,6 +99,8 @@ class Pipeline:
         # Whether it takes more sends (not after a send found it ended).
         self._accepting = False
         self._on_stream: Deque[_Send] = collections.deque()
+        # The sends that failed with ServerLost (on a fleet), until `recovered`.
+        self._lost: List[Tuple[np.ndarray, np.ndarray]] = []
 
     # The worker's side.
 
@@ -120,6 +122,8 @@ class Pipeline:
         except BaseException as err:  # noqa: B902 - handed to recv, which raises it
             err.env_ids = ids.copy()  # type: ignore[attr-defined]
             with self._lock:
+                if isinstance(err, ServerLost):
+                    self._lost.append((ids, actions))  # for `recovered`
                 self._in_flight[ids] = False
                 self._errors.append(err)
                 self._lock.notify_all()
@@ -140,6 +144,7 @@ class Pipeline:
         with self._lock:
             self._ready.clear()
             self._errors.clear()
+            self._lost.clear()
             self._ready.append(_Chunk(np.arange(n, dtype=np.int32), np.asarray(observations),
                                       np.zeros(n, dtype=np.float32), np.zeros(n, dtype=np.bool_),
                                       np.zeros(n, dtype=np.bool_), None, {}, {}))
@@ -273,6 +278,29 @@ class Pipeline:
                 need -= len(chunk)
             self._n_ready -= m
         return _joined(pieces, self._envs._info["term_names"])
+
+    def recovered(self, found: Optional[Tuple[Any, Tuple[Any, ...]]]) -> None:
+        """After the fleet batch rebuilt a lost server's envs (``BatchHandle.recover``,
+        nothing in flight): the send that found the loss (``found``: its env indices and
+        rows) is ready with that step's result; the sends refused after it stepped
+        nowhere and go out again. Their :class:`ServerLost` errors, raised or not, are
+        settled."""
+        ids = None
+        if found is not None and len(found[0]):
+            ids = np.asarray(found[0], dtype=np.int32)
+            chunk = _Chunk(ids, *self._envs._columns(found[1]))
+        with self._lock:
+            again = [(sent, values) for sent, values in self._lost
+                     if ids is None or not np.array_equal(sent, ids)]
+            self._lost.clear()
+            self._errors = collections.deque(e for e in self._errors if not isinstance(e, ServerLost))
+            if ids is not None:
+                self._ready.append(chunk)
+                self._n_ready += len(ids)
+            for sent, _ in again:
+                self._in_flight[sent] = True
+        for sent, values in again:
+            self.submit(self._step, sent, values)
 
     def drain(self) -> None:
         """Waits until every step sent has been taken (a stream's errors kept for

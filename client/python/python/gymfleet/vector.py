@@ -138,8 +138,9 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
     @property
     def batch_info(self) -> Dict[str, Any]:
         """What the server(s) said about the batch; ``shards`` lists ``(server,
-        batch_id, start, stop)`` per shard."""
-        return self._info
+        batch_id, start, stop)`` per shard (where they are now: :meth:`recover` moves
+        the lost ones)."""
+        return {**self._info, "shards": self._handle.info["shards"]}
 
     def reset(
         self,
@@ -225,6 +226,12 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
     def _whole_step(
         self, values: np.ndarray, mocap: Optional[np.ndarray]
     ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
+        return self._whole_result(self._handle.step(self.action_type, values, mocap))
+
+    def _whole_result(
+        self, raw: Tuple[Any, ...]
+    ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
+        """A whole step's reply (``BatchHandle.step``'s) as :meth:`step` returns it."""
         (
             obs,
             rewards,
@@ -234,7 +241,7 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
             final_obs,
             reasons,
             terms,
-        ) = self._handle.step(self.action_type, values, mocap)
+        ) = raw
         infos: Dict[str, Any] = {}
         # A terms task's values (the step's, before a same-step autoreset), one array per
         # term name, as gymnasium's vector envs write per-env info.
@@ -342,6 +349,42 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
         finals = {int(env): final_obs[k] for k, env in enumerate(final_envs)}
         return (obs, np.asarray(rewards, dtype=np.float32), np.asarray(terminated, dtype=np.bool_),
                 np.asarray(truncated, dtype=np.bool_), np.asarray(terms), dict(reasons), finals)
+
+    # Fleet recovery (a gymfleet extension; the Rust client's `FleetBatch::recover`).
+
+    def checkpoint_every(self, steps: int) -> None:
+        """Checkpoints every env's state every ``steps`` steps (whole or :meth:`send`'s;
+        0: stops), starting now, and logs what is done since, so that :meth:`recover`
+        can rebuild the envs of a server that is lost."""
+        if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 0:
+            raise ValueError(f"steps: expected a non-negative integer, got {steps!r}")
+        self._no_async("checkpoint_every")
+        if self._pipeline is not None:
+            self._pipeline.drain()
+        self._handle.checkpoint_every(int(steps))
+
+    def recover(
+        self, server: Optional[str] = None
+    ) -> Optional[Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]]:
+        """After :class:`ServerLost`: rebuilds the lost server's envs from the last
+        checkpoint on ``server`` (``None``: the surviving servers), replays what was done
+        since, and goes on with every env in its place, as if nothing had been lost.
+
+        The survivors had taken the step that found the loss. From :meth:`step`, that
+        step's result (every env's) is returned. In the asynchronous API, the envs of the
+        send that found the loss come back from :meth:`recv` with that step's result,
+        and the sends refused after it (they stepped nowhere) go out again: nothing is
+        lost or stepped twice. Returns ``None`` then, or when nothing was lost."""
+        self._no_async("recover")
+        pipeline = self._pipeline
+        if pipeline is not None:
+            pipeline.drain()
+        found = self._handle.recover(server)
+        if pipeline is not None:
+            pipeline.recovered(found)
+        if found is None or len(found[0]):
+            return None
+        return self._whole_result(found[1])
 
     def set_mocap_poses(self, poses: Any) -> None:
         """Sets where every env's mocap bodies (``env_info["mocap_bodies"]``) are to be at
