@@ -530,6 +530,7 @@ impl Client {
             return Ok(());
         }
         Err(crate::error::ClientError::InvalidArgument {
+            reason: crate::ErrorReason::InvalidDocument,
             message: format!(
                 "request: {bytes} bytes ({document} of document, {assets} of assets) is over the \
                  message limit of {max} bytes; send only the files the description references \

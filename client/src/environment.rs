@@ -44,6 +44,7 @@ impl ClientBuilder {
             (None, None) => {}
             _ => {
                 return Err(ClientError::InvalidArgument {
+                    reason: crate::ErrorReason::Unspecified,
                     message: format!(
                         "{ENV_TLS_CLIENT_CERT} and {ENV_TLS_CLIENT_KEY} go together: set \
                          both or neither"

@@ -3,6 +3,7 @@
 
 use std::ops::Range;
 
+pub use gymfleet_proto::v1::ErrorReason;
 use tonic::{Code, Status};
 
 /// Why a client call failed. Server errors carry the server's message, which names the
@@ -35,12 +36,16 @@ pub enum ClientError {
     NotFound {
         /// The server's message, naming the id.
         message: String,
+        /// Why, for machines ([`ClientError::reason`]).
+        reason: ErrorReason,
     },
     /// INVALID_ARGUMENT (or OUT_OF_RANGE): a bad document, configuration or action.
     #[error("invalid argument: {message}")]
     InvalidArgument {
         /// The server's message, with the field's path and what was expected.
         message: String,
+        /// Why, for machines ([`ClientError::reason`]).
+        reason: ErrorReason,
     },
     /// FAILED_PRECONDITION: the call is not possible in the current state, e.g. stepping
     /// an env whose physics diverged before resetting it.
@@ -48,6 +53,8 @@ pub enum ClientError {
     FailedPrecondition {
         /// The server's message.
         message: String,
+        /// Why, for machines ([`ClientError::reason`]).
+        reason: ErrorReason,
     },
     /// RESOURCE_EXHAUSTED: a server limit was hit; the message says which and how to
     /// raise it.
@@ -57,6 +64,10 @@ pub enum ClientError {
         message: String,
         /// RESOURCE_EXHAUSTED, or OUT_OF_RANGE (how tonic reports an over-size message).
         code: Code,
+        /// Why, for machines ([`ClientError::reason`]).
+        reason: ErrorReason,
+        /// The server flag that raises the limit (`gymfleet-limit`), e.g. `--max-envs`.
+        limit: Option<String>,
     },
     /// UNAVAILABLE, CANCELLED or ABORTED: the server is gone, shutting down, or the call
     /// was cut short. Retrying may help.
@@ -66,6 +77,9 @@ pub enum ClientError {
         message: String,
         /// UNAVAILABLE, CANCELLED, ABORTED, or UNKNOWN for a connection lost mid-call.
         code: Code,
+        /// Why, for machines ([`ClientError::reason`]): the server's, when it sent one
+        /// (it is shutting down); unspecified for the transport's.
+        reason: ErrorReason,
     },
     /// DEADLINE_EXCEEDED: no reply within the call's deadline. Whether the server did the
     /// work is unknown (a batch may have stepped some envs): reset before going on.
@@ -79,6 +93,8 @@ pub enum ClientError {
     Unauthenticated {
         /// The server's message.
         message: String,
+        /// Why, for machines ([`ClientError::reason`]).
+        reason: ErrorReason,
     },
     /// INTERNAL, UNKNOWN or DATA_LOSS: a server bug.
     #[error("internal server error: {message}")]
@@ -87,6 +103,8 @@ pub enum ClientError {
         message: String,
         /// INTERNAL, UNKNOWN or DATA_LOSS.
         code: Code,
+        /// Why, for machines ([`ClientError::reason`]).
+        reason: ErrorReason,
     },
     /// The server answered something this client does not understand: an unexpected
     /// status code, or a reply of the wrong shape.
@@ -224,13 +242,13 @@ impl ClientError {
     pub fn message(&self) -> &str {
         match self {
             ClientError::Connect { reason, .. } | ClientError::Setting { reason, .. } => reason,
-            ClientError::NotFound { message }
-            | ClientError::InvalidArgument { message }
-            | ClientError::FailedPrecondition { message }
+            ClientError::NotFound { message, .. }
+            | ClientError::InvalidArgument { message, .. }
+            | ClientError::FailedPrecondition { message, .. }
             | ClientError::ResourceExhausted { message, .. }
             | ClientError::Unavailable { message, .. }
             | ClientError::DeadlineExceeded { message }
-            | ClientError::Unauthenticated { message }
+            | ClientError::Unauthenticated { message, .. }
             | ClientError::Internal { message, .. }
             | ClientError::Protocol { message, .. }
             | ClientError::Fleet { message } => message,
@@ -262,6 +280,41 @@ impl ClientError {
         }
     }
 
+    /// Why the call failed, for machines: the server's [`ErrorReason`] (a fleet call's
+    /// failure on one server: that server's), or the reason of the server's own check
+    /// that a client-side check stands in for (a fleet batch's action checks:
+    /// `InvalidAction`). `None` for what the client found itself (connecting, a deadline,
+    /// a fleet's configuration, a lost server) and for a server that sent none.
+    pub fn reason(&self) -> Option<ErrorReason> {
+        let reason = match self {
+            ClientError::NotFound { reason, .. }
+            | ClientError::InvalidArgument { reason, .. }
+            | ClientError::FailedPrecondition { reason, .. }
+            | ClientError::ResourceExhausted { reason, .. }
+            | ClientError::Unavailable { reason, .. }
+            | ClientError::Unauthenticated { reason, .. }
+            | ClientError::Internal { reason, .. } => *reason,
+            ClientError::OnServer { error, .. } => return error.reason(),
+            ClientError::Connect { .. }
+            | ClientError::Setting { .. }
+            | ClientError::DeadlineExceeded { .. }
+            | ClientError::Protocol { .. }
+            | ClientError::ServerLost { .. }
+            | ClientError::Fleet { .. } => return None,
+        };
+        (reason != ErrorReason::Unspecified).then_some(reason)
+    }
+
+    /// The server flag that raises the limit a RESOURCE_EXHAUSTED refusal was for, e.g.
+    /// `--max-envs`, when the server named it.
+    pub fn limit(&self) -> Option<&str> {
+        match self {
+            ClientError::ResourceExhausted { limit, .. } => limit.as_deref(),
+            ClientError::OnServer { error, .. } => error.limit(),
+            _ => None,
+        }
+    }
+
     /// The server a fleet error names, if it names one.
     pub fn server(&self) -> Option<&str> {
         match self {
@@ -284,33 +337,53 @@ impl ClientError {
 impl From<Status> for ClientError {
     fn from(status: Status) -> Self {
         let message = status.message().to_string();
+        let metadata = |key: &str| {
+            status
+                .metadata()
+                .get(key)
+                .and_then(|v| v.to_str().ok())
+                .map(str::to_string)
+        };
+        let reason = metadata(gymfleet_proto::REASON_KEY).map_or(ErrorReason::Unspecified, |r| {
+            ErrorReason::from_wire_name(&r)
+        });
         match status.code() {
-            Code::NotFound => ClientError::NotFound { message },
-            Code::InvalidArgument => ClientError::InvalidArgument { message },
-            Code::FailedPrecondition => ClientError::FailedPrecondition { message },
+            Code::NotFound => ClientError::NotFound { message, reason },
+            Code::InvalidArgument => ClientError::InvalidArgument { message, reason },
+            Code::FailedPrecondition => ClientError::FailedPrecondition { message, reason },
             // tonic reports an over-size message as OUT_OF_RANGE.
-            code @ (Code::ResourceExhausted | Code::OutOfRange) => {
-                ClientError::ResourceExhausted { message, code }
-            }
+            code @ (Code::ResourceExhausted | Code::OutOfRange) => ClientError::ResourceExhausted {
+                message,
+                code,
+                reason,
+                limit: metadata(gymfleet_proto::LIMIT_KEY),
+            },
             // tonic's own deadline (`ClientBuilder::timeout`, or the server's reading of
             // `grpc-timeout`) ends a call as CANCELLED "Timeout expired".
             Code::Cancelled if message == "Timeout expired" => ClientError::DeadlineExceeded {
                 message: "no answer within the call's deadline".to_string(),
             },
             code @ (Code::Unavailable | Code::Cancelled | Code::Aborted) => {
-                ClientError::Unavailable { message, code }
+                ClientError::Unavailable {
+                    message,
+                    code,
+                    reason,
+                }
             }
             Code::DeadlineExceeded => ClientError::DeadlineExceeded { message },
-            Code::Unauthenticated => ClientError::Unauthenticated { message },
+            Code::Unauthenticated => ClientError::Unauthenticated { message, reason },
             // A connection the server closed mid-call (it stopped or restarted) surfaces as
             // UNKNOWN "transport error": the server is gone, not broken.
             Code::Unknown if is_transport_error(&status) => ClientError::Unavailable {
                 message,
                 code: Code::Unknown,
+                reason,
             },
-            code @ (Code::Internal | Code::Unknown | Code::DataLoss) => {
-                ClientError::Internal { message, code }
-            }
+            code @ (Code::Internal | Code::Unknown | Code::DataLoss) => ClientError::Internal {
+                message,
+                code,
+                reason,
+            },
             code @ (Code::Ok
             | Code::AlreadyExists
             | Code::PermissionDenied
@@ -419,6 +492,7 @@ mod tests {
             server: "a:1".into(),
             error: Box::new(ClientError::InvalidArgument {
                 message: "bad".into(),
+                reason: ErrorReason::InvalidAction,
             }),
         };
         assert_eq!(err.to_string(), "server a:1: invalid argument: bad");

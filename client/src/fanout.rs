@@ -49,6 +49,7 @@ where
         .map(|output| {
             output.unwrap_or_else(|| {
                 Err(ClientError::Unavailable {
+                    reason: crate::ErrorReason::Unspecified,
                     message: "the call was cancelled: the runtime is shutting down".to_string(),
                     code: tonic::Code::Cancelled,
                 })

@@ -229,12 +229,15 @@ impl Fleet {
         let n_envs = options.n_envs();
         if n_envs == 0 {
             return Err(ClientError::InvalidArgument {
+                reason: crate::ErrorReason::InvalidField,
                 message: "n_envs: expected at least 1, got 0".to_string(),
             });
         }
         let capacities = self.capacities().await?;
         let shares = split_by_capacity(n_envs, &capacities).map_err(|reason| {
             ClientError::ResourceExhausted {
+                reason: crate::ErrorReason::LimitExceeded,
+                limit: None,
                 message: format!("fleet batch of {n_envs} envs: {reason}"),
                 code: tonic::Code::ResourceExhausted,
             }

@@ -302,6 +302,7 @@ impl FleetBatch {
         };
         if states.len() != expected {
             return Err(ClientError::InvalidArgument {
+                reason: crate::ErrorReason::InvalidState,
                 message: format!(
                     "states: expected one state per env index ({expected}), got {}",
                     states.len()
@@ -383,6 +384,7 @@ impl FleetBatch {
             first += len;
         }
         Err(ClientError::InvalidArgument {
+            reason: crate::ErrorReason::InvalidField,
             message: format!("env_index: {env} is out of range: the batch has {first} envs"),
         })
     }
@@ -442,6 +444,7 @@ pub(crate) fn check_positions(indices: &[u32], n_envs: usize) -> Result<()> {
             }
         };
         return Err(ClientError::InvalidArgument {
+            reason: crate::ErrorReason::InvalidField,
             message: format!("env_indices[{position}]: {reason}"),
         });
     }

@@ -71,10 +71,12 @@ pub use env::Env;
 pub use environment::{
     ENV_TLS_CA, ENV_TLS_CLIENT_CERT, ENV_TLS_CLIENT_KEY, ENV_TLS_DOMAIN, ENV_TOKEN,
 };
-pub use error::{cannot_connect, ClientError, ErrorKind, Result, POINT_THE_LIBRARY};
+pub use error::{cannot_connect, ClientError, ErrorKind, ErrorReason, Result, POINT_THE_LIBRARY};
 pub use fleet::Fleet;
 pub use fleet_batch::recovery::CheckpointStatus;
 pub use fleet_batch::{FleetBatch, ShardPlacement};
+/// The status metadata entries that carry an error's reason and a refusing limit's flag.
+pub use gymfleet_proto::{LIMIT_KEY, REASON_KEY};
 pub use options::{BatchOptions, EnvOptions, PdGains};
 pub use render::{Camera, CameraPreset, Image, Scene, SceneBody, SceneJoint, SceneShape};
 pub use replay::{Replay, ReplayMismatch};

@@ -137,11 +137,13 @@ impl BatchStream {
         }
         if self.failed {
             return Err(ClientError::Unavailable {
+                reason: crate::ErrorReason::Unspecified,
                 message: "the batch stream has ended after an error; open a new one".into(),
                 code: tonic::Code::Unavailable,
             });
         }
         let ended = || ClientError::Unavailable {
+            reason: crate::ErrorReason::Unspecified,
             message: "the batch stream has ended (a step sent before failed, or the server \
                       closed it): take the pending results with next(), then open a new \
                       stream; this step was not sent"
@@ -203,6 +205,7 @@ impl BatchStream {
         if self.failed {
             self.in_flight = 0;
             return Err(ClientError::Unavailable {
+                reason: crate::ErrorReason::Unspecified,
                 message: "the batch stream has ended after an error; open a new one".into(),
                 code: tonic::Code::Unavailable,
             });

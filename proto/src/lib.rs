@@ -12,6 +12,29 @@ pub mod v1 {
     tonic::include_proto!("gymfleet.v1");
 }
 
+/// The status metadata entry that carries an error's [`v1::ErrorReason`] (see the proto's
+/// `ErrorReason`): the value's name without its `ERROR_REASON_` prefix.
+pub const REASON_KEY: &str = "gymfleet-reason";
+
+/// The status metadata entry that names the limit a RESOURCE_EXHAUSTED refusal was for:
+/// the server flag that raises it, e.g. `--max-envs`.
+pub const LIMIT_KEY: &str = "gymfleet-limit";
+
+impl v1::ErrorReason {
+    /// The reason as it travels: its proto name without the `ERROR_REASON_` prefix, e.g.
+    /// `ENV_NOT_FOUND`.
+    pub fn wire_name(self) -> &'static str {
+        let name = self.as_str_name();
+        name.strip_prefix("ERROR_REASON_").unwrap_or(name)
+    }
+
+    /// The reason a [`REASON_KEY`] value names; `Unspecified` for a name this build does
+    /// not know (a newer server's).
+    pub fn from_wire_name(name: &str) -> Self {
+        Self::from_str_name(&format!("ERROR_REASON_{name}")).unwrap_or(Self::Unspecified)
+    }
+}
+
 /// The encoded `google.protobuf.FileDescriptorSet` of every gymfleet proto
 /// file (with source info, so comments reach reflection clients), for
 /// `tonic_reflection::server::Builder::register_encoded_file_descriptor_set`.
@@ -22,6 +45,20 @@ mod tests {
     use prost::Message as _;
 
     use super::*;
+
+    #[test]
+    fn reasons_travel_by_their_short_names() {
+        use v1::ErrorReason;
+        assert_eq!(ErrorReason::EnvNotFound.wire_name(), "ENV_NOT_FOUND");
+        for n in 0..=14 {
+            let reason = ErrorReason::try_from(n).expect("a reason");
+            assert_eq!(ErrorReason::from_wire_name(reason.wire_name()), reason);
+        }
+        assert_eq!(
+            ErrorReason::from_wire_name("NOT_A_REASON"),
+            ErrorReason::Unspecified
+        );
+    }
 
     #[test]
     fn descriptor_set_declares_the_simulator_service() {

@@ -10,6 +10,7 @@
 
 use std::sync::Arc;
 
+use gymfleet_proto::v1::ErrorReason;
 use tonic::{Request, Status};
 
 use crate::metrics::Metrics;
@@ -38,7 +39,7 @@ impl Authenticator {
             return Ok(Tenant::anonymous());
         };
         let Some(value) = request.metadata().get("authorization") else {
-            return Err(Status::unauthenticated(
+            return Err(unauthenticated(
                 "this server requires a token: send `authorization: Bearer <token>` metadata (gymfleet's clients and tools read it from the GYMFLEET_TOKEN variable or --token)",
             ));
         };
@@ -47,11 +48,11 @@ impl Authenticator {
             .ok()
             .and_then(|v| v.strip_prefix("Bearer "))
             .map(str::trim)
-            .ok_or_else(|| Status::unauthenticated("authorization: expected `Bearer <token>`"))?;
+            .ok_or_else(|| unauthenticated("authorization: expected `Bearer <token>`"))?;
         tokens
             .tenant(token)
             .cloned()
-            .ok_or_else(|| Status::unauthenticated("authorization: unknown token"))
+            .ok_or_else(|| unauthenticated("authorization: unknown token"))
     }
 }
 
@@ -67,6 +68,13 @@ impl tonic::service::Interceptor for Authenticator {
     }
 }
 
+/// UNAUTHENTICATED with `message`, and its reason.
+fn unauthenticated(message: &'static str) -> Status {
+    let mut status = Status::unauthenticated(message);
+    crate::error::with_reason(&mut status, ErrorReason::Unauthenticated, None);
+    status
+}
+
 /// The tenant the [`Authenticator`] found for `request`. A request that did not pass
 /// through it is refused rather than served as anyone.
 pub(crate) fn tenant_of<T>(request: &Request<T>) -> Result<Tenant, Status> {
@@ -74,7 +82,7 @@ pub(crate) fn tenant_of<T>(request: &Request<T>) -> Result<Tenant, Status> {
         .extensions()
         .get::<Tenant>()
         .cloned()
-        .ok_or_else(|| Status::unauthenticated("the request was not authenticated"))
+        .ok_or_else(|| unauthenticated("the request was not authenticated"))
 }
 
 #[cfg(test)]

@@ -1,4 +1,6 @@
-//! [`ServerError`], and (in `status.rs`) its one mapping to `tonic::Status`.
+//! [`ServerError`] (what a request can meet), its one mapping to `tonic::Status` with its
+//! code and [`gymfleet_proto::v1::ErrorReason`] (in `status.rs`), and [`StartupError`]
+//! (what stops a server from starting, in `startup.rs`).
 //!
 //! Every domain error reaches the wire through the exhaustive `From` impl at the bottom:
 //! a new variant anywhere (here, in `EnvError` or in `BatchError`) fails to compile until
@@ -12,7 +14,11 @@ use gymfleet_env::EnvError;
 use crate::limit::Limit;
 use crate::tenant::Tenant;
 
+mod startup;
 mod status;
+
+pub use startup::StartupError;
+pub(crate) use status::with_reason;
 
 /// Longest status message the server sends: anything longer is cut here, whatever
 /// built it (the sources shorten what they echo; this is the guarantee).
@@ -46,7 +52,7 @@ impl fmt::Display for EntityKind {
     }
 }
 
-/// Everything that can go wrong in the server.
+/// Everything that can go wrong with a request.
 #[derive(Debug, thiserror::Error)]
 pub enum ServerError {
     /// A request field is unusable before it reaches the domain (an unset action type,
@@ -257,20 +263,6 @@ pub enum ServerError {
     /// The server is shutting down and takes no new work on this stream.
     #[error("the server is shutting down")]
     ShuttingDown,
-    /// Reflection could not be set up (a bad descriptor set: a build bug).
-    #[error("reflection: {0}")]
-    Reflection(#[from] tonic_reflection::server::Error),
-    /// The TLS certificate, key or client CA is unusable.
-    #[error("TLS: {0}")]
-    Tls(String),
-    /// The model library (`--models`) could not be loaded.
-    #[error("--models: {}: {reason}", path.display())]
-    ModelLibrary {
-        /// The directory or file at fault.
-        path: std::path::PathBuf,
-        /// What is wrong with it.
-        reason: String,
-    },
     /// A request names a model the library does not have.
     #[error(
         "model: {} is not in this server's model library (known: {known})",
@@ -282,20 +274,6 @@ pub enum ServerError {
         /// The library's names, comma-separated (or "none: start the server with --models DIR").
         known: String,
     },
-    /// The listener could not be bound.
-    #[error("cannot listen on {addr}: {reason}")]
-    Bind {
-        /// The address, `host:port` or `unix:/path`.
-        addr: String,
-        /// The operating system's reason.
-        reason: String,
-    },
-    /// The listener failed (e.g. its address could not be read).
-    #[error("io: {0}")]
-    Io(#[from] std::io::Error),
-    /// The transport failed (binding, serving).
-    #[error("transport: {0}")]
-    Transport(#[from] tonic::transport::Error),
 }
 
 fn panicked_message(operation: &str, id: Option<&str>, message: &str) -> String {
@@ -362,6 +340,42 @@ mod tests {
             message: "boom".into(),
         };
         assert_eq!(status(pool.into()).code(), Code::Internal);
+    }
+
+    #[test]
+    fn every_error_status_carries_its_reason_and_a_limits_flag() {
+        let reason = |s: &Status| {
+            s.metadata()
+                .get(gymfleet_proto::REASON_KEY)
+                .map(|v| v.to_str().expect("ascii").to_string())
+        };
+        let s = status(ServerError::NotFound {
+            kind: EntityKind::Batch,
+            id: "batch_9".into(),
+        });
+        assert_eq!(reason(&s).as_deref(), Some("BATCH_NOT_FOUND"));
+        let s = status(EnvError::NeedsReset.into());
+        assert_eq!(reason(&s).as_deref(), Some("NEEDS_RESET"));
+        assert!(s.metadata().get(gymfleet_proto::LIMIT_KEY).is_none());
+        let s = status(ServerError::BatchTooLarge { n_envs: 5, max: 4 });
+        assert_eq!(reason(&s).as_deref(), Some("LIMIT_EXCEEDED"));
+        assert_eq!(
+            s.metadata()
+                .get(gymfleet_proto::LIMIT_KEY)
+                .and_then(|v| v.to_str().ok()),
+            Some("--max-batch-size")
+        );
+        let s = status(
+            BatchError::Env {
+                env: 1,
+                source: EnvError::NonFiniteAction {
+                    index: 0,
+                    value: f32::NAN,
+                },
+            }
+            .into(),
+        );
+        assert_eq!(reason(&s).as_deref(), Some("INVALID_ACTION"));
     }
 
     #[test]

@@ -41,7 +41,7 @@ pub use cli::{init_tracing, Cli, LogFormat};
 pub use clock::Clock;
 pub use config::{ServerConfig, TlsConfig, DEFAULT_IDLE_TTL};
 pub use direct::DirectService;
-pub use error::{EntityKind, Result, ServerError, MAX_STATUS_MESSAGE_BYTES};
+pub use error::{EntityKind, Result, ServerError, StartupError, MAX_STATUS_MESSAGE_BYTES};
 /// For a thread that blocks on its calls to an in-process server
 /// ([`LocalServer::in_process`]): inside it, the server's pool work for those calls runs
 /// on that thread, which saves two thread wake-ups a call (the Python package's calls

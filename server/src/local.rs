@@ -13,14 +13,16 @@ use tonic::codegen::http::{Request, Response};
 use tonic::codegen::Service;
 
 use crate::config::ServerConfig;
-use crate::error::{Result, ServerError};
+use crate::error::StartupError;
+
+type Result<T, E = StartupError> = std::result::Result<T, E>;
 use crate::listen::{ListenAddr, Listener};
 
 /// A gymfleet server running on a task of the current tokio runtime until
 /// [`LocalServer::stop`] (or until it is dropped, which asks it to stop without waiting).
 ///
 /// ```no_run
-/// # async fn demo() -> gymfleet_server::Result<()> {
+/// # async fn demo() -> Result<(), gymfleet_server::StartupError> {
 /// let server = gymfleet_server::LocalServer::start(gymfleet_server::ServerConfig::default()).await?;
 /// let addr = server.client_addr(); // "127.0.0.1:<port>"
 /// // ... connect gymfleet-client to `addr` ...
@@ -47,7 +49,7 @@ impl LocalServer {
     /// Binds `addr` (`127.0.0.1:0` for a free port, or a Unix-domain socket) and serves
     /// `config` there.
     pub async fn bind(addr: &ListenAddr, config: ServerConfig) -> Result<LocalServer> {
-        let listener = Listener::bind(addr).await.map_err(|e| ServerError::Bind {
+        let listener = Listener::bind(addr).await.map_err(|e| StartupError::Bind {
             addr: addr.to_string(),
             reason: e.to_string(),
         })?;
@@ -77,13 +79,9 @@ impl LocalServer {
             Err(_) => {
                 return Err(task
                     .await
-                    .map_err(|e| ServerError::Panicked {
-                        operation: "serve",
-                        id: None,
-                        message: e.to_string(),
-                    })?
+                    .map_err(|e| StartupError::Panicked(e.to_string()))?
                     .err()
-                    .unwrap_or(ServerError::ShuttingDown))
+                    .unwrap_or(StartupError::Stopped))
             }
         };
         Ok(LocalServer {
@@ -142,11 +140,9 @@ impl LocalServer {
             let _ = stop.send(());
         }
         match self.task.take() {
-            Some(task) => task.await.map_err(|e| ServerError::Panicked {
-                operation: "serve",
-                id: None,
-                message: e.to_string(),
-            })?,
+            Some(task) => task
+                .await
+                .map_err(|e| StartupError::Panicked(e.to_string()))?,
             None => Ok(()),
         }
     }

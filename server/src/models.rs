@@ -10,7 +10,9 @@ use std::path::{Path, PathBuf};
 
 use gymfleet_import::Format;
 
-use crate::error::{Result, ServerError};
+use crate::error::StartupError;
+
+type Result<T, E = StartupError> = std::result::Result<T, E>;
 
 /// File extensions the library reads, and the format each implies (JSON is checked).
 const EXTENSIONS: [&str; 4] = ["json", "xml", "mjcf", "urdf"];
@@ -36,8 +38,8 @@ pub struct ModelLibrary {
     models: BTreeMap<String, LibraryModel>,
 }
 
-fn library_error(path: &Path, reason: impl Into<String>) -> ServerError {
-    ServerError::ModelLibrary {
+fn library_error(path: &Path, reason: impl Into<String>) -> StartupError {
+    StartupError::ModelLibrary {
         path: path.to_path_buf(),
         reason: reason.into(),
     }

@@ -16,7 +16,9 @@ use tonic::transport::{Certificate, Identity, Server, ServerTlsConfig};
 use crate::auth::Authenticator;
 use crate::clock::Clock;
 use crate::config::{ServerConfig, TlsConfig};
-use crate::error::{Result, ServerError};
+use crate::error::StartupError;
+
+type Result<T, E = StartupError> = std::result::Result<T, E>;
 use crate::listen::Listener;
 use crate::service::SimulatorService;
 use crate::simulation::Simulation;
@@ -33,7 +35,7 @@ use crate::simulation::Simulation;
 /// than loopback without auth tokens), and stops it with the rest.
 ///
 /// ```no_run
-/// # async fn demo() -> gymfleet_server::Result<()> {
+/// # async fn demo() -> Result<(), Box<dyn std::error::Error>> {
 /// let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await?;
 /// let (stop, stopped) = tokio::sync::oneshot::channel::<()>();
 /// let server = tokio::spawn(gymfleet_server::serve(
@@ -100,7 +102,7 @@ pub(crate) async fn serve_bound(
             let listener =
                 tokio::net::TcpListener::bind(addr)
                     .await
-                    .map_err(|e| ServerError::Bind {
+                    .map_err(|e| StartupError::Bind {
                         addr: addr.to_string(),
                         reason: e.to_string(),
                     })?;
@@ -162,7 +164,7 @@ pub(crate) async fn serve_bound(
     if let Some(tls) = &config.tls {
         builder = builder
             .tls_config(server_tls(tls))
-            .map_err(|e| ServerError::Tls(error_chain(&e)))?;
+            .map_err(|e| StartupError::Tls(error_chain(&e)))?;
     }
     let simulator = InterceptedService::new(simulator, auth.clone());
     if let Some(sender) = in_process {

@@ -70,7 +70,7 @@ impl TestServer {
     }
 
     /// Asks the server to shut down and waits for `serve` to return.
-    pub async fn stop(self) -> gymfleet_server::Result<()> {
+    pub async fn stop(self) -> Result<(), gymfleet_server::StartupError> {
         self.server.stop().await
     }
 }

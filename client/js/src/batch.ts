@@ -157,12 +157,13 @@ export async function batchStep(
   if (rows.length !== nEnvs) {
     throw invalid(
       `${shape} (one array per env, action_dim values each); got ${plural(rows.length, "array")}`,
+      "INVALID_ACTION",
     );
   }
   const flat: number[] = [];
   for (let env = 0; env < nEnvs; env++) {
     if (rows[env]!.length !== actionDim) {
-      throw invalid(`${shape}; array ${env} has ${rows[env]!.length}`);
+      throw invalid(`${shape}; array ${env} has ${rows[env]!.length}`, "INVALID_ACTION");
     }
   }
   for (let env = 0; env < nEnvs; env++) {

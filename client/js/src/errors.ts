@@ -18,10 +18,25 @@ export { Code };
 export class GymfleetError extends Error {
   /** The gRPC status code. */
   readonly code: Code;
+  /** Why, for programs: the server's `ErrorReason` as it travels (the proto's name
+   * without `ERROR_REASON_`, e.g. `"ENV_NOT_FOUND"`), from the status's
+   * `gymfleet-reason` metadata; `"INVALID_ACTION"` for this client's own action checks;
+   * `undefined` for what the client found itself (a connection, a deadline) or a server
+   * that sent none. */
+  readonly reason: string | undefined;
+  /** The server flag that raises the limit a {@link ResourceExhausted} was for (the
+   * status's `gymfleet-limit` metadata), e.g. `"--max-envs"`. */
+  readonly limit: string | undefined;
 
-  constructor(message: string, code: Code, options?: { cause?: unknown }) {
+  constructor(
+    message: string,
+    code: Code,
+    options?: { cause?: unknown; reason?: string | undefined; limit?: string | undefined },
+  ) {
     super(message, options);
     this.code = code;
+    this.reason = options?.reason;
+    this.limit = options?.limit;
     this.name = new.target.name;
   }
 }
@@ -129,10 +144,20 @@ export function toGymfleetError(reason: unknown, address?: string): GymfleetErro
   const code = failed ? Code.Unavailable : err.code;
   const Class = classOf(code);
   const message = failed && address !== undefined ? cannotConnect(address, err.rawMessage) : err.rawMessage;
-  return new Class(message, code, { cause: reason });
+  return new Class(message, code, {
+    cause: reason,
+    reason: err.metadata.get(REASON_KEY) ?? undefined,
+    limit: err.metadata.get(LIMIT_KEY) ?? undefined,
+  });
 }
 
-/** An {@link InvalidArgument} found by this client before any call. */
-export function invalid(message: string): InvalidArgument {
-  return new InvalidArgument(message, Code.InvalidArgument);
+/** The status metadata entries that carry an error's reason and a refusing limit's flag
+ * (the proto's `ErrorReason`). */
+export const REASON_KEY = "gymfleet-reason";
+export const LIMIT_KEY = "gymfleet-limit";
+
+/** An {@link InvalidArgument} found by this client before any call; `reason` when it
+ * stands in for the server's check of the same kind (an action's). */
+export function invalid(message: string, reason?: string): InvalidArgument {
+  return new InvalidArgument(message, Code.InvalidArgument, { reason });
 }

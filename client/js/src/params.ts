@@ -206,7 +206,7 @@ export function pushActionValues(out: number[], values: ArrayLike<unknown>, path
   for (let i = 0; i < values.length; i++) {
     const why = notFinite(values[i]);
     if (why !== undefined) {
-      throw invalid(`${path}[${i}] ${why}; every action value must be a finite number`);
+      throw invalid(`${path}[${i}] ${why}; every action value must be a finite number`, "INVALID_ACTION");
     }
     out.push(values[i] as number);
   }

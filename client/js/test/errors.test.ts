@@ -130,6 +130,47 @@ test("server errors: INVALID_ARGUMENT with the JSON path, NOT_FOUND, RESOURCE_EX
   );
 });
 
+/** Asserts that `call` fails with the server's `reason` (and a limit's `limit`). */
+async function because(call: () => unknown, reason: string, limit?: string) {
+  await assert.rejects(
+    async () => call(),
+    (err: unknown) => {
+      assert.ok(err instanceof GymfleetError, String(err));
+      assert.deepEqual([err.reason, err.limit], [reason, limit], err.message);
+      return true;
+    },
+  );
+}
+
+test("every server error carries its reason: the status's gymfleet-reason metadata", async () => {
+  const bad = { parts: [], assembly: { instances: [{ part: "X", name: "x" }] } };
+  await because(() => createRobotEnv({ document: bad }, client), "INVALID_DOCUMENT");
+  await because(() => createRobotEnv({ model: "no_such_model" }, client), "MODEL_NOT_FOUND");
+  await because(
+    () => createRobotEnv({ document: model("pendulum"), end_effector_ids: ["nowhere"] }, client),
+    "UNKNOWN_NAME",
+  );
+  const env = await createRobotEnv({ document: model("pendulum") }, client);
+  await because(() => gymStep({ ...env, action_type: "torque", values: [1, 2] }, client), "INVALID_ACTION");
+  await because(() => gymReset({ env_id: "sim_999" }, client), "ENV_NOT_FOUND");
+  await because(() => batchClose({ batch_id: "batch_999" }, client), "BATCH_NOT_FOUND");
+  await because(() => client.simulator.getRandomization({ envId: env.env_id }), "NOT_RANDOMIZED");
+  await because(
+    () => client.simulator.loadState({ envId: env.env_id, state: new Uint8Array([1, 2, 3]) }),
+    "INVALID_STATE",
+  );
+  await because(
+    () => batchCreateEnvs({ document: model("pendulum"), n_envs: 9 }, client),
+    "LIMIT_EXCEEDED",
+    "--max-batch-size",
+  );
+  // This client's own action checks stand in for the server's.
+  await because(() => gymStep({ ...env, action_type: "torque", values: [NaN] }, client), "INVALID_ACTION");
+  // What the client found itself has none.
+  const wire = toGymfleetError(new ConnectError("no reason sent", Code.Internal));
+  assert.equal(wire.reason, undefined);
+});
+
 test("transport errors: an unreachable server is UNAVAILABLE, a late reply DEADLINE_EXCEEDED", async () => {
   const closed = await startServer();
   await closed.stop();

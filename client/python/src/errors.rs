@@ -53,7 +53,9 @@ fn text(err: &ClientError) -> String {
 }
 
 /// `err` as an instance of its `gymfleet.errors` class, with `server` (the server it
-/// names, or `None`) and, for `ServerLost`, `envs` (the lost `(start, stop)` ranges).
+/// names, or `None`), `reason` (the server's `ErrorReason` as it travels, e.g.
+/// `"ENV_NOT_FOUND"`, or `None`), `limit` (the flag that raises a refusing limit, or
+/// `None`) and, for `ServerLost`, `envs` (the lost `(start, stop)` ranges).
 pub(crate) fn to_py_err(err: ClientError) -> PyErr {
     Python::attach(|py| match build(py, &err) {
         Ok(exception) => exception,
@@ -67,6 +69,8 @@ fn build(py: Python<'_>, err: &ClientError) -> PyResult<PyErr> {
     let class = module.getattr(class_name(err))?;
     let exception = class.call1((text(err),))?;
     exception.setattr("server", err.server())?;
+    exception.setattr("reason", err.reason().map(|r| r.wire_name()))?;
+    exception.setattr("limit", err.limit())?;
     if let ClientError::ServerLost { envs, .. } = err {
         let ranges: Vec<(usize, usize)> = envs.iter().map(|r| (r.start, r.end)).collect();
         exception.setattr("envs", PyList::new(py, ranges)?)?;
@@ -76,9 +80,16 @@ fn build(py: Python<'_>, err: &ClientError) -> PyResult<PyErr> {
 
 /// Raises the exception a server status `code` (gRPC's number) with `message` becomes,
 /// through the same mapping as every call: for the tests of statuses no server here can
-/// be made to answer (e.g. `UNAUTHENTICATED` before auth exists, `INTERNAL`).
+/// be made to answer (e.g. `UNAUTHENTICATED` before auth exists, `INTERNAL`), with the
+/// reason metadata entry `reason` when given.
 #[pyfunction]
-pub(crate) fn _raise_status(code: i32, message: String) -> PyResult<()> {
-    let status = tonic::Status::new(tonic::Code::from(code), message);
+#[pyo3(signature = (code, message, reason=None))]
+pub(crate) fn _raise_status(code: i32, message: String, reason: Option<String>) -> PyResult<()> {
+    let mut status = tonic::Status::new(tonic::Code::from(code), message);
+    if let Some(value) = reason.and_then(|r| r.parse().ok()) {
+        status
+            .metadata_mut()
+            .insert(gymfleet_client::REASON_KEY, value);
+    }
     Err(to_py_err(ClientError::from(status)))
 }

@@ -107,7 +107,10 @@ impl TaskFields {
 
 /// An `INVALID_ARGUMENT` raised before anything is sent.
 pub(crate) fn invalid(message: String) -> PyErr {
-    to_py_err(ClientError::InvalidArgument { message })
+    to_py_err(ClientError::InvalidArgument {
+        message,
+        reason: gymfleet_client::ErrorReason::InvalidField,
+    })
 }
 
 /// `value` as a `u32` count, or an error naming `field`.

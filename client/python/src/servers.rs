@@ -140,7 +140,7 @@ fn embedded_client(py: Python<'_>) -> PyResult<Client> {
     Ok(CLIENT.get_or_init(|| client).clone())
 }
 
-fn start_error(e: gymfleet_server::ServerError) -> PyErr {
+fn start_error(e: gymfleet_server::StartupError) -> PyErr {
     PyRuntimeError::new_err(format!("cannot start the embedded gymfleet server: {e}"))
 }
 

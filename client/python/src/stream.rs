@@ -64,6 +64,7 @@ impl StepStream {
                 Some(step) => step,
                 None => Err(ClientError::FailedPrecondition {
                     message: "next: no step is pending on the stream".into(),
+                    reason: gymfleet_client::ErrorReason::Unspecified,
                 }),
             }
         })?;

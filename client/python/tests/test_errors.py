@@ -52,6 +52,7 @@ def test_a_closed_env_is_not_found(arm2):
     with pytest.raises(gymfleet.NotFound) as caught:
         env.step([0.0, 0.0])
     assert env_id in str(caught.value)
+    assert caught.value.reason == "ENV_NOT_FOUND"
     assert isinstance(caught.value, KeyError)
     assert str(caught.value) == caught.value.args[0], "no KeyError quoting"
 
@@ -61,6 +62,7 @@ def test_past_a_server_limit_is_resource_exhausted(arm2):
         with pytest.raises(gymfleet.ResourceExhausted, match="8") as caught:
             gymfleet.make_vec(arm2, 9, server=server.address)
         assert "batch" in str(caught.value)
+        assert (caught.value.reason, caught.value.limit) == ("LIMIT_EXCEEDED", "--max-batch-size")
         assert gymfleet.server_info(server.address)["batches"] == 0, "nothing half-created"
 
 
@@ -69,8 +71,9 @@ def test_stepping_a_diverged_env_is_failed_precondition(pendulum):
     env.reset()
     _, _, terminated, _, info = env.step([1e12])
     assert terminated and info["termination_reason"] == "physics_diverged"
-    with pytest.raises(gymfleet.FailedPrecondition, match="reset"):
+    with pytest.raises(gymfleet.FailedPrecondition, match="reset") as caught:
         env.step([0.0])
+    assert caught.value.reason == "NEEDS_RESET"
     env.reset()
     env.step([0.0])
 
@@ -136,8 +139,9 @@ def test_a_server_that_requires_a_token_gets_it_from_gymfleet_token(arm2, tmp_pa
         assert first.address != server.address
         # Without GYMFLEET_TOKEN: refused.
         monkeypatch.delenv("GYMFLEET_TOKEN", raising=False)
-        with pytest.raises(gymfleet.Unauthenticated, match="this server requires a token"):
+        with pytest.raises(gymfleet.Unauthenticated, match="this server requires a token") as caught:
             gymfleet.make(arm2, server=first.address)
+        assert caught.value.reason == "UNAUTHENTICATED"
         monkeypatch.setenv("GYMFLEET_TOKEN", "py-token-0123456789abcdef")
         env = gymfleet.make(arm2, server=server.address)
         env.reset(seed=0)
@@ -149,6 +153,36 @@ def test_a_server_that_requires_a_token_gets_it_from_gymfleet_token(arm2, tmp_pa
         bad = tmp_path / "bad"
         bad.write_text("lonely\n")
         gymfleet.Server(auth_tokens=str(bad))
+
+
+def test_every_reason_reaches_python_and_what_no_server_said_has_none(arm2, pendulum):
+    with pytest.raises(gymfleet.InvalidArgument) as caught:
+        gymfleet.make({"parts": [], "assembly": {"instances": [{"part": "X", "name": "x"}]}})
+    assert caught.value.reason == "INVALID_DOCUMENT"
+    with pytest.raises(gymfleet.InvalidArgument) as caught:
+        gymfleet.make(arm2, end_effector_ids=["nowhere"])
+    assert caught.value.reason == "UNKNOWN_NAME"
+    env = gymfleet.make(pendulum)
+    env.reset()
+    with pytest.raises(gymfleet.InvalidArgument) as caught:
+        env.load_state(b"\x01\x02\x03")
+    assert caught.value.reason == "INVALID_STATE"
+    env.close()
+    # A check the package makes before calling stands in for the server's, with its reason.
+    with pytest.raises(gymfleet.InvalidArgument) as caught:
+        gymfleet.make_vec(arm2, 0)
+    assert caught.value.reason == "INVALID_FIELD"
+    # What the package finds itself (no server there) has none.
+    with pytest.raises(gymfleet.Unavailable) as caught:
+        gymfleet.server_info("127.0.0.1:1")
+    assert caught.value.reason is None
+    # Every name the proto defines arrives as sent; one this build does not know is None.
+    for name in ["INVALID_DOCUMENT", "INVALID_ACTION", "INVALID_STATE", "UNKNOWN_NAME", "INVALID_FIELD",
+                 "ENV_NOT_FOUND", "BATCH_NOT_FOUND", "MODEL_NOT_FOUND", "NEEDS_RESET", "NOT_RANDOMIZED",
+                 "LIMIT_EXCEEDED", "UNAUTHENTICATED", "INTERNAL", "SHUTTING_DOWN", "FROM_THE_FUTURE"]:
+        with pytest.raises(gymfleet.GymfleetError) as caught:
+            _core._raise_status(13, "words", name)
+        assert caught.value.reason == (None if name == "FROM_THE_FUTURE" else name)
 
 
 def test_a_document_read_from_a_file_names_the_file_in_its_errors(tmp_path):

@@ -82,6 +82,7 @@ impl FleetBatch {
             if let Err(probe) = shard.batch.client().server_info().await {
                 if is_loss(&probe) {
                     *result = Err(ClientError::Unavailable {
+                        reason: crate::ErrorReason::Unspecified,
                         message: format!("{first}; then {probe}"),
                         code: tonic::Code::Unavailable,
                     });
@@ -140,11 +141,17 @@ impl FleetBatch {
 /// no longer knows the batch (it restarted, or reclaimed it), or did not answer in time
 /// (the shard's state is then unknown).
 fn is_loss(err: &ClientError) -> bool {
+    use crate::ErrorReason;
     matches!(
         err,
         ClientError::Unavailable { .. }
             | ClientError::DeadlineExceeded { .. }
-            | ClientError::NotFound { .. }
+            // The server no longer knows the shard's batch (a server that sends no
+            // reason: any NOT_FOUND of a shard's call is about its batch).
+            | ClientError::NotFound {
+                reason: ErrorReason::BatchNotFound | ErrorReason::Unspecified,
+                ..
+            }
             | ClientError::Connect { .. }
     )
 }
@@ -155,18 +162,29 @@ mod tests {
 
     #[test]
     fn only_lost_servers_and_unknown_batches_count_as_losses() {
+        use crate::ErrorReason;
         let message = String::from("x");
         assert!(is_loss(&ClientError::Unavailable {
             message: message.clone(),
             code: tonic::Code::Unavailable,
+            reason: ErrorReason::Unspecified,
         }));
         assert!(is_loss(&ClientError::NotFound {
-            message: message.clone()
+            message: message.clone(),
+            reason: ErrorReason::BatchNotFound,
+        }));
+        assert!(!is_loss(&ClientError::NotFound {
+            message: message.clone(),
+            reason: ErrorReason::ModelNotFound,
         }));
         assert!(!is_loss(&ClientError::Internal {
             message: message.clone(),
             code: tonic::Code::Internal,
+            reason: ErrorReason::Internal,
         }));
-        assert!(!is_loss(&ClientError::InvalidArgument { message }));
+        assert!(!is_loss(&ClientError::InvalidArgument {
+            message,
+            reason: ErrorReason::InvalidAction,
+        }));
     }
 }

@@ -103,6 +103,7 @@ impl FleetBatch {
             return Ok(());
         }
         Err(ClientError::InvalidArgument {
+            reason: crate::ErrorReason::InvalidAction,
             message: format!(
                 "mocap_poses: expected {expected} values ({} envs × {} mocap bodies × 7: x, y, z, qw, qx, qy, qz), or none to keep the targets, got {}",
                 self.info.n_envs,
@@ -122,6 +123,7 @@ impl FleetBatch {
             let plural =
                 |n: usize, one: &str, many: &str| if n == 1 { one } else { many }.to_string();
             return Err(ClientError::InvalidArgument {
+                reason: crate::ErrorReason::InvalidAction,
                 message: format!(
                     "actions: expected {expected} {} ({n_envs} {} × {dim} DOF), got {}",
                     plural(expected, "value", "values"),
@@ -132,6 +134,7 @@ impl FleetBatch {
         }
         match actions.iter().position(|a| !a.is_finite()) {
             Some(k) => Err(ClientError::InvalidArgument {
+                reason: crate::ErrorReason::InvalidAction,
                 message: format!(
                     "actions[{k}] (env {}, value {}): expected a finite number, got {}",
                     self.env_indices[k / dim.max(1)],

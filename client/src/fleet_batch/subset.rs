@@ -61,6 +61,7 @@ impl FleetBatch {
     fn check_subset(&self, env_indices: &[u32], actions: &[f32]) -> Result<()> {
         if env_indices.is_empty() {
             return Err(ClientError::InvalidArgument {
+                reason: crate::ErrorReason::InvalidField,
                 message: "env_indices[0]: expected at least one env to step".into(),
             });
         }
@@ -70,6 +71,7 @@ impl FleetBatch {
         let plural = |n: usize, one: &str, many: &str| if n == 1 { one } else { many }.to_string();
         if actions.len() != expected {
             return Err(ClientError::InvalidArgument {
+                reason: crate::ErrorReason::InvalidAction,
                 message: format!(
                     "actions: expected {expected} {} ({} {} × {dim} DOF), got {}",
                     plural(expected, "value", "values"),
@@ -81,6 +83,7 @@ impl FleetBatch {
         }
         match actions.iter().position(|a| !a.is_finite()) {
             Some(k) => Err(ClientError::InvalidArgument {
+                reason: crate::ErrorReason::InvalidAction,
                 message: format!(
                     "actions[{k}] (env {}, value {}): expected a finite number, got {}",
                     self.env_indices[env_indices[k / dim.max(1)] as usize],

@@ -2,7 +2,7 @@
 //! error an agent can act on: which server, which of the adapter's ids (never the
 //! server's own id, which the agent never saw), and what to do next.
 
-use gymfleet_client::ClientError;
+use gymfleet_client::{ClientError, ErrorReason};
 use rmcp::model::{ContentBlock, IntoContents};
 
 /// Everything that can go wrong in the adapter. A tool returns it as a tool error
@@ -169,7 +169,9 @@ pub(crate) fn unreachable(err: &ClientError, addr: &str) -> Option<String> {
     }
 }
 
-/// A failed call on `subject`.
+/// A failed call on `subject`: the reason decides what the agent is told (an id the
+/// server no longer has gets the adapter's words and what to do); the message is the
+/// server's, with the adapter's ids.
 pub(crate) fn on_subject(err: &ClientError, subject: Subject<'_>) -> McpError {
     let Subject {
         kind,
@@ -181,13 +183,14 @@ pub(crate) fn on_subject(err: &ClientError, subject: Subject<'_>) -> McpError {
     let message = if let Some(text) = unreachable(err, addr) {
         format!("{text} {field} \"{id}\" lives on that server. {SERVER_DOWN_HINT}")
     } else {
-        match err {
-            ClientError::NotFound { .. } => format!(
+        match err.reason() {
+            Some(ErrorReason::EnvNotFound | ErrorReason::BatchNotFound) => format!(
                 "unknown {field} \"{id}\": the server no longer has it (it was closed, or \
                  reclaimed after idling). Create a new one with {}.",
                 kind.creator()
             ),
-            other => rename_id(&other.to_string(), server_id, id),
+            // The message is for people: the server's ids in it become the adapter's.
+            _ => rename_id(&err.to_string(), server_id, id),
         }
     };
     McpError::Server { message }
@@ -240,6 +243,7 @@ mod tests {
         assert_eq!(rename_id("sim_1", "sim_1", "sim_7"), "sim_7");
         let err = ClientError::FailedPrecondition {
             message: "env \"sim_1\" diverged: reset it".into(),
+            reason: ErrorReason::NeedsReset,
         };
         assert_eq!(
             on_subject(&err, subject()).to_string(),
@@ -251,6 +255,7 @@ mod tests {
     fn not_found_names_the_adapter_id() {
         let err = ClientError::NotFound {
             message: "env \"sim_1\" not found".into(),
+            reason: ErrorReason::EnvNotFound,
         };
         let text = on_subject(&err, subject()).to_string();
         assert!(text.starts_with("unknown env_id \"sim_2\": "), "{text}");
@@ -262,6 +267,7 @@ mod tests {
         let err = ClientError::Unavailable {
             message: "connection reset".into(),
             code: gymfleet_client::Code::Unavailable,
+            reason: ErrorReason::Unspecified,
         };
         let text = on_subject(&err, subject()).to_string();
         assert!(

@@ -8,7 +8,9 @@ use std::future::Future;
 use std::sync::{Mutex, MutexGuard};
 use std::time::Duration;
 
-use gymfleet_client::{Batch, BatchOptions, Client, ClientBuilder, ClientError, Env, EnvOptions};
+use gymfleet_client::{
+    Batch, BatchOptions, Client, ClientBuilder, ClientError, Env, EnvOptions, ErrorReason,
+};
 use tokio::sync::OnceCell;
 use tokio::task::JoinSet;
 
@@ -283,7 +285,7 @@ impl Fleet {
 
     /// The message for a failed call on env `placed`; forgets it if the server lost it.
     pub(crate) fn env_failed(&self, placed: &Placed<Env>, err: &ClientError) -> McpError {
-        if matches!(err, ClientError::NotFound { .. }) {
+        if err.reason() == Some(ErrorReason::EnvNotFound) {
             self.forget_env(&placed.id);
         }
         errors::on_subject(
@@ -299,7 +301,7 @@ impl Fleet {
 
     /// The message for a failed call on batch `placed`; forgets it if the server lost it.
     pub(crate) fn batch_failed(&self, placed: &Placed<Batch>, err: &ClientError) -> McpError {
-        if matches!(err, ClientError::NotFound { .. }) {
+        if err.reason() == Some(ErrorReason::BatchNotFound) {
             self.forget_batch(&placed.id);
         }
         errors::on_subject(

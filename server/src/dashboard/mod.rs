@@ -42,7 +42,9 @@ use tokio::net::TcpListener;
 use tokio::sync::watch;
 
 use crate::config::ServerConfig;
-use crate::error::{Result, ServerError};
+use crate::error::StartupError;
+
+type Result<T, E = StartupError> = std::result::Result<T, E>;
 use crate::simulation::Simulation;
 
 /// How long a dashboard waits, at shutdown, for its requests in flight.
@@ -54,7 +56,7 @@ pub(crate) fn check_listen(addr: SocketAddr, auth: bool) -> Result<()> {
     if auth || addr.ip().is_loopback() {
         return Ok(());
     }
-    Err(ServerError::Bind {
+    Err(StartupError::Bind {
         addr: addr.to_string(),
         reason: "a dashboard on an address other than loopback needs --auth-tokens \
                  (GYMFLEET_AUTH_TOKENS): without tokens, anyone who reaches the port sees \
@@ -71,7 +73,7 @@ pub(crate) async fn bind(config: &ServerConfig) -> Result<Option<TcpListener>> {
     check_listen(addr, config.auth_tokens.is_some())?;
     let listener = TcpListener::bind(addr)
         .await
-        .map_err(|e| ServerError::Bind {
+        .map_err(|e| StartupError::Bind {
             addr: addr.to_string(),
             reason: e.to_string(),
         })?;

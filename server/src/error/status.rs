@@ -3,9 +3,11 @@
 
 use gymfleet_batch::BatchError;
 use gymfleet_env::EnvError;
+use gymfleet_proto::v1::ErrorReason;
+use tonic::metadata::MetadataValue;
 use tonic::{Code, Status};
 
-use super::{ServerError, MAX_STATUS_MESSAGE_BYTES};
+use super::{EntityKind, ServerError, MAX_STATUS_MESSAGE_BYTES};
 use crate::limit::Limit;
 
 /// `message` cut to [`MAX_STATUS_MESSAGE_BYTES`] on a character boundary, saying so.
@@ -67,7 +69,49 @@ impl From<ServerError> for Status {
             ),
             _ => err.to_string(),
         };
-        Status::new(err.code(), bounded(message))
+        let mut status = Status::new(err.code(), bounded(message));
+        with_reason(&mut status, err.reason(), err.limit());
+        status
+    }
+}
+
+/// Puts `reason` (and the limit's flag, for a limit's refusal) into `status`'s metadata
+/// ([`gymfleet_proto::REASON_KEY`], [`gymfleet_proto::LIMIT_KEY`]).
+pub(crate) fn with_reason(status: &mut Status, reason: ErrorReason, limit: Option<Limit>) {
+    let metadata = status.metadata_mut();
+    metadata.insert(
+        gymfleet_proto::REASON_KEY,
+        MetadataValue::from_static(reason.wire_name()),
+    );
+    if let Some(limit) = limit {
+        if let Ok(flag) = MetadataValue::try_from(format!("--{}", limit.flag())) {
+            metadata.insert(gymfleet_proto::LIMIT_KEY, flag);
+        }
+    }
+}
+
+/// The reason of an environment error.
+fn env_reason(err: &EnvError) -> ErrorReason {
+    match err {
+        EnvError::Document(_)
+        | EnvError::Physics(_)
+        | EnvError::BadConfig { .. }
+        | EnvError::BadTask { .. } => ErrorReason::InvalidDocument,
+        EnvError::ActionLength { .. }
+        | EnvError::NonFiniteAction { .. }
+        | EnvError::UnknownActionType { .. }
+        | EnvError::MocapPosesLength { .. }
+        | EnvError::BadMocapPose { .. } => ErrorReason::InvalidAction,
+        EnvError::StateFormat { .. }
+        | EnvError::BadState { .. }
+        | EnvError::BadJointState { .. } => ErrorReason::InvalidState,
+        EnvError::UnknownEndEffector { .. }
+        | EnvError::UnknownMocapBody { .. }
+        | EnvError::UnknownHeightfield { .. }
+        | EnvError::UnknownKeyframe { .. } => ErrorReason::UnknownName,
+        EnvError::BadHeights { .. } => ErrorReason::InvalidField,
+        EnvError::NeedsReset => ErrorReason::NeedsReset,
+        EnvError::ContactWork(_) => ErrorReason::LimitExceeded,
     }
 }
 
@@ -92,6 +136,48 @@ impl ServerError {
             ServerError::TooComplex { limit, .. } => *limit,
             _ => return None,
         })
+    }
+
+    /// Why, for machines: the [`ErrorReason`] this error goes out with.
+    pub fn reason(&self) -> ErrorReason {
+        match self {
+            ServerError::InvalidArgument { .. }
+            | ServerError::EnvIndex { .. }
+            | ServerError::Render(_) => ErrorReason::InvalidField,
+            ServerError::Import(_) => ErrorReason::InvalidDocument,
+            ServerError::Env(env) => env_reason(env),
+            ServerError::Batch(batch) => match batch {
+                BatchError::NoEnvs | BatchError::EnvIndices { .. } => ErrorReason::InvalidField,
+                BatchError::ActionLength { .. }
+                | BatchError::NonFiniteAction { .. }
+                | BatchError::MocapPosesLength { .. } => ErrorReason::InvalidAction,
+                BatchError::StateCount { .. } => ErrorReason::InvalidState,
+                BatchError::TooManyEnvs { .. } => ErrorReason::LimitExceeded,
+                BatchError::Env { source, .. } | BatchError::Keyframe(source) => env_reason(source),
+                BatchError::PoolStart { .. } | BatchError::Panicked { .. } => ErrorReason::Internal,
+            },
+            ServerError::NotFound {
+                kind: EntityKind::Env,
+                ..
+            } => ErrorReason::EnvNotFound,
+            ServerError::NotFound {
+                kind: EntityKind::Batch,
+                ..
+            } => ErrorReason::BatchNotFound,
+            ServerError::UnknownModel { .. } => ErrorReason::ModelNotFound,
+            ServerError::NotRandomized { .. } => ErrorReason::NotRandomized,
+            ServerError::TooManyEnvs { .. }
+            | ServerError::TenantQuota { .. }
+            | ServerError::TooComplex { .. }
+            | ServerError::TooMuchWork { .. }
+            | ServerError::ContactsAtStart { .. }
+            | ServerError::ReplyTooLarge { .. }
+            | ServerError::StatesTooLarge { .. }
+            | ServerError::BatchTooLarge { .. }
+            | ServerError::DocumentTooLarge { .. } => ErrorReason::LimitExceeded,
+            ServerError::Panicked { .. } | ServerError::JobLost { .. } => ErrorReason::Internal,
+            ServerError::ShuttingDown => ErrorReason::ShuttingDown,
+        }
     }
 
     /// The status code this error goes out with.
@@ -124,14 +210,7 @@ impl ServerError {
             | ServerError::StatesTooLarge { .. }
             | ServerError::BatchTooLarge { .. }
             | ServerError::DocumentTooLarge { .. } => Code::ResourceExhausted,
-            ServerError::Panicked { .. }
-            | ServerError::JobLost { .. }
-            | ServerError::Reflection(_)
-            | ServerError::Tls(_)
-            | ServerError::Bind { .. }
-            | ServerError::ModelLibrary { .. }
-            | ServerError::Io(_)
-            | ServerError::Transport(_) => Code::Internal,
+            ServerError::Panicked { .. } | ServerError::JobLost { .. } => Code::Internal,
             ServerError::ShuttingDown => Code::Unavailable,
         }
     }

@@ -169,7 +169,7 @@ async fn bad_tasks_are_invalid_argument_with_their_paths() {
             .await
             .expect_err("refused");
         match err {
-            ClientError::InvalidArgument { message: got } => assert_eq!(got, message),
+            ClientError::InvalidArgument { message: got, .. } => assert_eq!(got, message),
             other => panic!("{other:?}"),
         }
     }

@@ -113,7 +113,7 @@ def located(err: InvalidArgument, document: Optional[Document]) -> InvalidArgume
     if path is not None:
         message = f"{path}: {message}"
     located_err = type(err)(message)
-    located_err.server = err.server
+    located_err.server, located_err.reason, located_err.limit = err.server, err.reason, err.limit
     return located_err
 
 

@@ -156,6 +156,14 @@ class BatchHandle:
         """:meth:`step` of the envs ``env_indices`` only (ascending, distinct), with one
         action row each in that order: one row per listed env; the finished envs and the
         termination reasons name batch indices."""
+    def checkpoint_every(self, steps: int) -> None:
+        """Checkpoints every env every ``steps`` steps (0: stops), starting now."""
+    def recover(
+        self, server: Optional[str] = None, token: Optional[str] = None
+    ) -> Optional[Tuple[List[int], Tuple[Any, ...]]]:
+        """Rebuilds a lost server's envs from the checkpoint (on ``server``, or the
+        survivors); the step that found the loss, as ``step_envs`` returns it, with its
+        env indices (empty: every env), or ``None``."""
     def open_stream(self, window: int) -> Optional["StepStream"]:
         """A ``StreamBatch`` stream of this batch for the asynchronous API (up to
         ``window`` sends in flight); ``None`` when the batch is sharded over a fleet."""
@@ -247,7 +255,7 @@ def stateful_set(
 def seed_model(name: str) -> str:
     """The JSON of seed model ``pendulum``, ``arm2``, ``arm6`` or ``chain20``."""
 
-def _raise_status(code: int, message: str) -> None:
+def _raise_status(code: int, message: str, reason: Optional[str] = None) -> None:
     """Raises the exception gRPC status ``code`` with ``message`` becomes (for tests)."""
 
 

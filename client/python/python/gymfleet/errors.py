@@ -3,7 +3,12 @@
 
 Every exception's text is the server's message, which names the offending field (with its
 JSON path for documents), id or limit. ``server`` is the address of the server the
-error names, or ``None``.
+error names, or ``None``. ``reason`` says why for programs: the server's ``ErrorReason``
+as it travels (the proto's name without ``ERROR_REASON_``, e.g. ``"ENV_NOT_FOUND"``,
+``"INVALID_ACTION"``, ``"LIMIT_EXCEEDED"``), or ``None`` for what the package found itself
+(a connection, a deadline, an argument it checks before calling). ``limit`` is the server
+flag that raises the limit a :class:`ResourceExhausted` was for (``"--max-envs"``), or
+``None``.
 """
 
 from __future__ import annotations
@@ -28,6 +33,8 @@ class GymfleetError(Exception):
     """Base class of every error gymfleet raises for a failed call."""
 
     server: Optional[str] = None
+    reason: Optional[str] = None
+    limit: Optional[str] = None
 
     def __str__(self) -> str:
         return str(self.args[0]) if self.args else ""
