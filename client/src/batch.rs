@@ -15,7 +15,11 @@ impl Client {
     /// Creates a batch of identical environments.
     pub async fn create_batch(&self, options: BatchOptions) -> Result<Batch> {
         let request = options.into_request();
-        self.check_request_size(&request, request.document_json.len(), request.assets.len())?;
+        let (document, assets) = request
+            .options
+            .as_ref()
+            .map_or((0, 0), |o| (o.document_json.len(), o.assets.len()));
+        self.check_request_size(&request, document, assets)?;
         let info = self.rpc().create_batch(request).await?;
         let info = BatchInfo::try_from(info.into_inner())?;
         Ok(Batch::new(self.clone(), info))
@@ -489,7 +493,10 @@ mod tests {
         BatchInfo {
             batch_id: "batch_1".into(),
             n_envs,
-            observation_dim,
+            env: crate::EnvInfo {
+                observation_dim,
+                ..Default::default()
+            },
             ..BatchInfo::default()
         }
     }

@@ -11,7 +11,11 @@ impl Client {
     /// Creates one environment.
     pub async fn create_env(&self, options: EnvOptions) -> Result<Env> {
         let request = options.into_request();
-        self.check_request_size(&request, request.document_json.len(), request.assets.len())?;
+        let (document, assets) = request
+            .options
+            .as_ref()
+            .map_or((0, 0), |o| (o.document_json.len(), o.assets.len()));
+        self.check_request_size(&request, document, assets)?;
         let info = self.rpc().create_env(request).await?;
         Ok(Env::new(self.clone(), info.into_inner().into()))
     }

@@ -161,8 +161,9 @@ impl EnvOptions {
         &self.end_effector_ids
     }
 
-    pub(crate) fn into_request(self) -> pb::CreateEnvRequest {
-        pb::CreateEnvRequest {
+    /// The options as they travel, in both create requests.
+    pub(crate) fn into_options(self) -> pb::EnvOptions {
+        pb::EnvOptions {
             document_json: self.document_json,
             end_effector_ids: self.end_effector_ids,
             // 0 asks for the server's default.
@@ -179,6 +180,13 @@ impl EnvOptions {
             assets: self.assets,
             document_path: self.document_path,
             units: pb::Units::from(self.units) as i32,
+        }
+    }
+
+    pub(crate) fn into_request(self) -> pb::CreateEnvRequest {
+        pb::CreateEnvRequest {
+            options: Some(self.into_options()),
+            ..Default::default()
         }
     }
 }
@@ -326,27 +334,13 @@ impl BatchOptions {
     }
 
     pub(crate) fn into_request(self) -> pb::CreateBatchRequest {
-        let env = self.env.into_request();
         pb::CreateBatchRequest {
-            document_json: env.document_json,
-            end_effector_ids: env.end_effector_ids,
-            dt: env.dt,
-            substeps: env.substeps,
-            max_steps: env.max_steps,
-            seed: env.seed,
-            pd_gains: env.pd_gains,
-            reset_noise: env.reset_noise,
-            task: env.task,
-            randomize: env.randomize,
-            format: env.format,
-            model: env.model,
-            assets: env.assets,
-            document_path: env.document_path,
-            units: env.units,
+            options: Some(self.env.into_options()),
             // Over u32::MAX envs: saturate, and let the server's limit refuse it.
             n_envs: u32::try_from(self.n_envs).unwrap_or(u32::MAX),
             autoreset: pb::Autoreset::from(self.autoreset) as i32,
             seed_offset: self.seed_offset,
+            ..Default::default()
         }
     }
 }

@@ -439,19 +439,6 @@ impl EnvInfo {
     }
 }
 
-impl BatchInfo {
-    /// Every DOF's count, passive joints' included (positions per observation row).
-    pub fn num_dofs(&self) -> usize {
-        observed_dofs(&self.observation_layout, self.action_dim)
-    }
-
-    /// Whether each env's first instance is a floating base (13 floats of each row after
-    /// the joint velocities).
-    pub fn floating_base(&self) -> bool {
-        floats(&self.observation_layout)
-    }
-}
-
 fn layout(segments: Vec<pb::ObservationSegment>) -> Vec<(String, usize)> {
     segments
         .into_iter()
@@ -491,78 +478,71 @@ impl From<pb::EnvInfo> for EnvInfo {
 /// Describes a created batch; every env of it has this shape.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct BatchInfo {
-    /// `"batch_<n>"`.
+    /// The batch id, `"batch_<n>"`.
     pub batch_id: String,
     /// Number of environments.
     pub n_envs: usize,
-    /// Values per env action.
-    pub action_dim: usize,
-    /// Values per env observation.
-    pub observation_dim: usize,
-    /// Non-fixed joints per env.
-    pub num_joints: usize,
-    /// Observed end effectors, in order.
-    pub end_effector_ids: Vec<String>,
-    /// Seconds per step.
-    pub dt: f64,
-    /// Physics substeps per step.
-    pub substeps: u32,
-    /// Episode length in steps.
-    pub max_steps: u32,
     /// What happens to finished envs.
     pub autoreset: Autoreset,
-    /// The non-fixed joints, in document order.
-    pub joints: Vec<JointInfo>,
-    /// Each env's observation row, `(name, size)` segment by segment.
-    pub observation_layout: Vec<(String, usize)>,
-    /// The observation's units.
-    pub units: Units,
-    /// A terms task's term names, in the order of each row of the step's `terms`.
-    pub term_names: Vec<String>,
-    /// As [`EnvInfo::free_bodies`].
-    pub free_bodies: Vec<String>,
-    /// As [`EnvInfo::mocap_bodies`].
-    pub mocap_bodies: Vec<String>,
-    /// As [`EnvInfo::moving_mass`].
-    pub moving_mass: f64,
-    /// As [`EnvInfo::actuators`].
-    pub actuators: Vec<ActuatorInfo>,
-    /// As [`EnvInfo::keyframes`].
-    pub keyframes: Vec<String>,
-    /// The heightfields (terrain): name, rows, columns; what `set_heightfield` names.
-    pub heightfields: Vec<(String, usize, usize)>,
+    /// What every env of the batch is (its `env_id` empty); its fields read through
+    /// `BatchInfo` too (`info.observation_dim`).
+    pub env: EnvInfo,
+}
+
+impl std::ops::Deref for BatchInfo {
+    type Target = EnvInfo;
+
+    fn deref(&self) -> &EnvInfo {
+        &self.env
+    }
+}
+
+impl std::ops::DerefMut for BatchInfo {
+    fn deref_mut(&mut self) -> &mut EnvInfo {
+        &mut self.env
+    }
 }
 
 impl TryFrom<pb::BatchInfo> for BatchInfo {
     type Error = ClientError;
 
-    fn try_from(i: pb::BatchInfo) -> Result<Self> {
+    fn try_from(mut i: pb::BatchInfo) -> Result<Self> {
+        let env = match i.env.take() {
+            Some(env) => env,
+            // A server from before `BatchInfo.env`: the same description, flat.
+            None => flat_env_info(i.clone()),
+        };
         Ok(BatchInfo {
             autoreset: Autoreset::try_from(i.autoreset)?,
             batch_id: i.batch_id,
             n_envs: i.n_envs as usize,
-            action_dim: i.action_dim as usize,
-            observation_dim: i.observation_dim as usize,
-            num_joints: i.num_joints as usize,
-            end_effector_ids: i.end_effector_ids,
-            dt: i.dt,
-            substeps: i.substeps,
-            max_steps: i.max_steps,
-            joints: i.joints.into_iter().map(Into::into).collect(),
-            observation_layout: layout(i.observation_layout),
-            units: Units::from_wire(i.units),
-            term_names: i.term_names,
-            free_bodies: i.free_bodies,
-            mocap_bodies: i.mocap_bodies,
-            moving_mass: i.moving_mass,
-            actuators: i.actuators.into_iter().map(Into::into).collect(),
-            keyframes: i.keyframes,
-            heightfields: i
-                .heightfields
-                .into_iter()
-                .map(|h| (h.name, h.rows as usize, h.columns as usize))
-                .collect(),
+            env: env.into(),
         })
+    }
+}
+
+/// A `BatchInfo`'s deprecated flat fields as the `EnvInfo` they repeat.
+#[allow(deprecated)]
+fn flat_env_info(i: pb::BatchInfo) -> pb::EnvInfo {
+    pb::EnvInfo {
+        env_id: String::new(),
+        num_joints: i.num_joints,
+        action_dim: i.action_dim,
+        observation_dim: i.observation_dim,
+        end_effector_ids: i.end_effector_ids,
+        dt: i.dt,
+        substeps: i.substeps,
+        max_steps: i.max_steps,
+        joints: i.joints,
+        observation_layout: i.observation_layout,
+        units: i.units,
+        term_names: i.term_names,
+        free_bodies: i.free_bodies,
+        mocap_bodies: i.mocap_bodies,
+        moving_mass: i.moving_mass,
+        actuators: i.actuators,
+        keyframes: i.keyframes,
+        heightfields: i.heightfields,
     }
 }
 

@@ -8,6 +8,10 @@
 //! message stays under the server's bound, an env that was created steps and closes, and
 //! a batch step's reply has the batch's shape.
 
+// These requests are built in the flat form (`CreateEnvRequest.document_json`, …): the
+// proto deprecates it for `options`, and the server still reads it (`convert.rs`).
+#![allow(deprecated)]
+
 use std::sync::OnceLock;
 
 use gymfleet_proto::v1 as pb;

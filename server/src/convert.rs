@@ -83,55 +83,51 @@ pub(crate) fn document_format(raw: i32) -> Result<Option<gymfleet_import::Format
     }
 }
 
-/// The shared fields of `CreateEnvRequest` and `CreateBatchRequest`.
-#[allow(clippy::too_many_arguments)]
-/// The fields `CreateEnvRequest` and `CreateBatchRequest` share, as they come off the
-/// wire: one options type for both requests (`env_fields!` lists the fields once).
-struct EnvFields {
-    document: String,
-    format: i32,
-    model: String,
-    assets: Vec<u8>,
-    document_path: String,
-    end_effector_ids: Vec<String>,
-    dt: f64,
-    substeps: u32,
-    max_steps: u32,
-    seed: Option<u64>,
-    pd_gains: Option<pb::PdGains>,
-    reset_noise: Option<f64>,
-    task: Option<pb::Task>,
-    randomize: Option<pb::Randomization>,
-    units: i32,
-}
-
-/// The [`EnvFields`] of a `CreateEnvRequest` or `CreateBatchRequest` (the two messages
-/// have the same field names; the proto keeps them flat).
-macro_rules! env_fields {
-    ($r:ident) => {
-        EnvFields {
-            document: $r.document_json,
-            format: $r.format,
-            model: $r.model,
-            assets: $r.assets,
-            document_path: $r.document_path,
-            end_effector_ids: $r.end_effector_ids,
+/// The deprecated flat option fields of a `CreateEnvRequest` or `CreateBatchRequest` (the
+/// two name them alike) as the [`pb::EnvOptions`] they stand for. Read once per request,
+/// only to accept what older clients send.
+macro_rules! flat_options {
+    ($r:ident) => {{
+        #[allow(deprecated)]
+        let flat = pb::EnvOptions {
+            document_json: std::mem::take(&mut $r.document_json),
+            end_effector_ids: std::mem::take(&mut $r.end_effector_ids),
             dt: $r.dt,
             substeps: $r.substeps,
             max_steps: $r.max_steps,
             seed: $r.seed,
-            pd_gains: $r.pd_gains,
+            pd_gains: $r.pd_gains.take(),
             reset_noise: $r.reset_noise,
-            task: $r.task,
-            randomize: $r.randomize,
+            task: $r.task.take(),
+            randomize: $r.randomize.take(),
+            format: $r.format,
+            model: std::mem::take(&mut $r.model),
+            assets: std::mem::take(&mut $r.assets),
             units: $r.units,
-        }
-    };
+            document_path: std::mem::take(&mut $r.document_path),
+        };
+        flat
+    }};
 }
 
-fn env_request(fields: EnvFields) -> Result<EnvRequest> {
-    let EnvFields {
-        document,
+/// A create request's options: its `options`, or its deprecated flat fields (`flat`),
+/// refusing a request that gives both.
+fn options_of(options: Option<pb::EnvOptions>, flat: pb::EnvOptions) -> Result<pb::EnvOptions> {
+    match options {
+        None => Ok(flat),
+        Some(options) if flat == pb::EnvOptions::default() => Ok(options),
+        Some(_) => Err(ServerError::InvalidArgument {
+            field: "options",
+            reason: "give the env's options in `options` or in the deprecated flat fields \
+                     (document_json, dt, ...), not both"
+                .to_string(),
+        }),
+    }
+}
+
+fn env_request(options: pb::EnvOptions) -> Result<EnvRequest> {
+    let pb::EnvOptions {
+        document_json: document,
         format,
         model,
         assets,
@@ -146,7 +142,7 @@ fn env_request(fields: EnvFields) -> Result<EnvRequest> {
         task,
         randomize,
         units,
-    } = fields;
+    } = options;
     let defaults = EnvConfig::default();
     let pd_gains = pd_gains
         .filter(|g| !(g.kp.is_empty() && g.kd.is_empty()))
@@ -284,8 +280,9 @@ fn task_spec(t: pb::Task) -> Result<TaskSpec> {
 impl TryFrom<pb::CreateEnvRequest> for EnvRequest {
     type Error = ServerError;
 
-    fn try_from(r: pb::CreateEnvRequest) -> Result<Self> {
-        env_request(env_fields!(r))
+    fn try_from(mut r: pb::CreateEnvRequest) -> Result<Self> {
+        let flat = flat_options!(r);
+        env_request(options_of(r.options, flat)?)
     }
 }
 
@@ -300,10 +297,13 @@ impl TryFrom<pb::CreateBatchRequest> for BatchRequest {
             });
         }
         let autoreset = autoreset(r.autoreset)?;
-        let (seed, n_envs, seed_offset) = (r.seed, r.n_envs, r.seed_offset);
+        let mut r = r;
+        let flat = flat_options!(r);
+        let options = options_of(r.options.take(), flat)?;
+        let (seed, n_envs, seed_offset) = (options.seed, r.n_envs, r.seed_offset);
         Ok(BatchRequest {
             seed,
-            env: env_request(env_fields!(r))?,
+            env: env_request(options)?,
             n_envs: usize::try_from(n_envs).unwrap_or(usize::MAX),
             autoreset,
             seed_offset,
@@ -423,14 +423,61 @@ mod tests {
     use super::*;
     use crate::domain::Observed;
 
+    /// A `CreateEnvRequest` with `options`.
+    fn with(options: pb::EnvOptions) -> pb::CreateEnvRequest {
+        pb::CreateEnvRequest {
+            options: Some(options),
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    #[allow(deprecated)]
+    fn the_deprecated_flat_fields_are_read_and_not_mixed_with_options() {
+        let flat = EnvRequest::try_from(pb::CreateEnvRequest {
+            document_json: "{}".into(),
+            substeps: 3,
+            seed: Some(4),
+            ..Default::default()
+        })
+        .unwrap();
+        let nested = EnvRequest::try_from(with(pb::EnvOptions {
+            document_json: "{}".into(),
+            substeps: 3,
+            seed: Some(4),
+            ..Default::default()
+        }))
+        .unwrap();
+        assert_eq!(format!("{flat:?}"), format!("{nested:?}"));
+        let batch = BatchRequest::try_from(pb::CreateBatchRequest {
+            dt: 0.01,
+            seed: Some(5),
+            n_envs: 2,
+            ..Default::default()
+        })
+        .unwrap();
+        assert_eq!((batch.env.config.dt, batch.seed), (0.01, Some(5)));
+        let Err(both) = EnvRequest::try_from(pb::CreateEnvRequest {
+            dt: 0.01,
+            ..with(pb::EnvOptions::default())
+        }) else {
+            panic!("options and flat fields together are refused")
+        };
+        assert_eq!(
+            both.to_string(),
+            "options: give the env's options in `options` or in the deprecated flat fields \
+             (document_json, dt, ...), not both"
+        );
+    }
+
     #[test]
     fn zero_means_the_default() {
-        let r = EnvRequest::try_from(pb::CreateEnvRequest {
+        let r = EnvRequest::try_from(with(pb::EnvOptions {
             document_json: "{}".into(),
             pd_gains: Some(pb::PdGains::default()),
             reset_noise: Some(0.0),
             ..Default::default()
-        })
+        }))
         .unwrap();
         assert_eq!(
             r.config.dt, 0.0,
@@ -444,7 +491,7 @@ mod tests {
 
     #[test]
     fn units_and_terms_tasks_are_read_and_checked() {
-        let r = EnvRequest::try_from(pb::CreateEnvRequest {
+        let r = EnvRequest::try_from(with(pb::EnvOptions {
             units: pb::Units::Si as i32,
             task: Some(pb::Task {
                 kind: Some(pb::task::Kind::Terms(pb::TermsTask {
@@ -453,17 +500,17 @@ mod tests {
                 action_cost: 0.0,
             }),
             ..Default::default()
-        })
+        }))
         .unwrap();
         assert_eq!(r.config.units, Units::Si);
         assert!(matches!(
             r.config.task.map(|t| t.kind),
             Some(TaskKind::Terms(t)) if t.terms.len() == 1
         ));
-        let Err(err) = EnvRequest::try_from(pb::CreateEnvRequest {
+        let Err(err) = EnvRequest::try_from(with(pb::EnvOptions {
             units: 7,
             ..Default::default()
-        }) else {
+        })) else {
             panic!("an unknown units value is refused")
         };
         assert_eq!(
@@ -474,7 +521,7 @@ mod tests {
 
     #[test]
     fn given_values_pass_through() {
-        let r = EnvRequest::try_from(pb::CreateEnvRequest {
+        let r = EnvRequest::try_from(with(pb::EnvOptions {
             end_effector_ids: vec!["arm".into()],
             dt: -1.0,
             substeps: 2,
@@ -485,7 +532,7 @@ mod tests {
                 kd: vec![],
             }),
             ..Default::default()
-        })
+        }))
         .unwrap();
         // Range checks are the env's: a negative dt reaches it unchanged.
         assert_eq!(r.config.dt, -1.0);
@@ -499,10 +546,10 @@ mod tests {
 
     #[test]
     fn reset_noise_reaches_the_env_config() {
-        let r = EnvRequest::try_from(pb::CreateEnvRequest {
+        let r = EnvRequest::try_from(with(pb::EnvOptions {
             reset_noise: Some(0.5),
             ..Default::default()
-        })
+        }))
         .unwrap();
         assert_eq!(r.config.reset_noise, 0.5);
     }

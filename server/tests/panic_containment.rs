@@ -1,6 +1,10 @@
 //! A panic inside a pool job (here injected with `ServerConfig::panic_on_action`, which only
 //! debug builds have) must not kill the server: the call gets INTERNAL with the panic
 //! message, the env or batch it ran on is closed, and everyone else is still served.
+
+// These requests are built in the flat form (`CreateEnvRequest.document_json`, …): the
+// proto deprecates it for `options`, and the server still reads it (`convert.rs`).
+#![allow(deprecated)]
 #![cfg(debug_assertions)]
 
 use gymfleet_proto::v1 as pb;

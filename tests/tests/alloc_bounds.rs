@@ -10,6 +10,10 @@
 //! The bounds asserted here are the ones stated in `fuzz/README.md` ("Bounds"); each is a
 //! multiple of the input's size or of a named limit, with the measured value beside it.
 
+// These requests are built in the flat form (`CreateEnvRequest.document_json`, …): the
+// proto deprecates it for `options`, and the server still reads it (`convert.rs`).
+#![allow(deprecated)]
+
 use gymfleet_proto::v1 as pb;
 use gymfleet_server::{DirectService, ServerConfig, Tenant};
 use pb::simulator_server::Simulator;

@@ -137,7 +137,11 @@ export async function batchCreateEnvs(
   params: CreateBatchParams,
   client: GymfleetClient = defaultClient(),
 ): Promise<BatchCreatedJson> {
-  const request = { ...createFields(params), nEnvs: params.n_envs, autoreset: autoreset(params.autoreset) };
+  const request = {
+    options: createFields(params),
+    nEnvs: params.n_envs,
+    autoreset: autoreset(params.autoreset),
+  };
   const info = await client.simulator.createBatch(request);
   known(client).batches.set(info.batchId, info);
   return fromBatchInfo(info);

@@ -106,7 +106,7 @@ export async function createRobotEnv(
   params: CreateEnvParams,
   client: GymfleetClient = defaultClient(),
 ): Promise<EnvCreatedJson> {
-  const info = await client.simulator.createEnv(createFields(params));
+  const info = await client.simulator.createEnv({ options: createFields(params) });
   known(client).envs.set(info.envId, info.termNames);
   return fromEnvInfo(info);
 }

@@ -257,7 +257,8 @@ function task(t: TaskJson): MessageInitShape<typeof TaskSchema> {
   return { actionCost, kind: { case: "terms", value: { json: JSON.stringify(t.terms) } } };
 }
 
-/** The fields CreateEnvRequest and CreateBatchRequest share, from the guide's options. */
+/** The `EnvOptions` of CreateEnvRequest and CreateBatchRequest (their `options`), from
+ * the guide's options. */
 export function createFields(p: CreateEnvParams) {
   let documentJson = "";
   if (p.document !== undefined && p.model !== undefined) {

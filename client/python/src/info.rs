@@ -55,53 +55,31 @@ fn actuators<'py>(py: Python<'py>, list: &[ActuatorInfo]) -> PyResult<Bound<'py,
     PyList::new(py, list)
 }
 
-/// What every env of a batch and a single env share.
-struct Shape<'a> {
-    num_joints: usize,
-    action_dim: usize,
-    observation_dim: usize,
-    end_effector_ids: &'a [String],
-    dt: f64,
-    substeps: u32,
-    max_steps: u32,
-    joints: &'a [JointInfo],
-    observation_layout: &'a [(String, usize)],
-    units: gymfleet_client::Units,
-    term_names: &'a [String],
-    free_bodies: &'a [String],
-    mocap_bodies: &'a [String],
-    moving_mass: f64,
-    actuators: &'a [ActuatorInfo],
-    keyframes: &'a [String],
-    heightfields: &'a [(String, usize, usize)],
-}
-
-impl Shape<'_> {
-    fn write(&self, py: Python<'_>, d: &Bound<'_, PyDict>) -> PyResult<()> {
-        d.set_item("num_joints", self.num_joints)?;
-        d.set_item("action_dim", self.action_dim)?;
-        d.set_item("observation_dim", self.observation_dim)?;
-        d.set_item("end_effector_ids", self.end_effector_ids)?;
-        d.set_item("dt", self.dt)?;
-        d.set_item("substeps", self.substeps)?;
-        d.set_item("max_steps", self.max_steps)?;
-        d.set_item("joints", joints(py, self.joints)?)?;
-        d.set_item("observation_layout", self.observation_layout.to_vec())?;
-        d.set_item(
-            "units",
-            match self.units {
-                gymfleet_client::Units::Document => "document",
-                gymfleet_client::Units::Si => "si",
-            },
-        )?;
-        d.set_item("term_names", self.term_names)?;
-        d.set_item("free_bodies", self.free_bodies)?;
-        d.set_item("mocap_bodies", self.mocap_bodies)?;
-        d.set_item("moving_mass", self.moving_mass)?;
-        d.set_item("actuators", actuators(py, self.actuators)?)?;
-        d.set_item("keyframes", self.keyframes)?;
-        d.set_item("heightfields", self.heightfields.to_vec())
-    }
+/// What every env of a batch and a single env share: an [`EnvInfo`]'s fields, but its id.
+fn write_env(py: Python<'_>, i: &EnvInfo, d: &Bound<'_, PyDict>) -> PyResult<()> {
+    d.set_item("num_joints", i.num_joints)?;
+    d.set_item("action_dim", i.action_dim)?;
+    d.set_item("observation_dim", i.observation_dim)?;
+    d.set_item("end_effector_ids", &i.end_effector_ids)?;
+    d.set_item("dt", i.dt)?;
+    d.set_item("substeps", i.substeps)?;
+    d.set_item("max_steps", i.max_steps)?;
+    d.set_item("joints", joints(py, &i.joints)?)?;
+    d.set_item("observation_layout", i.observation_layout.clone())?;
+    d.set_item(
+        "units",
+        match i.units {
+            gymfleet_client::Units::Document => "document",
+            gymfleet_client::Units::Si => "si",
+        },
+    )?;
+    d.set_item("term_names", &i.term_names)?;
+    d.set_item("free_bodies", &i.free_bodies)?;
+    d.set_item("mocap_bodies", &i.mocap_bodies)?;
+    d.set_item("moving_mass", i.moving_mass)?;
+    d.set_item("actuators", actuators(py, &i.actuators)?)?;
+    d.set_item("keyframes", &i.keyframes)?;
+    d.set_item("heightfields", i.heightfields.clone())
 }
 
 /// A single env's description.
@@ -113,26 +91,7 @@ pub(crate) fn env_info<'py>(
     let d = PyDict::new(py);
     d.set_item("env_id", &i.env_id)?;
     d.set_item("server", server)?;
-    Shape {
-        num_joints: i.num_joints,
-        action_dim: i.action_dim,
-        observation_dim: i.observation_dim,
-        end_effector_ids: &i.end_effector_ids,
-        dt: i.dt,
-        substeps: i.substeps,
-        max_steps: i.max_steps,
-        joints: &i.joints,
-        observation_layout: &i.observation_layout,
-        units: i.units,
-        term_names: &i.term_names,
-        free_bodies: &i.free_bodies,
-        mocap_bodies: &i.mocap_bodies,
-        moving_mass: i.moving_mass,
-        actuators: &i.actuators,
-        keyframes: &i.keyframes,
-        heightfields: &i.heightfields,
-    }
-    .write(py, &d)?;
+    write_env(py, i, &d)?;
     Ok(d)
 }
 
@@ -145,26 +104,7 @@ pub(crate) fn batch_info<'py>(
     let d = PyDict::new(py);
     d.set_item("batch_id", &i.batch_id)?;
     d.set_item("n_envs", i.n_envs)?;
-    Shape {
-        num_joints: i.num_joints,
-        action_dim: i.action_dim,
-        observation_dim: i.observation_dim,
-        end_effector_ids: &i.end_effector_ids,
-        dt: i.dt,
-        substeps: i.substeps,
-        max_steps: i.max_steps,
-        joints: &i.joints,
-        observation_layout: &i.observation_layout,
-        units: i.units,
-        term_names: &i.term_names,
-        free_bodies: &i.free_bodies,
-        mocap_bodies: &i.mocap_bodies,
-        moving_mass: i.moving_mass,
-        actuators: &i.actuators,
-        keyframes: &i.keyframes,
-        heightfields: &i.heightfields,
-    }
-    .write(py, &d)?;
+    write_env(py, &i.env, &d)?;
     d.set_item("shards", PyList::new(py, shards)?)?;
     Ok(d)
 }

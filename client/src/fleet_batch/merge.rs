@@ -80,7 +80,10 @@ mod tests {
         );
         let info = BatchInfo {
             n_envs: 6,
-            observation_dim: 3,
+            env: crate::EnvInfo {
+                observation_dim: 3,
+                ..Default::default()
+            },
             ..BatchInfo::default()
         };
         let step = BatchStep::new(merged, &info).expect("a well-formed merged reply");

@@ -281,32 +281,37 @@ pub(crate) fn batch_info(
     spec: &EnvSpec,
     links: &JointLinks,
 ) -> pb::BatchInfo {
-    pb::BatchInfo {
+    let env = env_info(String::new(), spec, links);
+    // Older clients read the flat fields, which repeat `env`.
+    #[allow(deprecated)]
+    let info = pb::BatchInfo {
         batch_id,
         n_envs: to_u32(n_envs),
-        action_dim: to_u32(spec.action_dim),
-        observation_dim: to_u32(spec.observation_dim),
-        num_joints: to_u32(spec.num_joints),
-        end_effector_ids: spec.end_effector_ids.clone(),
-        dt: spec.dt,
-        substeps: spec.substeps,
-        max_steps: spec.max_steps,
         autoreset: match autoreset {
             Autoreset::Disabled => pb::Autoreset::Disabled,
             Autoreset::SameStep => pb::Autoreset::SameStep,
             Autoreset::NextStep => pb::Autoreset::NextStep,
         } as i32,
-        joints: joints(spec, links),
-        observation_layout: observation_layout(spec),
-        units: units_to_proto(spec.units),
-        term_names: spec.term_names.clone(),
-        free_bodies: spec.free_bodies.clone(),
-        mocap_bodies: spec.mocap_bodies.clone(),
-        moving_mass: spec.moving_mass,
-        actuators: actuators(spec),
-        keyframes: spec.keyframes.clone(),
-        heightfields: heightfields(spec),
-    }
+        action_dim: env.action_dim,
+        observation_dim: env.observation_dim,
+        num_joints: env.num_joints,
+        end_effector_ids: env.end_effector_ids.clone(),
+        dt: env.dt,
+        substeps: env.substeps,
+        max_steps: env.max_steps,
+        joints: env.joints.clone(),
+        observation_layout: env.observation_layout.clone(),
+        units: env.units,
+        term_names: env.term_names.clone(),
+        free_bodies: env.free_bodies.clone(),
+        mocap_bodies: env.mocap_bodies.clone(),
+        moving_mass: env.moving_mass,
+        actuators: env.actuators.clone(),
+        keyframes: env.keyframes.clone(),
+        heightfields: env.heightfields.clone(),
+        env: Some(env),
+    };
+    info
 }
 
 /// The proto result of a batch step.

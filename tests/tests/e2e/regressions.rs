@@ -2,6 +2,10 @@
 //! in a fuzz corpus too (`fuzz/corpus/`), so `fuzz_corpora.rs` and every fuzzing run
 //! start from it.
 
+// These requests are built in the flat form (`CreateEnvRequest.document_json`, …): the
+// proto deprecates it for `options`, and the server still reads it (`convert.rs`).
+#![allow(deprecated)]
+
 use gymfleet_e2e::{TestServer, PENDULUM};
 use gymfleet_proto::v1 as pb;
 use gymfleet_server::ServerConfig;
