@@ -67,90 +67,6 @@ impl EnvOptions {
         }
     }
 
-    /// The instances whose poses are observed, in observation order.
-    pub fn end_effectors<S: Into<String>>(mut self, ids: impl IntoIterator<Item = S>) -> Self {
-        self.end_effector_ids = ids.into_iter().map(Into::into).collect();
-        self
-    }
-
-    /// The document's format (default: detected by the server).
-    pub fn format(mut self, format: crate::DocumentFormat) -> Self {
-        self.format = format;
-        self
-    }
-
-    /// The files the document references (STL/OBJ/DAE meshes) as one zip, tar or tar.gz
-    /// archive; `package://pkg/path` and relative paths resolve against its root.
-    pub fn assets(mut self, archive: impl Into<Vec<u8>>) -> Self {
-        self.assets = archive.into();
-        self
-    }
-
-    /// Where the document sits in its [`EnvOptions::assets`], e.g. `"fetch/push.xml"`: an
-    /// MJCF document's includes and mesh files are read from that folder (`../`
-    /// included), as MuJoCo reads them from the model file's. Default: the archive's
-    /// root.
-    pub fn document_path(mut self, path: impl Into<String>) -> Self {
-        self.document_path = path.into();
-        self
-    }
-
-    /// Seconds per env step.
-    pub fn dt(mut self, dt: f64) -> Self {
-        self.dt = Some(dt);
-        self
-    }
-
-    /// Physics substeps per env step.
-    pub fn substeps(mut self, substeps: u32) -> Self {
-        self.substeps = Some(substeps);
-        self
-    }
-
-    /// Episode length in steps.
-    pub fn max_steps(mut self, max_steps: u32) -> Self {
-        self.max_steps = Some(max_steps);
-        self
-    }
-
-    /// Seed of the env's random generator.
-    pub fn seed(mut self, seed: u64) -> Self {
-        self.seed = Some(seed);
-        self
-    }
-
-    /// Controller gain overrides.
-    pub fn pd_gains(mut self, gains: PdGains) -> Self {
-        self.pd_gains = Some(gains);
-        self
-    }
-
-    /// Initial-state noise: every reset offsets each DOF's position by a value drawn
-    /// uniformly from `[-half_width, +half_width]` (deg or mm) from the env's seeded
-    /// stream, clamped to its limits. Unset or 0: resets are exact.
-    pub fn reset_noise(mut self, half_width: f64) -> Self {
-        self.reset_noise = Some(half_width);
-        self
-    }
-
-    /// The task: reward, goal and task terminations computed by the server in the step.
-    pub fn task(mut self, task: impl Into<Task>) -> Self {
-        self.task = Some(task.into());
-        self
-    }
-
-    /// Domain randomisation: scale factors drawn at every reset.
-    pub fn randomize(mut self, randomization: Randomization) -> Self {
-        self.randomize = Some(randomization);
-        self
-    }
-
-    /// The units of observations and of a terms task (default: the document's).
-    pub fn units(mut self, units: crate::Units) -> Self {
-        self.units = units;
-        self
-    }
-
     /// The document.
     pub fn document_json(&self) -> &str {
         &self.document_json
@@ -191,6 +107,78 @@ impl EnvOptions {
     }
 }
 
+/// The option setters, listed once: each is an [`EnvOptions`] method that sets its field,
+/// and a [`BatchOptions`] method of the same name that sets it on every env's options
+/// (with its own note where a batch reads it differently).
+macro_rules! option_setters {
+    ($(
+        $(#[doc = $doc:literal])*
+        $(batch: $batch:literal;)?
+        fn $name:ident($arg:ident: $ty:ty) { $field:ident = $value:expr }
+    )*) => {
+        impl EnvOptions {
+            $(
+                $(#[doc = $doc])*
+                pub fn $name(mut self, $arg: $ty) -> Self {
+                    self.$field = $value;
+                    self
+                }
+            )*
+        }
+
+        impl BatchOptions {
+            $(
+                #[doc = concat!("See [`EnvOptions::", stringify!($name), "`].")]
+                $(#[doc = concat!(" ", $batch)])?
+                pub fn $name(mut self, $arg: $ty) -> Self {
+                    self.env = self.env.$name($arg);
+                    self
+                }
+            )*
+        }
+    };
+}
+
+option_setters! {
+    /// The instances whose poses are observed, in observation order.
+    fn end_effectors(ids: impl IntoIterator<Item = impl Into<String>>) {
+        end_effector_ids = ids.into_iter().map(Into::into).collect()
+    }
+    /// The document's format (default: detected by the server).
+    fn format(format: crate::DocumentFormat) { format = format }
+    /// The files the document references (STL/OBJ/DAE meshes) as one zip, tar or tar.gz
+    /// archive; `package://pkg/path` and relative paths resolve against its root.
+    fn assets(archive: impl Into<Vec<u8>>) { assets = archive.into() }
+    /// Where the document sits in its [`EnvOptions::assets`], e.g. `"fetch/push.xml"`: an
+    /// MJCF document's includes and mesh files are read from that folder (`../`
+    /// included), as MuJoCo reads them from the model file's. Default: the archive's
+    /// root.
+    fn document_path(path: impl Into<String>) { document_path = path.into() }
+    /// Seconds per env step.
+    fn dt(dt: f64) { dt = Some(dt) }
+    /// Physics substeps per env step.
+    fn substeps(substeps: u32) { substeps = Some(substeps) }
+    /// Episode length in steps.
+    fn max_steps(max_steps: u32) { max_steps = Some(max_steps) }
+    /// Seed of the env's random generator.
+    batch: "A batch's is its base seed: env `i` is seeded with `seed + seed_offset + i`.";
+    fn seed(seed: u64) { seed = Some(seed) }
+    /// Controller gain overrides.
+    fn pd_gains(gains: PdGains) { pd_gains = Some(gains) }
+    /// Initial-state noise: every reset offsets each DOF's position by a value drawn
+    /// uniformly from `[-half_width, +half_width]` (deg or mm) from the env's seeded
+    /// stream, clamped to its limits. Unset or 0: resets are exact.
+    fn reset_noise(half_width: f64) { reset_noise = Some(half_width) }
+    /// The task: reward, goal and task terminations computed by the server in the step.
+    batch: "A reach target box gives each env its own targets.";
+    fn task(task: impl Into<Task>) { task = Some(task.into()) }
+    /// Domain randomisation: scale factors drawn at every reset.
+    batch: "Each env draws its own factors.";
+    fn randomize(randomization: Randomization) { randomize = Some(randomization) }
+    /// The units of observations and of a terms task (default: the document's).
+    fn units(units: crate::Units) { units = units }
+}
+
 /// How to create a batch of `n_envs` identical environments.
 ///
 /// ```
@@ -225,84 +213,6 @@ impl BatchOptions {
             autoreset: Autoreset::Disabled,
             seed_offset: 0,
         }
-    }
-
-    /// See [`EnvOptions::end_effectors`].
-    pub fn end_effectors<S: Into<String>>(mut self, ids: impl IntoIterator<Item = S>) -> Self {
-        self.env = self.env.end_effectors(ids);
-        self
-    }
-
-    /// See [`EnvOptions::format`].
-    pub fn format(mut self, format: crate::DocumentFormat) -> Self {
-        self.env = self.env.format(format);
-        self
-    }
-
-    /// See [`EnvOptions::assets`].
-    pub fn assets(mut self, archive: impl Into<Vec<u8>>) -> Self {
-        self.env = self.env.assets(archive);
-        self
-    }
-
-    /// See [`EnvOptions::document_path`].
-    pub fn document_path(mut self, path: impl Into<String>) -> Self {
-        self.env = self.env.document_path(path);
-        self
-    }
-
-    /// See [`EnvOptions::dt`].
-    pub fn dt(mut self, dt: f64) -> Self {
-        self.env = self.env.dt(dt);
-        self
-    }
-
-    /// See [`EnvOptions::substeps`].
-    pub fn substeps(mut self, substeps: u32) -> Self {
-        self.env = self.env.substeps(substeps);
-        self
-    }
-
-    /// See [`EnvOptions::max_steps`].
-    pub fn max_steps(mut self, max_steps: u32) -> Self {
-        self.env = self.env.max_steps(max_steps);
-        self
-    }
-
-    /// Base seed: env `i` is seeded with `seed + seed_offset + i`.
-    pub fn seed(mut self, seed: u64) -> Self {
-        self.env = self.env.seed(seed);
-        self
-    }
-
-    /// See [`EnvOptions::pd_gains`].
-    pub fn pd_gains(mut self, gains: PdGains) -> Self {
-        self.env = self.env.pd_gains(gains);
-        self
-    }
-
-    /// See [`EnvOptions::reset_noise`].
-    pub fn reset_noise(mut self, half_width: f64) -> Self {
-        self.env = self.env.reset_noise(half_width);
-        self
-    }
-
-    /// See [`EnvOptions::task`]. A reach target box gives each env its own targets.
-    pub fn task(mut self, task: impl Into<Task>) -> Self {
-        self.env = self.env.task(task);
-        self
-    }
-
-    /// See [`EnvOptions::randomize`]; each env draws its own factors.
-    pub fn randomize(mut self, randomization: Randomization) -> Self {
-        self.env = self.env.randomize(randomization);
-        self
-    }
-
-    /// See [`EnvOptions::units`].
-    pub fn units(mut self, units: crate::Units) -> Self {
-        self.env = self.env.units(units);
-        self
     }
 
     /// What happens to finished envs.
