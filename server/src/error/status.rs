@@ -26,31 +26,6 @@ pub(super) fn bounded(message: String) -> String {
     )
 }
 
-/// The status code of an environment error.
-fn env_code(err: &EnvError) -> Code {
-    match err {
-        EnvError::Document(_)
-        | EnvError::Physics(_)
-        | EnvError::UnknownEndEffector { .. }
-        | EnvError::BadConfig { .. }
-        | EnvError::BadTask { .. }
-        | EnvError::ActionLength { .. }
-        | EnvError::NonFiniteAction { .. }
-        | EnvError::UnknownActionType { .. }
-        | EnvError::StateFormat { .. }
-        | EnvError::BadState { .. }
-        | EnvError::BadJointState { .. }
-        | EnvError::UnknownMocapBody { .. }
-        | EnvError::UnknownHeightfield { .. }
-        | EnvError::BadHeights { .. }
-        | EnvError::UnknownKeyframe { .. }
-        | EnvError::MocapPosesLength { .. }
-        | EnvError::BadMocapPose { .. } => Code::InvalidArgument,
-        EnvError::NeedsReset => Code::FailedPrecondition,
-        EnvError::ContactWork(_) => Code::ResourceExhausted,
-    }
-}
-
 impl From<ServerError> for Status {
     fn from(err: ServerError) -> Self {
         let message = match &err {
@@ -180,38 +155,27 @@ impl ServerError {
         }
     }
 
-    /// The status code this error goes out with.
+    /// The status code this error goes out with: its reason's class.
     pub(crate) fn code(&self) -> Code {
-        match self {
-            ServerError::InvalidArgument { .. } => Code::InvalidArgument,
-            ServerError::Env(env) => env_code(env),
-            ServerError::Batch(batch) => match batch {
-                BatchError::NoEnvs
-                | BatchError::ActionLength { .. }
-                | BatchError::NonFiniteAction { .. }
-                | BatchError::MocapPosesLength { .. }
-                | BatchError::EnvIndices { .. }
-                | BatchError::StateCount { .. } => Code::InvalidArgument,
-                BatchError::TooManyEnvs { .. } => Code::ResourceExhausted,
-                BatchError::Env { source, .. } | BatchError::Keyframe(source) => env_code(source),
-                BatchError::PoolStart { .. } | BatchError::Panicked { .. } => Code::Internal,
-            },
-            ServerError::NotFound { .. } | ServerError::UnknownModel { .. } => Code::NotFound,
-            ServerError::NotRandomized { .. } => Code::FailedPrecondition,
-            ServerError::EnvIndex { .. } | ServerError::Render(_) | ServerError::Import(_) => {
-                Code::InvalidArgument
-            }
-            ServerError::TooManyEnvs { .. }
-            | ServerError::TenantQuota { .. }
-            | ServerError::TooComplex { .. }
-            | ServerError::TooMuchWork { .. }
-            | ServerError::ContactsAtStart { .. }
-            | ServerError::ReplyTooLarge { .. }
-            | ServerError::StatesTooLarge { .. }
-            | ServerError::BatchTooLarge { .. }
-            | ServerError::DocumentTooLarge { .. } => Code::ResourceExhausted,
-            ServerError::Panicked { .. } | ServerError::JobLost { .. } => Code::Internal,
-            ServerError::ShuttingDown => Code::Unavailable,
+        code_of(self.reason())
+    }
+}
+
+/// The status code of each reason (the proto's `ErrorReason` says which goes with which).
+fn code_of(reason: ErrorReason) -> Code {
+    match reason {
+        ErrorReason::InvalidDocument
+        | ErrorReason::InvalidAction
+        | ErrorReason::InvalidState
+        | ErrorReason::UnknownName
+        | ErrorReason::InvalidField => Code::InvalidArgument,
+        ErrorReason::EnvNotFound | ErrorReason::BatchNotFound | ErrorReason::ModelNotFound => {
+            Code::NotFound
         }
+        ErrorReason::NeedsReset | ErrorReason::NotRandomized => Code::FailedPrecondition,
+        ErrorReason::LimitExceeded => Code::ResourceExhausted,
+        ErrorReason::Unauthenticated => Code::Unauthenticated,
+        ErrorReason::ShuttingDown => Code::Unavailable,
+        ErrorReason::Internal | ErrorReason::Unspecified => Code::Internal,
     }
 }
