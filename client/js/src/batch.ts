@@ -22,6 +22,7 @@ import {
 } from "./params.js";
 import {
   clean,
+  batchEnv,
   fromBatchInfo,
   fromRow,
   terms,
@@ -155,7 +156,8 @@ export async function batchStep(
 ): Promise<BatchStepJson> {
   const info = batchInfo(client, params.batch_id);
   const type = actionType(params.action_type);
-  const { nEnvs, actionDim } = info;
+  const { nEnvs } = info;
+  const { actionDim, observationLayout: layout, termNames } = batchEnv(info);
   const rows = params.actions;
   const shape = `${params.batch_id} expects ${plural(nEnvs, "array")} of ${plural(actionDim, "value")}`;
   if (rows.length !== nEnvs) {
@@ -174,9 +176,8 @@ export async function batchStep(
     pushActionValues(flat, rows[env]!, `actions[${env}]`);
   }
   const step = await stepPacked(client, params.batch_id, type, flat);
-  const layout = info.observationLayout;
   const dim = step.observation_dim;
-  const k = info.termNames.length;
+  const k = termNames.length;
   const results = Array.from({ length: step.n_envs }, (_, env): EnvStepJson => {
     const terminated = step.terminated[env]!;
     const truncated = step.truncated[env]!;
@@ -197,7 +198,7 @@ export async function batchStep(
         layout,
       );
     }
-    const named = terms(info.termNames, step.terms.subarray(env * k, (env + 1) * k));
+    const named = terms(termNames, step.terms.subarray(env * k, (env + 1) * k));
     if (named !== undefined) out.terms = named;
     return out;
   });

@@ -9,6 +9,7 @@ import { create } from "@bufbuild/protobuf";
 
 import {
   Autoreset,
+  EnvInfoSchema,
   ObservationSchema,
   type ActuatorInfo,
   type BatchInfo,
@@ -335,26 +336,54 @@ export const AUTORESET_NAMES: Record<Autoreset, string> = {
   [Autoreset.NEXT_STEP]: "next_step",
 };
 
+/** What every env of a batch is: the BatchInfo's `env` (from a server that sends only
+ * the deprecated flat fields, those). */
+export function batchEnv(i: BatchInfo): EnvInfo {
+  return (
+    i.env ??
+    create(EnvInfoSchema, {
+      numJoints: i.numJoints,
+      actionDim: i.actionDim,
+      observationDim: i.observationDim,
+      endEffectorIds: i.endEffectorIds,
+      dt: i.dt,
+      substeps: i.substeps,
+      maxSteps: i.maxSteps,
+      joints: i.joints,
+      observationLayout: i.observationLayout,
+      units: i.units,
+      termNames: i.termNames,
+      freeBodies: i.freeBodies,
+      mocapBodies: i.mocapBodies,
+      movingMass: i.movingMass,
+      actuators: i.actuators,
+      keyframes: i.keyframes,
+      heightfields: i.heightfields,
+    })
+  );
+}
+
 /** What `batchCreateEnvs` returns, from the server's BatchInfo. */
 export function fromBatchInfo(i: BatchInfo): BatchCreatedJson {
+  const e = batchEnv(i);
   const out: BatchCreatedJson = {
     batch_id: i.batchId,
     n_envs: i.nEnvs,
-    action_dim: i.actionDim,
-    observation_dim: i.observationDim,
-    num_joints: i.numJoints,
-    end_effector_ids: [...i.endEffectorIds],
-    dt: i.dt,
-    substeps: i.substeps,
-    max_steps: i.maxSteps,
+    action_dim: e.actionDim,
+    observation_dim: e.observationDim,
+    num_joints: e.numJoints,
+    end_effector_ids: [...e.endEffectorIds],
+    dt: e.dt,
+    substeps: e.substeps,
+    max_steps: e.maxSteps,
     autoreset: AUTORESET_NAMES[i.autoreset],
-    joints: joints(i.joints),
+    joints: joints(e.joints),
   };
-  if (i.actuators.length > 0) {
-    out.actuators = actuators(i.actuators);
+  if (e.actuators.length > 0) {
+    out.actuators = actuators(e.actuators);
   }
-  if (i.keyframes.length > 0) {
-    out.keyframes = [...i.keyframes];
+  if (e.keyframes.length > 0) {
+    out.keyframes = [...e.keyframes];
   }
   return out;
 }
