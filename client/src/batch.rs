@@ -419,6 +419,13 @@ impl BatchStep {
             .map(String::as_str)
     }
 
+    /// Why env `env` terminated in this step, typed, if it did for a reason (`None` also
+    /// from a server that sends only the strings).
+    pub fn termination(&self, env: usize) -> Option<crate::TerminationReason> {
+        let env = u32::try_from(env).ok()?;
+        crate::types::typed_termination(*self.result.terminations.get(&env)?)
+    }
+
     /// Takes the observations out, `n_envs × observation_dim`, without copying.
     pub fn into_observations(self) -> Vec<f32> {
         self.result.observations
@@ -512,6 +519,7 @@ mod tests {
             final_env_indices: vec![1],
             final_observations: vec![-1.0; dim],
             termination_reasons: [(0, "physics_diverged".to_string())].into(),
+            terminations: [(0, pb::TerminationReason::PhysicsDiverged as i32)].into(),
             terms: Vec::new(),
             env_indices: Vec::new(),
         }
@@ -526,6 +534,11 @@ mod tests {
         assert_eq!(step.final_observation(0), None);
         assert_eq!(step.termination_reason(0), Some("physics_diverged"));
         assert_eq!(step.termination_reason(1), None);
+        assert_eq!(
+            step.termination(0),
+            Some(crate::TerminationReason::PhysicsDiverged)
+        );
+        assert_eq!(step.termination(1), None);
         assert_eq!(step.truncated(), [true; 3]);
         assert_eq!(step.into_observations().len(), 6);
     }

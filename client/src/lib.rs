@@ -88,6 +88,7 @@ pub use task::{
 /// gRPC status codes, as [`ClientError::code`] returns them.
 pub use tonic::Code;
 pub use types::{
-    ActionType, ActuatorInfo, Autoreset, BatchInfo, DofLimit, EnvInfo, JointInfo, Observation,
-    ServerInfo, ServerLimits, StepResult, Units, POSE_LEN,
+    ActionType, ActuatorInfo, Autoreset, BatchInfo, DofLimit, DofUnit, EnvInfo, JointInfo,
+    JointType, Observation, ServerInfo, ServerLimits, StepResult, TerminationReason, Units,
+    POSE_LEN,
 };

@@ -3,6 +3,7 @@
 //! are its own small types, named as in the domain.
 
 use gymfleet_proto::v1 as pb;
+pub use gymfleet_proto::v1::{DofUnit, JointType, TerminationReason};
 
 use crate::error::{ClientError, Result};
 
@@ -224,6 +225,9 @@ pub struct StepResult {
     pub done: bool,
     /// Why the episode terminated, e.g. `physics_diverged`.
     pub termination_reason: Option<String>,
+    /// The same reason, typed (`None` with no reason, or from a server that sends only
+    /// the string).
+    pub termination: Option<TerminationReason>,
     /// Steps taken in the current episode, this one included.
     pub episode_step: u32,
     /// A terms task's values for this step, in [`EnvInfo::term_names`] order.
@@ -244,9 +248,46 @@ impl TryFrom<pb::StepResult> for StepResult {
             truncated: r.truncated,
             done: r.done,
             termination_reason: r.termination_reason,
+            termination: typed_termination(r.termination),
             episode_step: r.episode_step,
             terms: r.terms,
         })
+    }
+}
+
+/// A wire termination reason as the enum; `None` for none (or one this build does not
+/// know).
+pub(crate) fn typed_termination(raw: i32) -> Option<TerminationReason> {
+    TerminationReason::try_from(raw)
+        .ok()
+        .filter(|t| *t != TerminationReason::Unspecified)
+}
+
+/// A wire enum value, or (unset) the value its string `name` names.
+fn typed_or_named<E>(raw: i32, name: &str, prefix: &str) -> E
+where
+    E: TryFrom<i32> + Default + FromStrName + PartialEq,
+{
+    match E::try_from(raw) {
+        Ok(value) if value != E::default() => value,
+        _ => E::from_name(&format!("{prefix}{}", name.to_ascii_uppercase())).unwrap_or_default(),
+    }
+}
+
+/// prost's `from_str_name`, for [`typed_or_named`].
+trait FromStrName: Sized {
+    fn from_name(name: &str) -> Option<Self>;
+}
+
+impl FromStrName for JointType {
+    fn from_name(name: &str) -> Option<Self> {
+        JointType::from_str_name(name)
+    }
+}
+
+impl FromStrName for DofUnit {
+    fn from_name(name: &str) -> Option<Self> {
+        DofUnit::from_str_name(name)
     }
 }
 
@@ -255,6 +296,8 @@ impl TryFrom<pb::StepResult> for StepResult {
 pub struct DofLimit {
     /// `"deg"` or `"mm"`.
     pub unit: String,
+    /// The same unit, typed.
+    pub dof_unit: DofUnit,
     /// Lower hard stop, if any.
     pub min: Option<f64>,
     /// Upper hard stop, if any.
@@ -268,6 +311,8 @@ pub struct JointInfo {
     pub name: String,
     /// `"revolute"`, `"prismatic"`, `"cylindrical"` or `"ball"`.
     pub joint_type: String,
+    /// The same type, typed.
+    pub kind: JointType,
     /// DOFs it contributes.
     pub dof: usize,
     /// One per DOF.
@@ -294,12 +339,15 @@ impl From<pb::JointInfo> for JointInfo {
     fn from(j: pb::JointInfo) -> Self {
         JointInfo {
             name: j.name,
+            // A server from before the enums sends only the strings.
+            kind: typed_or_named(j.kind, &j.r#type, "JOINT_TYPE_"),
             joint_type: j.r#type,
             dof: j.dof as usize,
             limits: j
                 .limits
                 .into_iter()
                 .map(|l| DofLimit {
+                    dof_unit: typed_or_named(l.dof_unit, &l.unit, "DOF_UNIT_"),
                     unit: l.unit,
                     min: l.min,
                     max: l.max,

@@ -20,7 +20,7 @@ mod replies;
 
 pub(crate) use replies::{
     batch_info, batch_observation, batch_step_result, bodies, env_info, format_to_proto, image,
-    observation, randomization_draws, scene, server_info,
+    observation, randomization_draws, scene, server_info, termination,
 };
 
 /// A `SetMocapPoseRequest`'s pose: exactly 7 values (the env checks what they hold).

@@ -142,6 +142,9 @@ impl Simulator for SimulatorService {
                 truncated: flags.truncated,
                 done: flags.done(),
                 termination_reason: flags.termination.map(|t| t.as_str().to_string()),
+                termination: flags
+                    .termination
+                    .map_or(0, |t| convert::termination(t) as i32),
                 episode_step: outcome.episode_step,
                 terms: outcome.terms,
             })

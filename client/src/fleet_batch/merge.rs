@@ -35,6 +35,12 @@ pub(crate) fn merge_steps(
                 .into_iter()
                 .map(|(i, reason)| (i + shift, reason)),
         );
+        merged.terminations.extend(
+            reply
+                .terminations
+                .into_iter()
+                .map(|(i, reason)| (i + shift, reason)),
+        );
         position += len;
     }
     merged
@@ -63,6 +69,7 @@ mod tests {
                 .iter()
                 .map(|&i| (i, format!("reason {base} {i}")))
                 .collect(),
+            terminations: finished.iter().map(|&i| (i, 1)).collect(),
             terms: Vec::new(),
             env_indices: Vec::new(),
         }
@@ -101,5 +108,10 @@ mod tests {
         assert_eq!(step.termination_reason(5), Some("reason 200 2"));
         assert_eq!(step.termination_reason(1), Some("reason 0 1"));
         assert_eq!(step.termination_reason(2), None);
+        assert_eq!(
+            step.termination(5),
+            Some(crate::TerminationReason::PhysicsDiverged)
+        );
+        assert_eq!(step.termination(2), None);
     }
 }

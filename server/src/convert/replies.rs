@@ -195,6 +195,7 @@ pub(crate) fn joints(spec: &EnvSpec, links: &JointLinks) -> Vec<pb::JointInfo> {
             joints.push(pb::JointInfo {
                 name: dof.joint_name.clone(),
                 r#type: dof.joint_type.as_str().to_string(),
+                kind: joint_kind(dof.joint_type) as i32,
                 dof: 0,
                 limits: Vec::new(),
                 parent,
@@ -215,6 +216,10 @@ pub(crate) fn joints(spec: &EnvSpec, links: &JointLinks) -> Vec<pb::JointInfo> {
                     DofKind::Linear => "mm",
                 }
                 .to_string(),
+                dof_unit: match dof.kind {
+                    DofKind::Angular => pb::DofUnit::Deg,
+                    DofKind::Linear => pb::DofUnit::Mm,
+                } as i32,
                 min: dof.limits.map(|l| l[0]),
                 max: dof.limits.map(|l| l[1]),
             });
@@ -314,6 +319,29 @@ pub(crate) fn batch_info(
     info
 }
 
+/// A termination reason as the proto's enum.
+pub(crate) fn termination(why: gymfleet_env::Termination) -> pb::TerminationReason {
+    use gymfleet_env::Termination;
+    match why {
+        Termination::PhysicsDiverged => pb::TerminationReason::PhysicsDiverged,
+        Termination::GoalReached => pb::TerminationReason::GoalReached,
+        Termination::Fell => pb::TerminationReason::Fell,
+        Termination::Unhealthy => pb::TerminationReason::Unhealthy,
+    }
+}
+
+/// A joint type as the proto's enum (a fixed joint is not listed).
+fn joint_kind(kind: gymfleet_assembly::JointType) -> pb::JointType {
+    use gymfleet_assembly::JointType;
+    match kind {
+        JointType::Revolute => pb::JointType::Revolute,
+        JointType::Prismatic => pb::JointType::Prismatic,
+        JointType::Cylindrical => pb::JointType::Cylindrical,
+        JointType::Ball => pb::JointType::Ball,
+        JointType::Fixed => pb::JointType::Unspecified,
+    }
+}
+
 /// The proto result of a batch step.
 pub(crate) fn batch_step_result(stepped: BatchStepped) -> pb::BatchStepResult {
     let BatchStepped {
@@ -331,6 +359,11 @@ pub(crate) fn batch_step_result(stepped: BatchStepped) -> pb::BatchStepResult {
         truncated: out.truncated,
         final_env_indices: out.final_env_indices,
         final_observations: out.final_observations,
+        terminations: out
+            .termination_reasons
+            .iter()
+            .map(|(&env, &why)| (env, termination(why) as i32))
+            .collect(),
         termination_reasons: out
             .termination_reasons
             .into_iter()

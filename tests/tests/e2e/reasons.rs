@@ -120,3 +120,45 @@ async fn a_missing_or_unknown_token_is_unauthenticated_by_reason() {
     assert_eq!(gone.reason(), None, "{gone:?}");
     server.stop().await.expect("stop");
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn typed_enums_travel_beside_the_strings() {
+    use gymfleet_client::{DofUnit, JointType, TerminationReason};
+    let server = TestServer::start_default().await;
+    let client = server.client().await;
+    let env = client
+        .create_env(EnvOptions::new(PENDULUM))
+        .await
+        .expect("env");
+    let joint = &env.info().joints[0];
+    assert_eq!(
+        (joint.joint_type.as_str(), joint.kind),
+        ("revolute", JointType::Revolute)
+    );
+    assert_eq!(
+        (joint.limits[0].unit.as_str(), joint.limits[0].dof_unit),
+        ("deg", DofUnit::Deg)
+    );
+    env.reset(None).await.expect("reset");
+    let step = env.step(ActionType::Torque, &[1e12]).await.expect("step");
+    assert!(step.terminated);
+    assert_eq!(step.termination_reason.as_deref(), Some("physics_diverged"));
+    assert_eq!(step.termination, Some(TerminationReason::PhysicsDiverged));
+
+    let batch = client
+        .create_batch(BatchOptions::new(PENDULUM, 2))
+        .await
+        .expect("batch");
+    batch.reset(None).await.expect("reset");
+    let step = batch
+        .step(ActionType::Torque, &[0.0, 1e12])
+        .await
+        .expect("step");
+    assert_eq!(step.termination_reason(1), Some("physics_diverged"));
+    assert_eq!(
+        step.termination(1),
+        Some(TerminationReason::PhysicsDiverged)
+    );
+    assert_eq!(step.termination(0), None);
+    server.stop().await.expect("stop");
+}
