@@ -195,15 +195,14 @@ fn actuators(list: &[ActuatorInfo]) -> Vec<ActuatorOut> {
         .collect()
 }
 
-/// What `create_robot_env` returns.
+/// What an env is, as `create_robot_env` and `batch_create_envs` return it (a batch's
+/// describes every env of it).
 #[derive(Debug, Clone, Serialize, JsonSchema)]
 #[schemars(transform = crate::schema::one_line_descriptions)]
-pub(crate) struct EnvCreated {
-    /// Handle for gym_reset, gym_step, gym_observe and gym_close, e.g. "sim_1".
-    pub(crate) env_id: String,
-    /// Non-fixed joints.
+pub(crate) struct EnvShape {
+    /// Non-fixed joints (per env).
     pub(crate) num_joints: usize,
-    /// Values per action: the total DOF.
+    /// Values per action (per env action in a batch): the total DOF.
     pub(crate) action_dim: usize,
     /// Observation size: 2·action_dim + 7·(number of end effectors).
     pub(crate) observation_dim: usize,
@@ -228,15 +227,15 @@ pub(crate) struct EnvCreated {
     /// in this order.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub(crate) actuators: Vec<ActuatorOut>,
-    /// Keyframes (only when there are any): named initial states gym_reset may start from.
+    /// Keyframes (only when there are any): named initial states gym_reset (batch_reset)
+    /// may start from.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub(crate) keyframes: Vec<String>,
 }
 
-impl EnvCreated {
-    pub(crate) fn new(env_id: String, info: &EnvInfo) -> Self {
-        EnvCreated {
-            env_id,
+impl EnvShape {
+    pub(crate) fn new(info: &EnvInfo) -> Self {
+        EnvShape {
             num_joints: info.num_joints,
             action_dim: info.action_dim,
             observation_dim: info.observation_dim,
@@ -249,6 +248,26 @@ impl EnvCreated {
             mocap_bodies: info.mocap_bodies.clone(),
             actuators: actuators(&info.actuators),
             keyframes: info.keyframes.clone(),
+        }
+    }
+}
+
+/// What `create_robot_env` returns.
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+#[schemars(transform = crate::schema::one_line_descriptions)]
+pub(crate) struct EnvCreated {
+    /// Handle for gym_reset, gym_step, gym_observe and gym_close, e.g. "sim_1".
+    pub(crate) env_id: String,
+    /// What the env is.
+    #[serde(flatten)]
+    pub(crate) shape: EnvShape,
+}
+
+impl EnvCreated {
+    pub(crate) fn new(env_id: String, info: &EnvInfo) -> Self {
+        EnvCreated {
+            env_id,
+            shape: EnvShape::new(info),
         }
     }
 }
@@ -352,30 +371,11 @@ pub(crate) struct BatchCreated {
     pub(crate) batch_id: String,
     /// Number of environments.
     pub(crate) n_envs: usize,
-    /// Values per env action: the total DOF.
-    pub(crate) action_dim: usize,
-    /// Values per env observation: 2·action_dim + 7·(number of end effectors).
-    pub(crate) observation_dim: usize,
-    /// Non-fixed joints per env.
-    pub(crate) num_joints: usize,
-    /// Observed end effectors, in observation order.
-    pub(crate) end_effector_ids: Vec<String>,
-    /// Seconds per step.
-    pub(crate) dt: f64,
-    /// Physics substeps per step.
-    pub(crate) substeps: u32,
-    /// Episode length in steps.
-    pub(crate) max_steps: u32,
     /// "disabled", "same_step" or "next_step".
     pub(crate) autoreset: String,
-    /// The non-fixed joints in document order.
-    pub(crate) joints: Vec<JointOut>,
-    /// As create_robot_env's actuators.
-    #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub(crate) actuators: Vec<ActuatorOut>,
-    /// As create_robot_env's keyframes.
-    #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub(crate) keyframes: Vec<String>,
+    /// What every env is.
+    #[serde(flatten)]
+    pub(crate) shape: EnvShape,
 }
 
 impl BatchCreated {
@@ -388,17 +388,8 @@ impl BatchCreated {
         BatchCreated {
             batch_id,
             n_envs: info.n_envs,
-            action_dim: info.action_dim,
-            observation_dim: info.observation_dim,
-            num_joints: info.num_joints,
-            end_effector_ids: info.end_effector_ids.clone(),
-            dt: info.dt,
-            substeps: info.substeps,
-            max_steps: info.max_steps,
             autoreset: autoreset.to_string(),
-            joints: joints(&info.joints),
-            actuators: actuators(&info.actuators),
-            keyframes: info.keyframes.clone(),
+            shape: EnvShape::new(&info.env),
         }
     }
 }

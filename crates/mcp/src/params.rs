@@ -11,7 +11,8 @@ use crate::document::Document;
 use crate::errors::{McpError, Result};
 use crate::task::{RandomizeParam, TaskParam};
 
-/// Inputs of `create_robot_env`.
+/// Inputs of `create_robot_env`, and every env's options in `batch_create_envs`'s (one
+/// struct: each description says what it means for a batch where that differs).
 #[derive(Debug, Deserialize, JsonSchema)]
 #[schemars(transform = crate::schema::one_line_descriptions)]
 pub(crate) struct CreateEnvParams {
@@ -30,7 +31,8 @@ pub(crate) struct CreateEnvParams {
     #[serde(default)]
     pub(crate) assets_base64: Option<String>,
     /// Instance names (the `name` of entries in `assembly.instances`) whose poses are
-    /// observed, in this order. Each adds 7 values to the observation. Default: none.
+    /// observed (in every env of a batch), in this order. Each adds 7 values to the
+    /// observation. Default: none.
     #[serde(default)]
     pub(crate) end_effector_ids: Vec<String>,
     /// Seconds of simulated time per step. Default 1/240 s (about 0.004167 s).
@@ -40,10 +42,11 @@ pub(crate) struct CreateEnvParams {
     /// Episode length in steps: `truncated` (and `done`) become true at this step.
     /// Default 1000.
     pub(crate) max_steps: Option<u32>,
-    /// Seed of the environment's random generator (integer). Default 0.
+    /// Seed of the environment's random generator (integer); a batch's base seed: env i
+    /// is seeded with seed + i. Default 0.
     pub(crate) seed: Option<u64>,
-    /// Optional PD gain overrides for `position` and `velocity` actions. Omit to use the
-    /// server's stable defaults.
+    /// Optional PD gain overrides for `position` and `velocity` actions (shared by every
+    /// env of a batch). Omit to use the server's stable defaults.
     pub(crate) pd_gains: Option<PdGainsParam>,
     /// Optional start-state randomisation: every reset offsets each joint's position by
     /// a random value in [-reset_noise, +reset_noise] degrees (mm for sliding joints),
@@ -51,10 +54,11 @@ pub(crate) struct CreateEnvParams {
     /// (every reset is the exact initial pose).
     pub(crate) reset_noise: Option<f64>,
     /// Optional task: the server then computes each step's reward and ends episodes
-    /// when the goal is reached or the robot fell. Default: none (reward 0).
+    /// when the goal is reached or the robot fell (in a batch, every env's; a reach
+    /// target_box gives each env its own targets). Default: none (reward 0).
     pub(crate) task: Option<TaskParam>,
     /// Optional domain randomisation of masses, friction, damping and gains, drawn at
-    /// every reset. Default: none.
+    /// every reset (each env of a batch draws its own factors). Default: none.
     pub(crate) randomize: Option<RandomizeParam>,
 }
 
@@ -253,52 +257,16 @@ impl From<AutoresetParam> for Autoreset {
     }
 }
 
-/// Inputs of `batch_create_envs`.
+/// Inputs of `batch_create_envs`: how many envs, every env's options (as
+/// `create_robot_env`'s), and what happens to finished envs.
 #[derive(Debug, Deserialize, JsonSchema)]
 #[schemars(transform = crate::schema::one_line_descriptions)]
 pub(crate) struct CreateBatchParams {
-    /// The assembly document shared by every env: a JSON object with `parts` and
-    /// `assembly` (lengths in mm, angles in degrees), or a string containing that JSON
-    /// (or MuJoCo MJCF or ROS URDF text). Give this or `model`.
-    #[serde(default)]
-    pub(crate) document: Option<Document>,
-    /// Instead of a document: the name of a model in the server's library (list_models).
-    #[serde(default)]
-    pub(crate) model: Option<String>,
-    /// The mesh files a URDF or JSON document references (STL, OBJ, DAE), as one zip, tar
-    /// or tar.gz archive in base64; `package://pkg/path` and relative paths resolve against
-    /// its root. Omit when the document names no mesh files.
-    #[serde(default)]
-    pub(crate) assets_base64: Option<String>,
     /// Number of identical environments in the batch (at least 1).
     pub(crate) n_envs: u32,
-    /// Instance names whose poses are observed in every env, in this order. Each adds 7
-    /// values to each observation. Default: none.
-    #[serde(default)]
-    pub(crate) end_effector_ids: Vec<String>,
-    /// Seconds of simulated time per step. Default 1/240 s (about 0.004167 s).
-    pub(crate) dt: Option<f64>,
-    /// Integration substeps per step (each is dt/substeps seconds). Default 5.
-    pub(crate) substeps: Option<u32>,
-    /// Episode length in steps: an env's `truncated` becomes true at this step.
-    /// Default 1000.
-    pub(crate) max_steps: Option<u32>,
-    /// Base seed (integer): env i is seeded with seed + i. Default 0.
-    pub(crate) seed: Option<u64>,
-    /// Optional PD gain overrides for `position` and `velocity` actions, shared by every
-    /// env. Omit to use the server's stable defaults.
-    pub(crate) pd_gains: Option<PdGainsParam>,
-    /// Optional start-state randomisation: every reset offsets each joint's position by
-    /// a random value in [-reset_noise, +reset_noise] degrees (mm for sliding joints),
-    /// drawn from the seeded generator and kept within the joint's limits. Default 0
-    /// (every reset is the exact initial pose).
-    pub(crate) reset_noise: Option<f64>,
-    /// Optional task shared by every env (a reach target_box gives each env its own
-    /// targets). Default: none (reward 0).
-    pub(crate) task: Option<TaskParam>,
-    /// Optional domain randomisation; each env draws its own factors at every reset.
-    /// Default: none.
-    pub(crate) randomize: Option<RandomizeParam>,
+    /// Every env's document and options.
+    #[serde(flatten)]
+    pub(crate) env: CreateEnvParams,
     /// What happens to an env whose episode ended: "disabled" (default: call
     /// batch_reset), "same_step" (reset within the step; its last observation is returned
     /// as final_observation) or "next_step" (Gymnasium style: reset on the next step,
@@ -343,28 +311,11 @@ pub(crate) struct BatchRefParams {
     pub(crate) batch_id: String,
 }
 
-/// The create options common to single envs and batches.
-struct Common {
-    end_effector_ids: Vec<String>,
-    dt: Option<f64>,
-    substeps: Option<u32>,
-    max_steps: Option<u32>,
-    seed: Option<u64>,
-    pd_gains: Option<PdGainsParam>,
-    reset_noise: Option<f64>,
-    task: Option<TaskParam>,
-    randomize: Option<RandomizeParam>,
-}
-
-impl Common {
-    /// The client's options for `document`; unset options take the server's defaults.
-    fn into_options(
-        self,
-        document: Option<Document>,
-        model: Option<String>,
-        assets_base64: Option<String>,
-    ) -> Result<EnvOptions> {
-        let options = match (document, model) {
+impl CreateEnvParams {
+    /// The client's options, or why the document cannot be sent; unset options take
+    /// the server's defaults.
+    pub(crate) fn into_options(self) -> Result<EnvOptions> {
+        let options = match (self.document, self.model) {
             (Some(document), None) => EnvOptions::new(document.into_json_text()?),
             (None, Some(model)) => EnvOptions::from_model(model),
             (Some(_), Some(_)) => {
@@ -381,7 +332,7 @@ impl Common {
             }
         };
         let mut options = options.end_effectors(self.end_effector_ids);
-        if let Some(text) = assets_base64 {
+        if let Some(text) = self.assets_base64 {
             use base64::Engine as _;
             let archive = base64::engine::general_purpose::STANDARD
                 .decode(text.trim())
@@ -419,39 +370,10 @@ impl Common {
     }
 }
 
-impl CreateEnvParams {
-    /// The client's options, or why the document cannot be sent.
-    pub(crate) fn into_options(self) -> Result<EnvOptions> {
-        let common = Common {
-            end_effector_ids: self.end_effector_ids,
-            dt: self.dt,
-            substeps: self.substeps,
-            max_steps: self.max_steps,
-            seed: self.seed,
-            pd_gains: self.pd_gains,
-            reset_noise: self.reset_noise,
-            task: self.task,
-            randomize: self.randomize,
-        };
-        common.into_options(self.document, self.model, self.assets_base64)
-    }
-}
-
 impl CreateBatchParams {
     /// The client's options, or why the document cannot be sent.
     pub(crate) fn into_options(self) -> Result<BatchOptions> {
-        let common = Common {
-            end_effector_ids: self.end_effector_ids,
-            dt: self.dt,
-            substeps: self.substeps,
-            max_steps: self.max_steps,
-            seed: self.seed,
-            pd_gains: self.pd_gains,
-            reset_noise: self.reset_noise,
-            task: self.task,
-            randomize: self.randomize,
-        };
-        let env = common.into_options(self.document, self.model, self.assets_base64)?;
+        let env = self.env.into_options()?;
         Ok(BatchOptions::from_env(env, self.n_envs as usize).autoreset(self.autoreset.into()))
     }
 }
