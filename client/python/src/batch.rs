@@ -7,7 +7,7 @@ use numpy::{PyArray2, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 
-use crate::env::action_type;
+use crate::env::ActionKind;
 use crate::info::batch_info;
 use crate::options::{invalid, seed, timeout, CreateOptions};
 use crate::rows::{matrix, step_tuple, StepRows, StepTuple};
@@ -228,15 +228,15 @@ impl BatchHandle {
 
     /// Steps every env with `actions` (`n_envs × action_dim`), moving their mocap bodies to
     /// `mocap_poses` (`n_envs × mocap bodies × 7` values, row-major) when given.
-    #[pyo3(signature = (action_type_name, actions, mocap_poses=None))]
+    #[pyo3(signature = (kind, actions, mocap_poses=None))]
     fn step<'py>(
         &self,
         py: Python<'py>,
-        action_type_name: &str,
+        kind: ActionKind,
         actions: PyReadonlyArray2<'py, f32>,
         mocap_poses: Option<PyReadonlyArray1<'py, f32>>,
     ) -> PyResult<StepTuple<'py>> {
-        let action_type = action_type(action_type_name)?;
+        let action_type = gymfleet_client::ActionType::from(kind);
         let values: Vec<f32> = match actions.as_slice() {
             Ok(flat) => flat.to_vec(),
             Err(_) => actions.as_array().iter().copied().collect(),
@@ -259,11 +259,11 @@ impl BatchHandle {
     fn step_envs<'py>(
         &self,
         py: Python<'py>,
-        action_type_name: &str,
+        kind: ActionKind,
         env_indices: PyReadonlyArray1<'py, u32>,
         actions: PyReadonlyArray2<'py, f32>,
     ) -> PyResult<StepTuple<'py>> {
-        let action_type = action_type(action_type_name)?;
+        let action_type = gymfleet_client::ActionType::from(kind);
         let envs = env_indices.as_array().to_vec();
         let values: Vec<f32> = actions.as_array().iter().copied().collect();
         let n = envs.len();

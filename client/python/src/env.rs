@@ -8,20 +8,28 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 
 use crate::info::env_info;
-use crate::options::{invalid, seed, timeout, CreateOptions};
+use crate::options::{seed, timeout, CreateOptions};
 use crate::runtime::{wait, Deadline};
 use crate::servers::{resolve, Target};
 
-/// An action type by its proto name (`"torque"`, `"position"`, `"velocity"`).
-pub(crate) fn action_type(name: &str) -> PyResult<ActionType> {
-    match name {
-        "torque" => Ok(ActionType::Torque),
-        "position" => Ok(ActionType::Position),
-        "velocity" => Ok(ActionType::Velocity),
-        other => Err(invalid(format!(
-            "action_type: expected \"torque\", \"position\" or \"velocity\", got {:?}",
-            other.chars().take(64).collect::<String>()
-        ))),
+/// How a step's action values are read, as Python hands it to the extension: the
+/// package maps its `action_type` string (`"torque"`, ...) to one of these once, when an
+/// env or batch is made, so no string crosses the boundary per step.
+#[pyclass(module = "gymfleet._core", eq, eq_int, frozen, from_py_object)]
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(crate) enum ActionKind {
+    Torque,
+    Position,
+    Velocity,
+}
+
+impl From<ActionKind> for ActionType {
+    fn from(kind: ActionKind) -> Self {
+        match kind {
+            ActionKind::Torque => ActionType::Torque,
+            ActionKind::Position => ActionType::Position,
+            ActionKind::Velocity => ActionType::Velocity,
+        }
     }
 }
 
@@ -112,11 +120,11 @@ impl EnvHandle {
     /// One step: `(observation, reward, terminated, truncated, termination_reason,
     /// episode_step, terms)` (`terms`: a terms task's values, empty without one).
     #[allow(clippy::type_complexity)]
-    #[pyo3(signature = (action_type_name, action, mocap_poses=None))]
+    #[pyo3(signature = (kind, action, mocap_poses=None))]
     fn step<'py>(
         &self,
         py: Python<'py>,
-        action_type_name: &str,
+        kind: ActionKind,
         action: PyReadonlyArray1<'py, f32>,
         mocap_poses: Option<PyReadonlyArray1<'py, f32>>,
     ) -> PyResult<(
@@ -128,7 +136,7 @@ impl EnvHandle {
         u32,
         Bound<'py, PyArray1<f32>>,
     )> {
-        let action_type = action_type(action_type_name)?;
+        let action_type = ActionType::from(kind);
         let values = action.as_array().to_vec();
         let mocap = mocap_poses.map_or_else(Vec::new, |m| m.as_array().to_vec());
         let env = &self.env;

@@ -26,6 +26,7 @@ use pyo3::prelude::*;
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_class::<env::ActionKind>()?;
     m.add_class::<env::EnvHandle>()?;
     m.add_class::<batch::BatchHandle>()?;
     m.add_class::<stream::StepStream>()?;

@@ -6,7 +6,7 @@ use gymfleet_client::{BatchInfo, BatchStream, ClientError};
 use numpy::{PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 
-use crate::env::action_type;
+use crate::env::ActionKind;
 use crate::rows::{step_tuple, StepRows, StepTuple};
 use crate::runtime::wait;
 
@@ -37,11 +37,11 @@ impl StepStream {
     fn send_envs(
         &self,
         py: Python<'_>,
-        action_type_name: &str,
+        kind: ActionKind,
         env_indices: PyReadonlyArray1<'_, u32>,
         actions: PyReadonlyArray2<'_, f32>,
     ) -> PyResult<()> {
-        let action_type = action_type(action_type_name)?;
+        let action_type = gymfleet_client::ActionType::from(kind);
         let envs = env_indices.as_array().to_vec();
         let values: Vec<f32> = actions.as_array().iter().copied().collect();
         wait(py, None, || async move {

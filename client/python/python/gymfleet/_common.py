@@ -12,6 +12,7 @@ from typing import Any, Dict, List, Mapping, NamedTuple, Optional, Sequence, Tup
 import numpy as np
 from gymnasium import spaces
 
+from . import _core
 from .errors import InvalidArgument, NotFound, Unavailable
 
 #: A document: the parsed JSON (a dict), its text, or the path of a file holding it.
@@ -353,6 +354,15 @@ def check_action_type(action_type: str) -> str:
             f'action_type: expected "torque", "position" or "velocity", got {action_type!r}'
         )
     return action_type
+
+
+def action_kind(action_type: str) -> "_core.ActionKind":
+    """The extension's enum for a checked ``action_type``, which each step hands it."""
+    return {
+        "torque": _core.ActionKind.Torque,
+        "position": _core.ActionKind.Position,
+        "velocity": _core.ActionKind.Velocity,
+    }[check_action_type(action_type)]
 
 
 def action_bounds(info: Mapping[str, Any], action_type: str) -> Tuple[np.ndarray, np.ndarray]:

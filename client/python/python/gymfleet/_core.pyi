@@ -55,7 +55,7 @@ class EnvHandle:
         """Resets (reseeding first when a seed is given); the observation."""
     def step(
         self,
-        action_type_name: str,
+        kind: "ActionKind",
         action: npt.NDArray[np.float32],
         mocap_poses: Optional[npt.NDArray[np.float32]] = None,
     ) -> Tuple[
@@ -89,6 +89,14 @@ class EnvHandle:
     @property
     def closed(self) -> bool: ...
 
+class ActionKind:
+    """How a step's action values are read (the package maps its ``action_type`` string
+    to one of these once)."""
+
+    Torque: "ActionKind"
+    Position: "ActionKind"
+    Velocity: "ActionKind"
+
 class BatchHandle:
     """A batch of envs on one server, or sharded over a fleet."""
 
@@ -119,7 +127,7 @@ class BatchHandle:
         ``(n_envs, observation_dim)``."""
     def step(
         self,
-        action_type_name: str,
+        kind: "ActionKind",
         actions: npt.NDArray[np.float32],
         mocap_poses: Optional[npt.NDArray[np.float32]] = None,
     ) -> Tuple[
@@ -140,7 +148,7 @@ class BatchHandle:
         (``None``: they stay)."""
     def step_envs(
         self,
-        action_type_name: str,
+        kind: "ActionKind",
         env_indices: npt.NDArray[np.uint32],
         actions: npt.NDArray[np.float32],
     ) -> Tuple[
@@ -266,7 +274,7 @@ class StepStream:
 
     def send_envs(
         self,
-        action_type_name: str,
+        kind: "ActionKind",
         env_indices: npt.NDArray[np.uint32],
         actions: npt.NDArray[np.float32],
     ) -> None:

@@ -14,6 +14,7 @@ from ._common import (
     ActionMap,
     HandleOwner,
     Document,
+    action_kind,
     check_action_type,
     create_options,
     document_json,
@@ -58,6 +59,7 @@ class GymfleetEnv(HandleOwner, gym.Env):
         # height, eye, target, fov_deg, orthographic (see `GymfleetEnv.render`).
         self.render_options: Dict[str, Any] = dict(render_options or {})
         self.action_type = check_action_type(action_type)
+        self._action_kind = action_kind(action_type)
         text = document_json(document, options.get("model"))
         try:
             self._handle = _core.EnvHandle.create(
@@ -121,14 +123,14 @@ class GymfleetEnv(HandleOwner, gym.Env):
         terms task's values (in ``env_info["term_names"]`` order), for wrappers that make
         their own ``info`` (the suite's v5 envs)."""
         values = self._actions.to_server(action).reshape(-1)
-        obs, reward, terminated, truncated, _, _, terms = self._handle.step(self.action_type, values)
+        obs, reward, terminated, truncated, _, _, terms = self._handle.step(self._action_kind, values)
         return obs, reward, terminated, truncated, terms
 
     def step(self, action: Any) -> Tuple[np.ndarray, float, bool, bool, Dict[str, Any]]:
         """One env step of ``dt`` seconds; ``action`` has one value per DOF."""
         values = self._actions.to_server(action).reshape(-1)
         obs, reward, terminated, truncated, reason, episode_step, terms = self._handle.step(
-            self.action_type, values
+            self._action_kind, values
         )
         info: Dict[str, Any] = {"episode_step": episode_step}
         for name, value in zip(self._info["term_names"], terms):

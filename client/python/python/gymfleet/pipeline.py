@@ -196,7 +196,7 @@ class Pipeline:
         if not self._accepting:
             return  # the stream has ended: this send goes out on the next one
         try:
-            self._stream.send_envs(self._envs.action_type, send.ids, send.values)
+            self._stream.send_envs(self._envs._action_kind, send.ids, send.values)
             send.sent = True
         except GymfleetError:
             # The stream has ended (a step before failed, or the server went away): the

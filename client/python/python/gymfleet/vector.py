@@ -16,6 +16,7 @@ from ._common import (
     ActionMap,
     HandleOwner,
     Document,
+    action_kind,
     check_action_type,
     create_options,
     document_json,
@@ -106,6 +107,7 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
         self.render_options: Dict[str, Any] = dict(render_options or {})
         mode = globals()["autoreset_mode"](autoreset_mode)
         self.action_type = check_action_type(action_type)
+        self._action_kind = action_kind(action_type)
         try:
             self._handle = _core.BatchHandle.create(
                 server,
@@ -226,7 +228,7 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
     def _whole_step(
         self, values: np.ndarray, mocap: Optional[np.ndarray]
     ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
-        return self._whole_result(self._handle.step(self.action_type, values, mocap))
+        return self._whole_result(self._handle.step(self._action_kind, values, mocap))
 
     def _whole_result(
         self, raw: Tuple[Any, ...]
@@ -338,7 +340,7 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
     def _step_columns(self, ids: np.ndarray, values: np.ndarray) -> Tuple[Any, ...]:
         """Steps the envs ``ids`` (ascending) on the server; their results column by
         column (see :meth:`_columns`), for :class:`Pipeline`."""
-        return self._columns(self._handle.step_envs(self.action_type, ids, values))
+        return self._columns(self._handle.step_envs(self._action_kind, ids, values))
 
     @staticmethod
     def _columns(step: Tuple[Any, ...]) -> Tuple[Any, ...]:
