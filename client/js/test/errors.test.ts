@@ -164,6 +164,11 @@ test("every server error carries its reason: the status's gymfleet-reason metada
     "LIMIT_EXCEEDED",
     "--max-batch-size",
   );
+  // A diverged env must be reset first.
+  await gymReset(env, client);
+  const diverged = await gymStep({ ...env, action_type: "torque", values: [1e12] }, client);
+  assert.ok(diverged.terminated);
+  await because(() => gymStep({ ...env, action_type: "torque", values: [0] }, client), "NEEDS_RESET");
   // This client's own action checks stand in for the server's.
   await because(() => gymStep({ ...env, action_type: "torque", values: [NaN] }, client), "INVALID_ACTION");
   // What the client found itself has none.

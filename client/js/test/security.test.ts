@@ -120,6 +120,7 @@ function rejectsWith(Class: typeof Unauthenticated, code: Code, message: RegExp)
     assert.ok(err instanceof Class, `${String(err)} is not ${Class.name}`);
     assert.equal(err.code, code);
     assert.match(err.message, message);
+    if (code === Code.Unauthenticated) assert.equal(err.reason, "UNAUTHENTICATED");
     return true;
   };
 }

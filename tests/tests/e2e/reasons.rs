@@ -162,3 +162,54 @@ async fn typed_enums_travel_beside_the_strings() {
     assert_eq!(step.termination(0), None);
     server.stop().await.expect("stop");
 }
+
+// The panic is injected with `ServerConfig::panic_on_action`, which only debug builds have.
+#[cfg(debug_assertions)]
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_diverged_env_a_server_bug_and_a_shutdown_carry_their_reasons() {
+    const POISON: f32 = 1234.5;
+    let server = TestServer::start(ServerConfig {
+        threads: 1,
+        panic_on_action: Some(POISON),
+        ..ServerConfig::default()
+    })
+    .await;
+    let client = server.client().await;
+    let env = client
+        .create_env(EnvOptions::new(PENDULUM))
+        .await
+        .expect("env");
+    env.reset(None).await.expect("reset");
+    let diverged = env.step(ActionType::Torque, &[1e12]).await.expect("step");
+    assert!(diverged.terminated);
+    because(
+        env.step(ActionType::Torque, &[0.0]).await,
+        ErrorReason::NeedsReset,
+    );
+    // A panic in a pool job (injected; debug builds only) is a server bug.
+    let victim = client
+        .create_env(EnvOptions::new(PENDULUM))
+        .await
+        .expect("env");
+    because(
+        victim.step(ActionType::Torque, &[POISON]).await,
+        ErrorReason::Internal,
+    );
+    // A stream open while the server stops is told so.
+    let batch = client
+        .create_batch(BatchOptions::new(PENDULUM, 1))
+        .await
+        .expect("batch");
+    let mut stream = batch.stream().await.expect("stream");
+    stream.step(ActionType::Torque, &[0.0]).await.expect("step");
+    let stopping = tokio::spawn(server.stop());
+    let err = loop {
+        match stream.step(ActionType::Torque, &[0.0]).await {
+            Ok(_) => tokio::task::yield_now().await,
+            Err(err) => break err,
+        }
+    };
+    assert_eq!(err.reason(), Some(ErrorReason::ShuttingDown), "{err:?}");
+    drop(stream);
+    stopping.await.expect("join").expect("stop");
+}
