@@ -15,10 +15,14 @@
 //   ball        3 DOF: a rotation vector, deg (x, y, z)
 //   fixed       0 DOF
 //
-// Layout. `observation_dim` = 2·DOF + 7·(number of end effectors): the
-// joint positions, then the joint velocities, then one
-// [x, y, z, qw, qx, qy, qz] pose per end effector. Batched arrays are
-// row-major: env 0's row first.
+// Layout. An observation is, in order: the joint positions (one per DOF),
+// the joint velocities (one per DOF); for a floating base, its pose
+// [x, y, z, qw, qx, qy, qz] and velocity (6 floats); for each free body, its
+// pose (7) and velocity (6); one [x, y, z, qw, qx, qy, qz] pose per end
+// effector; then the task's floats, if it observes any. So `observation_dim`
+// = 2·DOF + 13·(1 if a floating base) + 13·(free bodies) + 7·(end effectors)
+// + the task's floats, and `observation_layout` names each segment with its
+// size. Batched arrays are row-major: env 0's row first.
 //
 // Errors map to status codes: INVALID_ARGUMENT for a bad document, action or
 // argument (with the JSON path of the offending field where there is one);
@@ -1078,8 +1082,9 @@ export type EnvInfo = Message<"gymfleet.v1.EnvInfo"> & {
   actionDim: number;
 
   /**
-   * 2·DOF (all joints) + 7·len(end_effector_ids) + the task's floats: the
-   * flattened observation length; observation_layout names the segments.
+   * The flattened observation length (see "Layout" above: 2·DOF, a floating
+   * base's and the free bodies' 13 floats each, 7·len(end_effector_ids), the
+   * task's floats); observation_layout names the segments.
    *
    * @generated from field: uint32 observation_dim = 4;
    */
@@ -3612,7 +3617,7 @@ export enum DocumentFormat {
   JSON = 1,
 
   /**
-   * ROS's Unified Robot Description Format (not converted yet).
+   * ROS's Unified Robot Description Format (converted into assembly JSON).
    *
    * @generated from enum value: DOCUMENT_FORMAT_URDF = 2;
    */
