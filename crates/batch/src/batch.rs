@@ -31,7 +31,7 @@ pub enum Autoreset {
 /// The result of one [`EnvBatch::step`]. A caller that keeps it between steps reuses
 /// its buffers; the server does not: its reply takes them (moved into the protobuf
 /// message), and the next step allocates each at its exact size
-/// ([`BatchStepOutput::clear_for`]).
+/// (`BatchStepOutput::clear_for`).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct BatchStepOutput {
     /// `n_envs × observation_dim` floats, row-major per env.
