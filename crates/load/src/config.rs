@@ -272,6 +272,13 @@ impl LoadConfig {
         } else {
             "clients"
         };
+        if self.api == Api::Ping {
+            // No env, model or action: only the transport.
+            return format!(
+                "{api} · {} {clients} · {stop} after {warmup} warmup",
+                self.clients
+            );
+        }
         format!(
             "model {} · {} {envs} × {} {clients} · {api} · {} ±{} · substeps {} · dt {} · seed {}{}{} · {stop} after {warmup} warmup",
             self.model.name,

@@ -27,6 +27,7 @@
 mod actions;
 mod cli;
 mod config;
+mod cpu;
 #[cfg(feature = "embedded")]
 mod embedded;
 mod error;
@@ -44,6 +45,7 @@ pub use cli::{Cli, DEFAULT_DURATION_SECS, DEFAULT_N_ENVS, DEFAULT_WARMUP_SECS, M
 pub use config::{
     threads_or_cores, Api, LoadConfig, Mode, StopRule, Target, TaskFile, UnitsArg, Warmup,
 };
+pub use cpu::Usage;
 #[cfg(feature = "embedded")]
 pub use embedded::EmbeddedServer;
 pub use error::{LoadError, Result};
@@ -67,12 +69,16 @@ pub fn run(config: &LoadConfig) -> Result<Report> {
     let mut round_ratios = Vec::new();
     match &config.target {
         Target::Remote { servers } => {
-            runs.push(runtime.block_on(remote::run(config, servers, "server"))?);
+            runs.push(timed(config, None, || {
+                runtime.block_on(remote::run(config, servers, "server"))
+            })?);
         }
-        Target::Embedded { threads } => {
-            runs.push(runtime.block_on(run_embedded(config, *threads))?)
-        }
-        Target::InProcess { threads } => runs.push(run_in_process(config, *threads)?),
+        Target::Embedded { threads } => runs.push(timed(config, Some(*threads), || {
+            runtime.block_on(run_embedded(config, *threads))
+        })?),
+        Target::InProcess { threads } => runs.push(timed(config, Some(*threads), || {
+            run_in_process(config, *threads)
+        })?),
         Target::Compare {
             threads,
             servers,
@@ -80,10 +86,17 @@ pub fn run(config: &LoadConfig) -> Result<Report> {
         } => {
             let run_remote = || {
                 if servers.is_empty() {
-                    runtime.block_on(run_embedded(config, *threads))
+                    timed(config, Some(*threads), || {
+                        runtime.block_on(run_embedded(config, *threads))
+                    })
                 } else {
-                    runtime.block_on(remote::run(config, servers, "server"))
+                    timed(config, None, || {
+                        runtime.block_on(remote::run(config, servers, "server"))
+                    })
                 }
+            };
+            let run_in_process = |config, threads: usize| {
+                timed(config, Some(threads), || run_in_process(config, threads))
             };
             for round in 1..=*rounds {
                 // Odd rounds in process first, even rounds remote first.
@@ -123,6 +136,29 @@ pub fn run(config: &LoadConfig) -> Result<Report> {
         })?;
     }
     Ok(report)
+}
+
+/// `run`'s result with the CPU time this process got during it and its wall time;
+/// `threads`: the simulation threads it runs in this process (`None`: on a server).
+fn timed(
+    config: &LoadConfig,
+    threads: Option<usize>,
+    run: impl FnOnce() -> Result<RunResult>,
+) -> Result<RunResult> {
+    let (result, usage) = cpu::measure(run);
+    // Envs stepped at once: a batch's (every client's), or one per client.
+    let envs = match config.api {
+        config::Api::Batch => Some(config.n_envs * config.clients),
+        config::Api::Env => Some(config.clients),
+        config::Api::Observe | config::Api::Ping => None,
+    };
+    result.map(|mut r| {
+        r.usage = usage;
+        r.local_parallel = threads
+            .zip(envs)
+            .map(|(t, envs)| config::threads_or_cores(t).min(envs));
+        r
+    })
 }
 
 /// The median of `values` (the mean of the middle two for an even count); `None` if empty.

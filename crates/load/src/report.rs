@@ -8,7 +8,8 @@ use std::time::Instant;
 use hdrhistogram::Histogram;
 use serde::Serialize;
 
-use crate::config::LoadConfig;
+use crate::config::{Api, LoadConfig};
+use crate::cpu::Usage;
 use crate::meter::Tally;
 use crate::rss::Memory;
 
@@ -56,6 +57,13 @@ pub struct RunResult {
     pub calls_per_client: Vec<u64>,
     /// Resident memory with every env still open, just before they are closed.
     pub memory_loaded: Option<Memory>,
+    /// The CPU time this process got during the run (setup and warm-up included) against
+    /// its wall time; `None` where it cannot be read.
+    pub usage: Option<Usage>,
+    /// How many of this process's threads the run can keep simulating at once (in
+    /// process, or on the embedded server: its pool threads, at most one per env stepped
+    /// at a time); `None` when a server simulates or nothing is simulated (observe, ping).
+    pub local_parallel: Option<usize>,
 }
 
 impl RunResult {
@@ -113,6 +121,8 @@ impl RunResult {
             terminations: tallies.iter().map(|t| t.terminations).sum(),
             calls_per_client: tallies.iter().map(|t| t.calls).collect(),
             memory_loaded: None,
+            usage: None,
+            local_parallel: None,
         }
     }
 }
@@ -149,18 +159,37 @@ pub fn render_table(report: &Report) -> String {
     let mut row = |name: &str, f: &dyn Fn(&RunResult) -> String| {
         rows.push((name.to_string(), runs.iter().map(f).collect()));
     };
+    // A ping steps no env: its env rows would only say 0 or repeat the calls.
+    let envs = report.config.api != Api::Ping;
     row("", &|r| r.label.clone());
-    row("env-steps/s", &|r| format!("{:.1}", r.env_steps_per_s));
+    if envs {
+        row("env-steps/s", &|r| format!("{:.1}", r.env_steps_per_s));
+    }
     row("calls/s", &|r| format!("{:.1}", r.calls_per_s));
     row("latency p50 (µs)", &|r| r.latency_us.p50.to_string());
     row("latency p90 (µs)", &|r| r.latency_us.p90.to_string());
     row("latency p99 (µs)", &|r| r.latency_us.p99.to_string());
     row("latency max (µs)", &|r| r.latency_us.max.to_string());
     row("calls", &|r| r.calls.to_string());
-    row("env-steps", &|r| r.env_steps.to_string());
+    if envs {
+        row("env-steps", &|r| r.env_steps.to_string());
+    }
     row("elapsed (s)", &|r| format!("{:.3}", r.elapsed_s));
-    row("terminated envs", &|r| r.terminations.to_string());
+    if envs {
+        row("terminated envs", &|r| r.terminations.to_string());
+    }
     row("errors", &|r| r.errors.to_string());
+    if runs.iter().any(|r| r.usage.is_some()) {
+        row("process CPU / wall (s)", &|r| {
+            r.usage
+                .map_or("-".into(), |u| format!("{:.1} / {:.1}", u.cpu_s, u.wall_s))
+        });
+        row("busy cores", &|r| {
+            r.usage.map_or("-".into(), |u| {
+                format!("{:.2} of {}", u.busy_cores(), u.cores)
+            })
+        });
+    }
     if runs.iter().any(|r| r.memory_loaded.is_some()) {
         row("VmRSS loaded (MiB)", &|r| {
             r.memory_loaded
@@ -196,6 +225,13 @@ pub fn render_table(report: &Report) -> String {
     for r in runs {
         if let Some(first) = &r.first_error {
             let _ = writeln!(out, "first error ({}): {first}", r.label);
+        }
+    }
+    for r in runs {
+        if let (Some(usage), Some(parallel)) = (r.usage, r.local_parallel) {
+            if let Some(warning) = usage.starved(parallel) {
+                let _ = writeln!(out, "{} {warning}", r.label);
+            }
         }
     }
     match (report.ratio_remote_to_in_process, report.round_ratios.len()) {

@@ -83,6 +83,22 @@ fn observe_and_ping_measure_the_pool_hop_and_the_transport() {
     let report = run_flags(&["--api", "ping", "--steps", "20", "--clients", "2"]);
     assert_eq!(report.runs[0].label, "remote GetServerInfo");
     assert_counts(&report.runs[0], 1, 20, 2);
+    // A ping's report says nothing of envs, models or actions.
+    assert_eq!(
+        report.summary,
+        "GetServerInfo · 2 clients · 20 steps after 0 steps warmup"
+    );
+    let table = gymfleet_load::render_table(&report);
+    for absent in ["env-steps", "terminated envs", "torque", "model"] {
+        assert!(
+            !table.contains(absent),
+            "{absent} in a ping's table:\n{table}"
+        );
+    }
+    assert!(
+        table.contains("calls/s") && table.contains("busy cores"),
+        "{table}"
+    );
     let report = run_flags(&[
         "--in-process",
         "--api",
