@@ -376,6 +376,9 @@ mod tests {
             .into(),
         );
         assert_eq!(reason(&s).as_deref(), Some("INVALID_ACTION"));
+        let s = status(ServerError::ShuttingDown);
+        assert_eq!(reason(&s).as_deref(), Some("SHUTTING_DOWN"));
+        assert_eq!(s.code(), Code::Unavailable);
     }
 
     #[test]
