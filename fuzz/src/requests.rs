@@ -9,7 +9,7 @@
 //! a batch step's reply has the batch's shape.
 
 // These requests are built in the flat form (`CreateEnvRequest.document_json`, …): the
-// proto deprecates it for `options`, and the server still reads it (`convert.rs`).
+// proto deprecates it for `options`, and the server still reads it (`server/src/convert/create.rs`).
 #![allow(deprecated)]
 
 use std::sync::OnceLock;

@@ -3,7 +3,7 @@
 //! message, the env or batch it ran on is closed, and everyone else is still served.
 
 // These requests are built in the flat form (`CreateEnvRequest.document_json`, …): the
-// proto deprecates it for `options`, and the server still reads it (`convert.rs`).
+// proto deprecates it for `options`, and the server still reads it (`server/src/convert/create.rs`).
 #![allow(deprecated)]
 #![cfg(debug_assertions)]
 

@@ -11,7 +11,7 @@
 //! multiple of the input's size or of a named limit, with the measured value beside it.
 
 // These requests are built in the flat form (`CreateEnvRequest.document_json`, …): the
-// proto deprecates it for `options`, and the server still reads it (`convert.rs`).
+// proto deprecates it for `options`, and the server still reads it (`server/src/convert/create.rs`).
 #![allow(deprecated)]
 
 use gymfleet_proto::v1 as pb;

@@ -3,7 +3,7 @@
 //! caught without a fuzzing build. Prints how far the inputs of each corpus got.
 
 // These requests are built in the flat form (`CreateEnvRequest.document_json`, …): the
-// proto deprecates it for `options`, and the server still reads it (`convert.rs`).
+// proto deprecates it for `options`, and the server still reads it (`server/src/convert/create.rs`).
 #![allow(deprecated)]
 
 #[path = "../../fuzz/src/targets.rs"]

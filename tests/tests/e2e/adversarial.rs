@@ -5,7 +5,7 @@
 //! bitwise as it did then.
 
 // These requests are built in the flat form (`CreateEnvRequest.document_json`, …): the
-// proto deprecates it for `options`, and the server still reads it (`convert.rs`).
+// proto deprecates it for `options`, and the server still reads it (`server/src/convert/create.rs`).
 #![allow(deprecated)]
 
 use std::future::Future;

@@ -3,7 +3,7 @@
 //! by ConvertDocument, refused with the element and line when unsupported.
 
 // These requests are built in the flat form (`CreateEnvRequest.document_json`, …): the
-// proto deprecates it for `options`, and the server still reads it (`convert.rs`).
+// proto deprecates it for `options`, and the server still reads it (`server/src/convert/create.rs`).
 #![allow(deprecated)]
 
 use gymfleet_client::{ActionType, BatchOptions, ClientError, DocumentFormat, EnvOptions};

@@ -3,7 +3,7 @@
 //! start from it.
 
 // These requests are built in the flat form (`CreateEnvRequest.document_json`, …): the
-// proto deprecates it for `options`, and the server still reads it (`convert.rs`).
+// proto deprecates it for `options`, and the server still reads it (`server/src/convert/create.rs`).
 #![allow(deprecated)]
 
 use gymfleet_e2e::{TestServer, PENDULUM};
