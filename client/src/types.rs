@@ -7,6 +7,10 @@ pub use gymfleet_proto::v1::{DofUnit, JointType, TerminationReason};
 
 use crate::error::{ClientError, Result};
 
+mod compat;
+pub(crate) use compat::typed_termination;
+use compat::{flat_env_info, typed_or_named};
+
 /// Floats per end-effector pose: `[x, y, z, qw, qx, qy, qz]`.
 pub const POSE_LEN: usize = 7;
 
@@ -252,42 +256,6 @@ impl TryFrom<pb::StepResult> for StepResult {
             episode_step: r.episode_step,
             terms: r.terms,
         })
-    }
-}
-
-/// A wire termination reason as the enum; `None` for none (or one this build does not
-/// know).
-pub(crate) fn typed_termination(raw: i32) -> Option<TerminationReason> {
-    TerminationReason::try_from(raw)
-        .ok()
-        .filter(|t| *t != TerminationReason::Unspecified)
-}
-
-/// A wire enum value, or (unset) the value its string `name` names.
-fn typed_or_named<E>(raw: i32, name: &str, prefix: &str) -> E
-where
-    E: TryFrom<i32> + Default + FromStrName + PartialEq,
-{
-    match E::try_from(raw) {
-        Ok(value) if value != E::default() => value,
-        _ => E::from_name(&format!("{prefix}{}", name.to_ascii_uppercase())).unwrap_or_default(),
-    }
-}
-
-/// prost's `from_str_name`, for [`typed_or_named`].
-trait FromStrName: Sized {
-    fn from_name(name: &str) -> Option<Self>;
-}
-
-impl FromStrName for JointType {
-    fn from_name(name: &str) -> Option<Self> {
-        JointType::from_str_name(name)
-    }
-}
-
-impl FromStrName for DofUnit {
-    fn from_name(name: &str) -> Option<Self> {
-        DofUnit::from_str_name(name)
     }
 }
 
@@ -566,31 +534,6 @@ impl TryFrom<pb::BatchInfo> for BatchInfo {
             n_envs: i.n_envs as usize,
             env: env.into(),
         })
-    }
-}
-
-/// A `BatchInfo`'s deprecated flat fields as the `EnvInfo` they repeat.
-#[allow(deprecated)]
-fn flat_env_info(i: pb::BatchInfo) -> pb::EnvInfo {
-    pb::EnvInfo {
-        env_id: String::new(),
-        num_joints: i.num_joints,
-        action_dim: i.action_dim,
-        observation_dim: i.observation_dim,
-        end_effector_ids: i.end_effector_ids,
-        dt: i.dt,
-        substeps: i.substeps,
-        max_steps: i.max_steps,
-        joints: i.joints,
-        observation_layout: i.observation_layout,
-        units: i.units,
-        term_names: i.term_names,
-        free_bodies: i.free_bodies,
-        mocap_bodies: i.mocap_bodies,
-        moving_mass: i.moving_mass,
-        actuators: i.actuators,
-        keyframes: i.keyframes,
-        heightfields: i.heightfields,
     }
 }
 

@@ -142,7 +142,7 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
         """What the server(s) said about the batch; ``shards`` lists ``(server,
         batch_id, start, stop)`` per shard (where they are now: :meth:`recover` moves
         the lost ones)."""
-        return {**self._info, "shards": self._handle.info["shards"]}
+        return self._info
 
     def reset(
         self,
@@ -381,7 +381,12 @@ class GymfleetVectorEnv(HandleOwner, VectorEnv):
         pipeline = self._pipeline
         if pipeline is not None:
             pipeline.drain()
-        found = self._handle.recover(server)
+        try:
+            found = self._handle.recover(server)
+        finally:
+            # Rebuilt shards live elsewhere now, even if another failed (the only change
+            # to the batch's info).
+            self._info["shards"] = self._handle.info["shards"]
         if pipeline is not None:
             pipeline.recovered(found)
         if found is None or len(found[0]):
