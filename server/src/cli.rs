@@ -132,6 +132,11 @@ pub struct Cli {
     /// on a private port), e.g. 0.0.0.0:9090.
     #[arg(long, env = "GYMFLEET_METRICS_LISTEN", value_name = "ADDR")]
     pub metrics_listen: Option<std::net::SocketAddr>,
+    /// Also serve gRPC health (grpc.health.v1.Health, nothing else) at ADDR in plaintext,
+    /// e.g. 0.0.0.0:8081: for probes that cannot do TLS (the kubelet's gRPC probe) when
+    /// the main listener serves TLS. It reports what the main listener's health reports.
+    #[arg(long, env = "GYMFLEET_HEALTH_LISTEN", value_name = "ADDR")]
+    pub health_listen: Option<std::net::SocketAddr>,
     /// Serve a read-only dashboard at http://ADDR/ (envs, batches, rates, the pool, a
     /// live 3D view), e.g. 127.0.0.1:8080. Plain HTTP; an address other than loopback
     /// needs --auth-tokens (the page then asks for a token and shows that tenant's).
@@ -184,8 +189,17 @@ impl Cli {
     /// The server configuration these flags describe; reads the files they name (an
     /// error says which flag and file, and what is wrong).
     pub fn server_config(&self) -> Result<ServerConfig, String> {
+        // A PEM file, read whole: one that is not PEM (e.g. a deploy's placeholder Secret)
+        // is refused here, naming its flag and file, before anything is bound.
         let read = |flag: &str, path: &PathBuf| {
-            std::fs::read(path).map_err(|e| format!("{flag} {}: {e}", path.display()))
+            let pem = std::fs::read(path).map_err(|e| format!("{flag} {}: {e}", path.display()))?;
+            if !pem.windows(11).any(|w| w == b"-----BEGIN ") {
+                return Err(format!(
+                    "{flag} {}: not PEM (no `-----BEGIN` line)",
+                    path.display()
+                ));
+            }
+            Ok(pem)
         };
         let tls = match (&self.tls_cert, &self.tls_key) {
             (Some(cert), Some(key)) => Some(TlsConfig {
@@ -227,6 +241,7 @@ impl Cli {
             max_contact_work: self.max_contact_work,
             tls,
             metrics_listen: self.metrics_listen,
+            health_listen: self.health_listen,
             dashboard_listen: self.dashboard_listen,
             auth_tokens,
             models,
@@ -327,6 +342,73 @@ mod tests {
             err.contains("invalid value '20' for '--pool-niceness <POOL_NICENESS>'")
                 && err.contains("20 is not in 0..=19"),
             "{err}"
+        );
+    }
+
+    /// The secure overlay's placeholder Secrets (deploy/k8s/overlays/secure/secrets.yaml)
+    /// stop a server that is given them, naming the file, before anything is bound.
+    #[test]
+    fn the_deploy_placeholders_are_refused_by_file() {
+        scrub_gymfleet_env();
+        const SECRETS: &str = include_str!("../../deploy/k8s/overlays/secure/secrets.yaml");
+        let value = |key: &str| {
+            let line = SECRETS
+                .lines()
+                .find(|l| l.trim_start().starts_with(key))
+                .unwrap_or_else(|| panic!("{key} in secrets.yaml"));
+            line.split_once(": ")
+                .unwrap()
+                .1
+                .trim_matches('"')
+                .to_string()
+        };
+        let dir =
+            std::env::temp_dir().join(format!("gymfleet-placeholders-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let cert = dir.join("tls.crt");
+        let key = dir.join("tls.key");
+        let tokens = dir.join("tokens");
+        std::fs::write(&cert, value("tls.crt:")).unwrap();
+        std::fs::write(&key, value("tls.key:")).unwrap();
+        // The tokens value is a block: its one line is the comment after `tokens: |`.
+        let comment = SECRETS
+            .lines()
+            .skip_while(|l| !l.ends_with("tokens: |"))
+            .nth(1)
+            .unwrap();
+        std::fs::write(&tokens, format!("{}\n", comment.trim())).unwrap();
+        let parse = |args: &[&str]| {
+            Cli::try_parse_from(["gymfleet-server"].iter().chain(args))
+                .expect("flags parse")
+                .server_config()
+                .unwrap_err()
+        };
+        let (c, k, t) = (
+            cert.to_str().unwrap(),
+            key.to_str().unwrap(),
+            tokens.to_str().unwrap(),
+        );
+        assert_eq!(
+            parse(&["--tls-cert", c, "--tls-key", k]),
+            format!("--tls-cert {c}: not PEM (no `-----BEGIN` line)")
+        );
+        assert_eq!(
+            parse(&["--auth-tokens", t]),
+            format!("--auth-tokens {t}: no tokens: the file has no `TENANT TOKEN` line")
+        );
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    #[test]
+    fn health_listen_is_off_by_default_and_set_by_its_flag() {
+        scrub_gymfleet_env();
+        let cli = Cli::try_parse_from(["gymfleet-server"]).unwrap();
+        assert_eq!(cli.server_config().unwrap().health_listen, None);
+        let cli =
+            Cli::try_parse_from(["gymfleet-server", "--health-listen", "0.0.0.0:8081"]).unwrap();
+        assert_eq!(
+            cli.server_config().unwrap().health_listen,
+            Some(([0, 0, 0, 0], 8081).into())
         );
     }
 

@@ -75,6 +75,10 @@ pub struct ServerConfig {
     pub tls: Option<TlsConfig>,
     /// Where to serve Prometheus metrics (`GET /metrics`, plain HTTP); `None` = nowhere.
     pub metrics_listen: Option<std::net::SocketAddr>,
+    /// Where to serve `grpc.health.v1.Health` alone, in plaintext and without a token
+    /// (`--health-listen`): for probes that cannot speak TLS, such as the kubelet's gRPC
+    /// probe, while the main listener serves TLS. `None` = only on the main listener.
+    pub health_listen: Option<std::net::SocketAddr>,
     /// Where to serve the read-only dashboard page and its JSON API (plain HTTP);
     /// `None` = nowhere. A non-loopback address needs `auth_tokens` (the server refuses
     /// to start otherwise).
@@ -125,6 +129,7 @@ impl Default for ServerConfig {
             max_contact_work: DEFAULT_MAX_CONTACT_WORK,
             tls: None,
             metrics_listen: None,
+            health_listen: None,
             dashboard_listen: None,
             auth_tokens: None,
             tenant_max_envs: 0,

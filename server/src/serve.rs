@@ -12,6 +12,7 @@ use tokio::sync::{oneshot, watch};
 use tonic::service::interceptor::InterceptedService;
 use tonic::transport::server::TcpIncoming;
 use tonic::transport::{Certificate, Identity, Server, ServerTlsConfig};
+use tonic_health::pb::health_server::{Health, HealthServer};
 
 use crate::auth::Authenticator;
 use crate::clock::Clock;
@@ -71,6 +72,14 @@ pub(crate) async fn serve_bound(
     shutdown: impl Future<Output = ()>,
     in_process: Option<oneshot::Sender<InProcess>>,
 ) -> Result<()> {
+    // TLS first: an unusable certificate or key stops the start before anything else is
+    // bound or announced.
+    let mut builder = Server::builder();
+    if let Some(tls) = &config.tls {
+        builder = builder
+            .tls_config(server_tls(tls))
+            .map_err(|e| StartupError::Tls(error_chain(&e)))?;
+    }
     let pool = StepPool::with_niceness(config.threads, config.pool_niceness)?;
     let threads = pool.threads();
     let sim = Arc::new(Simulation::new(config.clone(), pool));
@@ -113,6 +122,10 @@ pub(crate) async fn serve_bound(
                 listener, scrape,
             )))
         }
+        None => None,
+    };
+    let health_only = match config.health_listen {
+        Some(addr) => Some(serve_health(addr, health_service.clone()).await?),
         None => None,
     };
     let dashboard = match dashboard {
@@ -160,12 +173,6 @@ pub(crate) async fn serve_bound(
     };
     // Everything but health answers only callers with a token when auth is on.
     let auth = Authenticator::new(config.auth_tokens.clone(), sim.shared_metrics());
-    let mut builder = Server::builder();
-    if let Some(tls) = &config.tls {
-        builder = builder
-            .tls_config(server_tls(tls))
-            .map_err(|e| StartupError::Tls(error_chain(&e)))?;
-    }
     let simulator = InterceptedService::new(simulator, auth.clone());
     if let Some(sender) = in_process {
         // The caller may have given up waiting; serving goes on regardless.
@@ -192,6 +199,10 @@ pub(crate) async fn serve_bound(
     if let Some(metrics) = metrics {
         metrics.abort();
     }
+    if let Some(health_only) = health_only {
+        // Probes keep an answer (NOT_SERVING) until the main listener has drained.
+        health_only.abort();
+    }
     if let Some(dashboard) = dashboard {
         // It watches the same stop signal (or sees it dropped, if serving failed) and
         // returns once its requests in flight are answered.
@@ -204,6 +215,28 @@ pub(crate) async fn serve_bound(
     served?;
     tracing::info!("stopped");
     Ok(())
+}
+
+/// Serves `health` alone at `addr`, in plaintext (`ServerConfig::health_listen`), until
+/// the returned task is aborted.
+async fn serve_health<H: Health>(
+    addr: std::net::SocketAddr,
+    health: HealthServer<H>,
+) -> Result<tokio::task::JoinHandle<()>> {
+    let listener = tokio::net::TcpListener::bind(addr)
+        .await
+        .map_err(|e| StartupError::Bind {
+            addr: addr.to_string(),
+            reason: e.to_string(),
+        })?;
+    tracing::info!(addr = %listener.local_addr()?, "serving gRPC health (plaintext)");
+    let incoming = TcpIncoming::from(listener).with_nodelay(Some(true));
+    let router = Server::builder().add_service(health);
+    Ok(tokio::spawn(async move {
+        if let Err(e) = router.serve_with_incoming(incoming).await {
+            tracing::warn!(error = %error_chain(&e), "the health listener stopped");
+        }
+    }))
 }
 
 fn server_tls(tls: &TlsConfig) -> ServerTlsConfig {

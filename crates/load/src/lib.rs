@@ -36,9 +36,12 @@ mod in_process;
 mod meter;
 mod model;
 mod progress;
+mod reference;
 mod remote;
 mod report;
 mod rss;
+
+use reference::Place::{self, Embedded, InProcess};
 
 pub use actions::{ActionKind, ActionPlan};
 pub use cli::{Cli, DEFAULT_DURATION_SECS, DEFAULT_N_ENVS, DEFAULT_WARMUP_SECS, MAX_ROUNDS};
@@ -73,12 +76,16 @@ pub fn run(config: &LoadConfig) -> Result<Report> {
                 runtime.block_on(remote::run(config, servers, "server"))
             })?);
         }
-        Target::Embedded { threads } => runs.push(timed(config, Some(*threads), || {
-            runtime.block_on(run_embedded(config, *threads))
-        })?),
-        Target::InProcess { threads } => runs.push(timed(config, Some(*threads), || {
-            run_in_process(config, *threads)
-        })?),
+        Target::Embedded { threads } => {
+            runs.push(timed(config, Some((Embedded, *threads)), || {
+                runtime.block_on(run_embedded(config, *threads))
+            })?)
+        }
+        Target::InProcess { threads } => {
+            runs.push(timed(config, Some((InProcess, *threads)), || {
+                run_in_process(config, *threads)
+            })?)
+        }
         Target::Compare {
             threads,
             servers,
@@ -86,7 +93,7 @@ pub fn run(config: &LoadConfig) -> Result<Report> {
         } => {
             let run_remote = || {
                 if servers.is_empty() {
-                    timed(config, Some(*threads), || {
+                    timed(config, Some((Embedded, *threads)), || {
                         runtime.block_on(run_embedded(config, *threads))
                     })
                 } else {
@@ -96,7 +103,9 @@ pub fn run(config: &LoadConfig) -> Result<Report> {
                 }
             };
             let run_in_process = |config, threads: usize| {
-                timed(config, Some(threads), || run_in_process(config, threads))
+                timed(config, Some((InProcess, threads)), || {
+                    run_in_process(config, threads)
+                })
             };
             for round in 1..=*rounds {
                 // Odd rounds in process first, even rounds remote first.
@@ -138,11 +147,12 @@ pub fn run(config: &LoadConfig) -> Result<Report> {
     Ok(report)
 }
 
-/// `run`'s result with the CPU time this process got during it and its wall time;
-/// `threads`: the simulation threads it runs in this process (`None`: on a server).
+/// `run`'s result with the CPU time this process got during it and its wall time, and the
+/// reference for its workload; `local`: where in this process it simulates, on how many
+/// threads (`None`: on a server).
 fn timed(
     config: &LoadConfig,
-    threads: Option<usize>,
+    local: Option<(Place, usize)>,
     run: impl FnOnce() -> Result<RunResult>,
 ) -> Result<RunResult> {
     let (result, usage) = cpu::measure(run);
@@ -152,8 +162,12 @@ fn timed(
         config::Api::Env => Some(config.clients),
         config::Api::Observe | config::Api::Ping => None,
     };
+    let threads = local.map(|(_, threads)| threads);
     result.map(|mut r| {
         r.usage = usage;
+        r.reference = local.map(|(place, threads)| {
+            reference::lookup(config, place, config::threads_or_cores(threads))
+        });
         r.local_parallel = threads
             .zip(envs)
             .map(|(t, envs)| config::threads_or_cores(t).min(envs));

@@ -64,6 +64,9 @@ pub struct RunResult {
     /// process, or on the embedded server: its pool threads, at most one per env stepped
     /// at a time); `None` when a server simulates or nothing is simulated (observe, ping).
     pub local_parallel: Option<usize>,
+    /// What a healthy run of this workload measured (`crates/load/reference.json`), as a
+    /// line; `None` when a server simulates.
+    pub reference: Option<String>,
 }
 
 impl RunResult {
@@ -123,6 +126,7 @@ impl RunResult {
             memory_loaded: None,
             usage: None,
             local_parallel: None,
+            reference: None,
         }
     }
 }
@@ -225,6 +229,14 @@ pub fn render_table(report: &Report) -> String {
     for r in runs {
         if let Some(first) = &r.first_error {
             let _ = writeln!(out, "first error ({}): {first}", r.label);
+        }
+    }
+    // Each workload's reference once (a comparison's rounds share them).
+    let mut references: Vec<&str> = Vec::new();
+    for reference in runs.iter().filter_map(|r| r.reference.as_deref()) {
+        if !references.contains(&reference) {
+            references.push(reference);
+            let _ = writeln!(out, "{reference}");
         }
     }
     for r in runs {

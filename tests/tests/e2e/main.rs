@@ -13,6 +13,7 @@ mod imports;
 mod joint_state;
 mod keyframes;
 mod lifecycle;
+mod probes;
 mod reasons;
 mod regressions;
 mod render;

@@ -1,4 +1,4 @@
-//! Auth and tenants, TLS and mutual TLS, call deadlines: what PRODUCT.md §6.6 promises an
+//! Auth and tenants, TLS and mutual TLS, call deadlines: what docs/design.md §6.6 promises an
 //! operator who puts the server on a shared network.
 
 use std::sync::Arc;
@@ -220,15 +220,15 @@ async fn a_tenant_sees_only_its_own_envs_and_has_its_own_quota() {
 }
 
 /// A CA, and a server and a client certificate it signed, as PEM.
-struct Pki {
-    ca: String,
-    server_cert: String,
-    server_key: String,
-    client_cert: String,
-    client_key: String,
+pub(crate) struct Pki {
+    pub(crate) ca: String,
+    pub(crate) server_cert: String,
+    pub(crate) server_key: String,
+    pub(crate) client_cert: String,
+    pub(crate) client_key: String,
 }
 
-fn pki() -> Pki {
+pub(crate) fn pki() -> Pki {
     let mut ca_params = CertificateParams::new(Vec::<String>::new()).unwrap();
     ca_params.is_ca = IsCa::Ca(BasicConstraints::Unconstrained);
     ca_params
