@@ -1,4 +1,4 @@
-//! Descriptions in other formats (PRODUCT.md §6.3): [`DocumentFormat`] for the create
+//! Descriptions in other formats (docs/design.md §6.3): [`DocumentFormat`] for the create
 //! options, and [`Client::convert_document`], which shows the assembly JSON the server
 //! builds from an MJCF description.
 

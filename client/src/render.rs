@@ -18,7 +18,7 @@ pub enum CameraPreset {
     Top,
 }
 
-/// Where a picture is taken from (PRODUCT.md §6.5). The default frames the whole robot
+/// Where a picture is taken from (docs/design.md §6.5). The default frames the whole robot
 /// from the `iso` direction in perspective.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Camera {
@@ -187,7 +187,7 @@ pub struct SceneJoint {
     pub axis: [f64; 3],
 }
 
-/// What an env looks like now: enough to draw it (PRODUCT.md §6.5 `GetScene`).
+/// What an env looks like now: enough to draw it (docs/design.md §6.5 `GetScene`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scene {
     /// Every part.

@@ -1,4 +1,4 @@
-//! Saved states (PRODUCT.md §6.4): [`EnvState`], `save_state`/`load_state` on an [`Env`]
+//! Saved states (docs/design.md §6.4): [`EnvState`], `save_state`/`load_state` on an [`Env`]
 //! or some envs of a [`Batch`], and [`Client::fork`], which makes a batch of copies of one
 //! state on any server.
 

@@ -1,4 +1,4 @@
-//! Bearer-token authentication (`--auth-tokens FILE`, PRODUCT.md §6.6).
+//! Bearer-token authentication (`--auth-tokens FILE`, docs/design.md §6.6).
 //!
 //! A [`TokenTable`] (`tenant.rs`) maps tokens to [`Tenant`]s. The [`Authenticator`]
 //! interceptor sits in front of the simulator and reflection services (never health, which

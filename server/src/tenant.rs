@@ -1,4 +1,4 @@
-//! Tenants and the `--auth-tokens` file (PRODUCT.md §6.6): who a caller is, and the
+//! Tenants and the `--auth-tokens` file (docs/design.md §6.6): who a caller is, and the
 //! [`TokenTable`] that maps bearer tokens to [`Tenant`]s. A leaf module: everything that
 //! keeps per-tenant state (registries, limits, metrics, the dashboard) names tenants from
 //! here, and the interceptor that finds a request's tenant is `auth.rs`.

@@ -15,7 +15,7 @@ from gymnasium.utils.env_checker import check_env
 import gymfleet
 from conftest import MODELS
 
-#: What check_env says about gymnasium's own MuJoCo envs too (PRODUCT.md §6.2): infinite
+#: What check_env says about gymnasium's own MuJoCo envs too (docs/design.md §6.2): infinite
 #: Box bounds (velocities are unbounded; so are torques without `max_effort`), and
 #: un-normalised action ranges.
 EXPECTED_WARNINGS = (

@@ -1,4 +1,4 @@
-//! Fleet recovery (PRODUCT.md §6.4): a [`FleetBatch`] that checkpoints every K steps keeps
+//! Fleet recovery (docs/design.md §6.4): a [`FleetBatch`] that checkpoints every K steps keeps
 //! every env's saved state and what it was asked to do since (steps and resets); when a
 //! server is lost, [`FleetBatch::recover`] rebuilds the lost shards' envs on a survivor (or
 //! a replacement server) from the checkpoint, replays what was done since, and the batch

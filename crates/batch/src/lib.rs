@@ -2,7 +2,7 @@
 //!
 //! This crate owns [`EnvBatch`] — `n_envs` clones of one [`gymfleet_env::RobotEnv`],
 //! validated as a whole, stepped together, with the three [`Autoreset`] modes of
-//! PRODUCT.md §3 — and the scheduler that runs them: [`StepPool`], an explicit rayon
+//! docs/design.md §3 — and the scheduler that runs them: [`StepPool`], an explicit rayon
 //! pool sized to the cores, whose fair chunk queue makes many batches from many
 //! clients take turns chunk by chunk, so a small batch is never stuck behind a huge
 //! one. Results are bitwise identical whatever the thread count or chunking.

@@ -1,6 +1,6 @@
 //! Gym-style robot environments over a gymfleet physics world.
 //!
-//! This crate owns the episode semantics of PRODUCT.md §2: [`RobotEnv`] with
+//! This crate owns the episode semantics of docs/design.md §2: [`RobotEnv`] with
 //! `reset`/`step`/`observe`, action validation ([`ActionType`], length, finiteness),
 //! the flat observation layout (joint positions, joint velocities, then one
 //! `[x, y, z, qw, qx, qy, qz]` per end effector), time (`dt` as `substeps` substeps),

@@ -1,4 +1,4 @@
-//! Saved env states (PRODUCT.md §6.4): everything that determines an env's future, as
+//! Saved env states (docs/design.md §6.4): everything that determines an env's future, as
 //! opaque, versioned, checksummed bytes that rebuild the env on any server.
 //!
 //! A state holds the document text and the options the env was built from, the episode

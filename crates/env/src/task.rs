@@ -1,5 +1,5 @@
 //! Tasks: the reward, the goal and the task's own termination, computed inside the step
-//! from the simulated state (PRODUCT.md §6.1). [`TaskSpec`] is what a request asks for,
+//! from the simulated state (docs/design.md §6.1). [`TaskSpec`] is what a request asks for,
 //! in the user's units; [`ActiveTask`] is it resolved against one env (instance indices,
 //! the current target) and evaluated after every step.
 //!

@@ -1,4 +1,4 @@
-//! Environment semantics of PRODUCT.md §2: metadata, the seed observations, signs,
+//! Environment semantics of docs/design.md §2: metadata, the seed observations, signs,
 //! action validation, truncation, reset, determinism and divergence.
 
 mod common;

@@ -1,4 +1,4 @@
-//! Robot descriptions from elsewhere, converted into gymfleet's assembly JSON (PRODUCT.md
+//! Robot descriptions from elsewhere, converted into gymfleet's assembly JSON (docs/design.md
 //! §6.3), so that everything downstream (validation with paths, limits, tasks, batches,
 //! MCP) works unchanged on them.
 //!

@@ -1,5 +1,5 @@
 //! The terms task: a reward made of weighted, named terms that any robot can carry
-//! (PRODUCT.md §6.1 as extended by the Gymnasium suite): the velocity of a coordinate
+//! (docs/design.md §6.1 as extended by the Gymnasium suite): the velocity of a coordinate
 //! over the env step (forward reward), a healthy reward with healthy ranges and
 //! termination (`unhealthy`), the control cost on the action, distances between points
 //! of instances, and plain coordinates to report (`x_position`). Each step reports every
