@@ -69,7 +69,7 @@ pub enum TaskKind {
     Track(TrackTask),
     /// See [`UprightTask`].
     Upright(UprightTask),
-    /// A terms task, as its JSON (see the README's "Terms tasks"): weighted terms,
+    /// A terms task, as its JSON (see docs/tasks.md, "Terms tasks"): weighted terms,
     /// healthy conditions and reset noise, in the env's units.
     Terms(String),
 }

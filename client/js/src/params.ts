@@ -59,7 +59,7 @@ export interface TaskJson {
   track?: TrackJson;
   upright?: UprightJson;
   /** A terms task: `{"terms": [...], "healthy": {...}, "reset_noise": {...}}` (the
-   * README's "Terms tasks"). */
+   * docs/tasks.md, "Terms tasks"). */
   terms?: { [key: string]: unknown };
   /** Subtracted from each step's reward: this weight × Σ a². Default 0. */
   action_cost?: number;

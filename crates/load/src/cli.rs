@@ -104,7 +104,7 @@ pub struct Cli {
     /// Seed of the envs and of the actions.
     #[arg(long, env = "GYMFLEET_SEED", default_value_t = 0)]
     pub seed: u64,
-    /// A terms task's JSON file (README: "Terms tasks"), the reward of every env: its terms
+    /// A terms task's JSON file (docs/tasks.md: "Terms tasks"), the reward of every env: its terms
     /// are computed in each step, so the run measures them too. Remote: sent as the
     /// request's task; --in-process: parsed here.
     #[arg(long, value_name = "FILE", env = "GYMFLEET_TASK")]

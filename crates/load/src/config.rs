@@ -72,7 +72,7 @@ impl UnitsArg {
 pub struct TaskFile {
     /// The file as given.
     pub file: PathBuf,
-    /// Its text: the terms task's JSON (the README's "Terms tasks").
+    /// Its text: the terms task's JSON (docs/tasks.md, "Terms tasks").
     pub json: String,
 }
 

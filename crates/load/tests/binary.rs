@@ -31,7 +31,7 @@ fn help_describes_task_and_units() {
     let help = text(&out.stdout);
     for line in [
         "      --task <FILE>",
-        "          A terms task's JSON file (README: \"Terms tasks\"), the reward of every env: \
+        "          A terms task's JSON file (docs/tasks.md: \"Terms tasks\"), the reward of every env: \
          its terms are computed in each step, so the run measures them too. Remote: sent as \
          the request's task; --in-process: parsed here",
         "          [env: GYMFLEET_TASK=]",

@@ -18,7 +18,7 @@ use serde_json::Value;
 use crate::fleet::Fleet;
 
 /// What an agent is told about this server when it connects. It names every tool (a
-/// test checks it against the router, and the READMEs' tool tables too).
+/// test checks it against the router, and the adapter's README's tool table too).
 const INSTRUCTIONS: &str = "gymfleet: physics (Rapier) gym environments built from robot \
 documents: assembly JSON (parts, instances, joints; lengths in mm, angles in degrees, Z up, \
 gravity -Z), or MJCF or URDF text, converted (meshes as assets_base64), or a model of the \
@@ -177,8 +177,9 @@ mod tests {
         );
     }
 
-    /// Every tool the router serves is named in the instructions and has a row in both
-    /// READMEs' tool tables, and no row names a tool that does not exist.
+    /// Every tool the router serves is named in the instructions and has a row in the
+    /// adapter's README's tool table, and no row names a tool that does not exist (the
+    /// top-level README links to that table).
     #[test]
     fn the_instructions_and_the_readmes_name_every_tool() {
         let router = GymTools::env_router() + GymTools::batch_router();
@@ -188,10 +189,7 @@ mod tests {
             .map(|t| t.name.to_string())
             .collect();
         names.sort();
-        for (file, text) in [
-            ("crates/mcp/README.md", include_str!("../README.md")),
-            ("README.md", include_str!("../../../README.md")),
-        ] {
+        for (file, text) in [("crates/mcp/README.md", include_str!("../README.md"))] {
             let mut rows: Vec<String> = text
                 .lines()
                 .filter_map(|l| l.strip_prefix("| `"))

@@ -275,7 +275,7 @@ def _vec3(path: str, value: Any) -> Optional[List[float]]:
     return v
 
 
-#: A terms task's own fields (see the README's "Terms tasks").
+#: A terms task's own fields (see docs/tasks.md, "Terms tasks").
 TERMS_FIELDS = ("terms", "healthy", "reset_noise")
 
 

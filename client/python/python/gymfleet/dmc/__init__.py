@@ -10,7 +10,7 @@ tasks through the ``dm_env`` interface.
 >>> env = gymnasium.make("gymfleet/CheetahRun-v1")
 >>> envs = gymnasium.make_vec("gymfleet/WalkerWalk-v1", 64)   # one server-side batch
 
-Registered: the tasks in :data:`TASKS` (27 of ``suite.BENCHMARKING``'s 28; the README's
+Registered: the tasks in :data:`TASKS` (27 of ``suite.BENCHMARKING``'s 28; docs/suites.md's
 table lists which).
 """
 

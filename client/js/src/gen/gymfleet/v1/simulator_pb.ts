@@ -952,7 +952,7 @@ export const UprightTaskSchema: GenMessage<UprightTask> = /*@__PURE__*/
  * between two points of instances, or a plain coordinate to report; plus how each
  * episode's start is drawn. The reward is Σ weight × value; every step reports each
  * term's unweighted value (StepResult.terms). Values, ranges and noise are in the
- * env's `units`. The JSON schema is in the README ("Terms tasks").
+ * env's `units`. The JSON schema is in docs/tasks.md ("Terms tasks").
  *
  * @generated from message gymfleet.v1.TermsTask
  */
