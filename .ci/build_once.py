@@ -57,15 +57,15 @@ def main() -> int:
             failures.append((command, extra))
     with tempfile.TemporaryDirectory() as root:
         install = subprocess.run(
-            ["cargo", "install", "--locked", "--debug", "--path", "crates/mcp",
+            ["cargo", "install", "--locked", "--debug", "--path", "apps/mcp",
              "--target-dir", "target", "--root", root],
             check=True, stderr=subprocess.PIPE, text=True,
         ).stderr
     compiled = [line.strip() for line in install.splitlines() if line.strip().startswith("Compiling")]
-    print(f"cargo install --locked --path crates/mcp --target-dir target: "
+    print(f"cargo install --locked --path apps/mcp --target-dir target: "
           f"{'compiled nothing' if not compiled else f'compiled {len(compiled)} crates'}")
     if compiled:
-        failures.append(("cargo install --locked --path crates/mcp", compiled))
+        failures.append(("cargo install --locked --path apps/mcp", compiled))
     for command, extra in failures:
         print(f"\n{command} does not reuse the one build:", *extra[:20], sep="\n  ")
     return 1 if failures else 0

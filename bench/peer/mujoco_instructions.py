@@ -5,7 +5,7 @@ each actuator's ctrlrange, held for an env step) from the file's initial state, 
 Not a test, and it prints nothing: run it under callgrind at two step counts and divide the
 difference of the totals by the difference of the counts (Python's start-up and the model's
 compilation cancel out). gymfleet's side of the same figure is `peer_step` under callgrind
-(BENCHMARKS.md, "What dominates").
+(bench/journal/2026-12-07-benchmarks-notebook.md, "What dominates").
 
     for n in 200 600; do
       valgrind --tool=callgrind --callgrind-out-file=cg.mj.$n \\

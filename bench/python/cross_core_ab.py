@@ -6,7 +6,7 @@ Python thread's CPU time per step) for the rounds the probe found the two cores 
 far (`--far-ns`: a cache line's round trip between CPUs 0 and 1 at or above it). The probe's
 whole line is printed with each round, its loopback TCP round trips included. On a cloud VM
 the hypervisor moves the vCPUs: here
-the round trip reads 80–110 ns for minutes, then 380–450 ns (BENCHMARKS, "Each pool thread
+the round trip reads 80–110 ns for minutes, then 380–450 ns (bench/journal/2026-12-07-benchmarks-notebook.md, "Each pool thread
 keeps its envs").
 
     pip wheel --no-deps ./client/python -w /tmp/w_a   # one build; the other likewise

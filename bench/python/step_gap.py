@@ -2,7 +2,7 @@
 """Microseconds per iteration of a training-like loop: one `make_vec` step of a
 `gymfleet/<Name>-v5` batch, then `--gap-us` of the caller's own CPU work (a spin, standing
 for a policy's forward pass) before the next step. Shows what the server's helpers cost
-or save when the caller comes back late or soon (`HELPERS_LINGER`, BENCHMARKS "The calling
+or save when the caller comes back late or soon (`HELPERS_LINGER`, bench/journal/2026-12-07-benchmarks-notebook.md, "The calling
 thread runs its own pool work"). Seeded random actions, 100 warm-up iterations.
 
     python bench/python/step_gap.py HalfCheetah --envs 64 --gap-us 500

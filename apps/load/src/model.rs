@@ -115,7 +115,7 @@ mod tests {
     fn an_mjcf_file_is_converted_into_json() {
         let path = concat!(
             env!("CARGO_MANIFEST_DIR"),
-            "/../import/tests/data/reacher.xml"
+            "/../../crates/import/tests/data/reacher.xml"
         );
         let model = Model::resolve(path).unwrap();
         assert!(model.document.trim_start().starts_with('{'));

@@ -1,5 +1,5 @@
 //! [`lookup`]: what a healthy run of the same workload measured, from the small table in
-//! `crates/load/reference.json` (kept with BENCHMARKS.md's "Load client references"), so
+//! `apps/load/reference.json` (kept with BENCHMARKS.md, O2), so
 //! that a report says whether its figure is this machine's or the workload's.
 
 use serde::Deserialize;
@@ -51,7 +51,7 @@ struct Row {
 }
 
 fn table() -> Table {
-    serde_json::from_str(TABLE).expect("crates/load/reference.json parses (a unit test checks it)")
+    serde_json::from_str(TABLE).expect("apps/load/reference.json parses (a unit test checks it)")
 }
 
 fn api_name(config: &LoadConfig) -> Option<&'static str> {
@@ -75,7 +75,7 @@ pub(crate) fn lookup(config: &LoadConfig, place: Place, threads: usize) -> Strin
             _ => "StreamBatch",
         };
         return format!(
-            "reference: none for {what} (crates/load/reference.json covers unary batch steps \
+            "reference: none for {what} (apps/load/reference.json covers unary batch steps \
              and single-env steps)"
         );
     };
@@ -113,7 +113,7 @@ pub(crate) fn lookup(config: &LoadConfig, place: Place, threads: usize) -> Strin
             };
             format!(
                 "reference: none for {}, {model}, --api {api}, {threads} thread(s) in \
-                 crates/load/reference.json ({has})",
+                 apps/load/reference.json ({has})",
                 place.words(),
             )
         }
@@ -157,14 +157,14 @@ mod tests {
         assert_eq!(
             line,
             "reference: none for in process, arm2, --api batch, 7 thread(s) in \
-             crates/load/reference.json (it has 1, 2 thread(s))"
+             apps/load/reference.json (it has 1, 2 thread(s))"
         );
         let mut fourbar = LoadConfig::new(Model::resolve("fourbar").unwrap(), 256, 10);
         fourbar.api = Api::Observe;
         let line = lookup(&fourbar, Place::Embedded, 1);
         assert_eq!(
             line,
-            "reference: none for single-env Observe (crates/load/reference.json covers unary \
+            "reference: none for single-env Observe (apps/load/reference.json covers unary \
              batch steps and single-env steps)"
         );
     }

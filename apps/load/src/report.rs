@@ -64,7 +64,7 @@ pub struct RunResult {
     /// process, or on the embedded server: its pool threads, at most one per env stepped
     /// at a time); `None` when a server simulates or nothing is simulated (observe, ping).
     pub local_parallel: Option<usize>,
-    /// What a healthy run of this workload measured (`crates/load/reference.json`), as a
+    /// What a healthy run of this workload measured (`apps/load/reference.json`), as a
     /// line; `None` when a server simulates.
     pub reference: Option<String>,
 }

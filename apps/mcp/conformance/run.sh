@@ -4,9 +4,9 @@
 # declares only tools. The suite's other scenarios drive the reference server's own test
 # tools (test_simple_text, …), resources, prompts, logging or completion, which this
 # adapter does not declare; undeclared methods answer "method not found" (tested in
-# crates/mcp/tests/mcp/tools.rs).
+# apps/mcp/tests/mcp/tools.rs).
 #
-#   cargo build -p gymfleet-mcp && bash crates/mcp/conformance/run.sh [path/to/gymfleet-mcp]
+#   cargo build -p gymfleet-mcp && bash apps/mcp/conformance/run.sh [path/to/gymfleet-mcp]
 #
 # Needs Node 20 and npm. Version 0.1.10 is pinned: later ones need Node 22 (fs.globSync).
 set -euo pipefail

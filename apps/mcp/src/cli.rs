@@ -126,7 +126,7 @@ mod tests {
             }
             assert!(
                 readme.contains(&format!("| `--{long}")),
-                "crates/mcp/README.md's flag table lacks --{long}"
+                "apps/mcp/README.md's flag table lacks --{long}"
             );
             if let Some(var) = arg.get_env() {
                 let var = var.to_string_lossy();

@@ -189,20 +189,19 @@ mod tests {
             .map(|t| t.name.to_string())
             .collect();
         names.sort();
-        for (file, text) in [("crates/mcp/README.md", include_str!("../README.md"))] {
-            let mut rows: Vec<String> = text
-                .lines()
-                .filter_map(|l| l.strip_prefix("| `"))
-                .filter_map(|l| l.split_once("` |").map(|(name, _)| name.to_string()))
-                .filter(|name| {
-                    name.starts_with("gym_") || name.starts_with("batch_") || names.contains(name)
-                })
-                .filter(|name| !name.starts_with("gymfleet"))
-                .collect();
-            rows.sort();
-            rows.dedup();
-            assert_eq!(rows, names, "{file}'s tool table");
-        }
+        let text = include_str!("../README.md");
+        let mut rows: Vec<String> = text
+            .lines()
+            .filter_map(|l| l.strip_prefix("| `"))
+            .filter_map(|l| l.split_once("` |").map(|(name, _)| name.to_string()))
+            .filter(|name| {
+                name.starts_with("gym_") || name.starts_with("batch_") || names.contains(name)
+            })
+            .filter(|name| !name.starts_with("gymfleet"))
+            .collect();
+        rows.sort();
+        rows.dedup();
+        assert_eq!(rows, names, "apps/mcp/README.md's tool table");
         for name in &names {
             assert!(
                 INSTRUCTIONS.contains(name.as_str()),

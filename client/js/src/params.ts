@@ -1,6 +1,6 @@
 /**
  * The gym functions' inputs: the user guide's JSON, the MCP tools' arguments
- * (`crates/mcp/src/params.rs`, `task.rs`), and their checks before any call: the
+ * (`apps/mcp/src/params.rs`, `task.rs`), and their checks before any call: the
  * document, a task, randomisation, action types and values, seeds and base64 text.
  */
 

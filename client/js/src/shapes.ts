@@ -1,6 +1,6 @@
 /**
  * The gym functions' outputs: the user guide's JSON, exactly as the MCP adapter's tools
- * return it (`crates/mcp/src/output.rs`): snake_case keys in the guide's order, and each
+ * return it (`apps/mcp/src/output.rs`): snake_case keys in the guide's order, and each
  * float of the wire (32-bit) given as the number with the same shortest decimal form
  * ({@link clean}), so a pose prints as `10.042`, not `10.041999816894531`.
  */

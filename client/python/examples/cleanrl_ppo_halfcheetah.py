@@ -16,7 +16,7 @@ the other envs step. The wrappers' work (observation and reward normalisation, c
 episode returns) is then done per received env, as gymnasium's vector wrappers do it per
 step (their running statistics see M envs at a time instead of all). Over 8 seeds on a
 remote server, the asynchronous loop's mean curve lies inside the synchronous seeds' band
-(BENCHMARKS.md, "Asynchronous stepping from Python"; `bench/python/cleanrl_async.py`).
+(bench/journal/2026-12-07-benchmarks-notebook.md, "Asynchronous stepping from Python"; `bench/python/cleanrl_async.py`).
 
 CleanRL's defaults otherwise (lr 3e-4 annealed, 2048 steps per update over the envs,
 32 minibatches, 10 epochs, γ 0.99, λ 0.95, clip 0.2, 64-64 tanh networks). It prints the

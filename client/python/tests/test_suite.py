@@ -171,7 +171,7 @@ def _check_double_pendulum_penalties(obs, info):
 
 #: A fixed action sequence per env. Each drives the robot (a slow topple from a balanced
 #: stance is chaotic: Walker2d under a constant 0.3 ends at step 59 here and 241 in MuJoCo,
-#: under zero torque at 181 and 135; see BENCHMARKS "Fidelity of the suite").
+#: under zero torque at 181 and 135; see bench/journal/2026-12-07-benchmarks-notebook.md, "Fidelity of the suite").
 SEQUENCES = {
     "InvertedPendulum": lambda k: np.array([0.5]),
     "InvertedDoublePendulum": lambda k: np.array([0.2 * np.sin(0.3 * k)]),

@@ -273,7 +273,7 @@ impl fmt::Debug for StepPool {
 /// to rayon (which puts it to sleep). The Python package's own work between two
 /// `make_vec` steps fits in it, so the next step starts without a thread wake-up:
 /// HalfCheetah's 64-env step 567.5 → 540.5 and 575.5 → 528 µs, medians of two sets of
-/// eight alternated runs (BENCHMARKS, "The calling thread runs its own pool work"). A
+/// eight alternated runs (bench/journal/2026-12-07-benchmarks-notebook.md, "The calling thread runs its own pool work"). A
 /// caller that comes back later pays for the wait: up to about 1 % there. Lingering only
 /// for a caller that came back within the linger last time was tried beside a policy's
 /// forward pass and busy neighbours, and lost (BENCHMARKS.md N1).

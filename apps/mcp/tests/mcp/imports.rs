@@ -5,7 +5,7 @@ use serde_json::json;
 
 use crate::Adapter;
 
-const REACHER: &str = include_str!("../../../import/tests/data/reacher.xml");
+const REACHER: &str = include_str!("../../../../crates/import/tests/data/reacher.xml");
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn an_mjcf_document_makes_an_env() {
@@ -32,7 +32,7 @@ async fn an_mjcf_document_makes_an_env() {
     adapter.stop().await;
 }
 
-const ANT: &str = include_str!("../../../import/tests/data/ant.xml");
+const ANT: &str = include_str!("../../../../crates/import/tests/data/ant.xml");
 
 /// Gymnasium's Ant through the adapter: its free joint is a floating base, whose pose and
 /// velocity every observation shows, single env and batch alike.
