@@ -210,8 +210,16 @@ def check_secrets(c, pod, values, where, fail):
         for m in mounts:
             if not m.get("readOnly"):
                 fail(f"{where}: {var}={path} must be mounted readOnly")
-            if "secret" not in volumes.get(m.get("name"), {}):
+            secret = volumes.get(m.get("name"), {}).get("secret")
+            if secret is None:
                 fail(f"{where}: {var}={path} must come from a Secret volume")
+                continue
+            # Secret files are root-owned: without world read (mode 0444, default 0644),
+            # the non-root server reads them only through its group, fsGroup.
+            mode = secret.get("defaultMode", 0o644)
+            group = (pod.get("securityContext") or {}).get("fsGroup")
+            if not mode & 0o004 and group is None:
+                fail(f"{where}: {var}={path} is mode {mode:o} without fsGroup: the non-root server cannot read it")
 
 
 def check_metrics_policy(by_kind, pod_labels, c, name, fail):

@@ -167,6 +167,7 @@ expect_failure secure-tokens-without-tls policy overlays/secure secure-server.ya
 expect_failure secure-writable-secret policy overlays/secure secure-server.yaml '0,/readOnly: true/s/readOnly: true/readOnly: false/' 'must be mounted readOnly'
 expect_failure secure-not-a-secret policy overlays/secure secure-server.yaml '/- name: tokens$/,/defaultMode/{s/secret:/emptyDir: {}/;/secretName\|defaultMode/d}' 'must come from a Secret volume'
 expect_failure secure-unmounted-secret policy overlays/secure secure-server.yaml 's|mountPath: /etc/gymfleet/tokens|mountPath: /etc/gymfleet/elsewhere|' 'is not in a mounted volume'
+expect_failure secure-unreadable-secret policy overlays/secure secure-server.yaml '/fsGroup: 65532/d' 'without fsGroup'
 expect_failure secure-no-networkpolicy policy overlays/secure kustomization.yaml '/- networkpolicy.yaml/d' 'no NetworkPolicy guards the metrics port'
 expect_failure secure-metrics-open policy overlays/secure networkpolicy.yaml '/from:/,$d' 'admits the metrics port from anywhere'
 expect_failure secure-no-namespace policy overlays/secure kustomization.yaml '/- namespace.yaml/d'
