@@ -545,12 +545,6 @@ const LONG_FNS: &[(&str, &str, usize, &str)] = &[
         "a joint kind per arm",
     ),
     (
-        "apps/load/src/report.rs",
-        "render_table",
-        126,
-        "rows, layout, notes",
-    ),
-    (
         "crates/import/src/urdf/links.rs",
         "collision",
         120,

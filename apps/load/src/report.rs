@@ -158,6 +158,18 @@ pub fn to_json(report: &Report) -> String {
 
 /// The report as the table printed on stdout: one column per run.
 pub fn render_table(report: &Report) -> String {
+    let mut out = String::new();
+    let _ = writeln!(out, "{}", report.summary);
+    for (i, r) in report.runs.iter().enumerate() {
+        let _ = writeln!(out, "[{}] {}: {}", i + 1, r.label, r.target);
+    }
+    out.push_str(&layout(&table_rows(report), report.runs.len()));
+    out.push_str(&notes(report));
+    out
+}
+
+/// The table's rows: a name and one cell per run.
+fn table_rows(report: &Report) -> Vec<(String, Vec<String>)> {
     let runs = &report.runs;
     let mut rows: Vec<(String, Vec<String>)> = Vec::new();
     let mut row = |name: &str, f: &dyn Fn(&RunResult) -> String| {
@@ -201,12 +213,17 @@ pub fn render_table(report: &Report) -> String {
         });
     }
 
+    rows
+}
+
+/// `rows` as aligned text: names left, cells right, two spaces apart.
+fn layout(rows: &[(String, Vec<String>)], runs: usize) -> String {
     let name_width = rows
         .iter()
         .map(|(n, _)| n.chars().count())
         .max()
         .unwrap_or(0);
-    let widths: Vec<usize> = (0..runs.len())
+    let widths: Vec<usize> = (0..runs)
         .map(|i| {
             rows.iter()
                 .map(|(_, cells)| cells[i].chars().count())
@@ -215,17 +232,21 @@ pub fn render_table(report: &Report) -> String {
         })
         .collect();
     let mut out = String::new();
-    let _ = writeln!(out, "{}", report.summary);
-    for (i, r) in runs.iter().enumerate() {
-        let _ = writeln!(out, "[{}] {}: {}", i + 1, r.label, r.target);
-    }
-    for (name, cells) in &rows {
+    for (name, cells) in rows {
         let _ = write!(out, "{name:<name_width$}");
         for (cell, width) in cells.iter().zip(&widths) {
             let _ = write!(out, "  {cell:>width$}");
         }
         out.push('\n');
     }
+    out
+}
+
+/// The lines under the table: first errors, references, starvation warnings, the
+/// remote / in-process ratio and memory.
+fn notes(report: &Report) -> String {
+    let runs = &report.runs;
+    let mut out = String::new();
     for r in runs {
         if let Some(first) = &r.first_error {
             let _ = writeln!(out, "first error ({}): {first}", r.label);
