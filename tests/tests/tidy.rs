@@ -497,12 +497,6 @@ const LONG_FNS: &[(&str, &str, usize, &str)] = &[
         "a joint kind per arm",
     ),
     (
-        "apps/load/src/cli.rs",
-        "resolve",
-        190,
-        "model, servers and workload",
-    ),
-    (
         "crates/assembly/src/validate/joints.rs",
         "joints",
         175,

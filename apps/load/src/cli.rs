@@ -154,6 +154,51 @@ pub struct Cli {
 impl Cli {
     /// Checks the flags together and builds the run they describe.
     pub fn resolve(self) -> Result<LoadConfig> {
+        self.check_conflicts()?;
+        let n_envs = self.n_envs()?;
+        at_least_one("--clients", self.clients as u64)?;
+        at_least_one("--window", self.window as u64)?;
+        let (stop, warmup) = self.run_length()?;
+        self.check_physics()?;
+        let target = self.target()?;
+        let model = Model::resolve(&self.model)?;
+        let end_effectors = if self.end_effectors.is_empty() {
+            model.default_end_effectors.clone()
+        } else {
+            self.end_effectors
+        };
+        let amplitude = self
+            .amplitude
+            .or_else(|| self.action_type.default_amplitude());
+        Ok(LoadConfig {
+            target,
+            model,
+            end_effectors,
+            n_envs,
+            clients: self.clients,
+            stop,
+            warmup,
+            api: self.api,
+            mode: self.mode,
+            window: self.window,
+            action_type: self.action_type,
+            amplitude,
+            substeps: self.substeps,
+            dt: self.dt,
+            max_steps: self.max_steps,
+            seed: self.seed,
+            task: self.task.map(TaskFile::read).transpose()?,
+            units: self.units,
+            json: self.json,
+            replay: self.replay.map(|path| (path, self.replay_steps)),
+            quiet: self.quiet,
+            report_rss: self.report_rss,
+            connect: self.connect,
+        })
+    }
+
+    /// Flags that cannot go together, and `--rounds` without `--compare`.
+    fn check_conflicts(&self) -> Result<()> {
         let conflict = |flag, other| Err(LoadError::Conflict { flag, other });
         if self.duration.is_some() && self.steps.is_some() {
             return conflict("--duration", "--steps");
@@ -206,7 +251,12 @@ impl Cli {
             }
         }
 
-        let n_envs = match (self.api, self.n_envs) {
+        Ok(())
+    }
+
+    /// Envs per client: `--n-envs`, 1 for the single-env APIs.
+    fn n_envs(&self) -> Result<usize> {
+        Ok(match (self.api, self.n_envs) {
             (_, Some(0)) => {
                 return Err(LoadError::bad_flag("--n-envs", "must be at least 1, got 0"))
             }
@@ -222,9 +272,11 @@ impl Cli {
             (_, Some(n)) => n,
             (Api::Batch, None) => DEFAULT_N_ENVS,
             (_, None) => 1,
-        };
-        at_least_one("--clients", self.clients as u64)?;
-        at_least_one("--window", self.window as u64)?;
+        })
+    }
+
+    /// When the run stops, and how long it warms up first.
+    fn run_length(&self) -> Result<(StopRule, Warmup)> {
         let stop = match (self.duration, self.steps) {
             (_, Some(steps)) => {
                 at_least_one("--steps", steps)?;
@@ -253,6 +305,11 @@ impl Cli {
             (None, None) if self.steps.is_some() => Warmup::Steps(0),
             (None, None) => Warmup::Seconds(DEFAULT_WARMUP_SECS),
         };
+        Ok((stop, warmup))
+    }
+
+    /// The flags that shape each env's physics and actions.
+    fn check_physics(&self) -> Result<()> {
         if let Some(substeps) = self.substeps {
             at_least_one("--substeps", u64::from(substeps))?;
         }
@@ -275,6 +332,11 @@ impl Cli {
                 ));
             }
         }
+        Ok(())
+    }
+
+    /// Where the run goes: in process, an embedded server, servers, or a comparison.
+    fn target(&self) -> Result<Target> {
         if let Some(empty) = self.servers.iter().position(|s| s.trim().is_empty()) {
             return Err(LoadError::bad_flag(
                 "--server",
@@ -308,40 +370,7 @@ impl Cli {
             at_least_one("--replay-steps", u64::from(self.replay_steps))?;
         }
 
-        let model = Model::resolve(&self.model)?;
-        let end_effectors = if self.end_effectors.is_empty() {
-            model.default_end_effectors.clone()
-        } else {
-            self.end_effectors
-        };
-        let amplitude = self
-            .amplitude
-            .or_else(|| self.action_type.default_amplitude());
-        Ok(LoadConfig {
-            target,
-            model,
-            end_effectors,
-            n_envs,
-            clients: self.clients,
-            stop,
-            warmup,
-            api: self.api,
-            mode: self.mode,
-            window: self.window,
-            action_type: self.action_type,
-            amplitude,
-            substeps: self.substeps,
-            dt: self.dt,
-            max_steps: self.max_steps,
-            seed: self.seed,
-            task: self.task.map(TaskFile::read).transpose()?,
-            units: self.units,
-            json: self.json,
-            replay: self.replay.map(|path| (path, self.replay_steps)),
-            quiet: self.quiet,
-            report_rss: self.report_rss,
-            connect: self.connect,
-        })
+        Ok(target)
     }
 }
 
