@@ -463,8 +463,8 @@ const LONG_FNS: &[(&str, &str, usize, &str)] = &[
     (
         "crates/import/src/mjcf/geoms.rs",
         "geom",
-        269,
-        "one arm per shape: split by shape",
+        106,
+        "the instance's parts: contact attributes, material, records",
     ),
     (
         "crates/env/src/terms/resolve.rs",

@@ -3,6 +3,10 @@
 
 use super::*;
 
+/// A geom's primitive, the corner or base it starts at in the geom's frame (m), and for a
+/// heightfield its x and y half-extents and the depth of its base (m).
+type GeomShape = (Primitive, DVec3, Option<([f64; 2], f64)>);
+
 impl<'a, 'i> Converter<'a, 'i> {
     /// One geom as an instance; `None` for a plane that collides with nothing (dropped).
     /// `given_mass`: the body's mass comes from `<inertial>`; the geom then weighs this.
@@ -21,24 +25,109 @@ impl<'a, 'i> Converter<'a, 'i> {
         let conaffinity = self.int(node, class, "conaffinity", 1)?;
         let size = self.numbers(node, class, "size")?.unwrap_or_default();
         let fromto = self.exactly::<6>(node, class, "fromto")?;
-        let size_at = |k: usize, what: &str| -> Result<f64> {
-            size.get(k).copied().filter(|v| *v > 0.0).ok_or_else(|| {
-                self.bad(
-                    node,
-                    "size",
-                    format!(
-                        "{} {kind} needs a positive {what} (size[{k}])",
-                        if kind.starts_with(['a', 'e', 'i', 'o', 'u']) {
-                            "an"
-                        } else {
-                            "a"
-                        }
-                    ),
-                )
-            })
+        let (local, half_length) = self.geom_frame(node, class, kind, fromto)?;
+        let world = body.then(&local);
+        if kind != "mesh" && self.attr(node, class, "mesh").is_some() {
+            return Err(self.unsupported(
+                node,
+                format!("a {kind} fitted to a mesh is not supported yet"),
+            ));
+        }
+        // A geom with no mass and no collisions only shows (MuJoCo's visual meshes).
+        if contype == 0 && conaffinity == 0 && self.number(node, class, "mass")? == Some(0.0) {
+            self.warn(
+                node,
+                "a massless geom that collides with nothing: dropped".into(),
+            );
+            return Ok(None);
+        }
+        let Some((primitive, corner, terrain_base)) = self.geom_shape(
+            node,
+            class,
+            kind,
+            &size,
+            half_length,
+            static_body,
+            (contype, conaffinity),
+        )?
+        else {
+            return Ok(None);
         };
-        // The geom's frame in the body; `fromto` gives the centre and the z axis.
-        let (local, half_length) = match fromto {
+        // Our primitives start at a corner (box) or their base (cylinder, capsule).
+        let origin_m = world.point(-corner);
+        let origin = origin_m * MM;
+        let rotation = euler_xyz_degrees(world.rotation);
+        let name = self.geom_name(node, body_name);
+        if let Some(shape) = self
+            .attr(node, class, "fluidshape")
+            .filter(|v| *v != "none")
+        {
+            return Err(self.unsupported(
+                node,
+                format!("fluidshape=\"{shape}\" (MuJoCo's ellipsoid fluid model) is not supported yet; the inertia-box model of <option density viscosity> is"),
+            ));
+        }
+        for attr in [
+            "condim", "solref", "solimp", "margin", "gap", "priority", "solmix",
+        ] {
+            if self.attr(node, class, attr).is_some() {
+                self.warn(node, format!("{attr} ignored (gymfleet's contact model)"));
+            }
+        }
+        let friction = self
+            .numbers(node, class, "friction")?
+            .and_then(|f| f.first().copied());
+        let mut material = MaterialDef {
+            density: None,
+            friction,
+            restitution: None,
+        };
+        let mut instance = InstanceDef {
+            position: Some(vec3(origin)),
+            rotation: Some(Vec3::from(rotation)),
+            collision: ((contype, conaffinity) != (1, 1)).then_some(CollisionDef {
+                group: Some(contype),
+                mask: Some(conaffinity),
+            }),
+            ..InstanceDef::new(&name, &name)
+        };
+        self.geom_mass(node, class, &name, given_mass, &mut instance, &mut material)?;
+        let has_material = material.friction.is_some() || material.density.is_some();
+        if has_material {
+            instance.material = Some(name.clone());
+        }
+        self.frames.insert(
+            name.clone(),
+            Frame {
+                translation: origin_m,
+                rotation: world.rotation,
+            },
+        );
+        self.parts.push(PartDef {
+            name: name.clone(),
+            primitive,
+            material: None,
+        });
+        if has_material {
+            self.materials.insert(name.clone(), material);
+        }
+        self.instances.push(instance);
+        if let Some((half, base)) = terrain_base {
+            self.hfield_base(&name, &world, half, base);
+        }
+        Ok(Some(name))
+    }
+
+    /// A geom's frame in its body and, with `fromto`, its half-length; `fromto` gives the
+    /// centre and the z axis.
+    fn geom_frame(
+        &self,
+        node: Node<'a, 'i>,
+        class: Option<&str>,
+        kind: &str,
+        fromto: Option<[f64; 6]>,
+    ) -> Result<(Frame, Option<f64>)> {
+        Ok(match fromto {
             Some(f) if matches!(kind, "capsule" | "cylinder") => {
                 let (a, b) = (DVec3::new(f[0], f[1], f[2]), DVec3::new(f[3], f[4], f[5]));
                 let axis = b - a;
@@ -59,22 +148,39 @@ impl<'a, 'i> Converter<'a, 'i> {
                 )
             }
             None => (self.local_frame(node, class)?, None),
+        })
+    }
+
+    /// A geom's primitive by its shape, the corner or base our primitive starts at (in the
+    /// geom's frame, m) and, for a heightfield, its base; `None` for a plane that collides
+    /// with nothing (dropped).
+    #[allow(clippy::too_many_arguments)]
+    fn geom_shape(
+        &mut self,
+        node: Node<'a, 'i>,
+        class: Option<&str>,
+        kind: &str,
+        size: &[f64],
+        half_length: Option<f64>,
+        static_body: bool,
+        (contype, conaffinity): (u32, u32),
+    ) -> Result<Option<GeomShape>> {
+        let size_at = |k: usize, what: &str| -> Result<f64> {
+            size.get(k).copied().filter(|v| *v > 0.0).ok_or_else(|| {
+                self.bad(
+                    node,
+                    "size",
+                    format!(
+                        "{} {kind} needs a positive {what} (size[{k}])",
+                        if kind.starts_with(['a', 'e', 'i', 'o', 'u']) {
+                            "an"
+                        } else {
+                            "a"
+                        }
+                    ),
+                )
+            })
         };
-        let world = body.then(&local);
-        if kind != "mesh" && self.attr(node, class, "mesh").is_some() {
-            return Err(self.unsupported(
-                node,
-                format!("a {kind} fitted to a mesh is not supported yet"),
-            ));
-        }
-        // A geom with no mass and no collisions only shows (MuJoCo's visual meshes).
-        if contype == 0 && conaffinity == 0 && self.number(node, class, "mass")? == Some(0.0) {
-            self.warn(
-                node,
-                "a massless geom that collides with nothing: dropped".into(),
-            );
-            return Ok(None);
-        }
         // A heightfield's base: its x and y half-extents and its depth, m.
         let mut terrain_base = None;
         let (primitive, corner) = match kind {
@@ -168,10 +274,12 @@ impl<'a, 'i> Converter<'a, 'i> {
                 return Err(self.unsupported(node, format!("{other} geoms are not supported yet")))
             }
         };
-        // Our primitives start at a corner (box) or their base (cylinder, capsule).
-        let origin_m = world.point(-corner);
-        let origin = origin_m * MM;
-        let rotation = euler_xyz_degrees(world.rotation);
+        Ok(Some((primitive, corner, terrain_base)))
+    }
+
+    /// The geom's instance name: its own, made unique, or its body's; the world's geoms are
+    /// recorded as the world's.
+    fn geom_name(&mut self, node: Node<'a, 'i>, body_name: &str) -> String {
         let name = match node.attribute("name") {
             Some(n) => {
                 let name = self.unique(n);
@@ -186,39 +294,20 @@ impl<'a, 'i> Converter<'a, 'i> {
                 .or_default()
                 .push(name.clone());
         }
-        if let Some(shape) = self
-            .attr(node, class, "fluidshape")
-            .filter(|v| *v != "none")
-        {
-            return Err(self.unsupported(
-                node,
-                format!("fluidshape=\"{shape}\" (MuJoCo's ellipsoid fluid model) is not supported yet; the inertia-box model of <option density viscosity> is"),
-            ));
-        }
-        for attr in [
-            "condim", "solref", "solimp", "margin", "gap", "priority", "solmix",
-        ] {
-            if self.attr(node, class, attr).is_some() {
-                self.warn(node, format!("{attr} ignored (gymfleet's contact model)"));
-            }
-        }
-        let friction = self
-            .numbers(node, class, "friction")?
-            .and_then(|f| f.first().copied());
-        let mut material = MaterialDef {
-            density: None,
-            friction,
-            restitution: None,
-        };
-        let mut instance = InstanceDef {
-            position: Some(vec3(origin)),
-            rotation: Some(Vec3::from(rotation)),
-            collision: ((contype, conaffinity) != (1, 1)).then_some(CollisionDef {
-                group: Some(contype),
-                mask: Some(conaffinity),
-            }),
-            ..InstanceDef::new(&name, &name)
-        };
+        name
+    }
+
+    /// The geom's mass: its body's `<inertial>` share, `mass`, or `density` (into its
+    /// material); a geom outside `inertiagrouprange`, or of `mass="0"`, weighs a helper's.
+    fn geom_mass(
+        &mut self,
+        node: Node<'a, 'i>,
+        class: Option<&str>,
+        name: &str,
+        given_mass: Option<f64>,
+        instance: &mut InstanceDef,
+        material: &mut MaterialDef,
+    ) -> Result<()> {
         // `compiler inertiagrouprange`: a geom outside it weighs nothing (here, 1 mg).
         let group = self
             .attr(node, class, "group")
@@ -227,7 +316,7 @@ impl<'a, 'i> Converter<'a, 'i> {
         let (lo, hi) = self.inertia_groups;
         let weightless = !(lo..=hi).contains(&group);
         if weightless {
-            self.massless.insert(name.clone());
+            self.massless.insert(name.to_string());
         }
         let given_mass = given_mass.or(weightless.then_some(HELPER_MASS));
         match (
@@ -244,36 +333,13 @@ impl<'a, 'i> Converter<'a, 'i> {
                 // comes from the body's other geoms (or its <inertial>). Here it weighs a
                 // helper's 1 mg, as every instance must weigh something.
                 if m == 0.0 {
-                    self.massless.insert(name.clone());
+                    self.massless.insert(name.to_string());
                 }
                 instance.inertial = Some(InertialDef::mass(if m == 0.0 { HELPER_MASS } else { m }));
             }
             (None, None, Some(d)) if d != DEFAULT_DENSITY => material.density = Some(d),
             _ => {}
         }
-        let has_material = material.friction.is_some() || material.density.is_some();
-        if has_material {
-            instance.material = Some(name.clone());
-        }
-        self.frames.insert(
-            name.clone(),
-            Frame {
-                translation: origin_m,
-                rotation: world.rotation,
-            },
-        );
-        self.parts.push(PartDef {
-            name: name.clone(),
-            primitive,
-            material: None,
-        });
-        if has_material {
-            self.materials.insert(name.clone(), material);
-        }
-        self.instances.push(instance);
-        if let Some((half, base)) = terrain_base {
-            self.hfield_base(&name, &world, half, base);
-        }
-        Ok(Some(name))
+        Ok(())
     }
 }
