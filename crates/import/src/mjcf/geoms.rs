@@ -165,22 +165,6 @@ impl<'a, 'i> Converter<'a, 'i> {
         static_body: bool,
         (contype, conaffinity): (u32, u32),
     ) -> Result<Option<GeomShape>> {
-        let size_at = |k: usize, what: &str| -> Result<f64> {
-            size.get(k).copied().filter(|v| *v > 0.0).ok_or_else(|| {
-                self.bad(
-                    node,
-                    "size",
-                    format!(
-                        "{} {kind} needs a positive {what} (size[{k}])",
-                        if kind.starts_with(['a', 'e', 'i', 'o', 'u']) {
-                            "an"
-                        } else {
-                            "a"
-                        }
-                    ),
-                )
-            })
-        };
         // A heightfield's base: its x and y half-extents and its depth, m.
         let mut terrain_base = None;
         let (primitive, corner) = match kind {
@@ -198,6 +182,46 @@ impl<'a, 'i> Converter<'a, 'i> {
                 }
                 (Primitive::Plane, DVec3::ZERO)
             }
+            "sphere" | "ellipsoid" | "capsule" | "cylinder" | "box" => {
+                self.solid(node, kind, size, half_length)?
+            }
+            "mesh" => (self.mesh_primitive(node, class)?, DVec3::ZERO),
+            "hfield" => {
+                if !static_body {
+                    return Err(self.unsupported(
+                        node,
+                        "a heightfield (terrain) belongs to the world or to a body without joints"
+                            .into(),
+                    ));
+                }
+                let (primitive, base) = self.hfield_primitive(node, class)?;
+                if let Primitive::Heightfield(ref h) = primitive {
+                    terrain_base = Some(([h.size.x / MM, h.size.y / MM], base));
+                }
+                (primitive, DVec3::ZERO)
+            }
+            "sdf" => {
+                return Err(self.unsupported(node, format!("{kind} geoms are not converted yet")))
+            }
+            other => {
+                return Err(self.unsupported(node, format!("{other} geoms are not supported yet")))
+            }
+        };
+        Ok(Some((primitive, corner, terrain_base)))
+    }
+
+    /// A solid's primitive (sphere, ellipsoid, capsule, cylinder, box) from `size` (or,
+    /// for a capsule or cylinder, `fromto`'s half-length), and the corner or base our
+    /// primitive starts at in the geom's frame (m).
+    fn solid(
+        &self,
+        node: Node<'a, 'i>,
+        kind: &str,
+        size: &[f64],
+        half_length: Option<f64>,
+    ) -> Result<(Primitive, DVec3)> {
+        let size_at = |k: usize, what: &str| self.size_at(node, kind, size, k, what);
+        Ok(match kind {
             "sphere" => {
                 let r = size_at(0, "radius")?;
                 (Primitive::Sphere { radius: r * MM }, DVec3::ZERO)
@@ -252,29 +276,34 @@ impl<'a, 'i> Converter<'a, 'i> {
                     h,
                 )
             }
-            "mesh" => (self.mesh_primitive(node, class)?, DVec3::ZERO),
-            "hfield" => {
-                if !static_body {
-                    return Err(self.unsupported(
-                        node,
-                        "a heightfield (terrain) belongs to the world or to a body without joints"
-                            .into(),
-                    ));
-                }
-                let (primitive, base) = self.hfield_primitive(node, class)?;
-                if let Primitive::Heightfield(ref h) = primitive {
-                    terrain_base = Some(([h.size.x / MM, h.size.y / MM], base));
-                }
-                (primitive, DVec3::ZERO)
-            }
-            "sdf" => {
-                return Err(self.unsupported(node, format!("{kind} geoms are not converted yet")))
-            }
+            // The caller sends only the solids above.
             other => {
                 return Err(self.unsupported(node, format!("{other} geoms are not supported yet")))
             }
-        };
-        Ok(Some((primitive, corner, terrain_base)))
+        })
+    }
+
+    /// `size[k]`, which must be positive: `what` names it in the error.
+    fn size_at(
+        &self,
+        node: Node<'a, 'i>,
+        kind: &str,
+        size: &[f64],
+        k: usize,
+        what: &str,
+    ) -> Result<f64> {
+        size.get(k).copied().filter(|v| *v > 0.0).ok_or_else(|| {
+            let article = if kind.starts_with(['a', 'e', 'i', 'o', 'u']) {
+                "an"
+            } else {
+                "a"
+            };
+            self.bad(
+                node,
+                "size",
+                format!("{article} {kind} needs a positive {what} (size[{k}])"),
+            )
+        })
     }
 
     /// The geom's instance name: its own, made unique, or its body's; the world's geoms are
