@@ -1,0 +1,325 @@
+//! Functions that fit on a screen: no non-test function over [`MAX_FN_LINES`] lines, but
+//! the listed ones, which may only shrink.
+
+use std::collections::BTreeSet;
+use std::fs;
+
+use super::{code_only, ident_at, module_files, repo_root, CRATES};
+
+/// The longest a non-test function may be, in lines from its `fn` to its closing brace.
+const MAX_FN_LINES: usize = 80;
+
+/// Functions longer than [`MAX_FN_LINES`] today, each at most as long as it is now: the
+/// list may only shrink (a listed function that grows, or one no longer over the bound,
+/// fails the check, so that its entry goes). Each is to be split along its seams (issue
+/// M4); the reason says which.
+const LONG_FNS: &[(&str, &str, usize, &str)] = &[
+    (
+        "crates/import/src/mjcf/geoms.rs",
+        "geom",
+        106,
+        "the instance's parts: contact attributes, material, records",
+    ),
+    (
+        "crates/env/src/terms/resolve.rs",
+        "resolve",
+        247,
+        "a term kind per arm: serde enums",
+    ),
+    (
+        "crates/import/src/mjcf/bodies.rs",
+        "body",
+        231,
+        "inertial, frames, children",
+    ),
+    (
+        "crates/env/src/terms/quantity.rs",
+        "quantity",
+        225,
+        "a quantity per arm: serde enums",
+    ),
+    (
+        "crates/physics/src/build.rs",
+        "build",
+        213,
+        "bodies, joints, colliders, limits",
+    ),
+    (
+        "crates/import/src/mjcf/joints.rs",
+        "joint",
+        202,
+        "a joint kind per arm",
+    ),
+    (
+        "crates/assembly/src/validate/joints.rs",
+        "joints",
+        175,
+        "one check per function",
+    ),
+    (
+        "crates/env/src/env.rs",
+        "new",
+        172,
+        "config, task, observation layout",
+    ),
+    (
+        "crates/assembly/src/validate/instances.rs",
+        "instances",
+        152,
+        "one check per function",
+    ),
+    (
+        "server/src/serve.rs",
+        "serve_bound",
+        151,
+        "services, listeners, shutdown",
+    ),
+    (
+        "crates/env/src/task.rs",
+        "resolve",
+        149,
+        "a task kind per arm",
+    ),
+    (
+        "crates/physics/src/state.rs",
+        "check_dynamic_state",
+        140,
+        "one check per part",
+    ),
+    (
+        "crates/import/src/urdf/joints.rs",
+        "joint",
+        139,
+        "a joint kind per arm",
+    ),
+    (
+        "crates/import/src/urdf/links.rs",
+        "collision",
+        120,
+        "a shape per arm",
+    ),
+    (
+        "crates/assembly/src/validate/joints.rs",
+        "topology",
+        118,
+        "tree, loops, ordering",
+    ),
+    (
+        "crates/assembly/src/document/primitive.rs",
+        "visit_map",
+        118,
+        "a field per arm",
+    ),
+    (
+        "crates/physics/src/state.rs",
+        "restore_dynamic_state",
+        104,
+        "one part per function",
+    ),
+    (
+        "crates/assembly/src/tendons.rs",
+        "tendons",
+        103,
+        "fixed and spatial tendons",
+    ),
+    (
+        "crates/physics/src/randomize.rs",
+        "apply_draws",
+        98,
+        "one quantity per function",
+    ),
+    (
+        "crates/assembly/src/validate.rs",
+        "validate",
+        98,
+        "the stages in turn",
+    ),
+    (
+        "crates/assembly/src/contacts.rs",
+        "contacts",
+        95,
+        "pairs, excludes, defaults",
+    ),
+    (
+        "crates/assembly/src/actuators.rs",
+        "actuators",
+        95,
+        "an actuator kind per arm",
+    ),
+    (
+        "crates/import/src/mjcf/attributes.rs",
+        "local_frame",
+        89,
+        "a frame form per arm",
+    ),
+    (
+        "crates/import/src/mjcf/attributes.rs",
+        "option",
+        88,
+        "an option group per arm",
+    ),
+    (
+        "crates/assembly/src/validate/parts.rs",
+        "mesh",
+        88,
+        "one check per function",
+    ),
+    (
+        "crates/import/src/mjcf/keyframes.rs",
+        "keyframe",
+        86,
+        "a field per arm",
+    ),
+    (
+        "crates/physics/src/contact_filter.rs",
+        "contact_filter",
+        85,
+        "filters in turn",
+    ),
+    (
+        "crates/physics/src/state.rs",
+        "dynamic_state",
+        84,
+        "one part per function",
+    ),
+    (
+        "crates/import/src/urdf/links.rs",
+        "link",
+        82,
+        "visual, collision, inertial",
+    ),
+];
+
+/// The byte ranges of `code`'s `#[cfg(test)]` modules (their braces included).
+fn test_modules(code: &str) -> Vec<(usize, usize)> {
+    let mut out = Vec::new();
+    let mut from = 0;
+    while let Some(at) = code[from..].find("#[cfg(test)]") {
+        let start = from + at;
+        let after = &code[start..];
+        let Some(brace) = after.find('{') else { break };
+        // Only a module: `#[cfg(test)] mod name {`.
+        if after[..brace].contains("mod ") {
+            if let Some(end) = matching_brace(code, start + brace) {
+                out.push((start, end));
+            }
+        }
+        from = start + 1;
+    }
+    out
+}
+
+/// The index of the brace that closes the one at `open`.
+fn matching_brace(code: &str, open: usize) -> Option<usize> {
+    let mut depth = 0usize;
+    for (i, c) in code[open..].char_indices() {
+        match c {
+            '{' => depth += 1,
+            '}' => {
+                depth -= 1;
+                if depth == 0 {
+                    return Some(open + i);
+                }
+            }
+            _ => {}
+        }
+    }
+    None
+}
+
+/// `(name, lines)` of every function with a body in `src` outside test modules and
+/// `#[test]` functions: lines from the `fn` line to the closing brace's line.
+fn function_lengths(src: &str) -> Vec<(String, usize)> {
+    let code = code_only(src);
+    let tests = test_modules(&code);
+    let mut out = Vec::new();
+    let mut from = 0;
+    while let Some(at) = code[from..].find("fn ") {
+        let start = from + at;
+        from = start + 3;
+        let word_start =
+            start == 0 || !code[..start].ends_with(|c: char| c.is_alphanumeric() || c == '_');
+        let Some(name) = ident_at(&code[start + 3..]) else {
+            continue;
+        };
+        if !word_start || tests.iter().any(|&(a, b)| a <= start && start <= b) {
+            continue;
+        }
+        let before = &code[..start];
+        let attrs = &before[before.rfind(['}', ';']).map_or(0, |i| i + 1)..];
+        if attrs.contains("#[test]") || attrs.contains("::test") {
+            continue;
+        }
+        // The body: the first `{` before any `;` (a declaration without a body has none).
+        let rest = &code[start..];
+        let (Some(brace), semi) = (rest.find('{'), rest.find(';')) else {
+            continue;
+        };
+        if semi.is_some_and(|s| s < brace) {
+            continue;
+        }
+        let Some(end) = matching_brace(&code, start + brace) else {
+            continue;
+        };
+        let lines = code[start..=end].matches('\n').count() + 1;
+        out.push((name.to_string(), lines));
+    }
+    out
+}
+
+/// No non-test function of the workspace's crates is longer than [`MAX_FN_LINES`], except
+/// those of [`LONG_FNS`], and those no longer than they are listed (issue M4).
+#[test]
+fn functions_fit_on_a_screen() {
+    let root = repo_root();
+    let mut problems = Vec::new();
+    let mut seen = BTreeSet::new();
+    for krate in CRATES {
+        for (_, path) in module_files(&root.join(krate)) {
+            let rel = path
+                .strip_prefix(&root)
+                .unwrap()
+                .to_string_lossy()
+                .replace('\\', "/");
+            let src = fs::read_to_string(&path).unwrap();
+            for (name, lines) in function_lengths(&src) {
+                if lines <= MAX_FN_LINES {
+                    continue;
+                }
+                if std::env::var_os("TIDY_PRINT_LENGTHS").is_some() {
+                    eprintln!("LEN {rel} {name} {lines}");
+                }
+                match LONG_FNS.iter().find(|(f, n, _, _)| *f == rel && *n == name) {
+                    Some((_, _, allowed, _)) if lines <= *allowed => {
+                        seen.insert((rel.clone(), name.clone()));
+                    }
+                    Some((_, _, allowed, _)) => problems.push(format!(
+                        "{rel}: fn {name} grew to {lines} lines (listed at {allowed}; the bound is {MAX_FN_LINES}): split it"
+                    )),
+                    None => problems.push(format!(
+                        "{rel}: fn {name} is {lines} lines (the bound is {MAX_FN_LINES}): split it along its seams"
+                    )),
+                }
+            }
+        }
+    }
+    for (file, name, _, _) in LONG_FNS {
+        if !seen.contains(&(file.to_string(), name.to_string())) {
+            problems.push(format!(
+                "{file}: fn {name} is listed in LONG_FNS but is no longer over {MAX_FN_LINES} lines (or is gone): remove its entry"
+            ));
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+#[test]
+fn the_length_check_counts_bodies_and_skips_tests_and_declarations() {
+    let src = "fn a() {\n    let s = \"{\n\";\n}\ntrait T { fn decl(&self); }\n\
+               #[test]\nfn t() {\n}\n#[cfg(test)]\nmod tests {\n    fn helper() {\n    }\n}\n\
+               pub(crate) fn b() -> u8 { 1 }\n";
+    assert_eq!(
+        function_lengths(src),
+        [("a".to_string(), 4), ("b".to_string(), 1)]
+    );
+}
