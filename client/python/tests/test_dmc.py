@@ -225,7 +225,9 @@ def test_the_tasks_starts_are_drawn_as_dm_controls():
     assert 0.002 < np.std(v) < 0.03
     q, v = starts("gymfleet/CheetahRun-v1", n=8)
     assert np.all(np.abs(v[:, :2]) < 0.5), "settled: little motion left"
-    assert len({round(x, 4) for x in q[:, 3]}) == 8, "each start's back thigh differs"
+    # Settled on compliant contacts, starts cluster within a few mrad: compared to 1 µrad.
+    assert len({round(x, 6) for x in q[:, 3]}) == 8, "each start's back thigh differs"
+    assert np.std(q[:, 3]) > 1e-3, "and the starts spread"
     q, _ = starts("gymfleet/WalkerStand-v1")
     assert q[:, 2].min() < -2.0 and q[:, 2].max() > 2.0, "rooty uniform in [-pi, pi)"
 

@@ -29,10 +29,10 @@ pub use contacts::MAX_CONTACT_RULES;
 pub use couplings::{Coupling, MAX_COUPLINGS};
 pub use document::{
     ActuatorDef, ActuatorKind, AssemblyDef, CollisionDef, ContactExcludeDef, ContactPairDef,
-    ContactsDef, ConvexMode, CouplingDef, Document, DynamicsKind, FluidDef, FrameDef,
+    ContactsDef, ConvexMode, CouplingDef, Document, DynamicsKind, FluidDef, FrameDef, FrictionCone,
     HeightfieldDef, InertiaDef, InertialDef, InstanceDef, Integrator, JointDef, MaterialDef,
     MeshDef, PartDef, Primitive, SensorDef, SensorFrameDef, SensorType, SimulationDef, SiteDef,
-    SiteShape, SiteVolumeDef, TendonDef, TendonJointDef, Vec3,
+    SiteShape, SiteVolumeDef, SoftContactDef, TendonDef, TendonJointDef, Vec3,
 };
 pub use document::{BaseKeyDef, KeyframeDef};
 pub use error::{
@@ -46,8 +46,9 @@ pub use mesh::{
 };
 pub use model::{
     inertia_problem, Actuator, Assembly, ContactPair, Contacts, DofKind, Dynamics, Fluid, Inertial,
-    Instance, Joint, JointType, LocalFrame, Material, Shape, Site, Tendon, Transmission,
-    DEFAULT_DENSITY, DEFAULT_FRICTION, DEFAULT_GRAVITY, DEFAULT_RESTITUTION, MM_PER_M,
+    Instance, Joint, JointType, LocalFrame, Material, Shape, Site, SoftContact, Tendon,
+    Transmission, DEFAULT_DENSITY, DEFAULT_FRICTION, DEFAULT_GRAVITY, DEFAULT_RESTITUTION,
+    MM_PER_M,
 };
 pub use sensors::{Sensor, SensorFrame, SensorObject, MAX_SENSORS};
 pub use simulation::{DEFAULT_MAGNETIC, MAX_FLUID_DENSITY, MAX_FLUID_VISCOSITY};

@@ -573,6 +573,50 @@ fn bad_material_values() {
 }
 
 #[test]
+fn bad_soft_contacts_name_their_field() {
+    let cases = [
+        (
+            "solref",
+            json!([0.02, -1.0]),
+            "expected [time constant s > 0, damping ratio > 0] or [-stiffness < 0, -damping <= 0], got [0.02, -1.0]",
+        ),
+        (
+            "solref",
+            json!([0.0, 0.0]),
+            "expected [time constant s > 0, damping ratio > 0] or [-stiffness < 0, -damping <= 0], got [0.0, 0.0]",
+        ),
+        (
+            "solimp",
+            json!([0.9, 1.0, 1.0, 0.5, 2.0]),
+            "expected [dmin, dmax in (0, 1), width mm >= 0, midpoint in (0, 1), power >= 1], got [0.9, 1.0, 1.0, 0.5, 2.0]",
+        ),
+        (
+            "solimp",
+            json!([0.9, 0.95, 1.0, 0.5, 0.5]),
+            "expected [dmin, dmax in (0, 1), width mm >= 0, midpoint in (0, 1), power >= 1], got [0.9, 0.95, 1.0, 0.5, 0.5]",
+        ),
+        ("solmix", json!(-1.0), "expected a weight >= 0, got -1"),
+        ("margin", json!(-2.0), "expected a distance in mm >= 0, got -2"),
+        ("gap", json!(-0.5), "expected a distance in mm >= 0, got -0.5"),
+        ("impratio", json!(0.0), "expected a ratio > 0, got 0"),
+    ];
+    for (field, value, message) in cases {
+        let mut doc = base_doc();
+        doc["materials"] = json!({ "bad": { "soft_contact": { field: value } } });
+        assert_issue(
+            doc,
+            &format!("materials.bad.soft_contact.{field}: {message}"),
+        );
+    }
+    // A cone is pyramidal or elliptic; anything else is refused by the schema.
+    let mut doc = base_doc();
+    doc["materials"] = json!({ "bad": { "soft_contact": { "cone": "round" } } });
+    let text = doc.to_string();
+    let err = gymfleet_assembly::parse(&text).expect_err("refused");
+    assert!(err.to_string().contains("unknown variant `round`"), "{err}");
+}
+
+#[test]
 fn negative_damping() {
     assert_issue(
         with_joint_field("damping", json!(-0.5)),

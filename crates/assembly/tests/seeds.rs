@@ -159,16 +159,19 @@ fn every_ext_field_is_read() {
         density: 2700.0,
         friction: 0.3,
         restitution: 0.2,
+        soft_contact: None,
     };
     let rubber = Material {
         density: 1100.0,
         friction: 1.2,
         restitution: 0.9,
+        soft_contact: None,
     };
     let steel = Material {
         density: 7850.0,
         friction: DEFAULT_FRICTION,
         restitution: DEFAULT_RESTITUTION,
+        soft_contact: None,
     };
     let materials: Vec<Material> = a.instances.iter().map(|i| i.material).collect();
     assert_eq!(

@@ -549,10 +549,11 @@ fn the_worlds_geoms_are_fixed_and_a_plane_stops_what_hangs_above_it() {
         env.step(ActionType::Torque, &[]).expect("steps");
     }
     let q = env.observe().joint_positions[0];
-    // The capsule's tip (radius 10 mm) touches the floor when 0.2 − 0.3·sin θ = 0.01.
+    // The capsule's tip (radius 10 mm) touches the floor when 0.2 − 0.3·sin θ = 0.01; MuJoCo's
+    // default compliance lets it sink about half a millimetre (0.12°) into it.
     let stop = (0.19f64 / 0.3).asin().to_degrees() as f32;
     assert!(
-        (q - stop).abs() < 0.05,
+        (0.0..0.2).contains(&(q - stop)),
         "the arm rests at {q} deg, on the floor at {stop}"
     );
     // Walls are planes too: as many as the model has, each fixed where it is.

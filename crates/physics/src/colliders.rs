@@ -2,7 +2,8 @@
 //! collider (a mesh's hull or decomposition), its mass (volume × density, or its given
 //! inertial) and collision groups, and the robot's reach (for soft CCD).
 
-use gymfleet_assembly::{Instance, Shape};
+use gymfleet_assembly::{Instance, Shape, SoftContact, MM_PER_M};
+use rapier3d::geometry::ContactCompliance;
 use rapier3d::prelude::*;
 
 use crate::world::Sets;
@@ -69,8 +70,77 @@ pub(crate) fn attach_collider(
             InteractionTestMode::Or,
         ));
     collider.position = frame * collider.position;
+    let mut collider = collider.build();
+    if let Some(soft) = inst.material.soft_contact {
+        // MuJoCo's friction of two geoms is the larger.
+        collider.set_friction_combine_rule(CoefficientCombineRule::Max);
+        collider.set_compliance(Some(compliance(soft)));
+    }
     sets.colliders
-        .insert_with_parent(collider.build(), body, &mut sets.bodies)
+        .insert_with_parent(collider, body, &mut sets.bodies)
+}
+
+/// Sets each compliant collider's inverse weight (MuJoCo's `body_invweight0`, the
+/// regulariser's scale; vendored patch 43) from its body at the current pose: a multibody
+/// link's from the joint-space inertia, a body that cannot turn (sliders only) `1/m` as
+/// MuJoCo's simple bodies, a free body's `1/m`, a fixed body's 0.
+pub(crate) fn set_invweights(sets: &mut Sets) {
+    let handles: Vec<(ColliderHandle, RigidBodyHandle)> = sets
+        .colliders
+        .iter()
+        .filter(|(_, c)| c.compliance().is_some())
+        .filter_map(|(h, c)| Some((h, c.parent()?)))
+        .collect();
+    let mut weights: std::collections::HashMap<RigidBodyHandle, Real> = Default::default();
+    for (collider, body) in handles {
+        let weight = *weights
+            .entry(body)
+            .or_insert_with(|| body_invweight(sets, body));
+        let c = &mut sets.colliders[collider];
+        let compliance = c.compliance().copied().map(|mut k| {
+            k.invweight = weight;
+            k
+        });
+        c.set_compliance(compliance);
+    }
+}
+
+fn body_invweight(sets: &mut Sets, body: RigidBodyHandle) -> Real {
+    let rb = &sets.bodies[body];
+    if !rb.is_dynamic() {
+        return 0.0;
+    }
+    let inv_mass = rb.mass_properties().local_mprops.inv_mass;
+    let Some(link) = sets.multibody_joints.rigid_body_link(body).copied() else {
+        return inv_mass;
+    };
+    let Some(mb) = sets.multibody_joints.get_multibody_mut(link.multibody) else {
+        return inv_mass;
+    };
+    let (tran, rot) = mb.body_invweight(&sets.bodies, link.id);
+    if rot <= 1e-12 * tran.max(1.0) {
+        inv_mass
+    } else {
+        tran
+    }
+}
+
+/// A material's compliant contact as Rapier's (vendored patch 43), lengths in metres.
+fn compliance(soft: SoftContact) -> ContactCompliance {
+    let m = |mm: f64| (mm / MM_PER_M) as Real;
+    let [dmin, dmax, width, midpoint, power] = soft.solimp;
+    ContactCompliance {
+        solref: soft.solref.map(|v| v as Real),
+        solimp: [dmin, dmax, width / MM_PER_M, midpoint, power].map(|v| v as Real),
+        solmix: soft.solmix as Real,
+        priority: soft.priority,
+        margin: m(soft.margin),
+        gap: m(soft.gap),
+        pyramidal: soft.pyramidal,
+        impratio: soft.impratio as Real,
+        // Set from the body once the trees are built (`set_invweights`).
+        invweight: 0.0,
+    }
 }
 
 /// Sets each body's additional mass properties: the sum of the given ones (`given`, each

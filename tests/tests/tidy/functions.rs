@@ -153,12 +153,6 @@ const LONG_FNS: &[(&str, &str, usize, &str)] = &[
         "a frame form per arm",
     ),
     (
-        "crates/import/src/mjcf/attributes.rs",
-        "option",
-        88,
-        "an option group per arm",
-    ),
-    (
         "crates/assembly/src/validate/parts.rs",
         "mesh",
         88,

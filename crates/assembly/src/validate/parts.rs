@@ -3,10 +3,12 @@
 
 use std::collections::{BTreeMap, HashMap};
 
-use crate::document::{ConvexMode, InertialDef, MaterialDef, MeshDef, PartDef, Primitive};
+use crate::document::{
+    ConvexMode, FrictionCone, InertialDef, MaterialDef, MeshDef, PartDef, Primitive, SoftContactDef,
+};
 use crate::error::quoted;
 use crate::mesh::{ConvexParts, MAX_MESH_TRIANGLES, MAX_MESH_VERTICES};
-use crate::model::{Inertial, Material, Shape, MM_PER_M};
+use crate::model::{Inertial, Material, Shape, SoftContact, MM_PER_M};
 
 use super::{list, CheckedPart, Validator, MAX_COM_MM, MAX_MASS_KG};
 
@@ -40,16 +42,89 @@ impl Validator {
                     format!("expected a restitution in [0, 1], got {restitution}"),
                 );
             }
+            let soft_contact = def
+                .soft_contact
+                .as_ref()
+                .map(|soft| self.soft_contact(&format!("{path}.soft_contact"), soft));
             out.insert(
                 name.clone(),
                 Material {
                     density,
                     friction,
                     restitution,
+                    soft_contact,
                 },
             );
         }
         out
+    }
+
+    /// A material's compliant contact, with MuJoCo's defaults and ranges: `solref` both
+    /// positive (time constant, damping ratio) or both negative (stiffness, damping);
+    /// impedances in (0, 1), a width >= 0, a midpoint in (0, 1), a power >= 1.
+    fn soft_contact(&mut self, path: &str, def: &SoftContactDef) -> SoftContact {
+        let default = SoftContact::default();
+        let solref = def.solref.unwrap_or(default.solref);
+        let standard = solref.iter().all(|v| v.is_finite() && *v > 0.0);
+        let direct = solref.iter().all(|v| v.is_finite() && *v <= 0.0) && solref[0] < 0.0;
+        if !(standard || direct) {
+            self.push(
+                format!("{path}.solref"),
+                format!("expected [time constant s > 0, damping ratio > 0] or [-stiffness < 0, -damping <= 0], got {solref:?}"),
+            );
+        }
+        let solimp = def.solimp.unwrap_or(default.solimp);
+        let [dmin, dmax, width, midpoint, power] = solimp;
+        let impedance = |d: f64| d.is_finite() && d > 0.0 && d < 1.0;
+        if !(impedance(dmin)
+            && impedance(dmax)
+            && width.is_finite()
+            && width >= 0.0
+            && impedance(midpoint)
+            && power.is_finite()
+            && power >= 1.0)
+        {
+            self.push(
+                format!("{path}.solimp"),
+                format!("expected [dmin, dmax in (0, 1), width mm >= 0, midpoint in (0, 1), power >= 1], got {solimp:?}"),
+            );
+        }
+        let solmix = def.solmix.unwrap_or(default.solmix);
+        if !(solmix.is_finite() && solmix >= 0.0) {
+            self.push(
+                format!("{path}.solmix"),
+                format!("expected a weight >= 0, got {solmix}"),
+            );
+        }
+        let mut length = |name: &str, value: Option<f64>| {
+            let value = value.unwrap_or(0.0);
+            if !(value.is_finite() && value >= 0.0) {
+                self.push(
+                    format!("{path}.{name}"),
+                    format!("expected a distance in mm >= 0, got {value}"),
+                );
+            }
+            value
+        };
+        let margin = length("margin", def.margin);
+        let gap = length("gap", def.gap);
+        let impratio = def.impratio.unwrap_or(default.impratio);
+        if !(impratio.is_finite() && impratio > 0.0) {
+            self.push(
+                format!("{path}.impratio"),
+                format!("expected a ratio > 0, got {impratio}"),
+            );
+        }
+        SoftContact {
+            solref,
+            solimp,
+            solmix,
+            priority: def.priority.unwrap_or(default.priority),
+            margin,
+            gap,
+            pyramidal: def.cone.unwrap_or_default() == FrictionCone::Pyramidal,
+            impratio,
+        }
     }
 
     pub(super) fn material_ref(

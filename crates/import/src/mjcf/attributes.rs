@@ -299,17 +299,9 @@ impl<'a, 'i> Converter<'a, 'i> {
                 return Err(self.unsupported(node, "wind is not supported yet".into()));
             }
         }
+        self.contact_options(node)?;
         for a in node.attributes() {
-            if !matches!(
-                a.name(),
-                "timestep"
-                    | "gravity"
-                    | "density"
-                    | "viscosity"
-                    | "wind"
-                    | "integrator"
-                    | "magnetic"
-            ) {
+            if !READ_OPTIONS.contains(&a.name()) {
                 let how = option_approximation(a.name());
                 self.warn(
                     node,
@@ -351,6 +343,7 @@ impl<'a, 'i> Converter<'a, 'i> {
                 continue;
             }
             match name {
+                "override" => self.contact_options.enabled = true,
                 "contact" => self.switched_off.contacts = true,
                 "limit" => self.switched_off.limits = true,
                 "equality" => self.switched_off.equalities = true,
@@ -470,16 +463,30 @@ impl<'a, 'i> Converter<'a, 'i> {
     }
 }
 
+/// The `<option>` attributes `option` reads (with `contact_options`' in `soft.rs`).
+const READ_OPTIONS: [&str; 12] = [
+    "timestep",
+    "gravity",
+    "density",
+    "viscosity",
+    "wind",
+    "integrator",
+    "magnetic",
+    "o_solref",
+    "o_solimp",
+    "o_margin",
+    "cone",
+    "impratio",
+];
+
 /// How an `<option>` attribute gymfleet does not model is approximated, for its warning.
 fn option_approximation(name: &str) -> &'static str {
     match name {
-        "cone" => "friction is Rapier's Coulomb model at each contact point (the tangential impulse bounded by friction × normal impulse), close to MuJoCo's elliptic cone, not its pyramid",
-        "impratio" => "Rapier's contacts have no friction-to-normal impedance ratio; friction is as hard as the contact",
         "noslip_iterations" | "noslip_tolerance" => "there is no noslip pass; Rapier's contact solver runs once per substep",
         "iterations" | "ls_iterations" | "tolerance" | "ls_tolerance" | "solver" | "jacobian" | "ccd_iterations" | "ccd_tolerance" | "sdf_iterations" | "sdf_initpoints" => {
             "the solver is Rapier's: one pass per substep (more for kinematic loops), no line search"
         }
-        "o_margin" | "o_solref" | "o_solimp" | "o_friction" => "no contact override: each contact keeps gymfleet's own parameters",
+        "o_friction" => "the override replaces solref, solimp and margin; each contact keeps its geoms' friction",
         "apirate" | "actuatorgroupdisable" => "no effect on the motion gymfleet simulates",
         "collision" => "every geom pair that contype/conaffinity allow is collided, and every <pair>",
         "mpr_tolerance" | "mpr_iterations" => "collision detection is Rapier's (parry)",
@@ -497,7 +504,6 @@ fn flag_note(name: &str) -> &'static str {
         "passive" => "passive forces still act",
         "clampctrl" => "controls are still bounded where the model bounds them",
         "filterparent" => "a body still never collides with its parent",
-        "override" => "no contact override: each contact keeps gymfleet's own parameters",
         _ => "gymfleet keeps its default",
     }
 }

@@ -7,6 +7,9 @@ use super::*;
 /// heightfield its x and y half-extents and the depth of its base (m).
 type GeomShape = (Primitive, DVec3, Option<([f64; 2], f64)>);
 
+/// MuJoCo's default sliding friction coefficient.
+const MUJOCO_FRICTION: f64 = 1.0;
+
 impl<'a, 'i> Converter<'a, 'i> {
     /// One geom as an instance; `None` for a plane that collides with nothing (dropped).
     /// `given_mass`: the body's mass comes from `<inertial>`; the geom then weighs this.
@@ -67,20 +70,18 @@ impl<'a, 'i> Converter<'a, 'i> {
                 format!("fluidshape=\"{shape}\" (MuJoCo's ellipsoid fluid model) is not supported yet; the inertia-box model of <option density viscosity> is"),
             ));
         }
-        for attr in [
-            "condim", "solref", "solimp", "margin", "gap", "priority", "solmix",
-        ] {
-            if self.attr(node, class, attr).is_some() {
-                self.warn(node, format!("{attr} ignored (gymfleet's contact model)"));
-            }
+        if self.attr(node, class, "condim").is_some() {
+            self.warn(node, "condim ignored (gymfleet's contact model)".into());
         }
+        // MuJoCo's default sliding friction is 1 (gymfleet's own is 0.5).
         let friction = self
             .numbers(node, class, "friction")?
-            .and_then(|f| f.first().copied());
+            .and_then(|f| f.first().copied())
+            .or(Some(MUJOCO_FRICTION));
         let mut material = MaterialDef {
-            density: None,
             friction,
-            restitution: None,
+            soft_contact: Some(self.soft_contact(node, class)?),
+            ..MaterialDef::default()
         };
         let mut instance = InstanceDef {
             position: Some(vec3(origin)),
@@ -92,7 +93,8 @@ impl<'a, 'i> Converter<'a, 'i> {
             ..InstanceDef::new(&name, &name)
         };
         self.geom_mass(node, class, &name, given_mass, &mut instance, &mut material)?;
-        let has_material = material.friction.is_some() || material.density.is_some();
+        // Every geom's contacts are compliant, as MuJoCo's are.
+        let has_material = true;
         if has_material {
             instance.material = Some(name.clone());
         }

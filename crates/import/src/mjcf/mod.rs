@@ -36,6 +36,7 @@ mod joints;
 mod keyframes;
 mod meshes;
 mod sensors;
+mod soft;
 mod tendons;
 
 pub use include::{expand_includes, MAX_INCLUDED_BYTES, MAX_INCLUDE_DEPTH};
@@ -184,6 +185,8 @@ struct Converter<'a, 'i> {
     actuator_list: Vec<actuators::Parsed>,
     parts: Vec<PartDef>,
     materials: BTreeMap<String, MaterialDef>,
+    /// `<option>`'s `cone`, `impratio`, `o_solref`/`o_solimp`/`o_margin` and `<flag override>`.
+    contact_options: soft::ContactOptions,
     /// The document's `simulation` (gravity, dt, fluid) from `<option>`.
     simulation: SimulationDef,
     instances: Vec<InstanceDef>,
@@ -275,6 +278,7 @@ impl<'a, 'i> Converter<'a, 'i> {
             actuator_list: Vec::new(),
             parts: Vec::new(),
             materials: BTreeMap::new(),
+            contact_options: soft::ContactOptions::default(),
             simulation: SimulationDef {
                 gravity: None,
                 dt: None,
@@ -379,6 +383,11 @@ impl<'a, 'i> Converter<'a, 'i> {
         // MuJoCo integrates with `Euler` unless `<option integrator>` says otherwise: the
         // document says so, since its own default is the implicit form.
         self.simulation.integrator.get_or_insert(Integrator::Euler);
+        soft::finish_soft_contacts(
+            &mut self.materials,
+            &self.contact_options,
+            self.simulation.dt,
+        );
         let simulation = Some(self.simulation);
         let mut document = Document {
             parts: self.parts,
@@ -447,14 +456,6 @@ fn scale_total_mass(document: &mut Document, total: f64, massless: &HashSet<Stri
         let density = assembly.instances[k].material.density * factor;
         let name = assembly.instances[k].name.clone();
         instance.material = Some(name.clone());
-        document
-            .materials
-            .entry(name)
-            .or_insert(MaterialDef {
-                density: None,
-                friction: None,
-                restitution: None,
-            })
-            .density = Some(density);
+        document.materials.entry(name).or_default().density = Some(density);
     }
 }

@@ -108,11 +108,7 @@ impl<'a, 'i> Converter<'a, 'i> {
         link_name: &str,
         shapes: std::ops::Range<usize>,
     ) -> Result<()> {
-        let mut material = MaterialDef {
-            density: None,
-            friction: None,
-            restitution: None,
-        };
+        let mut material = MaterialDef::default();
         for item in elements(node) {
             let key = match item.tag_name().name() {
                 "lateral_friction" => &mut material.friction,

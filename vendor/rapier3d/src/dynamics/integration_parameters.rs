@@ -352,6 +352,19 @@ pub struct IntegrationParameters {
         serde(default = "IntegrationParameters::no_contact_limit")
     )]
     pub max_solver_contacts: usize,
+    /// Whether any collider may be compliant (MuJoCo's `solref`/`solimp`, see
+    /// [`ContactCompliance`](crate::geometry::ContactCompliance)): the solver then updates
+    /// every contact constraint before any is warm-started, so that a compliant row reads
+    /// the velocity its substep started with. A compliant contact while this is off is
+    /// solved with a velocity that other contacts' warm starts may have moved. Default
+    /// `false`. (gymfleet patch 43, see `PATCHES.md`.)
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    pub compliant_contacts: bool,
+    /// With [`Self::compliant_contacts`], how many Gauss–Seidel sweeps each solver pass
+    /// makes over the generic contact constraints (compliant contacts among them). Default 1.
+    /// (gymfleet patch 43.)
+    #[cfg_attr(feature = "serde-serialize", serde(default = "IntegrationParameters::one_sweep"))]
+    pub compliant_sweeps: usize,
     /// The type of friction constraints used in the simulation.
     #[cfg(feature = "dim3")]
     pub friction_model: FrictionModel,
@@ -429,6 +442,11 @@ impl IntegrationParameters {
         self.normalized_contact_recycle_distance * self.length_unit
     }
 
+    /// One sweep: the default of [`Self::compliant_sweeps`].
+    pub fn one_sweep() -> usize {
+        1
+    }
+
     /// No limit on a step's contact points: the default of [`Self::max_solver_contacts`].
     #[allow(dead_code)] // Read by the serde default only.
     fn no_contact_limit() -> usize {
@@ -462,6 +480,8 @@ impl Default for IntegrationParameters {
             warmstart_joints: false,
             flush_denormals: false,
             max_solver_contacts: usize::MAX,
+            compliant_contacts: false,
+            compliant_sweeps: 1,
             length_unit: 1.0,
             #[cfg(feature = "alloc")]
             soft_bodies: Default::default(),

@@ -268,6 +268,20 @@ impl Collider {
         self.material.friction = coefficient
     }
 
+    /// gymfleet patch 43: this collider's MuJoCo compliance (`solref`/`solimp`), `None` for
+    /// Rapier's contact model.
+    pub fn compliance(&self) -> Option<&crate::geometry::ContactCompliance> {
+        self.material.compliance.as_ref()
+    }
+
+    /// gymfleet patch 43: makes this collider's contacts compliant as MuJoCo's are (see
+    /// [`ContactCompliance`](crate::geometry::ContactCompliance)), or rigid with `None`.
+    /// The solver needs [`IntegrationParameters::compliant_contacts`](crate::dynamics::IntegrationParameters)
+    /// set while any collider is compliant.
+    pub fn set_compliance(&mut self, compliance: Option<crate::geometry::ContactCompliance>) {
+        self.material.compliance = compliance;
+    }
+
     /// The combine rule used by this collider to combine its friction
     /// coefficient with the friction coefficient of the other collider it
     /// is in contact with.
@@ -1480,6 +1494,7 @@ impl ColliderBuilder {
             restitution: self.restitution,
             friction_combine_rule: self.friction_combine_rule,
             restitution_combine_rule: self.restitution_combine_rule,
+            compliance: None,
         };
         let flags = ColliderFlags {
             collision_groups: self.collision_groups,

@@ -230,6 +230,10 @@ pub struct ColliderMaterial {
     pub friction_combine_rule: CoefficientCombineRule,
     /// The rule applied to combine the restitution coefficients of two colliders.
     pub restitution_combine_rule: CoefficientCombineRule,
+    /// gymfleet patch 43: MuJoCo's compliant contact (`solref`/`solimp`), or `None` for
+    /// Rapier's own contact model.
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    pub compliance: Option<crate::geometry::ContactCompliance>,
 }
 
 impl ColliderMaterial {
@@ -250,6 +254,7 @@ impl Default for ColliderMaterial {
             restitution: 0.0,
             friction_combine_rule: CoefficientCombineRule::default(),
             restitution_combine_rule: CoefficientCombineRule::default(),
+            compliance: None,
         }
     }
 }

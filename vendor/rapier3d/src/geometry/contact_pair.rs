@@ -744,6 +744,10 @@ pub struct ContactManifoldData {
     /// The effective restitution coefficient of this manifold's contacts.
     #[cfg_attr(feature = "serde-serialize", serde(default))]
     pub restitution: Real,
+    /// gymfleet patch 43: the pair's compliance (MuJoCo's `solref`/`solimp`), or `None` for
+    /// Rapier's contact model.
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    pub compliance: Option<crate::geometry::PairCompliance>,
 }
 
 /// A single solver contact.
@@ -975,6 +979,7 @@ impl ContactManifoldData {
             user_data: 0,
             friction: 0.0,
             restitution: 0.0,
+            compliance: None,
         }
     }
 

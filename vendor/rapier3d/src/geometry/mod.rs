@@ -9,6 +9,7 @@ pub use self::broad_phase_pair_event::{BroadPhasePairEvent, ColliderPair};
 pub use self::collider::{Collider, ColliderBuilder};
 #[cfg(feature = "alloc")]
 pub use self::collider_components::*;
+pub use self::contact_compliance::{ContactCompliance, PairCompliance};
 pub use self::collider_handle::ColliderHandle;
 #[cfg(feature = "alloc")]
 pub use self::collider_set::{ColliderSet, ModifiedColliders};
@@ -288,6 +289,7 @@ pub(crate) fn default_persistent_query_dispatcher()
 
 #[cfg(feature = "alloc")]
 mod collider_components;
+mod contact_compliance;
 mod collider_handle;
 #[cfg(feature = "alloc")]
 pub(crate) mod contact_pair;

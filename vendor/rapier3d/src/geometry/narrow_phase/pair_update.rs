@@ -411,6 +411,12 @@ pub(super) fn process_pair(
             co1.material.friction_combine_rule,
             co2.material.friction_combine_rule,
         );
+        // gymfleet patch 43: the pair's compliance, mixed once per full update.
+        let compliance = crate::geometry::PairCompliance::of(
+            co1.material.compliance.as_ref(),
+            co2.material.compliance.as_ref(),
+        )
+        .map(|c| c.with_friction(friction));
 
         /*
          *
@@ -541,6 +547,7 @@ pub(super) fn process_pair(
                 manifold.data.solver_flags = solver_flags;
                 manifold.data.friction = friction;
                 manifold.data.restitution = restitution;
+                manifold.data.compliance = compliance;
                 manifold.data.relative_dominance =
                     dominance1.effective_group(&rb_type1) - dominance2.effective_group(&rb_type2);
                 manifold.data.normal = world_pos1.rotation * manifold.local_n1;
@@ -572,6 +579,7 @@ pub(super) fn process_pair(
             manifold.data.solver_flags = solver_flags;
             manifold.data.friction = friction;
             manifold.data.restitution = restitution;
+            manifold.data.compliance = compliance;
             manifold.data.relative_dominance =
                 dominance1.effective_group(&rb_type1) - dominance2.effective_group(&rb_type2);
             manifold.data.normal = world_pos1.rotation * manifold.local_n1;

@@ -545,7 +545,8 @@ impl NarrowPhase {
                         color = SOLVER_COLOR_OVERFLOW;
                     }
                     first_of_pair = false;
-                    let is_generic = has_multibodies
+                    // gymfleet patch 43: compliant contacts are solved by the generic path.
+                    let is_generic = (has_multibodies
                         && (manifold
                             .data
                             .rigid_body1
@@ -555,7 +556,8 @@ impl NarrowPhase {
                                 .data
                                 .rigid_body2
                                 .and_then(|h| multibody_joints.rigid_body_link(h))
-                                .is_some());
+                                .is_some()))
+                        || manifold.data.compliance.is_some();
                     let bucket = if is_generic {
                         GENERIC_BUCKET
                     } else {
@@ -622,7 +624,8 @@ impl NarrowPhase {
                         // Multibody-involved manifolds are solved by the scalar generic
                         // path, so they live in the generic list, not the two-body buckets
                         // (they still consume the pair color so the selection is unaffected).
-                        let is_generic = has_multibodies
+                        // gymfleet patch 43: compliant contacts are solved by the generic path.
+                        let is_generic = (has_multibodies
                             && unsafe {
                                 (*mdata)
                                     .rigid_body1
@@ -632,7 +635,8 @@ impl NarrowPhase {
                                         .rigid_body2
                                         .and_then(|h| multibody_joints.rigid_body_link(h))
                                         .is_some()
-                            };
+                            })
+                            || unsafe { (*mdata).compliance.is_some() };
                         Some((color, solver_body_ids, is_generic))
                     }
                     None => None,
@@ -759,7 +763,8 @@ impl NarrowPhase {
                     color = SOLVER_COLOR_OVERFLOW;
                 }
                 first_of_pair = false;
-                let is_generic = has_multibodies
+                // gymfleet patch 43: compliant contacts are solved by the generic path.
+                let is_generic = (has_multibodies
                     && (manifold
                         .data
                         .rigid_body1
@@ -769,7 +774,8 @@ impl NarrowPhase {
                             .data
                             .rigid_body2
                             .and_then(|h| multibody_joints.rigid_body_link(h))
-                            .is_some());
+                            .is_some()))
+                    || manifold.data.compliance.is_some();
                 expected.push((((pair_id as u64) << 32) | ordinal as u64, color, is_generic));
             }
         }

@@ -2092,6 +2092,36 @@ impl Multibody {
         self.accelerations.rows(0, self.ndofs)
     }
 
+    /// gymfleet patch 43: MuJoCo's `body_invweight0` of link `link_id` at the current
+    /// configuration: the means of the translational and of the rotational diagonal of
+    /// `J·M⁻¹·Jᵀ`, `J` the link's body jacobian (its centre of mass's velocity and its angular
+    /// velocity). Like [`Self::dof_inverse_inertia`], for occasional use.
+    pub fn body_invweight(&mut self, bodies: &RigidBodySet, link_id: usize) -> (Real, Real) {
+        self.forward_kinematics(bodies, false);
+        self.update_mass_matrix(0.0, bodies);
+        self.factorize_inv_augmented_mass();
+        let n = self.ndofs;
+        if n == 0 || link_id >= self.links.len() {
+            return (0.0, 0.0);
+        }
+        let jacobian = self.body_jacobians[link_id].clone();
+        let mut diagonal = [0.0; SPATIAL_DIM];
+        let mut x = DVector::zeros(n);
+        for (row, out) in diagonal.iter_mut().enumerate() {
+            for k in 0..n {
+                x[k] = jacobian[(row, k)];
+            }
+            self.augmented_mass_indices
+                .with_rearranged_rows_mut(&mut x, |b| {
+                    self.inv_augmented_mass.solve_mut(b);
+                });
+            *out = (0..n).map(|k| jacobian[(row, k)] * x[k]).sum();
+        }
+        let tran = (diagonal[0] + diagonal[1] + diagonal[2]) / 3.0;
+        let rot = diagonal[DIM..].iter().sum::<Real>() / ANG_DIM as Real;
+        (tran, rot)
+    }
+
     /// The generalized velocities of this multibodies.
     #[inline]
     pub fn generalized_velocity(&self) -> DVectorView<'_, Real> {
@@ -2130,7 +2160,8 @@ impl Multibody {
             let joint = &self.links[i].joint;
             let locked = joint.data.locked_axes.bits();
             let limited = joint.data.limit_axes.bits() & !locked;
-            if limited == 0 || joint.kinematic {
+            // gymfleet patch 44: compliant limits are solver rows, not projections.
+            if limited == 0 || joint.kinematic || joint.limit_compliance.is_some() {
                 continue;
             }
             let num_free_ang = ANG_DIM - ((locked >> DIM).count_ones() as usize);

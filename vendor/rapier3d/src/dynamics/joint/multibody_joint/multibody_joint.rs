@@ -36,6 +36,10 @@ pub struct MultibodyJoint {
     /// (same convention as [`Self::coords`]). Only meaningful where
     /// `spring_stiffness` is non-zero.
     pub(crate) spring_ref: SpatialVector,
+    /// gymfleet patch 44: MuJoCo's compliant limits (`solreflimit`/`solimplimit`, see
+    /// [`Self::set_limit_compliance`]); `None` for Rapier's (or the hard) limits.
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    pub(crate) limit_compliance: Option<crate::geometry::PairCompliance>,
 }
 
 impl MultibodyJoint {
@@ -48,6 +52,7 @@ impl MultibodyJoint {
             joint_rot: Rotation::IDENTITY,
             spring_stiffness: Default::default(),
             spring_ref: Default::default(),
+            limit_compliance: None,
         }
     }
 
@@ -361,7 +366,38 @@ impl MultibodyJoint {
         num_constraints
     }
 
+    /// gymfleet patch 44: makes this joint's limits compliant as MuJoCo's are: each limited
+    /// axis is a row `J = ±e` at distance `q − min` (or `max − q`) from its limit, solved as
+    /// patch 43's contacts are (`compliance.margin` the distance below which it acts), and
+    /// left out of the hard-limit projection. `None` goes back to the other limits.
+    pub fn set_limit_compliance(&mut self, compliance: Option<crate::geometry::PairCompliance>) {
+        self.limit_compliance = compliance;
+    }
+
+    /// This joint's limit compliance (see [`Self::set_limit_compliance`]).
+    pub fn limit_compliance(&self) -> Option<&crate::geometry::PairCompliance> {
+        self.limit_compliance.as_ref()
+    }
+
+    /// The compliance of the limit on free DoF `dof` of this joint and that DoF's velocity
+    /// at the substep's start, when the limit is compliant and the start is known.
+    fn compliant_limit<'a>(
+        &'a self,
+        multibody: &Multibody,
+        link: &MultibodyLink,
+        dof: usize,
+        start: Option<(&DVector, &DVector)>,
+    ) -> Option<(&'a crate::geometry::PairCompliance, Real)> {
+        let compliance = self.limit_compliance.as_ref()?;
+        let (vels, increments) = start?;
+        let at = multibody.solver_id as usize + link.assembly_id + dof;
+        Some((compliance, vels[at] - increments[at]))
+    }
+
     /// Initialize and generate velocity constraints to enforce, e.g., multibody_joint limits and motors.
+    /// `start` is the solver's generalized velocities and the substep's increments of them
+    /// (gymfleet patch 44: a compliant limit's target is relative to the substep's start).
+    #[allow(clippy::too_many_arguments)]
     pub fn velocity_constraints(
         &self,
         params: &IntegrationParameters,
@@ -370,6 +406,7 @@ impl MultibodyJoint {
         mut j_id: usize,
         jacobians: &mut DVector,
         constraints: &mut [GenericJointConstraint],
+        start: Option<(&DVector, &DVector)>,
     ) -> usize {
         let j_id = &mut j_id;
         let locked_bits = self.data.locked_axes.bits();
@@ -415,6 +452,7 @@ impl MultibodyJoint {
                         constraints,
                         &mut num_constraints,
                         self.data.softness,
+                        self.compliant_limit(multibody, link, curr_free_dof, start),
                     );
                 }
                 // Dry joint friction (MuJoCo `frictionloss`), keyed per-DoF on
@@ -469,6 +507,7 @@ impl MultibodyJoint {
                         constraints,
                         &mut num_constraints,
                         self.data.softness,
+                        self.compliant_limit(multibody, link, curr_free_dof, start),
                     );
                     Some(limits)
                 } else {

@@ -20,10 +20,14 @@ pub fn unit_joint_limit_constraint(
     constraints: &mut [GenericJointConstraint],
     insert_at: &mut usize,
     softness: SpringCoefficients<Real>,
+    compliant: Option<(&crate::geometry::PairCompliance, Real)>,
 ) {
     let ndofs = multibody.ndofs();
-    let min_enabled = curr_pos < limits[0];
-    let max_enabled = limits[1] < curr_pos;
+    // gymfleet patch 44: a compliant limit acts from its margin on (MuJoCo's `jnt_margin`).
+    let rest = compliant.map_or(0.0, |(c, _)| c.rest);
+    let (to_min, to_max) = (curr_pos - limits[0], limits[1] - curr_pos);
+    let min_enabled = to_min < rest && (compliant.is_none() || to_min <= to_max);
+    let max_enabled = to_max < rest && !min_enabled;
 
     if !min_enabled && !max_enabled {
         // gymfleet patch (see `PATCHES.md`): a limit the joint is within applies no impulse
@@ -57,8 +61,9 @@ pub fn unit_joint_limit_constraint(
     let erp_inv_dt = softness.erp_inv_dt(params.dt);
     let cfm_coeff = softness.cfm_coeff(params.dt);
 
-    let rhs_bias = ((curr_pos - limits[1]).max(0.0) - (limits[0] - curr_pos).max(0.0)) * erp_inv_dt;
-    let rhs_wo_bias = 0.0;
+    let mut rhs_bias = ((curr_pos - limits[1]).max(0.0) - (limits[0] - curr_pos).max(0.0)) * erp_inv_dt;
+    let mut rhs_wo_bias = 0.0;
+    let mut cfm_coeff = cfm_coeff;
 
     let dof_j_id = *j_id + dof_id + link.assembly_id;
     jacobians.rows_mut(*j_id, ndofs * 2).fill(0.0);
@@ -73,6 +78,17 @@ pub fn unit_joint_limit_constraint(
         min_enabled as u32 as Real * -Real::MAX,
         max_enabled as u32 as Real * Real::MAX,
     ];
+    if let Some((compliance, v0)) = compliant {
+        // MuJoCo's limit row (patch 43's contact row on `J = ±e`): the generalized impulse is
+        // `−λ`, so `rhs = −v₀ ∓ h·a_ref` with the row's `a_ref` at its own velocity `±v₀`, and
+        // the regulariser `R = (1 − d)/d·lhs`.
+        let (dist, sign) = if min_enabled { (to_min, 1.0) } else { (to_max, -1.0) };
+        let (row_rhs, cfm) = compliance.row(dist, sign * v0, params.dt, crate::utils::inv(lhs));
+        rhs_wo_bias = sign * row_rhs;
+        rhs_bias = 0.0;
+        // `cfm = A/(A + R)`: `R/A = 1/cfm − 1`.
+        cfm_coeff = 1.0 / cfm - 1.0;
+    }
     let cfm_gain = lhs * cfm_coeff;
 
     let constraint = GenericJointConstraint {

@@ -23,6 +23,18 @@ pub(crate) struct GenericContactConstraintBuilder {
     handle2: RigidBodyHandle,
     /// gymfleet patch 39: the manifold's restitution (for `bounce_seed`).
     restitution: Real,
+    /// gymfleet patch 43: the manifold's compliance, `None` for a rigid contact.
+    compliance: Option<crate::geometry::PairCompliance>,
+}
+
+/// gymfleet patch 43: what a compliant contact's `update` reads to find each row's velocity
+/// at the start of the substep: the velocities now, less the substep's increments.
+pub(crate) struct SubstepStart<'a> {
+    pub jacobians: &'a DVector,
+    pub vels: &'a [crate::dynamics::solver::SolverVel<Real>],
+    pub generic_vels: &'a DVector,
+    pub increments: &'a [crate::dynamics::solver::SolverVel<Real>],
+    pub generic_increments: &'a DVector,
 }
 
 impl GenericContactConstraintBuilder {
@@ -32,6 +44,7 @@ impl GenericContactConstraintBuilder {
             handle1: RigidBodyHandle::invalid(),
             handle2: RigidBodyHandle::invalid(),
             restitution: 0.0,
+            compliance: None,
         }
     }
 
@@ -410,6 +423,7 @@ impl GenericContactConstraintBuilder {
             out_builder.handle1 = handle1;
             out_builder.handle2 = handle2;
             out_builder.restitution = manifold.data.restitution;
+            out_builder.compliance = manifold.data.compliance;
             out_builder.infos[k] = infos;
             out_constraint.restitution_seed[k] = restitution_seed;
             out_constraint.manifold_contact_id[k] =
@@ -427,6 +441,7 @@ impl GenericContactConstraintBuilder {
             | ((!type2.is_dynamic_or_kinematic() as u8) << 1);
 
         out_constraint.j_id = chunk_j_id;
+        out_constraint.compliant = manifold.data.compliance.is_some();
         out_constraint.ndofs1 = ndofs1;
         out_constraint.ndofs2 = ndofs2;
         out_constraint.generic_constraint_mask = generic_constraint_mask;
@@ -439,6 +454,7 @@ impl GenericContactConstraintBuilder {
         bodies: &SolverBodies,
         multibodies: &MultibodyJointSet,
         constraint: &mut GenericContactConstraint,
+        substep_start: Option<&SubstepStart>,
     ) {
         // Contacts touching a fixed body use a stiffer "static" softness.
         // A world-attached side has solver-vel id `u32::MAX`; exclude multibody links, whose
@@ -482,6 +498,20 @@ impl GenericContactConstraintBuilder {
             constraint.solver_vel2,
             constraint.generic_constraint_mask & 0b10 != 0,
         );
+        // gymfleet patch 43: a compliant row's target is relative to its velocity at the
+        // substep's start.
+        let start_vels = match (&self.compliance, substep_start) {
+            (Some(_), Some(start)) => {
+                let now = constraint.normal_velocities(start.jacobians, start.vels, start.generic_vels);
+                let incr = constraint.normal_velocities(
+                    start.jacobians,
+                    start.increments,
+                    start.generic_increments,
+                );
+                core::array::from_fn(|k| now[k] - incr[k])
+            }
+            _ => [0.0; MAX_MANIFOLD_POINTS],
+        };
         let all_infos = &self.infos[..constraint.num_contacts as usize];
         let normal_parts = &mut constraint.normal_part[..constraint.num_contacts as usize];
         let tangent_parts = &mut constraint.tangent_part[..constraint.num_contacts as usize];
@@ -495,10 +525,11 @@ impl GenericContactConstraintBuilder {
         ];
 
         let dir1_na = constraint.dir1;
-        for ((info, normal_part), tangent_part) in all_infos
+        for (k, ((info, normal_part), tangent_part)) in all_infos
             .iter()
             .zip(normal_parts.iter_mut())
             .zip(tangent_parts.iter_mut())
+            .enumerate()
         {
             // Tangent velocity is equivalent to the first body's surface moving artificially.
             let p1 = pose1 * info.local_p1 + info.tangent_vel * solved_dt;
@@ -517,6 +548,13 @@ impl GenericContactConstraintBuilder {
 
                 normal_part.rhs_wo_bias = rhs_wo_bias;
                 normal_part.rhs = new_rhs;
+                if let Some(compliance) = &self.compliance {
+                    // Both passes solve the same compliant row (see `remove_cfm_and_bias_from_rhs`).
+                    let (rhs, cfm) = compliance.row(dist, start_vels[k], params.dt, normal_part.r);
+                    normal_part.rhs_wo_bias = rhs;
+                    normal_part.rhs = rhs;
+                    normal_part.cfm_factor = cfm;
+                }
                 // Bank the previous substep's impulse before the warm-start scaling (see the
                 // coulomb-friction `update`).
                 normal_part.impulse_accumulator += normal_part.impulse;
@@ -636,6 +674,9 @@ pub(crate) struct GenericContactConstraint {
     pub im1: Vector,
     pub im2: Vector,
     pub cfm_factor: Real,
+    /// gymfleet patch 43: the rows are compliant; each point's softness is its own
+    /// `normal_part[k].cfm_factor`, kept by the relax pass.
+    pub compliant: bool,
     pub limit: Real,
     pub solver_vel1: u32,
     pub solver_vel2: u32,
@@ -662,6 +703,7 @@ impl GenericContactConstraint {
             im1: Vector::ZERO,
             im2: Vector::ZERO,
             cfm_factor: 0.0,
+            compliant: false,
             limit: 0.0,
             solver_vel1: u32::MAX,
             solver_vel2: u32::MAX,
@@ -752,6 +794,7 @@ impl GenericContactConstraint {
         let tangent_parts = &mut self.tangent_part[..self.num_contacts as usize];
         Self::generic_solve_group(
             self.cfm_factor,
+            self.compliant,
             normal_parts,
             tangent_parts,
             jacobians,
@@ -811,6 +854,13 @@ impl GenericContactConstraint {
 
     pub fn remove_cfm_and_bias_from_rhs(&mut self) {
         self.cfm_factor = 1.0;
+        if self.compliant {
+            // gymfleet patch 43: a compliant row is the same in both passes.
+            for tangent_part in &mut self.tangent_part {
+                tangent_part.rhs = tangent_part.rhs_wo_bias;
+            }
+            return;
+        }
         for normal_part in &mut self.normal_part {
             normal_part.rhs = normal_part.rhs_wo_bias;
         }

@@ -449,6 +449,18 @@ impl GenericContactConstraint {
         increments: &[SolverVel<Real>],
         generic_increments: &DVector,
     ) -> [Real; crate::math::MAX_MANIFOLD_POINTS] {
+        self.normal_velocities(jacobians, increments, generic_increments)
+    }
+
+    /// Each point's normal velocity `J·v` (positive when separating) under the body
+    /// velocities `vels` and the multibodies' `generic_vels` (gymfleet patch 43, from
+    /// patch 39's `normal_increments`).
+    pub(crate) fn normal_velocities(
+        &self,
+        jacobians: &DVector,
+        increments: &[SolverVel<Real>],
+        generic_increments: &DVector,
+    ) -> [Real; crate::math::MAX_MANIFOLD_POINTS] {
         let side = |solver_vel: u32, mask: u8| {
             if solver_vel == u32::MAX {
                 GenericRhs::Fixed
@@ -558,6 +570,7 @@ impl GenericContactConstraint {
     #[inline]
     pub fn generic_solve_group(
         cfm_factor: Real,
+        compliant: bool,
         normal_parts: &mut [ContactConstraintNormalPart<Real>],
         tangent_parts: &mut [ContactConstraintTangentPart<Real>],
         jacobians: &DVector,
@@ -585,6 +598,12 @@ impl GenericContactConstraint {
             let mut nrm_j_id = normal_j_id(j_id, ndofs1, ndofs2);
 
             for normal_part in &mut *normal_parts {
+                // gymfleet patch 43: a compliant point's own impedance.
+                let cfm_factor = if compliant {
+                    normal_part.cfm_factor
+                } else {
+                    cfm_factor
+                };
                 normal_part.generic_solve(
                     cfm_factor,
                     nrm_j_id,

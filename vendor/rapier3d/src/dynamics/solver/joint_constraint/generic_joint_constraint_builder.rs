@@ -303,12 +303,15 @@ impl JointGenericInternalConstraintBuilder {
         *out_constraint_id += num_constraints;
     }
 
+    /// `start`: the solver's generalized velocities and their substep increments, for
+    /// compliant limits (gymfleet patch 44).
     pub fn update(
         &self,
         params: &IntegrationParameters,
         multibodies: &MultibodyJointSet,
         jacobians: &mut DVector,
         out: &mut [GenericJointConstraint],
+        start: Option<(&DVector, &DVector)>,
     ) {
         let mb = &multibodies[self.link.multibody];
         let link = mb.link(self.link.id).unwrap();
@@ -319,6 +322,7 @@ impl JointGenericInternalConstraintBuilder {
             self.j_id,
             jacobians,
             &mut out[self.constraint_id..],
+            start,
         );
         // DoF couplings owned by this link follow its own constraints, both in
         // the jacobian buffer (each constraint reserves `2·ndofs`) and in the

@@ -59,7 +59,10 @@ impl StagedIslandSolver {
         // real substeps buy convergence on high mass ratios, unlike the flat PGS sweeps they
         // replaced. Multibody scenes: one group at max extra (generic tables not group-major yet).
         let island_bodies = islands.island(island_id).bodies();
-        let multi_group = islands.solve_groups.len() >= 2 && multibodies.iter().next().is_none();
+        // gymfleet patch 43: compliant contacts are generic constraints, which need one group.
+        let multi_group = islands.solve_groups.len() >= 2
+            && multibodies.iter().next().is_none()
+            && !base_params.compliant_contacts;
         let max_extra = islands
             .solve_groups
             .first()

@@ -352,17 +352,29 @@ pub(super) unsafe fn solve_pass(
             let contacts = unsafe { &mut *ctx.contact_constraints };
             let vs = unsafe { &mut *ctx.velocity_solver };
             let jac = &contacts.generic_jacobians;
-            for c in contacts.generic_velocity_constraints.iter_mut() {
-                if wo_bias {
+            if wo_bias {
+                for c in contacts.generic_velocity_constraints.iter_mut() {
                     c.remove_cfm_and_bias_from_rhs();
                 }
-                c.solve(
-                    jac,
-                    &mut vs.solver_bodies,
-                    &mut vs.generic_solver_vels,
-                    true,
-                    solve_friction,
-                );
+            }
+            // gymfleet patch 43: compliant rows couple strongly through their small
+            // regulariser (a box's four corners on one body); Gauss–Seidel sweeps them
+            // `compliant_sweeps` times per pass.
+            let sweeps = if params.compliant_contacts {
+                params.compliant_sweeps.max(1)
+            } else {
+                1
+            };
+            for _ in 0..sweeps {
+                for c in contacts.generic_velocity_constraints.iter_mut() {
+                    c.solve(
+                        jac,
+                        &mut vs.solver_bodies,
+                        &mut vs.generic_solver_vels,
+                        true,
+                        solve_friction,
+                    );
+                }
             }
         }
         sync.complete(stage, 1, 1);

@@ -8,6 +8,7 @@ use core::sync::atomic::Ordering;
 use crate::dynamics::rigid_body::gyroscopic_corrected_angvel;
 use crate::dynamics::solver::JointConstraintsSet;
 use crate::dynamics::solver::contact_constraint::ContactWithCoulombFrictionBuilder;
+use crate::dynamics::solver::contact_constraint::SubstepStart;
 #[cfg(feature = "dim3")]
 use crate::dynamics::solver::contact_constraint::ContactWithTwistFrictionBuilder;
 use crate::dynamics::solver::joint_constraint::GenericJointConstraintBuilder;
@@ -364,7 +365,10 @@ pub(super) unsafe fn run_worker(ctx: &SharedCtx, worker_id: usize) {
                 // NOTE: when warm-starting is enabled (the common case), the contact
                 //       constraint updates are fused into the warmstart stage below so
                 //       each constraint is only swept once per substep.
-                let fused_contact_update = params.warmstart_coefficient != 0.0;
+                // gymfleet patch 43: compliant contacts read each row's velocity at the
+                // substep's start, before any warm start: their update is not fused.
+                let fused_contact_update =
+                    params.warmstart_coefficient != 0.0 && !params.compliant_contacts;
                 let update_domain = if fused_contact_update {
                     group_chunks_len..all_updates.end
                 } else {
@@ -453,7 +457,8 @@ pub(super) unsafe fn run_worker(ctx: &SharedCtx, worker_id: usize) {
                     // single-group path (multibody scenes never split).
                     if ctx.groups.len() == 1 {
                         let joints = unsafe { &mut *ctx.joint_constraints };
-                        let solver_bodies = unsafe { &(*ctx.velocity_solver).solver_bodies };
+                        let vs = unsafe { &*ctx.velocity_solver };
+                        let solver_bodies = &vs.solver_bodies;
                         let JointConstraintsSet {
                             generic_velocity_constraints_builder,
                             generic_jacobians,
@@ -474,6 +479,10 @@ pub(super) unsafe fn run_worker(ctx: &SharedCtx, worker_id: usize) {
                                     multibodies,
                                     generic_jacobians,
                                     generic_velocity_constraints,
+                                    Some((
+                                        &vs.generic_solver_vels,
+                                        &vs.generic_solver_vels_increment,
+                                    )),
                                 ),
                                 GenericJointConstraintBuilder::Empty => {}
                             }
@@ -481,7 +490,14 @@ pub(super) unsafe fn run_worker(ctx: &SharedCtx, worker_id: usize) {
 
                         if !fused_contact_update {
                             let contacts = unsafe { &mut *ctx.contact_constraints };
-                            let solver_bodies = unsafe { &(*ctx.velocity_solver).solver_bodies };
+                            let vs = unsafe { &*ctx.velocity_solver };
+                            let start = SubstepStart {
+                                jacobians: &contacts.generic_jacobians,
+                                vels: &vs.solver_bodies.vels,
+                                generic_vels: &vs.generic_solver_vels,
+                                increments: &vs.solver_vels_increment,
+                                generic_increments: &vs.generic_solver_vels_increment,
+                            };
                             for (builder, constraint) in contacts
                                 .generic_velocity_constraints_builder
                                 .iter()
@@ -490,9 +506,10 @@ pub(super) unsafe fn run_worker(ctx: &SharedCtx, worker_id: usize) {
                                 builder.update(
                                     params,
                                     solved_dt,
-                                    solver_bodies,
+                                    &vs.solver_bodies,
                                     multibodies,
                                     constraint,
+                                    Some(&start),
                                 );
                             }
                         }
@@ -507,6 +524,8 @@ pub(super) unsafe fn run_worker(ctx: &SharedCtx, worker_id: usize) {
              * same color write disjoint solver bodies).
              */
             if params.warmstart_coefficient != 0.0 {
+                // gymfleet patch 43: see the update stage.
+                let fused_contact_update = !params.compliant_contacts;
                 let multibodies = unsafe { &*ctx.multibodies };
                 for (_, color) in &ctx.color_ranges[group.colors.clone()] {
                     let mut done = 0;
@@ -527,26 +546,30 @@ pub(super) unsafe fn run_worker(ctx: &SharedCtx, worker_id: usize) {
                                 let builder = unsafe { &*ctx.twist_builders.add(chunk_id) };
                                 let constraint =
                                     unsafe { &mut *ctx.twist_constraints.add(chunk_id) };
-                                builder.update(
-                                    params,
-                                    solved_dt,
-                                    solver_bodies,
-                                    multibodies,
-                                    constraint,
-                                );
+                                if fused_contact_update {
+                                    builder.update(
+                                        params,
+                                        solved_dt,
+                                        solver_bodies,
+                                        multibodies,
+                                        constraint,
+                                                                            );
+                                }
                                 constraint.warmstart(solver_bodies);
                             }
                             if !ctx.use_twist {
                                 let builder = unsafe { &*ctx.coulomb_builders.add(chunk_id) };
                                 let constraint =
                                     unsafe { &mut *ctx.coulomb_constraints.add(chunk_id) };
-                                builder.update(
-                                    params,
-                                    solved_dt,
-                                    solver_bodies,
-                                    multibodies,
-                                    constraint,
-                                );
+                                if fused_contact_update {
+                                    builder.update(
+                                        params,
+                                        solved_dt,
+                                        solver_bodies,
+                                        multibodies,
+                                        constraint,
+                                                                            );
+                                }
                                 constraint.warmstart(solver_bodies);
                             }
                         }
@@ -567,25 +590,29 @@ pub(super) unsafe fn run_worker(ctx: &SharedCtx, worker_id: usize) {
                         if ctx.use_twist {
                             let builder = unsafe { &*ctx.twist_builders.add(chunk_id) };
                             let constraint = unsafe { &mut *ctx.twist_constraints.add(chunk_id) };
-                            builder.update(
-                                params,
-                                solved_dt,
-                                solver_bodies,
-                                multibodies,
-                                constraint,
-                            );
+                            if fused_contact_update {
+                                builder.update(
+                                    params,
+                                    solved_dt,
+                                    solver_bodies,
+                                    multibodies,
+                                    constraint,
+                                                                    );
+                            }
                             constraint.warmstart(solver_bodies);
                         }
                         if !ctx.use_twist {
                             let builder = unsafe { &*ctx.coulomb_builders.add(chunk_id) };
                             let constraint = unsafe { &mut *ctx.coulomb_constraints.add(chunk_id) };
-                            builder.update(
-                                params,
-                                solved_dt,
-                                solver_bodies,
-                                multibodies,
-                                constraint,
-                            );
+                            if fused_contact_update {
+                                builder.update(
+                                    params,
+                                    solved_dt,
+                                    solver_bodies,
+                                    multibodies,
+                                    constraint,
+                                                                    );
+                            }
                             constraint.warmstart(solver_bodies);
                         }
                     }
@@ -597,7 +624,9 @@ pub(super) unsafe fn run_worker(ctx: &SharedCtx, worker_id: usize) {
                         .iter()
                         .zip(contacts.generic_velocity_constraints.iter_mut())
                     {
-                        builder.update(params, solved_dt, &vs.solver_bodies, multibodies, c);
+                        if fused_contact_update {
+                            builder.update(params, solved_dt, &vs.solver_bodies, multibodies, c, None);
+                        }
                         c.warmstart(
                             &contacts.generic_jacobians,
                             &mut vs.solver_bodies,

@@ -1,0 +1,142 @@
+"""Compliant contacts (MuJoCo's `solref`/`solimp`, vendored Rapier patch 43) against MuJoCo
+itself, on the same model and state: an MJCF geom's contacts are MuJoCo's soft constraint,
+so a body sinks into the floor as deep as in MuJoCo, a dropped one stays in contact as long
+and rebounds as high, and `margin`, `gap`, `priority`, `solmix` and `<option o_solref>` with
+`<flag override>` mean what they mean there. gymfleet runs one substep per MuJoCo timestep
+(the suite's setting), where both integrate the same semi-implicit step."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import gymfleet
+
+mujoco = pytest.importorskip("mujoco")
+
+DT = 0.002
+
+
+def scene(body: str, floor: str = "", geom: str = "", z: float = 0.1, option: str = "") -> str:
+    """A box or a sphere (10 cm half size, 2 kg) on a vertical slide, its bottom `z − 0.1` m
+    above a plane; `option` adds to `<option>` (attributes, then `>` and children)."""
+    shape = 'type="box" size="0.1 0.1 0.1"' if body == "box" else 'type="sphere" size="0.1"'
+    option = option or ">"
+    return f"""<mujoco>
+  <option timestep="{DT}" {option}</option>
+  <worldbody>
+    <geom name="floor" type="plane" size="2 2 0.1" {floor}/>
+    <body name="{body}" pos="0 0 {z}">
+      <joint name="z" type="slide" axis="0 0 1"/>
+      <geom {shape} mass="2" {geom}/>
+    </body>
+  </worldbody>
+</mujoco>"""
+
+
+def heights(xml: str, steps: int, substeps: int = 1, frame: int = 1):
+    """The slide's displacement after each env step of `frame` MuJoCo steps, in gymfleet
+    (`substeps` per env step) and in MuJoCo."""
+    model = mujoco.MjModel.from_xml_string(xml)
+    data = mujoco.MjData(model)
+    env = gymfleet.make(xml, units="si", dt=DT * frame, substeps=substeps)
+    env.reset(seed=0)
+    ours, theirs = [], []
+    for _ in range(steps):
+        obs, *_ = env.step(np.zeros(env.action_space.shape, np.float32))
+        for _ in range(frame):
+            mujoco.mj_step(model, data)
+        ours.append(float(obs[0]))
+        theirs.append(float(data.qpos[0]))
+    env.close()
+    return np.array(ours), np.array(theirs)
+
+
+@pytest.mark.parametrize("body", ["box", "sphere"])
+@pytest.mark.parametrize(
+    "solref, solimp",
+    [
+        ("0.02 1", "0.9 0.95 0.001 0.5 2"),  # MuJoCo's defaults
+        ("0.02 1", "0.0 0.8 0.01"),  # Gymnasium's half_cheetah.xml: 5 mm deep
+        ("0.05 0.7", "0.5 0.9 0.004 0.3 3"),
+        ("-20000 -150", "0.9 0.95 0.001 0.5 2"),  # direct form: stiffness and damping
+    ],
+)
+def test_a_resting_body_sinks_to_mujocos_depth(body, solref, solimp):
+    soft = f'solref="{solref}" solimp="{solimp}"'
+    xml = scene(body, floor=soft, geom=soft)
+    ours, theirs = heights(xml, 600)
+    assert theirs[-1] < -1e-5, theirs[-1]
+    assert ours[-1] == pytest.approx(theirs[-1], rel=0.05)
+    # The whole settling, not only its end: one substep per timestep is MuJoCo's own step.
+    np.testing.assert_allclose(ours, theirs, rtol=0.02, atol=1e-6)
+
+
+def test_the_depth_is_mujocos_with_the_suites_frame_skip():
+    """Five substeps per env step of five timesteps, as the suite runs Gymnasium's ids."""
+    soft = 'solref="0.02 1" solimp="0.0 0.8 0.01"'
+    xml = scene("box", floor=soft, geom=soft)
+    ours, theirs = heights(xml, 120, substeps=5, frame=5)
+    assert ours[-1] == pytest.approx(theirs[-1], rel=0.05)
+    np.testing.assert_allclose(ours, theirs, rtol=0.02, atol=1e-6)
+
+
+def contact_phases(z: np.ndarray, radius_gap: float):
+    """(first step in contact, first step out of it after, highest point after it)."""
+    touching = np.nonzero(z < radius_gap)[0]
+    start = int(touching[0])
+    after = np.nonzero(z[start:] >= radius_gap)[0]
+    end = start + int(after[0])
+    return start, end, float(z[end:].max())
+
+
+def test_a_dropped_sphere_has_mujocos_contact_duration_and_rebound():
+    """An underdamped contact (damping ratio 0.2, 100 rad/s) bounces: dropped from 5 cm, the sphere stays
+    in contact as long as in MuJoCo and rebounds as high, within 10 %."""
+    soft = 'solref="0.05 0.2" solimp="0.9 0.95 0.001 0.5 2"'
+    xml = scene("sphere", floor=soft, geom=soft, z=0.15)
+    ours, theirs = heights(xml, 400)
+    # The slide starts 5 cm above touching: in contact below −0.05.
+    s0, e0, top0 = contact_phases(theirs, -0.05)
+    s1, e1, top1 = contact_phases(ours, -0.05)
+    assert e0 - s0 >= 5, (s0, e0)
+    assert s1 == s0
+    assert (e1 - s1) == pytest.approx(e0 - s0, rel=0.1)
+    rebound0, rebound1 = top0 + 0.05, top1 + 0.05
+    assert rebound0 > 0.005, rebound0
+    assert rebound1 == pytest.approx(rebound0, rel=0.1)
+
+
+def test_margin_and_gap_hold_a_body_where_mujoco_does():
+    """`margin="0.01" gap="0.004"`: the contact acts 10 mm above the surface (the gap only
+    widens where it is found), so the sphere rests floating about 10 mm up, as in MuJoCo."""
+    xml = scene("sphere", geom='margin="0.01" gap="0.004"', z=0.12)
+    ours, theirs = heights(xml, 800)
+    rest = theirs[-1] + 0.02  # the slide starts 2 cm above touching
+    assert 0.009 < rest < 0.010, rest
+    assert ours[-1] == pytest.approx(theirs[-1], abs=2e-5)
+
+
+@pytest.mark.parametrize(
+    "floor, geom",
+    [
+        # Priority: the floor's parameters, whatever the sphere's.
+        ('priority="1" solref="0.05 1"', 'solref="0.01 1" solimp="0.5 0.6 0.01"'),
+        # Same priority: solmix weighs the two (3 : 1).
+        ('solmix="3" solref="0.05 1"', 'solref="0.01 1" solimp="0.5 0.6 0.01"'),
+    ],
+)
+def test_two_geoms_mix_as_mujoco_mixes_them(floor, geom):
+    xml = scene("sphere", floor=floor, geom=geom)
+    ours, theirs = heights(xml, 800)
+    assert ours[-1] == pytest.approx(theirs[-1], rel=0.05)
+
+
+def test_the_options_override_replaces_every_geoms():
+    option = 'o_solref="0.05 1" o_solimp="0.5 0.6 0.01 0.5 2"><flag override="enable"/>'
+    xml = scene("sphere", geom='solref="0.01 1"', option=option)
+    ours, theirs = heights(xml, 800)
+    plain = scene("sphere")
+    _, default = heights(plain, 800)
+    assert abs(theirs[-1]) > 3 * abs(default[-1])  # the override is much softer
+    assert ours[-1] == pytest.approx(theirs[-1], rel=0.05)

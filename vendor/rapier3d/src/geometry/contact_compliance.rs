@@ -1,0 +1,342 @@
+//! gymfleet patch 43: MuJoCo's compliant contacts (`solref`/`solimp`), see `PATCHES.md`.
+//!
+//! MuJoCo solves a contact row as a regularized constraint: with impedance `d ∈ (0, 1)` the
+//! row's acceleration becomes `a = d·a_ref + (1 − d)·a_0`, where `a_0` is the unconstrained
+//! acceleration along the row and `a_ref = −B·v − K·d·r` pulls the penetration `r` back
+//! like a damped spring. `solref = (timeconst, dampratio)` gives that spring its time
+//! constant and damping ratio (`K = 1/(dmax²·timeconst²·dampratio²)`, `B = 2/(dmax·timeconst)`),
+//! or the stiffness and damping directly when negative (`K = −solref₀/dmax²`,
+//! `B = −solref₁/dmax`); `solimp = (dmin, dmax, width, midpoint, power)` makes `d` grow
+//! from `dmin` at the surface to `dmax` at `width` deep, along a sigmoid.
+//!
+//! The projected Gauss-Seidel update of such a row is exactly Rapier's soft-constraint
+//! update `λ ← cfm·(λ − m·(J·v + rhs))` with `cfm = d` and `rhs = −(v₀ + h·a_ref)`, `v₀`
+//! the row's velocity at the start of the substep (before the substep's forces): the
+//! solver solves it in both its passes. A collider opts in with
+//! [`ColliderMaterial::compliance`](crate::geometry::ColliderMaterial); a pair gets
+//! [`PairCompliance::mix`] of its two colliders' (MuJoCo's `mj_contactParam`).
+
+use crate::math::Real;
+
+/// MuJoCo's default `solref`: a 0.02 s time constant, critically damped.
+pub const DEFAULT_SOLREF: [Real; 2] = [0.02, 1.0];
+/// MuJoCo's default `solimp`.
+pub const DEFAULT_SOLIMP: [Real; 5] = [0.9, 0.95, 0.001, 0.5, 2.0];
+/// MuJoCo's `mjMINVAL`.
+const MIN_VAL: Real = 1.0e-15;
+/// MuJoCo's `mjMINMU`, the least friction coefficient.
+const MIN_MU: Real = 1.0e-5;
+
+/// One collider's contact compliance, as a MuJoCo geom gives it.
+#[derive(Copy, Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde-serialize", derive(serde::Serialize, serde::Deserialize))]
+pub struct ContactCompliance {
+    /// `(timeconst, dampratio)`, or `(−stiffness, −damping)`.
+    pub solref: [Real; 2],
+    /// `(dmin, dmax, width, midpoint, power)`.
+    pub solimp: [Real; 5],
+    /// The weight of this collider's `solref`/`solimp` when mixed with another's of the same
+    /// priority.
+    pub solmix: Real,
+    /// Of two colliders, the one of higher priority gives the pair its parameters.
+    pub priority: i32,
+    /// Distance (m) below which the contact acts: a pair's is the sum of its two colliders'
+    /// (MuJoCo's `getMargin`), its spring's rest point.
+    pub margin: Real,
+    /// Distance beyond the margin in which the contact is detected but pushes nothing (a
+    /// pair's is the sum of its two colliders').
+    pub gap: Real,
+    /// MuJoCo's friction cone (`<option cone>`): its pyramid makes the normal direction
+    /// stiffer as friction falls (see [`PairCompliance::with_friction`]).
+    pub pyramidal: bool,
+    /// MuJoCo's `impratio`, the friction-to-normal impedance ratio.
+    pub impratio: Real,
+    /// The collider's body's translational inverse weight, MuJoCo's `body_invweight0[0]`
+    /// (the mean of `J·M⁻¹·Jᵀ`'s translational diagonal at the body's centre of mass, at
+    /// the model's initial pose; 0 for a fixed body): MuJoCo sizes a contact's regulariser
+    /// `R = (1 − d)/d·A` from this approximation of `A`, not from the row's own. Zero on
+    /// both colliders: the row's exact `A`.
+    pub invweight: Real,
+}
+
+impl Default for ContactCompliance {
+    fn default() -> Self {
+        Self {
+            solref: DEFAULT_SOLREF,
+            solimp: DEFAULT_SOLIMP,
+            solmix: 1.0,
+            priority: 0,
+            margin: 0.0,
+            gap: 0.0,
+            pyramidal: true,
+            impratio: 1.0,
+            invweight: 0.0,
+        }
+    }
+}
+
+/// A contact pair's compliance, ready for the solver: the spring and damper of MuJoCo's
+/// reference acceleration, and the impedance curve.
+#[derive(Copy, Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde-serialize", derive(serde::Serialize, serde::Deserialize))]
+pub struct PairCompliance {
+    /// `K` of `a_ref = −B·v − K·d·(dist − rest)`.
+    pub stiffness: Real,
+    /// `B`.
+    pub damping: Real,
+    /// `(dmin, dmax, width, midpoint, power)`.
+    pub solimp: [Real; 5],
+    /// The distance below which the contact is detected: the margins and gaps summed.
+    pub margin: Real,
+    /// The distance below which it acts, its spring's rest point: the margins summed
+    /// (MuJoCo's `includemargin`; a contact at or beyond it is excluded).
+    pub rest: Real,
+    /// The regulariser's scale in the normal direction: 1 for an elliptic cone; for a
+    /// pyramid, `μ²·(1 + μ²)/2` (see [`Self::with_friction`]).
+    pub normal_scale: Real,
+    /// Whether [`Self::with_friction`] scales the normal regulariser (a pyramidal cone).
+    pub pyramidal: bool,
+    /// `impratio` (see [`ContactCompliance::impratio`]).
+    pub impratio: Real,
+    /// The two colliders' [`ContactCompliance::invweight`] summed (MuJoCo's `tran`), or 0
+    /// for the row's exact `A`.
+    pub invweight: Real,
+}
+
+impl PairCompliance {
+    /// The compliance of a pair of colliders, either of which may be rigid (`None`): a pair
+    /// with one compliant collider takes its parameters.
+    pub fn of(a: Option<&ContactCompliance>, b: Option<&ContactCompliance>) -> Option<Self> {
+        match (a, b) {
+            (None, None) => None,
+            (Some(c), None) | (None, Some(c)) => {
+                // A rigid side has no parameters of its own, nor an inverse weight.
+                let rigid = ContactCompliance {
+                    invweight: 0.0,
+                    margin: 0.0,
+                    gap: 0.0,
+                    ..*c
+                };
+                Some(Self::mix(c, &rigid))
+            }
+            (Some(a), Some(b)) => Some(Self::mix(a, b)),
+        }
+    }
+
+    /// MuJoCo's mixing of two geoms' parameters (`mj_contactParam`): the higher priority's,
+    /// else `solmix`-weighted means (the smaller of each when a `solref` is in the direct,
+    /// negative form); margins and gaps are summed (`getMargin`, `getGap`).
+    pub fn mix(a: &ContactCompliance, b: &ContactCompliance) -> Self {
+        let (solref, solimp) = if a.priority != b.priority {
+            let c = if a.priority > b.priority { a } else { b };
+            (c.solref, c.solimp)
+        } else {
+            let mix = match (a.solmix >= MIN_VAL, b.solmix >= MIN_VAL) {
+                (true, true) => a.solmix / (a.solmix + b.solmix),
+                (false, false) => 0.5,
+                (false, true) => 0.0,
+                (true, false) => 1.0,
+            };
+            let solref = if a.solref[0] > 0.0 && b.solref[0] > 0.0 {
+                core::array::from_fn(|i| mix * a.solref[i] + (1.0 - mix) * b.solref[i])
+            } else {
+                core::array::from_fn(|i| a.solref[i].min(b.solref[i]))
+            };
+            let solimp = core::array::from_fn(|i| mix * a.solimp[i] + (1.0 - mix) * b.solimp[i]);
+            (solref, solimp)
+        };
+        let margin = a.margin + b.margin;
+        let gap = a.gap + b.gap;
+        Self {
+            pyramidal: a.pyramidal || b.pyramidal,
+            impratio: a.impratio.max(b.impratio),
+            invweight: a.invweight + b.invweight,
+            ..Self::new(solref, solimp, margin + gap, margin)
+        }
+    }
+
+    /// The pair at friction coefficient `friction`. MuJoCo's pyramidal cone solves a contact
+    /// as `2·(condim − 1)` facet rows `J_n ± μ·J_t`, each regularised by
+    /// `R_py = 2·μ²·R` with `R = (1 − d)/d·A` from the facet's `A ≈ (1 + μ²)·A_n` and
+    /// `μ = friction/√impratio` (`mj_makeImpedance`); their sum along the normal is a single
+    /// row regularised by `R_py/4 = μ²·(1 + μ²)/2 · (1 − d)/d · A_n` (condim 3). So a
+    /// pyramid's contact is as soft as the file says at `μ = 1`, ten times stiffer at 0.4, and
+    /// rigid without friction. An elliptic cone's normal row has `R` itself.
+    pub fn with_friction(mut self, friction: Real) -> Self {
+        if self.pyramidal {
+            let mu2 = (friction.max(MIN_MU) * friction.max(MIN_MU)) / self.impratio.max(MIN_VAL);
+            self.normal_scale = mu2 * (1.0 + mu2) / 2.0;
+        }
+        self
+    }
+
+    /// From `solref` and `solimp` as MuJoCo gives them (`mj_makeImpedance`).
+    pub fn new(solref: [Real; 2], solimp: [Real; 5], margin: Real, rest: Real) -> Self {
+        let dmax = solimp[1];
+        let stiffness = if solref[0] > 0.0 {
+            1.0 / (dmax * dmax * solref[0] * solref[0] * solref[1] * solref[1]).max(MIN_VAL)
+        } else {
+            -solref[0] / (dmax * dmax).max(MIN_VAL)
+        };
+        let damping = if solref[1] > 0.0 {
+            2.0 / (dmax * solref[0]).max(MIN_VAL)
+        } else {
+            -solref[1] / dmax.max(MIN_VAL)
+        };
+        Self {
+            stiffness,
+            damping,
+            solimp,
+            margin,
+            rest,
+            normal_scale: 1.0,
+            pyramidal: false,
+            impratio: 1.0,
+            invweight: 0.0,
+        }
+    }
+
+    /// The impedance `d` at separation `dist` (MuJoCo's `getimpedance`).
+    pub fn impedance(&self, dist: Real) -> Real {
+        let [dmin, dmax, width, midpoint, power] = self.solimp;
+        let d = if dmin == dmax || width <= MIN_VAL {
+            0.5 * (dmin + dmax)
+        } else {
+            let x = ((dist - self.rest) / width).abs();
+            if x >= 1.0 {
+                dmax
+            } else if x <= 0.0 {
+                dmin
+            } else {
+                let y = if power == 1.0 {
+                    x
+                } else if x <= midpoint {
+                    x.powf(power) / midpoint.powf(power - 1.0)
+                } else {
+                    1.0 - (1.0 - x).powf(power) / (1.0 - midpoint).powf(power - 1.0)
+                };
+                dmin + y * (dmax - dmin)
+            }
+        };
+        // MuJoCo clamps the regulariser `R = (1 − d)/d·A` at `mjMINVAL`; an impedance of 1
+        // would be a rigid row and 0 no row at all.
+        d.clamp(MIN_VAL, 1.0 - 1.0e-9)
+    }
+
+    /// A point's solver row at separation `dist`, normal velocity `v0` (positive when
+    /// separating, at the start of the substep), substep `dt` and effective mass `mass`
+    /// (`1/A`): `(rhs, cfm)` for `λ ← cfm·(λ − m·(J·v + rhs))`, clamped at zero. A point at
+    /// or beyond the rest distance gets a row that pushes nothing, as MuJoCo excludes it.
+    pub fn row(&self, dist: Real, v0: Real, dt: Real, mass: Real) -> (Real, Real) {
+        if dist >= self.rest {
+            return (SEPARATED_RHS, 1.0);
+        }
+        let d = self.impedance(dist);
+        let aref = -self.damping * v0 - self.stiffness * d * (dist - self.rest);
+        (-(v0 + dt * aref), self.cfm(d, mass))
+    }
+
+    /// `cfm = A/(A + R)` with `R = scale·(1 − d)/d·W`, `W` the inverse weight (MuJoCo's
+    /// approximation of `A`), else `A` itself.
+    pub fn cfm(&self, d: Real, mass: Real) -> Real {
+        if self.invweight > 0.0 {
+            let regulariser = self.normal_scale * (1.0 - d) / d * self.invweight;
+            1.0 / (1.0 + regulariser * mass)
+        } else {
+            d / (d + self.normal_scale * (1.0 - d))
+        }
+    }
+}
+
+/// The rhs of a row that must push nothing: `λ = max(0, λ − m·(J·v + rhs))` is zero for any
+/// velocity a step can reach (finite, so that a row of zero effective mass stays zero).
+pub const SEPARATED_RHS: Real = 1.0e10;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_give_mujoco_gains() {
+        let c = PairCompliance::mix(&ContactCompliance::default(), &ContactCompliance::default());
+        // K = 1/(0.95²·0.02²·1²), B = 2/(0.95·0.02).
+        assert!((c.stiffness - 1.0 / (0.9025 * 0.0004)).abs() < 1e-6 * c.stiffness);
+        assert!((c.damping - 2.0 / 0.019).abs() < 1e-9);
+        // Deeper than the width: dmax; at the surface: dmin; halfway: the sigmoid's midpoint.
+        assert_eq!(c.impedance(-0.01), 0.95);
+        assert_eq!(c.impedance(0.0), 0.9);
+        assert!((c.impedance(-0.0005) - 0.925).abs() < 1e-12);
+    }
+
+    #[test]
+    fn priority_wins_and_solmix_weighs() {
+        let soft = ContactCompliance {
+            solref: [0.1, 0.5],
+            ..Default::default()
+        };
+        let high = ContactCompliance {
+            priority: 1,
+            ..Default::default()
+        };
+        let c = PairCompliance::mix(&soft, &high);
+        assert_eq!(c, PairCompliance::mix(&high, &high));
+        let heavy = ContactCompliance {
+            solmix: 3.0,
+            ..soft
+        };
+        let c = PairCompliance::mix(&heavy, &ContactCompliance::default());
+        let solref = [0.75 * 0.1 + 0.25 * 0.02, 0.75 * 0.5 + 0.25 * 1.0];
+        let expected = PairCompliance {
+            pyramidal: true,
+            ..PairCompliance::new(solref, DEFAULT_SOLIMP, 0.0, 0.0)
+        };
+        assert_eq!(c, expected);
+        // Direct (negative) form: the smaller of each.
+        let direct = ContactCompliance {
+            solref: [-1000.0, -10.0],
+            ..Default::default()
+        };
+        let c = PairCompliance::mix(&direct, &ContactCompliance::default());
+        assert_eq!(c.stiffness, 1000.0 / (0.95 * 0.95));
+        assert_eq!(c.damping, 10.0 / 0.95);
+    }
+
+    #[test]
+    fn margins_add_up_and_rows_beyond_push_nothing() {
+        let a = ContactCompliance {
+            margin: 0.01,
+            gap: 0.004,
+            ..Default::default()
+        };
+        let b = ContactCompliance {
+            margin: 0.002,
+            ..Default::default()
+        };
+        let c = PairCompliance::mix(&a, &b);
+        assert_eq!((c.margin, c.rest), (0.016, 0.012));
+        // In the gap (detected, not acting) and at the rest point: excluded, as MuJoCo has it.
+        assert_eq!(c.row(0.014, 0.0, 0.001, 1.0), (SEPARATED_RHS, 1.0));
+        assert_eq!(c.row(0.012, 0.0, 0.001, 1.0), (SEPARATED_RHS, 1.0));
+        // Below it: a spring pushing out, at the impedance of its depth.
+        let (rhs, d) = c.row(0.0, 0.0, 0.001, 1.0);
+        assert!(rhs < 0.0 && d == 0.95, "{rhs} {d}");
+    }
+
+    #[test]
+    fn a_pyramid_is_as_soft_as_the_file_at_unit_friction_and_stiffer_below() {
+        let c = PairCompliance::mix(&ContactCompliance::default(), &ContactCompliance::default());
+        let (_, at_one) = c.with_friction(1.0).row(-0.01, 0.0, 0.001, 1.0);
+        assert_eq!(at_one, 0.95);
+        let (_, at_04) = c.with_friction(0.4).row(-0.01, 0.0, 0.001, 1.0);
+        let scale = 0.16 * 1.16 / 2.0;
+        assert!((at_04 - 0.95 / (0.95 + scale * 0.05)).abs() < 1e-6, "{at_04}");
+        let (_, frictionless) = c.with_friction(0.0).row(-0.01, 0.0, 0.001, 1.0);
+        assert!(frictionless > 1.0 - 1e-6, "{frictionless}");
+        let elliptic = ContactCompliance {
+            pyramidal: false,
+            ..Default::default()
+        };
+        let c = PairCompliance::mix(&elliptic, &elliptic).with_friction(0.4);
+        assert_eq!(c.row(-0.01, 0.0, 0.001, 1.0).1, 0.95);
+    }
+}
