@@ -140,3 +140,42 @@ def test_the_options_override_replaces_every_geoms():
     _, default = heights(plain, 800)
     assert abs(theirs[-1]) > 3 * abs(default[-1])  # the override is much softer
     assert ours[-1] == pytest.approx(theirs[-1], rel=0.05)
+
+
+@pytest.mark.parametrize(
+    "limit",
+    [
+        "",  # MuJoCo's defaults
+        'solreflimit="0.05 0.5" solimplimit="0.0 0.8 0.03"',  # Gymnasium's half_cheetah.xml, looser
+        'solreflimit="-2000 -20" margin="0.02"',
+    ],
+)
+def test_a_joint_pushed_into_a_soft_stop_sinks_as_far_as_mujocos(limit):
+    """An arm falls onto its joint's stop at 20°: MuJoCo's limit is a spring too, and the
+    arm rests past it (or, with a margin, short of it) by MuJoCo's angle (10 %), after
+    MuJoCo's swing."""
+    xml = f"""<mujoco>
+  <option timestep="{DT}"/>
+  <worldbody>
+    <body name="arm" pos="0 0 1">
+      <joint name="hinge" type="hinge" axis="0 1 0" range="-20 20" {limit}/>
+      <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02" mass="1" contype="0" conaffinity="0"/>
+    </body>
+  </worldbody>
+</mujoco>"""
+    model = mujoco.MjModel.from_xml_string(xml)
+    data = mujoco.MjData(model)
+    env = gymfleet.make(xml, units="si", dt=DT, substeps=1)
+    env.reset(seed=0)
+    ours, theirs = [], []
+    for _ in range(1500):
+        obs, *_ = env.step(np.zeros(env.action_space.shape, np.float32))
+        mujoco.mj_step(model, data)
+        ours.append(float(obs[0]))
+        theirs.append(float(data.qpos[0]))
+    env.close()
+    stop = np.radians(20.0)
+    past = theirs[-1] - stop
+    assert abs(past) > 1e-4, past  # MuJoCo's arm is not held exactly at its stop
+    assert ours[-1] - stop == pytest.approx(past, rel=0.1)
+    np.testing.assert_allclose(ours, theirs, rtol=0.02, atol=2e-3)

@@ -563,6 +563,27 @@ pub struct JointDef {
     /// `spring_rest` stay measured from the document's pose. Default 0.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reference: Option<f64>,
+    /// *(ext)* Compliant limits as MuJoCo models them (`solreflimit`/`solimplimit`): past
+    /// `min` or `max` the joint is pushed back like a damped spring instead of stopping
+    /// hard. Revolute and prismatic joints with limits; absent, the limits are hard stops.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub soft_limit: Option<SoftLimitDef>,
+}
+
+/// *(ext)* A joint's compliant limits (MuJoCo's soft constraint, as in [`SoftContactDef`]).
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SoftLimitDef {
+    /// `[timeconst s, dampratio]` (default `[0.02, 1]`), or `[-stiffness, -damping]`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub solref: Option<[f64; 2]>,
+    /// `[dmin, dmax, width, midpoint, power]`, the width in deg or mm (default
+    /// `[0.9, 0.95, 0.0573 deg or 1 mm, 0.5, 2]`, MuJoCo's 0.001 rad or m).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub solimp: Option<[f64; 5]>,
+    /// Distance from a limit, deg or mm, at which it starts to act (default 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub margin: Option<f64>,
 }
 
 impl InstanceDef {
@@ -607,6 +628,7 @@ impl JointDef {
             friction: None,
             gear: None,
             reference: None,
+            soft_limit: None,
         }
     }
 }

@@ -32,7 +32,7 @@ pub use document::{
     ContactsDef, ConvexMode, CouplingDef, Document, DynamicsKind, FluidDef, FrameDef, FrictionCone,
     HeightfieldDef, InertiaDef, InertialDef, InstanceDef, Integrator, JointDef, MaterialDef,
     MeshDef, PartDef, Primitive, SensorDef, SensorFrameDef, SensorType, SimulationDef, SiteDef,
-    SiteShape, SiteVolumeDef, SoftContactDef, TendonDef, TendonJointDef, Vec3,
+    SiteShape, SiteVolumeDef, SoftContactDef, SoftLimitDef, TendonDef, TendonJointDef, Vec3,
 };
 pub use document::{BaseKeyDef, KeyframeDef};
 pub use error::{
@@ -46,7 +46,7 @@ pub use mesh::{
 };
 pub use model::{
     inertia_problem, Actuator, Assembly, ContactPair, Contacts, DofKind, Dynamics, Fluid, Inertial,
-    Instance, Joint, JointType, LocalFrame, Material, Shape, Site, SoftContact, Tendon,
+    Instance, Joint, JointType, LocalFrame, Material, Shape, Site, SoftContact, SoftLimit, Tendon,
     Transmission, DEFAULT_DENSITY, DEFAULT_FRICTION, DEFAULT_GRAVITY, DEFAULT_RESTITUTION,
     MM_PER_M,
 };

@@ -355,6 +355,19 @@ pub struct Joint {
     /// Whether it is on a kinematic loop (it closes one, or it is a tree joint on one's
     /// path): reset noise leaves it alone, so that every reset starts with its loops closed.
     pub on_loop: bool,
+    /// MuJoCo's compliant limits, SI (radians or metres); `None`: hard stops.
+    pub soft_limit: Option<SoftLimit>,
+}
+
+/// A joint's compliant limits (see `SoftLimitDef`), in radians or metres.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SoftLimit {
+    /// `[timeconst s, dampratio]`, or `[-stiffness, -damping]`.
+    pub solref: [f64; 2],
+    /// `[dmin, dmax, width rad or m, midpoint, power]`.
+    pub solimp: [f64; 5],
+    /// rad or m.
+    pub margin: f64,
 }
 
 impl Joint {

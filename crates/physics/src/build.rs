@@ -143,19 +143,9 @@ impl RobotWorld {
             &welded_away,
             &lanes,
         )?;
-        // MuJoCo sizes each compliant contact from its bodies at the model's pose.
+        // MuJoCo sizes each compliant contact and limit from its bodies at the model's pose.
         crate::colliders::set_invweights(&mut sets);
-        for (slot, to) in joints.iter_mut().zip(&rehung) {
-            if let Some(to) = to {
-                slot.parent = bodies[*to];
-            }
-        }
-        // A fused planar root's joints hang from the fixed instance above the chain.
-        for root in &roots {
-            for &j in &root.joints {
-                joints[j].parent = bodies[root.parent];
-            }
-        }
+        hang_slots(&mut joints, &rehung, &roots, &bodies);
         let gravity = Vector::new(
             assembly.gravity[0] as Real,
             assembly.gravity[1] as Real,
@@ -363,7 +353,9 @@ fn integration_parameters(
         .filter_map(|i| i.material.soft_contact);
     // A pair's detection distance is its two margins and gaps summed.
     let margin_m = 2.0 * soft.clone().map(|s| s.margin + s.gap).fold(0.0, f64::max) / MM_PER_M;
-    params.compliant_contacts = soft.count() > 0;
+    // Compliant limits (patch 44) need the same: their rows read the substep's start too.
+    params.compliant_contacts =
+        soft.count() > 0 || assembly.joints.iter().any(|j| j.soft_limit.is_some());
     params.compliant_sweeps = COMPLIANT_SWEEPS;
     params.normalized_prediction_distance = params
         .normalized_prediction_distance
@@ -386,6 +378,26 @@ fn integration_parameters(
 /// The instances at the root of a tree with a dynamic root (a floating base, or a free
 /// body that others are jointed to), in document order: each has six free coordinates
 /// that no document joint owns.
+/// Points each joint slot at the body it hangs from: a rehung joint's new parent, and a
+/// fused planar root's joints at the fixed instance above the chain.
+fn hang_slots(
+    joints: &mut [JointSlot],
+    rehung: &[Option<usize>],
+    roots: &[planar::PlanarRoot],
+    bodies: &[RigidBodyHandle],
+) {
+    for (slot, to) in joints.iter_mut().zip(rehung) {
+        if let Some(to) = to {
+            slot.parent = bodies[*to];
+        }
+    }
+    for root in roots {
+        for &j in &root.joints {
+            joints[j].parent = bodies[root.parent];
+        }
+    }
+}
+
 fn free_roots(sets: &Sets, bodies: &[RigidBodyHandle], owners: &[usize]) -> Vec<FreeRoot> {
     bodies
         .iter()

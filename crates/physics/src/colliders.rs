@@ -83,25 +83,67 @@ pub(crate) fn attach_collider(
 /// Sets each compliant collider's inverse weight (MuJoCo's `body_invweight0`, the
 /// regulariser's scale; vendored patch 43) from its body at the current pose: a multibody
 /// link's from the joint-space inertia, a body that cannot turn (sliders only) `1/m` as
-/// MuJoCo's simple bodies, a free body's `1/m`, a fixed body's 0.
+/// MuJoCo's simple bodies, a free body's `1/m`, a fixed body's 0; and each compliant limit's
+/// (patch 44), the DOF's inverse inertia (MuJoCo's `dof_invweight0`). Given masses reach
+/// the bodies at the first step, so they are weighed on a copy that has them now.
 pub(crate) fn set_invweights(sets: &mut Sets) {
-    let handles: Vec<(ColliderHandle, RigidBodyHandle)> = sets
+    let mut weighed = sets.clone();
+    let handles: Vec<RigidBodyHandle> = weighed.bodies.iter().map(|(h, _)| h).collect();
+    for h in handles {
+        let colliders = &weighed.colliders;
+        weighed.bodies[h].recompute_mass_properties_from_colliders(colliders);
+    }
+    let compliant: Vec<(ColliderHandle, RigidBodyHandle)> = sets
         .colliders
         .iter()
         .filter(|(_, c)| c.compliance().is_some())
         .filter_map(|(h, c)| Some((h, c.parent()?)))
         .collect();
     let mut weights: std::collections::HashMap<RigidBodyHandle, Real> = Default::default();
-    for (collider, body) in handles {
+    for (collider, body) in compliant {
         let weight = *weights
             .entry(body)
-            .or_insert_with(|| body_invweight(sets, body));
+            .or_insert_with(|| body_invweight(&mut weighed, body));
         let c = &mut sets.colliders[collider];
         let compliance = c.compliance().copied().map(|mut k| {
             k.invweight = weight;
             k
         });
         c.set_compliance(compliance);
+    }
+    set_limit_invweights(sets, &mut weighed);
+}
+
+/// Each compliant limit's inverse weight: its DOF's `(M⁻¹)ᵢᵢ` on the weighed copy.
+fn set_limit_invweights(sets: &mut Sets, weighed: &mut Sets) {
+    let mut multibodies: Vec<MultibodyIndex> = sets
+        .multibody_joints
+        .iter()
+        .map(|(_, link, _, _)| link.multibody)
+        .collect();
+    multibodies.dedup();
+    for index in multibodies {
+        let Some(mb) = sets.multibody_joints.get_multibody_mut(index) else {
+            continue;
+        };
+        if !(0..mb.num_links()).any(|l| {
+            mb.link(l)
+                .is_some_and(|k| k.joint.limit_compliance().is_some())
+        }) {
+            continue;
+        }
+        let Some(copy) = weighed.multibody_joints.get_multibody_mut(index) else {
+            continue;
+        };
+        let inverse = copy.dof_inverse_inertia(&weighed.bodies);
+        for l in 0..mb.num_links() {
+            let Some(link) = mb.link_mut(l) else { continue };
+            let dof = link.assembly_id();
+            if let Some(mut c) = link.joint.limit_compliance().copied() {
+                c.invweight = inverse[dof];
+                link.joint.set_limit_compliance(Some(c));
+            }
+        }
     }
 }
 
@@ -201,12 +243,14 @@ pub(crate) fn given_mass_properties(
             MassProperties::new(com, mass, own.principal_inertia() * (mass / own.mass()))
         }
         None => {
-            // The shape's own, at unit density, placed as the collider is, then scaled.
+            // The shape's own, at unit density, placed as the collider is, then scaled. The
+            // collider has no parent: its pose in the part (a capsule turned from Rapier's Y
+            // onto the part's Z, a shape moved off its centre) is its `position`.
             let unit = collider(shape).density(1.0).build();
             let own = unit
                 .shape()
                 .mass_properties(1.0)
-                .transform_by(unit.position_wrt_parent().unwrap_or(&Pose::IDENTITY));
+                .transform_by(unit.position());
             let mut props = MassProperties::with_principal_inertia_frame(
                 com,
                 own.mass(),

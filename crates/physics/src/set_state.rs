@@ -65,7 +65,7 @@ impl RobotWorld {
     /// positions as [`RobotWorld::joint_state`] reads them, reference included, in
     /// `units`) and, with `base`, the floating base's state ([`BASE_STATE_LEN`] floats as
     /// [`RobotWorld::base_state`] reads it). Positions past a hard limit are set at the
-    /// limit; joints on a kinematic loop and ball joints keep their positions (their
+    /// limit (a compliant one, MuJoCo's, takes them as given); joints on a kinematic loop and ball joints keep their positions (their
     /// velocities are set where [`RobotWorld::set_dof_velocities`] sets them). Returns
     /// what was not set as given.
     ///
@@ -119,6 +119,8 @@ impl RobotWorld {
             };
             let link_first = link.assembly_id();
             let coords = link.joint().coords();
+            // A compliant limit (vendored patch 44) may be pushed past: positions stand.
+            let hard = link.joint().limit_compliance().is_none();
             let mut disp = vec![0.0; mb.ndofs()];
             for k in 0..n {
                 let dof = &self.dofs[first + k];
@@ -130,7 +132,7 @@ impl RobotWorld {
                 let given = positions[first + k];
                 let wanted = units.to_document(dof.kind, given) - reference;
                 let target = match dof.limits {
-                    Some([min, max]) if wanted < min || wanted > max => {
+                    Some([min, max]) if hard && (wanted < min || wanted > max) => {
                         let set = wanted.clamp(min, max);
                         notes.push(StateAdjustment::Clamped {
                             dof: first + k,

@@ -13,7 +13,7 @@ use serde::{Deserialize, Serialize};
 use crate::command::ActionMode;
 use crate::error::{PhysicsError, Result};
 use crate::units::to_si;
-use crate::world::{kind_axes, RobotWorld};
+use crate::world::{kind_axes, JointDof, RobotWorld};
 
 /// Largest magnitude accepted for a coordinate (rad or m) or a velocity (rad/s or m/s) in
 /// a state: far beyond anything a healthy step produces (the env reports divergence long
@@ -119,6 +119,33 @@ fn check_len(path: &str, got: usize, expected: usize, what: &str) -> Result<()> 
             format!("expected {expected} {what}, got {got}"),
         ))
     }
+}
+
+/// A saved coordinate inside its DOF's hard limits (in the document's units, with the
+/// tolerance a settled solver leaves).
+fn check_within(
+    dof: &JointDof,
+    [min, max]: [f64; 2],
+    value: f32,
+    path: &str,
+    axis: usize,
+) -> Result<()> {
+    let lo = to_si(dof.kind, min - LIMIT_TOLERANCE) as f32;
+    let hi = to_si(dof.kind, max + LIMIT_TOLERANCE) as f32;
+    if (lo..=hi).contains(&value) {
+        return Ok(());
+    }
+    let (si, user) = match dof.kind {
+        DofKind::Angular => ("rad", "deg"),
+        DofKind::Linear => ("m", "mm"),
+    };
+    Err(bad(
+        format!("{path}.coords[{axis}]"),
+        format!(
+            "{value} {si} is outside joint {:?}'s limits [{min}, {max}] {user}",
+            dof.joint_name
+        ),
+    ))
 }
 
 fn quat(q: [f32; 4]) -> Rotation {
@@ -284,25 +311,16 @@ impl RobotWorld {
                 let dof = &self.dofs[slot.first_dof + k];
                 // A ball joint's three angles are not its rotation's: its limits (if any) are
                 // not checked on them.
-                let (Some([min, max]), false) = (dof.limits, slot.kind == JointType::Ball) else {
+                // A compliant limit (MuJoCo's, vendored patch 44) is a spring a joint may be
+                // pushed past: any position is a state.
+                let (Some([min, max]), false, None) = (
+                    dof.limits,
+                    slot.kind == JointType::Ball,
+                    joint.limit_compliance(),
+                ) else {
                     continue;
                 };
-                let lo = to_si(dof.kind, min - LIMIT_TOLERANCE) as f32;
-                let hi = to_si(dof.kind, max + LIMIT_TOLERANCE) as f32;
-                let value = saved.coords[axis];
-                if !(lo..=hi).contains(&value) {
-                    let (si, user) = match dof.kind {
-                        DofKind::Angular => ("rad", "deg"),
-                        DofKind::Linear => ("m", "mm"),
-                    };
-                    return Err(bad(
-                        format!("{path}.coords[{axis}]"),
-                        format!(
-                            "{value} {si} is outside joint {:?}'s limits [{min}, {max}] {user}",
-                            dof.joint_name
-                        ),
-                    ));
-                }
+                check_within(dof, [min, max], saved.coords[axis], &path, axis)?;
             }
             match (free_angular_dofs(joint) == 3, &saved.rotation) {
                 (true, Some(q)) => check_unit(&format!("{path}.rotation"), q)?,

@@ -3,9 +3,9 @@
 
 use crate::document::JointDef;
 use crate::error::shown;
-use crate::model::JointType;
+use crate::model::{JointType, SoftLimit};
 
-use super::Validator;
+use super::{limit_to_si, Validator};
 
 impl Validator {
     pub(super) fn axis(&mut self, path: &str, def: &JointDef) -> [f64; 3] {
@@ -275,6 +275,72 @@ impl Validator {
 
     /// A joint's `springdamper`, checked: both values positive, on a revolute or prismatic
     /// joint.
+    /// A joint's compliant limits, SI: only on a revolute or prismatic joint with limits.
+    pub(super) fn soft_limit(
+        &mut self,
+        path: &str,
+        def: &JointDef,
+        limits: Option<[f64; 2]>,
+    ) -> Option<SoftLimit> {
+        let soft = def.soft_limit.as_ref()?;
+        let path = format!("{path}.soft_limit");
+        if !matches!(def.kind, JointType::Revolute | JointType::Prismatic) || limits.is_none() {
+            self.push(
+                path,
+                "only a revolute or prismatic joint with min and max has limits to soften"
+                    .to_string(),
+            );
+            return None;
+        }
+        let unit = if def.kind == JointType::Revolute {
+            "deg"
+        } else {
+            "mm"
+        };
+        let to_si = limit_to_si(def.kind);
+        // MuJoCo's 0.001 (rad or m) in the document's unit.
+        let default_width = 0.001 / to_si;
+        let solref = self.solref(&path, soft.solref.unwrap_or([0.02, 1.0]));
+        let [dmin, dmax, width, midpoint, power] = self.solimp(
+            &path,
+            soft.solimp.unwrap_or([0.9, 0.95, default_width, 0.5, 2.0]),
+            unit,
+        );
+        let margin = soft.margin.unwrap_or(0.0);
+        if !(margin.is_finite() && margin >= 0.0) {
+            self.push(
+                format!("{path}.margin"),
+                format!("expected a distance in {unit} >= 0, got {margin}"),
+            );
+        }
+        Some(SoftLimit {
+            solref,
+            solimp: [dmin, dmax, width * to_si, midpoint, power],
+            margin: margin * to_si,
+        })
+    }
+
+    /// A joint's `max_effort`: positive, and only on an actuated joint.
+    pub(super) fn max_effort(&mut self, path: &str, def: &JointDef, actuated: bool) -> Option<f64> {
+        let max_effort = def.max_effort.inspect(|&e| {
+            if !(e.is_finite() && e > 0.0) {
+                self.push(
+                    format!("{path}.max_effort"),
+                    format!("expected a positive effort in N·m or N, got {e}"),
+                );
+            }
+        });
+        if !actuated && max_effort.is_some() {
+            self.push(
+                format!("{path}.max_effort"),
+                "a passive joint (\"actuated\": false) takes no effort to clamp; \
+                 remove max_effort or the actuated flag"
+                    .to_string(),
+            );
+        }
+        max_effort
+    }
+
     pub(super) fn springdamper(&mut self, path: &str, def: &JointDef) -> Option<[f64; 2]> {
         let [timeconst, dampratio] = def.springdamper?;
         if !def.kind.supports_limits() {

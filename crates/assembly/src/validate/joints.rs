@@ -106,14 +106,6 @@ impl Validator {
             let document_limits = self.limits(&path, def);
             let initial = self.initial(&path, def, document_limits);
             let damping = self.non_negative(&format!("{path}.damping"), def.damping, "damping");
-            let max_effort = def.max_effort.inspect(|&e| {
-                if !(e.is_finite() && e > 0.0) {
-                    self.push(
-                        format!("{path}.max_effort"),
-                        format!("expected a positive effort in N·m or N, got {e}"),
-                    );
-                }
-            });
             let armature = self.dof_quantity(
                 &path,
                 def,
@@ -129,6 +121,7 @@ impl Validator {
                 "a friction >= 0 (N·m or N)",
                 "to resist with friction",
             );
+            let soft_limit = self.soft_limit(&path, def, document_limits);
             let role = topology.roles[j];
             // A loop-closing joint is passive (a driven one is refused in `topology`).
             let actuated = def.actuated.unwrap_or(true) && role != Some(Role::Loop);
@@ -144,14 +137,7 @@ impl Validator {
                 );
             }
             let (gear, reference) = self.gear_and_reference(&path, def, actuated);
-            if !actuated && max_effort.is_some() {
-                self.push(
-                    format!("{path}.max_effort"),
-                    "a passive joint (\"actuated\": false) takes no effort to clamp; \
-                     remove max_effort or the actuated flag"
-                        .to_string(),
-                );
-            }
+            let max_effort = self.max_effort(&path, def, actuated);
 
             if let (Some(p), Some(c)) = (parent, child) {
                 self.topology(&path, def, (p, c), role, &topology, instances, roots_of);
@@ -181,6 +167,7 @@ impl Validator {
                         closes_loop: role == Some(Role::Loop),
                         observed,
                         on_loop: on_loop[j].is_some(),
+                        soft_limit,
                     });
                 }
             }

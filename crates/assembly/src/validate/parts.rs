@@ -64,31 +64,8 @@ impl Validator {
     /// impedances in (0, 1), a width >= 0, a midpoint in (0, 1), a power >= 1.
     fn soft_contact(&mut self, path: &str, def: &SoftContactDef) -> SoftContact {
         let default = SoftContact::default();
-        let solref = def.solref.unwrap_or(default.solref);
-        let standard = solref.iter().all(|v| v.is_finite() && *v > 0.0);
-        let direct = solref.iter().all(|v| v.is_finite() && *v <= 0.0) && solref[0] < 0.0;
-        if !(standard || direct) {
-            self.push(
-                format!("{path}.solref"),
-                format!("expected [time constant s > 0, damping ratio > 0] or [-stiffness < 0, -damping <= 0], got {solref:?}"),
-            );
-        }
-        let solimp = def.solimp.unwrap_or(default.solimp);
-        let [dmin, dmax, width, midpoint, power] = solimp;
-        let impedance = |d: f64| d.is_finite() && d > 0.0 && d < 1.0;
-        if !(impedance(dmin)
-            && impedance(dmax)
-            && width.is_finite()
-            && width >= 0.0
-            && impedance(midpoint)
-            && power.is_finite()
-            && power >= 1.0)
-        {
-            self.push(
-                format!("{path}.solimp"),
-                format!("expected [dmin, dmax in (0, 1), width mm >= 0, midpoint in (0, 1), power >= 1], got {solimp:?}"),
-            );
-        }
+        let solref = self.solref(path, def.solref.unwrap_or(default.solref));
+        let solimp = self.solimp(path, def.solimp.unwrap_or(default.solimp), "mm");
         let solmix = def.solmix.unwrap_or(default.solmix);
         if !(solmix.is_finite() && solmix >= 0.0) {
             self.push(
@@ -125,6 +102,41 @@ impl Validator {
             pyramidal: def.cone.unwrap_or_default() == FrictionCone::Pyramidal,
             impratio,
         }
+    }
+
+    /// MuJoCo's `solref`: both positive (time constant, damping ratio) or both negative
+    /// (stiffness, damping).
+    pub(super) fn solref(&mut self, path: &str, solref: [f64; 2]) -> [f64; 2] {
+        let standard = solref.iter().all(|v| v.is_finite() && *v > 0.0);
+        let direct = solref.iter().all(|v| v.is_finite() && *v <= 0.0) && solref[0] < 0.0;
+        if !(standard || direct) {
+            self.push(
+                format!("{path}.solref"),
+                format!("expected [time constant s > 0, damping ratio > 0] or [-stiffness < 0, -damping <= 0], got {solref:?}"),
+            );
+        }
+        solref
+    }
+
+    /// MuJoCo's `solimp`: impedances in (0, 1), a width >= 0 (in `unit`), a midpoint in
+    /// (0, 1), a power >= 1.
+    pub(super) fn solimp(&mut self, path: &str, solimp: [f64; 5], unit: &str) -> [f64; 5] {
+        let [dmin, dmax, width, midpoint, power] = solimp;
+        let impedance = |d: f64| d.is_finite() && d > 0.0 && d < 1.0;
+        if !(impedance(dmin)
+            && impedance(dmax)
+            && width.is_finite()
+            && width >= 0.0
+            && impedance(midpoint)
+            && power.is_finite()
+            && power >= 1.0)
+        {
+            self.push(
+                format!("{path}.solimp"),
+                format!("expected [dmin, dmax in (0, 1), width {unit} >= 0, midpoint in (0, 1), power >= 1], got {solimp:?}"),
+            );
+        }
+        solimp
     }
 
     pub(super) fn material_ref(

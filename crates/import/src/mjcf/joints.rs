@@ -4,6 +4,37 @@
 use super::*;
 
 impl<'a, 'i> Converter<'a, 'i> {
+    /// MuJoCo's `springdamper`: two positive values size the joint's stiffness and damping
+    /// (both zero: none).
+    fn springdamper(
+        &self,
+        node: Node<'a, 'i>,
+        class: Option<&str>,
+        our: &str,
+    ) -> Result<Option<[f64; 2]>> {
+        Ok(match self.exactly::<2>(node, class, "springdamper")? {
+            None | Some([0.0, 0.0]) => None,
+            Some([tc, dr]) if tc > 0.0 && dr > 0.0 && our != "ball" => Some([tc, dr]),
+            Some(_) if our == "ball" => {
+                return Err(self.unsupported(
+                    node,
+                    "springdamper on a ball joint (a rotational spring) is not supported yet"
+                        .into(),
+                ))
+            }
+            Some(v) => {
+                return Err(self.bad(
+                    node,
+                    "springdamper",
+                    format!(
+                        "expected a time constant and a damping ratio, both > 0, got {} {}",
+                        v[0], v[1]
+                    ),
+                ))
+            }
+        })
+    }
+
     pub(super) fn joint(
         &mut self,
         node: Node<'a, 'i>,
@@ -30,29 +61,7 @@ impl<'a, 'i> Converter<'a, 'i> {
             }
             other => return Err(self.bad(node, "type", format!("unknown joint type {other:?}"))),
         };
-        // MuJoCo: two positive values size the joint's stiffness and damping (both
-        // zero: none).
-        let springdamper = match self.exactly::<2>(node, class, "springdamper")? {
-            None | Some([0.0, 0.0]) => None,
-            Some([tc, dr]) if tc > 0.0 && dr > 0.0 && our != "ball" => Some([tc, dr]),
-            Some(_) if our == "ball" => {
-                return Err(self.unsupported(
-                    node,
-                    "springdamper on a ball joint (a rotational spring) is not supported yet"
-                        .into(),
-                ))
-            }
-            Some(v) => {
-                return Err(self.bad(
-                    node,
-                    "springdamper",
-                    format!(
-                        "expected a time constant and a damping ratio, both > 0, got {} {}",
-                        v[0], v[1]
-                    ),
-                ))
-            }
-        };
+        let springdamper = self.springdamper(node, class, our)?;
         let friction = self
             .number(node, class, "frictionloss")?
             .filter(|f| *f != 0.0);
@@ -117,6 +126,7 @@ impl<'a, 'i> Converter<'a, 'i> {
                 };
                 j.min = Some(lo);
                 j.max = Some(hi);
+                j.soft_limit = Some(self.soft_limit(node, class, our == "revolute")?);
                 // The model's pose (qpos = ref) breaks the range: start at the nearest
                 // limit, where MuJoCo's limit constraint would push it.
                 if lo > 0.0 || hi < 0.0 {

@@ -388,6 +388,7 @@ impl<'a, 'i> Converter<'a, 'i> {
             &self.contact_options,
             self.simulation.dt,
         );
+        soft::finish_soft_limits(&mut self.joints, self.simulation.dt);
         let simulation = Some(self.simulation);
         let mut document = Document {
             parts: self.parts,

@@ -8,7 +8,7 @@
 
 use std::collections::BTreeMap;
 
-use gymfleet_assembly::{FrictionCone, MaterialDef, SoftContactDef};
+use gymfleet_assembly::{FrictionCone, MaterialDef, SoftContactDef, SoftLimitDef};
 use roxmltree::Node;
 
 use super::Converter;
@@ -133,6 +133,90 @@ impl<'a, 'i> Converter<'a, 'i> {
     }
 }
 
+impl<'a, 'i> Converter<'a, 'i> {
+    /// A limited joint's compliant limits (`solreflimit`, `solimplimit`, `margin`, with its
+    /// classes' and MuJoCo's defaults), in degrees for a hinge and mm for a slide.
+    pub(super) fn soft_limit(
+        &self,
+        node: Node<'a, 'i>,
+        class: Option<&str>,
+        hinge: bool,
+    ) -> Result<SoftLimitDef> {
+        // MuJoCo's joint values are radians and metres whatever `<compiler angle>` says.
+        let unit = if hinge {
+            180.0 / std::f64::consts::PI
+        } else {
+            MM
+        };
+        let solref = self.exactly::<2>(node, class, "solreflimit")?;
+        let solimp = match self.numbers(node, class, "solimplimit")? {
+            None => None,
+            Some(v) if (3..=5).contains(&v.len()) => {
+                let mut out = DEFAULT_SOLIMP;
+                out[..v.len()].copy_from_slice(&v);
+                Some(out)
+            }
+            Some(v) => {
+                return Err(self.bad(
+                    node,
+                    "solimplimit",
+                    format!("expected 3 to 5 numbers, got {}", v.len()),
+                ))
+            }
+        };
+        let margin = match self.number(node, class, "margin")? {
+            Some(v) if v < 0.0 => {
+                return Err(self.bad(node, "margin", format!("expected a distance >= 0, got {v}")))
+            }
+            v => v.unwrap_or(0.0) * unit,
+        };
+        let mut solimp = solimp.unwrap_or(DEFAULT_SOLIMP);
+        clamp_solimp(&mut solimp);
+        solimp[2] *= unit;
+        Ok(SoftLimitDef {
+            solref,
+            solimp: Some(solimp),
+            margin: Some(margin),
+        })
+    }
+}
+
+/// MuJoCo's run-time bounds on `solimp` (`getsolparam`), the width in its own units.
+fn clamp_solimp(solimp: &mut [f64; 5]) {
+    let (lo, hi) = IMPEDANCE_RANGE;
+    for k in [0, 1, 3] {
+        solimp[k] = solimp[k].clamp(lo, hi);
+    }
+    solimp[2] = solimp[2].max(0.0);
+    solimp[4] = solimp[4].max(1.0);
+}
+
+/// MuJoCo's `solref` rules at run time (`getsolparam`): mixed signs become the default, a
+/// time constant is at least two timesteps, and (here) both zero the default too.
+fn safe_solref(solref: Option<[f64; 2]>, timestep: f64) -> [f64; 2] {
+    let mut solref = solref.unwrap_or(DEFAULT_SOLREF);
+    if (solref[0] > 0.0) != (solref[1] > 0.0) || solref[0] == 0.0 {
+        // Both zero: MuJoCo's direct form with no stiffness pushes nothing; the document
+        // wants a stiffness, so the default stands in.
+        solref = DEFAULT_SOLREF;
+    }
+    if solref[0] > 0.0 {
+        solref[0] = solref[0].max(2.0 * timestep);
+    }
+    solref
+}
+
+/// Applies MuJoCo's run-time rules to every limited joint's `solreflimit`.
+pub(super) fn finish_soft_limits(
+    joints: &mut [gymfleet_assembly::JointDef],
+    timestep: Option<f64>,
+) {
+    let timestep = timestep.unwrap_or(DEFAULT_TIMESTEP);
+    for soft in joints.iter_mut().filter_map(|j| j.soft_limit.as_mut()) {
+        soft.solref = Some(safe_solref(soft.solref, timestep));
+    }
+}
+
 /// Applies `<option>`'s override and MuJoCo's run-time rules to every material's compliant
 /// contact, the timestep being `timestep` (s, MuJoCo's default when `None`).
 pub(super) fn finish_soft_contacts(
@@ -152,25 +236,10 @@ pub(super) fn finish_soft_contacts(
             soft.solimp = Some(over.solimp.unwrap_or(DEFAULT_SOLIMP));
             soft.margin = Some(over.margin.unwrap_or(0.0) * MM);
         }
-        let mut solref = soft.solref.unwrap_or(DEFAULT_SOLREF);
-        if (solref[0] > 0.0) != (solref[1] > 0.0) {
-            solref = DEFAULT_SOLREF;
-        }
-        if solref[0] > 0.0 {
-            solref[0] = solref[0].max(2.0 * timestep);
-        } else if solref[0] == 0.0 {
-            // Both zero: MuJoCo's direct form with no stiffness pushes nothing; the
-            // document's validation wants a stiffness, so the default stands in.
-            solref = DEFAULT_SOLREF;
-        }
-        soft.solref = Some(solref);
+        soft.solref = Some(safe_solref(soft.solref, timestep));
         let mut solimp = soft.solimp.unwrap_or(DEFAULT_SOLIMP);
-        let (lo, hi) = IMPEDANCE_RANGE;
-        for k in [0, 1, 3] {
-            solimp[k] = solimp[k].clamp(lo, hi);
-        }
-        solimp[2] = solimp[2].max(0.0) * MM;
-        solimp[4] = solimp[4].max(1.0);
+        clamp_solimp(&mut solimp);
+        solimp[2] *= MM;
         soft.solimp = Some(solimp);
     }
 }

@@ -6,6 +6,7 @@
 use std::collections::HashMap;
 
 use gymfleet_assembly::{Assembly, DofKind, Integrator, Joint, JointType};
+use rapier3d::geometry::PairCompliance;
 use rapier3d::prelude::*;
 
 use crate::error::{PhysicsError, Result};
@@ -153,6 +154,8 @@ fn configure_tree_joint(
         // `simulation.integrator: "euler"`: the velocity terms as forces of the
         // substep's start (vendored Rapier patch 26), as MuJoCo's Euler integrator.
         mb.set_explicit_velocity_terms(explicit);
+        // and its springs explicit, implicit in damping only (vendored patch 45).
+        mb.set_explicit_springs(explicit);
         // Rapier gives angular DOFs a default damping of 0.1: remove it, so
         // that a free pendulum keeps its energy unless the document says not.
         mb.damping_mut().fill(0.0);
@@ -172,6 +175,16 @@ fn configure_tree_joint(
         if let Some(link) = mb.link_mut(slot.link) {
             link.joint
                 .set_spring(axis, joint.stiffness as Real, joint.spring_rest as Real);
+        }
+    }
+    // MuJoCo's compliant limits (vendored patch 44), sized by the DOF's inverse inertia at
+    // the document's pose (MuJoCo's `dof_invweight0`, set by `set_invweights`).
+    if let (Some(soft), JointType::Revolute | JointType::Prismatic) = (joint.soft_limit, joint.kind)
+    {
+        // Its inverse weight is set once the masses are known (`set_invweights`).
+        if let Some(link) = mb.link_mut(slot.link) {
+            link.joint
+                .set_limit_compliance(Some(limit_compliance(soft, 0.0)));
         }
     }
     (0..joint.kind.dof())
@@ -244,4 +257,18 @@ fn joint_dofs(j: usize, joint: &Joint) -> impl Iterator<Item = JointDof> + '_ {
         kd: 0.0,
         kv: 0.0,
     })
+}
+
+/// A joint's compliant limits as Rapier's (vendored patch 44): acting from `margin` on.
+fn limit_compliance(soft: gymfleet_assembly::SoftLimit, invweight: Real) -> PairCompliance {
+    let margin = soft.margin as Real;
+    PairCompliance {
+        invweight,
+        ..PairCompliance::new(
+            soft.solref.map(|v| v as Real),
+            soft.solimp.map(|v| v as Real),
+            margin,
+            margin,
+        )
+    }
 }

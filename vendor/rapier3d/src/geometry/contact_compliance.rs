@@ -101,6 +101,8 @@ pub struct PairCompliance {
     /// The two colliders' [`ContactCompliance::invweight`] summed (MuJoCo's `tran`), or 0
     /// for the row's exact `A`.
     pub invweight: Real,
+    /// The pair's friction coefficient (set by [`Self::with_friction`]).
+    pub friction: Real,
 }
 
 impl PairCompliance {
@@ -163,6 +165,7 @@ impl PairCompliance {
     /// pyramid's contact is as soft as the file says at `μ = 1`, ten times stiffer at 0.4, and
     /// rigid without friction. An elliptic cone's normal row has `R` itself.
     pub fn with_friction(mut self, friction: Real) -> Self {
+        self.friction = friction;
         if self.pyramidal {
             let mu2 = (friction.max(MIN_MU) * friction.max(MIN_MU)) / self.impratio.max(MIN_VAL);
             self.normal_scale = mu2 * (1.0 + mu2) / 2.0;
@@ -193,6 +196,7 @@ impl PairCompliance {
             pyramidal: false,
             impratio: 1.0,
             invweight: 0.0,
+            friction: 1.0,
         }
     }
 
@@ -234,6 +238,37 @@ impl PairCompliance {
         let d = self.impedance(dist);
         let aref = -self.damping * v0 - self.stiffness * d * (dist - self.rest);
         (-(v0 + dt * aref), self.cfm(d, mass))
+    }
+
+    /// A point's friction row along one tangent at separation `dist`, tangential velocity
+    /// `v0` at the substep's start and effective mass `mass`: `(rhs, cfm)`. MuJoCo's friction
+    /// rows pull the sliding velocity to rest with the damper alone (`a_ref = −B·v`: its
+    /// elliptic rows have `K = 0`, and the pyramid's facets `J_n ± μ·J_t` leave only `−B·v_t`
+    /// in their difference) and are regularised by `R_t = (1 − d)/d·W·(1 + μ²)/impratio` on
+    /// the pyramid (a facet's `R` over `2μ²`, `R_py = 2μ²·R` — `mj_makeImpedance`), `R/impratio`
+    /// on the ellipse, `W` the inverse weight (else the row's own `A`). So a tangential load
+    /// lets the contact creep at `R_t·F/B` as MuJoCo's does. The cone is the circle
+    /// `|λ_t| ≤ μ·λ_n` (MuJoCo's elliptic cone; its pyramid is approximated by it).
+    pub fn friction_row(&self, dist: Real, v0: Real, dt: Real, mass: Real) -> (Real, Real) {
+        if dist >= self.rest {
+            return (0.0, 1.0);
+        }
+        let d = self.impedance(dist);
+        let weight = if self.invweight > 0.0 {
+            self.invweight
+        } else if mass > 0.0 {
+            1.0 / mass
+        } else {
+            return (0.0, 1.0);
+        };
+        let facet = if self.pyramidal {
+            1.0 + self.friction * self.friction
+        } else {
+            1.0
+        };
+        let regulariser = (1.0 - d) / d * weight * facet / self.impratio.max(MIN_VAL);
+        let aref = -self.damping * v0;
+        (-(v0 + dt * aref), 1.0 / (1.0 + regulariser * mass))
     }
 
     /// `cfm = A/(A + R)` with `R = scale·(1 − d)/d·W`, `W` the inverse weight (MuJoCo's

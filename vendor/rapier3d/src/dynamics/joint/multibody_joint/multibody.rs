@@ -269,6 +269,10 @@ pub struct Multibody {
     /// [`Multibody::set_explicit_velocity_terms`].
     #[cfg_attr(feature = "serde-serialize", serde(default))]
     explicit_velocity_terms: bool,
+    /// Whether the joint springs are explicit forces of the substep's start (gymfleet patch
+    /// 45): see [`Multibody::set_explicit_springs`].
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    explicit_springs: bool,
     /// The generalized impulses the hard limits applied to each DoF since the last
     /// [`Multibody::clear_hard_limit_impulses`] (gymfleet patch 17, see `PATCHES.md`); empty
     /// until a limit first stops a DoF, zeroed when the DoF count changes.
@@ -342,6 +346,7 @@ impl Multibody {
             self_contacts_enabled,
             hard_limits: false,
             explicit_velocity_terms: false,
+            explicit_springs: false,
             couplings: Vec::new(),
             linear_limits: Vec::new(),
             path_limits: Vec::new(),
@@ -379,6 +384,7 @@ impl Multibody {
                 let mut mb = Multibody::with_self_contacts(self.self_contacts_enabled);
                 mb.hard_limits = self.hard_limits;
                 mb.explicit_velocity_terms = self.explicit_velocity_terms;
+                mb.explicit_springs = self.explicit_springs;
 
                 result.push(mb);
             } else {
@@ -558,6 +564,8 @@ impl Multibody {
         self.hard_limits |= rhs.hard_limits;
         // The velocity terms stay implicit unless both multibodies had them explicit.
         self.explicit_velocity_terms &= rhs.explicit_velocity_terms;
+        // The springs stay implicit unless both multibodies had them explicit.
+        self.explicit_springs &= rhs.explicit_springs;
     }
 
     /// Whether self-contacts are enabled on this multibody.
@@ -825,6 +833,16 @@ impl Multibody {
         self.explicit_velocity_terms = explicit;
     }
 
+    /// gymfleet patch 45: with `explicit`, each joint spring is the force `−k·(q − rest)` of
+    /// the substep's start, as MuJoCo's Euler integrator has it (implicit in damping only),
+    /// instead of a backward-Euler spring (`dt²·k` on the mass matrix's diagonal and `−k·dt·v`
+    /// in the force). The implicit spring is the default: it keeps a stiff spring on a light
+    /// link stable where the explicit one may not be, as in MuJoCo.
+    pub fn set_explicit_springs(&mut self, explicit: bool) {
+        self.explicit_springs = explicit;
+        self.kinematics_current = false;
+    }
+
     /// Hard limits on linear combinations of one-coordinate DoFs (gymfleet patch 20):
     /// enforced, when [`Multibody::hard_limits`] is on, after the per-DoF stops of every
     /// substep: a combination found past a bound is put back on it by moving its own DoFs
@@ -1073,7 +1091,9 @@ impl Multibody {
                     let q = joint.coords[a];
                     let rest = joint.spring_ref[a];
                     let spring_pos_force = -k * (q - rest);
-                    self.accelerations[idx] += spring_pos_force - k * dt * self.velocities[idx];
+                    // gymfleet patch 45: an explicit spring has no velocity part.
+                    let implicit = if self.explicit_springs { 0.0 } else { k * dt };
+                    self.accelerations[idx] += spring_pos_force - implicit * self.velocities[idx];
                     if check_implicit_coriolis_divergence {
                         pos_forces[idx] += spring_pos_force;
                     }
@@ -1850,7 +1870,8 @@ impl Multibody {
         // Implicit joint springs: `dt²·k` on the mass-matrix diagonal (force term in `update_acceleration`)
         // keeps a stiff spring on a low-inertia link stable where an explicit position motor injects energy.
         // The spring lives on the link's `MultibodyJoint` so it travels with the link through topology changes.
-        let dt2 = dt * dt;
+        // gymfleet patch 45: explicit springs leave the matrix alone.
+        let dt2 = if self.explicit_springs { 0.0 } else { dt * dt };
         for link in self.links.iter() {
             for (a, idx) in free_axes(&link.joint, link.assembly_id) {
                 let k = link.joint.spring_stiffness[a];
@@ -2387,6 +2408,17 @@ impl Multibody {
         let ndofs = link.joint().ndofs();
         (link.assembly_id..link.assembly_id + ndofs)
             .map(|i| self.hard_limit_impulses.get(i).copied().unwrap_or(0.0))
+    }
+
+    /// Adds `impulse` to DoF `dof`'s entry of [`Multibody::hard_limit_impulses`]: a compliant
+    /// limit's generalized impulse over a substep (gymfleet patch 44).
+    pub(crate) fn add_limit_impulse(&mut self, dof: usize, impulse: Real) {
+        if self.hard_limit_impulses.len() != self.ndofs {
+            self.hard_limit_impulses = DVector::zeros(self.ndofs);
+        }
+        if dof < self.ndofs {
+            self.hard_limit_impulses[dof] += impulse;
+        }
     }
 
     /// Starts a new accumulation of [`Multibody::hard_limit_impulses`] (gymfleet patch 17).

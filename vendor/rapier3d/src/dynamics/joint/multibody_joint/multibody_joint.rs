@@ -338,10 +338,12 @@ impl MultibodyJoint {
         if limited == 0 {
             return false;
         }
+        // gymfleet patch 44: a compliant limit acts from its margin on.
+        let rest = self.limit_compliance.map_or(0.0, |c| c.rest);
         (0..SPATIAL_DIM).any(|i| {
             let limits = &self.data.limits[i];
             limited & (1 << i) != 0
-                && (self.coords[i] < limits.min || limits.max < self.coords[i])
+                && (self.coords[i] - limits.min < rest || limits.max - self.coords[i] < rest)
         })
     }
 

@@ -89,6 +89,11 @@ pub fn unit_joint_limit_constraint(
         // `cfm = A/(A + R)`: `R/A = 1/cfm − 1`.
         cfm_coeff = 1.0 / cfm - 1.0;
     }
+    let writeback_id = if compliant.is_some() {
+        WritebackId::CompliantLimit(multibody.solver_id + (link.assembly_id + dof_id) as u32)
+    } else {
+        WritebackId::Limit(dof_id)
+    };
     let cfm_gain = lhs * cfm_coeff;
 
     let constraint = GenericJointConstraint {
@@ -109,7 +114,7 @@ pub fn unit_joint_limit_constraint(
         rhs_wo_bias,
         cfm_coeff,
         cfm_gain,
-        writeback_id: WritebackId::Limit(dof_id),
+        writeback_id,
     };
 
     constraints[*insert_at] = constraint;

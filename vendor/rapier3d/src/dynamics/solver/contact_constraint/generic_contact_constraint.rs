@@ -500,7 +500,7 @@ impl GenericContactConstraintBuilder {
         );
         // gymfleet patch 43: a compliant row's target is relative to its velocity at the
         // substep's start.
-        let start_vels = match (&self.compliance, substep_start) {
+        let (start_vels, start_tangent) = match (&self.compliance, substep_start) {
             (Some(_), Some(start)) => {
                 let now = constraint.normal_velocities(start.jacobians, start.vels, start.generic_vels);
                 let incr = constraint.normal_velocities(
@@ -508,10 +508,21 @@ impl GenericContactConstraintBuilder {
                     start.increments,
                     start.generic_increments,
                 );
-                core::array::from_fn(|k| now[k] - incr[k])
+                let now_t =
+                    constraint.tangent_velocities(start.jacobians, start.vels, start.generic_vels);
+                let incr_t = constraint.tangent_velocities(
+                    start.jacobians,
+                    start.increments,
+                    start.generic_increments,
+                );
+                (
+                    core::array::from_fn(|k| now[k] - incr[k]),
+                    core::array::from_fn(|k| core::array::from_fn(|j| now_t[k][j] - incr_t[k][j])),
+                )
             }
-            _ => [0.0; MAX_MANIFOLD_POINTS],
+            _ => ([0.0; MAX_MANIFOLD_POINTS], [[0.0; DIM - 1]; MAX_MANIFOLD_POINTS]),
         };
+        let mut tangent_cfm = [[1.0; DIM - 1]; MAX_MANIFOLD_POINTS];
         let all_infos = &self.infos[..constraint.num_contacts as usize];
         let normal_parts = &mut constraint.normal_part[..constraint.num_contacts as usize];
         let tangent_parts = &mut constraint.tangent_part[..constraint.num_contacts as usize];
@@ -566,14 +577,31 @@ impl GenericContactConstraintBuilder {
                 tangent_part.impulse_accumulator += tangent_part.impulse;
                 tangent_part.impulse *= params.warmstart_coefficient;
 
-                for j in 0..DIM - 1 {
-                    let bias = (p1 - p2).gdot(tangents1[j]) * inv_dt;
-                    tangent_part.rhs[j] = tangent_part.rhs_wo_bias[j] + bias;
+                if let Some(compliance) = &self.compliance {
+                    // gymfleet patch 43: MuJoCo's friction rows, damped towards rest and
+                    // regularised (loaded feet creep), not anchored where they touched.
+                    for j in 0..DIM - 1 {
+                        let (rhs, cfm) = compliance.friction_row(
+                            dist,
+                            start_tangent[k][j],
+                            params.dt,
+                            tangent_part.r[j],
+                        );
+                        tangent_part.rhs[j] = rhs;
+                        tangent_part.rhs_wo_bias[j] = rhs;
+                        tangent_cfm[k][j] = cfm;
+                    }
+                } else {
+                    for j in 0..DIM - 1 {
+                        let bias = (p1 - p2).gdot(tangents1[j]) * inv_dt;
+                        tangent_part.rhs[j] = tangent_part.rhs_wo_bias[j] + bias;
+                    }
                 }
             }
         }
 
         constraint.cfm_factor = cfm_factor;
+        constraint.tangent_cfm = tangent_cfm;
     }
 
     /// Does any active point of this constraint hold a restitution seed (an approaching
@@ -677,6 +705,8 @@ pub(crate) struct GenericContactConstraint {
     /// gymfleet patch 43: the rows are compliant; each point's softness is its own
     /// `normal_part[k].cfm_factor`, kept by the relax pass.
     pub compliant: bool,
+    /// gymfleet patch 43: each compliant point's friction-row softness `A/(A + R)`.
+    pub tangent_cfm: [[Real; DIM - 1]; MAX_MANIFOLD_POINTS],
     pub limit: Real,
     pub solver_vel1: u32,
     pub solver_vel2: u32,
@@ -704,6 +734,7 @@ impl GenericContactConstraint {
             im2: Vector::ZERO,
             cfm_factor: 0.0,
             compliant: false,
+            tangent_cfm: [[1.0; DIM - 1]; MAX_MANIFOLD_POINTS],
             limit: 0.0,
             solver_vel1: u32::MAX,
             solver_vel2: u32::MAX,
@@ -795,6 +826,7 @@ impl GenericContactConstraint {
         Self::generic_solve_group(
             self.cfm_factor,
             self.compliant,
+            &self.tangent_cfm,
             normal_parts,
             tangent_parts,
             jacobians,

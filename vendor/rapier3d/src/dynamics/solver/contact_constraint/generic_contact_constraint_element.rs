@@ -197,6 +197,7 @@ impl ContactConstraintTangentPart<Real> {
         ndofs1: usize,
         ndofs2: usize,
         limit: Real,
+        cfm: [Real; DIM - 1],
         solver_vel1: &mut GenericRhs,
         solver_vel2: &mut GenericRhs,
         solver_vels: &mut DVector,
@@ -224,7 +225,8 @@ impl ContactConstraintTangentPart<Real> {
                 solver_vels,
             ) + self.rhs[0];
 
-            let new_impulse = (self.impulse[0] - self.r[0] * dvel_0).simd_clamp(-limit, limit);
+            let new_impulse =
+                (cfm[0] * (self.impulse[0] - self.r[0] * dvel_0)).simd_clamp(-limit, limit);
             let dlambda = new_impulse - self.impulse[0];
             self.impulse[0] = new_impulse;
 
@@ -283,9 +285,11 @@ impl ContactConstraintTangentPart<Real> {
                 solver_vels,
             ) + self.rhs[1];
 
+            // gymfleet patch 43: a compliant point's friction rows are regularised (`cfm`,
+            // 1 for Rapier's rigid rows).
             let new_impulse = na::Vector2::new(
-                self.impulse[0] - self.r[0] * dvel_0,
-                self.impulse[1] - self.r[1] * dvel_1,
+                cfm[0] * (self.impulse[0] - self.r[0] * dvel_0),
+                cfm[1] * (self.impulse[1] - self.r[1] * dvel_1),
             );
             let new_impulse = new_impulse.cap_magnitude(limit);
 
@@ -499,6 +503,56 @@ impl GenericContactConstraint {
         out
     }
 
+    /// Each point's tangential velocities `J_t·v` along `tangent1` and `normal × tangent1`
+    /// (the friction rows' directions), as [`Self::normal_velocities`] (gymfleet patch 43).
+    #[cfg(feature = "dim3")]
+    pub(crate) fn tangent_velocities(
+        &self,
+        jacobians: &DVector,
+        vels: &[SolverVel<Real>],
+        generic_vels: &DVector,
+    ) -> [[Real; DIM - 1]; crate::math::MAX_MANIFOLD_POINTS] {
+        let side = |solver_vel: u32, mask: u8| {
+            if solver_vel == u32::MAX {
+                GenericRhs::Fixed
+            } else if self.generic_constraint_mask & mask == 0 {
+                GenericRhs::SolverVel(vels[solver_vel as usize])
+            } else {
+                GenericRhs::GenericId(solver_vel)
+            }
+        };
+        let (side1, side2) = (side(self.solver_vel1, 0b01), side(self.solver_vel2, 0b10));
+        let (ndofs1, ndofs2) = (self.ndofs1, self.ndofs2);
+        let j_step = j_step(ndofs1, ndofs2);
+        let tangents1 = [self.tangent1, self.dir1.cross(self.tangent1)];
+        let mut out = [[0.0; DIM - 1]; crate::math::MAX_MANIFOLD_POINTS];
+        let mut tng_j_id = tangent_j_id(self.j_id, ndofs1, ndofs2);
+        for (k, tangent_part) in self.tangent_part[..self.num_contacts as usize]
+            .iter()
+            .enumerate()
+        {
+            for j in 0..DIM - 1 {
+                out[k][j] = side1.dvel(
+                    j_id1(tng_j_id, ndofs1, ndofs2) + j * j_step,
+                    ndofs1,
+                    jacobians,
+                    tangents1[j],
+                    tangent_part.torque_dir1[j],
+                    generic_vels,
+                ) + side2.dvel(
+                    j_id2(tng_j_id, ndofs1, ndofs2) + j * j_step,
+                    ndofs2,
+                    jacobians,
+                    -tangents1[j],
+                    tangent_part.torque_dir2[j],
+                    generic_vels,
+                );
+            }
+            tng_j_id += j_step * DIM;
+        }
+        out
+    }
+
     #[inline]
     pub fn generic_warmstart_group(
         normal_parts: &mut [ContactConstraintNormalPart<Real>],
@@ -571,6 +625,7 @@ impl GenericContactConstraint {
     pub fn generic_solve_group(
         cfm_factor: Real,
         compliant: bool,
+        tangent_cfm: &[[Real; DIM - 1]],
         normal_parts: &mut [ContactConstraintNormalPart<Real>],
         tangent_parts: &mut [ContactConstraintTangentPart<Real>],
         jacobians: &DVector,
@@ -629,8 +684,15 @@ impl GenericContactConstraint {
             let tangents1 = [dir1.orthonormal_vector()];
             let mut tng_j_id = tangent_j_id(j_id, ndofs1, ndofs2);
 
-            for (normal_part, tangent_part) in normal_parts.iter().zip(tangent_parts.iter_mut()) {
+            for (k, (normal_part, tangent_part)) in
+                normal_parts.iter().zip(tangent_parts.iter_mut()).enumerate()
+            {
                 let limit = limit * normal_part.impulse;
+                let cfm = if compliant {
+                    tangent_cfm[k]
+                } else {
+                    [1.0; DIM - 1]
+                };
                 tangent_part.generic_solve(
                     tng_j_id,
                     jacobians,
@@ -640,6 +702,7 @@ impl GenericContactConstraint {
                     ndofs1,
                     ndofs2,
                     limit,
+                    cfm,
                     solver_vel1,
                     solver_vel2,
                     solver_vels,

@@ -324,7 +324,7 @@ impl GenericJointConstraint {
                 WritebackId::Limit(i) => joint.data.limits[i].impulse = self.impulse,
                 WritebackId::Motor(i) => joint.data.motors[i].impulse = self.impulse,
                 // Writeback not supported yet for internal friction.
-                WritebackId::Friction(_) => {}
+                WritebackId::Friction(_) | WritebackId::CompliantLimit(_) => {}
             }
         }
     }

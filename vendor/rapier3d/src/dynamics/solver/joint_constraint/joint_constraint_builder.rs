@@ -144,7 +144,7 @@ impl JointConstraintBuilder {
                         WritebackId::Dof(i) => self.prev_dof_impulses[i],
                         WritebackId::Limit(i) => self.joint.limits[i].impulse,
                         WritebackId::Motor(i) => self.joint.motors[i].impulse,
-                        WritebackId::Friction(_) => 0.0,
+                        WritebackId::Friction(_) | WritebackId::CompliantLimit(_) => 0.0,
                     };
                     row.impulse = seed * coeff;
                 }
@@ -496,7 +496,7 @@ impl JointConstraintBuilderSimd {
                         WritebackId::Motor(_) => {}
                         // Impulse-joint rows only; friction rows are
                         // multibody-internal and are never built here.
-                        WritebackId::Friction(_) => {}
+                        WritebackId::Friction(_) | WritebackId::CompliantLimit(_) => {}
                     }
                 }
             } else {

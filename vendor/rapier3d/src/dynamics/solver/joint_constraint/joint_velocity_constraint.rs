@@ -40,6 +40,9 @@ pub enum WritebackId {
     Limit(usize),
     Motor(usize),
     Friction(usize),
+    /// gymfleet patch 44: a compliant multibody limit's row, on the solver's generalized
+    /// DoF at this index (its impulse is kept for the constraint-force readout).
+    CompliantLimit(u32),
 }
 
 // TODO: right now we only use this for impulse_joints.
@@ -383,7 +386,7 @@ impl JointConstraint<Real, 1> {
             WritebackId::Dof(i) => joint.impulses[i] = self.impulse,
             WritebackId::Limit(i) => joint.data.limits[i].impulse = self.impulse,
             WritebackId::Motor(i) => joint.data.motors[i].impulse = self.impulse,
-            WritebackId::Friction(_) => {}
+            WritebackId::Friction(_) | WritebackId::CompliantLimit(_) => {}
         }
     }
 }
@@ -536,7 +539,7 @@ impl JointConstraint<SimdReal, SIMD_WIDTH> {
                 WritebackId::Dof(i) => joint.impulses[i] = impulses[ii],
                 WritebackId::Limit(i) => joint.data.limits[i].impulse = impulses[ii],
                 WritebackId::Motor(i) => joint.data.motors[i].impulse = impulses[ii],
-                WritebackId::Friction(_) => {}
+                WritebackId::Friction(_) | WritebackId::CompliantLimit(_) => {}
             }
         }
     }

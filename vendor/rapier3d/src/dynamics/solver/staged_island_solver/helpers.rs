@@ -2,6 +2,7 @@
 //! [`VelocitySolver`]: generic (multibody) constraint init and the
 //! multibody-only halves of buffer init and position integration.
 
+use crate::dynamics::solver::{GenericJointConstraint, WritebackId};
 use crate::dynamics::solver::SolverVel;
 use crate::dynamics::solver::VelocitySolver;
 use crate::dynamics::solver::contact_constraint::{
@@ -127,6 +128,7 @@ impl VelocitySolver {
         is_last_substep: bool,
         bodies: &mut RigidBodySet,
         multibodies: &mut MultibodyJointSet,
+        joint_constraints: &[GenericJointConstraint],
     ) {
         for link in &self.multibody_roots {
             let multibody = multibodies
@@ -137,6 +139,16 @@ impl VelocitySolver {
                 .rows(multibody.solver_id as usize, multibody.ndofs());
             multibody.velocities.copy_from(&solver_vels);
             multibody.integrate(params.dt);
+            // gymfleet patch 44: the compliant limits' impulses of this substep's biased
+            // pass (the generalized impulse is `−λ`), for the constraint-force readout.
+            let range = multibody.solver_id..multibody.solver_id + multibody.ndofs() as u32;
+            for c in joint_constraints {
+                if let WritebackId::CompliantLimit(at) = c.writeback_id {
+                    if range.contains(&at) {
+                        multibody.add_limit_impulse((at - range.start) as usize, -c.impulse);
+                    }
+                }
+            }
             if multibody.hard_limits() && multibody.project_hard_limits(bodies) {
                 // The stops changed velocities: the solver's copy carries them on.
                 self.generic_solver_vels

@@ -4,6 +4,7 @@
 
 use crate::dynamics::IntegrationParameters;
 use crate::dynamics::solver::JointConstraintsSet;
+use crate::dynamics::solver::joint_constraint::WritebackId;
 use crate::math::Real;
 use core::sync::atomic::Ordering::Relaxed;
 
@@ -238,15 +239,30 @@ pub(super) unsafe fn solve_pass(
                     generic_velocity_constraints,
                     ..
                 } = joints;
-                for c in generic_velocity_constraints.iter_mut() {
-                    if wo_bias {
+                if wo_bias {
+                    for c in generic_velocity_constraints.iter_mut() {
                         c.remove_bias_from_rhs();
                     }
-                    c.solve(
-                        generic_jacobians,
-                        &mut vs.solver_bodies,
-                        &mut vs.generic_solver_vels,
-                    );
+                }
+                // gymfleet patch 44: compliant limits couple along a chain through their small
+                // regulariser; their rows are swept as the compliant contacts are (the hard
+                // rows, a loop's, once: more sweeps of them part a four-bar from MuJoCo's).
+                let sweeps = if params.compliant_contacts {
+                    params.compliant_sweeps.max(1)
+                } else {
+                    1
+                };
+                for sweep in 0..sweeps {
+                    for c in generic_velocity_constraints.iter_mut() {
+                        if sweep > 0 && !matches!(c.writeback_id, WritebackId::CompliantLimit(_)) {
+                            continue;
+                        }
+                        c.solve(
+                            generic_jacobians,
+                            &mut vs.solver_bodies,
+                            &mut vs.generic_solver_vels,
+                        );
+                    }
                 }
             }
             sync.complete(stage, 1, 1);

@@ -731,7 +731,14 @@ pub(super) unsafe fn run_worker(ctx: &SharedCtx, worker_id: usize) {
                     let vs = unsafe { &mut *ctx.velocity_solver };
                     let bodies = unsafe { &mut *ctx.bodies };
                     let multibodies = unsafe { &mut *ctx.multibodies };
-                    vs.integrate_multibody_positions(params, is_last_substep, bodies, multibodies);
+                    let joint_constraints = unsafe { &*ctx.joint_constraints };
+                    vs.integrate_multibody_positions(
+                        params,
+                        is_last_substep,
+                        bodies,
+                        multibodies,
+                        &joint_constraints.generic_velocity_constraints,
+                    );
                     sync.complete(stage, 1, num_group_bodies + 1);
                 }
                 stage = sync.sync(stage, num_group_bodies + 1);
