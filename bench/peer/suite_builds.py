@@ -17,6 +17,11 @@ Setup (not part of CI): `pip install gymnasium` (its files only are read), valgr
 
 `--after-args "--contact-limit 100000"` runs the second build with extra flags (the same
 binary twice then compares a setting, e.g. the server's default contact-work limit).
+`--before-rigid` gives the first build the converted document without its MuJoCo soft
+contacts and limits (every material's `soft_contact` and joint's `soft_limit` removed: the
+rigid model), so that one binary twice measures what the soft model costs (issue C):
+
+  python3 bench/peer/suite_builds.py P P --before-rigid --models half_cheetah ant --callgrind
 """
 import argparse
 import json
@@ -70,6 +75,20 @@ def instructions(exe, document, model, steps):
         return int(re.search(r"Collected : (\d+)", done.stderr).group(1))
 
 
+def rigid_copy(document):
+    """The document beside `document` without MuJoCo's soft contacts and limits."""
+    with open(document) as f:
+        doc = json.load(f)
+    for material in doc.get("materials", {}).values():
+        material.pop("soft_contact", None)
+    for joint in doc.get("assembly", {}).get("joints", []):
+        joint.pop("soft_limit", None)
+    rigid = document[:-len(".json")] + ".rigid.json"
+    with open(rigid, "w") as f:
+        json.dump(doc, f)
+    return rigid
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("before")
@@ -78,12 +97,15 @@ def main():
     ap.add_argument("--rounds", type=int, default=5)
     ap.add_argument("--callgrind", action="store_true")
     ap.add_argument("--after-args", default="", help="extra flags for the second build")
+    ap.add_argument("--before-rigid", action="store_true",
+                    help="the first build steps the document without its soft contacts and limits")
     args = ap.parse_args()
-    if args.after_args:
+    if args.after_args or args.before_rigid:
         # The same binary may be given twice: the second is told apart by a path of its own.
         if args.after == args.before:
             args.after = os.path.join(os.path.dirname(args.before), ".", os.path.basename(args.before))
         EXTRA[args.after] = args.after_args.split()
+        EXTRA.setdefault(args.after, [])
     import gymnasium
     assets = os.path.join(os.path.dirname(gymnasium.__file__), "envs", "mujoco", "assets")
     with tempfile.TemporaryDirectory() as tmp:
@@ -92,19 +114,22 @@ def main():
             with open(document, "w") as f:
                 subprocess.run([CONVERT, os.path.join(assets, model + ".xml")], check=True,
                                stdout=f, stderr=subprocess.DEVNULL)
-            hashes = [run(exe, document, model, 2000)["obs_hash"]
+            documents = {args.before: document, args.after: document}
+            if args.before_rigid:
+                documents[args.before] = rigid_copy(document)
+            hashes = [run(exe, documents[exe], model, 2000)["obs_hash"]
                       for exe in (args.before, args.after)]
             line = f"{model:25} bits {'same' if hashes[0] == hashes[1] else 'DIFFERENT'}"
             if args.callgrind:
-                per_step = [(instructions(exe, document, model, 600)
-                             - instructions(exe, document, model, 200)) / 400
+                per_step = [(instructions(exe, documents[exe], model, 600)
+                             - instructions(exe, documents[exe], model, 200)) / 400
                             for exe in (args.before, args.after)]
                 line += (f"; instructions {per_step[0] / 1e3:.1f} k -> {per_step[1] / 1e3:.1f} k "
                          f"({(per_step[1] / per_step[0] - 1) * 100:+.2f} %)")
             times = {args.before: [], args.after: []}
             for _ in range(args.rounds):
                 for exe in (args.before, args.after):
-                    times[exe].append(run(exe, document, model, 2000)["us_per_env_step"])
+                    times[exe].append(run(exe, documents[exe], model, 2000)["us_per_env_step"])
             b, a = times[args.before], times[args.after]
             line += (f"; us per env step, medians {statistics.median(b):.2f} -> "
                      f"{statistics.median(a):.2f} ({statistics.median(a) / statistics.median(b):.3f}), "

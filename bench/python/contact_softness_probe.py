@@ -6,8 +6,8 @@ learns slower). Not a test.
 Gymnasium's ``half_cheetah.xml`` gives every geom ``solimp="0.0 0.8 0.01"``: a contact's
 impedance starts at 0 at zero penetration and reaches 0.8 only 1 cm deep, far softer than
 MuJoCo's own default (``0.9 0.95 0.001``); its joint limits are as soft
-(``solimplimit="0 .8 .03"``). gymfleet's contacts and limits are rigid (Rapier; ``solimp`` is
-not read). Each variant: EPISODES episodes of 1000 steps of uniform random actions (the same
+(``solimplimit="0 .8 .03"``). gymfleet's contacts and limits were rigid (Rapier) until issue
+C; since vendored Rapier patches 43 and 44 they are MuJoCo's, ``solimp`` and all. Each variant: EPISODES episodes of 1000 steps of uniform random actions (the same
 action stream on every side, ``reset(seed=k)``), the root's x at the end, mean ± sd.
 
     python bench/python/contact_softness_probe.py --episodes 20

@@ -4,6 +4,7 @@
 both sides and their correlation across gaits. Not a test.
 
     python bench/python/gait_probe.py HalfCheetah 64     # needs gymfleet, gymnasium, mujoco
+    python bench/python/gait_probe.py Hopper 64          # any v5 id: its actuators and step
 """
 import sys, numpy as np, gymnasium as gym
 import gymfleet  # noqa: F401  (registers the gymfleet/ ids)
@@ -11,14 +12,16 @@ name = sys.argv[1] if len(sys.argv) > 1 else "HalfCheetah"
 N = int(sys.argv[2]) if len(sys.argv) > 2 else 64
 T = 300
 rng = np.random.default_rng(0)
-na = 6
+probe = gym.make(f"{name}-v5")
+na = probe.action_space.shape[0]  # the model's actuators
+dt = probe.unwrapped.dt  # its control step (timestep × frame skip)
+probe.close()
 amp = rng.uniform(0.3, 1.0, (N, na)); freq = rng.uniform(0.5, 4.0, (N, 1)); ph = rng.uniform(0, 2*np.pi, (N, na))
 def act(k, dt):
     return np.clip(amp * np.sin(2*np.pi*freq*k*dt + ph), -1, 1).astype(np.float32)
 # gymfleet
 venv = gym.make_vec(f"gymfleet/{name}-v5", N)
 venv.reset(seed=0)
-dt = 0.05
 R = np.zeros(N); F = np.zeros(N); alive = np.ones(N, bool)
 for k in range(T):
     o, r, te, tr, info = venv.step(act(k, dt))

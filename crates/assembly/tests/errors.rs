@@ -617,6 +617,44 @@ fn bad_soft_contacts_name_their_field() {
 }
 
 #[test]
+fn bad_soft_limits_name_their_field() {
+    let limited = |kind: &str, soft: Value| {
+        let mut doc = with_joint_type(kind);
+        let joint = &mut doc["assembly"]["joints"][0];
+        joint["min"] = json!(-10);
+        joint["max"] = json!(10);
+        joint["soft_limit"] = soft;
+        doc
+    };
+    let path = "assembly.joints[0].soft_limit";
+    assert_issue(
+        limited("revolute", json!({ "solref": [0.02, -1.0] })),
+        &format!("{path}.solref: expected [time constant s > 0, damping ratio > 0] or [-stiffness < 0, -damping <= 0], got [0.02, -1.0]"),
+    );
+    assert_issue(
+        limited("revolute", json!({ "solimp": [0.9, 0.95, -1.0, 0.5, 2.0] })),
+        &format!("{path}.solimp: expected [dmin, dmax in (0, 1), width deg >= 0, midpoint in (0, 1), power >= 1], got [0.9, 0.95, -1.0, 0.5, 2.0]"),
+    );
+    assert_issue(
+        limited("prismatic", json!({ "solimp": [0.0, 0.95, 1.0, 0.5, 2.0] })),
+        &format!("{path}.solimp: expected [dmin, dmax in (0, 1), width mm >= 0, midpoint in (0, 1), power >= 1], got [0.0, 0.95, 1.0, 0.5, 2.0]"),
+    );
+    assert_issue(
+        limited("revolute", json!({ "margin": -1.0 })),
+        &format!("{path}.margin: expected a distance in deg >= 0, got -1"),
+    );
+    // Without limits there is nothing to soften.
+    let mut doc = base_doc();
+    doc["assembly"]["joints"][0]["soft_limit"] = json!({});
+    assert_issue(
+        doc,
+        &format!(
+            "{path}: only a revolute or prismatic joint with min and max has limits to soften"
+        ),
+    );
+}
+
+#[test]
 fn negative_damping() {
     assert_issue(
         with_joint_field("damping", json!(-0.5)),

@@ -70,8 +70,8 @@ fn flags_that_switch_physics_off_are_honoured() {
         r#"<mujoco><option cone="elliptic" impratio="10" noslip_iterations="20"/>{ARM}</mujoco>"#
     ));
     for expected in [
-        "cone=\"elliptic\" sets how soft the contacts are along the normal, as MuJoCo's; their friction is Rapier's Coulomb model",
-        "impratio=\"10\" sets how soft the contacts are along the normal",
+        "cone=\"elliptic\" sizes how soft the contacts are, along the normal and in friction, as MuJoCo's; their friction rows are solved as one circular cone",
+        "impratio=\"10\" sizes how soft the contacts are",
         "noslip_iterations=\"20\" ignored: there is no noslip pass",
     ] {
         assert!(

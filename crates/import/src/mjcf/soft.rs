@@ -23,8 +23,9 @@ const DEFAULT_SOLIMP: [f64; 5] = [0.9, 0.95, 0.001, 0.5, 2.0];
 const DEFAULT_TIMESTEP: f64 = 0.002;
 const MM: f64 = 1000.0;
 /// What `cone` and `impratio` change here, for their warnings.
-const FRICTION_NOTE: &str = "{} sets how soft the contacts are along the normal, as MuJoCo's; \
-    their friction is Rapier's Coulomb model at each contact point, not MuJoCo's soft cone";
+const FRICTION_NOTE: &str = "{} sizes how soft the contacts are, along the normal and in \
+    friction, as MuJoCo's; their friction rows are solved as one circular cone at each \
+    contact point, not MuJoCo's pyramid edges or ellipse";
 
 /// `<option>`'s contact settings: `cone`, `impratio`, and the override, kept until
 /// `<flag override>` is known to be on.

@@ -365,6 +365,11 @@ pub struct IntegrationParameters {
     /// (gymfleet patch 43.)
     #[cfg_attr(feature = "serde-serialize", serde(default = "IntegrationParameters::one_sweep"))]
     pub compliant_sweeps: usize,
+    /// With [`Self::compliant_contacts`], the sweeps of a pass stop early once one changes
+    /// the compliant rows' impulses by no more than this fraction of their size (summed
+    /// magnitudes). Default 0: every sweep runs. (gymfleet patch 43.)
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    pub compliant_tolerance: Real,
     /// The type of friction constraints used in the simulation.
     #[cfg(feature = "dim3")]
     pub friction_model: FrictionModel,
@@ -482,6 +487,7 @@ impl Default for IntegrationParameters {
             max_solver_contacts: usize::MAX,
             compliant_contacts: false,
             compliant_sweeps: 1,
+            compliant_tolerance: 0.0,
             length_unit: 1.0,
             #[cfg(feature = "alloc")]
             soft_bodies: Default::default(),

@@ -855,6 +855,45 @@ impl GenericContactConstraint {
         }
     }
 
+    /// gymfleet patch 43: [`Self::solve`], returning how much it changed the impulses and
+    /// their size after it (sums of magnitudes over the normal and tangent rows), for the
+    /// compliant sweeps' convergence test.
+    pub fn solve_measured(
+        &mut self,
+        jacobians: &DVector,
+        bodies: &mut SolverBodies,
+        generic_solver_vels: &mut DVector,
+        solve_restitution: bool,
+        solve_friction: bool,
+    ) -> (Real, Real) {
+        let n = self.num_contacts as usize;
+        let mut before = [(0.0, TangentImpulse::<Real>::zeros()); MAX_MANIFOLD_POINTS];
+        for (b, (nrm, tng)) in before
+            .iter_mut()
+            .zip(self.normal_part.iter().zip(&self.tangent_part))
+            .take(n)
+        {
+            *b = (nrm.impulse, tng.impulse);
+        }
+        self.solve(
+            jacobians,
+            bodies,
+            generic_solver_vels,
+            solve_restitution,
+            solve_friction,
+        );
+        let (mut change, mut size) = (0.0, 0.0);
+        for ((nb, tb), (nrm, tng)) in before
+            .iter()
+            .zip(self.normal_part.iter().zip(&self.tangent_part))
+            .take(n)
+        {
+            change += (nrm.impulse - nb).abs() + (tng.impulse - tb).abs().sum();
+            size += nrm.impulse.abs() + tng.impulse.abs().sum();
+        }
+        (change, size)
+    }
+
     pub fn writeback_impulses(&self, manifolds_all: &ManifoldStore) {
         // SAFETY: each generic constraint owns its manifold exclusively during
         //         writeback (generic constraints are solved/written serially).

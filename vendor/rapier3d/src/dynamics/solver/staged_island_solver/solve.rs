@@ -252,16 +252,29 @@ pub(super) unsafe fn solve_pass(
                 } else {
                     1
                 };
+                // Converged as the contacts' sweeps are (below): on the compliant rows'
+                // impulses.
+                let tolerance = params.compliant_tolerance;
                 for sweep in 0..sweeps {
+                    let (mut change, mut size) = (0.0, 0.0);
                     for c in generic_velocity_constraints.iter_mut() {
-                        if sweep > 0 && !matches!(c.writeback_id, WritebackId::CompliantLimit(_)) {
+                        let compliant = matches!(c.writeback_id, WritebackId::CompliantLimit(_));
+                        if sweep > 0 && !compliant {
                             continue;
                         }
+                        let before = c.impulse;
                         c.solve(
                             generic_jacobians,
                             &mut vs.solver_bodies,
                             &mut vs.generic_solver_vels,
                         );
+                        if compliant {
+                            change += (c.impulse - before).abs();
+                            size += c.impulse.abs();
+                        }
+                    }
+                    if tolerance > 0.0 && change <= tolerance * size {
+                        break;
                     }
                 }
             }
@@ -381,15 +394,34 @@ pub(super) unsafe fn solve_pass(
             } else {
                 1
             };
+            // A sweep that changed the impulses by no more than `compliant_tolerance` of
+            // their size ends the pass's sweeps (0: all of them run).
+            let tolerance = params.compliant_tolerance;
             for _ in 0..sweeps {
+                let (mut change, mut size) = (0.0, 0.0);
                 for c in contacts.generic_velocity_constraints.iter_mut() {
-                    c.solve(
-                        jac,
-                        &mut vs.solver_bodies,
-                        &mut vs.generic_solver_vels,
-                        true,
-                        solve_friction,
-                    );
+                    if sweeps == 1 || tolerance <= 0.0 {
+                        c.solve(
+                            jac,
+                            &mut vs.solver_bodies,
+                            &mut vs.generic_solver_vels,
+                            true,
+                            solve_friction,
+                        );
+                    } else {
+                        let (dc, ds) = c.solve_measured(
+                            jac,
+                            &mut vs.solver_bodies,
+                            &mut vs.generic_solver_vels,
+                            true,
+                            solve_friction,
+                        );
+                        change += dc;
+                        size += ds;
+                    }
+                }
+                if tolerance > 0.0 && change <= tolerance * size {
+                    break;
                 }
             }
         }
