@@ -179,3 +179,23 @@ def test_a_joint_pushed_into_a_soft_stop_sinks_as_far_as_mujocos(limit):
     assert abs(past) > 1e-4, past  # MuJoCo's arm is not held exactly at its stop
     assert ours[-1] - stop == pytest.approx(past, rel=0.1)
     np.testing.assert_allclose(ours, theirs, rtol=0.02, atol=2e-3)
+
+
+def test_the_rigid_model_stays_a_conversion_away():
+    """An MJCF file's conversion without its soft contacts and limits is the rigid model:
+    the box rests on the floor's surface (to Rapier's contact tolerance) where MuJoCo's and
+    the soft model's sink into it."""
+    soft = 'solref="0.02 1" solimp="0.0 0.8 0.01"'
+    xml = scene("box", floor=soft, geom=soft)
+    document, _ = gymfleet.convert(xml)
+    assert all("soft_contact" in m for m in document["materials"].values())
+    for material in document["materials"].values():
+        del material["soft_contact"]
+    rigid = gymfleet.make(document, units="si", dt=DT, substeps=1)
+    rigid.reset(seed=0)
+    for _ in range(300):
+        obs, *_ = rigid.step(np.zeros(rigid.action_space.shape, np.float32))
+    rigid.close()
+    ours, theirs = heights(xml, 300)
+    assert theirs[-1] < -3e-3 and ours[-1] == pytest.approx(theirs[-1], rel=0.05)
+    assert abs(float(obs[0])) < 1e-4, f"the rigid box sank {obs[0]} m"
