@@ -199,3 +199,59 @@ def test_the_rigid_model_stays_a_conversion_away():
     ours, theirs = heights(xml, 300)
     assert theirs[-1] < -3e-3 and ours[-1] == pytest.approx(theirs[-1], rel=0.05)
     assert abs(float(obs[0])) < 1e-4, f"the rigid box sank {obs[0]} m"
+
+
+def pushed_box(cone: str) -> str:
+    """A 2 kg box (friction 0.5 on both sides: it holds up to 9.81 N) on x, y and z slides,
+    pushed by motors on x and y."""
+    return f"""<mujoco>
+  <option timestep="{DT}" cone="{cone}"/>
+  <worldbody>
+    <geom name="floor" type="plane" size="2 2 0.1" friction="0.5"/>
+    <body name="box" pos="0 0 0.1">
+      <joint name="x" type="slide" axis="1 0 0"/>
+      <joint name="y" type="slide" axis="0 1 0"/>
+      <joint name="z" type="slide" axis="0 0 1"/>
+      <geom type="box" size="0.1 0.1 0.1" mass="2" friction="0.5"/>
+    </body>
+  </worldbody>
+  <actuator>
+    <motor joint="x" ctrlrange="-20 20"/>
+    <motor joint="y" ctrlrange="-20 20"/>
+  </actuator>
+</mujoco>"""
+
+
+def pushed(cone: str, force: float, degrees: float, steps: int = 250):
+    """Where the box is after `steps` steps under `force` N at `degrees` from x: (ours,
+    MuJoCo's), x and y in m."""
+    push = force * np.array([np.cos(np.radians(degrees)), np.sin(np.radians(degrees))])
+    xml = pushed_box(cone)
+    model = mujoco.MjModel.from_xml_string(xml)
+    data = mujoco.MjData(model)
+    env = gymfleet.make(xml, units="si", dt=DT, substeps=1)
+    env.reset(seed=0)
+    for _ in range(steps):
+        data.ctrl[:] = push
+        mujoco.mj_step(model, data)
+        obs, *_ = env.step(push.astype(np.float32))
+    env.close()
+    return np.array(obs[:2], float), np.array(data.qpos[:2])
+
+
+def test_the_pyramid_holds_less_along_its_diagonals_as_mujocos():
+    """MuJoCo's pyramidal cone (the default) is the square |f1| + |f2| <= mu·fn about its
+    contact frame's axes (world x and y for a floor): 8 N at 45° exceeds it (5.66 + 5.66 >
+    9.81) and the box slides, as far as MuJoCo's (10 %); the elliptic cone holds it, on both
+    sides. Along an axis both cones hold 8 N."""
+    ours, theirs = pushed("pyramidal", 8.0, 45.0)
+    assert theirs[0] > 0.02 and np.allclose(ours, theirs, rtol=0.1), (ours, theirs)
+    for cone, degrees in [("elliptic", 45.0), ("pyramidal", 0.0), ("elliptic", 0.0)]:
+        ours, theirs = pushed(cone, 8.0, degrees)
+        assert np.abs(theirs).max() < 3e-3 and np.abs(ours).max() < 3e-3, (cone, ours, theirs)
+    # Sliding at 30°: as far as MuJoCo's (5 %); the direction within 5° (the pyramid's
+    # four facets, solved here as the square's nearest point, turn it 3° from MuJoCo's).
+    ours, theirs = pushed("pyramidal", 12.0, 30.0)
+    assert np.linalg.norm(ours) == pytest.approx(np.linalg.norm(theirs), rel=0.05)
+    turn = np.degrees(np.arctan2(ours[1], ours[0]) - np.arctan2(theirs[1], theirs[0]))
+    assert abs(turn) < 5.0, turn

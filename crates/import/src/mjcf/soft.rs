@@ -24,8 +24,9 @@ const DEFAULT_TIMESTEP: f64 = 0.002;
 const MM: f64 = 1000.0;
 /// What `cone` and `impratio` change here, for their warnings.
 const FRICTION_NOTE: &str = "{} sizes how soft the contacts are, along the normal and in \
-    friction, as MuJoCo's; their friction rows are solved as one circular cone at each \
-    contact point, not MuJoCo's pyramid edges or ellipse";
+    friction, as MuJoCo's; the cone is MuJoCo's section of it (the pyramid's square on its \
+    contact axes, the ellipse's circle), and a contact sliding at its edge may move a few \
+    degrees off MuJoCo's direction";
 
 /// `<option>`'s contact settings: `cone`, `impratio`, and the override, kept until
 /// `<flag override>` is known to be on.

@@ -602,6 +602,14 @@ impl GenericContactConstraintBuilder {
 
         constraint.cfm_factor = cfm_factor;
         constraint.tangent_cfm = tangent_cfm;
+        #[cfg(feature = "dim3")]
+        {
+            constraint.pyramid_axes = self
+                .compliance
+                .as_ref()
+                .filter(|c| c.pyramidal)
+                .map(|_| pyramid_axes(constraint.dir1, tangents1));
+        }
     }
 
     /// Does any active point of this constraint hold a restitution seed (an approaching
@@ -707,6 +715,10 @@ pub(crate) struct GenericContactConstraint {
     pub compliant: bool,
     /// gymfleet patch 43: each compliant point's friction-row softness `A/(A + R)`.
     pub tangent_cfm: [[Real; DIM - 1]; MAX_MANIFOLD_POINTS],
+    /// gymfleet patch 43: on MuJoCo's pyramidal cone, the first axis of MuJoCo's contact
+    /// frame (`mju_makeFrame`) in this constraint's tangent basis, `[cos, sin]`: the friction
+    /// impulse is kept in the pyramid's section `|f₁| + |f₂| ≤ μ·λₙ` about those axes.
+    pub pyramid_axes: Option<[Real; 2]>,
     pub limit: Real,
     pub solver_vel1: u32,
     pub solver_vel2: u32,
@@ -735,6 +747,7 @@ impl GenericContactConstraint {
             cfm_factor: 0.0,
             compliant: false,
             tangent_cfm: [[1.0; DIM - 1]; MAX_MANIFOLD_POINTS],
+            pyramid_axes: None,
             limit: 0.0,
             solver_vel1: u32::MAX,
             solver_vel2: u32::MAX,
@@ -827,6 +840,7 @@ impl GenericContactConstraint {
             self.cfm_factor,
             self.compliant,
             &self.tangent_cfm,
+            self.pyramid_axes,
             normal_parts,
             tangent_parts,
             jacobians,
@@ -979,5 +993,25 @@ fn free_inv_r(
         dir.dot(inv_mass * dir) + ii_torque_dir.gdot(torque_dir)
     } else {
         0.0
+    }
+}
+
+/// gymfleet patch 43: MuJoCo's contact frame for `normal` (`mju_makeFrame`: its second axis
+/// is world Y made orthogonal to the normal, or world Z when the normal is near Y), as
+/// `[cos, sin]` of its angle from `tangents[0]` towards `tangents[1]`.
+#[cfg(feature = "dim3")]
+fn pyramid_axes(normal: Vector, tangents: [Vector; 2]) -> [Real; 2] {
+    let seed = if normal.y.abs() < 0.5 {
+        Vector::Y
+    } else {
+        Vector::Z
+    };
+    let axis = (seed - normal * normal.dot(seed)).normalize_or_zero();
+    let (c, s) = (axis.dot(tangents[0]), axis.dot(tangents[1]));
+    let norm = (c * c + s * s).sqrt();
+    if norm > 0.0 {
+        [c / norm, s / norm]
+    } else {
+        [1.0, 0.0]
     }
 }

@@ -198,6 +198,7 @@ impl ContactConstraintTangentPart<Real> {
         ndofs2: usize,
         limit: Real,
         cfm: [Real; DIM - 1],
+        pyramid: Option<[Real; 2]>,
         solver_vel1: &mut GenericRhs,
         solver_vel2: &mut GenericRhs,
         solver_vels: &mut DVector,
@@ -291,7 +292,10 @@ impl ContactConstraintTangentPart<Real> {
                 cfm[0] * (self.impulse[0] - self.r[0] * dvel_0),
                 cfm[1] * (self.impulse[1] - self.r[1] * dvel_1),
             );
-            let new_impulse = new_impulse.cap_magnitude(limit);
+            let new_impulse = match pyramid {
+                Some(axes) => pyramid_section(new_impulse, axes, limit),
+                None => new_impulse.cap_magnitude(limit),
+            };
 
             let dlambda = new_impulse - self.impulse;
             self.impulse = new_impulse;
@@ -626,6 +630,7 @@ impl GenericContactConstraint {
         cfm_factor: Real,
         compliant: bool,
         tangent_cfm: &[[Real; DIM - 1]],
+        pyramid: Option<[Real; 2]>,
         normal_parts: &mut [ContactConstraintNormalPart<Real>],
         tangent_parts: &mut [ContactConstraintTangentPart<Real>],
         jacobians: &DVector,
@@ -703,6 +708,7 @@ impl GenericContactConstraint {
                     ndofs2,
                     limit,
                     cfm,
+                    pyramid,
                     solver_vel1,
                     solver_vel2,
                     solver_vels,
@@ -711,4 +717,32 @@ impl GenericContactConstraint {
             }
         }
     }
+}
+
+/// gymfleet patch 43: `impulse` (in the constraint's tangent basis) kept in MuJoCo's pyramid
+/// section `|f₁| + |f₂| ≤ limit`, `f` its components on MuJoCo's contact-frame axes, which
+/// make the angle `[cos, sin]` = `axes` with the basis: the nearest point of that square
+/// (Euclidean), as `cap_magnitude` is the nearest point of the circle.
+#[cfg(feature = "dim3")]
+fn pyramid_section(impulse: na::Vector2<Real>, axes: [Real; 2], limit: Real) -> na::Vector2<Real> {
+    let [c, s] = axes;
+    let (a, b) = (c * impulse.x + s * impulse.y, -s * impulse.x + c * impulse.y);
+    let excess = a.abs() + b.abs() - limit.max(0.0);
+    if excess <= 0.0 {
+        return impulse;
+    }
+    // Onto the edge of the quadrant, or its corner when that would cross an axis.
+    let shift = 0.5 * excess;
+    let (mut pa, mut pb) = ((a.abs() - shift).max(0.0), (b.abs() - shift).max(0.0));
+    let total = pa + pb;
+    if total > limit.max(0.0) {
+        // Past the corner: the axis nearer the point keeps the whole limit.
+        if a.abs() >= b.abs() {
+            (pa, pb) = (limit.max(0.0), 0.0);
+        } else {
+            (pa, pb) = (0.0, limit.max(0.0));
+        }
+    }
+    let (pa, pb) = (pa.copysign(a), pb.copysign(b));
+    na::Vector2::new(c * pa - s * pb, s * pa + c * pb)
 }
