@@ -78,6 +78,29 @@ impl<'a, 'i> Converter<'a, 'i> {
         Ok(())
     }
 
+    /// A `solimp`-shaped attribute: 3 to 5 numbers, the rest MuJoCo's defaults (older
+    /// models list the first three only).
+    fn solimp_attr(
+        &self,
+        node: Node<'a, 'i>,
+        class: Option<&str>,
+        attr: &str,
+    ) -> Result<Option<[f64; 5]>> {
+        match self.numbers(node, class, attr)? {
+            None => Ok(None),
+            Some(v) if (3..=5).contains(&v.len()) => {
+                let mut out = DEFAULT_SOLIMP;
+                out[..v.len()].copy_from_slice(&v);
+                Ok(Some(out))
+            }
+            Some(v) => Err(self.bad(
+                node,
+                attr,
+                format!("expected 3 to 5 numbers, got {}", v.len()),
+            )),
+        }
+    }
+
     /// A geom's compliant contact, as its attributes and classes give it (MuJoCo's defaults
     /// else); `solimp` may list its first three numbers only, as older models do.
     pub(super) fn soft_contact(
@@ -86,21 +109,7 @@ impl<'a, 'i> Converter<'a, 'i> {
         class: Option<&str>,
     ) -> Result<SoftContactDef> {
         let solref = self.exactly::<2>(node, class, "solref")?;
-        let solimp = match self.numbers(node, class, "solimp")? {
-            None => None,
-            Some(v) if (3..=5).contains(&v.len()) => {
-                let mut out = DEFAULT_SOLIMP;
-                out[..v.len()].copy_from_slice(&v);
-                Some(out)
-            }
-            Some(v) => {
-                return Err(self.bad(
-                    node,
-                    "solimp",
-                    format!("expected 3 to 5 numbers, got {}", v.len()),
-                ))
-            }
-        };
+        let solimp = self.solimp_attr(node, class, "solimp")?;
         let length = |name: &str| -> Result<Option<f64>> {
             match self.number(node, class, name)? {
                 Some(v) if v < 0.0 => {
@@ -151,21 +160,7 @@ impl<'a, 'i> Converter<'a, 'i> {
             MM
         };
         let solref = self.exactly::<2>(node, class, "solreflimit")?;
-        let solimp = match self.numbers(node, class, "solimplimit")? {
-            None => None,
-            Some(v) if (3..=5).contains(&v.len()) => {
-                let mut out = DEFAULT_SOLIMP;
-                out[..v.len()].copy_from_slice(&v);
-                Some(out)
-            }
-            Some(v) => {
-                return Err(self.bad(
-                    node,
-                    "solimplimit",
-                    format!("expected 3 to 5 numbers, got {}", v.len()),
-                ))
-            }
-        };
+        let solimp = self.solimp_attr(node, class, "solimplimit")?;
         let margin = match self.number(node, class, "margin")? {
             Some(v) if v < 0.0 => {
                 return Err(self.bad(node, "margin", format!("expected a distance >= 0, got {v}")))
