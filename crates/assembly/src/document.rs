@@ -9,14 +9,18 @@ use std::collections::BTreeMap;
 use serde::{Deserialize, Serialize};
 
 mod actuators;
+mod contacts;
 mod keyframes;
 mod primitive;
 mod sensors;
+mod soft;
 mod tendons;
 
 pub use actuators::{ActuatorDef, ActuatorKind, DynamicsKind};
+pub use contacts::{ContactExcludeDef, ContactPairDef, ContactsDef};
 pub use keyframes::{BaseKeyDef, KeyframeDef};
 pub use sensors::{SensorDef, SensorFrameDef, SensorType, SiteDef, SiteShape, SiteVolumeDef};
+pub use soft::{FrictionCone, SoftContactDef, SoftLimitDef};
 pub use tendons::{CouplingDef, TendonDef, TendonJointDef};
 
 /// A whole assembly document: part definitions, materials and the assembly itself.
@@ -230,53 +234,6 @@ pub struct MaterialDef {
     pub soft_contact: Option<SoftContactDef>,
 }
 
-/// *(ext)* A material's compliant contact, MuJoCo's soft constraint: a contact pushes back
-/// like a damped spring whose time constant and damping ratio are `solref`, with an
-/// impedance `solimp` that grows with depth. Of two materials in contact, the one of
-/// higher `priority` decides; at equal priority their parameters are mixed by `solmix`. A
-/// rigid material meeting a compliant one takes its parameters.
-#[derive(Debug, Clone, Default, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct SoftContactDef {
-    /// `[timeconst s, dampratio]` (default `[0.02, 1]`), or `[-stiffness, -damping]`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub solref: Option<[f64; 2]>,
-    /// `[dmin, dmax, width mm, midpoint, power]` (default `[0.9, 0.95, 1, 0.5, 2]`).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub solimp: Option<[f64; 5]>,
-    /// Weight in the mix with another material of the same priority (default 1).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub solmix: Option<f64>,
-    /// Default 0.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub priority: Option<i32>,
-    /// Distance in mm below which the contact acts (default 0); two materials' add up.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub margin: Option<f64>,
-    /// Distance in mm beyond the margin in which a contact is found but pushes nothing
-    /// (default 0); two materials' add up.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub gap: Option<f64>,
-    /// MuJoCo's friction cone (default `pyramidal`, whose contacts stiffen as friction
-    /// falls: as soft as `solref` says at friction 1, rigid without friction).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub cone: Option<FrictionCone>,
-    /// MuJoCo's `impratio` (default 1): the pyramid's friction over normal impedance.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub impratio: Option<f64>,
-}
-
-/// *(ext)* MuJoCo's friction cone (`<option cone>`).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum FrictionCone {
-    /// MuJoCo's default.
-    #[default]
-    Pyramidal,
-    /// `cone="elliptic"`.
-    Elliptic,
-}
-
 /// The assembly: instances of parts and the joints that connect them.
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
@@ -317,46 +274,6 @@ pub struct AssemblyDef {
     /// *(ext)* Sensors (MJCF's `<sensor>`): named readings of joints, sites and instances.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub sensors: Vec<SensorDef>,
-}
-
-/// *(ext)* Contact rules: pairs of instances that never collide, and pairs that always do.
-#[derive(Debug, Clone, Default, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct ContactsDef {
-    /// Pairs of instances kept from colliding (MJCF's `<exclude>`, one pair per two of its
-    /// bodies' instances).
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub exclude: Vec<ContactExcludeDef>,
-    /// Pairs of instances that collide whatever their collision bits and exclusions say,
-    /// with their own friction (MJCF's `<pair>`).
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub pairs: Vec<ContactPairDef>,
-}
-
-/// *(ext)* Two instances kept from colliding.
-#[derive(Debug, Clone, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct ContactExcludeDef {
-    /// One instance.
-    pub a: String,
-    /// The other.
-    pub b: String,
-}
-
-/// *(ext)* Two instances that always collide.
-#[derive(Debug, Clone, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct ContactPairDef {
-    /// One instance.
-    pub a: String,
-    /// The other.
-    pub b: String,
-    /// The pair's sliding friction coefficient; default the instances' own, combined.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub friction: Option<f64>,
-    /// 1: frictionless; 3 (the default): sliding friction.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub condim: Option<u32>,
 }
 
 /// A placed copy of a part.
@@ -568,22 +485,6 @@ pub struct JointDef {
     /// hard. Revolute and prismatic joints with limits; absent, the limits are hard stops.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub soft_limit: Option<SoftLimitDef>,
-}
-
-/// *(ext)* A joint's compliant limits (MuJoCo's soft constraint, as in [`SoftContactDef`]).
-#[derive(Debug, Clone, Default, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct SoftLimitDef {
-    /// `[timeconst s, dampratio]` (default `[0.02, 1]`), or `[-stiffness, -damping]`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub solref: Option<[f64; 2]>,
-    /// `[dmin, dmax, width, midpoint, power]`, the width in deg or mm (default
-    /// `[0.9, 0.95, 0.0573 deg or 1 mm, 0.5, 2]`, MuJoCo's 0.001 rad or m).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub solimp: Option<[f64; 5]>,
-    /// Distance from a limit, deg or mm, at which it starts to act (default 0).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub margin: Option<f64>,
 }
 
 impl InstanceDef {

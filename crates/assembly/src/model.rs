@@ -4,8 +4,10 @@
 //! vectors, references are indices that exist, and the joints form a forest.
 
 mod actuator;
+mod soft;
 
 pub use actuator::{Actuator, Dynamics, Transmission};
+pub use soft::{SoftContact, SoftLimit};
 
 /// Millimetres per metre.
 pub const MM_PER_M: f64 = 1000.0;
@@ -128,43 +130,6 @@ pub struct Material {
     pub restitution: f64,
     /// MuJoCo's compliant contact, `None` for rigid contacts.
     pub soft_contact: Option<SoftContact>,
-}
-
-/// A material's compliant contact (see `SoftContactDef`), lengths in mm.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SoftContact {
-    /// `[timeconst s, dampratio]`, or `[-stiffness, -damping]`.
-    pub solref: [f64; 2],
-    /// `[dmin, dmax, width mm, midpoint, power]`.
-    pub solimp: [f64; 5],
-    /// Mixing weight.
-    pub solmix: f64,
-    /// Priority.
-    pub priority: i32,
-    /// mm.
-    pub margin: f64,
-    /// mm.
-    pub gap: f64,
-    /// MuJoCo's pyramidal friction cone (else elliptic).
-    pub pyramidal: bool,
-    /// MuJoCo's `impratio`.
-    pub impratio: f64,
-}
-
-impl Default for SoftContact {
-    /// MuJoCo's defaults.
-    fn default() -> Self {
-        SoftContact {
-            solref: [0.02, 1.0],
-            solimp: [0.9, 0.95, 1.0, 0.5, 2.0],
-            solmix: 1.0,
-            priority: 0,
-            margin: 0.0,
-            gap: 0.0,
-            pyramidal: true,
-            impratio: 1.0,
-        }
-    }
 }
 
 impl Default for Material {
@@ -357,17 +322,6 @@ pub struct Joint {
     pub on_loop: bool,
     /// MuJoCo's compliant limits, SI (radians or metres); `None`: hard stops.
     pub soft_limit: Option<SoftLimit>,
-}
-
-/// A joint's compliant limits (see `SoftLimitDef`), in radians or metres.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SoftLimit {
-    /// `[timeconst s, dampratio]`, or `[-stiffness, -damping]`.
-    pub solref: [f64; 2],
-    /// `[dmin, dmax, width rad or m, midpoint, power]`.
-    pub solimp: [f64; 5],
-    /// rad or m.
-    pub margin: f64,
 }
 
 impl Joint {

@@ -1,6 +1,6 @@
 //! Building a [`RobotWorld`] from an [`Assembly`]: bodies, colliders, the multibody tree.
 
-use gymfleet_assembly::{Assembly, JointType, MM_PER_M};
+use gymfleet_assembly::{Assembly, JointType};
 use rapier3d::prelude::*;
 
 use crate::actuation::resolve_gains;
@@ -11,33 +11,16 @@ use crate::colliders::{
 use crate::command::{Command, ResolvedGains};
 use crate::error::{PhysicsError, Result};
 use crate::world::{
-    length_unit, BaseValues, FreeRoot, JointDof, JointSlot, PipelineCell, RobotWorld, Sets,
-    WorldOptions,
+    BaseValues, FreeRoot, JointDof, JointSlot, PipelineCell, RobotWorld, Sets, WorldOptions,
 };
 
-/// Gauss–Seidel passes per substep for a world with kinematic loops (Rapier's default, 1,
-/// otherwise).
-const LOOP_PGS_ITERATIONS: usize = 4;
-/// At most this many Gauss–Seidel sweeps over the compliant contacts and limits per solver
-/// pass (vendored patch 43): a box's four corners on one body couple through a regulariser
-/// 20 times smaller than their effective mass, and one sweep per pass settled a resting box
-/// 15 % off MuJoCo's trajectory at its fifth step; swept to convergence it stays within 2 %
-/// throughout (`client/python/tests/test_soft_contacts.py`), and InvertedDoublePendulum's
-/// cart meets its soft stop within a step of MuJoCo's (`test_suite.py`).
-const COMPLIANT_SWEEPS: usize = 16;
-/// A pass's sweeps stop once one changes the compliant impulses by at most this fraction
-/// of their size. Against 8 sweeps always, HalfCheetah's step costs 8 % more instructions
-/// than the rigid model's instead of 23 % (`bench/peer/suite_builds.py --before-rigid
-/// --callgrind`); 1e-2 left a resting box 2 % off MuJoCo's trajectory at two of its 600
-/// steps, and at 1e-3 HalfCheetah's drift under random actions left MuJoCo's spread
-/// (`bench/journal/2026-12-07-soft-contacts.md`).
-const COMPLIANT_TOLERANCE: Real = 1.0e-4;
-
+mod params;
 mod planar;
 mod rehang;
 mod slots;
 mod trees;
 
+use params::integration_parameters;
 use slots::{joint_slots, set_armatures};
 use trees::{
     apply_initial_positions, fold_owners, generic_joint, held_fixed, insert_trees,
@@ -325,68 +308,6 @@ fn check_options(options: &WorldOptions) -> Result<()> {
     Ok(())
 }
 
-/// The pipeline's parameters for a whole step, and for one substep.
-fn integration_parameters(
-    assembly: &Assembly,
-    options: &WorldOptions,
-) -> (IntegrationParameters, IntegrationParameters) {
-    // One step is one pipeline step whose solver substeps are the integration substeps:
-    // collision detection runs once per step (contacts are speculative, so a contact
-    // about to close within the step is still solved at every substep).
-    let mut params = IntegrationParameters {
-        dt: options.dt as Real,
-        length_unit: length_unit(assembly),
-        num_solver_iterations: options.substeps as usize,
-        // Near rest, products of tiny velocities are subnormal f32s, each operation on
-        // which costs ~100 cycles: the seed 6-DOF arm stepped 1.3× slower at rest than
-        // swinging. Flushed to zero, identically on every thread.
-        flush_denormals: true,
-        ..IntegrationParameters::default()
-    };
-    // Rapier caps body speed at 400 length units per second; with millimetre parts
-    // that is a hidden brake. Keep only an absolute, physically meaningless cap.
-    params.normalized_max_linear_velocity = 1.0e4 / params.length_unit;
-    // Contact softness is a frequency, so a resting body sags by g/ω² whatever its
-    // size: 0.3 mm at Rapier's defaults, 7 % of a 4 mm part. Scaling ω by
-    // 1/√length_unit keeps the sag relative to the part as Rapier tunes it for metres.
-    let stiffen = 1.0 / params.length_unit.sqrt();
-    params.contact_softness.natural_frequency *= stiffen;
-    params.static_contact_softness.natural_frequency *= stiffen;
-
-    // Compliant contacts (MuJoCo's solref/solimp, vendored patch 43) need the solver to
-    // read each row's velocity at its substep's start, and act from their margin on.
-    let soft = assembly
-        .instances
-        .iter()
-        .filter_map(|i| i.material.soft_contact);
-    // A pair's detection distance is its two margins and gaps summed.
-    let margin_m = 2.0 * soft.clone().map(|s| s.margin + s.gap).fold(0.0, f64::max) / MM_PER_M;
-    // Compliant limits (patch 44) need the same: their rows read the substep's start too.
-    params.compliant_contacts =
-        soft.count() > 0 || assembly.joints.iter().any(|j| j.soft_limit.is_some());
-    params.compliant_sweeps = COMPLIANT_SWEEPS;
-    params.compliant_tolerance = COMPLIANT_TOLERANCE;
-    params.normalized_prediction_distance = params
-        .normalized_prediction_distance
-        .max(margin_m as Real / params.length_unit);
-
-    // A loop's constraint couples the bodies of a tree the multibody solves exactly; one
-    // Gauss–Seidel pass per substep left a driven four-bar 0.025° off its closed form,
-    // four leave it 0.003° off (`crates/env/tests/loops.rs`).
-    if assembly.has_loops() {
-        params.num_internal_pgs_iterations = LOOP_PGS_ITERATIONS;
-    }
-    let substep_params = IntegrationParameters {
-        dt: options.substep_dt() as Real,
-        num_solver_iterations: 1,
-        ..params
-    };
-    (params, substep_params)
-}
-
-/// The instances at the root of a tree with a dynamic root (a floating base, or a free
-/// body that others are jointed to), in document order: each has six free coordinates
-/// that no document joint owns.
 /// Points each joint slot at the body it hangs from: a rehung joint's new parent, and a
 /// fused planar root's joints at the fixed instance above the chain.
 fn hang_slots(
@@ -407,6 +328,9 @@ fn hang_slots(
     }
 }
 
+/// The instances at the root of a tree with a dynamic root (a floating base, or a free
+/// body that others are jointed to), in document order: each has six free coordinates
+/// that no document joint owns.
 fn free_roots(sets: &Sets, bodies: &[RigidBodyHandle], owners: &[usize]) -> Vec<FreeRoot> {
     bodies
         .iter()
