@@ -255,3 +255,26 @@ def test_the_pyramid_holds_less_along_its_diagonals_as_mujocos():
     assert np.linalg.norm(ours) == pytest.approx(np.linalg.norm(theirs), rel=0.05)
     turn = np.degrees(np.arctan2(ours[1], ours[0]) - np.arctan2(theirs[1], theirs[0]))
     assert abs(turn) < 5.0, turn
+
+
+def test_a_time_constant_under_two_steps_is_made_two_steps_as_mujoco_makes_it():
+    """MuJoCo's `refsafe`: a `solref` time constant under twice the timestep acts as twice the
+    timestep. A document's 10 µs at 2 ms steps rests as 4 ms does (it would otherwise fling
+    the box away), and as MuJoCo rests the same file."""
+    xml = scene("box", floor='solref="0.00001 1"', geom='solref="0.00001 1"')
+    document, _ = gymfleet.convert(xml)
+    runs = []
+    for timeconst in (1e-5, 2 * DT):
+        for material in document["materials"].values():
+            material["soft_contact"]["solref"] = [timeconst, 1.0]
+        env = gymfleet.make(document, units="si", dt=DT, substeps=1)
+        env.reset(seed=0)
+        action = np.zeros(env.action_space.shape, np.float32)
+        runs.append([float(env.step(action)[0][0]) for _ in range(300)])
+        env.close()
+    assert runs[0] == runs[1]
+    model = mujoco.MjModel.from_xml_string(xml)
+    data = mujoco.MjData(model)
+    for _ in range(300):
+        mujoco.mj_step(model, data)
+    assert runs[0][-1] == pytest.approx(float(data.qpos[0]), rel=0.05)

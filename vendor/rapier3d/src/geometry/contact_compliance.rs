@@ -84,6 +84,9 @@ pub struct PairCompliance {
     pub stiffness: Real,
     /// `B`.
     pub damping: Real,
+    /// The `solref` `K` and `B` come from: in the standard form, MuJoCo's rule `timeconst ≥
+    /// 2·dt` (`refsafe`) is applied at each step's `dt` (see [`Self::gains`]).
+    pub solref: [Real; 2],
     /// `(dmin, dmax, width, midpoint, power)`.
     pub solimp: [Real; 5],
     /// The distance below which the contact is detected: the margins and gaps summed.
@@ -189,6 +192,7 @@ impl PairCompliance {
         Self {
             stiffness,
             damping,
+            solref,
             solimp,
             margin,
             rest,
@@ -243,7 +247,8 @@ impl PairCompliance {
             return (SEPARATED_RHS, 1.0);
         }
         let d = self.impedance(dist);
-        let aref = -self.damping * v0 - self.stiffness * d * (dist - self.rest);
+        let (stiffness, damping) = self.gains(dt);
+        let aref = -damping * v0 - stiffness * d * (dist - self.rest);
         (-(v0 + dt * aref), self.cfm(d, mass))
     }
 
@@ -274,8 +279,20 @@ impl PairCompliance {
             1.0
         };
         let regulariser = (1.0 - d) / d * weight * facet / self.impratio.max(MIN_VAL);
-        let aref = -self.damping * v0;
+        let aref = -self.gains(dt).1 * v0;
         (-(v0 + dt * aref), 1.0 / (1.0 + regulariser * mass))
+    }
+
+    /// `(K, B)` at step `dt`: with a time constant under `2·dt` (standard form), those of
+    /// `2·dt`, as MuJoCo's `refsafe` makes them (a stiffer spring would not be stable).
+    pub fn gains(&self, dt: Real) -> (Real, Real) {
+        let [timeconst, dampratio] = self.solref;
+        if timeconst > 0.0 && timeconst < 2.0 * dt {
+            let safe = Self::new([2.0 * dt, dampratio], self.solimp, self.margin, self.rest);
+            (safe.stiffness, safe.damping)
+        } else {
+            (self.stiffness, self.damping)
+        }
     }
 
     /// `cfm = A/(A + R)` with `R = scale·(1 − d)/d·W`, `W` the inverse weight (MuJoCo's
@@ -308,6 +325,19 @@ mod tests {
         assert_eq!(c.impedance(-0.01), 0.95);
         assert_eq!(c.impedance(0.0), 0.9);
         assert!((c.impedance(-0.0005) - 0.925).abs() < 1e-6, "f32");
+    }
+
+    #[test]
+    fn a_time_constant_under_two_steps_is_two_steps() {
+        let solimp = [0.9, 0.95, 0.001, 0.5, 2.0];
+        let fast = PairCompliance::new([1.0e-5, 1.0], solimp, 0.0, 0.0);
+        let safe = PairCompliance::new([0.004, 1.0], solimp, 0.0, 0.0);
+        assert_eq!(fast.gains(0.002), (safe.stiffness, safe.damping));
+        assert_eq!(fast.row(-0.001, 0.1, 0.002, 2.0), safe.row(-0.001, 0.1, 0.002, 2.0));
+        // Slow enough, and the direct form: as given.
+        assert_eq!(safe.gains(0.001), (safe.stiffness, safe.damping));
+        let direct = PairCompliance::new([-1.0e9, -10.0], solimp, 0.0, 0.0);
+        assert_eq!(direct.gains(0.002), (direct.stiffness, direct.damping));
     }
 
     #[test]
