@@ -10,7 +10,7 @@ spread of the final returns, the wall time of each run, and the curves as one PN
     python bench/python/learning_parity.py --names Hopper --seeds 0 --steps 20000   # a smoke run
     python bench/python/learning_parity.py --report      # the table and PNG of the runs so far
     python bench/python/learning_parity.py --jobs 12     # 12 runs at a time, one core each
-    python bench/python/learning_parity.py --cross       # each final policy played on both sides
+    python bench/python/learning_parity.py --cross       # each final policy played on both sides and on perturbed MuJoCos
 
 Not a test: torch never runs in CI. The final return of a run is the mean undiscounted return
 of its last 10 finished episodes (SB3's ``Monitor`` on MuJoCo's side, the adapter's own
@@ -18,7 +18,9 @@ of its last 10 finished episodes (SB3's ``Monitor`` on MuJoCo's side, the adapte
 ``--jobs N`` N at a time, each process pinned to a core of its own (a machine with at least N
 cores). Each run's final policy is exported to ``OUT/policies/<name>-<side>-<seed>.npz``
 (``parity_policies.py``: numpy alone plays it back); ``--cross`` plays every exported policy
-on both sides, which needs no torch.
+on both sides, and on MuJoCo with every geom's friction scaled by 0.8 and by 1.2 and its
+integrator switched (the reference a transfer between engines is held to), which needs no
+torch, and ends with the transfer table: each side's return as a fraction of the home one.
 """
 
 from __future__ import annotations
@@ -224,10 +226,15 @@ def in_pool(fn: Any, tasks: List[Any], jobs: int) -> Any:
                 print(f"{futures[future][:3]} failed: {exc!r}", flush=True)
 
 
+#: The perturbed MuJoCo sides every policy is also played on (parity_policies.make_env).
+PERTURBED = ("mujoco*0.8", "mujoco*1.2")
+
+
 def cross(out: pathlib.Path, names: List[str], episodes: int, jobs: int) -> None:
-    """Every exported policy of ``names``, played on both sides."""
+    """Every exported policy of ``names``, played on both sides and on the perturbed MuJoCos."""
     paths = sorted(p for p in (out / "policies").glob("*.npz") if p.stem.split("-")[0] in names)
-    tasks = [(str(p), p.stem.split("-")[0], side, episodes) for p in paths for side in ("mujoco", "gymfleet")]
+    sides = ("mujoco", "gymfleet", *PERTURBED)
+    tasks = [(str(p), p.stem.split("-")[0], side, episodes) for p in paths for side in sides]
     results = sorted(in_pool(_cross_task, tasks, jobs), key=lambda r: (r["policy"], r["played_on"]))
     (out / "cross.json").write_text(json.dumps(results))
     print(f"\n| policy (env-side-seed) | played on | return (mean ± sd over {episodes} episodes) | length | x at the end |")
@@ -235,6 +242,25 @@ def cross(out: pathlib.Path, names: List[str], episodes: int, jobs: int) -> None
     for r in results:
         print(f"| {r['policy']} | {r['played_on']} | {np.mean(r['returns']):.1f} ± {np.std(r['returns']):.1f} | "
               f"{np.mean(r['lengths']):.0f} | {np.nanmean(r['x_end']):.2f} |")
+    transfer_table(results, sides)
+
+
+def transfer_table(results: List[Dict[str, Any]], sides: Tuple[str, ...]) -> None:
+    """Per env and training side: the home return (played where it was trained) and every
+    other side's return as a fraction of it, averaged over the seeds' policies."""
+    mean = {(r["policy"], r["played_on"]): float(np.mean(r["returns"])) for r in results}
+    trained = sorted({(p.split("-")[0], p.split("-")[1]) for p, _ in mean})
+    print("\n| env | trained on | policies | home return | " + " | ".join(f"on {s}" for s in sides) + " |")
+    print("|---|---|---|---|" + "---|" * len(sides))
+    for name, home in trained:
+        policies = sorted({p for p, _ in mean if p.split("-")[:2] == [name, home]})
+        homes = [mean[(p, home)] for p in policies]
+        cells = []
+        for side in sides:
+            fractions = [mean[(p, side)] / mean[(p, home)] for p in policies if (p, side) in mean]
+            returns = [mean[(p, side)] for p in policies if (p, side) in mean]
+            cells.append(f"{np.mean(returns):.0f} ({np.mean(fractions):.0%})" if returns else "-")
+        print(f"| {name} | {home} | {len(policies)} | {np.mean(homes):.0f} | " + " | ".join(cells) + " |")
 
 
 def main() -> None:
@@ -250,7 +276,8 @@ def main() -> None:
     p.add_argument("--report", action="store_true",
                    help="run nothing: report the runs already in OUT/runs.json")
     p.add_argument("--cross", action="store_true",
-                   help="train nothing: play each exported policy on both sides (numpy, no torch)")
+                   help="train nothing: play each exported policy on both sides and on MuJoCo with "
+                   "friction x0.8 and x1.2 and the integrator switched (numpy, no torch)")
     p.add_argument("--episodes", type=int, default=10, help="episodes per policy and side for --cross")
     args = p.parse_args()
     out = pathlib.Path(args.out)

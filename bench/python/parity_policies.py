@@ -5,7 +5,10 @@ layers, the action net, the activation) and the ``VecNormalize`` observation sta
 one ``.npz``; ``Policy.load(path)`` plays it back with numpy alone, as SB3's
 ``predict(obs, deterministic=True)`` would (normalise and clip the observation, run the actor,
 clip the action to the space). ``evaluate(policy, name, side, episodes)`` plays it on
-Gymnasium's MuJoCo ``<Name>-v5`` or on ``gymfleet/<Name>-v5``.
+Gymnasium's MuJoCo ``<Name>-v5`` or on ``gymfleet/<Name>-v5``, or on a perturbed MuJoCo:
+side ``mujoco*0.8`` is MuJoCo's env with every geom's sliding friction scaled by 0.8 and the
+integrator switched (Euler to RK4, RK4 and the implicit ones to Euler), the yardstick a transfer
+between two engines is held to (issue C: MuJoCo against a perturbed MuJoCo).
 
 What it answers: a policy trained on MuJoCo that stands or runs on gymfleet as well (and the
 other way round) says the dynamics agree where the policy goes; one that falls says where
@@ -82,11 +85,25 @@ class Policy:
         return np.clip(x, self.low, self.high)
 
 
+#: MuJoCo's integrator enum (mjtIntegrator) and the one a perturbed side switches to.
+SWITCHED_INTEGRATOR = {0: 1, 1: 0, 2: 0, 3: 0}
+
+
+def perturbation(side: str) -> float:
+    """The friction scale of a perturbed side (``mujoco*0.8``); 1.0 for a plain one."""
+    return float(side.split("*", 1)[1]) if "*" in side else 1.0
+
+
 def make_env(name: str, side: str) -> Any:
     import gymnasium
 
-    if side == "mujoco":
-        return gymnasium.make(f"{name}-v5")
+    if side.startswith("mujoco"):
+        env = gymnasium.make(f"{name}-v5")
+        if "*" in side:
+            model = env.unwrapped.model
+            model.geom_friction[:, 0] *= perturbation(side)
+            model.opt.integrator = SWITCHED_INTEGRATOR[int(model.opt.integrator)]
+        return env
     import gymfleet  # noqa: F401  (registers the gymfleet/ ids)
 
     return gymnasium.make(f"gymfleet/{name}-v5")
