@@ -1,5 +1,5 @@
-"""Every code block of the README and the guide (docs/) runs in CI, or says where it runs or
-why not.
+"""Every code block of the READMEs (the repository's, the clients', the MCP adapter's and
+the deploy's) and of the guide (docs/) runs in CI, or says where it runs or why not.
 
 A block preceded by ``<!-- runs in CI: WHERE -->`` is run elsewhere (WHERE must exist, and a
 block kept as a test's code must be that code); one preceded by ``<!-- not run: REASON -->``
@@ -18,7 +18,8 @@ import sys
 import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[3]
-FILES = ["README.md"] + sorted(str(p.relative_to(ROOT)) for p in (ROOT / "docs").glob("*.md"))
+READMES = ["README.md", "client/python/README.md", "client/js/README.md", "apps/mcp/README.md", "deploy/README.md"]
+FILES = READMES + sorted(str(p.relative_to(ROOT)) for p in (ROOT / "docs").glob("*.md"))
 MARK = re.compile(r"^<!-- (runs in CI|not run): (.+) -->$")
 
 
