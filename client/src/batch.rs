@@ -86,18 +86,21 @@ impl Batch {
         }
     }
 
+    /// The one builder of this batch's step requests (whole or some envs, unary or
+    /// streamed, with or without mocap targets): the values are moved in, not copied.
     pub(crate) fn step_request(
         &self,
         action_type: ActionType,
-        actions: &[f32],
-        mocap_poses: &[f32],
+        actions: Vec<f32>,
+        mocap_poses: Vec<f32>,
+        env_indices: Vec<u32>,
     ) -> pb::StepBatchRequest {
         pb::StepBatchRequest {
             batch_id: self.info.batch_id.clone(),
             action_type: pb::ActionType::from(action_type) as i32,
-            actions: actions.to_vec(),
-            mocap_poses: mocap_poses.to_vec(),
-            env_indices: Vec::new(),
+            actions,
+            mocap_poses,
+            env_indices,
         }
     }
 
@@ -139,13 +142,7 @@ impl Batch {
         env_indices: Vec<u32>,
         actions: Vec<f32>,
     ) -> Result<pb::BatchStepResult> {
-        let request = pb::StepBatchRequest {
-            batch_id: self.info.batch_id.clone(),
-            action_type: pb::ActionType::from(action_type) as i32,
-            actions,
-            mocap_poses: Vec::new(),
-            env_indices,
-        };
+        let request = self.step_request(action_type, actions, Vec::new(), env_indices);
         let listed = request.env_indices.clone();
         let result = self.client.rpc().step_batch(request).await?.into_inner();
         if result.env_indices != listed {
@@ -171,7 +168,18 @@ impl Batch {
         actions: &[f32],
         mocap_poses: &[f32],
     ) -> Result<BatchStep> {
-        let request = self.step_request(action_type, actions, mocap_poses);
+        self.step_owned(action_type, actions.to_vec(), mocap_poses.to_vec())
+            .await
+    }
+
+    /// [`Batch::step_with_mocap`] with owned values, which go into the request as they are.
+    pub async fn step_owned(
+        &self,
+        action_type: ActionType,
+        actions: Vec<f32>,
+        mocap_poses: Vec<f32>,
+    ) -> Result<BatchStep> {
+        let request = self.step_request(action_type, actions, mocap_poses, Vec::new());
         let result = self.client.rpc().step_batch(request).await?;
         BatchStep::new(result.into_inner(), &self.info)
     }
@@ -184,16 +192,10 @@ impl Batch {
         actions: Vec<f32>,
         mocap_poses: Vec<f32>,
     ) -> Result<pb::BatchStepResult> {
-        let request = pb::StepBatchRequest {
-            batch_id: self.info.batch_id.clone(),
-            action_type: pb::ActionType::from(action_type) as i32,
-            actions,
-            mocap_poses,
-            env_indices: Vec::new(),
-        };
-        let result = self.client.rpc().step_batch(request).await?.into_inner();
         // Validates the shapes; the fleet merge relies on them.
-        BatchStep::new(result, &self.info).map(BatchStep::into_raw)
+        self.step_owned(action_type, actions, mocap_poses)
+            .await
+            .map(BatchStep::into_raw)
     }
 
     /// Resets every env; with `seed`, env `i` is reseeded with `seed + i` first.

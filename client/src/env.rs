@@ -91,11 +91,22 @@ impl Env {
         values: &[f32],
         mocap_poses: &[f32],
     ) -> Result<StepResult> {
+        self.step_owned(action_type, values.to_vec(), mocap_poses.to_vec())
+            .await
+    }
+
+    /// [`Env::step_with_mocap`] with owned values, which go into the request as they are.
+    pub async fn step_owned(
+        &self,
+        action_type: ActionType,
+        values: Vec<f32>,
+        mocap_poses: Vec<f32>,
+    ) -> Result<StepResult> {
         let request = pb::StepRequest {
             env_id: self.info.env_id.clone(),
             action_type: pb::ActionType::from(action_type) as i32,
-            values: values.to_vec(),
-            mocap_poses: mocap_poses.to_vec(),
+            values,
+            mocap_poses,
         };
         let result = self.client.rpc().step(request).await?;
         result.into_inner().try_into()

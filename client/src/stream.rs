@@ -113,7 +113,12 @@ impl BatchStream {
         actions: &[f32],
         mocap_poses: &[f32],
     ) -> Result<()> {
-        let request = self.batch.step_request(action_type, actions, mocap_poses);
+        let request = self.batch.step_request(
+            action_type,
+            actions.to_vec(),
+            mocap_poses.to_vec(),
+            Vec::new(),
+        );
         self.send_request(request).await
     }
 
@@ -125,8 +130,12 @@ impl BatchStream {
         env_indices: &[u32],
         actions: &[f32],
     ) -> Result<()> {
-        let mut request = self.batch.step_request(action_type, actions, &[]);
-        request.env_indices = env_indices.to_vec();
+        let request = self.batch.step_request(
+            action_type,
+            actions.to_vec(),
+            Vec::new(),
+            env_indices.to_vec(),
+        );
         self.send_request(request).await
     }
 

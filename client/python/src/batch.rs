@@ -246,7 +246,7 @@ impl BatchHandle {
             self.batch
                 .lock()
                 .await
-                .step_with_mocap(action_type, &values, &mocap)
+                .step_owned(action_type, values, mocap)
                 .await
                 .map(StepRows::new)
         })?;

@@ -141,7 +141,7 @@ impl EnvHandle {
         let mocap = mocap_poses.map_or_else(Vec::new, |m| m.as_array().to_vec());
         let env = &self.env;
         let r = wait(py, self.timeout.get(), || async move {
-            env.step_with_mocap(action_type, &values, &mocap).await
+            env.step_owned(action_type, values, mocap).await
         })?;
         Ok((
             PyArray1::from_vec(

@@ -3,6 +3,8 @@
 //! replies settled and merged into one ([`FleetBatch::finish_step`], which the subset step
 //! shares). Logged for recovery.
 
+use std::borrow::Cow;
+
 use gymfleet_proto::v1 as pb;
 
 use super::merge::merge_steps;
@@ -31,35 +33,70 @@ impl FleetBatch {
         actions: &[f32],
         mocap_poses: &[f32],
     ) -> Result<BatchStep> {
+        self.step_values(
+            action_type,
+            Cow::Borrowed(actions),
+            Cow::Borrowed(mocap_poses),
+        )
+        .await
+    }
+
+    /// [`FleetBatch::step_with_mocap`] with owned values: a batch on one server moves them
+    /// into its request, without a copy (the Python binding's path).
+    pub async fn step_owned(
+        &mut self,
+        action_type: ActionType,
+        actions: Vec<f32>,
+        mocap_poses: Vec<f32>,
+    ) -> Result<BatchStep> {
+        self.step_values(action_type, Cow::Owned(actions), Cow::Owned(mocap_poses))
+            .await
+    }
+
+    async fn step_values(
+        &mut self,
+        action_type: ActionType,
+        actions: Cow<'_, [f32]>,
+        mocap_poses: Cow<'_, [f32]>,
+    ) -> Result<BatchStep> {
         self.check_not_lost()?;
         if !self.single {
-            self.check_actions(actions)?;
-            self.check_mocap_poses(mocap_poses)?;
+            self.check_actions(&actions)?;
+            self.check_mocap_poses(&mocap_poses)?;
         }
         self.log(|| recovery::Logged::Step {
             action_type,
             actions: actions.to_vec(),
             mocap_poses: mocap_poses.to_vec(),
         });
-        let dim = self.info.action_dim;
-        let one_shard = self.shards.len() == 1;
-        let mut position = 0;
-        let stepping = self.shards.iter().map(|shard| {
-            let n = shard.envs.len();
-            // One shard takes every value as given (the server checks them when this
-            // side did not); several take their checked slices.
-            let (part, targets) = if one_shard {
-                (actions.to_vec(), mocap_poses.to_vec())
-            } else {
-                (
-                    actions[position * dim..(position + n) * dim].to_vec(),
-                    self.mocap_rows(mocap_poses, position..position + n),
-                )
-            };
-            position += n;
-            let batch = shard.batch.clone();
-            async move { batch.step_raw(action_type, part, targets).await }
-        });
+        // One shard takes every value as given (the server checks them when this side did
+        // not), moved when they are owned; several take their checked slices.
+        let parts: Vec<(Vec<f32>, Vec<f32>)> = if self.shards.len() == 1 {
+            vec![(actions.into_owned(), mocap_poses.into_owned())]
+        } else {
+            let dim = self.info.action_dim;
+            let mut position = 0;
+            self.shards
+                .iter()
+                .map(|shard| {
+                    let n = shard.envs.len();
+                    let part = (
+                        actions[position * dim..(position + n) * dim].to_vec(),
+                        self.mocap_rows(&mocap_poses, position..position + n),
+                    );
+                    position += n;
+                    part
+                })
+                .collect()
+        };
+        let stepping = self
+            .shards
+            .iter()
+            .zip(parts)
+            .map(|(shard, (part, targets))| {
+                let batch = shard.batch.clone();
+                async move { batch.step_raw(action_type, part, targets).await }
+            });
         let results = join_all(stepping.collect::<Vec<_>>()).await;
         self.finish_step(results).await
     }
