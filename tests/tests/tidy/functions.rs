@@ -51,12 +51,6 @@ const LONG_FNS: &[(&str, &str, usize, &str)] = &[
         "a joint kind per arm",
     ),
     (
-        "crates/assembly/src/validate/joints.rs",
-        "joints",
-        175,
-        "one check per function",
-    ),
-    (
         "crates/env/src/env.rs",
         "new",
         172,

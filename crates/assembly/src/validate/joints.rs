@@ -11,28 +11,23 @@ use crate::topology::{Edge, Role, Topology};
 
 use super::{limit_to_si, list, Anchor, Roots, Validator};
 
-impl Validator {
-    pub(super) fn joints(
-        &mut self,
-        defs: &[JointDef],
-        instances: &[InstanceDef],
-        anchors: &[Anchor],
-        floating_base: bool,
-    ) -> Vec<Joint> {
-        let roots_of = Roots {
-            anchors,
-            floating_base,
-        };
+/// The joints' graph: the instances by name, and the spanning tree and the loops chosen
+/// from the joints whose instances resolve (their references are reported joint by joint).
+struct JointGraph<'a> {
+    index: HashMap<&'a str, usize>,
+    topology: Topology,
+    /// Each joint on a loop's path, with the joint that closes that loop.
+    on_loop: Vec<Option<usize>>,
+}
+
+impl<'a> JointGraph<'a> {
+    fn new(defs: &[JointDef], instances: &'a [InstanceDef], roots_of: Roots<'_>) -> Self {
         // Look names up in the document's instances, so that one bad instance does not
         // turn every joint that names it into a second, misleading error.
         let mut index: HashMap<&str, usize> = HashMap::new();
         for (i, inst) in instances.iter().enumerate() {
             index.entry(inst.name.as_str()).or_insert(i);
         }
-        let mut names: HashMap<String, usize> = HashMap::new();
-        let mut out = Vec::with_capacity(defs.len());
-        // The spanning tree and the loops, from the joints whose instances resolve (the
-        // references are reported below, joint by joint).
         let edges: Vec<Option<Edge>> = defs
             .iter()
             .map(|def| {
@@ -49,7 +44,6 @@ impl Validator {
             .collect();
         let world: Vec<bool> = (0..instances.len()).map(|i| roots_of.held(i)).collect();
         let topology = crate::topology::choose(&edges, &roots, &world);
-        // Each joint on a loop's path, with the joint that closes that loop.
         let mut on_loop: Vec<Option<usize>> = vec![None; defs.len()];
         for (j, edge) in edges.iter().enumerate() {
             if let (Some(Role::Loop), Some(e)) = (topology.roles[j], edge) {
@@ -59,120 +53,201 @@ impl Validator {
                 }
             }
         }
+        JointGraph {
+            index,
+            topology,
+            on_loop,
+        }
+    }
+}
 
+/// What every joint's checks share: the document's joints and instances, what roots the
+/// trees, the graph, and the names taken so far.
+struct JointsContext<'d> {
+    defs: &'d [JointDef],
+    instances: &'d [InstanceDef],
+    roots_of: Roots<'d>,
+    graph: JointGraph<'d>,
+    names: HashMap<String, usize>,
+}
+
+impl Validator {
+    pub(super) fn joints(
+        &mut self,
+        defs: &[JointDef],
+        instances: &[InstanceDef],
+        anchors: &[Anchor],
+        floating_base: bool,
+    ) -> Vec<Joint> {
+        let roots_of = Roots {
+            anchors,
+            floating_base,
+        };
+        let mut cx = JointsContext {
+            defs,
+            instances,
+            roots_of,
+            graph: JointGraph::new(defs, instances, roots_of),
+            names: HashMap::new(),
+        };
+        let mut out = Vec::with_capacity(defs.len());
         for (j, def) in defs.iter().enumerate() {
-            let path = format!("assembly.joints[{j}]");
-            let before = self.issues.len();
-            let parent = self.instance_ref(&format!("{path}.parent"), &def.parent, &index);
-            let child = self.instance_ref(&format!("{path}.child"), &def.child, &index);
-            let name = def.name.clone().unwrap_or_else(|| def.child.clone());
-            match names.entry(name.clone()) {
-                // A defaulted name clashes with a joint of the same child: that is a
-                // child with two parents, which `topology` reports on `child`.
-                Entry::Occupied(first)
-                    if def.name.is_none()
-                        && defs[*first.get()].child == def.child
-                        && topology.roles[j].is_none() => {}
-                Entry::Occupied(first) => self.push(
-                    format!("{path}.name"),
-                    format!(
-                        "duplicate joint name {} (also assembly.joints[{}]); give one of them a \"name\"",
-                        quoted(&name),
-                        first.get()
-                    ),
-                ),
-                Entry::Vacant(slot) => {
-                    slot.insert(j);
-                }
-            }
-
-            let anchor = match def.anchor {
-                Some(a) => self
-                    .vec3(&format!("{path}.anchor"), a)
-                    .map(|c| c / MM_PER_M),
-                None if def.kind == JointType::Fixed => [0.0; 3],
-                None => {
-                    self.push(
-                        format!("{path}.anchor"),
-                        format!(
-                            "missing field `anchor`: a {} joint needs an anchor (world mm)",
-                            def.kind.as_str()
-                        ),
-                    );
-                    [0.0; 3]
-                }
-            };
-            let axis = self.axis(&path, def);
-            let document_limits = self.limits(&path, def);
-            let initial = self.initial(&path, def, document_limits);
-            let damping = self.non_negative(&format!("{path}.damping"), def.damping, "damping");
-            let armature = self.dof_quantity(
-                &path,
-                def,
-                ("armature", def.armature),
-                "an armature >= 0 (kg·m² or kg)",
-                "to add armature to",
-            );
-            let (stiffness, spring_rest) = self.spring(&path, def);
-            let friction = self.dof_quantity(
-                &path,
-                def,
-                ("friction", def.friction),
-                "a friction >= 0 (N·m or N)",
-                "to resist with friction",
-            );
-            let soft_limit = self.soft_limit(&path, def, document_limits);
-            let role = topology.roles[j];
-            // A loop-closing joint is passive (a driven one is refused in `topology`).
-            let actuated = def.actuated.unwrap_or(true) && role != Some(Role::Loop);
-            let observed = def.observed.unwrap_or(true);
-            if let (Some(closer), true) = (on_loop[j], initial != 0.0) {
-                self.push(
-                    format!("{path}.initial"),
-                    format!(
-                        "joint {} is on the kinematic loop that joint {} closes; an initial position would open the loop (loops start at the document's pose): remove \"initial\"",
-                        quoted(def.name.as_deref().unwrap_or(&def.child)),
-                        quoted(defs[closer].name.as_deref().unwrap_or(&defs[closer].child))
-                    ),
-                );
-            }
-            let (gear, reference) = self.gear_and_reference(&path, def, actuated);
-            let max_effort = self.max_effort(&path, def, actuated);
-
-            if let (Some(p), Some(c)) = (parent, child) {
-                self.topology(&path, def, (p, c), role, &topology, instances, roots_of);
-            }
-            if self.issues.len() == before {
-                if let (Some(parent), Some(child)) = (parent, child) {
-                    out.push(Joint {
-                        name,
-                        kind: def.kind,
-                        parent,
-                        child,
-                        anchor,
-                        axis,
-                        limits: document_limits.map(|l| l.map(|v| v * limit_to_si(def.kind))),
-                        document_limits,
-                        damping: damping.unwrap_or(0.0),
-                        max_effort,
-                        actuated,
-                        armature: armature.unwrap_or(0.0),
-                        initial: initial * limit_to_si(def.kind),
-                        stiffness,
-                        spring_rest: spring_rest * limit_to_si(def.kind),
-                        springdamper: self.springdamper(&path, def),
-                        friction: friction.unwrap_or(0.0),
-                        gear,
-                        reference,
-                        closes_loop: role == Some(Role::Loop),
-                        observed,
-                        on_loop: on_loop[j].is_some(),
-                        soft_limit,
-                    });
-                }
-            }
+            out.extend(self.joint(j, def, &mut cx));
         }
         out
+    }
+
+    /// Joint `j`: every check of it, in order, and the joint when none failed.
+    fn joint(&mut self, j: usize, def: &JointDef, cx: &mut JointsContext<'_>) -> Option<Joint> {
+        let path = format!("assembly.joints[{j}]");
+        let before = self.issues.len();
+        let parent = self.instance_ref(&format!("{path}.parent"), &def.parent, &cx.graph.index);
+        let child = self.instance_ref(&format!("{path}.child"), &def.child, &cx.graph.index);
+        let name = self.joint_name(&path, j, def, cx);
+        let anchor = self.anchor(&path, def);
+        let axis = self.axis(&path, def);
+        let document_limits = self.limits(&path, def);
+        let initial = self.initial(&path, def, document_limits);
+        let damping = self.non_negative(&format!("{path}.damping"), def.damping, "damping");
+        let armature = self.dof_quantity(
+            &path,
+            def,
+            ("armature", def.armature),
+            "an armature >= 0 (kg·m² or kg)",
+            "to add armature to",
+        );
+        let (stiffness, spring_rest) = self.spring(&path, def);
+        let friction = self.dof_quantity(
+            &path,
+            def,
+            ("friction", def.friction),
+            "a friction >= 0 (N·m or N)",
+            "to resist with friction",
+        );
+        let soft_limit = self.soft_limit(&path, def, document_limits);
+        let role = cx.graph.topology.roles[j];
+        // A loop-closing joint is passive (a driven one is refused in `topology`).
+        let actuated = def.actuated.unwrap_or(true) && role != Some(Role::Loop);
+        self.initial_off_loop(
+            &path,
+            def,
+            cx.graph.on_loop[j].map(|k| &cx.defs[k]),
+            initial,
+        );
+        let (gear, reference) = self.gear_and_reference(&path, def, actuated);
+        let max_effort = self.max_effort(&path, def, actuated);
+        let (parent, child) = (parent?, child?);
+        let topology = &cx.graph.topology;
+        self.topology(
+            &path,
+            def,
+            (parent, child),
+            role,
+            topology,
+            cx.instances,
+            cx.roots_of,
+        );
+        if self.issues.len() != before {
+            return None;
+        }
+        let si = limit_to_si(def.kind);
+        Some(Joint {
+            name,
+            kind: def.kind,
+            parent,
+            child,
+            anchor,
+            axis,
+            limits: document_limits.map(|l| l.map(|v| v * si)),
+            document_limits,
+            damping: damping.unwrap_or(0.0),
+            max_effort,
+            actuated,
+            armature: armature.unwrap_or(0.0),
+            initial: initial * si,
+            stiffness,
+            spring_rest: spring_rest * si,
+            springdamper: self.springdamper(&path, def),
+            friction: friction.unwrap_or(0.0),
+            gear,
+            reference,
+            closes_loop: role == Some(Role::Loop),
+            observed: def.observed.unwrap_or(true),
+            on_loop: cx.graph.on_loop[j].is_some(),
+            soft_limit,
+        })
+    }
+
+    /// The joint's name (its child's when it has none), refused when another joint has it.
+    fn joint_name(
+        &mut self,
+        path: &str,
+        j: usize,
+        def: &JointDef,
+        cx: &mut JointsContext<'_>,
+    ) -> String {
+        let name = def.name.clone().unwrap_or_else(|| def.child.clone());
+        match cx.names.entry(name.clone()) {
+            // A defaulted name clashes with a joint of the same child: that is a
+            // child with two parents, which `topology` reports on `child`.
+            Entry::Occupied(first)
+                if def.name.is_none()
+                    && cx.defs[*first.get()].child == def.child
+                    && cx.graph.topology.roles[j].is_none() => {}
+            Entry::Occupied(first) => self.push(
+                format!("{path}.name"),
+                format!(
+                    "duplicate joint name {} (also assembly.joints[{}]); give one of them a \"name\"",
+                    quoted(&name),
+                    first.get()
+                ),
+            ),
+            Entry::Vacant(slot) => {
+                slot.insert(j);
+            }
+        }
+        name
+    }
+
+    /// The anchor in world m: required but for a fixed joint (the origin then).
+    fn anchor(&mut self, path: &str, def: &JointDef) -> [f64; 3] {
+        match def.anchor {
+            Some(a) => self
+                .vec3(&format!("{path}.anchor"), a)
+                .map(|c| c / MM_PER_M),
+            None if def.kind == JointType::Fixed => [0.0; 3],
+            None => {
+                self.push(
+                    format!("{path}.anchor"),
+                    format!(
+                        "missing field `anchor`: a {} joint needs an anchor (world mm)",
+                        def.kind.as_str()
+                    ),
+                );
+                [0.0; 3]
+            }
+        }
+    }
+
+    /// Refuses an initial position on a joint of a kinematic loop (`closer` closes it).
+    fn initial_off_loop(
+        &mut self,
+        path: &str,
+        def: &JointDef,
+        closer: Option<&JointDef>,
+        initial: f64,
+    ) {
+        let Some(closer) = closer.filter(|_| initial != 0.0) else {
+            return;
+        };
+        self.push(
+            format!("{path}.initial"),
+            format!(
+                "joint {} is on the kinematic loop that joint {} closes; an initial position would open the loop (loops start at the document's pose): remove \"initial\"",
+                quoted(def.name.as_deref().unwrap_or(&def.child)),
+                quoted(closer.name.as_deref().unwrap_or(&closer.child))
+            ),
+        );
     }
 
     pub(super) fn instance_ref(
