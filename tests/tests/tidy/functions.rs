@@ -57,12 +57,6 @@ const LONG_FNS: &[(&str, &str, usize, &str)] = &[
         "config, task, observation layout",
     ),
     (
-        "crates/assembly/src/validate/instances.rs",
-        "instances",
-        152,
-        "one check per function",
-    ),
-    (
         "server/src/serve.rs",
         "serve_bound",
         151,
