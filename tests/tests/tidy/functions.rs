@@ -69,12 +69,6 @@ const LONG_FNS: &[(&str, &str, usize, &str)] = &[
         "a task kind per arm",
     ),
     (
-        "crates/physics/src/state.rs",
-        "check_dynamic_state",
-        140,
-        "one check per part",
-    ),
-    (
         "crates/import/src/urdf/joints.rs",
         "joint",
         139,
