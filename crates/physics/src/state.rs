@@ -186,6 +186,26 @@ impl RobotWorld {
         self.restore_terrains(terrains);
         self.forget_motion();
         let mut touched = Vec::new();
+        self.restore_joints(state, &mut touched);
+        self.restore_free_roots(state, &mut touched);
+        self.sync_bodies(&touched);
+        // A loop's constraint starts afresh, as contacts do: without the last step's
+        // impulses as a first guess, so that every world restored from `state` is alike.
+        for (_, joint) in self.live.impulse_joints.iter_mut() {
+            joint.impulses = Default::default();
+        }
+        self.restore_mocaps(state);
+        self.restore_bodies(state);
+        self.command.mode = state.mode;
+        self.command.values.copy_from_slice(&state.command);
+        self.command.controls.copy_from_slice(&state.controls);
+        self.activations.copy_from_slice(&state.activations);
+        self.configure_motors();
+    }
+
+    /// Every moving joint's coordinates and velocities; the multibodies changed go to
+    /// `touched`.
+    fn restore_joints(&mut self, state: &DynamicState, touched: &mut Vec<MultibodyIndex>) {
         let slots: Vec<_> = self.moving_joints().cloned().collect();
         assert_eq!(
             slots.len(),
@@ -220,8 +240,11 @@ impl RobotWorld {
                 touched.push(slot.multibody);
             }
         }
-        // A free root is placed from its body's pose (read by the kinematics below) and
-        // moves with its six generalized velocities.
+    }
+
+    /// A free root is placed from its body's pose (read by the kinematics that
+    /// `sync_bodies` runs) and moves with its six generalized velocities.
+    fn restore_free_roots(&mut self, state: &DynamicState, touched: &mut Vec<MultibodyIndex>) {
         assert_eq!(
             state.roots.len(),
             self.free_roots.len(),
@@ -242,12 +265,10 @@ impl RobotWorld {
                 touched.push(root.multibody);
             }
         }
-        self.sync_bodies(&touched);
-        // A loop's constraint starts afresh, as contacts do: without the last step's
-        // impulses as a first guess, so that every world restored from `state` is alike.
-        for (_, joint) in self.live.impulse_joints.iter_mut() {
-            joint.impulses = Default::default();
-        }
+    }
+
+    /// Each mocap body's pose and its target.
+    fn restore_mocaps(&mut self, state: &DynamicState) {
         for (mocap, target) in self.mocaps.iter_mut().zip(&state.mocap_targets) {
             let h = self.bodies[mocap.body.instance];
             let saved = &state.bodies[mocap.body.instance];
@@ -261,6 +282,10 @@ impl RobotWorld {
                 )
             });
         }
+    }
+
+    /// Each dynamic body's velocities, and the pose of those outside a multibody.
+    fn restore_bodies(&mut self, state: &DynamicState) {
         for (&h, saved) in self.bodies.iter().zip(&state.bodies) {
             let in_multibody = self.live.multibody_joints.rigid_body_link(h).is_some();
             let rb = &mut self.live.bodies[h];
@@ -276,11 +301,6 @@ impl RobotWorld {
             rb.set_linvel(Vector::new(v[0], v[1], v[2]), false);
             rb.set_angvel(AngVector::new(w[0], w[1], w[2]), false);
         }
-        self.command.mode = state.mode;
-        self.command.values.copy_from_slice(&state.command);
-        self.command.controls.copy_from_slice(&state.controls);
-        self.activations.copy_from_slice(&state.activations);
-        self.configure_motors();
     }
 }
 

@@ -93,12 +93,6 @@ const LONG_FNS: &[(&str, &str, usize, &str)] = &[
         "a field per arm",
     ),
     (
-        "crates/physics/src/state.rs",
-        "restore_dynamic_state",
-        104,
-        "one part per function",
-    ),
-    (
         "crates/assembly/src/tendons.rs",
         "tendons",
         103,
