@@ -52,6 +52,15 @@ impl RobotWorld {
             self.joints.len(),
             "one damping factor per joint"
         );
+        self.draw_masses_and_friction(draws);
+        let inertia = self.draw_damping(draws);
+        self.draw_gains(draws, &inertia);
+        self.configure_motors();
+    }
+
+    /// Each collider's mass (its exact mass properties or its density) and friction, and
+    /// the given masses, scaled by their instance's factors.
+    fn draw_masses_and_friction(&mut self, draws: &Draws) {
         for (i, &handle) in self.colliders.iter().enumerate() {
             if let Some(collider) = self.live.colliders.get_mut(handle) {
                 match self.base.exact[i] {
@@ -79,6 +88,11 @@ impl RobotWorld {
             true,
         );
         self.update_own_props();
+    }
+
+    /// Each DOF's damping scaled by its joint's factor; returns each DOF's effective
+    /// inertia under the new masses (0 where the gains are overridden: it is not needed).
+    fn draw_damping(&mut self, draws: &Draws) -> Vec<f64> {
         let mut inertia = vec![0.0; self.dofs.len()];
         let mut inverse_inertias: Vec<(MultibodyIndex, DVector)> = Vec::new();
         for (j, slot) in self.joints.iter().enumerate() {
@@ -116,10 +130,16 @@ impl RobotWorld {
                 }
             }
         }
+        inertia
+    }
+
+    /// Each DOF's PD gains (from its load under `inertia`, or the overriding ones) scaled
+    /// by its joint's factor.
+    fn draw_gains(&mut self, draws: &Draws, inertia: &[f64]) {
         let loads = if self.gains.overridden {
             Vec::new()
         } else {
-            crate::loads::dof_loads(&self.live, &self.joints, &self.dofs, &inertia, self.gravity)
+            crate::loads::dof_loads(&self.live, &self.joints, &self.dofs, inertia, self.gravity)
         };
         for (j, slot) in self.joints.iter().enumerate() {
             if slot.closing.is_some() {
@@ -137,6 +157,5 @@ impl RobotWorld {
                 self.dofs[d].kv = kv * draws.gain[j];
             }
         }
-        self.configure_motors();
     }
 }

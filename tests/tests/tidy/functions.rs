@@ -99,12 +99,6 @@ const LONG_FNS: &[(&str, &str, usize, &str)] = &[
         "fixed and spatial tendons",
     ),
     (
-        "crates/physics/src/randomize.rs",
-        "apply_draws",
-        98,
-        "one quantity per function",
-    ),
-    (
         "crates/assembly/src/validate.rs",
         "validate",
         98,
