@@ -105,12 +105,6 @@ const LONG_FNS: &[(&str, &str, usize, &str)] = &[
         "the stages in turn",
     ),
     (
-        "crates/assembly/src/contacts.rs",
-        "contacts",
-        95,
-        "pairs, excludes, defaults",
-    ),
-    (
         "crates/assembly/src/actuators.rs",
         "actuators",
         95,
