@@ -127,82 +127,115 @@ pub(crate) fn actuators(
         return (out, issues);
     }
     for (k, def) in defs.iter().enumerate() {
-        let before = issues.len();
-        let mut c = Check {
-            path: format!("assembly.actuators[{k}]"),
-            issues: &mut issues,
-        };
-        let transmission = transmission(&mut c, def, joints, tendons);
-        for field in given(def) {
-            if !allowed(def.kind).contains(&field) {
-                c.push(
-                    field,
-                    format!(
-                        "a {} actuator has no {field} (it reads {})",
-                        def.kind.as_str(),
-                        readable(def.kind)
-                    ),
-                );
-            }
-        }
-        let gear = c.value("gear", def.gear, 1.0, f64::NEG_INFINITY);
-        let ctrl_range = c.range("ctrl_range", def.ctrl_range);
-        let force_range = c.range("force_range", def.force_range);
-        let act_range = c.range("act_range", def.act_range);
-        if def.kv.is_some() && def.dampratio.is_some() {
-            c.push(
-                "dampratio",
-                "give kv or dampratio, not both (kv is the damping, dampratio the damping as a ratio of critical)".into(),
-            );
-        }
-        let (gain, bias, dynamics, dampratio) = reduce(&mut c, def);
-        if dampratio.is_some() && gain[0] != -bias[1] {
-            c.push(
-                "dampratio",
-                format!(
-                    "dampratio needs a position-like actuator (gain[0] = −bias[1]), got gain[0] = {} and bias[1] = {}",
-                    gain[0], bias[1]
-                ),
-            );
-        }
-        if def.kind == ActuatorKind::Damper {
-            match ctrl_range {
-                None => c.push(
-                    "ctrl_range",
-                    "a damper needs a ctrl_range, its coefficient's bounds (min >= 0)".into(),
-                ),
-                Some([lo, _]) if lo < 0.0 => c.push(
-                    "ctrl_range",
-                    format!("a damper's controls scale its damping and cannot be negative, got min {lo}"),
-                ),
-                _ => {}
-            }
-        }
-        if act_range.is_some() && dynamics == Dynamics::None {
-            c.push(
-                "act_range",
-                "an actuator without activation dynamics has no activation to clamp".into(),
-            );
-        }
-        if issues.len() == before {
-            if let Some(transmission) = transmission {
-                out.push(Actuator {
-                    name: def.name.clone(),
-                    kind: def.kind,
-                    transmission,
-                    gear,
-                    ctrl_range,
-                    force_range,
-                    act_range,
-                    gain,
-                    bias,
-                    dynamics,
-                    dampratio,
-                });
-            }
-        }
+        let path = format!("assembly.actuators[{k}]");
+        out.extend(actuator(path, def, joints, tendons, &mut issues));
     }
     (out, issues)
+}
+
+/// One actuator (at `path`): its transmission, the fields its kind reads, its ranges and
+/// parameters, and its kind's rules; the actuator when none failed.
+fn actuator(
+    path: String,
+    def: &ActuatorDef,
+    joints: &[Joint],
+    tendons: &[Tendon],
+    issues: &mut Vec<Issue>,
+) -> Option<Actuator> {
+    let before = issues.len();
+    let mut c = Check {
+        path,
+        issues: &mut *issues,
+    };
+    let transmission = transmission(&mut c, def, joints, tendons);
+    for field in given(def) {
+        if !allowed(def.kind).contains(&field) {
+            c.push(
+                field,
+                format!(
+                    "a {} actuator has no {field} (it reads {})",
+                    def.kind.as_str(),
+                    readable(def.kind)
+                ),
+            );
+        }
+    }
+    let gear = c.value("gear", def.gear, 1.0, f64::NEG_INFINITY);
+    let ctrl_range = c.range("ctrl_range", def.ctrl_range);
+    let force_range = c.range("force_range", def.force_range);
+    let act_range = c.range("act_range", def.act_range);
+    if def.kv.is_some() && def.dampratio.is_some() {
+        c.push(
+            "dampratio",
+            "give kv or dampratio, not both (kv is the damping, dampratio the damping as a ratio of critical)".into(),
+        );
+    }
+    let (gain, bias, dynamics, dampratio) = reduce(&mut c, def);
+    kind_rules(
+        &mut c,
+        def,
+        (gain, bias, dampratio),
+        ctrl_range,
+        act_range,
+        dynamics,
+    );
+    let transmission = transmission.filter(|_| issues.len() == before)?;
+    Some(Actuator {
+        name: def.name.clone(),
+        kind: def.kind,
+        transmission,
+        gear,
+        ctrl_range,
+        force_range,
+        act_range,
+        gain,
+        bias,
+        dynamics,
+        dampratio,
+    })
+}
+
+/// The rules between an actuator's reduced parameters: dampratio on a position-like
+/// actuator only, a damper's non-negative ctrl_range, and act_range only with activation
+/// dynamics.
+fn kind_rules(
+    c: &mut Check<'_>,
+    def: &ActuatorDef,
+    (gain, bias, dampratio): ([f64; 3], [f64; 3], Option<f64>),
+    ctrl_range: Option<[f64; 2]>,
+    act_range: Option<[f64; 2]>,
+    dynamics: Dynamics,
+) {
+    if dampratio.is_some() && gain[0] != -bias[1] {
+        c.push(
+            "dampratio",
+            format!(
+                "dampratio needs a position-like actuator (gain[0] = −bias[1]), got gain[0] = {} and bias[1] = {}",
+                gain[0], bias[1]
+            ),
+        );
+    }
+    if def.kind == ActuatorKind::Damper {
+        match ctrl_range {
+            None => c.push(
+                "ctrl_range",
+                "a damper needs a ctrl_range, its coefficient's bounds (min >= 0)".into(),
+            ),
+            Some([lo, _]) if lo < 0.0 => c.push(
+                "ctrl_range",
+                format!(
+                    "a damper's controls scale its damping and cannot be negative, got min {lo}"
+                ),
+            ),
+            _ => {}
+        }
+    }
+    if act_range.is_some() && dynamics == Dynamics::None {
+        c.push(
+            "act_range",
+            "an actuator without activation dynamics has no activation to clamp".into(),
+        );
+    }
 }
 
 /// The kind-specific fields, for messages.

@@ -105,12 +105,6 @@ const LONG_FNS: &[(&str, &str, usize, &str)] = &[
         "the stages in turn",
     ),
     (
-        "crates/assembly/src/actuators.rs",
-        "actuators",
-        95,
-        "an actuator kind per arm",
-    ),
-    (
         "crates/import/src/mjcf/attributes.rs",
         "local_frame",
         89,
