@@ -85,38 +85,7 @@ impl RobotWorld {
 
     /// The world's dynamic state now.
     pub fn dynamic_state(&self) -> DynamicState {
-        let mut joints = Vec::new();
-        let mut velocities = vec![0.0; self.dofs.len()];
-        for slot in self.moving_joints() {
-            let Some(mb) = self.live.multibody_joints.get_multibody(slot.multibody) else {
-                continue;
-            };
-            let Some(link) = mb.link(slot.link) else {
-                continue;
-            };
-            let joint = link.joint();
-            let c = joint.coords();
-            let rotation = (free_angular_dofs(joint) == 3).then(|| {
-                let r = joint.joint_rot();
-                [r.x, r.y, r.z, r.w]
-            });
-            let coords = match slot.lane {
-                // One DOF of a fused planar root: saved where its joint alone keeps it, so
-                // that a state reads the same whether the root is fused or not.
-                Some(_) => {
-                    let mut own = [0.0; 6];
-                    own[kind_axes(slot.kind)[0] as usize] = c[slot.coord(0)];
-                    own
-                }
-                None => [c[0], c[1], c[2], c[3], c[4], c[5]],
-            };
-            joints.push(JointCoords { coords, rotation });
-            let first = link.assembly_id();
-            let all = mb.generalized_velocity();
-            for k in 0..slot.kind.dof() {
-                velocities[slot.first_dof + k] = all[slot.link_dof(first, k)];
-            }
-        }
+        let (joints, velocities) = self.joint_states();
         let bodies = self
             .bodies
             .iter()
@@ -167,6 +136,44 @@ impl RobotWorld {
             activations: self.activations.clone(),
             terrains: self.terrain_state(),
         }
+    }
+
+    /// Every moving joint's coordinates (and a ball joint's rotation), and every DOF's
+    /// velocity.
+    fn joint_states(&self) -> (Vec<JointCoords>, Vec<f32>) {
+        let mut joints = Vec::new();
+        let mut velocities = vec![0.0; self.dofs.len()];
+        for slot in self.moving_joints() {
+            let Some(mb) = self.live.multibody_joints.get_multibody(slot.multibody) else {
+                continue;
+            };
+            let Some(link) = mb.link(slot.link) else {
+                continue;
+            };
+            let joint = link.joint();
+            let c = joint.coords();
+            let rotation = (free_angular_dofs(joint) == 3).then(|| {
+                let r = joint.joint_rot();
+                [r.x, r.y, r.z, r.w]
+            });
+            let coords = match slot.lane {
+                // One DOF of a fused planar root: saved where its joint alone keeps it, so
+                // that a state reads the same whether the root is fused or not.
+                Some(_) => {
+                    let mut own = [0.0; 6];
+                    own[kind_axes(slot.kind)[0] as usize] = c[slot.coord(0)];
+                    own
+                }
+                None => [c[0], c[1], c[2], c[3], c[4], c[5]],
+            };
+            joints.push(JointCoords { coords, rotation });
+            let first = link.assembly_id();
+            let all = mb.generalized_velocity();
+            for k in 0..slot.kind.dof() {
+                velocities[slot.first_dof + k] = all[slot.link_dof(first, k)];
+            }
+        }
+        (joints, velocities)
     }
 
     /// Puts `state` back: from the world as it is after [`RobotWorld::reset`] (and the

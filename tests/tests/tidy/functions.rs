@@ -129,12 +129,6 @@ const LONG_FNS: &[(&str, &str, usize, &str)] = &[
         "filters in turn",
     ),
     (
-        "crates/physics/src/state.rs",
-        "dynamic_state",
-        84,
-        "one part per function",
-    ),
-    (
         "crates/import/src/urdf/links.rs",
         "link",
         82,
