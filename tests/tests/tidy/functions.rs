@@ -111,12 +111,6 @@ const LONG_FNS: &[(&str, &str, usize, &str)] = &[
         "a frame form per arm",
     ),
     (
-        "crates/assembly/src/validate/parts.rs",
-        "mesh",
-        88,
-        "one check per function",
-    ),
-    (
         "crates/import/src/mjcf/keyframes.rs",
         "keyframe",
         86,

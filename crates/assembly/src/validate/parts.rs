@@ -289,6 +289,27 @@ impl Validator {
             }
             None => [1.0; 3],
         };
+        let in_m = self.mesh_vertices(path, vertices, scale)?;
+        if let Some(indices) = &mesh.indices {
+            self.mesh_indices(path, indices, vertices.len())?;
+        }
+        let mode = mesh.convex.unwrap_or(ConvexMode::Hull);
+        match ConvexParts::new(&in_m, mesh.indices.as_deref(), mode) {
+            Ok(parts) => Some(Shape::Convex(parts)),
+            Err(message) => {
+                self.push(path.to_string(), message);
+                None
+            }
+        }
+    }
+
+    /// A mesh's vertices scaled and in m, each coordinate finite and in range.
+    fn mesh_vertices(
+        &mut self,
+        path: &str,
+        vertices: &[[f64; 3]],
+        scale: [f64; 3],
+    ) -> Option<Vec<[f64; 3]>> {
         let mut in_m = Vec::with_capacity(vertices.len());
         for (i, v) in vertices.iter().enumerate() {
             let v = [v[0] * scale[0], v[1] * scale[1], v[2] * scale[2]];
@@ -304,40 +325,33 @@ impl Validator {
             }
             in_m.push(v.map(|c| c / MM_PER_M));
         }
-        if let Some(indices) = &mesh.indices {
-            if indices.len() > MAX_MESH_TRIANGLES {
-                self.push(
-                    format!("{path}.indices"),
-                    format!(
-                        "a mesh may have at most {MAX_MESH_TRIANGLES} triangles, got {}",
-                        indices.len()
-                    ),
-                );
-                return None;
-            }
-            if let Some((t, bad)) = indices.iter().enumerate().find_map(|(t, tri)| {
-                tri.iter()
-                    .find(|&&i| i as usize >= vertices.len())
-                    .map(|&i| (t, i))
-            }) {
-                self.push(
-                    format!("{path}.indices[{t}]"),
-                    format!(
-                        "vertex index {bad} is out of range: the mesh has {} vertices",
-                        vertices.len()
-                    ),
-                );
-                return None;
-            }
+        Some(in_m)
+    }
+
+    /// A mesh's triangles: not too many, each index one of its `vertices`.
+    fn mesh_indices(&mut self, path: &str, indices: &[[u32; 3]], vertices: usize) -> Option<()> {
+        if indices.len() > MAX_MESH_TRIANGLES {
+            self.push(
+                format!("{path}.indices"),
+                format!(
+                    "a mesh may have at most {MAX_MESH_TRIANGLES} triangles, got {}",
+                    indices.len()
+                ),
+            );
+            return None;
         }
-        let mode = mesh.convex.unwrap_or(ConvexMode::Hull);
-        match ConvexParts::new(&in_m, mesh.indices.as_deref(), mode) {
-            Ok(parts) => Some(Shape::Convex(parts)),
-            Err(message) => {
-                self.push(path.to_string(), message);
-                None
-            }
+        if let Some((t, bad)) = indices.iter().enumerate().find_map(|(t, tri)| {
+            tri.iter()
+                .find(|&&i| i as usize >= vertices)
+                .map(|&i| (t, i))
+        }) {
+            self.push(
+                format!("{path}.indices[{t}]"),
+                format!("vertex index {bad} is out of range: the mesh has {vertices} vertices"),
+            );
+            return None;
         }
+        Some(())
     }
 
     /// An instance's `inertial`, checked and in SI (`None` after an issue).
