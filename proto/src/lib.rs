@@ -4,6 +4,18 @@
 //! `FileDescriptorSet` that the server hands to gRPC reflection. It holds no
 //! logic: converting between these types and the domain types, and mapping
 //! errors to `tonic::Status`, is left to `server/` and `client/`.
+//!
+//! The code is generated with `protox` and `tonic-prost-build` (no system protoc), and
+//! `FILE_DESCRIPTOR_SET` is exposed for reflection. Both create requests carry one
+//! `EnvOptions` (`options`; their flat option fields are deprecated, still read by the
+//! server's `convert/create.rs`), and `BatchInfo.env` is the batch's `EnvInfo` (the server
+//! also fills the deprecated flat copy).
+//!
+//! **The wire only grows.** `buf.yaml` makes `proto/` a buf module, and `released.json` is
+//! the last release's wire as a buf image. CI's `npm run check-breaking` (in `client/js`,
+//! which pins buf) refuses a proto that removes, renumbers, renames or retypes anything in
+//! it, and shows on every run that it refuses a removed and a renumbered field. A release
+//! refreshes the image (`npm run release-proto`).
 
 /// Generated code for the `gymfleet.v1` package: messages, enums, and the
 /// `simulator_client` / `simulator_server` modules.

@@ -3,6 +3,46 @@
 //! server crate's `LocalServer`), plus the seed models. The tests in
 //! `tests/e2e/` drive it over the network with `gymfleet-client`, and `benches/`
 //! compares remote and in-process stepping. It holds no product code.
+//!
+//! # What the tests cover
+//!
+//! - `tests/e2e/`: a real server on `127.0.0.1:0` driven by the client: the seed
+//!   walkthrough, the 2-DOF arm, batches, every error path, stream against unary,
+//!   concurrency, idle TTL on a manual clock, UDS against TCP, auth, tenants, TLS and
+//!   metrics (`security.rs`), the hostile-request suite (`adversarial.rs`), and a fleet
+//!   partition behind `PartitionableProxy` (`fleet.rs`). `regressions.rs` replays inputs
+//!   that once crashed a server. `render.rs` tests `Render` and `GetScene`. `replay.rs`
+//!   records a swinging pendulum's HTML replay into `target/tmp/replay/pendulum.html`,
+//!   which `tests/browser/replay.test.mjs` (playwright-core from npm, pinned by its lock
+//!   file) opens in Debian's headless Chromium with software WebGL: no console errors, a
+//!   canvas that is not blank, two frames that differ where the arm is, working controls;
+//!   `.ci/run` installs chromium and runs it after `cargo test`. `dashboard.rs` tests the
+//!   dashboard's API over plain HTTP (tenants, sessions and cookies, the 401s, escaping,
+//!   counts and rates on a manual clock, the loopback rule);
+//!   `tests/browser/dashboard.test.mjs` drives the page against
+//!   `examples/dashboard_fixture.rs` (a server with auth and a batch whose instance is
+//!   named `<script>alert(1)</script>`, stepped on request): no console errors, the batch
+//!   listed, the 3D view changing as the env steps, a wrong token seeing nothing.
+//! - `benches/remote_vs_local.rs`: the remote-against-in-process benchmark;
+//!   `examples/fairness.rs`: tenant fairness (I1).
+//! - `tests/fuzz_corpora.rs` replays the fuzz corpora through the fuzz targets' own bodies,
+//!   as an ordinary test. `tests/alloc_bounds.rs` (its own binary: a counting global
+//!   allocator, dhat's) states and checks what the costliest inputs of the largest accepted
+//!   size may allocate (peak, bytes in all, allocations) through `DirectService`.
+//! - `tests/tidy/` checks the source tree itself: no crate's modules import each other in a
+//!   loop (`main.rs`), every cited Markdown file is in the repository (`citations.rs`), and
+//!   no non-test function passes 80 lines but the listed ones, which may only shrink
+//!   (`functions.rs`).
+//!
+//! Tests never sleep through idle time: clocks are injected, and the idle sweeper sweeps
+//! whenever a manual clock moves, with `Clock::swept` waiting for that sweep
+//! (`lifecycle.rs`, `dashboard.rs`). Deadlines are tested with the server's test gate
+//! (`ServerConfig::job_gate`, debug builds only): a held job makes the deadline pass on any
+//! machine, and the test waits until the job has seen its caller gone (`security.rs`). The
+//! pool's fairness test holds its chunks at a gate instead of sleeping in them. What still
+//! leans on time are hang guards only: a minute's bound on `swept`, and `fleet.rs`'s 60 s
+//! on a keepalive failure. Tests that read `GYMFLEET_*` defaults clear those variables
+//! first.
 
 use std::net::SocketAddr;
 

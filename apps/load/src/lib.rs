@@ -23,6 +23,18 @@
 //! let report = run(&config).expect("run");
 //! print!("{}", render_table(&report));
 //! ```
+//!
+//! # Modes and report
+//!
+//! The same workload runs remote (unary or streamed, against `--server`s or an embedded
+//! server) or `--in-process` through `gymfleet-batch`; `--compare [--rounds K]` runs both,
+//! K times alternated, for the remote / in-process ratio, and `--replay FILE` then records
+//! one env of the model with the run's actions (`Replay`) and writes an HTML replay. The
+//! report has latency histograms (hdrhistogram), a results table and `--json FILE`. Each
+//! run's CPU time against its wall time (`cpu.rs`, from `/proc/self/stat`) is in the
+//! report, with a warning when a run that simulates in this process was starved, and local
+//! runs print the reference for their workload from `reference.json` (`reference.rs`,
+//! compiled in).
 
 mod actions;
 mod cli;

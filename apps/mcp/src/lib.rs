@@ -11,6 +11,30 @@
 //!
 //! The binary (`src/main.rs`) only calls [`main`]; [`serve_session`] serves one session on
 //! any byte stream (the fuzz target of `fuzz/` drives it over an in-memory pipe).
+//!
+//! # Modules
+//!
+//! Beside the guide's nine tools the adapter has five more: `gym_set_mocap_pose`,
+//! `gym_render`, `list_models`, `gym_save_state` and `gym_load_state` (14 in all). The
+//! create tools take a `task` (`task.rs`); every tool answers guide-shaped JSON (structured
+//! content plus the same text) with input and output schemas that describe every field
+//! (`params.rs`: `batch_create_envs` flattens `create_robot_env`'s options; `output.rs`:
+//! both create tools flatten one `EnvShape`; `schema.rs`). The tools are in `env_tools.rs`
+//! and `batch_tools.rs`; tool errors an agent can act on are one `thiserror` enum,
+//! `McpError` (`errors.rs`). Stdio is the default transport (logs on stderr), streamable
+//! HTTP comes with `--http` (`transport.rs`). The adapter holds its own id table
+//! (`sim_<n>`, `batch_<n>`) mapped to client handles on one or several `--server`s
+//! (`servers.rs`, `fleet.rs`). `conformance/run.sh` runs the official MCP conformance suite
+//! (npm) against the adapter; CI runs it.
+//!
+//! # Why `embedded` is a default feature
+//!
+//! `embedded` stays a default feature of the adapter and of the load client on purpose: the
+//! first thing a new user or an agent host does is run the tool with no flags, and it must
+//! work without a server running somewhere (one command, docs/design.md §1). The cost is
+//! build time and binary size, paid only by those who do not opt out; deployments that
+//! always pass `--server` build with `--no-default-features`, and CI builds and tests that
+//! path (`.ci/run`).
 
 mod actions;
 mod batch_tools;

@@ -7,6 +7,30 @@
 //!
 //! The gymnasium classes, the spaces and the registration are plain Python in
 //! `python/gymfleet/`; this crate knows nothing of gymnasium.
+//!
+//! # Modules
+//!
+//! - `runtime.rs`: one tokio runtime; `wait` runs a client call with the GIL released and
+//!   an optional deadline. Without a deadline it runs inside
+//!   `gymfleet_server::run_jobs_here`, so the embedded server's pool work for the call runs
+//!   on the calling thread.
+//! - `servers.rs`: `server=None` is the process's embedded `LocalServer`, started on first
+//!   use and called in-process through `LocalServer::in_process` (no socket); `"host:port"`
+//!   one server; a comma list a `Fleet`. One `Client` is cached per address. The `Server`
+//!   class runs more servers inside the process, each on a loopback port.
+//! - `env.rs` and `batch.rs`: the `EnvHandle` and `BatchHandle` classes: numpy in, numpy
+//!   out, observations taken over from the reply's vector; a batch is always a
+//!   `FleetBatch`, of one shard on one server. `stream.rs`: `StepStream`, one server's
+//!   batch's `BatchStream` for the asynchronous API. `rows.rs`: a step's rows as numpy
+//!   arrays, for both.
+//! - `options.rs` (option checks at the boundary), `errors.rs` (a `ClientError` → the
+//!   `gymfleet.errors` class of its status), `info.rs`, `render.rs`, and `models.rs` (the
+//!   seed models, compiled in).
+//!
+//! The crate is a workspace member, so fmt and clippy cover it, but it has no Rust tests (a
+//! Python extension does not link on its own): `client/python/tests/` is pytest, run by
+//! `.ci/run` against the package pip installs. The Python side is described in
+//! docs/internals.md. It knows no physics and no proto types.
 
 mod batch;
 mod env;

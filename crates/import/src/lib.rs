@@ -32,6 +32,80 @@
 //!
 //! Everything else is an error naming the element and its line, or, when it has no effect
 //! on the dynamics, a warning.
+//!
+//! # Modules
+//!
+//! Both converters build the typed `gymfleet_assembly::Document` (its `*Def` types
+//! serialise as well as parse, absent options left out) and serialise it once
+//! (`Converted::of`). `convert` (the format given or detected by `Format::detect`, then
+//! `to_json`) is the one way a description becomes a document: the server's requests and
+//! `ConvertDocument`, its model library, and `convert_file` (the load client's files and
+//! `examples/convert.rs`, which prints a conversion) all go through it. Errors name the
+//! element and line (or the archive entry and the JSON path); constructs that can be
+//! ignored become warnings.
+//!
+//! - `mjcf/` reads MJCF with `roxmltree`. `mod.rs`: the converter and the document's
+//!   assembly, dispatching the top-level elements (settings first, then the rest in
+//!   document order, then the bodies, then what names bodies: equalities, contacts,
+//!   sensors; keyframes last, in `finish`). Default classes and childclasses are resolved
+//!   per attribute; each geom is an instance with its own part; a body's extra geoms and
+//!   joint-less bodies are welded; several joints per body are chained through helper
+//!   instances; motors are kept as a joint's `gear` (actions are MuJoCo's ctrl) and
+//!   `max_effort`, and a joint's `ref` as its `reference`; every `<site>` in a body and
+//!   every named body's origin is kept as a site; world geoms and joint-less bodies below
+//!   the world are `fixed` instances; a top-level body with a free joint and joints below
+//!   it is the floating base, one with no joints below it a free body; `mocap="true"`
+//!   bodies are mocap instances; `<flag>`s that switch off contacts, limits, equalities,
+//!   constraints or gravity are honoured in the document they write. One file per element:
+//!   - `attributes.rs`: attributes through default classes, compiler and `<option>`
+//!     settings, frames.
+//!   - `actuators.rs`: every `<actuator>` element read as MuJoCo's reader reads it, into
+//!     its general form from its class's one actuator default (`actuator_form.rs`: the
+//!     general form and each tag's shortcut, MuJoCo's `mjs_setTo*`); then either plain
+//!     joint motors, in the joints' order, kept on their joints (`gear`, `max_effort`), or
+//!     every actuator into `assembly.actuators`, in order.
+//!   - `bodies.rs`: the tree, helpers, welds, inertials and sites; `joints.rs`; `geoms.rs`;
+//!     `soft.rs`: a geom's `solref`/`solimp`/`margin` as its material's `soft_contact`.
+//!   - `meshes.rs`: `<asset><mesh>` and mesh geoms as `{"type": "mesh", "file"}` under
+//!     `meshdir`.
+//!   - `tendons.rs`: `<tendon><fixed>` and `<tendon><spatial>` through sites into
+//!     `assembly.tendons` (friction loss, wrapping geoms and pulleys refused).
+//!   - `hfields.rs`: `<asset><hfield>` (inline, flat or a PNG, normalised and flipped into
+//!     `hfield_data` order) and hfield geoms into heightfield primitives, each base a box
+//!     under its terrain (a PNG is read with the meshes, `crate::meshes`).
+//!   - `contacts.rs`: `<contact>` `<exclude>` and `<pair>` into `assembly.contacts` (body
+//!     names to their geoms' instances, read after `<worldbody>`).
+//!   - `equality.rs`: `<equality>` `<connect>`/`<weld>` between named bodies
+//!     (`Converter::bodies`) into loop-closing joints (ball or fixed, `"observed": false`),
+//!     and `<joint>`/`<tendon>` into `assembly.couplings`, read after `<worldbody>`.
+//!   - `keyframes.rs`: `<keyframe><key>` into `assembly.keyframes`, through MuJoCo's qpos
+//!     layout recorded joint by joint as the tree is converted (`QposSlot`; a free base's
+//!     body-frame pose becomes its instance's).
+//!   - `sensors.rs`: `<sensor>` into `assembly.sensors`, after the bodies, through the
+//!     sites the conversion kept (`Converter::site_of`, `body_sites`; a world `<site>` is a
+//!     site of the world's instance, after every body's) and the geoms' instances.
+//!   - `include.rs`: `<include file>` spliced before parsing, from a reader the caller
+//!     gives (the assets in `to_json`, or `to_json_in` with the model's folder among them,
+//!     as a request's `document_path` gives it; in `convert_file`, the file's folder and up
+//!     to three folders above it). Every include and mesh file is resolved from the main
+//!     file's folder as MuJoCo resolves them (`asset_path`, `../` allowed while it stays
+//!     inside the assets); nesting and size are bounded.
+//! - `frame.rs`: frames composed in f64 with `glam`, and rotations written as the
+//!   document's Euler angles.
+//! - `urdf.rs` reads URDF the same way: the tree is walked from its one root link, or from
+//!   a `floating` joint's child when the root is an empty world link; each `<collision>` is
+//!   an instance, `<inertial>` is moved into the instance's frame, and meshes become
+//!   `{"type": "mesh", "file"}`. `urdf/tree.rs` reads the links and joints into the checked
+//!   tree and walks it; `urdf/links.rs` and `urdf/joints.rs` convert the two.
+//! - `assets.rs` reads a request's archive (zip, tar, tar.gz; or a folder,
+//!   `Assets::from_dir`) under bounds (`MAX_ASSET_FILES` = 4096 files, `MAX_ASSET_BYTES` =
+//!   64 MiB inflated, counted as they inflate; no absolute paths or `..`) and resolves
+//!   `package://` and relative references.
+//! - `meshes.rs` reads STL, OBJ and DAE with `mesh-loader` (never the file system) and
+//!   replaces each mesh `file` by its vertices (a hull's only), so the document is
+//!   self-contained.
+//! - `xml.rs` holds what both XML readers share: errors naming the element and its line,
+//!   warnings given once, unique names.
 
 mod assets;
 mod frame;

@@ -7,6 +7,22 @@
 //! buffer, and PNG encoding (the `png` crate). Shapes are tessellated by parry. It leaves
 //! the scene to `gymfleet-env` and knows nothing of networks: the server runs it on its
 //! pool like a step.
+//!
+//! `render(scene, camera, width, height) -> Frame` rasterises an `env::Scene`: parts
+//! tessellated by parry, a depth buffer, Lambert shading with one light, a ground grid on
+//! z = 0 whose spacing (1, 2 or 5 × 10ⁿ mm) follows the camera, and joint axes, end
+//! effectors and a reach target drawn on top. `Camera` is a preset (`iso`, `front`,
+//! `side`, `top`) that frames the robot's bounding sphere, or an explicit eye, target and
+//! field of view, in perspective or orthographic. `Frame::to_png` encodes with the `png`
+//! crate, `describe` gives agents a one-paragraph account, and `Frame::instance_ids` says
+//! which instance each pixel shows (the tests measure silhouettes with it).
+//!
+//! `lib.rs` holds the API and the drawing order; `tessellate.rs` the shapes' triangles;
+//! `view.rs` the camera made concrete (bounds, projection); `raster.rs` the pixels (depth
+//! buffer, grid, label, markers). The scene comes from physics' `scene.rs`
+//! (`RobotWorld::scene_parts`, `scene_joints`: collider shapes and world poses in mm) via
+//! `RobotEnv::scene`. Pure CPU code: no tokio, tonic or prost; the server runs it on the
+//! pool like a step (`Render`).
 
 mod raster;
 mod tessellate;
