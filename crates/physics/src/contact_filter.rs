@@ -147,43 +147,7 @@ pub(crate) fn contact_filter(
     let group = rigid_groups(assembly);
     let n = assembly.instances.len();
     let collides = |i: usize| assembly.instances[i].collision != (0, 0);
-    let mut grounded_group = vec![false; n];
-    let mut colliding_group = vec![false; n];
-    for i in 0..n {
-        grounded_group[group[i]] |= assembly.instances[i].grounded;
-        colliding_group[group[i]] |= collides(i);
-    }
-    let grounded = |g: usize| grounded_group[g];
-    let transparent = |g: usize| !colliding_group[g];
-    // Joints between groups (fixed joints are inside them).
-    let mut edges: Vec<Vec<usize>> = vec![Vec::new(); n];
-    for j in assembly
-        .joints
-        .iter()
-        .filter(|j| j.kind != JointType::Fixed)
-    {
-        let (a, b) = (group[j.parent], group[j.child]);
-        edges[a].push(b);
-        edges[b].push(a);
-    }
-    let mut pairs: HashSet<(usize, usize)> = HashSet::new();
-    for g in (0..n).filter(|&g| group[g] == g && !transparent(g) && !grounded(g)) {
-        pairs.insert((g, g));
-        // The colliding groups one joint away, through groups that collide with nothing.
-        let mut seen = vec![false; n];
-        seen[g] = true;
-        let mut stack = edges[g].clone();
-        while let Some(h) = stack.pop() {
-            if std::mem::replace(&mut seen[h], true) {
-                continue;
-            }
-            if transparent(h) {
-                stack.extend(edges[h].iter().copied());
-            } else if !grounded(h) {
-                pairs.insert((g.min(h), g.max(h)));
-            }
-        }
-    }
+    let pairs = neighbour_groups(assembly, &group);
     // Each group's colliding instances.
     let mut members: Vec<Vec<usize>> = vec![Vec::new(); n];
     for i in (0..n).filter(|&i| collides(i)) {
@@ -221,6 +185,52 @@ pub(crate) fn contact_filter(
         excluded: Arc::from(excluded),
         pairs,
     }
+}
+
+/// The pairs of rigid groups (`group[i]`: instance `i`'s) kept from colliding: each
+/// colliding, ungrounded group with itself and with the colliding, ungrounded groups one
+/// joint away, through groups that collide with nothing.
+fn neighbour_groups(assembly: &Assembly, group: &[usize]) -> HashSet<(usize, usize)> {
+    let n = assembly.instances.len();
+    let collides = |i: usize| assembly.instances[i].collision != (0, 0);
+    let mut grounded_group = vec![false; n];
+    let mut colliding_group = vec![false; n];
+    for i in 0..n {
+        grounded_group[group[i]] |= assembly.instances[i].grounded;
+        colliding_group[group[i]] |= collides(i);
+    }
+    let grounded = |g: usize| grounded_group[g];
+    let transparent = |g: usize| !colliding_group[g];
+    // Joints between groups (fixed joints are inside them).
+    let mut edges: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for j in assembly
+        .joints
+        .iter()
+        .filter(|j| j.kind != JointType::Fixed)
+    {
+        let (a, b) = (group[j.parent], group[j.child]);
+        edges[a].push(b);
+        edges[b].push(a);
+    }
+    let mut pairs: HashSet<(usize, usize)> = HashSet::new();
+    for g in (0..n).filter(|&g| group[g] == g && !transparent(g) && !grounded(g)) {
+        pairs.insert((g, g));
+        // The colliding groups one joint away, through groups that collide with nothing.
+        let mut seen = vec![false; n];
+        seen[g] = true;
+        let mut stack = edges[g].clone();
+        while let Some(h) = stack.pop() {
+            if std::mem::replace(&mut seen[h], true) {
+                continue;
+            }
+            if transparent(h) {
+                stack.extend(edges[h].iter().copied());
+            } else if !grounded(h) {
+                pairs.insert((g.min(h), g.max(h)));
+            }
+        }
+    }
+    pairs
 }
 
 /// The document's explicit pairs on their colliders: each collider of one widened to meet

@@ -117,12 +117,6 @@ const LONG_FNS: &[(&str, &str, usize, &str)] = &[
         "a field per arm",
     ),
     (
-        "crates/physics/src/contact_filter.rs",
-        "contact_filter",
-        85,
-        "filters in turn",
-    ),
-    (
         "crates/import/src/urdf/links.rs",
         "link",
         82,
