@@ -111,12 +111,6 @@ const LONG_FNS: &[(&str, &str, usize, &str)] = &[
         "a frame form per arm",
     ),
     (
-        "crates/import/src/mjcf/keyframes.rs",
-        "keyframe",
-        86,
-        "a field per arm",
-    ),
-    (
         "crates/import/src/urdf/links.rs",
         "link",
         82,

@@ -88,64 +88,7 @@ impl<'a, 'i> Converter<'a, 'i> {
                 &qpos.as_deref().map(|p| &p[q..q + dq]),
                 &qvel.as_deref().map(|p| &p[v..v + dv]),
             );
-            match slot {
-                QposSlot::Joint {
-                    name: joint,
-                    prismatic,
-                } => {
-                    let unit = |x: f64| if *prismatic { x * MM } else { x.to_degrees() };
-                    if let Some(p) = qs {
-                        def.positions.insert(joint.clone(), unit(p[0]));
-                    }
-                    if let Some(w) = vs.filter(|w| w[0] != 0.0) {
-                        def.velocities.insert(joint.clone(), unit(w[0]));
-                    }
-                }
-                QposSlot::Ball { name: joint } => {
-                    let turned = qs.is_some_and(|p| {
-                        (p[0] - 1.0).abs() > UNAPPLIED_TOLERANCE
-                            || p[1..].iter().any(|x| x.abs() > UNAPPLIED_TOLERANCE)
-                    });
-                    if let Some(p) = qs.filter(|_| turned) {
-                        def.rotations
-                            .insert(joint.clone(), [p[0], p[1], p[2], p[3]]);
-                    }
-                    if let Some(w) = vs.filter(|w| w.iter().any(|x| *x != 0.0)) {
-                        let spin = [w[0], w[1], w[2]].map(f64::to_degrees);
-                        def.spins.insert(joint.clone(), Vec3::from(spin));
-                    }
-                }
-                QposSlot::Free {
-                    base: true,
-                    frame,
-                    body,
-                    ..
-                } => {
-                    def.base = Some(base_key(qs.unwrap_or(&[]), vs.unwrap_or(&[]), body, frame));
-                }
-                QposSlot::Free { instance, body, .. } => {
-                    let moved = qs.is_some_and(|p| !at_frame(p, body))
-                        || vs.is_some_and(|w| w.iter().any(|x| *x != 0.0));
-                    if moved {
-                        // Its instance is its body frame: the key's qpos and qvel as observed.
-                        let p = qs.map_or_else(|| frame_qpos(body), <[f64]>::to_vec);
-                        let w = vs.map_or([0.0; 6].to_vec(), <[f64]>::to_vec);
-                        def.free_bodies.insert(
-                            instance.clone(),
-                            BaseKeyDef {
-                                position: Vec3::from([p[0], p[1], p[2]].map(|c| c * MM)),
-                                orientation: [p[3], p[4], p[5], p[6]],
-                                linear_velocity: Some(Vec3::from(
-                                    [w[0], w[1], w[2]].map(|c| c * MM),
-                                )),
-                                angular_velocity: Some(Vec3::from(
-                                    [w[3], w[4], w[5]].map(f64::to_degrees),
-                                )),
-                            },
-                        );
-                    }
-                }
-            }
+            key_slot(&mut def, slot, *qs, *vs);
             q += dq;
             v += dv;
         }
@@ -289,5 +232,66 @@ fn base_key(qpos: &[f64], qvel: &[f64], body: &Frame, frame: &Frame) -> BaseKeyD
         linear_velocity: (linear != DVec3::ZERO).then(|| vec3(linear * MM)),
         angular_velocity: (angular != DVec3::ZERO)
             .then(|| vec3(angular * (180.0 / std::f64::consts::PI))),
+    }
+}
+
+/// One joint's part of a key (`qs` its qpos, `vs` its qvel, where the key gives them) into
+/// `def`, in the document's units: a hinge or slide's position and non-zero velocity, a
+/// ball's turned rotation and spin, the floating base's pose and motion, a free body's
+/// where it moved.
+fn key_slot(def: &mut KeyframeDef, slot: &QposSlot, qs: Option<&[f64]>, vs: Option<&[f64]>) {
+    match slot {
+        QposSlot::Joint {
+            name: joint,
+            prismatic,
+        } => {
+            let unit = |x: f64| if *prismatic { x * MM } else { x.to_degrees() };
+            if let Some(p) = qs {
+                def.positions.insert(joint.clone(), unit(p[0]));
+            }
+            if let Some(w) = vs.filter(|w| w[0] != 0.0) {
+                def.velocities.insert(joint.clone(), unit(w[0]));
+            }
+        }
+        QposSlot::Ball { name: joint } => {
+            let turned = qs.is_some_and(|p| {
+                (p[0] - 1.0).abs() > UNAPPLIED_TOLERANCE
+                    || p[1..].iter().any(|x| x.abs() > UNAPPLIED_TOLERANCE)
+            });
+            if let Some(p) = qs.filter(|_| turned) {
+                def.rotations
+                    .insert(joint.clone(), [p[0], p[1], p[2], p[3]]);
+            }
+            if let Some(w) = vs.filter(|w| w.iter().any(|x| *x != 0.0)) {
+                let spin = [w[0], w[1], w[2]].map(f64::to_degrees);
+                def.spins.insert(joint.clone(), Vec3::from(spin));
+            }
+        }
+        QposSlot::Free {
+            base: true,
+            frame,
+            body,
+            ..
+        } => {
+            def.base = Some(base_key(qs.unwrap_or(&[]), vs.unwrap_or(&[]), body, frame));
+        }
+        QposSlot::Free { instance, body, .. } => {
+            let moved = qs.is_some_and(|p| !at_frame(p, body))
+                || vs.is_some_and(|w| w.iter().any(|x| *x != 0.0));
+            if moved {
+                // Its instance is its body frame: the key's qpos and qvel as observed.
+                let p = qs.map_or_else(|| frame_qpos(body), <[f64]>::to_vec);
+                let w = vs.map_or([0.0; 6].to_vec(), <[f64]>::to_vec);
+                def.free_bodies.insert(
+                    instance.clone(),
+                    BaseKeyDef {
+                        position: Vec3::from([p[0], p[1], p[2]].map(|c| c * MM)),
+                        orientation: [p[3], p[4], p[5], p[6]],
+                        linear_velocity: Some(Vec3::from([w[0], w[1], w[2]].map(|c| c * MM))),
+                        angular_velocity: Some(Vec3::from([w[3], w[4], w[5]].map(f64::to_degrees))),
+                    },
+                );
+            }
+        }
     }
 }
