@@ -342,15 +342,16 @@ export type EnvOptions = Message<"gymfleet.v1.EnvOptions"> & {
 
   /**
    * Instance names whose poses are observed, in observation order (a name that is
-   * no instance's but a site's observes the site's point, with its instance's
-   * orientation). May be empty.
+   * no instance's but a site's observes the site's point, with the site's axes).
+   * May be empty.
    *
    * @generated from field: repeated string end_effector_ids = 2;
    */
   endEffectorIds: string[];
 
   /**
-   * Duration of one env step, s. 0 means the default, 1/240 s.
+   * Duration of one env step, s. 0 means the default: the document's
+   * `simulation.dt`, else 1/240 s.
    *
    * @generated from field: double dt = 3;
    */
@@ -959,8 +960,9 @@ export const UprightTaskSchema: GenMessage<UprightTask> = /*@__PURE__*/
 export type TermsTask = Message<"gymfleet.v1.TermsTask"> & {
   /**
    * The task as JSON: {"terms": [{"name", "weight", one of "velocity", "value",
-   * "ctrl_cost", "healthy", "distance", "square", "contact_cost"}], "healthy": {...},
-   * "reset_noise": {...}}.
+   * "ctrl_cost", "healthy", "distance", "square", "contact_cost", "tolerance", "sum",
+   * "product", "norm"}], "healthy": {...}, "reset_noise": {...}} (the guide's
+   * docs/tasks.md has each kind).
    *
    * @generated from field: string json = 1;
    */
@@ -1032,7 +1034,9 @@ export const TaskSchema: GenMessage<Task> = /*@__PURE__*/
  */
 export type ObservationSegment = Message<"gymfleet.v1.ObservationSegment"> & {
   /**
-   * "joint_positions", "joint_velocities", "end_effector_poses" or "target".
+   * "joint_positions", "joint_velocities", "base_pose", "base_velocity",
+   * "free_body_poses", "free_body_velocities", "end_effector_poses" or "task" (a
+   * task's own floats: a reach task's target, a terms task's observed terms).
    *
    * @generated from field: string name = 1;
    */
@@ -3961,7 +3965,7 @@ export const Simulator: GenService<{
     output: typeof BodiesSchema;
   },
   /**
-   * A description (MJCF today; URDF to come; JSON is checked and returned as is) as the
+   * A description (MJCF or URDF; JSON is checked and returned as is) as the
    * assembly JSON gymfleet builds from it, with what the conversion ignored. What
    * CreateEnv and CreateBatch build from a description of that format.
    *
