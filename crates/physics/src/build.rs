@@ -207,6 +207,10 @@ impl RobotWorld {
             pipeline_params: params,
             substep_params,
             substeps: options.substeps,
+            soft_contacts: assembly
+                .instances
+                .iter()
+                .any(|i| i.material.soft_contact.is_some()),
             gravity,
             bodies,
             colliders,

@@ -13,8 +13,10 @@ pub const WRENCH_LEN: usize = 6;
 impl RobotWorld {
     /// Writes into `out` (resized to one entry per instance, in document order) the wrench
     /// the last step's contacts applied to each instance: the torque about `about` (world
-    /// metres) in N·m, then the force in N, both world axes, averaged over the step. This is
-    /// MuJoCo's `cfrc_ext` of a body when `about` is its root's subtree centre of mass.
+    /// metres) in N·m, then the force in N, both world axes, averaged over the step (over its
+    /// last substep in a world stepped one pipeline step per substep, such as one with
+    /// MuJoCo's compliant contacts: `RobotWorld::step`). This is MuJoCo's `cfrc_ext` of a
+    /// body when `about` is its root's subtree centre of mass.
     ///
     /// Normal forces come from every contact; friction from the solver's per-point friction
     /// of contacts that involve a jointed instance (Rapier's multibody contacts are solved
@@ -42,12 +44,18 @@ impl RobotWorld {
     /// Calls `f(a, b, at, normal, force)` for every contact point of the last step: the two
     /// instances (`None` for a collider no instance owns), the point (world m), the normal
     /// force's magnitude (N) and the whole force on `a` (N, world; `b` gets its opposite),
-    /// averaged over the step (see [`RobotWorld::contact_wrenches`]).
+    /// averaged over the step or its last substep (see [`RobotWorld::contact_wrenches`]).
     pub(crate) fn for_each_contact(
         &self,
         mut f: impl FnMut(Option<usize>, Option<usize>, [f64; 3], f64, [f64; 3]),
     ) {
-        let inv_dt = 1.0 / self.dt();
+        // A world stepped one pipeline step per substep keeps the last substep's impulses:
+        // its forces are the last substep's (as MuJoCo's are its last timestep's).
+        let (inv_dt, substeps) = if self.steps_by_substep() {
+            (1.0 / f64::from(self.substep_params.dt), 1.0)
+        } else {
+            (1.0 / self.dt(), self.substeps as Real)
+        };
         let s = &self.live;
         let instance_of = |collider| self.colliders.iter().position(|&c| c == collider);
         let multibody = |collider| {
@@ -92,7 +100,7 @@ impl RobotWorld {
                     let friction: Vector = if per_point {
                         t1 * d.tangent_impulse.x + t2 * d.tangent_impulse.y
                     } else {
-                        d.warmstart_tangent_world * self.substeps as Real
+                        d.warmstart_tangent_world * substeps
                     };
                     let impulse = dir * d.impulse + friction;
                     let p1 = c1.position().transform_point(point.local_p1);

@@ -74,7 +74,8 @@
 //! velocity and spin, capped at the robot's size). A world whose efforts depend on the
 //! state (`has_state_dependent_efforts`: ball joints under targets, a fluid, a springy or
 //! damped tendon, a state-dependent actuator) instead steps one pipeline step per substep
-//! and recomputes them before each. After every step `RobotWorld::step` refreshes the
+//! and recomputes them before each; so does a world with MuJoCo's compliant contacts (an
+//! MJCF geom's), whose contacts MuJoCo detects at every timestep (`steps_by_substep`). After every step `RobotWorld::step` refreshes the
 //! links' body velocities from the generalized ones (vendored patch 19), so every velocity
 //! read from a body is the step's.
 //!

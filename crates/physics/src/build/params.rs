@@ -48,7 +48,8 @@ pub(super) fn integration_parameters(
 ) -> (IntegrationParameters, IntegrationParameters) {
     // One step is one pipeline step whose solver substeps are the integration substeps:
     // collision detection runs once per step (contacts are speculative, so a contact
-    // about to close within the step is still solved at every substep).
+    // about to close within the step is still solved at every substep). Worlds with
+    // MuJoCo's compliant contacts detect at every substep instead (`RobotWorld::step`).
     let mut params = IntegrationParameters {
         dt: options.dt as Real,
         length_unit: length_unit(assembly),
