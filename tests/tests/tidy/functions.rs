@@ -110,12 +110,6 @@ const LONG_FNS: &[(&str, &str, usize, &str)] = &[
         89,
         "a frame form per arm",
     ),
-    (
-        "crates/import/src/urdf/links.rs",
-        "link",
-        82,
-        "visual, collision, inertial",
-    ),
 ];
 
 /// The byte ranges of `code`'s `#[cfg(test)]` modules (their braces included).

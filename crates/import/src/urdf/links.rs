@@ -20,41 +20,10 @@ impl<'a, 'i> Converter<'a, 'i> {
         let link_name = link.attribute("name").unwrap_or("link").to_string();
         let inertial = child(link, "inertial");
         let mass = match inertial {
-            Some(i) => {
-                let mass_node = child(i, "mass")
-                    .ok_or_else(|| self.unsupported(i, "no <mass value=…>".into()))?;
-                let m = self
-                    .number(mass_node, "value")?
-                    .ok_or_else(|| self.bad(mass_node, "value", "missing".into()))?;
-                if m < 0.0 {
-                    return Err(self.bad(
-                        mass_node,
-                        "value",
-                        format!("expected a mass ≥ 0 kg, got {m}"),
-                    ));
-                }
-                Some(m)
-            }
+            Some(i) => Some(self.link_mass(i)?),
             None => None,
         };
-        for node in elements(link) {
-            match node.tag_name().name() {
-                "visual" => self.warn(
-                    node,
-                    "ignored (only <collision> shapes are simulated)".into(),
-                ),
-                "self_filter" => self.warn(
-                    node,
-                    "ignored (a ROS sensor-filtering setting, no effect on the dynamics)".into(),
-                ),
-                "inertial" | "collision" | "contact" => {}
-                other => {
-                    return Err(
-                        self.unsupported(node, format!("<{other}> in <link> is not supported"))
-                    )
-                }
-            }
-        }
+        self.link_children(link)?;
         let massless = mass == Some(0.0);
         if massless {
             self.warn(link, "a link of mass 0 (a frame) weighs 1 mg".into());
@@ -97,6 +66,47 @@ impl<'a, 'i> Converter<'a, 'i> {
             _ => {}
         }
         Ok(main)
+    }
+
+    /// An `<inertial>`'s `<mass value>`: given, and not negative.
+    fn link_mass(&mut self, inertial: Node<'a, 'i>) -> Result<f64> {
+        let mass_node = child(inertial, "mass")
+            .ok_or_else(|| self.unsupported(inertial, "no <mass value=…>".into()))?;
+        let m = self
+            .number(mass_node, "value")?
+            .ok_or_else(|| self.bad(mass_node, "value", "missing".into()))?;
+        if m < 0.0 {
+            return Err(self.bad(
+                mass_node,
+                "value",
+                format!("expected a mass ≥ 0 kg, got {m}"),
+            ));
+        }
+        Ok(m)
+    }
+
+    /// A `<link>`'s children: `<visual>` and `<self_filter>` ignored with a warning, any
+    /// other than `<inertial>`, `<collision>` and `<contact>` refused.
+    fn link_children(&mut self, link: Node<'a, 'i>) -> Result<()> {
+        for node in elements(link) {
+            match node.tag_name().name() {
+                "visual" => self.warn(
+                    node,
+                    "ignored (only <collision> shapes are simulated)".into(),
+                ),
+                "self_filter" => self.warn(
+                    node,
+                    "ignored (a ROS sensor-filtering setting, no effect on the dynamics)".into(),
+                ),
+                "inertial" | "collision" | "contact" => {}
+                other => {
+                    return Err(
+                        self.unsupported(node, format!("<{other}> in <link> is not supported"))
+                    )
+                }
+            }
+        }
+        Ok(())
     }
 
     /// PyBullet's `<contact>` extension: `lateral_friction` and `restitution` become the
