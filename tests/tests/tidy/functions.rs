@@ -104,12 +104,6 @@ const LONG_FNS: &[(&str, &str, usize, &str)] = &[
         98,
         "the stages in turn",
     ),
-    (
-        "crates/import/src/mjcf/attributes.rs",
-        "local_frame",
-        89,
-        "a frame form per arm",
-    ),
 ];
 
 /// The byte ranges of `code`'s `#[cfg(test)]` modules (their braces included).

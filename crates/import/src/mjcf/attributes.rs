@@ -387,7 +387,19 @@ impl<'a, 'i> Converter<'a, 'i> {
         }
         let rotation = match given.first().copied() {
             None => DQuat::IDENTITY,
-            Some("quat") => {
+            Some(form) => self.orientation(node, class, form)?,
+        };
+        Ok(Frame {
+            translation: DVec3::from_array(p),
+            rotation,
+        })
+    }
+
+    /// An element's orientation given in `form` (`quat`, `euler`, `axisangle`, `zaxis` or
+    /// `xyaxes`), as MuJoCo reads each.
+    fn orientation(&self, node: Node<'a, 'i>, class: Option<&str>, form: &str) -> Result<DQuat> {
+        Ok(match form {
+            "quat" => {
                 let [w, x, y, z] = self
                     .exactly::<4>(node, class, "quat")?
                     .unwrap_or([1.0, 0.0, 0.0, 0.0]);
@@ -401,14 +413,14 @@ impl<'a, 'i> Converter<'a, 'i> {
                 }
                 q.normalize()
             }
-            Some("euler") => {
+            "euler" => {
                 // MuJoCo's default eulerseq "xyz": intrinsic x, then y, then z.
                 let [a, b, c] = self.exactly::<3>(node, class, "euler")?.unwrap_or([0.0; 3]);
                 DQuat::from_rotation_x(self.angle(a))
                     * DQuat::from_rotation_y(self.angle(b))
                     * DQuat::from_rotation_z(self.angle(c))
             }
-            Some("axisangle") => {
+            "axisangle" => {
                 let [x, y, z, angle] = self
                     .exactly::<4>(node, class, "axisangle")?
                     .unwrap_or([0.0, 0.0, 1.0, 0.0]);
@@ -418,7 +430,7 @@ impl<'a, 'i> Converter<'a, 'i> {
                 }
                 DQuat::from_axis_angle(axis.normalize(), self.angle(angle))
             }
-            Some("zaxis") => {
+            "zaxis" => {
                 let [x, y, z] = self
                     .exactly::<3>(node, class, "zaxis")?
                     .unwrap_or([0.0, 0.0, 1.0]);
@@ -428,7 +440,7 @@ impl<'a, 'i> Converter<'a, 'i> {
                 }
                 z_onto(axis.normalize())
             }
-            Some("xyaxes") => {
+            "xyaxes" => {
                 // MuJoCo's rule: x normalized, y made orthogonal to x, z = x × y.
                 let [x0, x1, x2, y0, y1, y2] = self
                     .exactly::<6>(node, class, "xyaxes")?
@@ -450,15 +462,11 @@ impl<'a, 'i> Converter<'a, 'i> {
                 let y = y.normalize();
                 DQuat::from_mat3(&DMat3::from_cols(x, y, x.cross(y))).normalize()
             }
-            Some(other) => {
+            other => {
                 return Err(
                     self.unsupported(node, format!("{other} orientations are not supported yet"))
                 )
             }
-        };
-        Ok(Frame {
-            translation: DVec3::from_array(p),
-            rotation,
         })
     }
 }
