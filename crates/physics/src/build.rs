@@ -20,7 +20,7 @@ mod rehang;
 mod slots;
 mod trees;
 
-use params::integration_parameters;
+use params::{compliant_contacts_possible, integration_parameters};
 use slots::{joint_slots, set_armatures};
 use trees::{
     apply_initial_positions, fold_owners, generic_joint, held_fixed, insert_trees,
@@ -207,10 +207,7 @@ impl RobotWorld {
             pipeline_params: params,
             substep_params,
             substeps: options.substeps,
-            soft_contacts: assembly
-                .instances
-                .iter()
-                .any(|i| i.material.soft_contact.is_some()),
+            soft_contacts: compliant_contacts_possible(assembly),
             gravity,
             bodies,
             colliders,

@@ -270,9 +270,9 @@ pub struct RobotWorld {
     /// be recomputed every substep (see [`RobotWorld::step`]).
     pub(crate) substep_params: IntegrationParameters,
     pub(crate) substeps: u32,
-    /// Whether some instance's material has MuJoCo's compliant contacts (an MJCF geom's):
-    /// contacts are then detected at every substep, as MuJoCo detects them at every
-    /// timestep (see [`RobotWorld::step`]).
+    /// Whether an instance with MuJoCo's compliant contacts (an MJCF geom's) can touch
+    /// another: contacts are then detected at every substep, as MuJoCo detects them at
+    /// every timestep (see [`RobotWorld::step`]).
     pub(crate) soft_contacts: bool,
     pub(crate) gravity: Vector,
     /// Each instance's body, in document order. An instance welded to a moving one

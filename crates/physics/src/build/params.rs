@@ -100,3 +100,36 @@ pub(super) fn integration_parameters(
     };
     (params, substep_params)
 }
+
+/// Whether some instance with MuJoCo's compliant contacts can touch another (MuJoCo's rule
+/// on the collision bits, `a.group & b.mask` or `b.group & a.mask`, or an explicit pair):
+/// only then are contacts detected at every substep (`RobotWorld::step`). Gymnasium's
+/// InvertedPendulum, whose geoms all have `contype` 0, has none.
+pub(super) fn compliant_contacts_possible(assembly: &Assembly) -> bool {
+    let soft = |i: usize| assembly.instances[i].material.soft_contact.is_some();
+    if assembly
+        .contacts
+        .pairs
+        .iter()
+        .any(|p| soft(p.a) || soft(p.b))
+    {
+        return true;
+    }
+    // How many instances carry each bit in their group and in their mask.
+    let (mut groups, mut masks) = ([0usize; 32], [0usize; 32]);
+    for inst in &assembly.instances {
+        for b in 0..32 {
+            groups[b] += (inst.collision.0 >> b & 1) as usize;
+            masks[b] += (inst.collision.1 >> b & 1) as usize;
+        }
+    }
+    // Another instance (not `inst` itself) has bit `b` in `counts`.
+    let other = |counts: &[usize; 32], own: u32, b: usize| counts[b] > (own >> b & 1) as usize;
+    (0..assembly.instances.len()).filter(|&i| soft(i)).any(|i| {
+        let (group, mask) = assembly.instances[i].collision;
+        (0..32).any(|b| {
+            (group >> b & 1 == 1 && other(&masks, mask, b))
+                || (mask >> b & 1 == 1 && other(&groups, group, b))
+        })
+    })
+}
