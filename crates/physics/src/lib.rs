@@ -223,8 +223,8 @@
 //! - `state.rs`: `DynamicState` (joint coordinates and generalized velocities in Rapier's
 //!   own `f32`s, every body's motion, free roots' velocities, the held command): read out,
 //!   checked field by field (counts, finite and bounded values, limits, unit quaternions,
-//!   no command on a passive DOF) and put back exactly after a reset (patch 10 sets the
-//!   coordinates).
+//!   no command on a passive DOF; `state/check.rs`) and put back exactly after a reset
+//!   (patch 10 sets the coordinates).
 //!
 //! # What `world.rs` does not import
 //!

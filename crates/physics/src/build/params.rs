@@ -133,3 +133,44 @@ pub(super) fn compliant_contacts_possible(assembly: &Assembly) -> bool {
         })
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::compliant_contacts_possible;
+
+    /// A ball over a plane, the plane `soft` or not, with the ball's and the plane's
+    /// collision bits (group, mask).
+    fn doc(soft: bool, ball: (u32, u32), plane: (u32, u32)) -> gymfleet_assembly::Assembly {
+        let material = if soft {
+            r#"{"soft_contact": {}}"#
+        } else {
+            "{}"
+        };
+        let doc = format!(
+            r#"{{"parts": [
+                {{"name": "Ground", "primitive": {{"type": "plane"}}, "material": "m"}},
+                {{"name": "Ball", "primitive": {{"type": "sphere", "radius": 50}}}}],
+              "materials": {{"m": {material}}},
+              "assembly": {{"instances": [
+                {{"part": "Ground", "name": "ground", "collision": {{"group": {}, "mask": {}}}}},
+                {{"part": "Ball", "name": "ball", "position": {{"x": 0, "y": 0, "z": 60}},
+                  "collision": {{"group": {}, "mask": {}}}}}]}}}}"#,
+            plane.0, plane.1, ball.0, ball.1
+        );
+        gymfleet_assembly::parse(&doc).unwrap()
+    }
+
+    #[test]
+    fn contacts_are_detected_every_substep_only_where_a_compliant_instance_can_touch() {
+        // MuJoCo's rule: a.group & b.mask or b.group & a.mask.
+        assert!(compliant_contacts_possible(&doc(true, (1, 1), (1, 1))));
+        assert!(compliant_contacts_possible(&doc(true, (1, 0), (0, 1))));
+        assert!(compliant_contacts_possible(&doc(true, (0, 2), (2, 0))));
+        // InvertedPendulum's geoms: contype 0, conaffinity 1 on both sides.
+        assert!(!compliant_contacts_possible(&doc(true, (0, 1), (0, 1))));
+        // An instance's own bits do not count: the plane's group meets only its own mask.
+        assert!(!compliant_contacts_possible(&doc(true, (0, 0), (1, 1))));
+        // Rigid materials: detected once per step whatever the bits.
+        assert!(!compliant_contacts_possible(&doc(false, (1, 1), (1, 1))));
+    }
+}
