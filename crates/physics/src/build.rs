@@ -18,6 +18,7 @@ mod params;
 mod planar;
 mod rehang;
 mod slots;
+mod split;
 mod trees;
 
 use params::{compliant_contacts_possible, integration_parameters};
@@ -97,18 +98,12 @@ impl RobotWorld {
             shared[i] = true;
             shared[owner] = true;
         }
-        // Collision detection runs once per step, so contacts must be predicted: soft CCD
-        // widens each pair's contact prediction by how far its colliders' points can move in
-        // a step (centre-of-mass speed plus spin times radius, capped at the robot's size).
-        let reach = assembly_reach(&sets.colliders);
-        for &h in &bodies {
-            if sets.bodies[h].is_dynamic() {
-                sets.bodies[h].set_soft_ccd_prediction(reach);
-            }
-        }
+        predict_contacts(&mut sets, &bodies);
 
         let rehung = rehang::rehang_parents(assembly, &held);
-        let mut frames = insert_trees(&mut sets, assembly, &bodies, &welded_away, &roots, &rehung)?;
+        let anchors = split::split_trees(&mut sets, assembly, &bodies, &held, &roots, &rehung);
+        let hung = (&rehung[..], &anchors.of_joint[..]);
+        let mut frames = insert_trees(&mut sets, assembly, &bodies, &welded_away, &roots, hung)?;
 
         place_floating_trees(&mut sets);
 
@@ -136,7 +131,7 @@ impl RobotWorld {
         )?;
         // MuJoCo sizes each compliant contact and limit from its bodies at the model's pose.
         crate::colliders::set_invweights(&mut sets);
-        hang_slots(&mut joints, &rehung, &roots, &bodies);
+        hang_slots(&mut joints, &rehung, &anchors.of_joint, &roots, &bodies);
         let gravity = Vector::new(
             assembly.gravity[0] as Real,
             assembly.gravity[1] as Real,
@@ -171,7 +166,11 @@ impl RobotWorld {
             assembly,
             &bodies,
             &colliders,
-            &rehang::rehung_exclusions(assembly, &rehung),
+            &[
+                rehang::rehung_exclusions(assembly, &rehung),
+                anchors.exclusions,
+            ]
+            .concat(),
             &mut sets,
         );
         let references: Vec<f64> = dofs
@@ -309,11 +308,26 @@ fn check_options(options: &WorldOptions) -> Result<()> {
     Ok(())
 }
 
-/// Points each joint slot at the body it hangs from: a rehung joint's new parent, and a
-/// fused planar root's joints at the fixed instance above the chain.
+/// Collision detection runs once per step (where contacts are not MuJoCo's), so contacts
+/// must be predicted: soft CCD widens each pair's contact prediction by how far its
+/// colliders' points can move in a step (centre-of-mass speed plus spin times radius,
+/// capped at the robot's size).
+fn predict_contacts(sets: &mut Sets, bodies: &[RigidBodyHandle]) {
+    let reach = assembly_reach(&sets.colliders);
+    for &h in bodies {
+        if sets.bodies[h].is_dynamic() {
+            sets.bodies[h].set_soft_ccd_prediction(reach);
+        }
+    }
+}
+
+/// Points each joint slot at the body it hangs from: a rehung joint's new parent, a fused
+/// planar root's joints at the fixed instance above the chain, and a split tree's root
+/// at its anchor (`split.rs`).
 fn hang_slots(
     joints: &mut [JointSlot],
     rehung: &[Option<usize>],
+    anchors: &[Option<RigidBodyHandle>],
     roots: &[planar::PlanarRoot],
     bodies: &[RigidBodyHandle],
 ) {
@@ -325,6 +339,11 @@ fn hang_slots(
     for root in roots {
         for &j in &root.joints {
             joints[j].parent = bodies[root.parent];
+        }
+    }
+    for (slot, anchor) in joints.iter_mut().zip(anchors) {
+        if let Some(anchor) = anchor {
+            slot.parent = *anchor;
         }
     }
 }

@@ -65,7 +65,7 @@ impl ContactFilter {
     }
 
     /// Whether bodies `a` and `b` are kept from colliding.
-    fn excludes(&self, a: RigidBodyHandle, b: RigidBodyHandle) -> bool {
+    pub(crate) fn excludes(&self, a: RigidBodyHandle, b: RigidBodyHandle) -> bool {
         let wanted = order(&key(a, b));
         // A binary search of a few pairs: the hook runs for every pair the broad phase
         // finds, every step, and a hashed lookup cost about 380 instructions.

@@ -41,7 +41,7 @@ const LONG_FNS: &[(&str, &str, usize, &str)] = &[
     (
         "crates/physics/src/build.rs",
         "build",
-        213,
+        204,
         "bodies, joints, colliders, limits",
     ),
     (

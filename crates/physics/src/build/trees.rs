@@ -17,7 +17,7 @@ pub(super) fn insert_trees(
     bodies: &[RigidBodyHandle],
     welded_away: &[bool],
     roots: &[PlanarRoot],
-    rehung: &[Option<usize>],
+    (rehung, anchors): (&[Option<usize>], &[Option<RigidBodyHandle>]),
 ) -> Result<Vec<(Pose, Pose)>> {
     // Parents before children, so each insertion appends one link to a tree.
     let mut order: Vec<usize> = (0..assembly.joints.len()).collect();
@@ -27,7 +27,8 @@ pub(super) fn insert_trees(
     for &j in &order {
         let joint = &assembly.joints[j];
         // A tree rehung on another static body (`rehang.rs`) hangs from that one.
-        let parent = bodies[rehung[j].unwrap_or(joint.parent)];
+        // A tree split from the others on its fixed body (`split.rs`) hangs from its anchor.
+        let parent = anchors[j].unwrap_or(bodies[rehung[j].unwrap_or(joint.parent)]);
         let child = bodies[joint.child];
         let (f1, f2) = joint_frames(&sets.bodies, parent, child, joint);
         frames[j] = (f1, f2);
@@ -40,14 +41,16 @@ pub(super) fn insert_trees(
         // A planar root's hinge: the whole root, from the fixed instance above it.
         let root = roots.iter().find(|r| r.joints[2] == j);
         let (parent, top) = match root {
-            Some(r) => (bodies[r.parent], r.parent),
+            Some(r) => (anchors[j].unwrap_or(bodies[r.parent]), r.parent),
             None => (parent, joint.parent),
         };
         // A ground plane collides with what is jointed to it too (MuJoCo never filters
         // the world body's geoms): only the plane stops a link from falling through.
-        // A rehung child is no child of its new parent: the contact filter keeps it from
+        // A rehung or split child is no child of its new parent: the contact filter keeps it from
         // its former one instead.
-        let contacts = assembly.instances[top].shape.is_ground() || rehung[j].is_some();
+        let contacts = assembly.instances[top].shape.is_ground()
+            || rehung[j].is_some()
+            || anchors[j].is_some();
         let data = match root {
             Some(r) => {
                 let (parent_pose, body_pose) = (
