@@ -11,6 +11,9 @@ theirs (the least disturbed rounds on a shared machine), and each round's own ra
     pip install envpool==1.2.5 mujoco
     python bench/python/suite_bench.py --envs 64 256 --rounds 3 --seconds 3
 
+``--json PATH`` also writes every round's figures, with the commit and the date, for
+``bench/plots.py`` (``bench/results/suite.json`` is the report's).
+
 ``--server ADDR`` steps a running gymfleet-server (e.g. ``target/release/gymfleet-server
 --threads 2``) instead of the server embedded in this process. Not a test: nothing here
 asserts a speed.
@@ -19,6 +22,7 @@ asserts a speed.
 from __future__ import annotations
 
 import argparse
+import json
 import statistics
 import time
 from typing import Callable, Dict, List
@@ -95,7 +99,9 @@ def main() -> None:
     ap.add_argument("--threads", type=int, default=2, help="EnvPool's threads")
     ap.add_argument("--server", default=None, help="a running gymfleet-server; default: embedded")
     ap.add_argument("--no-sync", action="store_true", help="leave gymnasium's SyncVectorEnv out")
+    ap.add_argument("--json", default=None, help="also write the rounds here (bench/plots.py reads them)")
     args = ap.parse_args()
+    rows = []
     for name in args.names:
         for n in args.envs:
             runs: Dict[str, List[float]] = {"gymfleet": [], "envpool": [], "sync": []}
@@ -115,6 +121,12 @@ def main() -> None:
             line += (f"; fastest rounds {fg:9.0f} vs {fe:9.0f} ({fg / fe:.2f}x);"
                      f" each round vs EnvPool: {rounds}")
             print(line, flush=True)
+            rows.append({"name": name, "envs": n, **runs})
+    if args.json:
+        from provenance import provenance
+
+        with open(args.json, "w") as f:
+            json.dump({**provenance(), "envpool_threads": args.threads, "rows": rows}, f, indent=1)
 
 
 if __name__ == "__main__":
