@@ -42,6 +42,8 @@ NAMES = [
     "Walker2d",
     "Ant",
     "Swimmer",
+    "Humanoid",
+    "HumanoidStandup",
 ]
 
 
