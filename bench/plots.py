@@ -42,7 +42,7 @@ def suite(result: dict, out: pathlib.Path) -> None:
                 continue
             ratio = statistics.median(row["gymfleet"]) / statistics.median(row["envpool"])
             each = [g / e for g, e in zip(row["gymfleet"], row["envpool"])]
-            y = i + (k - (len(sizes) - 1) / 2) * height
+            y = i + ((len(sizes) - 1) / 2 - k) * height
             ax.barh(y, ratio, height=height * 0.9, color=colors[k % len(colors)],
                     label=f"{n} envs" if i == 0 else None)
             ax.plot([min(each), max(each)], [y, y], color="black", linewidth=0.8)

@@ -89,14 +89,13 @@ pub(crate) async fn serve_bound(
     health
         .set_serving::<SimulatorServer<SimulatorService>>()
         .await;
-    let reflection_v1 = tonic_reflection::server::Builder::configure()
-        .register_encoded_file_descriptor_set(gymfleet_proto::FILE_DESCRIPTOR_SET)
-        .register_encoded_file_descriptor_set(tonic_health::pb::FILE_DESCRIPTOR_SET)
-        .build_v1()?;
-    let reflection_v1alpha = tonic_reflection::server::Builder::configure()
-        .register_encoded_file_descriptor_set(gymfleet_proto::FILE_DESCRIPTOR_SET)
-        .register_encoded_file_descriptor_set(tonic_health::pb::FILE_DESCRIPTOR_SET)
-        .build_v1alpha()?;
+    let reflection = || {
+        tonic_reflection::server::Builder::configure()
+            .register_encoded_file_descriptor_set(gymfleet_proto::FILE_DESCRIPTOR_SET)
+            .register_encoded_file_descriptor_set(tonic_health::pb::FILE_DESCRIPTOR_SET)
+    };
+    let (reflection_v1, reflection_v1alpha) =
+        (reflection().build_v1()?, reflection().build_v1alpha()?);
 
     let mut simulator =
         SimulatorServer::new(SimulatorService::new(Arc::clone(&sim), stop_rx.clone()));
@@ -106,63 +105,8 @@ pub(crate) async fn serve_bound(
             .max_encoding_message_size(config.max_message_bytes);
     }
 
-    let metrics = match config.metrics_listen {
-        Some(addr) => {
-            let listener =
-                tokio::net::TcpListener::bind(addr)
-                    .await
-                    .map_err(|e| StartupError::Bind {
-                        addr: addr.to_string(),
-                        reason: e.to_string(),
-                    })?;
-            tracing::info!(addr = %listener.local_addr()?, "serving metrics at /metrics");
-            let sim = Arc::clone(&sim);
-            let scrape = Arc::new(move || sim.metrics().encode(&sim.gauges()));
-            Some(tokio::spawn(crate::metrics::serve_metrics(
-                listener, scrape,
-            )))
-        }
-        None => None,
-    };
-    let health_only = match config.health_listen {
-        Some(addr) => Some(serve_health(addr, health_service.clone()).await?),
-        None => None,
-    };
-    let dashboard = match dashboard {
-        Some(listener) => {
-            tracing::info!(addr = %listener.local_addr()?, "serving the dashboard at /");
-            Some(tokio::spawn(crate::dashboard::serve_dashboard(
-                listener,
-                Arc::clone(&sim),
-                config.clone(),
-                stop_rx.clone(),
-            )))
-        }
-        None => None,
-    };
-    let sweeper = config.idle_ttl().map(|ttl| {
-        tokio::spawn(sweep_idle(
-            Arc::clone(&sim),
-            ttl,
-            config.sweep_interval(),
-            config.clock.clone(),
-            stop_rx.clone(),
-        ))
-    });
-
-    let addr = listener.local_addr()?;
-    let tenants = config.auth_tokens.as_ref().map_or(0, |t| t.tenants().len());
-    tracing::info!(
-        %addr,
-        tls = config.tls.is_some(),
-        mutual_tls = config.tls.as_ref().is_some_and(|t| t.client_ca_pem.is_some()),
-        threads,
-        pool_niceness = config.pool_niceness,
-        idle_ttl_secs = config.idle_ttl.as_secs(),
-        auth = config.auth_tokens.is_some(),
-        tenants,
-        "serving gymfleet.v1.Simulator"
-    );
+    let background = Background::start(&config, &sim, &health_service, dashboard, &stop_rx).await?;
+    log_serving(&config, listener.local_addr()?, threads);
     let signal = async move {
         shutdown.await;
         tracing::info!("shutting down: finishing in-flight calls");
@@ -196,25 +140,114 @@ pub(crate) async fn serve_bound(
             served
         }
     };
-    if let Some(metrics) = metrics {
-        metrics.abort();
-    }
-    if let Some(health_only) = health_only {
-        // Probes keep an answer (NOT_SERVING) until the main listener has drained.
-        health_only.abort();
-    }
-    if let Some(dashboard) = dashboard {
-        // It watches the same stop signal (or sees it dropped, if serving failed) and
-        // returns once its requests in flight are answered.
-        let _ = dashboard.await;
-    }
-    if let Some(sweeper) = sweeper {
-        // It watches the same stop signal; it has stopped or stops at its next wake-up.
-        sweeper.abort();
-    }
+    background.stop().await;
     served?;
     tracing::info!("stopped");
     Ok(())
+}
+
+fn log_serving(config: &ServerConfig, addr: impl std::fmt::Display, threads: usize) {
+    let tenants = config.auth_tokens.as_ref().map_or(0, |t| t.tenants().len());
+    tracing::info!(
+        %addr,
+        tls = config.tls.is_some(),
+        mutual_tls = config.tls.as_ref().is_some_and(|t| t.client_ca_pem.is_some()),
+        threads,
+        pool_niceness = config.pool_niceness,
+        idle_ttl_secs = config.idle_ttl.as_secs(),
+        auth = config.auth_tokens.is_some(),
+        tenants,
+        "serving gymfleet.v1.Simulator"
+    );
+}
+
+/// The tasks a server runs beside its main listener: the metrics and health-only
+/// listeners, the dashboard and the idle sweeper, each if configured.
+struct Background {
+    metrics: Option<tokio::task::JoinHandle<()>>,
+    health_only: Option<tokio::task::JoinHandle<()>>,
+    dashboard: Option<tokio::task::JoinHandle<()>>,
+    sweeper: Option<tokio::task::JoinHandle<()>>,
+}
+
+impl Background {
+    async fn start<H: Health>(
+        config: &ServerConfig,
+        sim: &Arc<Simulation>,
+        health_service: &HealthServer<H>,
+        dashboard: Option<tokio::net::TcpListener>,
+        stop_rx: &watch::Receiver<bool>,
+    ) -> Result<Self> {
+        let metrics = match config.metrics_listen {
+            Some(addr) => {
+                let listener =
+                    tokio::net::TcpListener::bind(addr)
+                        .await
+                        .map_err(|e| StartupError::Bind {
+                            addr: addr.to_string(),
+                            reason: e.to_string(),
+                        })?;
+                tracing::info!(addr = %listener.local_addr()?, "serving metrics at /metrics");
+                let sim = Arc::clone(sim);
+                let scrape = Arc::new(move || sim.metrics().encode(&sim.gauges()));
+                Some(tokio::spawn(crate::metrics::serve_metrics(
+                    listener, scrape,
+                )))
+            }
+            None => None,
+        };
+        let health_only = match config.health_listen {
+            Some(addr) => Some(serve_health(addr, health_service.clone()).await?),
+            None => None,
+        };
+        let dashboard = match dashboard {
+            Some(listener) => {
+                tracing::info!(addr = %listener.local_addr()?, "serving the dashboard at /");
+                Some(tokio::spawn(crate::dashboard::serve_dashboard(
+                    listener,
+                    Arc::clone(sim),
+                    config.clone(),
+                    stop_rx.clone(),
+                )))
+            }
+            None => None,
+        };
+        let sweeper = config.idle_ttl().map(|ttl| {
+            tokio::spawn(sweep_idle(
+                Arc::clone(sim),
+                ttl,
+                config.sweep_interval(),
+                config.clock.clone(),
+                stop_rx.clone(),
+            ))
+        });
+        Ok(Self {
+            metrics,
+            health_only,
+            dashboard,
+            sweeper,
+        })
+    }
+
+    /// Once the main listener has drained.
+    async fn stop(self) {
+        if let Some(metrics) = self.metrics {
+            metrics.abort();
+        }
+        if let Some(health_only) = self.health_only {
+            // Probes keep an answer (NOT_SERVING) until the main listener has drained.
+            health_only.abort();
+        }
+        if let Some(dashboard) = self.dashboard {
+            // It watches the same stop signal (or sees it dropped, if serving failed) and
+            // returns once its requests in flight are answered.
+            let _ = dashboard.await;
+        }
+        if let Some(sweeper) = self.sweeper {
+            // It watches the same stop signal; it has stopped or stops at its next wake-up.
+            sweeper.abort();
+        }
+    }
 }
 
 /// Serves `health` alone at `addr`, in plaintext (`ServerConfig::health_listen`), until

@@ -48,27 +48,7 @@ pub(crate) fn tendons(
                 ),
             ));
         }
-        let mut members = Vec::with_capacity(def.joints.len());
-        for (j, member) in def.joints.iter().enumerate().take(MAX_TENDON_JOINTS) {
-            let at = format!("{path}.joints[{j}]");
-            match scalar_joint(&member.joint, joints, "a tendon's") {
-                Err(message) => issues.push(Issue::new(format!("{at}.joint"), message)),
-                Ok(i) if members.iter().any(|(m, _)| *m == i) => issues.push(Issue::new(
-                    format!("{at}.joint"),
-                    format!("{} is listed twice", quoted(&member.joint)),
-                )),
-                Ok(i) => members.push((i, member.coef)),
-            }
-            if !(member.coef.is_finite() && member.coef.abs() <= MAX_COEF) {
-                issues.push(Issue::new(
-                    format!("{at}.coef"),
-                    format!(
-                        "expected a coefficient within ±{MAX_COEF}, got {}",
-                        member.coef
-                    ),
-                ));
-            }
-        }
+        let members = tendon_joints(&path, def, joints, &mut issues);
         let mut gain = |name: &str, value: Option<f64>| {
             let value = value.unwrap_or(0.0);
             if !(value.is_finite() && (0.0..=MAX_GAIN).contains(&value)) {
@@ -81,32 +61,7 @@ pub(crate) fn tendons(
         };
         let stiffness = gain("stiffness", def.stiffness);
         let damping = gain("damping", def.damping);
-        if let Some(l) = def.spring_length {
-            if !(l.is_finite() && l.abs() <= MAX_LENGTH) {
-                issues.push(Issue::new(
-                    format!("{path}.spring_length"),
-                    format!("expected a length within ±{MAX_LENGTH} (m or rad), got {l}"),
-                ));
-            }
-        }
-        if let Some([lo, hi]) = def.range {
-            if !(lo.is_finite()
-                && hi.is_finite()
-                && lo.abs() <= MAX_LENGTH
-                && hi.abs() <= MAX_LENGTH
-                && lo < hi)
-            {
-                issues.push(Issue::new(
-                    format!("{path}.range"),
-                    format!("expected [min, max] with min < max, each within ±{MAX_LENGTH} (m or rad), got [{lo}, {hi}]"),
-                ));
-            } else if !def.sites.is_empty() && lo > 0.0 {
-                issues.push(Issue::new(
-                    format!("{path}.range"),
-                    format!("a spatial tendon's range is a rope's: only its max holds, and min must be 0 or less, got {lo}"),
-                ));
-            }
-        }
+        check_lengths(&path, def, &mut issues);
         if issues.len() == before {
             out.push(Tendon {
                 name: def.name.clone(),
@@ -120,6 +75,68 @@ pub(crate) fn tendons(
         }
     }
     (out, issues)
+}
+
+/// A fixed tendon's joints and coefficients, each joint once.
+fn tendon_joints(
+    path: &str,
+    def: &TendonDef,
+    joints: &[Joint],
+    issues: &mut Vec<Issue>,
+) -> Vec<(usize, f64)> {
+    let mut members = Vec::with_capacity(def.joints.len());
+    for (j, member) in def.joints.iter().enumerate().take(MAX_TENDON_JOINTS) {
+        let at = format!("{path}.joints[{j}]");
+        match scalar_joint(&member.joint, joints, "a tendon's") {
+            Err(message) => issues.push(Issue::new(format!("{at}.joint"), message)),
+            Ok(i) if members.iter().any(|(m, _)| *m == i) => issues.push(Issue::new(
+                format!("{at}.joint"),
+                format!("{} is listed twice", quoted(&member.joint)),
+            )),
+            Ok(i) => members.push((i, member.coef)),
+        }
+        if !(member.coef.is_finite() && member.coef.abs() <= MAX_COEF) {
+            issues.push(Issue::new(
+                format!("{at}.coef"),
+                format!(
+                    "expected a coefficient within ±{MAX_COEF}, got {}",
+                    member.coef
+                ),
+            ));
+        }
+    }
+    members
+}
+
+/// A tendon's spring length and range: finite, bounded, and a spatial tendon's range a
+/// rope's.
+fn check_lengths(path: &str, def: &TendonDef, issues: &mut Vec<Issue>) {
+    if let Some(l) = def.spring_length {
+        if !(l.is_finite() && l.abs() <= MAX_LENGTH) {
+            issues.push(Issue::new(
+                format!("{path}.spring_length"),
+                format!("expected a length within ±{MAX_LENGTH} (m or rad), got {l}"),
+            ));
+        }
+    }
+    if let Some([lo, hi]) = def.range {
+        if !(lo.is_finite()
+            && hi.is_finite()
+            && lo.abs() <= MAX_LENGTH
+            && hi.abs() <= MAX_LENGTH
+            && lo < hi)
+        {
+            issues.push(Issue::new(
+                format!("{path}.range"),
+                format!("expected [min, max] with min < max, each within ±{MAX_LENGTH} (m or rad), got [{lo}, {hi}]"),
+            ));
+        } else if !def.sites.is_empty() && lo > 0.0 {
+            issues.push(Issue::new(
+                format!("{path}.range"),
+                format!("a spatial tendon's range is a rope's: only its max holds, and min must be 0 or less, got {lo}"),
+            ));
+        }
+    }
 }
 
 /// A spatial tendon's sites, by index (empty for a fixed tendon); every problem is an

@@ -21,20 +21,13 @@ const MAX_MASS_KG: f64 = 1e6;
 /// Farthest an instance's given centre of mass may lie from its origin, mm (1 km).
 const MAX_COM_MM: f64 = 1e6;
 
-/// Validates a parsed document and converts it to SI units.
-///
-/// All problems are collected, so a user can fix a document in one round trip.
-pub fn validate(doc: &Document) -> Result<Assembly> {
-    let mut v = Validator::default();
-    let materials = v.materials(&doc.materials);
-    let parts = v.parts(&doc.parts, &materials);
-    let floating_base = doc.floating_base.unwrap_or(false);
-    let instances = v.instances(&doc.assembly.instances, &parts, &materials, floating_base);
-    // What holds each instance where it is, if anything (never a joint's child), by
-    // document index.
-    let anchors: Vec<Anchor> = doc
-        .assembly
-        .instances
+/// What holds each instance where it is, if anything (never a joint's child), by
+/// document index.
+fn anchors(
+    instances: &[crate::document::InstanceDef],
+    parts: &std::collections::HashMap<String, CheckedPart>,
+) -> Vec<Anchor> {
+    instances
         .iter()
         .map(|i| {
             if parts
@@ -51,7 +44,19 @@ pub fn validate(doc: &Document) -> Result<Assembly> {
                 Anchor::None
             }
         })
-        .collect();
+        .collect()
+}
+
+/// Validates a parsed document and converts it to SI units.
+///
+/// All problems are collected, so a user can fix a document in one round trip.
+pub fn validate(doc: &Document) -> Result<Assembly> {
+    let mut v = Validator::default();
+    let materials = v.materials(&doc.materials);
+    let parts = v.parts(&doc.parts, &materials);
+    let floating_base = doc.floating_base.unwrap_or(false);
+    let instances = v.instances(&doc.assembly.instances, &parts, &materials, floating_base);
+    let anchors = anchors(&doc.assembly.instances, &parts);
     let mut joints = v.joints(
         &doc.assembly.joints,
         &doc.assembly.instances,

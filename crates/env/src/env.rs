@@ -13,6 +13,7 @@ use crate::config::{EnvConfig, EnvSpec, Randomization};
 use crate::episode::{StepFlags, StepResult, Termination};
 use crate::error::{EnvError, Result};
 use crate::observation::{Observation, POSE_LEN};
+use crate::setup::EndEffector;
 use crate::task::ActiveTask;
 use crate::terms::{ActiveSet, Context, Dist};
 
@@ -118,39 +119,7 @@ impl RobotEnv {
             document: std::sync::Arc::clone(&assembly.source),
             config: config.clone(),
         });
-        let end_effectors = config
-            .end_effector_ids
-            .iter()
-            .enumerate()
-            .map(|(index, id)| {
-                // An instance by that name, else a site by that name; `site:NAME` is
-                // always the site (an MJCF body's origin where a geom has its name).
-                let site = |name: &str| {
-                    assembly.site_index(name).map(|k| {
-                        let site = &assembly.sites[k];
-                        (site.instance, Some((site.point, site.rotation)))
-                    })
-                };
-                let found = match id.strip_prefix("site:") {
-                    Some(name) => site(name),
-                    None => assembly
-                        .instance_index(id)
-                        .map(|i| (i, None))
-                        .or_else(|| site(id)),
-                };
-                found.ok_or_else(|| EnvError::UnknownEndEffector {
-                    index,
-                    id: gymfleet_assembly::quoted(id),
-                    known: gymfleet_assembly::quoted_list(
-                        &assembly
-                            .instances
-                            .iter()
-                            .map(|i| i.name.as_str())
-                            .collect::<Vec<_>>(),
-                    ),
-                })
-            })
-            .collect::<Result<Vec<_>>>()?;
+        let end_effectors = crate::setup::end_effectors(assembly, &config.end_effector_ids)?;
         let options = WorldOptions {
             dt: config.dt,
             substeps: config.substeps,
@@ -167,73 +136,19 @@ impl RobotEnv {
         };
         let task = config.task.as_ref().map(|t| t.resolve(&cx)).transpose()?;
         let terms = task.as_ref().and_then(|t| t.terms());
-        let mut position_noise = (config.reset_noise > 0.0)
-            .then_some((Dist::Uniform(config.reset_noise), Units::Document));
-        if let Some(dist) = terms.and_then(|t| t.position_noise) {
-            if position_noise.is_some() {
-                return Err(EnvError::BadConfig {
-                    field: "reset_noise",
-                    reason: "the task draws the positions (task.terms.reset_noise.position); \
-                             set one of the two"
-                        .into(),
-                });
-            }
-            position_noise = Some((dist, config.units));
-        }
+        let position_noise = crate::setup::position_noise(&config, terms)?;
         let velocity_noise = terms.and_then(|t| t.velocity_noise);
         let base_noise = terms
             .filter(|t| t.base_noise)
             .map(|t| (t.position_noise, t.velocity_noise));
         let sets = terms.map(|t| t.sets.clone()).unwrap_or_default();
         let settle_steps = terms.map_or(0, |t| t.settle_substeps.div_ceil(config.substeps.max(1)));
-        let turn_base = terms.is_some_and(|t| t.turn_base);
-        let reject_contacts = terms.is_some_and(|t| t.reject_contacts);
         let mocap_draws = terms.map(|t| t.mocap_draws.clone()).unwrap_or_default();
         let choice = terms
             .and_then(|t| t.choice.clone())
             .map(crate::terms::ChoiceDraw::new);
         let equal = terms.map(|t| t.equal.clone()).unwrap_or_default();
-        let segment = task
-            .as_ref()
-            .and_then(|t| t.observation_name().map(|name| (name, t.observation_dim())));
-        let term_names = match &config.task {
-            Some(crate::TaskSpec {
-                kind: crate::TaskKind::Terms(t),
-                ..
-            }) => t.terms.iter().map(|t| t.name.clone()).collect(),
-            _ => Vec::new(),
-        };
-        let names = |list: Vec<usize>| -> Vec<String> {
-            list.into_iter()
-                .map(|i| assembly.instances[i].name.clone())
-                .collect()
-        };
-        let bodies = crate::config::ObservedBodies {
-            floating_base: world.has_floating_base(),
-            free_bodies: names(assembly.free_bodies()),
-            mocap_bodies: names(assembly.mocap_bodies()),
-            moving_mass: world.moving_mass(),
-        };
-        let actuators = crate::config::ActuatorSpec::of(assembly);
-        let mut spec = EnvSpec::new(
-            &config,
-            world.dofs(),
-            bodies,
-            segment,
-            term_names,
-            actuators,
-        );
-        spec.keyframes = assembly.keyframes.iter().map(|k| k.name.clone()).collect();
-        spec.heightfields = world
-            .heightfields()
-            .into_iter()
-            .map(|(i, rows, columns)| (assembly.instances[i].name.clone(), rows, columns))
-            .collect();
-        spec.sensors = assembly
-            .sensors
-            .iter()
-            .map(|s| (s.name.clone(), s.kind.as_str(), s.kind.dim()))
-            .collect();
+        let spec = crate::setup::env_spec(assembly, &config, &world, task.as_ref());
         let mut env = RobotEnv {
             world,
             end_effectors,
@@ -247,8 +162,8 @@ impl RobotEnv {
             base_draws: [0.0; BASE_NOISE_LEN],
             sets,
             settle_steps,
-            turn_base,
-            reject_contacts,
+            turn_base: terms.is_some_and(|t| t.turn_base),
+            reject_contacts: terms.is_some_and(|t| t.reject_contacts),
             base_turn: None,
             mocap_starts: vec![([0.0; 3], None); mocap_draws.len()],
             choice,
@@ -268,15 +183,8 @@ impl RobotEnv {
             randomize: config.randomize.clone(),
             draws: None,
             origin,
-            names: std::sync::Arc::new((
-                assembly.instances.iter().map(|i| i.name.clone()).collect(),
-                assembly.joints.iter().map(|j| j.name.clone()).collect(),
-            )),
-            sites: assembly
-                .sites
-                .iter()
-                .map(|s| (s.name.clone(), (s.instance, Some((s.point, s.rotation)))))
-                .collect(),
+            names: crate::setup::names(assembly),
+            sites: crate::setup::sites(assembly),
         };
         env.reset(None);
         Ok(env)
@@ -505,10 +413,6 @@ pub(crate) fn draw(
         gain,
     }
 }
-
-/// An end effector: its instance, and for a site its point (mm) and axes (Euler angles,
-/// radians) in the instance's frame.
-pub(crate) type EndEffector = (usize, Option<([f64; 3], [f64; 3])>);
 
 /// What an env looks like now, for drawing it: its parts, joints, end effectors and task
 /// target, in world millimetres.

@@ -94,6 +94,7 @@ mod keyframe;
 mod mocap;
 mod observation;
 mod reset;
+mod setup;
 mod state;
 mod task;
 pub mod terms;

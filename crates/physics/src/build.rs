@@ -44,186 +44,57 @@ impl RobotWorld {
 
     fn build(assembly: &Assembly, options: &WorldOptions) -> Result<Self> {
         check_options(options)?;
-        let substep_dt = options.substep_dt();
-        let mut sets = Sets {
-            islands: IslandManager::new(),
-            broad_phase: BroadPhaseBvh::new(),
-            narrow_phase: NarrowPhase::new(),
-            bodies: RigidBodySet::new(),
-            colliders: ColliderSet::new(),
-            impulse_joints: ImpulseJointSet::new(),
-            multibody_joints: MultibodyJointSet::new(),
-            soft_bodies: SoftBodySet::new(),
-            ccd: CCDSolver::new(),
-        };
-
-        let held = held_fixed(assembly);
-        let mut owners = fold_owners(assembly, &held);
-        // Slide, slide and hinge through two helpers, as one joint: the helpers fold into
-        // the body below (`build/planar.rs`).
-        let roots = planar::planar_roots(assembly, &held);
-        planar::fold_helpers(&roots, &mut owners);
-        let lanes = planar::lanes(assembly, &roots);
-        let n = assembly.instances.len();
-        // Instances a weld took out of the trees: held fixed on their own, or folded.
-        let welded_away: Vec<bool> = (0..n)
-            .map(|i| (held[i] && !assembly.instances[i].grounded) || owners[i] != i)
-            .collect();
-        let mut bodies = vec![RigidBodyHandle::invalid(); n];
-        let mut colliders = vec![ColliderHandle::invalid(); n];
-        let mut placements = vec![Pose::IDENTITY; n];
-        for i in (0..n).filter(|&i| owners[i] == i) {
-            (bodies[i], colliders[i]) = insert_body(&mut sets, &assembly.instances[i], held[i]);
-        }
-        for i in (0..n).filter(|&i| owners[i] != i) {
-            let owner = owners[i];
-            placements[i] = instance_pose(&assembly.instances[owner]).inverse()
-                * instance_pose(&assembly.instances[i]);
-            bodies[i] = bodies[owner];
-            colliders[i] =
-                attach_collider(&mut sets, &assembly.instances[i], bodies[i], placements[i]);
-        }
-        let given: Vec<Option<MassProperties>> = assembly
-            .instances
-            .iter()
-            .map(|i| {
-                i.inertial
-                    .map(|given| given_mass_properties(&given, &i.shape))
-            })
-            .collect();
-        set_given_masses(&mut sets, &bodies, &owners, &placements, &given, false);
-        // A body is shared when an instance is folded into it: the folded one and its owner.
-        let mut shared = vec![false; n];
-        for (i, &owner) in owners.iter().enumerate().filter(|&(i, &o)| o != i) {
-            shared[i] = true;
-            shared[owner] = true;
-        }
-        predict_contacts(&mut sets, &bodies);
-
-        let rehung = rehang::rehang_parents(assembly, &held);
-        let anchors = split::split_trees(&mut sets, assembly, &bodies, &held, &roots, &rehung);
-        let hung = (&rehung[..], &anchors.of_joint[..]);
-        let mut frames = insert_trees(&mut sets, assembly, &bodies, &welded_away, &roots, hung)?;
-
-        place_floating_trees(&mut sets);
-
-        // The joints' initial positions, before anything reads the pose (gains, snapshot).
-        apply_initial_positions(&mut sets, assembly, &bodies, &lanes)?;
-
-        set_armatures(&mut sets, assembly, &bodies, &lanes);
-        refresh_loop_frames(&sets, assembly, &bodies, &mut frames);
-
-        // The loops' constraints, between bodies the trees now place.
-        // Their bodies do not collide.
-        let closing =
-            crate::loops::add_loop_joints(&mut sets, assembly, &bodies, &frames, |j, f1, f2| {
-                generic_joint(j, f1, f2, false)
-            });
-
-        let (mut joints, mut dofs, inertia) = joint_slots(
-            &mut sets,
-            assembly,
-            &bodies,
-            &frames,
-            &closing,
-            &welded_away,
-            &lanes,
-        )?;
-        // MuJoCo sizes each compliant contact and limit from its bodies at the model's pose.
-        crate::colliders::set_invweights(&mut sets);
-        hang_slots(&mut joints, &rehung, &anchors.of_joint, &roots, &bodies);
-        let gravity = Vector::new(
-            assembly.gravity[0] as Real,
-            assembly.gravity[1] as Real,
-            assembly.gravity[2] as Real,
-        );
-        let loads = crate::loads::dof_loads(&sets, &joints, &dofs, &inertia, gravity);
-        let overridden = resolve_gains(&mut dofs, &loads, options.gains.as_ref())?;
-        crate::action_bound::set_action_bounds(&joints, &mut dofs, &loads);
-        let free_roots = free_roots(&sets, &bodies, &owners);
-        let reference = |instance: usize| crate::world::BodyRef {
-            instance,
-            frame: assembly.instances[instance]
-                .body_frame
-                .map(|f| crate::free_bodies::local_pose(f.position, f.rotation)),
-        };
-        let free_bodies = assembly.free_bodies().into_iter().map(reference).collect();
-        let mocaps = assembly
-            .mocap_bodies()
-            .into_iter()
-            .map(|i| crate::world::MocapSlot {
-                body: reference(i),
-                target: None,
-            })
-            .collect();
-
+        let mut sets = empty_sets();
+        let placed = place_bodies(&mut sets, assembly);
+        let trees = build_trees(&mut sets, assembly, &placed, options)?;
+        let (bodies, colliders, placements) = (placed.bodies, placed.colliders, placed.placements);
         let (params, substep_params) = integration_parameters(assembly, options);
-
-        let n_dofs = dofs.len();
-        let base = base_values(assembly, &colliders, &sets, &dofs, given.clone());
-        let fluid = crate::world::FluidDrag::new(assembly, &bodies, &sets);
-        let contact_filter = crate::contact_filter::contact_filter(
-            assembly,
-            &bodies,
-            &colliders,
-            &[
-                rehang::rehung_exclusions(assembly, &rehung),
-                anchors.exclusions,
-            ]
-            .concat(),
-            &mut sets,
-        );
-        let references: Vec<f64> = dofs
-            .iter()
-            .map(|d| crate::units::to_si(d.kind, d.reference))
-            .collect();
-        let first_dof: Vec<usize> = joints.iter().map(|j: &JointSlot| j.first_dof).collect();
-        let paths: Vec<_> = assembly
-            .tendons
-            .iter()
-            .map(|t| crate::spatial::path_points(assembly, t, &bodies, &placements))
-            .collect();
-        crate::tendons::set_tendon_limits(assembly, &joints, &references, &mut sets)?;
-        crate::spatial::set_path_limits(assembly, &paths, &mut sets)?;
-        let tendons = crate::tendons::tendon_slots(assembly, &first_dof, &references, paths, &sets);
-        let actuators = crate::actuators::actuator_slots(assembly, &joints, &sets);
-        let n_actuators = actuators.len();
+        let n_dofs = trees.dofs.len();
+        let placed_on = (&bodies[..], &colliders[..], &placements[..]);
+        let parts = world_parts(assembly, &mut sets, placed_on, &trees)?;
+        let n_actuators = parts.actuators.len();
         let instance_poses: Vec<Pose> = assembly.instances.iter().map(instance_pose).collect();
-        let planar_helpers = planar::helpers(&roots, &instance_poses);
         let mut world = RobotWorld {
-            planar_helpers,
+            planar_helpers: planar::helpers(&placed.roots, &instance_poses),
             hot: Default::default(),
             contact_work_limit: 0,
             rollback: Default::default(),
-            fluid,
-            contact_filter,
-            tendons,
+            fluid: crate::world::FluidDrag::new(assembly, &bodies, &sets),
+            contact_filter: parts.contact_filter,
+            tendons: parts.tendons,
             terrains: crate::terrain::terrain_slots(assembly),
-            actuators,
+            actuators: parts.actuators,
             activations: vec![0.0; n_actuators],
+            base: base_values(
+                assembly,
+                &colliders,
+                &sets,
+                &trees.dofs,
+                placed.given.clone(),
+            ),
+            free_roots: free_roots(&sets, &bodies, &placed.owners),
+            free_bodies: parts.free_bodies,
+            mocaps: parts.mocaps,
             initial: std::sync::Arc::new(sets.clone()),
             live: sets,
             pipeline_params: params,
             substep_params,
             substeps: options.substeps,
             soft_contacts: compliant_contacts_possible(assembly),
-            gravity,
+            gravity: trees.gravity,
             bodies,
             colliders,
             placements,
-            owners,
-            shared,
-            given_now: given,
+            owners: placed.owners,
+            shared: placed.shared,
+            given_now: placed.given,
             own_props: Vec::new(),
-            joints,
-            dofs,
-            free_roots,
-            free_bodies,
-            mocaps,
+            joints: trees.joints,
+            dofs: trees.dofs,
             floating_base: assembly.floating_base,
             gains: ResolvedGains {
-                ball_omega_cap: 0.2 / substep_dt,
-                overridden,
+                ball_omega_cap: 0.2 / options.substep_dt(),
+                overridden: trees.overridden,
             },
             has_ball_joints: assembly.joints.iter().any(|j| j.kind == JointType::Ball),
             command: Command {
@@ -232,7 +103,6 @@ impl RobotWorld {
                 ..Command::default()
             },
             pipeline: PipelineCell(PhysicsPipeline::new()),
-            base,
             sensor_plan: Default::default(),
             motion: Vec::new(),
         };
@@ -246,6 +116,222 @@ impl RobotWorld {
         world.reset();
         Ok(world)
     }
+}
+
+fn empty_sets() -> Sets {
+    Sets {
+        islands: IslandManager::new(),
+        broad_phase: BroadPhaseBvh::new(),
+        narrow_phase: NarrowPhase::new(),
+        bodies: RigidBodySet::new(),
+        colliders: ColliderSet::new(),
+        impulse_joints: ImpulseJointSet::new(),
+        multibody_joints: MultibodyJointSet::new(),
+        soft_bodies: SoftBodySet::new(),
+        ccd: CCDSolver::new(),
+    }
+}
+
+/// The bodies of a world being built, with their colliders and given masses
+/// ([`place_bodies`]), indexed by instance.
+struct Placed {
+    /// The instances held fixed.
+    held: Vec<bool>,
+    /// The instance whose body each instance is part of (itself, or the one it is folded
+    /// into).
+    owners: Vec<usize>,
+    roots: Vec<planar::PlanarRoot>,
+    lanes: Vec<Option<crate::world::Lane>>,
+    /// Instances a weld took out of the trees: held fixed on their own, or folded.
+    welded_away: Vec<bool>,
+    bodies: Vec<RigidBodyHandle>,
+    colliders: Vec<ColliderHandle>,
+    /// Each instance's frame in its body's.
+    placements: Vec<Pose>,
+    given: Vec<Option<MassProperties>>,
+    /// Whether an instance's body carries another instance too.
+    shared: Vec<bool>,
+}
+
+/// One body per instance that owns one (the fixed ones fixed, the others dynamic), each
+/// instance's collider on its owner's body, and the given masses.
+fn place_bodies(sets: &mut Sets, assembly: &Assembly) -> Placed {
+    let held = held_fixed(assembly);
+    let mut owners = fold_owners(assembly, &held);
+    // Slide, slide and hinge through two helpers, as one joint: the helpers fold into
+    // the body below (`build/planar.rs`).
+    let roots = planar::planar_roots(assembly, &held);
+    planar::fold_helpers(&roots, &mut owners);
+    let lanes = planar::lanes(assembly, &roots);
+    let n = assembly.instances.len();
+    let welded_away: Vec<bool> = (0..n)
+        .map(|i| (held[i] && !assembly.instances[i].grounded) || owners[i] != i)
+        .collect();
+    let mut bodies = vec![RigidBodyHandle::invalid(); n];
+    let mut colliders = vec![ColliderHandle::invalid(); n];
+    let mut placements = vec![Pose::IDENTITY; n];
+    for i in (0..n).filter(|&i| owners[i] == i) {
+        (bodies[i], colliders[i]) = insert_body(sets, &assembly.instances[i], held[i]);
+    }
+    for i in (0..n).filter(|&i| owners[i] != i) {
+        let owner = owners[i];
+        placements[i] = instance_pose(&assembly.instances[owner]).inverse()
+            * instance_pose(&assembly.instances[i]);
+        bodies[i] = bodies[owner];
+        colliders[i] = attach_collider(sets, &assembly.instances[i], bodies[i], placements[i]);
+    }
+    let given: Vec<Option<MassProperties>> = assembly
+        .instances
+        .iter()
+        .map(|i| {
+            i.inertial
+                .map(|given| given_mass_properties(&given, &i.shape))
+        })
+        .collect();
+    set_given_masses(sets, &bodies, &owners, &placements, &given, false);
+    // A body is shared when an instance is folded into it: the folded one and its owner.
+    let mut shared = vec![false; n];
+    for (i, &owner) in owners.iter().enumerate().filter(|&(i, &o)| o != i) {
+        shared[i] = true;
+        shared[owner] = true;
+    }
+    predict_contacts(sets, &bodies);
+    Placed {
+        held,
+        owners,
+        roots,
+        lanes,
+        welded_away,
+        bodies,
+        colliders,
+        placements,
+        given,
+        shared,
+    }
+}
+
+/// The multibody trees and loops of a world being built ([`build_trees`]).
+struct Trees {
+    joints: Vec<JointSlot>,
+    dofs: Vec<JointDof>,
+    /// Whether the options' gains replaced the defaults.
+    overridden: bool,
+    /// The (child, former parent) instance pairs a rehung or split tree keeps apart.
+    exclusions: Vec<(usize, usize)>,
+    gravity: Vector,
+}
+
+/// Every joint: the trees (rehung and split where they must be, `rehang.rs`, `split.rs`),
+/// placed at their initial positions with their armatures, the loops' constraints, each
+/// joint's slot and DOFs, and the DOFs' gains and action bounds.
+fn build_trees(
+    sets: &mut Sets,
+    assembly: &Assembly,
+    placed: &Placed,
+    options: &WorldOptions,
+) -> Result<Trees> {
+    let (bodies, roots, lanes) = (&placed.bodies, &placed.roots, &placed.lanes);
+    let rehung = rehang::rehang_parents(assembly, &placed.held);
+    let anchors = split::split_trees(sets, assembly, bodies, &placed.held, roots, &rehung);
+    let hung = (&rehung[..], &anchors.of_joint[..]);
+    let mut frames = insert_trees(sets, assembly, bodies, &placed.welded_away, roots, hung)?;
+    place_floating_trees(sets);
+    // The joints' initial positions, before anything reads the pose (gains, snapshot).
+    apply_initial_positions(sets, assembly, bodies, lanes)?;
+    set_armatures(sets, assembly, bodies, lanes);
+    refresh_loop_frames(sets, assembly, bodies, &mut frames);
+    // The loops' constraints, between bodies the trees now place.
+    // Their bodies do not collide.
+    let closing = crate::loops::add_loop_joints(sets, assembly, bodies, &frames, |j, f1, f2| {
+        generic_joint(j, f1, f2, false)
+    });
+    let welded_away = &placed.welded_away;
+    let (mut joints, mut dofs, inertia) = joint_slots(
+        sets,
+        assembly,
+        bodies,
+        &frames,
+        &closing,
+        welded_away,
+        lanes,
+    )?;
+    // MuJoCo sizes each compliant contact and limit from its bodies at the model's pose.
+    crate::colliders::set_invweights(sets);
+    hang_slots(&mut joints, &rehung, &anchors.of_joint, roots, bodies);
+    let g = assembly.gravity;
+    let gravity = Vector::new(g[0] as Real, g[1] as Real, g[2] as Real);
+    let loads = crate::loads::dof_loads(sets, &joints, &dofs, &inertia, gravity);
+    let overridden = resolve_gains(&mut dofs, &loads, options.gains.as_ref())?;
+    crate::action_bound::set_action_bounds(&joints, &mut dofs, &loads);
+    let exclusions = [
+        rehang::rehung_exclusions(assembly, &rehung),
+        anchors.exclusions,
+    ]
+    .concat();
+    Ok(Trees {
+        joints,
+        dofs,
+        overridden,
+        exclusions,
+        gravity,
+    })
+}
+
+/// The parts of a world built on its bodies and trees: its free and mocap bodies, contact
+/// filter, tendons (with their limits) and actuators.
+struct Parts {
+    free_bodies: Vec<crate::world::BodyRef>,
+    mocaps: Vec<crate::world::MocapSlot>,
+    contact_filter: crate::world::ContactFilter,
+    tendons: Vec<crate::world::TendonSlot>,
+    actuators: Vec<crate::world::ActuatorSlot>,
+}
+
+fn world_parts(
+    assembly: &Assembly,
+    sets: &mut Sets,
+    (bodies, colliders, placements): (&[RigidBodyHandle], &[ColliderHandle], &[Pose]),
+    trees: &Trees,
+) -> Result<Parts> {
+    let (joints, dofs, exclusions) = (&trees.joints, &trees.dofs, &trees.exclusions);
+    let reference = |instance: usize| crate::world::BodyRef {
+        instance,
+        frame: assembly.instances[instance]
+            .body_frame
+            .map(|f| crate::free_bodies::local_pose(f.position, f.rotation)),
+    };
+    let free_bodies = assembly.free_bodies().into_iter().map(reference).collect();
+    let mocaps = assembly
+        .mocap_bodies()
+        .into_iter()
+        .map(|i| crate::world::MocapSlot {
+            body: reference(i),
+            target: None,
+        })
+        .collect();
+    let contact_filter =
+        crate::contact_filter::contact_filter(assembly, bodies, colliders, exclusions, sets);
+    let references: Vec<f64> = dofs
+        .iter()
+        .map(|d| crate::units::to_si(d.kind, d.reference))
+        .collect();
+    let first_dof: Vec<usize> = joints.iter().map(|j: &JointSlot| j.first_dof).collect();
+    let paths: Vec<_> = assembly
+        .tendons
+        .iter()
+        .map(|t| crate::spatial::path_points(assembly, t, bodies, placements))
+        .collect();
+    crate::tendons::set_tendon_limits(assembly, joints, &references, sets)?;
+    crate::spatial::set_path_limits(assembly, &paths, sets)?;
+    let tendons = crate::tendons::tendon_slots(assembly, &first_dof, &references, paths, sets);
+    let actuators = crate::actuators::actuator_slots(assembly, joints, sets);
+    Ok(Parts {
+        free_bodies,
+        mocaps,
+        contact_filter,
+        tendons,
+        actuators,
+    })
 }
 
 /// What randomisation scales from: the document's masses, densities, frictions, damping

@@ -15,12 +15,6 @@ const MAX_FN_LINES: usize = 80;
 /// M4); the reason says which.
 const LONG_FNS: &[(&str, &str, usize, &str)] = &[
     (
-        "crates/import/src/mjcf/geoms.rs",
-        "geom",
-        106,
-        "the instance's parts: contact attributes, material, records",
-    ),
-    (
         "crates/env/src/terms/resolve.rs",
         "resolve",
         247,
@@ -29,7 +23,7 @@ const LONG_FNS: &[(&str, &str, usize, &str)] = &[
     (
         "crates/import/src/mjcf/bodies.rs",
         "body",
-        231,
+        120,
         "inertial, frames, children",
     ),
     (
@@ -37,30 +31,6 @@ const LONG_FNS: &[(&str, &str, usize, &str)] = &[
         "quantity",
         225,
         "a quantity per arm: serde enums",
-    ),
-    (
-        "crates/physics/src/build.rs",
-        "build",
-        204,
-        "bodies, joints, colliders, limits",
-    ),
-    (
-        "crates/import/src/mjcf/joints.rs",
-        "joint",
-        202,
-        "a joint kind per arm",
-    ),
-    (
-        "crates/env/src/env.rs",
-        "new",
-        172,
-        "config, task, observation layout",
-    ),
-    (
-        "server/src/serve.rs",
-        "serve_bound",
-        151,
-        "services, listeners, shutdown",
     ),
     (
         "crates/env/src/task.rs",
@@ -91,18 +61,6 @@ const LONG_FNS: &[(&str, &str, usize, &str)] = &[
         "visit_map",
         118,
         "a field per arm",
-    ),
-    (
-        "crates/assembly/src/tendons.rs",
-        "tendons",
-        103,
-        "fixed and spatial tendons",
-    ),
-    (
-        "crates/assembly/src/validate.rs",
-        "validate",
-        98,
-        "the stages in turn",
     ),
 ];
 

@@ -285,24 +285,7 @@ impl<'a, 'i> Converter<'a, 'i> {
             return Err(self.unsupported(node, format!("gravcomp=\"{v}\" is not supported yet")));
         }
         let top_level = matches!(parent, BodyParent::World);
-        let mocap = match node.attribute("mocap") {
-            None | Some("false") => false,
-            Some("true") if top_level => true,
-            Some("true") => {
-                return Err(self.bad(
-                    node,
-                    "mocap",
-                    "a mocap body is a child of <worldbody> (MuJoCo's rule)".into(),
-                ))
-            }
-            Some(other) => {
-                return Err(self.bad(
-                    node,
-                    "mocap",
-                    format!("expected true or false, got {other:?}"),
-                ))
-            }
-        };
+        let mocap = self.mocap(node, top_level)?;
         let frame = parent_frame.then(&self.local_frame(node, None)?);
         let joints: Vec<Node<'a, 'i>> = elements(node)
             .filter(|n| matches!(n.tag_name().name(), "joint" | "freejoint"))
@@ -313,107 +296,34 @@ impl<'a, 'i> Converter<'a, 'i> {
             && !mocap
             && matches!(parent, BodyParent::World | BodyParent::Static(_));
         let inertial = elements(node).find(|n| n.tag_name().name() == "inertial");
-        let use_inertial = match (self.inertia_from_geom, inertial) {
-            (InertiaFromGeom::True, Some(i)) => {
-                self.warn(
-                    i,
-                    "ignored: compiler inertiafromgeom=\"true\" takes masses from the geoms".into(),
-                );
-                false
-            }
-            (InertiaFromGeom::False, None) if !is_static => {
-                return Err(self.unsupported(
-                    node,
-                    "inertiafromgeom=\"false\" and no <inertial>: the body has no mass".into(),
-                ))
-            }
-            (_, i) => i.is_some(),
-        };
+        let use_inertial = self.uses_inertial(node, inertial, is_static)?;
 
         // Geoms: the first is the body's instance, the others are welded to it (or, in a
         // static body, each fixed where it is).
         let first_instance = self.instances.len();
-        // A free body (an object) or a mocap body is observed and moved by its own frame,
-        // as MuJoCo's qpos and mocap_pos give it: its instance is a helper there, named
-        // after the body, and its geoms are welded to it.
         let free = joints.iter().copied().find(|j| self.is_free(*j, class));
         let is_base = self.base_body == Some(node.id());
-        let mut main: Option<String> =
-            ((free.is_some() && !is_base) || mocap).then(|| self.frame_helper(&body_name, &frame));
-        for geom in elements(node).filter(|n| n.tag_name().name() == "geom") {
-            let given = if use_inertial {
-                Some(HELPER_MASS)
-            } else {
-                None
-            };
-            let Some(name) = self.geom(geom, &frame, class, &body_name, given, is_static)? else {
-                continue;
-            };
-            match &main {
-                None => main = Some(name),
-                Some(_) if is_static => {}
-                Some(m) => self.weld(m.clone(), name),
-            }
-        }
-        let main = match main {
-            Some(m) => m,
-            None => {
-                if !use_inertial {
-                    self.warn(
-                        node,
-                        "a body without geoms or <inertial> gets a 1 mg helper mass".into(),
-                    );
-                }
-                self.helper(&body_name, &frame)
-            }
-        };
+        let own_frame = (free.is_some() && !is_base) || mocap;
+        let at = (body_name.as_str(), &frame);
+        let main = self.body_geoms(node, class, at, own_frame, use_inertial, is_static)?;
         if let Some(i) = inertial.filter(|_| use_inertial) {
             self.inertial(i, &frame, &main)?;
         }
-        // The body's origin, by the body's name (what MuJoCo's body xpos reports); an
-        // unnamed body's as `body` (made unique), so that every body has one, in body order.
-        let origin = self.site(&body_name, &main, &frame, None);
-        if let (Some(name), Some(origin)) = (node.attribute("name"), origin) {
-            self.body_sites.insert(name.to_string(), origin);
-        }
-        if let Some(name) = node.attribute("name") {
-            self.bodies.insert(name.to_string(), (main.clone(), frame));
-        }
+        self.body_origin(node, &body_name, &main, &frame);
 
         // Joints: parent → (helpers) → the body's instance.
         if let Some(free) = free {
-            if !top_level {
-                return Err(self.unsupported(
-                    free,
-                    "a free joint belongs to a top-level body (a child of <worldbody>)".into(),
-                ));
-            }
-            if joints.len() > 1 {
-                return Err(
-                    self.unsupported(free, "a free joint must be its body's only joint".into())
-                );
-            }
-            self.free_joint(free, class, &main, is_base)?;
-            let instance = self.frames.get(&main).copied().unwrap_or(frame);
-            self.qpos_slots.push(keyframes::QposSlot::Free {
-                base: is_base,
-                instance: main.clone(),
-                body: frame,
-                frame: instance,
-            });
+            self.free_body(
+                free,
+                class,
+                (main.as_str(), &frame),
+                top_level,
+                joints.len(),
+                is_base,
+            )?;
         }
         if mocap {
-            if let Some(joint) = joints.first() {
-                return Err(self.bad(
-                    *joint,
-                    "type",
-                    "a mocap body has no joints: its pose targets move it".into(),
-                ));
-            }
-            if let Some(instance) = self.instances.iter_mut().find(|i| i.name == main) {
-                instance.mocap = Some(true);
-            }
-            self.mocap_bodies.push((main.clone(), frame));
+            self.mocap_body(joints.first().copied(), &main, &frame)?;
         }
         let parent_instance = match parent {
             BodyParent::World if free.is_none() && !mocap && !is_static => {
@@ -432,16 +342,8 @@ impl<'a, 'i> Converter<'a, 'i> {
             }
         }
         let joints = if free.is_some() { Vec::new() } else { joints };
-        let mut from = parent_instance.unwrap_or_default();
-        for (k, joint) in joints.iter().enumerate() {
-            let to = if k + 1 == joints.len() {
-                main.clone()
-            } else {
-                self.helper_before(&format!("{body_name}_dof{}", k + 1), &frame, Some(&main))
-            };
-            self.joint(*joint, &frame, class, &body_name, &from, &to)?;
-            from = to;
-        }
+        let from = parent_instance.unwrap_or_default();
+        self.joint_chain(&joints, class, (&body_name, &main, &frame), from)?;
 
         if let Some(name) = node.attribute("name") {
             let own = self.instances[first_instance..]
@@ -460,20 +362,7 @@ impl<'a, 'i> Converter<'a, 'i> {
                 "geom" | "joint" | "freejoint" | "inertial" => {}
                 "body" => self.body(child, &frame, below, class)?,
                 "site" => {
-                    // A site is kept as a named point of the body's instance.
-                    let (local, half_length) = self.site_frame(child, class)?;
-                    let at = frame.then(&local);
-                    let name = child
-                        .attribute("name")
-                        .map_or_else(|| format!("{body_name}_site"), str::to_string);
-                    let mut volume = self.site_volume(child, class)?;
-                    if let Some(half) = half_length {
-                        volume.size.y = half * MM;
-                    }
-                    let kept = self.site(&name, &main, &at, Some(volume));
-                    if let (Some(mjcf), Some(kept)) = (child.attribute("name"), kept) {
-                        self.site_of.insert(mjcf.to_string(), kept);
-                    }
+                    self.body_site(child, class, (body_name.as_str(), main.as_str()), &frame)?
                 }
                 "camera" | "light" => {
                     self.warn(child, "ignored (no effect on the dynamics)".into())
@@ -483,6 +372,195 @@ impl<'a, 'i> Converter<'a, 'i> {
                         .unsupported(child, format!("<{other}> in <body> is not supported yet")))
                 }
             }
+        }
+        Ok(())
+    }
+
+    /// A body's joints, parent → (helpers) → the body's instance `main`: each joint but
+    /// the last moves a helper of its own.
+    fn joint_chain(
+        &mut self,
+        joints: &[Node<'a, 'i>],
+        class: Option<&str>,
+        (body_name, main, frame): (&str, &str, &Frame),
+        mut from: String,
+    ) -> Result<()> {
+        for (k, joint) in joints.iter().enumerate() {
+            let to = if k + 1 == joints.len() {
+                main.to_string()
+            } else {
+                self.helper_before(&format!("{body_name}_dof{}", k + 1), frame, Some(main))
+            };
+            self.joint(*joint, frame, class, body_name, &from, &to)?;
+            from = to;
+        }
+        Ok(())
+    }
+
+    /// The body's origin, by the body's name (what MuJoCo's body xpos reports); an
+    /// unnamed body's as `body` (made unique), so that every body has one, in body order.
+    fn body_origin(&mut self, node: Node<'a, 'i>, body_name: &str, main: &str, frame: &Frame) {
+        let origin = self.site(body_name, main, frame, None);
+        if let (Some(name), Some(origin)) = (node.attribute("name"), origin) {
+            self.body_sites.insert(name.to_string(), origin);
+        }
+        if let Some(name) = node.attribute("name") {
+            self.bodies
+                .insert(name.to_string(), (main.to_string(), *frame));
+        }
+    }
+
+    /// A body's `mocap`: a mocap body is a child of `<worldbody>` (`top_level`).
+    fn mocap(&self, node: Node<'a, 'i>, top_level: bool) -> Result<bool> {
+        match node.attribute("mocap") {
+            None | Some("false") => Ok(false),
+            Some("true") if top_level => Ok(true),
+            Some("true") => Err(self.bad(
+                node,
+                "mocap",
+                "a mocap body is a child of <worldbody> (MuJoCo's rule)".into(),
+            )),
+            Some(other) => Err(self.bad(
+                node,
+                "mocap",
+                format!("expected true or false, got {other:?}"),
+            )),
+        }
+    }
+
+    /// Whether a body's mass comes from its `<inertial>` rather than its geoms (the
+    /// compiler's `inertiafromgeom`).
+    fn uses_inertial(
+        &mut self,
+        node: Node<'a, 'i>,
+        inertial: Option<Node<'a, 'i>>,
+        is_static: bool,
+    ) -> Result<bool> {
+        Ok(match (self.inertia_from_geom, inertial) {
+            (InertiaFromGeom::True, Some(i)) => {
+                self.warn(
+                    i,
+                    "ignored: compiler inertiafromgeom=\"true\" takes masses from the geoms".into(),
+                );
+                false
+            }
+            (InertiaFromGeom::False, None) if !is_static => {
+                return Err(self.unsupported(
+                    node,
+                    "inertiafromgeom=\"false\" and no <inertial>: the body has no mass".into(),
+                ))
+            }
+            (_, i) => i.is_some(),
+        })
+    }
+
+    /// A body's geoms, the first its instance and the others welded to it (or, in a
+    /// static body, each fixed where it is); returns the body's instance. A free body (an
+    /// object) or a mocap body is observed and moved by its own frame (`own_frame`), as
+    /// MuJoCo's qpos and mocap_pos give it: its instance is a helper there, named after
+    /// the body, and its geoms are welded to it.
+    fn body_geoms(
+        &mut self,
+        node: Node<'a, 'i>,
+        class: Option<&str>,
+        (body_name, frame): (&str, &Frame),
+        own_frame: bool,
+        use_inertial: bool,
+        is_static: bool,
+    ) -> Result<String> {
+        let mut main: Option<String> = own_frame.then(|| self.frame_helper(body_name, frame));
+        for geom in elements(node).filter(|n| n.tag_name().name() == "geom") {
+            let given = use_inertial.then_some(HELPER_MASS);
+            let Some(name) = self.geom(geom, frame, class, body_name, given, is_static)? else {
+                continue;
+            };
+            match &main {
+                None => main = Some(name),
+                Some(_) if is_static => {}
+                Some(m) => self.weld(m.clone(), name),
+            }
+        }
+        Ok(match main {
+            Some(m) => m,
+            None => {
+                if !use_inertial {
+                    self.warn(
+                        node,
+                        "a body without geoms or <inertial> gets a 1 mg helper mass".into(),
+                    );
+                }
+                self.helper(body_name, frame)
+            }
+        })
+    }
+
+    /// A top-level body's free joint (its only joint) on its instance `main`, and the
+    /// qpos slot it fills.
+    fn free_body(
+        &mut self,
+        free: Node<'a, 'i>,
+        class: Option<&str>,
+        (main, frame): (&str, &Frame),
+        top_level: bool,
+        joints: usize,
+        is_base: bool,
+    ) -> Result<()> {
+        if !top_level {
+            return Err(self.unsupported(
+                free,
+                "a free joint belongs to a top-level body (a child of <worldbody>)".into(),
+            ));
+        }
+        if joints > 1 {
+            return Err(self.unsupported(free, "a free joint must be its body's only joint".into()));
+        }
+        self.free_joint(free, class, main, is_base)?;
+        let instance = self.frames.get(main).copied().unwrap_or(*frame);
+        self.qpos_slots.push(keyframes::QposSlot::Free {
+            base: is_base,
+            instance: main.to_string(),
+            body: *frame,
+            frame: instance,
+        });
+        Ok(())
+    }
+
+    /// A mocap body (it has no joints: `joint` is its first, if any) on its instance.
+    fn mocap_body(&mut self, joint: Option<Node<'a, 'i>>, main: &str, frame: &Frame) -> Result<()> {
+        if let Some(joint) = joint {
+            return Err(self.bad(
+                joint,
+                "type",
+                "a mocap body has no joints: its pose targets move it".into(),
+            ));
+        }
+        if let Some(instance) = self.instances.iter_mut().find(|i| i.name == main) {
+            instance.mocap = Some(true);
+        }
+        self.mocap_bodies.push((main.to_string(), *frame));
+        Ok(())
+    }
+
+    /// A site, kept as a named point of the body's instance `main`.
+    fn body_site(
+        &mut self,
+        child: Node<'a, 'i>,
+        class: Option<&str>,
+        (body_name, main): (&str, &str),
+        frame: &Frame,
+    ) -> Result<()> {
+        let (local, half_length) = self.site_frame(child, class)?;
+        let at = frame.then(&local);
+        let name = child
+            .attribute("name")
+            .map_or_else(|| format!("{body_name}_site"), str::to_string);
+        let mut volume = self.site_volume(child, class)?;
+        if let Some(half) = half_length {
+            volume.size.y = half * MM;
+        }
+        let kept = self.site(&name, main, &at, Some(volume));
+        if let (Some(mjcf), Some(kept)) = (child.attribute("name"), kept) {
+            self.site_of.insert(mjcf.to_string(), kept);
         }
         Ok(())
     }

@@ -61,18 +61,7 @@ impl<'a, 'i> Converter<'a, 'i> {
         let origin = origin_m * MM;
         let rotation = euler_xyz_degrees(world.rotation);
         let name = self.geom_name(node, body_name);
-        if let Some(shape) = self
-            .attr(node, class, "fluidshape")
-            .filter(|v| *v != "none")
-        {
-            return Err(self.unsupported(
-                node,
-                format!("fluidshape=\"{shape}\" (MuJoCo's ellipsoid fluid model) is not supported yet; the inertia-box model of <option density viscosity> is"),
-            ));
-        }
-        if self.attr(node, class, "condim").is_some() {
-            self.warn(node, "condim ignored (gymfleet's contact model)".into());
-        }
+        self.geom_contact_model(node, class)?;
         // MuJoCo's default sliding friction is 1 (gymfleet's own is 0.5).
         let friction = self
             .numbers(node, class, "friction")?
@@ -93,31 +82,54 @@ impl<'a, 'i> Converter<'a, 'i> {
             ..InstanceDef::new(&name, &name)
         };
         self.geom_mass(node, class, &name, given_mass, &mut instance, &mut material)?;
-        // Every geom's contacts are compliant, as MuJoCo's are.
-        let has_material = true;
-        if has_material {
-            instance.material = Some(name.clone());
-        }
-        self.frames.insert(
-            name.clone(),
-            Frame {
-                translation: origin_m,
-                rotation: world.rotation,
-            },
-        );
-        self.parts.push(PartDef {
-            name: name.clone(),
-            primitive,
-            material: None,
-        });
-        if has_material {
-            self.materials.insert(name.clone(), material);
-        }
-        self.instances.push(instance);
+        let frame = Frame {
+            translation: origin_m,
+            rotation: world.rotation,
+        };
+        self.record_geom(&name, primitive, instance, material, frame);
         if let Some((half, base)) = terrain_base {
             self.hfield_base(&name, &world, half, base);
         }
         Ok(Some(name))
+    }
+
+    /// What the contact model does with a geom's `fluidshape` (refused) and `condim`
+    /// (ignored, with a warning).
+    fn geom_contact_model(&mut self, node: Node<'a, 'i>, class: Option<&str>) -> Result<()> {
+        if let Some(shape) = self
+            .attr(node, class, "fluidshape")
+            .filter(|v| *v != "none")
+        {
+            return Err(self.unsupported(
+                node,
+                format!("fluidshape=\"{shape}\" (MuJoCo's ellipsoid fluid model) is not supported yet; the inertia-box model of <option density viscosity> is"),
+            ));
+        }
+        if self.attr(node, class, "condim").is_some() {
+            self.warn(node, "condim ignored (gymfleet's contact model)".into());
+        }
+        Ok(())
+    }
+
+    /// Records a geom as a part, an instance of it at `frame`, and its material: every
+    /// geom's contacts are compliant, as MuJoCo's are.
+    fn record_geom(
+        &mut self,
+        name: &str,
+        primitive: Primitive,
+        mut instance: InstanceDef,
+        material: MaterialDef,
+        frame: Frame,
+    ) {
+        instance.material = Some(name.to_string());
+        self.frames.insert(name.to_string(), frame);
+        self.parts.push(PartDef {
+            name: name.to_string(),
+            primitive,
+            material: None,
+        });
+        self.materials.insert(name.to_string(), material);
+        self.instances.push(instance);
     }
 
     /// A geom's frame in its body and, with `fromto`, its half-length; `fromto` gives the

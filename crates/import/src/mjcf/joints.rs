@@ -44,23 +44,7 @@ impl<'a, 'i> Converter<'a, 'i> {
         parent: &str,
         child: &str,
     ) -> Result<()> {
-        let kind = if node.tag_name().name() == "freejoint" {
-            "free"
-        } else {
-            self.attr(node, class, "type").unwrap_or("hinge")
-        };
-        let (our, joint_type) = match kind {
-            "hinge" => ("revolute", JointType::Revolute),
-            "slide" => ("prismatic", JointType::Prismatic),
-            "ball" => ("ball", JointType::Ball),
-            "free" => {
-                return Err(self.unsupported(
-                    node,
-                    "a free joint must be its body's only joint, in a top-level body".into(),
-                ))
-            }
-            other => return Err(self.bad(node, "type", format!("unknown joint type {other:?}"))),
-        };
+        let (our, joint_type) = self.joint_kind(node, class)?;
         let springdamper = self.springdamper(node, class, our)?;
         let friction = self
             .number(node, class, "frictionloss")?
@@ -102,6 +86,67 @@ impl<'a, 'i> Converter<'a, 'i> {
             axis: (our != "ball").then(|| vec3(body.direction(axis.normalize()))),
             ..JointDef::new(joint_type, parent, child)
         };
+        self.joint_range(node, class, our, reference, &mut j)?;
+        j.damping = self.number(node, class, "damping")?.filter(|d| *d != 0.0);
+        j.springdamper = springdamper;
+        j.armature = self.number(node, class, "armature")?.filter(|a| *a != 0.0);
+        j.friction = friction;
+        self.joint_spring(
+            node,
+            class,
+            our,
+            (stiffness.or(springdamper.map(|_| 0.0)), reference),
+            &mut j,
+        )?;
+        self.joint_motor(node, our, &name, &mut j);
+        self.qpos_slots.push(if our == "ball" {
+            keyframes::QposSlot::Ball { name: name.clone() }
+        } else {
+            keyframes::QposSlot::Joint {
+                name: name.clone(),
+                prismatic: our == "prismatic",
+            }
+        });
+        self.moving_joints.push(name);
+        self.joints.push(j);
+        Ok(())
+    }
+
+    /// A joint's type, as gymfleet names it: a free joint is its body's only joint, in a
+    /// top-level body (`bodies.rs`), never one of several.
+    fn joint_kind(
+        &self,
+        node: Node<'a, 'i>,
+        class: Option<&str>,
+    ) -> Result<(&'static str, JointType)> {
+        let kind = if node.tag_name().name() == "freejoint" {
+            "free"
+        } else {
+            self.attr(node, class, "type").unwrap_or("hinge")
+        };
+        match kind {
+            "hinge" => Ok(("revolute", JointType::Revolute)),
+            "slide" => Ok(("prismatic", JointType::Prismatic)),
+            "ball" => Ok(("ball", JointType::Ball)),
+            "free" => Err(self.unsupported(
+                node,
+                "a free joint must be its body's only joint, in a top-level body".into(),
+            )),
+            other => Err(self.bad(node, "type", format!("unknown joint type {other:?}"))),
+        }
+    }
+
+    /// A joint's range (MuJoCo's values, shifted by −`reference`) with its soft limit;
+    /// a pose the range excludes starts at its nearest end.
+    fn joint_range(
+        &mut self,
+        node: Node<'a, 'i>,
+        class: Option<&str>,
+        our: &str,
+        reference: f64,
+        j: &mut JointDef,
+    ) -> Result<()> {
+        let name = j.name.clone().unwrap_or_default();
         let range = self.exactly::<2>(node, class, "range")?;
         let limited = self.flag(node, class, "limited")?;
         // `<flag limit="disable">`: no limit acts.
@@ -151,11 +196,20 @@ impl<'a, 'i> Converter<'a, 'i> {
         } else if limited == Some(true) {
             return Err(self.bad(node, "range", "limited=\"true\" without a range".into()));
         }
-        j.damping = self.number(node, class, "damping")?.filter(|d| *d != 0.0);
-        j.springdamper = springdamper;
-        j.armature = self.number(node, class, "armature")?.filter(|a| *a != 0.0);
-        j.friction = friction;
-        if let Some(k) = stiffness.or(springdamper.map(|_| 0.0)) {
+        Ok(())
+    }
+
+    /// A joint's spring (`stiffness`, pulling to `springref`) and its `ref`, as gymfleet
+    /// measures positions: from the model's pose.
+    fn joint_spring(
+        &mut self,
+        node: Node<'a, 'i>,
+        class: Option<&str>,
+        our: &str,
+        (stiffness, reference): (Option<f64>, f64),
+        j: &mut JointDef,
+    ) -> Result<()> {
+        if let Some(k) = stiffness {
             if k < 0.0 {
                 return Err(self.bad(
                     node,
@@ -184,7 +238,12 @@ impl<'a, 'i> Converter<'a, 'i> {
             };
             j.reference = Some(reference);
         }
-        match self.motors.get(&name).copied() {
+        Ok(())
+    }
+
+    /// A joint's motor: its effort bound and gear, or no actuation.
+    fn joint_motor(&mut self, node: Node<'a, 'i>, our: &str, name: &str, j: &mut JointDef) {
+        match self.motors.get(name).copied() {
             Some(motor) => {
                 j.max_effort = motor.max_effort;
                 if motor.gear != 1.0 {
@@ -204,16 +263,5 @@ impl<'a, 'i> Converter<'a, 'i> {
             }
             None => j.actuated = Some(false),
         }
-        self.qpos_slots.push(if our == "ball" {
-            keyframes::QposSlot::Ball { name: name.clone() }
-        } else {
-            keyframes::QposSlot::Joint {
-                name: name.clone(),
-                prismatic: our == "prismatic",
-            }
-        });
-        self.moving_joints.push(name);
-        self.joints.push(j);
-        Ok(())
     }
 }
