@@ -103,10 +103,11 @@ def _pair(sb3: Any, adapter: Any, name: str, n: int, seed: int, **kwargs: Any) -
     return ours, reference
 
 
-def test_the_adapter_steps_like_sb3s_dummy_vec_env_over_the_same_envs(sb3: Any, adapter: Any) -> None:
+@pytest.mark.parametrize("n", [4, 1])
+def test_the_adapter_steps_like_sb3s_dummy_vec_env_over_the_same_envs(sb3: Any, adapter: Any, n: int) -> None:
     # Hopper falls under random actions (terminated) and a 25-step limit cuts the rest
-    # (truncated): both kinds of episode end, several times per env.
-    n = 4
+    # (truncated): both kinds of episode end, several times per env. One env is stepped
+    # as the id's single env, not as a batch of one.
     ours, reference = _pair(sb3, adapter, "gymfleet/Hopper-v5", n, seed=3, max_episode_steps=25)
     assert isinstance(ours, sb3.VecEnv)
     assert ours.num_envs == n
@@ -115,7 +116,7 @@ def test_the_adapter_steps_like_sb3s_dummy_vec_env_over_the_same_envs(sb3: Any, 
     np.testing.assert_array_equal(ours.reset(), reference.reset())
     rng = np.random.default_rng(0)
     ends = {"terminated": 0, "truncated": 0}
-    for _ in range(80):
+    for _ in range(320 // n):
         actions = rng.uniform(-1, 1, (n, 3)).astype(np.float32)
         obs, rewards, dones, infos = ours.step(actions)
         ref_obs, ref_rewards, ref_dones, ref_infos = reference.step(actions)

@@ -73,6 +73,8 @@
 //!   the episode goes on) and `RobotEnv::bodies` (every instance's mass, centre, `cinert`,
 //!   `cvel` and contact wrench, every site's pose, `qfrc_actuator`, every sensor's reading:
 //!   what MuJoCo-shaped access reads).
+//! - `setup.rs`: what `RobotEnv::new` derives before it builds the env: the end
+//!   effectors, the positions' reset noise, and the env's spec.
 //! - `state.rs`: `SavedState`, an env's whole state (document text, options, episode,
 //!   generator, draws, task target, `DynamicState`) as `"GFST"`, a format version, a CRC-32
 //!   and `postcard` fields. `RobotEnv::save` re-seats the env from the state it returns (so

@@ -8,7 +8,8 @@
 //! That keeps rewards, targets, radii and observations in one unit system, and expresses
 //! the seed guide's reaching loop (`reward = −distance` to a target in mm) exactly.
 
-use gymfleet_physics::{RobotWorld, Units};
+use gymfleet_assembly::Assembly;
+use gymfleet_physics::{JointDof, RobotWorld, Units};
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::RngExt;
 
@@ -169,118 +170,24 @@ impl TaskSpec {
                 target,
                 success_radius,
                 terminate_on_success,
-            } => {
-                let body = instance(assembly, "task.reach.end_effector", end_effector)?;
-                if let Some(p) = point {
-                    finite_vec("task.reach.point", *p)?;
-                }
-                match target {
-                    ReachTarget::Fixed(t) => finite_vec("task.reach.target", *t)?,
-                    ReachTarget::Box { min, max } => {
-                        finite_vec("task.reach.target_box.min", *min)?;
-                        finite_vec("task.reach.target_box.max", *max)?;
-                        for k in 0..3 {
-                            if min[k] > max[k] {
-                                let axis = ["x", "y", "z"][k];
-                                return Err(bad(
-                                    format!("task.reach.target_box.max.{axis}"),
-                                    format!(
-                                        "expected at least min.{axis} = {}, got {}",
-                                        min[k], max[k]
-                                    ),
-                                ));
-                            }
-                        }
-                    }
-                }
-                non_negative("task.reach.success_radius", *success_radius, "mm")?;
-                if *terminate_on_success && *success_radius == 0.0 {
-                    return Err(bad(
-                        "task.reach.terminate_on_success",
-                        "needs a success_radius > 0 (mm)",
-                    ));
-                }
-                Active::Reach {
-                    body,
-                    point: *point,
-                    target: target.clone(),
-                    success_radius: *success_radius,
-                    terminate: *terminate_on_success,
-                }
-            }
+            } => reach(
+                assembly,
+                end_effector,
+                *point,
+                target,
+                *success_radius,
+                *terminate_on_success,
+            )?,
             TaskKind::Track {
                 targets,
                 tolerance,
                 terminate_on_success,
-            } => {
-                if targets.len() != dofs.len() {
-                    return Err(bad(
-                        "task.track.targets",
-                        format!(
-                            "expected one target per DOF ({}), got {}",
-                            dofs.len(),
-                            targets.len()
-                        ),
-                    ));
-                }
-                for (k, (t, dof)) in targets.iter().zip(dofs).enumerate() {
-                    if !(t.is_finite() && t.abs() <= MAX_MM) {
-                        return Err(bad(
-                            format!("task.track.targets[{k}]"),
-                            format!("expected a finite target (deg or mm), got {t}"),
-                        ));
-                    }
-                    if let Some([lo, hi]) = dof.limits.map(|l| l.map(|v| v + dof.reference)) {
-                        if *t < lo || *t > hi {
-                            return Err(bad(
-                                format!("task.track.targets[{k}]"),
-                                format!(
-                                    "{t} is outside joint {:?}'s limits [{lo}, {hi}]",
-                                    dof.joint_name
-                                ),
-                            ));
-                        }
-                    }
-                }
-                non_negative("task.track.tolerance", *tolerance, "deg or mm")?;
-                if *terminate_on_success && *tolerance == 0.0 {
-                    return Err(bad(
-                        "task.track.terminate_on_success",
-                        "needs a tolerance > 0",
-                    ));
-                }
-                Active::Track {
-                    targets: targets.clone(),
-                    tolerance: *tolerance,
-                    terminate: *terminate_on_success,
-                }
-            }
+            } => track(dofs, targets, *tolerance, *terminate_on_success)?,
             TaskKind::Upright {
                 instance: name,
                 axis,
                 max_tilt_deg,
-            } => {
-                let body = instance(assembly, "task.upright.instance", name)?;
-                finite_vec("task.upright.axis", *axis)?;
-                let norm = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
-                if norm == 0.0 {
-                    return Err(bad(
-                        "task.upright.axis",
-                        "expected a direction, got the zero vector",
-                    ));
-                }
-                if !(max_tilt_deg.is_finite() && *max_tilt_deg > 0.0 && *max_tilt_deg < 180.0) {
-                    return Err(bad(
-                        "task.upright.max_tilt_deg",
-                        format!("expected an angle in (0, 180) deg, got {max_tilt_deg}"),
-                    ));
-                }
-                Active::Upright {
-                    body,
-                    axis: axis.map(|c| c / norm),
-                    cos_max_tilt: max_tilt_deg.to_radians().cos(),
-                }
-            }
+            } => upright(assembly, name, *axis, *max_tilt_deg)?,
             TaskKind::Terms(terms) => Active::Terms(Box::new(terms.resolve(cx)?)),
         };
         let target = match &self.kind {
@@ -296,6 +203,125 @@ impl TaskSpec {
             target,
         })
     }
+}
+
+/// A reach task's end effector, point and target checked.
+fn reach(
+    assembly: &Assembly,
+    end_effector: &str,
+    point: Option<[f64; 3]>,
+    target: &ReachTarget,
+    success_radius: f64,
+    terminate_on_success: bool,
+) -> Result<Active> {
+    let body = instance(assembly, "task.reach.end_effector", end_effector)?;
+    if let Some(p) = point {
+        finite_vec("task.reach.point", p)?;
+    }
+    match target {
+        ReachTarget::Fixed(t) => finite_vec("task.reach.target", *t)?,
+        ReachTarget::Box { min, max } => {
+            finite_vec("task.reach.target_box.min", *min)?;
+            finite_vec("task.reach.target_box.max", *max)?;
+            for k in 0..3 {
+                if min[k] > max[k] {
+                    let axis = ["x", "y", "z"][k];
+                    return Err(bad(
+                        format!("task.reach.target_box.max.{axis}"),
+                        format!("expected at least min.{axis} = {}, got {}", min[k], max[k]),
+                    ));
+                }
+            }
+        }
+    }
+    non_negative("task.reach.success_radius", success_radius, "mm")?;
+    if terminate_on_success && success_radius == 0.0 {
+        return Err(bad(
+            "task.reach.terminate_on_success",
+            "needs a success_radius > 0 (mm)",
+        ));
+    }
+    Ok(Active::Reach {
+        body,
+        point,
+        target: target.clone(),
+        success_radius,
+        terminate: terminate_on_success,
+    })
+}
+
+/// A track task's targets checked against the DOFs and their limits.
+fn track(
+    dofs: &[JointDof],
+    targets: &[f64],
+    tolerance: f64,
+    terminate_on_success: bool,
+) -> Result<Active> {
+    if targets.len() != dofs.len() {
+        return Err(bad(
+            "task.track.targets",
+            format!(
+                "expected one target per DOF ({}), got {}",
+                dofs.len(),
+                targets.len()
+            ),
+        ));
+    }
+    for (k, (t, dof)) in targets.iter().zip(dofs).enumerate() {
+        if !(t.is_finite() && t.abs() <= MAX_MM) {
+            return Err(bad(
+                format!("task.track.targets[{k}]"),
+                format!("expected a finite target (deg or mm), got {t}"),
+            ));
+        }
+        if let Some([lo, hi]) = dof.limits.map(|l| l.map(|v| v + dof.reference)) {
+            if *t < lo || *t > hi {
+                return Err(bad(
+                    format!("task.track.targets[{k}]"),
+                    format!(
+                        "{t} is outside joint {:?}'s limits [{lo}, {hi}]",
+                        dof.joint_name
+                    ),
+                ));
+            }
+        }
+    }
+    non_negative("task.track.tolerance", tolerance, "deg or mm")?;
+    if terminate_on_success && tolerance == 0.0 {
+        return Err(bad(
+            "task.track.terminate_on_success",
+            "needs a tolerance > 0",
+        ));
+    }
+    Ok(Active::Track {
+        targets: targets.to_vec(),
+        tolerance,
+        terminate: terminate_on_success,
+    })
+}
+
+/// An upright task's instance and axis checked, the axis normalised.
+fn upright(assembly: &Assembly, name: &str, axis: [f64; 3], max_tilt_deg: f64) -> Result<Active> {
+    let body = instance(assembly, "task.upright.instance", name)?;
+    finite_vec("task.upright.axis", axis)?;
+    let norm = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
+    if norm == 0.0 {
+        return Err(bad(
+            "task.upright.axis",
+            "expected a direction, got the zero vector",
+        ));
+    }
+    if !(max_tilt_deg.is_finite() && max_tilt_deg > 0.0 && max_tilt_deg < 180.0) {
+        return Err(bad(
+            "task.upright.max_tilt_deg",
+            format!("expected an angle in (0, 180) deg, got {max_tilt_deg}"),
+        ));
+    }
+    Ok(Active::Upright {
+        body,
+        axis: axis.map(|c| c / norm),
+        cos_max_tilt: max_tilt_deg.to_radians().cos(),
+    })
 }
 
 impl ActiveTask {

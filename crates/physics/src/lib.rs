@@ -59,6 +59,9 @@
 //! - `build/rehang.rs`: trees that one coupling or ranged tendon joins but that hang from
 //!   different static bodies are hung from one of them (their children still kept from
 //!   colliding with their former parents).
+//! - `build/split.rs`: the converse: independent trees jointed to one fixed body (Pusher's
+//!   arm, object and goal on the table) hang from collider-less anchors of their own, so
+//!   that each is a multibody of its own rather than one multibody of all their DOFs.
 //! - `build/params.rs`: the pipeline's parameters and their tuning (see there): tolerances
 //!   scaled to the smallest part, stiffened contact softness, Rapier's speed cap lifted,
 //!   the compliant solver's switch and sweeps, and the loops' Gauss–Seidel passes.

@@ -21,46 +21,10 @@ const LONG_FNS: &[(&str, &str, usize, &str)] = &[
         "a term kind per arm: serde enums",
     ),
     (
-        "crates/import/src/mjcf/bodies.rs",
-        "body",
-        120,
-        "inertial, frames, children",
-    ),
-    (
         "crates/env/src/terms/quantity.rs",
         "quantity",
         225,
         "a quantity per arm: serde enums",
-    ),
-    (
-        "crates/env/src/task.rs",
-        "resolve",
-        149,
-        "a task kind per arm",
-    ),
-    (
-        "crates/import/src/urdf/joints.rs",
-        "joint",
-        139,
-        "a joint kind per arm",
-    ),
-    (
-        "crates/import/src/urdf/links.rs",
-        "collision",
-        120,
-        "a shape per arm",
-    ),
-    (
-        "crates/assembly/src/validate/joints.rs",
-        "topology",
-        118,
-        "tree, loops, ordering",
-    ),
-    (
-        "crates/assembly/src/document/primitive.rs",
-        "visit_map",
-        118,
-        "a field per arm",
     ),
 ];
 

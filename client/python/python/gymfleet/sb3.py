@@ -21,6 +21,11 @@ rest of the package never does. The adapter keeps SB3's own conventions, as its
   likewise;
 - rewards are ``float32``, dones ``bool``; ``get_attr``/``set_attr``/``env_method`` reach the
   underlying vector env (the same object for every index: one batch).
+
+With ``n_envs=1`` (rl-zoo's setting for Hopper and most MuJoCo tasks) the adapter steps the
+id's single env (``gymnasium.make``) instead of a batch of one: the same bits, without the
+batch's per-step vector bookkeeping in Python (BENCHMARKS.md G); ``get_attr`` and the
+others then reach that env.
 """
 
 from __future__ import annotations
@@ -61,13 +66,16 @@ def make_vec_env(
             "make_vec_env: autoreset_mode is set by the adapter (SB3 resets a finished env "
             "in the same step); leave it out"
         )
-    venv = gymnasium.make_vec(
-        env_id,
-        n_envs,
-        vectorization_mode="vector_entry_point",
-        autoreset_mode=AutoresetMode.SAME_STEP,
-        **kwargs,
-    )
+    if n_envs == 1:
+        venv: Union[VectorEnv, gymnasium.Env] = gymnasium.make(env_id, **kwargs)
+    else:
+        venv = gymnasium.make_vec(
+            env_id,
+            n_envs,
+            vectorization_mode="vector_entry_point",
+            autoreset_mode=AutoresetMode.SAME_STEP,
+            **kwargs,
+        )
     adapter = GymfleetSb3VecEnv(venv)
     if seed is not None:
         adapter.seed(seed)
@@ -76,10 +84,14 @@ def make_vec_env(
 
 class GymfleetSb3VecEnv(VecEnv):
     """An SB3 ``VecEnv`` over a gymnasium ``VectorEnv`` that resets finished envs in the
-    same step (``autoreset_mode="same_step"``; gymfleet's batches and suite envs do)."""
+    same step (``autoreset_mode="same_step"``; gymfleet's batches and suite envs do), or
+    over one gymnasium ``Env``, which the adapter resets itself as SB3's ``DummyVecEnv``
+    does."""
 
-    def __init__(self, venv: VectorEnv) -> None:
-        mode = venv.metadata.get("autoreset_mode")
+    def __init__(self, venv: Union[VectorEnv, gymnasium.Env]) -> None:
+        #: The one env stepped directly (no vector env underneath), if so.
+        self._one: Optional[gymnasium.Env] = None if isinstance(venv, VectorEnv) else venv
+        mode = venv.metadata.get("autoreset_mode", AutoresetMode.SAME_STEP if self._one else None)
         if mode != AutoresetMode.SAME_STEP:
             raise ValueError(
                 "GymfleetSb3VecEnv: the vector env must reset in the same step "
@@ -91,10 +103,14 @@ class GymfleetSb3VecEnv(VecEnv):
         # held while it waits) while the caller works, until `step_wait`.
         self._worker = ThreadPoolExecutor(max_workers=1, thread_name_prefix="gymfleet-sb3")
         self._pending: Optional["Future[Any]"] = None
-        self._returns = np.zeros(venv.num_envs, dtype=np.float64)
-        self._lengths = np.zeros(venv.num_envs, dtype=np.int64)
+        n = 1 if self._one is not None else venv.num_envs
+        self._returns = np.zeros(n, dtype=np.float64)
+        self._lengths = np.zeros(n, dtype=np.int64)
         self._start = time.time()
-        super().__init__(venv.num_envs, venv.single_observation_space, venv.single_action_space)
+        if self._one is not None:
+            super().__init__(1, venv.observation_space, venv.action_space)
+        else:
+            super().__init__(n, venv.single_observation_space, venv.single_action_space)
         self.metadata = {**venv.metadata, **self.metadata}
 
     # -- stepping -----------------------------------------------------------------------
@@ -107,8 +123,12 @@ class GymfleetSb3VecEnv(VecEnv):
                 "GymfleetSb3VecEnv.reset: one batch takes one set of reset options for all "
                 "envs; got different options per env"
             )
-        obs, infos = self.venv.reset(seed=seeds, options=options or None)
-        self.reset_infos = _per_env(infos, self.num_envs)
+        if self._one is not None:
+            one, info = self._one.reset(seed=None if seeds is None else seeds[0], options=options or None)
+            obs, self.reset_infos = one[None], [info]
+        else:
+            obs, infos = self.venv.reset(seed=seeds, options=options or None)
+            self.reset_infos = _per_env(infos, self.num_envs)
         self._reset_seeds()
         self._reset_options()
         self._returns[:] = 0.0
@@ -121,7 +141,8 @@ class GymfleetSb3VecEnv(VecEnv):
         if self._pending is not None:
             raise RuntimeError("GymfleetSb3VecEnv.step_async: a step is pending; call step_wait first")
         actions = np.asarray(actions)
-        self._pending = (self._worker.submit(self.venv.step, actions), actions)
+        step = self.venv.step if self._one is None else self._step_one
+        self._pending = (self._worker.submit(step, actions), actions)
 
     def step_wait(self) -> Any:
         if self._pending is None:
@@ -131,6 +152,8 @@ class GymfleetSb3VecEnv(VecEnv):
         # `step_async`: nothing overlaps) is taken back and run here, without the two thread
         # hand-offs (about 100 µs a step on this VM); a caller that works in between lets
         # the thread run it meanwhile.
+        if self._one is not None:
+            return pending.result() if not pending.cancel() else self._step_one(actions)
         if pending.cancel():
             obs, rewards, terminated, truncated, infos = self.venv.step(actions)
         else:
@@ -161,6 +184,30 @@ class GymfleetSb3VecEnv(VecEnv):
             step_infos[i]["TimeLimit.truncated"] = bool(truncated[i] and not terminated[i])
         return obs, rewards, dones, step_infos
 
+    def _step_one(self, actions: np.ndarray) -> Any:
+        """The one env's step, reset in the same step when it ends, as ``DummyVecEnv``
+        steps a ``Monitor``-wrapped env."""
+        env = self._one
+        assert env is not None
+        obs, reward, terminated, truncated, info = env.step(actions[0])
+        self._returns[0] += reward
+        self._lengths[0] += 1
+        done = bool(terminated or truncated)
+        info = dict(info)
+        if done:
+            info["terminal_observation"] = obs
+            info["episode"] = {
+                "r": float(self._returns[0]),
+                "l": int(self._lengths[0]),
+                "t": round(time.time() - self._start, 6),
+            }
+            obs, reset_info = env.reset()
+            self.reset_infos[0] = reset_info
+            self._returns[0] = 0.0
+            self._lengths[0] = 0
+        info["TimeLimit.truncated"] = bool(truncated and not terminated)
+        return obs[None], np.array([reward], dtype=np.float32), np.array([done]), [info]
+
     def close(self) -> None:
         self._worker.shutdown(wait=True)
         self.venv.close()
@@ -171,7 +218,7 @@ class GymfleetSb3VecEnv(VecEnv):
         frames = self.venv.render()
         if frames is None:
             return [None] * self.num_envs
-        return list(frames)
+        return [frames] if self._one is not None else list(frames)
 
     def has_attr(self, attr_name: str) -> bool:
         return hasattr(self.venv, attr_name)

@@ -81,120 +81,134 @@ impl<'de> Visitor<'de> for PrimitiveVisitor {
     }
 
     fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Primitive, A::Error> {
-        let mut kind: Option<PrimitiveKind> = None;
-        let mut size: Option<Vec3> = None;
-        let mut radius: Option<f64> = None;
-        let mut radii: Option<Vec3> = None;
-        let mut height: Option<f64> = None;
-        let mut mesh = MeshDef::default();
-        let mut rows: Option<u32> = None;
-        let mut columns: Option<u32> = None;
-        let mut heights: Option<Vec<f64>> = None;
+        let mut fields = Fields::default();
         while let Some(key) = map.next_key::<String>()? {
-            let allowed = match kind {
+            let allowed = match fields.kind {
                 Some(k) => key == "type" || k.fields().contains(&key.as_str()),
                 None => PRIMITIVE_FIELDS.contains(&key.as_str()),
             };
-            let already = match key.as_str() {
-                "type" => kind.is_some(),
-                "size" => size.is_some(),
-                "radius" => radius.is_some(),
-                "radii" => radii.is_some(),
-                "height" => height.is_some(),
-                "vertices" => mesh.vertices.is_some(),
-                "indices" => mesh.indices.is_some(),
-                "convex" => mesh.convex.is_some(),
-                "file" => mesh.file.is_some(),
-                "scale" => mesh.scale.is_some(),
-                "rows" => rows.is_some(),
-                "columns" => columns.is_some(),
-                "heights" => heights.is_some(),
-                _ => false,
-            };
+            let already = fields.has(&key);
             if !allowed || already {
                 let message = if already {
                     format!("duplicate field `{key}`")
                 } else {
                     unknown_field_message(
                         &key,
-                        kind.map_or(PRIMITIVE_FIELDS, PrimitiveKind::fields),
+                        fields.kind.map_or(PRIMITIVE_FIELDS, PrimitiveKind::fields),
                     )
                 };
                 map.next_value_seed(Reject(message))?;
                 continue;
             }
-            match key.as_str() {
-                "type" => kind = Some(map.next_value()?),
-                "size" => size = Some(map.next_value()?),
-                "radius" => radius = Some(map.next_value()?),
-                "radii" => radii = Some(map.next_value()?),
-                "height" => height = Some(map.next_value()?),
-                "vertices" => mesh.vertices = Some(map.next_value()?),
-                "indices" => mesh.indices = Some(map.next_value()?),
-                "convex" => mesh.convex = Some(map.next_value()?),
-                "file" => mesh.file = Some(map.next_value()?),
-                "scale" => mesh.scale = Some(map.next_value()?),
-                "rows" => rows = Some(map.next_value()?),
-                "columns" => columns = Some(map.next_value()?),
-                "heights" => heights = Some(map.next_value()?),
-                _ => {
-                    map.next_value::<IgnoredAny>()?;
-                }
-            }
+            fields.read(&key, &mut map)?;
         }
-        let kind = kind.ok_or_else(|| de::Error::missing_field("type"))?;
+        let kind = fields
+            .kind
+            .ok_or_else(|| de::Error::missing_field("type"))?;
         // A field given before the tag may not belong to this kind.
-        for (name, present) in [
-            ("size", size.is_some()),
-            ("radius", radius.is_some()),
-            ("radii", radii.is_some()),
-            ("height", height.is_some()),
-            ("vertices", mesh.vertices.is_some()),
-            ("indices", mesh.indices.is_some()),
-            ("convex", mesh.convex.is_some()),
-            ("file", mesh.file.is_some()),
-            ("scale", mesh.scale.is_some()),
-            ("rows", rows.is_some()),
-            ("columns", columns.is_some()),
-            ("heights", heights.is_some()),
-        ] {
-            if present && !kind.fields().contains(&name) {
+        for name in PRIMITIVE_FIELDS.iter().filter(|&&name| name != "type") {
+            if fields.has(name) && !kind.fields().contains(name) {
                 return Err(de::Error::unknown_field(name, kind.fields()));
             }
         }
+        fields.primitive(kind)
+    }
+}
+
+/// A primitive's fields as read, before its `type` decides which it needs.
+#[derive(Default)]
+struct Fields {
+    kind: Option<PrimitiveKind>,
+    size: Option<Vec3>,
+    radius: Option<f64>,
+    radii: Option<Vec3>,
+    height: Option<f64>,
+    mesh: MeshDef,
+    rows: Option<u32>,
+    columns: Option<u32>,
+    heights: Option<Vec<f64>>,
+}
+
+impl Fields {
+    /// Whether field `key` was read.
+    fn has(&self, key: &str) -> bool {
+        match key {
+            "type" => self.kind.is_some(),
+            "size" => self.size.is_some(),
+            "radius" => self.radius.is_some(),
+            "radii" => self.radii.is_some(),
+            "height" => self.height.is_some(),
+            "vertices" => self.mesh.vertices.is_some(),
+            "indices" => self.mesh.indices.is_some(),
+            "convex" => self.mesh.convex.is_some(),
+            "file" => self.mesh.file.is_some(),
+            "scale" => self.mesh.scale.is_some(),
+            "rows" => self.rows.is_some(),
+            "columns" => self.columns.is_some(),
+            "heights" => self.heights.is_some(),
+            _ => false,
+        }
+    }
+
+    /// Reads field `key`'s value from `map`.
+    fn read<'de, A: MapAccess<'de>>(&mut self, key: &str, map: &mut A) -> Result<(), A::Error> {
+        match key {
+            "type" => self.kind = Some(map.next_value()?),
+            "size" => self.size = Some(map.next_value()?),
+            "radius" => self.radius = Some(map.next_value()?),
+            "radii" => self.radii = Some(map.next_value()?),
+            "height" => self.height = Some(map.next_value()?),
+            "vertices" => self.mesh.vertices = Some(map.next_value()?),
+            "indices" => self.mesh.indices = Some(map.next_value()?),
+            "convex" => self.mesh.convex = Some(map.next_value()?),
+            "file" => self.mesh.file = Some(map.next_value()?),
+            "scale" => self.mesh.scale = Some(map.next_value()?),
+            "rows" => self.rows = Some(map.next_value()?),
+            "columns" => self.columns = Some(map.next_value()?),
+            "heights" => self.heights = Some(map.next_value()?),
+            _ => {
+                map.next_value::<IgnoredAny>()?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The primitive of `kind` from its fields, each it needs present.
+    fn primitive<E: de::Error>(mut self, kind: PrimitiveKind) -> Result<Primitive, E> {
+        let missing = |name: &'static str| E::missing_field(name);
         Ok(match kind {
             PrimitiveKind::Cube => Primitive::Cube {
-                size: size.ok_or_else(|| de::Error::missing_field("size"))?,
+                size: self.size.ok_or_else(|| missing("size"))?,
             },
             PrimitiveKind::Cylinder => Primitive::Cylinder {
-                radius: radius.ok_or_else(|| de::Error::missing_field("radius"))?,
-                height: height.ok_or_else(|| de::Error::missing_field("height"))?,
+                radius: self.radius.ok_or_else(|| missing("radius"))?,
+                height: self.height.ok_or_else(|| missing("height"))?,
             },
             PrimitiveKind::Sphere => Primitive::Sphere {
-                radius: radius.ok_or_else(|| de::Error::missing_field("radius"))?,
+                radius: self.radius.ok_or_else(|| missing("radius"))?,
             },
             PrimitiveKind::Capsule => Primitive::Capsule {
-                radius: radius.ok_or_else(|| de::Error::missing_field("radius"))?,
-                height: height.ok_or_else(|| de::Error::missing_field("height"))?,
+                radius: self.radius.ok_or_else(|| missing("radius"))?,
+                height: self.height.ok_or_else(|| missing("height"))?,
             },
             PrimitiveKind::Ellipsoid => Primitive::Ellipsoid {
-                radii: radii.ok_or_else(|| de::Error::missing_field("radii"))?,
+                radii: self.radii.ok_or_else(|| missing("radii"))?,
             },
             PrimitiveKind::Mesh => {
-                if mesh.vertices.is_none() && mesh.file.is_none() {
-                    return Err(de::Error::custom(
+                if self.mesh.vertices.is_none() && self.mesh.file.is_none() {
+                    return Err(E::custom(
                         "a mesh needs `vertices` (and `indices`) or a `file` of the assets",
                     ));
                 }
-                Primitive::Mesh(mesh)
+                Primitive::Mesh(self.mesh)
             }
             PrimitiveKind::Plane => Primitive::Plane,
             PrimitiveKind::Heightfield => Primitive::Heightfield(HeightfieldDef {
-                rows,
-                columns,
-                size: size.ok_or_else(|| de::Error::missing_field("size"))?,
-                heights,
-                file: mesh.file.take(),
+                rows: self.rows,
+                columns: self.columns,
+                size: self.size.ok_or_else(|| missing("size"))?,
+                heights: self.heights,
+                file: self.mesh.file.take(),
             }),
         })
     }

@@ -285,112 +285,151 @@ impl Validator {
         instances: &[InstanceDef],
         roots: Roots<'_>,
     ) {
-        let held_as = match roots.anchor(child) {
-            Anchor::None => None,
-            Anchor::Plane => Some("a plane or heightfield, a ground fixed to the world,"),
-            Anchor::Fixed => Some("fixed to the world (\"fixed\": true)"),
-            Anchor::Mocap => Some("a mocap body, which only its pose targets move,"),
+        let first = held_child(def, child, roots)
+            .or_else(|| holds_nothing(def, (parent, child), roots))
+            .or_else(|| hangs_from_mocap(def, parent, roots));
+        let found = match (first, role) {
+            (Some(found), _) => Some(found),
+            (None, Some(Role::Tree)) => None,
+            (None, Some(Role::Loop)) => actuated_loop(def),
+            (None, None) => joins_itself(def, (parent, child))
+                .or_else(|| unobserved_tree_joint(def))
+                .or_else(|| root_as_child(def, child, roots))
+                .or_else(|| second_parent(def, child, topology, instances)),
         };
-        if let Some(what) = held_as {
-            self.push(
-                format!("{path}.child"),
-                format!(
-                    "instance {} is {what} and cannot be a joint child; swap parent and child",
-                    quoted(&def.child)
-                ),
-            );
-            return;
-        }
-        if roots.held(parent) && roots.held(child) && parent != child {
-            self.push(
-                format!("{path}.child"),
-                format!(
-                    "joint {} -> {} joins two instances the world holds where they are (grounded, fixed or mocap): it would hold nothing; remove it",
-                    quoted(&def.parent),
-                    quoted(&def.child)
-                ),
-            );
-            return;
-        }
-        if roots.anchor(parent) == Anchor::Mocap
-            && def.kind != JointType::Fixed
-            && def.observed != Some(false)
-        {
-            self.push(
-                format!("{path}.observed"),
-                format!(
-                    "instance {} is a mocap body, which nothing moving hangs from: a joint from it is a constraint that pulls {} along (\"observed\": false), or a fixed joint that makes {} part of it",
-                    quoted(&def.parent),
-                    quoted(&def.child),
-                    quoted(&def.child)
-                ),
-            );
-            return;
-        }
-        match role {
-            Some(Role::Tree) => return,
-            Some(Role::Loop) => {
-                if def.actuated == Some(true) {
-                    self.push(
-                        format!("{path}.actuated"),
-                        format!(
-                            "joint {} -> {} closes a kinematic loop, and a loop-closing joint is passive; remove \"actuated\": true, or mark another joint of the loop \"actuated\": false so that this one joins the tree (the tree takes actuated joints first)",
-                            quoted(&def.parent),
-                            quoted(&def.child)
-                        ),
-                    );
-                }
-                return;
-            }
-            None => {}
-        }
-        if parent == child {
-            self.push(
-                format!("{path}.child"),
-                format!(
-                    "joint connects instance {} to itself; parent and child must differ",
-                    quoted(&def.child)
-                ),
-            );
-            return;
-        }
-        if def.observed == Some(false) {
-            self.push(
-                format!("{path}.observed"),
-                format!(
-                    "only a joint that closes a kinematic loop may be unobserved, and {} and {} are not otherwise joined; remove \"observed\": false",
-                    quoted(&def.parent),
-                    quoted(&def.child)
-                ),
-            );
-            return;
-        }
-        if child == 0 {
-            let what = if roots.floating_base {
-                "the floating base (the first instance), the root of the tree,"
-            } else {
-                "grounded (the first instance)"
-            };
-            self.push(
-                format!("{path}.child"),
-                format!(
-                    "instance {} is {what} and cannot be a joint child; swap parent and child",
-                    quoted(&def.child)
-                ),
-            );
-            return;
-        }
-        if let Some((existing, _)) = topology.parent[child] {
-            self.push(
-                format!("{path}.child"),
-                format!(
-                    "instance {} already has parent {}; a second parent is only for a joint that closes a kinematic loop, and {} is not otherwise joined to {}",
-                    quoted(&def.child),
-                    quoted(&instances[existing].name),
-                    quoted(&def.parent),
-                    quoted(&def.child)
-                ),
-            );
+        if let Some((field, message)) = found {
+            self.push(format!("{path}.{field}"), message);
         }
     }
+}
+
+/// A problem a joint's place in the trees has: the field it is about and the message.
+type Found = Option<(&'static str, String)>;
+
+/// A child the world holds where it is (a ground, a fixed or a mocap instance).
+fn held_child(def: &JointDef, child: usize, roots: Roots<'_>) -> Found {
+    let what = match roots.anchor(child) {
+        Anchor::None => return None,
+        Anchor::Plane => "a plane or heightfield, a ground fixed to the world,",
+        Anchor::Fixed => "fixed to the world (\"fixed\": true)",
+        Anchor::Mocap => "a mocap body, which only its pose targets move,",
+    };
+    Some((
+        "child",
+        format!(
+            "instance {} is {what} and cannot be a joint child; swap parent and child",
+            quoted(&def.child)
+        ),
+    ))
+}
+
+/// A joint between two instances the world holds.
+fn holds_nothing(def: &JointDef, (parent, child): (usize, usize), roots: Roots<'_>) -> Found {
+    (roots.held(parent) && roots.held(child) && parent != child).then(|| {
+        (
+            "child",
+            format!(
+                "joint {} -> {} joins two instances the world holds where they are (grounded, fixed or mocap): it would hold nothing; remove it",
+                quoted(&def.parent),
+                quoted(&def.child)
+            ),
+        )
+    })
+}
+
+/// A moving joint from a mocap body that is not an unobserved constraint.
+fn hangs_from_mocap(def: &JointDef, parent: usize, roots: Roots<'_>) -> Found {
+    (roots.anchor(parent) == Anchor::Mocap
+        && def.kind != JointType::Fixed
+        && def.observed != Some(false))
+    .then(|| {
+        (
+            "observed",
+            format!(
+                "instance {} is a mocap body, which nothing moving hangs from: a joint from it is a constraint that pulls {} along (\"observed\": false), or a fixed joint that makes {} part of it",
+                quoted(&def.parent),
+                quoted(&def.child),
+                quoted(&def.child)
+            ),
+        )
+    })
+}
+
+/// An actuated joint that closes a loop (loop-closing joints are passive).
+fn actuated_loop(def: &JointDef) -> Found {
+    (def.actuated == Some(true)).then(|| {
+        (
+            "actuated",
+            format!(
+                "joint {} -> {} closes a kinematic loop, and a loop-closing joint is passive; remove \"actuated\": true, or mark another joint of the loop \"actuated\": false so that this one joins the tree (the tree takes actuated joints first)",
+                quoted(&def.parent),
+                quoted(&def.child)
+            ),
+        )
+    })
+}
+
+/// A joint from an instance to itself.
+fn joins_itself(def: &JointDef, (parent, child): (usize, usize)) -> Found {
+    (parent == child).then(|| {
+        (
+            "child",
+            format!(
+                "joint connects instance {} to itself; parent and child must differ",
+                quoted(&def.child)
+            ),
+        )
+    })
+}
+
+/// An unobserved joint that does not close a loop.
+fn unobserved_tree_joint(def: &JointDef) -> Found {
+    (def.observed == Some(false)).then(|| {
+        (
+            "observed",
+            format!(
+                "only a joint that closes a kinematic loop may be unobserved, and {} and {} are not otherwise joined; remove \"observed\": false",
+                quoted(&def.parent),
+                quoted(&def.child)
+            ),
+        )
+    })
+}
+
+/// The first instance (grounded, or the floating base) as a child.
+fn root_as_child(def: &JointDef, child: usize, roots: Roots<'_>) -> Found {
+    (child == 0).then(|| {
+        let what = if roots.floating_base {
+            "the floating base (the first instance), the root of the tree,"
+        } else {
+            "grounded (the first instance)"
+        };
+        (
+            "child",
+            format!(
+                "instance {} is {what} and cannot be a joint child; swap parent and child",
+                quoted(&def.child)
+            ),
+        )
+    })
+}
+
+/// A second parent for a child, from a joint that does not close a loop.
+fn second_parent(
+    def: &JointDef,
+    child: usize,
+    topology: &Topology,
+    instances: &[InstanceDef],
+) -> Found {
+    let (existing, _) = topology.parent[child]?;
+    Some((
+        "child",
+        format!(
+            "instance {} already has parent {}; a second parent is only for a joint that closes a kinematic loop, and {} is not otherwise joined to {}",
+            quoted(&def.child),
+            quoted(&instances[existing].name),
+            quoted(&def.parent),
+            quoted(&def.child)
+        ),
+    ))
 }

@@ -262,19 +262,7 @@ impl<'a, 'i> Converter<'a, 'i> {
         parent: BodyParent<'_>,
         class: Option<&str>,
     ) -> Result<()> {
-        // Bounded before recursing further: a hostile tree of nested bodies would
-        // otherwise overflow the converting thread's stack.
-        let nested = node
-            .ancestors()
-            .filter(|n| n.has_tag_name("body"))
-            .take(MAX_BODY_DEPTH + 1)
-            .count();
-        if nested > MAX_BODY_DEPTH {
-            return Err(self.unsupported(
-                node,
-                format!("bodies nested more than {MAX_BODY_DEPTH} deep are not supported"),
-            ));
-        }
+        self.check_depth(node)?;
         let body_name = node.attribute("name").unwrap_or("body").to_string();
         let class_owned = node
             .attribute("childclass")
@@ -325,24 +313,9 @@ impl<'a, 'i> Converter<'a, 'i> {
         if mocap {
             self.mocap_body(joints.first().copied(), &main, &frame)?;
         }
-        let parent_instance = match parent {
-            BodyParent::World if free.is_none() && !mocap && !is_static => {
-                Some(self.world_instance())
-            }
-            BodyParent::World => None,
-            BodyParent::Static(p) | BodyParent::Moving(p) => Some(p.to_string()),
-        };
-        if is_static {
-            for instance in &mut self.instances[first_instance..] {
-                instance.fixed = Some(true);
-            }
-        } else if joints.is_empty() && !mocap {
-            if let Some(p) = &parent_instance {
-                self.weld(p.clone(), main.clone());
-            }
-        }
+        let held = (free.is_some(), mocap, is_static, joints.is_empty());
+        let from = self.hang(parent, held, first_instance, &main);
         let joints = if free.is_some() { Vec::new() } else { joints };
-        let from = parent_instance.unwrap_or_default();
         self.joint_chain(&joints, class, (&body_name, &main, &frame), from)?;
 
         if let Some(name) = node.attribute("name") {
@@ -357,13 +330,67 @@ impl<'a, 'i> Converter<'a, 'i> {
         } else {
             BodyParent::Moving(&main)
         };
+        self.body_children(node, class, (&body_name, &main, &frame), below)
+    }
+
+    /// The instance a body's first joint hangs from (none for a free, mocap or static
+    /// top-level body: the empty name). A static body's instances (from `first`) are
+    /// fixed where they are; a jointless moving body is welded to its parent.
+    fn hang(
+        &mut self,
+        parent: BodyParent<'_>,
+        (free, mocap, is_static, jointless): (bool, bool, bool, bool),
+        first: usize,
+        main: &str,
+    ) -> String {
+        let parent_instance = match parent {
+            BodyParent::World if !free && !mocap && !is_static => Some(self.world_instance()),
+            BodyParent::World => None,
+            BodyParent::Static(p) | BodyParent::Moving(p) => Some(p.to_string()),
+        };
+        if is_static {
+            for instance in &mut self.instances[first..] {
+                instance.fixed = Some(true);
+            }
+        } else if jointless && !mocap {
+            if let Some(p) = &parent_instance {
+                self.weld(p.clone(), main.to_string());
+            }
+        }
+        parent_instance.unwrap_or_default()
+    }
+
+    /// Bounded before recursing further: a hostile tree of nested bodies would otherwise
+    /// overflow the converting thread's stack.
+    fn check_depth(&self, node: Node<'a, 'i>) -> Result<()> {
+        let nested = node
+            .ancestors()
+            .filter(|n| n.has_tag_name("body"))
+            .take(MAX_BODY_DEPTH + 1)
+            .count();
+        if nested > MAX_BODY_DEPTH {
+            return Err(self.unsupported(
+                node,
+                format!("bodies nested more than {MAX_BODY_DEPTH} deep are not supported"),
+            ));
+        }
+        Ok(())
+    }
+
+    /// A body's child bodies (hanging from `below`) and sites; its geoms, joints and
+    /// inertial are read already.
+    fn body_children(
+        &mut self,
+        node: Node<'a, 'i>,
+        class: Option<&str>,
+        (body_name, main, frame): (&str, &str, &Frame),
+        below: BodyParent<'_>,
+    ) -> Result<()> {
         for child in elements(node) {
             match child.tag_name().name() {
                 "geom" | "joint" | "freejoint" | "inertial" => {}
-                "body" => self.body(child, &frame, below, class)?,
-                "site" => {
-                    self.body_site(child, class, (body_name.as_str(), main.as_str()), &frame)?
-                }
+                "body" => self.body(child, frame, below, class)?,
+                "site" => self.body_site(child, class, (body_name, main), frame)?,
                 "camera" | "light" => {
                     self.warn(child, "ignored (no effect on the dynamics)".into())
                 }

@@ -72,6 +72,28 @@ impl<'a, 'i> Converter<'a, 'i> {
             ));
         }
         j.axis = Some(vec3(frame.direction(axis.normalize())));
+        self.limits(node, kind, (&name, linear), &mut j)?;
+        if let Some(d) = child(node, "dynamics") {
+            self.dynamics(d, &mut j)?;
+        }
+        for other in ["calibration", "safety_controller"] {
+            if let Some(n) = child(node, other) {
+                self.warn(n, "ignored (no effect on the dynamics)".into());
+            }
+        }
+        self.joints.push(j);
+        Ok(())
+    }
+
+    /// A moving joint's `<limit>`: its range (a continuous joint has none), effort bound
+    /// and ignored velocity; a zero pose outside the range starts at its nearest end.
+    fn limits(
+        &mut self,
+        node: Node<'a, 'i>,
+        kind: &str,
+        (name, linear): (&str, bool),
+        j: &mut JointDef,
+    ) -> Result<()> {
         let limit = child(node, "limit");
         match (kind, limit) {
             ("continuous", _) => {}
@@ -99,7 +121,7 @@ impl<'a, 'i> Converter<'a, 'i> {
                         l,
                         format!(
                             "joint {} starts at {} {}, its limit nearest to the zero pose that its limits exclude",
-                            crate::quote(&name),
+                            crate::quote(name),
                             (unit(start) * 1e6).round() / 1e6,
                             if linear { "mm" } else { "deg" }
                         ),
@@ -125,32 +147,25 @@ impl<'a, 'i> Converter<'a, 'i> {
                 );
             }
         }
-        if let Some(d) = child(node, "dynamics") {
-            if let Some(damping) = self.number(d, "damping")? {
-                if damping < 0.0 {
-                    return Err(self.bad(
-                        d,
-                        "damping",
-                        format!("expected damping ≥ 0, got {damping}"),
-                    ));
-                }
-                if damping > 0.0 {
-                    j.damping = Some(damping);
-                }
+        Ok(())
+    }
+
+    /// A joint's `<dynamics>`: damping and dry friction, neither negative.
+    fn dynamics(&mut self, d: Node<'a, 'i>, j: &mut JointDef) -> Result<()> {
+        if let Some(damping) = self.number(d, "damping")? {
+            if damping < 0.0 {
+                return Err(self.bad(d, "damping", format!("expected damping ≥ 0, got {damping}")));
             }
-            if let Some(f) = self.number(d, "friction")?.filter(|f| *f != 0.0) {
-                if f < 0.0 {
-                    return Err(self.bad(d, "friction", format!("expected friction ≥ 0, got {f}")));
-                }
-                j.friction = Some(f);
+            if damping > 0.0 {
+                j.damping = Some(damping);
             }
         }
-        for other in ["calibration", "safety_controller"] {
-            if let Some(n) = child(node, other) {
-                self.warn(n, "ignored (no effect on the dynamics)".into());
+        if let Some(f) = self.number(d, "friction")?.filter(|f| *f != 0.0) {
+            if f < 0.0 {
+                return Err(self.bad(d, "friction", format!("expected friction ≥ 0, got {f}")));
             }
+            j.friction = Some(f);
         }
-        self.joints.push(j);
         Ok(())
     }
 }

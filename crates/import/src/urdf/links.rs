@@ -233,21 +233,9 @@ impl<'a, 'i> Converter<'a, 'i> {
         });
     }
 
-    /// One `<collision>` as an instance, placed in the world.
-    pub(super) fn collision(
-        &mut self,
-        node: Node<'a, 'i>,
-        link: &Frame,
-        link_name: &str,
-        weight: Option<f64>,
-        first: bool,
-    ) -> Result<String> {
-        let at = link.then(&self.origin(node)?);
-        let geometry = child(node, "geometry")
-            .ok_or_else(|| self.unsupported(node, "no <geometry>".into()))?;
-        let shape = elements(geometry)
-            .next()
-            .ok_or_else(|| self.unsupported(geometry, "empty <geometry>".into()))?;
+    /// A collision's `<geometry>` element as a primitive, with the point of it the URDF
+    /// origin is at (our primitives start at a corner or their base).
+    fn shape(&self, shape: Node<'a, 'i>) -> Result<(Primitive, DVec3)> {
         let positive = |c: &Self, name: &str| -> Result<f64> {
             match c.number(shape, name)? {
                 Some(v) if v > 0.0 => Ok(v),
@@ -256,7 +244,7 @@ impl<'a, 'i> Converter<'a, 'i> {
             }
         };
         // Our primitives start at a corner (box) or their base (cylinder, capsule).
-        let (primitive, corner) = match shape.tag_name().name() {
+        Ok(match shape.tag_name().name() {
             "box" => {
                 let s = self
                     .numbers::<3>(shape, "size")?
@@ -324,7 +312,25 @@ impl<'a, 'i> Converter<'a, 'i> {
             other => {
                 return Err(self.unsupported(shape, format!("<{other}> geometry is not supported")))
             }
-        };
+        })
+    }
+
+    /// One `<collision>` as an instance, placed in the world.
+    pub(super) fn collision(
+        &mut self,
+        node: Node<'a, 'i>,
+        link: &Frame,
+        link_name: &str,
+        weight: Option<f64>,
+        first: bool,
+    ) -> Result<String> {
+        let at = link.then(&self.origin(node)?);
+        let geometry = child(node, "geometry")
+            .ok_or_else(|| self.unsupported(node, "no <geometry>".into()))?;
+        let shape = elements(geometry)
+            .next()
+            .ok_or_else(|| self.unsupported(geometry, "empty <geometry>".into()))?;
+        let (primitive, corner) = self.shape(shape)?;
         let origin_m = at.point(-corner);
         let origin = origin_m * MM;
         let rotation = euler_xyz_degrees(at.rotation);
