@@ -245,7 +245,7 @@ impl RobotWorld {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::WorldOptions;
 
@@ -257,6 +257,11 @@ mod tests {
 
     /// [`three_arms`], joints named after their arms, with `actuators` (JSON).
     fn arms(actuators: &str) -> Assembly {
+        arms_with(&format!("\"actuators\": {actuators}"))
+    }
+
+    /// [`three_arms`] with `extra`, more of the assembly's keys (JSON: `"couplings": [...]`).
+    pub(crate) fn arms_with(extra: &str) -> Assembly {
         let doc = r#"{
   "parts": [
     { "name": "Base", "primitive": { "type": "cube", "size": { "x": 200, "y": 20, "z": 5 } } },
@@ -277,10 +282,10 @@ mod tests {
       { "type": "revolute", "name": "c", "parent": "base", "child": "c",
         "anchor": { "x": 102, "y": 10, "z": 100 }, "axis": { "x": 0, "y": 1, "z": 0 } }
     ],
-    "actuators": ACTUATORS
+    EXTRA
   }
 }"#;
-        gymfleet_assembly::parse(&doc.replace("ACTUATORS", actuators)).unwrap()
+        gymfleet_assembly::parse(&doc.replace("EXTRA", extra)).unwrap()
     }
 
     /// Each DOF's diagonal entry is its own arm's inertia about its axis (an arm of

@@ -152,32 +152,10 @@ fn find(class: &mut [usize], mut j: usize) -> usize {
 mod tests {
     use crate::{RobotWorld, WorldOptions};
 
-    /// Three arms hinged side by side on a base, `couplings` (JSON) between them.
+    /// Three arms hinged side by side on a base (`actuators.rs`' test arms), `couplings`
+    /// (JSON) between them.
     fn arms(couplings: &str) -> RobotWorld {
-        let doc = r#"{
-  "parts": [
-    { "name": "Base", "primitive": { "type": "cube", "size": { "x": 200, "y": 20, "z": 5 } } },
-    { "name": "Arm", "primitive": { "type": "cube", "size": { "x": 4, "y": 4, "z": 40 } } }
-  ],
-  "assembly": {
-    "instances": [
-      { "part": "Base", "name": "base" },
-      { "part": "Arm", "name": "a", "position": { "x": 0, "y": 8, "z": 100 } },
-      { "part": "Arm", "name": "b", "position": { "x": 50, "y": 8, "z": 100 } },
-      { "part": "Arm", "name": "c", "position": { "x": 100, "y": 8, "z": 100 } }
-    ],
-    "joints": [
-      { "type": "revolute", "name": "a", "parent": "base", "child": "a",
-        "anchor": { "x": 2, "y": 10, "z": 100 }, "axis": { "x": 0, "y": 1, "z": 0 } },
-      { "type": "revolute", "name": "b", "parent": "base", "child": "b",
-        "anchor": { "x": 52, "y": 10, "z": 100 }, "axis": { "x": 0, "y": 1, "z": 0 } },
-      { "type": "revolute", "name": "c", "parent": "base", "child": "c",
-        "anchor": { "x": 102, "y": 10, "z": 100 }, "axis": { "x": 0, "y": 1, "z": 0 } }
-    ],
-    "couplings": COUPLINGS
-  }
-}"#;
-        let assembly = gymfleet_assembly::parse(&doc.replace("COUPLINGS", couplings)).unwrap();
+        let assembly = crate::actuators::tests::arms_with(&format!("\"couplings\": {couplings}"));
         RobotWorld::new(&assembly, &WorldOptions::default()).unwrap()
     }
 
