@@ -64,6 +64,11 @@ pub struct Collider {
     pub(crate) deformable_mesh_ref: Option<crate::dynamics::SoftMeshRef>,
     /// User-defined data associated to this collider.
     pub user_data: u128,
+    /// gymfleet patch 46 (see `PATCHES.md`): a convex polyhedron's AABB at the pose it was
+    /// computed for, so that the pipeline's later asks at the same pose (the narrow phase's
+    /// soft-CCD test, the next step's) reuse it instead of walking every vertex again.
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    aabb_at_pose: Option<(Pose, Aabb)>,
 }
 
 impl Collider {
@@ -95,6 +100,7 @@ impl Collider {
     /// Deforms the shape of a soft-body surface collider in place through `f` without
     /// invalidating the narrow-phase pair workspaces (its topology and identity are unchanged).
     pub(crate) fn deform_shape(&mut self, f: impl FnOnce(&mut dyn Shape)) {
+        self.aabb_at_pose = None;
         f(self.shape.make_mut());
         self.changes.insert(ColliderChanges::DEFORMED);
     }
@@ -102,6 +108,7 @@ impl Collider {
     /// Replaces the shape of a soft-body surface collider whose topology changed (a tear), as a
     /// deformation: no narrow-phase pair workspace invalidation, no wake-up.
     pub(crate) fn replace_deformed_shape(&mut self, shape: SharedShape) {
+        self.aabb_at_pose = None;
         self.shape = shape;
         self.changes.insert(ColliderChanges::DEFORMED);
     }
@@ -181,6 +188,7 @@ impl Collider {
             user_data,
             contact_skin,
             deformable_mesh_ref: _soft_mesh, // The soft-body markers belong to the collider's identity.
+            aabb_at_pose: _, // Forgotten below with the shape.
         } = other;
 
         if self.parent.is_none() {
@@ -188,6 +196,7 @@ impl Collider {
         }
 
         self.coll_type = *coll_type;
+        self.aabb_at_pose = None;
         self.shape = shape.clone();
         self.mprops = mprops.clone();
         self.material = *material;
@@ -588,12 +597,14 @@ impl Collider {
     /// shape that you can modify.
     pub fn shape_mut(&mut self) -> &mut dyn Shape {
         self.changes.insert(ColliderChanges::SHAPE);
+        self.aabb_at_pose = None;
         self.shape.make_mut()
     }
 
     /// Sets the shape of this collider.
     pub fn set_shape(&mut self, shape: SharedShape) {
         self.changes.insert(ColliderChanges::SHAPE);
+        self.aabb_at_pose = None;
         self.shape = shape;
     }
 
@@ -616,7 +627,21 @@ impl Collider {
     ///
     /// This is the AABB used for collision detection (slightly larger than the visual shape).
     pub fn compute_collision_aabb(&self, prediction: Real) -> Aabb {
-        shape_aabb(&*self.shape, &self.pos).loosened(self.contact_skin + prediction)
+        let aabb = match &self.aabb_at_pose {
+            // gymfleet patch 46: the same pose gives the same box, bit for bit.
+            Some((pose, aabb)) if *pose == self.pos.0 => *aabb,
+            _ => shape_aabb(&*self.shape, &self.pos),
+        };
+        aabb.loosened(self.contact_skin + prediction)
+    }
+
+    /// gymfleet patch 46: computes and keeps a convex polyhedron's AABB at the collider's
+    /// current pose (other shapes' boxes cost a few operations and are not kept).
+    pub(crate) fn keep_aabb(&mut self) {
+        self.aabb_at_pose = self
+            .shape
+            .as_convex_polyhedron()
+            .map(|_| (self.pos.0, shape_aabb(&*self.shape, &self.pos)));
     }
 
     /// Computes the AABB swept from current position to `next_position`.
@@ -1529,6 +1554,7 @@ impl ColliderBuilder {
             contact_skin: self.contact_skin,
             deformable_mesh_ref: None,
             user_data: self.user_data,
+            aabb_at_pose: None,
         }
     }
 }

@@ -140,6 +140,8 @@ impl PhysicsPipeline {
                         let new_pos = rb.pos.position * co.parent.as_ref().unwrap().pos_wrt_parent;
                         co.pos = crate::geometry::ColliderPosition(new_pos);
                         if co.is_enabled() {
+                            // gymfleet patch 46: a hull's box is computed once per pose.
+                            co.keep_aabb();
                             let aabb = collider_aabb(co, rb);
                             if aabb.mins.is_finite() && aabb.maxs.is_finite() {
                                 self.end_step_collider_aabbs.push((*co_handle, aabb));
@@ -202,6 +204,7 @@ impl PhysicsPipeline {
                                     rb.pos.position * co.parent.as_ref().unwrap().pos_wrt_parent;
                                 co.pos = crate::geometry::ColliderPosition(new_pos);
                                 if co.is_enabled() {
+                                    co.keep_aabb(); // gymfleet patch 46
                                     let aabb = collider_aabb(co, rb);
                                     if aabb.mins.is_finite() && aabb.maxs.is_finite() {
                                         moved.push((*co_handle, aabb));

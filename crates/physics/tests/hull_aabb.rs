@@ -1,0 +1,79 @@
+//! Vendored Rapier patch 46: a convex hull's AABB is computed once per pose and reused at
+//! that pose. The reused box must be the one a fresh computation gives, bit for bit, and a
+//! new shape or pose must not see the old one.
+
+use rapier3d::prelude::*;
+
+/// A hull of many vertices (a tessellated sphere squashed along z), as STL meshes give.
+fn hull(scale: Real) -> SharedShape {
+    let mut points = Vec::new();
+    for i in 0..24 {
+        for j in 0..12 {
+            let (a, b) = (i as Real * 0.2618, j as Real * 0.2618 + 0.1);
+            points.push(Vector::new(a.cos() * b.sin(), a.sin() * b.sin(), 0.4 * b.cos()) * scale);
+        }
+    }
+    SharedShape::convex_hull(&points).expect("a hull")
+}
+
+fn fresh(co: &Collider) -> Aabb {
+    co.shape().compute_aabb(co.position()).loosened(co.contact_skin())
+}
+
+#[test]
+fn a_hulls_kept_aabb_is_the_fresh_one_at_every_pose_and_shape() {
+    let mut bodies = RigidBodySet::new();
+    let mut colliders = ColliderSet::new();
+    let body = bodies.insert(
+        RigidBodyBuilder::dynamic()
+            .translation(Vector::new(0.0, 0.0, 1.0))
+            .angvel(Vector::new(1.0, 2.0, 0.5))
+            .build(),
+    );
+    let handle = colliders.insert_with_parent(
+        ColliderBuilder::new(hull(0.1)).build(),
+        body,
+        &mut bodies,
+    );
+    let (mut islands, mut broad, mut narrow) =
+        (IslandManager::new(), BroadPhaseBvh::new(), NarrowPhase::new());
+    let (mut impulse, mut multibody) = (ImpulseJointSet::new(), MultibodyJointSet::new());
+    let (mut soft, mut ccd) = (SoftBodySet::new(), CCDSolver::new());
+    let mut pipeline = PhysicsPipeline::new();
+    let params = IntegrationParameters::default();
+    let mut step = |bodies: &mut RigidBodySet, colliders: &mut ColliderSet| {
+        pipeline.step(
+            Vector::new(0.0, 0.0, -9.81),
+            &params,
+            &mut islands,
+            &mut broad,
+            &mut narrow,
+            bodies,
+            colliders,
+            &mut impulse,
+            &mut multibody,
+            &mut soft,
+            &mut ccd,
+            &(),
+            &(),
+        );
+    };
+    for _ in 0..5 {
+        step(&mut bodies, &mut colliders);
+        let co = &colliders[handle];
+        assert_eq!(co.compute_collision_aabb(0.0), fresh(co));
+    }
+    // A new shape at the same pose: the kept box of the old one must not be used.
+    colliders[handle].set_shape(hull(0.3));
+    let co = &colliders[handle];
+    assert_eq!(co.compute_collision_aabb(0.0), fresh(co));
+    assert!(co.compute_collision_aabb(0.0).extents().x > 0.5);
+    step(&mut bodies, &mut colliders);
+    let co = &colliders[handle];
+    assert_eq!(co.compute_collision_aabb(0.0), fresh(co));
+    // Moved by hand (no step): the kept box is for the old pose.
+    colliders[handle].set_position(Pose::from_translation(Vector::new(3.0, 0.0, 0.0)));
+    let co = &colliders[handle];
+    assert_eq!(co.compute_collision_aabb(0.0), fresh(co));
+    assert!(co.compute_collision_aabb(0.0).mins.x > 2.0);
+}
