@@ -1,6 +1,7 @@
 //! Vendored Rapier patch 46: a convex hull's AABB is computed once per pose and reused at
 //! that pose. The reused box must be the one a fresh computation gives, bit for bit, and a
-//! new shape or pose must not see the old one.
+//! new shape or pose must not see the old one. A hull of more than 64 vertices has the box
+//! of its rotated local box (as MuJoCo's broad phase), which must contain the exact one.
 
 use rapier3d::prelude::*;
 
@@ -16,8 +17,16 @@ fn hull(scale: Real) -> SharedShape {
     SharedShape::convex_hull(&points).expect("a hull")
 }
 
+/// The box a collider with nothing kept computes at `co`'s shape and pose; it contains the
+/// exact box of the hull.
 fn fresh(co: &Collider) -> Aabb {
-    co.shape().compute_aabb(co.position()).loosened(co.contact_skin())
+    let new = ColliderBuilder::new(co.shared_shape().clone())
+        .position(*co.position())
+        .build();
+    let aabb = new.compute_collision_aabb(0.0);
+    let exact = co.shape().compute_aabb(co.position());
+    assert!(aabb.contains(&exact), "{aabb:?} does not contain {exact:?}");
+    aabb
 }
 
 #[test]
@@ -30,13 +39,13 @@ fn a_hulls_kept_aabb_is_the_fresh_one_at_every_pose_and_shape() {
             .angvel(Vector::new(1.0, 2.0, 0.5))
             .build(),
     );
-    let handle = colliders.insert_with_parent(
-        ColliderBuilder::new(hull(0.1)).build(),
-        body,
-        &mut bodies,
+    let handle =
+        colliders.insert_with_parent(ColliderBuilder::new(hull(0.1)).build(), body, &mut bodies);
+    let (mut islands, mut broad, mut narrow) = (
+        IslandManager::new(),
+        BroadPhaseBvh::new(),
+        NarrowPhase::new(),
     );
-    let (mut islands, mut broad, mut narrow) =
-        (IslandManager::new(), BroadPhaseBvh::new(), NarrowPhase::new());
     let (mut impulse, mut multibody) = (ImpulseJointSet::new(), MultibodyJointSet::new());
     let (mut soft, mut ccd) = (SoftBodySet::new(), CCDSolver::new());
     let mut pipeline = PhysicsPipeline::new();

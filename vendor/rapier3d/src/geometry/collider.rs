@@ -1582,6 +1582,12 @@ pub(crate) fn shape_aabb(shape: &dyn Shape, pos: &Pose) -> Aabb {
             + Vector::new(radial.x.sqrt(), radial.y.sqrt(), radial.z.sqrt()) * cylinder.radius;
         return Aabb::new(pos.translation - half_extents, pos.translation + half_extents);
     }
+    #[cfg(feature = "dim3")]
+    if let Some(hull) = shape.as_convex_polyhedron() {
+        if hull.points().len() > 64 {
+            return hull.local_aabb().transform_by(pos);
+        }
+    }
     shape.compute_aabb(pos)
 }
 
