@@ -64,7 +64,8 @@
 //!     general form and each tag's shortcut, MuJoCo's `mjs_setTo*`); then either plain
 //!     joint motors, in the joints' order, kept on their joints (`gear`, `max_effort`), or
 //!     every actuator into `assembly.actuators`, in order.
-//!   - `bodies.rs`: the tree, helpers, welds, inertials and sites; `joints.rs`; `geoms.rs`;
+//!   - `bodies.rs`: the tree, helpers, welds, inertials and sites (a body's parts read one by
+//!     one in `body_parts.rs`); `joints.rs`; `geoms.rs`;
 //!     `soft.rs`: a geom's `solref`/`solimp`/`margin` as its material's `soft_contact`.
 //!   - `meshes.rs`: `<asset><mesh>` and mesh geoms as `{"type": "mesh", "file"}` under
 //!     `meshdir`.

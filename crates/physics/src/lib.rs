@@ -62,6 +62,8 @@
 //! - `build/split.rs`: the converse: independent trees jointed to one fixed body (Pusher's
 //!   arm, object and goal on the table) hang from collider-less anchors of their own, so
 //!   that each is a multibody of its own rather than one multibody of all their DOFs.
+//! - `build/stages.rs`: the build's stages: the bodies with their colliders and given masses,
+//!   the trees, loops and joint slots, and the parts built on them.
 //! - `build/params.rs`: the pipeline's parameters and their tuning (see there): tolerances
 //!   scaled to the smallest part, stiffened contact softness, Rapier's speed cap lifted,
 //!   the compliant solver's switch and sweeps, and the loops' Gauss–Seidel passes.

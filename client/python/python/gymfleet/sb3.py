@@ -91,7 +91,8 @@ class GymfleetSb3VecEnv(VecEnv):
     def __init__(self, venv: Union[VectorEnv, gymnasium.Env]) -> None:
         #: The one env stepped directly (no vector env underneath), if so.
         self._one: Optional[gymnasium.Env] = None if isinstance(venv, VectorEnv) else venv
-        mode = venv.metadata.get("autoreset_mode", AutoresetMode.SAME_STEP if self._one else None)
+        # One env is reset by the adapter itself; a vector env must do it in the same step.
+        mode = venv.metadata.get("autoreset_mode") if self._one is None else AutoresetMode.SAME_STEP
         if mode != AutoresetMode.SAME_STEP:
             raise ValueError(
                 "GymfleetSb3VecEnv: the vector env must reset in the same step "

@@ -26,6 +26,7 @@ mod actuator_form;
 mod actuators;
 mod attributes;
 mod bodies;
+mod body_parts;
 mod contacts;
 mod equality;
 mod hfields;
