@@ -218,14 +218,7 @@ fn the_actuator_force_is_gear_times_the_action_within_max_effort() {
 fn bad_body_terms_get_their_own_errors() {
     let refused = |term: Value| {
         let task = json!({"terms": [term]}).to_string();
-        let config = EnvConfig {
-            task: Some(TaskSpec {
-                kind: TaskKind::Terms(TermsTask::from_json(&task).expect("a terms task")),
-                action_cost: 0.0,
-            }),
-            ..EnvConfig::default()
-        };
-        RobotEnv::from_json(&turntables().to_string(), config)
+        common::with_terms(&turntables().to_string(), &task, EnvConfig::default())
             .err()
             .expect("refused")
             .to_string()
@@ -299,14 +292,7 @@ fn observed_terms_are_the_observations_terms_segment_at_resets_and_steps() {
     // Only value terms can be observed.
     let bad = json!({"terms": [{"name": "x", "observe": true, "velocity": {"joint": "spin_a"}}]})
         .to_string();
-    let config = EnvConfig {
-        task: Some(TaskSpec {
-            kind: TaskKind::Terms(TermsTask::from_json(&bad).expect("a terms task")),
-            action_cost: 0.0,
-        }),
-        ..EnvConfig::default()
-    };
-    let message = RobotEnv::from_json(&turntables().to_string(), config)
+    let message = common::with_terms(&turntables().to_string(), &bad, EnvConfig::default())
         .err()
         .expect("refused")
         .to_string();

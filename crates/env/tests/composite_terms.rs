@@ -30,13 +30,9 @@ fn env(doc: &Value, task: Value) -> RobotEnv {
 fn refused(task: Value) -> String {
     let config = EnvConfig {
         units: Units::Si,
-        task: Some(TaskSpec {
-            kind: TaskKind::Terms(TermsTask::from_json(&task.to_string()).expect("parses")),
-            action_cost: 0.0,
-        }),
         ..EnvConfig::default()
     };
-    RobotEnv::from_json(&pendulum(json!({})).to_string(), config)
+    common::with_terms(&pendulum(json!({})).to_string(), &task.to_string(), config)
         .err()
         .expect("refused")
         .to_string()

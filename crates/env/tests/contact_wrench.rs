@@ -161,14 +161,7 @@ fn bad_contact_terms_get_their_own_errors() {
             "task.terms.terms[0].contact_cost.groups: expected at most the number of instances (2) groups, got 3",
         ),
     ] {
-        let config = EnvConfig {
-            task: Some(TaskSpec {
-                kind: TaskKind::Terms(TermsTask::from_json(json).expect("parses")),
-                action_cost: 0.0,
-            }),
-            ..EnvConfig::default()
-        };
-        let err = RobotEnv::from_json(&cube_doc().to_string(), config)
+        let err = common::with_terms(&cube_doc().to_string(), json, EnvConfig::default())
             .err()
             .expect("refused")
             .to_string();

@@ -131,14 +131,7 @@ fn bad_limit_force_and_square_terms_get_their_own_errors() {
             "task.terms.terms[0]: expected exactly one of velocity, value, ctrl_cost, healthy, distance, square, contact_cost, tolerance, product, sum or norm",
         ),
     ] {
-        let config = EnvConfig {
-            task: Some(TaskSpec {
-                kind: TaskKind::Terms(TermsTask::from_json(json).expect("parses")),
-                action_cost: 0.0,
-            }),
-            ..EnvConfig::default()
-        };
-        let err = RobotEnv::from_json(&slider().to_string(), config)
+        let err = common::with_terms(&slider().to_string(), json, EnvConfig::default())
             .err()
             .expect("refused")
             .to_string();

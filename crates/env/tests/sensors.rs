@@ -505,14 +505,11 @@ fn a_task_names_a_sensor_and_its_component_or_gets_an_error() {
         ),
     ] {
         let task = format!(r#"{{"terms": [{{"name": "a", "value": {term}}}]}}"#);
-        let config = EnvConfig {
-            task: Some(TaskSpec {
-                kind: TaskKind::Terms(TermsTask::from_json(&task).expect("parses")),
-                action_cost: 0.0,
-            }),
-            ..EnvConfig::default()
-        };
-        match RobotEnv::from_json(&scene(scene_sensors()).to_string(), config) {
+        match common::with_terms(
+            &scene(scene_sensors()).to_string(),
+            &task,
+            EnvConfig::default(),
+        ) {
             Err(e @ EnvError::BadTask { .. }) => {
                 let e = e.to_string();
                 assert!(e.contains(expected), "{e}\nexpected: {expected}");

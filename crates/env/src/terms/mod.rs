@@ -19,6 +19,7 @@
 
 mod active;
 mod choice;
+mod fields;
 mod placement;
 mod quantity;
 mod resolve;
@@ -59,58 +60,65 @@ pub struct TermsTask {
     pub reset_noise: Option<ResetNoise>,
 }
 
-/// One named, weighted term: exactly one of its kinds is set.
+/// One named, weighted term. Written as a flat object: its name, weight and one kind
+/// field (`{"name": "forward", "velocity": {"joint": "rootx"}}`; `fields.rs`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(try_from = "fields::TermFields", into = "fields::TermFields")]
 pub struct Term {
     /// The name its value is reported under (e.g. `reward_forward`, `x_position`).
     pub name: String,
-    /// Its weight in the reward (default 1; 0: reported only).
-    #[serde(default = "one")]
+    /// Its weight in the reward (written `weight`, default 1; 0: reported only).
     pub weight: f64,
-    /// The rate of change of a coordinate over the env step: (after − before) / dt.
-    #[serde(default)]
-    pub velocity: Option<Quantity>,
-    /// A coordinate after the step.
-    #[serde(default)]
-    pub value: Option<Quantity>,
-    /// The control cost: Σ a² over the step's action values.
-    #[serde(default)]
-    pub ctrl_cost: Option<Empty>,
-    /// 1 when the robot is healthy after the step (see [`TermsTask::healthy`]), else 0.
-    #[serde(default)]
-    pub healthy: Option<Empty>,
-    /// The distance between two points after the step.
-    #[serde(default)]
-    pub distance: Option<[Point; 2]>,
-    /// The square of a coordinate's offset from a centre after the step: `(of − center)²`
-    /// (Gymnasium's InvertedDoublePendulum penalties).
-    #[serde(default)]
-    pub square: Option<Square>,
-    /// The contact cost: Σ over groups of instances and over the six components of each
-    /// group's contact wrench (see [`Quantity::contact_wrench`]) of the component clipped
+    /// What it computes.
+    pub kind: TermKind,
+}
+
+/// What a term computes, written as the term's one kind field.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TermKind {
+    /// `velocity`: the rate of change of a coordinate over the env step:
+    /// (after − before) / dt.
+    Velocity(Quantity),
+    /// `value`: a coordinate after the step. With `observe` (default false) it is also
+    /// part of the observation (its `terms` segment, in term order), read from the state
+    /// at resets as at steps (a contact wrench: 0 after a reset).
+    Value {
+        /// The coordinate.
+        of: Quantity,
+        /// Whether the observation carries it.
+        observe: bool,
+    },
+    /// `ctrl_cost: {}`: the control cost, Σ a² over the step's action values.
+    CtrlCost,
+    /// `healthy: {}`: 1 when the robot is healthy after the step (see
+    /// [`TermsTask::healthy`]), else 0.
+    Healthy,
+    /// `distance`: the distance between two points after the step.
+    Distance([Point; 2]),
+    /// `square`: the square of a coordinate's offset from a centre after the step,
+    /// `(of − center)²` (Gymnasium's InvertedDoublePendulum penalties).
+    Square(Square),
+    /// `contact_cost`: Σ over groups of instances and over the six components of each
+    /// group's contact wrench (see [`Quantity::ContactWrench`]) of the component clipped
     /// to `[min, max]`, squared (Gymnasium's Ant `contact_cost`).
-    #[serde(default)]
-    pub contact_cost: Option<ContactCost>,
-    /// dm_control's `tolerance` of an earlier term's value (1 inside the bounds, a
-    /// sigmoid outside).
-    #[serde(default)]
-    pub tolerance: Option<Tolerance>,
-    /// Π (scale · value + offset) over earlier terms.
-    #[serde(default)]
-    pub product: Option<Vec<Factor>>,
-    /// Σ (scale · value + offset) over earlier terms.
-    #[serde(default)]
-    pub sum: Option<Vec<Factor>>,
-    /// √Σ (scale · value + offset)² over earlier terms (a vector's length: dm_control's
-    /// humanoid's horizontal speed).
-    #[serde(default)]
-    pub norm: Option<Vec<Factor>>,
-    /// A `value` term that is also part of the observation (its `terms` segment, in term
-    /// order), read from the state at resets as at steps (a contact wrench: 0 after a
-    /// reset); default false.
-    #[serde(default)]
-    pub observe: bool,
+    ContactCost(ContactCost),
+    /// `tolerance`: dm_control's `tolerance` of an earlier term's value (1 inside the
+    /// bounds, a sigmoid outside).
+    Tolerance(Tolerance),
+    /// `product`: Π (scale · value + offset) over earlier terms.
+    Product(Vec<Factor>),
+    /// `sum`: Σ (scale · value + offset) over earlier terms.
+    Sum(Vec<Factor>),
+    /// `norm`: √Σ (scale · value + offset)² over earlier terms (a vector's length:
+    /// dm_control's humanoid's horizontal speed).
+    Norm(Vec<Factor>),
+}
+
+impl Term {
+    /// Whether the observation carries the term's value.
+    pub(crate) fn observed(&self) -> bool {
+        matches!(self.kind, TermKind::Value { observe: true, .. })
+    }
 }
 
 /// Σ clip(wrench component, min, max)² over groups of instances.
@@ -165,122 +173,146 @@ pub enum Axis {
     Z,
 }
 
-/// A scalar read from the state: a joint's position or velocity (`joint`,
-/// `joint_velocity`), the force its limits applied over the step (`joint_limit_force`), a
-/// fixed tendon's length or rate (`tendon_length`, `tendon_velocity`), a body's inertia or
-/// velocity (`body_inertia`, `body_velocity`), a joint's actuator force (`actuator_force`),
-/// one component of the contact wrench on a group of instances (`contact_wrench`,
-/// `component`), or one world coordinate (`axis`) of a point of an instance (`instance`,
-/// `point`), of a site (`site`) or of the whole robot's centre of mass (`center_of_mass`);
-/// with `frame_axis`, the world `axis` component of one of the instance's or site's own
-/// axes (MuJoCo's `xmat`, e.g. `zz` for an upright); one value of the step's action
-/// (`action`).
-#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Quantity {
-    /// A joint's position (its first DOF), as observed.
-    #[serde(default)]
-    pub joint: Option<String>,
-    /// A joint's velocity (its first DOF), as observed.
-    #[serde(default)]
-    pub joint_velocity: Option<String>,
-    /// The generalized force a joint's limits applied to its first DOF, averaged over the
-    /// step: N or N·m in every unit system, negative at the upper limit (MuJoCo's
-    /// `qfrc_constraint` of a limited joint; 0 after a reset).
-    #[serde(default)]
-    pub joint_limit_force: Option<String>,
-    /// A fixed tendon's length (the document's `assembly.tendons`): Σ coef · position,
-    /// SI (m or rad) in every unit system, MuJoCo's `ten_length`.
-    #[serde(default)]
-    pub tendon_length: Option<String>,
-    /// A fixed tendon's rate of change, SI in every unit system (`ten_velocity`).
-    #[serde(default)]
-    pub tendon_velocity: Option<String>,
-    /// Instances whose contact wrenches over the step are summed (needs `component`): the
-    /// external force the contacts applied to them and its torque about the robot's centre
-    /// of mass, MuJoCo's `cfrc_ext` of the body the instances make up. N and N·m in every
-    /// unit system; 0 after a reset.
-    #[serde(default)]
-    pub contact_wrench: Option<Vec<String>>,
-    /// Instances that make up one body (a MuJoCo body's geoms), whose inertia about the
-    /// robot's centre of mass is read (needs `component`): MuJoCo's `cinert`, 0–5 the
-    /// inertia tensor (xx, yy, zz, xy, xz, yz; kg·m²), 6–8 mass × the body's centre's
-    /// offset (kg·m), 9 the mass (kg), world axes, SI in every unit system.
-    #[serde(default)]
-    pub body_inertia: Option<Vec<String>>,
-    /// Instances that make up one (rigid) body, whose velocity is read (needs
-    /// `component`): MuJoCo's `cvel`, 0–2 the angular velocity (rad/s), 3–5 the velocity
-    /// of the body-fixed point at the robot's centre of mass (m/s), SI in every unit system.
-    #[serde(default)]
-    pub body_velocity: Option<Vec<String>>,
-    /// Instances that make up one body, whose centre of mass's world coordinate is read
-    /// (needs `axis`): MuJoCo's `xipos`, SI in every unit system.
-    #[serde(default)]
-    pub body_center: Option<Vec<String>>,
-    /// The generalized force the actions apply to a joint's first DOF (a torque-mode
-    /// value's gear × action, clamped by `max_effort`, plus every actuator's moment ×
-    /// force on it; N or N·m in every unit system): MuJoCo's `qfrc_actuator`; a direct
-    /// value under position or velocity targets counts 0.
-    #[serde(default)]
-    pub actuator_force: Option<String>,
-    /// An actuator's force (N or N·m at its transmission, before the gear: MuJoCo's
-    /// `actuator_force`), SI in every unit system.
-    #[serde(default)]
-    pub actuator: Option<String>,
-    /// An actuator's activation (MuJoCo's `act`; 0 for one without dynamics).
-    #[serde(default)]
-    pub actuator_activation: Option<String>,
-    /// One of the document's sensors (`assembly.sensors`): its reading, SI in every unit
-    /// system (needs `component` when it reports more than one float).
-    #[serde(default)]
-    pub sensor: Option<String>,
-    /// The component of a `contact_wrench` (0–2 the torque about world x, y, z; 3–5 the
-    /// force), a `body_inertia` (0–9), a `body_velocity` (0–5) or a `sensor` (from 0, as
-    /// many as it reports).
-    #[serde(default)]
-    pub component: Option<usize>,
-    /// An instance whose point's coordinate is read (needs `axis`).
-    #[serde(default)]
-    pub instance: Option<String>,
-    /// The instance's point, mm in its frame; `None`: its centre of mass.
-    #[serde(default)]
-    pub point: Option<[f64; 3]>,
-    /// A site (the document's `assembly.sites`) whose coordinate is read (needs `axis`).
-    #[serde(default)]
-    pub site: Option<String>,
-    /// The whole robot's centre of mass (needs `axis`).
-    #[serde(default)]
-    pub center_of_mass: bool,
-    /// The world coordinate read from a point.
-    #[serde(default)]
-    pub axis: Option<Axis>,
-    /// With `instance` or `site` (and `axis`): the frame's own axis whose world `axis`
-    /// component is read (MuJoCo's `xmat[axis, frame_axis]`).
-    #[serde(default)]
-    pub frame_axis: Option<Axis>,
-    /// The step's action value of this index (MuJoCo's `ctrl`, as sent; 0 at a reset).
-    #[serde(default)]
-    pub action: Option<usize>,
-    /// With `instance` or `site` (and `axis`): the point's offset from this site, along
-    /// the site's own `axis` (dm_control's egocentric positions: `(p − p_site) · xmat`).
-    #[serde(default)]
-    pub relative_to: Option<String>,
+/// A scalar read from the state. Written as a flat object: one kind field and the
+/// modifiers it takes (`{"joint": "hip"}`, `{"site": "tip", "axis": "x"}`, `{"sensor":
+/// "gyro", "component": 2}`; `fields.rs`). Each variant names its fields as written.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "fields::QuantityFields", into = "fields::QuantityFields")]
+pub enum Quantity {
+    /// `joint`: a joint's position (its first DOF), as observed.
+    Joint(String),
+    /// `joint_velocity`: a joint's velocity (its first DOF), as observed.
+    JointVelocity(String),
+    /// `joint_limit_force`: the generalized force a joint's limits applied to its first
+    /// DOF, averaged over the step: N or N·m in every unit system, negative at the upper
+    /// limit (MuJoCo's `qfrc_constraint` of a limited joint; 0 after a reset).
+    JointLimitForce(String),
+    /// `tendon_length`: a fixed tendon's length (the document's `assembly.tendons`):
+    /// Σ coef · position, SI (m or rad) in every unit system, MuJoCo's `ten_length`.
+    TendonLength(String),
+    /// `tendon_velocity`: a fixed tendon's rate of change, SI in every unit system
+    /// (`ten_velocity`).
+    TendonVelocity(String),
+    /// `actuator_force`: the generalized force the actions apply to a joint's first DOF
+    /// (a torque-mode value's gear × action, clamped by `max_effort`, plus every
+    /// actuator's moment × force on it; N or N·m in every unit system): MuJoCo's
+    /// `qfrc_actuator`; a direct value under position or velocity targets counts 0.
+    ActuatorForce(String),
+    /// `actuator`: an actuator's force (N or N·m at its transmission, before the gear:
+    /// MuJoCo's `actuator_force`), SI in every unit system.
+    Actuator(String),
+    /// `actuator_activation`: an actuator's activation (MuJoCo's `act`; 0 for one without
+    /// dynamics).
+    ActuatorActivation(String),
+    /// `sensor`: one of the document's sensors (`assembly.sensors`): its reading, SI in
+    /// every unit system; `component` (from 0) is needed when it reports more than one
+    /// float.
+    Sensor {
+        /// The sensor's name.
+        name: String,
+        /// The component read.
+        component: Option<usize>,
+    },
+    /// `contact_wrench` with `component`: the instances whose contact wrenches over the
+    /// step are summed: the external force the contacts applied to them and its torque
+    /// about the robot's centre of mass, MuJoCo's `cfrc_ext` of the body the instances make
+    /// up; components 0–2 the torque about world x, y, z, 3–5 the force. N and N·m in
+    /// every unit system; 0 after a reset.
+    ContactWrench {
+        /// The instances.
+        instances: Vec<String>,
+        /// The component, 0–5.
+        component: usize,
+    },
+    /// `body_inertia` with `component`: the inertia about the robot's centre of mass of
+    /// the instances that make up one body (a MuJoCo body's geoms): MuJoCo's `cinert`,
+    /// 0–5 the inertia tensor (xx, yy, zz, xy, xz, yz; kg·m²), 6–8 mass × the body's
+    /// centre's offset (kg·m), 9 the mass (kg), world axes, SI in every unit system.
+    BodyInertia {
+        /// The instances.
+        instances: Vec<String>,
+        /// The component, 0–9.
+        component: usize,
+    },
+    /// `body_velocity` with `component`: the velocity of the instances that make up one
+    /// (rigid) body: MuJoCo's `cvel`, 0–2 the angular velocity (rad/s), 3–5 the velocity
+    /// of the body-fixed point at the robot's centre of mass (m/s), SI in every unit
+    /// system.
+    BodyVelocity {
+        /// The instances.
+        instances: Vec<String>,
+        /// The component, 0–5.
+        component: usize,
+    },
+    /// `body_center` with `axis`: the world coordinate of the centre of mass of the
+    /// instances that make up one body: MuJoCo's `xipos`, SI in every unit system.
+    BodyCenter {
+        /// The instances.
+        instances: Vec<String>,
+        /// The world coordinate read.
+        axis: Axis,
+    },
+    /// `instance` (with an optional `point`, mm in its frame; default its centre of mass)
+    /// or `site`, with `axis`: one world coordinate of the point.
+    Point {
+        /// The point.
+        at: Point,
+        /// The world coordinate read.
+        axis: Axis,
+    },
+    /// `instance` or `site` with `frame_axis` and `axis`: the world `axis` component of
+    /// the frame's own axis `frame_axis` (MuJoCo's `xmat[axis, frame_axis]`, e.g. `zz`
+    /// for an upright).
+    FrameAxis {
+        /// The frame.
+        frame: Frame,
+        /// The frame's own axis (written `frame_axis`).
+        local: Axis,
+        /// Its world component read.
+        axis: Axis,
+    },
+    /// `instance` (with an optional `point`) or `site`, with `relative_to` and `axis`: the
+    /// point's offset from the site `relative_to`, along that site's own `axis`
+    /// (dm_control's egocentric positions: `(p − p_site) · xmat`).
+    Relative {
+        /// The point.
+        at: Point,
+        /// The site it is measured from (written `relative_to`).
+        site: String,
+        /// The site's own axis.
+        axis: Axis,
+    },
+    /// `center_of_mass: true` with `axis`: a world coordinate of the whole robot's centre
+    /// of mass.
+    CenterOfMass(Axis),
+    /// `action`: the step's action value of this index (MuJoCo's `ctrl`, as sent; 0 at a
+    /// reset).
+    Action(usize),
 }
 
-/// A point: a site, or a point of an instance (`point`, mm in its frame; default its
-/// centre of mass).
+/// A point: a site, or a point of an instance. Written `{"site": …}` or `{"instance": …,
+/// "point": [x, y, z]}`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Point {
-    /// The instance.
-    #[serde(default)]
-    pub instance: Option<String>,
-    /// The point, mm in the instance's frame; `None`: its centre of mass.
-    #[serde(default)]
-    pub point: Option<[f64; 3]>,
-    /// A site of the document (instead of `instance` and `point`).
-    #[serde(default)]
-    pub site: Option<String>,
+#[serde(try_from = "fields::PointFields", into = "fields::PointFields")]
+pub enum Point {
+    /// A point of an instance.
+    Instance {
+        /// The instance (written `instance`).
+        name: String,
+        /// The point, mm in the instance's frame; `None`: its centre of mass.
+        point: Option<[f64; 3]>,
+    },
+    /// A site of the document (`assembly.sites`).
+    Site(String),
+}
+
+/// A frame: an instance's or a site's.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Frame {
+    /// An instance's frame.
+    Instance(String),
+    /// A site's frame.
+    Site(String),
 }
 
 /// The healthy conditions: every range holds strictly, and every observed position
@@ -432,12 +464,25 @@ impl TermsTask {
         let de = &mut serde_json::Deserializer::from_str(text);
         serde_path_to_error::deserialize(de).map_err(|e| {
             let path = e.path().to_string();
-            let path = if path == "." {
+            let mut path = if path == "." {
                 "task.terms".to_string()
             } else {
                 format!("task.terms.{path}")
             };
-            let reason: String = e.inner().to_string().chars().take(300).collect();
+            let inner = e.inner();
+            let message = inner.to_string();
+            // A conversion's error (`fields.rs`) names its field below the path; its
+            // reason is bounded by construction, and serde_json's position is dropped.
+            let at = format!(" at line {} column {}", inner.line(), inner.column());
+            if let Some((field, reason)) =
+                fields::split(message.strip_suffix(&at).unwrap_or(&message))
+            {
+                if !field.is_empty() {
+                    path = format!("{path}.{field}");
+                }
+                return bad(path, reason);
+            }
+            let reason: String = message.chars().take(300).collect();
             bad(path, reason)
         })
     }
@@ -451,16 +496,19 @@ fn bad(path: impl Into<String>, reason: impl Into<String>) -> EnvError {
 }
 
 fn bounded(path: &str, value: f64, what: &str) -> Result<f64> {
-    if value.is_finite() && value.abs() <= MAX_VALUE {
-        Ok(value)
-    } else {
-        Err(bad(
-            path,
-            format!(
-                "expected a finite {what} within ±{}, got {}",
-                shown(MAX_VALUE),
-                shown(value)
-            ),
-        ))
+    match out_of_bounds(value, what) {
+        None => Ok(value),
+        Some(reason) => Err(bad(path, reason)),
     }
+}
+
+/// Why `value` is refused as a `what`: not finite, or past ±[`MAX_VALUE`].
+fn out_of_bounds(value: f64, what: &str) -> Option<String> {
+    (!(value.is_finite() && value.abs() <= MAX_VALUE)).then(|| {
+        format!(
+            "expected a finite {what} within ±{}, got {}",
+            shown(MAX_VALUE),
+            shown(value)
+        )
+    })
 }

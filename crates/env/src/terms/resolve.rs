@@ -11,8 +11,8 @@ use gymfleet_physics::{JointDof, Units};
 use super::active::{ActiveHealthy, ActiveSet, ActiveTerms, Dist, Kind, Op};
 use super::tolerance;
 use super::{
-    bad, bounded, shown, ContactCost, Noise, ResetNoise, SetJoints, TermsTask, MAX_NAME, MAX_TERMS,
-    MAX_VALUE,
+    bad, bounded, shown, ContactCost, Factor, Healthy, Noise, ResetNoise, SetJoints, TermKind,
+    TermsTask, MAX_NAME, MAX_TERMS, MAX_VALUE,
 };
 use crate::error::Result;
 
@@ -267,6 +267,45 @@ impl Context<'_> {
 
 impl TermsTask {
     pub(crate) fn resolve(&self, cx: &Context<'_>) -> Result<ActiveTerms> {
+        let terms = self.resolve_terms(cx)?;
+        let healthy = match &self.healthy {
+            None => None,
+            Some(h) => Some(cx.healthy(h)?),
+        };
+        let noise = self.reset_noise.clone().unwrap_or_default();
+        let draws = cx.draws(&noise)?;
+        let observed = self
+            .terms
+            .iter()
+            .enumerate()
+            .filter(|(_, t)| t.observed())
+            .map(|(k, _)| k)
+            .collect();
+        Ok(ActiveTerms {
+            observed,
+            groups: cx.groups.take(),
+            wrenches: Vec::new(),
+            sets: draws.sets,
+            choice: draws.choice,
+            equal: draws.equal,
+            previous: vec![0.0; terms.len()],
+            step_values: vec![0.0; terms.len()],
+            terms,
+            healthy,
+            units: cx.units,
+            dt: cx.dt,
+            base_noise: noise.base,
+            settle_substeps: noise.settle_substeps,
+            turn_base: noise.rotational && cx.assembly.floating_base,
+            reject_contacts: noise.reject_contacts,
+            mocap_draws: draws.mocaps,
+            position_noise: cx.noise("task.terms.reset_noise.position", noise.position)?,
+            velocity_noise: cx.noise("task.terms.reset_noise.velocity", noise.velocity)?,
+        })
+    }
+
+    /// Each term's weight and kind, its names unique and its quantities resolved.
+    fn resolve_terms(&self, cx: &Context<'_>) -> Result<Vec<(f64, Kind)>> {
         if self.terms.len() > MAX_TERMS {
             return Err(bad(
                 "task.terms.terms",
@@ -296,155 +335,133 @@ impl TermsTask {
                     format!("{name:?} names an earlier term too; names must be unique"),
                 ));
             }
-            names.push(&t.name);
             let weight = bounded(&format!("{path}.weight"), t.weight, "weight")?;
-            let set = [
-                t.velocity.is_some(),
-                t.value.is_some(),
-                t.ctrl_cost.is_some(),
-                t.healthy.is_some(),
-                t.distance.is_some(),
-                t.square.is_some(),
-                t.contact_cost.is_some(),
-                t.tolerance.is_some(),
-                t.product.is_some(),
-                t.sum.is_some(),
-                t.norm.is_some(),
-            ];
-            if set.iter().filter(|s| **s).count() != 1 {
-                return Err(bad(
-                    path,
-                    "expected exactly one of velocity, value, ctrl_cost, healthy, distance, \
-                     square, contact_cost, tolerance, product, sum or norm",
-                ));
-            }
-            let earlier = &names[..names.len() - 1];
-            if t.observe && t.value.is_none() {
-                return Err(bad(
-                    format!("{path}.observe"),
-                    "only a value term can be observed (its coordinate is read from the state)",
-                ));
-            }
-            let kind = if let Some(q) = &t.velocity {
-                Kind::Velocity(cx.quantity(&format!("{path}.velocity"), q)?)
-            } else if let Some(q) = &t.value {
-                Kind::Value(cx.quantity(&format!("{path}.value"), q)?)
-            } else if let Some(sq) = &t.square {
+            let kind = cx.kind(&path, &t.kind, &names, self.healthy.is_some())?;
+            names.push(&t.name);
+            terms.push((weight, kind));
+        }
+        Ok(terms)
+    }
+}
+
+/// A task's reset draws resolved: the joint sets, the choice, the equal pairs and the
+/// mocap draws.
+struct Draws {
+    sets: Vec<ActiveSet>,
+    choice: Option<super::choice::ActiveChoice>,
+    equal: Vec<(usize, usize)>,
+    mocaps: Vec<super::ActiveMocapDraw>,
+}
+
+impl Context<'_> {
+    /// What a term computes, resolved; `earlier`: the names of the terms before it.
+    fn kind(&self, path: &str, kind: &TermKind, earlier: &[&str], healthy: bool) -> Result<Kind> {
+        let combine = |op, field: &str, f: &[Factor]| -> Result<Kind> {
+            Ok(Kind::Combine {
+                op,
+                factors: tolerance::factors(&format!("{path}.{field}"), f, earlier)?,
+            })
+        };
+        Ok(match kind {
+            TermKind::Velocity(q) => Kind::Velocity(self.quantity(&format!("{path}.velocity"), q)?),
+            TermKind::Value { of, .. } => Kind::Value(self.quantity(&format!("{path}.value"), of)?),
+            TermKind::Square(sq) => {
                 let center = bounded(&format!("{path}.square.center"), sq.center, "centre")?;
-                Kind::Square(cx.quantity(&format!("{path}.square.of"), &sq.of)?, center)
-            } else if let Some(c) = &t.contact_cost {
+                Kind::Square(self.quantity(&format!("{path}.square.of"), &sq.of)?, center)
+            }
+            TermKind::ContactCost(c) => {
                 let (groups, lo, hi, sum_max) =
-                    cx.contact_cost(&format!("{path}.contact_cost"), c)?;
+                    self.contact_cost(&format!("{path}.contact_cost"), c)?;
                 Kind::ContactCost {
                     groups,
                     lo,
                     hi,
                     sum_max,
                 }
-            } else if let Some(tol) = &t.tolerance {
+            }
+            TermKind::Tolerance(tol) => {
                 Kind::Tolerance(tol.resolve(&format!("{path}.tolerance"), earlier)?)
-            } else if let Some((op, field, f)) = [
-                (Op::Product, "product", &t.product),
-                (Op::Sum, "sum", &t.sum),
-                (Op::Norm, "norm", &t.norm),
-            ]
-            .into_iter()
-            .find_map(|(op, field, f)| f.as_ref().map(|f| (op, field, f)))
-            {
-                Kind::Combine {
-                    op,
-                    factors: tolerance::factors(&format!("{path}.{field}"), f, earlier)?,
-                }
-            } else if t.ctrl_cost.is_some() {
-                Kind::CtrlCost
-            } else if t.healthy.is_some() {
-                if self.healthy.is_none() {
-                    return Err(bad(
-                        format!("{path}.healthy"),
-                        "a healthy term needs the task's healthy conditions (task.terms.healthy)",
-                    ));
-                }
-                Kind::Healthy
-            } else {
-                let [a, b] = t.distance.as_ref().expect("one kind is set");
-                Kind::Distance([
-                    cx.end(&format!("{path}.distance[0]"), a)?,
-                    cx.end(&format!("{path}.distance[1]"), b)?,
-                ])
-            };
-            terms.push((weight, kind));
+            }
+            TermKind::Product(f) => combine(Op::Product, "product", f)?,
+            TermKind::Sum(f) => combine(Op::Sum, "sum", f)?,
+            TermKind::Norm(f) => combine(Op::Norm, "norm", f)?,
+            TermKind::CtrlCost => Kind::CtrlCost,
+            TermKind::Healthy if !healthy => {
+                return Err(bad(
+                    format!("{path}.healthy"),
+                    "a healthy term needs the task's healthy conditions (task.terms.healthy)",
+                ))
+            }
+            TermKind::Healthy => Kind::Healthy,
+            TermKind::Distance([a, b]) => Kind::Distance([
+                self.end(&format!("{path}.distance[0]"), a)?,
+                self.end(&format!("{path}.distance[1]"), b)?,
+            ]),
+        })
+    }
+
+    /// The healthy conditions: each range's quantity and open bounds, and the state's.
+    fn healthy(&self, h: &Healthy) -> Result<ActiveHealthy> {
+        if h.ranges.len() > MAX_TERMS {
+            return Err(bad(
+                "task.terms.healthy.ranges",
+                format!(
+                    "expected at most {MAX_TERMS} ranges, got {}",
+                    h.ranges.len()
+                ),
+            ));
         }
-        let healthy = match &self.healthy {
+        let mut ranges = Vec::with_capacity(h.ranges.len());
+        for (i, r) in h.ranges.iter().enumerate() {
+            let path = format!("task.terms.healthy.ranges[{i}]");
+            let q = self.quantity(&format!("{path}.of"), &r.of)?;
+            let lo = match r.min {
+                Some(v) => bounded(&format!("{path}.min"), v, "bound")?,
+                None => f64::NEG_INFINITY,
+            };
+            let hi = match r.max {
+                Some(v) => bounded(&format!("{path}.max"), v, "bound")?,
+                None => f64::INFINITY,
+            };
+            open_range(&path, lo, hi)?;
+            ranges.push((q, lo, hi));
+        }
+        let state = match &h.state_range {
             None => None,
-            Some(h) => {
-                if h.ranges.len() > MAX_TERMS {
+            Some(s) => {
+                let path = "task.terms.healthy.state_range";
+                let lo = bounded(&format!("{path}.min"), s.min, "bound")?;
+                let hi = bounded(&format!("{path}.max"), s.max, "bound")?;
+                open_range(path, lo, hi)?;
+                if s.skip_positions > self.dofs.len() {
                     return Err(bad(
-                        "task.terms.healthy.ranges",
+                        format!("{path}.skip_positions"),
                         format!(
-                            "expected at most {MAX_TERMS} ranges, got {}",
-                            h.ranges.len()
+                            "expected at most the number of DOFs ({}), got {}",
+                            self.dofs.len(),
+                            s.skip_positions
                         ),
                     ));
                 }
-                let mut ranges = Vec::with_capacity(h.ranges.len());
-                for (i, r) in h.ranges.iter().enumerate() {
-                    let path = format!("task.terms.healthy.ranges[{i}]");
-                    let q = cx.quantity(&format!("{path}.of"), &r.of)?;
-                    let lo = match r.min {
-                        Some(v) => bounded(&format!("{path}.min"), v, "bound")?,
-                        None => f64::NEG_INFINITY,
-                    };
-                    let hi = match r.max {
-                        Some(v) => bounded(&format!("{path}.max"), v, "bound")?,
-                        None => f64::INFINITY,
-                    };
-                    if lo >= hi {
-                        return Err(bad(
-                            format!("{path}.max"),
-                            format!("expected max > min = {}, got {}", shown(lo), shown(hi)),
-                        ));
-                    }
-                    ranges.push((q, lo, hi));
-                }
-                let state = match &h.state_range {
-                    None => None,
-                    Some(s) => {
-                        let path = "task.terms.healthy.state_range";
-                        let lo = bounded(&format!("{path}.min"), s.min, "bound")?;
-                        let hi = bounded(&format!("{path}.max"), s.max, "bound")?;
-                        if lo >= hi {
-                            return Err(bad(
-                                format!("{path}.max"),
-                                format!("expected max > min = {}, got {}", shown(lo), shown(hi)),
-                            ));
-                        }
-                        if s.skip_positions > cx.dofs.len() {
-                            return Err(bad(
-                                format!("{path}.skip_positions"),
-                                format!(
-                                    "expected at most the number of DOFs ({}), got {}",
-                                    cx.dofs.len(),
-                                    s.skip_positions
-                                ),
-                            ));
-                        }
-                        Some((lo, hi, s.skip_positions))
-                    }
-                };
-                Some(ActiveHealthy {
-                    ranges,
-                    state,
-                    terminate: h.terminate,
-                })
+                Some((lo, hi, s.skip_positions))
             }
         };
-        let noise = self.reset_noise.clone().unwrap_or_default();
+        Ok(ActiveHealthy {
+            ranges,
+            state,
+            terminate: h.terminate,
+        })
+    }
+
+    /// The reset's draws: the floating base's noise checked, the joint sets, the choice,
+    /// the equal pairs, the joints drawn in their ranges and the mocap bodies' starts.
+    fn draws(&self, noise: &ResetNoise) -> Result<Draws> {
         if noise.base {
             let path = "task.terms.reset_noise.base";
-            if !cx.assembly.floating_base {
+            if !self.assembly.floating_base {
                 return Err(bad(path, "the document has no floating base"));
             }
-            if cx.units != Units::Si {
+            if self.units != Units::Si {
                 return Err(bad(
                     path,
                     "a floating base's noise is drawn in SI units (metres, radians, a \
@@ -455,25 +472,35 @@ impl TermsTask {
         let mut sets = Vec::with_capacity(noise.set.len());
         let mut seen: Vec<usize> = Vec::new();
         for (i, set) in noise.set.iter().enumerate() {
-            sets.push(cx.set(&format!("task.terms.reset_noise.set[{i}]"), set, &mut seen)?);
+            sets.push(self.set(&format!("task.terms.reset_noise.set[{i}]"), set, &mut seen)?);
         }
         let choice = match &noise.choice {
-            Some(c) => Some(c.resolve("task.terms.reset_noise.choice", cx, &mut seen)?),
+            Some(c) => Some(c.resolve("task.terms.reset_noise.choice", self, &mut seen)?),
             None => None,
         };
-        let equal = cx.equal(&noise.equal, &mut seen)?;
-        cx.joint_ranges(&noise, &mut sets, &seen);
-        let mocaps: Vec<String> = cx
+        let equal = self.equal(&noise.equal, &mut seen)?;
+        self.joint_ranges(noise, &mut sets, &seen);
+        Ok(Draws {
+            sets,
+            choice,
+            equal,
+            mocaps: self.mocap_draws(noise)?,
+        })
+    }
+
+    /// Where mocap bodies start, each drawn by one entry.
+    fn mocap_draws(&self, noise: &ResetNoise) -> Result<Vec<super::ActiveMocapDraw>> {
+        let mocaps: Vec<String> = self
             .assembly
             .mocap_bodies()
             .iter()
-            .map(|&i| cx.assembly.instances[i].name.clone())
+            .map(|&i| self.assembly.instances[i].name.clone())
             .collect();
-        let mut mocap_draws = Vec::with_capacity(noise.mocap.len());
+        let mut draws = Vec::with_capacity(noise.mocap.len());
         for (i, draw) in noise.mocap.iter().enumerate() {
             let path = format!("task.terms.reset_noise.mocap[{i}]");
-            let active = draw.resolve(&path, &mocaps, cx.units)?;
-            if mocap_draws
+            let active = draw.resolve(&path, &mocaps, self.units)?;
+            if draws
                 .iter()
                 .any(|d: &super::ActiveMocapDraw| d.mocap == active.mocap)
             {
@@ -482,37 +509,21 @@ impl TermsTask {
                     "the mocap body is drawn by an earlier entry too",
                 ));
             }
-            mocap_draws.push(active);
+            draws.push(active);
         }
-        let observed = self
-            .terms
-            .iter()
-            .enumerate()
-            .filter(|(_, t)| t.observe)
-            .map(|(k, _)| k)
-            .collect();
-        Ok(ActiveTerms {
-            observed,
-            groups: cx.groups.take(),
-            wrenches: Vec::new(),
-            sets,
-            choice,
-            equal,
-            previous: vec![0.0; terms.len()],
-            step_values: vec![0.0; terms.len()],
-            terms,
-            healthy,
-            units: cx.units,
-            dt: cx.dt,
-            base_noise: noise.base,
-            settle_substeps: noise.settle_substeps,
-            turn_base: noise.rotational && cx.assembly.floating_base,
-            reject_contacts: noise.reject_contacts,
-            mocap_draws,
-            position_noise: cx.noise("task.terms.reset_noise.position", noise.position)?,
-            velocity_noise: cx.noise("task.terms.reset_noise.velocity", noise.velocity)?,
-        })
+        Ok(draws)
     }
+}
+
+/// `lo < hi`, or an error at `path.max`.
+fn open_range(path: &str, lo: f64, hi: f64) -> Result<()> {
+    if lo >= hi {
+        return Err(bad(
+            format!("{path}.max"),
+            format!("expected max > min = {}, got {}", shown(lo), shown(hi)),
+        ));
+    }
+    Ok(())
 }
 
 /// A set's bounds: normal draws (`mean`, `std`) or a uniform box (`low`, `high`), one of

@@ -1,7 +1,7 @@
 //! Documents and helpers shared by the physics tests.
 #![allow(dead_code, unreachable_pub)]
 
-use gymfleet_env::{ActionType, EnvConfig, RobotEnv};
+use gymfleet_env::{ActionType, EnvConfig, EnvError, RobotEnv, TaskKind, TaskSpec, TermsTask};
 use serde_json::{json, Value};
 
 pub const PENDULUM: &str = include_str!("../../../../models/pendulum.json");
@@ -96,6 +96,21 @@ pub fn assert_refused(doc: &Value, expected: &str) {
         message.contains(expected),
         "{message}\nexpected: {expected}"
     );
+}
+
+/// An env of `doc` with the terms task `task` (JSON) and `config`'s other options: the
+/// task's own error (its shape, when parsed), else the build's (its names, against the
+/// document).
+pub fn with_terms(doc: &str, task: &str, config: EnvConfig) -> Result<RobotEnv, EnvError> {
+    let terms = TermsTask::from_json(task)?;
+    let config = EnvConfig {
+        task: Some(TaskSpec {
+            kind: TaskKind::Terms(terms),
+            action_cost: 0.0,
+        }),
+        ..config
+    };
+    RobotEnv::from_json(doc, config)
 }
 
 pub fn env_with(doc: &Value, config: EnvConfig) -> RobotEnv {
