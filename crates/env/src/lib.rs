@@ -37,7 +37,7 @@
 //!   the reward and the `GoalReached`/`Fell` terminations from the world's readouts.
 //! - `terms/`: the terms task (`TermsTask`, parsed from JSON with paths in its errors).
 //!   `mod.rs` is the task as enums (a term's kind, a quantity, a point: exactly one by
-//!   construction), `fields.rs` the flat JSON objects they are written as and the checked
+//!   construction), `fields/` the flat JSON objects they are written as and the checked
 //!   conversions, `resolve.rs` checks the task against one env (its coordinates and points
 //!   in `quantity.rs`), `active.rs` evaluates it: named, weighted
 //!   terms (the velocity of a coordinate over the step, a value, the control cost, healthy

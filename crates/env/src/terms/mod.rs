@@ -61,7 +61,7 @@ pub struct TermsTask {
 }
 
 /// One named, weighted term. Written as a flat object: its name, weight and one kind
-/// field (`{"name": "forward", "velocity": {"joint": "rootx"}}`; `fields.rs`).
+/// field (`{"name": "forward", "velocity": {"joint": "rootx"}}`; `fields/`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(try_from = "fields::TermFields", into = "fields::TermFields")]
 pub struct Term {
@@ -175,7 +175,7 @@ pub enum Axis {
 
 /// A scalar read from the state. Written as a flat object: one kind field and the
 /// modifiers it takes (`{"joint": "hip"}`, `{"site": "tip", "axis": "x"}`, `{"sensor":
-/// "gyro", "component": 2}`; `fields.rs`). Each variant names its fields as written.
+/// "gyro", "component": 2}`; `fields/`). Each variant names its fields as written.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(try_from = "fields::QuantityFields", into = "fields::QuantityFields")]
 pub enum Quantity {
@@ -471,7 +471,7 @@ impl TermsTask {
             };
             let inner = e.inner();
             let message = inner.to_string();
-            // A conversion's error (`fields.rs`) names its field below the path; its
+            // A conversion's error (`fields/`) names its field below the path; its
             // reason is bounded by construction, and serde_json's position is dropped.
             let at = format!(" at line {} column {}", inner.line(), inner.column());
             if let Some((field, reason)) =
