@@ -82,8 +82,9 @@ def main() -> None:
     if args.json:
         from provenance import provenance
 
+        meta = provenance()  # before `open` truncates the file: that would read as "-dirty"
         with open(args.json, "w") as f:
-            json.dump({**provenance(), "rows": rows}, f, indent=1)
+            json.dump({**meta, "rows": rows}, f, indent=1)
 
 
 if __name__ == "__main__":

@@ -127,8 +127,9 @@ def main() -> None:
     if args.json:
         from provenance import provenance
 
+        meta = provenance()  # before `open` truncates the file: that would read as "-dirty"
         with open(args.json, "w") as f:
-            json.dump({**provenance(), "envpool_threads": args.threads, "rows": rows}, f, indent=1)
+            json.dump({**meta, "envpool_threads": args.threads, "rows": rows}, f, indent=1)
 
 
 if __name__ == "__main__":
