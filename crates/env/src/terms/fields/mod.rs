@@ -202,14 +202,11 @@ pub(super) fn checked_point(point: Option<[f64; 3]>) -> Result<Option<[f64; 3]>,
 }
 
 /// A distance term's point as written: a site, or an instance with an optional point.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub(super) struct PointFields {
-    #[serde(default)]
     instance: Option<String>,
-    #[serde(default)]
     point: Option<[f64; 3]>,
-    #[serde(default)]
     site: Option<String>,
 }
 

@@ -11,51 +11,29 @@ use super::{checked_point, FieldError};
 /// (`component`, `axis`, `point`, `frame_axis`, `relative_to`). The fields' meanings are
 /// the [`Quantity`] variants'.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(default, deny_unknown_fields)]
 pub(in crate::terms) struct QuantityFields {
-    #[serde(default)]
     joint: Option<String>,
-    #[serde(default)]
     joint_velocity: Option<String>,
-    #[serde(default)]
     joint_limit_force: Option<String>,
-    #[serde(default)]
     tendon_length: Option<String>,
-    #[serde(default)]
     tendon_velocity: Option<String>,
-    #[serde(default)]
     contact_wrench: Option<Vec<String>>,
-    #[serde(default)]
     body_inertia: Option<Vec<String>>,
-    #[serde(default)]
     body_velocity: Option<Vec<String>>,
-    #[serde(default)]
     body_center: Option<Vec<String>>,
-    #[serde(default)]
     actuator_force: Option<String>,
-    #[serde(default)]
     actuator: Option<String>,
-    #[serde(default)]
     actuator_activation: Option<String>,
-    #[serde(default)]
     sensor: Option<String>,
-    #[serde(default)]
     component: Option<usize>,
-    #[serde(default)]
     instance: Option<String>,
-    #[serde(default)]
     point: Option<[f64; 3]>,
-    #[serde(default)]
     site: Option<String>,
-    #[serde(default)]
     center_of_mass: bool,
-    #[serde(default)]
     axis: Option<Axis>,
-    #[serde(default)]
     frame_axis: Option<Axis>,
-    #[serde(default)]
     action: Option<usize>,
-    #[serde(default)]
     relative_to: Option<String>,
 }
 
