@@ -202,9 +202,12 @@ def _rewards(
 
 def _reset_rows(server: np.ndarray, terms: Terms) -> np.ndarray:
     """The rows the server reset instead of stepping (next-step autoreset): their reward
-    and every term 0."""
+    and every term 0. Stops reading terms once no row is left: a step whose rewards are
+    all non-zero reads none (Humanoid's 300-odd terms cost 0.35 ms a step otherwise)."""
     reset = server == 0.0
     for value in terms.values():
+        if not reset.any():
+            break
         reset &= np.asarray(value) == 0.0
     return reset
 
