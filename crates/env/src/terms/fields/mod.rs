@@ -55,7 +55,7 @@ pub(super) fn split(message: &str) -> Option<(&str, &str)> {
 }
 
 /// A term as written: its name, weight and exactly one kind field.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct TermFields {
     name: String,
@@ -156,18 +156,7 @@ impl From<Term> for TermFields {
         let mut f = TermFields {
             name: t.name,
             weight: t.weight,
-            velocity: None,
-            value: None,
-            ctrl_cost: None,
-            healthy: None,
-            distance: None,
-            square: None,
-            contact_cost: None,
-            tolerance: None,
-            product: None,
-            sum: None,
-            norm: None,
-            observe: false,
+            ..TermFields::default()
         };
         match t.kind {
             TermKind::Velocity(q) => f.velocity = Some(q),
