@@ -599,6 +599,21 @@ fn bad_soft_contacts_name_their_field() {
         ("margin", json!(-2.0), "expected a distance in mm >= 0, got -2"),
         ("gap", json!(-0.5), "expected a distance in mm >= 0, got -0.5"),
         ("impratio", json!(0.0), "expected a ratio > 0, got 0"),
+        (
+            "condim",
+            json!(5),
+            "expected 1 (frictionless), 3 (sliding), 4 (and torsional) or 6 (and rolling friction), got 5",
+        ),
+        (
+            "torsional_friction",
+            json!(-1.0),
+            "expected a distance in mm >= 0, got -1",
+        ),
+        (
+            "rolling_friction",
+            json!(-0.1),
+            "expected a distance in mm >= 0, got -0.1",
+        ),
     ];
     for (field, value, message) in cases {
         let mut doc = base_doc();

@@ -190,6 +190,42 @@ fn contact_rules_become_the_documents() {
 }
 
 #[test]
+fn a_geoms_condim_and_friction_triplet_become_its_soft_contact() {
+    let xml = r#"<mujoco><default><geom condim="4"/></default><worldbody>
+      <geom name="floor" type="plane" size="1 1 0.1" condim="1"/>
+      <body name="a" pos="0 0 1"><freejoint/><geom name="ga" size="0.1" friction="0.8 0.002 0.0005" condim="6"/></body>
+      <body name="b" pos="1 0 1"><freejoint/><geom name="gb" size="0.1"/></body>
+    </worldbody></mujoco>"#;
+    let (doc, warnings) = converted(xml);
+    let soft = |name: &str| doc["materials"][name]["soft_contact"].clone();
+    assert_eq!(soft("floor")["condim"], 1);
+    assert_eq!(soft("ga")["condim"], 6);
+    // Metres to mm.
+    assert!((soft("ga")["torsional_friction"].as_f64().unwrap() - 2.0).abs() < 1e-9);
+    assert!((soft("ga")["rolling_friction"].as_f64().unwrap() - 0.5).abs() < 1e-9);
+    // The class's condim; without a triplet, the document's defaults (MuJoCo's).
+    assert_eq!(soft("gb")["condim"], 4);
+    assert!(soft("gb").get("torsional_friction").is_none());
+    assert!(
+        !warnings.iter().any(|w| w.contains("condim")),
+        "{warnings:?}"
+    );
+    let bad = |attrs: &str| {
+        error(&format!(
+            r#"<mujoco><worldbody><geom name="f" type="plane" size="1 1 1" {attrs}/></worldbody></mujoco>"#
+        ))
+    };
+    assert_eq!(
+        bad(r#"condim="5""#),
+        "line 1: <geom condim=…>: expected 1, 3, 4 or 6, got 5"
+    );
+    assert_eq!(
+        bad(r#"friction="1 -0.1 0""#),
+        "line 1: <geom friction=…>: expected a torsional coefficient >= 0, got -0.1"
+    );
+}
+
+#[test]
 fn a_mocap_body_is_a_kinematic_instance_named_after_it() {
     let xml = r#"<mujoco><worldbody>
       <geom name="floor" type="plane" size="1 1 0.1"/>

@@ -182,6 +182,9 @@ fn compliance(soft: SoftContact) -> ContactCompliance {
         impratio: soft.impratio as Real,
         // Set from the body once the trees are built (`set_invweights`).
         invweight: 0.0,
+        condim: soft.condim as u8,
+        torsional: m(soft.torsional_friction),
+        rolling: m(soft.rolling_friction),
     }
 }
 

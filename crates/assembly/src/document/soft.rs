@@ -37,6 +37,18 @@ pub struct SoftContactDef {
     /// MuJoCo's `impratio` (default 1): the pyramid's friction over normal impedance.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub impratio: Option<f64>,
+    /// MuJoCo's `condim` (default 3): 1 frictionless, 3 sliding friction, 4 with torsional
+    /// friction, 6 with rolling friction too. Of two materials the higher priority's acts,
+    /// else the larger.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub condim: Option<u32>,
+    /// Torsional friction in mm (default 5, MuJoCo's 0.005 m): at `condim` 4 and 6 the
+    /// torque about the contact normal is at most this times the normal force.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub torsional_friction: Option<f64>,
+    /// Rolling friction in mm (default 0.1, MuJoCo's 0.0001 m), at `condim` 6.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rolling_friction: Option<f64>,
 }
 
 /// *(ext)* MuJoCo's friction cone (`<option cone>`).

@@ -20,6 +20,12 @@ pub struct SoftContact {
     pub pyramidal: bool,
     /// MuJoCo's `impratio`.
     pub impratio: f64,
+    /// MuJoCo's `condim`: 1, 3, 4 or 6.
+    pub condim: u32,
+    /// Torsional friction, mm.
+    pub torsional_friction: f64,
+    /// Rolling friction, mm.
+    pub rolling_friction: f64,
 }
 
 impl Default for SoftContact {
@@ -34,6 +40,9 @@ impl Default for SoftContact {
             gap: 0.0,
             pyramidal: true,
             impratio: 1.0,
+            condim: 3,
+            torsional_friction: 5.0,
+            rolling_friction: 0.1,
         }
     }
 }

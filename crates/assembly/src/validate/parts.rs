@@ -85,6 +85,21 @@ impl Validator {
         };
         let margin = length("margin", def.margin);
         let gap = length("gap", def.gap);
+        let torsional_friction = length(
+            "torsional_friction",
+            def.torsional_friction.or(Some(default.torsional_friction)),
+        );
+        let rolling_friction = length(
+            "rolling_friction",
+            def.rolling_friction.or(Some(default.rolling_friction)),
+        );
+        let condim = def.condim.unwrap_or(default.condim);
+        if ![1, 3, 4, 6].contains(&condim) {
+            self.push(
+                format!("{path}.condim"),
+                format!("expected 1 (frictionless), 3 (sliding), 4 (and torsional) or 6 (and rolling friction), got {condim}"),
+            );
+        }
         let impratio = def.impratio.unwrap_or(default.impratio);
         if !(impratio.is_finite() && impratio > 0.0) {
             self.push(
@@ -101,6 +116,9 @@ impl Validator {
             gap,
             pyramidal: def.cone.unwrap_or_default() == FrictionCone::Pyramidal,
             impratio,
+            condim,
+            torsional_friction,
+            rolling_friction,
         }
     }
 

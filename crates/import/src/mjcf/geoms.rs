@@ -93,8 +93,8 @@ impl<'a, 'i> Converter<'a, 'i> {
         Ok(Some(name))
     }
 
-    /// What the contact model does with a geom's `fluidshape` (refused) and `condim`
-    /// (ignored, with a warning).
+    /// What the contact model does with a geom's `fluidshape` (refused; `condim` is read
+    /// with the compliant contact, `soft_contact`).
     fn geom_contact_model(&mut self, node: Node<'a, 'i>, class: Option<&str>) -> Result<()> {
         if let Some(shape) = self
             .attr(node, class, "fluidshape")
@@ -104,9 +104,6 @@ impl<'a, 'i> Converter<'a, 'i> {
                 node,
                 format!("fluidshape=\"{shape}\" (MuJoCo's ellipsoid fluid model) is not supported yet; the inertia-box model of <option density viscosity> is"),
             ));
-        }
-        if self.attr(node, class, "condim").is_some() {
-            self.warn(node, "condim ignored (gymfleet's contact model)".into());
         }
         Ok(())
     }

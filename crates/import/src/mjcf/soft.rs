@@ -130,6 +130,27 @@ impl<'a, 'i> Converter<'a, 'i> {
             }
             p => p.map(|p| p as i32),
         };
+        // `condim` and the friction triplet's torsional and rolling coefficients (m).
+        let condim = match self.number(node, class, "condim")? {
+            None => None,
+            Some(c) if [1.0, 3.0, 4.0, 6.0].contains(&c) => Some(c as u32),
+            Some(c) => {
+                return Err(self.bad(node, "condim", format!("expected 1, 3, 4 or 6, got {c}")))
+            }
+        };
+        let friction = self.numbers(node, class, "friction")?.unwrap_or_default();
+        let coefficient = |k: usize, name: &str| -> Result<Option<f64>> {
+            match friction.get(k) {
+                Some(v) if !(v.is_finite() && *v >= 0.0) => Err(self.bad(
+                    node,
+                    "friction",
+                    format!("expected a {name} coefficient >= 0, got {v}"),
+                )),
+                v => Ok(v.map(|v| v * MM)),
+            }
+        };
+        let torsional_friction = coefficient(1, "torsional")?;
+        let rolling_friction = coefficient(2, "rolling")?;
         Ok(SoftContactDef {
             solref,
             solimp,
@@ -137,6 +158,9 @@ impl<'a, 'i> Converter<'a, 'i> {
             priority,
             margin,
             gap,
+            condim,
+            torsional_friction,
+            rolling_friction,
             // `<option>`'s, set for every geom in `finish_soft_contacts`.
             cone: None,
             impratio: None,

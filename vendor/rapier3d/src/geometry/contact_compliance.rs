@@ -57,6 +57,17 @@ pub struct ContactCompliance {
     /// `R = (1 − d)/d·A` from this approximation of `A`, not from the row's own. Zero on
     /// both colliders: the row's exact `A`.
     pub invweight: Real,
+    /// gymfleet patch 47: MuJoCo's `condim`: 1 frictionless, 3 sliding friction (the
+    /// default), 4 with torsional friction, 6 with rolling friction too. A pair takes the
+    /// higher priority's, else the larger.
+    pub condim: u8,
+    /// gymfleet patch 47: the torsional friction coefficient (m: the torque about the
+    /// normal is at most `torsional·λₙ`), MuJoCo's `friction[1]` (default 0.005). A pair
+    /// takes the higher priority's, else the larger.
+    pub torsional: Real,
+    /// gymfleet patch 47: the rolling friction coefficient (m), MuJoCo's `friction[2]`
+    /// (default 0.0001), mixed as `torsional`.
+    pub rolling: Real,
 }
 
 impl Default for ContactCompliance {
@@ -71,6 +82,9 @@ impl Default for ContactCompliance {
             pyramidal: true,
             impratio: 1.0,
             invweight: 0.0,
+            condim: 3,
+            torsional: 0.005,
+            rolling: 0.0001,
         }
     }
 }
@@ -104,8 +118,14 @@ pub struct PairCompliance {
     /// The two colliders' [`ContactCompliance::invweight`] summed (MuJoCo's `tran`), or 0
     /// for the row's exact `A`.
     pub invweight: Real,
-    /// The pair's friction coefficient (set by [`Self::with_friction`]).
+    /// The pair's friction coefficient (set by [`Self::with_friction`]; 0 at `condim` 1).
     pub friction: Real,
+    /// gymfleet patch 47: the pair's `condim` (see [`ContactCompliance::condim`]).
+    pub condim: u8,
+    /// gymfleet patch 47: the pair's torsional friction coefficient (m).
+    pub torsional: Real,
+    /// gymfleet patch 47: the pair's rolling friction coefficient (m).
+    pub rolling: Real,
 }
 
 impl PairCompliance {
@@ -132,6 +152,18 @@ impl PairCompliance {
     /// else `solmix`-weighted means (the smaller of each when a `solref` is in the direct,
     /// negative form); margins and gaps are summed (`getMargin`, `getGap`).
     pub fn mix(a: &ContactCompliance, b: &ContactCompliance) -> Self {
+        // gymfleet patch 47: `condim` and the torsional and rolling coefficients are the
+        // higher priority's, else the larger of each (`mj_contactParam`).
+        let (condim, torsional, rolling) = if a.priority != b.priority {
+            let c = if a.priority > b.priority { a } else { b };
+            (c.condim, c.torsional, c.rolling)
+        } else {
+            (
+                a.condim.max(b.condim),
+                a.torsional.max(b.torsional),
+                a.rolling.max(b.rolling),
+            )
+        };
         let (solref, solimp) = if a.priority != b.priority {
             let c = if a.priority > b.priority { a } else { b };
             (c.solref, c.solimp)
@@ -156,6 +188,9 @@ impl PairCompliance {
             pyramidal: a.pyramidal || b.pyramidal,
             impratio: a.impratio.max(b.impratio),
             invweight: a.invweight + b.invweight,
+            condim,
+            torsional,
+            rolling,
             ..Self::new(solref, solimp, margin + gap, margin)
         }
     }
@@ -167,13 +202,61 @@ impl PairCompliance {
     /// row regularised by `R_py/4 = μ²·(1 + μ²)/2 · (1 − d)/d · A_n` (condim 3). So a
     /// pyramid's contact is as soft as the file says at `μ = 1`, ten times stiffer at 0.4, and
     /// rigid without friction. An elliptic cone's normal row has `R` itself.
+    ///
+    /// gymfleet patch 47: with `condim` 4 and 6 the pyramid has 6 and 10 facets, so the
+    /// normal row is regularised by `R_py/(2·(condim − 1))`; at `condim` 1 the contact is
+    /// frictionless (MuJoCo's `mjCNSTR_CONTACT_FRICTIONLESS`: `R` itself, no friction).
     pub fn with_friction(mut self, friction: Real) -> Self {
+        if self.condim == 1 {
+            self.friction = 0.0;
+            self.normal_scale = 1.0;
+            return self;
+        }
         self.friction = friction;
         if self.pyramidal {
             let mu2 = (friction.max(MIN_MU) * friction.max(MIN_MU)) / self.impratio.max(MIN_VAL);
-            self.normal_scale = mu2 * (1.0 + mu2) / 2.0;
+            let facet_pairs = if self.condim >= 4 {
+                Real::from(self.condim - 1)
+            } else {
+                2.0
+            };
+            self.normal_scale = mu2 * (1.0 + mu2) / facet_pairs;
         }
         self
+    }
+
+    /// gymfleet patch 47: the coefficients of the pair's angular friction rows: none below
+    /// `condim` 4, the torsional row at 4, and the two rolling rows after it at 6.
+    pub fn angular_friction(&self) -> &'static [usize] {
+        match self.condim {
+            4 => &[0],
+            6 => &[0, 1, 1],
+            _ => &[],
+        }
+    }
+
+    /// gymfleet patch 47: the coefficient of angular row kind `kind` (0 torsional, 1 rolling).
+    pub fn angular_coefficient(&self, kind: usize) -> Real {
+        if kind == 0 { self.torsional } else { self.rolling }
+    }
+
+    /// gymfleet patch 47: an angular friction row (torsional or rolling) of coefficient `mu`,
+    /// as [`Self::friction_row`] with its regulariser scaled as MuJoCo's. On the ellipse,
+    /// `R_j·μ_j² = R_t·μ²` (`mj_makeImpedance`): the sliding rows' times `(μ/μ_j)²`. On the
+    /// pyramid, each direction is a pair of facets `J_n ± μ_j·J_j`, each regularised by
+    /// `R_py`: a pair holding both facets acts along `J_j` as a row of `R_py/(2·μ_j²)` (the
+    /// sliding rows' `R_t` scaled so), a pair with one facet left (a direction at its cone's
+    /// edge) as `R_py/μ_j²`, twice that. An angular row's `μ_j` is hundreds of times the
+    /// sliding one's smaller, so its facets sit at that edge: it is given `R_py/μ_j²`.
+    pub fn angular_row(&self, dist: Real, v0: Real, dt: Real, mass: Real, mu: Real) -> (Real, Real) {
+        let (rhs, cfm) = self.friction_row(dist, v0, dt, mass);
+        if cfm >= 1.0 || mass <= 0.0 {
+            return (rhs, cfm);
+        }
+        let regulariser = (1.0 / cfm - 1.0) / mass;
+        let ratio = self.friction.max(MIN_MU) / mu.max(MIN_MU);
+        let edge = if self.pyramidal { 2.0 } else { 1.0 };
+        (rhs, 1.0 / (1.0 + edge * regulariser * ratio * ratio * mass))
     }
 
     /// From `solref` and `solimp` as MuJoCo gives them (`mj_makeImpedance`).
@@ -201,6 +284,9 @@ impl PairCompliance {
             impratio: 1.0,
             invweight: 0.0,
             friction: 1.0,
+            condim: 3,
+            torsional: 0.0,
+            rolling: 0.0,
         }
     }
 
@@ -360,6 +446,8 @@ mod tests {
         let solref = [0.75 * 0.1 + 0.25 * 0.02, 0.75 * 0.5 + 0.25 * 1.0];
         let expected = PairCompliance {
             pyramidal: true,
+            torsional: 0.005,
+            rolling: 0.0001,
             ..PairCompliance::new(solref, DEFAULT_SOLIMP, 0.0, 0.0)
         };
         assert_eq!(c, expected);
@@ -371,6 +459,84 @@ mod tests {
         let c = PairCompliance::mix(&direct, &ContactCompliance::default());
         assert_eq!(c.stiffness, 1000.0 / (0.95 * 0.95));
         assert_eq!(c.damping, 10.0 / 0.95);
+    }
+
+    #[test]
+    fn condim_and_the_angular_coefficients_mix_as_mujocos() {
+        // Equal priority: the larger condim, and the larger of each coefficient.
+        let spin = ContactCompliance {
+            condim: 4,
+            torsional: 0.002,
+            rolling: 0.0,
+            ..Default::default()
+        };
+        let roll = ContactCompliance {
+            condim: 6,
+            torsional: 0.001,
+            rolling: 0.0003,
+            ..Default::default()
+        };
+        let c = PairCompliance::mix(&spin, &roll);
+        assert_eq!((c.condim, c.torsional, c.rolling), (6, 0.002, 0.0003));
+        assert_eq!(c.angular_friction(), &[0, 1, 1]);
+        // A higher priority's, whole.
+        let high = ContactCompliance {
+            priority: 2,
+            ..spin
+        };
+        let c = PairCompliance::mix(&roll, &high);
+        assert_eq!((c.condim, c.torsional, c.rolling), (4, 0.002, 0.0));
+        assert_eq!(c.angular_friction(), &[0]);
+        // Below 4: no angular rows.
+        let plain = ContactCompliance::default();
+        assert!(PairCompliance::mix(&plain, &plain).angular_friction().is_empty());
+    }
+
+    #[test]
+    fn condim_one_is_frictionless_and_the_pyramid_has_its_facets() {
+        let one = ContactCompliance {
+            condim: 1,
+            ..Default::default()
+        };
+        // Both frictionless: no friction, the normal row regularised by `R` itself.
+        let c = PairCompliance::mix(&one, &one).with_friction(0.7);
+        assert_eq!((c.friction, c.normal_scale), (0.0, 1.0));
+        // One frictionless, one not: the larger condim, 3.
+        let c = PairCompliance::mix(&one, &ContactCompliance::default()).with_friction(0.7);
+        assert_eq!(c.friction, 0.7);
+        // The pyramid's normal row: `R_py/(2·(condim − 1))`, `R_py = 2μ²(1 + μ²)·R`.
+        let at = |condim: u8| {
+            let k = ContactCompliance {
+                condim,
+                ..Default::default()
+            };
+            PairCompliance::mix(&k, &k).with_friction(1.0).normal_scale
+        };
+        assert_eq!((at(3), at(4), at(6)), (1.0, 2.0 / 3.0, 0.4));
+    }
+
+    #[test]
+    fn an_angular_row_is_regularised_by_its_coefficient() {
+        let k = |pyramidal: bool| ContactCompliance {
+            condim: 6,
+            pyramidal,
+            ..Default::default()
+        };
+        for pyramidal in [false, true] {
+            let c = PairCompliance::mix(&k(pyramidal), &k(pyramidal)).with_friction(0.5);
+            let (dist, v0, dt, mass) = (-0.0005, 2.0, 0.002, 0.01);
+            let (rhs_t, cfm_t) = c.friction_row(dist, v0, dt, mass);
+            let (rhs, cfm) = c.angular_row(dist, v0, dt, mass, 0.005);
+            // The same target (the damper alone), `R` scaled by `(μ/μ_j)²`, twice that at the
+            // pyramid's edge.
+            assert_eq!(rhs, rhs_t);
+            let r = |cfm: Real| (1.0 / cfm - 1.0) / mass;
+            let scale = (0.5f32 / 0.005).powi(2) * if pyramidal { 2.0 } else { 1.0 };
+            assert!((r(cfm) / r(cfm_t) / scale - 1.0).abs() < 1e-3, "{pyramidal}");
+        }
+        // Beyond the rest distance: a row that pushes nothing, as the sliding rows'.
+        let c = PairCompliance::mix(&k(true), &k(true)).with_friction(0.5);
+        assert_eq!(c.angular_row(0.01, 2.0, 0.002, 0.01, 0.005), (0.0, 1.0));
     }
 
     #[test]

@@ -417,6 +417,8 @@ pub(super) fn process_pair(
             co2.material.compliance.as_ref(),
         )
         .map(|c| c.with_friction(friction));
+        // gymfleet patch 47: a compliant pair of `condim` 1 is frictionless.
+        let friction = compliance.as_ref().map_or(friction, |c| c.friction);
 
         /*
          *

@@ -7,6 +7,8 @@ use crate::math::{AngVector, DIM, DVector, MAX_MANIFOLD_POINTS, Real};
 use crate::utils::{self, AngularInertiaOps, CrossProduct, DotProduct};
 
 use super::{ContactConstraintNormalPart, ContactConstraintTangentPart};
+#[cfg(feature = "dim3")]
+use super::{AngularFrictionPart, MAX_ANGULAR_ROWS};
 use crate::dynamics::solver::CoulombContactPointInfos;
 use crate::dynamics::solver::manifold_store::ManifoldStore;
 use crate::dynamics::solver::solver_body::SolverBodies;
@@ -128,8 +130,18 @@ impl GenericContactConstraintBuilder {
             + multibody2.map(|m| m.0.ndofs()).unwrap_or(0);
         // For each solver contact we generate DIM constraints, and each constraints appends
         // the multibodies jacobian and weighted jacobians
-        let required_jacobian_len =
+        let mut required_jacobian_len =
             *jacobian_id + manifold.data.solver_contacts.len() * multibodies_ndof * 2 * DIM;
+        // gymfleet patch 47: the angular friction rows after the points' rows.
+        #[cfg(feature = "dim3")]
+        let angular_kinds: &[usize] = match &manifold.data.compliance {
+            Some(c) if !manifold.data.solver_contacts.is_empty() => c.angular_friction(),
+            _ => &[],
+        };
+        #[cfg(feature = "dim3")]
+        {
+            required_jacobian_len += angular_kinds.len() * multibodies_ndof * 2;
+        }
 
         // Grow the jacobian buffer to fit this constraint: `generate` runs serially in the
         // staged solver's pre-phase (before any worker starts), so growing here is race-free
@@ -430,6 +442,65 @@ impl GenericContactConstraintBuilder {
                 (manifold_point.contact_id[0] & !crate::geometry::NEW_CONTACT_BIT) as u8;
         }
 
+        // gymfleet patch 47: torsional (about the normal) and rolling (about the tangents)
+        // friction rows, one set per manifold.
+        #[cfg(feature = "dim3")]
+        {
+            let mut angular = AngularFrictionPart::zero();
+            let axes = [force_dir1, tangents1[0], tangents1[1]];
+            for (j, &kind) in angular_kinds.iter().enumerate() {
+                let axis = axes[j];
+                let compliance = manifold.data.compliance.as_ref().expect("angular rows");
+                angular.mu[j] = compliance.angular_coefficient(kind);
+                angular.axes[j] = axis;
+                let ii1 = if type1.is_dynamic_or_kinematic() {
+                    mprops1.effective_world_inv_inertia.transform_vector(axis)
+                } else {
+                    Default::default()
+                };
+                let ii2 = if type2.is_dynamic_or_kinematic() {
+                    mprops2.effective_world_inv_inertia.transform_vector(-axis)
+                } else {
+                    Default::default()
+                };
+                angular.ii_torque_dir1[j] = ii1;
+                angular.ii_torque_dir2[j] = ii2;
+                let inv_r1 = if let Some((mb1, link_id1)) = multibody1.as_ref() {
+                    mb1.fill_jacobians(*link_id1, Vector::ZERO, axis, jacobian_id, jacobians)
+                        .0
+                } else if type1.is_dynamic_or_kinematic() {
+                    ii1.gdot(axis)
+                } else {
+                    0.0
+                };
+                let inv_r2 = if let Some((mb2, link_id2)) = multibody2.as_ref() {
+                    mb2.fill_jacobians(*link_id2, Vector::ZERO, -axis, jacobian_id, jacobians)
+                        .0
+                } else if type2.is_dynamic_or_kinematic() {
+                    ii2.gdot(-axis)
+                } else {
+                    0.0
+                };
+                let free1 = free_inv_r(
+                    type1.is_dynamic_or_kinematic(),
+                    mprops1.effective_inv_mass,
+                    Vector::ZERO,
+                    ii1,
+                    axis,
+                );
+                let free2 = free_inv_r(
+                    type2.is_dynamic_or_kinematic(),
+                    mprops2.effective_inv_mass,
+                    Vector::ZERO,
+                    ii2,
+                    -axis,
+                );
+                angular.r[j] = generic_row_mass(inv_r1 + inv_r2, free1 + free2);
+            }
+            angular.rows = angular_kinds.len() as u8;
+            out_constraint.angular = angular;
+        }
+
         let ndofs1 = multibody1.map(|mb| mb.0.ndofs()).unwrap_or(0);
         let ndofs2 = multibody2.map(|mb| mb.0.ndofs()).unwrap_or(0);
 
@@ -522,6 +593,21 @@ impl GenericContactConstraintBuilder {
             }
             _ => ([0.0; MAX_MANIFOLD_POINTS], [[0.0; DIM - 1]; MAX_MANIFOLD_POINTS]),
         };
+        // gymfleet patch 47: the angular friction rows' velocities at the substep's start.
+        #[cfg(feature = "dim3")]
+        let start_angular = match substep_start {
+            Some(start) if constraint.angular.rows > 0 => {
+                let now = constraint.angular_velocities(start.jacobians, start.vels, start.generic_vels);
+                let incr = constraint.angular_velocities(
+                    start.jacobians,
+                    start.increments,
+                    start.generic_increments,
+                );
+                core::array::from_fn(|j| now[j] - incr[j])
+            }
+            _ => [0.0; MAX_ANGULAR_ROWS],
+        };
+        let mut min_dist = Real::MAX;
         let mut tangent_cfm = [[1.0; DIM - 1]; MAX_MANIFOLD_POINTS];
         let all_infos = &self.infos[..constraint.num_contacts as usize];
         let normal_parts = &mut constraint.normal_part[..constraint.num_contacts as usize];
@@ -546,6 +632,7 @@ impl GenericContactConstraintBuilder {
             let p1 = pose1 * info.local_p1 + info.tangent_vel * solved_dt;
             let p2 = pose2 * info.local_p2;
             let dist = info.dist + (p1 - p2).gdot(dir1_na);
+            min_dist = min_dist.min(dist);
 
             // Normal part.
             {
@@ -599,6 +686,25 @@ impl GenericContactConstraintBuilder {
                 }
             }
         }
+
+        // gymfleet patch 47: the angular friction rows, at the deepest point's impedance.
+        #[cfg(feature = "dim3")]
+        if let Some(compliance) = &self.compliance {
+            let angular = &mut constraint.angular;
+            for j in 0..angular.rows as usize {
+                let (rhs, cfm) = compliance.angular_row(
+                    min_dist,
+                    start_angular[j],
+                    params.dt,
+                    angular.r[j],
+                    angular.mu[j],
+                );
+                angular.rhs[j] = rhs;
+                angular.cfm[j] = cfm;
+                angular.impulse[j] *= params.warmstart_coefficient;
+            }
+        }
+        let _ = min_dist;
 
         constraint.cfm_factor = cfm_factor;
         constraint.tangent_cfm = tangent_cfm;
@@ -730,6 +836,9 @@ pub(crate) struct GenericContactConstraint {
     pub restitution_seed: [Real; MAX_MANIFOLD_POINTS],
     pub normal_part: [ContactConstraintNormalPart<Real>; MAX_MANIFOLD_POINTS],
     pub tangent_part: [ContactConstraintTangentPart<Real>; MAX_MANIFOLD_POINTS],
+    /// gymfleet patch 47: the torsional and rolling friction rows (`condim` 4 and 6).
+    #[cfg(feature = "dim3")]
+    pub angular: AngularFrictionPart,
 }
 
 impl GenericContactConstraint {
@@ -757,6 +866,8 @@ impl GenericContactConstraint {
             restitution_seed: [0.0; MAX_MANIFOLD_POINTS],
             normal_part: [ContactConstraintNormalPart::zero(); MAX_MANIFOLD_POINTS],
             tangent_part: [ContactConstraintTangentPart::zero(); MAX_MANIFOLD_POINTS],
+            #[cfg(feature = "dim3")]
+            angular: AngularFrictionPart::zero(),
         }
     }
 
@@ -800,6 +911,18 @@ impl GenericContactConstraint {
             &mut solver_vel2,
             generic_solver_vels,
         );
+        #[cfg(feature = "dim3")]
+        if self.angular.rows > 0 {
+            let (j_id, step) = self.angular_j_id();
+            self.angular.warmstart(
+                j_id,
+                step,
+                (self.ndofs1, self.ndofs2),
+                jacobians,
+                (&mut solver_vel1, &mut solver_vel2),
+                generic_solver_vels,
+            );
+        }
 
         if let GenericRhs::SolverVel(solver_vel1) = solver_vel1 {
             bodies.vels[self.solver_vel1 as usize] = solver_vel1;
@@ -859,6 +982,25 @@ impl GenericContactConstraint {
             solve_restitution,
             solve_friction,
         );
+        #[cfg(feature = "dim3")]
+        if solve_friction && self.angular.rows > 0 {
+            let normal = self.normal_part[..self.num_contacts as usize]
+                .iter()
+                .map(|p| p.impulse)
+                .sum();
+            let (j_id, step) = self.angular_j_id();
+            let pyramid = self.pyramid_axes;
+            self.angular.solve(
+                j_id,
+                step,
+                (self.ndofs1, self.ndofs2),
+                jacobians,
+                normal,
+                pyramid,
+                (&mut solver_vel1, &mut solver_vel2),
+                generic_solver_vels,
+            );
+        }
 
         if let GenericRhs::SolverVel(solver_vel1) = solver_vel1 {
             bodies.vels[self.solver_vel1 as usize] = solver_vel1;
@@ -889,6 +1031,8 @@ impl GenericContactConstraint {
         {
             *b = (nrm.impulse, tng.impulse);
         }
+        #[cfg(feature = "dim3")]
+        let angular_before = self.angular.impulse;
         self.solve(
             jacobians,
             bodies,
@@ -904,6 +1048,15 @@ impl GenericContactConstraint {
         {
             change += (nrm.impulse - nb).abs() + (tng.impulse - tb).abs().sum();
             size += nrm.impulse.abs() + tng.impulse.abs().sum();
+        }
+        #[cfg(feature = "dim3")]
+        for (b, a) in angular_before
+            .iter()
+            .zip(&self.angular.impulse)
+            .take(self.angular.rows as usize)
+        {
+            change += (a - b).abs();
+            size += a.abs();
         }
         (change, size)
     }

@@ -14,7 +14,7 @@ pub(crate) enum GenericRhs {
 
 // Offset between the jacobians of two consecutive constraints.
 #[inline]
-fn j_step(ndofs1: usize, ndofs2: usize) -> usize {
+pub(crate) fn j_step(ndofs1: usize, ndofs2: usize) -> usize {
     (ndofs1 + ndofs2) * 2
 }
 
@@ -40,7 +40,7 @@ fn tangent_j_id(j_id: usize, ndofs1: usize, ndofs2: usize) -> usize {
 
 impl GenericRhs {
     #[inline]
-    fn dvel(
+    pub(crate) fn dvel(
         &self,
         j_id: usize,
         ndofs: usize,
@@ -61,7 +61,7 @@ impl GenericRhs {
     }
 
     #[inline]
-    fn apply_impulse(
+    pub(crate) fn apply_impulse(
         &mut self,
         j_id: usize,
         ndofs: usize,
@@ -557,6 +557,49 @@ impl GenericContactConstraint {
         out
     }
 
+    /// gymfleet patch 47: the sides of this constraint under the body velocities `vels`
+    /// (the multibodies' read from the generic velocity vector passed beside them).
+    pub(crate) fn sides(&self, vels: &[SolverVel<Real>]) -> (GenericRhs, GenericRhs) {
+        let side = |solver_vel: u32, mask: u8| {
+            if solver_vel == u32::MAX {
+                GenericRhs::Fixed
+            } else if self.generic_constraint_mask & mask == 0 {
+                GenericRhs::SolverVel(vels[solver_vel as usize])
+            } else {
+                GenericRhs::GenericId(solver_vel)
+            }
+        };
+        (side(self.solver_vel1, 0b01), side(self.solver_vel2, 0b10))
+    }
+
+    /// gymfleet patch 47: the first angular friction row's Jacobian index (after every
+    /// point's normal and tangent rows) and the distance between two rows.
+    pub(crate) fn angular_j_id(&self) -> (usize, usize) {
+        let step = j_step(self.ndofs1, self.ndofs2);
+        (self.j_id + self.num_contacts as usize * DIM * step, step)
+    }
+
+    /// gymfleet patch 47: the angular friction rows' velocities, as
+    /// [`Self::tangent_velocities`].
+    #[cfg(feature = "dim3")]
+    pub(crate) fn angular_velocities(
+        &self,
+        jacobians: &DVector,
+        vels: &[SolverVel<Real>],
+        generic_vels: &DVector,
+    ) -> [Real; super::MAX_ANGULAR_ROWS] {
+        let (side1, side2) = self.sides(vels);
+        let (j_id, step) = self.angular_j_id();
+        self.angular.velocities(
+            j_id,
+            step,
+            (self.ndofs1, self.ndofs2),
+            jacobians,
+            (&side1, &side2),
+            generic_vels,
+        )
+    }
+
     #[inline]
     pub fn generic_warmstart_group(
         normal_parts: &mut [ContactConstraintNormalPart<Real>],
@@ -724,7 +767,11 @@ impl GenericContactConstraint {
 /// make the angle `[cos, sin]` = `axes` with the basis: the nearest point of that square
 /// (Euclidean), as `cap_magnitude` is the nearest point of the circle.
 #[cfg(feature = "dim3")]
-fn pyramid_section(impulse: na::Vector2<Real>, axes: [Real; 2], limit: Real) -> na::Vector2<Real> {
+pub(crate) fn pyramid_section(
+    impulse: na::Vector2<Real>,
+    axes: [Real; 2],
+    limit: Real,
+) -> na::Vector2<Real> {
     let [c, s] = axes;
     let (a, b) = (c * impulse.x + s * impulse.y, -s * impulse.x + c * impulse.y);
     let excess = a.abs() + b.abs() - limit.max(0.0);

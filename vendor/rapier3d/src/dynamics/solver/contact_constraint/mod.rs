@@ -8,6 +8,8 @@ pub(crate) use generic_contact_constraint_element::*;
 
 #[cfg(feature = "dim3")]
 pub(crate) use contact_with_twist_friction::*;
+#[cfg(feature = "dim3")]
+pub(crate) use generic_contact_angular::*;
 
 mod contact_constraint_element;
 mod contact_constraints_set;
@@ -17,6 +19,8 @@ mod generic_contact_constraint_element;
 
 #[cfg(feature = "dim3")]
 mod contact_with_twist_friction;
+#[cfg(feature = "dim3")]
+mod generic_contact_angular;
 
 #[cfg(feature = "dim3")]
 use crate::utils::ScalarType;
