@@ -249,14 +249,9 @@ impl PairCompliance {
     /// edge) as `R_py/μ_j²`, twice that. An angular row's `μ_j` is hundreds of times the
     /// sliding one's smaller, so its facets sit at that edge: it is given `R_py/μ_j²`.
     pub fn angular_row(&self, dist: Real, v0: Real, dt: Real, mass: Real, mu: Real) -> (Real, Real) {
-        let (rhs, cfm) = self.friction_row(dist, v0, dt, mass);
-        if cfm >= 1.0 || mass <= 0.0 {
-            return (rhs, cfm);
-        }
-        let regulariser = (1.0 / cfm - 1.0) / mass;
         let ratio = self.friction.max(MIN_MU) / mu.max(MIN_MU);
         let edge = if self.pyramidal { 2.0 } else { 1.0 };
-        (rhs, 1.0 / (1.0 + edge * regulariser * ratio * ratio * mass))
+        self.scaled_friction_row(dist, v0, dt, mass, edge * ratio * ratio)
     }
 
     /// From `solref` and `solimp` as MuJoCo gives them (`mj_makeImpedance`).
@@ -348,6 +343,18 @@ impl PairCompliance {
     /// lets the contact creep at `R_t·F/B` as MuJoCo's does. The cone is the circle
     /// `|λ_t| ≤ μ·λ_n` (MuJoCo's elliptic cone; its pyramid is approximated by it).
     pub fn friction_row(&self, dist: Real, v0: Real, dt: Real, mass: Real) -> (Real, Real) {
+        self.scaled_friction_row(dist, v0, dt, mass, 1.0)
+    }
+
+    /// [`Self::friction_row`] with its regulariser times `scale`.
+    fn scaled_friction_row(
+        &self,
+        dist: Real,
+        v0: Real,
+        dt: Real,
+        mass: Real,
+        scale: Real,
+    ) -> (Real, Real) {
         if dist >= self.rest {
             return (0.0, 1.0);
         }
@@ -364,7 +371,7 @@ impl PairCompliance {
         } else {
             1.0
         };
-        let regulariser = (1.0 - d) / d * weight * facet / self.impratio.max(MIN_VAL);
+        let regulariser = (1.0 - d) / d * weight * facet / self.impratio.max(MIN_VAL) * scale;
         let aref = -self.gains(dt).1 * v0;
         (-(v0 + dt * aref), 1.0 / (1.0 + regulariser * mass))
     }

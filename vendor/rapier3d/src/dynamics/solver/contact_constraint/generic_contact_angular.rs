@@ -50,10 +50,12 @@ impl AngularFrictionPart {
         }
     }
 
-    /// Each row's velocity `J·v` under the body velocities of `side1` and `side2`, the rows'
-    /// Jacobians from `j_id` on, `j_step` apart.
+    /// The velocities `J·v` of rows `rows` under the body velocities of `side1` and `side2`,
+    /// the rows' Jacobians from `j_id` on, `j_step` apart (the others are left at zero).
+    #[allow(clippy::too_many_arguments)]
     pub fn velocities(
         &self,
+        rows: core::ops::Range<usize>,
         j_id: usize,
         j_step: usize,
         ndofs: (usize, usize),
@@ -62,7 +64,8 @@ impl AngularFrictionPart {
         generic_vels: &DVector,
     ) -> [Real; MAX_ANGULAR_ROWS] {
         let mut out = [0.0; MAX_ANGULAR_ROWS];
-        for (j, v) in out.iter_mut().enumerate().take(self.rows as usize) {
+        for j in rows {
+            let v = &mut out[j];
             let row = j_id + j * j_step;
             *v = sides.0.dvel(
                 row,
@@ -161,7 +164,16 @@ impl AngularFrictionPart {
         // sliding rows are.
         let groups: &[core::ops::Range<usize>] = if rows == 3 { &[0..1, 1..3] } else { &[0..1] };
         for group in groups.iter().filter(|g| g.end <= rows) {
-            let vels = self.velocities(j_id, j_step, ndofs, jacobians, (&*s1, &*s2), solver_vels);
+            // Only the group's own rows: the torsional row's velocity is not read again.
+            let vels = self.velocities(
+                group.clone(),
+                j_id,
+                j_step,
+                ndofs,
+                jacobians,
+                (&*s1, &*s2),
+                solver_vels,
+            );
             for j in group.clone() {
                 new[j] = self.cfm[j] * (self.impulse[j] - self.r[j] * (vels[j] + self.rhs[j]));
             }

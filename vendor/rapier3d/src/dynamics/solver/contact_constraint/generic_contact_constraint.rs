@@ -450,8 +450,12 @@ impl GenericContactConstraintBuilder {
             let axes = [force_dir1, tangents1[0], tangents1[1]];
             for (j, &kind) in angular_kinds.iter().enumerate() {
                 let axis = axes[j];
-                let compliance = manifold.data.compliance.as_ref().expect("angular rows");
-                angular.mu[j] = compliance.angular_coefficient(kind);
+                // `angular_kinds` is empty without a compliance.
+                angular.mu[j] = manifold
+                    .data
+                    .compliance
+                    .as_ref()
+                    .map_or(0.0, |c| c.angular_coefficient(kind));
                 angular.axes[j] = axis;
                 let ii1 = if type1.is_dynamic_or_kinematic() {
                     mprops1.effective_world_inv_inertia.transform_vector(axis)

@@ -469,16 +469,7 @@ impl GenericContactConstraint {
         increments: &[SolverVel<Real>],
         generic_increments: &DVector,
     ) -> [Real; crate::math::MAX_MANIFOLD_POINTS] {
-        let side = |solver_vel: u32, mask: u8| {
-            if solver_vel == u32::MAX {
-                GenericRhs::Fixed
-            } else if self.generic_constraint_mask & mask == 0 {
-                GenericRhs::SolverVel(increments[solver_vel as usize])
-            } else {
-                GenericRhs::GenericId(solver_vel)
-            }
-        };
-        let (side1, side2) = (side(self.solver_vel1, 0b01), side(self.solver_vel2, 0b10));
+        let (side1, side2) = self.sides(increments);
         let (ndofs1, ndofs2) = (self.ndofs1, self.ndofs2);
         let j_step = j_step(ndofs1, ndofs2) * DIM;
         let mut out = [0.0; crate::math::MAX_MANIFOLD_POINTS];
@@ -516,16 +507,7 @@ impl GenericContactConstraint {
         vels: &[SolverVel<Real>],
         generic_vels: &DVector,
     ) -> [[Real; DIM - 1]; crate::math::MAX_MANIFOLD_POINTS] {
-        let side = |solver_vel: u32, mask: u8| {
-            if solver_vel == u32::MAX {
-                GenericRhs::Fixed
-            } else if self.generic_constraint_mask & mask == 0 {
-                GenericRhs::SolverVel(vels[solver_vel as usize])
-            } else {
-                GenericRhs::GenericId(solver_vel)
-            }
-        };
-        let (side1, side2) = (side(self.solver_vel1, 0b01), side(self.solver_vel2, 0b10));
+        let (side1, side2) = self.sides(vels);
         let (ndofs1, ndofs2) = (self.ndofs1, self.ndofs2);
         let j_step = j_step(ndofs1, ndofs2);
         let tangents1 = [self.tangent1, self.dir1.cross(self.tangent1)];
@@ -591,6 +573,7 @@ impl GenericContactConstraint {
         let (side1, side2) = self.sides(vels);
         let (j_id, step) = self.angular_j_id();
         self.angular.velocities(
+            0..self.angular.rows as usize,
             j_id,
             step,
             (self.ndofs1, self.ndofs2),
