@@ -1,4 +1,4 @@
-//! Vendored Rapier patch 46: a convex hull's AABB is computed once per pose and reused at
+//! Vendored Rapier patches 46 and 48: a collider's AABB is computed once per pose and reused at
 //! that pose. The reused box must be the one a fresh computation gives, bit for bit, and a
 //! new shape or pose must not see the old one. A hull of more than 64 vertices has the box
 //! of its rotated local box (as MuJoCo's broad phase), which must contain the exact one.
@@ -81,6 +81,57 @@ fn a_hulls_kept_aabb_is_the_fresh_one_at_every_pose_and_shape() {
     let co = &colliders[handle];
     assert_eq!(co.compute_collision_aabb(0.0), fresh(co));
     // Moved by hand (no step): the kept box is for the old pose.
+    colliders[handle].set_position(Pose::from_translation(Vector::new(3.0, 0.0, 0.0)));
+    let co = &colliders[handle];
+    assert_eq!(co.compute_collision_aabb(0.0), fresh(co));
+    assert!(co.compute_collision_aabb(0.0).mins.x > 2.0);
+}
+
+/// Patch 48 keeps every shape's box, not only a hull's: a spinning capsule's kept box is a
+/// fresh computation's at every pose, and a move by hand forgets it.
+#[test]
+fn a_capsules_kept_aabb_is_the_fresh_one_at_every_pose() {
+    let mut bodies = RigidBodySet::new();
+    let mut colliders = ColliderSet::new();
+    let body = bodies.insert(
+        RigidBodyBuilder::dynamic()
+            .translation(Vector::new(0.0, 0.0, 1.0))
+            .angvel(Vector::new(1.0, 2.0, 0.5))
+            .build(),
+    );
+    let handle = colliders.insert_with_parent(
+        ColliderBuilder::capsule_z(0.3, 0.05).build(),
+        body,
+        &mut bodies,
+    );
+    let (mut islands, mut broad, mut narrow) = (
+        IslandManager::new(),
+        BroadPhaseBvh::new(),
+        NarrowPhase::new(),
+    );
+    let (mut impulse, mut multibody) = (ImpulseJointSet::new(), MultibodyJointSet::new());
+    let (mut soft, mut ccd) = (SoftBodySet::new(), CCDSolver::new());
+    let mut pipeline = PhysicsPipeline::new();
+    let params = IntegrationParameters::default();
+    for _ in 0..5 {
+        pipeline.step(
+            Vector::new(0.0, 0.0, -9.81),
+            &params,
+            &mut islands,
+            &mut broad,
+            &mut narrow,
+            &mut bodies,
+            &mut colliders,
+            &mut impulse,
+            &mut multibody,
+            &mut soft,
+            &mut ccd,
+            &(),
+            &(),
+        );
+        let co = &colliders[handle];
+        assert_eq!(co.compute_collision_aabb(0.0), fresh(co));
+    }
     colliders[handle].set_position(Pose::from_translation(Vector::new(3.0, 0.0, 0.0)));
     let co = &colliders[handle];
     assert_eq!(co.compute_collision_aabb(0.0), fresh(co));

@@ -635,13 +635,12 @@ impl Collider {
         aabb.loosened(self.contact_skin + prediction)
     }
 
-    /// gymfleet patch 46: computes and keeps a convex polyhedron's AABB at the collider's
-    /// current pose (other shapes' boxes cost a few operations and are not kept).
+    /// gymfleet patches 46 and 48: computes and keeps the collider's AABB at its current
+    /// pose, which the broad phase, the soft-CCD test and the half-space test then read
+    /// (a hull's walks its vertices; even a capsule's costs about 140 instructions through
+    /// the shape's dynamic dispatch, and a pipeline step asked for it five times).
     pub(crate) fn keep_aabb(&mut self) {
-        self.aabb_at_pose = self
-            .shape
-            .as_convex_polyhedron()
-            .map(|_| (self.pos.0, shape_aabb(&*self.shape, &self.pos)));
+        self.aabb_at_pose = Some((self.pos.0, shape_aabb(&*self.shape, &self.pos)));
     }
 
     /// Computes the AABB swept from current position to `next_position`.

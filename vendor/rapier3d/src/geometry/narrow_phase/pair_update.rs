@@ -64,6 +64,75 @@ pub(super) const OUTCOME_FULL_COMPOSITE: u8 = 5;
 // incremental reconcile needs, so the graph must be rebuilt from scratch (rare).
 pub(super) const OUTCOME_CLEARED_IN_GRAPH: u8 = 6;
 
+/// Remembers the relative configuration a full update ran at, so that later steps can
+/// recycle the pair while it stays close to it.
+fn take_recycle_state(
+    rigid: &mut crate::geometry::RigidPairContacts,
+    co1: &crate::geometry::Collider,
+    co2: &crate::geometry::Collider,
+    pos12: crate::math::Pose,
+    contact_recycle_distance: Real,
+    prediction_distance: Real,
+) {
+    // Computing the local AABBs goes through a dyn Shape call per
+    // collider per full update; the extents only change when a
+    // shape does, so reuse the previous full update's value.
+    let shapes_changed =
+        (co1.changes | co2.changes).contains(crate::geometry::ColliderChanges::SHAPE);
+    let max_extent = match &rigid.recycle_state {
+        Some(state) if !shapes_changed => state.max_extent,
+        _ => {
+            let origin_radius = |co: &crate::geometry::Collider| {
+                let aabb = co.shape.compute_local_aabb();
+                aabb.mins.length().max(aabb.maxs.length())
+            };
+            origin_radius(co1).max(origin_radius(co2))
+        }
+    };
+    // A pair without contacts has an (unknown) separation larger than
+    // the prediction distance. Cap its recycle window by the
+    // prediction distance so an incoming contact can't be missed.
+    let max_drift = if rigid.has_any_active_contact() {
+        contact_recycle_distance
+    } else {
+        contact_recycle_distance.min(prediction_distance)
+    };
+    rigid.recycle_state = Some(crate::geometry::ContactRecycleState {
+        pos12,
+        rot1: co1.pos.rotation,
+        rot2: co2.pos.rotation,
+        max_extent,
+        max_drift,
+    });
+}
+
+/// gymfleet patch 48: how far the other collider's collision AABB lies above a half-space
+/// collider's plane (negative where it reaches below), or `None` where neither collider is a
+/// half-space. The shape lies within its box, so none of its points is closer to the plane.
+fn halfspace_clearance(
+    co1: &crate::geometry::Collider,
+    co2: &crate::geometry::Collider,
+) -> Option<Real> {
+    let clearance = |plane: &crate::geometry::Collider, other: &crate::geometry::Collider| {
+        let halfspace = plane.shape.as_halfspace()?;
+        // Only a convex shape has the one manifold this reasons about; soft-body surfaces
+        // keep their own contact path (and their particles' margins).
+        if other.shape.as_support_map().is_none()
+            || other.deformable_mesh_ref.is_some()
+            || plane.deformable_mesh_ref.is_some()
+        {
+            return None;
+        }
+        let normal = plane.pos.rotation * halfspace.normal;
+        let aabb = other.compute_collision_aabb(0.0);
+        Some(
+            normal.dot(aabb.center() - plane.pos.translation)
+                - normal.abs().dot(aabb.half_extents()),
+        )
+    };
+    clearance(co1, co2).or_else(|| clearance(co2, co1))
+}
+
 /// The per-pair contact update shared by `NarrowPhase::compute_contacts`'
 /// single-threaded and parallel dispatch paths; returns an `OUTCOME_*` tag.
 #[allow(clippy::too_many_arguments)]
@@ -403,6 +472,34 @@ pub(super) fn process_pair(
         } else {
             prediction_distance + contact_skin_sum + soft_body_prediction
         };
+
+        // gymfleet patch 48 (see `PATCHES.md`): a half-space's AABB is all of space, so the
+        // AABB tests above never rule out a pair with a plane. A convex shape whose box lies
+        // farther above the plane than the manifold's prediction distance has no contact point
+        // within it: end the update here with what the full one would leave (its manifold
+        // empty, the graph told, the recycling pose taken), without the manifold, the
+        // solver contacts and the coefficients.
+        if halfspace_clearance(co1, co2).is_some_and(|gap| gap > effective_prediction_distance) {
+            if let Some(rigid) = pair.rigid_mut() {
+                outcome = OUTCOME_FULL;
+                for manifold in &mut rigid.manifolds {
+                    manifold.points.clear();
+                    manifold.data.solver_contacts.clear();
+                }
+                if contact_recycle_distance > 0.0 {
+                    let pos12 = co1.pos.inv_mul(&co2.pos);
+                    take_recycle_state(
+                        rigid,
+                        co1,
+                        co2,
+                        pos12,
+                        contact_recycle_distance,
+                        prediction_distance,
+                    );
+                }
+            }
+            break 'emit_events;
+        }
 
         outcome = OUTCOME_FULL;
         let friction = CoefficientCombineRule::combine(
@@ -770,36 +867,14 @@ pub(super) fn process_pair(
         // Remember the relative configuration this full update ran at, so
         // subsequent steps can recycle the pair while it stays close to it.
         if contact_recycle_distance > 0.0 {
-            // Computing the local AABBs goes through a dyn Shape call per
-            // collider per full update; the extents only change when a
-            // shape does, so reuse the previous full update's value.
-            let shapes_changed =
-                (co1.changes | co2.changes).contains(crate::geometry::ColliderChanges::SHAPE);
-            let max_extent = match &rigid.recycle_state {
-                Some(state) if !shapes_changed => state.max_extent,
-                _ => {
-                    let origin_radius = |co: &crate::geometry::Collider| {
-                        let aabb = co.shape.compute_local_aabb();
-                        aabb.mins.length().max(aabb.maxs.length())
-                    };
-                    origin_radius(co1).max(origin_radius(co2))
-                }
-            };
-            // A pair without contacts has an (unknown) separation larger than
-            // the prediction distance. Cap its recycle window by the
-            // prediction distance so an incoming contact can't be missed.
-            let max_drift = if rigid.has_any_active_contact() {
-                contact_recycle_distance
-            } else {
-                contact_recycle_distance.min(prediction_distance)
-            };
-            rigid.recycle_state = Some(crate::geometry::ContactRecycleState {
+            take_recycle_state(
+                rigid,
+                co1,
+                co2,
                 pos12,
-                rot1: co1.pos.rotation,
-                rot2: co2.pos.rotation,
-                max_extent,
-                max_drift,
-            });
+                contact_recycle_distance,
+                prediction_distance,
+            );
         }
     }
 
