@@ -38,6 +38,11 @@ pub fn joint_data_num_constraints(joint: &crate::dynamics::GenericJoint) -> usiz
 
 pub(crate) struct ContactConstraintsSet {
     pub generic_jacobians: DVector,
+    /// gymfleet patch 49 (see `PATCHES.md`): the extent of `generic_jacobians` that the last
+    /// generation wrote (its cursor at the end); every entry from there on is zero, so the
+    /// next generation zeroes only this prefix of the buffer, which keeps the largest size any
+    /// step needed.
+    pub generic_jacobians_written: usize,
     /// Greedy body-mask grouper, only used for the overflow-color manifolds
     /// (they may share bodies, so the color-run chunking can't cover them).
     pub interaction_groups: InteractionGroups,
@@ -57,6 +62,7 @@ impl ContactConstraintsSet {
     pub fn new() -> Self {
         Self {
             generic_jacobians: DVector::zeros(0),
+            generic_jacobians_written: 0,
             interaction_groups: InteractionGroups::new(),
             generic_velocity_constraints: vec![],
             simd_velocity_coulomb_constraints: vec![],

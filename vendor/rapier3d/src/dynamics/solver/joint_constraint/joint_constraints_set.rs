@@ -17,6 +17,11 @@ use {
 
 pub struct JointConstraintsSet {
     pub generic_jacobians: DVector,
+    /// gymfleet patch 49 (see `PATCHES.md`): the extent of `generic_jacobians` that the last
+    /// generation wrote (its cursor at the end); every entry from there on is zero, so the
+    /// next generation zeroes only this prefix of the buffer, which keeps the largest size any
+    /// step needed.
+    pub generic_jacobians_written: usize,
     pub two_body_interactions: Vec<usize>,
     pub generic_two_body_interactions: Vec<usize>,
 
@@ -33,6 +38,7 @@ impl JointConstraintsSet {
     pub fn new() -> Self {
         Self {
             generic_jacobians: DVector::zeros(0),
+            generic_jacobians_written: 0,
             two_body_interactions: vec![],
             generic_two_body_interactions: vec![],
             velocity_constraints: vec![],

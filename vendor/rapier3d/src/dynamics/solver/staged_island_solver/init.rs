@@ -208,8 +208,10 @@ impl StagedIslandSolver {
             // below once the chunk layout is known.
             // On the contiguous storage (gymfleet patch 34, see `PATCHES.md`): nalgebra's
             // element-wise `fill` cost about six instructions per entry of a buffer that keeps
-            // the largest size any step needed.
-            set.generic_jacobians.as_mut_slice().fill(0.0);
+            // the largest size any step needed; only the prefix the last step wrote is not
+            // zero already (gymfleet patch 49).
+            let written = set.generic_jacobians_written.min(set.generic_jacobians.len());
+            set.generic_jacobians.as_mut_slice()[..written].fill(0.0);
             set.generic_velocity_constraints.clear();
             set.generic_velocity_constraints_builder.clear();
             set.simd_velocity_coulomb_constraints.clear();
@@ -595,6 +597,7 @@ impl StagedIslandSolver {
         // Generic (multibody) contact constraints: serial init, solved by worker 0.
         let mut jacobian_id = 0;
         set.compute_generic_constraints(bodies, multibodies, graph, store, &mut jacobian_id);
+        set.generic_jacobians_written = jacobian_id;
 
         #[cfg(feature = "dim3")]
         self.any_gyroscopic.store(false, Ordering::Relaxed);

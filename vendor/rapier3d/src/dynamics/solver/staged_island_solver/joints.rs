@@ -537,8 +537,10 @@ impl StagedIslandSolver {
         impulse_joints: &[JointGraphEdge],
     ) {
         let joints = &mut self.joint_constraints;
-        // On the contiguous storage (gymfleet patch 34, see `PATCHES.md`).
-        joints.generic_jacobians.as_mut_slice().fill(0.0);
+        // On the contiguous storage (gymfleet patch 34, see `PATCHES.md`); only the prefix
+        // the last step wrote is not zero already (gymfleet patch 49).
+        let written = joints.generic_jacobians_written.min(joints.generic_jacobians.len());
+        joints.generic_jacobians.as_mut_slice()[..written].fill(0.0);
         joints.generic_velocity_constraints.clear();
         joints.generic_velocity_constraints_builder.clear();
         let mut j_id = 0;
@@ -549,6 +551,7 @@ impl StagedIslandSolver {
             impulse_joints,
             &mut j_id,
         );
+        joints.generic_jacobians_written = j_id;
     }
 }
 
