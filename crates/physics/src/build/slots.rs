@@ -89,7 +89,7 @@ pub(super) fn joint_slots(
                 sets,
                 joint,
                 &slot,
-                explicit,
+                assembly,
                 &mut inverse_inertias,
             ));
             joints.push(slot);
@@ -100,6 +100,21 @@ pub(super) fn joint_slots(
         keep_loops_implicit(sets, assembly, bodies, closing);
     }
     Ok((joints, dofs, inertia))
+}
+
+/// Whether the trees solve their constraints on the mass matrix without the joints' damping,
+/// which then acts on their impulses and the step's forces together, as MuJoCo's Euler step
+/// does (`mj_EulerSkip`, vendored patch 50): under `euler` with MuJoCo's soft contacts or
+/// limits. The others keep Rapier's order: a rigid document its results, and one whose file
+/// said RK4 (integrated implicit here) stays nearer MuJoCo's RK4 with it
+/// (`bench/journal/2026-12-08-damping-order.md`).
+fn mujoco_damping_order(assembly: &Assembly) -> bool {
+    assembly.integrator == Integrator::Euler
+        && (assembly.joints.iter().any(|j| j.soft_limit.is_some())
+            || assembly
+                .instances
+                .iter()
+                .any(|i| i.material.soft_contact.is_some()))
 }
 
 /// A tree that a loop constraint closes keeps the implicit velocity terms even under
@@ -132,16 +147,17 @@ fn keep_loops_implicit(
 
 /// Gives a tree joint's DOFs the document's damping, friction and spring, and returns
 /// each DOF's apparent inertia. The first joint of each tree also sets the tree's
-/// self-contacts, hard limits, zero default damping and (if `explicit`) MuJoCo's `Euler`
-/// velocity terms, and computes its DOFs' inverse inertias (kept in `inverse_inertias`,
-/// before any damping or spring changes them).
+/// self-contacts, hard limits, zero default damping, (under `euler`) MuJoCo's `Euler`
+/// velocity terms, (`mujoco_damping_order`) MuJoCo's damping order, and computes its DOFs'
+/// inverse inertias (kept in `inverse_inertias`, before any damping or spring changes them).
 fn configure_tree_joint(
     sets: &mut Sets,
     joint: &Joint,
     slot: &JointSlot,
-    explicit: bool,
+    assembly: &Assembly,
     inverse_inertias: &mut HashMap<MultibodyIndex, DVector>,
 ) -> Vec<f64> {
+    let explicit = assembly.integrator == Integrator::Euler;
     let mb = sets
         .multibody_joints
         .get_multibody_mut(slot.multibody)
@@ -156,6 +172,9 @@ fn configure_tree_joint(
         mb.set_explicit_velocity_terms(explicit);
         // and its springs explicit, implicit in damping only (vendored patch 45).
         mb.set_explicit_springs(explicit);
+        // MuJoCo's constraints see `M` without the damping, which acts on their impulses
+        // afterwards (vendored patch 50).
+        mb.set_damping_after_constraints(mujoco_damping_order(assembly));
         // Rapier gives angular DOFs a default damping of 0.1: remove it, so
         // that a free pendulum keeps its energy unless the document says not.
         mb.damping_mut().fill(0.0);

@@ -273,6 +273,25 @@ pub struct Multibody {
     /// 45): see [`Multibody::set_explicit_springs`].
     #[cfg_attr(feature = "serde-serialize", serde(default))]
     explicit_springs: bool,
+    /// Whether the constraints see the mass matrix without the joints' damping, which then
+    /// acts on their impulses and the step's forces together (gymfleet patch 50): see
+    /// [`Multibody::set_damping_after_constraints`].
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    damping_after_constraints: bool,
+    /// Patch 50 in force for the dynamics last updated (the solver's substep is the whole
+    /// pipeline step, and no DoF is kinematic), with their step `dt`.
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    damping_after_active: Option<Real>,
+    /// Patch 50: the velocities at the substep's start, and `M + dt·D` factorized.
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    damping_start_velocities: DVector,
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    damped_mass: DMatrix<Real>,
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    inv_damped_mass: MassMatrixLu,
+    /// Patch 50: the velocity change's workspace.
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    damping_workspace: DVector,
     /// The generalized impulses the hard limits applied to each DoF since the last
     /// [`Multibody::clear_hard_limit_impulses`] (gymfleet patch 17, see `PATCHES.md`); empty
     /// until a limit first stops a DoF, zeroed when the DoF count changes.
@@ -347,6 +366,12 @@ impl Multibody {
             hard_limits: false,
             explicit_velocity_terms: false,
             explicit_springs: false,
+            damping_after_constraints: false,
+            damping_after_active: None,
+            damping_start_velocities: DVector::zeros(0),
+            damped_mass: DMatrix::zeros(0, 0),
+            inv_damped_mass: MassMatrixLu::default(),
+            damping_workspace: DVector::zeros(0),
             couplings: Vec::new(),
             linear_limits: Vec::new(),
             path_limits: Vec::new(),
@@ -385,6 +410,7 @@ impl Multibody {
                 mb.hard_limits = self.hard_limits;
                 mb.explicit_velocity_terms = self.explicit_velocity_terms;
                 mb.explicit_springs = self.explicit_springs;
+                mb.damping_after_constraints = self.damping_after_constraints;
 
                 result.push(mb);
             } else {
@@ -566,6 +592,8 @@ impl Multibody {
         self.explicit_velocity_terms &= rhs.explicit_velocity_terms;
         // The springs stay implicit unless both multibodies had them explicit.
         self.explicit_springs &= rhs.explicit_springs;
+        // The constraints see the damping unless both multibodies had it after them.
+        self.damping_after_constraints &= rhs.damping_after_constraints;
     }
 
     /// Whether self-contacts are enabled on this multibody.
@@ -841,6 +869,66 @@ impl Multibody {
     pub fn set_explicit_springs(&mut self, explicit: bool) {
         self.explicit_springs = explicit;
         self.kinematics_current = false;
+    }
+
+    /// gymfleet patch 50: with `after`, the constraints (contacts, limits, loops) are solved
+    /// on the mass matrix without the joints' damping `D`, and the substep's change of
+    /// velocity is then taken through `M + dt·D`: `v⁺ = v₀ + (M + dt·D)⁻¹·M·(v − v₀)`, `v` the
+    /// solver's velocities. That is MuJoCo's order (`mj_fwdConstraint` on `qM`, then
+    /// `mj_EulerSkip`'s `qacc = (M + h·D)⁻¹·(qfrc_smooth + qfrc_constraint)`), where Rapier's
+    /// rows see `M + dt·D` itself, so that a damped joint's contact pushes less than
+    /// MuJoCo's. Free motion is the same either way. It applies where a pipeline step is one
+    /// solver substep and no DoF is kinematic; elsewhere the damping stays in the matrix.
+    pub fn set_damping_after_constraints(&mut self, after: bool) {
+        self.damping_after_constraints = after;
+    }
+
+    /// Whether patch 50 is on: see [`Multibody::set_damping_after_constraints`].
+    pub fn damping_after_constraints(&self) -> bool {
+        self.damping_after_constraints
+    }
+
+    /// gymfleet patch 50: arms (or disarms) the damping order for the dynamics the solver is
+    /// about to update, at step `dt` (`None`: damping in the matrix, Rapier's order).
+    pub(crate) fn arm_damping_after_constraints(&mut self, dt: Option<Real>) {
+        self.damping_after_active = dt.filter(|_| self.damping_after_constraints);
+    }
+
+    /// gymfleet patch 50: the multibody's velocities `v` (the solver's, just copied in)
+    /// become `v₀ + (M + dt·D)⁻¹·M·(v − v₀)` when the damping order is in force for the
+    /// dynamics last updated; they are left as they are otherwise.
+    pub(crate) fn damp_after_constraints(&mut self) {
+        if self.damping_after_active.is_none() || !self.inv_damped_mass.is_invertible() {
+            return;
+        }
+        let n = self.ndofs;
+        if self.damping_workspace.len() != n {
+            self.damping_workspace = DVector::zeros(n);
+        }
+        let x = self.damping_workspace.as_mut_slice();
+        x.fill(0.0);
+        let mass = self.augmented_mass.as_slice();
+        let (v, v0) = (self.velocities.as_slice(), self.damping_start_velocities.as_slice());
+        for c in 0..n {
+            let d = v[c] - v0[c];
+            if d != 0.0 {
+                for (xr, m) in x.iter_mut().zip(&mass[c * n..(c + 1) * n]) {
+                    *xr += m * d;
+                }
+            }
+        }
+        if self.inv_damped_mass.solve_mut(&mut self.damping_workspace) {
+            let v = self.velocities.as_mut_slice();
+            for ((vi, v0i), xi) in v.iter_mut().zip(v0).zip(self.damping_workspace.iter()) {
+                *vi = v0i + xi;
+            }
+        }
+    }
+
+    /// gymfleet patch 50: ends the damping order for this step (the solver's velocities
+    /// were overwritten with ones it already applied to).
+    pub(crate) fn disarm_damping_after_constraints(&mut self) {
+        self.damping_after_active = None;
     }
 
     /// Hard limits on linear combinations of one-coordinate DoFs (gymfleet patch 20):
@@ -1862,8 +1950,20 @@ impl Multibody {
          * rotor inertia" (additional inertia to account for the joint’s
          * mass and geometry itself): it adds to the diagonal directly.
          */
+        // gymfleet patch 50: with the damping after the constraints (and no kinematic DoF,
+        // whose removal would reorder the matrix), `M` keeps only the armature here; the
+        // damping enters `M + dt·D`, factorized below for the step's end.
+        let damping_after = self.damping_after_active.is_some()
+            && self.augmented_mass_indices.dim_after_removal(self.ndofs) == self.ndofs;
+        if !damping_after {
+            self.damping_after_active = None;
+        }
         for i in 0..self.ndofs {
-            let diag = self.damping[i] * dt + self.armature[i];
+            let diag = if damping_after {
+                self.armature[i]
+            } else {
+                self.damping[i] * dt + self.armature[i]
+            };
             self.augmented_mass[(i, i)] += diag;
         }
 
@@ -1918,6 +2018,26 @@ impl Multibody {
         // gymfleet patch (see `PATCHES.md`): `inv_augmented_mass` serves only constraints and
         // hard limits; it is factorized on demand (`factorize_inv_augmented_mass`).
         self.inv_augmented_mass_stale = true;
+
+        // gymfleet patch 50: `M + dt·D` (the damped matrix of Rapier's order) for the step's
+        // end, and the velocities it starts from.
+        if damping_after {
+            let n = self.ndofs;
+            if self.damped_mass.shape() != self.augmented_mass.shape() {
+                self.damped_mass = self.augmented_mass.clone();
+            } else {
+                self.damped_mass.copy_from(&self.augmented_mass);
+            }
+            for i in 0..n {
+                self.damped_mass[(i, i)] += self.damping[i] * dt;
+            }
+            self.inv_damped_mass
+                .factorize_symmetric_leading(&self.damped_mass, n);
+            if self.damping_start_velocities.len() != n {
+                self.damping_start_velocities = DVector::zeros(n);
+            }
+            self.damping_start_velocities.copy_from(&self.velocities);
+        }
     }
 
     /// Per-DoF inverse joint-space inertia `diag(M⁻¹)` at the current configuration, where `M`
@@ -3260,6 +3380,35 @@ mod still_multibody_tests {
             parent = link;
         }
         (world, joint.unwrap())
+    }
+
+    /// gymfleet patch 50: without contacts or limits the damping order changes nothing: a
+    /// damped chain swinging under gravity takes the same path (to `f32` rounding) with the
+    /// damping after the constraints as with it in the matrix, and the order is in force.
+    #[test]
+    fn the_damping_after_the_constraints_leaves_free_motion_as_it_is() {
+        let run = |after: bool| {
+            let (mut world, joint) = chain();
+            world.integration_parameters.num_solver_iterations = 1;
+            world.gravity = Vector::new(0.0, -9.81, 0.0);
+            let mb = multibody(&mut world, joint);
+            mb.set_self_contacts_enabled(false);
+            mb.damping_mut().fill(0.01);
+            mb.set_damping_after_constraints(after);
+            for (i, v) in mb.velocities.iter_mut().enumerate() {
+                *v = [3.0, -2.0, 4.0][i % 3];
+            }
+            for _ in 0..12 {
+                world.step();
+            }
+            let mb = multibody(&mut world, joint);
+            (mb.velocities.clone(), mb.damping_after_active.is_some())
+        };
+        let ((before, off), (after, on)) = (run(false), run(true));
+        assert!(!off && on, "the order is in force only when asked for");
+        assert!(before.amax() > 0.1, "the chain swings: {before:?}");
+        let gap = (&before - &after).amax() / before.amax();
+        assert!(gap < 1.0e-5, "{before:?} against {after:?}: {gap}");
     }
 
     /// Sets the chain's generalized velocities and updates its dynamics at them.

@@ -106,6 +106,11 @@ impl VelocitySolver {
             let multibody = multibodies
                 .get_multibody_mut_internal(link.multibody)
                 .unwrap();
+            // gymfleet patch 50: the damping after the constraints, where this pipeline step
+            // is one solver substep.
+            multibody.arm_damping_after_constraints(
+                (params.num_solver_iterations == 1).then_some(params.dt),
+            );
             multibody.update_dynamics(params.dt, bodies, self.multibody_external_constraints);
 
             let mut solver_vels_incr = self
@@ -138,6 +143,9 @@ impl VelocitySolver {
                 .generic_solver_vels
                 .rows(multibody.solver_id as usize, multibody.ndofs());
             multibody.velocities.copy_from(&solver_vels);
+            // gymfleet patch 50: the positions move at the velocities the damping leaves
+            // (the solver's own stay those its rows see, for the pass without bias).
+            multibody.damp_after_constraints();
             multibody.integrate(params.dt);
             // gymfleet patch 44: the compliant limits' impulses of this substep's biased
             // pass (the generalized impulse is `−λ`), for the constraint-force readout.
@@ -150,10 +158,12 @@ impl VelocitySolver {
                 }
             }
             if multibody.hard_limits() && multibody.project_hard_limits(bodies) {
-                // The stops changed velocities: the solver's copy carries them on.
+                // The stops changed velocities: the solver's copy carries them on (damped
+                // already, patch 50: the step's end takes them as they are).
                 self.generic_solver_vels
                     .rows_mut(multibody.solver_id as usize, multibody.ndofs())
                     .copy_from(&multibody.velocities);
+                multibody.disarm_damping_after_constraints();
             }
             // gymfleet patch 33 (see `PATCHES.md`): between two substeps, without impulse
             // joints (whose constraints are rebuilt at each substep from the body jacobians),

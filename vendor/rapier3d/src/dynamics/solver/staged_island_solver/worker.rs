@@ -1004,6 +1004,8 @@ pub(super) unsafe fn run_worker(ctx: &SharedCtx, worker_id: usize) {
                     .generic_solver_vels
                     .rows(multibody.solver_id as usize, multibody.ndofs());
                 multibody.velocities.copy_from(&solver_vels);
+                // gymfleet patch 50: the step's velocities through `M + dt·D`.
+                multibody.damp_after_constraints();
             }
         }
         // No sync after the multibody-velocity writeback: nothing follows, and
