@@ -29,60 +29,43 @@ fn fresh(co: &Collider) -> Aabb {
     aabb
 }
 
-#[test]
-fn a_hulls_kept_aabb_is_the_fresh_one_at_every_pose_and_shape() {
-    let mut bodies = RigidBodySet::new();
-    let mut colliders = ColliderSet::new();
-    let body = bodies.insert(
+/// A world holding one dynamic body, spinning 1 m above the origin, with `shape` as its
+/// collider.
+fn spinning(shape: SharedShape) -> (PhysicsWorld, ColliderHandle) {
+    let mut world = PhysicsWorld::new();
+    let body = world.bodies.insert(
         RigidBodyBuilder::dynamic()
             .translation(Vector::new(0.0, 0.0, 1.0))
             .angvel(Vector::new(1.0, 2.0, 0.5))
             .build(),
     );
-    let handle =
-        colliders.insert_with_parent(ColliderBuilder::new(hull(0.1)).build(), body, &mut bodies);
-    let (mut islands, mut broad, mut narrow) = (
-        IslandManager::new(),
-        BroadPhaseBvh::new(),
-        NarrowPhase::new(),
+    let handle = world.colliders.insert_with_parent(
+        ColliderBuilder::new(shape).build(),
+        body,
+        &mut world.bodies,
     );
-    let (mut impulse, mut multibody) = (ImpulseJointSet::new(), MultibodyJointSet::new());
-    let (mut soft, mut ccd) = (SoftBodySet::new(), CCDSolver::new());
-    let mut pipeline = PhysicsPipeline::new();
-    let params = IntegrationParameters::default();
-    let mut step = |bodies: &mut RigidBodySet, colliders: &mut ColliderSet| {
-        pipeline.step(
-            Vector::new(0.0, 0.0, -9.81),
-            &params,
-            &mut islands,
-            &mut broad,
-            &mut narrow,
-            bodies,
-            colliders,
-            &mut impulse,
-            &mut multibody,
-            &mut soft,
-            &mut ccd,
-            &(),
-            &(),
-        );
-    };
+    (world, handle)
+}
+
+#[test]
+fn a_hulls_kept_aabb_is_the_fresh_one_at_every_pose_and_shape() {
+    let (mut world, handle) = spinning(hull(0.1));
     for _ in 0..5 {
-        step(&mut bodies, &mut colliders);
-        let co = &colliders[handle];
+        world.step();
+        let co = &world.colliders[handle];
         assert_eq!(co.compute_collision_aabb(0.0), fresh(co));
     }
     // A new shape at the same pose: the kept box of the old one must not be used.
-    colliders[handle].set_shape(hull(0.3));
-    let co = &colliders[handle];
+    world.colliders[handle].set_shape(hull(0.3));
+    let co = &world.colliders[handle];
     assert_eq!(co.compute_collision_aabb(0.0), fresh(co));
     assert!(co.compute_collision_aabb(0.0).extents().x > 0.5);
-    step(&mut bodies, &mut colliders);
-    let co = &colliders[handle];
+    world.step();
+    let co = &world.colliders[handle];
     assert_eq!(co.compute_collision_aabb(0.0), fresh(co));
     // Moved by hand (no step): the kept box is for the old pose.
-    colliders[handle].set_position(Pose::from_translation(Vector::new(3.0, 0.0, 0.0)));
-    let co = &colliders[handle];
+    world.colliders[handle].set_position(Pose::from_translation(Vector::new(3.0, 0.0, 0.0)));
+    let co = &world.colliders[handle];
     assert_eq!(co.compute_collision_aabb(0.0), fresh(co));
     assert!(co.compute_collision_aabb(0.0).mins.x > 2.0);
 }
@@ -91,49 +74,14 @@ fn a_hulls_kept_aabb_is_the_fresh_one_at_every_pose_and_shape() {
 /// fresh computation's at every pose, and a move by hand forgets it.
 #[test]
 fn a_capsules_kept_aabb_is_the_fresh_one_at_every_pose() {
-    let mut bodies = RigidBodySet::new();
-    let mut colliders = ColliderSet::new();
-    let body = bodies.insert(
-        RigidBodyBuilder::dynamic()
-            .translation(Vector::new(0.0, 0.0, 1.0))
-            .angvel(Vector::new(1.0, 2.0, 0.5))
-            .build(),
-    );
-    let handle = colliders.insert_with_parent(
-        ColliderBuilder::capsule_z(0.3, 0.05).build(),
-        body,
-        &mut bodies,
-    );
-    let (mut islands, mut broad, mut narrow) = (
-        IslandManager::new(),
-        BroadPhaseBvh::new(),
-        NarrowPhase::new(),
-    );
-    let (mut impulse, mut multibody) = (ImpulseJointSet::new(), MultibodyJointSet::new());
-    let (mut soft, mut ccd) = (SoftBodySet::new(), CCDSolver::new());
-    let mut pipeline = PhysicsPipeline::new();
-    let params = IntegrationParameters::default();
+    let (mut world, handle) = spinning(SharedShape::capsule_z(0.3, 0.05));
     for _ in 0..5 {
-        pipeline.step(
-            Vector::new(0.0, 0.0, -9.81),
-            &params,
-            &mut islands,
-            &mut broad,
-            &mut narrow,
-            &mut bodies,
-            &mut colliders,
-            &mut impulse,
-            &mut multibody,
-            &mut soft,
-            &mut ccd,
-            &(),
-            &(),
-        );
-        let co = &colliders[handle];
+        world.step();
+        let co = &world.colliders[handle];
         assert_eq!(co.compute_collision_aabb(0.0), fresh(co));
     }
-    colliders[handle].set_position(Pose::from_translation(Vector::new(3.0, 0.0, 0.0)));
-    let co = &colliders[handle];
+    world.colliders[handle].set_position(Pose::from_translation(Vector::new(3.0, 0.0, 0.0)));
+    let co = &world.colliders[handle];
     assert_eq!(co.compute_collision_aabb(0.0), fresh(co));
     assert!(co.compute_collision_aabb(0.0).mins.x > 2.0);
 }
