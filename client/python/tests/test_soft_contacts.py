@@ -336,3 +336,43 @@ def test_a_damped_joint_lands_as_mujocos_damping_after_the_contact(damping, mass
     ours, theirs = heights(xml, 400)
     assert theirs.min() < -0.02, theirs.min()  # it lands, and sinks in
     np.testing.assert_allclose(ours, theirs, rtol=0, atol=1e-5)
+
+
+# Two of HalfCheetah's states on the open-loop gaits of `bench/python/gait_probe.py`, each
+# at the start of an env step in which a foot lands: (qpos, qvel, action).
+_TOUCHDOWNS = [
+    # The back foot lands 15 mm deep at the fourth timestep, falling at 1.9 m/s, for one
+    # timestep only.
+    ([-0.016, -0.03, -0.013, -0.103, -0.206, -0.324, 0.456, 0.357, 0.541],
+     [-0.843, -1.501, -3.255, -6.325, -1.616, 1.915, 5.188, -1.276, -0.612],
+     [-0.685, -0.313, -0.293, 0.291, -0.18, 0.55]),
+    # The front foot slides on the floor while the back foot touches for one timestep.
+    ([-2.412, -0.25, 0.029, 0.661, 0.231, -0.071, -0.323, -0.133, -0.47],
+     [-0.582, -0.536, -2.511, -0.992, -1.807, -4.696, 0.852, 3.233, 0.305],
+     [0.767, 0.018, -0.629, 0.202, 0.898, 0.209]),
+]
+
+
+@pytest.mark.parametrize("qpos, qvel, action", _TOUCHDOWNS)
+def test_halfcheetahs_env_step_through_a_touchdown_is_mujocos(qpos, qvel, action):
+    """One `gymfleet/HalfCheetah-v5` env step (5 MuJoCo timesteps, each a pipeline step of
+    its own) from the state MuJoCo's env is set to, through a foot's touchdown: the joint
+    velocities after it are MuJoCo's within 1e-3 rad/s (7e-5 measured) and the positions
+    within 1e-5. It takes MuJoCo's pyramid as its facets (vendored patch 51), the damping
+    after the contacts (patch 50) and the links' velocities refreshed between substeps; with
+    the pyramid's section and patch 50 the first was 3.3 rad/s off, with the facets but
+    without the refresh 17.7."""
+    gym = pytest.importorskip("gymnasium")
+    ours = gym.make("gymfleet/HalfCheetah-v5").unwrapped
+    theirs = gym.make("HalfCheetah-v5").unwrapped
+    ours.reset(seed=0)
+    theirs.reset(seed=0)
+    qpos, qvel, action = np.array(qpos), np.array(qvel), np.array(action)
+    ours.set_state(qpos, qvel)
+    theirs.set_state(qpos, qvel)
+    ours.step(action.astype(np.float32))
+    theirs.step(action)
+    np.testing.assert_allclose(ours.data.qvel, theirs.data.qvel, rtol=0, atol=1e-3)
+    np.testing.assert_allclose(ours.data.qpos, theirs.data.qpos, rtol=0, atol=1e-5)
+    ours.close()
+    theirs.close()

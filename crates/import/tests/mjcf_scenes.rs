@@ -70,7 +70,7 @@ fn flags_that_switch_physics_off_are_honoured() {
         r#"<mujoco><option cone="elliptic" impratio="10" noslip_iterations="20"/>{ARM}</mujoco>"#
     ));
     for expected in [
-        "cone=\"elliptic\" sizes how soft the contacts are, along the normal and in friction, as MuJoCo's; the cone is MuJoCo's section of it",
+        "cone=\"elliptic\" sizes how soft the contacts are, along the normal and in friction, as MuJoCo's; the pyramid is MuJoCo's four facets at condim 3",
         "impratio=\"10\" sizes how soft the contacts are",
         "noslip_iterations=\"20\" ignored: there is no noslip pass",
     ] {

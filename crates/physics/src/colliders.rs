@@ -185,6 +185,8 @@ fn compliance(soft: SoftContact) -> ContactCompliance {
         condim: soft.condim as u8,
         torsional: m(soft.torsional_friction),
         rolling: m(soft.rolling_friction),
+        // MuJoCo's pyramid as its four facets (vendored patch 51).
+        facets: true,
     }
 }
 

@@ -24,9 +24,9 @@ const DEFAULT_TIMESTEP: f64 = 0.002;
 const MM: f64 = 1000.0;
 /// What `cone` and `impratio` change here, for their warnings.
 const FRICTION_NOTE: &str = "{} sizes how soft the contacts are, along the normal and in \
-    friction, as MuJoCo's; the cone is MuJoCo's section of it (the pyramid's square on its \
-    contact axes, the ellipse's circle), and a contact sliding at its edge may move a few \
-    degrees off MuJoCo's direction";
+    friction, as MuJoCo's; the pyramid is MuJoCo's four facets at condim 3 (its square \
+    section at 4 and 6), the ellipse its circle, on which a contact sliding at the edge may \
+    move a few degrees off MuJoCo's direction";
 
 /// `<option>`'s contact settings: `cone`, `impratio`, and the override, kept until
 /// `<flag override>` is known to be on.

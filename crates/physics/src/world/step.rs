@@ -37,6 +37,11 @@ impl RobotWorld {
                 self.apply_efforts();
                 self.apply_fluid();
                 self.pipeline_step(true);
+                // The links' body velocities as the substep left them (the solver leaves
+                // them one substep old), which the next substep's facet rows read: five
+                // substeps step then as five steps of one do
+                // (`bench/journal/2026-12-08-pyramid-facets.md`).
+                self.refresh_body_velocities();
                 if k > 0 && self.pipeline.0.contact_budget_exceeded().is_some() {
                     let done = if self.roll_back() { 0 } else { k };
                     return Err(self.overload(done).expect("the budget was exceeded"));

@@ -68,6 +68,10 @@ pub struct ContactCompliance {
     /// gymfleet patch 47: the rolling friction coefficient (m), MuJoCo's `friction[2]`
     /// (default 0.0001), mixed as `torsional`.
     pub rolling: Real,
+    /// gymfleet patch 51: solve a pyramidal contact of `condim` 3 as MuJoCo's four facet
+    /// rows (default `false`: a normal row and two friction rows in the pyramid's section).
+    /// A pair's are its facets when either collider's are.
+    pub facets: bool,
 }
 
 impl Default for ContactCompliance {
@@ -85,6 +89,7 @@ impl Default for ContactCompliance {
             condim: 3,
             torsional: 0.005,
             rolling: 0.0001,
+            facets: false,
         }
     }
 }
@@ -126,6 +131,8 @@ pub struct PairCompliance {
     pub torsional: Real,
     /// gymfleet patch 47: the pair's rolling friction coefficient (m).
     pub rolling: Real,
+    /// gymfleet patch 51: solved by its pyramid's facets (see [`ContactCompliance::facets`]).
+    pub facets: bool,
 }
 
 impl PairCompliance {
@@ -191,6 +198,7 @@ impl PairCompliance {
             condim,
             torsional,
             rolling,
+            facets: a.facets || b.facets,
             ..Self::new(solref, solimp, margin + gap, margin)
         }
     }
@@ -282,6 +290,7 @@ impl PairCompliance {
             condim: 3,
             torsional: 0.0,
             rolling: 0.0,
+            facets: false,
         }
     }
 
@@ -374,6 +383,30 @@ impl PairCompliance {
         let regulariser = (1.0 - d) / d * weight * facet / self.impratio.max(MIN_VAL) * scale;
         let aref = -self.gains(dt).1 * v0;
         (-(v0 + dt * aref), 1.0 / (1.0 + regulariser * mass))
+    }
+
+    /// gymfleet patch 51: a pyramid facet's row at the contact's separation `dist`, its
+    /// velocity `v0` at the substep's start (`J_f·v`, positive when separating) and step
+    /// `dt`: `(rhs, R_py)` for `λ ← max(0, λ − (J_f·v + rhs + R_py·λ)/(A_f + R_py))`, or `None`
+    /// at or beyond the rest distance. `R_py = 2·μ²·R` with `μ² = friction²/impratio` and `R
+    /// = (1 − d)/d·W·(1 + friction²)`, the first facet's (`mj_makeImpedance`, `mj_diagApprox`;
+    /// `W` the inverse weight, else `a_normal`, the point's own normal `A`).
+    pub fn facet_row(&self, dist: Real, v0: Real, dt: Real, a_normal: Real) -> Option<(Real, Real)> {
+        if dist >= self.rest {
+            return None;
+        }
+        let d = self.impedance(dist);
+        let (stiffness, damping) = self.gains(dt);
+        let aref = -damping * v0 - stiffness * d * (dist - self.rest);
+        let weight = if self.invweight > 0.0 {
+            self.invweight
+        } else {
+            a_normal
+        };
+        let f0 = self.friction.max(MIN_MU);
+        let mu2 = f0 * f0 / self.impratio.max(MIN_VAL);
+        let reg = 2.0 * mu2 * (1.0 - d) / d * weight * (1.0 + f0 * f0);
+        Some((-(v0 + dt * aref), reg))
     }
 
     /// `(K, B)` at step `dt`: with a time constant under `2·dt` (standard form), those of

@@ -8,7 +8,7 @@ use crate::utils::{self, AngularInertiaOps, CrossProduct, DotProduct};
 
 use super::{ContactConstraintNormalPart, ContactConstraintTangentPart};
 #[cfg(feature = "dim3")]
-use super::{AngularFrictionPart, MAX_ANGULAR_ROWS};
+use super::{AngularFrictionPart, FacetPart, MAX_ANGULAR_ROWS};
 use crate::dynamics::solver::CoulombContactPointInfos;
 use crate::dynamics::solver::manifold_store::ManifoldStore;
 use crate::dynamics::solver::solver_body::SolverBodies;
@@ -520,6 +520,25 @@ impl GenericContactConstraintBuilder {
         out_constraint.ndofs1 = ndofs1;
         out_constraint.ndofs2 = ndofs2;
         out_constraint.generic_constraint_mask = generic_constraint_mask;
+
+        // gymfleet patch 51: a compliant pyramid of `condim` 3 is solved by its facets.
+        #[cfg(feature = "dim3")]
+        {
+            let mut facet = FacetPart::zero();
+            if let Some(c) = manifold.data.compliance.as_ref() {
+                if c.pyramidal && c.condim == 3 && c.friction > 0.0 && c.facets {
+                    facet.active = true;
+                    facet.dirs = FacetPart::directions(
+                        c.friction,
+                        pyramid_axes(force_dir1, tangents1),
+                    );
+                    for k in 0..manifold_points.len() {
+                        facet.a[k] = out_constraint.facet_coupling(jacobians, k);
+                    }
+                }
+            }
+            out_constraint.facet = facet;
+        }
     }
 
     pub fn update(
@@ -691,6 +710,40 @@ impl GenericContactConstraintBuilder {
             }
         }
 
+        // gymfleet patch 51: each facet's target and regulariser, and the warm start split
+        // over the facets.
+        #[cfg(feature = "dim3")]
+        if let (Some(compliance), true) = (&self.compliance, constraint.facet.active) {
+            for k in 0..constraint.num_contacts as usize {
+                let info = &self.infos[k];
+                let p1 = pose1 * info.local_p1 + info.tangent_vel * solved_dt;
+                let p2 = pose2 * info.local_p2;
+                let dist = info.dist + (p1 - p2).gdot(dir1_na);
+                for f in 0..4 {
+                    let facet = &mut constraint.facet;
+                    let v0 = super::facet_velocity(facet.dirs[f], start_vels[k], start_tangent[k]);
+                    let a = facet.facet_a(k, f);
+                    match compliance.facet_row(dist, v0, params.dt, facet.a[k][0]) {
+                        Some((rhs, reg)) if a + reg > 0.0 => {
+                            facet.rhs[k][f] = rhs;
+                            facet.reg[k] = reg;
+                            facet.inv[k][f] = 1.0 / (a + reg);
+                        }
+                        _ => {
+                            facet.rhs[k][f] = 0.0;
+                            facet.inv[k][f] = 0.0;
+                        }
+                    }
+                }
+                // The facets start from zero at every step: splitting the previous step's
+                // impulses over them left a rolling ball's friction pushing after its slip
+                // had ended (`bench/journal/2026-12-08-pyramid-facets.md`).
+                let (n, t) = constraint.facet.split(k, 0.0, [0.0, 0.0]);
+                constraint.normal_part[k].impulse = n;
+                constraint.tangent_part[k].impulse = TangentImpulse::new(t[0], t[1]);
+            }
+        }
+
         // gymfleet patch 47: the angular friction rows, at the deepest point's impedance.
         #[cfg(feature = "dim3")]
         if let Some(compliance) = &self.compliance {
@@ -843,6 +896,9 @@ pub(crate) struct GenericContactConstraint {
     /// gymfleet patch 47: the torsional and rolling friction rows (`condim` 4 and 6).
     #[cfg(feature = "dim3")]
     pub angular: AngularFrictionPart,
+    /// gymfleet patch 51: a compliant pyramid's facets (`condim` 3).
+    #[cfg(feature = "dim3")]
+    pub facet: FacetPart,
 }
 
 impl GenericContactConstraint {
@@ -872,6 +928,8 @@ impl GenericContactConstraint {
             tangent_part: [ContactConstraintTangentPart::zero(); MAX_MANIFOLD_POINTS],
             #[cfg(feature = "dim3")]
             angular: AngularFrictionPart::zero(),
+            #[cfg(feature = "dim3")]
+            facet: FacetPart::zero(),
         }
     }
 
@@ -961,8 +1019,17 @@ impl GenericContactConstraint {
             GenericRhs::GenericId(self.solver_vel2)
         };
 
+        #[cfg(feature = "dim3")]
+        let facets = self.facet.active;
+        #[cfg(not(feature = "dim3"))]
+        let facets = false;
+        if facets {
+            #[cfg(feature = "dim3")]
+            self.solve_facets(jacobians, &mut solver_vel1, &mut solver_vel2, generic_solver_vels);
+        }
         let normal_parts = &mut self.normal_part[..self.num_contacts as usize];
         let tangent_parts = &mut self.tangent_part[..self.num_contacts as usize];
+        if !facets {
         Self::generic_solve_group(
             self.cfm_factor,
             self.compliant,
@@ -986,6 +1053,7 @@ impl GenericContactConstraint {
             solve_restitution,
             solve_friction,
         );
+        }
         #[cfg(feature = "dim3")]
         if solve_friction && self.angular.rows > 0 {
             let normal = self.normal_part[..self.num_contacts as usize]

@@ -10,6 +10,8 @@ pub(crate) use generic_contact_constraint_element::*;
 pub(crate) use contact_with_twist_friction::*;
 #[cfg(feature = "dim3")]
 pub(crate) use generic_contact_angular::*;
+#[cfg(feature = "dim3")]
+pub(crate) use generic_contact_facets::*;
 
 mod contact_constraint_element;
 mod contact_constraints_set;
@@ -21,6 +23,8 @@ mod generic_contact_constraint_element;
 mod contact_with_twist_friction;
 #[cfg(feature = "dim3")]
 mod generic_contact_angular;
+#[cfg(feature = "dim3")]
+mod generic_contact_facets;
 
 #[cfg(feature = "dim3")]
 use crate::utils::ScalarType;
