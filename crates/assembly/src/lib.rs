@@ -160,7 +160,8 @@ pub fn parse(json: &str) -> Result<Assembly> {
 /// Turns a serde error into an issue: JSON syntax errors are reported on the whole
 /// `document` (with the field they were met in, if any); shape errors on their field.
 fn malformed(path: &str, inner: serde_json::Error) -> AssemblyError {
-    let at_root = path == ".";
+    // An unknown top-level field named `""` has the empty path: it is the document's too.
+    let at_root = path == "." || path.is_empty();
     let (path, message) = if inner.is_syntax() || inner.is_eof() {
         // The path serde reached, when it names a field (not `.` or an unknown `?`).
         let near = if at_root || path.contains('?') {

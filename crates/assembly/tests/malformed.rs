@@ -113,6 +113,16 @@ fn unknown_fields() {
         "unknown field `limits`",
     );
 
+    // A field named `""` at the top: reported on the document, not on an empty path
+    // (found by `properties.rs` from the text `{""`).
+    let mut doc = base_doc();
+    doc[""] = json!(1);
+    assert_malformed(
+        &err(doc),
+        "document",
+        "unknown field ``, expected one of `parts`, `materials`, `assembly`",
+    );
+
     let mut doc = base_doc();
     doc["materials"] = json!({ "steel": { "densty": 7850 } });
     assert_malformed(
